@@ -1,0 +1,18 @@
+"""The built-in checks, one class per rule, grouped by the schema they inspect.
+
+Installed as ``usdrender_lint.rules`` and registered through the
+``usdrender_lint.rules`` entry point group, exactly like a third-party plugin.
+"""
+
+from __future__ import annotations
+
+from . import camera, passes, products, settings, stage, vars
+
+RULES = (
+    *stage.RULES,
+    *settings.RULES,
+    *camera.RULES,
+    *products.RULES,
+    *vars.RULES,
+    *passes.RULES,
+)

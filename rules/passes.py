@@ -1,0 +1,5 @@
+"""passes checks."""
+
+from __future__ import annotations
+
+RULES: tuple = ()

@@ -1,0 +1,5 @@
+"""vars checks."""
+
+from __future__ import annotations
+
+RULES: tuple = ()

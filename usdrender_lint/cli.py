@@ -1,0 +1,174 @@
+"""The ``usdrender-lint`` command: check, rules, explain.
+
+Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it;
+2 the tool could not do its job (bad usage or config, a plugin that fails to
+load, a path that does not exist, a file it could not lint).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from collections.abc import Sequence
+
+import click
+
+from . import __version__
+from .config import FAIL_ON_CHOICES, ConfigError, load_settings
+from .formatters import FormatOptions, available_formatters, load_formatter
+from .registry import Registry, RegistryError, build_registry
+
+EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
+
+
+class ToolError(click.ClickException):
+    """A one-line error on stderr and exit 2."""
+
+    exit_code = EXIT_TOOL_ERROR
+
+    def show(self, file=None) -> None:
+        click.echo(f"usdrender-lint: error: {self.format_message()}", err=True)
+
+
+def _split(values: Sequence[str]) -> tuple[str, ...] | None:
+    """``--select A,B --select C`` -> ("A", "B", "C"); None when not given."""
+    if not values:
+        return None
+    return tuple(v.strip() for value in values for v in value.split(",") if v.strip())
+
+
+def _registry() -> Registry:
+    try:
+        return build_registry()
+    except RegistryError as exc:
+        raise ToolError(str(exc)) from None
+
+
+def _format_choice() -> click.Choice:
+    names = sorted(available_formatters()) or ["text", "json"]
+    return click.Choice(names, case_sensitive=False)
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="usdrender-lint")
+def cli() -> None:
+    """Lint OpenUSD render settings (usdRender) before the render farm does."""
+
+
+@cli.command()
+@click.argument("paths", nargs=-1, required=True, type=click.Path())
+@click.option("--format", "output_format", default="text", show_default=True,
+              type=_format_choice(), help="Report format.")
+@click.option("--select", multiple=True, help="Rules to run: codes, prefixes (CA) or names.")
+@click.option("--ignore", multiple=True, help="Rules to skip: codes, prefixes or names.")
+@click.option("--extend-select", multiple=True, help="Rules to add to the selection.")
+@click.option("--fail-on", type=click.Choice(FAIL_ON_CHOICES), default=None,
+              help="Lowest severity that makes the exit code 1  [default: error].")
+@click.option("--show-info", is_flag=True, help="Show info findings in the text report.")
+@click.option("--config", "config_path", type=click.Path(dir_okay=False),
+              help="Read settings from this file instead of the nearest one.")
+@click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+def check(
+    paths: tuple[str, ...],
+    output_format: str,
+    select: tuple[str, ...],
+    ignore: tuple[str, ...],
+    extend_select: tuple[str, ...],
+    fail_on: str | None,
+    show_info: bool,
+    config_path: str | None,
+    isolated: bool,
+) -> None:
+    """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
+    from .docs import rule_info
+    from .runner import collect_files, fails, lint_files, make_linter
+
+    registry = _registry()
+    try:
+        settings = load_settings(config_path, isolated=isolated, start=paths[0])
+        settings = settings.merged(
+            select=_split(select),
+            ignore=_split(ignore),
+            extend_select=_split(extend_select),
+            fail_on=fail_on,
+        )
+        linter = make_linter(settings, registry)
+    except ConfigError as exc:
+        raise ToolError(str(exc)) from None
+
+    report = lint_files(linter, collect_files(paths))
+    report = type(report)(report.files, tuple(rule_info(type(r)) for r in linter.rules))
+    formatter = load_formatter(output_format)
+    formatter.render(
+        report, sys.stdout, FormatOptions(show_info=show_info, tool_version=__version__)
+    )
+    for result in report.errored_files:
+        click.echo(f"usdrender-lint: error: {result.error}", err=True)
+    if report.errored_files:
+        sys.exit(EXIT_TOOL_ERROR)
+    sys.exit(EXIT_FINDINGS if fails(report, settings.fail_on) else EXIT_OK)
+
+
+@cli.command("rules")
+@click.option("--format", "output_format", type=click.Choice(["text", "json"]),
+              default="text", show_default=True)
+def list_rules(output_format: str) -> None:
+    """List every registered rule."""
+    registry = _registry()
+    if output_format == "json":
+        rows = [
+            {
+                "code": r.code,
+                "name": r.name,
+                "severity": r.severity.value,
+                "summary": r.summary(),
+                "fix": r.fix_safety,
+                "plugin": registry.origins[r.code],
+            }
+            for r in registry.rules
+        ]
+        click.echo(json.dumps(rows, indent=2))
+        return
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title=f"{len(registry.rules)} rules", title_justify="left")
+    for column in ("Code", "Name", "Severity", "Fix", "Summary"):
+        table.add_column(column)
+    for r in registry.rules:
+        table.add_row(r.code, r.name, r.severity.value, r.fix_safety, r.summary())
+    Console(soft_wrap=False).print(table)
+
+
+@cli.command()
+@click.argument("rule")
+def explain(rule: str) -> None:
+    """Print a rule's documentation (by code or name)."""
+    from .docs import rule_doc
+
+    found = _registry().find(rule)
+    if found is None:
+        raise ToolError(f"no rule has the code or name {rule!r} (see 'usdrender-lint rules')")
+    header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
+    click.echo(f"{header}\n\n{rule_doc(found)}")
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """Console entry point: no traceback ever reaches the user."""
+    try:
+        cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True)
+    except SystemExit:
+        raise
+    except KeyboardInterrupt:
+        click.echo("usdrender-lint: interrupted", err=True)
+        sys.exit(130)
+    except Exception as exc:
+        if os.environ.get("USDRENDER_LINT_DEBUG"):
+            raise
+        click.echo(
+            f"usdrender-lint: internal error: {type(exc).__name__}: {exc} "
+            "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
+            err=True,
+        )
+        sys.exit(EXIT_TOOL_ERROR)

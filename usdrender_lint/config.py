@@ -1,0 +1,206 @@
+"""Configuration: defaults < config file < command-line flags -> frozen Settings.
+
+The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
+``.usdrender-lint.toml`` (top-level keys). Unknown keys and bad values are a
+:class:`ConfigError` naming the key.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import tomllib
+import types
+import typing
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .model import Severity
+
+FAIL_ON_CHOICES = ("error", "warning", "info", "never")
+CONFIG_FILE_NAMES = (".usdrender-lint.toml", "pyproject.toml")
+TOOL_TABLE = "usdrender-lint"
+
+
+class ConfigError(Exception):
+    """The configuration is invalid; the message names the key and the file."""
+
+
+@dataclass(frozen=True)
+class Settings:
+    select: tuple[str, ...] | None = None
+    ignore: tuple[str, ...] = ()
+    extend_select: tuple[str, ...] = ()
+    fail_on: str = "error"
+    #: Severity overrides, keyed by rule code or name.
+    severity: Mapping[str, Severity] = field(default_factory=dict)
+    #: File glob -> codes, prefixes or names ignored in matching files.
+    per_path_ignores: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+    #: Rule name or code -> option values, validated against the rule's Options.
+    rule_options: Mapping[str, Mapping[str, Any]] = field(default_factory=dict)
+    #: Globs of stage root files (changed layers are linted in their roots).
+    roots: tuple[str, ...] = ()
+    #: Cap on authored time samples evaluated per attribute.
+    time_sample_cap: int = 1000
+    #: The file the settings were read from, if any.
+    source: str | None = None
+
+    def merged(self, **overrides: Any) -> Settings:
+        """These settings with the non-None overrides applied (command-line flags)."""
+        return dataclasses.replace(self, **{k: v for k, v in overrides.items() if v is not None})
+
+
+def _string_list(value: Any, key: str, source: str) -> tuple[str, ...]:
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise ConfigError(f"{source}: '{key}' must be a list of strings, got {value!r}")
+    return tuple(value)
+
+
+def _parse_table(table: Mapping[str, Any], source: str) -> Settings:
+    parsed: dict[str, Any] = {"source": source}
+    for key, value in table.items():
+        if key in ("select", "ignore", "extend-select", "roots"):
+            parsed[key.replace("-", "_")] = _string_list(value, key, source)
+        elif key == "fail-on":
+            if value not in FAIL_ON_CHOICES:
+                raise ConfigError(
+                    f"{source}: 'fail-on' must be one of {', '.join(FAIL_ON_CHOICES)}, "
+                    f"got {value!r}"
+                )
+            parsed["fail_on"] = value
+        elif key == "severity":
+            if not isinstance(value, dict):
+                raise ConfigError(f"{source}: 'severity' must be a table of rule = severity")
+            try:
+                parsed["severity"] = {k: Severity.parse(str(v)) for k, v in value.items()}
+            except ValueError as exc:
+                raise ConfigError(f"{source}: 'severity': {exc}") from None
+        elif key == "per-path-ignores":
+            if not isinstance(value, dict):
+                raise ConfigError(f"{source}: 'per-path-ignores' must be a table of glob = codes")
+            parsed["per_path_ignores"] = {
+                glob: _string_list(codes, f"per-path-ignores.{glob}", source)
+                for glob, codes in value.items()
+            }
+        elif key == "rules":
+            if not isinstance(value, dict) or not all(isinstance(v, dict) for v in value.values()):
+                raise ConfigError(f"{source}: 'rules' must hold one table per rule")
+            parsed["rule_options"] = value
+        elif key == "time-sample-cap":
+            if not isinstance(value, int) or isinstance(value, bool) or value < 1:
+                raise ConfigError(f"{source}: 'time-sample-cap' must be a positive integer")
+            parsed["time_sample_cap"] = value
+        else:
+            raise ConfigError(f"{source}: unknown key '{key}'")
+    return Settings(**parsed)
+
+
+def read_config_file(path: str | Path) -> Settings:
+    """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``."""
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read config file: {exc.strerror or exc}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{path}: invalid TOML: {exc}") from None
+    if path.name == "pyproject.toml":
+        data = data.get("tool", {}).get(TOOL_TABLE, {})
+    return _parse_table(data, str(path))
+
+
+def find_config_file(start: str | Path) -> Path | None:
+    """The nearest config file from ``start`` upwards. A ``pyproject.toml``
+    counts only when it has a ``[tool.usdrender-lint]`` table."""
+    here = Path(start).resolve()
+    if here.is_file():
+        here = here.parent
+    for folder in (here, *here.parents):
+        dedicated = folder / CONFIG_FILE_NAMES[0]
+        if dedicated.is_file():
+            return dedicated
+        pyproject = folder / "pyproject.toml"
+        if pyproject.is_file() and _has_tool_table(pyproject):
+            return pyproject
+    return None
+
+
+def _has_tool_table(pyproject: Path) -> bool:
+    try:
+        data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
+        return False
+    return TOOL_TABLE in data.get("tool", {})
+
+
+def load_settings(
+    config_path: str | None = None, *, isolated: bool = False, start: str = "."
+) -> Settings:
+    """Settings from ``--config``, else the nearest config file, else defaults."""
+    if isolated:
+        return Settings()
+    if config_path is not None:
+        return read_config_file(config_path)
+    found = find_config_file(start)
+    return read_config_file(found) if found else Settings()
+
+
+# -- rule options -----------------------------------------------------------------
+
+
+def build_options(options_class: type | None, values: Mapping[str, Any], where: str) -> Any:
+    """Validate ``values`` against a rule's Options dataclass and build it."""
+    if options_class is None:
+        if values:
+            raise ConfigError(f"{where}: this rule takes no options (got {', '.join(values)})")
+        return None
+    hints = typing.get_type_hints(options_class)
+    fields = {f.name.replace("_", "-"): f.name for f in dataclasses.fields(options_class)}
+    kwargs = {}
+    for key, value in values.items():
+        attr = fields.get(key) or (key if key in fields.values() else None)
+        if attr is None:
+            known = ", ".join(sorted(fields)) or "none"
+            raise ConfigError(f"{where}: unknown option '{key}' (known: {known})")
+        kwargs[attr] = _coerce(value, hints[attr], f"{where}.{key}")
+    return options_class(**kwargs)
+
+
+def _coerce(value: Any, hint: Any, where: str) -> Any:
+    origin = typing.get_origin(hint)
+    args = typing.get_args(hint)
+    if origin is typing.Literal:
+        if value not in args:
+            allowed = ", ".join(repr(a) for a in args)
+            raise ConfigError(f"{where}: must be one of {allowed}, got {value!r}")
+        return value
+    if origin in (tuple, list, Sequence) or hint in (tuple, list):
+        if not isinstance(value, (list, tuple)):
+            raise ConfigError(f"{where}: must be a list, got {value!r}")
+        item = args[0] if args else Any
+        return tuple(_coerce(v, item, where) for v in value)
+    if origin in (typing.Union, types.UnionType):
+        for option in args:
+            try:
+                return _coerce(value, option, where)
+            except ConfigError:
+                continue
+        raise ConfigError(f"{where}: invalid value {value!r}")
+    if hint is Any:
+        return value
+    if hint is type(None):
+        if value is not None:
+            raise ConfigError(f"{where}: must be empty")
+        return None
+    if hint is float and isinstance(value, int) and not isinstance(value, bool):
+        return float(value)
+    if hint is bool and not isinstance(value, bool):
+        raise ConfigError(f"{where}: must be true or false, got {value!r}")
+    if isinstance(hint, type) and not isinstance(value, hint) or (
+        hint is int and isinstance(value, bool)
+    ):
+        raise ConfigError(f"{where}: must be {getattr(hint, '__name__', hint)}, got {value!r}")
+    return value

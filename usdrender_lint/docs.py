@@ -1,0 +1,47 @@
+"""Rule documentation: the rule's docstring is the doc (ruff's sections)."""
+
+from __future__ import annotations
+
+import inspect
+import re
+
+from .api import DOC_SECTIONS, Rule
+from .model import RuleInfo
+
+_HEADING = re.compile(r"^##\s+(.+?)\s*$", re.MULTILINE)
+_CODE_BLOCK = re.compile(r"```(\w*)\n(.*?)```", re.DOTALL)
+
+
+def rule_doc(rule: type[Rule]) -> str:
+    return inspect.cleandoc(rule.__doc__ or "")
+
+
+def sections(rule: type[Rule]) -> dict[str, str]:
+    """The docstring's ``## Heading`` sections, by heading."""
+    doc = rule_doc(rule)
+    found: dict[str, str] = {}
+    headings = list(_HEADING.finditer(doc))
+    for current, following in zip(headings, [*headings[1:], None]):
+        end = following.start() if following else len(doc)
+        found[current.group(1)] = doc[current.end():end].strip()
+    return found
+
+
+def missing_sections(rule: type[Rule]) -> list[str]:
+    present = sections(rule)
+    return [name for name in DOC_SECTIONS if not present.get(name)]
+
+
+def code_blocks(text: str, language: str = "usda") -> list[str]:
+    return [body for lang, body in _CODE_BLOCK.findall(text) if lang == language]
+
+
+def rule_info(rule: type[Rule]) -> RuleInfo:
+    return RuleInfo(
+        code=rule.code,
+        name=rule.name,
+        severity=rule.severity,
+        summary=rule.summary(),
+        doc=rule_doc(rule),
+        fix=rule.fix_safety,
+    )

@@ -1,0 +1,278 @@
+"""The rule engine: open a stage, walk it once, run the rules, make findings.
+
+It knows rules (through :mod:`.api`) and the data model, never a formatter or
+the command line.
+"""
+
+from __future__ import annotations
+
+import os
+import traceback
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+
+from pxr import Sdf, Tf, Usd, UsdRender
+
+from . import usda_lines
+from .api import Context, Diagnostic, Fix, Rule
+from .model import (
+    INTERNAL_ERROR_CODE,
+    INTERNAL_ERROR_NAME,
+    FileResult,
+    Finding,
+    FixInfo,
+    Location,
+    Severity,
+)
+
+STAGE_OPEN_FAILED_CODE = "ST001"
+STAGE_OPEN_FAILED_NAME = "stage-open-failed"
+USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
+
+#: The render prim kinds the engine collects during its walk (Context.render_prims).
+RENDER_SCHEMAS: tuple[type, ...] = (
+    UsdRender.Settings,
+    UsdRender.Product,
+    UsdRender.Var,
+    UsdRender.Pass,
+)
+
+
+@dataclass(frozen=True)
+class StageOpenResult:
+    stage: Usd.Stage | None
+    #: One line per error USD posted when the stage could not be opened.
+    errors: tuple[str, ...] = ()
+
+
+def open_stage(path: str) -> StageOpenResult:
+    """Open a stage with every payload loaded, keeping USD's diagnostics off stderr.
+
+    usd-core turns every Tf error posted during ``Open`` into an exception and
+    the stage handle is lost (catalog, ST001); its lines carry ``file:line:col``.
+    """
+    with Tf.DiagnosticTrap() as trap:
+        try:
+            stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
+            errors: tuple[str, ...] = ()
+        except Tf.ErrorException as exc:
+            stage = None
+            errors = tuple(_error_lines(exc))
+        except Exception as exc:  # noqa: BLE001 - any failure to open is a finding
+            stage = None
+            errors = (f"{type(exc).__name__}: {exc}",)
+        trap.Clear()
+    if stage is None and not errors:
+        errors = (f"USD could not open {path}",)
+    return StageOpenResult(stage, errors)
+
+
+def _error_lines(exc: Tf.ErrorException) -> Iterable[str]:
+    for arg in exc.args:
+        text = getattr(arg, "commentary", None) or str(arg)
+        for line in str(text).strip().splitlines():
+            if line.strip():
+                yield line.strip()
+
+
+class _TypeDispatch:
+    """Which rules want a prim, keyed by its type name (no per-prim ``IsA``)."""
+
+    def __init__(self, rules: Sequence[Rule]) -> None:
+        self._rules = rules
+        self._by_type_name: dict[str, tuple[tuple[Rule, ...], tuple[type, ...]]] = {}
+        self._wanted = {schema for rule in rules for schema in rule.prim_types}
+        self._wanted.update(RENDER_SCHEMAS)
+        self._tf_types = {schema: Tf.Type.Find(schema) for schema in self._wanted}
+
+    def lookup(self, type_name: str) -> tuple[tuple[Rule, ...], tuple[type, ...]]:
+        """(rules to run, render schemas the type belongs to) for a type name."""
+        entry = self._by_type_name.get(type_name)
+        if entry is None:
+            prim_type = Usd.SchemaRegistry.GetTypeFromName(type_name) if type_name else None
+            matches = {
+                schema
+                for schema, tf_type in self._tf_types.items()
+                if prim_type is not None and not prim_type.isUnknown and prim_type.IsA(tf_type)
+            }
+            rules = tuple(r for r in self._rules if matches.intersection(r.prim_types))
+            kinds = tuple(s for s in RENDER_SCHEMAS if s in matches)
+            entry = self._by_type_name[type_name] = (rules, kinds)
+        return entry
+
+
+class Linter:
+    """Runs a fixed set of configured rules over files or stages.
+
+    ``severities`` overrides rule default severities by code. With
+    ``raise_errors`` a rule that raises propagates (for tests) instead of
+    becoming an internal-error finding.
+    """
+
+    def __init__(
+        self,
+        rules: Sequence[Rule],
+        severities: Mapping[str, Severity] | None = None,
+        *,
+        time_sample_cap: int = 1000,
+        raise_errors: bool = False,
+    ) -> None:
+        self.rules = tuple(rules)
+        self.severities = dict(severities or {})
+        self.time_sample_cap = time_sample_cap
+        self.raise_errors = raise_errors
+        self._dispatch = _TypeDispatch(self.rules)
+
+    # -- entry points ---------------------------------------------------------
+
+    def lint_path(self, path: str) -> FileResult:
+        """Lint one file; never raises for a bad file."""
+        if not os.path.exists(path):
+            return FileResult(path, status="error", error=f"{path}: no such file")
+        if os.path.isdir(path):
+            return FileResult(path, status="error", error=f"{path}: is a directory")
+        opened = open_stage(path)
+        if opened.stage is None:
+            return FileResult(path, findings=tuple(self._open_failure_findings(path, opened)))
+        try:
+            findings = self.lint_stage(opened.stage, path)
+        finally:
+            usda_lines.clear_cache()
+        return FileResult(path, findings=tuple(findings))
+
+    def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
+        """Lint an open stage; ``file`` names it in findings (default: root layer)."""
+        file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
+        ctx = Context(stage=stage, file=file, time_sample_cap=self.time_sample_cap)
+        findings: list[Finding] = []
+        with Tf.DiagnosticTrap() as trap:
+            try:
+                work = self._walk(stage, ctx)
+                for rule in self.rules:
+                    findings.extend(self._run(rule, ctx, rule.check_stage, ctx))
+                for prim, rules in work:
+                    for rule in rules:
+                        findings.extend(self._run(rule, ctx, rule.check_prim, prim, ctx))
+            finally:
+                trap.Clear()
+        return sorted(set(findings), key=Finding.sort_key)
+
+    # -- internals ------------------------------------------------------------
+
+    def _walk(self, stage: Usd.Stage, ctx: Context) -> list[tuple[Usd.Prim, tuple[Rule, ...]]]:
+        """One traversal of usable prims: collect render prims and the prim work."""
+        work = []
+        for prim in stage.Traverse():
+            rules, kinds = self._dispatch.lookup(prim.GetTypeName())
+            for kind in kinds:
+                ctx.render_prims.setdefault(kind, []).append(prim)
+            if rules:
+                work.append((prim, rules))
+        return work
+
+    def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
+        try:
+            return [self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ()]
+        except Exception as exc:
+            if self.raise_errors:
+                raise
+            where = f" on {args[0].GetPath()}" if isinstance(args[0], Usd.Prim) else ""
+            frame = traceback.extract_tb(exc.__traceback__)[-1]
+            message = (
+                f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {exc}{where} "
+                f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
+                "this file are lost. Please report this."
+            )
+            return [
+                Finding(
+                    INTERNAL_ERROR_CODE,
+                    INTERNAL_ERROR_NAME,
+                    Severity.ERROR,
+                    message,
+                    Location(ctx.file, str(args[0].GetPath()) if where else None),
+                )
+            ]
+
+    def _severity(self, code: str, default: Severity) -> Severity:
+        return self.severities.get(code, default)
+
+    def _finding(self, rule: Rule, diagnostic: Diagnostic, ctx: Context) -> Finding:
+        return Finding(
+            code=rule.code,
+            name=rule.name,
+            severity=self._severity(rule.code, rule.severity),
+            message=diagnostic.message,
+            location=locate(ctx.stage, ctx.file, diagnostic.at, diagnostic.layer),
+            fix=_fix_info(diagnostic.fix),
+        )
+
+    def _open_failure_findings(self, path: str, opened: StageOpenResult) -> Iterable[Finding]:
+        # Not selectable away: a file that cannot be opened is never a silent pass.
+        severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
+        for line in opened.errors:
+            yield Finding(
+                STAGE_OPEN_FAILED_CODE,
+                STAGE_OPEN_FAILED_NAME,
+                severity,
+                line,
+                Location(path, None, os.path.abspath(path), _line_from_error(line)),
+            )
+
+
+def _line_from_error(text: str) -> int | None:
+    """USD's parser errors start ``/path/file.usda:LINE:COL:``."""
+    parts = text.split(":")
+    for first, second in zip(parts, parts[1:]):
+        if first.endswith(USD_EXTENSIONS) and second.strip().isdigit():
+            return int(second)
+    return None
+
+
+def _fix_info(fix: Fix | None) -> FixInfo | None:
+    return None if fix is None else FixInfo(fix.description, fix.safe)
+
+
+def _layer_name(layer: Sdf.Layer) -> str:
+    return layer.realPath or layer.identifier
+
+
+def _spec_stack(obj: Usd.Object) -> list[Sdf.Spec]:
+    if isinstance(obj, Usd.Property):
+        return list(obj.GetPropertyStack(Usd.TimeCode.Default()))
+    if isinstance(obj, Usd.Prim):
+        return list(obj.GetPrimStack())
+    return []
+
+
+def locate(
+    stage: Usd.Stage,
+    file: str,
+    at: Usd.Object | Sdf.Path | None,
+    layer: Sdf.Layer | None = None,
+) -> Location:
+    """Where a diagnostic is: its path, the layer of the strongest opinion
+    behind it (or ``layer`` when given), and the line there in a ``.usda``."""
+    if isinstance(at, Sdf.Path):
+        at = stage.GetObjectAtPath(at) or at
+    if at is None:
+        root = layer or stage.GetRootLayer()
+        return Location(file, None, _layer_name(root), None)
+    if isinstance(at, Sdf.Path):
+        return Location(file, str(at), _layer_name(layer) if layer else None, None)
+    specs = _spec_stack(at)
+    if layer is not None:
+        specs = [s for s in specs if s.layer == layer] or specs
+        spec = next(iter(specs), None)
+        chosen = layer
+    else:
+        spec = next(iter(specs), None)
+        chosen = spec.layer if spec is not None else None
+    line = None
+    if spec is not None and chosen is not None and _is_text_file(chosen):
+        line = usda_lines.line_of(chosen.realPath, str(spec.path))
+    return Location(file, str(at.GetPath()), _layer_name(chosen) if chosen else None, line)
+
+
+def _is_text_file(layer: Sdf.Layer) -> bool:
+    path = layer.realPath
+    return bool(path) and layer.GetFileFormat().formatId == "usda" and os.path.isfile(path)

@@ -1,0 +1,57 @@
+"""The stable machine format: one JSON document on stdout (schema_version 1)."""
+
+from __future__ import annotations
+
+import json
+from typing import Any, TextIO
+
+from ..model import Finding, Report
+from . import FormatOptions, display_path
+
+SCHEMA_VERSION = 1
+
+
+def finding_to_dict(finding: Finding) -> dict[str, Any]:
+    loc = finding.location
+    return {
+        "code": finding.code,
+        "name": finding.name,
+        "severity": finding.severity.value,
+        "message": finding.message,
+        "path": loc.path,
+        "file": loc.file,
+        "layer": display_path(loc.layer) if loc.layer else None,
+        "line": loc.line,
+        "fix": (
+            None
+            if finding.fix is None
+            else {"description": finding.fix.description, "safe": finding.fix.safe}
+        ),
+    }
+
+
+def report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "tool": {"name": options.tool_name, "version": options.tool_version},
+        "files": [
+            {
+                "file": result.file,
+                "status": result.status,
+                "error": result.error,
+                "findings": [finding_to_dict(f) for f in result.findings],
+            }
+            for result in report.files
+        ],
+        "summary": {
+            "files": len(report.files),
+            "findings": len(report.findings),
+            "by_severity": report.by_severity(),
+        },
+    }
+
+
+class JsonFormatter:
+    def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
+        json.dump(report_to_dict(report, options), stream, indent=2, ensure_ascii=False)
+        stream.write("\n")

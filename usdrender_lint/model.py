@@ -1,0 +1,135 @@
+"""The linter's data model: plain, immutable values with no pxr and no I/O.
+
+Formatters, the baseline and the Python API consume only these types, so they
+never need a USD stage to exist.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections import Counter
+from dataclasses import dataclass, field
+
+
+class Severity(enum.Enum):
+    """How bad a finding is; ordered info < warning < error."""
+
+    INFO = "info"
+    WARNING = "warning"
+    ERROR = "error"
+
+    @property
+    def rank(self) -> int:
+        return _SEVERITY_RANK[self]
+
+    @classmethod
+    def parse(cls, text: str) -> Severity:
+        try:
+            return cls(text.strip().lower())
+        except ValueError:
+            allowed = ", ".join(s.value for s in cls)
+            raise ValueError(f"unknown severity {text!r} (expected one of: {allowed})") from None
+
+    def __str__(self) -> str:
+        return self.value
+
+
+_SEVERITY_RANK = {Severity.INFO: 0, Severity.WARNING: 1, Severity.ERROR: 2}
+
+#: Reserved code for a rule that raised: reported, never selectable away.
+INTERNAL_ERROR_CODE = "UL000"
+INTERNAL_ERROR_NAME = "internal-error"
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where a finding is.
+
+    ``file`` is the file that was linted (the stage's root layer as given),
+    ``path`` the Sdf prim or property path (None for whole-file findings),
+    ``layer`` the layer holding the strongest opinion behind the finding and
+    ``line`` the line of that opinion when the layer is a text ``.usda``.
+    """
+
+    file: str
+    path: str | None = None
+    layer: str | None = None
+    line: int | None = None
+
+
+@dataclass(frozen=True)
+class FixInfo:
+    """What an available automatic fix would do, and whether it is safe."""
+
+    description: str
+    safe: bool
+
+
+@dataclass(frozen=True)
+class Finding:
+    code: str
+    name: str
+    severity: Severity
+    message: str
+    location: Location
+    fix: FixInfo | None = None
+
+    def sort_key(self) -> tuple:
+        return (
+            self.location.file,
+            self.location.path or "",
+            self.code,
+            self.message,
+        )
+
+
+@dataclass(frozen=True)
+class FileResult:
+    """The outcome for one input file.
+
+    ``status`` is ``"linted"`` when the rules ran (a file USD cannot open is
+    linted: it yields an ST001 finding) and ``"error"`` when the tool could not
+    do its job for the file (it does not exist, timed out, ...).
+    """
+
+    file: str
+    status: str = "linted"
+    error: str | None = None
+    findings: tuple[Finding, ...] = ()
+
+
+@dataclass(frozen=True)
+class RuleInfo:
+    """A rule's metadata and documentation, for reports that describe rules."""
+
+    code: str
+    name: str
+    severity: Severity
+    summary: str
+    doc: str
+    fix: str = "none"
+
+
+@dataclass(frozen=True)
+class Report:
+    files: tuple[FileResult, ...] = ()
+    #: The rules that ran (for formats that describe them, e.g. SARIF).
+    rules: tuple[RuleInfo, ...] = ()
+    #: Fixes applied by --fix, as human-readable lines (empty without --fix).
+    applied_fixes: tuple[str, ...] = field(default=())
+
+    @property
+    def findings(self) -> tuple[Finding, ...]:
+        return tuple(f for result in self.files for f in result.findings)
+
+    @property
+    def errored_files(self) -> tuple[FileResult, ...]:
+        return tuple(r for r in self.files if r.status != "linted")
+
+    def by_severity(self) -> dict[str, int]:
+        counts = Counter(f.severity.value for f in self.findings)
+        return {s.value: counts.get(s.value, 0) for s in (Severity.ERROR, Severity.WARNING,
+                                                          Severity.INFO)}
+
+    def by_code(self) -> dict[str, int]:
+        return dict(sorted(Counter(f.code for f in self.findings).items()))

@@ -1,0 +1,143 @@
+"""Rule discovery and selection.
+
+Built-in rules and third-party rules register the same way: an entry point in
+the ``usdrender_lint.rules`` group naming a sequence of :class:`Rule` classes.
+A plugin that fails to load or a duplicate code is an error, never a log line:
+a CI gate must not silently lose rules.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from importlib import metadata
+
+from .api import Rule
+
+ENTRY_POINT_GROUP = "usdrender_lint.rules"
+
+
+class RegistryError(Exception):
+    """A rule plugin could not be loaded or conflicts with another."""
+
+
+@dataclass(frozen=True)
+class Registry:
+    rules: tuple[type[Rule], ...]
+    #: Which entry point (plugin) provided each rule code.
+    origins: dict[str, str]
+
+    def by_code(self, code: str) -> type[Rule]:
+        for rule in self.rules:
+            if rule.code == code:
+                return rule
+        raise KeyError(code)
+
+    def find(self, code_or_name: str) -> type[Rule] | None:
+        key = code_or_name.strip()
+        for rule in self.rules:
+            if key.upper() == rule.code or key.lower() == rule.name or key in _aliases(rule):
+                return rule
+        return None
+
+    def plugins(self) -> set[str]:
+        return set(self.origins.values())
+
+
+def _aliases(rule: type[Rule]) -> tuple[str, ...]:
+    return tuple(getattr(rule, "aliases", ()))
+
+
+def build_registry(entry_points: Iterable[metadata.EntryPoint] | None = None) -> Registry:
+    """Load every rule plugin; raise :class:`RegistryError` on any problem."""
+    if entry_points is None:
+        entry_points = metadata.entry_points(group=ENTRY_POINT_GROUP)
+    rules: list[type[Rule]] = []
+    origins: dict[str, str] = {}
+    names: dict[str, str] = {}
+    for ep in sorted(entry_points, key=lambda e: (e.name != "builtin", e.name)):
+        try:
+            loaded = ep.load()
+        except Exception as exc:
+            raise RegistryError(
+                f"rule plugin {ep.name!r} ({ep.value}) failed to load: "
+                f"{type(exc).__name__}: {exc}"
+            ) from exc
+        if isinstance(loaded, type):
+            loaded = [loaded]
+        try:
+            classes = list(loaded)
+        except TypeError:
+            raise RegistryError(
+                f"rule plugin {ep.name!r} ({ep.value}) must name a sequence of Rule classes"
+            ) from None
+        for cls in classes:
+            if not (isinstance(cls, type) and issubclass(cls, Rule)):
+                raise RegistryError(
+                    f"rule plugin {ep.name!r} provides {cls!r}, which is not a Rule subclass"
+                )
+            if cls.code in origins:
+                raise RegistryError(
+                    f"duplicate rule code {cls.code}: provided by plugin {origins[cls.code]!r} "
+                    f"and by plugin {ep.name!r}"
+                )
+            if cls.name in names:
+                raise RegistryError(
+                    f"duplicate rule name {cls.name!r}: {names[cls.name]} and {cls.code}"
+                )
+            origins[cls.code] = ep.name
+            names[cls.name] = cls.code
+            rules.append(cls)
+    if not rules:
+        raise RegistryError(
+            f"no rules are registered in entry point group {ENTRY_POINT_GROUP!r}; "
+            "is usdrender-lint installed (pip install .)?"
+        )
+    return Registry(tuple(sorted(rules, key=lambda r: r.code)), origins)
+
+
+class SelectionError(ValueError):
+    """A selector names no rule."""
+
+
+def _specificity(selector: str, rule: type[Rule]) -> int:
+    """How specifically ``selector`` matches ``rule``: 0 = no match.
+
+    Names and aliases are as specific as a full code; a code prefix counts its
+    length ("ALL" matches everything, least specifically).
+    """
+    token = selector.strip()
+    if token.upper() == "ALL":
+        return 1
+    if token.lower() == rule.name or token in _aliases(rule):
+        return 1000
+    if rule.code.startswith(token.upper()):
+        return 1 + len(token)
+    return 0
+
+
+def select_rules(
+    rules: Sequence[type[Rule]],
+    select: Sequence[str] | None = None,
+    ignore: Sequence[str] = (),
+    extend_select: Sequence[str] = (),
+) -> list[type[Rule]]:
+    """Which rules run. ``select`` None means all. The most specific matching
+    selector decides (an ignore wins a tie), as in ruff."""
+    selectors = list(select) if select is not None else ["ALL"]
+    selectors += list(extend_select)
+    for token in [*selectors, *ignore]:
+        if not any(_specificity(token, r) for r in rules):
+            raise SelectionError(f"{token!r} matches no rule code, code prefix or rule name")
+    chosen = []
+    for rule in rules:
+        best_select = max((_specificity(t, rule) for t in selectors), default=0)
+        best_ignore = max((_specificity(t, rule) for t in ignore), default=0)
+        if best_select and best_select > best_ignore:
+            chosen.append(rule)
+    return chosen
+
+
+def matches_any(rule: type[Rule], selectors: Iterable[str]) -> bool:
+    """True when a code, prefix or name in ``selectors`` names ``rule``."""
+    return any(_specificity(token, rule) for token in selectors)

@@ -1,0 +1,255 @@
+"""USD resolution shared by every rule: usable prims, relationship targets,
+authored and effective values, and the render configuration.
+
+These are the semantics of ``UsdRenderComputeSpec`` (``pxr/usd/usdRender/spec.cpp``),
+which usd-core 26.11 does not wrap for Python, re-implemented once here so that
+no rule re-derives them (catalog, "Conventions used by every rule").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+from pxr import Sdf, Usd, UsdGeom, UsdRender
+
+DEFAULT_TIME = Usd.TimeCode.Default()
+
+
+def is_usable(prim: Usd.Prim) -> bool:
+    """Active, defined, not abstract: what ``stage.Traverse()`` visits."""
+    return bool(prim) and prim.IsActive() and prim.IsDefined() and not prim.IsAbstract()
+
+
+def unusable_reason(prim: Usd.Prim) -> str | None:
+    """Why a prim that exists is not usable, or None when it is usable."""
+    if not prim.IsActive():
+        return "is inactive"
+    if not prim.IsDefined():
+        return "is only an 'over' (never defined)"
+    if prim.IsAbstract():
+        return "is abstract (a 'class')"
+    return None
+
+
+@dataclass(frozen=True)
+class Target:
+    """One forwarded relationship target and what it resolves to on the stage.
+
+    ``problem`` is None when the target is a usable prim; otherwise it says why
+    it is not (missing, a property, inactive, over-only, abstract), phrased to
+    follow the target path in a message.
+    """
+
+    path: Sdf.Path
+    prim: Usd.Prim | None
+    problem: str | None
+
+    @property
+    def ok(self) -> bool:
+        return self.problem is None
+
+    @property
+    def is_missing(self) -> bool:
+        return self.prim is None and not self.path.IsPropertyPath()
+
+
+def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
+    if path.IsPropertyPath():
+        return Target(path, None, "is a property, not a prim")
+    prim = stage.GetPrimAtPath(path)
+    if not prim:
+        return Target(path, None, "does not exist on the composed stage")
+    return Target(path, prim, unusable_reason(prim))
+
+
+def forwarded_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
+    """Targets with relationship forwarding honoured, as spec.cpp reads them."""
+    if not rel:
+        return []
+    return list(rel.GetForwardedTargets())
+
+
+def resolve_targets(rel: Usd.Relationship | None) -> list[Target]:
+    if not rel:
+        return []
+    stage = rel.GetStage()
+    return [resolve_target(stage, p) for p in forwarded_targets(rel)]
+
+
+def describe_prim_type(prim: Usd.Prim) -> str:
+    type_name = prim.GetTypeName()
+    if not type_name:
+        return "a typeless prim"
+    article = "an" if type_name[0] in "AEIOUX" else "a"
+    return f"{article} {type_name}"
+
+
+# -- values -----------------------------------------------------------------
+
+
+def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
+    definition = attr.GetPrim().GetPrimDefinition().GetAttributeDefinition(attr.GetName())
+    return definition.GetTypeName() if definition else None
+
+
+def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
+    """The strongest value-holding spec whose type differs from the schema's.
+
+    Python ``Get()`` returns such a value (e.g. a ``Gf.Vec2f`` for a ``float``)
+    although typed C++ reads cannot (catalog, Surprises 5). Roles are ignored:
+    ``color3f`` and ``float3`` store the same value type.
+    """
+    schema_type = _schema_type(attr)
+    if schema_type is None:
+        return None
+    for spec in attr.GetPropertyStack(DEFAULT_TIME):
+        if spec.HasDefaultValue() or spec.layer.GetNumTimeSamplesForPath(spec.path):
+            return spec if spec.typeName.type != schema_type.type else None
+    return None
+
+
+def has_authored_value(attr: Usd.Attribute | None) -> bool:
+    """Authored and well-typed: type-mismatched opinions count as unauthored
+    (catalog, Conventions: one mistake gives one finding, SE016)."""
+    return bool(attr) and attr.HasAuthoredValue() and mismatched_spec(attr) is None
+
+
+def fallback_value(prim: Usd.Prim, name: str) -> Any:
+    return prim.GetPrimDefinition().GetAttributeFallbackValue(name)
+
+
+def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
+    """The attribute's value when it is authored and well-typed, else None."""
+    if not has_authored_value(attr):
+        return None
+    return attr.Get(time)
+
+
+def composed_value(prim: Usd.Prim, name: str) -> Any:
+    """The value a consumer reads at Default: authored (well-typed) or fallback."""
+    attr = prim.GetAttribute(name)
+    if has_authored_value(attr):
+        return attr.Get()
+    return fallback_value(prim, name)
+
+
+def is_finite(value: Any) -> bool:
+    """True when every component of a scalar or Gf vector is finite."""
+    try:
+        components = list(value)
+    except TypeError:
+        components = [value]
+    return all(isinstance(c, (int, float)) and math.isfinite(c) for c in components)
+
+
+def time_samples(attr: Usd.Attribute, cap: int) -> list[float]:
+    """The first ``cap`` authored time samples of an attribute."""
+    if not attr:
+        return []
+    return list(attr.GetTimeSamples())[:cap]
+
+
+def evaluation_times(attr: Usd.Attribute, cap: int) -> Iterator[Usd.TimeCode]:
+    """Default, then each authored time sample (capped): where camera values
+    are evaluated (catalog, Conventions: Time)."""
+    yield DEFAULT_TIME
+    for t in time_samples(attr, cap):
+        yield Usd.TimeCode(t)
+
+
+def format_time(time: Usd.TimeCode) -> str:
+    return "the default time" if time.IsDefault() else f"time {time.GetValue():g}"
+
+
+# -- render configuration --------------------------------------------------------
+
+SETTINGS_BASE_ATTRIBUTES = (
+    "aspectRatioConformPolicy",
+    "dataWindowNDC",
+    "disableDepthOfField",
+    "disableMotionBlur",
+    "instantaneousShutter",
+    "pixelAspectRatio",
+    "resolution",
+)
+
+
+@dataclass(frozen=True)
+class EffectiveValue:
+    """A RenderSettingsBase value in a configuration and where it comes from."""
+
+    value: Any
+    #: The attribute that supplies the value (the product's when it overrides).
+    attr: Usd.Attribute
+    authored: bool
+
+
+@dataclass(frozen=True)
+class RenderConfiguration:
+    """A RenderSettings paired with one usable RenderProduct of its ``products``
+    (or alone when it has none): the unit ``UsdRenderComputeSpec`` renders."""
+
+    settings: Usd.Prim
+    product: Usd.Prim | None = None
+
+    def effective(self, name: str) -> EffectiveValue:
+        """The product's value if it is authored there (a block ``= None`` is not),
+        otherwise the settings' composed value, authored or fallback."""
+        if self.product is not None:
+            attr = self.product.GetAttribute(name)
+            if has_authored_value(attr):
+                return EffectiveValue(attr.Get(), attr, True)
+        attr = self.settings.GetAttribute(name)
+        authored = has_authored_value(attr)
+        value = attr.Get() if authored else fallback_value(self.settings, name)
+        return EffectiveValue(value, attr, authored)
+
+    @cached_property
+    def camera_relationship(self) -> Usd.Relationship:
+        """The product's ``camera`` when it has a forwarded target (an empty
+        ``rel camera = []`` cannot clear the settings camera), else the settings'."""
+        if self.product is not None:
+            rel = UsdRender.SettingsBase(self.product).GetCameraRel()
+            if forwarded_targets(rel):
+                return rel
+        return UsdRender.SettingsBase(self.settings).GetCameraRel()
+
+    @cached_property
+    def camera_target(self) -> Target | None:
+        """The first forwarded camera target, resolved; None when unset."""
+        targets = forwarded_targets(self.camera_relationship)
+        if not targets:
+            return None
+        return resolve_target(self.settings.GetStage(), targets[0])
+
+    @property
+    def camera(self) -> UsdGeom.Camera | None:
+        """The effective camera when it is a usable Camera prim."""
+        target = self.camera_target
+        if target is None or not target.ok or not target.prim.IsA(UsdGeom.Camera):
+            return None
+        return UsdGeom.Camera(target.prim)
+
+    def describe(self) -> str:
+        if self.product is None:
+            return f"settings {self.settings.GetPath()}"
+        return f"settings {self.settings.GetPath()} with product {self.product.GetPath()}"
+
+
+def render_configurations(settings_prims: list[Usd.Prim]) -> list[RenderConfiguration]:
+    configurations: list[RenderConfiguration] = []
+    for settings in settings_prims:
+        products = [
+            t.prim
+            for t in resolve_targets(UsdRender.Settings(settings).GetProductsRel())
+            if t.ok and t.prim.IsA(UsdRender.Product)
+        ]
+        if products:
+            configurations.extend(RenderConfiguration(settings, p) for p in products)
+        else:
+            configurations.append(RenderConfiguration(settings))
+    return configurations

@@ -1,0 +1,106 @@
+"""Turns settings and paths into a Report: rule selection, options, file
+discovery and the per-file loop. Shared by the command line and the Python API.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Sequence
+
+from .api import Rule
+from .config import ConfigError, Settings, build_options
+from .engine import USD_EXTENSIONS, Linter
+from .model import FileResult, Report, Severity
+from .registry import Registry, SelectionError, build_registry, select_rules
+
+
+def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
+    """Instantiate the selected rules with their validated options."""
+    try:
+        chosen = select_rules(
+            registry.rules, settings.select, settings.ignore, settings.extend_select
+        )
+    except SelectionError as exc:
+        raise ConfigError(str(exc)) from None
+    options = _options_by_code(registry, settings)
+    return [rule(options.get(rule.code)) for rule in chosen]
+
+
+def _options_by_code(registry: Registry, settings: Settings) -> dict[str, object]:
+    built = {}
+    for key, values in settings.rule_options.items():
+        rule = registry.find(key)
+        where = f"{settings.source or 'config'}: rules.{key}"
+        if rule is None:
+            raise ConfigError(f"{where}: no rule has this code or name")
+        built[rule.code] = build_options(rule.Options, values, where)
+    return built
+
+
+def severity_overrides(registry: Registry, settings: Settings) -> dict[str, Severity]:
+    overrides = {}
+    for key, severity in settings.severity.items():
+        rule = registry.find(key)
+        if rule is None:
+            raise ConfigError(
+                f"{settings.source or 'config'}: severity.{key}: no rule has this code or name"
+            )
+        overrides[rule.code] = severity
+    return overrides
+
+
+def make_linter(settings: Settings, registry: Registry | None = None, **kwargs) -> Linter:
+    registry = registry or build_registry()
+    return Linter(
+        make_rules(registry, settings),
+        severity_overrides(registry, settings),
+        time_sample_cap=settings.time_sample_cap,
+        **kwargs,
+    )
+
+
+def collect_files(paths: Iterable[str]) -> list[str]:
+    """Expand directories recursively into USD files (sorted); keep files and
+    missing paths as given so the engine reports them."""
+    files: list[str] = []
+    for path in paths:
+        if os.path.isdir(path):
+            found = []
+            for folder, dirs, names in os.walk(path, followlinks=False):
+                dirs.sort()
+                found.extend(
+                    os.path.join(folder, n) for n in names if n.lower().endswith(USD_EXTENSIONS)
+                )
+            files.extend(sorted(found))
+        else:
+            files.append(path)
+    seen: set[str] = set()
+    unique = []
+    for f in files:
+        key = os.path.normpath(f)
+        if key not in seen:
+            seen.add(key)
+            unique.append(f)
+    return unique
+
+
+def lint_files(linter: Linter, files: Sequence[str]) -> Report:
+    return Report(tuple(linter.lint_path(f) for f in files))
+
+
+def fails(report: Report, fail_on: str) -> bool:
+    """True when a finding is at or above the ``fail_on`` threshold."""
+    if fail_on == "never":
+        return False
+    threshold = Severity.parse(fail_on).rank
+    return any(f.severity.rank >= threshold for f in report.findings)
+
+
+__all__ = [
+    "FileResult",
+    "collect_files",
+    "fails",
+    "lint_files",
+    "make_linter",
+    "make_rules",
+]
