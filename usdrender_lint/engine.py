@@ -209,7 +209,10 @@ class Linter:
     def _open_failure_findings(self, path: str, opened: StageOpenResult) -> Iterable[Finding]:
         # Not selectable away: a file that cannot be opened is never a silent pass.
         severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
-        for line in opened.errors:
+        lines = list(opened.errors)
+        specific = [line for line in lines if not line.startswith("Failed to open layer")]
+        # USD follows the real cause with a generic "Failed to open layer @f@": say it once.
+        for line in specific or lines:
             yield Finding(
                 STAGE_OPEN_FAILED_CODE,
                 STAGE_OPEN_FAILED_NAME,
