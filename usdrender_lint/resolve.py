@@ -112,6 +112,24 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     return None
 
 
+def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
+    """Every spec of the attribute, strongest first, whose type differs from the
+    schema's, value-holding or not (what ``usdValidation:AttributeTypeMismatch``
+    reports). Roles are ignored, as in :func:`mismatched_spec`."""
+    schema_type = _schema_type(attr)
+    if schema_type is None:
+        return []
+    return [s for s in attr.GetPropertyStack(DEFAULT_TIME) if s.typeName.type != schema_type.type]
+
+
+def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
+    """The schema's ``allowedTokens`` for an attribute, read from the prim
+    definition at run time; empty when the schema declares none."""
+    definition = prim.GetPrimDefinition().GetAttributeDefinition(name)
+    tokens = definition.GetMetadata("allowedTokens") if definition else None
+    return tuple(str(t) for t in tokens or ())
+
+
 def has_authored_value(attr: Usd.Attribute | None) -> bool:
     """Authored and well-typed: type-mismatched opinions count as unauthored
     (catalog, Conventions: one mistake gives one finding, SE016)."""
