@@ -9,7 +9,7 @@ no rule re-derives them (catalog, "Conventions used by every rule").
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -147,11 +147,12 @@ def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME
     return attr.Get(time)
 
 
-def composed_value(prim: Usd.Prim, name: str) -> Any:
-    """The value a consumer reads at Default: authored (well-typed) or fallback."""
+def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
+    """The value a consumer reads (at Default unless ``time`` says otherwise):
+    authored (well-typed) or fallback."""
     attr = prim.GetAttribute(name)
     if has_authored_value(attr):
-        return attr.Get()
+        return attr.Get(time)
     return fallback_value(prim, name)
 
 
@@ -174,8 +175,15 @@ def time_samples(attr: Usd.Attribute, cap: int) -> list[float]:
 def evaluation_times(attr: Usd.Attribute, cap: int) -> Iterator[Usd.TimeCode]:
     """Default, then each authored time sample (capped): where camera values
     are evaluated (catalog, Conventions: Time)."""
+    return joint_evaluation_times((attr,), cap)
+
+
+def joint_evaluation_times(attrs: Iterable[Usd.Attribute], cap: int) -> Iterator[Usd.TimeCode]:
+    """Default, then the sorted union of the attributes' authored time samples
+    (capped in total): where a check reading several varying values is evaluated."""
     yield DEFAULT_TIME
-    for t in time_samples(attr, cap):
+    union = sorted({t for attr in attrs for t in time_samples(attr, cap)})
+    for t in union[:cap]:
         yield Usd.TimeCode(t)
 
 
