@@ -128,6 +128,8 @@ class Context:
     file: str
     #: Usable render prims found by the traversal, keyed by schema class.
     render_prims: dict[type, list[Usd.Prim]] = field(default_factory=dict)
+    #: Usable prims whose non-empty type name no registered schema defines.
+    unknown_type_prims: list[Usd.Prim] = field(default_factory=list)
     #: Cap on the authored time samples a rule evaluates.
     time_sample_cap: int = 1000
     _memo: dict[Any, Any] = field(default_factory=dict, repr=False)

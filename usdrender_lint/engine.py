@@ -84,12 +84,16 @@ class _TypeDispatch:
         self._wanted = {schema for rule in rules for schema in rule.prim_types}
         self._wanted.update(RENDER_SCHEMAS)
         self._tf_types = {schema: Tf.Type.Find(schema) for schema in self._wanted}
+        #: Type names no registered schema defines (USD composes them typeless).
+        self.unknown_type_names: set[str] = set()
 
     def lookup(self, type_name: str) -> tuple[tuple[Rule, ...], tuple[type, ...]]:
         """(rules to run, render schemas the type belongs to) for a type name."""
         entry = self._by_type_name.get(type_name)
         if entry is None:
             prim_type = Usd.SchemaRegistry.GetTypeFromName(type_name) if type_name else None
+            if prim_type is not None and prim_type.isUnknown:
+                self.unknown_type_names.add(type_name)
             matches = {
                 schema
                 for schema, tf_type in self._tf_types.items()
@@ -162,12 +166,16 @@ class Linter:
     def _walk(self, stage: Usd.Stage, ctx: Context) -> list[tuple[Usd.Prim, tuple[Rule, ...]]]:
         """One traversal of usable prims: collect render prims and the prim work."""
         work = []
+        unknown = self._dispatch.unknown_type_names
         for prim in stage.Traverse():
-            rules, kinds = self._dispatch.lookup(prim.GetTypeName())
+            type_name = prim.GetTypeName()
+            rules, kinds = self._dispatch.lookup(type_name)
             for kind in kinds:
                 ctx.render_prims.setdefault(kind, []).append(prim)
             if rules:
                 work.append((prim, rules))
+            if type_name in unknown:
+                ctx.unknown_type_prims.append(prim)
         return work
 
     def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
@@ -225,7 +233,7 @@ class Linter:
 def _line_from_error(text: str) -> int | None:
     """USD's parser errors start ``/path/file.usda:LINE:COL:``."""
     parts = text.split(":")
-    for first, second in zip(parts, parts[1:]):
+    for first, second in zip(parts, parts[1:], strict=False):
         if first.endswith(USD_EXTENSIONS) and second.strip().isdigit():
             return int(second)
     return None
