@@ -134,8 +134,9 @@ def list_rules(output_format: str) -> None:
     from rich.table import Table
 
     table = Table(title=f"{len(registry.rules)} rules", title_justify="left")
-    for column in ("Code", "Name", "Severity", "Fix", "Summary"):
-        table.add_column(column)
+    for column in ("Code", "Name", "Severity", "Fix"):
+        table.add_column(column, no_wrap=True)
+    table.add_column("Summary")
     for r in registry.rules:
         table.add_row(r.code, r.name, r.severity.value, r.fix_safety, r.summary())
     Console(soft_wrap=False).print(table)

@@ -105,11 +105,13 @@ def index_usda(text: str) -> dict[str, int]:
                 statement = [(kind, value, line)]
                 i = j + 1
                 continue
-        if not statement and kind == "word" and value == "variantSet" and top_kind in (
-            "prim", "variant"
-        ):
-            if i < len(tokens) and tokens[i][0] == "string":
-                pending = ("variantset", top_path + "{" + _unquote(tokens[i][1]) + "=")
+        opens_variant_set = (
+            not statement and kind == "word" and value == "variantSet"
+            and top_kind in ("prim", "variant")
+            and i < len(tokens) and tokens[i][0] == "string"
+        )
+        if opens_variant_set:
+            pending = ("variantset", top_path + "{" + _unquote(tokens[i][1]) + "=")
         if top_kind == "variantset" and kind == "string" and not statement:
             pending = ("variant", top_path + _unquote(value) + "}")
         if value == "{":

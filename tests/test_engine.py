@@ -1,0 +1,211 @@
+"""The engine: dispatch, isolation, locations, diagnostics capture."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from pxr import Usd, UsdRender
+
+from usdrender_lint.api import Diagnostic, Rule, Severity
+from usdrender_lint.engine import Linter
+from usdrender_lint.model import INTERNAL_ERROR_CODE
+from usdrender_lint.usda_lines import index_usda
+
+SHOT = """#usda 1.0
+(
+    subLayers = [@./weak.usda@]
+)
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        rel products = </Render/Beauty>
+    }
+
+    def RenderProduct "Beauty"
+    {
+    }
+}
+"""
+
+WEAK = """#usda 1.0
+
+over "Render"
+{
+    over "Settings"
+    {
+
+        uniform int2 resolution = (-1, 1080)
+    }
+}
+"""
+
+
+@pytest.fixture
+def shot(tmp_path: Path) -> Path:
+    (tmp_path / "weak.usda").write_text(WEAK)
+    path = tmp_path / "shot.usda"
+    path.write_text(SHOT)
+    return path
+
+
+class Recorder(Rule):
+    """Records which prims it is handed.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST001"
+    name = "recorder"
+    severity = Severity.INFO
+    prim_types = (UsdRender.Product,)
+
+    def __init__(self, options=None) -> None:
+        super().__init__(options)
+        self.seen: list[str] = []
+
+    def check_prim(self, prim, ctx):
+        self.seen.append(str(prim.GetPath()))
+        return ()
+
+
+class Exploder(Rule):
+    """Raises.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST002"
+    name = "exploder"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.SettingsBase,)
+
+    def check_prim(self, prim, ctx):
+        raise ValueError("boom")
+
+
+class ResolutionReporter(Rule):
+    """Reports the resolution attribute wherever it is.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST003"
+    name = "resolution-reporter"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        yield Diagnostic("resolution", at=prim.GetAttribute("resolution"))
+        # The same diagnostic twice is reported once.
+        yield Diagnostic("resolution", at=prim.GetAttribute("resolution"))
+
+
+def test_prims_are_dispatched_by_schema_type(shot: Path) -> None:
+    recorder = Recorder()
+    Linter([recorder]).lint_path(str(shot))
+    assert recorder.seen == ["/Render/Beauty"]
+
+
+def test_a_raising_rule_is_isolated(shot: Path) -> None:
+    result = Linter([Exploder(), ResolutionReporter()]).lint_path(str(shot))
+    codes = [f.code for f in result.findings]
+    assert codes.count(INTERNAL_ERROR_CODE) == 2  # the settings and the product
+    assert "TST003" in codes
+    internal = next(f for f in result.findings if f.code == INTERNAL_ERROR_CODE)
+    assert "TST002 (exploder) raised ValueError: boom" in internal.message
+    assert internal.severity is Severity.ERROR
+
+
+def test_raise_errors_propagates_for_tests(shot: Path) -> None:
+    with pytest.raises(ValueError):
+        Linter([Exploder()], raise_errors=True).lint_path(str(shot))
+
+
+def test_finding_names_the_layer_and_line_of_the_strongest_opinion(shot: Path) -> None:
+    (finding,) = Linter([ResolutionReporter()]).lint_path(str(shot)).findings
+    assert finding.location.path == "/Render/Settings.resolution"
+    assert finding.location.file == str(shot)
+    assert finding.location.layer == str(shot.parent / "weak.usda")
+    assert finding.location.line == 8
+
+
+def test_severity_override(shot: Path) -> None:
+    (finding,) = Linter(
+        [ResolutionReporter()], {"TST003": Severity.ERROR}
+    ).lint_path(str(shot)).findings
+    assert finding.severity is Severity.ERROR
+
+
+def test_usdc_layers_have_no_line(shot: Path, tmp_path: Path) -> None:
+    stage = Usd.Stage.Open(str(shot))
+    flat = tmp_path / "flat.usdc"
+    stage.Export(str(flat))
+    (finding,) = Linter([ResolutionReporter()]).lint_path(str(flat)).findings
+    assert finding.location.layer == str(flat)
+    assert finding.location.line is None
+
+
+def test_usd_diagnostics_are_trapped(tmp_path: Path, capfd) -> None:
+    layer = tmp_path / "a.usda"
+    layer.write_text('#usda 1.0\n(\n    subLayers = [@./missing.usda@]\n)\n')
+    result = Linter([ResolutionReporter()]).lint_path(str(layer))
+    assert result.status == "linted"
+    captured = capfd.readouterr()
+    assert captured.err == "" and captured.out == ""
+
+
+def test_directory_and_missing_paths_are_file_errors(tmp_path: Path) -> None:
+    linter = Linter([])
+    assert linter.lint_path(str(tmp_path)).status == "error"
+    missing = linter.lint_path(str(tmp_path / "none.usda"))
+    assert missing.status == "error" and "no such file" in missing.error
+
+
+def test_open_failure_is_st001_with_line(tmp_path: Path) -> None:
+    layer = tmp_path / "bad.usda"
+    layer.write_text('#usda 1.0\ndef Scope "A"\n{\n    int x = \n}\n')
+    (finding,) = Linter([]).lint_path(str(layer)).findings
+    assert finding.code == "ST001"
+    assert finding.location.line is not None
+    assert str(layer) in finding.message
+
+
+def test_line_index_handles_variants_strings_and_nesting() -> None:
+    text = '''#usda 1.0
+(
+    customLayerData = { string note = "def Scope \\"Fake\\" {" }
+)
+# def Xform "Commented"
+def Xform "World" (
+    variants = { string look = "a" }
+    prepend variantSets = "look"
+)
+{
+    variantSet "look" = {
+        "a" {
+            def Camera "cam"
+            {
+                float focalLength.timeSamples = {
+                    1: 35,
+                }
+            }
+        }
+    }
+    custom string notes = """two
+lines"""
+    rel target = </World>
+}
+'''
+    index = index_usda(text)
+    assert index["/World"] == 6
+    assert index["/World{look=a}cam"] == 13
+    assert index["/World{look=a}cam.focalLength"] == 15
+    assert index["/World.notes"] == 21
+    assert index["/World.target"] == 23
+    assert not any("Fake" in key or "Commented" in key for key in index)

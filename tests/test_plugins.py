@@ -1,0 +1,142 @@
+"""Third-party rules plug in through the same entry point group as the built-ins.
+
+Each test writes a tiny distribution (a module plus its ``.dist-info`` entry
+point metadata) into a temporary folder on ``sys.path``: importlib.metadata then
+discovers it exactly as it would an installed package.
+"""
+
+from __future__ import annotations
+
+import json
+import textwrap
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.registry import RegistryError, build_registry
+
+ACME_RULES = '''
+from pxr import UsdRender
+from usdrender_lint.api import Diagnostic, Rule, Severity
+
+
+class ProductNameHasFrameToken(Rule):
+    """Studio rule: every productName carries a frame token.
+
+    ## What it does
+    Reports a RenderProduct whose productName has no `####`.
+    """
+
+    code = "ACME001"
+    name = "product-name-frame-token"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Product,)
+
+    def check_prim(self, prim, ctx):
+        name = UsdRender.Product(prim).GetProductNameAttr().Get() or ""
+        if "####" not in name:
+            yield Diagnostic(f"productName {name!r} has no frame token ####", at=prim)
+
+
+RULES = [ProductNameHasFrameToken]
+'''
+
+LAYER = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderProduct "beauty"
+    {
+        token productName = "beauty.exr"
+        rel orderedVars = </Render/color>
+    }
+
+    def RenderVar "color"
+    {
+        string sourceName = "Ci"
+    }
+}
+"""
+
+
+def install_plugin(root: Path, dist: str, module: str, source: str, value: str) -> None:
+    (root / f"{module}.py").write_text(textwrap.dedent(source))
+    info = root / f"{dist}-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {dist}\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text(f"[usdrender_lint.rules]\n{dist} = {value}\n")
+
+
+@pytest.fixture
+def layer(tmp_path: Path) -> Path:
+    path = tmp_path / "shot.usda"
+    path.write_text(LAYER)
+    return path
+
+
+def test_third_party_rule_runs(tmp_path: Path, layer: Path, monkeypatch) -> None:
+    site = tmp_path / "site"
+    site.mkdir()
+    install_plugin(site, "acme", "acme_rules", ACME_RULES, "acme_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+
+    registry = build_registry()
+    assert registry.origins["ACME001"] == "acme"
+    result = CliRunner().invoke(cli, ["check", "--isolated", "--format", "json", str(layer)])
+    codes = {f["code"] for f in json.loads(result.output)["files"][0]["findings"]}
+    assert "ACME001" in codes
+    listed = json.loads(CliRunner().invoke(cli, ["rules", "--format", "json"]).output)
+    assert {"code": "ACME001", "plugin": "acme"}.items() <= next(
+        r for r in listed if r["code"] == "ACME001"
+    ).items()
+
+
+def test_plugin_that_fails_to_import_stops_the_run(tmp_path: Path, layer: Path,
+                                                   monkeypatch) -> None:
+    site = tmp_path / "site"
+    site.mkdir()
+    install_plugin(site, "broken", "broken_rules", "import not_a_module_anywhere\n",
+                   "broken_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    result = CliRunner().invoke(cli, ["check", "--isolated", str(layer)])
+    assert result.exit_code == 2
+    assert "rule plugin 'broken'" in result.stderr
+    assert "failed to load" in result.stderr
+    assert "Traceback" not in result.output
+
+
+def test_duplicate_code_stops_the_run(tmp_path: Path, layer: Path, monkeypatch) -> None:
+    site = tmp_path / "site"
+    site.mkdir()
+    clash = ACME_RULES.replace('"ACME001"', '"CA004"').replace(
+        "product-name-frame-token", "acme-clash"
+    )
+    install_plugin(site, "clash", "clash_rules", clash, "clash_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    with pytest.raises(RegistryError, match="duplicate rule code CA004"):
+        build_registry()
+    result = CliRunner().invoke(cli, ["check", "--isolated", str(layer)])
+    assert result.exit_code == 2
+    assert "duplicate rule code CA004" in result.stderr
+
+
+def test_plugin_providing_a_non_rule_is_rejected(tmp_path: Path, monkeypatch) -> None:
+    site = tmp_path / "site"
+    site.mkdir()
+    install_plugin(site, "odd", "odd_rules", "RULES = [object]\n", "odd_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    with pytest.raises(RegistryError, match="not a Rule subclass"):
+        build_registry()
+
+
+def test_rule_metadata_is_checked_at_class_creation() -> None:
+    from usdrender_lint.api import Rule, Severity
+
+    with pytest.raises(TypeError, match="kebab-case"):
+
+        class BadName(Rule):
+            code = "ACME002"
+            name = "Bad_Name"
+            severity = Severity.ERROR
