@@ -16,6 +16,7 @@ import click
 
 from . import __version__
 from .config import FAIL_ON_CHOICES, ConfigError, load_settings
+from .execution import DEFAULT_TIMEOUT, ExecutionError, default_jobs
 from .formatters import FormatOptions, available_formatters, load_formatter
 from .registry import Registry, RegistryError, build_registry
 
@@ -69,6 +70,20 @@ def cli() -> None:
 @click.option("--config", "config_path", type=click.Path(dir_okay=False),
               help="Read settings from this file instead of the nearest one.")
 @click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+@click.option(
+    "--jobs",
+    "-j",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Files linted in parallel worker processes  [default: the CPU count].",
+)
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0),
+    default=DEFAULT_TIMEOUT,
+    show_default=True,
+    help="Seconds one file may take before it is reported as an error; 0: no limit.",
+)
 def check(
     paths: tuple[str, ...],
     output_format: str,
@@ -79,6 +94,8 @@ def check(
     show_info: bool,
     config_path: str | None,
     isolated: bool,
+    jobs: int | None,
+    timeout: float,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     from .docs import rule_info
@@ -97,7 +114,16 @@ def check(
     except ConfigError as exc:
         raise ToolError(str(exc)) from None
 
-    report = lint_files(linter, collect_files(paths))
+    try:
+        report = lint_files(
+            linter,
+            collect_files(paths),
+            settings=settings,
+            jobs=jobs or default_jobs(),
+            timeout=timeout,
+        )
+    except ExecutionError as exc:
+        raise ToolError(str(exc)) from None
     report = type(report)(report.files, tuple(rule_info(type(r)) for r in linter.rules))
     formatter = load_formatter(output_format)
     formatter.render(

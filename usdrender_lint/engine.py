@@ -57,7 +57,7 @@ def open_stage(path: str) -> StageOpenResult:
             errors: tuple[str, ...] = ()
         except Tf.ErrorException as exc:
             stage = None
-            errors = tuple(_error_lines(exc))
+            errors = tuple(_error_lines(exc, path))
         except Exception as exc:  # noqa: BLE001 - any failure to open is a finding
             stage = None
             errors = (f"{type(exc).__name__}: {exc}",)
@@ -67,12 +67,35 @@ def open_stage(path: str) -> StageOpenResult:
     return StageOpenResult(stage, errors)
 
 
-def _error_lines(exc: Tf.ErrorException) -> Iterable[str]:
+def _error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
     for arg in exc.args:
-        text = getattr(arg, "commentary", None) or str(arg)
+        try:
+            text = getattr(arg, "commentary", None) or str(arg)
+        except UnicodeDecodeError:
+            # USD quotes the offending text, and Python cannot decode the quote.
+            text = _undecodable_error(path)
         for line in str(text).strip().splitlines():
             if line.strip():
                 yield line.strip()
+
+
+def _undecodable_error(path: str) -> str:
+    """Say where a layer stops being UTF-8 (usd-core 26.11's usda parser
+    rejects invalid UTF-8 anywhere in the file, comments included)."""
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+        data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        return (
+            f"{path}:{line}:{column}: invalid UTF-8 (byte 0x{data[exc.start]:02x}); "
+            "USD's parser rejects the file"
+        )
+    except OSError:
+        pass
+    return "USD reported an error whose message is not valid UTF-8"
 
 
 class _TypeDispatch:

@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Sequence
+from functools import partial
 
 from .api import Rule
 from .config import ConfigError, Settings, build_options
 from .engine import USD_EXTENSIONS, Linter
+from .execution import lint_paths
 from .model import FileResult, Report, Severity
 from .registry import Registry, SelectionError, build_registry, select_rules
 
@@ -84,8 +86,31 @@ def collect_files(paths: Iterable[str]) -> list[str]:
     return unique
 
 
-def lint_files(linter: Linter, files: Sequence[str]) -> Report:
-    return Report(tuple(linter.lint_path(f) for f in files))
+def lint_files(
+    linter: Linter,
+    files: Sequence[str],
+    *,
+    settings: Settings | None = None,
+    jobs: int = 1,
+    timeout: float | None = None,
+    progress: bool | None = None,
+) -> Report:
+    """Lint ``files``; results keep the input order whatever ``jobs`` is.
+
+    With ``jobs > 1`` or a ``timeout`` (seconds) the files go to worker
+    processes that rebuild the linter from ``settings`` (see :mod:`.execution`).
+    """
+    factory = partial(make_linter, settings) if settings is not None else None
+    return Report(
+        lint_paths(
+            files,
+            linter=linter,
+            linter_factory=factory,
+            jobs=jobs,
+            timeout=timeout,
+            progress=progress,
+        )
+    )
 
 
 def fails(report: Report, fail_on: str) -> bool:

@@ -1,0 +1,306 @@
+"""How files are executed: in this process, or in a pool of worker processes
+with a per-file time limit.
+
+A hung or crashing USD call cannot be interrupted from inside the process that
+makes it, so a time limit needs processes that can be killed. Each worker
+builds its own :class:`~usdrender_lint.engine.Linter` once (from a picklable
+factory, e.g. the settings) and lints one file at a time; a worker that runs
+past the limit or dies is replaced, and its file is reported as an error.
+Results come back in input order, so the output never depends on ``jobs``.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import sys
+import time
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from multiprocessing.connection import Connection, wait
+
+from .engine import Linter
+from .model import FileResult
+
+DEFAULT_TIMEOUT = 120.0
+#: A progress bar is worth drawing only for runs longer than this many files.
+PROGRESS_MIN_FILES = 20
+#: How long a new worker may take to import USD and build its linter.
+WORKER_START_LIMIT = 120.0
+
+LinterFactory = Callable[[], Linter]
+
+
+class ExecutionError(Exception):
+    """The worker pool could not do its job (not a problem of one file)."""
+
+
+def default_jobs() -> int:
+    return os.cpu_count() or 1
+
+
+def lint_paths(
+    files: Sequence[str],
+    *,
+    linter: Linter | None = None,
+    linter_factory: LinterFactory | None = None,
+    jobs: int = 1,
+    timeout: float | None = None,
+    progress: bool | None = None,
+) -> tuple[FileResult, ...]:
+    """Lint ``files`` and return one result per file, in input order.
+
+    With ``jobs == 1`` and no ``timeout`` the files are linted in this process
+    with ``linter`` (or one built by ``linter_factory``); otherwise in
+    ``min(jobs, len(files))`` worker processes that each call the picklable
+    ``linter_factory``. ``timeout`` (seconds, None or 0 for none) bounds each
+    file. ``progress`` None draws a bar on stderr only when it is a terminal
+    and there are many files.
+    """
+    if jobs < 1:
+        raise ValueError(f"jobs must be at least 1, got {jobs}")
+    timeout = timeout or None
+    show = _want_progress(len(files)) if progress is None else progress
+    with _progress_bar(len(files), show) as advance:
+        if jobs == 1 and timeout is None:
+            if linter is None:
+                if linter_factory is None:
+                    raise ValueError("lint_paths needs a linter or a linter_factory")
+                linter = linter_factory()
+            return tuple(_lint_in_process(linter, files, advance))
+        if linter_factory is None:
+            raise ValueError("worker processes need a picklable linter_factory")
+        pool = _Pool(linter_factory, min(jobs, len(files)), timeout, advance)
+        return pool.run(files)
+
+
+def _lint_in_process(
+    linter: Linter, files: Sequence[str], advance: Callable[[], None]
+) -> Iterator[FileResult]:
+    for path in files:
+        yield lint_one(linter, path)
+        advance()
+
+
+def lint_one(linter: Linter, path: str) -> FileResult:
+    """``linter.lint_path`` that turns an unexpected engine failure into an
+    error result for this file, so the other files are still linted."""
+    try:
+        return linter.lint_path(path)
+    except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
+        if getattr(linter, "raise_errors", False):
+            raise
+        return FileResult(
+            path, status="error", error=f"{path}: internal error: {type(exc).__name__}: {exc}"
+        )
+
+
+# -- progress -----------------------------------------------------------------------
+
+
+def _want_progress(count: int) -> bool:
+    # Never in CI logs: only a real terminal gets the bar.
+    return count > PROGRESS_MIN_FILES and sys.stderr.isatty()
+
+
+@contextmanager
+def _progress_bar(total: int, show: bool) -> Iterator[Callable[[], None]]:
+    if not show:
+        yield lambda: None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeRemainingColumn
+
+    with Progress(
+        "linting",
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    ) as bar:
+        task = bar.add_task("lint", total=total)
+        yield lambda: bar.advance(task)
+
+
+# -- worker processes ---------------------------------------------------------------
+
+
+def _context() -> multiprocessing.context.BaseContext:
+    # forkserver forks workers from a clean, single-threaded server that has
+    # only imported USD: cheap to replace, and no fork of a process whose USD
+    # thread pool is running (which can deadlock the child).
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        context = multiprocessing.get_context("forkserver")
+        context.set_forkserver_preload(["usdrender_lint.engine"])
+        return context
+    return multiprocessing.get_context("spawn")
+
+
+def _worker_main(conn: Connection, linter_factory: LinterFactory) -> None:
+    """Build the linter, say ready, then lint ``(index, path)`` until ``None``."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
+    try:
+        linter = linter_factory()
+    except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
+        conn.send(("failed", f"{type(exc).__name__}: {exc}"))
+        return
+    conn.send(("ready", None))
+    while True:
+        try:
+            task = conn.recv()
+        except (EOFError, OSError):
+            return
+        if task is None:
+            return
+        index, path = task
+        # The result holds only plain values; the stage dies with lint_path's frame.
+        conn.send((index, lint_one(linter, path)))
+
+
+@dataclass
+class _Worker:
+    process: multiprocessing.process.BaseProcess
+    conn: Connection
+    ready: bool = False
+    #: (index, path, deadline) of the file being linted, if any.
+    task: tuple[int, str, float] | None = None
+    started: float = 0.0
+
+    def kill(self) -> None:
+        if self.process.is_alive():
+            self.process.kill()
+        self.process.join(5)
+        self.conn.close()
+
+
+class _Pool:
+    """A few worker processes fed one file at a time, killed when a file
+    runs past the time limit."""
+
+    def __init__(
+        self,
+        linter_factory: LinterFactory,
+        size: int,
+        timeout: float | None,
+        advance: Callable[[], None],
+    ) -> None:
+        self._factory = linter_factory
+        self._size = size
+        self._timeout = timeout
+        self._advance = advance
+        self._context = _context()
+        self._workers: list[_Worker] = []
+        self._pending: list[tuple[int, str]] = []
+        self._remaining = 0
+
+    def run(self, files: Sequence[str]) -> tuple[FileResult, ...]:
+        results: list[FileResult | None] = [None] * len(files)
+        self._pending = list(reversed(list(enumerate(files))))  # pop() keeps input order
+        self._remaining = len(files)
+        try:
+            self._workers = [self._start() for _ in range(self._size)]
+            while self._remaining:
+                for worker in self._workers:
+                    if worker.ready and worker.task is None and self._pending:
+                        self._assign(worker, *self._pending.pop())
+                self._step(results)
+        finally:
+            for worker in self._workers:
+                self._stop(worker)
+        return tuple(r for r in results if r is not None)
+
+    def _start(self) -> _Worker:
+        parent_end, child_end = self._context.Pipe()
+        process = self._context.Process(
+            target=_worker_main, args=(child_end, self._factory), daemon=True
+        )
+        process.start()
+        child_end.close()
+        return _Worker(process, parent_end, started=time.monotonic())
+
+    def _assign(self, worker: _Worker, index: int, path: str) -> None:
+        deadline = time.monotonic() + self._timeout if self._timeout else float("inf")
+        worker.task = (index, path, deadline)
+        worker.conn.send((index, path))
+
+    def _step(self, results: list[FileResult | None]) -> None:
+        """Wait for one message, death or deadline, and handle it."""
+        now = time.monotonic()
+        deadlines = [w.task[2] for w in self._workers if w.task is not None]
+        deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
+        wait_for = max(0.0, min(deadlines) - now) if deadlines else None
+        handles = [w.conn for w in self._workers] + [w.process.sentinel for w in self._workers]
+        ready = set(wait(handles, timeout=wait_for))
+        for worker in list(self._workers):
+            if worker.conn in ready:
+                try:
+                    message = worker.conn.recv()
+                except (EOFError, OSError):
+                    self._replace(worker, results, self._death_message(worker))
+                    continue
+                self._receive(worker, message, results)
+            elif worker.process.sentinel in ready:
+                self._replace(worker, results, self._death_message(worker))
+        now = time.monotonic()
+        for worker in list(self._workers):
+            if worker.task is not None and now >= worker.task[2]:
+                self._replace(
+                    worker,
+                    results,
+                    f"timed out after {self._timeout:g} s (raise --timeout, or 0 for no limit)",
+                )
+            elif not worker.ready and now >= worker.started + WORKER_START_LIMIT:
+                raise ExecutionError(
+                    f"a worker process did not start within {WORKER_START_LIMIT:g} s"
+                )
+
+    def _receive(self, worker: _Worker, message: tuple, results: list) -> None:
+        kind, payload = message
+        if kind == "ready":
+            worker.ready = True
+        elif kind == "failed":
+            raise ExecutionError(f"a worker process could not build the linter: {payload}")
+        else:
+            self._done(results, kind, payload)
+            worker.task = None
+
+    def _death_message(self, worker: _Worker) -> str:
+        worker.process.join(5)
+        code = worker.process.exitcode
+        if code is not None and code < 0:
+            try:
+                how = f"signal {signal.Signals(-code).name}"
+            except ValueError:
+                how = f"signal {-code}"
+        else:
+            how = f"exit code {code}"
+        return f"the linter process crashed while reading it ({how})"
+
+    def _replace(self, worker: _Worker, results: list, error: str) -> None:
+        """Kill a worker, record its file as an error and start a fresh one."""
+        worker.kill()
+        self._workers.remove(worker)
+        if worker.task is None and not worker.ready:
+            raise ExecutionError(f"a worker process died while starting: {error}")
+        if worker.task is not None:
+            index, path, _ = worker.task
+            self._done(results, index, FileResult(path, status="error", error=f"{path}: {error}"))
+        if self._pending:
+            self._workers.append(self._start())
+
+    def _done(self, results: list, index: int, result: FileResult) -> None:
+        results[index] = result
+        self._remaining -= 1
+        self._advance()
+
+    def _stop(self, worker: _Worker) -> None:
+        try:
+            if worker.process.is_alive() and worker.task is None:
+                worker.conn.send(None)
+                worker.process.join(2)
+        except (OSError, ValueError):
+            pass
+        worker.kill()
