@@ -70,6 +70,8 @@ def cli() -> None:
 @click.option("--config", "config_path", type=click.Path(dir_okay=False),
               help="Read settings from this file instead of the nearest one.")
 @click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+@click.option("--no-roots", is_flag=True,
+              help="Lint PATHS on their own, not inside the stage roots the config names.")
 @click.option(
     "--jobs",
     "-j",
@@ -94,11 +96,13 @@ def check(
     show_info: bool,
     config_path: str | None,
     isolated: bool,
+    no_roots: bool,
     jobs: int | None,
     timeout: float,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     from .docs import rule_info
+    from .roots import plan_from_settings
     from .runner import collect_files, fails, lint_files, make_linter
 
     registry = _registry()
@@ -114,16 +118,21 @@ def check(
     except ConfigError as exc:
         raise ToolError(str(exc)) from None
 
+    files = collect_files(paths)
+    # With config `roots`, PATHS are linted inside the stages that use them.
+    plan = None if no_roots else plan_from_settings(files, settings)
     try:
         report = lint_files(
             linter,
-            collect_files(paths),
+            plan.files if plan else files,
             settings=settings,
             jobs=jobs or default_jobs(),
             timeout=timeout,
         )
     except ExecutionError as exc:
         raise ToolError(str(exc)) from None
+    if plan is not None:
+        report = plan.narrow(report)
     report = type(report)(report.files, tuple(rule_info(type(r)) for r in linter.rules))
     formatter = load_formatter(output_format)
     formatter.render(

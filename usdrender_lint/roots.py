@@ -1,0 +1,176 @@
+"""Changed layers linted in context.
+
+A shot is many layers: the lighting layer authors the RenderSettings whose
+camera lives in the layout layer. Linted alone, the lighting layer reports that
+camera as missing. With config ``roots`` (globs of stage root files), each
+changed file is linted inside every root that uses it, and only the findings
+authored in the changed files are kept (a finding's ``layer``). A changed file
+no root uses is linted on its own, with all its findings.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+
+from pxr import Ar, Sdf, Tf, UsdUtils
+
+from .config import Settings
+from .engine import STAGE_OPEN_FAILED_CODE
+from .model import INTERNAL_ERROR_CODE, Finding, Report
+
+#: Tool problems are never filtered away: a root that cannot be opened or a rule
+#: that raised means the changed files were not checked.
+_ALWAYS_KEPT = frozenset({STAGE_OPEN_FAILED_CODE, INTERNAL_ERROR_CODE})
+
+
+def file_key(path: str) -> str:
+    """A comparable identity for a layer or file path: the real path of the
+    file on disk (the outermost package for a layer inside a ``.usdz``)."""
+    if Ar.IsPackageRelativePath(path):
+        path = Ar.SplitPackageRelativePathOuter(path)[0]
+    return os.path.normcase(os.path.realpath(path))
+
+
+def find_roots(patterns: Sequence[str], base_dir: str) -> list[str]:
+    """The files matching the ``roots`` globs (``**`` recurses), relative to
+    ``base_dir`` (the config file's folder), sorted and without duplicates."""
+    found: dict[str, str] = {}
+    for pattern in patterns:
+        for match in glob.glob(pattern, root_dir=base_dir, recursive=True):
+            path = os.path.normpath(os.path.join(base_dir, match))
+            if os.path.isfile(path):
+                found.setdefault(file_key(path), path)
+    return sorted(found.values())
+
+
+def dependencies(root: str) -> frozenset[str]:
+    """Keys of every file ``root`` depends on, itself included: its layer stack,
+    references, payloads (in every variant), clips and other assets."""
+    with Tf.DiagnosticTrap() as trap:
+        try:
+            layers, assets, _unresolved = UsdUtils.ComputeAllDependencies(root)
+            paths = [layer.realPath or layer.identifier for layer in layers] + list(assets)
+        except Tf.ErrorException:
+            # One unreadable layer anywhere (even in an unselected variant) makes
+            # ComputeAllDependencies give up, while the stage itself may open.
+            paths = list(_walk_layers(root))
+        finally:
+            trap.Clear()
+    return frozenset(file_key(p) for p in paths)
+
+
+def _walk_layers(root: str) -> Iterable[str]:
+    """Layer by layer, the sublayers, references and payloads reachable from
+    ``root``; a layer that cannot be opened is still a dependency."""
+    pending, seen = [root], set()
+    while pending:
+        path = pending.pop()
+        if file_key(path) in seen:
+            continue
+        seen.add(file_key(path))
+        yield path
+        try:
+            layer = Sdf.Layer.FindOrOpen(path)
+        except Tf.ErrorException:
+            layer = None
+        if layer is None:
+            continue
+        pending.extend(
+            layer.ComputeAbsolutePath(asset) for asset in layer.GetCompositionAssetDependencies()
+        )
+
+
+def _readable(path: str) -> bool:
+    with Tf.DiagnosticTrap() as trap:
+        try:
+            return Sdf.Layer.FindOrOpen(path) is not None
+        except Tf.ErrorException:
+            return False
+        finally:
+            trap.Clear()
+
+
+@dataclass(frozen=True)
+class ContextPlan:
+    """What to lint for a set of changed files, and how to narrow the result."""
+
+    #: Root file -> keys of the changed files it uses (their findings are kept).
+    roots: Mapping[str, frozenset[str]] = field(default_factory=dict)
+    #: Changed files no root uses: linted on their own, every finding kept.
+    alone: tuple[str, ...] = ()
+
+    @property
+    def files(self) -> list[str]:
+        return [*self.roots, *self.alone]
+
+    def narrow(self, report: Report) -> Report:
+        """Keep, for each root, the findings authored in the changed files it
+        uses; a finding several roots share is reported once (first root)."""
+        seen: set[tuple] = set()
+        results = []
+        for result in report.files:
+            changed = self.roots.get(result.file)
+            if changed is None:
+                results.append(result)
+                continue
+            kept = []
+            for finding in result.findings:
+                if not _is_in(finding, changed):
+                    continue
+                identity = _identity(finding)
+                if identity not in seen:
+                    seen.add(identity)
+                    kept.append(finding)
+            results.append(replace(result, findings=tuple(kept)))
+        return replace(report, files=tuple(results))
+
+
+def _is_in(finding: Finding, changed: frozenset[str]) -> bool:
+    if finding.code in _ALWAYS_KEPT:
+        return True
+    layer = finding.location.layer
+    return layer is not None and file_key(layer) in changed
+
+
+def _identity(finding: Finding) -> tuple:
+    loc = finding.location
+    return (finding.code, finding.message, loc.path, loc.layer, loc.line)
+
+
+def plan_in_context(changed: Sequence[str], roots: Sequence[str]) -> ContextPlan:
+    """Match the changed files against the roots' dependencies. A changed file
+    USD cannot read is linted on its own: a root skips an unreadable sublayer
+    with a mere warning, which would hide the file's syntax error (ST001)."""
+    wanted = {file_key(path): path for path in changed if _readable(path)}
+    used: set[str] = set()
+    by_root: dict[str, frozenset[str]] = {}
+    for root in roots:
+        hits = dependencies(root).intersection(wanted)
+        if hits:
+            by_root[root] = frozenset(hits)
+            used.update(hits)
+    alone = tuple(path for path in changed if file_key(path) not in used)
+    return ContextPlan(by_root, alone)
+
+
+def plan_from_settings(changed: Sequence[str], settings: Settings) -> ContextPlan | None:
+    """The plan for the configured ``roots`` globs (relative to the folder of
+    the config file that set them), or None when no roots are configured."""
+    if not settings.roots:
+        return None
+    source = settings.source
+    base_dir = os.path.dirname(os.path.abspath(source)) if source else os.getcwd()
+    return plan_in_context(changed, find_roots(settings.roots, base_dir))
+
+
+__all__ = [
+    "ContextPlan",
+    "dependencies",
+    "file_key",
+    "find_roots",
+    "plan_from_settings",
+    "plan_in_context",
+]
