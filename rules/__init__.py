@@ -6,7 +6,7 @@ Installed as ``usdrender_lint.rules`` and registered through the
 
 from __future__ import annotations
 
-from . import camera, passes, products, settings, stage, vars
+from . import camera, meta, passes, products, settings, stage, vars
 
 RULES = (
     *stage.RULES,
@@ -15,4 +15,5 @@ RULES = (
     *products.RULES,
     *vars.RULES,
     *passes.RULES,
+    *meta.RULES,
 )

@@ -8,13 +8,14 @@ The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
 from __future__ import annotations
 
 import dataclasses
-import tomllib
 import types
 import typing
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+import tomllib
 
 from .model import Severity
 
@@ -45,10 +46,25 @@ class Settings:
     time_sample_cap: int = 1000
     #: The file the settings were read from, if any.
     source: str | None = None
+    #: Settings given as command-line flags (they win over the file).
+    from_flags: frozenset[str] = frozenset()
 
     def merged(self, **overrides: Any) -> Settings:
         """These settings with the non-None overrides applied (command-line flags)."""
-        return dataclasses.replace(self, **{k: v for k, v in overrides.items() if v is not None})
+        given = {k: v for k, v in overrides.items() if v is not None}
+        return dataclasses.replace(self, **given, from_flags=self.from_flags | set(given))
+
+    def where(self, key: str) -> str:
+        """Where a setting came from, for error messages: the flag or file and key."""
+        if key in self.from_flags:
+            return "--" + key.replace("_", "-")
+        return f"{self.source or 'config'}: {key.replace('_', '-')}"
+
+    @property
+    def base_dir(self) -> Path:
+        """The folder relative globs (per-path-ignores) are read from: the
+        config file's folder, else the working directory."""
+        return Path(self.source).resolve().parent if self.source else Path.cwd()
 
 
 def _string_list(value: Any, key: str, source: str) -> tuple[str, ...]:
@@ -59,42 +75,52 @@ def _string_list(value: Any, key: str, source: str) -> tuple[str, ...]:
     return tuple(value)
 
 
-def _parse_table(table: Mapping[str, Any], source: str) -> Settings:
+def _table(value: Any, key: str, source: str, shape: str) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise ConfigError(f"{source}: '{key}' must be a table of {shape}, got {value!r}")
+    return value
+
+
+def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Settings:
+    """Settings from the config table; ``prefix`` qualifies key names in errors
+    (``tool.usdrender-lint.`` in a pyproject)."""
     parsed: dict[str, Any] = {"source": source}
     for key, value in table.items():
+        name = prefix + key
         if key in ("select", "ignore", "extend-select", "roots"):
-            parsed[key.replace("-", "_")] = _string_list(value, key, source)
+            parsed[key.replace("-", "_")] = _string_list(value, name, source)
         elif key == "fail-on":
             if value not in FAIL_ON_CHOICES:
                 raise ConfigError(
-                    f"{source}: 'fail-on' must be one of {', '.join(FAIL_ON_CHOICES)}, "
-                    f"got {value!r}"
+                    f"{source}: '{name}' must be one of {', '.join(FAIL_ON_CHOICES)}, got {value!r}"
                 )
             parsed["fail_on"] = value
         elif key == "severity":
-            if not isinstance(value, dict):
-                raise ConfigError(f"{source}: 'severity' must be a table of rule = severity")
-            try:
-                parsed["severity"] = {k: Severity.parse(str(v)) for k, v in value.items()}
-            except ValueError as exc:
-                raise ConfigError(f"{source}: 'severity': {exc}") from None
+            overrides = {}
+            for rule, level in _table(value, name, source, "rule = severity").items():
+                try:
+                    overrides[rule] = Severity.parse(level if isinstance(level, str) else "")
+                except ValueError:
+                    raise ConfigError(
+                        f"{source}: '{name}.{rule}' must be one of error, warning, info, "
+                        f"got {level!r}"
+                    ) from None
+            parsed["severity"] = overrides
         elif key == "per-path-ignores":
-            if not isinstance(value, dict):
-                raise ConfigError(f"{source}: 'per-path-ignores' must be a table of glob = codes")
             parsed["per_path_ignores"] = {
-                glob: _string_list(codes, f"per-path-ignores.{glob}", source)
-                for glob, codes in value.items()
+                glob: _string_list(codes, f"{name}.{glob}", source)
+                for glob, codes in _table(value, name, source, "glob = codes").items()
             }
         elif key == "rules":
-            if not isinstance(value, dict) or not all(isinstance(v, dict) for v in value.values()):
-                raise ConfigError(f"{source}: 'rules' must hold one table per rule")
+            for rule, options in _table(value, name, source, "rule tables").items():
+                _table(options, f"{name}.{rule}", source, "option = value")
             parsed["rule_options"] = value
         elif key == "time-sample-cap":
             if not isinstance(value, int) or isinstance(value, bool) or value < 1:
-                raise ConfigError(f"{source}: 'time-sample-cap' must be a positive integer")
+                raise ConfigError(f"{source}: '{name}' must be a positive integer, got {value!r}")
             parsed["time_sample_cap"] = value
         else:
-            raise ConfigError(f"{source}: unknown key '{key}'")
+            raise ConfigError(f"{source}: unknown key '{name}'")
     return Settings(**parsed)
 
 
@@ -107,9 +133,14 @@ def read_config_file(path: str | Path) -> Settings:
         raise ConfigError(f"{path}: cannot read config file: {exc.strerror or exc}") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ConfigError(f"{path}: invalid TOML: {exc}") from None
-    if path.name == "pyproject.toml":
-        data = data.get("tool", {}).get(TOOL_TABLE, {})
-    return _parse_table(data, str(path))
+    if path.name != "pyproject.toml":
+        return _parse_table(data, str(path))
+    tool = data.get("tool", {})
+    if not isinstance(tool, dict) or TOOL_TABLE not in tool:
+        raise ConfigError(f"{path}: no [tool.{TOOL_TABLE}] table")
+    if not isinstance(tool[TOOL_TABLE], dict):
+        raise ConfigError(f"{path}: 'tool.{TOOL_TABLE}' must be a table")
+    return _parse_table(tool[TOOL_TABLE], str(path), prefix=f"tool.{TOOL_TABLE}.")
 
 
 def find_config_file(start: str | Path) -> Path | None:
@@ -140,6 +171,8 @@ def load_settings(
     config_path: str | None = None, *, isolated: bool = False, start: str = "."
 ) -> Settings:
     """Settings from ``--config``, else the nearest config file, else defaults."""
+    if isolated and config_path is not None:
+        raise ConfigError("--config and --isolated cannot be used together")
     if isolated:
         return Settings()
     if config_path is not None:
@@ -199,8 +232,10 @@ def _coerce(value: Any, hint: Any, where: str) -> Any:
         return float(value)
     if hint is bool and not isinstance(value, bool):
         raise ConfigError(f"{where}: must be true or false, got {value!r}")
-    if isinstance(hint, type) and not isinstance(value, hint) or (
-        hint is int and isinstance(value, bool)
+    if (
+        isinstance(hint, type)
+        and not isinstance(value, hint)
+        or (hint is int and isinstance(value, bool))
     ):
         raise ConfigError(f"{where}: must be {getattr(hint, '__name__', hint)}, got {value!r}")
     return value

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd, UsdRender
 
-from . import usda_lines
+from . import suppress, usda_lines
 from .api import Context, Diagnostic, Fix, Rule
 from .model import (
     INTERNAL_ERROR_CODE,
@@ -143,11 +143,15 @@ class Linter:
         *,
         time_sample_cap: int = 1000,
         raise_errors: bool = False,
+        known_rules: Sequence[type[Rule]] | None = None,
     ) -> None:
         self.rules = tuple(rules)
         self.severities = dict(severities or {})
         self.time_sample_cap = time_sample_cap
         self.raise_errors = raise_errors
+        #: Every registered rule, so a customData suppression naming a rule that
+        #: was not selected is not reported as naming no rule (default: ``rules``).
+        self.known_rules = known_rules
         self._dispatch = _TypeDispatch(self.rules)
 
     # -- entry points ---------------------------------------------------------
@@ -180,9 +184,20 @@ class Linter:
                 for prim, rules in work:
                     for rule in rules:
                         findings.extend(self._run(rule, ctx, rule.check_prim, prim, ctx))
+                findings = self._apply_data_suppressions(ctx, findings)
             finally:
                 trap.Clear()
         return sorted(set(findings), key=Finding.sort_key)
+
+    def _apply_data_suppressions(self, ctx: Context, findings: list[Finding]) -> list[Finding]:
+        """Drop findings silenced in customData; report unused suppressions."""
+        kept, unused = suppress.apply_data_suppressions(
+            ctx.stage, findings, self.rules, self.known_rules
+        )
+        for rule in self.rules:
+            if rule.code == suppress.UNUSED_SUPPRESSION_CODE:
+                kept.extend(self._finding(rule, diagnostic, ctx) for diagnostic in unused)
+        return kept
 
     # -- internals ------------------------------------------------------------
 

@@ -13,11 +13,13 @@ from .config import ConfigError, Settings, build_options
 from .engine import USD_EXTENSIONS, Linter
 from .execution import lint_paths
 from .model import FileResult, Report, Severity
-from .registry import Registry, SelectionError, build_registry, select_rules
+from .registry import Registry, SelectionError, build_registry, matches_any, select_rules
 
 
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
+    for key in ("select", "ignore", "extend_select"):
+        check_selectors(registry, getattr(settings, key) or (), settings.where(key))
     try:
         chosen = select_rules(
             registry.rules, settings.select, settings.ignore, settings.extend_select
@@ -26,6 +28,13 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
         raise ConfigError(str(exc)) from None
     options = _options_by_code(registry, settings)
     return [rule(options.get(rule.code)) for rule in chosen]
+
+
+def check_selectors(registry: Registry, selectors: Iterable[str], where: str) -> None:
+    """Raise a ConfigError naming ``where`` for a selector that names no rule."""
+    for token in selectors:
+        if not any(matches_any(rule, [token]) for rule in registry.rules):
+            raise ConfigError(f"{where}: {token!r} matches no rule code, code prefix or rule name")
 
 
 def _options_by_code(registry: Registry, settings: Settings) -> dict[str, object]:
@@ -57,6 +66,7 @@ def make_linter(settings: Settings, registry: Registry | None = None, **kwargs) 
         make_rules(registry, settings),
         severity_overrides(registry, settings),
         time_sample_cap=settings.time_sample_cap,
+        known_rules=registry.rules,
         **kwargs,
     )
 

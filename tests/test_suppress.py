@@ -1,0 +1,143 @@
+"""customData suppressions (engine) and per-path-ignores (after linting)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from usdrender_lint.engine import Linter
+from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
+from usdrender_lint.registry import build_registry
+from usdrender_lint.suppress import apply_path_ignores
+
+REGISTRY = build_registry()
+
+BAD_WINDOW = """#usda 1.0
+
+def Scope "Render"
+{{
+    def RenderSettings "Settings" (
+        {metadata}
+    )
+    {{
+        uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+    }}
+
+    def RenderSettings "Other"
+    {{
+        uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+    }}
+}}
+"""
+
+
+def _ignore(*entries: str) -> str:
+    listed = ", ".join(f'"{e}"' for e in entries)
+    return f"customData = {{ dictionary usdrender_lint = {{ string[] ignore = [{listed}] }} }}"
+
+
+def _lint(tmp_path: Path, text: str, codes: tuple[str, ...] | None = None) -> list[Finding]:
+    path = tmp_path / "shot.usda"
+    path.write_text(text, encoding="utf-8")
+    chosen = [r for r in REGISTRY.rules if codes is None or r.code in codes]
+    linter = Linter([r() for r in chosen], raise_errors=True, known_rules=REGISTRY.rules)
+    return list(linter.lint_path(str(path)).findings)
+
+
+def _pairs(findings: list[Finding]) -> set[tuple[str, str | None]]:
+    return {(f.code, f.location.path) for f in findings}
+
+
+@pytest.mark.parametrize("entry", ["SE003", "se003", "data-window-malformed"])
+def test_entry_silences_the_rule_on_the_prim_and_its_properties(tmp_path, entry) -> None:
+    found = _pairs(_lint(tmp_path, BAD_WINDOW.format(metadata=_ignore(entry))))
+    assert ("SE003", "/Render/Settings.dataWindowNDC") not in found
+    # Only that prim: the sibling keeps its finding, and the entry was used.
+    assert ("SE003", "/Render/Other.dataWindowNDC") in found
+    assert not any(code == "UL001" for code, _ in found)
+
+
+def test_without_suppression_both_prims_report(tmp_path) -> None:
+    found = _pairs(_lint(tmp_path, BAD_WINDOW.format(metadata="")))
+    assert ("SE003", "/Render/Settings.dataWindowNDC") in found
+    assert ("SE003", "/Render/Other.dataWindowNDC") in found
+
+
+def test_suppression_does_not_reach_children(tmp_path) -> None:
+    text = f"""#usda 1.0
+
+def Scope "Render" (
+    {_ignore("SE003")}
+)
+{{
+    def RenderSettings "Settings"
+    {{
+        uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+    }}
+}}
+"""
+    found = _pairs(_lint(tmp_path, text))
+    assert ("SE003", "/Render/Settings.dataWindowNDC") in found
+    assert ("UL001", "/Render") in found
+
+
+def test_unused_entry_for_an_unselected_rule_is_not_reported(tmp_path) -> None:
+    text = BAD_WINDOW.format(metadata=_ignore("SE003", "CA004"))
+    found = _pairs(_lint(tmp_path, text, codes=("SE003", "UL001")))
+    assert found == {("SE003", "/Render/Other.dataWindowNDC")}
+
+
+def test_unused_entries_are_info_with_the_reason(tmp_path) -> None:
+    text = BAD_WINDOW.format(metadata=_ignore("SE003", "SE007", "XX999"))
+    unused = [f for f in _lint(tmp_path, text) if f.code == "UL001"]
+    assert [f.severity for f in unused] == [Severity.INFO, Severity.INFO]
+    messages = sorted(f.message for f in unused)
+    assert "SE007 reports nothing on this prim" in messages[0]
+    assert "'XX999'" in messages[1] and "no rule has this code or name" in messages[1]
+    assert all(f.location.line == 5 for f in unused)  # the prim's line
+
+
+def test_without_the_meta_rule_unused_entries_are_silent(tmp_path) -> None:
+    text = BAD_WINDOW.format(metadata=_ignore("SE003", "XX999"))
+    found = _pairs(_lint(tmp_path, text, codes=("SE003",)))
+    assert found == {("SE003", "/Render/Other.dataWindowNDC")}
+
+
+# -- per-path-ignores -------------------------------------------------------------
+
+
+def _report(*findings: Finding) -> Report:
+    return Report((FileResult("f", findings=findings),))
+
+
+def _finding(code: str, file: str, layer: str | None = None) -> Finding:
+    rule = REGISTRY.find(code)
+    name = rule.name if rule else "internal-error"
+    return Finding(code, name, Severity.ERROR, "m", Location(file, "/Render/S", layer))
+
+
+@pytest.mark.parametrize(
+    ("pattern", "selectors", "ignored"),
+    [
+        ("shots/*.usda", ["SE003"], True),
+        ("shots/*.usda", ["SE"], True),
+        ("shots/*.usda", ["data-window-malformed"], True),
+        ("shots/*.usda", ["ALL"], True),
+        ("shots/*.usda", ["SE007"], False),
+        ("*.usda", ["SE003"], True),  # no "/": the file name in any folder
+        ("**/a.usda", ["SE003"], True),  # "**/" also matches no folder
+        ("other/*.usda", ["SE003"], False),
+        ("lib/*.usda", ["SE003"], True),  # the layer holding the opinion matches
+    ],
+)
+def test_per_path_ignores(tmp_path, pattern, selectors, ignored) -> None:
+    finding = _finding("SE003", str(tmp_path / "shots" / "a.usda"), str(tmp_path / "lib/x.usda"))
+    result = apply_path_ignores(_report(finding), {pattern: selectors}, tmp_path, REGISTRY.rules)
+    assert (not result.findings) is ignored
+
+
+def test_internal_errors_are_never_path_ignored(tmp_path) -> None:
+    finding = _finding("UL000", str(tmp_path / "a.usda"))
+    result = apply_path_ignores(_report(finding), {"*": ["ALL"]}, tmp_path, REGISTRY.rules)
+    assert result.findings == (finding,)

@@ -1,0 +1,231 @@
+"""Suppressions: rules silenced in the data (customData) and per file (config).
+
+USD drops ``#`` comments when it reads a layer and usdc has none, so a prim
+says which rules to silence in its metadata instead::
+
+    def RenderSettings "Settings" (
+        customData = {
+            dictionary usdrender_lint = { string[] ignore = ["SE003"] }
+        }
+    )
+
+The entry silences those rules on that prim and its properties (not on its
+children). An entry that silenced nothing is an unused suppression (UL001).
+``per-path-ignores`` from the configuration are applied after linting, to the
+finished report.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import fnmatch
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path, PurePosixPath
+
+from pxr import Sdf, Usd
+
+from .api import Diagnostic, Rule
+from .model import Finding, Report
+from .registry import matches_any
+
+#: The customData key path (``usdrender_lint`` dictionary, ``ignore`` entry).
+IGNORE_KEY = "usdrender_lint:ignore"
+UNUSED_SUPPRESSION_CODE = "UL001"
+UNUSED_SUPPRESSION_NAME = "unused-suppression"
+
+
+def _names(rule: type[Rule] | Rule) -> set[str]:
+    return {rule.code, rule.name, *getattr(rule, "aliases", ())}
+
+
+def _rule_named(entry: str, rules: Iterable[type[Rule] | Rule]) -> type[Rule] | Rule | None:
+    """The rule an entry names by code, name or alias (codes are case-insensitive)."""
+    token = entry.strip()
+    for rule in rules:
+        if token.upper() == rule.code or token.lower() in _names(rule):
+            return rule
+    return None
+
+
+def ignore_entries(prim: Usd.Prim) -> tuple[str, ...] | None:
+    """The prim's ``usdrender_lint:ignore`` entries, () when it has none, None
+    when the value is not a list of strings (a malformed suppression)."""
+    value = prim.GetCustomDataByKey(IGNORE_KEY)
+    if value is None:
+        return ()
+    if isinstance(value, str):
+        return (value,)
+    try:
+        entries = tuple(value)
+    except TypeError:
+        return None
+    return entries if all(isinstance(e, str) for e in entries) else None
+
+
+def _authoring_layer(prim: Usd.Prim) -> Sdf.Layer | None:
+    """The layer of the strongest opinion on the ignore key: where to edit it."""
+    dictionary, _, key = IGNORE_KEY.partition(":")
+    for spec in prim.GetPrimStack():
+        if key in spec.customData.get(dictionary, {}):
+            return spec.layer
+    return None
+
+
+class _PrimSuppressions:
+    """What one prim silences, and which of its entries silenced something."""
+
+    def __init__(self, prim: Usd.Prim, rules: Sequence[Rule]) -> None:
+        self.prim = prim
+        self.entries = ignore_entries(prim)
+        self.codes = {
+            entry: named.code
+            for entry in self.entries or ()
+            if (named := _rule_named(entry, rules)) is not None
+        }
+        self.used: set[str] = set()
+
+    def silences(self, code: str) -> bool:
+        hits = [entry for entry, named in self.codes.items() if named == code]
+        self.used.update(hits)
+        return bool(hits)
+
+
+def apply_data_suppressions(
+    stage: Usd.Stage,
+    findings: Iterable[Finding],
+    rules: Sequence[Rule],
+    known_rules: Sequence[type[Rule]] | None = None,
+) -> tuple[list[Finding], list[Diagnostic]]:
+    """Drop the findings a prim's customData silences.
+
+    Returns the kept findings and one diagnostic per unused or malformed
+    entry (for the unused-suppression rule). ``rules`` are the rules that ran;
+    an entry naming a rule in ``known_rules`` (default: the rules that ran) that
+    did not run is neither used nor reported, since its rule could not fire.
+    """
+    on_prim: dict[Sdf.Path, _PrimSuppressions] = {}
+
+    def suppressions(path: Sdf.Path) -> _PrimSuppressions | None:
+        if path not in on_prim:
+            prim = stage.GetPrimAtPath(path)
+            on_prim[path] = _PrimSuppressions(prim, rules) if prim else None
+        return on_prim[path]
+
+    kept = []
+    for finding in findings:
+        path = finding.location.path
+        prim_path = (
+            Sdf.Path(path).GetPrimPath() if path and Sdf.Path.IsValidPathString(path) else None
+        )
+        here = suppressions(prim_path) if prim_path and prim_path.IsPrimPath() else None
+        if here is None or not here.silences(finding.code):
+            kept.append(finding)
+
+    unused = []
+    for prim in stage.Traverse():
+        if prim.GetCustomDataByKey(IGNORE_KEY) is None:
+            continue
+        here = suppressions(prim.GetPath())
+        unused.extend(_unused(here, rules, known_rules))
+    return kept, unused
+
+
+def _prim_path(path: str | None) -> Sdf.Path | None:
+    """The prim a finding's prim or property path belongs to (None: the stage)."""
+    if not path or not Sdf.Path.IsValidPathString(path):
+        return None
+    prim_path = Sdf.Path(path).GetPrimPath()
+    return prim_path if prim_path.IsPrimPath() else None
+
+
+def _unused(
+    here: _PrimSuppressions, rules: Sequence[Rule], known_rules: Sequence[type[Rule]] | None
+) -> Iterable[Diagnostic]:
+    layer = _authoring_layer(here.prim)
+    if here.entries is None:
+        yield Diagnostic(
+            f"customData '{IGNORE_KEY}' must be a list of rule codes or names (string[]), "
+            "so it silences nothing",
+            at=here.prim,
+            layer=layer,
+        )
+        return
+    if UNUSED_SUPPRESSION_CODE in here.codes.values():
+        return  # the prim silences unused-suppression reports themselves
+    for entry in here.entries:
+        if entry in here.used:
+            continue
+        ran = here.codes.get(entry)
+        if ran is not None:
+            yield Diagnostic(
+                f"suppression of {entry!r} is unused: {ran} reports nothing on this prim",
+                at=here.prim,
+                layer=layer,
+            )
+        elif _rule_named(entry, known_rules if known_rules is not None else rules) is None:
+            yield Diagnostic(
+                f"suppression of {entry!r} is unused: no rule has this code or name",
+                at=here.prim,
+                layer=layer,
+            )
+
+
+# -- per-path ignores ---------------------------------------------------------------
+
+
+def _matches_path(pattern: str, path: str, base_dir: Path) -> bool:
+    """Glob match of a file against a pattern relative to ``base_dir``.
+
+    ``**/`` also matches no folder; a pattern without ``/`` matches the file
+    name in any folder (as in ruff's per-file-ignores).
+    """
+    absolute = Path(os.path.abspath(path))
+    try:
+        relative = PurePosixPath(absolute.relative_to(base_dir).as_posix())
+    except ValueError:
+        relative = PurePosixPath(absolute.as_posix())
+    candidates = {pattern, pattern.replace("**/", "")}
+    if "/" not in pattern:
+        return any(fnmatch.fnmatchcase(relative.name, p) for p in candidates)
+    return any(fnmatch.fnmatchcase(str(relative), p.lstrip("./")) for p in candidates)
+
+
+def apply_path_ignores(
+    report: Report,
+    per_path_ignores: Mapping[str, Sequence[str]],
+    base_dir: Path,
+    rules: Sequence[type[Rule]],
+) -> Report:
+    """Drop the findings per-path-ignores silence (codes, prefixes or names of
+    ``rules``). A pattern matches the linted file or the layer that holds the
+    finding's opinion. Internal errors (no rule) are never ignored."""
+    if not per_path_ignores:
+        return report
+    base_dir = Path(os.path.abspath(base_dir))
+    by_code = {rule.code: rule for rule in rules}
+
+    def ignored(finding: Finding) -> bool:
+        loc = finding.location
+        places = [p for p in (loc.file, loc.layer) if p]
+        rule = by_code.get(finding.code)
+        return rule is not None and any(
+            matches_any(rule, selectors)
+            for pattern, selectors in per_path_ignores.items()
+            if any(_matches_path(pattern, place, base_dir) for place in places)
+        )
+
+    files = tuple(
+        dataclasses.replace(result, findings=tuple(f for f in result.findings if not ignored(f)))
+        for result in report.files
+    )
+    return dataclasses.replace(report, files=files)
+
+
+__all__ = [
+    "IGNORE_KEY",
+    "UNUSED_SUPPRESSION_CODE",
+    "apply_data_suppressions",
+    "apply_path_ignores",
+    "ignore_entries",
+]
