@@ -1,0 +1,197 @@
+"""How files are executed: worker processes, per-file time limit, crash
+isolation, deterministic order, progress only on a terminal."""
+
+from __future__ import annotations
+
+import io
+import os
+import signal
+import time
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from pxr import Sdf, UsdGeom
+
+from usdrender_lint import execution
+from usdrender_lint.api import Diagnostic, Rule, Severity
+from usdrender_lint.cli import cli
+from usdrender_lint.config import Settings
+from usdrender_lint.engine import Linter
+from usdrender_lint.execution import ExecutionError, lint_paths
+from usdrender_lint.model import FileResult
+from usdrender_lint.runner import lint_files, make_linter
+
+SCOPE = '#usda 1.0\ndef Scope "{name}"\n{{\n}}\n'
+SETTINGS = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "S"
+    {
+        uniform float4 dataWindowNDC = (1, 1, 0, 0)
+    }
+}
+"""
+
+
+class TrapRule(Rule):
+    """Test-only rule: misbehaves on Scopes with special names.
+
+    ## What it does
+    Crashes the process on a Scope named Crash, hangs on one named Hang and
+    otherwise reports every Scope.
+    """
+
+    code = "TX901"
+    name = "test-trap"
+    severity = Severity.WARNING
+    prim_types = (UsdGeom.Scope,)
+
+    def check_prim(self, prim, ctx):
+        if prim.GetName() == "Crash":
+            os.kill(os.getpid(), signal.SIGSEGV)
+        if prim.GetName() == "Hang":
+            time.sleep(3600)
+        yield Diagnostic(f"scope {prim.GetName()}", at=prim)
+
+
+def trap_linter() -> Linter:
+    return Linter([TrapRule()])
+
+
+def broken_factory() -> Linter:
+    raise RuntimeError("plugin acme failed to import")
+
+
+def _write(folder: Path, name: str, text: str) -> str:
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+@pytest.fixture
+def mixed_files(tmp_path: Path) -> list[str]:
+    """Clean, failing, unparsable and missing inputs, deliberately unsorted."""
+    return [
+        _write(tmp_path, "b_settings.usda", SETTINGS),
+        _write(tmp_path, "a_scope.usda", SCOPE.format(name="A")),
+        _write(tmp_path, "c_broken.usda", '#usda 1.0\ndef Scope "X" {\n'),
+        str(tmp_path / "d_missing.usda"),
+        _write(tmp_path, "e_settings.usda", SETTINGS),
+    ]
+
+
+def test_workers_give_the_in_process_results_in_input_order(mixed_files: list[str]) -> None:
+    settings = Settings()
+    linter = make_linter(settings)
+    alone = lint_files(linter, mixed_files)
+    pooled = lint_files(linter, mixed_files, settings=settings, jobs=2, timeout=60)
+    assert [r.file for r in pooled.files] == mixed_files
+    assert pooled == alone
+    statuses = [r.status for r in pooled.files]
+    assert statuses == ["linted", "linted", "linted", "error", "linted"]
+    assert {f.code for f in pooled.files[0].findings} >= {"SE003"}
+    assert [f.code for f in pooled.files[2].findings] == ["ST001"]
+
+
+def test_a_file_past_the_time_limit_is_an_error_and_the_rest_are_linted(tmp_path: Path) -> None:
+    files = [
+        _write(tmp_path, "1.usda", SCOPE.format(name="One")),
+        _write(tmp_path, "2.usda", SCOPE.format(name="Hang")),
+        _write(tmp_path, "3.usda", SCOPE.format(name="Three")),
+        _write(tmp_path, "4.usda", SCOPE.format(name="Four")),
+    ]
+    started = time.monotonic()
+    results = lint_paths(files, linter_factory=trap_linter, jobs=2, timeout=1.5)
+    assert time.monotonic() - started < 30
+    assert [r.status for r in results] == ["linted", "error", "linted", "linted"]
+    assert (
+        results[1].error
+        == f"{files[1]}: timed out after 1.5 s (raise --timeout, or 0 for no limit)"
+    )
+    assert [f.message for f in results[3].findings] == ["scope Four"]
+
+
+def test_a_worker_that_crashes_costs_only_its_file(tmp_path: Path) -> None:
+    files = [
+        _write(tmp_path, "1.usda", SCOPE.format(name="Crash")),
+        _write(tmp_path, "2.usda", SCOPE.format(name="Two")),
+        _write(tmp_path, "3.usda", SCOPE.format(name="Three")),
+    ]
+    results = lint_paths(files, linter_factory=trap_linter, jobs=1, timeout=60)
+    assert results[0].status == "error"
+    assert results[0].error == (
+        f"{files[0]}: the linter process crashed while reading it (signal SIGSEGV)"
+    )
+    assert [[f.message for f in r.findings] for r in results[1:]] == [
+        ["scope Two"],
+        ["scope Three"],
+    ]
+
+
+def test_a_worker_that_cannot_build_its_linter_stops_the_run(tmp_path: Path) -> None:
+    files = [_write(tmp_path, "1.usda", SCOPE.format(name="A"))]
+    with pytest.raises(ExecutionError, match="plugin acme failed to import"):
+        lint_paths(files, linter_factory=broken_factory, jobs=2, timeout=10)
+
+
+def test_in_process_an_engine_failure_on_one_file_does_not_stop_the_others(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(3)]
+    linter = trap_linter()
+    real = linter.lint_path
+
+    def flaky(path: str) -> FileResult:
+        if path == files[1]:
+            raise MemoryError("out of memory")
+        return real(path)
+
+    monkeypatch.setattr(linter, "lint_path", flaky)
+    results = lint_paths(files, linter=linter)
+    assert [r.status for r in results] == ["linted", "error", "linted"]
+    assert results[1].error == f"{files[1]}: internal error: MemoryError: out of memory"
+
+
+def test_no_stage_outlives_its_file(tmp_path: Path) -> None:
+    path = _write(tmp_path, "settings.usda", SETTINGS)
+    result = lint_paths([path], linter=make_linter(Settings()))[0]
+    assert result.findings
+    # Sdf keeps a layer only while something (a stage) holds it.
+    assert not Sdf.Layer.Find(path)
+
+
+def test_progress_only_on_a_terminal_and_for_many_files(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr("sys.stderr", io.StringIO())
+    assert not execution._want_progress(500)
+    monkeypatch.setattr("sys.stderr.isatty", lambda: True)
+    assert execution._want_progress(execution.PROGRESS_MIN_FILES + 1)
+    assert not execution._want_progress(execution.PROGRESS_MIN_FILES)
+
+
+def test_progress_bar_draws_on_stderr_only(
+    tmp_path: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("FORCE_COLOR", "1")  # rich then draws as on a terminal
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(3)]
+    lint_paths(files, linter=trap_linter(), progress=True)
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert "3/3" in captured.err
+
+
+def test_cli_jobs_output_is_identical_to_one_job(mixed_files: list[str]) -> None:
+    runner = CliRunner()
+    base = ["check", "--isolated", "--format", "json"]
+    one = runner.invoke(cli, [*base, "--jobs", "1", "--timeout", "0", *mixed_files])
+    two = runner.invoke(cli, [*base, "--jobs", "2", *mixed_files])
+    assert one.exit_code == two.exit_code == 2
+    assert one.stdout == two.stdout
+    assert one.stderr == two.stderr == f"usdrender-lint: error: {mixed_files[3]}: no such file\n"
+
+
+def test_cli_rejects_zero_jobs(tmp_path: Path) -> None:
+    path = _write(tmp_path, "a.usda", SCOPE.format(name="A"))
+    result = CliRunner().invoke(cli, ["check", "--jobs", "0", path])
+    assert result.exit_code == 2
+    assert "--jobs" in result.stderr
