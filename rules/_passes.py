@@ -1,0 +1,149 @@
+"""Helpers shared by the PA (RenderPass) rules: typed targets, the inputPasses
+dependency graph and its cycles, the four built-in collections and what their
+includes, excludes and membership expressions point at."""
+
+from __future__ import annotations
+
+from collections.abc import Hashable, Iterator, Mapping, Sequence
+from typing import TypeVar
+
+from pxr import Sdf, Tf, Usd, UsdRender
+
+from usdrender_lint.api import Context
+from usdrender_lint.resolve import Target, describe_prim_type, resolve_targets, unusable_reason
+
+#: The CollectionAPI instances the RenderPass schema applies (schema.usda).
+PASS_COLLECTIONS = ("renderVisibility", "cameraVisibility", "prune", "matte")
+
+Node = TypeVar("Node", bound=Hashable)
+
+
+def typed_target_problem(target: Target, schema: type, expected: str) -> str | None:
+    """Why a forwarded target is not a usable prim of ``schema`` (phrased to
+    follow the target path in a message), or None when it is one."""
+    if target.problem is not None:
+        return target.problem
+    if not target.prim.IsA(schema):
+        return f"is {describe_prim_type(target.prim)}, not {expected}"
+    return None
+
+
+def usd_error_text(exc: Tf.ErrorException) -> str:
+    """The commentary of each Tf error carried by the exception, without the
+    C++ function and file names."""
+    texts = [str(getattr(arg, "commentary", arg)).strip() for arg in exc.args]
+    return "; ".join(t for t in texts if t) or "USD reported an error"
+
+
+# -- inputPasses ------------------------------------------------------------
+
+
+def input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
+    """Each usable RenderPass -> the passes its ``inputPasses`` validly target
+    (forwarded; PA002 reports the others). Computed once per stage."""
+
+    def build() -> dict[Sdf.Path, list[Sdf.Path]]:
+        graph: dict[Sdf.Path, list[Sdf.Path]] = {}
+        for prim in ctx.prims_of(UsdRender.Pass):
+            rel = UsdRender.Pass(prim).GetInputPassesRel()
+            graph[prim.GetPath()] = [
+                t.path
+                for t in resolve_targets(rel)
+                if typed_target_problem(t, UsdRender.Pass, "a RenderPass") is None
+            ]
+        return graph
+
+    return ctx.memo("PA:input-pass-graph", build)
+
+
+def _rotated_to_smallest(cycle: Sequence[Node]) -> tuple[Node, ...]:
+    start = cycle.index(min(cycle))
+    return (*cycle[start:], *cycle[:start])
+
+
+def find_cycles(graph: Mapping[Node, Sequence[Node]]) -> list[tuple[Node, ...]]:
+    """The cycle closed by each back edge of a depth-first search (a self-loop
+    included), each reported once, rotated to start at its smallest node.
+
+    Nodes are visited in sorted order and edges in their given order, so the
+    result is deterministic.
+    """
+    on_stack: set[Node] = set()
+    finished: set[Node] = set()
+    found: dict[tuple[Node, ...], None] = {}
+    for root in sorted(graph):
+        if root in finished:
+            continue
+        trail = [root]
+        pending: list[Iterator[Node]] = [iter(graph.get(root, ()))]
+        on_stack.add(root)
+        while pending:
+            for successor in pending[-1]:
+                if successor in on_stack:
+                    cycle = trail[trail.index(successor) :]
+                    found.setdefault(_rotated_to_smallest(cycle), None)
+                elif successor not in finished:
+                    trail.append(successor)
+                    pending.append(iter(graph.get(successor, ())))
+                    on_stack.add(successor)
+                    break
+            else:
+                done = trail.pop()
+                pending.pop()
+                on_stack.discard(done)
+                finished.add(done)
+    return list(found)
+
+
+# -- collections ------------------------------------------------------------
+
+
+def pass_collections(prim: Usd.Prim) -> list[Usd.CollectionAPI]:
+    return [Usd.CollectionAPI(prim, name) for name in PASS_COLLECTIONS]
+
+
+def collection_label(collection: Usd.CollectionAPI) -> str:
+    return f"collection:{collection.GetName()}"
+
+
+def missing_expression_references(
+    collection: Usd.CollectionAPI, expression: Sdf.PathExpression
+) -> list[Sdf.Path]:
+    """Collection paths that ``%/path:name`` references in the expression name
+    but that do not exist. usd-core only warns and substitutes an empty
+    expression. ``%:name`` means a collection on the owning prim; ``%_`` (the
+    weaker expression) is not a reference to a collection."""
+    prim = collection.GetPrim()
+    stage = prim.GetStage()
+    references: list[Sdf.PathExpression.ExpressionReference] = []
+    expression.Walk(lambda *_: None, references.append, lambda *_: None)
+    missing = []
+    for reference in references:
+        if reference == Sdf.PathExpression.ExpressionReference.Weaker():
+            continue
+        owner = reference.path if not reference.path.isEmpty else prim.GetPath()
+        owner = owner.MakeAbsolutePath(prim.GetPath())
+        target_prim = stage.GetPrimAtPath(owner)
+        if not target_prim or not target_prim.HasAPI(Usd.CollectionAPI, reference.name):
+            missing.append(owner.AppendProperty(f"collection:{reference.name}"))
+    return missing
+
+
+def dangling_object_reason(stage: Usd.Stage, path: Sdf.Path) -> str | None:
+    """Why a collection include/exclude target names nothing renderable: no
+    object at the path, or a prim that is inactive, ``over``-only or abstract.
+    None for an existing property or a usable prim."""
+    obj = stage.GetObjectAtPath(path)
+    if obj:
+        return unusable_reason(obj) if isinstance(obj, Usd.Prim) else None
+    # Descendants of an inactive prim are not composed at all: say why.
+    start = path.GetPrimPath() if path.IsPropertyPath() else path.GetParentPath()
+    for ancestor in reversed(start.GetPrefixes()):
+        prim = stage.GetPrimAtPath(ancestor)
+        if prim:
+            if not prim.IsActive():
+                return (
+                    f"does not exist on the composed stage (its ancestor <{ancestor}> is inactive)"
+                )
+            break
+    return "does not exist on the composed stage"
