@@ -19,6 +19,8 @@ class FormatOptions:
     show_info: bool = False
     tool_name: str = "usdrender-lint"
     tool_version: str = "0"
+    #: Add counts per rule code after the report (--statistics).
+    statistics: bool = False
 
 
 class Formatter(Protocol):
@@ -36,6 +38,29 @@ def load_formatter(name: str) -> Formatter:
     if name not in entry_points:
         raise KeyError(name)
     return entry_points[name].load()()
+
+
+def statistics(report: Report) -> list[dict[str, object]]:
+    """Findings per rule code, most frequent first: code, name, severity, count."""
+    first = {}
+    for finding in report.findings:
+        first.setdefault(finding.code, finding)
+    counts = report.by_code()
+    rows = [
+        {"code": code, "name": f.name, "severity": f.severity.value, "count": counts[code]}
+        for code, f in first.items()
+    ]
+    return sorted(rows, key=lambda row: (-row["count"], row["code"]))
+
+
+def layer_file(identifier: str | None) -> Path | None:
+    """The file on disk behind a layer identifier: a layer inside a ``.usdz``
+    (``pkg.usdz[inner.usda]``) is the package; anonymous layers have none."""
+    if not identifier or identifier.startswith("anon:"):
+        return None
+    if identifier.endswith("]") and "[" in identifier:
+        identifier = identifier[: identifier.index("[")]
+    return Path(identifier).resolve()
 
 
 def display_path(path: str | None) -> str:

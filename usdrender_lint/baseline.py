@@ -1,0 +1,114 @@
+"""Baselines: accept today's findings, fail only on new ones.
+
+A fingerprint is the linted file relative to the baseline file's folder, the
+rule code and the prim or property path; never a line number or a message
+(values in messages change when the data does), so it survives edits that
+move lines or reformat a layer. A count per fingerprint makes a second
+identical finding new.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+from collections import Counter
+from pathlib import Path, PurePath
+
+from .atomic import write_text_atomic
+from .model import Finding, Report
+
+BASELINE_SCHEMA = 1
+
+Fingerprint = tuple[str, str, str]
+
+
+class BaselineError(Exception):
+    """The baseline file cannot be read or written; the message names it."""
+
+
+def fingerprint(finding: Finding, base_dir: Path) -> Fingerprint:
+    """(file relative to ``base_dir`` with ``/`` separators, code, path)."""
+    file = os.path.relpath(os.path.abspath(finding.location.file), os.path.abspath(base_dir))
+    return (PurePath(file).as_posix(), finding.code, finding.location.path or "")
+
+
+def _counts(report: Report, base_dir: Path) -> Counter[Fingerprint]:
+    return Counter(fingerprint(f, base_dir) for f in report.findings)
+
+
+def write_baseline(report: Report, path: str | Path) -> int:
+    """Record every finding of ``report`` in ``path`` (atomically); returns how many."""
+    path = Path(path)
+    counts = _counts(report, path.parent)
+    entries = [
+        {"file": file, "code": code, "path": prim_path, "count": count}
+        for (file, code, prim_path), count in sorted(counts.items())
+    ]
+    document = {"usdrender_lint_baseline": BASELINE_SCHEMA, "findings": entries}
+    try:
+        write_text_atomic(path, json.dumps(document, indent=2) + "\n")
+    except OSError as exc:
+        raise BaselineError(f"{path}: cannot write baseline: {exc.strerror or exc}") from None
+    return sum(counts.values())
+
+
+def load_baseline(path: str | Path) -> Counter[Fingerprint]:
+    """The fingerprint counts a baseline file records."""
+    path = Path(path)
+    try:
+        document = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise BaselineError(
+            f"{path}: baseline file not found (create it with --write-baseline)"
+        ) from None
+    except OSError as exc:
+        raise BaselineError(f"{path}: cannot read baseline: {exc.strerror or exc}") from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise BaselineError(f"{path}: not a baseline file (invalid JSON: {exc})") from None
+    if not isinstance(document, dict) or "usdrender_lint_baseline" not in document:
+        raise BaselineError(f"{path}: not a usdrender-lint baseline file")
+    if document["usdrender_lint_baseline"] != BASELINE_SCHEMA:
+        raise BaselineError(
+            f"{path}: unsupported baseline version {document['usdrender_lint_baseline']!r} "
+            f"(expected {BASELINE_SCHEMA})"
+        )
+    counts: Counter[Fingerprint] = Counter()
+    entries = document.get("findings")
+    if not isinstance(entries, list):
+        raise BaselineError(f"{path}: 'findings' must be a list")
+    for index, entry in enumerate(entries):
+        try:
+            key = (entry["file"], entry["code"], entry["path"])
+            count = entry["count"]
+        except (TypeError, KeyError) as exc:
+            raise BaselineError(f"{path}: findings[{index}] lacks {exc}") from None
+        valid = all(isinstance(part, str) for part in key)
+        if not valid or not isinstance(count, int) or isinstance(count, bool) or count < 1:
+            raise BaselineError(f"{path}: findings[{index}] is malformed: {entry!r}")
+        counts[key] += count
+    return counts
+
+
+def new_findings(report: Report, path: str | Path) -> tuple[Report, int]:
+    """``report`` without the findings the baseline at ``path`` records, and
+    how many were dropped. Of several findings with one fingerprint, the first
+    ``count`` (in report order) are known and the rest are new."""
+    path = Path(path)
+    remaining = load_baseline(path)
+    known = 0
+
+    def is_new(finding: Finding) -> bool:
+        nonlocal known
+        key = fingerprint(finding, path.parent)
+        if remaining[key] > 0:
+            remaining[key] -= 1
+            known += 1
+            return False
+        return True
+
+    files = tuple(
+        dataclasses.replace(result, findings=tuple(f for f in result.findings if is_new(f)))
+        for result in report.files
+    )
+    return dataclasses.replace(report, files=files), known

@@ -1,0 +1,134 @@
+"""SARIF 2.1.0 (OASIS), for code-scanning uploads.
+
+Each rule that ran is a ``reportingDescriptor`` with its docstring as help.
+A result's physical location is the layer holding the offending opinion (else
+the linted file) with its line when known, as a URI relative to the working
+directory (``uriBaseId`` SRCROOT); its logical location is the prim or
+property path.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, TextIO
+from urllib.parse import quote
+
+from ..model import Finding, Report, RuleInfo, Severity
+from . import FormatOptions, layer_file, statistics
+
+SARIF_VERSION = "2.1.0"
+SARIF_SCHEMA = (
+    "https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/schemas/sarif-schema-2.1.0.json"
+)
+SRCROOT = "SRCROOT"
+_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+
+
+def artifact_location(path: Path, root: Path) -> dict[str, str]:
+    """A URI relative to ``root`` when the file is below it, else absolute."""
+    try:
+        relative = path.relative_to(root)
+    except ValueError:
+        return {"uri": path.as_uri()}
+    return {"uri": quote(relative.as_posix()), "uriBaseId": SRCROOT}
+
+
+def _descriptor(rule: RuleInfo) -> dict[str, Any]:
+    return {
+        "id": rule.code,
+        "name": rule.name,
+        "shortDescription": {"text": rule.summary or rule.name},
+        "fullDescription": {"text": rule.doc or rule.summary or rule.name},
+        "help": {"text": rule.doc or rule.summary or rule.name, "markdown": rule.doc or ""},
+        "defaultConfiguration": {"level": _LEVEL[rule.severity]},
+        "properties": {"fix": rule.fix},
+    }
+
+
+def _rules(report: Report) -> list[RuleInfo]:
+    """The rules that ran, plus one entry per code a finding carries without a
+    registered rule (the reserved internal-error code), so every result's
+    ``ruleId`` is described."""
+    rules = {rule.code: rule for rule in report.rules}
+    for finding in report.findings:
+        if finding.code not in rules:
+            rules[finding.code] = RuleInfo(
+                finding.code, finding.name, finding.severity, finding.name, ""
+            )
+    return sorted(rules.values(), key=lambda rule: rule.code)
+
+
+def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
+    loc = finding.location
+    result: dict[str, Any] = {
+        "ruleId": finding.code,
+        "ruleIndex": index,
+        "level": _LEVEL[finding.severity],
+        "message": {"text": finding.message},
+    }
+    location: dict[str, Any] = {}
+    file = layer_file(loc.layer) or layer_file(loc.file)
+    if file is not None:
+        physical: dict[str, Any] = {"artifactLocation": artifact_location(file, root)}
+        if loc.line and loc.layer and layer_file(loc.layer) == file:
+            physical["region"] = {"startLine": loc.line}
+        location["physicalLocation"] = physical
+    if loc.path:
+        is_property = "." in loc.path.rsplit("/", 1)[-1]
+        location["logicalLocations"] = [
+            {
+                "fullyQualifiedName": loc.path,
+                "name": loc.path.rsplit("/", 1)[-1].rsplit(".", 1)[-1] or loc.path,
+                "kind": "member" if is_property else "object",
+            }
+        ]
+    if location:
+        result["locations"] = [location]
+    if finding.fix is not None:
+        result["properties"] = {
+            "fix": {"description": finding.fix.description, "safe": finding.fix.safe}
+        }
+    return result
+
+
+def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[str, Any]:
+    rules = _rules(report)
+    index = {rule.code: position for position, rule in enumerate(rules)}
+    notifications = [
+        {
+            "level": "error",
+            "message": {"text": result.error or f"{result.file}: could not be linted"},
+            "locations": [{"physicalLocation": {"artifactLocation": artifact_location(file, root)}}]
+            if (file := layer_file(result.file)) is not None
+            else [],
+        }
+        for result in report.errored_files
+    ]
+    run: dict[str, Any] = {
+        "tool": {
+            "driver": {
+                "name": options.tool_name,
+                "version": options.tool_version,
+                "rules": [_descriptor(rule) for rule in rules],
+            }
+        },
+        "originalUriBaseIds": {SRCROOT: {"uri": root.as_uri().rstrip("/") + "/"}},
+        "invocations": [
+            {
+                "executionSuccessful": not notifications,
+                "toolExecutionNotifications": notifications,
+            }
+        ],
+        "results": [_result(f, index[f.code], root) for f in report.findings],
+    }
+    if options.statistics:
+        run["properties"] = {"statistics": statistics(report)}
+    return {"$schema": SARIF_SCHEMA, "version": SARIF_VERSION, "runs": [run]}
+
+
+class SarifFormatter:
+    def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
+        document = report_to_sarif(report, options, Path.cwd().resolve())
+        json.dump(document, stream, indent=2, ensure_ascii=False)
+        stream.write("\n")
