@@ -90,20 +90,20 @@ def load_baseline(path: str | Path) -> Counter[Fingerprint]:
     return counts
 
 
-def new_findings(report: Report, path: str | Path) -> tuple[Report, int]:
-    """``report`` without the findings the baseline at ``path`` records, and
-    how many were dropped. Of several findings with one fingerprint, the first
-    ``count`` (in report order) are known and the rest are new."""
-    path = Path(path)
-    remaining = load_baseline(path)
-    known = 0
+def new_findings(report: Report, known: Counter[Fingerprint], base_dir: Path) -> tuple[Report, int]:
+    """``report`` without the findings ``known`` (a loaded baseline whose file
+    is in ``base_dir``) records, and how many were dropped. Of several findings
+    with one fingerprint, the first ``count`` (in report order) are known and
+    the rest are new."""
+    remaining = Counter(known)
+    dropped = 0
 
     def is_new(finding: Finding) -> bool:
-        nonlocal known
-        key = fingerprint(finding, path.parent)
+        nonlocal dropped
+        key = fingerprint(finding, base_dir)
         if remaining[key] > 0:
             remaining[key] -= 1
-            known += 1
+            dropped += 1
             return False
         return True
 
@@ -111,4 +111,4 @@ def new_findings(report: Report, path: str | Path) -> tuple[Report, int]:
         dataclasses.replace(result, findings=tuple(f for f in result.findings if is_new(f)))
         for result in report.files
     )
-    return dataclasses.replace(report, files=files), known
+    return dataclasses.replace(report, files=files), dropped

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+from collections import Counter
 from collections.abc import Sequence
 
 import click
@@ -17,7 +18,8 @@ import click
 from . import __version__
 from .config import FAIL_ON_CHOICES, ConfigError, load_settings
 from .execution import DEFAULT_TIMEOUT, ExecutionError, default_jobs
-from .formatters import FormatOptions, available_formatters, load_formatter
+from .formatters import FormatOptions, Formatter, available_formatters, load_formatter
+from .model import Report
 from .registry import Registry, RegistryError, build_registry
 
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
@@ -86,6 +88,13 @@ def cli() -> None:
     show_default=True,
     help="Seconds one file may take before it is reported as an error; 0: no limit.",
 )
+@click.option("--output", "output_file", type=click.Path(dir_okay=False),
+              help="Write the report to this file (atomically) instead of stdout.")
+@click.option("--statistics", is_flag=True, help="Add counts per rule code after the report.")
+@click.option("--baseline", "baseline_file", type=click.Path(dir_okay=False),
+              help="Report and fail only on findings this baseline file does not record.")
+@click.option("--write-baseline", "write_baseline_file", type=click.Path(dir_okay=False),
+              help="Record every finding in this baseline file and exit 0.")
 def check(
     paths: tuple[str, ...],
     output_format: str,
@@ -99,11 +108,16 @@ def check(
     no_roots: bool,
     jobs: int | None,
     timeout: float,
+    output_file: str | None,
+    statistics: bool,
+    baseline_file: str | None,
+    write_baseline_file: str | None,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     from .docs import rule_info
     from .roots import plan_from_settings
     from .runner import collect_files, fails, lint_files, make_linter
+    from .suppress import apply_path_ignores
 
     registry = _registry()
     try:
@@ -115,6 +129,7 @@ def check(
             fail_on=fail_on,
         )
         linter = make_linter(settings, registry)
+        known = _load_baseline(baseline_file, write_baseline_file)
     except ConfigError as exc:
         raise ToolError(str(exc)) from None
 
@@ -134,15 +149,82 @@ def check(
     if plan is not None:
         report = plan.narrow(report)
     report = type(report)(report.files, tuple(rule_info(type(r)) for r in linter.rules))
-    formatter = load_formatter(output_format)
-    formatter.render(
-        report, sys.stdout, FormatOptions(show_info=show_info, tool_version=__version__)
+    report = apply_path_ignores(
+        report, settings.per_path_ignores, settings.base_dir, registry.rules
     )
+    report = _apply_baseline(report, known, baseline_file, write_baseline_file)
+    options = FormatOptions(
+        show_info=show_info, tool_version=__version__, statistics=statistics
+    )
+    _emit_report(report, load_formatter(output_format), options, output_file)
     for result in report.errored_files:
         click.echo(f"usdrender-lint: error: {result.error}", err=True)
     if report.errored_files:
         sys.exit(EXIT_TOOL_ERROR)
+    if write_baseline_file:
+        sys.exit(EXIT_OK)  # today's findings are accepted
     sys.exit(EXIT_FINDINGS if fails(report, settings.fail_on) else EXIT_OK)
+
+
+def _load_baseline(baseline_file: str | None, write_baseline_file: str | None) -> Counter | None:
+    """The baseline's fingerprint counts (None without --baseline); checked
+    before linting so a missing or corrupt file fails fast."""
+    from .baseline import BaselineError, load_baseline
+
+    if baseline_file and write_baseline_file:
+        raise ToolError("use either --baseline or --write-baseline, not both")
+    if not baseline_file:
+        return None
+    try:
+        return load_baseline(baseline_file)
+    except BaselineError as exc:
+        raise ToolError(str(exc)) from None
+
+
+def _apply_baseline(
+    report: Report,
+    known: Counter | None,
+    baseline_file: str | None,
+    write_baseline_file: str | None,
+) -> Report:
+    """Keep only new findings (--baseline) or record them all (--write-baseline)."""
+    from pathlib import Path
+
+    from .baseline import BaselineError, new_findings, write_baseline
+
+    if write_baseline_file:
+        try:
+            count = write_baseline(report, write_baseline_file)
+        except BaselineError as exc:
+            raise ToolError(str(exc)) from None
+        click.echo(f"usdrender-lint: recorded {count} findings in {write_baseline_file}", err=True)
+    elif known is not None:
+        report, dropped = new_findings(report, known, Path(baseline_file).resolve().parent)
+        if dropped:
+            click.echo(
+                f"usdrender-lint: {dropped} findings recorded in {baseline_file} not shown",
+                err=True,
+            )
+    return report
+
+
+def _emit_report(
+    report: Report, formatter: Formatter, options: FormatOptions, output_file: str | None
+) -> None:
+    """Render to stdout, or to ``output_file`` atomically (stdout gets nothing)."""
+    if output_file is None:
+        formatter.render(report, sys.stdout, options)
+        return
+    import io
+
+    from .atomic import write_text_atomic
+
+    buffer = io.StringIO()
+    formatter.render(report, buffer, options)
+    try:
+        write_text_atomic(output_file, buffer.getvalue())
+    except OSError as exc:
+        raise ToolError(f"{output_file}: cannot write the report: {exc.strerror or exc}") from None
 
 
 @cli.command("rules")

@@ -20,6 +20,8 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
     for key in ("select", "ignore", "extend_select"):
         check_selectors(registry, getattr(settings, key) or (), settings.where(key))
+    for glob, selectors in settings.per_path_ignores.items():
+        check_selectors(registry, selectors, f"{settings.where('per_path_ignores')}.{glob}")
     try:
         chosen = select_rules(
             registry.rules, settings.select, settings.ignore, settings.extend_select
