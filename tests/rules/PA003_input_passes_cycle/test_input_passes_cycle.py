@@ -6,6 +6,7 @@ from pathlib import Path
 
 from usdrender_lint.rules._passes import find_cycles
 from usdrender_lint.rules.passes import InputPassesCycle
+
 from usdrender_lint.testing import lint
 
 HERE = Path(__file__).parent
