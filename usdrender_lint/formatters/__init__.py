@@ -53,6 +53,11 @@ def statistics(report: Report) -> list[dict[str, object]]:
     return sorted(rows, key=lambda row: (-row["count"], row["code"]))
 
 
+def statistics_lines(report: Report) -> list[str]:
+    """The statistics as plain text lines: count, code, name."""
+    return [f"{row['count']:>5}  {row['code']}  {row['name']}" for row in statistics(report)]
+
+
 def layer_file(identifier: str | None) -> Path | None:
     """The file on disk behind a layer identifier: a layer inside a ``.usdz``
     (``pkg.usdz[inner.usda]``) is the package; anonymous layers have none."""

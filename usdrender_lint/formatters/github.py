@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import TextIO
 
 from ..model import Finding, Report, Severity
-from . import FormatOptions, display_path, layer_file, statistics
+from . import FormatOptions, display_path, layer_file, statistics_lines
 
 _COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 
@@ -59,5 +59,4 @@ class GithubFormatter:
                     stream.write(annotation(finding) + "\n")
         if options.statistics:
             # Plain lines are log output in a workflow, not commands.
-            for row in statistics(report):
-                stream.write(f"{row['count']:>5}  {row['code']}  {row['name']}\n")
+            stream.writelines(line + "\n" for line in statistics_lines(report))

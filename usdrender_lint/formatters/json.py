@@ -6,7 +6,7 @@ import json
 from typing import Any, TextIO
 
 from ..model import Finding, Report
-from . import FormatOptions, display_path
+from . import FormatOptions, display_path, statistics
 
 SCHEMA_VERSION = 1
 
@@ -31,6 +31,14 @@ def finding_to_dict(finding: Finding) -> dict[str, Any]:
 
 
 def report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
+    document = _report_to_dict(report, options)
+    if options.statistics:
+        # Added only with --statistics, so the default document stays as documented.
+        document["statistics"] = statistics(report)
+    return document
+
+
+def _report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
     return {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": options.tool_name, "version": options.tool_version},

@@ -8,7 +8,7 @@ from rich.console import Console
 from rich.markup import escape
 
 from ..model import Report, Severity
-from . import FormatOptions, display_path
+from . import FormatOptions, display_path, statistics_lines
 
 _STYLE = {Severity.ERROR: "bold red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 
@@ -53,6 +53,9 @@ class TextFormatter:
                     parts.append(f"[dim]{escape(f'[{kind}: {finding.fix.description}]')}[/]")
                 console.print("  ".join(parts))
         console.print(self._summary(report, hidden))
+        if options.statistics:
+            for line in statistics_lines(report):
+                console.print(escape(line))
 
     @staticmethod
     def _summary(report: Report, hidden: int) -> str:
