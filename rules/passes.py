@@ -356,22 +356,29 @@ _VARIABLE = re.compile(r"\$\{(\w+)\}")
 
 
 def _unresolvable_reason(value: Sdf.AssetPath, layer: Sdf.Layer | None) -> str:
+    """Why an authored asset path has no resolved path, and what to do."""
     authored = value.authoredPath
     where = f" relative to {layer.GetDisplayName()}" if layer is not None else ""
     if Sdf.VariableExpression.IsExpression(authored):
         errors = Sdf.VariableExpression(authored).GetErrors()
         if errors:
-            return f"is a variable expression USD cannot evaluate ({'; '.join(errors)})"
+            return (
+                f"is a variable expression USD cannot evaluate ({'; '.join(errors)}); "
+                "correct the expression"
+            )
         # usd-core leaves an unset variable in the evaluated path as written.
         unset = sorted(set(_VARIABLE.findall(value.evaluatedPath)))
         if unset:
             names = ", ".join(unset)
             return (
-                f"evaluates to {value.evaluatedPath!r}: expression variable(s) {names} "
-                "are not set in the stage's expressionVariables"
+                f"evaluates to {value.evaluatedPath!r}: expression variable(s) {names} not "
+                "set; define them in the root layer's expressionVariables"
             )
-        return f"evaluates to {value.evaluatedPath!r}, which does not resolve{where}"
-    return f"does not resolve{where}"
+        return (
+            f"evaluates to {value.evaluatedPath!r}, which does not resolve{where}; "
+            "create the file or correct the path"
+        )
+    return f"does not resolve{where}; create the file or correct the path"
 
 
 class FileNameUnresolvable(Rule):
@@ -445,7 +452,7 @@ class FileNameUnresolvable(Rule):
             return
         reason = _unresolvable_reason(value, _authored_layer(attr))
         yield Diagnostic(
-            f"fileName @{value.authoredPath}@ {reason}; create the file or correct the path",
+            f"fileName @{value.authoredPath}@ {reason}",
             at=attr,
         )
 
