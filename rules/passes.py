@@ -465,31 +465,36 @@ def _collection_problems(
 ) -> tuple[list[str], Usd.Property | None]:
     """Why a collection's membership cannot be trusted, and the property the
     first problem is about."""
-    problems: list[tuple[str, Usd.Property | None]] = []
     expression_attr = collection.GetMembershipExpressionAttr()
+    expression = authored_value(expression_attr)
     includes = collection.GetIncludesRel()
+    # Evaluation errors (e.g. an unknown predicate) can surface from Validate()
+    # as well as from ComputeMembershipQuery(): report them once.
+    evaluation_anchor = expression_attr if expression is not None else includes
+    problems: list[tuple[str, Usd.Property]] = []
+
+    def evaluation_failed(exc: Tf.ErrorException) -> None:
+        text = f"its membership cannot be computed: {usd_error_text(exc)}"
+        problems.append((text, evaluation_anchor))
+
     try:
         valid, why = collection.Validate()
+        if not valid:
+            anchor = collection.GetExpansionRuleAttr() if "expansionRule" in why else includes
+            problems.append((why.strip().rstrip(".") or "Validate() failed", anchor))
     except Tf.ErrorException as exc:
-        valid, why = False, usd_error_text(exc)
-    if not valid:
-        anchor = collection.GetExpansionRuleAttr() if "expansionRule" in why else includes
-        problems.append((why.strip() or "Validate() failed", anchor))
-    expression = authored_value(expression_attr)
+        evaluation_failed(exc)
     if expression is not None and not expression.IsEmpty():
         for path in missing_expression_references(collection, expression):
-            problems.append(
-                (
-                    f"its membershipExpression references the collection <{path}>, which "
-                    "does not exist (USD substitutes an empty expression)",
-                    expression_attr,
-                )
+            text = (
+                f"its membershipExpression references the collection <{path}>, which does "
+                "not exist (USD substitutes an empty expression)"
             )
+            problems.append((text, expression_attr))
     try:
         collection.ComputeMembershipQuery()
     except Tf.ErrorException as exc:
-        anchor = expression_attr if expression is not None else includes
-        problems.append((f"its membership cannot be computed: {usd_error_text(exc)}", anchor))
+        evaluation_failed(exc)
     reasons = list(dict.fromkeys(text for text, _ in problems))
     return reasons, (problems[0][1] if problems else None)
 
