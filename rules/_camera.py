@@ -1,0 +1,100 @@
+"""Camera helpers shared by the CA rules: the effective cameras of a stage and
+the evaluation of varying camera values over time."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any
+
+from pxr import Usd, UsdGeom
+
+from usdrender_lint.api import Context
+from usdrender_lint.resolve import (
+    RenderConfiguration,
+    composed_value,
+    fallback_value,
+    format_time,
+    is_finite,
+    joint_evaluation_times,
+)
+
+#: A check over camera values read at one time: a problem phrase, or None.
+ValueCheck = Callable[..., str | None]
+
+
+@dataclass(frozen=True)
+class CameraUse:
+    """A usable Camera prim and the render configurations it is effective in."""
+
+    prim: Usd.Prim
+    configurations: tuple[RenderConfiguration, ...]
+
+
+def effective_cameras(ctx: Context) -> list[CameraUse]:
+    """Each usable Camera that is the effective camera of some configuration,
+    once, in first-use order (a camera shared by several products is checked
+    once, so it gives one finding)."""
+
+    def compute() -> list[CameraUse]:
+        uses: dict[str, tuple[Usd.Prim, list[RenderConfiguration]]] = {}
+        for config in ctx.configurations:
+            camera = config.camera
+            if camera is None:
+                continue
+            prim = camera.GetPrim()
+            uses.setdefault(str(prim.GetPath()), (prim, []))[1].append(config)
+        return [CameraUse(prim, tuple(configs)) for prim, configs in uses.values()]
+
+    return ctx.memo(("camera", "effective_cameras"), compute)
+
+
+def config_owners(config: RenderConfiguration) -> list[Usd.Prim]:
+    """The prims whose RenderSettingsBase opinions make up a configuration."""
+    return [config.settings] if config.product is None else [config.settings, config.product]
+
+
+def first_failure(
+    prim: Usd.Prim, names: Iterable[str], check: ValueCheck, cap: int
+) -> tuple[Usd.TimeCode, str] | None:
+    """Evaluate ``check(*values)`` at Default and at every authored time sample
+    of the named attributes (capped); the first failing time and its problem.
+
+    Values are composed: well-typed authored opinions, else the schema
+    fallback (a type-mismatched opinion counts as unauthored, SE016's; a
+    blocked sample reads as the fallback)."""
+    names = tuple(names)
+    attrs = [prim.GetAttribute(name) for name in names]
+    for time in joint_evaluation_times(attrs, cap):
+        problem = check(*(_value_at(prim, name, time) for name in names))
+        if problem is not None:
+            return time, problem
+    return None
+
+
+def _value_at(prim: Usd.Prim, name: str, time: Usd.TimeCode) -> Any:
+    value = composed_value(prim, name, time)
+    # A blocked time sample (`1: None`) leaves typed C++ reads with the fallback.
+    return fallback_value(prim, name) if value is None else value
+
+
+def at_time(time: Usd.TimeCode) -> str:
+    return f"at {format_time(time)}"
+
+
+def is_perspective(projection: Any) -> bool:
+    return str(projection) == UsdGeom.Tokens.perspective
+
+
+def positive_finite(value: Any) -> bool:
+    return value is not None and is_finite(value) and value > 0
+
+
+def usable_cameras(ctx: Context) -> list[Usd.Prim]:
+    """Every usable Camera on the stage. Walks the stage: only call it for a
+    fix that needs it, never on every lint."""
+
+    def compute() -> list[Usd.Prim]:
+        return [p for p in ctx.stage.Traverse() if p.IsA(UsdGeom.Camera)]
+
+    return ctx.memo(("camera", "usable_cameras"), compute)
