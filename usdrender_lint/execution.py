@@ -21,6 +21,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 
+from pxr import Usd
+
 from .engine import Linter
 from .model import FileResult
 
@@ -144,6 +146,9 @@ def _worker_main(conn: Connection, linter_factory: LinterFactory) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
     try:
         linter = linter_factory()
+        # Load USD's plugins and schemas now, so the first file's time limit
+        # measures the file, not the start-up.
+        Usd.Stage.CreateInMemory()
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
         conn.send(("failed", f"{type(exc).__name__}: {exc}"))
         return
