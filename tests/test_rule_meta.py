@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from usdrender_lint.api import DOC_SECTIONS
-from usdrender_lint.docs import code_blocks, missing_sections, sections
+from usdrender_lint.docs import code_blocks, missing_sections, sections, supporting_layers
 from usdrender_lint.registry import build_registry
 from usdrender_lint.testing import all_rules, lint
 
@@ -43,21 +43,29 @@ def test_rule_has_pass_and_fail_fixtures(rule) -> None:
 
 def _doc_cases(section: str):
     for rule in RULE_CLASSES:
-        for index, block in enumerate(code_blocks(sections(rule).get(section, ""))):
-            yield pytest.param(rule.code, block, id=f"{rule.code}-{index}")
+        text = sections(rule).get(section, "")
+        layers = supporting_layers(text)
+        for index, block in enumerate(code_blocks(text)):
+            yield pytest.param(rule.code, block, layers, id=f"{rule.code}-{index}")
 
 
-@pytest.mark.parametrize(("code", "usda"), list(_doc_cases("Example")))
-def test_doc_example_fires(code: str, usda: str, tmp_path: Path) -> None:
-    path = tmp_path / "example.usda"
+def _write_doc_case(tmp_path: Path, name: str, usda: str, layers: dict[str, str]) -> Path:
+    for layer_name, text in layers.items():
+        (tmp_path / layer_name).write_text(text, encoding="utf-8")
+    path = tmp_path / name
     path.write_text(usda, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(("code", "usda", "layers"), list(_doc_cases("Example")))
+def test_doc_example_fires(code: str, usda: str, layers: dict, tmp_path: Path) -> None:
+    path = _write_doc_case(tmp_path, "example.usda", usda, layers)
     assert code in {f.code for f in lint(path, RULES)}
 
 
-@pytest.mark.parametrize(("code", "usda"), list(_doc_cases("Use instead")))
-def test_doc_use_instead_is_silent(code: str, usda: str, tmp_path: Path) -> None:
-    path = tmp_path / "use_instead.usda"
-    path.write_text(usda, encoding="utf-8")
+@pytest.mark.parametrize(("code", "usda", "layers"), list(_doc_cases("Use instead")))
+def test_doc_use_instead_is_silent(code: str, usda: str, layers: dict, tmp_path: Path) -> None:
+    path = _write_doc_case(tmp_path, "use_instead.usda", usda, layers)
     assert code not in {f.code for f in lint(path, RULES)}
 
 

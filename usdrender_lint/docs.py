@@ -10,6 +10,7 @@ from .model import RuleInfo
 
 _HEADING = re.compile(r"^##\s+(.+?)\s*$", re.MULTILINE)
 _CODE_BLOCK = re.compile(r"```(\w*)\n(.*?)```", re.DOTALL)
+_NAMED_BLOCK = re.compile(r"```usda ([\w.-]+\.usda)\n(.*?)```", re.DOTALL)
 
 
 def rule_doc(rule: type[Rule]) -> str:
@@ -34,6 +35,12 @@ def missing_sections(rule: type[Rule]) -> list[str]:
 
 def code_blocks(text: str, language: str = "usda") -> list[str]:
     return [body for lang, body in _CODE_BLOCK.findall(text) if lang == language]
+
+
+def supporting_layers(text: str) -> dict[str, str]:
+    """Blocks fenced as ```` ```usda <file>.usda ````: layers an example sublayers
+    or references, written beside it (not examples themselves)."""
+    return dict(_NAMED_BLOCK.findall(text))
 
 
 def rule_info(rule: type[Rule]) -> RuleInfo:
