@@ -34,6 +34,8 @@ Apply = Callable[[Usd.Stage], None]
 
 def _fmt(value: Any) -> str:
     """A value as it reads in a message: vectors as tuples, floats trimmed."""
+    if value is None:
+        return "no value"
     if isinstance(value, str):
         return repr(value)
     if isinstance(value, float):
@@ -1072,7 +1074,7 @@ class RenderingColorSpaceUnknown(Rule):
         if _colorspace.is_valid_name(prim, name, _color_space_cache(ctx)):
             return
         nearest = _colorspace.nearest_names(name)
-        hint = f"did you mean {_quoted(nearest)}? " if nearest else ""
+        hint = f"did you mean {_quoted(nearest)}? Otherwise " if nearest else ""
         yield Diagnostic(
             f'renderingColorSpace "{name}" is not a USD colour space (not a Gf.ColorSpace name '
             f"or alias, and no ColorSpaceDefinitionAPI on {prim.GetPath()} or its ancestors "
@@ -1340,6 +1342,8 @@ _NOT_CONVERTIBLE = object()
 
 def _convert_scalar(value: Any, like: Any) -> Any:
     """``value`` as the Python type of ``like`` when no information is lost."""
+    if isinstance(like, Sdf.AssetPath) and isinstance(value, str):
+        return Sdf.AssetPath(value)  # a string path is an unresolved asset path
     if isinstance(like, bool):
         ok = isinstance(value, bool) or (isinstance(value, int) and value in (0, 1))
         return bool(value) if ok else _NOT_CONVERTIBLE
@@ -1364,7 +1368,7 @@ def _convert(value: Any, type_name: Sdf.ValueTypeName) -> Any:
             return _NOT_CONVERTIBLE
         items = [_convert(v, type_name.scalarType) for v in value]
         return _NOT_CONVERTIBLE if _NOT_CONVERTIBLE in items else type(like)(items)
-    if isinstance(like, (bool, int, float, str)):
+    if isinstance(like, (bool, int, float, str, Sdf.AssetPath)):
         return _convert_scalar(value, like)
     if hasattr(like, "__len__") and hasattr(value, "__len__") and not isinstance(value, str):
         if len(value) != len(like):
@@ -1493,7 +1497,7 @@ class AttributeTypeMismatch(Rule):
                 continue
             schema_type = _definition(attr).GetTypeName()
             spec = specs[0]
-            where = spec.layer.identifier
+            where = spec.layer.GetDisplayName()
             hidden = (
                 ""
                 if spec == mismatched_spec(attr)
