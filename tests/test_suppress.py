@@ -141,3 +141,15 @@ def test_internal_errors_are_never_path_ignored(tmp_path) -> None:
     finding = _finding("UL000", str(tmp_path / "a.usda"))
     result = apply_path_ignores(_report(finding), {"*": ["ALL"]}, tmp_path, REGISTRY.rules)
     assert result.findings == (finding,)
+
+
+def test_readme_suppression_example_works(tmp_path) -> None:
+    from usdrender_lint.docs import code_blocks
+
+    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## Suppressing findings", 1)[1].split("\n## ", 1)[0]
+    (example,) = code_blocks(section)
+    silenced = _pairs(_lint(tmp_path, example))
+    assert not {code for code, _ in silenced} & {"SE003", "CA001", "UL001"}
+    unsuppressed = example.replace("usdrender_lint", "pipeline")
+    assert {"SE003", "CA001"} <= {code for code, _ in _pairs(_lint(tmp_path, unsuppressed))}

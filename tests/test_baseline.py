@@ -1,0 +1,206 @@
+"""Baselines: fingerprints that survive edits, counts, bad files, atomic writes."""
+
+from __future__ import annotations
+
+import json
+import os
+from collections import Counter
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from pxr import Sdf
+
+from usdrender_lint import atomic
+from usdrender_lint.baseline import fingerprint, load_baseline, new_findings, write_baseline
+from usdrender_lint.cli import cli
+from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
+
+SHOT = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+    }
+}
+"""
+
+# The same opinions with lines moved, comments added and another layout.
+SHOT_MOVED = """#usda 1.0
+# A comment and blank lines move every line down.
+
+
+
+def Scope "Render" {
+    def RenderSettings "Settings" {
+        uniform float4 dataWindowNDC = (0.8,0,0.2,1)
+    }
+}
+"""
+
+SHOT_WITH_NEW_PROBLEM = SHOT.replace(
+    "}\n}\n",
+    '}\n\n    def RenderSettings "Second"\n    {\n'
+    "        uniform float4 dataWindowNDC = (0.9, 0, 0.1, 1)\n    }\n}\n",
+)
+
+
+def check(*args: str, cwd: Path | None = None):
+    runner = CliRunner()
+    base = ["check", "--isolated", "--select", "SE003", "--jobs", "1", "--timeout", "0"]
+    if cwd is None:
+        return runner.invoke(cli, [*base, *args])
+    old = os.getcwd()
+    os.chdir(cwd)
+    try:
+        return runner.invoke(cli, [*base, *args])
+    finally:
+        os.chdir(old)
+
+
+@pytest.fixture
+def shot(tmp_path: Path) -> Path:
+    (tmp_path / "shots").mkdir()
+    path = tmp_path / "shots" / "shot.usda"
+    path.write_text(SHOT, encoding="utf-8")
+    return path
+
+
+def test_write_baseline_records_fingerprints_without_lines(shot, tmp_path) -> None:
+    baseline = tmp_path / "baseline.json"
+    result = check("--write-baseline", str(baseline), str(shot))
+    assert result.exit_code == 0, result.output
+    assert "SE003" in result.stdout  # the report is still shown
+    document = json.loads(baseline.read_text(encoding="utf-8"))
+    assert document["findings"] == [
+        {
+            "file": "shots/shot.usda",
+            "code": "SE003",
+            "path": "/Render/Settings.dataWindowNDC",
+            "count": 1,
+        }
+    ]
+
+
+def test_baseline_hides_known_findings_across_moves_and_reformatting(shot, tmp_path) -> None:
+    baseline = tmp_path / "baseline.json"
+    assert check(str(shot)).exit_code == 1
+    check("--write-baseline", str(baseline), str(shot))
+
+    shot.write_text(SHOT_MOVED, encoding="utf-8")
+    result = check("--baseline", str(baseline), str(shot))
+    assert result.exit_code == 0, result.output
+    assert "SE003" not in result.stdout
+    assert "1 findings recorded in" in result.stderr
+
+    # Sdf re-export: USD's own formatting of the same layer.
+    Sdf.Layer.FindOrOpen(str(shot)).Export(str(shot))
+    assert check("--baseline", str(baseline), str(shot)).exit_code == 0
+
+
+def test_new_findings_still_fail(shot, tmp_path) -> None:
+    baseline = tmp_path / "baseline.json"
+    check("--write-baseline", str(baseline), str(shot))
+    shot.write_text(SHOT_WITH_NEW_PROBLEM, encoding="utf-8")
+    result = check("--format", "json", "--baseline", str(baseline), str(shot))
+    assert result.exit_code == 1
+    paths = [f["path"] for file in json.loads(result.stdout)["files"] for f in file["findings"]]
+    assert paths == ["/Render/Second.dataWindowNDC"]
+
+
+def test_paths_are_relative_to_the_baseline_folder(shot, tmp_path) -> None:
+    baseline = tmp_path / "baseline.json"
+    check("--write-baseline", str(baseline), str(shot))
+    # Relative paths from another working directory give the same fingerprints.
+    result = check("--baseline", "../baseline.json", "shot.usda", cwd=shot.parent)
+    assert result.exit_code == 0, result.output
+
+
+def _finding(message: str, path: str = "/Render/S.dataWindowNDC", line: int = 3) -> Finding:
+    return Finding(
+        "SE003",
+        "data-window-malformed",
+        Severity.ERROR,
+        message,
+        Location("/p/a.usda", path, None, line),
+    )
+
+
+def test_fingerprint_ignores_line_and_message() -> None:
+    assert fingerprint(_finding("a", line=3), Path("/p")) == fingerprint(
+        _finding("b", line=90), Path("/p")
+    )
+    assert fingerprint(_finding("a"), Path("/p")) == ("a.usda", "SE003", "/Render/S.dataWindowNDC")
+
+
+def test_a_second_identical_finding_is_new(tmp_path) -> None:
+    baseline = tmp_path / "b.json"
+    write_baseline(Report((FileResult("/p/a.usda", findings=(_finding("x"),)),)), baseline)
+    later = Report((FileResult("/p/a.usda", findings=(_finding("x"), _finding("y"))),))
+    kept, dropped = new_findings(later, load_baseline(baseline), tmp_path)
+    assert dropped == 1
+    assert [f.message for f in kept.findings] == ["y"]
+    relative = os.path.relpath("/p/a.usda", tmp_path)
+    assert load_baseline(baseline) == Counter({(relative, "SE003", "/Render/S.dataWindowNDC"): 1})
+
+
+@pytest.mark.parametrize(
+    ("content", "expected"),
+    [
+        (None, "baseline file not found (create it with --write-baseline)"),
+        ("{not json", "not a baseline file (invalid JSON"),
+        ('{"findings": []}', "not a usdrender-lint baseline file"),
+        ('{"usdrender_lint_baseline": 9, "findings": []}', "unsupported baseline version 9"),
+        ('{"usdrender_lint_baseline": 1, "findings": {}}', "'findings' must be a list"),
+        ('{"usdrender_lint_baseline": 1, "findings": [{"file": "a"}]}', "findings[0] lacks"),
+        (
+            '{"usdrender_lint_baseline": 1, "findings": '
+            '[{"file": "a", "code": "SE003", "path": "", "count": 0}]}',
+            "findings[0] is malformed",
+        ),
+    ],
+)
+def test_missing_or_corrupt_baseline_is_exit_2(shot, tmp_path, content, expected) -> None:
+    baseline = tmp_path / "baseline.json"
+    if content is not None:
+        baseline.write_text(content, encoding="utf-8")
+    result = check("--baseline", str(baseline), str(shot))
+    assert result.exit_code == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"usdrender-lint: error: {baseline}: ")
+    assert expected in lines[0]
+    assert result.stdout == ""
+
+
+def test_baseline_and_write_baseline_together_is_exit_2(shot, tmp_path) -> None:
+    result = check("--baseline", "a.json", "--write-baseline", "b.json", str(shot))
+    assert result.exit_code == 2
+    assert "either --baseline or --write-baseline" in result.stderr
+
+
+def test_unwritable_baseline_is_exit_2(shot, tmp_path) -> None:
+    result = check("--write-baseline", str(tmp_path / "no" / "dir" / "b.json"), str(shot))
+    assert result.exit_code == 2
+    assert "cannot write baseline" in result.stderr
+
+
+def test_writes_are_atomic(tmp_path, monkeypatch) -> None:
+    target = tmp_path / "baseline.json"
+    target.write_text("old", encoding="utf-8")
+    target.chmod(0o640)
+
+    def fail(*_args) -> None:
+        raise OSError("disk full")
+
+    monkeypatch.setattr(atomic.os, "replace", fail)
+    with pytest.raises(OSError):
+        atomic.write_text_atomic(target, "new")
+    assert target.read_text(encoding="utf-8") == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["baseline.json"]  # no temporary left
+    monkeypatch.undo()
+
+    atomic.write_text_atomic(target, "new")
+    assert target.read_text(encoding="utf-8") == "new"
+    assert target.stat().st_mode & 0o777 == 0o640
