@@ -23,6 +23,7 @@ __all__ = [
     "Context",
     "Diagnostic",
     "Fix",
+    "FullStageRequired",
     "Rule",
     "Severity",
     "DOC_SECTIONS",
@@ -116,6 +117,11 @@ class Rule:
         return ()
 
 
+class FullStageRequired(Exception):
+    """Raised by :meth:`Context.require_full_stage` on a partly composed stage;
+    the engine catches it and lints the file again, fully composed."""
+
+
 @dataclass
 class Context:
     """What the engine knows about the stage being linted, shared by all rules.
@@ -132,7 +138,17 @@ class Context:
     unknown_type_prims: list[Usd.Prim] = field(default_factory=list)
     #: Cap on the authored time samples a rule evaluates.
     time_sample_cap: int = 1000
+    #: True when the engine composed only the render prims, what they target
+    #: and their ancestors (its fast path; see fastpath.py).
+    partial: bool = False
     _memo: dict[Any, Any] = field(default_factory=dict, repr=False)
+
+    def require_full_stage(self) -> None:
+        """Call before reading beyond the render prims, their targets and
+        ancestors (e.g. walking every prim): on a partly composed stage it
+        makes the engine lint the file again, fully composed."""
+        if self.partial:
+            raise FullStageRequired
 
     def prims_of(self, schema: type) -> list[Usd.Prim]:
         return self.render_prims.get(schema, [])
