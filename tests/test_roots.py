@@ -215,7 +215,19 @@ def test_roots_globs_are_relative_to_the_config_folder(
 def test_find_roots_recurses_dedupes_and_skips_folders(shot: Path, tmp_path: Path) -> None:
     (tmp_path / "shots" / "dir.usda").mkdir()
     found = find_roots(["**/shot.usda", "shots/010/shot.usda", "shots/*.usda"], str(tmp_path))
-    assert found == [str(shot / "shot.usda")]
+    assert [Path(p).resolve() for p in found] == [(shot / "shot.usda").resolve()]
+
+
+def test_roots_are_named_relative_to_the_working_directory(
+    shot: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path / "shots")
+    assert find_roots(["shots/*/shot.usda"], str(tmp_path)) == [os.path.join("010", "shot.usda")]
+    (tmp_path / "elsewhere").mkdir()
+    monkeypatch.chdir(tmp_path / "elsewhere")
+    [outside] = find_roots(["shots/*/shot.usda"], str(tmp_path))
+    assert Path(outside).is_absolute()
+    assert Path(outside).resolve() == (shot / "shot.usda").resolve()
 
 
 def test_dependencies_cover_the_layer_stack_and_references(shot: Path) -> None:

@@ -19,6 +19,7 @@ from pxr import Ar, Sdf, Tf, UsdUtils
 
 from .config import Settings
 from .engine import STAGE_OPEN_FAILED_CODE
+from .formatters import display_path
 from .model import INTERNAL_ERROR_CODE, Finding, Report
 
 #: Tool problems are never filtered away: a root that cannot be opened or a rule
@@ -36,13 +37,15 @@ def file_key(path: str) -> str:
 
 def find_roots(patterns: Sequence[str], base_dir: str) -> list[str]:
     """The files matching the ``roots`` globs (``**`` recurses), relative to
-    ``base_dir`` (the config file's folder), sorted and without duplicates."""
+    ``base_dir`` (the config file's folder), sorted and without duplicates.
+    They are named relative to the working directory when below it, as a user
+    would have typed them."""
     found: dict[str, str] = {}
     for pattern in patterns:
         for match in glob.glob(pattern, root_dir=base_dir, recursive=True):
-            path = os.path.normpath(os.path.join(base_dir, match))
+            path = os.path.join(base_dir, match)
             if os.path.isfile(path):
-                found.setdefault(file_key(path), path)
+                found.setdefault(file_key(path), display_path(path))
     return sorted(found.values())
 
 
