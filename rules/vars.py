@@ -261,16 +261,18 @@ class LpeMalformed(Rule):
         attr = UsdRender.Var(prim).GetSourceNameAttr()
         expression, prefixed = strip_renderer_prefix(source)
         problem = lpe_problem(expression, self.options.dialect, self.options.extra_labels)
-        parts = []
+        parts, advice = [], []
         if prefixed:
             parts.append(
-                "starts with the renderer prefix 'lpe:', which is not portable (hdPrman adds "
-                "it itself, giving 'lpe:lpe:...'); remove it"
+                "starts with the non-portable renderer prefix 'lpe:' (hdPrman adds it itself, "
+                "giving 'lpe:lpe:...')"
             )
+            advice.append("remove the prefix")
         if problem is not None:
             shift = len(source) - len(expression)
             problem = dataclasses.replace(problem, position=problem.position + shift)
             parts.append(f"is malformed: {problem}")
+            advice.append("correct the expression (OSL syntax, e.g. C<RD>[<L.>O])")
         if not parts:
             return
         fix = None
@@ -278,7 +280,7 @@ class LpeMalformed(Rule):
             fix = Fix("remove the leading 'lpe:'", True, set_value(attr.GetPath(), expression))
         yield Diagnostic(
             f"light path expression {source!r} of RenderVar {prim.GetPath()} "
-            + "; it also ".join(parts),
+            f"{' and '.join(parts)}; {' and '.join(advice)}",
             at=attr,
             fix=fix,
         )
