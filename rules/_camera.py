@@ -97,4 +97,6 @@ def usable_cameras(ctx: Context) -> list[Usd.Prim]:
     def compute() -> list[Usd.Prim]:
         return [p for p in ctx.stage.Traverse() if p.IsA(UsdGeom.Camera)]
 
+    # Cameras anywhere in the scene: not on the engine's partial stage.
+    ctx.require_full_stage()
     return ctx.memo(("camera", "usable_cameras"), compute)
