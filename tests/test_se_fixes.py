@@ -149,11 +149,12 @@ def test_se011_offers_no_fix_for_other_problems(authored: str) -> None:
         ),
         ("/S", "uniform int pixelAspectRatio = 2", "pixelAspectRatio", 2.0),
         ("/P", 'string productName = "beauty.exr"', "productName", "beauty.exr"),
+        ("/Pass", 'uniform string fileName = "a.usd"', "fileName", Sdf.AssetPath("a.usd")),
     ],
 )
 def test_se016_re_authors_the_spec_with_the_schema_type(path, authored, name, expected) -> None:
     rule = AttributeTypeMismatch()
-    kind = "RenderSettings" if path == "/S" else "RenderProduct"
+    kind = {"/S": "RenderSettings", "/P": "RenderProduct", "/Pass": "RenderPass"}[path]
     stage = _stage(f'def {kind} "{path[1:]}"\n{{\n    {authored}\n}}\n')
     layer = _apply(stage, _only(_diagnostics(rule, stage)))
     spec = layer.GetAttributeAtPath(f"{path}.{name}")
