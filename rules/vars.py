@@ -395,7 +395,12 @@ class PrimvarSourceNotFound(Rule):
         if checked_value(prim, "sourceType") != "primvar":
             return
         source = checked_value(prim, "sourceName")
-        if not source or not ctx.stage.GetPopulationMask().IncludesSubtree("/"):
+        if not source:
+            return
+        # The engine's partial stage holds only the render prims: ask for the
+        # whole scene. A stage the user masked (catalog: --render-only) is skipped.
+        ctx.require_full_stage()
+        if not ctx.stage.GetPopulationMask().IncludesSubtree("/"):
             return
         name = source.removeprefix(PRIMVARS_PREFIX)
         names = ctx.memo(("VA004", "scene-primvars"), lambda: _scene_primvar_names(ctx.stage))
