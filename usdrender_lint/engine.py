@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd, UsdRender
 
-from . import suppress, usda_lines
-from .api import Context, Diagnostic, Fix, Rule
+from . import fastpath, suppress, usda_lines
+from .api import Context, Diagnostic, Fix, FullStageRequired, Rule
 from .model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
@@ -28,6 +28,8 @@ from .model import (
 STAGE_OPEN_FAILED_CODE = "ST001"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
 USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
+#: Set to 1 to compose every stage in full (no fast path; see fastpath.py).
+FULL_COMPOSITION_ENV = "USDRENDER_LINT_FULL_COMPOSITION"
 
 #: The render prim kinds the engine collects during its walk (Context.render_prims).
 RENDER_SCHEMAS: tuple[type, ...] = (
@@ -127,13 +129,22 @@ class _TypeDispatch:
             entry = self._by_type_name[type_name] = (rules, kinds)
         return entry
 
+    def wants(self, type_name: str) -> bool:
+        """True when prims of this type must be composed: a rule or the render
+        prim lists want them, or no schema defines the type (unknown_type_prims)."""
+        rules, kinds = self.lookup(type_name)
+        return bool(rules or kinds) or type_name in self.unknown_type_names
+
 
 class Linter:
     """Runs a fixed set of configured rules over files or stages.
 
     ``severities`` overrides rule default severities by code. With
     ``raise_errors`` a rule that raises propagates (for tests) instead of
-    becoming an internal-error finding.
+    becoming an internal-error finding. ``lint_path`` composes only what the
+    rules read when that provably gives the same findings (fastpath.py);
+    ``full_composition`` (default: the USDRENDER_LINT_FULL_COMPOSITION
+    environment variable) always composes the whole stage.
     """
 
     def __init__(
@@ -144,8 +155,12 @@ class Linter:
         time_sample_cap: int = 1000,
         raise_errors: bool = False,
         known_rules: Sequence[type[Rule]] | None = None,
+        full_composition: bool | None = None,
     ) -> None:
         self.rules = tuple(rules)
+        if full_composition is None:
+            full_composition = os.environ.get(FULL_COMPOSITION_ENV, "") not in ("", "0")
+        self.full_composition = full_composition
         self.severities = dict(severities or {})
         self.time_sample_cap = time_sample_cap
         self.raise_errors = raise_errors
@@ -162,6 +177,15 @@ class Linter:
             return FileResult(path, status="error", error=f"{path}: no such file")
         if os.path.isdir(path):
             return FileResult(path, status="error", error=f"{path}: is a directory")
+        partial = None if self.full_composition else self._open_partial(path)
+        if partial is not None:
+            try:
+                findings = self._lint(partial.stage, path, partial=True)
+                return FileResult(path, findings=tuple(findings))
+            except FullStageRequired:
+                pass  # a rule reads the whole scene: compose all of it below
+            finally:
+                usda_lines.clear_cache()
         opened = open_stage(path)
         if opened.stage is None:
             return FileResult(path, findings=tuple(self._open_failure_findings(path, opened)))
@@ -173,8 +197,19 @@ class Linter:
 
     def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
         """Lint an open stage; ``file`` names it in findings (default: root layer)."""
+        return self._lint(stage, file)
+
+    def _open_partial(self, path: str) -> fastpath.PartialStage | None:
+        try:
+            return fastpath.open_partial(path, self._dispatch.wants)
+        except Exception:  # noqa: BLE001 - an optimisation must never cost a file
+            if self.raise_errors:
+                raise
+            return None
+
+    def _lint(self, stage: Usd.Stage, file: str | None, partial: bool = False) -> list[Finding]:
         file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
-        ctx = Context(stage=stage, file=file, time_sample_cap=self.time_sample_cap)
+        ctx = Context(stage=stage, file=file, time_sample_cap=self.time_sample_cap, partial=partial)
         findings: list[Finding] = []
         with Tf.DiagnosticTrap() as trap:
             try:
@@ -219,6 +254,8 @@ class Linter:
     def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
         try:
             return [self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ()]
+        except FullStageRequired:
+            raise
         except Exception as exc:
             if self.raise_errors:
                 raise

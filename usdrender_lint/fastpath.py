@@ -1,0 +1,254 @@
+"""The engine's fast path: compose only the part of a stage the rules read.
+
+A render-settings linter needs the render prims, what they target and their
+ancestors, not the whole composed scene, and composing a production shot costs
+far more than reading its layers. So the engine first opens the stage with a
+population mask (``Usd.StagePopulationMask``) holding:
+
+- every prim spec of the root layer stack whose type the rules want (the render
+  types, any type a rule lists in ``prim_types``, and unregistered type names),
+  every prim carrying a ``usdrender_lint`` customData suppression, ``/Render``,
+  and the prim ``renderSettingsPrimPath`` names;
+- expanded along every relationship and attribute connection
+  (``Usd.Stage.ExpandPopulationMask``: cameras, products, vars, passes,
+  collection includes/excludes, forwarding) and along the collections that
+  ``membershipExpression`` values reference (``%/path:name``), until nothing
+  new is added.
+
+Payloads are loaded only inside the mask. Prims outside the mask are never
+composed, so the layers they alone use are never read by composition.
+
+The mask is exact only when no wanted prim can appear anywhere else. That is
+proven from the layers' specs, which are read (not composed) once: every layer
+the stage can reach through sublayers, references and payloads is scanned,
+and the fast path gives up (returns None: the engine composes everything) when
+
+- a layer outside the root layer stack holds a wanted spec or suppression
+  (a render prim brought in by a reference or payload: its stage path is not
+  known without composing), or ``renderSettingsPrimPath`` (rules read every
+  used layer's metadata);
+- a wanted spec could be copied elsewhere by an arc whose mapping we do not
+  follow: an inherit or specialize arc from outside the root layer stack
+  (implied inheritance) to a class named like one of the spec's ancestors,
+  relocates, or an internal reference to the default prim;
+- an asset path uses expression variables, a layer cannot be read, or any
+  error is posted on the way.
+
+Arcs inside the root layer stack (inherits, specializes, internal references
+and payloads) are followed: the spec's path is mapped from the arc's source to
+its site and added to the mask. A rule that needs more than the mask (a walk
+over the whole scene) calls ``Context.require_full_stage()`` and the engine
+lints the file again, fully composed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+
+from pxr import Ar, Sdf, Tf, Usd
+
+#: The convention's render scope, always composed (rules look under it).
+RENDER_SCOPE = Sdf.Path("/Render")
+#: customData key of the linter's suppressions (see suppress.py).
+SUPPRESSION_KEY = "usdrender_lint"
+SETTINGS_PATH_KEY = "renderSettingsPrimPath"
+#: Rounds of mask expansion before giving up (each adds what the last reached).
+MAX_ROUNDS = 16
+
+_ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
+
+
+class NotProvable(Exception):
+    """The fast path cannot show its mask is complete; compose everything."""
+
+
+@dataclass
+class PartialStage:
+    """A stage composed only within ``stage.GetPopulationMask()``."""
+
+    stage: Usd.Stage
+    #: Every layer the full stage could use, kept open so a full composition
+    #: after this one does not read them again.
+    layers: list[Sdf.Layer] = field(default_factory=list)
+
+
+@dataclass
+class _LayerScan:
+    """What a layer's prim specs hold that decides the mask."""
+
+    #: Paths (variant selections stripped) of wanted specs and suppressions.
+    wanted: set[Sdf.Path] = field(default_factory=set)
+    #: (site, source) of inherits, specializes, internal references/payloads.
+    arcs: list[tuple[Sdf.Path, Sdf.Path]] = field(default_factory=list)
+    #: Names of the prims that inherit/specialize arcs point at.
+    class_names: set[str] = field(default_factory=set)
+
+
+def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage | None:
+    """Open ``path`` composed only where the rules look, or None when that
+    cannot be proven to give the same findings as a full composition.
+
+    ``wants_type(type_name)`` is True for the prim type names the rules want
+    to see (the engine's dispatch table decides)."""
+    with Tf.DiagnosticTrap() as trap:
+        try:
+            stage = Usd.Stage.OpenMasked(path, Usd.StagePopulationMask(), Usd.Stage.LoadAll)
+            layers = _reachable_layers(stage)
+            if trap.HasErrors():
+                raise NotProvable("an error was posted while reading the layers")
+            mask = _initial_mask(stage, layers, wants_type)
+            stage.SetPopulationMask(mask)
+            _expand(stage)
+            if trap.HasErrors():
+                raise NotProvable("an error was posted while composing")
+        except (NotProvable, Tf.ErrorException):
+            return None
+        finally:
+            trap.Clear()
+    return PartialStage(stage, layers)
+
+
+# -- layers ---------------------------------------------------------------------------
+
+
+def _reachable_layers(stage: Usd.Stage) -> list[Sdf.Layer]:
+    """The root layer stack, then every layer reachable through sublayers,
+    references and payloads (variants included), each once."""
+    layers = list(stage.GetLayerStack(includeSessionLayers=True))
+    seen = {layer.identifier for layer in layers}
+    with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
+        queue = list(layers)
+        while queue:
+            anchor = queue.pop()
+            for asset_path in anchor.GetCompositionAssetDependencies():
+                if "`" in asset_path:
+                    raise NotProvable(f"expression variables in @{asset_path}@")
+                # A layer that is missing is missing from the full stage too.
+                layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
+                if layer is not None and layer.identifier not in seen:
+                    seen.add(layer.identifier)
+                    layers.append(layer)
+                    queue.append(layer)
+    return layers
+
+
+def _scan(layer: Sdf.Layer, wants_type: Callable[[str], bool]) -> _LayerScan:
+    scan = _LayerScan()
+    if layer.pseudoRoot.HasInfo("relocates") or layer.HasRelocates():
+        raise NotProvable(f"{layer.identifier} has relocates")
+    stack = list(layer.rootPrims)
+    while stack:
+        spec = stack.pop()
+        keys = spec.ListInfoKeys()
+        type_name = spec.typeName
+        if (type_name and wants_type(type_name)) or (
+            "customData" in keys and SUPPRESSION_KEY in spec.customData
+        ):
+            scan.wanted.add(spec.path.StripAllVariantSelections())
+        if "relocates" in keys:
+            raise NotProvable(f"relocates on {spec.path} in {layer.identifier}")
+        if not _ARC_KEYS.isdisjoint(keys):
+            _record_arcs(spec, scan)
+        stack.extend(spec.nameChildren)
+        if "variantSetNames" in keys or spec.variantSets:
+            for variant_set in spec.variantSets.values():
+                stack.extend(v.primSpec for v in variant_set.variants.values())
+    return scan
+
+
+def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan) -> None:
+    site = spec.path.StripAllVariantSelections()
+    for target in (
+        *spec.inheritPathList.GetAddedOrExplicitItems(),
+        *spec.specializesList.GetAddedOrExplicitItems(),
+    ):
+        target = target.MakeAbsolutePath(spec.path).StripAllVariantSelections()
+        scan.arcs.append((site, target))
+        scan.class_names.add(target.name)
+    for arc in (
+        *spec.referenceList.GetAddedOrExplicitItems(),
+        *spec.payloadList.GetAddedOrExplicitItems(),
+    ):
+        if arc.assetPath:
+            continue
+        if arc.primPath.isEmpty:
+            raise NotProvable(f"internal arc to the default prim on {spec.path}")
+        target = arc.primPath.MakeAbsolutePath(spec.path).StripAllVariantSelections()
+        scan.arcs.append((site, target))
+
+
+# -- the mask ---------------------------------------------------------------------------
+
+
+def _initial_mask(
+    stage: Usd.Stage, layers: list[Sdf.Layer], wants_type: Callable[[str], bool]
+) -> Usd.StagePopulationMask:
+    root_stack = {layer.identifier for layer in stage.GetLayerStack(includeSessionLayers=True)}
+    wanted: set[Sdf.Path] = {RENDER_SCOPE}
+    arcs: list[tuple[Sdf.Path, Sdf.Path]] = []
+    foreign_classes: set[str] = set()
+    for layer in layers:
+        scan = _scan(layer, wants_type)
+        if layer.identifier in root_stack:
+            wanted |= scan.wanted
+            arcs += scan.arcs
+            continue
+        if scan.wanted:
+            raise NotProvable(f"{layer.identifier} brings in wanted prims through an arc")
+        if layer.pseudoRoot.HasInfo(SETTINGS_PATH_KEY):
+            raise NotProvable(f"{layer.identifier} authors {SETTINGS_PATH_KEY}")
+        foreign_classes |= scan.class_names
+    wanted = _follow_arcs(wanted, arcs)
+    for path in wanted:
+        if any(prefix.name in foreign_classes for prefix in path.GetPrefixes()):
+            raise NotProvable(f"{path} may be inherited from outside the root layer stack")
+    settings_path = stage.GetMetadata(SETTINGS_PATH_KEY)
+    if settings_path and Sdf.Path.IsValidPathString(settings_path):
+        target = Sdf.Path(settings_path)
+        if target.IsAbsolutePath() and target.IsPrimPath():
+            wanted.add(target)
+    return Usd.StagePopulationMask(sorted(wanted))
+
+
+def _follow_arcs(wanted: set[Sdf.Path], arcs: list[tuple[Sdf.Path, Sdf.Path]]) -> set[Sdf.Path]:
+    """Add where the root layer stack's own arcs copy the wanted specs to."""
+    for _ in range(MAX_ROUNDS):
+        added = {
+            path.ReplacePrefix(source, site)
+            for site, source in arcs
+            for path in wanted
+            if path.HasPrefix(source)
+        } - wanted
+        if not added:
+            return wanted
+        wanted |= added
+    raise NotProvable("arcs in the root layer stack copy the render prims too often")
+
+
+def _expand(stage: Usd.Stage) -> None:
+    """Grow the mask along relationships, connections and the collections
+    that membership expressions reference, until it stops growing."""
+    for _ in range(MAX_ROUNDS):
+        stage.ExpandPopulationMask()
+        mask = stage.GetPopulationMask()
+        missing = [p for p in _expression_references(stage) if not mask.Includes(p)]
+        if not missing:
+            return
+        stage.SetPopulationMask(mask.GetUnion(Usd.StagePopulationMask(missing)))
+    raise NotProvable("the population mask kept growing")
+
+
+def _expression_references(stage: Usd.Stage) -> Iterable[Sdf.Path]:
+    """Prims owning the collections that composed membership expressions name."""
+    for prim in stage.TraverseAll():
+        for collection in Usd.CollectionAPI.GetAllCollections(prim):
+            attr = collection.GetMembershipExpressionAttr()
+            expression = attr.Get() if attr and attr.HasAuthoredValue() else None
+            if not isinstance(expression, Sdf.PathExpression) or expression.IsEmpty():
+                continue
+            references: list = []
+            expression.Walk(lambda *_: None, references.append, lambda *_: None)
+            for reference in references:
+                if not reference.path.isEmpty:
+                    yield reference.path.MakeAbsolutePath(prim.GetPath())
