@@ -587,6 +587,18 @@ class CollectionMembershipInvalid(Rule):
 # -- PA006 ------------------------------------------------------------------------
 
 
+def _expression_ignored(collection: Usd.CollectionAPI) -> bool:
+    """True when the membership query does not use the expression.
+
+    usd-core 26.11 infers ``IsInExpressionMode()`` from the computed query (no
+    path-expansion rule map), so an explicit ``mode = "relationship"`` with no
+    includes reports expression mode although the expression is ignored
+    (verified: its paths are not included)."""
+    if authored_value(collection.GetModeAttr()) == "relationship":
+        return True
+    return not collection.IsInExpressionMode()
+
+
 def _relationship_mode_reason(collection: Usd.CollectionAPI) -> str:
     mode = authored_value(collection.GetModeAttr())
     if mode == "relationship":
@@ -629,7 +641,9 @@ class CollectionExpressionIgnored(Rule):
     ## What it does
     Reports a RenderPass collection with an authored, non-empty
     `membershipExpression` while `CollectionAPI.IsInExpressionMode()` is
-    false. On `renderVisibility` and `cameraVisibility` that is what happens by
+    false or `mode` is explicitly `"relationship"` (usd-core 26.11 reports
+    expression mode for a relationship-mode collection without includes, yet
+    ignores the expression). On `renderVisibility` and `cameraVisibility` that is what happens by
     default: the RenderPass schema overrides their `includeRoot` fallback to
     `true`, and in the fallback `mode = "automatic"` that fallback alone puts
     the collection in relationship mode (verified with usd-core 26.11), so the
@@ -704,7 +718,7 @@ class CollectionExpressionIgnored(Rule):
             if expression is None or expression.IsEmpty():
                 continue
             try:
-                if collection.IsInExpressionMode():
+                if not _expression_ignored(collection):
                     continue
             except Tf.ErrorException:
                 continue  # The expression cannot be evaluated at all: PA005's finding.
