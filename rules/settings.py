@@ -331,13 +331,17 @@ class DataWindowCropOrOverscan(Rule):
             if not kinds:
                 continue
             width, height = int(use.resolution[0]), int(use.resolution[1])
-            x0, x1 = pixel_span(xmin, xmax, width)
-            y0, y1 = pixel_span(ymin, ymax, height)
+            pixels = ""
+            if width > 0 and height > 0:  # else SE001's finding: there are no pixels
+                x0, x1 = pixel_span(xmin, xmax, width)
+                y0, y1 = pixel_span(ymin, ymax, height)
+                pixels = (
+                    f": pixels x {x0}..{x1 - 1}, y {y0}..{y1 - 1} of the {width}x{height} "
+                    f"aperture (0..{width - 1}, 0..{height - 1})"
+                )
             yield Diagnostic(
-                f"dataWindowNDC {use.text} {' and '.join(kinds)} the image: pixels "
-                f"x {x0}..{x1 - 1}, y {y0}..{y1 - 1} of the {width}x{height} aperture "
-                f"(0..{width - 1}, 0..{height - 1}); if unintended, remove the opinion or "
-                "author (0, 0, 1, 1)",
+                f"dataWindowNDC {use.text} {' and '.join(kinds)} the image{pixels}; "
+                "if unintended, remove the opinion or author (0, 0, 1, 1)",
                 at=use.window.attr,
             )
 
@@ -1613,12 +1617,14 @@ class TimeSamplesIgnored(Rule):
         if attr.HasSpline():
             yield Diagnostic(
                 f"uniform {attr.GetName()} is authored as a spline, but renderers read it once "
-                "at the default time and get the fallback; author a single default value",
+                f"at the default time (getting {_fmt(attr.Get())}); author a single default "
+                "value instead",
                 at=attr,
             )
             return
         if count == 0:
             return
+        first = time_samples(attr, 1)[0]
         times = time_samples(attr, ctx.time_sample_cap)
         values = [attr.Get(t) for t in times]
         layer = _first_sampled_layer(attr)
@@ -1639,7 +1645,7 @@ class TimeSamplesIgnored(Rule):
         )
         yield Diagnostic(
             f"uniform {attr.GetName()} has {count} time sample(s) ({shown}) from "
-            f"{times[0]:g}, but renderers read it once at the default time and get "
+            f"{first:g}, but renderers read it once at the default time and get "
             f"{_fmt(attr.Get())}; author one default value instead of time samples",
             at=attr,
             fix=fix,

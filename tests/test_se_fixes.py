@@ -30,8 +30,8 @@ def _stage(body: str, weaker: str | None = None) -> Usd.Stage:
     return Usd.Stage.Open(root)
 
 
-def _diagnostics(rule: Rule, stage: Usd.Stage) -> list[Diagnostic]:
-    ctx = Context(stage=stage, file="memory.usda")
+def _diagnostics(rule: Rule, stage: Usd.Stage, cap: int = 1000) -> list[Diagnostic]:
+    ctx = Context(stage=stage, file="memory.usda", time_sample_cap=cap)
     found: list[Diagnostic] = []
     for prim in stage.Traverse():
         if any(prim.IsA(schema) for schema in rule.prim_types):
@@ -225,6 +225,13 @@ def test_se017_replaces_constant_samples_with_a_default() -> None:
 def test_se017_offers_no_fix_for_varying_or_conflicting_values(authored: str) -> None:
     stage = _stage(_settings(authored))
     assert _only(_diagnostics(TimeSamplesIgnored(), stage)).fix is None
+
+
+def test_se017_offers_no_fix_beyond_the_time_sample_cap() -> None:
+    # Samples past the cap are not read, so they cannot be known to be equal.
+    stage = _stage(_settings("uniform int2 resolution.timeSamples = {1: (8, 8), 2: (8, 8)}"))
+    assert _only(_diagnostics(TimeSamplesIgnored(), stage, cap=1)).fix is None
+    assert _only(_diagnostics(TimeSamplesIgnored(), stage, cap=0)).fix is None
 
 
 def test_se017_product_name_without_default_has_no_fix() -> None:
