@@ -39,6 +39,8 @@ _POSITION_LABELS = (
     (SCATTERING_TYPES, "a scattering type (D G S s)"),
 )
 _UNBOUNDED = -1
+#: Deeper nesting is reported instead of parsed (the parser recurses per level).
+MAX_NESTING = 100
 
 
 @dataclass(frozen=True)
@@ -102,6 +104,7 @@ class _Parser:
         self.extended = dialect == "extended"
         self.extra_labels = extra_labels
         self.in_event = False
+        self.depth = 0
 
     def parse(self) -> Node:
         if not self.text:
@@ -125,7 +128,10 @@ class _Parser:
                 self.pos += 1
                 if self.peek() in (None, closer, "|"):
                     raise _Malformed("'|' has no right operand", self.pos - 1)
-                items[-1] = Node("alt", children=(items[-1], self.element(position)))
+                left, right = items[-1], self.element(position)
+                # One flat alternation for a|b|c (the parser never puts a modifier on it).
+                choices = left.children if left.kind == "alt" else (left,)
+                items[-1] = Node("alt", children=(*choices, right))
             else:
                 items.append(self.element(position))
         return Node("cat", children=tuple(items))
@@ -133,6 +139,16 @@ class _Parser:
     def element(self, position: int | None) -> Node:
         char = self.peek()
         start = self.pos
+        if char in ("(", "[") and self.depth >= MAX_NESTING:
+            raise _Malformed(f"groups are nested more than {MAX_NESTING} deep", start)
+        self.depth += 1
+        try:
+            node = self.operand(char, start, position)
+        finally:
+            self.depth -= 1
+        return self.modifier(node)
+
+    def operand(self, char: str | None, start: int, position: int | None) -> Node:
         if char == "(":
             self.pos += 1
             node = self.sequence(")", position)
@@ -149,7 +165,7 @@ class _Parser:
             raise _Malformed(f"{char!r} has nothing to repeat", start)
         else:
             node = self.symbol(position)
-        return self.modifier(node)
+        return node
 
     def symbol(self, position: int | None) -> Node:
         start = self.pos

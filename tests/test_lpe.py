@@ -169,3 +169,12 @@ def test_dialect_option_from_config(tmp_path: Path) -> None:
 def test_bad_dialect_options_are_config_errors(tmp_path: Path, table: str) -> None:
     with pytest.raises(ConfigError, match="VA003"):
         _rules_from_config(tmp_path, table)
+
+
+def test_hostile_expressions_are_reported_not_crashed() -> None:
+    deep = "C" + "(" * 5000 + "L" + ")" * 5000
+    assert "nested more than" in lpe_problem(deep).message
+    assert lpe_problem("C" + "(" * 50 + "L" + ")" * 50) is None
+    wide = "C(" + "|".join(["L"] * 5000) + ")"
+    assert lpe_problem(wide) is None
+    assert len(parse_lpe(wide).children[1].children[0].children) == 5000
