@@ -203,8 +203,8 @@ class CompositionErrorOnRenderPrim(Rule):
             at_root = site == Sdf.Path.absoluteRootPath
             scope = "every prim" if at_root else f"render data at <{site}>"
             yield Diagnostic(
-                f"{str(error).strip()} {scope[0].upper()}{scope[1:]} loses the opinions "
-                "this arc would supply; repair the asset path or remove the arc",
+                f"{' '.join(str(error).split())} {scope[0].upper()}{scope[1:]} loses the "
+                "opinions this layer or arc would supply; repair the asset path or remove it",
                 at=None if at_root else site,
             )
 
@@ -353,7 +353,7 @@ def _settings_path_problem(stage: Usd.Stage, value: str) -> str | None:
         return "is not a valid path"
     path = Sdf.Path(value)
     if not path.IsAbsolutePath():
-        return "is relative; it must be absolute, e.g. /Render/Settings"
+        return "is relative (it must be absolute)"
     if not path.IsPrimPath():
         return "is not a prim path"
     if not stage.GetPrimAtPath(path):
@@ -618,11 +618,20 @@ class RenderSettingsPathInSublayer(Rule):
             kind = "sublayer" if layer in rank else "referenced layer"
             yield Diagnostic(
                 f'renderSettingsPrimPath "{value}" is authored in the {kind} '
-                f"{layer.identifier}, where the stage ignores it (only the root and session "
+                f"{layer.GetDisplayName()}, where the stage ignores it (only the root and session "
                 "layers count); author it in the root layer",
                 layer=layer,
                 fix=fix,
             )
+
+
+def _is_locally_authored(prim: Usd.Prim) -> bool:
+    """Every opinion on the prim sits at its own path in the stage's layer stack."""
+    stage = prim.GetStage()
+    return all(
+        spec.path == prim.GetPath() and stage.HasLocalLayer(spec.layer)
+        for spec in prim.GetPrimStack()
+    )
 
 
 def _move_under_render_scope(source: Sdf.Path, destination: Sdf.Path):
@@ -690,15 +699,20 @@ class RenderPrimOutsideRenderScope(Rule):
             return
         destination = RENDER_SCOPE.AppendChild(prim.GetName())
         fix = None
-        # A nested render prim moves with its render-prim parent.
-        if not is_render_type(prim.GetParent()) and not ctx.stage.GetPrimAtPath(destination):
+        # A nested render prim moves with its render-prim parent; a prim that
+        # a reference or other arc brings in cannot be moved by editing this stage.
+        if (
+            not is_render_type(prim.GetParent())
+            and not ctx.stage.GetPrimAtPath(destination)
+            and _is_locally_authored(prim)
+        ):
             fix = Fix(
                 f"move to <{destination}> (targets of the old path are not updated)",
                 False,
                 _move_under_render_scope(path, destination),
             )
         yield Diagnostic(
-            f"{describe_prim_type(prim)} <{path}> is outside </Render>; the usdRender "
+            f"{prim.GetTypeName()} <{path}> is outside </Render>; the usdRender "
             "convention keeps render prims under </Render> so that masked stages compose "
             "them alone. Move it under </Render>",
             at=prim,
