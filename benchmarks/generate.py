@@ -1,0 +1,363 @@
+"""Deterministic synthetic shots for the performance benchmark and the fast-path tests.
+
+A *shot* is laid out the way production shots are: a shot layer that sublayers a
+lighting and a layout layer, the layout referencing asset files whose geometry
+sits behind a payload, plus a little unique set dressing. The shot layer holds
+the camera and the render prims (``/Render``). With ``defects`` it also holds
+known render-settings mistakes, and ``expected_findings.json`` next to it lists
+the findings they must produce. ``many`` writes a folder of small shot files,
+the load a CI gate sees.
+
+Everything is a pure function of the arguments: the same call writes the same
+files. Run ``python benchmarks/generate.py --help``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+from pxr import Gf, Sdf
+
+FORMATS = ("usda", "usdc")
+#: Distinct asset files the layout instances reference.
+ASSET_KINDS = 12
+#: Prims each asset's payload holds: PARTS groups of MESHES_PER_PART meshes.
+PARTS, MESHES_PER_PART = 8, 7
+ASSET_PRIMS = 1 + PARTS * (1 + MESHES_PER_PART)  # composed prims per instance
+#: Share of the shot's prims that are unique set dressing in the layout layer.
+DRESSING_SHARE = 0.05
+EXPECTED_FILE = "expected_findings.json"
+
+_TRIANGLE_POINTS = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (1.0, 1.0, 0.0)]
+
+
+@dataclass(frozen=True)
+class Expected:
+    """A finding an injected defect must produce."""
+
+    code: str
+    path: str
+
+    def as_dict(self) -> dict[str, str]:
+        return {"code": self.code, "path": self.path}
+
+
+# -- Sdf helpers ------------------------------------------------------------------
+
+
+def _prim(layer: Sdf.Layer, path: str, type_name: str = "", specifier=Sdf.SpecifierDef):
+    spec = Sdf.CreatePrimInLayer(layer, path)
+    spec.specifier = specifier
+    if type_name:
+        spec.typeName = type_name
+    return spec
+
+
+def _attr(spec: Sdf.PrimSpec, name: str, type_name, value, uniform: bool = False):
+    variability = Sdf.VariabilityUniform if uniform else Sdf.VariabilityVarying
+    attr = Sdf.AttributeSpec(spec, name, type_name, variability)
+    if value is not None:
+        attr.default = value
+    return attr
+
+
+def _rel(spec: Sdf.PrimSpec, name: str, targets: list[str]) -> None:
+    rel = Sdf.RelationshipSpec(spec, name)
+    for target in targets:
+        rel.targetPathList.explicitItems.append(Sdf.Path(target))
+
+
+def _new_layer(path: Path) -> Sdf.Layer:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    existing = Sdf.Layer.Find(str(path))
+    if existing is not None:
+        existing.Clear()
+        return existing
+    return Sdf.Layer.CreateNew(str(path))
+
+
+def _mesh(layer: Sdf.Layer, path: str, index: int, purpose: str | None = None) -> None:
+    mesh = _prim(layer, path, "Mesh")
+    shift = float(index % 17)
+    _attr(
+        mesh,
+        "points",
+        Sdf.ValueTypeNames.Point3fArray,
+        [(x + shift, y, z) for x, y, z in _TRIANGLE_POINTS],
+    )
+    _attr(mesh, "faceVertexCounts", Sdf.ValueTypeNames.IntArray, [4])
+    _attr(mesh, "faceVertexIndices", Sdf.ValueTypeNames.IntArray, [0, 1, 3, 2])
+    _attr(mesh, "extent", Sdf.ValueTypeNames.Float3Array, [(shift, 0, 0), (shift + 1, 1, 0)])
+    color = _attr(
+        mesh,
+        "primvars:displayColor",
+        Sdf.ValueTypeNames.Color3fArray,
+        [((index % 5) / 4.0, 0.5, 0.25)],
+    )
+    color.SetInfo("interpolation", "constant")
+    if purpose:
+        _attr(mesh, "purpose", Sdf.ValueTypeNames.Token, purpose, uniform=True)
+
+
+def _translate(spec: Sdf.PrimSpec, offset: tuple[float, float, float]) -> None:
+    _attr(spec, "xformOp:translate", Sdf.ValueTypeNames.Double3, Gf.Vec3d(*offset))
+    _attr(spec, "xformOpOrder", Sdf.ValueTypeNames.TokenArray, ["xformOp:translate"], uniform=True)
+
+
+# -- assets -----------------------------------------------------------------------
+
+
+def _write_asset(folder: Path, kind: int, fmt: str) -> str:
+    """An asset file (referenced by the layout) whose geometry is a payload."""
+    name = f"asset_{kind:02d}"
+    geo = _new_layer(folder / f"{name}_geo.{fmt}")
+    with Sdf.ChangeBlock():
+        root = _prim(geo, f"/{name}", "Xform")
+        geo.defaultPrim = root.name
+        for part in range(PARTS):
+            group = f"/{name}/part_{part}"
+            _prim(geo, group, "Xform")
+            for mesh in range(MESHES_PER_PART):
+                purpose = "proxy" if mesh == 0 else ("render" if mesh == 1 else None)
+                _mesh(geo, f"{group}/mesh_{mesh}", kind * 100 + part * 10 + mesh, purpose)
+    geo.Save()
+
+    asset = _new_layer(folder / f"{name}.{fmt}")
+    with Sdf.ChangeBlock():
+        root = _prim(asset, f"/{name}", "Xform")
+        asset.defaultPrim = root.name
+        root.SetInfo("kind", "component")
+        root.payloadList.prependedItems.append(Sdf.Payload(f"./{name}_geo.{fmt}"))
+    asset.Save()
+    return f"./assets/{name}.{fmt}"
+
+
+# -- the shot ---------------------------------------------------------------------
+
+
+def _write_layout(path: Path, fmt: str, instances: int, dressing: int) -> None:
+    layer = _new_layer(path)
+    with Sdf.ChangeBlock():
+        _prim(layer, "/World", "Xform")
+        _prim(layer, "/World/set", "Xform")
+        for i in range(instances):
+            inst = _prim(layer, f"/World/set/inst_{i:06d}", "Xform")
+            inst.referenceList.prependedItems.append(
+                Sdf.Reference(f"./assets/asset_{i % ASSET_KINDS:02d}.{fmt}")
+            )
+            _translate(inst, (float(i % 100) * 3.0, 0.0, float(i // 100) * 3.0))
+        _prim(layer, "/World/dressing", "Xform")
+        per_group = 50
+        for g in range(math.ceil(dressing / (per_group + 1))):
+            group = f"/World/dressing/grp_{g:05d}"
+            _prim(layer, group, "Xform")
+            for m in range(min(per_group, dressing - g * (per_group + 1) - 1)):
+                _mesh(layer, f"{group}/prop_{m}", g * per_group + m)
+    layer.Save()
+
+
+def _write_lighting(path: Path, lights: int) -> None:
+    layer = _new_layer(path)
+    with Sdf.ChangeBlock():
+        _prim(layer, "/World", "Xform", Sdf.SpecifierOver)
+        _prim(layer, "/World/lights", "Xform")
+        for i in range(lights):
+            light = _prim(
+                layer, f"/World/lights/light_{i:04d}", "SphereLight" if i % 2 else "RectLight"
+            )
+            _attr(light, "inputs:intensity", Sdf.ValueTypeNames.Float, 10.0 + i)
+            _attr(light, "inputs:exposure", Sdf.ValueTypeNames.Float, 1.0)
+            _translate(light, (float(i), 10.0, 0.0))
+    layer.Save()
+
+
+def _write_camera(layer: Sdf.Layer) -> None:
+    _prim(layer, "/World", "Xform", Sdf.SpecifierOver)
+    _prim(layer, "/World/cams", "Xform")
+    cam = _prim(layer, "/World/cams/shotCam", "Camera")
+    _attr(cam, "focalLength", Sdf.ValueTypeNames.Float, 35.0)
+    _attr(cam, "horizontalAperture", Sdf.ValueTypeNames.Float, 36.0)
+    _attr(cam, "verticalAperture", Sdf.ValueTypeNames.Float, 20.25)
+    _attr(cam, "clippingRange", Sdf.ValueTypeNames.Float2, Gf.Vec2f(0.1, 10000.0))
+    translate = _attr(cam, "xformOp:translate", Sdf.ValueTypeNames.Double3, None)
+    for frame in range(1001, 1025):
+        layer.SetTimeSample(translate.path, frame, Gf.Vec3d(0.0, 1.5, float(frame - 1000)))
+    _attr(cam, "xformOpOrder", Sdf.ValueTypeNames.TokenArray, ["xformOp:translate"], uniform=True)
+    _prim(layer, "/World/cams/camRig", "Xform")
+    rig_cam = _prim(layer, "/World/cams/camRig/cam", "Camera")
+    _attr(rig_cam, "focalLength", Sdf.ValueTypeNames.Float, 50.0)
+
+
+def _write_render(layer: Sdf.Layer, defects: bool) -> list[Expected]:
+    """The render prims; with ``defects``, the mistakes and their findings."""
+    names = Sdf.ValueTypeNames
+    _prim(layer, "/Render", "Scope")
+    _prim(layer, "/Render/Vars", "Scope")
+    for name, source, data_type in (
+        ("color", "Ci", "color3f"),
+        ("alpha", "a", "float"),
+        ("depth", "z", "float"),
+    ):
+        var = _prim(layer, f"/Render/Vars/{name}", "RenderVar")
+        _attr(var, "sourceName", names.String, source, uniform=True)
+        _attr(var, "dataType", names.Token, data_type, uniform=True)
+        _attr(var, "sourceType", names.Token, "raw", uniform=True)
+    _prim(layer, "/Render/Products", "Scope")
+    beauty = _prim(layer, "/Render/Products/beauty", "RenderProduct")
+    _attr(beauty, "productName", names.Token, "beauty.exr")
+    _rel(beauty, "orderedVars", ["/Render/Vars/color", "/Render/Vars/alpha", "/Render/Vars/depth"])
+
+    settings = _prim(layer, "/Render/Settings", "RenderSettings")
+    _attr(settings, "resolution", names.Int2, Gf.Vec2i(1920, 1080), uniform=True)
+    _attr(settings, "pixelAspectRatio", names.Float, 1.0, uniform=True)
+    _attr(settings, "aspectRatioConformPolicy", names.Token, "expandAperture", uniform=True)
+    _attr(settings, "includedPurposes", names.TokenArray, ["default", "render"], uniform=True)
+    _attr(settings, "materialBindingPurposes", names.TokenArray, ["full", ""], uniform=True)
+    _rel(settings, "camera", ["/World/cams/shotCam"])
+    products = ["/Render/Products/beauty"]
+
+    _prim(layer, "/Render/Passes", "Scope")
+    render_pass = _prim(layer, "/Render/Passes/lights", "RenderPass")
+    _attr(render_pass, "passType", names.Token, "prman", uniform=True)
+    _rel(render_pass, "renderSource", ["/Render/Settings"])
+    _rel(render_pass, "collection:renderVisibility:includes", ["/World/lights"])
+
+    expected: list[Expected] = []
+    if defects:
+        broken = _prim(layer, "/Render/Products/broken", "RenderProduct")
+        _attr(broken, "productName", names.Token, "broken.exr")
+        _attr(broken, "dataWindowNDC", names.Float4, Gf.Vec4f(0.8, 0.0, 0.2, 1.0), uniform=True)
+        products.append(broken.path.pathString)
+        expected += [
+            Expected("SE003", "/Render/Products/broken.dataWindowNDC"),
+            Expected("PR004", "/Render/Products/broken"),
+        ]
+        rig = _prim(layer, "/Render/RigSettings", "RenderSettings")
+        _attr(rig, "resolution", names.Int2, Gf.Vec2i(1920, 1080), uniform=True)
+        _attr(rig, "aspectRatioConformPolicy", names.Token, "expandAperture", uniform=True)
+        _rel(rig, "camera", ["/World/cams/camRig"])
+        _rel(rig, "products", ["/Render/Products/beauty"])
+        expected.append(Expected("CA004", "/Render/RigSettings.camera"))
+        lost = _prim(layer, "/Render/LostSettings", "RenderSettings")
+        _rel(lost, "camera", ["/World/cams/noSuchCam"])
+        _rel(lost, "products", ["/Render/Products/beauty"])
+        expected.append(Expected("CA003", "/Render/LostSettings.camera"))
+    _rel(settings, "products", products)
+    return expected
+
+
+def _shot_layer(path: Path, sublayers: list[str], defects: bool) -> list[Expected]:
+    layer = _new_layer(path)
+    with Sdf.ChangeBlock():
+        layer.subLayerPaths[:] = sublayers
+        layer.pseudoRoot.SetInfo("renderSettingsPrimPath", "/Render/Settings")
+        layer.startTimeCode, layer.endTimeCode = 1001, 1024
+        _write_camera(layer)
+        expected = _write_render(layer, defects)
+    layer.Save()
+    return expected
+
+
+def _write_expected(folder: Path, by_file: dict[str, list[Expected]]) -> None:
+    data = {name: [e.as_dict() for e in found] for name, found in sorted(by_file.items())}
+    (folder / EXPECTED_FILE).write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
+
+
+def shot_plan(prims: int) -> tuple[int, int, int]:
+    """(instances, dressing prims, lights) for a shot of about ``prims`` prims."""
+    dressing = int(prims * DRESSING_SHARE)
+    lights = max(3, prims // 2000)
+    instances = max(1, round((prims - dressing - lights) / (ASSET_PRIMS + 1)))
+    return instances, dressing, lights
+
+
+def generate_shot(folder: str | Path, prims: int, fmt: str = "usdc", defects: bool = True) -> Path:
+    """Write a shot of about ``prims`` composed prims into ``folder``; return
+    the shot layer. ``expected_findings.json`` lists the injected defects'
+    findings (empty without ``defects``)."""
+    if fmt not in FORMATS:
+        raise ValueError(f"format must be one of {FORMATS}, got {fmt!r}")
+    folder = Path(folder)
+    instances, dressing, lights = shot_plan(prims)
+    for kind in range(min(ASSET_KINDS, instances)):
+        _write_asset(folder / "assets", kind, fmt)
+    _write_layout(folder / f"layout.{fmt}", fmt, instances, dressing)
+    _write_lighting(folder / f"lighting.{fmt}", lights)
+    shot = folder / f"shot.{fmt}"
+    expected = _shot_layer(shot, [f"./lighting.{fmt}", f"./layout.{fmt}"], defects)
+    _write_expected(folder, {shot.name: expected})
+    return shot
+
+
+def _small_shot(path: Path, index: int, prims: int, defects: bool) -> list[Expected]:
+    """A self-contained shot file: a camera, render prims and flat geometry."""
+    layer = _new_layer(path)
+    with Sdf.ChangeBlock():
+        layer.pseudoRoot.SetInfo("renderSettingsPrimPath", "/Render/Settings")
+        _prim(layer, "/World", "Xform")
+        _write_camera(layer)
+        expected = _write_render(layer, defects)
+        budget = max(0, prims - 20)
+        per_group = 9
+        for g in range(math.ceil(budget / (per_group + 1))):
+            group = f"/World/geo/grp_{g:03d}"
+            _prim(layer, group, "Xform")
+            for m in range(min(per_group, budget - g * (per_group + 1) - 1)):
+                _mesh(layer, f"{group}/mesh_{m}", index + g * per_group + m)
+    layer.Save()
+    return expected
+
+
+def generate_many(
+    folder: str | Path,
+    count: int = 500,
+    prims: int = 200,
+    fmt: str = "usda",
+    defect_every: int = 10,
+) -> list[Path]:
+    """Write ``count`` small shot files of about ``prims`` prims; every
+    ``defect_every``-th has the injected defects (0: none)."""
+    if fmt not in FORMATS:
+        raise ValueError(f"format must be one of {FORMATS}, got {fmt!r}")
+    folder = Path(folder)
+    files, expected = [], {}
+    for i in range(count):
+        path = folder / f"shot_{i:04d}.{fmt}"
+        defects = bool(defect_every) and i % defect_every == 0
+        expected[path.name] = _small_shot(path, i, prims, defects)
+        files.append(path)
+    _write_expected(folder, expected)
+    return files
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    sub = parser.add_subparsers(dest="what", required=True)
+    shot = sub.add_parser("shot", help="one layered shot")
+    shot.add_argument("folder")
+    shot.add_argument("--prims", type=int, default=100_000)
+    shot.add_argument("--format", choices=FORMATS, default="usdc")
+    shot.add_argument("--clean", action="store_true", help="no injected defects")
+    many = sub.add_parser("many", help="a folder of small shot files")
+    many.add_argument("folder")
+    many.add_argument("--count", type=int, default=500)
+    many.add_argument("--prims", type=int, default=200)
+    many.add_argument("--format", choices=FORMATS, default="usda")
+    args = parser.parse_args(argv)
+    if args.what == "shot":
+        print(generate_shot(args.folder, args.prims, args.format, defects=not args.clean))
+    else:
+        print(
+            f"{len(generate_many(args.folder, args.count, args.prims, args.format))} files "
+            f"in {args.folder}"
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

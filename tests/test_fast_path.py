@@ -1,0 +1,424 @@
+"""The fast path (a stage composed only around the render prims) gives exactly
+the findings of a full composition, and falls back to it where a shortcut
+could miss something. Correctness only: timing is the benchmark's job."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from pxr import Sdf, UsdRender
+
+from usdrender_lint import fastpath
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.engine import FULL_COMPOSITION_ENV, Linter
+from usdrender_lint.testing import all_rules
+
+TESTS = Path(__file__).parent
+REPO = TESTS.parent
+#: Every layer of every rule fixture folder (supporting layers too) and the
+#: examples, discovered so the check grows with the rules.
+LAYERS = sorted([*(TESTS / "rules").rglob("*.usd*"), *(REPO / "examples").rglob("*.usd*")])
+
+
+def _load_generator():
+    # benchmarks/ is a folder of scripts, not a package.
+    name = "usdrender_lint_benchmark_generate"
+    spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / "generate.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+generate = _load_generator()
+
+
+@pytest.fixture(scope="module")
+def linters() -> tuple[Linter, Linter]:
+    rules = all_rules()
+    return Linter(rules, full_composition=False), Linter(rules, full_composition=True)
+
+
+def _wants(linter: Linter):
+    return linter._dispatch.wants
+
+
+def _assert_same(linters: tuple[Linter, Linter], path: Path) -> None:
+    fast, full = linters
+    got, expected = fast.lint_path(str(path)), full.lint_path(str(path))
+    assert got == expected, f"{path}: fast path findings differ from full composition"
+
+
+@pytest.mark.parametrize("path", LAYERS, ids=lambda p: str(p.relative_to(REPO)))
+def test_fixture_findings_identical(linters: tuple[Linter, Linter], path: Path) -> None:
+    _assert_same(linters, path)
+
+
+def test_most_fixtures_take_the_fast_path(linters: tuple[Linter, Linter]) -> None:
+    # Equality above would hold trivially if the fast path always gave up.
+    partial = [p for p in LAYERS if fastpath.open_partial(str(p), _wants(linters[0]))]
+    assert len(partial) >= 0.8 * len(LAYERS)
+
+
+# -- generated shots --------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module", params=generate.FORMATS)
+def shot(request, tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp(f"shot_{request.param}")
+    return generate.generate_shot(folder, prims=3000, fmt=request.param)
+
+
+def _pairs(result) -> set[tuple[str, str]]:
+    return {(f.code, f.location.path) for f in result.findings}
+
+
+def test_generated_shot_is_partly_composed_and_exact(
+    linters: tuple[Linter, Linter], shot: Path
+) -> None:
+    partial = fastpath.open_partial(str(shot), _wants(linters[0]))
+    assert partial is not None
+    stage = partial.stage
+    # The render prims and what they target are composed; the set is not.
+    assert stage.GetPrimAtPath("/Render/Settings").IsA(UsdRender.Settings)
+    assert stage.GetPrimAtPath("/World/cams/shotCam")
+    assert stage.GetPrimAtPath("/World/lights/light_0000")  # a pass includes it
+    assert not stage.GetPrimAtPath("/World/set/inst_000000")
+    _assert_same(linters, shot)
+
+
+def test_generated_shot_injected_defects_are_found(
+    linters: tuple[Linter, Linter], shot: Path
+) -> None:
+    expected = json.loads((shot.parent / generate.EXPECTED_FILE).read_text())[shot.name]
+    assert expected
+    found = _pairs(linters[0].lint_path(str(shot)))
+    assert {(e["code"], e["path"]) for e in expected} <= found
+
+
+def test_many_small_shots_identical(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
+    files = generate.generate_many(tmp_path, count=3, prims=60, defect_every=2)
+    expected = json.loads((tmp_path / generate.EXPECTED_FILE).read_text())
+    for path in files:
+        _assert_same(linters, path)
+        pairs = {(e["code"], e["path"]) for e in expected[path.name]}
+        assert pairs <= _pairs(linters[0].lint_path(str(path)))
+    assert expected[files[0].name] and not expected[files[1].name]
+
+
+# -- where the fast path must give up or follow arcs ---------------------------------------
+
+RENDER_ASSET = """#usda 1.0
+(
+    defaultPrim = "Render"
+)
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        uniform int2 resolution = (0, 1080)
+    }
+}
+"""
+
+
+def _write(folder: Path, files: dict[str, str]) -> Path:
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    return folder / next(iter(files))
+
+
+def test_render_prims_from_a_reference_fall_back(
+    linters: tuple[Linter, Linter], tmp_path: Path
+) -> None:
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": '#usda 1.0\ndef Xform "World"\n{\n    def "facility" '
+            "(references = @./render.usda@)\n    {\n    }\n}\n",
+            "render.usda": RENDER_ASSET,
+        },
+    )
+    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    found = _pairs(linters[0].lint_path(str(root)))
+    assert ("SE001", "/World/facility/Settings.resolution") in found
+    _assert_same(linters, root)
+
+
+def test_render_prims_from_a_payload_fall_back(
+    linters: tuple[Linter, Linter], tmp_path: Path
+) -> None:
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": '#usda 1.0\ndef "Render" (payload = @./render.usda@)\n{\n}\n',
+            "render.usda": RENDER_ASSET,
+        },
+    )
+    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    _assert_same(linters, root)
+
+
+def test_internal_inherits_are_followed(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
+    # The settings type comes from a class in the same layer: the mask maps it.
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": """#usda 1.0
+class RenderSettings "_settings"
+{
+    uniform int2 resolution = (0, 1080)
+}
+
+def Xform "World"
+{
+    def "settings" (inherits = </_settings>)
+    {
+    }
+}
+"""
+        },
+    )
+    partial = fastpath.open_partial(str(root), _wants(linters[0]))
+    assert partial is not None
+    assert partial.stage.GetPrimAtPath("/World/settings").IsA(UsdRender.Settings)
+    assert ("SE001", "/World/settings.resolution") in _pairs(linters[0].lint_path(str(root)))
+    _assert_same(linters, root)
+
+
+def test_class_inherited_from_an_asset_falls_back(
+    linters: tuple[Linter, Linter], tmp_path: Path
+) -> None:
+    # Implied inheritance: the asset's prim inherits </_settings>, which the
+    # shot defines as RenderSettings, so /World/asset/cfg is one too.
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": """#usda 1.0
+class RenderSettings "_settings"
+{
+    uniform int2 resolution = (0, 1080)
+}
+
+def Xform "World"
+{
+    def "asset" (references = @./asset.usda@)
+    {
+    }
+}
+""",
+            "asset.usda": '#usda 1.0\n(\n    defaultPrim = "asset"\n)\n'
+            'def "asset"\n{\n    def "cfg" (inherits = </_settings>)\n    {\n    }\n}\n',
+        },
+    )
+    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    assert ("SE001", "/World/asset/cfg.resolution") in _pairs(linters[0].lint_path(str(root)))
+    _assert_same(linters, root)
+
+
+def test_expression_references_are_composed(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": """#usda 1.0
+def Xform "World"
+{
+    def Xform "sets" (
+        prepend apiSchemas = ["CollectionAPI:hero"]
+    )
+    {
+        uniform token collection:hero:expansionRule = "expandPrims"
+    }
+}
+
+def Scope "Render"
+{
+    def RenderPass "beauty" (
+        prepend apiSchemas = ["CollectionAPI:renderVisibility"]
+    )
+    {
+        uniform bool collection:renderVisibility:includeRoot = 0
+        pathExpression collection:renderVisibility:membershipExpression = "%/World/sets:hero"
+    }
+}
+"""
+        },
+    )
+    partial = fastpath.open_partial(str(root), _wants(linters[0]))
+    assert partial is not None
+    assert partial.stage.GetPrimAtPath("/World/sets")
+    _assert_same(linters, root)
+
+
+class _CountsPrims(Rule):
+    """Counts every prim on the stage (a rule that walks the whole scene).
+
+    ## What it does
+    Test only.
+    """
+
+    code = "ZZ901"
+    name = "counts-prims"
+    severity = Severity.INFO
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        ctx.require_full_stage()
+        yield Diagnostic(f"{sum(1 for _ in ctx.stage.Traverse())} prims")
+
+
+def test_a_rule_can_require_the_full_stage(tmp_path: Path) -> None:
+    root = generate.generate_shot(tmp_path, prims=1000, fmt="usda", defects=False)
+    counts = {
+        full: [
+            f.message
+            for f in Linter([_CountsPrims()], full_composition=full).lint_path(str(root)).findings
+        ]
+        for full in (False, True)
+    }
+    assert counts[False] == counts[True]
+    assert int(counts[True][0].split()[0]) > 900
+
+
+def test_full_composition_switch_never_takes_the_fast_path(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    root = _write(tmp_path, {"shot.usda": RENDER_ASSET})
+
+    def refuse(*_args, **_kwargs):
+        raise AssertionError("fast path used")
+
+    monkeypatch.setattr(fastpath, "open_partial", refuse)
+    rules = all_rules()
+    assert Linter(rules, full_composition=True, raise_errors=True).lint_path(str(root)).findings
+    monkeypatch.setenv(FULL_COMPOSITION_ENV, "1")
+    assert Linter(rules, raise_errors=True).full_composition
+    monkeypatch.setenv(FULL_COMPOSITION_ENV, "0")
+    assert not Linter(rules).full_composition
+
+
+def test_payloads_load_only_inside_the_mask(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
+    # The camera sits behind a payload: it is loaded because a settings targets it.
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": """#usda 1.0
+def Xform "World"
+{
+    def "cams" (payload = @./cams.usda@)
+    {
+    }
+    def "props" (payload = @./cams.usda@)
+    {
+    }
+}
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        rel camera = </World/cams/main/rig>
+    }
+}
+""",
+            "cams.usda": """#usda 1.0
+(
+    defaultPrim = "c"
+)
+
+def "c"
+{
+    def Xform "main"
+    {
+        def Xform "rig"
+        {
+            def Camera "cam"
+            {
+            }
+        }
+    }
+}
+""",
+        },
+    )
+    partial = fastpath.open_partial(str(root), _wants(linters[0]))
+    assert partial is not None
+    assert partial.stage.GetPrimAtPath("/World/cams/main/rig/cam")
+    assert not partial.stage.GetPrimAtPath("/World/props/main")
+    assert ("CA004", "/Render/Settings.camera") in _pairs(linters[0].lint_path(str(root)))
+    _assert_same(linters, root)
+
+
+def test_suppressions_outside_the_render_scope_are_composed(
+    linters: tuple[Linter, Linter], tmp_path: Path
+) -> None:
+    # An unused suppression on a geometry prim is still reported.
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": """#usda 1.0
+def Xform "World"
+{
+    def Mesh "prop" (
+        customData = {
+            dictionary usdrender_lint = {
+                string[] ignore = ["SE003"]
+            }
+        }
+    )
+    {
+    }
+}
+"""
+        },
+    )
+    partial = fastpath.open_partial(str(root), _wants(linters[0]))
+    assert partial is not None and partial.stage.GetPrimAtPath("/World/prop")
+    _assert_same(linters, root)
+
+
+def test_unreadable_dependency_falls_back(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": '#usda 1.0\ndef "World" (references = @./broken.usda@)\n{\n}\n'
+            'def Scope "Render"\n{\n    def RenderSettings "S"\n    {\n    }\n}\n',
+            "broken.usda": '#usda 1.0\ndef Xform "X" (\n',
+        },
+    )
+    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    _assert_same(linters, root)
+
+
+def test_variant_specs_are_found(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": """#usda 1.0
+def Scope "Shot" (
+    variants = { string look = "final" }
+    prepend variantSets = "look"
+)
+{
+    variantSet "look" = {
+        "final" {
+            def RenderSettings "Settings"
+            {
+                uniform int2 resolution = (0, 1080)
+            }
+        }
+    }
+}
+"""
+        },
+    )
+    partial = fastpath.open_partial(str(root), _wants(linters[0]))
+    assert partial is not None
+    assert partial.stage.GetPopulationMask().Includes(Sdf.Path("/Shot/Settings"))
+    assert ("SE001", "/Shot/Settings.resolution") in _pairs(linters[0].lint_path(str(root)))
+    _assert_same(linters, root)
