@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 
 from pxr import Sdf, Usd, UsdRender
 
@@ -16,6 +17,7 @@ from usdrender_lint.resolve import (
     forwarded_targets,
     joint_evaluation_times,
     mismatched_spec,
+    resolve_target,
     resolve_targets,
 )
 
@@ -83,14 +85,25 @@ class ProductNameEmpty(Rule):
     ```
 
     ## Fix safety
-    No automatic fix: the output name is a pipeline decision (a naming
-    template).
+    Safe, conditional: only when the pipeline configures a naming template
+    (option `name-template`, e.g. `"{prim}.exr"`) does the fix author the
+    name it gives; by default there is no fix, the output name being a
+    pipeline decision. (The catalog's class: none, pipeline template.)
+
+    ## Options
+    `name-template` (string, default empty: no fix): the productName the fix
+    authors; `{prim}` is replaced by the product's prim name.
     """
 
     code = "PR001"
     name = "product-name-empty"
     severity = Severity.ERROR
+    fix_safety = "safe-conditional"
     prim_types = (UsdRender.Product,)
+
+    @dataclass(frozen=True)
+    class Options:
+        name_template: str = ""
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = UsdRender.Product(prim).GetProductNameAttr()
@@ -98,16 +111,21 @@ class ProductNameEmpty(Rule):
             return
         if checked_value(prim, "productName") != "":
             return
-        how = (
-            "is blocked"
-            if attr.IsAuthored() and not attr.HasAuthoredValue()
-            else ("is authored empty" if attr.HasAuthoredValue() else "is not authored")
-        )
+        if attr.GetResolveInfo().ValueIsBlocked():
+            how = "is blocked"
+        else:
+            how = "is authored empty" if attr.HasAuthoredValue() else "has no authored value"
+        template = self.options.name_template
+        fix = None
+        if template:
+            name = template.replace("{prim}", prim.GetName())
+            fix = Fix(f"author productName = {name!r}", True, set_value(attr.GetPath(), name))
         yield Diagnostic(
             f"RenderProduct {prim.GetPath()} has an empty productName (it {how}): the display "
             f"driver has no name to write to; author one, e.g. token productName = "
             f'"{prim.GetName()}.exr"',
             at=attr if attr.IsAuthored() else prim,
+            fix=fix,
         )
 
 
@@ -399,6 +417,13 @@ class ProductMissingRenderVars(Rule):
 def _remove_target(rel_path: Sdf.Path, target: Sdf.Path) -> Callable[[Usd.Stage], None]:
     def apply(stage: Usd.Stage) -> None:
         stage.GetRelationshipAtPath(rel_path).RemoveTarget(target)
+
+    return apply
+
+
+def _append_target(rel_path: Sdf.Path, target: Sdf.Path) -> Callable[[Usd.Stage], None]:
+    def apply(stage: Usd.Stage) -> None:
+        stage.GetRelationshipAtPath(rel_path).AddTarget(target, Usd.ListPositionBackOfAppendList)
 
     return apply
 
@@ -778,14 +803,38 @@ class DeepRasterMissingAlpha(Rule):
     ```
 
     ## Fix safety
-    No automatic fix: the alpha var a pipeline wants (name, source, type) is a
-    pipeline default.
+    Safe, conditional: only when the pipeline configures its default alpha
+    RenderVar (option `alpha-var`, a prim path) and that prim is a usable
+    alpha RenderVar on the stage does the fix append it to `orderedVars`; by
+    default there is no fix. (The catalog's class: none, pipeline default
+    vars.)
+
+    ## Options
+    `alpha-var` (prim path, default empty: no fix): the RenderVar the fix
+    appends, e.g. `"/Render/Vars/alpha"`.
     """
 
     code = "PR008"
     name = "deep-raster-missing-alpha"
     severity = Severity.WARNING
+    fix_safety = "safe-conditional"
     prim_types = (UsdRender.Product,)
+
+    @dataclass(frozen=True)
+    class Options:
+        alpha_var: str = ""
+
+    def _alpha_fix(self, product: Usd.Prim) -> Fix | None:
+        path = self.options.alpha_var
+        if not path or not Sdf.Path.IsValidPathString(path):
+            return None
+        target = resolve_target(product.GetStage(), Sdf.Path(path))
+        if not target.ok or not target.prim.IsA(UsdRender.Var):
+            return None
+        if not _is_alpha_source(target.prim):
+            return None
+        rel_path = UsdRender.Product(product).GetOrderedVarsRel().GetPath()
+        return Fix(f"append <{path}> to orderedVars", True, _append_target(rel_path, target.path))
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "productType") != "deepRaster":
@@ -799,6 +848,7 @@ class DeepRasterMissingAlpha(Rule):
             'be composited; add a RenderVar with sourceName "a" and dataType "float" to '
             "orderedVars",
             at=prim,
+            fix=self._alpha_fix(prim),
         )
 
 

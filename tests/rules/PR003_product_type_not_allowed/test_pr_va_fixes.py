@@ -10,6 +10,9 @@ from pxr import Sdf, Usd
 from usdrender_lint.rules import products, vars
 
 from usdrender_lint.api import Context, Rule
+from usdrender_lint.config import ConfigError, read_config_file
+from usdrender_lint.registry import build_registry
+from usdrender_lint.runner import make_rules
 
 STAGE = """#usda 1.0
 
@@ -120,3 +123,91 @@ def test_no_fix_when_the_intent_is_unclear(tmp_path: Path) -> None:
     ]:
         (diagnostic,) = _diagnostics(rule, stage, prim_path)
         assert diagnostic.fix is None, rule.code
+
+
+# -- fixes a pipeline configures (PR001 name template, PR008 default alpha var) ----
+
+PIPELINE = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderProduct "Deep"
+    {
+        uniform token productType = "deepRaster"
+        rel orderedVars = </Render/Vars/color>
+    }
+
+    def Scope "Vars"
+    {
+        def RenderVar "color"
+        {
+            string sourceName = "Ci"
+        }
+
+        def RenderVar "alpha"
+        {
+            uniform token dataType = "float"
+            string sourceName = "a"
+        }
+    }
+}
+"""
+
+
+def _pipeline_stage(tmp_path: Path) -> Usd.Stage:
+    path = tmp_path / "pipeline.usda"
+    path.write_text(PIPELINE, encoding="utf-8")
+    stage = Usd.Stage.Open(str(path))
+    stage.SetEditTarget(stage.GetRootLayer())
+    return stage
+
+
+def test_no_pipeline_fix_by_default(tmp_path: Path) -> None:
+    stage = _pipeline_stage(tmp_path)
+    for rule in (products.ProductNameEmpty(), products.DeepRasterMissingAlpha()):
+        (diagnostic,) = _diagnostics(rule, stage, "/Render/Deep")
+        assert diagnostic.fix is None
+
+
+def test_name_template_fix(tmp_path: Path) -> None:
+    stage = _pipeline_stage(tmp_path)
+    rule = products.ProductNameEmpty(products.ProductNameEmpty.Options("shots/{prim}.exr"))
+    (diagnostic,) = _diagnostics(rule, stage, "/Render/Deep")
+    diagnostic.fix.apply(stage)
+    assert stage.GetAttributeAtPath("/Render/Deep.productName").Get() == "shots/Deep.exr"
+    assert _diagnostics(rule, stage, "/Render/Deep") == []
+
+
+def test_default_alpha_var_fix(tmp_path: Path) -> None:
+    stage = _pipeline_stage(tmp_path)
+    rule = products.DeepRasterMissingAlpha(
+        products.DeepRasterMissingAlpha.Options("/Render/Vars/alpha")
+    )
+    (diagnostic,) = _diagnostics(rule, stage, "/Render/Deep")
+    diagnostic.fix.apply(stage)
+    targets = stage.GetRelationshipAtPath("/Render/Deep.orderedVars").GetTargets()
+    assert targets == [Sdf.Path("/Render/Vars/color"), Sdf.Path("/Render/Vars/alpha")]
+    assert _diagnostics(rule, stage, "/Render/Deep") == []
+
+
+@pytest.mark.parametrize("alpha_var", ["/Render/Vars/color", "/Render/Vars/none", "not a path"])
+def test_no_alpha_fix_when_the_configured_var_is_unusable(tmp_path: Path, alpha_var) -> None:
+    stage = _pipeline_stage(tmp_path)
+    rule = products.DeepRasterMissingAlpha(products.DeepRasterMissingAlpha.Options(alpha_var))
+    (diagnostic,) = _diagnostics(rule, stage, "/Render/Deep")
+    assert diagnostic.fix is None
+
+
+@pytest.mark.parametrize(
+    "table",
+    [
+        "[rules.PR001]\nname-template = 3\n",
+        '[rules.PR001]\ntemplate = "{prim}.exr"\n',
+        '[rules.PR008]\nalpha-var = ["/Render/Vars/alpha"]\n',
+    ],
+)
+def test_bad_pipeline_options_are_config_errors(tmp_path: Path, table: str) -> None:
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text(table, encoding="utf-8")
+    with pytest.raises(ConfigError, match="PR00"):
+        make_rules(build_registry(), read_config_file(config))
