@@ -1,4 +1,4 @@
-"""Helpers shared by the PA (RenderPass) rules: typed targets, the inputPasses
+"""Helpers shared by the PA (RenderPass) rules: the inputPasses
 dependency graph and its cycles, the four built-in collections and what their
 includes, excludes and membership expressions point at."""
 
@@ -10,22 +10,12 @@ from typing import TypeVar
 from pxr import Sdf, Tf, Usd, UsdRender
 
 from usdrender_lint.api import Context
-from usdrender_lint.resolve import Target, describe_prim_type, resolve_targets, unusable_reason
+from usdrender_lint.resolve import resolve_targets, typed_target_problem, unusable_reason
 
 #: The CollectionAPI instances the RenderPass schema applies (schema.usda).
 PASS_COLLECTIONS = ("renderVisibility", "cameraVisibility", "prune", "matte")
 
 Node = TypeVar("Node", bound=Hashable)
-
-
-def typed_target_problem(target: Target, schema: type, expected: str) -> str | None:
-    """Why a forwarded target is not a usable prim of ``schema`` (phrased to
-    follow the target path in a message), or None when it is one."""
-    if target.problem is not None:
-        return target.problem
-    if not target.prim.IsA(schema):
-        return f"is {describe_prim_type(target.prim)}, not {expected}"
-    return None
 
 
 def usd_error_text(exc: Tf.ErrorException) -> str:

@@ -15,6 +15,7 @@ from usdrender_lint.resolve import (
     is_usable,
     mismatched_spec,
     resolve_targets,
+    typed_target_problem,
 )
 
 from ._passes import (
@@ -24,7 +25,6 @@ from ._passes import (
     input_pass_graph,
     missing_expression_references,
     pass_collections,
-    typed_target_problem,
     usd_error_text,
 )
 

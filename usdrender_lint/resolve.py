@@ -88,6 +88,17 @@ def describe_prim_type(prim: Usd.Prim) -> str:
     return f"{article} {type_name}"
 
 
+def typed_target_problem(target: Target, schema: type, expected: str) -> str | None:
+    """Why a target is not a usable prim of ``schema`` (e.g. ``UsdRender.Pass``,
+    ``expected`` = "a RenderPass"), phrased to follow the target path in a
+    message; None when it is one."""
+    if target.problem is not None:
+        return target.problem
+    if not target.prim.IsA(schema):
+        return f"is {describe_prim_type(target.prim)}, not {expected}"
+    return None
+
+
 # -- values -----------------------------------------------------------------
 
 
