@@ -898,8 +898,8 @@ class UnknownRenderPrimType(Rule):
                     layer=spec.layer,
                 )
             yield Diagnostic(
-                f"type '{type_name}' of <{path}> is not a registered schema, so USD composes "
-                f"it as a typeless prim that every render consumer skips; {advice}",
+                f"type '{type_name}' of <{path}> is not a registered schema here, so USD "
+                f"composes it as a typeless prim that schema-based consumers skip; {advice}",
                 at=prim,
                 fix=fix,
                 layer=spec.layer if spec is not None else None,
