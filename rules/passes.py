@@ -37,6 +37,16 @@ def _authored_layer(attr: Usd.Attribute) -> Sdf.Layer | None:
     return None
 
 
+def _value_lost_elsewhere(attr: Usd.Attribute) -> bool:
+    """The Default-time value is lost to a mistake another rule reports: a
+    mistyped opinion (SE016) or time samples with no default on a uniform
+    attribute (SE017). Rules that read the value stay silent then, so one
+    mistake gives one finding."""
+    if mismatched_spec(attr) is not None:
+        return True
+    return attr.GetNumTimeSamples() > 0 and _authored_layer(attr) is None
+
+
 # -- PA001 ------------------------------------------------------------------------
 
 
@@ -135,8 +145,8 @@ class RenderSourceInvalid(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         render_pass = UsdRender.Pass(prim)
         file_attr = render_pass.GetFileNameAttr()
-        if mismatched_spec(file_attr) is not None:
-            return  # A fileName was meant; SE016 reports its type.
+        if _value_lost_elsewhere(file_attr):
+            return  # A fileName was meant; SE016 or SE017 reports how it is lost.
         file_name = authored_value(file_attr)
         if file_name is not None and file_name.authoredPath:
             return
@@ -741,7 +751,7 @@ class PassTypeEmpty(Rule):
     ## What it does
     Reports a RenderPass whose `passType` (a token with no fallback) is
     unauthored, blocked or the empty token. A `passType` authored with the
-    wrong type is left to SE016.
+    wrong type (SE016) or only as time samples (SE017) is left to those rules.
 
     ## Why is this bad?
     *"A string used to categorize differently structured or executed types of
@@ -795,7 +805,7 @@ class PassTypeEmpty(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = UsdRender.Pass(prim).GetPassTypeAttr()
-        if mismatched_spec(attr) is not None:
+        if _value_lost_elsewhere(attr):
             return
         if authored_value(attr):
             return
