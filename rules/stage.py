@@ -531,7 +531,9 @@ class RenderSettingsPathInSublayer(Rule):
     Reports every layer the stage uses, other than its root and session
     layers, whose metadata authors a non-empty `renderSettingsPrimPath`:
     sublayers, and referenced or payloaded layers. Composition ignores that
-    opinion (`stage.GetMetadata` does not see it).
+    opinion (`stage.GetMetadata` does not see it). A value the root or session
+    layer already authors identically is redundant, not lost, and is not
+    reported (that is also what the fix leaves behind).
 
     ## Why is this bad?
     *"Like all stage metadata, `renderSettingsPrimPath` can be authoredin a
@@ -602,10 +604,12 @@ class RenderSettingsPathInSublayer(Rule):
             for layer in stage.GetUsedLayers()
             if layer not in ignored and layer.pseudoRoot.HasInfo(RENDER_SETTINGS_PATH_KEY)
         ]
-        inert = [(layer, value) for layer, value in inert if value]
+        opinion = settings_path_opinion(stage)
+        effective = opinion[0] if opinion is not None else None
+        inert = [(layer, value) for layer, value in inert if value and value != effective]
         inert.sort(key=lambda item: (rank.get(item[0], len(rank)), item[0].identifier))
         # Only the strongest sublayer opinion is what the author most likely meant.
-        fixable = settings_path_opinion(stage) is None and inert and inert[0][0] in rank
+        fixable = opinion is None and inert and inert[0][0] in rank
         for index, (layer, value) in enumerate(inert):
             fix = None
             if fixable and index == 0:
@@ -616,10 +620,15 @@ class RenderSettingsPathInSublayer(Rule):
                     layer=stage.GetRootLayer(),
                 )
             kind = "sublayer" if layer in rank else "referenced layer"
+            advice = (
+                "author it in the root layer"
+                if effective is None
+                else f'the stage uses "{effective}"; remove the ignored value'
+            )
             yield Diagnostic(
                 f'renderSettingsPrimPath "{value}" is authored in the {kind} '
                 f"{layer.GetDisplayName()}, where the stage ignores it (only the root and session "
-                "layers count); author it in the root layer",
+                f"layers count); {advice}",
                 layer=layer,
                 fix=fix,
             )
