@@ -93,7 +93,7 @@ def test_baseline_hides_known_findings_across_moves_and_reformatting(shot, tmp_p
     result = check("--baseline", str(baseline), str(shot))
     assert result.exit_code == 0, result.output
     assert "SE003" not in result.stdout
-    assert "1 findings recorded in" in result.stderr
+    assert "1 finding recorded in" in result.stderr
 
     # Sdf re-export: USD's own formatting of the same layer.
     Sdf.Layer.FindOrOpen(str(shot)).Export(str(shot))

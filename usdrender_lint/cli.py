@@ -197,15 +197,21 @@ def _apply_baseline(
             count = write_baseline(report, write_baseline_file)
         except BaselineError as exc:
             raise ToolError(str(exc)) from None
-        click.echo(f"usdrender-lint: recorded {count} findings in {write_baseline_file}", err=True)
+        click.echo(
+            f"usdrender-lint: recorded {_findings(count)} in {write_baseline_file}", err=True
+        )
     elif known is not None:
         report, dropped = new_findings(report, known, Path(baseline_file).resolve().parent)
         if dropped:
             click.echo(
-                f"usdrender-lint: {dropped} findings recorded in {baseline_file} not shown",
+                f"usdrender-lint: {_findings(dropped)} recorded in {baseline_file} not shown",
                 err=True,
             )
     return report
+
+
+def _findings(count: int) -> str:
+    return f"{count} finding" if count == 1 else f"{count} findings"
 
 
 def _emit_report(

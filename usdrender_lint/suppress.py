@@ -67,7 +67,8 @@ def _authoring_layer(prim: Usd.Prim) -> Sdf.Layer | None:
     """The layer of the strongest opinion on the ignore key: where to edit it."""
     dictionary, _, key = IGNORE_KEY.partition(":")
     for spec in prim.GetPrimStack():
-        if key in spec.customData.get(dictionary, {}):
+        authored = spec.customData.get(dictionary)
+        if isinstance(authored, dict) and key in authored:
             return spec.layer
     return None
 
