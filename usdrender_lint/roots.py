@@ -164,9 +164,7 @@ def plan_from_settings(changed: Sequence[str], settings: Settings) -> ContextPla
     the config file that set them), or None when no roots are configured."""
     if not settings.roots:
         return None
-    source = settings.source
-    base_dir = os.path.dirname(os.path.abspath(source)) if source else os.getcwd()
-    return plan_in_context(changed, find_roots(settings.roots, base_dir))
+    return plan_in_context(changed, find_roots(settings.roots, str(settings.base_dir)))
 
 
 __all__ = [
