@@ -10,9 +10,14 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
+#: Characters that never open or close a spec, a string, a path or a comment.
+#: Runs of them (numbers, commas, "=") and of number tuples such as ``(0, 1, 0),``
+#: are skipped as one token, which makes large value arrays cheap to scan.
+_INERT = r"""[^\n"'@<#/{}()\[\]A-Za-z_]"""
 _TOKEN = re.compile(
     r"""
     (?P<newline>\n)
+  | (?P<inert>INERT+|(?:\(INERT*\)INERT*)+)
   | (?P<space>[ \t\r\f\v]+)
   | (?P<comment>\#[^\n]*|//[^\n]*|/\*.*?\*/)
   | (?P<string>\"\"\".*?\"\"\"|'''.*?'''|"(?:\\.|[^"\\\n])*"|'(?:\\.|[^'\\\n])*')
@@ -20,7 +25,7 @@ _TOKEN = re.compile(
   | (?P<path><[^>\n]*>)
   | (?P<word>[A-Za-z_][\w:.\[\]-]*|[-+]?[0-9][\w.+-]*)
   | (?P<punct>.)
-    """,
+    """.replace("INERT", _INERT),
     re.VERBOSE | re.DOTALL,
 )
 
@@ -36,7 +41,7 @@ def _tokens(text: str) -> Iterator[tuple[str, str, int]]:
     for match in _TOKEN.finditer(text):
         kind = match.lastgroup or "punct"
         value = match.group()
-        if kind not in ("space", "comment"):
+        if kind not in ("space", "comment", "inert"):
             yield kind, value, line
         line += value.count("\n")
 
