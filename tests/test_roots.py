@@ -282,3 +282,19 @@ def test_file_key_maps_a_packaged_layer_to_its_package(tmp_path: Path) -> None:
     package = tmp_path / "asset.usdz"
     assert file_key(f"{package}[inner/layer.usda]") == file_key(str(package))
     assert file_key(str(tmp_path / "a" / ".." / "b.usda")) == file_key(str(tmp_path / "b.usda"))
+
+
+def test_a_folder_reports_every_layer_of_its_shots_once(shot: Path, tmp_path: Path) -> None:
+    # Deleting the camera in layout.usda breaks the lighting layer's relationship:
+    # a run on the layout change alone cannot see it, a run on the folder does.
+    _write(shot / "layout.usda", LAYOUT_WITH_DEFECT.replace('"cam"', '"renamedCam"'))
+    _code, alone = _check(str(shot / "layout.usda"))
+    assert _codes(alone) == [("SE007", "layout.usda")]
+    _code, report = _check(str(tmp_path))
+    [entry] = report["files"]
+    assert os.path.basename(entry["file"]) == "shot.usda"
+    assert _codes(report) == [
+        ("CA003", "lighting.usda"),
+        ("SE003", "lighting.usda"),
+        ("SE007", "layout.usda"),
+    ]
