@@ -55,13 +55,16 @@ class UnusedSuppression(Rule):
     ```
 
     ## Fix safety
-    No automatic fix: remove the entry from the prim's customData by hand (in
-    the layer the finding names), or fix the misspelt code.
+    Safe: the fix removes the entry from the list in the layer that authors
+    it and changes nothing else that is reported. An emptied list is removed,
+    unless a weaker layer authors a list too: then an empty list stays, so the
+    weaker entries keep being hidden as before. A malformed value has no fix.
     """
 
     code = "UL001"
     name = "unused-suppression"
     severity = Severity.INFO
+    fix_safety = "safe"
 
 
 RULES = (UnusedSuppression,)

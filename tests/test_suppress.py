@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from usdrender_lint import suppress
 from usdrender_lint.engine import Linter
 from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
 from usdrender_lint.registry import build_registry
@@ -153,3 +154,91 @@ def test_readme_suppression_example_works(tmp_path) -> None:
     assert not {code for code, _ in silenced} & {"SE003", "CA001", "UL001"}
     unsuppressed = example.replace("usdrender_lint", "pipeline")
     assert {"SE003", "CA001"} <= {code for code, _ in _pairs(_lint(tmp_path, unsuppressed))}
+
+
+# -- the UL001 fix ----------------------------------------------------------------
+
+STALE = """#usda 1.0
+(
+    subLayers = [@./weak.usda@]
+)
+
+def Scope "Render"
+{
+    def RenderSettings "Settings" (
+        customData = {
+            int keep = 1
+            dictionary usdrender_lint = {
+                string[] ignore = ["SE003", "SE007", "XX999"]
+            }
+        }
+    )
+    {
+        uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+    }
+}
+"""
+
+
+def _fix_all(path: Path, monkeypatch) -> tuple[list[list[str]], object]:
+    """Lint, then apply every UL001 fix the way the fixer does (edit target =
+    the fix's layer); return the ignore lists left, strongest first."""
+    from pxr import Usd
+
+    from usdrender_lint import engine
+
+    produced = []
+    original = suppress.apply_data_suppressions
+
+    def recording(*args, **kwargs):
+        kept, unused = original(*args, **kwargs)
+        produced.extend(unused)
+        return kept, unused
+
+    monkeypatch.setattr(engine.suppress, "apply_data_suppressions", recording)
+    stage = Usd.Stage.Open(str(path))
+    Linter([r() for r in REGISTRY.rules], raise_errors=True).lint_stage(stage, str(path))
+    monkeypatch.undo()
+    assert produced and all(d.fix is not None and d.fix.safe for d in produced)
+    for diagnostic in produced:
+        stage.SetEditTarget(Usd.EditTarget(diagnostic.fix.layer))
+        diagnostic.fix.apply(stage)
+    lists = [
+        list(spec.customData.get("usdrender_lint", {}).get("ignore", ["<cleared>"]))
+        for spec in stage.GetPrimAtPath("/Render/Settings").GetPrimStack()
+    ]
+    return lists, stage
+
+
+def test_fix_removes_only_the_unused_entries(tmp_path, monkeypatch) -> None:
+    (tmp_path / "weak.usda").write_text("#usda 1.0\n", encoding="utf-8")
+    (tmp_path / "shot.usda").write_text(STALE, encoding="utf-8")
+    lists, stage = _fix_all(tmp_path / "shot.usda", monkeypatch)
+    assert lists == [["SE003"]]
+    assert stage.GetPrimAtPath("/Render/Settings").GetCustomDataByKey("keep") == 1
+    stage.GetRootLayer().Save()
+    found = Linter([r() for r in REGISTRY.rules]).lint_path(str(tmp_path / "shot.usda")).findings
+    assert not {f.code for f in found} & {"UL001", "SE003"}
+
+
+def test_fix_clears_an_emptied_list_unless_a_weaker_layer_has_one(tmp_path, monkeypatch) -> None:
+    stale_only = STALE.replace('"SE003", ', "")
+    (tmp_path / "shot.usda").write_text(stale_only, encoding="utf-8")
+    (tmp_path / "weak.usda").write_text("#usda 1.0\n", encoding="utf-8")
+    lists, _ = _fix_all(tmp_path / "shot.usda", monkeypatch)
+    assert lists == [["<cleared>"]]
+
+    weak = (
+        STALE.split(")\n", 1)[1].replace("def Scope", "over").replace("def RenderSettings", "over")
+    )
+    # A fresh folder: the first stage's edited layers stay open in Sdf's registry.
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "shot.usda").write_text(stale_only, encoding="utf-8")
+    (tmp_path / "b" / "weak.usda").write_text("#usda 1.0\n" + weak, encoding="utf-8")
+    lists, stage = _fix_all(tmp_path / "b" / "shot.usda", monkeypatch)
+    # The empty list keeps hiding the weaker layer's list.
+    assert lists == [[], ["SE003", "SE007", "XX999"]]
+    assert (
+        list(stage.GetPrimAtPath("/Render/Settings").GetCustomDataByKey("usdrender_lint:ignore"))
+        == []
+    )

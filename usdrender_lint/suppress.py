@@ -20,12 +20,12 @@ from __future__ import annotations
 import dataclasses
 import fnmatch
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path, PurePosixPath
 
-from pxr import Sdf, Usd
+from pxr import Sdf, Usd, Vt
 
-from .api import Diagnostic, Rule
+from .api import Diagnostic, Fix, Rule
 from .model import Finding, Report
 from .registry import matches_any
 
@@ -63,14 +63,58 @@ def ignore_entries(prim: Usd.Prim) -> tuple[str, ...] | None:
     return entries if all(isinstance(e, str) for e in entries) else None
 
 
-def _authoring_layer(prim: Usd.Prim) -> Sdf.Layer | None:
-    """The layer of the strongest opinion on the ignore key: where to edit it."""
+def _authoring_specs(prim: Usd.Prim) -> list[Sdf.PrimSpec]:
+    """The prim specs authoring the ignore key, strongest first."""
     dictionary, _, key = IGNORE_KEY.partition(":")
+    found = []
     for spec in prim.GetPrimStack():
         authored = spec.customData.get(dictionary)
         if isinstance(authored, dict) and key in authored:
-            return spec.layer
-    return None
+            found.append(spec)
+    return found
+
+
+def _authoring_layer(prim: Usd.Prim) -> Sdf.Layer | None:
+    """The layer of the strongest opinion on the ignore key: where to edit it."""
+    specs = _authoring_specs(prim)
+    return specs[0].layer if specs else None
+
+
+def _remove_entry(path: Sdf.Path, entry: str) -> Callable[[Usd.Stage], None]:
+    """A fix that drops ``entry`` from the list in the edit target's layer.
+
+    It edits the prim spec itself (through the prim stack, so a spec under
+    another path in a referenced layer is found). An emptied list is removed
+    unless a weaker layer also authors one, which the empty list must keep
+    hiding for the fix to change nothing but the unused entry.
+    """
+    dictionary, _, key = IGNORE_KEY.partition(":")
+
+    def apply(stage: Usd.Stage) -> None:
+        prim = stage.GetPrimAtPath(path)
+        target = stage.GetEditTarget().GetLayer()
+        specs = _authoring_specs(prim)
+        spec = next((s for s in specs if s.layer == target), None)
+        if spec is None:
+            return
+        data = dict(spec.customData)
+        ours = dict(data[dictionary])
+        remaining = [e for e in ours[key] if e != entry]
+        weaker = specs[specs.index(spec) + 1 :]
+        if remaining or weaker:
+            ours[key] = Vt.StringArray(remaining)
+        else:
+            del ours[key]
+        if ours:
+            data[dictionary] = ours
+        else:
+            del data[dictionary]
+        if data:
+            spec.SetInfo("customData", data)
+        else:
+            spec.ClearInfo("customData")
+
+    return apply
 
 
 class _PrimSuppressions:
@@ -159,17 +203,20 @@ def _unused(
             continue
         ran = here.codes.get(entry)
         if ran is not None:
-            yield Diagnostic(
-                f"suppression of {entry!r} is unused: {ran} reports nothing on this prim",
-                at=here.prim,
-                layer=layer,
-            )
+            reason = f"{ran} reports nothing on this prim"
         elif _rule_named(entry, known_rules if known_rules is not None else rules) is None:
-            yield Diagnostic(
-                f"suppression of {entry!r} is unused: no rule has this code or name",
-                at=here.prim,
-                layer=layer,
-            )
+            reason = "no rule has this code or name"
+        else:
+            continue  # a known rule that was not selected could not fire
+        fix = Fix(
+            f"remove {entry!r} from customData '{IGNORE_KEY}'",
+            safe=True,
+            apply=_remove_entry(here.prim.GetPath(), entry),
+            layer=layer,
+        )
+        yield Diagnostic(
+            f"suppression of {entry!r} is unused: {reason}", at=here.prim, fix=fix, layer=layer
+        )
 
 
 # -- per-path ignores ---------------------------------------------------------------
