@@ -298,3 +298,28 @@ def test_a_folder_reports_every_layer_of_its_shots_once(shot: Path, tmp_path: Pa
         ("SE003", "lighting.usda"),
         ("SE007", "layout.usda"),
     ]
+
+
+def test_a_real_shot_from_the_corpus(shared_dir: Path) -> None:
+    # arnold-usd's test_1814: the root authors RenderSettings and camera and
+    # sublayers ./sublayers/{animation,asset}.usda.
+    data = shared_dir / "corpus" / "files" / "Autodesk__arnold-usd" / "testsuite" / "test_1814"
+    root = data / "data" / "test.usda"
+    if not root.is_file():
+        pytest.skip(f"{root} is not in the corpus")
+    asset = root.parent / "sublayers" / "asset.usda"
+    assert {file_key(str(asset)), file_key(str(root))} <= dependencies(str(root))
+
+    linter = make_linter(Settings())
+    full = lint_files(linter, [str(root)])
+    in_root = {f for f in full.findings if file_key(f.location.layer or "") == file_key(str(root))}
+    assert in_root  # the root layer authors findings of its own
+
+    plan = plan_in_context([str(asset)], [str(root)])
+    assert (plan.files, plan.alone) == ([str(root)], ())
+    assert plan.narrow(lint_files(linter, plan.files)).findings == ()
+
+    plan = plan_in_context([str(root), str(asset)], [str(root)])
+    changed = {file_key(str(root)), file_key(str(asset))}
+    expected = {f for f in full.findings if file_key(f.location.layer or "") in changed}
+    assert set(plan.narrow(lint_files(linter, plan.files)).findings) == expected >= in_root
