@@ -159,11 +159,8 @@ def apply_data_suppressions(
 
     kept = []
     for finding in findings:
-        path = finding.location.path
-        prim_path = (
-            Sdf.Path(path).GetPrimPath() if path and Sdf.Path.IsValidPathString(path) else None
-        )
-        here = suppressions(prim_path) if prim_path and prim_path.IsPrimPath() else None
+        prim_path = _prim_path(finding.location.path)
+        here = suppressions(prim_path) if prim_path is not None else None
         if here is None or not here.silences(finding.code):
             kept.append(finding)
 
