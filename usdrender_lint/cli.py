@@ -60,7 +60,9 @@ def cli() -> None:
 
 
 @cli.command()
-@click.argument("paths", nargs=-1, required=True, type=click.Path())
+# readable=False: an unreadable file is reported by the engine, and the others
+# are still linted, instead of click refusing the whole command.
+@click.argument("paths", nargs=-1, required=True, type=click.Path(readable=False))
 @click.option("--format", "output_format", default="text", show_default=True,
               type=_format_choice(), help="Report format.")
 @click.option("--select", multiple=True, help="Rules to run: codes, prefixes (CA) or names.")

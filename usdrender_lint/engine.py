@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import traceback
+import zipfile
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -27,6 +28,8 @@ from .model import (
 
 STAGE_OPEN_FAILED_CODE = "ST001"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
+#: Longest finding message kept (see bounded_message).
+MAX_MESSAGE_CHARS = 2000
 USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
 #: Set to 1 to compose every stage in full (no fast path; see fastpath.py).
 FULL_COMPOSITION_ENV = "USDRENDER_LINT_FULL_COMPOSITION"
@@ -47,15 +50,20 @@ class StageOpenResult:
     errors: tuple[str, ...] = ()
 
 
-def open_stage(path: str) -> StageOpenResult:
+def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenResult:
     """Open a stage with every payload loaded, keeping USD's diagnostics off stderr.
+    ``session_layer`` (e.g. the fixer's --fix-to layer) replaces the anonymous one.
 
     usd-core turns every Tf error posted during ``Open`` into an exception and
     the stage handle is lost (catalog, ST001); its lines carry ``file:line:col``.
     """
     with Tf.DiagnosticTrap() as trap:
         try:
-            stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
+            if session_layer is None:
+                stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
+            else:
+                root = Sdf.Layer.FindOrOpen(path)
+                stage = Usd.Stage.Open(root, session_layer, Usd.Stage.LoadAll) if root else None
             errors: tuple[str, ...] = ()
         except Tf.ErrorException as exc:
             stage = None
@@ -64,9 +72,28 @@ def open_stage(path: str) -> StageOpenResult:
             stage = None
             errors = (f"{type(exc).__name__}: {exc}",)
         trap.Clear()
+    if stage is None and path.lower().endswith(".usdz"):
+        problem = _package_problem(path)
+        errors = ((problem,) if problem else ()) + errors
     if stage is None and not errors:
         errors = (f"USD could not open {path}",)
     return StageOpenResult(stage, errors)
+
+
+def _package_problem(path: str) -> str | None:
+    """Why a ``.usdz`` is not a package USD reads; USD itself says only
+    "Failed to open layer" for these."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            entries = archive.infolist()
+    except (zipfile.BadZipFile, OSError, ValueError):
+        return "not a zip archive (a .usdz is an uncompressed zip whose first file is a layer)"
+    if not entries:
+        return "the .usdz package is empty"
+    first = entries[0].filename
+    if not first.lower().endswith((".usd", ".usda", ".usdc")):
+        return f"the first file in the .usdz package, {first!r}, is not a USD layer"
+    return None
 
 
 def _error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
@@ -168,15 +195,17 @@ class Linter:
         #: was not selected is not reported as naming no rule (default: ``rules``).
         self.known_rules = known_rules
         self._dispatch = _TypeDispatch(self.rules)
+        #: While lint_stage_with_fixes runs: each finding's Fix (the callable
+        #: Finding.fix drops, since findings stay free of pxr objects).
+        self._fixes: dict[Finding, Fix] | None = None
 
     # -- entry points ---------------------------------------------------------
 
     def lint_path(self, path: str) -> FileResult:
         """Lint one file; never raises for a bad file."""
-        if not os.path.exists(path):
-            return FileResult(path, status="error", error=f"{path}: no such file")
-        if os.path.isdir(path):
-            return FileResult(path, status="error", error=f"{path}: is a directory")
+        problem = _unreadable_reason(path)
+        if problem is not None:
+            return FileResult(path, status="error", error=f"{path}: {problem}")
         partial = None if self.full_composition else self._open_partial(path)
         if partial is not None:
             try:
@@ -198,6 +227,17 @@ class Linter:
     def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
         """Lint an open stage; ``file`` names it in findings (default: root layer)."""
         return self._lint(stage, file)
+
+    def lint_stage_with_fixes(
+        self, stage: Usd.Stage, file: str | None = None
+    ) -> list[tuple[Finding, Fix | None]]:
+        """Like :meth:`lint_stage`, each finding paired with the rule's Fix (for the fixer)."""
+        self._fixes = {}
+        try:
+            findings = self._lint(stage, file)
+            return [(finding, self._fixes.get(finding)) for finding in findings]
+        finally:
+            self._fixes = None
 
     def _open_partial(self, path: str) -> fastpath.PartialStage | None:
         try:
@@ -280,14 +320,17 @@ class Linter:
         return self.severities.get(code, default)
 
     def _finding(self, rule: Rule, diagnostic: Diagnostic, ctx: Context) -> Finding:
-        return Finding(
+        finding = Finding(
             code=rule.code,
             name=rule.name,
             severity=self._severity(rule.code, rule.severity),
-            message=diagnostic.message,
+            message=bounded_message(diagnostic.message),
             location=locate(ctx.stage, ctx.file, diagnostic.at, diagnostic.layer),
             fix=_fix_info(diagnostic.fix),
         )
+        if self._fixes is not None and diagnostic.fix is not None:
+            self._fixes.setdefault(finding, diagnostic.fix)
+        return finding
 
     def _open_failure_findings(self, path: str, opened: StageOpenResult) -> Iterable[Finding]:
         # Not selectable away: a file that cannot be opened is never a silent pass.
@@ -303,6 +346,28 @@ class Linter:
                 line,
                 Location(path, None, os.path.abspath(path), _line_from_error(line)),
             )
+
+
+def bounded_message(message: str) -> str:
+    """At most MAX_MESSAGE_CHARS of a message: a rule quoting a ten-million-element
+    array must not put hundreds of megabytes into every report."""
+    if len(message) <= MAX_MESSAGE_CHARS:
+        return message
+    return f"{message[:MAX_MESSAGE_CHARS]}… ({len(message) - MAX_MESSAGE_CHARS} more characters)"
+
+
+def _unreadable_reason(path: str) -> str | None:
+    """Why ``path`` cannot be handed to USD at all, or None when it can."""
+    if not os.path.exists(path):
+        return "a broken or looping symbolic link" if os.path.islink(path) else "no such file"
+    if os.path.isdir(path):
+        return "is a directory"
+    if not os.path.isfile(path):
+        # A FIFO or a device: opening it can block forever.
+        return "not a regular file"
+    if not os.access(path, os.R_OK):
+        return "permission denied"
+    return None
 
 
 def _line_from_error(text: str) -> int | None:

@@ -1,0 +1,463 @@
+"""Hostile input: every bad file gets a clear one-line answer naming the file
+and the cause, the right exit code, no traceback, and the other files in the
+same run are still linted.
+
+Each case is linted through the real command line together with a control
+file whose finding (SE003) proves the run went on. The inputs are generated
+here; no binary blob is committed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import zipfile
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner, Result
+from pxr import Sdf, Usd, UsdRender, Vt
+
+from usdrender_lint.api import Diagnostic, Rule, Severity
+from usdrender_lint.cli import cli
+from usdrender_lint.engine import MAX_MESSAGE_CHARS, Linter
+from usdrender_lint.registry import build_registry
+
+CONTROL = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Control"
+    {
+        uniform float4 dataWindowNDC = (1, 1, 0, 0)
+    }
+}
+"""
+SCOPE = '#usda 1.0\ndef Scope "World"\n{\n}\n'
+INT32_MAX, INT32_MIN = 2**31 - 1, -(2**31)
+
+
+@dataclass(frozen=True)
+class Expect:
+    """What one hostile input must give.
+
+    ``error``: a tool error whose message (after the file name) matches;
+    ``code`` and ``cause``: a finding of that code whose message matches;
+    otherwise the file is linted (``codes`` must be among its findings).
+    """
+
+    error: str | None = None
+    code: str | None = None
+    cause: str | None = None
+    codes: tuple[str, ...] = ()
+
+
+def _registered(code: str) -> bool:
+    return any(rule.code == code for rule in build_registry().rules)
+
+
+def run_cli(*args: str) -> Result:
+    result = CliRunner().invoke(cli, ["check", "--isolated", "--format", "json", *args])
+    output = result.stdout + result.stderr
+    assert "Traceback" not in output, output
+    assert isinstance(result.exception, SystemExit | None), repr(result.exception)
+    return result
+
+
+def _files_by_name(result: Result) -> dict[str, dict]:
+    return {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
+
+
+# -- the inputs ---------------------------------------------------------------------
+
+
+def _text(name: str, text: str) -> Callable[[Path], str]:
+    def build(folder: Path) -> str:
+        path = folder / name
+        path.write_text(text, encoding="utf-8")
+        return str(path)
+
+    return build
+
+
+def _bytes(name: str, data: bytes) -> Callable[[Path], str]:
+    def build(folder: Path) -> str:
+        path = folder / name
+        path.write_bytes(data)
+        return str(path)
+
+    return build
+
+
+def _crate_bytes(folder: Path) -> bytes:
+    layer = Sdf.Layer.CreateNew(str(folder / "source.usdc"))
+    stage = Usd.Stage.Open(layer)
+    UsdRender.Settings.Define(stage, "/Render/Settings")
+    layer.Save()
+    data = (folder / "source.usdc").read_bytes()
+    (folder / "source.usdc").unlink()
+    return data
+
+
+def truncated_usdc(folder: Path) -> str:
+    path = folder / "truncated.usdc"
+    data = _crate_bytes(folder)
+    path.write_bytes(data[: len(data) // 2])
+    return str(path)
+
+
+def corrupt_usdz(folder: Path) -> str:
+    path = folder / "corrupt.usdz"
+    path.write_bytes(b"PK\x03\x04" + bytes(range(256)) * 4)
+    return str(path)
+
+
+def usdz_without_layer(folder: Path) -> str:
+    path = folder / "notes.usdz"
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_STORED) as archive:
+        archive.writestr("notes.txt", "not a layer")
+    return str(path)
+
+
+def symlink_loop(folder: Path) -> str:
+    """A folder holding a link to itself and two .usda links to each other."""
+    tree = folder / "loop"
+    tree.mkdir()
+    (tree / "self").symlink_to(tree, target_is_directory=True)
+    (tree / "a.usda").symlink_to(tree / "b.usda")
+    (tree / "b.usda").symlink_to(tree / "a.usda")
+    return str(tree)
+
+
+def sublayer_cycle(folder: Path) -> str:
+    (folder / "cycle_b.usda").write_text("#usda 1.0\n(\n    subLayers = [@./cycle_a.usda@]\n)\n")
+    path = folder / "cycle_a.usda"
+    path.write_text(
+        "#usda 1.0\n(\n    subLayers = [@./cycle_b.usda@]\n)\n"
+        'def Scope "Render"\n{\n    def RenderSettings "S"\n    {\n    }\n}\n'
+    )
+    return str(path)
+
+
+def deep_hierarchy(folder: Path) -> str:
+    depth = 1000
+    opening = "".join(f'def Scope "P{i}"\n{{\n' for i in range(depth))
+    settings = 'def RenderSettings "S"\n{\n    uniform float4 dataWindowNDC = (1, 1, 0, 0)\n}\n'
+    path = folder / "deep.usda"
+    path.write_text("#usda 1.0\n" + opening + settings + "}\n" * depth)
+    return str(path)
+
+
+def huge_array(folder: Path) -> str:
+    """10 million elements on a render prim (crate: the text would be 100 MB)."""
+    path = folder / "huge.usdc"
+    layer = Sdf.Layer.CreateNew(str(path))
+    stage = Usd.Stage.Open(layer)
+    settings = UsdRender.Settings.Define(stage, "/Render/Settings")
+    big = settings.GetPrim().CreateAttribute("user:weights", Sdf.ValueTypeNames.FloatArray)
+    big.Set(Vt.FloatArray(10_000_000))
+    layer.Save()
+    return str(path)
+
+
+def non_finite(value: str) -> Callable[[Path], str]:
+    """``value`` (nan, inf, -inf) in every float the rules read, at Default
+    and in time samples."""
+    f2, f4 = f"({value}, {value})", f"({value}, {value}, {value}, {value})"
+    camera_floats = [
+        "horizontalAperture",
+        "verticalAperture",
+        "horizontalApertureOffset",
+        "verticalApertureOffset",
+        "focalLength",
+        "fStop",
+        "focusDistance",
+    ]
+    camera = "\n".join(
+        f"        float {name} = {value}\n        float {name}.timeSamples = {{ 1: {value} }}"
+        for name in camera_floats
+    )
+    text = f"""#usda 1.0
+def Scope "Render"
+{{
+    def Camera "Cam"
+    {{
+{camera}
+        float2 clippingRange = {f2}
+        float2 clippingRange.timeSamples = {{ 1: {f2} }}
+        double shutter:open = {value}
+        double shutter:close = {value}
+        float exposure = {value}
+    }}
+    def RenderSettings "S"
+    {{
+        rel camera = </Render/Cam>
+        rel products = </Render/P>
+        uniform float pixelAspectRatio = {value}
+        uniform float4 dataWindowNDC = {f4}
+    }}
+    def RenderProduct "P"
+    {{
+        uniform float pixelAspectRatio = {value}
+        uniform float4 dataWindowNDC = {f4}
+        rel orderedVars = </Render/V>
+    }}
+    def RenderVar "V"
+    {{
+        uniform string sourceName = "Ci"
+    }}
+}}
+"""
+    name = {"nan": "nan", "inf": "inf", "-inf": "neg_inf"}[value]
+    return _text(f"non_finite_{name}.usda", text)
+
+
+def int32_resolution(x: int, y: int, name: str) -> Callable[[Path], str]:
+    return _text(
+        f"resolution_{name}.usda",
+        f"""#usda 1.0
+def Scope "Render"
+{{
+    def Camera "Cam"
+    {{
+    }}
+    def RenderSettings "S"
+    {{
+        rel camera = </Render/Cam>
+        uniform int2 resolution = ({x}, {y})
+        uniform float4 dataWindowNDC = (0, 0, 1, 1)
+    }}
+}}
+""",
+    )
+
+
+FORWARDING_CYCLE = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "S"
+    {
+        rel camera = </Render/S.hop>
+        rel hop = </Render/S.camera>
+    }
+}
+"""
+
+CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
+    "missing-path": (lambda folder: str(folder / "missing.usda"), Expect(error="no such file")),
+    "empty-file": (_text("empty.usda", ""), Expect(code="ST001", cause="not a valid usda layer")),
+    "binary-named-usda": (
+        _bytes("binary.usda", bytes(range(256)) * 8),
+        Expect(code="ST001", cause="not a valid usda layer"),
+    ),
+    "text-named-usdc": (
+        _text("text.usdc", SCOPE * 10),
+        Expect(code="ST001", cause="crate bootstrap section corrupt"),
+    ),
+    "truncated-usdc": (truncated_usdc, Expect(code="ST001", cause="possibly truncated")),
+    "corrupt-usdz": (corrupt_usdz, Expect(code="ST001", cause="not a zip archive")),
+    "usdz-without-layer": (usdz_without_layer, Expect(code="ST001", cause="not a USD layer")),
+    "syntax-error-last-line": (
+        # One closing brace too many, on the last line (8).
+        _text("syntax.usda", SCOPE + 'def Scope "Broken"\n{\n}\n}\n'),
+        Expect(code="ST001", cause=r"syntax\.usda:8:1: "),
+    ),
+    "invalid-utf8": (
+        _bytes("utf8.usda", b'#usda 1.0\ndef Scope "A"\n{\n    string s = "caf\xe9"\n}\n'),
+        Expect(code="ST001", cause=r"utf8\.usda:4:20: invalid UTF-8 \(byte 0xe9\)"),
+    ),
+    "symlink-loop-folder": (symlink_loop, Expect(error="a broken or looping symbolic link")),
+    "relationship-forwarding-cycle": (_text("forwarding.usda", FORWARDING_CYCLE), Expect()),
+    "deep-hierarchy": (deep_hierarchy, Expect(codes=("SE003",))),
+    "huge-array": (huge_array, Expect()),
+    "nan": (non_finite("nan"), Expect(codes=("SE003",))),
+    "inf": (non_finite("inf"), Expect(codes=("SE003",))),
+    "neg-inf": (non_finite("-inf"), Expect(codes=("SE003",))),
+    "resolution-int32-max": (int32_resolution(INT32_MAX, INT32_MAX, "max"), Expect()),
+    "resolution-int32-min": (int32_resolution(INT32_MIN, INT32_MIN, "min"), Expect()),
+    "resolution-int32-mixed": (int32_resolution(INT32_MAX, INT32_MIN, "mixed"), Expect()),
+    "spaces-and-non-ascii-name": (
+        _text("plan de tournage é 渲染.usda", CONTROL),
+        Expect(codes=("SE003",)),
+    ),
+}
+
+
+def _check_case(path: str, expect: Expect, result: Result, files: dict[str, dict]) -> None:
+    errors = [line for line in result.stderr.splitlines() if line]
+    if expect.error is not None:
+        failed = [e for e in files.values() if e["status"] == "error"]
+        assert failed
+        for entry in failed:
+            assert entry["file"].startswith(path)
+            assert entry["error"] == f"{entry['file']}: {expect.error}"
+        assert errors == [f"usdrender-lint: error: {e['error']}" for e in failed]
+        assert result.exit_code == 2
+        return
+    assert not errors, result.stderr
+    entry = files[path]
+    assert entry["status"] == "linted"
+    codes = {f["code"] for f in entry["findings"]}
+    assert "UL000" not in codes, [f["message"] for f in entry["findings"]]
+    if expect.code is not None:
+        causes = [f["message"] for f in entry["findings"] if f["code"] == expect.code]
+        assert any(re.search(expect.cause, m) for m in causes), causes
+        assert all(f["file"] == path for f in entry["findings"])
+    assert set(expect.codes) <= codes, codes
+    assert result.exit_code == 1  # the control file's SE003 at least
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_hostile_input_gets_a_clear_answer_and_the_run_goes_on(tmp_path: Path, case: str) -> None:
+    build, expect = CASES[case]
+    path = build(tmp_path)
+    control = _text("control.usda", CONTROL)(tmp_path)
+    result = run_cli("--jobs", "1", "--timeout", "0", path, control)
+    files = _files_by_name(result)
+    assert "SE003" in {f["code"] for f in files[control]["findings"]}, "control not linted"
+    _check_case(path, expect, result, files)
+
+
+def test_every_hostile_input_in_one_parallel_run(tmp_path: Path) -> None:
+    """All cases at once with the default worker pool and time limit: one
+    answer per input, the same as one file at a time, exit 2 (a missing path)."""
+    paths = {case: build(tmp_path / case) for case, (build, _) in _prepared(tmp_path)}
+    control = _text("control.usda", CONTROL)(tmp_path)
+    result = run_cli(*paths.values(), control)
+    assert result.exit_code == 2
+    files = _files_by_name(result)
+    assert "SE003" in {f["code"] for f in files[control]["findings"]}
+    errors = [line for line in result.stderr.splitlines() if line]
+    assert errors == [
+        f"usdrender-lint: error: {paths['missing-path']}: no such file",
+        f"usdrender-lint: error: {paths['symlink-loop-folder']}/a.usda: "
+        "a broken or looping symbolic link",
+        f"usdrender-lint: error: {paths['symlink-loop-folder']}/b.usda: "
+        "a broken or looping symbolic link",
+    ]
+    serial = run_cli("--jobs", "1", "--timeout", "0", *paths.values(), control)
+    assert serial.stdout == result.stdout
+
+
+def _prepared(folder: Path):
+    for case, entry in CASES.items():
+        (folder / case).mkdir()
+        yield case, entry
+
+
+@pytest.mark.parametrize("case", ["sublayer-cycle", "reference-to-missing-file"])
+def test_composition_errors_are_st002(tmp_path: Path, case: str) -> None:
+    if case == "sublayer-cycle":
+        path, cause = sublayer_cycle(tmp_path), "has cycles"
+    else:
+        path, cause = (
+            _text(
+                "reference.usda",
+                """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "S" (
+        references = @./facility/missing.usda@</Render/S>
+    )
+    {
+    }
+}
+""",
+            )(tmp_path),
+            "Could not open asset",
+        )
+    control = _text("control.usda", CONTROL)(tmp_path)
+    result = run_cli("--jobs", "1", "--timeout", "0", path, control)
+    files = _files_by_name(result)
+    assert files[path]["status"] == "linted"
+    assert "SE003" in {f["code"] for f in files[control]["findings"]}
+    assert not result.stderr
+    if not _registered("ST002"):
+        pytest.skip("ST002 (composition-error-on-render-prim) is not registered yet")
+    messages = [f["message"] for f in files[path]["findings"] if f["code"] == "ST002"]
+    assert any(cause in m for m in messages), messages
+
+
+def test_unreadable_file_is_a_tool_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = _text("secret.usda", SCOPE)(tmp_path)
+    control = _text("control.usda", CONTROL)(tmp_path)
+    os.chmod(path, 0)
+    if os.geteuid() == 0:
+        # root reads any file, so emulate the permission check's answer.
+        real_access = os.access
+        monkeypatch.setattr(os, "access", lambda p, mode: p != path and real_access(p, mode))
+    try:
+        result = run_cli("--jobs", "1", "--timeout", "0", path, control)
+    finally:
+        os.chmod(path, 0o644)
+    assert result.exit_code == 2
+    assert result.stderr == f"usdrender-lint: error: {path}: permission denied\n"
+    assert "SE003" in {f["code"] for f in _files_by_name(result)[control]["findings"]}
+
+
+def test_a_hung_read_times_out_and_the_rest_are_linted(tmp_path: Path) -> None:
+    """A sublayer that is a FIFO: USD blocks reading it forever."""
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no FIFOs on this platform")
+    os.mkfifo(tmp_path / "pipe.usda")
+    path = _text("hangs.usda", "#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")(tmp_path)
+    control = _text("control.usda", CONTROL)(tmp_path)
+    result = run_cli("--timeout", "2", path, control)
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"usdrender-lint: error: {path}: timed out after 2 s (raise --timeout, or 0 for no limit)\n"
+    )
+    assert "SE003" in {f["code"] for f in _files_by_name(result)[control]["findings"]}
+
+
+def test_a_fifo_given_as_a_file_is_refused_not_read(tmp_path: Path) -> None:
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no FIFOs on this platform")
+    os.mkfifo(tmp_path / "pipe.usda")
+    result = run_cli("--jobs", "1", "--timeout", "0", str(tmp_path / "pipe.usda"))
+    assert result.exit_code == 2
+    assert result.stderr == f"usdrender-lint: error: {tmp_path / 'pipe.usda'}: not a regular file\n"
+
+
+def test_text_report_names_non_ascii_files(tmp_path: Path) -> None:
+    folder = tmp_path / "dossier été"
+    folder.mkdir()
+    _text("plan 渲染.usda", CONTROL)(folder)
+    _text("cassé.usda", '#usda 1.0\ndef Scope "X" {\n')(folder)
+    result = CliRunner().invoke(cli, ["check", "--isolated", "--jobs", "1", str(folder)])
+    assert result.exit_code == 1
+    assert "Traceback" not in result.stdout + result.stderr
+    assert "plan 渲染.usda" in result.stdout and "cassé.usda" in result.stdout
+
+
+class QuoteEverything(Rule):
+    """Test-only rule: quotes an array attribute in full.
+
+    ## What it does
+    Reports each RenderSettings with every element of ``user:weights``.
+    """
+
+    code = "TX902"
+    name = "test-quote-everything"
+    severity = Severity.INFO
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        values = prim.GetAttribute("user:weights").Get()
+        yield Diagnostic(f"weights {list(values)}", at=prim)
+
+
+def test_a_rule_quoting_a_huge_array_gives_a_bounded_message(tmp_path: Path) -> None:
+    path = tmp_path / "weights.usda"
+    path.write_text(
+        '#usda 1.0\ndef RenderSettings "S"\n{\n'
+        f"    float[] user:weights = [{', '.join(['0.5'] * 100_000)}]\n}}\n"
+    )
+    [finding] = Linter([QuoteEverything()], raise_errors=True).lint_path(str(path)).findings
+    assert finding.message.startswith("weights [0.5, 0.5")
+    assert len(finding.message) < MAX_MESSAGE_CHARS + 40
+    assert finding.message.endswith(
+        f"({len('weights []') + 100_000 * 5 - 2 - MAX_MESSAGE_CHARS} more characters)"
+    )
