@@ -111,12 +111,40 @@ class RuleInfo:
 
 
 @dataclass(frozen=True)
+class AppliedFix:
+    """A fix that --fix, --diff or --fix-to applied, or (with ``reason``) did not.
+
+    ``layer`` is the layer it edits (or would edit): the one holding the
+    strongest opinion behind the finding, or the --fix-to layer.
+    """
+
+    file: str
+    code: str
+    path: str | None
+    layer: str | None
+    description: str
+    #: Why the fix was not applied; None when it was.
+    reason: str | None = None
+
+    @property
+    def applied(self) -> bool:
+        return self.reason is None
+
+    def __str__(self) -> str:
+        where = f" <{self.path}>" if self.path else ""
+        text = f"{self.code}{where}: {self.description}"
+        return text if self.applied else f"{text}: not applied: {self.reason}"
+
+
+@dataclass(frozen=True)
 class Report:
     files: tuple[FileResult, ...] = ()
     #: The rules that ran (for formats that describe them, e.g. SARIF).
     rules: tuple[RuleInfo, ...] = ()
-    #: Fixes applied by --fix, as human-readable lines (empty without --fix).
-    applied_fixes: tuple[str, ...] = field(default=())
+    #: Fixes applied by --fix (empty without it).
+    applied_fixes: tuple[AppliedFix, ...] = field(default=())
+    #: Fixes --fix selected but could not apply, each with its reason.
+    unapplied_fixes: tuple[AppliedFix, ...] = field(default=())
 
     @property
     def findings(self) -> tuple[Finding, ...]:

@@ -158,3 +158,16 @@ def line_of(layer_path: str, spec_path: str) -> int | None:
 
 def clear_cache() -> None:
     _CACHE.clear()
+
+
+def comment_lines(text: str) -> list[int]:
+    """The lines where a ``#``, ``//`` or ``/* */`` comment starts, the ``#usda``
+    header excepted: what Sdf drops when it saves the layer again."""
+    found = []
+    line = 1
+    for match in _TOKEN.finditer(text):
+        value = match.group()
+        if match.lastgroup == "comment" and match.start() != 0:
+            found.append(line)
+        line += value.count("\n")
+    return found

@@ -1,0 +1,604 @@
+"""Applies the rules' fixes: ``--fix``, ``--diff`` and ``--fix-to``.
+
+A fix edits the layer that holds the strongest opinion behind its finding
+(``Fix.layer`` when the rule names one; the root layer for stage metadata)
+through ``Usd.EditContext``, and only a writable layer of the stage's own layer
+stack: never a layer a reference or payload brings in. Safe fixes (conditional
+ones are only offered when their condition holds) run by default, unsafe ones
+on request. Fixing repeats (lint, fix) until no new fix applies, so a fix that
+reveals another finding is handled and a second run changes nothing.
+
+Nothing is lost: a layer is saved atomically in its own format, and a ``.usda``
+with comments (Sdf drops them on save) is refused unless the user agrees.
+With ``--fix-to`` the sources stay untouched: each fix is applied in memory,
+its effect on the composed stage is written as overrides (values, blocks,
+explicit target lists) into the separate layer, opened as the session layer,
+and the sources are reloaded from disk.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import tempfile
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pxr import Sdf, Tf, Usd
+
+from . import usda_lines
+from .api import Fix
+from .engine import Linter, open_stage
+from .model import AppliedFix, FileResult, Finding
+
+#: Rounds of (lint, fix): each round fixes what the previous one revealed.
+MAX_ROUNDS = 5
+CRATE_MAGIC = b"PXR-USDC"
+
+
+class FixError(Exception):
+    """The fixing cannot start (e.g. the --fix-to layer is unusable): one line."""
+
+
+@dataclass(frozen=True)
+class FixOptions:
+    #: Apply unsafe fixes too (--unsafe-fixes).
+    unsafe: bool = False
+    #: Save a .usda although its comments are lost (--fix-drop-comments).
+    drop_comments: bool = False
+    #: False for --diff: compute the edits, print them, write nothing.
+    write: bool = True
+    #: Write every fix as an override into this layer (--fix-to).
+    fix_to: str | None = None
+
+
+@dataclass
+class FixRun:
+    """What fixing a set of files did."""
+
+    outcomes: list[AppliedFix] = field(default_factory=list)
+    #: One unified diff per changed layer (--diff).
+    diffs: list[str] = field(default_factory=list)
+    #: With --fix-to: the findings left on each stage with the overrides applied.
+    remaining: list[FileResult] = field(default_factory=list)
+
+    @property
+    def applied(self) -> tuple[AppliedFix, ...]:
+        return tuple(o for o in self.outcomes if o.applied)
+
+    @property
+    def unapplied(self) -> tuple[AppliedFix, ...]:
+        return tuple(o for o in self.outcomes if not o.applied)
+
+
+def fix_files(
+    linter: Linter,
+    files: Sequence[str],
+    options: FixOptions,
+    keep: Callable[[Finding], bool] | None = None,
+) -> FixRun:
+    """Fix each file's stage in turn. ``keep`` says whether a finding is
+    reported at all (per-path ignores): a silenced finding is not fixed."""
+    run = FixRun()
+    override = _open_override_layer(options.fix_to) if options.fix_to else None
+    for path in files:
+        if override is not None:
+            _reset_to_disk(override, options.fix_to)
+        fixer = _StageFixer(linter, path, options, keep or (lambda finding: True), override)
+        fixer.run()
+        run.outcomes.extend(fixer.outcomes)
+        run.diffs.extend(fixer.diffs)
+        if fixer.remaining is not None:
+            run.remaining.append(fixer.remaining)
+    return run
+
+
+# -- one stage -------------------------------------------------------------------
+
+
+class _StageFixer:
+    def __init__(
+        self,
+        linter: Linter,
+        path: str,
+        options: FixOptions,
+        keep: Callable[[Finding], bool],
+        override: Sdf.Layer | None,
+    ) -> None:
+        self.linter = linter
+        self.path = path
+        self.options = options
+        self.keep = keep
+        self.override = override
+        self.outcomes: list[AppliedFix] = []
+        self.diffs: list[str] = []
+        self.remaining: FileResult | None = None
+        self.stage: Usd.Stage | None = None
+        #: Why a layer may not be edited, by identifier (None: it may).
+        self._layer_problem: dict[str, str | None] = {}
+
+    def run(self) -> None:
+        opened = open_stage(self.path, self.override)
+        if opened.stage is None:
+            return  # the re-lint reports ST001; there is nothing to fix
+        self.stage = opened.stage
+        try:
+            findings = self._rounds()
+            if self.override is not None:
+                self._finish_override(findings)
+            else:
+                self._finish_in_place()
+        finally:
+            self._discard_unsaved()
+            self.stage = None
+            usda_lines.clear_cache()
+
+    def _rounds(self) -> list[Finding]:
+        tried: set[tuple] = set()
+        for _ in range(MAX_ROUNDS + 1):
+            pairs = self.linter.lint_stage_with_fixes(self.stage, self.path)
+            todo = [
+                (finding, fix)
+                for finding, fix in pairs
+                if fix is not None
+                and fix.apply is not None
+                and (fix.safe or self.options.unsafe)
+                and _fix_key(finding, fix) not in tried
+                and self.keep(finding)
+            ]
+            if not todo:
+                return [finding for finding, _ in pairs]
+            edited: set[Sdf.Path] = set()
+            for finding, fix in todo:
+                prim_path = _prim_path(finding)
+                # Two fixes on one prim in one round could undo each other: the
+                # second waits for the next round's fresh findings.
+                if prim_path in edited:
+                    continue
+                tried.add(_fix_key(finding, fix))
+                edited.add(prim_path)
+                self.outcomes.append(self._fix_one(finding, fix))
+        return [finding for finding, _ in self.linter.lint_stage_with_fixes(self.stage, self.path)]
+
+    def _outcome(self, finding: Finding, fix: Fix, layer: str | None, reason: str | None = None):
+        return AppliedFix(
+            finding.location.file,
+            finding.code,
+            finding.location.path,
+            layer,
+            fix.description,
+            reason,
+        )
+
+    def _fix_one(self, finding: Finding, fix: Fix) -> AppliedFix:
+        layer = self._target_layer(finding, fix)
+        if layer is None:
+            return self._outcome(
+                finding,
+                fix,
+                finding.location.layer,
+                "its layer is outside the stage's layer stack (a reference or payload brings "
+                "it in); fix that file itself, or use --fix-to",
+            )
+        shown = _display(layer)
+        if self.override is not None:
+            if layer != self.override:
+                reason = self._apply_as_override(fix, layer)
+                return self._outcome(finding, fix, _display(self.override), reason)
+            shown = _display(self.override)
+        else:
+            problem = self._problem(layer)
+            if problem is not None:
+                return self._outcome(finding, fix, shown, problem)
+        return self._outcome(finding, fix, shown, self._apply_in_place(fix, layer))
+
+    def _target_layer(self, finding: Finding, fix: Fix) -> Sdf.Layer | None:
+        stage = self.stage
+        if fix.layer is not None:
+            layer = fix.layer
+        elif finding.location.layer is None:
+            layer = stage.GetRootLayer()
+        else:
+            layer = _find_layer(stage.GetUsedLayers(), finding.location.layer)
+        if layer is None:
+            return None
+        if self.override is not None and layer == self.override:
+            return layer
+        own = stage.GetLayerStack(includeSessionLayers=False)
+        return layer if layer in own else None
+
+    def _problem(self, layer: Sdf.Layer) -> str | None:
+        if layer.identifier not in self._layer_problem:
+            self._layer_problem[layer.identifier] = write_problem(layer, self.options.drop_comments)
+        return self._layer_problem[layer.identifier]
+
+    # -- editing --------------------------------------------------------------
+
+    def _apply_in_place(self, fix: Fix, layer: Sdf.Layer) -> str | None:
+        """Apply ``fix`` with ``layer`` as the edit target; undo it all on failure."""
+        stack = self.stage.GetLayerStack(includeSessionLayers=True)
+        # A clean layer is undone by reloading it; one earlier fixes edited needs a copy.
+        edited_before = {candidate: _snapshot(candidate) for candidate in stack if candidate.dirty}
+        failure = _call_fix(fix, self.stage, layer)
+        touched = [
+            candidate
+            for candidate in stack
+            if candidate.dirty
+            and (
+                candidate not in edited_before
+                or not _same_content(candidate, edited_before[candidate])
+            )
+        ]
+        for candidate in touched:
+            if failure is not None or candidate == layer:
+                continue
+            problem = (
+                "the session layer is never saved"
+                if candidate == self.stage.GetSessionLayer()
+                else self._problem(candidate)
+            )
+            if problem is not None:
+                failure = f"it also edits {_display(candidate)}: {problem}"
+        if failure is not None:
+            for candidate in touched:
+                if candidate in edited_before:
+                    candidate.TransferContent(edited_before[candidate])
+                elif candidate.anonymous:
+                    candidate.Clear()
+                else:
+                    candidate.Reload(True)
+        return failure
+
+    def _apply_as_override(self, fix: Fix, layer: Sdf.Layer) -> str | None:
+        """Apply ``fix`` in its source layer in memory, then write what changed on
+        the composed stage into the override layer and restore the source."""
+        stage = self.stage
+        changed: set[Sdf.Path] = set()
+
+        def record(notice, sender) -> None:
+            changed.update(notice.GetResyncedPaths())
+            changed.update(notice.GetChangedInfoOnlyPaths())
+
+        before_override = _snapshot(self.override)
+        listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, record, stage)
+        try:
+            failure = _call_fix(fix, stage, layer)
+        finally:
+            listener.Revoke()
+        if failure is None and Sdf.Path.absoluteRootPath in changed:
+            failure = (
+                "it edits stage metadata, which USD reads only from the root layer, so an "
+                "override layer cannot carry it; use --fix"
+            )
+        after = _capture(stage, changed) if failure is None else {}
+        for source in stage.GetLayerStack(includeSessionLayers=False):
+            if source.dirty:
+                source.Reload(True)  # the sources are never saved with --fix-to
+        if failure is not None:
+            return failure
+        before = _capture(stage, changed)
+        paths = set(after) | set(before)
+        wanted = {path: after.get(path, _absent(path)) for path in paths}
+        with Usd.EditContext(stage, Usd.EditTarget(self.override)):
+            for path in sorted(paths, key=lambda p: (p.IsPropertyPath(), p.pathElementCount, p)):
+                if wanted[path] != before.get(path, _absent(path)):
+                    _author(stage, path, wanted[path])
+        now = _capture(stage, changed)
+        wrong = sorted(p for p in paths if now.get(p, _absent(p)) != wanted[p])
+        if wrong:
+            self.override.TransferContent(before_override)
+            return f"its effect on <{wrong[0]}> cannot be written as an override; use --fix"
+        return None
+
+    # -- saving -----------------------------------------------------------------
+
+    def _finish_in_place(self) -> None:
+        for layer in self.stage.GetLayerStack(includeSessionLayers=False):
+            if not layer.dirty:
+                continue
+            target = layer.realPath
+            if not self.options.write:
+                self.diffs.append(_diff(target, _disk_text(target), layer.ExportToString()))
+                continue
+            try:
+                save_layer(layer, target)
+            except OSError as exc:
+                self._unapply(layer, f"writing {_display(layer)} failed: {exc}")
+
+    def _finish_override(self, findings: list[Finding]) -> None:
+        self.remaining = FileResult(self.path, findings=tuple(findings))
+        if not self.override.dirty:
+            return
+        try:
+            save_layer(self.override, self.options.fix_to)
+        except OSError as exc:
+            self._unapply(self.override, f"writing {self.options.fix_to} failed: {exc}")
+
+    def _unapply(self, layer: Sdf.Layer, reason: str) -> None:
+        """Mark the applied fixes of ``layer`` as not applied, with ``reason``."""
+        shown = _display(layer)
+        self.outcomes = [
+            AppliedFix(o.file, o.code, o.path, o.layer, o.description, reason)
+            if o.applied and o.layer == shown
+            else o
+            for o in self.outcomes
+        ]
+
+    def _discard_unsaved(self) -> None:
+        """Forget in-memory edits (--diff, failed writes): a later open of the same
+        layer in this process must read the file, not the registry's edited copy."""
+        if self.stage is None:
+            return
+        for layer in self.stage.GetUsedLayers():
+            if layer.dirty and not layer.anonymous and os.path.exists(layer.realPath):
+                layer.Reload(True)
+
+
+# -- layers and files ---------------------------------------------------------------
+
+
+def write_problem(layer: Sdf.Layer, drop_comments: bool = False) -> str | None:
+    """Why --fix may not save ``layer``, or None when it may."""
+    path = layer.realPath
+    if layer.anonymous or not path:
+        return f"{layer.GetDisplayName()} is not a file on disk"
+    if layer.GetFileFormat().IsPackage() or layer.identifier.endswith("]"):
+        return f"{_display(layer)} is inside a .usdz package, which --fix does not rewrite"
+    if not os.access(path, os.W_OK):
+        return f"{_display(layer)} is read-only"
+    folder = os.path.dirname(path) or "."
+    if not os.access(folder, os.W_OK | os.X_OK):
+        return f"the folder of {_display(layer)} is read-only (the safe write needs it)"
+    if not drop_comments and not _is_crate(path):
+        lines = usda_lines.comment_lines(_disk_text(path))
+        if lines:
+            return (
+                f"{_display(layer)} has comments (line {lines[0]}) that saving would drop; "
+                "use --fix-to LAYER to write the fixes to a separate layer, or "
+                "--fix-drop-comments to accept losing them"
+            )
+    return None
+
+
+def save_layer(layer: Sdf.Layer, target: str) -> None:
+    """Write ``layer`` to ``target`` atomically, in the target's own format: a
+    temporary file with the same extension in the same folder, then
+    ``os.replace``. Raises OSError; the old file is intact on any failure."""
+    destination = Path(target)
+    extension = destination.suffix
+    args = {}
+    if extension.lower() == ".usd" and destination.exists():
+        # A .usd keeps the encoding it has (a new one gets USD's default).
+        args["format"] = "usdc" if _is_crate(str(destination)) else "usda"
+    handle, temporary = tempfile.mkstemp(
+        prefix=f".{destination.stem}.", suffix=extension, dir=destination.parent
+    )
+    os.close(handle)
+    try:
+        _export(layer, temporary, args)
+        if destination.exists():
+            os.chmod(temporary, destination.stat().st_mode & 0o7777)
+        else:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(temporary, 0o666 & ~umask)
+        os.replace(temporary, destination)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    layer.Reload(True)  # the layer now matches the file: no longer dirty
+
+
+def _export(layer: Sdf.Layer, path: str, args: dict[str, str]) -> None:
+    """Sdf's export, with its errors as OSError (a test replaces this to fail)."""
+    try:
+        with Tf.DiagnosticTrap() as trap:
+            ok = layer.Export(path, args=args)
+            trap.Clear()
+    except Tf.ErrorException as exc:
+        raise OSError(str(exc).strip().splitlines()[-1]) from None
+    if not ok:
+        raise OSError(f"USD could not write {path}")
+
+
+def _open_override_layer(path: str) -> Sdf.Layer:
+    """The --fix-to layer: opened when it exists, else created in memory."""
+    target = Path(path)
+    if target.is_dir():
+        raise FixError(f"--fix-to {path}: is a directory")
+    file_format = Sdf.FileFormat.FindByExtension(target.suffix.lstrip("."))
+    if file_format is None or file_format.IsPackage():
+        raise FixError(f"--fix-to {path}: the layer must be a .usda, .usdc or .usd file")
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise FixError(f"--fix-to {path}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK) or (
+        target.exists() and not os.access(target, os.W_OK)
+    ):
+        raise FixError(f"--fix-to {path}: not writable")
+    if not target.exists():
+        return Sdf.Layer.New(file_format, str(target.resolve()))
+    with Tf.DiagnosticTrap() as trap:
+        try:
+            layer = Sdf.Layer.FindOrOpen(str(target))
+        except Tf.ErrorException:
+            layer = None
+        trap.Clear()
+    if layer is None:
+        raise FixError(f"--fix-to {path}: USD cannot read this layer")
+    return layer
+
+
+def _reset_to_disk(layer: Sdf.Layer, path: str) -> None:
+    """Start each stage from the override layer as saved."""
+    if os.path.exists(path) and layer.dirty:
+        layer.Reload(True)
+
+
+def _find_layer(layers: Iterable[Sdf.Layer], name: str) -> Sdf.Layer | None:
+    """The layer a finding names (engine.locate writes realPath or identifier)."""
+    for layer in layers:
+        if name in (layer.realPath, layer.identifier):
+            return layer
+    return None
+
+
+def _is_crate(path: str) -> bool:
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(len(CRATE_MAGIC)) == CRATE_MAGIC
+    except OSError:
+        return False
+
+
+def _disk_text(path: str) -> str:
+    """A layer file as text: a .usda as written, a crate file as Sdf exports it."""
+    if _is_crate(path):
+        return Sdf.Layer.OpenAsAnonymous(path).ExportToString()
+    with open(path, encoding="utf-8", errors="replace") as handle:
+        return handle.read()
+
+
+def _diff(path: str, old: str, new: str) -> str:
+    name = _display_path(path)
+    return "".join(
+        difflib.unified_diff(
+            old.splitlines(keepends=True),
+            new.splitlines(keepends=True),
+            fromfile=f"a/{name}",
+            tofile=f"b/{name}",
+        )
+    )
+
+
+def _display(layer: Sdf.Layer) -> str:
+    return _display_path(layer.realPath or layer.identifier)
+
+
+def _display_path(path: str) -> str:
+    try:
+        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
+    except (ValueError, OSError):
+        return path
+
+
+def _snapshot(layer: Sdf.Layer) -> Sdf.Layer:
+    copy = Sdf.Layer.CreateAnonymous(".usda")
+    copy.TransferContent(layer)
+    return copy
+
+
+def _same_content(layer: Sdf.Layer, snapshot: Sdf.Layer) -> bool:
+    return layer.ExportToString() == snapshot.ExportToString()
+
+
+def _call_fix(fix: Fix, stage: Usd.Stage, layer: Sdf.Layer) -> str | None:
+    """Run a fix with ``layer`` as the edit target; the reason when it fails."""
+    try:
+        with Tf.DiagnosticTrap() as trap:
+            with Usd.EditContext(stage, Usd.EditTarget(layer)):
+                fix.apply(stage)
+            errors = trap.GetErrors()
+            trap.Clear()
+    except Exception as exc:  # noqa: BLE001 - a failing fix is reported, never fatal
+        return f"the fix failed: {type(exc).__name__}: {str(exc).strip()[:200]}"
+    if errors:
+        return f"the fix failed: {errors[0].commentary.strip()[:200]}"
+    return None
+
+
+def _fix_key(finding: Finding, fix: Fix) -> tuple:
+    return (finding.code, finding.location.path, fix.description)
+
+
+def _prim_path(finding: Finding) -> Sdf.Path:
+    if not finding.location.path:
+        return Sdf.Path.absoluteRootPath
+    return Sdf.Path(finding.location.path).GetPrimPath()
+
+
+# -- composed state, for --fix-to ---------------------------------------------------
+
+#: A prim or property as a consumer sees it, comparable by value; the last item
+#: is what _author needs to write it (kept out of comparisons by _State.__eq__).
+_NO_VALUE = ("value", None)
+
+
+@dataclass(frozen=True)
+class _State:
+    key: tuple
+    payload: object = field(default=None, compare=False)
+
+
+def _absent(path: Sdf.Path) -> _State:
+    return _State(_NO_VALUE if path.IsPropertyPath() else ("absent",))
+
+
+def _capture(stage: Usd.Stage, changed: Iterable[Sdf.Path]) -> dict[Sdf.Path, _State]:
+    """The composed state of every changed object; a changed prim brings its
+    whole subtree (a resync can change anything below it)."""
+    states: dict[Sdf.Path, _State] = {}
+    for path in changed:
+        if path == Sdf.Path.absoluteRootPath:
+            continue
+        if path.IsPropertyPath():
+            prop_path = path.GetParentPath() if path.IsTargetPath() else path
+            states[prop_path] = _property_state(stage.GetPropertyAtPath(prop_path))
+            continue
+        prim = stage.GetPrimAtPath(path)
+        if not prim:
+            continue
+        for descendant in Usd.PrimRange(prim, Usd.PrimAllPrimsPredicate):
+            states[descendant.GetPath()] = _State(
+                ("prim", descendant.GetTypeName(), descendant.IsDefined(), descendant.IsActive())
+            )
+            for prop in descendant.GetProperties():
+                states[prop.GetPath()] = _property_state(prop)
+    return states
+
+
+def _property_state(prop: Usd.Property | None) -> _State:
+    if isinstance(prop, Usd.Relationship) and prop:
+        targets = tuple(prop.GetTargets())
+        return _State(("rel", tuple(map(str, targets))), targets) if targets else _State(_NO_VALUE)
+    if isinstance(prop, Usd.Attribute) and prop and prop.HasAuthoredValue():
+        default = prop.Get(Usd.TimeCode.Default())
+        samples = tuple((time, prop.Get(time)) for time in prop.GetTimeSamples())
+        key = ("attr", str(prop.GetTypeName()), repr(default), repr(samples))
+        return _State(key, (prop.GetTypeName(), prop.IsCustom(), default, samples))
+    return _State(_NO_VALUE)
+
+
+def _author(stage: Usd.Stage, path: Sdf.Path, state: _State) -> None:
+    """Make the composed ``path`` match ``state`` by authoring in the edit target."""
+    kind = state.key[0]
+    if not path.IsPropertyPath():
+        if kind == "prim":
+            _, type_name, defined, active = state.key
+            prim = stage.GetPrimAtPath(path)
+            if not prim or not prim.IsDefined() and defined:
+                prim = stage.DefinePrim(path, type_name)
+            if prim.GetTypeName() != type_name:
+                prim.SetTypeName(type_name)
+            if prim.IsActive() != active:
+                prim.SetActive(active)
+        return  # a prim that must disappear cannot: the caller's check reports it
+    prim = stage.GetPrimAtPath(path.GetPrimPath())
+    current = prim.GetProperty(path.name) if prim else None
+    if kind == "rel":
+        rel = prim.GetRelationship(path.name) or prim.CreateRelationship(path.name)
+        rel.SetTargets(list(state.payload))
+    elif kind == "attr":
+        type_name, custom, default, samples = state.payload
+        attr = prim.GetAttribute(path.name) or prim.CreateAttribute(path.name, type_name, custom)
+        attr.Clear()
+        if default is not None:
+            attr.Set(default)
+        for time, value in samples:
+            attr.Set(value, time)
+    elif isinstance(current, Usd.Attribute) and current:
+        attr = prim.GetAttribute(path.name)
+        attr.Block()  # the fix removed every value: block the weaker ones
+    elif isinstance(current, Usd.Relationship) and current:
+        current.SetTargets([])  # an explicit empty list hides the weaker targets
