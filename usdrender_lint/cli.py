@@ -11,6 +11,7 @@ import json
 import os
 import sys
 from collections import Counter
+from dataclasses import replace
 from collections.abc import Sequence
 
 import click
@@ -90,13 +91,43 @@ def cli() -> None:
     show_default=True,
     help="Seconds one file may take before it is reported as an error; 0: no limit.",
 )
-@click.option("--output", "output_file", type=click.Path(dir_okay=False),
-              help="Write the report to this file (atomically) instead of stdout.")
+@click.option(
+    "--output",
+    "output_file",
+    type=click.Path(dir_okay=False),
+    help="Write the report to this file (atomically) instead of stdout.",
+)
 @click.option("--statistics", is_flag=True, help="Add counts per rule code after the report.")
-@click.option("--baseline", "baseline_file", type=click.Path(dir_okay=False),
-              help="Report and fail only on findings this baseline file does not record.")
-@click.option("--write-baseline", "write_baseline_file", type=click.Path(dir_okay=False),
-              help="Record every finding in this baseline file and exit 0.")
+@click.option(
+    "--baseline",
+    "baseline_file",
+    type=click.Path(dir_okay=False),
+    help="Report and fail only on findings this baseline file does not record.",
+)
+@click.option(
+    "--write-baseline",
+    "write_baseline_file",
+    type=click.Path(dir_okay=False),
+    help="Record every finding in this baseline file and exit 0.",
+)
+@click.option("--fix", is_flag=True, help="Apply the safe fixes, then report what remains.")
+@click.option(
+    "--unsafe-fixes", is_flag=True, help="With --fix, --diff or --fix-to: unsafe fixes too."
+)
+@click.option(
+    "--diff", "show_diff", is_flag=True, help="Print what --fix would change; write nothing."
+)
+@click.option(
+    "--fix-to",
+    "fix_to",
+    type=click.Path(dir_okay=False),
+    help="Write the fixes as overrides into this layer instead of editing the sources.",
+)
+@click.option(
+    "--fix-drop-comments",
+    is_flag=True,
+    help="Let --fix save a .usda that has comments (saving drops them).",
+)
 def check(
     paths: tuple[str, ...],
     output_format: str,
@@ -114,6 +145,11 @@ def check(
     statistics: bool,
     baseline_file: str | None,
     write_baseline_file: str | None,
+    fix: bool,
+    unsafe_fixes: bool,
+    show_diff: bool,
+    fix_to: str | None,
+    fix_drop_comments: bool,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     from .docs import rule_info
@@ -138,14 +174,21 @@ def check(
     files = collect_files(paths)
     # With config `roots`, PATHS are linted inside the stages that use them.
     plan = None if no_roots else plan_from_settings(files, settings)
+    fix_options = _fix_options(fix, unsafe_fixes, show_diff, fix_to, fix_drop_comments)
+    fixed = None
+    if fix_options is not None:
+        fixed = _run_fixes(linter, plan.files if plan else files, fix_options, settings, registry)
     try:
-        report = lint_files(
-            linter,
-            plan.files if plan else files,
-            settings=settings,
-            jobs=jobs or default_jobs(),
-            timeout=timeout,
-        )
+        if fixed is not None and fix_to:
+            report = Report(tuple(fixed.remaining))  # what remains with the overrides
+        else:
+            report = lint_files(
+                linter,
+                plan.files if plan else files,
+                settings=settings,
+                jobs=jobs or default_jobs(),
+                timeout=timeout,
+            )
     except ExecutionError as exc:
         raise ToolError(str(exc)) from None
     if plan is not None:
@@ -155,10 +198,23 @@ def check(
         report, settings.per_path_ignores, settings.base_dir, registry.rules
     )
     report = _apply_baseline(report, known, baseline_file, write_baseline_file)
+    if fixed is not None:
+        report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
     options = FormatOptions(
-        show_info=show_info, tool_version=__version__, statistics=statistics
+        show_info=show_info,
+        tool_version=__version__,
+        statistics=statistics,
+        fixing=fixed is not None,
     )
-    _emit_report(report, load_formatter(output_format), options, output_file)
+    if show_diff:
+        # stdout carries the diff alone; the report goes only to --output.
+        click.echo("".join(fixed.diffs), nl=False)
+        if output_file:
+            _emit_report(report, load_formatter(output_format), options, output_file)
+    else:
+        _emit_report(report, load_formatter(output_format), options, output_file)
+    if fixed is not None:
+        _echo_fix_summary(report, show_diff)
     for result in report.errored_files:
         click.echo(f"usdrender-lint: error: {result.error}", err=True)
     if report.errored_files:
@@ -166,6 +222,58 @@ def check(
     if write_baseline_file:
         sys.exit(EXIT_OK)  # today's findings are accepted
     sys.exit(EXIT_FINDINGS if fails(report, settings.fail_on) else EXIT_OK)
+
+
+def _fix_options(
+    fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, drop_comments: bool
+):
+    """The fixer's options, or None when no fixing was asked for."""
+    from .fixer import FixOptions
+
+    if show_diff and fix_to:
+        raise ToolError("use either --diff or --fix-to, not both")
+    if not (fix or show_diff or fix_to):
+        if unsafe or drop_comments:
+            flag = "--unsafe-fixes" if unsafe else "--fix-drop-comments"
+            raise ToolError(f"{flag} needs --fix, --diff or --fix-to")
+        return None
+    return FixOptions(
+        unsafe=unsafe, drop_comments=drop_comments, write=not show_diff, fix_to=fix_to
+    )
+
+
+def _run_fixes(linter, files: Sequence[str], options, settings, registry):
+    """Apply (or, for --diff, compute) the fixes on every stage, in this process."""
+    from .fixer import FixError, fix_files
+    from .model import FileResult
+    from .suppress import apply_path_ignores
+
+    if options.fix_to and len(files) != 1:
+        raise ToolError(f"--fix-to writes the overrides of one stage; got {len(files)} files")
+
+    def reported(finding) -> bool:
+        # A finding per-path-ignores silence is not fixed either.
+        alone = Report((FileResult(finding.location.file, findings=(finding,)),))
+        kept = apply_path_ignores(
+            alone, settings.per_path_ignores, settings.base_dir, registry.rules
+        )
+        return bool(kept.findings)
+
+    try:
+        return fix_files(linter, files, options, keep=reported)
+    except FixError as exc:
+        raise ToolError(str(exc)) from None
+
+
+def _echo_fix_summary(report: Report, dry_run: bool) -> None:
+    """On stderr: each reason a fix was not applied, once, and what was done."""
+    reasons = Counter(fix.reason for fix in report.unapplied_fixes)
+    for reason, count in reasons.items():
+        fixes = "1 fix" if count == 1 else f"{count} fixes"
+        click.echo(f"usdrender-lint: {fixes} not applied: {reason}", err=True)
+    if dry_run:
+        count = len(report.applied_fixes)
+        click.echo(f"usdrender-lint: --diff: {count} fixes would be applied", err=True)
 
 
 def _load_baseline(baseline_file: str | None, write_baseline_file: str | None) -> Counter | None:
