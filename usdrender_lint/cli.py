@@ -64,19 +64,36 @@ def cli() -> None:
 # readable=False: an unreadable file is reported by the engine, and the others
 # are still linted, instead of click refusing the whole command.
 @click.argument("paths", nargs=-1, required=True, type=click.Path(readable=False))
-@click.option("--format", "output_format", default="text", show_default=True,
-              type=_format_choice(), help="Report format.")
+@click.option(
+    "--format",
+    "output_format",
+    default="text",
+    show_default=True,
+    type=_format_choice(),
+    help="Report format.",
+)
 @click.option("--select", multiple=True, help="Rules to run: codes, prefixes (CA) or names.")
 @click.option("--ignore", multiple=True, help="Rules to skip: codes, prefixes or names.")
 @click.option("--extend-select", multiple=True, help="Rules to add to the selection.")
-@click.option("--fail-on", type=click.Choice(FAIL_ON_CHOICES), default=None,
-              help="Lowest severity that makes the exit code 1  [default: error].")
+@click.option(
+    "--fail-on",
+    type=click.Choice(FAIL_ON_CHOICES),
+    default=None,
+    help="Lowest severity that makes the exit code 1  [default: error].",
+)
 @click.option("--show-info", is_flag=True, help="Show info findings in the text report.")
-@click.option("--config", "config_path", type=click.Path(dir_okay=False),
-              help="Read settings from this file instead of the nearest one.")
+@click.option(
+    "--config",
+    "config_path",
+    type=click.Path(dir_okay=False),
+    help="Read settings from this file instead of the nearest one.",
+)
 @click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
-@click.option("--no-roots", is_flag=True,
-              help="Lint PATHS on their own, not inside the stage roots the config names.")
+@click.option(
+    "--no-roots",
+    is_flag=True,
+    help="Lint PATHS on their own, not inside the stage roots the config names.",
+)
 @click.option(
     "--jobs",
     "-j",
