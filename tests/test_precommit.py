@@ -19,6 +19,8 @@ from pathlib import Path
 
 import pytest
 
+from usdrender_lint import __version__
+
 pytest.importorskip("pre_commit")
 yaml = pytest.importorskip("yaml")  # PyYAML comes with pre-commit
 
@@ -175,6 +177,7 @@ def test_the_manifest_and_the_sample_config_are_valid() -> None:
         assert run.returncode == 0, run.stdout + run.stderr
     sample = yaml.safe_load((REPO / "examples" / ".pre-commit-config.yaml").read_text())
     assert [h["id"] for repo in sample["repos"] for h in repo["hooks"]] == [HOOK_ID]
+    assert [repo["rev"] for repo in sample["repos"]] == [f"v{__version__}"]
 
 
 def test_the_hook_matches_every_usd_extension_and_nothing_else() -> None:

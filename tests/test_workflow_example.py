@@ -12,6 +12,7 @@ import click
 import pytest
 from click.testing import CliRunner
 
+from usdrender_lint import __version__
 from usdrender_lint.cli import cli
 
 yaml = pytest.importorskip("yaml")  # PyYAML comes with pre-commit
@@ -50,7 +51,7 @@ def test_the_workflow_runs_on_pull_requests_with_the_permissions_it_needs(
     assert "pull_request" in triggers
     assert workflow["permissions"]["security-events"] == "write"
     installs = [s["run"] for s in _steps(workflow) if "pip install" in s.get("run", "")]
-    assert len(installs) == 1 and "usdrender-lint" in installs[0]
+    assert len(installs) == 1 and f"usdrender-lint=={__version__}" in installs[0]
 
 
 def test_every_lint_command_parses_with_the_real_cli(workflow: dict) -> None:
