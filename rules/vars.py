@@ -164,7 +164,10 @@ class SourceTypeNotAllowed(Rule):
             return
         correction = unique_case_match(value, allowed)
         advice = (
-            f"did you mean {correction!r}?" if correction else f"use one of {', '.join(allowed)}"
+            f"did you mean {correction!r}?"
+            if correction
+            else "use raw for a renderer output name, lpe for a light path expression or "
+            "primvar for a primvar"
         )
         yield Diagnostic(
             f"sourceType {value!r} of RenderVar {prim.GetPath()} is not one of "
@@ -702,11 +705,14 @@ class ScalarSourceDefaultColor3f(Rule):
         fix = None
         if intended is not None:
             fix = Fix(f"author dataType = {intended!r}", True, set_value(attr.GetPath(), intended))
-        example = intended or "float"
+        advice = (
+            f'author token dataType = "{intended}"'
+            if intended
+            else ('author the intended dataType, e.g. token dataType = "float"')
+        )
         yield Diagnostic(
             f"RenderVar {prim.GetPath()} ({matched[0]!r}) is a scalar quantity but leaves "
-            f'dataType at the fallback "color3f": it is written as a 3-channel colour; author '
-            f'token dataType = "{example}"',
+            f'dataType at the fallback "color3f": it is written as a 3-channel colour; {advice}',
             at=prim,
             fix=fix,
         )
