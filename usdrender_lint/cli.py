@@ -11,8 +11,8 @@ import json
 import os
 import sys
 from collections import Counter
-from dataclasses import replace
 from collections.abc import Sequence
+from dataclasses import replace
 
 import click
 
@@ -241,9 +241,7 @@ def check(
     sys.exit(EXIT_FINDINGS if fails(report, settings.fail_on) else EXIT_OK)
 
 
-def _fix_options(
-    fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, drop_comments: bool
-):
+def _fix_options(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, drop_comments: bool):
     """The fixer's options, or None when no fixing was asked for."""
     from .fixer import FixOptions
 
@@ -290,7 +288,8 @@ def _echo_fix_summary(report: Report, dry_run: bool) -> None:
         click.echo(f"usdrender-lint: {fixes} not applied: {reason}", err=True)
     if dry_run:
         count = len(report.applied_fixes)
-        click.echo(f"usdrender-lint: --diff: {count} fixes would be applied", err=True)
+        fixes = "1 fix" if count == 1 else f"{count} fixes"
+        click.echo(f"usdrender-lint: --diff: {fixes} would be applied", err=True)
 
 
 def _load_baseline(baseline_file: str | None, write_baseline_file: str | None) -> Counter | None:
@@ -361,8 +360,13 @@ def _emit_report(
 
 
 @cli.command("rules")
-@click.option("--format", "output_format", type=click.Choice(["text", "json"]),
-              default="text", show_default=True)
+@click.option(
+    "--format",
+    "output_format",
+    type=click.Choice(["text", "json"]),
+    default="text",
+    show_default=True,
+)
 def list_rules(output_format: str) -> None:
     """List every registered rule."""
     registry = _registry()

@@ -21,6 +21,8 @@ class FormatOptions:
     tool_version: str = "0"
     #: Add counts per rule code after the report (--statistics).
     statistics: bool = False
+    #: Fixing was asked for (--fix, --diff, --fix-to): report the fixes.
+    fixing: bool = False
 
 
 class Formatter(Protocol):

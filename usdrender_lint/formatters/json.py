@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from typing import Any, TextIO
 
-from ..model import Finding, Report
+from ..model import AppliedFix, Finding, Report
 from . import FormatOptions, display_path, statistics
 
 SCHEMA_VERSION = 1
@@ -30,11 +30,28 @@ def finding_to_dict(finding: Finding) -> dict[str, Any]:
     }
 
 
+def fix_to_dict(fix: AppliedFix) -> dict[str, Any]:
+    return {
+        "file": fix.file,
+        "code": fix.code,
+        "path": fix.path,
+        "layer": fix.layer,
+        "description": fix.description,
+        "applied": fix.applied,
+        "reason": fix.reason,
+    }
+
+
 def report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
     document = _report_to_dict(report, options)
     if options.statistics:
         # Added only with --statistics, so the default document stays as documented.
         document["statistics"] = statistics(report)
+    if options.fixing or report.applied_fixes or report.unapplied_fixes:
+        # Added only when fixing, like "statistics".
+        document["fixes"] = [
+            fix_to_dict(fix) for fix in (*report.applied_fixes, *report.unapplied_fixes)
+        ]
     return document
 
 

@@ -23,9 +23,7 @@ class TextFormatter:
         console = Console(file=stream, soft_wrap=True, highlight=False)
         hidden = 0
         for result in report.files:
-            shown = [
-                f for f in result.findings if options.show_info or f.severity != Severity.INFO
-            ]
+            shown = [f for f in result.findings if options.show_info or f.severity != Severity.INFO]
             hidden += len(result.findings) - len(shown)
             if result.status != "linted":
                 console.print(f"[bold]{escape(result.file)}[/]")
@@ -73,4 +71,6 @@ class TextFormatter:
             text += f"; {_plural(errors, 'file')} could not be linted"
         if report.applied_fixes:
             text += f"; {_plural(len(report.applied_fixes), 'fix', 'fixes')} applied"
+        if report.unapplied_fixes:
+            text += f"; {_plural(len(report.unapplied_fixes), 'fix', 'fixes')} not applied"
         return text + "."
