@@ -291,22 +291,22 @@ class InputPassesCycle(Rule):
 
     def Scope "Render"
     {
-        def RenderSettings "Settings"
-        {
-        }
-
-        def RenderPass "beauty"
+        def RenderPass "shadows"
         {
             uniform token passType = "prman"
-            rel renderSource = </Render/Settings>
-            rel inputPasses = </Render/composite>
+            rel inputPasses = </Render/comp>
         }
 
-        def RenderPass "composite"
+        def RenderPass "lighting"
         {
             uniform token passType = "prman"
-            rel renderSource = </Render/Settings>
-            rel inputPasses = </Render/beauty>
+            rel inputPasses = </Render/shadows>
+        }
+
+        def RenderPass "comp"
+        {
+            uniform token passType = "nuke"
+            rel inputPasses = </Render/lighting>
         }
     }
     ```
@@ -317,21 +317,21 @@ class InputPassesCycle(Rule):
 
     def Scope "Render"
     {
-        def RenderSettings "Settings"
-        {
-        }
-
-        def RenderPass "beauty"
+        def RenderPass "shadows"
         {
             uniform token passType = "prman"
-            rel renderSource = </Render/Settings>
         }
 
-        def RenderPass "composite"
+        def RenderPass "lighting"
         {
             uniform token passType = "prman"
-            rel renderSource = </Render/Settings>
-            rel inputPasses = </Render/beauty>
+            rel inputPasses = </Render/shadows>
+        }
+
+        def RenderPass "comp"
+        {
+            uniform token passType = "nuke"
+            rel inputPasses = </Render/lighting>
         }
     }
     ```
