@@ -1,0 +1,124 @@
+"""Golden tests of every fixable rule: ``check --fix`` on a copy of a fail
+fixture gives exactly its ``*.fixed.usda``, and a second ``--fix`` changes nothing.
+
+``fail_X.fixed.usda`` beside ``fail_X.usda`` is the fixed root layer; the
+fixture's supporting layers must come out unchanged. To (re)write the goldens
+after a deliberate change to a fix, run with USDRENDER_LINT_WRITE_GOLDENS=1:
+every fail fixture whose fix edits only its own file gets one.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from pxr import Sdf
+
+from usdrender_lint.cli import cli
+from usdrender_lint.registry import build_registry
+
+FIXTURES = Path(__file__).parent / "rules"
+GOLDEN_SUFFIX = ".fixed.usda"
+WRITE_GOLDENS = os.environ.get("USDRENDER_LINT_WRITE_GOLDENS", "") not in ("", "0")
+FIXABLE = {rule.code: rule for rule in build_registry().rules if rule.fix_safety != "none"}
+#: Options a pipeline configures before these rules offer a fix (catalog:
+#: "none, pipeline template / default vars" unless configured).
+RULE_CONFIG = {
+    "PR001": '[rules.PR001]\nname-template = "renders/{prim}.exr"\n',
+    "PR008": '[rules.PR008]\nalpha-var = "/Render/Vars/alpha"\n',
+}
+
+
+def _folder(code: str) -> Path:
+    (folder,) = FIXTURES.glob(f"{code}_*")
+    return folder
+
+
+def _source_of(golden: Path) -> Path:
+    return golden.with_name(golden.name[: -len(GOLDEN_SUFFIX)] + ".usda")
+
+
+def _cases():
+    for code in sorted(FIXABLE):
+        folder = _folder(code)
+        if WRITE_GOLDENS:
+            fails = sorted(folder.glob("fail_*.usda"))
+            fails = [f for f in fails if not f.name.endswith(GOLDEN_SUFFIX)]
+        else:
+            fails = [_source_of(g) for g in sorted(folder.glob(f"fail_*{GOLDEN_SUFFIX}"))]
+        for fail in fails:
+            yield pytest.param(code, fail, id=f"{code}/{fail.name}")
+
+
+def canonical(path: Path) -> str:
+    """A layer as Sdf exports it: formatting and comments do not count."""
+    return Sdf.Layer.OpenAsAnonymous(str(path)).ExportToString()
+
+
+def copy_fixture(fail: Path, destination: Path) -> Path:
+    """The fail file and its folder's supporting layers (not the other fixtures)."""
+    for path in fail.parent.iterdir():
+        supporting = path.is_file() and not path.name.startswith(("pass_", "fail_"))
+        if (supporting and path.suffix.startswith(".usd")) or path == fail:
+            shutil.copy(path, destination / path.name)
+    return destination / fail.name
+
+
+def run_fix(code: str, path: Path, *extra: str):
+    args = ["check", "--jobs", "1", "--timeout", "0", "--select", code, "--format", "json"]
+    if code in RULE_CONFIG:
+        config = path.parent / "fix-config.toml"
+        config.write_text(RULE_CONFIG[code], encoding="utf-8")
+        args += ["--config", str(config)]
+    else:
+        args.append("--isolated")
+    if FIXABLE[code].fix_safety == "unsafe":
+        args.append("--unsafe-fixes")
+    result = CliRunner().invoke(cli, [*args, "--fix", "--fix-drop-comments", *extra, str(path)])
+    assert result.exit_code in (0, 1), result.output
+    return json.loads(result.stdout)
+
+
+def _layers(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in folder.iterdir() if p.suffix.startswith(".usd")}
+
+
+@pytest.mark.parametrize(("code", "fail"), list(_cases()))
+def test_fix_matches_golden(code: str, fail: Path, tmp_path: Path) -> None:
+    path = copy_fixture(fail, tmp_path)
+    before = _layers(tmp_path)
+    document = run_fix(code, path)
+    applied = [fix for fix in document["fixes"] if fix["applied"]]
+    changed = {name for name, data in _layers(tmp_path).items() if before[name] != data}
+    golden = fail.with_name(fail.stem + GOLDEN_SUFFIX)
+    if WRITE_GOLDENS:
+        if applied and changed == {fail.name}:
+            golden.write_text(canonical(path), encoding="utf-8")
+        pytest.skip("goldens written")
+    assert applied, f"{fail.name}: no {code} fix was applied"
+    assert {fix["code"] for fix in document["fixes"]} == {code}
+    assert changed == {fail.name}, f"--fix edited {sorted(changed)}, expected only {fail.name}"
+    assert canonical(path) == canonical(golden)
+    # Idempotent: fixing the fixed file changes nothing and applies nothing.
+    fixed = path.read_bytes()
+    again = run_fix(code, path)
+    assert path.read_bytes() == fixed
+    assert [fix for fix in again["fixes"] if fix["applied"]] == []
+
+
+def test_every_fixable_rule_has_a_golden() -> None:
+    missing = [code for code in FIXABLE if not list(_folder(code).glob(f"fail_*{GOLDEN_SUFFIX}"))]
+    assert not missing, f"fixable rules without a fail_*{GOLDEN_SUFFIX} golden: {missing}"
+
+
+def test_every_golden_has_its_fail_fixture() -> None:
+    orphans = [
+        golden.relative_to(FIXTURES)
+        for golden in FIXTURES.glob(f"*/*{GOLDEN_SUFFIX}")
+        if not _source_of(golden).is_file()
+    ]
+    assert not orphans
