@@ -177,7 +177,8 @@ def _write_lighting(path: Path, lights: int) -> None:
 
 
 def _write_camera(layer: Sdf.Layer) -> None:
-    _prim(layer, "/World", "Xform", Sdf.SpecifierOver)
+    if not layer.GetPrimAtPath("/World"):
+        _prim(layer, "/World", "Xform", Sdf.SpecifierOver)
     _prim(layer, "/World/cams", "Xform")
     cam = _prim(layer, "/World/cams/shotCam", "Camera")
     _attr(cam, "focalLength", Sdf.ValueTypeNames.Float, 35.0)
@@ -301,6 +302,8 @@ def _small_shot(path: Path, index: int, prims: int, defects: bool) -> list[Expec
         layer.pseudoRoot.SetInfo("renderSettingsPrimPath", "/Render/Settings")
         _prim(layer, "/World", "Xform")
         _write_camera(layer)
+        _prim(layer, "/World/lights", "Xform")
+        _prim(layer, "/World/lights/key", "DistantLight")
         expected = _write_render(layer, defects)
         budget = max(0, prims - 20)
         per_group = 9

@@ -39,9 +39,20 @@ generate = _load_generator()
 
 
 @pytest.fixture(scope="module")
-def linters() -> tuple[Linter, Linter]:
+def linters() -> Iterator[tuple[Linter, Linter]]:
     rules = all_rules()
-    return Linter(rules, full_composition=False), Linter(rules, full_composition=True)
+    # Most fixtures are single layers, which the engine composes fully for
+    # speed: take the fast path anyway so that it is what gets compared.
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(fastpath, "FLAT_STAGES_COMPOSE_FULLY", False)
+        yield Linter(rules, full_composition=False), Linter(rules, full_composition=True)
+
+
+def test_flat_stages_compose_fully(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.setattr(fastpath, "FLAT_STAGES_COMPOSE_FULLY", True)
+    root = _write(tmp_path, {"shot.usda": RENDER_ASSET})
+    opened = fastpath.open_partial(str(root), Linter(all_rules())._dispatch.wants)
+    assert opened.stage is None and "root layer stack" in opened.reason
 
 
 def _wants(linter: Linter):
@@ -61,7 +72,7 @@ def test_fixture_findings_identical(linters: tuple[Linter, Linter], path: Path) 
 
 def test_most_fixtures_take_the_fast_path(linters: tuple[Linter, Linter]) -> None:
     # Equality above would hold trivially if the fast path always gave up.
-    partial = [p for p in LAYERS if fastpath.open_partial(str(p), _wants(linters[0]))]
+    partial = [p for p in LAYERS if fastpath.open_partial(str(p), _wants(linters[0])).stage]
     assert len(partial) >= 0.8 * len(LAYERS)
 
 
@@ -82,7 +93,7 @@ def test_generated_shot_is_partly_composed_and_exact(
     linters: tuple[Linter, Linter], shot: Path
 ) -> None:
     partial = fastpath.open_partial(str(shot), _wants(linters[0]))
-    assert partial is not None
+    assert partial.stage is not None
     stage = partial.stage
     # The render prims and what they target are composed; the set is not.
     assert stage.GetPrimAtPath("/Render/Settings").IsA(UsdRender.Settings)
@@ -145,7 +156,7 @@ def test_render_prims_from_a_reference_fall_back(
             "render.usda": RENDER_ASSET,
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
     found = _pairs(linters[0].lint_path(str(root)))
     assert ("SE001", "/World/facility/Settings.resolution") in found
     _assert_same(linters, root)
@@ -161,7 +172,7 @@ def test_render_prims_from_a_payload_fall_back(
             "render.usda": RENDER_ASSET,
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
     _assert_same(linters, root)
 
 
@@ -186,7 +197,7 @@ def Xform "World"
         },
     )
     partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial is not None
+    assert partial.stage is not None
     assert partial.stage.GetPrimAtPath("/World/settings").IsA(UsdRender.Settings)
     assert ("SE001", "/World/settings.resolution") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)
@@ -217,7 +228,7 @@ def Xform "World"
             'def "asset"\n{\n    def "cfg" (inherits = </_settings>)\n    {\n    }\n}\n',
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
     assert ("SE001", "/World/asset/cfg.resolution") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)
 
@@ -251,7 +262,7 @@ def Scope "Render"
         },
     )
     partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial is not None
+    assert partial.stage is not None
     assert partial.stage.GetPrimAtPath("/World/sets")
     _assert_same(linters, root)
 
@@ -347,7 +358,7 @@ def "c"
         },
     )
     partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial is not None
+    assert partial.stage is not None
     assert partial.stage.GetPrimAtPath("/World/cams/main/rig/cam")
     assert not partial.stage.GetPrimAtPath("/World/props/main")
     assert ("CA004", "/Render/Settings.camera") in _pairs(linters[0].lint_path(str(root)))
@@ -378,7 +389,7 @@ def Xform "World"
         },
     )
     partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial is not None and partial.stage.GetPrimAtPath("/World/prop")
+    assert partial.stage is not None and partial.stage.GetPrimAtPath("/World/prop")
     _assert_same(linters, root)
 
 
@@ -391,7 +402,7 @@ def test_unreadable_dependency_falls_back(linters: tuple[Linter, Linter], tmp_pa
             "broken.usda": '#usda 1.0\ndef Xform "X" (\n',
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])) is None
+    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
     _assert_same(linters, root)
 
 
@@ -418,7 +429,7 @@ def Scope "Shot" (
         },
     )
     partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial is not None
+    assert partial.stage is not None
     assert partial.stage.GetPopulationMask().Includes(Sdf.Path("/Shot/Settings"))
     assert ("SE001", "/Shot/Settings.resolution") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)

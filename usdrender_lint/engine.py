@@ -207,7 +207,7 @@ class Linter:
         if problem is not None:
             return FileResult(path, status="error", error=f"{path}: {problem}")
         partial = None if self.full_composition else self._open_partial(path)
-        if partial is not None:
+        if partial is not None and partial.stage is not None:
             try:
                 findings = self._lint(partial.stage, path, partial=True)
                 return FileResult(path, findings=tuple(findings))

@@ -55,6 +55,9 @@ SUPPRESSION_KEY = "usdrender_lint"
 SETTINGS_PATH_KEY = "renderSettingsPrimPath"
 #: Rounds of mask expansion before giving up (each adds what the last reached).
 MAX_ROUNDS = 16
+#: When every layer is in the root layer stack, USD composes the stage about
+#: as fast as Python can scan its specs: compose it all (same findings).
+FLAT_STAGES_COMPOSE_FULLY = True
 
 _ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
 
@@ -65,12 +68,14 @@ class NotProvable(Exception):
 
 @dataclass
 class PartialStage:
-    """A stage composed only within ``stage.GetPopulationMask()``."""
+    """A stage composed only within ``stage.GetPopulationMask()``, or None
+    with the ``reason`` the whole stage must be composed instead."""
 
-    stage: Usd.Stage
-    #: Every layer the full stage could use, kept open so a full composition
-    #: after this one does not read them again.
+    stage: Usd.Stage | None
+    #: Every layer read so far, kept open so that a full composition after
+    #: this one does not read them again.
     layers: list[Sdf.Layer] = field(default_factory=list)
+    reason: str | None = None
 
 
 @dataclass
@@ -85,25 +90,38 @@ class _LayerScan:
     class_names: set[str] = field(default_factory=set)
 
 
-def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage | None:
-    """Open ``path`` composed only where the rules look, or None when that
-    cannot be proven to give the same findings as a full composition.
+def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
+    """Open ``path`` composed only where the rules look; the result's stage is
+    None when that cannot be proven to give the same findings as a full
+    composition, or would not be faster.
 
     ``wants_type(type_name)`` is True for the prim type names the rules want
     to see (the engine's dispatch table decides)."""
+    layers: list[Sdf.Layer] = []
     with Tf.DiagnosticTrap() as trap:
         try:
+            root = Sdf.Layer.FindOrOpen(path)
+            if root is None:
+                raise NotProvable("USD cannot open the layer")
+            layers = [root]
+            # The common small file: one layer, no arcs to others. Checked
+            # before building any stage, which costs more than the check.
+            if FLAT_STAGES_COMPOSE_FULLY and not root.GetCompositionAssetDependencies():
+                raise NotProvable("every layer is in the root layer stack")
             stage = Usd.Stage.OpenMasked(path, Usd.StagePopulationMask(), Usd.Stage.LoadAll)
             layers = _reachable_layers(stage)
             if trap.HasErrors():
                 raise NotProvable("an error was posted while reading the layers")
+            root_stack = stage.GetLayerStack(includeSessionLayers=True)
+            if FLAT_STAGES_COMPOSE_FULLY and len(layers) == len(root_stack):
+                raise NotProvable("every layer is in the root layer stack")
             mask = _initial_mask(stage, layers, wants_type)
             stage.SetPopulationMask(mask)
             _expand(stage)
             if trap.HasErrors():
                 raise NotProvable("an error was posted while composing")
-        except (NotProvable, Tf.ErrorException):
-            return None
+        except (NotProvable, Tf.ErrorException) as exc:
+            return PartialStage(None, layers, str(exc).strip() or type(exc).__name__)
         finally:
             trap.Clear()
     return PartialStage(stage, layers)
@@ -135,25 +153,29 @@ def _reachable_layers(stage: Usd.Stage) -> list[Sdf.Layer]:
 
 def _scan(layer: Sdf.Layer, wants_type: Callable[[str], bool]) -> _LayerScan:
     scan = _LayerScan()
-    if layer.pseudoRoot.HasInfo("relocates") or layer.HasRelocates():
+    if layer.HasRelocates():
         raise NotProvable(f"{layer.identifier} has relocates")
-    stack = list(layer.rootPrims)
-    while stack:
-        spec = stack.pop()
+    # Sdf's own traversal visits prims inside variants too; collecting the
+    # paths and filtering them is cheaper than walking nameChildren.
+    paths: list[Sdf.Path] = []
+    layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
+    get_spec = layer.GetPrimAtPath
+    for path in paths:
+        if not (path.IsPrimPath() or path.IsPrimVariantSelectionPath()):
+            continue
+        spec = get_spec(path)
+        if not isinstance(spec, Sdf.PrimSpec):
+            continue  # a variant set
         keys = spec.ListInfoKeys()
         type_name = spec.typeName
         if (type_name and wants_type(type_name)) or (
             "customData" in keys and SUPPRESSION_KEY in spec.customData
         ):
-            scan.wanted.add(spec.path.StripAllVariantSelections())
+            scan.wanted.add(path.StripAllVariantSelections())
         if "relocates" in keys:
-            raise NotProvable(f"relocates on {spec.path} in {layer.identifier}")
+            raise NotProvable(f"relocates on {path} in {layer.identifier}")
         if not _ARC_KEYS.isdisjoint(keys):
             _record_arcs(spec, scan)
-        stack.extend(spec.nameChildren)
-        if "variantSetNames" in keys or spec.variantSets:
-            for variant_set in spec.variantSets.values():
-                stack.extend(v.primSpec for v in variant_set.variants.values())
     return scan
 
 
