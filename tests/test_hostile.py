@@ -245,6 +245,31 @@ def Scope "Render"
 }
 """
 
+#: A common slip: a relationship written as a string attribute. Pcp then
+#: refuses to compose targets for the name ("... is not a relationship").
+RELATIONSHIPS_AS_ATTRIBUTES = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "S"
+    {
+        string camera = "/World/Cam"
+        token products = "/Render/P"
+    }
+    def RenderProduct "P"
+    {
+        token camera = "/World/Cam"
+    }
+    def RenderPass "Pass"
+    {
+        string renderSource = "/Render/S"
+        string inputPasses = "/Render/Pass"
+    }
+}
+def Camera "Cam"
+{
+}
+"""
+
 CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     "missing-path": (lambda folder: str(folder / "missing.usda"), Expect(error="no such file")),
     "empty-file": (_text("empty.usda", ""), Expect(code="ST001", cause="not a valid usda layer")),
@@ -270,6 +295,10 @@ CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     ),
     "symlink-loop-folder": (symlink_loop, Expect(error="a broken or looping symbolic link")),
     "relationship-forwarding-cycle": (_text("forwarding.usda", FORWARDING_CYCLE), Expect()),
+    "relationships-authored-as-attributes": (
+        _text("rel_as_attr.usda", RELATIONSHIPS_AS_ATTRIBUTES),
+        Expect(codes=("CA001", "SE015")),
+    ),
     "deep-hierarchy": (deep_hierarchy, Expect(codes=("SE003",))),
     "huge-array": (huge_array, Expect()),
     "nan": (non_finite("nan"), Expect(codes=("SE003",))),

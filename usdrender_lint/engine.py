@@ -301,8 +301,9 @@ class Linter:
                 raise
             where = f" on {args[0].GetPath()}" if isinstance(args[0], Usd.Prim) else ""
             frame = traceback.extract_tb(exc.__traceback__)[-1]
+            detail = " ".join(str(exc).split())  # USD's errors span lines; findings do not
             message = (
-                f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {exc}{where} "
+                f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {detail}{where} "
                 f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
                 "this file are lost. Please report this."
             )

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
-from pxr import Sdf, Usd, UsdGeom, UsdRender
+from pxr import Sdf, Tf, Usd, UsdGeom, UsdRender
 
 DEFAULT_TIME = Usd.TimeCode.Default()
 
@@ -70,7 +70,13 @@ def forwarded_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
     """Targets with relationship forwarding honoured, as spec.cpp reads them."""
     if not rel:
         return []
-    return list(rel.GetForwardedTargets())
+    try:
+        return list(rel.GetForwardedTargets())
+    except Tf.ErrorException:
+        # An opinion authors the name as an attribute (`string camera = "/Cam"`):
+        # Pcp composes no targets from it ("... is not a relationship"), so no
+        # consumer sees any.
+        return []
 
 
 def resolve_targets(rel: Usd.Relationship | None) -> list[Target]:
