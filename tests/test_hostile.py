@@ -270,6 +270,26 @@ def Camera "Cam"
 }
 """
 
+#: usda takes ``<...>`` as the value of an attribute of any type; Python reads
+#: back an Sdf.Path where rules expect a token, string or number.
+PATH_VALUES = """#usda 1.0
+def Scope "Render"
+{
+    def RenderVar "V"
+    {
+        uniform token sourceType = <Render/Relative>
+        uniform string sourceName = </X>
+        uniform token dataType = </Y>
+    }
+    def RenderSettings "S"
+    {
+        uniform float pixelAspectRatio = </Z>
+        uniform token aspectRatioConformPolicy = </W>
+        uniform token renderingColorSpace = </V>
+    }
+}
+"""
+
 CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     "missing-path": (lambda folder: str(folder / "missing.usda"), Expect(error="no such file")),
     "empty-file": (_text("empty.usda", ""), Expect(code="ST001", cause="not a valid usda layer")),
@@ -298,6 +318,10 @@ CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     "relationships-authored-as-attributes": (
         _text("rel_as_attr.usda", RELATIONSHIPS_AS_ATTRIBUTES),
         Expect(codes=("CA001", "SE015")),
+    ),
+    "path-values-in-typed-attributes": (
+        _text("path_values.usda", PATH_VALUES),
+        Expect(codes=("VA001",)),
     ),
     "deep-hierarchy": (deep_hierarchy, Expect(codes=("SE003",))),
     "huge-array": (huge_array, Expect()),

@@ -150,7 +150,24 @@ def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
 def has_authored_value(attr: Usd.Attribute | None) -> bool:
     """Authored and well-typed: type-mismatched opinions count as unauthored
     (catalog, Conventions: one mistake gives one finding, SE016)."""
-    return bool(attr) and attr.HasAuthoredValue() and mismatched_spec(attr) is None
+    return (
+        bool(attr)
+        and attr.HasAuthoredValue()
+        and mismatched_spec(attr) is None
+        and not _holds_path_value(attr)
+    )
+
+
+def _holds_path_value(attr: Usd.Attribute) -> bool:
+    """usda accepts ``<...>`` as the value of an attribute of any type
+    (``uniform token sourceType = </X>``): an Sdf.Path that no typed read of
+    the declared type returns, so it is no value at all."""
+    for spec in attr.GetPropertyStack(DEFAULT_TIME):
+        if spec.HasDefaultValue():
+            return isinstance(spec.default, Sdf.Path)
+        if spec.layer.GetNumTimeSamplesForPath(spec.path):
+            return False
+    return False
 
 
 def fallback_value(prim: Usd.Prim, name: str) -> Any:
