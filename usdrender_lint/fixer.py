@@ -268,8 +268,8 @@ class _StageFixer:
             listener.Revoke()
         if failure is None and Sdf.Path.absoluteRootPath in changed:
             failure = (
-                "it edits stage metadata, which USD reads only from the root layer, so an "
-                "override layer cannot carry it; use --fix"
+                "it edits stage metadata, which USD reads only from a stage's root or "
+                "session layer, so an override layer used as a sublayer cannot carry it; use --fix"
             )
         after = _capture(stage, changed) if failure is None else {}
         for source in stage.GetLayerStack(includeSessionLayers=False):
@@ -345,7 +345,8 @@ def write_problem(layer: Sdf.Layer, drop_comments: bool = False) -> str | None:
         return f"{layer.GetDisplayName()} is not a file on disk"
     if layer.GetFileFormat().IsPackage() or layer.identifier.endswith("]"):
         return f"{_display(layer)} is inside a .usdz package, which --fix does not rewrite"
-    if not os.access(path, os.W_OK):
+    # A file without write permission is read-only even to root, who may write it anyway.
+    if not os.access(path, os.W_OK) or not os.stat(path).st_mode & 0o222:
         return f"{_display(layer)} is read-only"
     folder = os.path.dirname(path) or "."
     if not os.access(folder, os.W_OK | os.X_OK):
