@@ -99,9 +99,8 @@ def test_second_fix_changes_nothing(tmp_path: Path) -> None:
 
 def test_unsafe_fixes_need_the_flag(tmp_path: Path) -> None:
     # SE003's swap of an inverted data window is unsafe.
-    text = SHOT.replace(
-        "int2 resolution", "uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)\n int2 r"
-    )
+    window_line = "uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)\n        "
+    text = SHOT.replace("int2 resolution", window_line + "int2 resolution")
     shot = write(tmp_path / "shot.usda", text)
     window = "/Render/Settings.dataWindowNDC"
     result, document = check("--select", "SE003", "--fix", str(shot))
