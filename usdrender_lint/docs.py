@@ -24,7 +24,7 @@ def sections(rule: type[Rule]) -> dict[str, str]:
     headings = list(_HEADING.finditer(doc))
     for current, following in zip(headings, [*headings[1:], None], strict=True):
         end = following.start() if following else len(doc)
-        found[current.group(1)] = doc[current.end():end].strip()
+        found[current.group(1)] = doc[current.end() : end].strip()
     return found
 
 
