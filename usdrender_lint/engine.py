@@ -127,6 +127,18 @@ def _undecodable_error(path: str) -> str:
     return "USD reported an error whose message is not valid UTF-8"
 
 
+@dataclass(frozen=True)
+class TracedFinding:
+    """A finding with its Fix and origin: the code of the rule that produced it
+    (an internal-error finding keeps the rule that raised) and the prim whose
+    ``check_prim`` did (None for ``check_stage`` and the engine's own findings)."""
+
+    finding: Finding
+    fix: Fix | None
+    rule_code: str
+    prim_path: Sdf.Path | None
+
+
 class _TypeDispatch:
     """Which rules want a prim, keyed by its type name (no per-prim ``IsA``)."""
 
@@ -198,6 +210,8 @@ class Linter:
         #: While lint_stage_with_fixes runs: each finding's Fix (the callable
         #: Finding.fix drops, since findings stay free of pxr objects).
         self._fixes: dict[Finding, Fix] | None = None
+        #: While lint_stage_traced runs: the rule code and check_prim prim behind each finding.
+        self._origins: dict[Finding, tuple[str, Sdf.Path | None]] | None = None
 
     # -- entry points ---------------------------------------------------------
 
@@ -238,6 +252,18 @@ class Linter:
             return [(finding, self._fixes.get(finding)) for finding in findings]
         finally:
             self._fixes = None
+
+    def lint_stage_traced(self, stage: Usd.Stage, file: str | None = None) -> list[TracedFinding]:
+        """Like :meth:`lint_stage_with_fixes`, each finding also naming the rule
+        and the prim (for ``check_prim``) that produced it (UsdValidation adaptor)."""
+        self._origins = {}
+        try:
+            return [
+                TracedFinding(finding, fix, *self._origins.get(finding, (finding.code, None)))
+                for finding, fix in self.lint_stage_with_fixes(stage, file)
+            ]
+        finally:
+            self._origins = None
 
     def _open_partial(self, path: str) -> fastpath.PartialStage | None:
         try:
@@ -292,6 +318,14 @@ class Linter:
         return work
 
     def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
+        findings = self._run_hook(rule, ctx, hook, *args)
+        if self._origins is not None:
+            prim = args[0].GetPath() if isinstance(args[0], Usd.Prim) else None
+            for finding in findings:
+                self._origins.setdefault(finding, (rule.code, prim))
+        return findings
+
+    def _run_hook(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
         try:
             return [self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ()]
         except FullStageRequired:
