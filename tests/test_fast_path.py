@@ -433,3 +433,22 @@ def Scope "Shot" (
     assert partial.stage.GetPopulationMask().Includes(Sdf.Path("/Shot/Settings"))
     assert ("SE001", "/Shot/Settings.resolution") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)
+
+
+def test_cli_full_composition_flag(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    from click.testing import CliRunner
+
+    from usdrender_lint.cli import cli
+
+    root = generate.generate_shot(tmp_path, prims=500, fmt="usda")
+
+    def refuse(*_args, **_kwargs):
+        raise AssertionError("fast path used")
+
+    monkeypatch.setenv(FULL_COMPOSITION_ENV, "0")  # restored after the test
+    monkeypatch.setattr(fastpath, "open_partial", refuse)
+    argv = ["check", "--isolated", "--jobs", "1", "--timeout", "0", "--format", "json"]
+    result = CliRunner().invoke(cli, [*argv, "--full-composition", str(root)])
+    assert result.exit_code == 1, result.output
+    codes = {f["code"] for f in json.loads(result.stdout)["files"][0]["findings"]}
+    assert {"SE003", "PR004", "CA004", "CA003"} <= codes

@@ -145,6 +145,12 @@ def cli() -> None:
     is_flag=True,
     help="Let --fix save a .usda that has comments (saving drops them).",
 )
+@click.option(
+    "--full-composition",
+    is_flag=True,
+    hidden=True,
+    help="Compose every stage in full, not only what the rules read (same findings, slower).",
+)
 def check(
     paths: tuple[str, ...],
     output_format: str,
@@ -167,13 +173,16 @@ def check(
     show_diff: bool,
     fix_to: str | None,
     fix_drop_comments: bool,
+    full_composition: bool,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     from .docs import rule_info
-    from .roots import plan_from_settings
+    from .engine import FULL_COMPOSITION_ENV
     from .runner import collect_files, fails, lint_files, make_linter
     from .suppress import apply_path_ignores
 
+    if full_composition:
+        os.environ[FULL_COMPOSITION_ENV] = "1"  # read by every Linter, in workers too
     registry = _registry()
     try:
         settings = load_settings(config_path, isolated=isolated, start=paths[0])
@@ -190,7 +199,11 @@ def check(
 
     files = collect_files(paths)
     # With config `roots`, PATHS are linted inside the stages that use them.
-    plan = None if no_roots else plan_from_settings(files, settings)
+    plan = None
+    if settings.roots and not no_roots:
+        from .roots import plan_from_settings  # USD's dependency tools: only for roots
+
+        plan = plan_from_settings(files, settings)
     fix_options = _fix_options(fix, unsafe_fixes, show_diff, fix_to, fix_drop_comments)
     fixed = None
     if fix_options is not None:
@@ -243,8 +256,6 @@ def check(
 
 def _fix_options(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, drop_comments: bool):
     """The fixer's options, or None when no fixing was asked for."""
-    from .fixer import FixOptions
-
     if show_diff and fix_to:
         raise ToolError("use either --diff or --fix-to, not both")
     if not (fix or show_diff or fix_to):
@@ -252,6 +263,8 @@ def _fix_options(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, d
             flag = "--unsafe-fixes" if unsafe else "--fix-drop-comments"
             raise ToolError(f"{flag} needs --fix, --diff or --fix-to")
         return None
+    from .fixer import FixOptions
+
     return FixOptions(
         unsafe=unsafe, drop_comments=drop_comments, write=not show_diff, fix_to=fix_to
     )
