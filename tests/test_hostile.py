@@ -290,6 +290,32 @@ def Scope "Render"
 }
 """
 
+#: The reverse slip: attributes written as relationships.
+ATTRIBUTES_AS_RELATIONSHIPS = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "S"
+    {
+        rel dataWindowNDC = </X>
+        rel pixelAspectRatio
+    }
+    def RenderProduct "P"
+    {
+        rel productName = </Z>
+    }
+    def RenderVar "V"
+    {
+        rel sourceName = </Z>
+        rel sourceType = </Z>
+    }
+    def RenderPass "Pass"
+    {
+        rel passType = </Z>
+        rel collection:renderVisibility:includeRoot = </Z>
+    }
+}
+"""
+
 CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     "missing-path": (lambda folder: str(folder / "missing.usda"), Expect(error="no such file")),
     "empty-file": (_text("empty.usda", ""), Expect(code="ST001", cause="not a valid usda layer")),
@@ -322,6 +348,10 @@ CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     "path-values-in-typed-attributes": (
         _text("path_values.usda", PATH_VALUES),
         Expect(codes=("VA001",)),
+    ),
+    "attributes-authored-as-relationships": (
+        _text("attr_as_rel.usda", ATTRIBUTES_AS_RELATIONSHIPS),
+        Expect(codes=("PR001", "VA001")),
     ),
     "deep-hierarchy": (deep_hierarchy, Expect(codes=("SE003",))),
     "huge-array": (huge_array, Expect()),

@@ -123,7 +123,7 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     schema_type = _schema_type(attr)
     if schema_type is None:
         return None
-    for spec in attr.GetPropertyStack(DEFAULT_TIME):
+    for spec in _attribute_specs(attr):
         if spec.HasDefaultValue() or spec.layer.GetNumTimeSamplesForPath(spec.path):
             return spec if spec.typeName.type != schema_type.type else None
     return None
@@ -136,7 +136,13 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     schema_type = _schema_type(attr)
     if schema_type is None:
         return []
-    return [s for s in attr.GetPropertyStack(DEFAULT_TIME) if s.typeName.type != schema_type.type]
+    return [s for s in _attribute_specs(attr) if s.typeName.type != schema_type.type]
+
+
+def _attribute_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
+    """The attribute's property stack without relationship specs: a layer may
+    author the name as ``rel dataWindowNDC = </X>``, which has no type or value."""
+    return [s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec)]
 
 
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
@@ -162,7 +168,7 @@ def _holds_path_value(attr: Usd.Attribute) -> bool:
     """usda accepts ``<...>`` as the value of an attribute of any type
     (``uniform token sourceType = </X>``): an Sdf.Path that no typed read of
     the declared type returns, so it is no value at all."""
-    for spec in attr.GetPropertyStack(DEFAULT_TIME):
+    for spec in _attribute_specs(attr):
         if spec.HasDefaultValue():
             return isinstance(spec.default, Sdf.Path)
         if spec.layer.GetNumTimeSamplesForPath(spec.path):
