@@ -185,6 +185,10 @@ HOSTILE_TOKENS = (
     "active",
     "true",
     "false",
+    # Text the report formats must escape, not interpret.
+    '"[/]"',
+    '"[bold red]x[/bold red]"',
+    '"%s {0} \\\\"',
 )
 
 _mutation = st.one_of(
