@@ -1,0 +1,294 @@
+"""The UsdValidation validators: each rule's findings as ``ValidationError``s.
+
+A validator does not run its rule alone: the rules share a per-stage Context
+(render configurations, memoised helpers) and the engine's customData
+suppressions, so the first validator called on a stage lints it once with
+every registered rule (:meth:`Linter.lint_stage_traced`), and each validator
+reports the findings its rule produced: a prim validator those of
+``check_prim`` on that prim, a stage validator those of ``check_stage`` and
+the engine's own (UL001). The cached lint is dropped when the stage changes.
+
+usd-core 26.11 turns an exception raised by a Python validator into an error
+that makes the whole ``ValidationContext.Validate`` call raise and lose every
+other validator's results, so nothing here lets an exception out: a failure
+becomes a ``ValidationError`` of the validator that failed.
+"""
+
+from __future__ import annotations
+
+import threading
+import traceback
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from pxr import Sdf, Tf, Usd, UsdValidation
+
+from ..api import Rule
+from ..engine import Linter, TracedFinding
+from ..model import Finding, Severity
+from . import PLUGIN_NAME, is_prim_validator, validator_key, validator_name
+
+ErrorType = UsdValidation.ValidationErrorType
+_ERROR_TYPES = {
+    Severity.ERROR: ErrorType.Error,
+    Severity.WARNING: ErrorType.Warn,
+    Severity.INFO: ErrorType.Info,
+}
+#: Stages whose lint is kept (the most recently validated ones).
+MAX_CACHED_STAGES = 4
+#: Error name of a validator that could not do its job.
+FAILURE_ERROR_NAME = "usdRenderLintFailure"
+STALE_REASON = (
+    "no registered rule has this validator name; regenerate the plugInfo.json "
+    "(usdrender-lint plugin-path --write)"
+)
+
+
+@dataclass
+class _StageLint:
+    """One stage's traced findings, valid until the stage changes."""
+
+    findings: list[TracedFinding]
+    listener: Any = field(default=None, repr=False)
+
+
+class StageLints:
+    """Traced findings per stage, computed once per stage state, thread-safe
+    (UsdValidation may call validators from worker threads)."""
+
+    def __init__(self, linter_factory: Callable[[], Linter]) -> None:
+        self._linter_factory = linter_factory
+        self._linter: Linter | None = None
+        self._lints: dict[Usd.Stage, _StageLint] = {}
+        self._lock = threading.RLock()
+
+    def findings(self, stage: Usd.Stage) -> list[TracedFinding]:
+        with self._lock:
+            cached = self._lints.get(stage)
+            if cached is None:
+                if self._linter is None:
+                    self._linter = self._linter_factory()
+                # The edit that invalidates comes from anywhere: USD tells us.
+                listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._forget, stage)
+                cached = _StageLint(self._linter.lint_stage_traced(stage), listener)
+                self._lints[stage] = cached
+                while len(self._lints) > MAX_CACHED_STAGES:
+                    self._drop(next(iter(self._lints)))
+            return cached.findings
+
+    def _forget(self, notice: Usd.Notice.ObjectsChanged, stage: Usd.Stage) -> None:
+        with self._lock:
+            self._drop(stage)
+
+    def _drop(self, stage: Usd.Stage) -> None:
+        cached = self._lints.pop(stage, None)
+        if cached is not None and cached.listener is not None:
+            cached.listener.Revoke()
+
+
+def _site(stage: Usd.Stage, finding: Finding) -> UsdValidation.ValidationErrorSite:
+    """The finding's prim or property (the pseudo-root for stage-wide findings),
+    in the layer holding the opinion behind it when that layer is open."""
+    path = Sdf.Path(finding.location.path) if finding.location.path else Sdf.Path.absoluteRootPath
+    layer = Sdf.Layer.Find(finding.location.layer) if finding.location.layer else None
+    if layer is not None:
+        return UsdValidation.ValidationErrorSite(stage, path, layer)
+    return UsdValidation.ValidationErrorSite(stage, path)
+
+
+def to_error(stage: Usd.Stage, finding: Finding) -> UsdValidation.ValidationError:
+    """A finding as a ValidationError named by its code (UL000: the rule raised)."""
+    return UsdValidation.ValidationError(
+        finding.code,
+        _ERROR_TYPES[finding.severity],
+        [_site(stage, finding)],
+        finding.message,
+    )
+
+
+def failure_error(stage: Any, rule: type[Rule] | None, exc: BaseException) -> Any:
+    """The one error a validator reports when it could not run."""
+    frame = traceback.extract_tb(exc.__traceback__)[-1:] if exc.__traceback__ else []
+    where = f" [{frame[0].filename.rsplit('/', 1)[-1]}:{frame[0].lineno}]" if frame else ""
+    what = f"{rule.code} ({rule.name})" if rule is not None else "usdrender-lint"
+    message = f"{what} could not run: {type(exc).__name__}: {exc}{where}"
+    try:
+        sites = [UsdValidation.ValidationErrorSite(stage, Sdf.Path.absoluteRootPath)]
+    except Exception:  # noqa: BLE001 - e.g. the stage has expired
+        sites = []
+    return UsdValidation.ValidationError(FAILURE_ERROR_NAME, ErrorType.Error, sites, message)
+
+
+class RuleValidator:
+    """The task functions of one rule's validator and its fixer."""
+
+    def __init__(self, rule: type[Rule], lints: StageLints) -> None:
+        self.rule = rule
+        self.lints = lints
+
+    def _mine(self, stage: Usd.Stage, prim_path: Sdf.Path | None) -> list[TracedFinding]:
+        return [
+            traced
+            for traced in self.lints.findings(stage)
+            if traced.rule_code == self.rule.code and traced.prim_path == prim_path
+        ]
+
+    def validate_stage(self, stage: Usd.Stage, time_range: Any = None) -> list[Any]:
+        try:
+            return [to_error(stage, t.finding) for t in self._mine(stage, None)]
+        except Exception as exc:  # noqa: BLE001 - see the module docstring
+            return [failure_error(stage, self.rule, exc)]
+
+    def validate_prim(self, prim: Usd.Prim, time_range: Any = None) -> list[Any]:
+        try:
+            stage = prim.GetStage()
+            return [to_error(stage, t.finding) for t in self._mine(stage, prim.GetPath())]
+        except Exception as exc:  # noqa: BLE001 - see the module docstring
+            return [failure_error(prim.GetStage(), self.rule, exc)]
+
+    # -- fixer ----------------------------------------------------------------
+
+    def _safe_fix(self, error: Any) -> tuple[Usd.Stage, TracedFinding] | None:
+        """The stage and the traced finding behind ``error`` when its fix is safe."""
+        sites = error.GetSites()
+        if not sites or error.GetName() != self.rule.code:
+            return None
+        stage = sites[0].GetStage()
+        if stage is None:
+            return None
+        for traced in self.lints.findings(stage):
+            finding = traced.finding
+            if (
+                finding.code == self.rule.code
+                and finding.message == error.GetMessage()
+                and Sdf.Path(finding.location.path or "/") == _site_path(sites[0])
+                and traced.fix is not None
+                and traced.fix.safe
+                and traced.fix.apply is not None
+            ):
+                return stage, traced
+        return None
+
+    def can_apply(self, error: Any, edit_target: Usd.EditTarget, time_code: Any = None) -> bool:
+        try:
+            return self._safe_fix(error) is not None
+        except Exception:  # noqa: BLE001 - see the module docstring
+            return False
+
+    def apply(self, error: Any, edit_target: Usd.EditTarget, time_code: Any = None) -> bool:
+        """Apply the rule's safe fix with the caller's edit target."""
+        try:
+            found = self._safe_fix(error)
+            if found is None:
+                return False
+            stage, traced = found
+            previous = stage.GetEditTarget()
+            stage.SetEditTarget(edit_target)
+            try:
+                traced.fix.apply(stage)
+            finally:
+                stage.SetEditTarget(previous)
+            return True
+        except Exception:  # noqa: BLE001 - see the module docstring
+            return False
+
+    def fixers(self) -> list[Any]:
+        """A ValidationFixer when the rule can have a safe fix."""
+        if self.rule.fix_safety not in ("safe", "safe-conditional"):
+            return []
+        return [
+            UsdValidation.ValidationFixer(
+                name=f"{validator_key(self.rule)}Fix",
+                description=f"Apply the safe fix of {self.rule.code} ({self.rule.name}).",
+                fixerImplFn=self.apply,
+                canApplyFn=self.can_apply,
+                keywords=[PLUGIN_NAME],
+                errorName=self.rule.code,
+            )
+        ]
+
+
+def _site_path(site: Any) -> Sdf.Path:
+    if site.IsProperty():
+        return site.GetProperty().GetPath()
+    if site.IsPrim():
+        return site.GetPrim().GetPath()
+    return Sdf.Path.absoluteRootPath
+
+
+class UnavailableValidator:
+    """A declared validator whose rule is not registered (a stale plugInfo.json
+    or a rule plugin that fails to load): it reports why instead of failing to load."""
+
+    def __init__(self, name: str, reason: str) -> None:
+        self.name = name
+        self.reason = reason
+
+    def validate_stage(self, stage: Usd.Stage, time_range: Any = None) -> list[Any]:
+        try:
+            site = UsdValidation.ValidationErrorSite(stage, Sdf.Path.absoluteRootPath)
+            return [
+                UsdValidation.ValidationError(
+                    FAILURE_ERROR_NAME, ErrorType.Error, [site], f"{self.name}: {self.reason}"
+                )
+            ]
+        except Exception:  # noqa: BLE001 - see the module docstring
+            return []
+
+    def validate_prim(self, prim: Usd.Prim, time_range: Any = None) -> list[Any]:
+        # Once per stage: on its pseudo-root or, with schema types, nowhere useful.
+        return self.validate_stage(prim.GetStage()) if prim.IsPseudoRoot() else []
+
+
+def default_linter(rules: Sequence[type[Rule]]) -> Linter:
+    """Every rule with its default options: the CLI's findings without a config file."""
+    return Linter([rule() for rule in rules], known_rules=rules)
+
+
+def register_validators(usd_registry: Any = None) -> list[str]:
+    """Register a task function (and fixer) for every validator this plugin
+    declares; returns the names registered. Never raises."""
+    registered: list[str] = []
+    try:
+        usd_registry = usd_registry or UsdValidation.ValidationRegistry()
+        declared = [
+            str(m.name)
+            for m in usd_registry.GetValidatorMetadataForPlugin(PLUGIN_NAME)
+            if not usd_registry.HasValidator(m.name)
+        ]
+        rules, reason = _registered_rules()
+        lints = StageLints(lambda: default_linter(rules))
+        by_name = {validator_name(rule): rule for rule in rules}
+        for name in declared:
+            metadata = usd_registry.GetValidatorMetadata(name)
+            rule = by_name.get(name)
+            if rule is None:
+                task = UnavailableValidator(name, reason or STALE_REASON)
+                prim = bool(metadata.GetSchemaTypes())
+                fixers: list[Any] = []
+            else:
+                task = RuleValidator(rule, lints)
+                prim = is_prim_validator(rule)
+                fixers = task.fixers()
+            if prim:
+                usd_registry.RegisterPluginPrimValidator(name, task.validate_prim, fixers)
+            else:
+                usd_registry.RegisterPluginStageValidator(name, task.validate_stage, fixers)
+            registered.append(name)
+    except Exception as exc:  # noqa: BLE001 - a failing import would fail every validator
+        Tf.Warn(f"usdrender-lint: validators not registered: {type(exc).__name__}: {exc}")
+    return registered
+
+
+def _registered_rules() -> tuple[tuple[type[Rule], ...], str | None]:
+    """Every registered rule; when a rule plugin fails to load, the built-ins
+    and the reason the others are missing."""
+    from ..registry import RegistryError, build_registry
+
+    try:
+        return build_registry().rules, None
+    except RegistryError as exc:
+        from ..rules import RULES
+
+        return tuple(RULES), f"usdrender-lint rule plugins failed to load: {exc}"
