@@ -12,9 +12,9 @@ from pxr import Usd, UsdGeom
 from usdrender_lint.api import Context
 from usdrender_lint.resolve import (
     RenderConfiguration,
-    composed_value,
     fallback_value,
     format_time,
+    has_authored_value,
     is_finite,
     joint_evaluation_times,
 )
@@ -63,19 +63,30 @@ def first_failure(
     Values are composed: well-typed authored opinions, else the schema
     fallback (a type-mismatched opinion counts as unauthored, SE016's; a
     blocked sample reads as the fallback)."""
-    names = tuple(names)
-    attrs = [prim.GetAttribute(name) for name in names]
+    readers = [_reader(prim, name) for name in names]
+    attrs = [attr for attr, _, _ in readers]
     for time in joint_evaluation_times(attrs, cap):
-        problem = check(*(_value_at(prim, name, time) for name in names))
+        problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
             return time, problem
     return None
 
 
-def _value_at(prim: Usd.Prim, name: str, time: Usd.TimeCode) -> Any:
-    value = composed_value(prim, name, time)
+#: An attribute, whether it holds a well-typed authored value, and its fallback.
+_Reader = tuple[Usd.Attribute, bool, Any]
+
+
+def _reader(prim: Usd.Prim, name: str) -> _Reader:
+    # Decided once per attribute, not per time sample: the opinion stack is costly.
+    attr = prim.GetAttribute(name)
+    return attr, has_authored_value(attr), fallback_value(prim, name)
+
+
+def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:
+    attr, authored, fallback = reader
+    value = attr.Get(time) if authored else None
     # A blocked time sample (`1: None`) leaves typed C++ reads with the fallback.
-    return fallback_value(prim, name) if value is None else value
+    return fallback if value is None else value
 
 
 def at_time(time: Usd.TimeCode) -> str:
