@@ -25,7 +25,7 @@ from usdrender_lint.testing import all_rules
 
 RULE_FIXTURES = Path(__file__).parent / "rules"
 _EXAMPLES_ENV = os.environ.get("USDRENDER_LINT_FUZZ_EXAMPLES")
-EXAMPLES = int(_EXAMPLES_ENV or 300)
+EXAMPLES = int(_EXAMPLES_ENV or 500)
 FUZZ = settings(
     max_examples=EXAMPLES,
     deadline=None,
