@@ -101,13 +101,24 @@ def positive_finite(value: Any) -> bool:
     return value is not None and is_finite(value) and value > 0
 
 
-def usable_cameras(ctx: Context) -> list[Usd.Prim]:
-    """Every usable Camera on the stage. Walks the stage: only call it for a
-    fix that needs it, never on every lint."""
+def usable_cameras(ctx: Context, most: int = 2) -> list[Usd.Prim]:
+    """The first ``most`` usable Cameras on the stage (enough to tell "exactly
+    one"). Walks the stage: only call it for a fix that needs it."""
 
     def compute() -> list[Usd.Prim]:
-        return [p for p in ctx.stage.Traverse() if p.IsA(UsdGeom.Camera)]
+        cameras: list[Usd.Prim] = []
+        is_camera_type: dict[str, bool] = {}
+        for prim in ctx.stage.Traverse():
+            type_name = prim.GetTypeName()
+            hit = is_camera_type.get(type_name)
+            if hit is None:  # IsA depends on the type name only: test it once per type
+                hit = is_camera_type[type_name] = prim.IsA(UsdGeom.Camera)
+            if hit:
+                cameras.append(prim)
+                if len(cameras) == most:
+                    break
+        return cameras
 
     # Cameras anywhere in the scene: not on the engine's partial stage.
     ctx.require_full_stage()
-    return ctx.memo(("camera", "usable_cameras"), compute)
+    return ctx.memo(("camera", "usable_cameras", most), compute)
