@@ -446,6 +446,27 @@ def test_fix_to_keeps_what_the_layer_already_has(tmp_path: Path) -> None:
     assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
 
 
+def test_fix_to_refuses_a_move(tmp_path: Path) -> None:
+    fixture = FIXTURES / "ST008_render_prim_outside_render_scope" / "fail_outside.usda"
+    shot = write(tmp_path / "shot.usda", fixture.read_text(encoding="utf-8"))
+    overrides = tmp_path / "fixes.usda"
+    args = ("--select", "ST008", "--unsafe-fixes", "--fix-to", str(overrides), str(shot))
+    _, document = check(*args)
+    assert document["fixes"] and not any(fix["applied"] for fix in document["fixes"])
+    assert all("removes or moves" in reason for reason in reasons(document))
+    assert not overrides.exists()
+
+
+def test_fix_to_fixes_a_bad_value_the_override_layer_holds(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT.replace('"cropaperture"', '"expandAperture"'))
+    overrides = write(tmp_path / "fixes.usda", SHOT.replace("def ", "over "))
+    result, document = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 0, result.output
+    assert [fix["applied"] for fix in document["fixes"]] == [True]
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
+
+
 # -- usage ----------------------------------------------------------------------------
 
 

@@ -183,14 +183,11 @@ class _StageFixer:
             )
         shown = _display(layer)
         if self.override is not None:
-            if layer != self.override:
-                reason = self._apply_as_override(fix, layer)
-                return self._outcome(finding, fix, _display(self.override), reason)
-            shown = _display(self.override)
-        else:
-            problem = self._problem(layer)
-            if problem is not None:
-                return self._outcome(finding, fix, shown, problem)
+            reason = self._apply_as_override(fix, layer)
+            return self._outcome(finding, fix, _display(self.override), reason)
+        problem = self._problem(layer)
+        if problem is not None:
+            return self._outcome(finding, fix, shown, problem)
         return self._outcome(finding, fix, shown, self._apply_in_place(fix, layer))
 
     def _target_layer(self, finding: Finding, fix: Fix) -> Sdf.Layer | None:
@@ -225,11 +222,10 @@ class _StageFixer:
             candidate
             for candidate in stack
             if candidate.dirty
-            and (
-                candidate not in edited_before
-                or not _same_content(candidate, edited_before[candidate])
-            )
+            and (candidate not in edited_before or _differs(candidate, edited_before[candidate]))
         ]
+        if failure is None and not touched:
+            failure = "the fix changed nothing"
         for candidate in touched:
             if failure is not None or candidate == layer:
                 continue
@@ -251,8 +247,8 @@ class _StageFixer:
         return failure
 
     def _apply_as_override(self, fix: Fix, layer: Sdf.Layer) -> str | None:
-        """Apply ``fix`` in its source layer in memory, then write what changed on
-        the composed stage into the override layer and restore the source."""
+        """Apply ``fix`` in ``layer`` in memory, undo it, then write what it changed
+        on the composed stage into the override layer (the sources stay as on disk)."""
         stage = self.stage
         changed: set[Sdf.Path] = set()
 
@@ -272,22 +268,30 @@ class _StageFixer:
                 "session layer, so an override layer used as a sublayer cannot carry it; use --fix"
             )
         after = _capture(stage, changed) if failure is None else {}
+        # Undo: the sources are never saved with --fix-to, and the override
+        # layer gets the composed difference below, whichever layer the fix edited.
+        if _differs(self.override, before_override):
+            self.override.TransferContent(before_override)
         for source in stage.GetLayerStack(includeSessionLayers=False):
             if source.dirty:
-                source.Reload(True)  # the sources are never saved with --fix-to
+                source.Reload(True)
         if failure is not None:
             return failure
         before = _capture(stage, changed)
         paths = set(after) | set(before)
         wanted = {path: after.get(path, _absent(path)) for path in paths}
+        todo = [p for p in paths if wanted[p] != before.get(p, _absent(p))]
+        if not todo:
+            return "the fix changed nothing on the stage"
         with Usd.EditContext(stage, Usd.EditTarget(self.override)):
-            for path in sorted(paths, key=lambda p: (p.IsPropertyPath(), p.pathElementCount, p)):
-                if wanted[path] != before.get(path, _absent(path)):
-                    _author(stage, path, wanted[path])
+            for path in sorted(todo, key=lambda p: (p.IsPropertyPath(), p.pathElementCount, p)):
+                _author(stage, path, wanted[path])
         now = _capture(stage, changed)
         wrong = sorted(p for p in paths if now.get(p, _absent(p)) != wanted[p])
         if wrong:
             self.override.TransferContent(before_override)
+            if wanted[wrong[0]] == _absent(wrong[0]) and not wrong[0].IsPropertyPath():
+                return f"it removes or moves <{wrong[0]}>, which an override cannot do; use --fix"
             return f"its effect on <{wrong[0]}> cannot be written as an override; use --fix"
         return None
 
@@ -308,8 +312,8 @@ class _StageFixer:
 
     def _finish_override(self, findings: list[Finding]) -> None:
         self.remaining = FileResult(self.path, findings=tuple(findings))
-        if not self.override.dirty:
-            return
+        if not any(outcome.applied for outcome in self.outcomes):
+            return  # refused fixes may leave the layer dirty, never changed
         try:
             save_layer(self.override, self.options.fix_to)
         except OSError as exc:
@@ -490,8 +494,8 @@ def _snapshot(layer: Sdf.Layer) -> Sdf.Layer:
     return copy
 
 
-def _same_content(layer: Sdf.Layer, snapshot: Sdf.Layer) -> bool:
-    return layer.ExportToString() == snapshot.ExportToString()
+def _differs(layer: Sdf.Layer, snapshot: Sdf.Layer) -> bool:
+    return layer.ExportToString() != snapshot.ExportToString()
 
 
 def _call_fix(fix: Fix, stage: Usd.Stage, layer: Sdf.Layer) -> str | None:
