@@ -283,9 +283,22 @@ def Scope "Render"
     }
     def RenderSettings "S"
     {
+        rel camera = </Render/Cam>
         uniform float pixelAspectRatio = </Z>
         uniform token aspectRatioConformPolicy = </W>
         uniform token renderingColorSpace = </V>
+    }
+    def Camera "Cam"
+    {
+        float horizontalAperture = 36
+        float horizontalAperture.timeSamples = {
+            1: 30,
+            10: </X>,
+        }
+        float focalLength.timeSamples = {
+            1: </Y>,
+        }
+        float2 clippingRange = </Z>
     }
 }
 """

@@ -166,13 +166,20 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
 
 def _holds_path_value(attr: Usd.Attribute) -> bool:
     """usda accepts ``<...>`` as the value of an attribute of any type
-    (``uniform token sourceType = </X>``): an Sdf.Path that no typed read of
-    the declared type returns, so it is no value at all."""
+    (``uniform token sourceType = </X>``, also in time samples): an Sdf.Path that
+    no typed read of the declared type returns, so it is no value at all."""
+    found_default = found_samples = False
     for spec in _attribute_specs(attr):
-        if spec.HasDefaultValue():
-            return isinstance(spec.default, Sdf.Path)
-        if spec.layer.GetNumTimeSamplesForPath(spec.path):
-            return False
+        if not found_default and spec.HasDefaultValue():
+            found_default = True
+            if isinstance(spec.default, Sdf.Path):
+                return True
+        if not found_samples and spec.layer.GetNumTimeSamplesForPath(spec.path):
+            found_samples = True
+            if any(isinstance(v, Sdf.Path) for v in spec.GetInfo("timeSamples").values()):
+                return True
+        if found_default and found_samples:
+            break
     return False
 
 
