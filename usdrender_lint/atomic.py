@@ -4,23 +4,37 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 
 def write_text_atomic(path: str | Path, text: str) -> None:
     """Write ``text`` to ``path`` through a temporary file in the same folder
     and ``os.replace`` (atomic on POSIX and Windows). Raises OSError."""
-    target = Path(path)
-    handle, temporary = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=".tmp", dir=target.parent
-    )
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
+
+    def write(temporary: Path) -> None:
+        with open(temporary, "w", encoding="utf-8", newline="\n") as stream:
             stream.write(text)
             stream.flush()
             os.fsync(stream.fileno())
+
+    replace_atomically(path, write)
+
+
+def replace_atomically(
+    path: str | Path, write: Callable[[Path], None], suffix: str = ".tmp"
+) -> None:
+    """Replace ``path`` by what ``write`` puts into a temporary file (named with
+    ``suffix``) in the same folder, keeping the replaced file's permissions.
+    On any failure the original is intact and the temporary file is removed."""
+    target = Path(path)
+    handle, temporary = tempfile.mkstemp(
+        prefix=f".{target.name}.", suffix=suffix, dir=target.parent
+    )
+    os.close(handle)
+    try:
+        write(Path(temporary))
         if target.exists():
-            # Keep the permissions of the file being replaced.
             os.chmod(temporary, target.stat().st_mode & 0o7777)
         else:
             umask = os.umask(0)

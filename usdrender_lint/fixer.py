@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import difflib
 import os
-import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,6 +28,7 @@ from pxr import Sdf, Tf, Usd
 
 from . import usda_lines
 from .api import Fix
+from .atomic import replace_atomically
 from .engine import Linter, open_stage
 from .model import AppliedFix, FileResult, Finding
 
@@ -371,27 +371,13 @@ def save_layer(layer: Sdf.Layer, target: str) -> None:
     temporary file with the same extension in the same folder, then
     ``os.replace``. Raises OSError; the old file is intact on any failure."""
     destination = Path(target)
-    extension = destination.suffix
     args = {}
-    if extension.lower() == ".usd" and destination.exists():
+    if destination.suffix.lower() == ".usd" and destination.exists():
         # A .usd keeps the encoding it has (a new one gets USD's default).
         args["format"] = "usdc" if _is_crate(str(destination)) else "usda"
-    handle, temporary = tempfile.mkstemp(
-        prefix=f".{destination.stem}.", suffix=extension, dir=destination.parent
+    replace_atomically(
+        destination, lambda temporary: _export(layer, str(temporary), args), destination.suffix
     )
-    os.close(handle)
-    try:
-        _export(layer, temporary, args)
-        if destination.exists():
-            os.chmod(temporary, destination.stat().st_mode & 0o7777)
-        else:
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(temporary, 0o666 & ~umask)
-        os.replace(temporary, destination)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
     layer.Reload(True)  # the layer now matches the file: no longer dirty
 
 
