@@ -197,7 +197,7 @@ def _text(value) -> str:
     return repr(value)
 
 
-def _spec_fields(layer: Sdf.Layer) -> dict[str, dict[str, str]]:
+def spec_fields(layer: Sdf.Layer) -> dict[str, dict[str, str]]:
     """Every spec of a layer with its fields, as comparable text."""
     fields: dict[str, dict[str, str]] = {}
 
@@ -221,10 +221,10 @@ def _spec_fields(layer: Sdf.Layer) -> dict[str, dict[str, str]]:
 def test_only_the_fixed_opinions_change(tmp_path: Path, code: str, fixture: str) -> None:
     source = FIXTURES / fixture
     shot = write(tmp_path / "shot.usda", source.read_text(encoding="utf-8"))
-    before = _spec_fields(Usd.Stage.Open(str(shot)).Flatten())
+    before = spec_fields(Usd.Stage.Open(str(shot)).Flatten())
     extra = ("--unsafe-fixes",) if code == "ST008" else ()
     _, document = check("--select", code, "--fix", "--fix-drop-comments", *extra, str(shot))
-    after = _spec_fields(Usd.Stage.Open(str(shot)).Flatten())
+    after = spec_fields(Usd.Stage.Open(str(shot)).Flatten())
     fixed = {fix["path"] for fix in document["fixes"] if fix["applied"]}
     assert fixed
     changed = {p for p in before.keys() | after.keys() if before.get(p) != after.get(p)}
