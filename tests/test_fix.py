@@ -11,10 +11,12 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from pxr import Sdf, Usd
+from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint import fixer
+from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
 from usdrender_lint.cli import cli
+from usdrender_lint.engine import Linter
 from usdrender_lint.resolve import composed_value
 from usdrender_lint.usda_lines import comment_lines
 
@@ -498,3 +500,99 @@ def test_fix_to_an_unusable_layer_is_a_tool_error(tmp_path: Path) -> None:
     assert result.exit_code == 2
     assert "does not exist" in result.stderr
     assert os.listdir(tmp_path) == ["shot.usda"]
+
+
+# -- the fixer's own guarantees, with rules made for the test ---------------------------
+
+
+class _SettingsRule(Rule):
+    """A rule for the test: fires on every RenderSettings with a given fix."""
+
+    code = "TF001"
+    name = "test-fix"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Settings,)
+    fix_safety = "safe"
+    apply = None
+
+    def check_prim(self, prim, ctx):
+        if not prim.GetCustomDataByKey("fixed"):
+            yield Diagnostic("not fixed yet", at=prim, fix=Fix("mark", True, type(self).apply))
+
+
+def _fix_with(apply, path: Path, **options) -> fixer.FixRun:
+    rule = type("Rule", (_SettingsRule,), {"apply": staticmethod(apply)})
+    return fixer.fix_files(Linter([rule()]), [str(path)], fixer.FixOptions(**options))
+
+
+def _mark(stage: Usd.Stage) -> None:
+    stage.GetPrimAtPath("/Render/Settings").SetCustomDataByKey("fixed", True)
+
+
+def test_a_fix_that_raises_is_reported_and_undone(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+
+    def half_then_raise(stage: Usd.Stage) -> None:
+        _mark(stage)
+        raise RuntimeError("boom")
+
+    run = _fix_with(half_then_raise, shot)
+    (outcome,) = run.outcomes
+    assert not outcome.applied and "RuntimeError: boom" in outcome.reason
+    assert shot.read_text(encoding="utf-8") == SHOT
+
+
+def test_a_fix_that_changes_nothing_is_not_counted(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    run = _fix_with(lambda stage: None, shot)
+    (outcome,) = run.outcomes
+    assert outcome.reason == "the fix changed nothing"
+
+
+def test_a_fix_that_also_edits_a_read_only_layer_is_undone(tmp_path: Path) -> None:
+    weak = write(tmp_path / "weak.usda", '#usda 1.0\n\nover "Render"\n{\n}\n')
+    shot = write(
+        tmp_path / "shot.usda",
+        SHOT.replace("#usda 1.0", "#usda 1.0\n(\n    subLayers = [@weak.usda@]\n)"),
+    )
+    before = shot.read_bytes()
+    weak.chmod(0o444)
+
+    def edit_both(stage: Usd.Stage) -> None:
+        _mark(stage)
+        weak_layer = stage.GetLayerStack()[-1]
+        weak_layer.GetPrimAtPath("/Render").SetInfo("comment", "touched")
+
+    try:
+        run = _fix_with(edit_both, shot)
+    finally:
+        weak.chmod(0o644)
+    (outcome,) = run.outcomes
+    assert "also edits" in outcome.reason and "read-only" in outcome.reason
+    assert shot.read_bytes() == before and "touched" not in weak.read_text(encoding="utf-8")
+
+
+def test_a_broken_file_is_reported_not_fixed(tmp_path: Path) -> None:
+    broken = write(tmp_path / "broken.usda", '#usda 1.0\ndef Scope "A" {\n')
+    result, document = check("--fix", str(broken))
+    assert result.exit_code == 1
+    assert codes(document) == ["ST001"] and document["fixes"] == []
+    assert broken.read_text(encoding="utf-8") == '#usda 1.0\ndef Scope "A" {\n'
+
+
+def test_json_has_no_fixes_field_without_fixing(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    _, document = check("--select", "SE006", str(shot))
+    assert "fixes" not in document
+    assert document["files"][0]["findings"][0]["fix"] == {
+        "description": 'set to "cropAperture"',
+        "safe": True,
+    }
+
+
+def test_fix_handles_several_files_in_one_run(tmp_path: Path) -> None:
+    one, two = write(tmp_path / "a.usda", SHOT), write(tmp_path / "b.usda", SHOT)
+    result, document = check("--select", "SE006", "--fix", str(one), str(two))
+    assert result.exit_code == 0, result.output
+    assert value(one) == value(two) == "cropAperture"
+    assert len(document["fixes"]) == 2
