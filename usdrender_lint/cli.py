@@ -146,6 +146,18 @@ def cli() -> None:
     help="Let --fix save a .usda that has comments (saving drops them).",
 )
 @click.option(
+    "--variants",
+    is_flag=True,
+    help="Also lint under other variant selections of the render prims and their ancestors.",
+)
+@click.option(
+    "--max-variant-combinations",
+    type=click.IntRange(min=1),
+    default=64,
+    show_default=True,
+    help="With --variants: variant combinations linted per file at most.",
+)
+@click.option(
     "--full-composition",
     is_flag=True,
     hidden=True,
@@ -173,6 +185,8 @@ def check(
     show_diff: bool,
     fix_to: str | None,
     fix_drop_comments: bool,
+    variants: bool,
+    max_variant_combinations: int,
     full_composition: bool,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
@@ -205,6 +219,8 @@ def check(
 
         plan = plan_from_settings(files, settings)
     fix_options = _fix_options(fix, unsafe_fixes, show_diff, fix_to, fix_drop_comments)
+    if variants and fix_options is not None:
+        raise ToolError("--variants cannot be combined with --fix, --diff or --fix-to")
     fixed = None
     if fix_options is not None:
         fixed = _run_fixes(linter, plan.files if plan else files, fix_options, settings, registry)
@@ -218,6 +234,7 @@ def check(
                 settings=settings,
                 jobs=jobs or default_jobs(),
                 timeout=timeout,
+                variant_combinations=max_variant_combinations if variants else None,
             )
     except ExecutionError as exc:
         raise ToolError(str(exc)) from None

@@ -106,13 +106,22 @@ def lint_files(
     jobs: int = 1,
     timeout: float | None = None,
     progress: bool | None = None,
+    variant_combinations: int | None = None,
 ) -> Report:
     """Lint ``files``; results keep the input order whatever ``jobs`` is.
 
     With ``jobs > 1`` or a ``timeout`` (seconds) the files go to worker
     processes that rebuild the linter from ``settings`` (see :mod:`.execution`).
+    ``variant_combinations`` (--variants) lints each file under up to that many
+    variant combinations of its render prims (see :mod:`.variants`).
     """
     factory = partial(make_linter, settings) if settings is not None else None
+    if variant_combinations is not None:
+        from .variants import VariantExplorer, make_variant_explorer
+
+        linter = VariantExplorer(linter, variant_combinations)
+        if settings is not None:
+            factory = partial(make_variant_explorer, settings, variant_combinations)
     return Report(
         lint_paths(
             files,
