@@ -52,6 +52,11 @@ class TrapRule(Rule):
             os.kill(os.getpid(), signal.SIGSEGV)
         if prim.GetName() == "Hang":
             time.sleep(3600)
+        if prim.GetName() == "Abort":
+            # What USD does on a TF_FATAL_ERROR: a banner on stderr, then abort().
+            os.write(2, b"\n---- python3.11 terminated ----\n")
+            os.write(2, b"python3.11 crashed. FATAL ERROR: Dereferenced an invalid spec\n")
+            os.abort()
         yield Diagnostic(f"scope {prim.GetName()}", at=prim)
 
 
@@ -127,6 +132,23 @@ def test_a_worker_that_crashes_costs_only_its_file(tmp_path: Path) -> None:
         ["scope Two"],
         ["scope Three"],
     ]
+
+
+def test_what_a_dying_worker_prints_becomes_the_one_line_error(
+    tmp_path: Path, capfd: pytest.CaptureFixture
+) -> None:
+    files = [
+        _write(tmp_path, "1.usda", SCOPE.format(name="Abort")),
+        _write(tmp_path, "2.usda", SCOPE.format(name="Two")),
+    ]
+    results = lint_paths(files, linter_factory=trap_linter, jobs=2, timeout=60)
+    assert results[0].error == (
+        f"{files[0]}: the linter process crashed while reading it "
+        "(signal SIGABRT: USD fatal error: Dereferenced an invalid spec)"
+    )
+    assert [f.message for f in results[1].findings] == ["scope Two"]
+    captured = capfd.readouterr()
+    assert "FATAL" not in captured.err and "terminated" not in captured.err
 
 
 def test_a_worker_that_cannot_build_its_linter_stops_the_run(tmp_path: Path) -> None:

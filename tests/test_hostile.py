@@ -557,3 +557,41 @@ def test_a_rule_quoting_a_huge_array_gives_a_bounded_message(tmp_path: Path) -> 
     assert finding.message.endswith(
         f"({len('weights []') + 100_000 * 5 - 2 - MAX_MESSAGE_CHARS} more characters)"
     )
+
+
+EMPTY_VARIANT_NAME = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings" (
+        variantSets = "quality"
+    )
+    {
+        variantSet "quality" = {
+            "" {
+                rel camera = </World/cam>
+            }
+        }
+    }
+}
+"""
+
+
+def test_a_layer_that_aborts_usd_costs_only_itself(tmp_path: Path) -> None:
+    """A variant named "": usd-core 26.11 opens it, but some Sdf layer walks
+    (``GetCompositionAssetDependencies``) abort the process with a fatal error.
+    Workers contain that: one clean line, the other files linted."""
+    path = _text("empty_variant.usda", EMPTY_VARIANT_NAME)(tmp_path)
+    control = _text("control.usda", CONTROL)(tmp_path)
+    result = run_cli("--jobs", "2", path, control)
+    files = _files_by_name(result)
+    assert "SE003" in {f["code"] for f in files[control]["findings"]}
+    lines = result.stderr.splitlines()
+    assert all(line.startswith("usdrender-lint: error: ") for line in lines), result.stderr
+    if files[path]["status"] == "error":  # until the engine avoids the aborting call
+        assert lines == [
+            f"usdrender-lint: error: {path}: the linter process crashed while reading it "
+            "(signal SIGABRT: USD fatal error: Dereferenced an invalid SdfVariantSetSpec)"
+        ]
+        assert result.exit_code == 2
+    else:
+        assert not lines

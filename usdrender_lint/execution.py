@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import shutil
 import signal
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
@@ -155,9 +157,16 @@ def _context() -> multiprocessing.context.BaseContext:
     return multiprocessing.get_context("spawn")
 
 
-def _worker_main(conn: Connection, linter_factory: LinterFactory) -> None:
-    """Build the linter, say ready, then lint ``(index, path)`` until ``None``."""
+def _worker_main(conn: Connection, linter_factory: LinterFactory, log_path: str) -> None:
+    """Build the linter, say ready, then lint ``(index, path)`` until ``None``.
+
+    The worker's stderr goes to ``log_path``, emptied before each file: what
+    USD prints when it aborts becomes part of the one-line error, not noise
+    around the report."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
+    log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    os.dup2(log, 2)
+    os.close(log)
     try:
         linter = linter_factory()
         # Load USD's plugins and schemas now, so the first file's time limit
@@ -175,6 +184,8 @@ def _worker_main(conn: Connection, linter_factory: LinterFactory) -> None:
         if task is None:
             return
         index, path = task
+        os.ftruncate(2, 0)
+        os.lseek(2, 0, os.SEEK_SET)
         # The result holds only plain values; the stage dies with lint_path's frame.
         conn.send((index, lint_one(linter, path)))
 
@@ -183,6 +194,8 @@ def _worker_main(conn: Connection, linter_factory: LinterFactory) -> None:
 class _Worker:
     process: multiprocessing.process.BaseProcess
     conn: Connection
+    #: Where the worker's stderr goes.
+    log_path: str
     ready: bool = False
     #: (index, path, deadline) of the file being linted, if any.
     task: tuple[int, str, float] | None = None
@@ -212,6 +225,8 @@ class _Pool:
         self._advance = advance
         self._context = _context()
         self._workers: list[_Worker] = []
+        self._started = 0
+        self._log_dir = ""
         self._pending: list[tuple[int, str]] = []
         self._remaining = 0
 
@@ -219,6 +234,7 @@ class _Pool:
         results: list[FileResult | None] = [None] * len(files)
         self._pending = list(reversed(list(enumerate(files))))  # pop() keeps input order
         self._remaining = len(files)
+        self._log_dir = tempfile.mkdtemp(prefix="usdrender-lint-")
         try:
             self._workers = [self._start() for _ in range(self._size)]
             while self._remaining:
@@ -229,18 +245,21 @@ class _Pool:
         finally:
             for worker in self._workers:
                 self._stop(worker)
+            shutil.rmtree(self._log_dir, ignore_errors=True)
         return tuple(r for r in results if r is not None)
 
     def _start(self) -> _Worker:
         # Chosen per worker: a progress bar's thread makes forking unsafe.
         self._context = _context()
         parent_end, child_end = self._context.Pipe()
+        self._started += 1
+        log_path = os.path.join(self._log_dir, f"worker-{self._started}.log")
         process = self._context.Process(
-            target=_worker_main, args=(child_end, self._factory), daemon=True
+            target=_worker_main, args=(child_end, self._factory, log_path), daemon=True
         )
         process.start()
         child_end.close()
-        return _Worker(process, parent_end, started=time.monotonic())
+        return _Worker(process, parent_end, log_path, started=time.monotonic())
 
     def _assign(self, worker: _Worker, index: int, path: str) -> None:
         deadline = time.monotonic() + self._timeout if self._timeout else float("inf")
@@ -298,7 +317,8 @@ class _Pool:
                 how = f"signal {-code}"
         else:
             how = f"exit code {code}"
-        return f"the linter process crashed while reading it ({how})"
+        said = _last_words(worker.log_path)
+        return f"the linter process crashed while reading it ({how}{': ' + said if said else ''})"
 
     def _replace(self, worker: _Worker, results: list, error: str) -> None:
         """Kill a worker, record its file as an error and start a fresh one."""
@@ -325,3 +345,21 @@ class _Pool:
         except (OSError, ValueError):
             pass
         worker.kill()
+
+
+def _last_words(log_path: str) -> str:
+    """The reason a worker printed before it died: USD's "FATAL ERROR: ..."
+    line if there is one, else its last line (one line, at most 200 characters)."""
+    try:
+        with open(log_path, encoding="utf-8", errors="replace") as handle:
+            lines = [line.strip() for line in handle if line.strip()]
+    except OSError:
+        return ""
+    fatal = [line for line in lines if "FATAL ERROR:" in line]
+    if fatal:
+        said = "USD " + fatal[-1][fatal[-1].index("FATAL ERROR:") :].replace(
+            "FATAL ERROR", "fatal error", 1
+        )
+    else:
+        said = lines[-1] if lines else ""
+    return said[:200]
