@@ -583,6 +583,11 @@ def _replace_instantaneous_shutter(prim_path: Sdf.Path, author_disable: bool) ->
         if author_disable:
             UsdRender.SettingsBase(prim).CreateDisableMotionBlurAttr().Set(True)
         prim.RemoveProperty("instantaneousShutter")
+        attr = prim.GetAttribute("instantaneousShutter")
+        if attr.HasAuthoredValue():
+            # The opinion comes through an arc (an inherited class) or sits below
+            # the edited layer: removing it there would touch other prims, so block it here.
+            attr.Block()
 
     return apply
 

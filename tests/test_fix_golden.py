@@ -103,6 +103,9 @@ def test_fix_matches_golden(code: str, fail: Path, tmp_path: Path) -> None:
     assert {fix["code"] for fix in document["fixes"]} == {code}
     assert changed == {fail.name}, f"--fix edited {sorted(changed)}, expected only {fail.name}"
     assert canonical(path) == canonical(golden)
+    # A fix silences the finding it was offered for.
+    remaining = {(f["code"], f["path"]) for r in document["files"] for f in r["findings"]}
+    assert not {(fix["code"], fix["path"]) for fix in applied} & remaining
     # Idempotent: fixing the fixed file changes nothing and applies nothing.
     fixed = path.read_bytes()
     again = run_fix(code, path)
