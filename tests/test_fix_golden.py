@@ -1,10 +1,11 @@
 """Golden tests of every fixable rule: ``check --fix`` on a copy of a fail
-fixture gives exactly its ``*.fixed.usda``, and a second ``--fix`` changes nothing.
+fixture gives exactly its goldens, and a second ``--fix`` changes nothing.
 
-``fail_X.fixed.usda`` beside ``fail_X.usda`` is the fixed root layer; the
-fixture's supporting layers must come out unchanged. To (re)write the goldens
-after a deliberate change to a fix, run with USDRENDER_LINT_WRITE_GOLDENS=1:
-every fail fixture whose fix edits only its own file gets one.
+``fail_X.fixed.usda`` beside ``fail_X.usda`` is its fixed root layer and
+``fail_X--L.fixed.usda`` the fixed supporting layer ``L.usda`` (a fix edits the
+layer holding the strongest opinion); every layer without a golden must come
+out unchanged. To (re)write the goldens after a deliberate change to a fix,
+run with USDRENDER_LINT_WRITE_GOLDENS=1.
 """
 
 from __future__ import annotations
@@ -39,19 +40,28 @@ def _folder(code: str) -> Path:
 
 
 def _source_of(golden: Path) -> Path:
-    return golden.with_name(golden.name[: -len(GOLDEN_SUFFIX)] + ".usda")
+    """The fail fixture a golden belongs to."""
+    stem = golden.name[: -len(GOLDEN_SUFFIX)]
+    return golden.with_name(stem.split("--")[0] + ".usda")
+
+
+def _goldens(fail: Path) -> dict[str, Path]:
+    """The goldens of a fail fixture, by the name of the layer each one fixes."""
+    found = {fail.name: fail.with_name(fail.stem + GOLDEN_SUFFIX)}
+    for golden in fail.parent.glob(f"{fail.stem}--*{GOLDEN_SUFFIX}"):
+        layer = golden.name[len(fail.stem) + 2 : -len(GOLDEN_SUFFIX)] + ".usda"
+        found[layer] = golden
+    return {layer: golden for layer, golden in found.items() if golden.is_file()}
 
 
 def _cases():
     for code in sorted(FIXABLE):
         folder = _folder(code)
-        if WRITE_GOLDENS:
-            fails = sorted(folder.glob("fail_*.usda"))
-            fails = [f for f in fails if not f.name.endswith(GOLDEN_SUFFIX)]
-        else:
-            fails = [_source_of(g) for g in sorted(folder.glob(f"fail_*{GOLDEN_SUFFIX}"))]
+        fails = sorted(folder.glob("fail_*.usda"))
+        fails = [f for f in fails if not f.name.endswith(GOLDEN_SUFFIX)]
         for fail in fails:
-            yield pytest.param(code, fail, id=f"{code}/{fail.name}")
+            if WRITE_GOLDENS or _goldens(fail):
+                yield pytest.param(code, fail, id=f"{code}/{fail.name}")
 
 
 def canonical(path: Path) -> str:
@@ -94,22 +104,25 @@ def test_fix_matches_golden(code: str, fail: Path, tmp_path: Path) -> None:
     document = run_fix(code, path)
     applied = [fix for fix in document["fixes"] if fix["applied"]]
     changed = {name for name, data in _layers(tmp_path).items() if before[name] != data}
-    golden = fail.with_name(fail.stem + GOLDEN_SUFFIX)
     if WRITE_GOLDENS:
-        if applied and changed == {fail.name}:
-            golden.write_text(canonical(path), encoding="utf-8")
+        for layer in changed if applied else ():
+            name = fail.stem if layer == fail.name else f"{fail.stem}--{Path(layer).stem}"
+            golden = fail.with_name(name + GOLDEN_SUFFIX)
+            golden.write_text(canonical(tmp_path / layer), encoding="utf-8")
         pytest.skip("goldens written")
+    goldens = _goldens(fail)
     assert applied, f"{fail.name}: no {code} fix was applied"
     assert {fix["code"] for fix in document["fixes"]} == {code}
-    assert changed == {fail.name}, f"--fix edited {sorted(changed)}, expected only {fail.name}"
-    assert canonical(path) == canonical(golden)
+    assert changed == set(goldens), f"--fix edited {sorted(changed)}, goldens: {sorted(goldens)}"
+    for layer, golden in goldens.items():
+        assert canonical(tmp_path / layer) == canonical(golden), layer
     # A fix silences the finding it was offered for.
     remaining = {(f["code"], f["path"]) for r in document["files"] for f in r["findings"]}
     assert not {(fix["code"], fix["path"]) for fix in applied} & remaining
-    # Idempotent: fixing the fixed file changes nothing and applies nothing.
-    fixed = path.read_bytes()
+    # Idempotent: fixing the fixed files changes nothing and applies nothing.
+    fixed = _layers(tmp_path)
     again = run_fix(code, path)
-    assert path.read_bytes() == fixed
+    assert _layers(tmp_path) == fixed
     assert [fix for fix in again["fixes"] if fix["applied"]] == []
 
 
