@@ -162,13 +162,13 @@ def big_stage(work: Path, prims: int, rounds: int) -> dict[str, float]:
 
 def start_up(work: Path, rounds: int) -> dict[str, float]:
     folder = ensure(
-        work / "shot_1000_usda", lambda f: generate.generate_shot(f, 1000, "usda", defects=False)
+        work / "single_1000_usda", lambda f: generate.generate_many(f, 1, 1000, defect_every=0)
     )
-    shot = folder / "shot.usda"
+    shot = folder / "shot_0000.usda"
     bare = Series("bare Usd.Stage.Open", [PYTHON, "-c", BARE_OPEN, str(shot)])
     check = Series("usdrender-lint check", [*LINT, "check", "--isolated", str(shot)])
     measure([bare, check], rounds)
-    print(f"\nStart-up: a 1k-prim shot (.usda), {rounds} rounds")
+    print(f"\nStart-up: a 1k-prim shot file (.usda), {rounds} rounds")
     print(row(bare))
     print(row(check, bare))
     return {"startup_time": check.median() / bare.median()}

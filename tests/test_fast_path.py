@@ -70,6 +70,15 @@ def test_fixture_findings_identical(linters: tuple[Linter, Linter], path: Path) 
     _assert_same(linters, path)
 
 
+def test_corpus_findings_identical(linters: tuple[Linter, Linter], shared_dir: Path) -> None:
+    # Real public USD files (mostly flat, so the fast path is forced).
+    files = sorted((shared_dir / "corpus" / "files").rglob("*.usd*"))
+    assert files
+    fast, full = linters
+    differ = [str(f) for f in files if fast.lint_path(str(f)) != full.lint_path(str(f))]
+    assert not differ, f"fast path findings differ on {differ}"
+
+
 def test_most_fixtures_take_the_fast_path(linters: tuple[Linter, Linter]) -> None:
     # Equality above would hold trivially if the fast path always gave up.
     partial = [p for p in LAYERS if fastpath.open_partial(str(p), _wants(linters[0])).stage]
