@@ -64,6 +64,30 @@ def trap_linter() -> Linter:
     return Linter([TrapRule()])
 
 
+class EnvironmentRule(Rule):
+    """Test-only rule: reports the USDRENDER_LINT_TEST_MARK its linter saw.
+
+    ## What it does
+    Reports each Scope with the mark read when the rule was built.
+    """
+
+    code = "TX903"
+    name = "test-environment"
+    severity = Severity.INFO
+    prim_types = (UsdGeom.Scope,)
+
+    def __init__(self, options=None) -> None:
+        super().__init__(options)
+        self.mark = os.environ.get("USDRENDER_LINT_TEST_MARK", "unset")
+
+    def check_prim(self, prim, ctx):
+        yield Diagnostic(f"mark {self.mark}", at=prim)
+
+
+def environment_linter() -> Linter:
+    return Linter([EnvironmentRule()])
+
+
 def broken_factory() -> Linter:
     raise RuntimeError("plugin acme failed to import")
 
@@ -149,6 +173,20 @@ def test_what_a_dying_worker_prints_becomes_the_one_line_error(
     assert [f.message for f in results[1].findings] == ["scope Two"]
     captured = capfd.readouterr()
     assert "FATAL" not in captured.err and "terminated" not in captured.err
+
+
+def test_workers_see_the_linter_environment_of_now(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Workers fork from a long-lived server; the USDRENDER_LINT_* variables
+    (e.g. --full-composition's) must be the parent's current ones."""
+    files = [_write(tmp_path, "a.usda", SCOPE.format(name="A"))]
+    monkeypatch.delenv("USDRENDER_LINT_TEST_MARK", raising=False)
+    first = lint_paths(files, linter_factory=environment_linter, jobs=1, timeout=60)
+    monkeypatch.setenv("USDRENDER_LINT_TEST_MARK", "later")
+    second = lint_paths(files, linter_factory=environment_linter, jobs=1, timeout=60)
+    assert [f.message for f in first[0].findings] == ["mark unset"]
+    assert [f.message for f in second[0].findings] == ["mark later"]
 
 
 def test_a_worker_that_cannot_build_its_linter_stops_the_run(tmp_path: Path) -> None:

@@ -35,6 +35,8 @@ PROGRESS_MIN_FILES = 20
 WORKER_START_LIMIT = 120.0
 
 LinterFactory = Callable[[], Linter]
+#: Environment variables that configure the linter, handed to every worker.
+ENV_PREFIX = "USDRENDER_LINT_"
 
 
 class ExecutionError(Exception):
@@ -157,13 +159,20 @@ def _context() -> multiprocessing.context.BaseContext:
     return multiprocessing.get_context("spawn")
 
 
-def _worker_main(conn: Connection, linter_factory: LinterFactory, log_path: str) -> None:
+def _worker_main(
+    conn: Connection, linter_factory: LinterFactory, log_path: str, settings_env: dict[str, str]
+) -> None:
     """Build the linter, say ready, then lint ``(index, path)`` until ``None``.
 
     The worker's stderr goes to ``log_path``, emptied before each file: what
     USD prints when it aborts becomes part of the one-line error, not noise
-    around the report."""
+    around the report. ``settings_env`` is the parent's ``USDRENDER_LINT_*``
+    environment now: a forkserver child inherits the server's, which may be older.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
+    for name in [n for n in os.environ if n.startswith(ENV_PREFIX)]:
+        del os.environ[name]
+    os.environ.update(settings_env)
     log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
     os.dup2(log, 2)
     os.close(log)
@@ -255,7 +264,9 @@ class _Pool:
         self._started += 1
         log_path = os.path.join(self._log_dir, f"worker-{self._started}.log")
         process = self._context.Process(
-            target=_worker_main, args=(child_end, self._factory, log_path), daemon=True
+            target=_worker_main,
+            args=(child_end, self._factory, log_path, _settings_env()),
+            daemon=True,
         )
         process.start()
         child_end.close()
@@ -345,6 +356,10 @@ class _Pool:
         except (OSError, ValueError):
             pass
         worker.kill()
+
+
+def _settings_env() -> dict[str, str]:
+    return {name: value for name, value in os.environ.items() if name.startswith(ENV_PREFIX)}
 
 
 def _last_words(log_path: str) -> str:
