@@ -20,6 +20,7 @@ from click.testing import CliRunner
 from pxr import Sdf
 
 from usdrender_lint.cli import cli
+from usdrender_lint.engine import Linter, open_stage
 from usdrender_lint.registry import build_registry
 
 FIXTURES = Path(__file__).parent / "rules"
@@ -138,3 +139,21 @@ def test_every_golden_has_its_fail_fixture() -> None:
         if not _source_of(golden).is_file()
     ]
     assert not orphans
+
+
+@pytest.mark.parametrize("rule", build_registry().rules, ids=lambda rule: rule.code)
+def test_offered_fixes_match_the_rule_fix_class(rule) -> None:
+    """Safe and conditional rules offer safe fixes, unsafe rules unsafe ones,
+    and a rule whose class is "none" offers none (checked on its fail fixtures)."""
+    linter = Linter([rule()])
+    offered = []
+    for fail in sorted(_folder(rule.code).glob("fail_*.usda")):
+        if fail.name.endswith(GOLDEN_SUFFIX):
+            continue
+        opened = open_stage(str(fail))
+        if opened.stage is not None:
+            offered += [fix for _, fix in linter.lint_stage_with_fixes(opened.stage) if fix]
+    if rule.fix_safety == "none":
+        assert offered == []
+    else:
+        assert {fix.safe for fix in offered} <= {rule.fix_safety != "unsafe"}
