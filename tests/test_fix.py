@@ -275,6 +275,13 @@ def test_a_layer_outside_the_layer_stack_is_not_edited(tmp_path: Path) -> None:
     assert asset.read_bytes() == asset_before and shot.read_bytes() == shot_before
     (reason,) = reasons(document)
     assert "outside the stage's layer stack" in reason and "--fix-to" in reason
+    # --fix-to overrides it from the stage, leaving both files alone.
+    overrides = tmp_path / "fixes.usda"
+    result, document = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 0, result.output
+    assert asset.read_bytes() == asset_before and shot.read_bytes() == shot_before
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
 
 
 def test_a_usda_with_comments_is_refused_naming_fix_to(tmp_path: Path) -> None:

@@ -173,6 +173,10 @@ class _StageFixer:
 
     def _fix_one(self, finding: Finding, fix: Fix) -> AppliedFix:
         layer = self._target_layer(finding, fix)
+        if layer is None and self.override is not None:
+            # A referenced layer is not edited even in memory: the fix authors its
+            # values straight into the override layer, at the stage's paths.
+            layer = self.override
         if layer is None:
             return self._outcome(
                 finding,
