@@ -59,6 +59,17 @@ def _wants(linter: Linter):
     return linter._dispatch.wants
 
 
+def _partial_stage(linters: tuple[Linter, Linter], path: Path):
+    """The fast path's stage for ``path``, which must take the fast path."""
+    opened = fastpath.open_partial(str(path), _wants(linters[0]))
+    assert opened.stage is not None, opened.reason
+    return opened.stage
+
+
+def _falls_back(linters: tuple[Linter, Linter], path: Path) -> bool:
+    return fastpath.open_partial(str(path), _wants(linters[0])).stage is None
+
+
 def _assert_same(linters: tuple[Linter, Linter], path: Path) -> None:
     fast, full = linters
     got, expected = fast.lint_path(str(path)), full.lint_path(str(path))
@@ -81,7 +92,7 @@ def test_corpus_findings_identical(linters: tuple[Linter, Linter], shared_dir: P
 
 def test_most_fixtures_take_the_fast_path(linters: tuple[Linter, Linter]) -> None:
     # Equality above would hold trivially if the fast path always gave up.
-    partial = [p for p in LAYERS if fastpath.open_partial(str(p), _wants(linters[0])).stage]
+    partial = [p for p in LAYERS if not _falls_back(linters, p)]
     assert len(partial) >= 0.8 * len(LAYERS)
 
 
@@ -101,9 +112,7 @@ def _pairs(result) -> set[tuple[str, str]]:
 def test_generated_shot_is_partly_composed_and_exact(
     linters: tuple[Linter, Linter], shot: Path
 ) -> None:
-    partial = fastpath.open_partial(str(shot), _wants(linters[0]))
-    assert partial.stage is not None
-    stage = partial.stage
+    stage = _partial_stage(linters, shot)
     # The render prims and what they target are composed; the set is not.
     assert stage.GetPrimAtPath("/Render/Settings").IsA(UsdRender.Settings)
     assert stage.GetPrimAtPath("/World/cams/shotCam")
@@ -165,7 +174,7 @@ def test_render_prims_from_a_reference_fall_back(
             "render.usda": RENDER_ASSET,
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
+    assert _falls_back(linters, root)
     found = _pairs(linters[0].lint_path(str(root)))
     assert ("SE001", "/World/facility/Settings.resolution") in found
     _assert_same(linters, root)
@@ -181,7 +190,7 @@ def test_render_prims_from_a_payload_fall_back(
             "render.usda": RENDER_ASSET,
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
+    assert _falls_back(linters, root)
     _assert_same(linters, root)
 
 
@@ -205,9 +214,8 @@ def Xform "World"
 """
         },
     )
-    partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial.stage is not None
-    assert partial.stage.GetPrimAtPath("/World/settings").IsA(UsdRender.Settings)
+    stage = _partial_stage(linters, root)
+    assert stage.GetPrimAtPath("/World/settings").IsA(UsdRender.Settings)
     assert ("SE001", "/World/settings.resolution") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)
 
@@ -237,7 +245,7 @@ def Xform "World"
             'def "asset"\n{\n    def "cfg" (inherits = </_settings>)\n    {\n    }\n}\n',
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
+    assert _falls_back(linters, root)
     assert ("SE001", "/World/asset/cfg.resolution") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)
 
@@ -270,9 +278,8 @@ def Scope "Render"
 """
         },
     )
-    partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial.stage is not None
-    assert partial.stage.GetPrimAtPath("/World/sets")
+    stage = _partial_stage(linters, root)
+    assert stage.GetPrimAtPath("/World/sets")
     _assert_same(linters, root)
 
 
@@ -366,10 +373,9 @@ def "c"
 """,
         },
     )
-    partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial.stage is not None
-    assert partial.stage.GetPrimAtPath("/World/cams/main/rig/cam")
-    assert not partial.stage.GetPrimAtPath("/World/props/main")
+    stage = _partial_stage(linters, root)
+    assert stage.GetPrimAtPath("/World/cams/main/rig/cam")
+    assert not stage.GetPrimAtPath("/World/props/main")
     assert ("CA004", "/Render/Settings.camera") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)
 
@@ -397,8 +403,7 @@ def Xform "World"
 """
         },
     )
-    partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial.stage is not None and partial.stage.GetPrimAtPath("/World/prop")
+    assert _partial_stage(linters, root).GetPrimAtPath("/World/prop")
     _assert_same(linters, root)
 
 
@@ -411,7 +416,7 @@ def test_unreadable_dependency_falls_back(linters: tuple[Linter, Linter], tmp_pa
             "broken.usda": '#usda 1.0\ndef Xform "X" (\n',
         },
     )
-    assert fastpath.open_partial(str(root), _wants(linters[0])).stage is None
+    assert _falls_back(linters, root)
     _assert_same(linters, root)
 
 
@@ -437,9 +442,8 @@ def Scope "Shot" (
 """
         },
     )
-    partial = fastpath.open_partial(str(root), _wants(linters[0]))
-    assert partial.stage is not None
-    assert partial.stage.GetPopulationMask().Includes(Sdf.Path("/Shot/Settings"))
+    stage = _partial_stage(linters, root)
+    assert stage.GetPopulationMask().Includes(Sdf.Path("/Shot/Settings"))
     assert ("SE001", "/Shot/Settings.resolution") in _pairs(linters[0].lint_path(str(root)))
     _assert_same(linters, root)
 
