@@ -109,6 +109,12 @@ def _pairs(result) -> set[tuple[str, str]]:
     return {(f.code, f.location.path) for f in result.findings}
 
 
+def _assert_finds(linters: tuple[Linter, Linter], path: Path, code: str, where: str) -> None:
+    """Both modes give the same findings, ``code`` at ``where`` among them."""
+    _assert_same(linters, path)
+    assert (code, where) in _pairs(linters[0].lint_path(str(path)))
+
+
 def test_generated_shot_is_partly_composed_and_exact(
     linters: tuple[Linter, Linter], shot: Path
 ) -> None:
@@ -175,9 +181,7 @@ def test_render_prims_from_a_reference_fall_back(
         },
     )
     assert _falls_back(linters, root)
-    found = _pairs(linters[0].lint_path(str(root)))
-    assert ("SE001", "/World/facility/Settings.resolution") in found
-    _assert_same(linters, root)
+    _assert_finds(linters, root, "SE001", "/World/facility/Settings.resolution")
 
 
 def test_render_prims_from_a_payload_fall_back(
@@ -216,8 +220,7 @@ def Xform "World"
     )
     stage = _partial_stage(linters, root)
     assert stage.GetPrimAtPath("/World/settings").IsA(UsdRender.Settings)
-    assert ("SE001", "/World/settings.resolution") in _pairs(linters[0].lint_path(str(root)))
-    _assert_same(linters, root)
+    _assert_finds(linters, root, "SE001", "/World/settings.resolution")
 
 
 def test_class_inherited_from_an_asset_falls_back(
@@ -246,8 +249,7 @@ def Xform "World"
         },
     )
     assert _falls_back(linters, root)
-    assert ("SE001", "/World/asset/cfg.resolution") in _pairs(linters[0].lint_path(str(root)))
-    _assert_same(linters, root)
+    _assert_finds(linters, root, "SE001", "/World/asset/cfg.resolution")
 
 
 def test_expression_references_are_composed(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
@@ -376,8 +378,7 @@ def "c"
     stage = _partial_stage(linters, root)
     assert stage.GetPrimAtPath("/World/cams/main/rig/cam")
     assert not stage.GetPrimAtPath("/World/props/main")
-    assert ("CA004", "/Render/Settings.camera") in _pairs(linters[0].lint_path(str(root)))
-    _assert_same(linters, root)
+    _assert_finds(linters, root, "CA004", "/Render/Settings.camera")
 
 
 def test_suppressions_outside_the_render_scope_are_composed(
@@ -444,8 +445,7 @@ def Scope "Shot" (
     )
     stage = _partial_stage(linters, root)
     assert stage.GetPopulationMask().Includes(Sdf.Path("/Shot/Settings"))
-    assert ("SE001", "/Shot/Settings.resolution") in _pairs(linters[0].lint_path(str(root)))
-    _assert_same(linters, root)
+    _assert_finds(linters, root, "SE001", "/Shot/Settings.resolution")
 
 
 def test_cli_full_composition_flag(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
