@@ -603,3 +603,39 @@ def test_fix_handles_several_files_in_one_run(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     assert value(one) == value(two) == "cropAperture"
     assert len(document["fixes"]) == 2
+
+
+def _append_rule(code: str, token: str) -> type[Rule]:
+    """A rule whose fix writes the list it read, plus ``token``."""
+
+    def check_prim(self, prim, ctx):
+        attr = prim.GetAttribute("includedPurposes")
+        current = list(attr.Get() or [])
+        if token not in current:
+
+            def apply(stage: Usd.Stage) -> None:
+                stage.GetAttributeAtPath(attr.GetPath()).Set([*current, token])
+
+            yield Diagnostic(f"no {token}", at=attr, fix=Fix(f"add {token}", True, apply))
+
+    return type(
+        f"Append{token}",
+        (Rule,),
+        {
+            "code": code,
+            "name": f"append-{token}",
+            "severity": Severity.ERROR,
+            "prim_types": (UsdRender.Settings,),
+            "fix_safety": "safe",
+            "check_prim": check_prim,
+        },
+    )
+
+
+def test_fixes_on_one_property_run_in_rounds_and_keep_each_other(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    rules = [_append_rule("TF002", "alpha")(), _append_rule("TF003", "beta")()]
+    run = fixer.fix_files(Linter(rules), [str(shot)], fixer.FixOptions())
+    assert [o.applied for o in run.outcomes] == [True, True]
+    attr = "/Render/Settings.includedPurposes"
+    assert list(value(shot, attr)) == ["default", "render", "alpha", "beta"]

@@ -33,7 +33,7 @@ from .engine import Linter, open_stage
 from .model import AppliedFix, FileResult, Finding
 
 #: Rounds of (lint, fix): each round fixes what the previous one revealed.
-MAX_ROUNDS = 5
+MAX_ROUNDS = 10
 CRATE_MAGIC = b"PXR-USDC"
 
 
@@ -149,19 +149,21 @@ class _StageFixer:
             ]
             if not todo:
                 return [finding for finding, _ in pairs]
-            edited: set[Sdf.Path] = set()
+            edited: list[Sdf.Path | None] = []
             for finding, fix in todo:
-                prim_path = _prim_path(finding)
-                # Two fixes on one prim in one round could undo each other: the
-                # second waits for the next round's fresh findings.
-                if prim_path in edited:
+                scope = _scope(finding)
+                # Two fixes on one object (or a prim and its property) in one round
+                # could undo each other: the second waits for the next round's findings.
+                if any(_overlap(scope, other) for other in edited):
                     continue
                 tried.add(_fix_key(finding, fix))
-                edited.add(prim_path)
+                edited.append(scope)
                 self.outcomes.append(self._fix_one(finding, fix))
         return [finding for finding, _ in self.linter.lint_stage_with_fixes(self.stage, self.path)]
 
-    def _outcome(self, finding: Finding, fix: Fix, layer: str | None, reason: str | None = None):
+    def _outcome(
+        self, finding: Finding, fix: Fix, layer: str | None, reason: str | None = None
+    ) -> AppliedFix:
         return AppliedFix(
             finding.location.file,
             finding.code,
@@ -507,10 +509,15 @@ def _fix_key(finding: Finding, fix: Fix) -> tuple:
     return (finding.code, finding.location.path, fix.description)
 
 
-def _prim_path(finding: Finding) -> Sdf.Path:
-    if not finding.location.path:
-        return Sdf.Path.absoluteRootPath
-    return Sdf.Path(finding.location.path).GetPrimPath()
+def _scope(finding: Finding) -> Sdf.Path | None:
+    """What a finding's fix may edit: its object (None: the stage's metadata)."""
+    return Sdf.Path(finding.location.path) if finding.location.path else None
+
+
+def _overlap(one: Sdf.Path | None, other: Sdf.Path | None) -> bool:
+    if one is None or other is None:
+        return one is other
+    return one.HasPrefix(other) or other.HasPrefix(one)
 
 
 # -- composed state, for --fix-to ---------------------------------------------------
