@@ -257,7 +257,7 @@ def test_a_read_only_layer_is_not_edited(tmp_path: Path) -> None:
     assert shot.read_text(encoding="utf-8") == SHOT
     (reason,) = reasons(document)
     assert "read-only" in reason
-    assert "not applied: " in result.stderr and "read-only" in result.stderr
+    assert "1 fix not applied (SE006): " in result.stderr and "read-only" in result.stderr
 
 
 def test_a_layer_outside_the_layer_stack_is_not_edited(tmp_path: Path) -> None:
@@ -585,6 +585,14 @@ def test_a_broken_file_is_reported_not_fixed(tmp_path: Path) -> None:
     assert result.exit_code == 1
     assert codes(document) == ["ST001"] and document["fixes"] == []
     assert broken.read_text(encoding="utf-8") == '#usda 1.0\ndef Scope "A" {\n'
+
+
+def test_fix_to_on_a_broken_file_reports_it(tmp_path: Path) -> None:
+    broken = write(tmp_path / "broken.usda", '#usda 1.0\ndef Scope "A" {\n')
+    result, document = check("--fix-to", str(tmp_path / "fixes.usda"), str(broken))
+    assert result.exit_code == 1
+    assert codes(document) == ["ST001"]
+    assert not (tmp_path / "fixes.usda").exists()
 
 
 def test_json_has_no_fixes_field_without_fixing(tmp_path: Path) -> None:

@@ -312,10 +312,13 @@ def _run_fixes(linter, files: Sequence[str], options, settings, registry):
 
 def _echo_fix_summary(report: Report, dry_run: bool) -> None:
     """On stderr: each reason a fix was not applied, once, and what was done."""
-    reasons = Counter(fix.reason for fix in report.unapplied_fixes)
-    for reason, count in reasons.items():
-        fixes = "1 fix" if count == 1 else f"{count} fixes"
-        click.echo(f"usdrender-lint: {fixes} not applied: {reason}", err=True)
+    by_reason: dict[str, list[str]] = {}
+    for fix in report.unapplied_fixes:
+        by_reason.setdefault(fix.reason, []).append(fix.code)
+    for reason, codes in by_reason.items():
+        fixes = "1 fix" if len(codes) == 1 else f"{len(codes)} fixes"
+        kinds = ", ".join(sorted(set(codes)))
+        click.echo(f"usdrender-lint: {fixes} not applied ({kinds}): {reason}", err=True)
     if dry_run:
         count = len(report.applied_fixes)
         fixes = "1 fix" if count == 1 else f"{count} fixes"

@@ -121,7 +121,10 @@ class _StageFixer:
     def run(self) -> None:
         opened = open_stage(self.path, self.override)
         if opened.stage is None:
-            return  # the re-lint reports ST001; there is nothing to fix
+            # Nothing to fix; the report says why (ST001, a missing file, ...).
+            if self.override is not None:
+                self.remaining = self.linter.lint_path(self.path)
+            return
         self.stage = opened.stage
         try:
             findings = self._rounds()
