@@ -43,12 +43,12 @@ SE003_FAIL = FIXTURES / "SE003_data_window_malformed" / "fail_inverted.usda"
 RULES = build_registry().rules
 
 
-def _run_child(script: str, plugin_path: Path, extra_path: Path | None = None) -> dict:
+def _run_child(script: str, plugin_path: Path, extra_path: Path | None = None, *args: str) -> dict:
     env = dict(os.environ, PXR_PLUGINPATH_NAME=str(plugin_path))
     if extra_path is not None:
         env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(extra_path), env.get("PYTHONPATH")]))
     done = subprocess.run(
-        [sys.executable, "-c", textwrap.dedent(script)],
+        [sys.executable, "-c", textwrap.dedent(script), *args],
         env=env,
         capture_output=True,
         text=True,
@@ -279,17 +279,7 @@ print(json.dumps({"can": can, "applied": applied, "after": len(validator.Validat
 def test_a_safe_fix_applies_through_validation_fixer(tmp_path: Path) -> None:
     work = tmp_path / "shot.usda"
     work.write_text(SE003_FAIL.read_text())
-    env = dict(os.environ, PXR_PLUGINPATH_NAME=str(plugin_dir()))
-    done = subprocess.run(
-        [sys.executable, "-c", _FIXER, str(work)],
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        cwd=REPO,
-    )
-    assert done.returncode == 0, done.stderr[-3000:]
-    got = json.loads(done.stdout.strip().splitlines()[-1])
+    got = _run_child(_FIXER, plugin_dir(), None, str(work))
     # usd-core 26.11's ApplyFix saves the edit target's layer after the fix.
     assert got == {"can": True, "applied": True, "after": 0}
     assert 'renderSettingsPrimPath = "/Render/Settings"' in work.read_text()
