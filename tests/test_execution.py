@@ -20,7 +20,7 @@ from usdrender_lint.config import Settings
 from usdrender_lint.engine import Linter
 from usdrender_lint.execution import ExecutionError, lint_paths
 from usdrender_lint.model import FileResult
-from usdrender_lint.runner import lint_files, make_linter
+from usdrender_lint.runner import collect_files, lint_files, make_linter
 
 SCOPE = '#usda 1.0\ndef Scope "{name}"\n{{\n}}\n'
 SETTINGS = """#usda 1.0
@@ -255,3 +255,17 @@ def test_cli_rejects_zero_jobs(tmp_path: Path) -> None:
     result = CliRunner().invoke(cli, ["check", "--jobs", "0", path])
     assert result.exit_code == 2
     assert "--jobs" in result.stderr
+
+
+def test_real_files_give_the_same_report_with_workers(shared_dir: Path) -> None:
+    """Public USD files from ../shared/corpus: a worker pool with a time limit
+    reports exactly what one process does."""
+    files = collect_files([str(shared_dir / "corpus" / "files")])[:60]
+    assert files
+    settings = Settings()
+    linter = make_linter(settings)
+    alone = lint_files(linter, files)
+    pooled = lint_files(linter, files, settings=settings, jobs=2, timeout=120)
+    assert pooled == alone
+    assert not pooled.errored_files
+    assert all(f.code != "UL000" for f in pooled.findings)
