@@ -188,7 +188,7 @@ def test_one_lint_per_stage_state() -> None:
 # -- through OpenUSD's registry (subprocesses) -------------------------------------
 
 _SAME_AS_CLI = """
-import json
+import json, sys
 from pathlib import Path
 from pxr import Sdf, Tf, Usd, UsdValidation
 from usdrender_lint.config import Settings
@@ -210,10 +210,19 @@ def site_path(site):
         return str(site.GetPrim().GetPath())
     return ""
 
-mismatches, checked, fixtures = [], 0, sorted(Path("tests/rules").glob("*/*.usda"))
-for path in fixtures:
-    if not path.name.startswith(("pass_", "fail_")) or path.name.endswith(".fixed.usda"):
-        continue
+def abstract_typed_prim(stage, where):
+    prim = stage.GetPrimAtPath(Sdf.Path(where).GetPrimPath()) if where else None
+    if not prim:
+        return False
+    registered = Usd.SchemaRegistry.GetTypeFromName(prim.GetTypeName())
+    return not registered.isUnknown and prim.GetPrimTypeInfo().GetSchemaType().isUnknown
+
+mismatches, checked, abstract_typed = [], 0, []
+paths = [Path(p) for p in sys.argv[1:]] or [
+    p for p in sorted(Path("tests/rules").glob("*/*.usda"))
+    if p.name.startswith(("pass_", "fail_")) and not p.name.endswith(".fixed.usda")
+]
+for path in paths:
     cli = {(f.code, f.location.path or "") for f in linter.lint_path(str(path)).findings}
     try:
         stage = Usd.Stage.Open(str(path))
@@ -223,7 +232,12 @@ for path in fixtures:
         continue
     validated = {(e.GetName(), site_path(e.GetSites()[0])) for e in context.Validate(stage)}
     checked += 1
-    if validated != cli:
+    # USD gives a prim typed with an abstract schema (def RenderSettingsBase) no
+    # schema type, so UsdValidation never hands it to a schemaTypes validator; the
+    # engine dispatches by type name and runs the rules on it.
+    abstract = {pair for pair in cli - validated if abstract_typed_prim(stage, pair[1])}
+    abstract_typed.extend(sorted(abstract))
+    if validated != cli - abstract:
         mismatches.append([str(path), sorted(cli - validated), sorted(validated - cli)])
 
 # The errors carry the offending property as their site, in the opinion's layer.
@@ -236,6 +250,7 @@ print(json.dumps({
     "loaded": sum(v is not None for v in loaded),
     "checked": checked,
     "mismatches": mismatches,
+    "abstract_typed": abstract_typed,
     "site_is_property": site.IsProperty(),
     "site_layer": site.GetLayer().realPath if site.GetLayer() else None,
     "se003_type": str(se003.GetType()),
@@ -251,6 +266,7 @@ def test_validators_load_by_keyword_and_name_and_match_the_cli_on_every_fixture(
     assert got["loaded"] == len(RULES)
     assert got["checked"] > 250  # every pass_/fail_ fixture USD can open
     assert got["mismatches"] == []
+    assert got["abstract_typed"] == []
     assert got["site_is_property"] is True
     assert got["site_layer"] == str(SE003_FAIL.resolve())
     assert got["se003_type"].endswith("Error")
@@ -416,3 +432,16 @@ def test_sdf_paths_of_sites_round_trip() -> None:
     finding = Finding("ST003", "x", Severity.INFO, "m", Location("f", None, None))
     site = to_error(stage, finding).GetSites()[0]
     assert site.GetPrim().GetPath() == Sdf.Path.absoluteRootPath
+
+
+def test_validators_match_the_cli_on_corpus_files(shared_dir: Path) -> None:
+    files = sorted((shared_dir / "corpus" / "files").rglob("*.usd*"))
+    # Every real file with render prims (a few seconds): the validators see what the CLI sees.
+    render = [str(p) for p in files if p.suffix == ".usda" and b"RenderSettings" in p.read_bytes()]
+    if not render:
+        pytest.skip("no corpus file with RenderSettings")
+    got = _run_child(_SAME_AS_CLI, plugin_dir(), None, *render)
+    assert got["mismatches"] == []
+    # The one known difference, set aside by the child: findings on prims typed with an
+    # abstract schema (maya-usd's materialAssignment.usda has `def RenderSettingsBase`).
+    assert got["checked"] >= len(render) * 0.8
