@@ -191,6 +191,16 @@ def test_a_fix_keeps_the_file_permissions(tmp_path: Path) -> None:
     assert stat.S_IMODE(shot.stat().st_mode) == 0o640
 
 
+def test_a_linked_layer_is_fixed_through_the_link(tmp_path: Path) -> None:
+    real = write(tmp_path / "real.usda", SHOT)
+    link = tmp_path / "shot.usda"
+    link.symlink_to(real.name)
+    result, _ = check("--select", "SE006", "--fix", str(link))
+    assert result.exit_code == 0, result.output
+    assert link.is_symlink()
+    assert value(real) == "cropAperture"
+
+
 def _text(value) -> str:
     """A field value as text; list ops (whose repr is an address) by their items."""
     if isinstance(value, Sdf.PathListOp | Sdf.TokenListOp | Sdf.StringListOp):

@@ -379,7 +379,8 @@ def save_layer(layer: Sdf.Layer, target: str) -> None:
     """Write ``layer`` to ``target`` atomically, in the target's own format: a
     temporary file with the same extension in the same folder, then
     ``os.replace``. Raises OSError; the old file is intact on any failure."""
-    destination = Path(target)
+    # Through a symbolic link, replace the file it points to, not the link.
+    destination = Path(os.path.realpath(target))
     args = {}
     if destination.suffix.lower() == ".usd" and destination.exists():
         # A .usd keeps the encoding it has (a new one gets USD's default).
