@@ -30,6 +30,7 @@ from . import usda_lines
 from .api import Fix
 from .atomic import replace_atomically
 from .engine import Linter, open_stage
+from .formatters import display_path
 from .model import AppliedFix, FileResult, Finding
 
 #: Rounds of (lint, fix): each round fixes what the previous one revealed.
@@ -190,10 +191,10 @@ class _StageFixer:
                 "its layer is outside the stage's layer stack (a reference or payload brings "
                 "it in); fix that file itself, or use --fix-to",
             )
-        shown = _display(layer)
+        shown = _layer_path(layer)
         if self.override is not None:
             reason = self._apply_as_override(fix, layer)
-            return self._outcome(finding, fix, _display(self.override), reason)
+            return self._outcome(finding, fix, _layer_path(self.override), reason)
         problem = self._problem(layer)
         if problem is not None:
             return self._outcome(finding, fix, shown, problem)
@@ -330,7 +331,7 @@ class _StageFixer:
 
     def _unapply(self, layer: Sdf.Layer, reason: str) -> None:
         """Mark the applied fixes of ``layer`` as not applied, with ``reason``."""
-        shown = _display(layer)
+        shown = _layer_path(layer)
         self.outcomes = [
             AppliedFix(o.file, o.code, o.path, o.layer, o.description, reason)
             if o.applied and o.layer == shown
@@ -440,7 +441,7 @@ def _reset_to_disk(layer: Sdf.Layer, path: str) -> None:
 def _find_layer(layers: Iterable[Sdf.Layer], name: str) -> Sdf.Layer | None:
     """The layer a finding names (engine.locate writes realPath or identifier)."""
     for layer in layers:
-        if name in (layer.realPath, layer.identifier):
+        if name in (_layer_path(layer), layer.identifier):
             return layer
     return None
 
@@ -462,7 +463,7 @@ def _disk_text(path: str) -> str:
 
 
 def _diff(path: str, old: str, new: str) -> str:
-    name = _display_path(path)
+    name = display_path(path)
     return "".join(
         difflib.unified_diff(
             old.splitlines(keepends=True),
@@ -473,15 +474,13 @@ def _diff(path: str, old: str, new: str) -> str:
     )
 
 
+def _layer_path(layer: Sdf.Layer) -> str:
+    """How findings name a layer (engine.locate): its file, else its identifier."""
+    return layer.realPath or layer.identifier
+
+
 def _display(layer: Sdf.Layer) -> str:
-    return _display_path(layer.realPath or layer.identifier)
-
-
-def _display_path(path: str) -> str:
-    try:
-        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
-    except (ValueError, OSError):
-        return path
+    return display_path(_layer_path(layer))
 
 
 def _snapshot(layer: Sdf.Layer) -> Sdf.Layer:

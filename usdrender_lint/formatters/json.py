@@ -35,7 +35,7 @@ def fix_to_dict(fix: AppliedFix) -> dict[str, Any]:
         "file": fix.file,
         "code": fix.code,
         "path": fix.path,
-        "layer": fix.layer,
+        "layer": display_path(fix.layer) if fix.layer else None,
         "description": fix.description,
         "applied": fix.applied,
         "reason": fix.reason,
