@@ -127,16 +127,19 @@ class _StageFixer:
                 self.remaining = self.linter.lint_path(self.path)
             return
         self.stage = opened.stage
-        try:
-            findings = self._rounds()
-            if self.override is not None:
-                self._finish_override(findings)
-            else:
-                self._finish_in_place()
-        finally:
-            self._discard_unsaved()
-            self.stage = None
-            usda_lines.clear_cache()
+        # USD's own warnings (e.g. while exporting a spline) stay off the user's stderr.
+        with Tf.DiagnosticTrap() as trap:
+            try:
+                findings = self._rounds()
+                if self.override is not None:
+                    self._finish_override(findings)
+                else:
+                    self._finish_in_place()
+            finally:
+                self._discard_unsaved()
+                self.stage = None
+                usda_lines.clear_cache()
+                trap.Clear()
 
     def _rounds(self) -> list[Finding]:
         tried: set[tuple] = set()
