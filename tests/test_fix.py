@@ -81,12 +81,13 @@ def test_fix_edits_the_file_and_reports_what_remains(tmp_path: Path) -> None:
     assert all(fix["layer"].endswith("shot.usda") for fix in document["fixes"])
 
 
-def test_text_summary_counts_applied_fixes(tmp_path: Path) -> None:
+def test_text_report_lists_and_counts_applied_fixes(tmp_path: Path) -> None:
     shot = write(tmp_path / "shot.usda", SHOT)
     result = CliRunner().invoke(
         cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--fix", str(shot)]
     )
     assert "1 fix applied" in result.output
+    assert f'fixed    SE006  {POLICY}  set to "cropAperture"' in result.output
 
 
 def test_second_fix_changes_nothing(tmp_path: Path) -> None:

@@ -50,6 +50,10 @@ class TextFormatter:
                     kind = "fix" if finding.fix.safe else "unsafe fix"
                     parts.append(f"[dim]{escape(f'[{kind}: {finding.fix.description}]')}[/]")
                 console.print("  ".join(parts))
+        for fix in report.applied_fixes:
+            where = f"  [dim]({escape(display_path(fix.layer))})[/]" if fix.layer else ""
+            parts = [fix.code, fix.path or "(file)", fix.description]
+            console.print(f"  [green]fixed[/]    {escape('  '.join(parts))}{where}")
         console.print(self._summary(report, hidden))
         if options.statistics:
             for line in statistics_lines(report):
