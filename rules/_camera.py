@@ -85,11 +85,8 @@ def _reader(prim: Usd.Prim, name: str) -> _Reader:
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:
     attr, authored, fallback = reader
     value = attr.Get(time) if authored else None
-    # A blocked time sample (`1: None`), or any value a typed C++ read of the
-    # schema type cannot return, leaves consumers with the fallback.
-    if value is None or (fallback is not None and type(value) is not type(fallback)):
-        return fallback
-    return value
+    # A blocked time sample (`1: None`) leaves typed C++ reads with the fallback.
+    return fallback if value is None else value
 
 
 def at_time(time: Usd.TimeCode) -> str:
