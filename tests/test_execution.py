@@ -88,6 +88,26 @@ def environment_linter() -> Linter:
     return Linter([EnvironmentRule()])
 
 
+class ProcessRule(Rule):
+    """Test-only rule: reports the id of the process that lints.
+
+    ## What it does
+    Reports each Scope with ``os.getpid()``.
+    """
+
+    code = "TX904"
+    name = "test-process"
+    severity = Severity.INFO
+    prim_types = (UsdGeom.Scope,)
+
+    def check_prim(self, prim, ctx):
+        yield Diagnostic(f"pid {os.getpid()}", at=prim)
+
+
+def process_linter() -> Linter:
+    return Linter([ProcessRule()])
+
+
 def broken_factory() -> Linter:
     raise RuntimeError("plugin acme failed to import")
 
@@ -187,6 +207,15 @@ def test_workers_see_the_linter_environment_of_now(
     second = lint_paths(files, linter_factory=environment_linter, jobs=1, timeout=60)
     assert [f.message for f in first[0].findings] == ["mark unset"]
     assert [f.message for f in second[0].findings] == ["mark later"]
+
+
+def test_long_runs_recycle_workers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(execution, "WORKER_RECYCLE_AFTER", 2)
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(5)]
+    results = lint_paths(files, linter_factory=process_linter, jobs=1, timeout=60)
+    pids = [r.findings[0].message for r in results]
+    assert pids[0] == pids[1] != pids[2] == pids[3] != pids[4]
+    assert str(os.getpid()) not in " ".join(pids)
 
 
 def test_a_worker_that_cannot_build_its_linter_stops_the_run(tmp_path: Path) -> None:

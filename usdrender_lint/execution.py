@@ -33,6 +33,10 @@ DEFAULT_TIMEOUT = 120.0
 PROGRESS_MIN_FILES = 20
 #: How long a new worker may take to import USD and build its linter.
 WORKER_START_LIMIT = 120.0
+#: Files a worker lints before a fresh one replaces it. usd-core's Python
+#: bindings keep a small wrapper for every layer a stage ever handed out, even
+#: after the layer is gone (about 1 MiB per 1,000 files), so long runs recycle.
+WORKER_RECYCLE_AFTER = 500
 
 LinterFactory = Callable[[], Linter]
 #: Environment variables that configure the linter, handed to every worker.
@@ -209,6 +213,7 @@ class _Worker:
     #: (index, path, deadline) of the file being linted, if any.
     task: tuple[int, str, float] | None = None
     started: float = 0.0
+    linted: int = 0
 
     def kill(self) -> None:
         if self.process.is_alive():
@@ -317,6 +322,11 @@ class _Pool:
         else:
             self._done(results, kind, payload)
             worker.task = None
+            worker.linted += 1
+            if worker.linted >= WORKER_RECYCLE_AFTER and self._pending:
+                self._stop(worker)
+                self._workers.remove(worker)
+                self._workers.append(self._start())
 
     def _death_message(self, worker: _Worker) -> str:
         worker.process.join(5)
