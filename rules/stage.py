@@ -906,8 +906,13 @@ class UnknownRenderPrimType(Rule):
                     _retype(path, closest),
                     layer=spec.layer,
                 )
+            what = "is not a registered schema here"
+            if not Usd.SchemaRegistry.GetTypeFromName(type_name).isUnknown:
+                # e.g. `def RenderSettingsBase`: registered, but abstract.
+                what = "is an abstract schema, which cannot type a prim"
+                advice = f"use a concrete type such as {closest}"
             yield Diagnostic(
-                f"type '{type_name}' of <{path}> is not a registered schema here, so USD "
+                f"type '{type_name}' of <{path}> {what}, so USD "
                 f"composes it as a typeless prim that schema-based consumers skip; {advice}",
                 at=prim,
                 fix=fix,

@@ -156,8 +156,13 @@ class _TypeDispatch:
         entry = self._by_type_name.get(type_name)
         if entry is None:
             prim_type = Usd.SchemaRegistry.GetTypeFromName(type_name) if type_name else None
-            if prim_type is not None and prim_type.isUnknown:
+            if prim_type is not None and (
+                prim_type.isUnknown or not Usd.SchemaRegistry.IsConcrete(prim_type)
+            ):
+                # USD gives a prim of an unknown or abstract type (`def RenderSettingsBase`)
+                # no schema type: IsA is false for it, so no rule must treat it as typed.
                 self.unknown_type_names.add(type_name)
+                prim_type = None
             matches = {
                 schema
                 for schema, tf_type in self._tf_types.items()
