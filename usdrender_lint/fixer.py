@@ -118,6 +118,8 @@ class _StageFixer:
         self.stage: Usd.Stage | None = None
         #: Why a layer may not be edited, by identifier (None: it may).
         self._layer_problem: dict[str, str | None] = {}
+        #: The fixes applied in place so far, in order, with their layers.
+        self._applied: list[tuple[Fix, Sdf.Layer]] = []
 
     def run(self) -> None:
         opened = open_stage(self.path, self.override)
@@ -156,15 +158,15 @@ class _StageFixer:
             ]
             if not todo:
                 return [finding for finding, _ in pairs]
-            edited: list[Sdf.Path | None] = []
+            edited = _Scopes()
             for finding, fix in todo:
                 scope = _scope(finding)
                 # Two fixes on one object (or a prim and its property) in one round
                 # could undo each other: the second waits for the next round's findings.
-                if any(_overlap(scope, other) for other in edited):
+                if edited.overlaps(scope):
                     continue
                 tried.add(_fix_key(finding, fix))
-                edited.append(scope)
+                edited.add(scope)
                 self.outcomes.append(self._fix_one(finding, fix))
         return [finding for finding, _ in self.linter.lint_stage_with_fixes(self.stage, self.path)]
 
@@ -228,15 +230,18 @@ class _StageFixer:
     def _apply_in_place(self, fix: Fix, layer: Sdf.Layer) -> str | None:
         """Apply ``fix`` with ``layer`` as the edit target; undo it all on failure."""
         stack = self.stage.GetLayerStack(includeSessionLayers=True)
-        # A clean layer is undone by reloading it; one earlier fixes edited needs a copy.
-        edited_before = {candidate: _snapshot(candidate) for candidate in stack if candidate.dirty}
-        failure = _call_fix(fix, self.stage, layer)
-        touched = [
-            candidate
-            for candidate in stack
-            if candidate.dirty
-            and (candidate not in edited_before or _differs(candidate, edited_before[candidate]))
-        ]
+        touched: list[Sdf.Layer] = []
+
+        def record(notice, sender) -> None:
+            for changed in notice.GetLayers():
+                if changed in stack and changed not in touched:
+                    touched.append(changed)
+
+        listener = Tf.Notice.RegisterGlobally(Sdf.Notice.LayersDidChangeSentPerLayer, record)
+        try:
+            failure = _call_fix(fix, self.stage, layer)
+        finally:
+            listener.Revoke()
         if failure is None and not touched:
             failure = "the fix changed nothing"
         for candidate in touched:
@@ -249,15 +254,21 @@ class _StageFixer:
             )
             if problem is not None:
                 failure = f"it also edits {_display(candidate)}: {problem}"
-        if failure is not None:
-            for candidate in touched:
-                if candidate in edited_before:
-                    candidate.TransferContent(edited_before[candidate])
-                elif candidate.anonymous:
-                    candidate.Clear()
-                else:
-                    candidate.Reload(True)
+        if failure is None:
+            self._applied.append((fix, layer))
+        elif touched:
+            self._undo()
         return failure
+
+    def _undo(self) -> None:
+        """Undo a failed fix: reload the edited layers from disk and apply again
+        the fixes that succeeded, in order (cheaper than a copy before every fix)."""
+        self.stage.GetSessionLayer().Clear()
+        for candidate in self.stage.GetLayerStack(includeSessionLayers=False):
+            if candidate.dirty:
+                candidate.Reload(True)
+        for fix, layer in self._applied:
+            _call_fix(fix, self.stage, layer)
 
     def _apply_as_override(self, fix: Fix, layer: Sdf.Layer) -> str | None:
         """Apply ``fix`` in ``layer`` in memory, undo it, then write what it changed
@@ -520,10 +531,23 @@ def _scope(finding: Finding) -> Sdf.Path | None:
     return Sdf.Path(finding.location.path) if finding.location.path else None
 
 
-def _overlap(one: Sdf.Path | None, other: Sdf.Path | None) -> bool:
-    if one is None or other is None:
-        return one is other
-    return one.HasPrefix(other) or other.HasPrefix(one)
+class _Scopes:
+    """The objects fixed in one round: a set of paths with their ancestors."""
+
+    def __init__(self) -> None:
+        self._paths: set[Sdf.Path | None] = set()
+        self._ancestors: set[Sdf.Path] = set()
+
+    def overlaps(self, scope: Sdf.Path | None) -> bool:
+        """True when ``scope`` is, contains or is inside an object already fixed."""
+        if scope is None:
+            return None in self._paths
+        return scope in self._ancestors or any(p in self._paths for p in scope.GetPrefixes())
+
+    def add(self, scope: Sdf.Path | None) -> None:
+        self._paths.add(scope)
+        if scope is not None:
+            self._ancestors.update(scope.GetPrefixes())
 
 
 # -- composed state, for --fix-to ---------------------------------------------------
