@@ -157,3 +157,35 @@ def test_offered_fixes_match_the_rule_fix_class(rule) -> None:
         assert offered == []
     else:
         assert {fix.safe for fix in offered} <= {rule.fix_safety != "unsafe"}
+
+
+@pytest.mark.parametrize(("code", "fail"), list(_cases()))
+def test_fix_to_gives_what_fix_gives(code: str, fail: Path, tmp_path: Path) -> None:
+    """The --fix-to overrides, sublayered on top, silence the same findings as --fix
+    (fixes that cannot be overrides, stage metadata and moves, are refused)."""
+    path = copy_fixture(fail, tmp_path)
+    before = _layers(tmp_path)
+    overrides = tmp_path / "overrides.usda"
+    document = run_fix(code, path, "--fix-to", str(overrides))
+    assert _layers(tmp_path) == before | (
+        {"overrides.usda": overrides.read_bytes()} if overrides.exists() else {}
+    )
+    applied = {(fix["code"], fix["path"]) for fix in document["fixes"] if fix["applied"]}
+    refused = [fix["reason"] for fix in document["fixes"] if not fix["applied"]]
+    # Stage metadata, moves, and a retyped spec (a weaker mistyped spec stays an
+    # SE016 finding under any override) cannot be overrides.
+    expected = ("root or session layer", "removes or moves", "cannot be written as an override")
+    assert all(any(e in r for e in expected) for r in refused), refused
+    if not applied:
+        return
+    top = tmp_path / "top.usda"
+    top.write_text(
+        f"#usda 1.0\n(\n    subLayers = [@overrides.usda@, @{path.name}@]\n)\n", encoding="utf-8"
+    )
+    result = CliRunner().invoke(
+        cli, ["check", "-j", "1", "--isolated", "--select", code, "--format", "json", str(top)]
+    )
+    remaining = {
+        (f["code"], f["path"]) for r in json.loads(result.stdout)["files"] for f in r["findings"]
+    }
+    assert not applied & remaining

@@ -32,6 +32,7 @@ from .atomic import replace_atomically
 from .engine import Linter, open_stage
 from .formatters import display_path
 from .model import AppliedFix, FileResult, Finding
+from .resolve import mismatched_specs
 
 #: Rounds of (lint, fix): each round fixes what the previous one revealed.
 MAX_ROUNDS = 10
@@ -582,12 +583,32 @@ def _capture(stage: Usd.Stage, changed: Iterable[Sdf.Path]) -> dict[Sdf.Path, _S
         if not prim:
             continue
         for descendant in Usd.PrimRange(prim, Usd.PrimAllPrimsPredicate):
-            states[descendant.GetPath()] = _State(
-                ("prim", descendant.GetTypeName(), descendant.IsDefined(), descendant.IsActive())
-            )
+            states[descendant.GetPath()] = _prim_state(descendant)
             for prop in descendant.GetProperties():
                 states[prop.GetPath()] = _property_state(prop)
     return states
+
+
+def _prim_state(prim: Usd.Prim) -> _State:
+    """Type, specifier, activation and customData (as leaf key paths: dictionaries
+    compose key by key, so a stronger layer sets a leaf, never removes it)."""
+    leaves = dict(_leaves(prim.GetCustomData()))
+    key = (
+        "prim",
+        prim.GetTypeName(),
+        prim.IsDefined(),
+        prim.IsActive(),
+        tuple(sorted((name, repr(value)) for name, value in leaves.items())),
+    )
+    return _State(key, leaves)
+
+
+def _leaves(dictionary: dict, prefix: str = ""):
+    for name, value in dictionary.items():
+        if isinstance(value, dict) and value:
+            yield from _leaves(value, f"{prefix}{name}:")
+        else:
+            yield f"{prefix}{name}", value
 
 
 def _property_state(prop: Usd.Property | None) -> _State:
@@ -597,7 +618,9 @@ def _property_state(prop: Usd.Property | None) -> _State:
     if isinstance(prop, Usd.Attribute) and prop and prop.HasAuthoredValue():
         default = prop.Get(Usd.TimeCode.Default())
         samples = tuple((time, prop.Get(time)) for time in prop.GetTimeSamples())
-        key = ("attr", str(prop.GetTypeName()), repr(default), repr(samples))
+        # A weaker mistyped spec stays an SE016 finding although a stronger one hides it.
+        mistyped = bool(mismatched_specs(prop))
+        key = ("attr", str(prop.GetTypeName()), repr(default), repr(samples), mistyped)
         return _State(key, (prop.GetTypeName(), prop.IsCustom(), default, samples))
     return _State(_NO_VALUE)
 
@@ -607,7 +630,7 @@ def _author(stage: Usd.Stage, path: Sdf.Path, state: _State) -> None:
     kind = state.key[0]
     if not path.IsPropertyPath():
         if kind == "prim":
-            _, type_name, defined, active = state.key
+            _, type_name, defined, active, _ = state.key
             prim = stage.GetPrimAtPath(path)
             if not prim or not prim.IsDefined() and defined:
                 prim = stage.DefinePrim(path, type_name)
@@ -615,6 +638,10 @@ def _author(stage: Usd.Stage, path: Sdf.Path, state: _State) -> None:
                 prim.SetTypeName(type_name)
             if prim.IsActive() != active:
                 prim.SetActive(active)
+            current = dict(_leaves(prim.GetCustomData()))
+            for name, value in state.payload.items():
+                if name not in current or repr(current[name]) != repr(value):
+                    prim.SetCustomDataByKey(name, value)
         return  # a prim that must disappear cannot: the caller's check reports it
     prim = stage.GetPrimAtPath(path.GetPrimPath())
     current = prim.GetProperty(path.name) if prim else None
