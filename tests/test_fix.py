@@ -658,3 +658,19 @@ def test_fixes_on_one_property_run_in_rounds_and_keep_each_other(tmp_path: Path)
     assert [o.applied for o in run.outcomes] == [True, True]
     attr = "/Render/Settings.includedPurposes"
     assert list(value(shot, attr)) == ["default", "render", "alpha", "beta"]
+
+
+def test_many_fixes_in_one_layer(tmp_path: Path) -> None:
+    # Undo is by notice and replay, not a copy per fix: this stays well under a second.
+    body = "".join(
+        f'    def RenderSettings "S{i}"\n    {{\n'
+        '        uniform token aspectRatioConformPolicy = "cropaperture"\n    }\n'
+        for i in range(300)
+    )
+    text = f'#usda 1.0\n\ndef Scope "Render"\n{{\n{body}}}\n'
+    shot, other = write(tmp_path / "shot.usda", text), write(tmp_path / "other.usda", text)
+    _, document = check("--select", "SE006", "--fix", str(shot))
+    assert sum(fix["applied"] for fix in document["fixes"]) == 300 and codes(document) == []
+    _, document = check("--select", "SE006", "--fix-to", str(tmp_path / "o.usda"), str(other))
+    assert sum(fix["applied"] for fix in document["fixes"]) == 300 and codes(document) == []
+    assert other.read_text(encoding="utf-8") == text

@@ -121,6 +121,11 @@ class _StageFixer:
         self._layer_problem: dict[str, str | None] = {}
         #: The fixes applied in place so far, in order, with their layers.
         self._applied: list[tuple[Fix, Sdf.Layer]] = []
+        #: --fix-to: source layers as on disk, by identifier; the override layer
+        #: as it started; the composed states written for each applied fix.
+        self._pristine: dict[str, Sdf.Layer] = {}
+        self._override_start = _snapshot(override) if override is not None else None
+        self._overrides: list[dict[Sdf.Path, _State]] = []
 
     def run(self) -> None:
         opened = open_stage(self.path, self.override)
@@ -276,17 +281,26 @@ class _StageFixer:
         on the composed stage into the override layer (the sources stay as on disk)."""
         stage = self.stage
         changed: set[Sdf.Path] = set()
+        touched: set[Sdf.Layer] = set()
 
-        def record(notice, sender) -> None:
+        def record_paths(notice, sender) -> None:
             changed.update(notice.GetResyncedPaths())
             changed.update(notice.GetChangedInfoOnlyPaths())
 
-        before_override = _snapshot(self.override)
-        listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, record, stage)
+        def record_layers(notice, sender) -> None:
+            touched.update(notice.GetLayers())
+
+        if layer != self.override:
+            self._keep_pristine(layer)
+        listeners = (
+            Tf.Notice.Register(Usd.Notice.ObjectsChanged, record_paths, stage),
+            Tf.Notice.RegisterGlobally(Sdf.Notice.LayersDidChangeSentPerLayer, record_layers),
+        )
         try:
             failure = _call_fix(fix, stage, layer)
         finally:
-            listener.Revoke()
+            for listener in listeners:
+                listener.Revoke()
         if failure is None and Sdf.Path.absoluteRootPath in changed:
             failure = (
                 "it edits stage metadata, which USD reads only from a stage's root or "
@@ -295,30 +309,47 @@ class _StageFixer:
         after = _capture(stage, changed) if failure is None else {}
         # Undo: the sources are never saved with --fix-to, and the override
         # layer gets the composed difference below, whichever layer the fix edited.
-        if _differs(self.override, before_override):
-            self.override.TransferContent(before_override)
-        for source in stage.GetLayerStack(includeSessionLayers=False):
-            if source.dirty:
-                source.Reload(True)
+        self._undo_edits(touched, changed)
         if failure is not None:
             return failure
         before = _capture(stage, changed)
         paths = set(after) | set(before)
         wanted = {path: after.get(path, _absent(path)) for path in paths}
-        todo = [p for p in paths if wanted[p] != before.get(p, _absent(p))]
+        todo = {p: wanted[p] for p in paths if wanted[p] != before.get(p, _absent(p))}
         if not todo:
             return "the fix changed nothing on the stage"
-        with Usd.EditContext(stage, Usd.EditTarget(self.override)):
-            for path in sorted(todo, key=lambda p: (p.IsPropertyPath(), p.pathElementCount, p)):
-                _author(stage, path, wanted[path])
+        _author_all(stage, self.override, todo)
         now = _capture(stage, changed)
         wrong = sorted(p for p in paths if now.get(p, _absent(p)) != wanted[p])
         if wrong:
-            self.override.TransferContent(before_override)
+            self._rebuild_override()
             if wanted[wrong[0]] == _absent(wrong[0]) and not wrong[0].IsPropertyPath():
                 return f"it removes or moves <{wrong[0]}>, which an override cannot do; use --fix"
             return f"its effect on <{wrong[0]}> cannot be written as an override; use --fix"
+        self._overrides.append(todo)
         return None
+
+    def _keep_pristine(self, layer: Sdf.Layer) -> None:
+        """A copy of a source layer as on disk, to undo edits path by path."""
+        if layer.identifier not in self._pristine:
+            self._pristine[layer.identifier] = _snapshot(layer)
+
+    def _undo_edits(self, touched: set[Sdf.Layer], changed: set[Sdf.Path]) -> None:
+        """Put every layer a fix edited back as it was (no full reload per fix)."""
+        for layer in touched:
+            pristine = self._pristine.get(layer.identifier)
+            if layer == self.override:
+                self._rebuild_override()
+            elif pristine is not None and Sdf.Path.absoluteRootPath not in changed:
+                _restore_specs(layer, pristine, changed)
+            elif layer.dirty and not layer.anonymous:
+                layer.Reload(True)
+
+    def _rebuild_override(self) -> None:
+        """The override layer as it started plus the overrides of the fixes applied."""
+        self.override.TransferContent(self._override_start)
+        for todo in self._overrides:
+            _author_all(self.stage, self.override, todo)
 
     # -- saving -----------------------------------------------------------------
 
@@ -623,6 +654,35 @@ def _property_state(prop: Usd.Property | None) -> _State:
         key = ("attr", str(prop.GetTypeName()), repr(default), repr(samples), mistyped)
         return _State(key, (prop.GetTypeName(), prop.IsCustom(), default, samples))
     return _State(_NO_VALUE)
+
+
+def _restore_specs(layer: Sdf.Layer, pristine: Sdf.Layer, paths: Iterable[Sdf.Path]) -> None:
+    """Make the specs at ``paths`` (and below) of ``layer`` as in ``pristine``."""
+    for path in sorted(paths, key=lambda p: p.pathElementCount):
+        if path.IsTargetPath():
+            path = path.GetParentPath()
+        if pristine.GetObjectAtPath(path):
+            parent = path.GetParentPath()
+            if not parent.IsAbsoluteRootPath() and not layer.GetPrimAtPath(parent.GetPrimPath()):
+                Sdf.CreatePrimInLayer(layer, parent.GetPrimPath())
+            Sdf.CopySpec(pristine, path, layer, path)
+            continue
+        spec = layer.GetObjectAtPath(path)
+        if spec is None:
+            continue
+        if path.IsPropertyPath():
+            spec.owner.RemoveProperty(spec)
+        elif spec.nameParent:
+            del spec.nameParent.nameChildren[spec.name]
+        else:
+            del layer.rootPrims[spec.name]
+
+
+def _author_all(stage: Usd.Stage, layer: Sdf.Layer, states: dict[Sdf.Path, _State]) -> None:
+    """Author ``states`` into ``layer``: prims before their properties, parents first."""
+    with Usd.EditContext(stage, Usd.EditTarget(layer)):
+        for path in sorted(states, key=lambda p: (p.IsPropertyPath(), p.pathElementCount, p)):
+            _author(stage, path, states[path])
 
 
 def _author(stage: Usd.Stage, path: Sdf.Path, state: _State) -> None:
