@@ -477,6 +477,34 @@ def test_fix_to_refuses_a_move(tmp_path: Path) -> None:
     assert not overrides.exists()
 
 
+def test_fix_to_a_value_then_a_refused_move_of_its_prim(tmp_path: Path) -> None:
+    # SE006 overrides a value on </Settings>; ST008 would then move that prim.
+    shot = write(tmp_path / "shot.usda", SHOT.replace('def Scope "Render"', 'def Scope "Other"'))
+    overrides = tmp_path / "fixes.usda"
+    args = ("--select", "SE006,ST008", "--unsafe-fixes", "--fix-to", str(overrides), str(shot))
+    result, document = check(*args)
+    assert result.exit_code == 0, result.output
+    outcome = {fix["code"]: fix["applied"] for fix in document["fixes"]}
+    assert outcome == {"SE006": True, "ST008": False}
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert layer.GetAttributeAtPath("/Other/Settings.aspectRatioConformPolicy").default == (
+        "cropAperture"
+    )
+
+
+def test_an_unexpected_error_costs_one_fix_only(tmp_path: Path, monkeypatch) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+
+    def broken(*args):
+        raise RuntimeError("unexpected")
+
+    monkeypatch.setattr(fixer, "_author_all", broken)
+    result, document = check("--select", "SE006", "--fix-to", str(tmp_path / "o.usda"), str(shot))
+    assert result.exit_code == 1  # a report, not a crash
+    (reason,) = reasons(document)
+    assert "internal error while fixing: RuntimeError: unexpected" in reason
+
+
 def test_fix_to_fixes_a_bad_value_the_override_layer_holds(tmp_path: Path) -> None:
     shot = write(tmp_path / "shot.usda", SHOT.replace('"cropaperture"', '"expandAperture"'))
     overrides = write(tmp_path / "fixes.usda", SHOT.replace("def ", "over "))

@@ -173,7 +173,13 @@ class _StageFixer:
                     continue
                 tried.add(_fix_key(finding, fix))
                 edited.add(scope)
-                self.outcomes.append(self._fix_one(finding, fix))
+                try:
+                    outcome = self._fix_one(finding, fix)
+                except Exception as exc:  # noqa: BLE001 - one fix must not cost the others
+                    self._recover()
+                    reason = f"internal error while fixing: {type(exc).__name__}: {exc}"
+                    outcome = self._outcome(finding, fix, finding.location.layer, reason)
+                self.outcomes.append(outcome)
         return [finding for finding, _ in self.linter.lint_stage_with_fixes(self.stage, self.path)]
 
     def _outcome(
@@ -266,6 +272,16 @@ class _StageFixer:
             self._undo()
         return failure
 
+    def _recover(self) -> None:
+        """Back to the state of the fixes applied so far, after an unexpected error."""
+        if self.override is None:
+            self._undo()
+            return
+        for layer in self.stage.GetLayerStack(includeSessionLayers=False):
+            if layer.dirty and not layer.anonymous:
+                layer.Reload(True)
+        self._rebuild_override()
+
     def _undo(self) -> None:
         """Undo a failed fix: reload the edited layers from disk and apply again
         the fixes that succeeded, in order (cheaper than a copy before every fix)."""
@@ -336,7 +352,8 @@ class _StageFixer:
 
     def _undo_edits(self, touched: set[Sdf.Layer], changed: set[Sdf.Path]) -> None:
         """Put every layer a fix edited back as it was (no full reload per fix)."""
-        for layer in touched:
+        # Sources first: the override's earlier states are authored against them.
+        for layer in sorted(touched, key=lambda layer: layer == self.override):
             pristine = self._pristine.get(layer.identifier)
             if layer == self.override:
                 self._rebuild_override()
@@ -704,7 +721,9 @@ def _author(stage: Usd.Stage, path: Sdf.Path, state: _State) -> None:
                     prim.SetCustomDataByKey(name, value)
         return  # a prim that must disappear cannot: the caller's check reports it
     prim = stage.GetPrimAtPath(path.GetPrimPath())
-    current = prim.GetProperty(path.name) if prim else None
+    if not prim:
+        return  # its prim cannot be brought back: the caller's check reports it
+    current = prim.GetProperty(path.name)
     if kind == "rel":
         rel = prim.GetRelationship(path.name) or prim.CreateRelationship(path.name)
         rel.SetTargets(list(state.payload))
