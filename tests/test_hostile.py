@@ -19,8 +19,9 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner, Result
-from pxr import Sdf, Usd, UsdRender, Vt
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender, Vt
 
+from usdrender_lint import execution
 from usdrender_lint.api import Diagnostic, Rule, Severity
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import MAX_MESSAGE_CHARS, Linter
@@ -588,3 +589,52 @@ def test_a_layer_that_aborts_usd_costs_only_itself(tmp_path: Path) -> None:
         assert result.exit_code == 2
     else:
         assert not lines
+
+
+def _settings_crate(path: Path) -> bytes:
+    layer = Sdf.Layer.CreateNew(str(path))
+    stage = Usd.Stage.Open(layer)
+    settings = UsdRender.Settings.Define(stage, "/Render/S")
+    settings.CreateResolutionAttr(Gf.Vec2i(1920, 1080))
+    settings.CreateDataWindowNDCAttr(Gf.Vec4f(0, 0, 1, 1))
+    settings.GetCameraRel().SetTargets(["/World/Cam"])
+    product = UsdRender.Product.Define(stage, "/Render/P")
+    product.CreateProductNameAttr("a.exr")
+    settings.GetProductsRel().SetTargets(["/Render/P"])
+    var = UsdRender.Var.Define(stage, "/Render/V")
+    var.CreateSourceNameAttr("Ci")
+    product.GetOrderedVarsRel().SetTargets(["/Render/V"])
+    UsdGeom.Camera.Define(stage, "/World/Cam").CreateFocalLengthAttr(35)
+    layer.Save()
+    return path.read_bytes()
+
+
+def test_a_crate_that_makes_usd_allocate_without_end_is_cut_short(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """One flipped byte in a .usdc: usd-core 26.11 then allocates memory
+    until the machine runs out (8.8 GB in 8 s here). Workers have a memory cap,
+    so the allocation fails at once and USD reports it as an open error."""
+    data = bytearray(_settings_crate(tmp_path / "settings.usdc"))
+    if len(data) != 1219:
+        pytest.skip("usd-core writes another crate layout; the corrupt byte is elsewhere")
+    data[540] = 33
+    path = tmp_path / "corrupt.usdc"
+    path.write_bytes(data)
+    control = _text("control.usda", CONTROL)(tmp_path)
+    # The cap a 4 GiB machine with two workers gets (the default depends on the host).
+    monkeypatch.setattr(execution, "worker_memory_limit", lambda workers: 2 << 30)
+    # A short limit: were the cap to fail, the worker is killed before the host suffers.
+    result = run_cli("--jobs", "2", "--timeout", "10", str(path), control)
+    files = _files_by_name(result)
+    assert [f["message"] for f in files[str(path)]["findings"]] == [
+        f"Encountered: std::bad_alloc, while reading @{path}@"
+    ]
+    assert "SE003" in {f["code"] for f in files[control]["findings"]}
+    assert not result.stderr
+
+
+def test_workers_share_the_memory() -> None:
+    one, four = execution.worker_memory_limit(1), execution.worker_memory_limit(4)
+    assert one is not None and four is not None
+    assert execution.MIN_WORKER_MEMORY <= four <= one

@@ -19,9 +19,15 @@ import sys
 import tempfile
 import time
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
+from pathlib import Path
+
+try:
+    import resource
+except ImportError:  # not on Windows
+    resource = None  # type: ignore[assignment]
 
 from pxr import Usd
 
@@ -37,6 +43,8 @@ WORKER_START_LIMIT = 120.0
 #: bindings keep a small wrapper for every layer a stage ever handed out, even
 #: after the layer is gone (about 1 MiB per 1,000 files), so long runs recycle.
 WORKER_RECYCLE_AFTER = 500
+#: The least memory a worker is allowed, however many there are.
+MIN_WORKER_MEMORY = 2 << 30
 
 LinterFactory = Callable[[], Linter]
 #: Environment variables that configure the linter, handed to every worker.
@@ -164,7 +172,11 @@ def _context() -> multiprocessing.context.BaseContext:
 
 
 def _worker_main(
-    conn: Connection, linter_factory: LinterFactory, log_path: str, settings_env: dict[str, str]
+    conn: Connection,
+    linter_factory: LinterFactory,
+    log_path: str,
+    settings_env: dict[str, str],
+    memory_limit: int | None = None,
 ) -> None:
     """Build the linter, say ready, then lint ``(index, path)`` until ``None``.
 
@@ -172,8 +184,10 @@ def _worker_main(
     USD prints when it aborts becomes part of the one-line error, not noise
     around the report. ``settings_env`` is the parent's ``USDRENDER_LINT_*``
     environment now: a forkserver child inherits the server's, which may be older.
+    ``memory_limit`` caps the worker's data segment (see worker_memory_limit).
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
+    _limit_memory(memory_limit)
     for name in [n for n in os.environ if n.startswith(ENV_PREFIX)]:
         del os.environ[name]
     os.environ.update(settings_env)
@@ -236,6 +250,7 @@ class _Pool:
         self._factory = linter_factory
         self._size = size
         self._timeout = timeout
+        self._memory_limit = worker_memory_limit(size)
         self._advance = advance
         self._context = _context()
         self._workers: list[_Worker] = []
@@ -270,7 +285,7 @@ class _Pool:
         log_path = os.path.join(self._log_dir, f"worker-{self._started}.log")
         process = self._context.Process(
             target=_worker_main,
-            args=(child_end, self._factory, log_path, _settings_env()),
+            args=(child_end, self._factory, log_path, _settings_env(), self._memory_limit),
             daemon=True,
         )
         process.start()
@@ -366,6 +381,43 @@ class _Pool:
         except (OSError, ValueError):
             pass
         worker.kill()
+
+
+def worker_memory_limit(workers: int) -> int | None:
+    """Bytes of data one worker may allocate, so that the workers together stay
+    within 90% of the machine's (or container's) memory. A corrupt crate can
+    make USD allocate tens of GiB; with a cap the allocation fails at once and
+    USD reports ``std::bad_alloc`` for that file instead of exhausting the host."""
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):
+        return None
+    container = _cgroup_memory_limit()
+    if container:
+        total = min(total, container)
+    return max(MIN_WORKER_MEMORY, int(total * 0.9) // max(workers, 1))
+
+
+def _cgroup_memory_limit() -> int | None:
+    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            text = Path(path).read_text().strip()
+        except OSError:
+            continue
+        if text.isdigit() and int(text) < 1 << 60:  # "max" or a huge number: no limit
+            return int(text)
+    return None
+
+
+def _limit_memory(limit: int | None) -> None:
+    if limit is None or resource is None or not hasattr(resource, "RLIMIT_DATA"):
+        return
+    soft, hard = resource.getrlimit(resource.RLIMIT_DATA)
+    if hard != resource.RLIM_INFINITY:
+        limit = min(limit, hard)
+    if soft == resource.RLIM_INFINITY or limit < soft:
+        with suppress(ValueError, OSError):
+            resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
 
 
 def _settings_env() -> dict[str, str]:
