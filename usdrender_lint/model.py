@@ -156,8 +156,10 @@ class Report:
 
     def by_severity(self) -> dict[str, int]:
         counts = Counter(f.severity.value for f in self.findings)
-        return {s.value: counts.get(s.value, 0) for s in (Severity.ERROR, Severity.WARNING,
-                                                          Severity.INFO)}
+        return {
+            s.value: counts.get(s.value, 0)
+            for s in (Severity.ERROR, Severity.WARNING, Severity.INFO)
+        }
 
     def by_code(self) -> dict[str, int]:
         return dict(sorted(Counter(f.code for f in self.findings).items()))

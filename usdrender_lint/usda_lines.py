@@ -30,8 +30,15 @@ _TOKEN = re.compile(
 )
 
 _PROPERTY_QUALIFIERS = {
-    "custom", "uniform", "varying", "config",
-    "prepend", "append", "add", "delete", "reorder",
+    "custom",
+    "uniform",
+    "varying",
+    "config",
+    "prepend",
+    "append",
+    "add",
+    "delete",
+    "reorder",
 }
 _PRIM_SPECIFIERS = {"def", "over", "class"}
 
@@ -49,7 +56,7 @@ def _tokens(text: str) -> Iterator[tuple[str, str, int]]:
 def _unquote(token: str) -> str:
     for quote in ('"""', "'''", '"', "'"):
         if token.startswith(quote) and token.endswith(quote) and len(token) >= 2 * len(quote):
-            return token[len(quote):-len(quote)]
+            return token[len(quote) : -len(quote)]
     return token
 
 
@@ -96,8 +103,11 @@ def index_usda(text: str) -> dict[str, int]:
             flush_statement()
             statement = []
             continue
-        if not statement and kind == "word" and value in _PRIM_SPECIFIERS and top_kind in (
-            "prim", "variant"
+        if (
+            not statement
+            and kind == "word"
+            and value in _PRIM_SPECIFIERS
+            and top_kind in ("prim", "variant")
         ):
             # def [Type] "name": the name is the first string token.
             j = i
@@ -111,9 +121,12 @@ def index_usda(text: str) -> dict[str, int]:
                 i = j + 1
                 continue
         opens_variant_set = (
-            not statement and kind == "word" and value == "variantSet"
+            not statement
+            and kind == "word"
+            and value == "variantSet"
             and top_kind in ("prim", "variant")
-            and i < len(tokens) and tokens[i][0] == "string"
+            and i < len(tokens)
+            and tokens[i][0] == "string"
         )
         if opens_variant_set:
             pending = ("variantset", top_path + "{" + _unquote(tokens[i][1]) + "=")
