@@ -702,3 +702,23 @@ def test_many_fixes_in_one_layer(tmp_path: Path) -> None:
     _, document = check("--select", "SE006", "--fix-to", str(tmp_path / "o.usda"), str(other))
     assert sum(fix["applied"] for fix in document["fixes"]) == 300 and codes(document) == []
     assert other.read_text(encoding="utf-8") == text
+
+
+def test_unfixable_rules_are_not_fixed(tmp_path: Path) -> None:
+    # The catalog (CA006): teams that want the decision forced disable the fixer.
+    shot = write(tmp_path / "shot.usda", SHOT)
+    config = write(tmp_path / "lint.toml", 'unfixable = ["aspect-ratio-conform-policy-invalid"]\n')
+    args = ["check", "-j", "1", "--config", str(config), "--format", "json"]
+    result = CliRunner().invoke(cli, [*args, "--select", "SE006,SE007", "--fix", str(shot)])
+    document = json.loads(result.stdout)
+    assert {fix["code"] for fix in document["fixes"]} == {"SE007"}
+    assert value(shot) == "cropaperture"
+    assert codes(document) == ["SE006"]
+
+
+def test_unfixable_names_a_rule(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    config = write(tmp_path / "lint.toml", 'unfixable = ["no-such-rule"]\n')
+    result = CliRunner().invoke(cli, ["check", "--config", str(config), "--fix", str(shot)])
+    assert result.exit_code == 2
+    assert "unfixable" in result.stderr and "no-such-rule" in result.stderr

@@ -291,13 +291,19 @@ def _run_fixes(linter, files: Sequence[str], options, settings, registry):
     """Apply (or, for --diff, compute) the fixes on every stage, in this process."""
     from .fixer import FixError, fix_files
     from .model import FileResult
+    from .registry import matches_any
     from .suppress import apply_path_ignores
 
     if options.fix_to and len(files) != 1:
         raise ToolError(f"--fix-to writes the overrides of one stage; got {len(files)} files")
 
+    unfixable = {r.code for r in registry.rules if matches_any(r, settings.unfixable)}
+
     def reported(finding) -> bool:
-        # A finding per-path-ignores silence is not fixed either.
+        # A finding per-path-ignores silence is not fixed either, nor one of an
+        # `unfixable` rule.
+        if finding.code in unfixable:
+            return False
         alone = Report((FileResult(finding.location.file, findings=(finding,)),))
         kept = apply_path_ignores(
             alone, settings.per_path_ignores, settings.base_dir, registry.rules

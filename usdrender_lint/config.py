@@ -8,14 +8,13 @@ The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
 from __future__ import annotations
 
 import dataclasses
+import tomllib
 import types
 import typing
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
-
-import tomllib
 
 from .model import Severity
 
@@ -44,6 +43,8 @@ class Settings:
     roots: tuple[str, ...] = ()
     #: Cap on authored time samples evaluated per attribute.
     time_sample_cap: int = 1000
+    #: Rules (codes, prefixes or names) whose fixes --fix never applies.
+    unfixable: tuple[str, ...] = ()
     #: The file the settings were read from, if any.
     source: str | None = None
     #: Settings given as command-line flags (they win over the file).
@@ -87,7 +88,7 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
     parsed: dict[str, Any] = {"source": source}
     for key, value in table.items():
         name = prefix + key
-        if key in ("select", "ignore", "extend-select", "roots"):
+        if key in ("select", "ignore", "extend-select", "roots", "unfixable"):
             parsed[key.replace("-", "_")] = _string_list(value, name, source)
         elif key == "fail-on":
             if value not in FAIL_ON_CHOICES:

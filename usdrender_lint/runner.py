@@ -18,7 +18,7 @@ from .registry import Registry, SelectionError, build_registry, matches_any, sel
 
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
-    for key in ("select", "ignore", "extend_select"):
+    for key in ("select", "ignore", "extend_select", "unfixable"):
         check_selectors(registry, getattr(settings, key) or (), settings.where(key))
     for glob, selectors in settings.per_path_ignores.items():
         check_selectors(registry, selectors, f"{settings.where('per_path_ignores')}.{glob}")
