@@ -12,8 +12,9 @@ Nothing is lost: a layer is saved atomically in its own format, and a ``.usda``
 with comments (Sdf drops them on save) is refused unless the user agrees.
 With ``--fix-to`` the sources stay untouched: each fix is applied in memory,
 its effect on the composed stage is written as overrides (values, blocks,
-explicit target lists) into the separate layer, opened as the session layer,
-and the sources are reloaded from disk.
+explicit target lists, customData leaves) into the separate layer, opened as
+the session layer, and the source edit is undone; what an override cannot
+express (stage metadata, removed or moved prims) is refused.
 """
 
 from __future__ import annotations
@@ -550,10 +551,6 @@ def _snapshot(layer: Sdf.Layer) -> Sdf.Layer:
     copy = Sdf.Layer.CreateAnonymous(".usda")
     copy.TransferContent(layer)
     return copy
-
-
-def _differs(layer: Sdf.Layer, snapshot: Sdf.Layer) -> bool:
-    return layer.ExportToString() != snapshot.ExportToString()
 
 
 def _call_fix(fix: Fix, stage: Usd.Stage, layer: Sdf.Layer) -> str | None:
