@@ -465,3 +465,23 @@ def test_cli_full_composition_flag(monkeypatch: pytest.MonkeyPatch, tmp_path: Pa
     assert result.exit_code == 1, result.output
     codes = {f["code"] for f in json.loads(result.stdout)["files"][0]["findings"]}
     assert {"SE003", "PR004", "CA004", "CA003"} <= codes
+
+
+def test_scanning_more_than_a_full_composition_composes_is_not_done(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, shot: Path
+) -> None:
+    monkeypatch.setattr(fastpath, "MIN_SCAN", 100)
+    wants = Linter(all_rules())._dispatch.wants
+    # Many unique prims and one reference: composing them is cheaper than scanning.
+    prims = "\n".join(f'def Xform "p{i}"\n{{\n    double size = {i}\n}}' for i in range(300))
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": f'#usda 1.0\ndef "asset" (references = @./asset.usda@)\n{{\n}}\n{prims}\n',
+            "asset.usda": '#usda 1.0\n(\n    defaultPrim = "a"\n)\ndef Xform "a"\n{\n}\n',
+        },
+    )
+    opened = fastpath.open_partial(str(root), wants)
+    assert opened.stage is None and "cheaper" in opened.reason
+    # The generated shot references each asset many times: the fast path pays.
+    assert fastpath.open_partial(str(shot), wants).stage is not None

@@ -58,6 +58,14 @@ MAX_ROUNDS = 16
 #: When every layer is in the root layer stack, USD composes the stage about
 #: as fast as Python can scan its specs: compose it all (same findings).
 FLAT_STAGES_COMPOSE_FULLY = True
+#: Scanning a spec costs a few times what composing it does, so the fast path
+#: pays only when a full composition would compose several times the specs it
+#: scans (layers referenced many times); below that, compose everything.
+PAYOFF = 3
+#: Scans smaller than this are cheap whatever the payoff.
+MIN_SCAN = 50_000
+#: Root layer stack specs sampled to project how much their arcs compose.
+SAMPLE = 4096
 
 _ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
 
@@ -88,6 +96,10 @@ class _LayerScan:
     arcs: list[tuple[Sdf.Path, Sdf.Path]] = field(default_factory=list)
     #: Names of the prims that inherit/specialize arcs point at.
     class_names: set[str] = field(default_factory=set)
+    #: Asset paths of the references and payloads to other layers, per arc.
+    external: list[str] = field(default_factory=list)
+    #: Specs (prims and properties) the layer holds.
+    specs: int = 0
 
 
 def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
@@ -151,17 +163,34 @@ def _reachable_layers(stage: Usd.Stage) -> list[Sdf.Layer]:
     return layers
 
 
-def _scan(layer: Sdf.Layer, wants_type: Callable[[str], bool]) -> _LayerScan:
-    scan = _LayerScan()
+def _layer_paths(layer: Sdf.Layer) -> list[Sdf.Path]:
+    """Every spec path of the layer, prims inside variants included."""
     if layer.HasRelocates():
         raise NotProvable(f"{layer.identifier} has relocates")
-    # Sdf's own traversal visits prims inside variants too; collecting the
-    # paths and filtering them is cheaper than walking nameChildren.
+    # Sdf's own traversal, collected and filtered, is cheaper than walking
+    # nameChildren from Python.
     paths: list[Sdf.Path] = []
     layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
+    return paths
+
+
+def _is_prim_site(path: Sdf.Path) -> bool:
+    return path.IsPrimPath() or path.IsPrimVariantSelectionPath()
+
+
+def _scan(
+    layer: Sdf.Layer,
+    wants_type: Callable[[str], bool],
+    paths: list[Sdf.Path] | None = None,
+    scan: _LayerScan | None = None,
+) -> _LayerScan:
+    """Record the layer's wanted specs and arcs (of ``paths``, default all)."""
+    if paths is None:
+        paths = _layer_paths(layer)
+    scan = scan if scan is not None else _LayerScan(specs=len(paths))
     get_spec = layer.GetPrimAtPath
     for path in paths:
-        if not (path.IsPrimPath() or path.IsPrimVariantSelectionPath()):
+        if not _is_prim_site(path):
             continue
         spec = get_spec(path)
         if not isinstance(spec, Sdf.PrimSpec):
@@ -193,6 +222,7 @@ def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan) -> None:
         *spec.payloadList.GetAddedOrExplicitItems(),
     ):
         if arc.assetPath:
+            scan.external.append(arc.assetPath)
             continue
         if arc.primPath.isEmpty:
             raise NotProvable(f"internal arc to the default prim on {spec.path}")
@@ -207,21 +237,25 @@ def _initial_mask(
     stage: Usd.Stage, layers: list[Sdf.Layer], wants_type: Callable[[str], bool]
 ) -> Usd.StagePopulationMask:
     root_stack = {layer.identifier for layer in stage.GetLayerStack(includeSessionLayers=True)}
-    wanted: set[Sdf.Path] = {RENDER_SCOPE}
-    arcs: list[tuple[Sdf.Path, Sdf.Path]] = []
     foreign_classes: set[str] = set()
+    scans: dict[str, _LayerScan] = {}
     for layer in layers:
-        scan = _scan(layer, wants_type)
         if layer.identifier in root_stack:
-            wanted |= scan.wanted
-            arcs += scan.arcs
             continue
+        scan = scans[layer.identifier] = _scan(layer, wants_type)
         if scan.wanted:
             raise NotProvable(f"{layer.identifier} brings in wanted prims through an arc")
         if layer.pseudoRoot.HasInfo(SETTINGS_PATH_KEY):
             raise NotProvable(f"{layer.identifier} authors {SETTINGS_PATH_KEY}")
         foreign_classes |= scan.class_names
-    wanted = _follow_arcs(wanted, arcs)
+    weight = _Weights(layers, scans)
+    root_layers = [layer for layer in layers if layer.identifier in root_stack]
+    root_paths = [_layer_paths(layer) for layer in root_layers]
+    _check_payoff(root_layers, root_paths, weight, sum(s.specs for s in scans.values()))
+    root_scan = _LayerScan()
+    for layer, paths in zip(root_layers, root_paths, strict=True):
+        _scan(layer, wants_type, paths, root_scan)
+    wanted = _follow_arcs(root_scan.wanted | {RENDER_SCOPE}, root_scan.arcs)
     for path in wanted:
         if any(prefix.name in foreign_classes for prefix in path.GetPrefixes()):
             raise NotProvable(f"{path} may be inherited from outside the root layer stack")
@@ -231,6 +265,57 @@ def _initial_mask(
         if target.IsAbsolutePath() and target.IsPrimPath():
             wanted.add(target)
     return Usd.StagePopulationMask(sorted(wanted))
+
+
+class _Weights:
+    """How many specs referencing a layer once composes: its own and, per arc,
+    those of the layers it references (a projection, not a count)."""
+
+    def __init__(self, layers: list[Sdf.Layer], scans: dict[str, _LayerScan]) -> None:
+        self._layers = {layer.identifier: layer for layer in layers}
+        self._scans = scans
+        self._weights: dict[str, int] = {}
+
+    def of_arc(self, anchor: Sdf.Layer, asset_path: str) -> int:
+        identifier = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
+        layer = self._layers.get(identifier)
+        if layer is None or identifier not in self._scans:
+            return 0  # missing, or in the root layer stack (counted there)
+        if identifier not in self._weights:
+            self._weights[identifier] = 0  # a cycle adds nothing
+            scan = self._scans[identifier]
+            self._weights[identifier] = scan.specs + sum(
+                self.of_arc(layer, asset) for asset in scan.external
+            )
+        return self._weights[identifier]
+
+
+def _check_payoff(
+    layers: list[Sdf.Layer], paths: list[list[Sdf.Path]], weight: _Weights, scanned: int
+) -> None:
+    """Give up when a full composition would compose less than PAYOFF times
+    the specs the fast path scans, projected from an even sample of the root
+    layer stack's specs and the arcs they carry."""
+    own = sum(len(p) for p in paths)
+    scanned += own
+    if scanned < MIN_SCAN:
+        return
+    step = max(1, own // SAMPLE)
+    referenced = sampled = 0
+    for layer, layer_paths in zip(layers, paths, strict=True):
+        for path in layer_paths[::step]:
+            sampled += 1
+            spec = layer.GetPrimAtPath(path) if _is_prim_site(path) else None
+            if isinstance(spec, Sdf.PrimSpec) and (spec.hasReferences or spec.hasPayloads):
+                scan = _LayerScan()
+                _record_arcs(spec, scan)
+                referenced += sum(weight.of_arc(layer, asset) for asset in scan.external)
+    composed = own + referenced * own / max(1, sampled)
+    if composed < PAYOFF * scanned:
+        raise NotProvable(
+            f"composing everything (about {composed:.0f} specs) is cheaper than scanning "
+            f"{scanned} specs"
+        )
 
 
 def _follow_arcs(wanted: set[Sdf.Path], arcs: list[tuple[Sdf.Path, Sdf.Path]]) -> set[Sdf.Path]:
