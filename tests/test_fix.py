@@ -17,6 +17,7 @@ from usdrender_lint import fixer
 from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
+from usdrender_lint.registry import build_registry
 from usdrender_lint.resolve import composed_value
 from usdrender_lint.usda_lines import comment_lines
 
@@ -722,3 +723,16 @@ def test_unfixable_names_a_rule(tmp_path: Path) -> None:
     result = CliRunner().invoke(cli, ["check", "--config", str(config), "--fix", str(shot)])
     assert result.exit_code == 2
     assert "unfixable" in result.stderr and "no-such-rule" in result.stderr
+
+
+def test_lint_stage_with_fixes_pairs_each_finding_with_its_fix(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    stage = Usd.Stage.Open(str(shot))
+    linter = Linter([rule() for rule in build_registry().rules])
+    pairs = linter.lint_stage_with_fixes(stage)
+    assert [finding for finding, _ in pairs] == linter.lint_stage(stage)
+    assert pairs and any(fix for _, fix in pairs)
+    for finding, fix in pairs:
+        assert (fix is None) == (finding.fix is None)
+        if fix is not None:
+            assert (fix.description, fix.safe) == (finding.fix.description, finding.fix.safe)
