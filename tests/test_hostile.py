@@ -638,3 +638,26 @@ def test_workers_share_the_memory() -> None:
     one, four = execution.worker_memory_limit(1), execution.worker_memory_limit(4)
     assert one is not None and four is not None
     assert execution.MIN_WORKER_MEMORY <= four <= one
+
+
+def test_a_crate_with_names_that_are_not_utf8_is_st001(tmp_path: Path) -> None:
+    """One flipped byte in a .usdc's token table: USD composes the stage, but
+    every Python read of the name raises UnicodeDecodeError."""
+    data = bytearray(_settings_crate(tmp_path / "settings.usdc"))
+    if len(data) != 1219:
+        pytest.skip("usd-core writes another crate layout; the corrupt byte is elsewhere")
+    data[374] = 0x81
+    path = tmp_path / "names.usdc"
+    path.write_bytes(data)
+    control = _text("control.usda", CONTROL)(tmp_path)
+    result = run_cli("--jobs", "1", "--timeout", "0", str(path), control)
+    files = _files_by_name(result)
+    assert [(f["code"], f["message"]) for f in files[str(path)]["findings"]] == [
+        (
+            "ST001",
+            "the file holds a name or string that is not valid UTF-8 (byte 0x81); USD reads "
+            "it, but nothing in it can be checked: the file is probably corrupt",
+        )
+    ]
+    assert "SE003" in {f["code"] for f in files[control]["findings"]}
+    assert result.exit_code == 1 and not result.stderr

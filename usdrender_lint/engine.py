@@ -225,6 +225,24 @@ class Linter:
         problem = _unreadable_reason(path)
         if problem is not None:
             return FileResult(path, status="error", error=f"{path}: {problem}")
+        try:
+            return self._lint_file(path)
+        except UnicodeDecodeError as exc:
+            # A corrupt crate can hold names that are not UTF-8: USD composes
+            # them, but every Python read of them raises.
+            byte = exc.object[exc.start : exc.start + 1].hex()
+            message = (
+                f"the file holds a name or string that is not valid UTF-8 (byte 0x{byte}); "
+                "USD reads it, but nothing in it can be checked: the file is probably corrupt"
+            )
+            location = Location(path, None, os.path.abspath(path), None)
+            severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
+            finding = Finding(
+                STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, severity, message, location
+            )
+            return FileResult(path, findings=(finding,))
+
+    def _lint_file(self, path: str) -> FileResult:
         partial = None if self.full_composition else self._open_partial(path)
         if partial is not None and partial.stage is not None:
             try:
@@ -333,8 +351,8 @@ class Linter:
     def _run_hook(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
         try:
             return [self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ()]
-        except FullStageRequired:
-            raise
+        except (FullStageRequired, UnicodeDecodeError):
+            raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
         except Exception as exc:
             if self.raise_errors:
                 raise
