@@ -661,3 +661,21 @@ def test_a_crate_with_names_that_are_not_utf8_is_st001(tmp_path: Path) -> None:
     ]
     assert "SE003" in {f["code"] for f in files[control]["findings"]}
     assert result.exit_code == 1 and not result.stderr
+
+
+def test_a_crate_value_found_corrupt_while_a_rule_reads_it_is_st001(tmp_path: Path) -> None:
+    """USD unpacks crate values lazily: this one is found corrupt only when a
+    rule reads it. That is the file's problem (ST001), not the rule's (UL000)."""
+    data = bytearray(_settings_crate(tmp_path / "settings.usdc"))
+    if len(data) != 1219:
+        pytest.skip("usd-core writes another crate layout; the corrupt byte is elsewhere")
+    data[215] = 49
+    path = tmp_path / "value.usdc"
+    path.write_bytes(data)
+    result = run_cli("--jobs", "1", "--timeout", "0", str(path))
+    [finding] = _files_by_name(result)[str(path)]["findings"]
+    assert (finding["code"], finding["message"]) == (
+        "ST001",
+        f"Corrupt asset <{path}>: exception thrown unpacking a value, returning an empty VtValue",
+    )
+    assert result.exit_code == 1 and not result.stderr

@@ -43,6 +43,11 @@ RENDER_SCHEMAS: tuple[type, ...] = (
 )
 
 
+class CorruptValue(Exception):
+    """USD found a corrupt value in a layer while a rule read it (the file's
+    problem, reported as ST001)."""
+
+
 @dataclass(frozen=True)
 class StageOpenResult:
     stage: Usd.Stage | None
@@ -235,12 +240,14 @@ class Linter:
                 f"the file holds a name or string that is not valid UTF-8 (byte 0x{byte}); "
                 "USD reads it, but nothing in it can be checked: the file is probably corrupt"
             )
-            location = Location(path, None, os.path.abspath(path), None)
-            severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
-            finding = Finding(
-                STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, severity, message, location
-            )
-            return FileResult(path, findings=(finding,))
+        except CorruptValue as exc:
+            message = str(exc)
+        location = Location(path, None, os.path.abspath(path), None)
+        severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
+        finding = Finding(
+            STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, severity, message, location
+        )
+        return FileResult(path, findings=(finding,))
 
     def _lint_file(self, path: str) -> FileResult:
         partial = None if self.full_composition else self._open_partial(path)
@@ -354,6 +361,10 @@ class Linter:
         except (FullStageRequired, UnicodeDecodeError):
             raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
         except Exception as exc:
+            if isinstance(exc, Tf.ErrorException):
+                corrupt = [line for line in _error_lines(exc, ctx.file) if "Corrupt asset" in line]
+                if corrupt:  # a crate value USD unpacks only when a rule reads it
+                    raise CorruptValue(corrupt[0]) from exc
             if self.raise_errors:
                 raise
             where = f" on {args[0].GetPath()}" if isinstance(args[0], Usd.Prim) else ""
