@@ -3,6 +3,8 @@ values and brackets) and run the full rule set on whatever opens.
 
 No exception may escape a rule or the engine (the linter re-raises rule
 errors here), and no traceback may reach the user of the command line.
+Binary (crate) layers get random byte flips and go through the worker pool,
+since USD itself may hang or abort on them.
 
 CI runs a few hundred examples, reproducibly; set
 ``USDRENDER_LINT_FUZZ_EXAMPLES=5000`` for a longer, randomised run.
@@ -11,16 +13,22 @@ CI runs a few hundred examples, reproducibly; set
 from __future__ import annotations
 
 import os
+import random
 import re
 import tempfile
+from functools import partial
 from pathlib import Path
 
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
 
 from usdrender_lint.cli import cli
+from usdrender_lint.config import Settings
 from usdrender_lint.engine import Linter
+from usdrender_lint.execution import lint_paths
+from usdrender_lint.runner import make_linter
 from usdrender_lint.testing import all_rules
 
 RULE_FIXTURES = Path(__file__).parent / "rules"
@@ -281,3 +289,52 @@ def test_mutations_change_the_layer() -> None:
     assert mutate(seed, [("corrupt", 3, "nan")]).count("nan") == 1
     swapped = mutate('#usda 1.0\ndef Scope "A" {\n}\n', [("swap", 0, 5)])
     assert swapped.startswith('"A"')
+
+
+def _crate_bytes(folder: str) -> bytes:
+    path = os.path.join(folder, "settings.usdc")
+    layer = Sdf.Layer.CreateNew(path)
+    stage = Usd.Stage.Open(layer)
+    settings = UsdRender.Settings.Define(stage, "/Render/S")
+    settings.CreateResolutionAttr(Gf.Vec2i(1920, 1080))
+    settings.CreateDataWindowNDCAttr(Gf.Vec4f(0, 0, 1, 1))
+    settings.GetCameraRel().SetTargets(["/World/Cam"])
+    product = UsdRender.Product.Define(stage, "/Render/P")
+    product.CreateProductNameAttr("a.exr")
+    settings.GetProductsRel().SetTargets(["/Render/P"])
+    var = UsdRender.Var.Define(stage, "/Render/V")
+    var.CreateSourceNameAttr("Ci")
+    product.GetOrderedVarsRel().SetTargets(["/Render/V"])
+    UsdGeom.Camera.Define(stage, "/World/Cam").CreateFocalLengthAttr(35)
+    layer.Save()
+    with open(path, "rb") as handle:
+        return handle.read()
+
+
+def test_bit_flipped_crates_each_get_one_answer() -> None:
+    """Binary layers with a few random bytes changed. USD may reject them, hang,
+    allocate without end or abort on them: through the worker pool every file
+    still gets exactly one answer, and an error is one line naming the file."""
+    count = max(40, EXAMPLES // 10)
+    rng = random.Random(0 if _EXAMPLES_ENV is None else None)
+    with tempfile.TemporaryDirectory() as folder:
+        base = _crate_bytes(folder)
+        files = []
+        for index in range(count):
+            data = bytearray(base)
+            for _ in range(rng.randint(1, 4)):
+                data[rng.randrange(len(data))] = rng.randrange(256)
+            path = os.path.join(folder, f"flipped_{index:04d}.usdc")
+            with open(path, "wb") as handle:
+                handle.write(data)
+            files.append(path)
+        results = lint_paths(
+            files, linter_factory=partial(make_linter, Settings()), jobs=2, timeout=10
+        )
+    assert [r.file for r in results] == files
+    for result in results:
+        if result.status == "error":
+            assert result.error.startswith(f"{result.file}: ")
+            assert "\n" not in result.error
+        else:
+            assert all("\n" not in f.message for f in result.findings)
