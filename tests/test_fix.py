@@ -619,6 +619,23 @@ def test_a_fix_that_also_edits_a_read_only_layer_is_undone(tmp_path: Path) -> No
     assert shot.read_bytes() == before and "touched" not in weak.read_text(encoding="utf-8")
 
 
+def test_a_fix_that_also_edits_a_referenced_layer_is_undone(tmp_path: Path) -> None:
+    asset = write(tmp_path / "asset.usda", '#usda 1.0\n\ndef Scope "A"\n{\n}\n')
+    text = SHOT.replace(
+        'def Scope "Render"', 'def Scope "Render" (\n    references = @asset.usda@</A>\n)'
+    )
+    shot = write(tmp_path / "shot.usda", text)
+
+    def edit_both(stage: Usd.Stage) -> None:
+        _mark(stage)
+        Sdf.Layer.Find(str(asset)).GetPrimAtPath("/A").SetInfo("comment", "touched")
+
+    (outcome,) = _fix_with(edit_both, shot).outcomes
+    assert "outside the stage's layer stack" in outcome.reason
+    assert shot.read_text(encoding="utf-8") == text
+    assert "touched" not in asset.read_text(encoding="utf-8")
+
+
 def test_a_broken_file_is_reported_not_fixed(tmp_path: Path) -> None:
     broken = write(tmp_path / "broken.usda", '#usda 1.0\ndef Scope "A" {\n')
     result, document = check("--fix", str(broken))

@@ -243,11 +243,12 @@ class _StageFixer:
     def _apply_in_place(self, fix: Fix, layer: Sdf.Layer) -> str | None:
         """Apply ``fix`` with ``layer`` as the edit target; undo it all on failure."""
         stack = self.stage.GetLayerStack(includeSessionLayers=True)
+        used = self.stage.GetUsedLayers()
         touched: list[Sdf.Layer] = []
 
         def record(notice, sender) -> None:
             for changed in notice.GetLayers():
-                if changed in stack and changed not in touched:
+                if changed in used and changed not in touched:
                     touched.append(changed)
 
         listener = Tf.Notice.RegisterGlobally(Sdf.Notice.LayersDidChangeSentPerLayer, record)
@@ -260,11 +261,12 @@ class _StageFixer:
         for candidate in touched:
             if failure is not None or candidate == layer:
                 continue
-            problem = (
-                "the session layer is never saved"
-                if candidate == self.stage.GetSessionLayer()
-                else self._problem(candidate)
-            )
+            if candidate == self.stage.GetSessionLayer():
+                problem = "the session layer is never saved"
+            elif candidate not in stack:
+                problem = "it is outside the stage's layer stack"
+            else:
+                problem = self._problem(candidate)
             if problem is not None:
                 failure = f"it also edits {_display(candidate)}: {problem}"
         if failure is None:
@@ -287,8 +289,8 @@ class _StageFixer:
         """Undo a failed fix: reload the edited layers from disk and apply again
         the fixes that succeeded, in order (cheaper than a copy before every fix)."""
         self.stage.GetSessionLayer().Clear()
-        for candidate in self.stage.GetLayerStack(includeSessionLayers=False):
-            if candidate.dirty:
+        for candidate in self.stage.GetUsedLayers():
+            if candidate.dirty and not candidate.anonymous:
                 candidate.Reload(True)
         for fix, layer in self._applied:
             _call_fix(fix, self.stage, layer)
