@@ -534,6 +534,18 @@ def test_flag_misuse_is_a_tool_error(tmp_path: Path, args: list[str], message: s
     assert message in result.stderr
 
 
+def test_fix_to_a_layer_with_comments_needs_consent(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    overrides = write(tmp_path / "fixes.usda", "#usda 1.0\n# reviewed by lighting\n")
+    result, _ = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 2
+    assert "comments (line 2)" in result.stderr and "--fix-drop-comments" in result.stderr
+    args = ("--select", "SE006", "--fix-to", str(overrides), "--fix-drop-comments", str(shot))
+    result, _ = check(*args)
+    assert result.exit_code == 0
+    assert value(_sublayered_on_top(tmp_path, overrides, shot)) == "cropAperture"
+
+
 def test_fix_to_takes_one_stage(tmp_path: Path) -> None:
     one, two = write(tmp_path / "a.usda", SHOT), write(tmp_path / "b.usda", SHOT)
     result, _ = check("--fix-to", str(tmp_path / "fixes.usda"), str(one), str(two))

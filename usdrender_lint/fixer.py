@@ -34,6 +34,7 @@ from .engine import Linter, open_stage
 from .formatters import display_path
 from .model import AppliedFix, FileResult, Finding
 from .resolve import mismatched_specs
+from .usda_lines import comment_lines
 
 #: Rounds of (lint, fix): each round fixes what the previous one revealed.
 MAX_ROUNDS = 10
@@ -84,7 +85,7 @@ def fix_files(
     """Fix each file's stage in turn. ``keep`` says whether a finding is
     reported at all (per-path ignores): a silenced finding is not fixed."""
     run = FixRun()
-    override = _open_override_layer(options.fix_to) if options.fix_to else None
+    override = _open_override_layer(options) if options.fix_to else None
     for path in files:
         if override is not None:
             _reset_to_disk(override, options.fix_to)
@@ -432,7 +433,7 @@ def write_problem(layer: Sdf.Layer, drop_comments: bool = False) -> str | None:
     if not os.access(folder, os.W_OK | os.X_OK):
         return f"the folder of {_display(layer)} is read-only (the safe write needs it)"
     if not drop_comments and not _is_crate(path):
-        lines = usda_lines.comment_lines(_disk_text(path))
+        lines = comment_lines(_disk_text(path))
         if lines:
             return (
                 f"{_display(layer)} has comments (line {lines[0]}) that saving would drop; "
@@ -470,8 +471,9 @@ def _export(layer: Sdf.Layer, path: str, args: dict[str, str]) -> None:
         raise OSError(f"USD could not write {path}")
 
 
-def _open_override_layer(path: str) -> Sdf.Layer:
+def _open_override_layer(options: FixOptions) -> Sdf.Layer:
     """The --fix-to layer: opened when it exists, else created in memory."""
+    path = options.fix_to
     target = Path(path)
     if target.is_dir():
         raise FixError(f"--fix-to {path}: is a directory")
@@ -495,6 +497,12 @@ def _open_override_layer(path: str) -> Sdf.Layer:
         trap.Clear()
     if layer is None:
         raise FixError(f"--fix-to {path}: USD cannot read this layer")
+    lines = [] if options.drop_comments or _is_crate(path) else comment_lines(_disk_text(path))
+    if lines:
+        raise FixError(
+            f"--fix-to {path}: the layer has comments (line {lines[0]}) that saving would drop; "
+            "use another layer, or --fix-drop-comments to accept losing them"
+        )
     return layer
 
 
