@@ -113,6 +113,11 @@ def test_unsafe_fixes_need_the_flag(tmp_path: Path) -> None:
     result, document = check("--select", "SE003", "--fix", "--unsafe-fixes", str(shot))
     assert result.exit_code == 0, result.output
     assert tuple(value(shot, window)) == pytest.approx((0.2, 0, 0.8, 1))
+    # The catalog's spelling, --fix --unsafe, is the same flag.
+    write(tmp_path / "shot.usda", text)
+    result, _ = check("--select", "SE003", "--fix", "--unsafe", str(shot))
+    assert result.exit_code == 0, result.output
+    assert tuple(value(shot, window)) == pytest.approx((0.2, 0, 0.8, 1))
 
 
 def test_the_fix_goes_to_the_layer_of_the_strongest_opinion(tmp_path: Path) -> None:

@@ -129,7 +129,11 @@ def cli() -> None:
 )
 @click.option("--fix", is_flag=True, help="Apply the safe fixes, then report what remains.")
 @click.option(
-    "--unsafe-fixes", is_flag=True, help="With --fix, --diff or --fix-to: unsafe fixes too."
+    "--unsafe-fixes",
+    "--unsafe",  # the catalog's spelling
+    "unsafe_fixes",
+    is_flag=True,
+    help="With --fix, --diff or --fix-to: unsafe fixes too.",
 )
 @click.option(
     "--diff", "show_diff", is_flag=True, help="Print what --fix would change; write nothing."
