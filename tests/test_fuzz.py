@@ -22,7 +22,7 @@ from pathlib import Path
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
+from test_hostile import settings_crate
 
 from usdrender_lint.cli import cli
 from usdrender_lint.config import Settings
@@ -291,26 +291,6 @@ def test_mutations_change_the_layer() -> None:
     assert swapped.startswith('"A"')
 
 
-def _crate_bytes(folder: str) -> bytes:
-    path = os.path.join(folder, "settings.usdc")
-    layer = Sdf.Layer.CreateNew(path)
-    stage = Usd.Stage.Open(layer)
-    settings = UsdRender.Settings.Define(stage, "/Render/S")
-    settings.CreateResolutionAttr(Gf.Vec2i(1920, 1080))
-    settings.CreateDataWindowNDCAttr(Gf.Vec4f(0, 0, 1, 1))
-    settings.GetCameraRel().SetTargets(["/World/Cam"])
-    product = UsdRender.Product.Define(stage, "/Render/P")
-    product.CreateProductNameAttr("a.exr")
-    settings.GetProductsRel().SetTargets(["/Render/P"])
-    var = UsdRender.Var.Define(stage, "/Render/V")
-    var.CreateSourceNameAttr("Ci")
-    product.GetOrderedVarsRel().SetTargets(["/Render/V"])
-    UsdGeom.Camera.Define(stage, "/World/Cam").CreateFocalLengthAttr(35)
-    layer.Save()
-    with open(path, "rb") as handle:
-        return handle.read()
-
-
 def test_bit_flipped_crates_each_get_one_answer() -> None:
     """Binary layers with a few random bytes changed. USD may reject them, hang,
     allocate without end or abort on them: through the worker pool every file
@@ -318,7 +298,7 @@ def test_bit_flipped_crates_each_get_one_answer() -> None:
     count = max(40, EXAMPLES // 10)
     rng = random.Random(0 if _EXAMPLES_ENV is None else None)
     with tempfile.TemporaryDirectory() as folder:
-        base = _crate_bytes(folder)
+        base = settings_crate(Path(folder) / "settings.usdc")
         files = []
         for index in range(count):
             data = bytearray(base)

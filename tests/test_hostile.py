@@ -607,7 +607,8 @@ def test_a_layer_that_aborts_usd_costs_only_itself(tmp_path: Path) -> None:
         assert not lines
 
 
-def _settings_crate(path: Path) -> bytes:
+def settings_crate(path: Path) -> bytes:
+    """A small crate layer with settings, product, var and camera (also fuzzed)."""
     layer = Sdf.Layer.CreateNew(str(path))
     stage = Usd.Stage.Open(layer)
     settings = UsdRender.Settings.Define(stage, "/Render/S")
@@ -631,7 +632,7 @@ def test_a_crate_that_makes_usd_allocate_without_end_is_cut_short(
     """One flipped byte in a .usdc: usd-core 26.11 then allocates memory
     until the machine runs out (8.8 GB in 8 s here). Workers have a memory cap,
     so the allocation fails at once and USD reports it as an open error."""
-    data = bytearray(_settings_crate(tmp_path / "settings.usdc"))
+    data = bytearray(settings_crate(tmp_path / "settings.usdc"))
     if len(data) != 1219:
         pytest.skip("usd-core writes another crate layout; the corrupt byte is elsewhere")
     data[540] = 33
@@ -659,7 +660,7 @@ def test_workers_share_the_memory() -> None:
 def test_a_crate_with_names_that_are_not_utf8_is_st001(tmp_path: Path) -> None:
     """One flipped byte in a .usdc's token table: USD composes the stage, but
     every Python read of the name raises UnicodeDecodeError."""
-    data = bytearray(_settings_crate(tmp_path / "settings.usdc"))
+    data = bytearray(settings_crate(tmp_path / "settings.usdc"))
     if len(data) != 1219:
         pytest.skip("usd-core writes another crate layout; the corrupt byte is elsewhere")
     data[374] = 0x81
@@ -682,7 +683,7 @@ def test_a_crate_with_names_that_are_not_utf8_is_st001(tmp_path: Path) -> None:
 def test_a_crate_value_found_corrupt_while_a_rule_reads_it_is_st001(tmp_path: Path) -> None:
     """USD unpacks crate values lazily: this one is found corrupt only when a
     rule reads it. That is the file's problem (ST001), not the rule's (UL000)."""
-    data = bytearray(_settings_crate(tmp_path / "settings.usdc"))
+    data = bytearray(settings_crate(tmp_path / "settings.usdc"))
     if len(data) != 1219:
         pytest.skip("usd-core writes another crate layout; the corrupt byte is elsewhere")
     data[215] = 49
