@@ -1,63 +1,95 @@
-"""The human format: findings grouped per file, severity coloured (rich)."""
+"""The human format: findings grouped per file, severity coloured.
+
+rich renders it on a terminal; piped output is the same text written plainly,
+so a CI log or a pipe pays neither rich's import nor its escapes.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import TextIO
-
-from rich.console import Console
-from rich.markup import escape
 
 from ..model import Report, Severity
 from . import FormatOptions, display_path, statistics_lines
 
 _STYLE = {Severity.ERROR: "bold red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 
+#: A line is a list of (text, rich style or None) segments.
+Line = list[tuple[str, str | None]]
+
 
 def _plural(count: int, word: str, plural: str | None = None) -> str:
     return f"{count} {word}" if count == 1 else f"{count} {plural or word + 's'}"
 
 
+def _is_terminal(stream: TextIO) -> bool:
+    isatty = getattr(stream, "isatty", None)
+    return bool(isatty and isatty())
+
+
 class TextFormatter:
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        # rich drops colour by itself when the stream is no terminal or NO_COLOR is set.
+        lines = self._lines(report, options)
+        if not _is_terminal(stream):
+            for line in lines:
+                stream.write("".join(text for text, _ in line) + "\n")
+            return
+        from rich.console import Console
+        from rich.markup import escape
+
+        # rich drops colour by itself when NO_COLOR is set.
         console = Console(file=stream, soft_wrap=True, highlight=False)
+        for line in lines:
+            console.print(
+                "".join(
+                    f"[{style}]{escape(text)}[/]" if style else escape(text) for text, style in line
+                )
+            )
+
+    def _lines(self, report: Report, options: FormatOptions) -> Iterator[Line]:
         hidden = 0
         for result in report.files:
             shown = [f for f in result.findings if options.show_info or f.severity != Severity.INFO]
             hidden += len(result.findings) - len(shown)
             if result.status != "linted":
-                console.print(f"[bold]{escape(result.file)}[/]")
-                console.print(f"  [bold red]error[/]  {escape(result.error or 'failed')}")
+                yield [(result.file, "bold")]
+                yield [
+                    ("  ", None),
+                    ("error", "bold red"),
+                    ("  " + (result.error or "failed"), None),
+                ]
                 continue
             if not shown:
                 continue
-            console.print(f"[bold]{escape(result.file)}[/]")
+            yield [(result.file, "bold")]
             for finding in shown:
                 loc = finding.location
                 where = display_path(loc.layer) if loc.layer else ""
                 if where and loc.line:
                     where += f":{loc.line}"
-                style = _STYLE[finding.severity]
-                parts = [
-                    f"  [{style}]{finding.severity.value:<7}[/]",
-                    f"[bold]{finding.code}[/]",
-                    escape(loc.path or "(file)"),
-                    escape(finding.message),
+                line: Line = [
+                    ("  ", None),
+                    (f"{finding.severity.value:<7}", _STYLE[finding.severity]),
+                    ("  ", None),
+                    (finding.code, "bold"),
+                    (f"  {loc.path or '(file)'}  {finding.message}", None),
                 ]
                 if where:
-                    parts.append(f"[dim]({escape(where)})[/]")
+                    line.append((f"  ({where})", "dim"))
                 if finding.fix is not None:
                     kind = "fix" if finding.fix.safe else "unsafe fix"
-                    parts.append(f"[dim]{escape(f'[{kind}: {finding.fix.description}]')}[/]")
-                console.print("  ".join(parts))
+                    line.append((f"  [{kind}: {finding.fix.description}]", "dim"))
+                yield line
         for fix in report.applied_fixes:
-            where = f"  [dim]({escape(display_path(fix.layer))})[/]" if fix.layer else ""
             parts = [fix.code, fix.path or "(file)", fix.description]
-            console.print(f"  [green]fixed[/]    {escape('  '.join(parts))}{where}")
-        console.print(self._summary(report, hidden))
+            line = [("  ", None), ("fixed", "green"), ("    " + "  ".join(parts), None)]
+            if fix.layer:
+                line.append((f"  ({display_path(fix.layer)})", "dim"))
+            yield line
+        yield [(self._summary(report, hidden), None)]
         if options.statistics:
-            for line in statistics_lines(report):
-                console.print(escape(line))
+            for text in statistics_lines(report):
+                yield [(text, None)]
 
     @staticmethod
     def _summary(report: Report, hidden: int) -> str:

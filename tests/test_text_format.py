@@ -1,0 +1,76 @@
+"""The text report: coloured by rich on a terminal, plain when piped."""
+
+from __future__ import annotations
+
+import io
+import sys
+
+from usdrender_lint.formatters import FormatOptions
+from usdrender_lint.formatters.text import TextFormatter
+from usdrender_lint.model import FileResult, Finding, FixInfo, Location, Report, Severity
+
+REPORT = Report(
+    (
+        FileResult(
+            "shot.usda",
+            findings=(
+                Finding(
+                    "CA004",
+                    "camera-target-not-camera",
+                    Severity.ERROR,
+                    "camera target </rig> is an Xform [not a Camera]",
+                    Location("shot.usda", "/Render/S.camera", None, None),
+                    FixInfo("retarget", True),
+                ),
+                Finding(
+                    "ST003",
+                    "render-settings-path-missing",
+                    Severity.INFO,
+                    "no path",
+                    Location("shot.usda", None, None, None),
+                ),
+            ),
+        ),
+        FileResult("gone.usda", status="error", error="gone.usda: no such file"),
+    )
+)
+
+
+class Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+def test_piped_output_is_plain_and_does_not_import_rich(monkeypatch) -> None:
+    for name in [m for m in sys.modules if m == "rich" or m.startswith("rich.")]:
+        monkeypatch.delitem(sys.modules, name)
+    stream = io.StringIO()
+    TextFormatter().render(REPORT, stream, FormatOptions())
+    assert "rich" not in sys.modules
+    assert stream.getvalue().splitlines() == [
+        "shot.usda",
+        "  error    CA004  /Render/S.camera  camera target </rig> is an Xform [not a Camera]"
+        "  [fix: retarget]",
+        "gone.usda",
+        "  error  gone.usda: no such file",
+        "1 finding in 2 files: 1 error, 0 warnings, 1 info (1 info hidden; --show-info shows"
+        " them); 1 file could not be linted.",
+    ]
+
+
+def test_terminal_output_is_coloured_with_the_same_text(monkeypatch) -> None:
+    monkeypatch.delenv("NO_COLOR", raising=False)
+    monkeypatch.setenv("TERM", "xterm-256color")
+    stream = Terminal()
+    TextFormatter().render(REPORT, stream, FormatOptions(show_info=True))
+    text = stream.getvalue()
+    assert "\x1b[" in text
+    assert "[not a Camera]" in text  # markup-like text is escaped, not eaten
+    assert "ST003" in text
+
+
+def test_no_color_on_a_terminal(monkeypatch) -> None:
+    monkeypatch.setenv("NO_COLOR", "1")
+    stream = Terminal()
+    TextFormatter().render(REPORT, stream, FormatOptions())
+    assert "\x1b[3" not in stream.getvalue() and "CA004" in stream.getvalue()
