@@ -12,23 +12,20 @@ CI runs a few hundred examples, reproducibly; set
 
 from __future__ import annotations
 
+import json
 import os
 import random
 import re
 import tempfile
-from functools import partial
 from pathlib import Path
 
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_hostile import settings_crate
+from test_hostile import run_cli_process, settings_crate
 
 from usdrender_lint.cli import cli
-from usdrender_lint.config import Settings
 from usdrender_lint.engine import Linter
-from usdrender_lint.execution import lint_paths
-from usdrender_lint.runner import make_linter
 from usdrender_lint.testing import all_rules
 
 RULE_FIXTURES = Path(__file__).parent / "rules"
@@ -308,13 +305,11 @@ def test_bit_flipped_crates_each_get_one_answer() -> None:
             with open(path, "wb") as handle:
                 handle.write(data)
             files.append(path)
-        results = lint_paths(
-            files, linter_factory=partial(make_linter, Settings()), jobs=2, timeout=10
-        )
-    assert [r.file for r in results] == files
-    for result in results:
-        if result.status == "error":
-            assert result.error.startswith(f"{result.file}: ")
-            assert "\n" not in result.error
-        else:
-            assert all("\n" not in f.message for f in result.findings)
+        result = run_cli_process(Path(folder), "--jobs", "2", "--timeout", "10", *files)
+    assert result.returncode in (1, 2)
+    report = json.loads(result.stdout)
+    assert [entry["file"] for entry in report["files"]] == files
+    errors = [entry["error"] for entry in report["files"] if entry["status"] == "error"]
+    assert result.stderr.splitlines() == [f"usdrender-lint: error: {e}" for e in errors]
+    for entry in report["files"]:
+        assert all("\n" not in f["message"] for f in entry["findings"])
