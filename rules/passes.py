@@ -10,6 +10,7 @@ from pxr import Sdf, Tf, Usd, UsdRender
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 from usdrender_lint.resolve import (
     DEFAULT_TIME,
+    authored_targets,
     authored_value,
     has_authored_value,
     is_usable,
@@ -173,7 +174,7 @@ class RenderSourceInvalid(Rule):
                     f"it looks like the relative path <{relative}>, which Sdf anchors to the "
                     f"pass; write the absolute path <{intended}>"
                 )
-                if target.path in rel.GetTargets():
+                if target.path in authored_targets(rel):
                     fix = Fix(
                         f"retarget renderSource to <{intended}>",
                         True,
@@ -613,7 +614,9 @@ def _relationship_mode_reason(collection: Usd.CollectionAPI) -> str:
     mode = authored_value(collection.GetModeAttr())
     if mode == "relationship":
         return 'mode is "relationship"'
-    if collection.GetIncludesRel().GetTargets() or collection.GetExcludesRel().GetTargets():
+    if authored_targets(collection.GetIncludesRel()) or authored_targets(
+        collection.GetExcludesRel()
+    ):
         return "it has includes/excludes targets"
     if has_authored_value(collection.GetIncludeRootAttr()):
         return "includeRoot is authored true"
@@ -630,7 +633,9 @@ def _author_expression_mode(prim_path: Sdf.Path, name: str):
 def _expression_mode_fix(collection: Usd.CollectionAPI) -> Fix | None:
     """Author mode = "expression" when nothing else says relationships were
     meant: no includes/excludes targets, no includeRoot, mode automatic."""
-    if collection.GetIncludesRel().GetTargets() or collection.GetExcludesRel().GetTargets():
+    if authored_targets(collection.GetIncludesRel()) or authored_targets(
+        collection.GetExcludesRel()
+    ):
         return None
     if collection.GetIncludeRootAttr().HasAuthoredValue():
         return None
@@ -897,7 +902,7 @@ class CollectionTargetMissing(Rule):
                 ("includes", collection.GetIncludesRel(), "drops these objects from"),
                 ("excludes", collection.GetExcludesRel(), "leaves these objects in"),
             ):
-                for target in rel.GetTargets():
+                for target in authored_targets(rel):
                     reason = dangling_object_reason(stage, target)
                     if reason is not None:
                         yield Diagnostic(

@@ -10,6 +10,7 @@ from pxr import Sdf, Usd, UsdRender
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 from usdrender_lint.resolve import (
     allowed_tokens,
+    authored_targets,
     authored_value,
     composed_value,
     describe_prim_type,
@@ -502,7 +503,7 @@ class OrderedVarsInvalidTarget(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = UsdRender.Product(prim).GetOrderedVarsRel()
-        authored = set(rel.GetTargets()) if rel else set()
+        authored = set(authored_targets(rel))
         for target in resolve_targets(rel):
             if target.prim is None:
                 reason = target.problem

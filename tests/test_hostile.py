@@ -284,6 +284,22 @@ def Camera "Cam"
 }
 """
 
+#: The same slip on a product's orderedVars and a pass's collection targets.
+VAR_AND_COLLECTION_RELATIONSHIPS_AS_ATTRIBUTES = """#usda 1.0
+def Scope "Render"
+{
+    def RenderProduct "P"
+    {
+        string orderedVars = "/Render/V"
+    }
+    def RenderPass "Pass"
+    {
+        string collection:matte:includes = "/X"
+        string collection:matte:excludes = "/X"
+    }
+}
+"""
+
 #: usda takes ``<...>`` as the value of an attribute of any type; Python reads
 #: back an Sdf.Path where rules expect a token, string or number.
 PATH_VALUES = """#usda 1.0
@@ -378,6 +394,10 @@ CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     "relationships-authored-as-attributes": (
         _text("rel_as_attr.usda", RELATIONSHIPS_AS_ATTRIBUTES),
         Expect(codes=("CA001", "SE015")),
+    ),
+    "var-and-collection-relationships-authored-as-attributes": (
+        _text("rel_as_attr2.usda", VAR_AND_COLLECTION_RELATIONSHIPS_AS_ATTRIBUTES),
+        Expect(codes=("PR004",)),
     ),
     "path-values-in-typed-attributes": (
         _text("path_values.usda", PATH_VALUES),

@@ -68,10 +68,19 @@ def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
 
 def forwarded_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
     """Targets with relationship forwarding honoured, as spec.cpp reads them."""
+    return _targets(rel, forwarded=True)
+
+
+def authored_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
+    """The relationship's own composed targets, without forwarding."""
+    return _targets(rel, forwarded=False)
+
+
+def _targets(rel: Usd.Relationship | None, forwarded: bool) -> list[Sdf.Path]:
     if not rel:
         return []
     try:
-        return list(rel.GetForwardedTargets())
+        return list(rel.GetForwardedTargets() if forwarded else rel.GetTargets())
     except Tf.ErrorException:
         # An opinion authors the name as an attribute (`string camera = "/Cam"`):
         # Pcp composes no targets from it ("... is not a relationship"), so no
