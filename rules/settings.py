@@ -27,6 +27,7 @@ from usdrender_lint.resolve import (
 )
 
 from . import _colorspace
+from ._corrections import set_value
 from ._raster import pixel_centres, pixel_span
 
 Apply = Callable[[Usd.Stage], None]
@@ -49,15 +50,6 @@ def _fmt(value: Any) -> str:
     if not items and isinstance(value, Vt.TokenArray):
         return "[]"
     return "(" + ", ".join(_fmt(v) for v in items) + ")"
-
-
-def _set_value(attr_path: Sdf.Path, value: Any) -> Apply:
-    """A fix that authors ``value`` at Default in the fixer's edit target."""
-
-    def apply(stage: Usd.Stage) -> None:
-        stage.GetAttributeAtPath(attr_path).Set(value)
-
-    return apply
 
 
 # -- data window (SE003, SE004, SE005) ------------------------------------------
@@ -562,7 +554,7 @@ class AspectRatioConformPolicyInvalid(Rule):
         fix = None
         if len(same_letters) == 1:
             fix = Fix(
-                f'set to "{same_letters[0]}"', True, _set_value(attr.GetPath(), same_letters[0])
+                f'set to "{same_letters[0]}"', True, set_value(attr.GetPath(), same_letters[0])
             )
         hint = f'did you mean "{same_letters[0]}"? ' if same_letters else ""
         yield Diagnostic(
@@ -830,7 +822,7 @@ class IncludedPurposesInvalid(Rule):
         fix = None
         if not unknown:
             unique = Vt.TokenArray(list(dict.fromkeys(purposes)))
-            fix = Fix("drop the repeated purposes", True, _set_value(attr.GetPath(), unique))
+            fix = Fix("drop the repeated purposes", True, set_value(attr.GetPath(), unique))
         yield Diagnostic(
             f"includedPurposes {_fmt(purposes)}: {'; '.join(problems)}; list each of "
             f"{', '.join(known)} at most once",
@@ -903,7 +895,7 @@ class IncludedPurposesMissingDefault(Rule):
             "without an authored purpose render then depends on the renderer: author "
             f"{_fmt(fixed)}",
             at=attr,
-            fix=Fix('prepend "default"', True, _set_value(attr.GetPath(), fixed)),
+            fix=Fix('prepend "default"', True, set_value(attr.GetPath(), fixed)),
         )
 
 
@@ -992,7 +984,7 @@ class MaterialBindingPurposesInvalid(Rule):
         if all(t in _ALL_PURPOSE_ALIASES for t in unknown):
             mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in purposes]
             fixed = Vt.TokenArray(list(dict.fromkeys(mapped)))
-            fix = Fix(f"author {_fmt(fixed)}", True, _set_value(attr.GetPath(), fixed))
+            fix = Fix(f"author {_fmt(fixed)}", True, set_value(attr.GetPath(), fixed))
         alias_hint = (
             '; the all-purpose binding is the empty token ""'
             if any(t in _ALL_PURPOSE_ALIASES for t in unknown)

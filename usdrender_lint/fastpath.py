@@ -48,10 +48,12 @@ from dataclasses import dataclass, field
 
 from pxr import Ar, Sdf, Tf, Usd
 
+from .suppress import IGNORE_KEY
+
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")
-#: customData key of the linter's suppressions (see suppress.py).
-SUPPRESSION_KEY = "usdrender_lint"
+#: The customData dictionary holding the linter's suppressions (suppress.py).
+IGNORE_DICTIONARY = IGNORE_KEY.partition(":")[0]
 SETTINGS_PATH_KEY = "renderSettingsPrimPath"
 #: Rounds of mask expansion before giving up (each adds what the last reached).
 MAX_ROUNDS = 16
@@ -198,7 +200,7 @@ def _scan(
         keys = spec.ListInfoKeys()
         type_name = spec.typeName
         if (type_name and wants_type(type_name)) or (
-            "customData" in keys and SUPPRESSION_KEY in spec.customData
+            "customData" in keys and IGNORE_DICTIONARY in spec.customData
         ):
             scan.wanted.add(path.StripAllVariantSelections())
         if "relocates" in keys:
