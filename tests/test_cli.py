@@ -42,8 +42,7 @@ def test_examples_directory_reports_every_headline_check() -> None:
     findings = findings_of(result.output)
     assert {f["code"] for f in findings} >= HEADLINE
     clean = [
-        f for f in findings
-        if "clean_shot" in f["file"] and f["severity"] in ("error", "warning")
+        f for f in findings if "clean_shot" in f["file"] and f["severity"] in ("error", "warning")
     ]
     assert clean == []
 
@@ -85,8 +84,9 @@ def test_fail_on_never_still_reports() -> None:
 
 
 def test_select_and_ignore_by_prefix_code_and_name() -> None:
-    result = run("--format", "json", "--select", "CA", "--ignore", "camera-target-missing",
-                 str(BROKEN))
+    result = run(
+        "--format", "json", "--select", "CA", "--ignore", "camera-target-missing", str(BROKEN)
+    )
     assert {f["code"] for f in findings_of(result.output)} == {"CA004"}
 
 
@@ -169,8 +169,13 @@ def test_rules_table() -> None:
 def test_explain(key: str) -> None:
     result = CliRunner().invoke(cli, ["explain", key])
     assert result.exit_code == 0
-    for section in ("## What it does", "## Why is this bad?", "## Example", "## Use instead",
-                    "## Fix safety"):
+    for section in (
+        "## What it does",
+        "## Why is this bad?",
+        "## Example",
+        "## Use instead",
+        "## Fix safety",
+    ):
         assert section in result.output
 
 
@@ -182,9 +187,19 @@ def test_explain_unknown_rule() -> None:
 
 def test_python_dash_m_entry_point() -> None:
     proc = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--format", "json",
-         str(BROKEN)],
-        capture_output=True, text=True, check=False,
+        [
+            sys.executable,
+            "-m",
+            "usdrender_lint",
+            "check",
+            "--isolated",
+            "--format",
+            "json",
+            str(BROKEN),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
     )
     assert proc.returncode == 1
     assert json.loads(proc.stdout)["summary"]["findings"] > 0
@@ -193,9 +208,11 @@ def test_python_dash_m_entry_point() -> None:
 
 def test_usd_warnings_never_reach_stderr(tmp_path: Path) -> None:
     layer = tmp_path / "dangling.usda"
-    layer.write_text('#usda 1.0\n(\n    subLayers = [@./missing.usda@]\n)\n')
+    layer.write_text("#usda 1.0\n(\n    subLayers = [@./missing.usda@]\n)\n")
     proc = subprocess.run(
         [sys.executable, "-m", "usdrender_lint", "check", "--isolated", str(layer)],
-        capture_output=True, text=True, check=False,
+        capture_output=True,
+        text=True,
+        check=False,
     )
     assert "Warning" not in proc.stderr and "Traceback" not in proc.stderr

@@ -136,9 +136,9 @@ def test_finding_names_the_layer_and_line_of_the_strongest_opinion(shot: Path) -
 
 
 def test_severity_override(shot: Path) -> None:
-    (finding,) = Linter(
-        [ResolutionReporter()], {"TST003": Severity.ERROR}
-    ).lint_path(str(shot)).findings
+    (finding,) = (
+        Linter([ResolutionReporter()], {"TST003": Severity.ERROR}).lint_path(str(shot)).findings
+    )
     assert finding.severity is Severity.ERROR
 
 
@@ -153,7 +153,7 @@ def test_usdc_layers_have_no_line(shot: Path, tmp_path: Path) -> None:
 
 def test_usd_diagnostics_are_trapped(tmp_path: Path, capfd) -> None:
     layer = tmp_path / "a.usda"
-    layer.write_text('#usda 1.0\n(\n    subLayers = [@./missing.usda@]\n)\n')
+    layer.write_text("#usda 1.0\n(\n    subLayers = [@./missing.usda@]\n)\n")
     result = Linter([ResolutionReporter()]).lint_path(str(layer))
     assert result.status == "linted"
     captured = capfd.readouterr()

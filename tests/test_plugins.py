@@ -93,12 +93,14 @@ def test_third_party_rule_runs(tmp_path: Path, layer: Path, monkeypatch) -> None
     ).items()
 
 
-def test_plugin_that_fails_to_import_stops_the_run(tmp_path: Path, layer: Path,
-                                                   monkeypatch) -> None:
+def test_plugin_that_fails_to_import_stops_the_run(
+    tmp_path: Path, layer: Path, monkeypatch
+) -> None:
     site = tmp_path / "site"
     site.mkdir()
-    install_plugin(site, "broken", "broken_rules", "import not_a_module_anywhere\n",
-                   "broken_rules:RULES")
+    install_plugin(
+        site, "broken", "broken_rules", "import not_a_module_anywhere\n", "broken_rules:RULES"
+    )
     monkeypatch.syspath_prepend(str(site))
     result = CliRunner().invoke(cli, ["check", "--isolated", str(layer)])
     assert result.exit_code == 2

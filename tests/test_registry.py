@@ -9,8 +9,9 @@ from usdrender_lint.registry import SelectionError, select_rules
 
 
 def _rule(code: str, name: str) -> type[Rule]:
-    return type(name, (Rule,), {"code": code, "name": name, "severity": Severity.ERROR,
-                                "__doc__": "x"})
+    return type(
+        name, (Rule,), {"code": code, "name": name, "severity": Severity.ERROR, "__doc__": "x"}
+    )
 
 
 RULES = [

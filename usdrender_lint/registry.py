@@ -60,8 +60,7 @@ def build_registry(entry_points: Iterable[metadata.EntryPoint] | None = None) ->
             loaded = ep.load()
         except Exception as exc:
             raise RegistryError(
-                f"rule plugin {ep.name!r} ({ep.value}) failed to load: "
-                f"{type(exc).__name__}: {exc}"
+                f"rule plugin {ep.name!r} ({ep.value}) failed to load: {type(exc).__name__}: {exc}"
             ) from exc
         if isinstance(loaded, type):
             loaded = [loaded]

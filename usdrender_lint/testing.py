@@ -53,7 +53,8 @@ def found_pairs(findings: Sequence[Finding], code: str) -> set[tuple[str, str]]:
 def fixture_files(folder: str | Path) -> list[Path]:
     folder = Path(folder)
     return sorted(
-        p for p in folder.glob("*.usda")
+        p
+        for p in folder.glob("*.usda")
         if p.name.startswith(("pass_", "fail_")) and not p.name.endswith(".fixed.usda")
     )
 
