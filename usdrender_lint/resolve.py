@@ -81,10 +81,13 @@ def _targets(rel: Usd.Relationship | None, forwarded: bool) -> list[Sdf.Path]:
         return []
     try:
         return list(rel.GetForwardedTargets() if forwarded else rel.GetTargets())
-    except Tf.ErrorException:
+    except Tf.ErrorException as exc:
         # An opinion authors the name as an attribute (`string camera = "/Cam"`):
         # Pcp composes no targets from it ("... is not a relationship"), so no
-        # consumer sees any.
+        # consumer sees any. Any other error (a corrupt crate value) is the
+        # file's problem and goes to the engine.
+        if "is not a relationship" not in str(exc):
+            raise
         return []
 
 
