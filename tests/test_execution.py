@@ -298,3 +298,14 @@ def test_real_files_give_the_same_report_with_workers(shared_dir: Path) -> None:
     assert pooled == alone
     assert not pooled.errored_files
     assert all(f.code != "UL000" for f in pooled.findings)
+
+
+def test_workers_without_a_time_limit(mixed_files: list[str]) -> None:
+    """--jobs 2 --timeout 0: workers wait with no deadline (no infinite timeout
+    handed to the selector)."""
+    runner = CliRunner()
+    base = ["check", "--isolated", "--format", "json"]
+    one = runner.invoke(cli, [*base, "--jobs", "1", "--timeout", "0", *mixed_files])
+    two = runner.invoke(cli, [*base, "--jobs", "2", "--timeout", "0", *mixed_files])
+    assert two.exit_code == one.exit_code == 2
+    assert two.stdout == one.stdout

@@ -302,7 +302,9 @@ class _Pool:
         now = time.monotonic()
         deadlines = [w.task[2] for w in self._workers if w.task is not None]
         deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
-        wait_for = max(0.0, min(deadlines) - now) if deadlines else None
+        # No limit (--timeout 0) is an infinite deadline: wait without a timeout.
+        nearest = min(deadlines, default=float("inf"))
+        wait_for = max(0.0, nearest - now) if nearest != float("inf") else None
         handles = [w.conn for w in self._workers] + [w.process.sentinel for w in self._workers]
         ready = set(wait(handles, timeout=wait_for))
         for worker in list(self._workers):
