@@ -23,3 +23,10 @@ def test_third_party_rule_example_works(tmp_path: Path) -> None:
         layer.write_text(code_blocks(doc[section])[0])
         result = Linter([rule_class()], raise_errors=True).lint_path(str(layer))
         assert any(f.code == "ACME001" for f in result.findings) is fires
+
+
+def test_ci_runs_the_readme_test_command_exactly() -> None:
+    text = README.read_text(encoding="utf-8")
+    command = re.search(r"```sh\n(python3 -m venv .* -m pytest[^\n]*)\n```", text).group(1)
+    ci = (README.parent / ".ci" / "run").read_text(encoding="utf-8")
+    assert command in ci.splitlines()
