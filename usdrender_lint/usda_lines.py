@@ -43,14 +43,24 @@ _PROPERTY_QUALIFIERS = {
 _PRIM_SPECIFIERS = {"def", "over", "class"}
 
 
+#: Token kinds that may span lines (the others never hold a newline).
+_MULTILINE = frozenset(("string", "comment", "asset", "inert"))
+_SKIPPED = frozenset(("space", "comment", "inert"))
+
+
 def _tokens(text: str) -> Iterator[tuple[str, str, int]]:
     line = 1
     for match in _TOKEN.finditer(text):
         kind = match.lastgroup or "punct"
+        if kind == "newline":
+            yield kind, "\n", line
+            line += 1
+            continue
         value = match.group()
-        if kind not in ("space", "comment", "inert"):
+        if kind not in _SKIPPED:
             yield kind, value, line
-        line += value.count("\n")
+        if kind in _MULTILINE:
+            line += value.count("\n")
 
 
 def _unquote(token: str) -> str:
@@ -98,11 +108,15 @@ def index_usda(text: str) -> dict[str, int]:
             elif value in ")]":
                 parens -= 1
             continue
-        top_kind, top_path = stack[-1]
         if kind == "newline":
             flush_statement()
             statement = []
             continue
+        if statement and kind != "punct":
+            # Inside a statement only brackets and braces change the structure.
+            statement.append((kind, value, line))
+            continue
+        top_kind, top_path = stack[-1]
         if (
             not statement
             and kind == "word"
