@@ -170,10 +170,30 @@ def test_the_python_api_explores_variants_too(shot: Path) -> None:
 def test_variants_refuse_fixing(shot: Path) -> None:
     result = CliRunner().invoke(cli, ["check", "--isolated", "--variants", "--fix", str(shot)])
     assert result.exit_code == 2
-    assert "--variants cannot be combined" in result.output
+    assert "cannot be combined with --fix" in result.output
 
 
 def test_a_missing_file_is_reported_as_usual(tmp_path: Path) -> None:
     explorer = VariantExplorer(Linter(all_rules()))
     result = explorer.lint_path(str(tmp_path / "missing.usda"))
     assert result.status == "error" and "no such file" in result.error
+
+
+def test_variants_and_their_cap_from_the_config_file(shot: Path) -> None:
+    config = shot.parent / ".usdrender-lint.toml"
+    config.write_text("variants = true\nmax-variant-combinations = 2\n")
+    result = CliRunner().invoke(cli, ["check", "--format", "json", str(shot)])
+    codes = {f["code"] for file in json.loads(result.output)["files"] for f in file["findings"]}
+    assert codes == {"CA001"}  # the cap of 2 from the file applies
+    flag = CliRunner().invoke(
+        cli, ["check", "--format", "json", "--max-variant-combinations", "64", str(shot)]
+    )
+    codes = {f["code"] for file in json.loads(flag.output)["files"] for f in file["findings"]}
+    assert codes == {"SE002", "CA001"}  # the flag wins over the file
+
+
+def test_variants_config_value_is_validated(shot: Path) -> None:
+    (shot.parent / ".usdrender-lint.toml").write_text('variants = "yes"\n')
+    result = CliRunner().invoke(cli, ["check", str(shot)])
+    assert result.exit_code == 2
+    assert "'variants' must be true or false" in result.stderr

@@ -152,14 +152,14 @@ def cli() -> None:
 @click.option(
     "--variants",
     is_flag=True,
+    default=None,
     help="Also lint under other variant selections of the render prims and their ancestors.",
 )
 @click.option(
     "--max-variant-combinations",
     type=click.IntRange(min=1),
-    default=64,
-    show_default=True,
-    help="With --variants: variant combinations linted per file at most.",
+    default=None,
+    help="With --variants: variant combinations linted per file at most  [default: 64].",
 )
 @click.option(
     "--full-composition",
@@ -189,8 +189,8 @@ def check(
     show_diff: bool,
     fix_to: str | None,
     fix_drop_comments: bool,
-    variants: bool,
-    max_variant_combinations: int,
+    variants: bool | None,
+    max_variant_combinations: int | None,
     full_composition: bool,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
@@ -209,6 +209,8 @@ def check(
             ignore=_split(ignore),
             extend_select=_split(extend_select),
             fail_on=fail_on,
+            variants=variants,
+            max_variant_combinations=max_variant_combinations,
         )
         linter = make_linter(settings, registry)
         known = _load_baseline(baseline_file, write_baseline_file)
@@ -223,8 +225,10 @@ def check(
 
         plan = plan_from_settings(files, settings)
     fix_options = _fix_options(fix, unsafe_fixes, show_diff, fix_to, fix_drop_comments)
-    if variants and fix_options is not None:
-        raise ToolError("--variants cannot be combined with --fix, --diff or --fix-to")
+    if settings.variants and fix_options is not None:
+        raise ToolError(
+            "--variants (or config 'variants') cannot be combined with --fix, --diff or --fix-to"
+        )
     fixed = None
     if fix_options is not None:
         fixed = _run_fixes(linter, plan.files if plan else files, fix_options, settings, registry)
@@ -238,7 +242,9 @@ def check(
                 settings=settings,
                 jobs=jobs or default_jobs(),
                 timeout=timeout,
-                variant_combinations=max_variant_combinations if variants else None,
+                variant_combinations=(
+                    settings.max_variant_combinations if settings.variants else None
+                ),
             )
     except ExecutionError as exc:
         raise ToolError(str(exc)) from None

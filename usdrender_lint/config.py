@@ -45,6 +45,9 @@ class Settings:
     time_sample_cap: int = 1000
     #: Rules (codes, prefixes or names) whose fixes --fix never applies.
     unfixable: tuple[str, ...] = ()
+    #: Also lint under other variant selections (--variants), at most this many.
+    variants: bool = False
+    max_variant_combinations: int = 64
     #: The file the settings were read from, if any.
     source: str | None = None
     #: Settings given as command-line flags (they win over the file).
@@ -116,10 +119,14 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
             for rule, options in _table(value, name, source, "rule tables").items():
                 _table(options, f"{name}.{rule}", source, "option = value")
             parsed["rule_options"] = value
-        elif key == "time-sample-cap":
+        elif key in ("time-sample-cap", "max-variant-combinations"):
             if not isinstance(value, int) or isinstance(value, bool) or value < 1:
                 raise ConfigError(f"{source}: '{name}' must be a positive integer, got {value!r}")
-            parsed["time_sample_cap"] = value
+            parsed[key.replace("-", "_")] = value
+        elif key == "variants":
+            if not isinstance(value, bool):
+                raise ConfigError(f"{source}: '{name}' must be true or false, got {value!r}")
+            parsed["variants"] = value
         else:
             raise ConfigError(f"{source}: unknown key '{name}'")
     return Settings(**parsed)
