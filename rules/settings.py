@@ -16,7 +16,6 @@ from usdrender_lint.resolve import (
     allowed_tokens,
     authored_value,
     composed_value,
-    describe_prim_type,
     forwarded_targets,
     has_authored_value,
     is_finite,
@@ -24,6 +23,7 @@ from usdrender_lint.resolve import (
     mismatched_specs,
     resolve_targets,
     time_samples,
+    typed_target_problem,
 )
 
 from . import _colorspace
@@ -1255,9 +1255,7 @@ class ProductsTargetInvalid(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = UsdRender.Settings(prim).GetProductsRel()
         for target in resolve_targets(rel):
-            problem = target.problem
-            if problem is None and not target.prim.IsA(UsdRender.Product):
-                problem = f"is {describe_prim_type(target.prim)}, not a RenderProduct"
+            problem = typed_target_problem(target, UsdRender.Product, "a RenderProduct")
             if problem is None:
                 continue
             yield Diagnostic(

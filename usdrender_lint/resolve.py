@@ -331,7 +331,7 @@ def render_configurations(settings_prims: list[Usd.Prim]) -> list[RenderConfigur
         products = [
             t.prim
             for t in resolve_targets(UsdRender.Settings(settings).GetProductsRel())
-            if t.ok and t.prim.IsA(UsdRender.Product)
+            if typed_target_problem(t, UsdRender.Product, "a RenderProduct") is None
         ]
         if products:
             configurations.extend(RenderConfiguration(settings, p) for p in products)
