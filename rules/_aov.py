@@ -7,6 +7,7 @@ from typing import Any, Literal
 
 from pxr import Usd, UsdRender
 
+from usdrender_lint.api import Context
 from usdrender_lint.resolve import composed_value, mismatched_spec, resolve_targets
 
 #: How a renderer names a RenderVar's channel (catalog, Ambiguous semantics 7):
@@ -14,25 +15,35 @@ from usdrender_lint.resolve import composed_value, mismatched_spec, resolve_targ
 AovNaming = Literal["primName", "sourceName"]
 
 
-def product_render_vars(product: Usd.Prim) -> list[Usd.Prim]:
+def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]:
     """The usable RenderVar prims among the product's forwarded ``orderedVars``
-    targets, in order (invalid targets are PR005's)."""
-    rel = UsdRender.Product(product).GetOrderedVarsRel()
-    return [t.prim for t in resolve_targets(rel) if t.ok and t.prim.IsA(UsdRender.Var)]
+    targets, in order (invalid targets are PR005's); read once per lint, as
+    several PR and VA rules walk them."""
+
+    def compute() -> tuple[Usd.Prim, ...]:
+        rel = UsdRender.Product(product).GetOrderedVarsRel()
+        return tuple(t.prim for t in resolve_targets(rel) if t.ok and t.prim.IsA(UsdRender.Var))
+
+    return ctx.memo(("aov.render_vars", product.GetPath()), compute)
 
 
-def checked_value(prim: Usd.Prim, name: str) -> Any:
+def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
     """The composed value (authored or fallback), or None when the strongest
     opinion has the wrong type: that is SE016's finding, and a value rule must
-    not add a second one for the same mistake."""
-    if mismatched_spec(prim.GetAttribute(name)) is not None:
-        return None
-    return composed_value(prim, name)
+    not add a second one for the same mistake. Read once per lint: most VA
+    rules and several PR rules read the same few RenderVar attributes."""
+
+    def compute() -> Any:
+        if mismatched_spec(prim.GetAttribute(name)) is not None:
+            return None
+        return composed_value(prim, name)
+
+    return ctx.memo(("aov.checked_value", prim.GetPath(), name), compute)
 
 
-def channel_name(var: Usd.Prim, naming: AovNaming) -> str:
+def channel_name(var: Usd.Prim, naming: AovNaming, ctx: Context) -> str:
     """The channel name a renderer gives the var under ``naming``: the prim
     name, or (hdPrman) the prim name for LPE vars and ``sourceName`` otherwise."""
-    if naming == "sourceName" and checked_value(var, "sourceType") != "lpe":
-        return checked_value(var, "sourceName") or var.GetName()
+    if naming == "sourceName" and checked_value(var, "sourceType", ctx) != "lpe":
+        return checked_value(var, "sourceName", ctx) or var.GetName()
     return var.GetName()

@@ -110,7 +110,7 @@ class ProductNameEmpty(Rule):
         attr = UsdRender.Product(prim).GetProductNameAttr()
         if attr.GetNumTimeSamples():
             return
-        if checked_value(prim, "productName") != "":
+        if checked_value(prim, "productName", ctx) != "":
             return
         if attr.GetResolveInfo().ValueIsBlocked():
             how = "is blocked"
@@ -616,8 +616,10 @@ class DuplicateRenderVars(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         seen: dict[tuple, Usd.Prim] = {}
-        for var in product_render_vars(prim):
-            key = tuple(checked_value(var, n) for n in ("sourceType", "sourceName", "dataType"))
+        for var in product_render_vars(prim, ctx):
+            key = tuple(
+                checked_value(var, n, ctx) for n in ("sourceType", "sourceName", "dataType")
+            )
             if None in key or not key[1]:
                 continue
             first = seen.setdefault(key, var)
@@ -725,12 +727,12 @@ ALPHA_NAMES = frozenset({"a", "alpha"})
 FOUR_CHANNEL_TYPES = frozenset({"color4f", "color4h", "color4d", "float4", "half4", "double4"})
 
 
-def _is_alpha_source(var: Usd.Prim) -> bool:
-    source = checked_value(var, "sourceName") or ""
+def _is_alpha_source(var: Usd.Prim, ctx: Context) -> bool:
+    source = checked_value(var, "sourceName", ctx) or ""
     return (
         var.GetName().lower() in ALPHA_NAMES
         or source.lower() in ALPHA_NAMES
-        or checked_value(var, "dataType") in FOUR_CHANNEL_TYPES
+        or checked_value(var, "dataType", ctx) in FOUR_CHANNEL_TYPES
     )
 
 
@@ -825,23 +827,23 @@ class DeepRasterMissingAlpha(Rule):
     class Options:
         alpha_var: str = ""
 
-    def _alpha_fix(self, product: Usd.Prim) -> Fix | None:
+    def _alpha_fix(self, product: Usd.Prim, ctx: Context) -> Fix | None:
         path = self.options.alpha_var
         if not path or not Sdf.Path.IsValidPathString(path):
             return None
         target = resolve_target(product.GetStage(), Sdf.Path(path))
         if not target.ok or not target.prim.IsA(UsdRender.Var):
             return None
-        if not _is_alpha_source(target.prim):
+        if not _is_alpha_source(target.prim, ctx):
             return None
         rel_path = UsdRender.Product(product).GetOrderedVarsRel().GetPath()
         return Fix(f"append <{path}> to orderedVars", True, _append_target(rel_path, target.path))
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        if checked_value(prim, "productType") != "deepRaster":
+        if checked_value(prim, "productType", ctx) != "deepRaster":
             return
-        render_vars = product_render_vars(prim)
-        if not render_vars or any(_is_alpha_source(v) for v in render_vars):
+        render_vars = product_render_vars(prim, ctx)
+        if not render_vars or any(_is_alpha_source(v, ctx) for v in render_vars):
             return
         yield Diagnostic(
             f"deep RenderProduct {prim.GetPath()} has no alpha RenderVar (none named a or alpha "
@@ -849,7 +851,7 @@ class DeepRasterMissingAlpha(Rule):
             'be composited; add a RenderVar with sourceName "a" and dataType "float" to '
             "orderedVars",
             at=prim,
-            fix=self._alpha_fix(prim),
+            fix=self._alpha_fix(prim, ctx),
         )
 
 

@@ -80,10 +80,12 @@ class SourceNameEmpty(Rule):
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        if checked_value(prim, "sourceName") != "":
+        if checked_value(prim, "sourceName", ctx) != "":
             return
         attr = UsdRender.Var(prim).GetSourceNameAttr()
-        what = "light path expression" if checked_value(prim, "sourceType") == "lpe" else "output"
+        what = (
+            "light path expression" if checked_value(prim, "sourceType", ctx) == "lpe" else "output"
+        )
         yield Diagnostic(
             f"RenderVar {prim.GetPath()} has an empty sourceName: the renderer gets no {what} "
             'to compute; author the source it should read, e.g. string sourceName = "Ci"',
@@ -256,9 +258,9 @@ class LpeMalformed(Rule):
         extra_labels: tuple[str, ...] = ()
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        if checked_value(prim, "sourceType") != "lpe":
+        if checked_value(prim, "sourceType", ctx) != "lpe":
             return
-        source = checked_value(prim, "sourceName")
+        source = checked_value(prim, "sourceName", ctx)
         if not source:
             return
         attr = UsdRender.Var(prim).GetSourceNameAttr()
@@ -395,9 +397,9 @@ class PrimvarSourceNotFound(Rule):
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        if checked_value(prim, "sourceType") != "primvar":
+        if checked_value(prim, "sourceType", ctx) != "primvar":
             return
-        source = checked_value(prim, "sourceName")
+        source = checked_value(prim, "sourceName", ctx)
         if not source:
             return
         # The engine's partial stage holds only the render prims: ask for the
@@ -696,7 +698,7 @@ class ScalarSourceDefaultColor3f(Rule):
         attr = UsdRender.Var(prim).GetDataTypeAttr()
         if has_authored_value(attr) or mismatched_spec(attr) is not None:
             return
-        candidates = (prim.GetName(), checked_value(prim, "sourceName") or "")
+        candidates = (prim.GetName(), checked_value(prim, "sourceName", ctx) or "")
         matched = [n for n in candidates if n.lower() in SCALAR_QUANTITY_TYPES]
         if not matched:
             return
@@ -823,7 +825,7 @@ class AovNameCollision(Rule):
         aov_naming: AovNaming = "primName"
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        render_vars = product_render_vars(prim)
+        render_vars = product_render_vars(prim, ctx)
         namings: tuple[AovNaming, ...] = ("primName",)
         if self.options.aov_naming == "sourceName":
             namings = ("primName", "sourceName")
@@ -831,7 +833,7 @@ class AovNameCollision(Rule):
         for naming in namings:
             owners: dict[str, Usd.Prim] = {}
             for var in render_vars:
-                channel = channel_name(var, naming)
+                channel = channel_name(var, naming, ctx)
                 first = owners.setdefault(channel, var)
                 pair = (first.GetPath(), var.GetPath())
                 if first.GetPath() == var.GetPath() or pair in reported:
@@ -910,7 +912,7 @@ class IntrinsicSourceUnimplemented(Rule):
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        if checked_value(prim, "sourceType") != "intrinsic":
+        if checked_value(prim, "sourceType", ctx) != "intrinsic":
             return
         yield Diagnostic(
             f'sourceType "intrinsic" of RenderVar {prim.GetPath()} is reserved and not yet '

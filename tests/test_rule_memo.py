@@ -1,0 +1,69 @@
+"""Values the rules share through ``Context.memo``: read once per lint, never
+carried over to the next lint of a changed stage."""
+
+from __future__ import annotations
+
+import pytest
+from pxr import Sdf, Usd
+from usdrender_lint.rules import _aov
+
+from usdrender_lint.engine import Linter
+from usdrender_lint.testing import all_rules
+
+SHOT = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        rel products = </Render/beauty>
+    }
+    def RenderProduct "beauty"
+    {
+        rel orderedVars = [</Render/color>, </Render/alpha>]
+    }
+    def RenderVar "color"
+    {
+        uniform string sourceName = "Ci"
+    }
+    def RenderVar "alpha"
+    {
+        uniform string sourceName = "a"
+    }
+}
+"""
+
+
+def _codes(linter: Linter, stage: Usd.Stage) -> set[tuple[str, str]]:
+    return {(f.code, f.location.path) for f in linter.lint_stage(stage)}
+
+
+@pytest.fixture
+def stage() -> Usd.Stage:
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    layer.ImportFromString(SHOT)
+    return Usd.Stage.Open(layer)
+
+
+def test_a_render_var_value_is_read_once_per_lint(stage, monkeypatch) -> None:
+    reads: list[tuple[str, str]] = []
+    composed = _aov.composed_value
+
+    def counting(prim, name, *args):
+        reads.append((str(prim.GetPath()), name))
+        return composed(prim, name, *args)
+
+    monkeypatch.setattr(_aov, "composed_value", counting)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert reads.count(("/Render/color", "sourceName")) == 1
+    assert reads.count(("/Render/color", "sourceType")) == 1
+
+
+def test_a_changed_stage_is_read_again(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    assert ("PR006", "/Render/beauty.orderedVars") not in _codes(linter, stage)
+    stage.GetPrimAtPath("/Render/alpha").GetAttribute("sourceName").Set("Ci")
+    assert ("PR006", "/Render/beauty.orderedVars") in _codes(linter, stage)
+    stage.GetPrimAtPath("/Render/beauty").GetRelationship("orderedVars").SetTargets(
+        ["/Render/color"]
+    )
+    assert ("PR006", "/Render/beauty.orderedVars") not in _codes(linter, stage)
