@@ -1598,17 +1598,22 @@ class TimeSamplesIgnored(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        attribute_definition = prim.GetPrimDefinition().GetAttributeDefinition
         for attr in prim.GetAuthoredAttributes():
-            definition = _definition(attr)
-            if definition is None or mismatched_spec(attr) is not None:
-                continue  # not a schema attribute, or SE016's finding
+            definition = attribute_definition(attr.GetName())
+            if not definition:
+                continue  # not a schema attribute
+            # Both findings need samples or a spline, which few attributes have:
+            # ask that before the dearer type check.
+            count = attr.GetNumTimeSamples()
+            if (not count and not attr.HasSpline()) or mismatched_spec(attr) is not None:
+                continue  # nothing to report, or SE016's finding
             if definition.GetVariability() == Sdf.VariabilityUniform:
-                yield from self._uniform(attr, ctx)
+                yield from self._uniform(attr, count, ctx)
             elif attr.GetName() == "productName" and prim.IsA(UsdRender.Product):
-                yield from self._product_name(attr, ctx)
+                yield from self._product_name(attr, count)
 
-    def _uniform(self, attr: Usd.Attribute, ctx: Context) -> Iterator[Diagnostic]:
-        count = attr.GetNumTimeSamples()
+    def _uniform(self, attr: Usd.Attribute, count: int, ctx: Context) -> Iterator[Diagnostic]:
         if attr.HasSpline():
             yield Diagnostic(
                 f"uniform {attr.GetName()} is authored as a spline, but renderers read it once "
@@ -1647,8 +1652,8 @@ class TimeSamplesIgnored(Rule):
             layer=layer,
         )
 
-    def _product_name(self, attr: Usd.Attribute, ctx: Context) -> Iterator[Diagnostic]:
-        if attr.GetNumTimeSamples() == 0:
+    def _product_name(self, attr: Usd.Attribute, count: int) -> Iterator[Diagnostic]:
+        if count == 0:
             return
         source = attr.GetResolveInfo(DEFAULT_TIME).GetSource()
         if source == Usd.ResolveInfoSourceDefault:
