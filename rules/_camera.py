@@ -55,7 +55,7 @@ def config_owners(config: RenderConfiguration) -> list[Usd.Prim]:
 
 
 def first_failure(
-    prim: Usd.Prim, names: Iterable[str], check: ValueCheck, cap: int
+    prim: Usd.Prim, names: Iterable[str], check: ValueCheck, ctx: Context
 ) -> tuple[Usd.TimeCode, str] | None:
     """Evaluate ``check(*values)`` at Default and at every authored time sample
     of the named attributes (capped); the first failing time and its problem.
@@ -63,9 +63,9 @@ def first_failure(
     Values are composed: well-typed authored opinions, else the schema
     fallback (a type-mismatched opinion counts as unauthored, SE016's; a
     blocked sample reads as the fallback)."""
-    readers = [_reader(prim, name) for name in names]
+    readers = [_reader(prim, name, ctx) for name in names]
     attrs = [attr for attr, _, _ in readers]
-    for time in joint_evaluation_times(attrs, cap):
+    for time in joint_evaluation_times(attrs, ctx.time_sample_cap):
         problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
             return time, problem
@@ -76,10 +76,14 @@ def first_failure(
 _Reader = tuple[Usd.Attribute, bool, Any]
 
 
-def _reader(prim: Usd.Prim, name: str) -> _Reader:
-    # Decided once per attribute, not per time sample: the opinion stack is costly.
-    attr = prim.GetAttribute(name)
-    return attr, has_authored_value(attr), fallback_value(prim, name)
+def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
+    # Decided once per attribute and lint, not per time sample or rule: the
+    # opinion stack is costly and several CA rules read the same attributes.
+    def compute() -> _Reader:
+        attr = prim.GetAttribute(name)
+        return attr, has_authored_value(attr), fallback_value(prim, name)
+
+    return ctx.memo(("camera", "reader", prim.GetPath(), name), compute)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:

@@ -549,7 +549,6 @@ class CameraOpticsInvalid(Rule):
     severity = Severity.ERROR
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
-        cap = ctx.time_sample_cap
         for use in effective_cameras(ctx):
             camera = use.prim
             projections = allowed_tokens(camera, "projection")
@@ -560,7 +559,7 @@ class CameraOpticsInvalid(Rule):
                 (("focalLength", "projection"), _focal_length_problem),
             )
             for names, check in checks:
-                failure = first_failure(camera, names, check, cap)
+                failure = first_failure(camera, names, check, ctx)
                 if failure is not None:
                     time, problem = failure
                     yield Diagnostic(
@@ -704,7 +703,7 @@ class AspectRatioMismatchImplicitConform(Rule):
                 camera.GetPrim(),
                 ("horizontalAperture", "verticalAperture"),
                 partial(_aspect_mismatch, image=image, tolerance=self.tolerance),
-                ctx.time_sample_cap,
+                ctx,
             )
             if failure is None:
                 continue
@@ -897,7 +896,7 @@ class ShutterIntervalInverted(Rule):
                 use.prim,
                 ("shutter:open", "shutter:close"),
                 _inverted_shutter,
-                ctx.time_sample_cap,
+                ctx,
             )
             if failure is not None:
                 time, problem = failure
@@ -1000,7 +999,7 @@ class ClippingRangeInvalid(Rule):
                 use.prim,
                 ("clippingRange", "projection"),
                 _clipping_problem,
-                ctx.time_sample_cap,
+                ctx,
             )
             if failure is not None:
                 time, problem = failure

@@ -5,16 +5,20 @@ from __future__ import annotations
 
 import pytest
 from pxr import Sdf, Usd
-from usdrender_lint.rules import _aov
+from usdrender_lint.rules import _aov, _camera
 
 from usdrender_lint.engine import Linter
 from usdrender_lint.testing import all_rules
 
 SHOT = """#usda 1.0
+def Camera "cam"
+{
+}
 def Scope "Render"
 {
     def RenderSettings "Settings"
     {
+        rel camera = </cam>
         rel products = </Render/beauty>
     }
     def RenderProduct "beauty"
@@ -67,3 +71,24 @@ def test_a_changed_stage_is_read_again(stage) -> None:
         ["/Render/color"]
     )
     assert ("PR006", "/Render/beauty.orderedVars") not in _codes(linter, stage)
+
+
+def test_a_camera_attribute_is_read_once_per_lint(stage, monkeypatch) -> None:
+    reads: list[str] = []
+    authored = _camera.has_authored_value
+
+    def counting(attr):
+        reads.append(str(attr.GetPath()))
+        return authored(attr)
+
+    monkeypatch.setattr(_camera, "has_authored_value", counting)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert reads.count("/cam.projection") == 1  # CA005 twice, CA009
+    assert reads.count("/cam.horizontalAperture") == 1  # CA005, CA006
+
+
+def test_a_changed_camera_is_read_again(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    assert ("CA005", "/cam.verticalAperture") not in _codes(linter, stage)
+    stage.GetPrimAtPath("/cam").GetAttribute("verticalAperture").Set(0.0)
+    assert ("CA005", "/cam.verticalAperture") in _codes(linter, stage)
