@@ -212,12 +212,14 @@ class ProductNameDuplicate(Rule):
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         reported: set[tuple[Sdf.Path, Sdf.Path]] = set()
+        # The configurations already pair each settings with its usable products, in order.
+        products_of: dict[Sdf.Path, list[Usd.Prim]] = {}
+        for config in ctx.configurations:
+            products = products_of.setdefault(config.settings.GetPath(), [])
+            if config.product is not None:
+                products.append(config.product)
         for settings in ctx.prims_of(UsdRender.Settings):
-            products = [
-                t.prim
-                for t in resolve_targets(UsdRender.Settings(settings).GetProductsRel())
-                if t.ok and t.prim.IsA(UsdRender.Product)
-            ]
+            products = products_of[settings.GetPath()]
             attrs = [p.GetAttribute("productName") for p in products]
             for time in joint_evaluation_times(attrs, ctx.time_sample_cap):
                 owners: dict[str, Usd.Prim] = {}
