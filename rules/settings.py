@@ -1424,10 +1424,22 @@ def _retype_spec(attr_path: Sdf.Path, type_name: Sdf.ValueTypeName) -> Apply:
     return apply
 
 
-def _definition(attr: Usd.Attribute) -> Usd.PrimDefinition.Attribute | None:
-    """The schema's definition of an attribute; None for a custom attribute."""
-    definition = attr.GetPrim().GetPrimDefinition().GetAttributeDefinition(attr.GetName())
-    return definition if definition else None
+def _authored_schema_attributes(
+    prim: Usd.Prim, ctx: Context
+) -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
+    """The prim's authored attributes that its schema declares, with their
+    definitions: SE016 and SE017 both walk them, so they are listed once per lint."""
+
+    def compute() -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
+        attribute_definition = prim.GetPrimDefinition().GetAttributeDefinition
+        found = []
+        for attr in prim.GetAuthoredAttributes():
+            definition = attribute_definition(attr.GetName())
+            if definition:  # custom attributes have none
+                found.append((attr, definition))
+        return tuple(found)
+
+    return ctx.memo(("settings.authored_schema_attributes", prim.GetPath()), compute)
 
 
 class AttributeTypeMismatch(Rule):
@@ -1490,11 +1502,11 @@ class AttributeTypeMismatch(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for attr in prim.GetAuthoredAttributes():
+        for attr, definition in _authored_schema_attributes(prim, ctx):
             specs = mismatched_specs(attr)
             if not specs:
                 continue
-            schema_type = _definition(attr).GetTypeName()
+            schema_type = definition.GetTypeName()
             spec = specs[0]
             where = spec.layer.GetDisplayName()
             hidden = (
@@ -1598,11 +1610,7 @@ class TimeSamplesIgnored(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attribute_definition = prim.GetPrimDefinition().GetAttributeDefinition
-        for attr in prim.GetAuthoredAttributes():
-            definition = attribute_definition(attr.GetName())
-            if not definition:
-                continue  # not a schema attribute
+        for attr, definition in _authored_schema_attributes(prim, ctx):
             # Both findings need samples or a spline, which few attributes have:
             # ask that before the dearer type check.
             count = attr.GetNumTimeSamples()

@@ -92,3 +92,26 @@ def test_a_changed_camera_is_read_again(stage) -> None:
     assert ("CA005", "/cam.verticalAperture") not in _codes(linter, stage)
     stage.GetPrimAtPath("/cam").GetAttribute("verticalAperture").Set(0.0)
     assert ("CA005", "/cam.verticalAperture") in _codes(linter, stage)
+
+
+def test_render_prim_attributes_are_listed_once_for_se016_and_se017(stage, monkeypatch) -> None:
+    listed: list[str] = []
+    authored_attributes = Usd.Prim.GetAuthoredAttributes
+
+    def counting(prim):
+        listed.append(str(prim.GetPath()))
+        return authored_attributes(prim)
+
+    monkeypatch.setattr(Usd.Prim, "GetAuthoredAttributes", counting)
+    rules = [r for r in all_rules() if r.code in ("SE016", "SE017")]
+    Linter(rules, raise_errors=True).lint_stage(stage)
+    assert sorted(listed) == sorted(set(listed))
+    assert "/Render/color" in listed
+
+
+def test_a_changed_render_prim_attribute_is_listed_again(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    assert ("SE016", "/Render/beauty.pixelAspectRatio") not in _codes(linter, stage)
+    owner = stage.GetRootLayer().GetPrimAtPath("/Render/beauty")
+    Sdf.AttributeSpec(owner, "pixelAspectRatio", Sdf.ValueTypeNames.Double).default = 1.0
+    assert ("SE016", "/Render/beauty.pixelAspectRatio") in _codes(linter, stage)
