@@ -2,12 +2,9 @@
 
 from __future__ import annotations
 
-from importlib import metadata
-
-try:
-    __version__ = metadata.version("usdrender-lint")
-except metadata.PackageNotFoundError:  # running from a source tree
-    __version__ = "0+unknown"
+#: The one place the version is written (pyproject.toml reads it from here), so
+#: start-up needs no importlib.metadata.
+__version__ = "0.1.0"
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:  # the Python API, for type checkers; imported lazily below

@@ -7,7 +7,6 @@ load, a path that does not exist, a file it could not lint).
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from collections import Counter
@@ -17,9 +16,10 @@ from dataclasses import replace
 import click
 
 from . import __version__
+from .api import Rule
 from .config import FAIL_ON_CHOICES, ConfigError, load_settings
 from .execution import DEFAULT_TIMEOUT, ExecutionError, default_jobs
-from .formatters import FormatOptions, Formatter, available_formatters, load_formatter
+from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
 from .registry import Registry, RegistryError, build_registry
 
@@ -194,7 +194,6 @@ def check(
     full_composition: bool,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
-    from .docs import rule_info
     from .engine import FULL_COMPOSITION_ENV
     from .runner import collect_files, fails, lint_files, make_linter
     from .suppress import apply_path_ignores
@@ -250,7 +249,7 @@ def check(
         raise ToolError(str(exc)) from None
     if plan is not None:
         report = plan.narrow(report)
-    report = type(report)(report.files, tuple(rule_info(type(r)) for r in linter.rules))
+    report = type(report)(report.files)
     report = apply_path_ignores(
         report, settings.per_path_ignores, settings.base_dir, registry.rules
     )
@@ -267,9 +266,9 @@ def check(
         # stdout carries the diff alone; the report goes only to --output.
         click.echo("".join(fixed.diffs), nl=False)
         if output_file:
-            _emit_report(report, load_formatter(output_format), options, output_file)
+            _emit_report(report, output_format, linter.rules, options, output_file)
     else:
-        _emit_report(report, load_formatter(output_format), options, output_file)
+        _emit_report(report, output_format, linter.rules, options, output_file)
     if fixed is not None:
         _echo_fix_summary(report, show_diff)
     for result in report.errored_files:
@@ -344,12 +343,12 @@ def _echo_fix_summary(report: Report, dry_run: bool) -> None:
 def _load_baseline(baseline_file: str | None, write_baseline_file: str | None) -> Counter | None:
     """The baseline's fingerprint counts (None without --baseline); checked
     before linting so a missing or corrupt file fails fast."""
-    from .baseline import BaselineError, load_baseline
-
     if baseline_file and write_baseline_file:
         raise ToolError("use either --baseline or --write-baseline, not both")
     if not baseline_file:
         return None
+    from .baseline import BaselineError, load_baseline
+
     try:
         return load_baseline(baseline_file)
     except BaselineError as exc:
@@ -363,11 +362,9 @@ def _apply_baseline(
     write_baseline_file: str | None,
 ) -> Report:
     """Keep only new findings (--baseline) or record them all (--write-baseline)."""
-    from pathlib import Path
-
-    from .baseline import BaselineError, new_findings, write_baseline
-
     if write_baseline_file:
+        from .baseline import BaselineError, write_baseline
+
         try:
             count = write_baseline(report, write_baseline_file)
         except BaselineError as exc:
@@ -376,6 +373,10 @@ def _apply_baseline(
             f"usdrender-lint: recorded {_findings(count)} in {write_baseline_file}", err=True
         )
     elif known is not None:
+        from pathlib import Path
+
+        from .baseline import new_findings
+
         report, dropped = new_findings(report, known, Path(baseline_file).resolve().parent)
         if dropped:
             click.echo(
@@ -390,9 +391,20 @@ def _findings(count: int) -> str:
 
 
 def _emit_report(
-    report: Report, formatter: Formatter, options: FormatOptions, output_file: str | None
+    report: Report,
+    output_format: str,
+    rules: Sequence[Rule],
+    options: FormatOptions,
+    output_file: str | None,
 ) -> None:
-    """Render to stdout, or to ``output_file`` atomically (stdout gets nothing)."""
+    """Render to stdout, or to ``output_file`` atomically (stdout gets nothing).
+    ``rules`` (the rules that ran) are described in the report only for a
+    formatter that reads them: building that costs every rule's docstring."""
+    formatter = load_formatter(output_format)
+    if reads_rules(formatter):
+        from .docs import rule_info
+
+        report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     if output_file is None:
         formatter.render(report, sys.stdout, options)
         return
@@ -420,6 +432,8 @@ def list_rules(output_format: str) -> None:
     """List every registered rule."""
     registry = _registry()
     if output_format == "json":
+        import json
+
         rows = [
             {
                 "code": r.code,

@@ -8,7 +8,6 @@ The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
 from __future__ import annotations
 
 import dataclasses
-import tomllib
 import types
 import typing
 from collections.abc import Mapping, Sequence
@@ -134,6 +133,8 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
 
 def read_config_file(path: str | Path) -> Settings:
     """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``."""
+    import tomllib  # only when there is a file to read
+
     path = Path(path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -168,6 +169,8 @@ def find_config_file(start: str | Path) -> Path | None:
 
 
 def _has_tool_table(pyproject: Path) -> bool:
+    import tomllib
+
     try:
         data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
     except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):

@@ -7,32 +7,31 @@ builds its own :class:`~usdrender_lint.engine.Linter` once (from a picklable
 factory, e.g. the settings) and lints one file at a time; a worker that runs
 past the limit or dies is replaced, and its file is reported as an error.
 Results come back in input order, so the output never depends on ``jobs``.
+``multiprocessing`` and the other modules of the pool are imported only when
+a pool runs: linting in this process does not pay for them.
 """
 
 from __future__ import annotations
 
-import multiprocessing
 import os
-import shutil
 import signal
 import sys
-import tempfile
 import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
-from multiprocessing.connection import Connection, wait
 from pathlib import Path
-
-try:
-    import resource
-except ImportError:  # not on Windows
-    resource = None  # type: ignore[assignment]
+from typing import TYPE_CHECKING
 
 from pxr import Usd
 
 from .engine import Linter
 from .model import FileResult
+
+if TYPE_CHECKING:
+    import multiprocessing.context
+    import multiprocessing.process
+    from multiprocessing.connection import Connection
 
 DEFAULT_TIMEOUT = 120.0
 #: A progress bar is worth drawing only for runs longer than this many files.
@@ -155,6 +154,8 @@ def _single_threaded() -> bool:
 
 
 def _context() -> multiprocessing.context.BaseContext:
+    import multiprocessing
+
     # A process still running one thread (USD starts its thread pool with the
     # first stage it opens; the command line opens none itself) forks safely,
     # and its workers start with USD and the rules already imported, which
@@ -263,6 +264,9 @@ class _Pool:
         results: list[FileResult | None] = [None] * len(files)
         self._pending = list(reversed(list(enumerate(files))))  # pop() keeps input order
         self._remaining = len(files)
+        import shutil
+        import tempfile
+
         self._log_dir = tempfile.mkdtemp(prefix="usdrender-lint-")
         try:
             self._workers = [self._start() for _ in range(self._size)]
@@ -299,6 +303,8 @@ class _Pool:
 
     def _step(self, results: list[FileResult | None]) -> None:
         """Wait for one message, death or deadline, and handle it."""
+        from multiprocessing.connection import wait
+
         now = time.monotonic()
         deadlines = [w.task[2] for w in self._workers if w.task is not None]
         deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
@@ -412,7 +418,11 @@ def _cgroup_memory_limit() -> int | None:
 
 
 def _limit_memory(limit: int | None) -> None:
-    if limit is None or resource is None or not hasattr(resource, "RLIMIT_DATA"):
+    try:
+        import resource
+    except ImportError:  # not on Windows
+        return
+    if limit is None or not hasattr(resource, "RLIMIT_DATA"):
         return
     soft, hard = resource.getrlimit(resource.RLIMIT_DATA)
     if hard != resource.RLIM_INFINITY:

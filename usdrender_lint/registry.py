@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from importlib import metadata
 
+from . import entrypoints
 from .api import Rule
 
 ENTRY_POINT_GROUP = "usdrender_lint.rules"
@@ -48,10 +48,12 @@ def _aliases(rule: type[Rule]) -> tuple[str, ...]:
     return tuple(getattr(rule, "aliases", ()))
 
 
-def build_registry(entry_points: Iterable[metadata.EntryPoint] | None = None) -> Registry:
+def build_registry(
+    entry_points: Iterable[entrypoints.EntryPointLike] | None = None,
+) -> Registry:
     """Load every rule plugin; raise :class:`RegistryError` on any problem."""
     if entry_points is None:
-        entry_points = metadata.entry_points(group=ENTRY_POINT_GROUP)
+        entry_points = entrypoints.entry_points(ENTRY_POINT_GROUP)
     rules: list[type[Rule]] = []
     origins: dict[str, str] = {}
     names: dict[str, str] = {}

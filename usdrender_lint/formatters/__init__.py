@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from importlib import metadata
 from pathlib import Path
 from typing import Protocol, TextIO
 
+from ..entrypoints import EntryPointLike, entry_points
 from ..model import Report
 
 ENTRY_POINT_GROUP = "usdrender_lint.formatters"
@@ -30,8 +30,15 @@ class Formatter(Protocol):
         """Write the whole report to ``stream``."""
 
 
-def available_formatters() -> Mapping[str, metadata.EntryPoint]:
-    return {ep.name: ep for ep in metadata.entry_points(group=ENTRY_POINT_GROUP)}
+def reads_rules(formatter: Formatter) -> bool:
+    """Whether ``formatter`` reads ``Report.rules`` (the rules' docs). One that
+    never does says so with ``reads_rules = False`` and is handed none; one
+    that says nothing gets them."""
+    return bool(getattr(formatter, "reads_rules", True))
+
+
+def available_formatters() -> Mapping[str, EntryPointLike]:
+    return {ep.name: ep for ep in entry_points(ENTRY_POINT_GROUP)}
 
 
 def load_formatter(name: str) -> Formatter:

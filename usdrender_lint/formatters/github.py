@@ -49,6 +49,9 @@ def annotation(finding: Finding) -> str:
 
 
 class GithubFormatter:
+    #: It never reads Report.rules, so the command does not build them.
+    reads_rules = False
+
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         for result in report.files:
             if result.status != "linted":

@@ -77,6 +77,9 @@ def _report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
 
 
 class JsonFormatter:
+    #: It never reads Report.rules, so the command does not build them.
+    reads_rules = False
+
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         json.dump(report_to_dict(report, options), stream, indent=2, ensure_ascii=False)
         stream.write("\n")

@@ -28,6 +28,9 @@ def _is_terminal(stream: TextIO) -> bool:
 
 
 class TextFormatter:
+    #: It never reads Report.rules, so the command does not build them.
+    reads_rules = False
+
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         lines = self._lines(report, options)
         if not _is_terminal(stream):
