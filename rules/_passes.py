@@ -92,6 +92,22 @@ def pass_collections(prim: Usd.Prim) -> list[Usd.CollectionAPI]:
     return [Usd.CollectionAPI(prim, name) for name in PASS_COLLECTIONS]
 
 
+def authored_pass_collections(prim: Usd.Prim, ctx: Context) -> tuple[Usd.CollectionAPI, ...]:
+    """The pass's collections with at least one authored property (any layer or
+    arc). One left to its schema fallbacks validates, computes and has no
+    expression or targets, so the collection rules (PA005, PA006, PA008) skip
+    it without asking USD."""
+
+    def compute() -> tuple[Usd.CollectionAPI, ...]:
+        return tuple(
+            collection
+            for collection in pass_collections(prim)
+            if prim.GetAuthoredPropertiesInNamespace(collection_label(collection))
+        )
+
+    return ctx.memo(("PA:authored-collections", prim.GetPath()), compute)
+
+
 def collection_label(collection: Usd.CollectionAPI) -> str:
     return f"collection:{collection.GetName()}"
 

@@ -20,12 +20,12 @@ from usdrender_lint.resolve import (
 )
 
 from ._passes import (
+    authored_pass_collections,
     collection_label,
     dangling_object_reason,
     find_cycles,
     input_pass_graph,
     missing_expression_references,
-    pass_collections,
     usd_error_text,
 )
 
@@ -585,7 +585,7 @@ class CollectionMembershipInvalid(Rule):
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for collection in pass_collections(prim):
+        for collection in authored_pass_collections(prim, ctx):
             reasons, anchor = _collection_problems(collection)
             if reasons:
                 yield Diagnostic(
@@ -727,7 +727,7 @@ class CollectionExpressionIgnored(Rule):
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for collection in pass_collections(prim):
+        for collection in authored_pass_collections(prim, ctx):
             attr = collection.GetMembershipExpressionAttr()
             expression = authored_value(attr)
             if expression is None or expression.IsEmpty():
@@ -896,7 +896,7 @@ class CollectionTargetMissing(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         stage = prim.GetStage()
-        for collection in pass_collections(prim):
+        for collection in authored_pass_collections(prim, ctx):
             label = collection_label(collection)
             for kind, rel, effect in (
                 ("includes", collection.GetIncludesRel(), "drops these objects from"),

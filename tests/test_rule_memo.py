@@ -33,6 +33,10 @@ def Scope "Render"
     {
         uniform string sourceName = "a"
     }
+    def RenderPass "pass"
+    {
+        uniform token passType = "prman"
+    }
 }
 """
 
@@ -115,3 +119,25 @@ def test_a_changed_render_prim_attribute_is_listed_again(stage) -> None:
     owner = stage.GetRootLayer().GetPrimAtPath("/Render/beauty")
     Sdf.AttributeSpec(owner, "pixelAspectRatio", Sdf.ValueTypeNames.Double).default = 1.0
     assert ("SE016", "/Render/beauty.pixelAspectRatio") in _codes(linter, stage)
+
+
+def test_a_collection_authored_after_a_lint_is_checked(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    assert ("PA005", "/Render/pass.collection:prune:expansionRule") not in _codes(linter, stage)
+    collection = Usd.CollectionAPI(stage.GetPrimAtPath("/Render/pass"), "prune")
+    collection.CreateExpansionRuleAttr().Set("expandEverything")
+    assert ("PA005", "/Render/pass.collection:prune:expansionRule") in _codes(linter, stage)
+
+
+def test_collections_left_to_their_fallbacks_are_not_evaluated(stage, monkeypatch) -> None:
+    validated: list[str] = []
+    validate = Usd.CollectionAPI.Validate
+
+    def counting(collection):
+        validated.append(collection.GetName())
+        return validate(collection)
+
+    monkeypatch.setattr(Usd.CollectionAPI, "Validate", counting)
+    Usd.CollectionAPI(stage.GetPrimAtPath("/Render/pass"), "matte").CreateIncludesRel()
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert validated == ["matte"]
