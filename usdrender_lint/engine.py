@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd, UsdRender
 
-from . import fastpath, suppress, usda_lines
+from . import fastpath, resolve, suppress, usda_lines
 from .api import Context, Diagnostic, Fix, FullStageRequired, Rule
 from .model import (
     INTERNAL_ERROR_CODE,
@@ -307,7 +307,8 @@ class Linter:
         file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
         ctx = Context(stage=stage, file=file, time_sample_cap=self.time_sample_cap, partial=partial)
         findings: list[Finding] = []
-        with Tf.DiagnosticTrap() as trap:
+        # Nothing edits the stage while rules run, so resolve.py may memoise.
+        with Tf.DiagnosticTrap() as trap, resolve.lint_memo():
             try:
                 work = self._walk(stage, ctx)
                 for rule in self.rules:

@@ -9,14 +9,20 @@ no rule re-derives them (catalog, "Conventions used by every rule").
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator
+from collections import defaultdict
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
-from functools import cached_property
-from typing import Any
+from functools import cached_property, wraps
+from typing import Any, TypeVar
 
 from pxr import Sdf, Tf, Usd, UsdGeom, UsdRender
 
 DEFAULT_TIME = Usd.TimeCode.Default()
+
+_Key = TypeVar("_Key")
+_Answer = TypeVar("_Answer")
 
 
 def is_usable(prim: Usd.Prim) -> bool:
@@ -119,12 +125,68 @@ def typed_target_problem(target: Target, schema: type, expected: str) -> str | N
 
 # -- values -----------------------------------------------------------------
 
+#: The answers of the memoised helpers below while a lint runs (see lint_memo),
+#: one table per helper keyed by its argument; None outside a lint. A context
+#: variable, so each thread and each nested lint has its own.
+_MEMO: ContextVar[defaultdict[Callable[..., Any], dict[Any, Any]] | None] = ContextVar(
+    "usdrender_lint_resolve_memo", default=None
+)
 
+
+@contextmanager
+def lint_memo() -> Iterator[None]:
+    """Memoise the per-attribute and per-prim helpers of this module until the
+    block ends (the engine wraps each lint in one).
+
+    The answers are keyed by USD object, so the stage must not be edited inside
+    the block: the engine runs every rule before any fix is applied, and each
+    lint (the fixer's second one, a nested one) opens its own memo.
+    """
+    token = _MEMO.set(defaultdict(dict))
+    try:
+        yield
+    finally:
+        _MEMO.reset(token)
+
+
+def _memoised(func: Callable[[_Key], _Answer]) -> Callable[[_Key], _Answer]:
+    """``func`` answering from the current lint's memo (computed once per
+    argument); a plain call outside a lint."""
+
+    @wraps(func)
+    def memoised(key: _Key) -> _Answer:
+        memo = _MEMO.get()
+        if memo is None:
+            return func(key)
+        answers = memo[func]
+        try:
+            return answers[key]
+        except KeyError:
+            answer = answers[key] = func(key)
+            return answer
+
+    return memoised
+
+
+@_memoised
+def _prim_definition(prim: Usd.Prim) -> Usd.PrimDefinition:
+    return prim.GetPrimDefinition()
+
+
+@_memoised
 def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
-    definition = attr.GetPrim().GetPrimDefinition().GetAttributeDefinition(attr.GetName())
+    definition = _prim_definition(attr.GetPrim()).GetAttributeDefinition(attr.GetName())
     return definition.GetTypeName() if definition else None
 
 
+@_memoised
+def _attribute_specs(attr: Usd.Attribute) -> tuple[Sdf.AttributeSpec, ...]:
+    """The attribute's property stack without relationship specs: a layer may
+    author the name as ``rel dataWindowNDC = </X>``, which has no type or value."""
+    return tuple(s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec))
+
+
+@_memoised
 def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     """The strongest value-holding spec whose type differs from the schema's.
 
@@ -132,10 +194,15 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     although typed C++ reads cannot (catalog, Surprises 5). Roles are ignored:
     ``color3f`` and ``float3`` store the same value type.
     """
-    schema_type = _schema_type(attr)
+    return _mismatched_in(_attribute_specs(attr), _schema_type(attr))
+
+
+def _mismatched_in(
+    specs: Iterable[Sdf.AttributeSpec], schema_type: Sdf.ValueTypeName | None
+) -> Sdf.AttributeSpec | None:
     if schema_type is None:
         return None
-    for spec in _attribute_specs(attr):
+    for spec in specs:
         if spec.HasDefaultValue() or spec.layer.GetNumTimeSamplesForPath(spec.path):
             return spec if spec.typeName.type != schema_type.type else None
     return None
@@ -151,37 +218,41 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     return [s for s in _attribute_specs(attr) if s.typeName.type != schema_type.type]
 
 
-def _attribute_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
-    """The attribute's property stack without relationship specs: a layer may
-    author the name as ``rel dataWindowNDC = </X>``, which has no type or value."""
-    return [s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec)]
+@_memoised
+def _allowed_tokens(prim_and_name: tuple[Usd.Prim, str]) -> tuple[str, ...]:
+    prim, name = prim_and_name
+    definition = _prim_definition(prim).GetAttributeDefinition(name)
+    tokens = definition.GetMetadata("allowedTokens") if definition else None
+    return tuple(str(t) for t in tokens or ())
 
 
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
     """The schema's ``allowedTokens`` for an attribute, read from the prim
     definition at run time; empty when the schema declares none."""
-    definition = prim.GetPrimDefinition().GetAttributeDefinition(name)
-    tokens = definition.GetMetadata("allowedTokens") if definition else None
-    return tuple(str(t) for t in tokens or ())
+    return _allowed_tokens((prim, name))
 
 
+@_memoised
 def has_authored_value(attr: Usd.Attribute | None) -> bool:
     """Authored and well-typed: type-mismatched opinions count as unauthored
     (catalog, Conventions: one mistake gives one finding, SE016)."""
-    return (
-        bool(attr)
-        and attr.HasAuthoredValue()
-        and mismatched_spec(attr) is None
-        and not _holds_path_value(attr)
-    )
+    if not attr or not attr.HasAuthoredValue():
+        return False
+    specs = _attribute_specs(attr)  # one property stack serves both checks
+    return _mismatched_in(specs, _schema_type(attr)) is None and not _path_value_in(specs)
 
 
+@_memoised
 def _holds_path_value(attr: Usd.Attribute) -> bool:
     """usda accepts ``<...>`` as the value of an attribute of any type
     (``uniform token sourceType = </X>``, also in time samples): an Sdf.Path that
     no typed read of the declared type returns, so it is no value at all."""
+    return _path_value_in(_attribute_specs(attr))
+
+
+def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
     found_default = found_samples = False
-    for spec in _attribute_specs(attr):
+    for spec in specs:
         if not found_default and spec.HasDefaultValue():
             found_default = True
             if isinstance(spec.default, Sdf.Path):
@@ -196,7 +267,7 @@ def _holds_path_value(attr: Usd.Attribute) -> bool:
 
 
 def fallback_value(prim: Usd.Prim, name: str) -> Any:
-    return prim.GetPrimDefinition().GetAttributeFallbackValue(name)
+    return _prim_definition(prim).GetAttributeFallbackValue(name)
 
 
 def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME) -> Any:

@@ -1,0 +1,164 @@
+"""resolve.py memoises its per-attribute answers for one lint only: a later lint
+of an edited stage, a nested lint and a call outside any lint see fresh answers."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Iterator
+
+import pytest
+from pxr import Gf, Sdf, Usd, UsdRender
+
+from usdrender_lint import resolve
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.engine import Linter
+from usdrender_lint.model import INTERNAL_ERROR_CODE
+from usdrender_lint.testing import all_rules
+
+SHOT = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        float2 resolution = (1920, 1080)
+        uniform token aspectRatioConformPolicy = "expandAperture"
+    }
+}
+"""
+
+
+@pytest.fixture
+def stage() -> Usd.Stage:
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    layer.ImportFromString(SHOT)
+    return Usd.Stage.Open(layer)
+
+
+def _settings(stage: Usd.Stage) -> Usd.Prim:
+    return stage.GetPrimAtPath("/Render/Settings")
+
+
+def _codes(findings) -> set[str]:
+    return {f.code for f in findings if f.location.path == "/Render/Settings.resolution"}
+
+
+def test_a_second_lint_sees_an_edited_type_and_value(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    assert "SE016" in _codes(linter.lint_stage(stage))  # float2 is not the schema's int2
+
+    spec = stage.GetRootLayer().GetAttributeAtPath("/Render/Settings.resolution")
+    spec.SetInfo("typeName", "int2")
+    spec.default = Gf.Vec2i(-1, 1080)
+    codes = _codes(linter.lint_stage(stage))
+    assert "SE016" not in codes
+    assert "SE001" in codes  # now authored, well typed and non-positive
+
+    spec.SetInfo("typeName", "float2")
+    assert _codes(linter.lint_stage(stage)) == {"SE016"}
+
+
+def test_answers_are_memoised_inside_a_lint_memo_and_dropped_after(stage) -> None:
+    attr = _settings(stage).GetAttribute("aspectRatioConformPolicy")
+    with resolve.lint_memo():
+        assert resolve.has_authored_value(attr)
+        attr.Block()  # the engine never edits while rules run: the memo may answer
+        assert resolve.has_authored_value(attr)
+    assert not resolve.has_authored_value(attr)
+
+
+def test_helpers_outside_a_lint_are_not_memoised(stage) -> None:
+    assert resolve._MEMO.get() is None
+    attr = _settings(stage).GetAttribute("resolution")
+    assert resolve.mismatched_spec(attr) is not None
+    assert not resolve.has_authored_value(attr)
+    spec = stage.GetRootLayer().GetAttributeAtPath("/Render/Settings.resolution")
+    spec.SetInfo("typeName", "int2")
+    spec.default = Gf.Vec2i(640, 480)
+    assert resolve.mismatched_spec(attr) is None
+    assert resolve.has_authored_value(attr)
+    assert resolve.composed_value(_settings(stage), "resolution") == Gf.Vec2i(640, 480)
+    assert resolve._MEMO.get() is None
+
+
+class _Probe(Rule):
+    """Reads through resolve.py, records the memo it ran under, optionally raises.
+
+    ## What it does
+    ## Why is this bad?
+    ## Example
+    ## Use instead
+    ## Fix safety
+    """
+
+    code = "ZZ901"
+    name = "resolve-memo-probe"
+    severity = Severity.INFO
+    prim_types = (UsdRender.Settings,)
+    memos: list[object] = []
+    fail = False
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        resolve.has_authored_value(prim.GetAttribute("resolution"))
+        type(self).memos.append(resolve._MEMO.get())
+        if self.fail:
+            raise RuntimeError("probe")
+        yield from ()
+
+
+@pytest.fixture
+def probe() -> Iterator[type[_Probe]]:
+    _Probe.memos, _Probe.fail = [], False
+    yield _Probe
+
+
+def test_each_lint_has_its_own_memo_and_drops_it(stage, probe) -> None:
+    linter = Linter([probe()], raise_errors=True)
+    linter.lint_stage(stage)
+    linter.lint_stage(stage)
+    first, second = probe.memos
+    assert first is not None and second is not None and first is not second
+    assert resolve._MEMO.get() is None
+
+
+@pytest.mark.parametrize("raise_errors", [True, False])
+def test_the_memo_is_dropped_when_a_rule_raises(stage, probe, raise_errors) -> None:
+    probe.fail = True
+    linter = Linter([probe()], raise_errors=raise_errors)
+    if raise_errors:
+        with pytest.raises(RuntimeError):
+            linter.lint_stage(stage)
+    else:
+        assert [f.code for f in linter.lint_stage(stage)] == [INTERNAL_ERROR_CODE]
+    assert probe.memos[0] is not None
+    assert resolve._MEMO.get() is None
+
+
+def test_a_nested_lint_uses_a_fresh_memo_and_restores_the_outer_one(stage, probe) -> None:
+    inner = Linter([probe()], raise_errors=True)
+    seen: list[object] = []
+
+    class Outer(_Probe):
+        code = "ZZ902"
+        name = "resolve-memo-outer"
+
+        def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+            seen.append(resolve._MEMO.get())
+            inner.lint_stage(ctx.stage)
+            seen.append(resolve._MEMO.get())
+            yield from ()
+
+    Linter([Outer()], raise_errors=True).lint_stage(stage)
+    before, after = seen
+    assert before is not None and after is before
+    assert probe.memos[0] is not None and probe.memos[0] is not before
+
+
+def test_the_memo_belongs_to_one_thread(stage) -> None:
+    attr = _settings(stage).GetAttribute("aspectRatioConformPolicy")
+    seen: list[object] = []
+    with resolve.lint_memo():
+        assert resolve.has_authored_value(attr)
+        worker = threading.Thread(target=lambda: seen.append(resolve._MEMO.get()))
+        worker.start()
+        worker.join()
+    assert seen == [None]
