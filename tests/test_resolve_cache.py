@@ -162,3 +162,20 @@ def test_the_memo_belongs_to_one_thread(stage) -> None:
         worker.start()
         worker.join()
     assert seen == [None]
+
+
+def test_an_empty_time_samples_opinion_holds_no_samples() -> None:
+    # The stronger `.timeSamples = {}` must not hide the weaker layer's samples.
+    weak = Sdf.Layer.CreateAnonymous(".usda")
+    weak.ImportFromString(
+        '#usda 1.0\nover "V"\n{\n    uniform token sourceType.timeSamples = {1: </X>}\n}\n'
+    )
+    strong = Sdf.Layer.CreateAnonymous(".usda")
+    strong.ImportFromString(
+        f'#usda 1.0\n(\n    subLayers = [@{weak.identifier}@]\n)\ndef RenderVar "V"\n'
+        "{\n    uniform token sourceType.timeSamples = {}\n}\n"
+    )
+    stage = Usd.Stage.Open(strong)
+    attr = stage.GetAttributeAtPath("/V.sourceType")
+    assert resolve._holds_path_value(attr)
+    assert not resolve.has_authored_value(attr)

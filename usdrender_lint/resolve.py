@@ -203,9 +203,15 @@ def _mismatched_in(
     if schema_type is None:
         return None
     for spec in specs:
-        if spec.HasDefaultValue() or spec.layer.GetNumTimeSamplesForPath(spec.path):
+        if spec.HasDefaultValue() or _has_time_samples(spec):
             return spec if spec.typeName.type != schema_type.type else None
     return None
+
+
+def _has_time_samples(spec: Sdf.AttributeSpec) -> bool:
+    # HasInfo is the cheaper call and false for most specs (`.timeSamples = {}` has
+    # the field but no samples, so it only filters).
+    return spec.HasInfo("timeSamples") and spec.layer.GetNumTimeSamplesForPath(spec.path) > 0
 
 
 def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
@@ -257,7 +263,7 @@ def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
             found_default = True
             if isinstance(spec.default, Sdf.Path):
                 return True
-        if not found_samples and spec.layer.GetNumTimeSamplesForPath(spec.path):
+        if not found_samples and _has_time_samples(spec):
             found_samples = True
             if any(isinstance(v, Sdf.Path) for v in spec.GetInfo("timeSamples").values()):
                 return True
