@@ -26,6 +26,7 @@ NEVER_NEEDED = (
     "csv",
     "rich",
     "tomllib",
+    "zipfile",
     "usdrender_lint.docs",
     "usdrender_lint.fixer",
     "usdrender_lint.roots",
@@ -33,7 +34,7 @@ NEVER_NEEDED = (
     "usdrender_lint.baseline",
 )
 #: Modules only the worker pool needs (more than one job, or a --timeout).
-POOL_ONLY = ("multiprocessing", "tempfile")
+POOL_ONLY = ("multiprocessing", "tempfile", "shutil")
 
 IMPORTED_BY_CHECK = """
 import sys

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import os
 import traceback
-import zipfile
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -88,6 +87,8 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
 def _package_problem(path: str) -> str | None:
     """Why a ``.usdz`` is not a package USD reads; USD itself says only
     "Failed to open layer" for these."""
+    import zipfile  # only for a .usdz USD could not open
+
     try:
         with zipfile.ZipFile(path) as archive:
             entries = archive.infolist()
