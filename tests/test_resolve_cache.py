@@ -179,3 +179,25 @@ def test_an_empty_time_samples_opinion_holds_no_samples() -> None:
     attr = stage.GetAttributeAtPath("/V.sourceType")
     assert resolve._holds_path_value(attr)
     assert not resolve.has_authored_value(attr)
+
+
+def test_allowed_tokens_follow_each_prims_type_and_applied_schemas() -> None:
+    # Kept for the process per prim definition, so the key must tell these apart.
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    layer.ImportFromString(
+        '#usda 1.0\ndef Scope "A" (prepend apiSchemas = ["CollectionAPI:x"]) {}\n'
+        'def Scope "B" {}\ndef RenderVar "V" {}\n'
+    )
+    stage = Usd.Stage.Open(layer)
+    a, b, v = (stage.GetPrimAtPath(p) for p in ("/A", "/B", "/V"))
+    name = "collection:x:expansionRule"
+    expansion = ("explicitOnly", "expandPrims", "expandPrimsAndProperties")
+    for _ in range(2):
+        with resolve.lint_memo():
+            assert resolve.allowed_tokens(b, name) == ()
+            assert resolve.allowed_tokens(a, name) == expansion
+            assert "raw" in resolve.allowed_tokens(v, "sourceType")
+            assert resolve.allowed_tokens(v, name) == ()
+    Usd.CollectionAPI.Apply(b, "x")
+    with resolve.lint_memo():
+        assert resolve.allowed_tokens(b, name) == expansion

@@ -224,18 +224,31 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     return [s for s in _attribute_specs(attr) if s.typeName.type != schema_type.type]
 
 
+#: What a prim definition is built from: schema type name and applied API schemas.
+_DefinitionKey = tuple[str, tuple[str, ...]]
+
+#: ``allowedTokens`` per (definition key, attribute name), kept for the whole
+#: process: USD composes a prim definition from its key alone, and its schema
+#: registry is built once (later plugin registrations do not change it).
+_ALLOWED_TOKENS: dict[tuple[_DefinitionKey, str], tuple[str, ...]] = {}
+
+
 @_memoised
-def _allowed_tokens(prim_and_name: tuple[Usd.Prim, str]) -> tuple[str, ...]:
-    prim, name = prim_and_name
-    definition = _prim_definition(prim).GetAttributeDefinition(name)
-    tokens = definition.GetMetadata("allowedTokens") if definition else None
-    return tuple(str(t) for t in tokens or ())
+def _definition_key(prim: Usd.Prim) -> _DefinitionKey:
+    info = prim.GetPrimTypeInfo()
+    return info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas())
 
 
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
     """The schema's ``allowedTokens`` for an attribute, read from the prim
     definition at run time; empty when the schema declares none."""
-    return _allowed_tokens((prim, name))
+    key = (_definition_key(prim), name)
+    tokens = _ALLOWED_TOKENS.get(key)
+    if tokens is None:
+        definition = _prim_definition(prim).GetAttributeDefinition(name)
+        declared = definition.GetMetadata("allowedTokens") if definition else None
+        tokens = _ALLOWED_TOKENS[key] = tuple(str(t) for t in declared or ())
+    return tokens
 
 
 @_memoised
