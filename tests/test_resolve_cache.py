@@ -181,12 +181,14 @@ def test_an_empty_time_samples_opinion_holds_no_samples() -> None:
     assert not resolve.has_authored_value(attr)
 
 
-def test_allowed_tokens_follow_each_prims_type_and_applied_schemas() -> None:
+def test_schema_facts_follow_each_prims_type_and_applied_schemas() -> None:
     # Kept for the process per prim definition, so the key must tell these apart.
     layer = Sdf.Layer.CreateAnonymous(".usda")
     layer.ImportFromString(
-        '#usda 1.0\ndef Scope "A" (prepend apiSchemas = ["CollectionAPI:x"]) {}\n'
-        'def Scope "B" {}\ndef RenderVar "V" {}\n'
+        '#usda 1.0\ndef Scope "A" (prepend apiSchemas = ["CollectionAPI:x"])\n'
+        '{\n    uniform string collection:x:expansionRule = "expandPrims"\n}\n'
+        'def Scope "B"\n{\n    uniform string collection:x:expansionRule = "expandPrims"\n}\n'
+        'def RenderVar "V" {}\n'
     )
     stage = Usd.Stage.Open(layer)
     a, b, v = (stage.GetPrimAtPath(p) for p in ("/A", "/B", "/V"))
@@ -198,6 +200,9 @@ def test_allowed_tokens_follow_each_prims_type_and_applied_schemas() -> None:
             assert resolve.allowed_tokens(a, name) == expansion
             assert "raw" in resolve.allowed_tokens(v, "sourceType")
             assert resolve.allowed_tokens(v, name) == ()
+            assert resolve.mismatched_spec(a.GetAttribute(name)) is not None  # token in the API
+            assert resolve.has_authored_value(b.GetAttribute(name))  # no schema: any type
     Usd.CollectionAPI.Apply(b, "x")
     with resolve.lint_memo():
         assert resolve.allowed_tokens(b, name) == expansion
+        assert not resolve.has_authored_value(b.GetAttribute(name))

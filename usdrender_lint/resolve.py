@@ -173,10 +173,48 @@ def _prim_definition(prim: Usd.Prim) -> Usd.PrimDefinition:
     return prim.GetPrimDefinition()
 
 
+#: What a prim definition is built from: schema type name and applied API schemas.
+_DefinitionKey = tuple[str, tuple[str, ...]]
+
+
+@_memoised
+def _definition_key(prim: Usd.Prim) -> _DefinitionKey:
+    info = prim.GetPrimTypeInfo()
+    return info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas())
+
+
+@dataclass(frozen=True)
+class _SchemaAttribute:
+    """What a prim definition declares for an attribute name."""
+
+    #: None when the definition has no attribute of that name.
+    type_name: Sdf.ValueTypeName | None
+    allowed_tokens: tuple[str, ...]
+
+
+#: Per (definition key, attribute name), kept for the whole process: USD
+#: composes a prim definition from its key alone, and builds its schema
+#: registry once (later plugin registrations do not change it).
+_SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], _SchemaAttribute] = {}
+
+
+def _schema_attribute(prim: Usd.Prim, name: str) -> _SchemaAttribute:
+    key = (_definition_key(prim), name)
+    found = _SCHEMA_ATTRIBUTES.get(key)
+    if found is None:
+        definition = _prim_definition(prim).GetAttributeDefinition(name)
+        if definition:
+            tokens = definition.GetMetadata("allowedTokens") or ()
+            found = _SchemaAttribute(definition.GetTypeName(), tuple(str(t) for t in tokens))
+        else:
+            found = _SchemaAttribute(None, ())
+        _SCHEMA_ATTRIBUTES[key] = found
+    return found
+
+
 @_memoised
 def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
-    definition = _prim_definition(attr.GetPrim()).GetAttributeDefinition(attr.GetName())
-    return definition.GetTypeName() if definition else None
+    return _schema_attribute(attr.GetPrim(), attr.GetName()).type_name
 
 
 @_memoised
@@ -224,31 +262,10 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     return [s for s in _attribute_specs(attr) if s.typeName.type != schema_type.type]
 
 
-#: What a prim definition is built from: schema type name and applied API schemas.
-_DefinitionKey = tuple[str, tuple[str, ...]]
-
-#: ``allowedTokens`` per (definition key, attribute name), kept for the whole
-#: process: USD composes a prim definition from its key alone, and its schema
-#: registry is built once (later plugin registrations do not change it).
-_ALLOWED_TOKENS: dict[tuple[_DefinitionKey, str], tuple[str, ...]] = {}
-
-
-@_memoised
-def _definition_key(prim: Usd.Prim) -> _DefinitionKey:
-    info = prim.GetPrimTypeInfo()
-    return info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas())
-
-
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
     """The schema's ``allowedTokens`` for an attribute, read from the prim
     definition at run time; empty when the schema declares none."""
-    key = (_definition_key(prim), name)
-    tokens = _ALLOWED_TOKENS.get(key)
-    if tokens is None:
-        definition = _prim_definition(prim).GetAttributeDefinition(name)
-        declared = definition.GetMetadata("allowedTokens") if definition else None
-        tokens = _ALLOWED_TOKENS[key] = tuple(str(t) for t in declared or ())
-    return tokens
+    return _schema_attribute(prim, name).allowed_tokens
 
 
 @_memoised
