@@ -3,31 +3,92 @@
 Sdf keeps no source positions, so a small scanner over the layer text maps each
 spec path (variant selections included, as ``Sdf.Spec.path`` spells them) to the
 line that opens it. It only needs to be right on files Sdf parsed successfully.
+
+The scan is lazy: a lookup reads only the statements of the bodies on the way to
+the spec (the root, then each ancestor prim or variant); every other block (sibling
+prims, values, metadata, time samples) is skipped by compiled patterns that match a
+whole balanced block in one call, so Python runs once per statement read, not per token.
+
+Tokens follow one fixed tokenization: comments, strings, asset paths, ``<paths>`` and
+words (``float3[]``, ``xformOp:translate.timeSamples``: brackets inside a word belong
+to it) are atoms; ``( [ ) ]`` outside atoms nest interchangeably and hide braces and
+line ends; ``{ }`` open and close blocks; a statement ends at a line end or a brace.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from dataclasses import dataclass, field
 
-#: Characters that never open or close a spec, a string, a path or a comment.
-#: Runs of them (numbers, commas, "=") and of number tuples such as ``(0, 1, 0),``
-#: are skipped as one token, which makes large value arrays cheap to scan.
+#: Characters that never start an atom, a block or a word (numbers, "=", spaces...).
 _INERT = r"""[^\n"'@<#/{}()\[\]A-Za-z_]"""
-_TOKEN = re.compile(
-    r"""
-    (?P<newline>\n)
-  | (?P<inert>INERT+|(?:\(INERT*\)INERT*)+)
-  | (?P<space>[ \t\r\f\v]+)
-  | (?P<comment>\#[^\n]*|//[^\n]*|/\*.*?\*/)
-  | (?P<string>\"\"\".*?\"\"\"|'''.*?'''|"(?:\\.|[^"\\\n])*"|'(?:\\.|[^'\\\n])*')
-  | (?P<asset>@@@.*?@@@|@[^@\n]*@)
-  | (?P<path><[^>\n]*>)
-  | (?P<word>[A-Za-z_][\w:.\[\]-]*|[-+]?[0-9][\w.+-]*)
-  | (?P<punct>.)
-    """.replace("INERT", _INERT),
-    re.VERBOSE | re.DOTALL,
+_COMMENT = r"\#[^\n]*|//[^\n]*|/\*.*?\*/"
+_STRING = r'""".*?"""|' r"'''.*?'''|" r'"(?:\\.|[^"\\\n])*"|' r"'(?:\\.|[^'\\\n])*'"
+_ASSET = r"@@@.*?@@@|@[^@\n]*@"
+_PATH = r"<[^>\n]*>"
+_WORD = r"[A-Za-z_][\w:.\[\]-]*+"
+#: A quote, "@", "<" or "/" that opens no atom stands alone.
+_LONE = r"""["'@</]"""
+#: Atoms other than words; where two start alike the first that matches wins, as in
+#: a left-to-right tokenizer ('"""' before '"', '//' before a lone '/').
+_ATOMS = f"{_COMMENT}|{_STRING}|{_ASSET}|{_PATH}|{_LONE}"
+#: Nesting the patterns below match in one call; deeper blocks are walked in Python.
+_DEPTH = 8
+#: What ends a run: a bracket, an atom, and outside brackets a brace (and a line end
+#: for a statement). Only atoms and brackets matter inside brackets.
+_IN_BRACKETS_STOP = r"""()\[\]"'@<#/"""
+_OUTSIDE_STOP = "{}" + _IN_BRACKETS_STOP
+_STATEMENT_STOP = "\\n" + _OUTSIDE_STOP
+
+
+def _runs(stop: str, items: str) -> str:
+    """Text up to an unmatched ``stop`` character: inert runs, words and ``items``.
+
+    Unrolled as run (item run)*, one loop turn per item; possessive, so that what
+    an alternative matched is final, as for a tokenizer.
+    """
+    run = f"[^{stop}A-Za-z_]*+"
+    return f"(?>{run}(?:(?:{_WORD}|{items}){run})*+)"
+
+
+def _bracket_group(depth: int) -> str:
+    # "(0, 1e-05, 0)" first: the commonest group, matched without recursing (a word
+    # in it holds no bracket: there is none)
+    simple = f"\\([^{_IN_BRACKETS_STOP}]*+\\)"
+    inner = "" if depth == 1 else "|" + _bracket_group(depth - 1)
+    return rf"[(\[]{_runs(_IN_BRACKETS_STOP, f'{simple}{inner}|{_ATOMS}')}[)\]]"
+
+
+_GROUP = _bracket_group(_DEPTH)
+
+
+def _flat(depth: int) -> str:
+    """Text that leaves brace depth unchanged: atoms, bracket groups, whole blocks."""
+    block = "" if depth == 0 else rf"|\{{{_flat(depth - 1)}\}}"
+    return _runs(_OUTSIDE_STOP, f"{_GROUP}{block}|{_ATOMS}")
+
+
+def _compile(pattern: str) -> re.Pattern[str]:
+    return re.compile(pattern, re.DOTALL)
+
+
+_FLAT = _compile(_flat(_DEPTH))
+_IN_BRACKETS = _compile(_runs(_IN_BRACKETS_STOP, f"{_GROUP}|{_ATOMS}"))
+#: Up to the end of a statement (a line end or brace) or a bracket too deep to match.
+_STATEMENT_REST = _compile(_runs(_STATEMENT_STOP, f"{_GROUP}|{_ATOMS}"))
+#: Up to the next word of a statement (words inside brackets do not count).
+_TO_WORD = _compile(
+    rf"[^{_STATEMENT_STOP}A-Za-z_]*+(?:(?:{_GROUP}|{_ATOMS})[^{_STATEMENT_STOP}A-Za-z_]*+)*+"
 )
+_INERT_GROUP = rf"\({_INERT}*\)"
+#: What a tokenizer drops between tokens: spaces, numbers, comments, (0, 1) runs.
+_GAP = _compile(rf"(?:{_INERT}++|{_COMMENT}|{_INERT_GROUP})*+")
+#: The same, line ends included: what precedes the first token of a statement.
+_BLANK = _compile(rf"(?:{_INERT}++|\n|{_COMMENT}|{_INERT_GROUP})*+")
+_WORD_AT = _compile(_WORD)
+_ATOM_AT = _compile(_ATOMS)
+_STRING_AT = _compile(_STRING)
+_COMMENT_OR_ATOM = _compile(f"({_COMMENT})|{_STRING}|{_ASSET}|{_PATH}")
 
 _PROPERTY_QUALIFIERS = {
     "custom",
@@ -41,26 +102,14 @@ _PROPERTY_QUALIFIERS = {
     "reorder",
 }
 _PRIM_SPECIFIERS = {"def", "over", "class"}
-
-
-#: Token kinds that may span lines (the others never hold a newline).
-_MULTILINE = frozenset(("string", "comment", "asset", "inert"))
-_SKIPPED = frozenset(("space", "comment", "inert"))
-
-
-def _tokens(text: str) -> Iterator[tuple[str, str, int]]:
-    line = 1
-    for match in _TOKEN.finditer(text):
-        kind = match.lastgroup or "punct"
-        if kind == "newline":
-            yield kind, "\n", line
-            line += 1
-            continue
-        value = match.group()
-        if kind not in _SKIPPED:
-            yield kind, value, line
-        if kind in _MULTILINE:
-            line += value.count("\n")
+_SPEC_FRAMES = ("prim", "variant")
+#: Where a frame's path can end inside a spec path: before "/", "." or "{" (a prim),
+#: or after "=" (a variant set) or "}" (a variant).
+_FRAME_END_BEFORE = frozenset("/.{")
+_FRAME_END_AFTER = frozenset("=}")
+#: Skipping this many characters takes about as long as reading one line's statement
+#: (measured on statement-dense and on array-dense layers).
+_LINE_COST = 200
 
 
 def _unquote(token: str) -> str:
@@ -70,117 +119,254 @@ def _unquote(token: str) -> str:
     return token
 
 
+def _prim_path(parent: str, name: str) -> str:
+    # Inside a variant Sdf spells the child right after the selection: /A{v=x}B
+    return parent + name if parent.endswith("}") else parent + "/" + name
+
+
+@dataclass
+class _Layer:
+    """The lines found so far in one layer's text and the blocks not read yet."""
+
+    text: str
+    lines: dict[str, int] = field(default_factory=dict)
+    #: Frame path -> (kind, offsets after its "{" and "}") of each block that opens it.
+    bodies: dict[str, list[tuple[str, int, int]]] = field(default_factory=dict)
+    read: set[str] = field(default_factory=set)
+    #: Characters read so far (a block's text is read again for each frame read in it).
+    spent: int = 0
+    complete: bool = False
+    _line_at: tuple[int, int] = (0, 1)
+
+    def line(self, offset: int) -> int:
+        # Counted from the last line asked for: lookups ask for nearby offsets.
+        base, line = self._line_at
+        if offset < base:
+            line -= self.text.count("\n", offset, base)
+        else:
+            line += self.text.count("\n", base, offset)
+        self._line_at = (offset, line)
+        return line
+
+    def lookup(self, spec_path: str) -> int | None:
+        if spec_path not in self.lines and not self.complete:
+            # Read the frames along the path, outermost first (each read finds the next).
+            self._read_frame("")
+            for i, char in enumerate(spec_path):
+                if char in _FRAME_END_BEFORE:
+                    self._read_frame(spec_path[:i])
+                elif char in _FRAME_END_AFTER:
+                    self._read_frame(spec_path[: i + 1])
+        return self.lines.get(spec_path)
+
+    def read_all(self) -> dict[str, int]:
+        self._scan("prim", "", 0, root=True, eager=True)
+        self.complete = True
+        return self.lines
+
+    def _full_read_cost(self) -> int:
+        """A full read's cost, in characters skipped in the same time."""
+        return len(self.text) + _LINE_COST * self.text.count("\n")
+
+    def _read_frame(self, path: str) -> None:
+        if path in self.read or self.complete:
+            return
+        if path == "":
+            if _LINE_COST * self.text.count("\n") < len(self.text):
+                # Long lines (large arrays): skipping costs about what reading does,
+                # so laziness saves little and a full read is never paid twice.
+                self.read_all()
+                return
+            self.read.add(path)
+            self.spent += len(self.text)
+            self._scan("prim", "", 0, root=True, eager=False)
+        elif path in self.bodies:
+            blocks = self.bodies[path]
+            size = sum(end - start for _, start, end in blocks)
+            if self.spent + size > self._full_read_cost():
+                # Once lazy reads would have cost what one full read does, read it all
+                # (at most about twice the cost of the better choice in hindsight).
+                self.read_all()
+                return
+            self.read.add(path)
+            self.spent += size
+            for kind, start, _ in blocks:
+                self._scan(kind, path, start, root=False, eager=False)
+
+    def _scan(self, kind: str, path: str, pos: int, *, root: bool, eager: bool) -> None:
+        """Read the statements of one block from ``pos`` to its closing brace.
+
+        Child blocks are remembered and skipped, or read in place when ``eager``.
+        """
+        text = self.text
+        end = len(text)
+        stack = [(kind, path)]
+        pending: tuple[str, str] | None = None  # the frame the next "{" opens
+        while True:
+            pos = _BLANK.match(text, pos).end()
+            if pos >= end:
+                return
+            top_kind, top_path = stack[-1]
+            char = text[pos]
+            if char == "{" or char == "}":
+                pos, pending = self._brace(stack, pending, pos, root=root, eager=eager)
+                if not stack:
+                    return
+                continue
+            start = pos
+            records = False  # whether this statement may declare a property
+            name: str | None = None
+            if char in "([":
+                pos = _skip_brackets(text, pos + 1)
+            elif char == '"' or char == "'":
+                string = _STRING_AT.match(text, pos)
+                if string:
+                    pos = string.end()
+                    if top_kind == "variantset":
+                        pending = ("variant", top_path + _unquote(string.group()) + "}")
+                else:
+                    pos += 1
+            elif char.isascii() and (char.isalpha() or char == "_"):
+                word = _WORD_AT.match(text, pos).group()
+                pos += len(word)
+                if top_kind in _SPEC_FRAMES and word in _PRIM_SPECIFIERS:
+                    quoted = _prim_name(text, pos)
+                    if quoted is not None:
+                        prim = _prim_path(top_path, _unquote(quoted.group()))
+                        self.lines.setdefault(prim, self.line(start))
+                        pending = ("prim", prim)
+                        pos = quoted.end()
+                elif top_kind in _SPEC_FRAMES and word == "variantSet":
+                    string = _STRING_AT.match(text, _GAP.match(text, pos).end())
+                    if string:
+                        pending = ("variantset", top_path + "{" + _unquote(string.group()) + "=")
+                else:
+                    records = top_kind in _SPEC_FRAMES and bool(top_path)
+                    rest = [] if word in _PROPERTY_QUALIFIERS else [word]
+            else:  # an asset path, a <path> or a lone "@", "<" or "/"
+                pos = _ATOM_AT.match(text, pos).end()
+            if records:
+                pos, name = _property_name(text, pos, rest)
+            pos = _statement_end(text, pos)
+            if name is not None and (pos >= end or text[pos] != "}"):
+                self.lines.setdefault(top_path + "." + name, self.line(start))
+
+    def _brace(
+        self,
+        stack: list[tuple[str, str]],
+        pending: tuple[str, str] | None,
+        pos: int,
+        *,
+        root: bool,
+        eager: bool,
+    ) -> tuple[int, tuple[str, str] | None]:
+        text = self.text
+        if text[pos] == "}":
+            if len(stack) > 1 or not root:
+                stack.pop()
+            return pos + 1, pending
+        pos += 1
+        if eager and pending is not None:
+            stack.append(pending)
+            return pos, None
+        end = _skip_block(text, pos)
+        if pending is not None:
+            self.bodies.setdefault(pending[1], []).append((pending[0], pos, end))
+        # else a value or dictionary block: nothing to find inside
+        return end, None
+
+
+def _skip_brackets(text: str, pos: int) -> int:
+    """The offset after the bracket that closes the one just before ``pos``."""
+    depth = 1
+    end = len(text)
+    while True:
+        pos = _IN_BRACKETS.match(text, pos).end()
+        if pos >= end:
+            return end
+        depth += 1 if text[pos] in "([" else -1
+        pos += 1
+        if depth == 0:
+            return pos
+
+
+def _skip_block(text: str, pos: int) -> int:
+    """The offset after the brace that closes the one just before ``pos``."""
+    depth = 1
+    end = len(text)
+    while True:
+        pos = _FLAT.match(text, pos).end()
+        if pos >= end:
+            return end
+        char = text[pos]
+        pos += 1
+        if char == "{":
+            depth += 1
+        elif char == "}":
+            depth -= 1
+            if depth == 0:
+                return pos
+        else:
+            pos = _skip_brackets(text, pos)
+
+
+def _statement_end(text: str, pos: int) -> int:
+    """The offset of the line end or brace that ends the statement (or the text's end)."""
+    end = len(text)
+    while True:
+        pos = _STATEMENT_REST.match(text, pos).end()
+        if pos >= end or text[pos] not in "([":
+            return pos
+        pos = _skip_brackets(text, pos + 1)
+
+
+def _prim_name(text: str, pos: int) -> re.Match[str] | None:
+    """After ``def``/``over``/``class``: the name string past the type's words, if any."""
+    while True:
+        pos = _GAP.match(text, pos).end()
+        word = _WORD_AT.match(text, pos)
+        if word is None:
+            return _STRING_AT.match(text, pos)
+        pos = word.end()
+
+
+def _property_name(text: str, pos: int, rest: list[str]) -> tuple[int, str | None]:
+    """Read a statement's words up to its second unqualified one (``float3[] extent``):
+    the property it declares, without a ``.timeSamples``/``.connect`` suffix."""
+    end = len(text)
+    while len(rest) < 2:
+        pos = _TO_WORD.match(text, pos).end()
+        if pos >= end or text[pos] in "\n{}":
+            break
+        if text[pos] in "([":
+            pos = _skip_brackets(text, pos + 1)
+            continue
+        word = _WORD_AT.match(text, pos).group()
+        pos += len(word)
+        if word not in _PROPERTY_QUALIFIERS:
+            rest.append(word)
+    return pos, rest[1].split(".")[0] if len(rest) >= 2 else None
+
+
 def index_usda(text: str) -> dict[str, int]:
     """Map spec paths (``/A/B``, ``/A{v=x}B.attr``) to 1-based line numbers."""
-    lines: dict[str, int] = {}
-    # Each frame: (kind, path) with kind in prim | variantset | variant | other.
-    stack: list[tuple[str, str]] = [("prim", "")]
-    parens = 0  # metadata and value parentheses/brackets: no statements inside
-    statement: list[tuple[str, str, int]] = []
-    pending: tuple[str, str] | None = None  # a frame the next "{" opens
-
-    def prim_path(parent: str, name: str) -> str:
-        # Inside a variant Sdf spells the child right after the selection: /A{v=x}B
-        return parent + name if parent.endswith("}") else parent + "/" + name
-
-    def flush_statement() -> None:
-        # A statement in a prim body: a property declaration opens its spec.
-        words = [v for k, v, _ in statement if k == "word"]
-        if not statement or stack[-1][0] not in ("prim", "variant") or not stack[-1][1]:
-            return
-        if statement[0][0] != "word" or words[0] in _PRIM_SPECIFIERS or words[0] == "variantSet":
-            return
-        rest = [w for w in words if w not in _PROPERTY_QUALIFIERS]
-        if len(rest) < 2:
-            return
-        name = rest[1].split(".")[0]
-        path = stack[-1][1] + "." + name
-        lines.setdefault(path, statement[0][2])
-
-    tokens = list(_tokens(text))
-    i = 0
-    while i < len(tokens):
-        kind, value, line = tokens[i]
-        i += 1
-        if parens:
-            if value in "([":
-                parens += 1
-            elif value in ")]":
-                parens -= 1
-            continue
-        if kind == "newline":
-            flush_statement()
-            statement = []
-            continue
-        if statement and kind != "punct":
-            # Inside a statement only brackets and braces change the structure.
-            statement.append((kind, value, line))
-            continue
-        top_kind, top_path = stack[-1]
-        if (
-            not statement
-            and kind == "word"
-            and value in _PRIM_SPECIFIERS
-            and top_kind in ("prim", "variant")
-        ):
-            # def [Type] "name": the name is the first string token.
-            j = i
-            while j < len(tokens) and tokens[j][0] == "word":
-                j += 1
-            if j < len(tokens) and tokens[j][0] == "string":
-                path = prim_path(top_path, _unquote(tokens[j][1]))
-                lines.setdefault(path, line)
-                pending = ("prim", path)
-                statement = [(kind, value, line)]
-                i = j + 1
-                continue
-        opens_variant_set = (
-            not statement
-            and kind == "word"
-            and value == "variantSet"
-            and top_kind in ("prim", "variant")
-            and i < len(tokens)
-            and tokens[i][0] == "string"
-        )
-        if opens_variant_set:
-            pending = ("variantset", top_path + "{" + _unquote(tokens[i][1]) + "=")
-        if top_kind == "variantset" and kind == "string" and not statement:
-            pending = ("variant", top_path + _unquote(value) + "}")
-        if value == "{":
-            flush_statement()
-            if pending is not None:
-                stack.append(pending)
-                pending = None
-            else:
-                stack.append(("other", top_path))
-            statement = []
-            continue
-        if value == "}":
-            if len(stack) > 1:
-                stack.pop()
-            statement = []
-            continue
-        if value in "([":
-            parens += 1
-        statement.append((kind, value, line))
-    flush_statement()
-    return lines
+    return _Layer(text).read_all()
 
 
-_CACHE: dict[str, dict[str, int]] = {}
+_CACHE: dict[str, _Layer] = {}
 
 
 def line_of(layer_path: str, spec_path: str) -> int | None:
     """The line of ``spec_path`` in the text layer at ``layer_path``, if found."""
-    index = _CACHE.get(layer_path)
-    if index is None:
+    layer = _CACHE.get(layer_path)
+    if layer is None:
         try:
             with open(layer_path, encoding="utf-8", errors="replace") as handle:
-                index = index_usda(handle.read())
+                text = handle.read()
         except OSError:
-            index = {}
-        _CACHE[layer_path] = index
-    return index.get(spec_path)
+            text = ""
+        layer = _CACHE[layer_path] = _Layer(text)
+    return layer.lookup(spec_path)
 
 
 def clear_cache() -> None:
@@ -191,10 +377,10 @@ def comment_lines(text: str) -> list[int]:
     """The lines where a ``#``, ``//`` or ``/* */`` comment starts, the ``#usda``
     header excepted: what Sdf drops when it saves the layer again."""
     found = []
-    line = 1
-    for match in _TOKEN.finditer(text):
-        value = match.group()
-        if match.lastgroup == "comment" and match.start() != 0:
+    line, counted = 1, 0
+    for match in _COMMENT_OR_ATOM.finditer(text):
+        if match.group(1) is not None and match.start() != 0:
+            line += text.count("\n", counted, match.start())
+            counted = match.start()
             found.append(line)
-        line += value.count("\n")
     return found
