@@ -148,3 +148,25 @@ def test_builtin_rules_load_from_the_light_entry_point() -> None:
 
 def test_version_is_the_installed_distributions() -> None:
     assert usdrender_lint.__version__ == metadata.version("usdrender-lint")
+
+
+GC_AROUND_IMPORTS = """
+import gc, sys
+import usdrender_lint.cli as cli
+assert not any(m.startswith("pxr") for m in sys.modules), "the cli module imports USD"
+if sys.argv[1] == "off":
+    gc.disable()
+cli._import_engine()
+print(gc.isenabled(), gc.get_freeze_count() > 0, "pxr.Usd" in sys.modules)
+"""
+
+
+@pytest.mark.parametrize(("before", "after"), [("on", "True"), ("off", "False")])
+def test_usd_is_imported_with_collection_paused_then_frozen(before: str, after: str) -> None:
+    proc = subprocess.run(
+        [sys.executable, "-c", GC_AROUND_IMPORTS, before],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert proc.stdout.split() == [after, "True", "True"]

@@ -7,21 +7,25 @@ load, a path that does not exist, a file it could not lint).
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 from collections import Counter
 from collections.abc import Sequence
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import click
 
 from . import __version__
-from .api import Rule
 from .config import FAIL_ON_CHOICES, ConfigError, load_settings
 from .execution import DEFAULT_TIMEOUT, ExecutionError, default_jobs
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
-from .registry import Registry, RegistryError, build_registry
+
+if TYPE_CHECKING:
+    from .api import Rule
+    from .registry import Registry
 
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
 
@@ -43,6 +47,8 @@ def _split(values: Sequence[str]) -> tuple[str, ...] | None:
 
 
 def _registry() -> Registry:
+    from .registry import RegistryError, build_registry
+
     try:
         return build_registry()
     except RegistryError as exc:
@@ -515,6 +521,7 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
 
 def main(argv: Sequence[str] | None = None) -> None:
     """Console entry point: no traceback ever reaches the user."""
+    _import_engine()
     try:
         cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True)
     except SystemExit:
@@ -531,3 +538,18 @@ def main(argv: Sequence[str] | None = None) -> None:
             err=True,
         )
         sys.exit(EXIT_TOOL_ERROR)
+
+
+def _import_engine() -> None:
+    """Import USD and the engine with the cyclic garbage collector paused, then
+    freeze what the imports made. Imports make no garbage worth collecting, and
+    each collection on the way would walk every object USD created so far
+    (about 10 ms of a one-file check); frozen objects are never walked again."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        from . import runner  # noqa: F401 - USD, the engine and the rule API
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()

@@ -23,15 +23,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from pxr import Usd
-
-from .engine import Linter
 from .model import FileResult
 
 if TYPE_CHECKING:
     import multiprocessing.context
     import multiprocessing.process
     from multiprocessing.connection import Connection
+
+    from .engine import Linter
 
 DEFAULT_TIMEOUT = 120.0
 #: A progress bar is worth drawing only for runs longer than this many files.
@@ -45,7 +44,7 @@ WORKER_RECYCLE_AFTER = 500
 #: The least memory a worker is allowed, however many there are.
 MIN_WORKER_MEMORY = 2 << 30
 
-LinterFactory = Callable[[], Linter]
+LinterFactory = Callable[[], "Linter"]
 #: Environment variables that configure the linter, handed to every worker.
 ENV_PREFIX = "USDRENDER_LINT_"
 
@@ -196,6 +195,8 @@ def _worker_main(
     os.dup2(log, 2)
     os.close(log)
     try:
+        from pxr import Usd
+
         linter = linter_factory()
         # Load USD's plugins and schemas now, so the first file's time limit
         # measures the file, not the start-up.
