@@ -206,3 +206,22 @@ def test_schema_facts_follow_each_prims_type_and_applied_schemas() -> None:
     with resolve.lint_memo():
         assert resolve.allowed_tokens(b, name) == expansion
         assert not resolve.has_authored_value(b.GetAttribute(name))
+
+
+def test_a_second_lint_sees_edited_relationship_targets(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    camera = _settings(stage).CreateRelationship("camera")
+    camera.SetTargets([Sdf.Path("/Missing")])
+    assert "CA003" in {f.code for f in linter.lint_stage(stage)}
+    stage.DefinePrim("/Cam", "Camera")
+    camera.SetTargets([Sdf.Path("/Cam")])
+    assert "CA003" not in {f.code for f in linter.lint_stage(stage)}
+
+
+def test_each_caller_gets_a_target_list_of_its_own(stage) -> None:
+    rel = _settings(stage).CreateRelationship("camera")
+    rel.SetTargets([Sdf.Path("/Cam")])
+    with resolve.lint_memo():
+        resolve.forwarded_targets(rel).append(Sdf.Path("/Other"))
+        assert resolve.forwarded_targets(rel) == [Sdf.Path("/Cam")]
+        assert resolve.authored_targets(rel) == [Sdf.Path("/Cam")]

@@ -25,6 +25,54 @@ _Key = TypeVar("_Key")
 _Answer = TypeVar("_Answer")
 
 
+# -- per-lint memo -------------------------------------------------------------
+
+#: The answers of this module's memoised helpers while a lint runs (see
+#: lint_memo), one table per helper keyed by its argument; None outside a lint.
+#: A context variable, so each thread and each nested lint has its own.
+_MEMO: ContextVar[defaultdict[Callable[..., Any], dict[Any, Any]] | None] = ContextVar(
+    "usdrender_lint_resolve_memo", default=None
+)
+
+
+@contextmanager
+def lint_memo() -> Iterator[None]:
+    """Memoise the per-attribute and per-prim helpers of this module until the
+    block ends (the engine wraps each lint in one).
+
+    The answers are keyed by USD object, so the stage must not be edited inside
+    the block: the engine runs every rule before any fix is applied, and each
+    lint (the fixer's second one, a nested one) opens its own memo.
+    """
+    token = _MEMO.set(defaultdict(dict))
+    try:
+        yield
+    finally:
+        _MEMO.reset(token)
+
+
+def _memoised(func: Callable[[_Key], _Answer]) -> Callable[[_Key], _Answer]:
+    """``func`` answering from the current lint's memo (computed once per
+    argument); a plain call outside a lint."""
+
+    @wraps(func)
+    def memoised(key: _Key) -> _Answer:
+        memo = _MEMO.get()
+        if memo is None:
+            return func(key)
+        answers = memo[func]
+        try:
+            return answers[key]
+        except KeyError:
+            answer = answers[key] = func(key)
+            return answer
+
+    return memoised
+
+
+# -- prims and targets ---------------------------------------------------------
+
+
 def is_usable(prim: Usd.Prim) -> bool:
     """Active, defined, not abstract: what ``stage.Traverse()`` visits."""
     return bool(prim) and prim.IsActive() and prim.IsDefined() and not prim.IsAbstract()
@@ -83,10 +131,16 @@ def authored_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
 
 
 def _targets(rel: Usd.Relationship | None, forwarded: bool) -> list[Sdf.Path]:
+    return list(_composed_targets((rel, forwarded)))  # a list of its own for each caller
+
+
+@_memoised
+def _composed_targets(rel_and_mode: tuple[Usd.Relationship | None, bool]) -> tuple[Sdf.Path, ...]:
+    rel, forwarded = rel_and_mode
     if not rel:
-        return []
+        return ()
     try:
-        return list(rel.GetForwardedTargets() if forwarded else rel.GetTargets())
+        return tuple(rel.GetForwardedTargets() if forwarded else rel.GetTargets())
     except Tf.ErrorException as exc:
         # An opinion authors the name as an attribute (`string camera = "/Cam"`):
         # Pcp composes no targets from it ("... is not a relationship"), so no
@@ -94,7 +148,7 @@ def _targets(rel: Usd.Relationship | None, forwarded: bool) -> list[Sdf.Path]:
         # file's problem and goes to the engine.
         if "is not a relationship" not in str(exc):
             raise
-        return []
+        return ()
 
 
 def resolve_targets(rel: Usd.Relationship | None) -> list[Target]:
@@ -124,48 +178,6 @@ def typed_target_problem(target: Target, schema: type, expected: str) -> str | N
 
 
 # -- values -----------------------------------------------------------------
-
-#: The answers of the memoised helpers below while a lint runs (see lint_memo),
-#: one table per helper keyed by its argument; None outside a lint. A context
-#: variable, so each thread and each nested lint has its own.
-_MEMO: ContextVar[defaultdict[Callable[..., Any], dict[Any, Any]] | None] = ContextVar(
-    "usdrender_lint_resolve_memo", default=None
-)
-
-
-@contextmanager
-def lint_memo() -> Iterator[None]:
-    """Memoise the per-attribute and per-prim helpers of this module until the
-    block ends (the engine wraps each lint in one).
-
-    The answers are keyed by USD object, so the stage must not be edited inside
-    the block: the engine runs every rule before any fix is applied, and each
-    lint (the fixer's second one, a nested one) opens its own memo.
-    """
-    token = _MEMO.set(defaultdict(dict))
-    try:
-        yield
-    finally:
-        _MEMO.reset(token)
-
-
-def _memoised(func: Callable[[_Key], _Answer]) -> Callable[[_Key], _Answer]:
-    """``func`` answering from the current lint's memo (computed once per
-    argument); a plain call outside a lint."""
-
-    @wraps(func)
-    def memoised(key: _Key) -> _Answer:
-        memo = _MEMO.get()
-        if memo is None:
-            return func(key)
-        answers = memo[func]
-        try:
-            return answers[key]
-        except KeyError:
-            answer = answers[key] = func(key)
-            return answer
-
-    return memoised
 
 
 @_memoised
