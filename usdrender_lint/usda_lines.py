@@ -243,8 +243,9 @@ class _Layer:
                 else:
                     records = top_kind in _SPEC_FRAMES and bool(top_path)
                     rest = [] if word in _PROPERTY_QUALIFIERS else [word]
-            else:  # an asset path, a <path> or a lone "@", "<" or "/"
-                pos = _ATOM_AT.match(text, pos).end()
+            else:  # an asset path, a <path>, a lone "@", "<" or "/", or a stray ")" or "]"
+                atom = _ATOM_AT.match(text, pos)
+                pos = atom.end() if atom else pos + 1
             if records:
                 pos, name = _property_name(text, pos, rest)
             pos = _statement_end(text, pos)
@@ -306,8 +307,9 @@ def _skip_block(text: str, pos: int) -> int:
             depth -= 1
             if depth == 0:
                 return pos
-        else:
+        elif char in "([":
             pos = _skip_brackets(text, pos)
+        # else a stray closing bracket: changes nothing
 
 
 def _statement_end(text: str, pos: int) -> int:
@@ -315,9 +317,10 @@ def _statement_end(text: str, pos: int) -> int:
     end = len(text)
     while True:
         pos = _STATEMENT_REST.match(text, pos).end()
-        if pos >= end or text[pos] not in "([":
+        if pos >= end or text[pos] in "\n{}":
             return pos
-        pos = _skip_brackets(text, pos + 1)
+        # an opening bracket nested too deep to match at once, or a stray closing one
+        pos = _skip_brackets(text, pos + 1) if text[pos] in "([" else pos + 1
 
 
 def _prim_name(text: str, pos: int) -> re.Match[str] | None:
@@ -340,6 +343,9 @@ def _property_name(text: str, pos: int, rest: list[str]) -> tuple[int, str | Non
             break
         if text[pos] in "([":
             pos = _skip_brackets(text, pos + 1)
+            continue
+        if text[pos] in ")]":  # a stray closing bracket changes nothing
+            pos += 1
             continue
         word = _WORD_AT.match(text, pos).group()
         pos += len(word)
