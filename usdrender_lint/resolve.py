@@ -290,15 +290,10 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     return _mismatched_in(specs, _schema_type(attr)) is None and not _path_value_in(specs)
 
 
-@_memoised
-def _holds_path_value(attr: Usd.Attribute) -> bool:
+def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
     """usda accepts ``<...>`` as the value of an attribute of any type
     (``uniform token sourceType = </X>``, also in time samples): an Sdf.Path that
     no typed read of the declared type returns, so it is no value at all."""
-    return _path_value_in(_attribute_specs(attr))
-
-
-def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
     found_default = found_samples = False
     for spec in specs:
         if not found_default and spec.HasDefaultValue():
