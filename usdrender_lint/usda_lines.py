@@ -8,6 +8,8 @@ The scan is lazy: a lookup reads only the statements of the bodies on the way to
 the spec (the root, then each ancestor prim or variant); every other block (sibling
 prims, values, metadata, time samples) is skipped by compiled patterns that match a
 whole balanced block in one call, so Python runs once per statement read, not per token.
+Where laziness stops paying (many lookups deep in large blocks, or long lines of large
+arrays that cost as much to skip as to read) the layer is read whole, once.
 
 Tokens follow one fixed tokenization: comments, strings, asset paths, ``<paths>`` and
 words (``float3[]``, ``xformOp:translate.timeSamples``: brackets inside a word belong
@@ -137,6 +139,7 @@ class _Layer:
     spent: int = 0
     complete: bool = False
     _line_at: tuple[int, int] = (0, 1)
+    _newlines: int = -1
 
     def line(self, offset: int) -> int:
         # Counted from the last line asked for: lookups ask for nearby offsets.
@@ -166,13 +169,15 @@ class _Layer:
 
     def _full_read_cost(self) -> int:
         """A full read's cost, in characters skipped in the same time."""
-        return len(self.text) + _LINE_COST * self.text.count("\n")
+        if self._newlines < 0:
+            self._newlines = self.text.count("\n")
+        return len(self.text) + _LINE_COST * self._newlines
 
     def _read_frame(self, path: str) -> None:
         if path in self.read or self.complete:
             return
         if path == "":
-            if _LINE_COST * self.text.count("\n") < len(self.text):
+            if self._full_read_cost() < 2 * len(self.text):
                 # Long lines (large arrays): skipping costs about what reading does,
                 # so laziness saves little and a full read is never paid twice.
                 self.read_all()
