@@ -3,6 +3,7 @@ of an edited stage, a nested lint and a call outside any lint see fresh answers.
 
 from __future__ import annotations
 
+import contextlib
 import threading
 from collections.abc import Iterator
 
@@ -225,3 +226,28 @@ def test_each_caller_gets_a_target_list_of_its_own(stage) -> None:
         resolve.forwarded_targets(rel).append(Sdf.Path("/Other"))
         assert resolve.forwarded_targets(rel) == [Sdf.Path("/Cam")]
         assert resolve.authored_targets(rel) == [Sdf.Path("/Cam")]
+
+
+def test_the_declared_type_shortcut_keeps_schema_and_custom_answers(stage) -> None:
+    # USD takes a schema attribute's type from the prim definition: a spec of that
+    # type is never mismatched, so resolve.py skips the schema lookup for it.
+    resolution = _settings(stage).GetAttribute("resolution")
+    assert resolution.GetTypeName() == Sdf.ValueTypeNames.Int2  # the spec says float2
+    assert resolve.mismatched_spec(resolution) is not None
+    assert len(resolve.mismatched_specs(resolution)) == 1
+
+    weak = Sdf.Layer.CreateAnonymous(".usda")
+    weak.ImportFromString('#usda 1.0\nover "S"\n{\n    custom int2 extra = (1, 2)\n}\n')
+    strong = Sdf.Layer.CreateAnonymous(".usda")
+    strong.ImportFromString(
+        f"#usda 1.0\n(\n    subLayers = [@{weak.identifier}@]\n)\n"
+        'def RenderSettings "S"\n{\n    custom float2 extra\n}\n'
+    )
+    custom = Usd.Stage.Open(strong)
+    extra = custom.GetAttributeAtPath("/S.extra")
+    for memo in (resolve.lint_memo(), contextlib.nullcontext()):
+        with memo:
+            assert extra.GetTypeName() == Sdf.ValueTypeNames.Float2  # the strongest spec's
+            assert resolve.mismatched_spec(extra) is None  # no schema type to differ from
+            assert resolve.mismatched_specs(extra) == []
+            assert resolve.has_authored_value(extra)

@@ -237,6 +237,14 @@ def _attribute_specs(attr: Usd.Attribute) -> tuple[Sdf.AttributeSpec, ...]:
 
 
 @_memoised
+def _declared_type(attr: Usd.Attribute) -> Tf.Type:
+    """The attribute's composed value type: USD takes it from the prim definition
+    for a schema attribute (whatever the specs say), else from the strongest spec.
+    A spec of this type is never mismatched, so most checks stop here."""
+    return attr.GetTypeName().type
+
+
+@_memoised
 def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     """The strongest value-holding spec whose type differs from the schema's.
 
@@ -244,17 +252,19 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     although typed C++ reads cannot (catalog, Surprises 5). Roles are ignored:
     ``color3f`` and ``float3`` store the same value type.
     """
-    return _mismatched_in(_attribute_specs(attr), _schema_type(attr))
+    return _mismatched_in(_attribute_specs(attr), attr)
 
 
 def _mismatched_in(
-    specs: Iterable[Sdf.AttributeSpec], schema_type: Sdf.ValueTypeName | None
+    specs: Iterable[Sdf.AttributeSpec], attr: Usd.Attribute
 ) -> Sdf.AttributeSpec | None:
-    if schema_type is None:
-        return None
     for spec in specs:
         if spec.HasDefaultValue() or _has_time_samples(spec):
-            return spec if spec.typeName.type != schema_type.type else None
+            value_type = spec.typeName.type
+            if value_type == _declared_type(attr):
+                return None
+            schema_type = _schema_type(attr)
+            return spec if schema_type is not None and value_type != schema_type.type else None
     return None
 
 
@@ -268,10 +278,14 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     """Every spec of the attribute, strongest first, whose type differs from the
     schema's, value-holding or not (what ``usdValidation:AttributeTypeMismatch``
     reports). Roles are ignored, as in :func:`mismatched_spec`."""
+    specs = _attribute_specs(attr)
+    declared = _declared_type(attr)
+    if all(s.typeName.type == declared for s in specs):
+        return []
     schema_type = _schema_type(attr)
     if schema_type is None:
         return []
-    return [s for s in _attribute_specs(attr) if s.typeName.type != schema_type.type]
+    return [s for s in specs if s.typeName.type != schema_type.type]
 
 
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
@@ -287,7 +301,7 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     if not attr or not attr.HasAuthoredValue():
         return False
     specs = _attribute_specs(attr)  # one property stack serves both checks
-    return _mismatched_in(specs, _schema_type(attr)) is None and not _path_value_in(specs)
+    return _mismatched_in(specs, attr) is None and not _path_value_in(specs)
 
 
 def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
