@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import random
 import re
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 
+import pytest
 from pxr import Sdf
 
 from usdrender_lint import usda_lines
@@ -394,4 +396,34 @@ def test_line_of_caches_until_cleared(tmp_path: Path) -> None:
     usda_lines.clear_cache()
     assert line_of(str(layer), "/A.x") == 6
     assert line_of(str(tmp_path / "missing.usda"), "/A") is None
+    usda_lines.clear_cache()
+
+
+def test_a_lookup_in_another_thread_waits_for_a_half_read_layer(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    layer = tmp_path / "shot.usda"
+    layer.write_text(_shot(50, "float a = 1"))
+    usda_lines.clear_cache()
+    scan = usda_lines._Layer._scan
+    threads: list[threading.Thread] = []
+    other: list[int | None] = []
+
+    def ask() -> None:
+        other.append(line_of(str(layer), "/Render.x"))
+
+    def scan_while_another_thread_asks(
+        self: usda_lines._Layer, *args: object, **kwargs: object
+    ) -> None:
+        if not threads:  # the first lookup's first read: the root is marked read, unread
+            threads.append(threading.Thread(target=ask))
+            threads[0].start()
+            threads[0].join(0.5)
+            assert threads[0].is_alive()  # waiting for this lookup, not answering
+        scan(self, *args, **kwargs)
+
+    monkeypatch.setattr(usda_lines._Layer, "_scan", scan_while_another_thread_asks)
+    assert line_of(str(layer), "/Render.x") == 207
+    threads[0].join()
+    assert other == [207]
     usda_lines.clear_cache()

@@ -20,6 +20,7 @@ line ends; ``{ }`` open and close blocks; a statement ends at a line end or a br
 from __future__ import annotations
 
 import re
+import threading
 from dataclasses import dataclass, field
 
 #: Characters that never start an atom, a block or a word (numbers, "=", spaces...).
@@ -365,23 +366,28 @@ def index_usda(text: str) -> dict[str, int]:
 
 
 _CACHE: dict[str, _Layer] = {}
+#: A lookup leaves a layer half read while it runs: one lookup at a time (lints in
+#: threads of one process share the cache).
+_LOCK = threading.Lock()
 
 
 def line_of(layer_path: str, spec_path: str) -> int | None:
     """The line of ``spec_path`` in the text layer at ``layer_path``, if found."""
-    layer = _CACHE.get(layer_path)
-    if layer is None:
-        try:
-            with open(layer_path, encoding="utf-8", errors="replace") as handle:
-                text = handle.read()
-        except OSError:
-            text = ""
-        layer = _CACHE[layer_path] = _Layer(text)
-    return layer.lookup(spec_path)
+    with _LOCK:
+        layer = _CACHE.get(layer_path)
+        if layer is None:
+            try:
+                with open(layer_path, encoding="utf-8", errors="replace") as handle:
+                    text = handle.read()
+            except OSError:
+                text = ""
+            layer = _CACHE[layer_path] = _Layer(text)
+        return layer.lookup(spec_path)
 
 
 def clear_cache() -> None:
-    _CACHE.clear()
+    with _LOCK:
+        _CACHE.clear()
 
 
 def comment_lines(text: str) -> list[int]:
