@@ -12,7 +12,7 @@ import pytest
 from pxr import Sdf
 
 from usdrender_lint import usda_lines
-from usdrender_lint.usda_lines import index_usda, line_of
+from usdrender_lint.usda_lines import comment_lines, index_usda, line_of
 
 TESTS = Path(__file__).parent
 REPO = TESTS.parent
@@ -124,6 +124,15 @@ def reference_index(text: str) -> dict[str, int]:
     return lines
 
 
+def reference_comment_lines(text: str) -> list[int]:
+    found, line = [], 1
+    for match in _REF_TOKEN.finditer(text):
+        if match.lastgroup == "comment" and match.start():
+            found.append(line)
+        line += match.group().count("\n")
+    return found
+
+
 # --- equivalence on real layers ------------------------------------------------------
 
 
@@ -144,6 +153,7 @@ def _assert_same_lines(path: Path) -> int:
     text = path.read_text(encoding="utf-8", errors="replace")
     expected = reference_index(text)
     assert index_usda(text) == expected, path
+    assert comment_lines(text) == reference_comment_lines(text), path
     asked = _sdf_paths(path) + list(expected) + ["/Nowhere", "/Nowhere.attr"]
     # One lazy layer asked in Sdf's order, one in reverse: what earlier lookups
     # read must not change later answers.
