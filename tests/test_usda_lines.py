@@ -437,3 +437,18 @@ def test_a_lookup_in_another_thread_waits_for_a_half_read_layer(
     threads[0].join()
     assert other == [207]
     usda_lines.clear_cache()
+
+
+def test_the_skipping_patterns_are_compiled_on_the_first_lookup_not_at_import() -> None:
+    # They take milliseconds to compile; a check with no finding to place never needs them.
+    import subprocess
+    import sys
+
+    code = (
+        "from usdrender_lint import usda_lines as u\n"
+        "print(u._skippers.cache_info().currsize)\n"
+        "u.index_usda('def \"A\" {\\n}\\n')\n"
+        "print(u._skippers.cache_info().currsize)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["0", "1"]
