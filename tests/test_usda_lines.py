@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import random
 import re
+import subprocess
+import sys
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -441,9 +443,6 @@ def test_a_lookup_in_another_thread_waits_for_a_half_read_layer(
 
 def test_the_skipping_patterns_are_compiled_on_the_first_lookup_not_at_import() -> None:
     # They take milliseconds to compile; a check with no finding to place never needs them.
-    import subprocess
-    import sys
-
     code = (
         "from usdrender_lint import usda_lines as u\n"
         "print(u._skippers.cache_info().currsize)\n"
