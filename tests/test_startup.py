@@ -170,3 +170,23 @@ def test_usd_is_imported_with_collection_paused_then_frozen(before: str, after: 
         check=True,
     )
     assert proc.stdout.split() == [after, "True", "True"]
+
+
+VERSION_AND_HELP = """
+import sys
+import usdrender_lint.cli as cli
+try:
+    cli.main([sys.argv[1]])
+except SystemExit:
+    pass
+print("pxr.Usd" in sys.modules, file=sys.stderr)
+"""
+
+
+@pytest.mark.parametrize("flag", ["--version", "--help"])
+def test_version_and_help_do_not_import_usd(flag: str) -> None:
+    proc = subprocess.run(
+        [sys.executable, "-c", VERSION_AND_HELP, flag], capture_output=True, text=True, check=True
+    )
+    assert proc.stderr.split() == ["False"]
+    assert "usdrender-lint" in proc.stdout

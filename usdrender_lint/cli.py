@@ -47,6 +47,7 @@ def _split(values: Sequence[str]) -> tuple[str, ...] | None:
 
 
 def _registry() -> Registry:
+    _import_engine()
     from .registry import RegistryError, build_registry
 
     try:
@@ -200,6 +201,7 @@ def check(
     full_composition: bool,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
+    _import_engine()
     from .engine import FULL_COMPOSITION_ENV
     from .runner import collect_files, fails, lint_files, make_linter
     from .suppress import apply_path_ignores
@@ -521,7 +523,6 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
 
 def main(argv: Sequence[str] | None = None) -> None:
     """Console entry point: no traceback ever reaches the user."""
-    _import_engine()
     try:
         cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True)
     except SystemExit:
@@ -544,7 +545,10 @@ def _import_engine() -> None:
     """Import USD and the engine with the cyclic garbage collector paused, then
     freeze what the imports made. Imports make no garbage worth collecting, and
     each collection on the way would walk every object USD created so far
-    (about 10 ms of a one-file check); frozen objects are never walked again."""
+    (about 10 ms of a one-file check); frozen objects are never walked again.
+    Called by the commands that need USD: ``--help`` and ``--version`` do not."""
+    if "usdrender_lint.runner" in sys.modules:
+        return
     enabled = gc.isenabled()
     gc.disable()
     try:
