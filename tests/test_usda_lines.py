@@ -33,7 +33,7 @@ _REF_TOKEN = re.compile(
   | (?P<string>\"\"\".*?\"\"\"|'''.*?'''|"(?:\\.|[^"\\\n])*"|'(?:\\.|[^'\\\n])*')
   | (?P<asset>@@@.*?@@@|@[^@\n]*@)
   | (?P<path><[^>\n]*>)
-  | (?P<word>[A-Za-z_][\w:.\[\]-]*)
+  | (?P<word>[A-Za-z_][\w:.-]*(?:\[\])?)
   | (?P<punct>.)
     """.replace("INERT", _REF_INERT),
     re.VERBOSE | re.DOTALL,
@@ -451,3 +451,20 @@ def test_the_skipping_patterns_are_compiled_on_the_first_lookup_not_at_import() 
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["0", "1"]
+
+
+def test_a_number_with_an_exponent_closes_its_array() -> None:
+    # "1e-05]": the word is "e-05", the bracket closes the array (was read as one word,
+    # and every spec after it lost its line).
+    text = (
+        '#usda 1.0\ndef "A"\n{\n    float[] w = [0, 1e-05]\n'
+        "    float3[] extent = [(0, 0, 0), (1, 1e+05, 1)]\n"
+        '    def "B"\n    {\n        double d = 1E-3\n    }\n}\ndef "C"\n{\n}\n'
+    )
+    expected = {"/A": 2, "/A.w": 4, "/A.extent": 5, "/A/B": 6, "/A/B.d": 8, "/C": 11}
+    assert index_usda(text) == expected
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    assert layer.ImportFromString(text)
+    listed: list[str] = []
+    layer.Traverse("/", lambda path: listed.append(str(path)))
+    assert set(expected) == set(listed) - {"/"}

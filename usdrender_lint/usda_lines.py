@@ -30,7 +30,9 @@ _COMMENT = r"\#[^\n]*|//[^\n]*|/\*.*?\*/"
 _STRING = r'""".*?"""|' r"'''.*?'''|" r'"(?:\\.|[^"\\\n])*"|' r"'(?:\\.|[^'\\\n])*'"
 _ASSET = r"@@@.*?@@@|@[^@\n]*@"
 _PATH = r"<[^>\n]*>"
-_WORD = r"[A-Za-z_][\w:.\[\]-]*+"
+#: A word may end in "[]" (``float3[]``), never hold another bracket: in ``1e-05]`` the
+#: word is ``e-05`` and the bracket closes the array.
+_WORD = r"[A-Za-z_][\w:.-]*+(?:\[\])?+"
 #: A quote, "@", "<" or "/" that opens no atom stands alone.
 _LONE = r"""["'@</]"""
 #: Atoms other than words; where two start alike the first that matches wins, as in
