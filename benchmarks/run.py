@@ -8,7 +8,10 @@ ratio of the medians and the peak resident memory of the processes
 
 - one big stage (100k and 1M prims, .usdc): ``check`` <= 1.0x a bare open
   (aim 0.6x), findings identical to a full-composition run, peak RSS <= 1.1x;
-- start-up on a 1k-prim file: <= 1.15x ``python -c "...Usd.Stage.Open(f)"``;
+- start-up on a 1k-prim file: <= 1.15x ``python -c "...Usd.Stage.Open(f)"``
+  (also printed: the same bare open that imports ``pxr.UsdRender`` and click,
+  what the stack costs before any linter code runs, and ``check`` in one
+  process without the worker that isolates a crash or hang);
 - many files (500 shots of ~200 prims): ``--jobs 2`` files/s >= 1.7x
   ``--jobs 1``, and the per-file cost in one process <= 1.2x a bare open.
 
@@ -46,6 +49,9 @@ PYTHON = sys.executable
 _SCRIPT = Path(PYTHON).with_name("usdrender-lint")
 LINT = [str(_SCRIPT)] if _SCRIPT.exists() else [PYTHON, "-m", "usdrender_lint"]
 BARE_OPEN = "import sys; from pxr import Usd; Usd.Stage.Open(sys.argv[1])"
+STACK_FLOOR = (
+    "import sys; from pxr import Usd, UsdRender; import click; Usd.Stage.Open(sys.argv[1])"
+)
 BARE_OPEN_ALL = "import sys; from pxr import Usd\nfor f in sys.argv[1:]: Usd.Stage.Open(f)"
 FULL_ENV = "USDRENDER_LINT_FULL_COMPOSITION"
 
@@ -178,11 +184,20 @@ def start_up(work: Path, rounds: int) -> dict[str, float]:
     )
     shot = folder / "shot_0000.usda"
     bare = Series("bare Usd.Stage.Open", [PYTHON, "-c", BARE_OPEN, str(shot)])
+    # What the stack alone costs before any linter code runs: importing
+    # pxr.UsdRender (it imports UsdGeom, UsdShade and Sdr) and click.
+    floor = Series("bare open + UsdRender + click", [PYTHON, "-c", STACK_FLOOR, str(shot)])
     check = Series("usdrender-lint check", [*LINT, "check", "--isolated", str(shot)])
-    measure([bare, check], rounds)
+    in_process = Series(
+        "check --jobs 1 --timeout 0",
+        [*LINT, "check", "--isolated", "--jobs", "1", "--timeout", "0", str(shot)],
+    )
+    measure([bare, floor, check, in_process], rounds)
     print(f"\nStart-up: a 1k-prim shot file (.usda), {rounds} rounds")
     print(row(bare))
+    print(row(floor, bare))
     print(row(check, bare))
+    print(row(in_process, bare))
     return {"startup_time": check.median() / bare.median()}
 
 
