@@ -55,6 +55,49 @@ def test_flat_stages_compose_fully(monkeypatch: pytest.MonkeyPatch, tmp_path: Pa
     assert opened.stage is None and "root layer stack" in opened.reason
 
 
+def test_text_without_asset_paths_is_flat_before_usd_reads_it(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setattr(fastpath, "FLAT_STAGES_COMPOSE_FULLY", True)
+    root = _write(tmp_path, {"shot.usda": RENDER_ASSET})
+    opened = fastpath.open_partial(str(root), Linter(all_rules())._dispatch.wants)
+    assert opened.stage is None and "root layer stack" in opened.reason
+    # Decided from the text alone: USD did not read the layer (the engine will, once).
+    assert opened.layers == [] and Sdf.Layer.Find(str(root)) is None
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "#usda 1.0\n(\n    subLayers = [@lighting.usda@]\n)\n",
+        '#usda 1.0\ndef "Set" (\n    references = @lighting.usda@\n)\n{\n}\n',
+        '#usda 1.0\ndef "Set" (\n    payload = @lighting.usda@\n)\n{\n}\n',
+    ],
+    ids=["sublayer", "reference", "payload"],
+)
+def test_text_with_an_arc_to_a_layer_is_not_taken_for_flat(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, text: str
+) -> None:
+    monkeypatch.setattr(fastpath, "FLAT_STAGES_COMPOSE_FULLY", True)
+    light = '#usda 1.0\ndef "Light"\n{\n}\n'
+    root = _write(tmp_path, {"shot.usda": text, "lighting.usda": light})
+    assert Sdf.Layer.FindOrOpen(str(root)).GetCompositionAssetDependencies()
+    assert not fastpath._text_without_asset_paths(str(root))
+    opened = fastpath.open_partial(str(root), Linter(all_rules())._dispatch.wants)
+    assert opened.layers, "the layers must be asked for their dependencies"
+
+
+def test_an_asset_valued_attribute_alone_leaves_the_stage_flat(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setattr(fastpath, "FLAT_STAGES_COMPOSE_FULLY", True)
+    text = RENDER_ASSET.replace("(0, 1080)", "(0, 1080)\n        asset note = @notes.txt@")
+    root = _write(tmp_path, {"shot.usda": text})
+    opened = fastpath.open_partial(str(root), Linter(all_rules())._dispatch.wants)
+    assert opened.stage is None and "root layer stack" in opened.reason
+    assert opened.layers  # the text check could not tell; the layer said so
+
+
 def _wants(linter: Linter):
     return linter._dispatch.wants
 

@@ -69,6 +69,12 @@ MIN_SCAN = 50_000
 #: Root layer stack specs sampled to project how much their arcs compose.
 SAMPLE = 4096
 
+#: Files that may hold a usda text layer, its first bytes, and the read size
+#: when looking for asset paths in one.
+TEXT_EXTENSIONS = (".usda", ".usd")
+USDA_HEADER = b"#usda "
+READ_CHUNK = 1 << 20
+
 _ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
 
 
@@ -111,6 +117,9 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
 
     ``wants_type(type_name)`` is True for the prim type names the rules want
     to see (the engine's dispatch table decides)."""
+    if FLAT_STAGES_COMPOSE_FULLY and _text_without_asset_paths(path):
+        # Decided before USD reads the layer: the engine's full open reads it once.
+        return PartialStage(None, [], "every layer is in the root layer stack")
     layers: list[Sdf.Layer] = []
     with Tf.DiagnosticTrap() as trap:
         try:
@@ -142,6 +151,27 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
 
 
 # -- layers ---------------------------------------------------------------------------
+
+
+def _text_without_asset_paths(path: str) -> bool:
+    """True for a text layer with no ``@`` anywhere: usda writes every asset path
+    (sublayers, references, payloads) between ``@``, so it has no arc to another
+    layer. Cheaper than parsing it for GetCompositionAssetDependencies; any doubt
+    (crate, package, unreadable) answers False and the layer is asked."""
+    if not path.lower().endswith(TEXT_EXTENSIONS):
+        return False
+    try:
+        with open(path, "rb") as handle:
+            chunk = handle.read(READ_CHUNK)
+            if not chunk.startswith(USDA_HEADER):
+                return False
+            while chunk:
+                if b"@" in chunk:
+                    return False
+                chunk = handle.read(READ_CHUNK)
+    except OSError:
+        return False
+    return True
 
 
 def _reachable_layers(stage: Usd.Stage) -> list[Sdf.Layer]:
