@@ -29,6 +29,7 @@ from usdrender_lint.resolve import (
 from . import _colorspace
 from ._corrections import set_value
 from ._raster import pixel_centres, pixel_span
+from ._values import items
 
 Apply = Callable[[Usd.Stage], None]
 
@@ -57,8 +58,9 @@ def _fmt(value: Any) -> str:
 
 def _data_window_problem(window, resolution) -> str | None:
     """Why an authored dataWindowNDC renders nothing sensible, or None."""
-    xmin, ymin, xmax, ymax = (float(c) for c in window)
-    if not is_finite(window):
+    components = items(window)
+    xmin, ymin, xmax, ymax = (float(c) for c in components)
+    if not is_finite(components):
         return "has a NaN or infinite component"
     if xmin >= xmax or ymin >= ymax:
         axis = "x" if xmin >= xmax else "y"
@@ -82,7 +84,7 @@ class _WindowUse:
 
     @property
     def values(self) -> tuple[float, float, float, float]:
-        xmin, ymin, xmax, ymax = (float(c) for c in self.window.value)
+        xmin, ymin, xmax, ymax = (float(c) for c in items(self.window.value))
         return xmin, ymin, xmax, ymax
 
     @property
@@ -409,7 +411,7 @@ class ResolutionNonPositive(Rule):
         value = composed_value(prim, "resolution") if is_settings else authored_value(attr)
         if value is None:
             return
-        if min(value) <= 0:
+        if min(items(value)) <= 0:
             yield Diagnostic(
                 f"resolution {_fmt(value)} has a component <= 0; author a positive pixel size "
                 "such as (1920, 1080)",
@@ -806,9 +808,10 @@ class IncludedPurposesInvalid(Rule):
         purposes = authored_value(attr)
         if purposes is None:
             return
+        tokens = items(purposes)
         known = [str(t) for t in UsdGeom.Imageable.GetOrderedPurposeTokens()]
-        unknown = [t for t in dict.fromkeys(purposes) if t not in known]
-        repeated = _duplicates(purposes)
+        unknown = [t for t in dict.fromkeys(tokens) if t not in known]
+        repeated = _duplicates(tokens)
         problems = []
         if unknown:
             verb = "is not a purpose" if len(unknown) == 1 else "are not purposes"
@@ -821,7 +824,7 @@ class IncludedPurposesInvalid(Rule):
             return
         fix = None
         if not unknown:
-            unique = Vt.TokenArray(list(dict.fromkeys(purposes)))
+            unique = Vt.TokenArray(list(dict.fromkeys(tokens)))
             fix = Fix("drop the repeated purposes", True, set_value(attr.GetPath(), unique))
         yield Diagnostic(
             f"includedPurposes {_fmt(purposes)}: {'; '.join(problems)}; list each of "
@@ -971,8 +974,9 @@ class MaterialBindingPurposesInvalid(Rule):
                 at=attr,
             )
             return
-        unknown = [t for t in dict.fromkeys(purposes) if t not in allowed]
-        repeated = _duplicates(purposes)
+        tokens = items(purposes)
+        unknown = [t for t in dict.fromkeys(tokens) if t not in allowed]
+        repeated = _duplicates(tokens)
         if not unknown and not repeated:
             return
         problems = []
@@ -982,7 +986,7 @@ class MaterialBindingPurposesInvalid(Rule):
             problems.append(f"{_quoted(repeated)} repeated")
         fix = None
         if all(t in _ALL_PURPOSE_ALIASES for t in unknown):
-            mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in purposes]
+            mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in tokens]
             fixed = Vt.TokenArray(list(dict.fromkeys(mapped)))
             fix = Fix(f"author {_fmt(fixed)}", True, set_value(attr.GetPath(), fixed))
         alias_hint = (
