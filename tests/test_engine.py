@@ -127,6 +127,22 @@ def test_raise_errors_propagates_for_tests(shot: Path) -> None:
         Linter([Exploder()], raise_errors=True).lint_path(str(shot))
 
 
+def test_only_rules_with_their_own_check_stage_are_called_per_stage(
+    shot: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    calls: list[str] = []
+
+    def base_check_stage(self, ctx):  # stands in for the base hook, which yields nothing
+        calls.append(self.code)
+        return ()
+
+    monkeypatch.setattr(Rule, "check_stage", base_check_stage)
+    staged = Recorder()
+    staged.check_stage = lambda ctx: calls.append("instance") or ()  # set on the instance
+    Linter([Recorder(), ResolutionReporter(), staged]).lint_path(str(shot))
+    assert calls == ["instance"]
+
+
 def test_finding_names_the_layer_and_line_of_the_strongest_opinion(shot: Path) -> None:
     (finding,) = Linter([ResolutionReporter()]).lint_path(str(shot)).findings
     assert finding.location.path == "/Render/Settings.resolution"

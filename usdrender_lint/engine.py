@@ -218,6 +218,8 @@ class Linter:
         #: was not selected is not reported as naming no rule (default: ``rules``).
         self.known_rules = known_rules
         self._dispatch = _TypeDispatch(self.rules)
+        #: Rules with a check_stage of their own (most have none: no call per file).
+        self._stage_rules = tuple(r for r in self.rules if _overrides(r, "check_stage"))
         #: While lint_stage_with_fixes runs: each finding's Fix (the callable
         #: Finding.fix drops, since findings stay free of pxr objects).
         self._fixes: dict[Finding, Fix] | None = None
@@ -312,11 +314,12 @@ class Linter:
         with Tf.DiagnosticTrap() as trap, resolve.lint_memo():
             try:
                 work = self._walk(stage, ctx)
-                for rule in self.rules:
-                    findings.extend(self._run(rule, ctx, rule.check_stage, ctx))
+                run = self._run
+                for rule in self._stage_rules:
+                    findings.extend(run(rule, ctx, rule.check_stage, ctx))
                 for prim, rules in work:
                     for rule in rules:
-                        findings.extend(self._run(rule, ctx, rule.check_prim, prim, ctx))
+                        findings.extend(run(rule, ctx, rule.check_prim, prim, ctx))
                 findings = self._apply_data_suppressions(ctx, findings)
             finally:
                 trap.Clear()
@@ -350,42 +353,42 @@ class Linter:
         return work
 
     def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
-        findings = self._run_hook(rule, ctx, hook, *args)
+        try:
+            findings = [self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ()]
+        except (FullStageRequired, UnicodeDecodeError):
+            raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
+        except Exception as exc:
+            findings = [self._rule_error(rule, ctx, exc, args[0])]
         if self._origins is not None:
             prim = args[0].GetPath() if isinstance(args[0], Usd.Prim) else None
             for finding in findings:
                 self._origins.setdefault(finding, (rule.code, prim))
         return findings
 
-    def _run_hook(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
-        try:
-            return [self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ()]
-        except (FullStageRequired, UnicodeDecodeError):
-            raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
-        except Exception as exc:
-            if isinstance(exc, Tf.ErrorException):
-                corrupt = [line for line in _error_lines(exc, ctx.file) if "Corrupt asset" in line]
-                if corrupt:  # a crate value USD unpacks only when a rule reads it
-                    raise CorruptValue(corrupt[0]) from exc
-            if self.raise_errors:
-                raise
-            where = f" on {args[0].GetPath()}" if isinstance(args[0], Usd.Prim) else ""
-            frame = traceback.extract_tb(exc.__traceback__)[-1]
-            detail = " ".join(str(exc).split())  # USD's errors span lines; findings do not
-            message = (
-                f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {detail}{where} "
-                f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
-                "this file are lost. Please report this."
-            )
-            return [
-                Finding(
-                    INTERNAL_ERROR_CODE,
-                    INTERNAL_ERROR_NAME,
-                    Severity.ERROR,
-                    message,
-                    Location(ctx.file, str(args[0].GetPath()) if where else None),
-                )
-            ]
+    def _rule_error(self, rule: Rule, ctx: Context, exc: Exception, target: object) -> Finding:
+        """The internal-error finding for a hook that raised on ``target``
+        (a prim or the Context), unless the error must propagate."""
+        if isinstance(exc, Tf.ErrorException):
+            corrupt = [line for line in _error_lines(exc, ctx.file) if "Corrupt asset" in line]
+            if corrupt:  # a crate value USD unpacks only when a rule reads it
+                raise CorruptValue(corrupt[0]) from exc
+        if self.raise_errors:
+            raise exc
+        where = f" on {target.GetPath()}" if isinstance(target, Usd.Prim) else ""
+        frame = traceback.extract_tb(exc.__traceback__)[-1]
+        detail = " ".join(str(exc).split())  # USD's errors span lines; findings do not
+        message = (
+            f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {detail}{where} "
+            f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
+            "this file are lost. Please report this."
+        )
+        return Finding(
+            INTERNAL_ERROR_CODE,
+            INTERNAL_ERROR_NAME,
+            Severity.ERROR,
+            message,
+            Location(ctx.file, str(target.GetPath()) if where else None),
+        )
 
     def _severity(self, code: str, default: Severity) -> Severity:
         return self.severities.get(code, default)
@@ -448,6 +451,11 @@ def _line_from_error(text: str) -> int | None:
         if first.endswith(USD_EXTENSIONS) and second.strip().isdigit():
             return int(second)
     return None
+
+
+def _overrides(rule: Rule, hook: str) -> bool:
+    """True unless ``rule``'s hook is the base class's, which yields nothing."""
+    return getattr(getattr(rule, hook), "__func__", None) is not getattr(Rule, hook)
 
 
 def _fix_info(fix: Fix | None) -> FixInfo | None:
