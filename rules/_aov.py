@@ -24,7 +24,7 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
         rel = UsdRender.Product(product).GetOrderedVarsRel()
         return tuple(t.prim for t in resolve_targets(rel) if t.ok and t.prim.IsA(UsdRender.Var))
 
-    return ctx.memo(("aov.render_vars", product.GetPath()), compute)
+    return ctx.memo(("aov.render_vars", product), compute)
 
 
 def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
@@ -38,7 +38,8 @@ def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
             return None
         return composed_value(prim, name)
 
-    return ctx.memo(("aov.checked_value", prim.GetPath(), name), compute)
+    # Keyed by the prim handle: it hashes faster than GetPath() builds a path.
+    return ctx.memo(("aov.checked_value", prim, name), compute)
 
 
 def channel_name(var: Usd.Prim, naming: AovNaming, ctx: Context) -> str:

@@ -83,7 +83,7 @@ def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
         attr = prim.GetAttribute(name)
         return attr, has_authored_value(attr), fallback_value(prim, name)
 
-    return ctx.memo(("camera", "reader", prim.GetPath(), name), compute)
+    return ctx.memo(("camera", "reader", prim, name), compute)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:

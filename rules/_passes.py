@@ -105,7 +105,7 @@ def authored_pass_collections(prim: Usd.Prim, ctx: Context) -> tuple[Usd.Collect
             if prim.GetAuthoredPropertiesInNamespace(collection_label(collection))
         )
 
-    return ctx.memo(("PA:authored-collections", prim.GetPath()), compute)
+    return ctx.memo(("PA:authored-collections", prim), compute)
 
 
 def collection_label(collection: Usd.CollectionAPI) -> str:

@@ -1443,7 +1443,7 @@ def _authored_schema_attributes(
                 found.append((attr, definition))
         return tuple(found)
 
-    return ctx.memo(("settings.authored_schema_attributes", prim.GetPath()), compute)
+    return ctx.memo(("settings.authored_schema_attributes", prim), compute)
 
 
 class AttributeTypeMismatch(Rule):
