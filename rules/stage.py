@@ -18,16 +18,22 @@ RENDER_TYPE_NAMES = ("RenderSettings", "RenderProduct", "RenderVar", "RenderPass
 RENDER_SCHEMAS = (UsdRender.SettingsBase, UsdRender.Var, UsdRender.Pass)
 
 
-def settings_path_opinion(stage: Usd.Stage) -> tuple[str, Sdf.Layer] | None:
+def settings_path_opinion(ctx: Context) -> tuple[str, Sdf.Layer] | None:
     """The renderSettingsPrimPath value that counts and the layer authoring it.
 
     Only the session and root layers' metadata is stage metadata (catalog,
     Ambiguous semantics 8; a sublayer's opinion is invisible to
-    ``stage.GetMetadata``); the session layer is the stronger."""
-    for layer in (stage.GetSessionLayer(), stage.GetRootLayer()):
-        if layer is not None and layer.pseudoRoot.HasInfo(RENDER_SETTINGS_PATH_KEY):
-            return str(layer.pseudoRoot.GetInfo(RENDER_SETTINGS_PATH_KEY)), layer
-    return None
+    ``stage.GetMetadata``); the session layer is the stronger. Read once per
+    lint: five ST rules ask."""
+
+    def compute() -> tuple[str, Sdf.Layer] | None:
+        stage = ctx.stage
+        for layer in (stage.GetSessionLayer(), stage.GetRootLayer()):
+            if layer is not None and layer.pseudoRoot.HasInfo(RENDER_SETTINGS_PATH_KEY):
+                return str(layer.pseudoRoot.GetInfo(RENDER_SETTINGS_PATH_KEY)), layer
+        return None
+
+    return ctx.memo("stage.settings_path_opinion", compute)
 
 
 def _set_settings_path(value: str):
@@ -262,7 +268,7 @@ class RenderSettingsPathMissing(Rule):
     fix_safety = "safe"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
-        opinion = settings_path_opinion(ctx.stage)
+        opinion = settings_path_opinion(ctx)
         settings = ctx.prims_of(UsdRender.Settings)
         if (opinion is not None and opinion[0]) or len(settings) != 1:
             return
@@ -335,7 +341,7 @@ class RenderSettingsAmbiguous(Rule):
     severity = Severity.WARNING
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
-        opinion = settings_path_opinion(ctx.stage)
+        opinion = settings_path_opinion(ctx)
         settings = ctx.prims_of(UsdRender.Settings)
         if (opinion is not None and opinion[0]) or len(settings) < 2:
             return
@@ -419,7 +425,7 @@ class RenderSettingsPathUnresolved(Rule):
     fix_safety = "safe-conditional"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
-        opinion = settings_path_opinion(ctx.stage)
+        opinion = settings_path_opinion(ctx)
         if opinion is None or not opinion[0]:
             return
         value, layer = opinion
@@ -499,7 +505,7 @@ class RenderSettingsPathNotRenderSettings(Rule):
     severity = Severity.ERROR
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
-        opinion = settings_path_opinion(ctx.stage)
+        opinion = settings_path_opinion(ctx)
         if opinion is None or not opinion[0]:
             return
         value, layer = opinion
@@ -604,7 +610,7 @@ class RenderSettingsPathInSublayer(Rule):
             for layer in stage.GetUsedLayers()
             if layer not in ignored and layer.pseudoRoot.HasInfo(RENDER_SETTINGS_PATH_KEY)
         ]
-        opinion = settings_path_opinion(stage)
+        opinion = settings_path_opinion(ctx)
         effective = opinion[0] if opinion is not None else None
         inert = [(layer, value) for layer, value in inert if value and value != effective]
         inert.sort(key=lambda item: (rank.get(item[0], len(rank)), item[0].identifier))

@@ -6,7 +6,9 @@ from __future__ import annotations
 import pytest
 from pxr import Sdf, Usd
 from usdrender_lint.rules import _aov, _camera
+from usdrender_lint.rules.stage import settings_path_opinion
 
+from usdrender_lint.api import Context
 from usdrender_lint.engine import Linter
 from usdrender_lint.testing import all_rules
 
@@ -141,3 +143,31 @@ def test_collections_left_to_their_fallbacks_are_not_evaluated(stage, monkeypatc
     Usd.CollectionAPI(stage.GetPrimAtPath("/Render/pass"), "matte").CreateIncludesRel()
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert validated == ["matte"]
+
+
+def test_the_settings_path_opinion_is_read_once_per_lint(stage, monkeypatch) -> None:
+    stage.SetMetadata("renderSettingsPrimPath", "/Render/Settings")
+    reads: list[str] = []
+    pseudo_root = Sdf.Layer.pseudoRoot
+
+    def counting(layer):
+        reads.append(layer.identifier)
+        return pseudo_root.fget(layer)
+
+    monkeypatch.setattr(Sdf.Layer, "pseudoRoot", property(counting))
+    settings_path_opinion(Context(stage=stage, file="shot.usda"))
+    one_reading = len(reads)
+    reads.clear()
+    rules = [r for r in all_rules() if r.code in ("ST003", "ST004", "ST005", "ST006", "ST007")]
+    Linter(rules, raise_errors=True).lint_stage(stage)
+    assert one_reading and len(reads) == one_reading
+
+
+def test_a_changed_settings_path_is_read_again(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    stage.SetMetadata("renderSettingsPrimPath", "/Render/Settings")
+    assert not {code for code, _ in _codes(linter, stage)} & {"ST003", "ST005"}
+    stage.SetMetadata("renderSettingsPrimPath", "/Render/Missing")
+    assert "ST005" in {code for code, _ in _codes(linter, stage)}
+    stage.SetMetadata("renderSettingsPrimPath", "")
+    assert "ST003" in {code for code, _ in _codes(linter, stage)}
