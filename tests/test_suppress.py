@@ -99,6 +99,30 @@ def test_unused_entries_are_info_with_the_reason(tmp_path) -> None:
     assert all(f.location.line == 5 for f in unused)  # the prim's line
 
 
+def test_the_engine_hands_over_the_suppressing_prims_of_its_walk(tmp_path, monkeypatch) -> None:
+    text = BAD_WINDOW.format(metadata=_ignore("SE003", "SE007", "XX999")).replace(
+        'RenderSettings "Other"', f'RenderSettings "Other" ({_ignore("nothing")})'
+    )
+    handed = []
+    original = suppress.apply_data_suppressions
+
+    def recording(stage, findings, rules, known_rules=None, *, suppressing=None):
+        handed.append([str(prim.GetPath()) for prim in suppressing])
+        findings = list(findings)
+        kept, unused = original(stage, findings, rules, known_rules, suppressing=suppressing)
+        traversed = original(stage, findings, rules, known_rules)
+        assert (kept, [(d.message, d.at) for d in unused]) == (
+            traversed[0],
+            [(d.message, d.at) for d in traversed[1]],
+        )
+        return kept, unused
+
+    monkeypatch.setattr(suppress, "apply_data_suppressions", recording)
+    unused = [f for f in _lint(tmp_path, text) if f.code == "UL001"]
+    assert handed == [["/Render/Settings", "/Render/Other"]]
+    assert len(unused) == 3
+
+
 def test_without_the_meta_rule_unused_entries_are_silent(tmp_path) -> None:
     text = BAD_WINDOW.format(metadata=_ignore("SE003", "XX999"))
     found = _pairs(_lint(tmp_path, text, codes=("SE003",)))

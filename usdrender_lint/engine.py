@@ -313,22 +313,24 @@ class Linter:
         # Nothing edits the stage while rules run, so resolve.py may memoise.
         with Tf.DiagnosticTrap() as trap, resolve.lint_memo():
             try:
-                work = self._walk(stage, ctx)
+                work, suppressing = self._walk(stage, ctx)
                 run = self._run
                 for rule in self._stage_rules:
                     findings.extend(run(rule, ctx, rule.check_stage, ctx))
                 for prim, rules in work:
                     for rule in rules:
                         findings.extend(run(rule, ctx, rule.check_prim, prim, ctx))
-                findings = self._apply_data_suppressions(ctx, findings)
+                findings = self._apply_data_suppressions(ctx, findings, suppressing)
             finally:
                 trap.Clear()
         return sorted(set(findings), key=Finding.sort_key)
 
-    def _apply_data_suppressions(self, ctx: Context, findings: list[Finding]) -> list[Finding]:
+    def _apply_data_suppressions(
+        self, ctx: Context, findings: list[Finding], suppressing: list[Usd.Prim]
+    ) -> list[Finding]:
         """Drop findings silenced in customData; report unused suppressions."""
         kept, unused = suppress.apply_data_suppressions(
-            ctx.stage, findings, self.rules, self.known_rules
+            ctx.stage, findings, self.rules, self.known_rules, suppressing=suppressing
         )
         for rule in self.rules:
             if rule.code == suppress.UNUSED_SUPPRESSION_CODE:
@@ -337,11 +339,18 @@ class Linter:
 
     # -- internals ------------------------------------------------------------
 
-    def _walk(self, stage: Usd.Stage, ctx: Context) -> list[tuple[Usd.Prim, tuple[Rule, ...]]]:
-        """One traversal of usable prims: collect render prims and the prim work."""
+    def _walk(
+        self, stage: Usd.Stage, ctx: Context
+    ) -> tuple[list[tuple[Usd.Prim, tuple[Rule, ...]]], list[Usd.Prim]]:
+        """One traversal of usable prims: collect render prims, the prim work and
+        the prims with customData suppressions (no second traversal for those)."""
         work = []
+        suppressing = []
         unknown = self._dispatch.unknown_type_names
+        has_suppressions = suppress.has_suppressions
         for prim in stage.Traverse():
+            if has_suppressions(prim):
+                suppressing.append(prim)
             type_name = prim.GetTypeName()
             rules, kinds = self._dispatch.lookup(type_name)
             for kind in kinds:
@@ -350,7 +359,7 @@ class Linter:
                 work.append((prim, rules))
             if type_name in unknown:
                 ctx.unknown_type_prims.append(prim)
-        return work
+        return work, suppressing
 
     def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
         try:

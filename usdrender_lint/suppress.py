@@ -141,6 +141,8 @@ def apply_data_suppressions(
     findings: Iterable[Finding],
     rules: Sequence[Rule],
     known_rules: Sequence[type[Rule]] | None = None,
+    *,
+    suppressing: Iterable[Usd.Prim] | None = None,
 ) -> tuple[list[Finding], list[Diagnostic]]:
     """Drop the findings a prim's customData silences.
 
@@ -148,6 +150,9 @@ def apply_data_suppressions(
     entry (for the unused-suppression rule). ``rules`` are the rules that ran;
     an entry naming a rule in ``known_rules`` (default: the rules that ran) that
     did not run is neither used nor reported, since its rule could not fire.
+    ``suppressing`` is every usable prim, in traversal order, that
+    :func:`has_suppressions` (the engine collects them in its walk); by default
+    the stage is traversed for them.
     """
     on_prim: dict[Sdf.Path, _PrimSuppressions] = {}
 
@@ -164,13 +169,18 @@ def apply_data_suppressions(
         if here is None or not here.silences(finding.code):
             kept.append(finding)
 
+    if suppressing is None:
+        suppressing = [prim for prim in stage.Traverse() if has_suppressions(prim)]
     unused = []
-    for prim in stage.Traverse():
-        if prim.GetCustomDataByKey(IGNORE_KEY) is None:
-            continue
+    for prim in suppressing:
         here = suppressions(prim.GetPath())
         unused.extend(_unused(here, rules, known_rules))
     return kept, unused
+
+
+def has_suppressions(prim: Usd.Prim) -> bool:
+    """True when the prim authors the suppression customData (even malformed)."""
+    return prim.GetCustomDataByKey(IGNORE_KEY) is not None
 
 
 def _prim_path(path: str | None) -> Sdf.Path | None:
@@ -272,5 +282,6 @@ __all__ = [
     "UNUSED_SUPPRESSION_CODE",
     "apply_data_suppressions",
     "apply_path_ignores",
+    "has_suppressions",
     "ignore_entries",
 ]
