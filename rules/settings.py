@@ -1535,6 +1535,17 @@ class AttributeTypeMismatch(Rule):
             )
 
 
+#: Where a value comes from when the attribute has time samples or a spline
+#: (GetResolveInfo() without a time: samples beat a default of the same layer).
+_VARYING_SOURCES = frozenset(
+    {
+        Usd.ResolveInfoSourceTimeSamples,
+        Usd.ResolveInfoSourceValueClips,
+        Usd.ResolveInfoSourceSpline,
+    }
+)
+
+
 def _first_sampled_layer(attr: Usd.Attribute) -> Sdf.Layer | None:
     """The layer whose time samples supply the attribute's value."""
     for spec in attr.GetPropertyStack(DEFAULT_TIME):
@@ -1616,7 +1627,10 @@ class TimeSamplesIgnored(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         for attr, definition in _authored_schema_attributes(prim, ctx):
             # Both findings need samples or a spline, which few attributes have:
-            # ask that before the dearer type check.
+            # the value's source says so in one call (the count and HasSpline()
+            # are two), and that comes before the dearer type check.
+            if attr.GetResolveInfo().GetSource() not in _VARYING_SOURCES:
+                continue
             count = attr.GetNumTimeSamples()
             if (not count and not attr.HasSpline()) or mismatched_spec(attr) is not None:
                 continue  # nothing to report, or SE016's finding
