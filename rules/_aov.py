@@ -21,7 +21,7 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
     several PR and VA rules walk them."""
 
     def compute() -> tuple[Usd.Prim, ...]:
-        rel = UsdRender.Product(product).GetOrderedVarsRel()
+        rel = product.GetRelationship("orderedVars")
         return tuple(t.prim for t in resolve_targets(rel) if t.ok and t.prim.IsA(UsdRender.Var))
 
     return ctx.memo(("aov.render_vars", product), compute)

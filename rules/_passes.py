@@ -35,7 +35,7 @@ def input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
     def build() -> dict[Sdf.Path, list[Sdf.Path]]:
         graph: dict[Sdf.Path, list[Sdf.Path]] = {}
         for prim in ctx.prims_of(UsdRender.Pass):
-            rel = UsdRender.Pass(prim).GetInputPassesRel()
+            rel = prim.GetRelationship("inputPasses")
             graph[prim.GetPath()] = [
                 t.path
                 for t in resolve_targets(rel)

@@ -232,7 +232,7 @@ class CameraMultipleTargets(Rule):
         seen: set[Sdf.Path] = set()
         for config in ctx.configurations:
             for owner in config_owners(config):
-                rel = UsdRender.SettingsBase(owner).GetCameraRel()
+                rel = owner.GetRelationship("camera")
                 targets = forwarded_targets(rel)
                 if len(targets) < 2 or rel.GetPath() in seen:
                     continue

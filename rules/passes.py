@@ -256,7 +256,7 @@ class InputPassesInvalidTarget(Rule):
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = UsdRender.Pass(prim).GetInputPassesRel()
+        rel = prim.GetRelationship("inputPasses")
         for target in resolve_targets(rel):
             problem = typed_target_problem(target, UsdRender.Pass, "a RenderPass")
             if problem is not None:
@@ -457,7 +457,7 @@ class FileNameUnresolvable(Rule):
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Pass(prim).GetFileNameAttr()
+        attr = prim.GetAttribute("fileName")
         value = authored_value(attr)
         if not isinstance(value, Sdf.AssetPath) or not value.authoredPath or value.resolvedPath:
             return
@@ -809,7 +809,7 @@ class PassTypeEmpty(Rule):
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Pass(prim).GetPassTypeAttr()
+        attr = prim.GetAttribute("passType")
         if _value_lost_elsewhere(attr):
             return
         if authored_value(attr):

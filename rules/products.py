@@ -107,7 +107,7 @@ class ProductNameEmpty(Rule):
         name_template: str = ""
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Product(prim).GetProductNameAttr()
+        attr = prim.GetAttribute("productName")
         if attr.GetNumTimeSamples():
             return
         if checked_value(prim, "productName", ctx) != "":
@@ -306,7 +306,7 @@ class ProductTypeNotAllowed(Rule):
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Product(prim).GetProductTypeAttr()
+        attr = prim.GetAttribute("productType")
         value = authored_value(attr)
         allowed = allowed_tokens(prim, "productType")
         if value is None or value in allowed or _renderer_product_type(prim):
@@ -406,7 +406,7 @@ class ProductMissingRenderVars(Rule):
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = UsdRender.Product(prim).GetOrderedVarsRel()
+        rel = prim.GetRelationship("orderedVars")
         if forwarded_targets(rel):
             return
         state = "is empty" if rel and rel.HasAuthoredTargets() else "is not authored"
@@ -504,7 +504,7 @@ class OrderedVarsInvalidTarget(Rule):
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = UsdRender.Product(prim).GetOrderedVarsRel()
+        rel = prim.GetRelationship("orderedVars")
         authored = set(authored_targets(rel))
         for target in resolve_targets(rel):
             if target.prim is None:
@@ -838,7 +838,7 @@ class DeepRasterMissingAlpha(Rule):
             return None
         if not _is_alpha_source(target.prim, ctx):
             return None
-        rel_path = UsdRender.Product(product).GetOrderedVarsRel().GetPath()
+        rel_path = product.GetRelationship("orderedVars").GetPath()
         return Fix(f"append <{path}> to orderedVars", True, _append_target(rel_path, target.path))
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:

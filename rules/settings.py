@@ -1257,7 +1257,7 @@ class ProductsTargetInvalid(Rule):
     prim_types = (UsdRender.Settings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = UsdRender.Settings(prim).GetProductsRel()
+        rel = prim.GetRelationship("products")
         for target in resolve_targets(rel):
             problem = typed_target_problem(target, UsdRender.Product, "a RenderProduct")
             if problem is None:
@@ -1323,7 +1323,7 @@ class NoProducts(Rule):
     prim_types = (UsdRender.Settings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = UsdRender.Settings(prim).GetProductsRel()
+        rel = prim.GetRelationship("products")
         if forwarded_targets(rel):
             return
         authored = bool(rel) and rel.HasAuthoredTargets()

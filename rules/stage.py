@@ -802,7 +802,7 @@ class UnreferencedRenderPrim(Rule):
         targeted = {
             path
             for product in ctx.prims_of(UsdRender.Product)
-            for path in forwarded_targets(UsdRender.Product(product).GetOrderedVarsRel())
+            for path in forwarded_targets(product.GetRelationship("orderedVars"))
         }
         for var in ctx.prims_of(UsdRender.Var):
             if var.GetPath() not in targeted:

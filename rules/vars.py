@@ -82,7 +82,7 @@ class SourceNameEmpty(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "sourceName", ctx) != "":
             return
-        attr = UsdRender.Var(prim).GetSourceNameAttr()
+        attr = prim.GetAttribute("sourceName")
         what = (
             "light path expression" if checked_value(prim, "sourceType", ctx) == "lpe" else "output"
         )
@@ -159,7 +159,7 @@ class SourceTypeNotAllowed(Rule):
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Var(prim).GetSourceTypeAttr()
+        attr = prim.GetAttribute("sourceType")
         value = authored_value(attr)
         allowed = allowed_tokens(prim, "sourceType")
         if value is None or value in allowed:
@@ -263,7 +263,7 @@ class LpeMalformed(Rule):
         source = checked_value(prim, "sourceName", ctx)
         if not source:
             return
-        attr = UsdRender.Var(prim).GetSourceNameAttr()
+        attr = prim.GetAttribute("sourceName")
         expression, prefixed = strip_renderer_prefix(source)
         problem = lpe_problem(expression, self.options.dialect, self.options.extra_labels)
         parts, advice = [], []
@@ -488,7 +488,7 @@ class DataTypeUnknown(Rule):
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Var(prim).GetDataTypeAttr()
+        attr = prim.GetAttribute("dataType")
         value = authored_value(attr)
         if value is None or Sdf.ValueTypeNames.Find(value):
             return
@@ -591,7 +591,7 @@ class DataTypeNotPixelType(Rule):
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Var(prim).GetDataTypeAttr()
+        attr = prim.GetAttribute("dataType")
         value = authored_value(attr)
         type_name = Sdf.ValueTypeNames.Find(value) if value else None
         if not type_name:
@@ -695,7 +695,7 @@ class ScalarSourceDefaultColor3f(Rule):
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = UsdRender.Var(prim).GetDataTypeAttr()
+        attr = prim.GetAttribute("dataType")
         if has_authored_value(attr) or mismatched_spec(attr) is not None:
             return
         candidates = (prim.GetName(), checked_value(prim, "sourceName", ctx) or "")
