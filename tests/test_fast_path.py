@@ -72,8 +72,12 @@ def test_text_without_asset_paths_is_flat_before_usd_reads_it(
         "#usda 1.0\n(\n    subLayers = [@lighting.usda@]\n)\n",
         '#usda 1.0\ndef "Set" (\n    references = @lighting.usda@\n)\n{\n}\n',
         '#usda 1.0\ndef "Set" (\n    payload = @lighting.usda@\n)\n{\n}\n',
+        # Past the first read of the text.
+        "#usda 1.0\n"
+        + "# padding\n" * (2 * fastpath.READ_CHUNK // 10)
+        + 'def "Set" (\n    references = @lighting.usda@\n)\n{\n}\n',
     ],
-    ids=["sublayer", "reference", "payload"],
+    ids=["sublayer", "reference", "payload", "late-reference"],
 )
 def test_text_with_an_arc_to_a_layer_is_not_taken_for_flat(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, text: str
