@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from pxr import Usd, UsdRender
 
-from usdrender_lint.api import Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
 from usdrender_lint.engine import Linter
 from usdrender_lint.model import INTERNAL_ERROR_CODE
 from usdrender_lint.usda_lines import index_usda
@@ -225,3 +225,19 @@ lines"""
     assert index["/World.notes"] == 21
     assert index["/World.target"] == 23
     assert not any("Fake" in key or "Commented" in key for key in index)
+
+
+def test_context_memo_computes_each_key_once_none_included() -> None:
+    stage = Usd.Stage.CreateInMemory()
+    prim = stage.DefinePrim("/Render/Settings", "RenderSettings")
+    ctx = Context(stage=stage, file="shot.usda")
+    calls: list[str] = []
+
+    def compute(answer):
+        return lambda: calls.append("computed") or answer
+
+    assert ctx.memo(("none", prim), compute(None)) is None
+    assert ctx.memo(("none", prim), compute("other")) is None  # None is a remembered answer
+    assert ctx.memo(("value", prim), compute(0)) == 0
+    assert ctx.memo(("value", prim), compute(1)) == 0
+    assert calls == ["computed", "computed"]

@@ -32,6 +32,8 @@ __all__ = [
 CODE_PATTERN = re.compile(r"^[A-Z]{1,4}[0-9]{3}$")
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
 FIX_SAFETY = ("safe", "safe-conditional", "unsafe", "none")
+#: Context.memo's marker for a key not computed yet (None is a value).
+_MISSING = object()
 #: Sections every rule docstring carries, in this order (ruff's layout).
 DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead", "Fix safety")
 
@@ -166,6 +168,8 @@ class Context:
 
     def memo(self, key: Any, compute: Callable[[], Any]) -> Any:
         """Compute a per-stage value once and share it between rules."""
-        if key not in self._memo:
-            self._memo[key] = compute()
-        return self._memo[key]
+        # One lookup on a hit: keys hold USD objects, whose hashing is not free.
+        value = self._memo.get(key, _MISSING)
+        if value is _MISSING:
+            value = self._memo[key] = compute()
+        return value
