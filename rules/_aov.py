@@ -8,11 +8,21 @@ from typing import Any, Literal
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context
-from usdrender_lint.resolve import composed_value, mismatched_spec, resolve_targets
+from usdrender_lint.resolve import Target, composed_value, mismatched_spec, resolve_targets
 
 #: How a renderer names a RenderVar's channel (catalog, Ambiguous semantics 7):
 #: the schema says the prim name; hdPrman uses ``sourceName`` for non-LPE vars.
 AovNaming = Literal["primName", "sourceName"]
+
+
+def ordered_var_targets(product: Usd.Prim, ctx: Context) -> tuple[Target, ...]:
+    """The product's forwarded ``orderedVars`` targets, resolved once per lint:
+    PR005 checks each and :func:`product_render_vars` keeps the usable vars."""
+
+    def compute() -> tuple[Target, ...]:
+        return tuple(resolve_targets(product.GetRelationship("orderedVars")))
+
+    return ctx.memo(("aov.ordered_var_targets", product), compute)
 
 
 def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]:
@@ -21,8 +31,8 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
     several PR and VA rules walk them."""
 
     def compute() -> tuple[Usd.Prim, ...]:
-        rel = product.GetRelationship("orderedVars")
-        return tuple(t.prim for t in resolve_targets(rel) if t.ok and t.prim.IsA(UsdRender.Var))
+        targets = ordered_var_targets(product, ctx)
+        return tuple(t.prim for t in targets if t.ok and t.prim.IsA(UsdRender.Var))
 
     return ctx.memo(("aov.render_vars", product), compute)
 

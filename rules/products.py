@@ -19,10 +19,9 @@ from usdrender_lint.resolve import (
     joint_evaluation_times,
     mismatched_spec,
     resolve_target,
-    resolve_targets,
 )
 
-from ._aov import checked_value, product_render_vars
+from ._aov import checked_value, ordered_var_targets, product_render_vars
 from ._corrections import set_value, unique_case_match
 
 
@@ -506,7 +505,7 @@ class OrderedVarsInvalidTarget(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = prim.GetRelationship("orderedVars")
         authored = set(authored_targets(rel))
-        for target in resolve_targets(rel):
+        for target in ordered_var_targets(prim, ctx):
             if target.prim is None:
                 reason = target.problem
             elif not target.prim.IsA(UsdRender.Var):

@@ -171,3 +171,23 @@ def test_a_changed_settings_path_is_read_again(stage) -> None:
     assert "ST005" in {code for code, _ in _codes(linter, stage)}
     stage.SetMetadata("renderSettingsPrimPath", "")
     assert "ST003" in {code for code, _ in _codes(linter, stage)}
+
+
+def test_ordered_vars_targets_are_resolved_once_per_lint(stage, monkeypatch) -> None:
+    resolved: list[str] = []
+    resolve_targets = _aov.resolve_targets
+
+    def counting(rel):
+        resolved.append(str(rel.GetPath()))
+        return resolve_targets(rel)
+
+    monkeypatch.setattr(_aov, "resolve_targets", counting)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert resolved.count("/Render/beauty.orderedVars") == 1  # PR005 and the AOV helper
+
+
+def test_a_changed_ordered_vars_target_is_resolved_again(stage) -> None:
+    linter = Linter(all_rules(), raise_errors=True)
+    assert ("PR005", "/Render/beauty.orderedVars") not in _codes(linter, stage)
+    stage.GetPrimAtPath("/Render/alpha").SetActive(False)
+    assert ("PR005", "/Render/beauty.orderedVars") in _codes(linter, stage)
