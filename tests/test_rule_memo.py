@@ -79,15 +79,21 @@ def test_a_changed_stage_is_read_again(stage) -> None:
     assert ("PR006", "/Render/beauty.orderedVars") not in _codes(linter, stage)
 
 
+def _record_paths(monkeypatch, module, name: str) -> list[str]:
+    """Patch ``module.name`` to record the path of its first argument on each call."""
+    calls: list[str] = []
+    original = getattr(module, name)
+
+    def recording(first, *args):
+        calls.append(str(first.GetPath()))
+        return original(first, *args)
+
+    monkeypatch.setattr(module, name, recording)
+    return calls
+
+
 def test_a_camera_attribute_is_read_once_per_lint(stage, monkeypatch) -> None:
-    reads: list[str] = []
-    authored = _camera.has_authored_value
-
-    def counting(attr):
-        reads.append(str(attr.GetPath()))
-        return authored(attr)
-
-    monkeypatch.setattr(_camera, "has_authored_value", counting)
+    reads = _record_paths(monkeypatch, _camera, "has_authored_value")
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert reads.count("/cam.projection") == 1  # CA005 twice, CA009
     assert reads.count("/cam.horizontalAperture") == 1  # CA005, CA006
@@ -174,14 +180,7 @@ def test_a_changed_settings_path_is_read_again(stage) -> None:
 
 
 def test_ordered_vars_targets_are_resolved_once_per_lint(stage, monkeypatch) -> None:
-    resolved: list[str] = []
-    resolve_targets = _aov.resolve_targets
-
-    def counting(rel):
-        resolved.append(str(rel.GetPath()))
-        return resolve_targets(rel)
-
-    monkeypatch.setattr(_aov, "resolve_targets", counting)
+    resolved = _record_paths(monkeypatch, _aov, "resolve_targets")
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert resolved.count("/Render/beauty.orderedVars") == 1  # PR005 and the AOV helper
 
