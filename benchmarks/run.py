@@ -13,7 +13,9 @@ ratio of the medians and the peak resident memory of the processes
   what the stack costs before any linter code runs, and ``check`` in one
   process without the worker that isolates a crash or hang);
 - many files (500 shots of ~200 prims): ``--jobs 2`` files/s >= 1.7x
-  ``--jobs 1``, and the per-file cost in one process <= 1.2x a bare open.
+  ``--jobs 1``, and the per-file cost in one process <= 1.2x a bare open
+  (also printed: a bare open that reads every authored attribute and target of
+  the render prims, what any rule set must read before its logic runs).
 
 Run ``python benchmarks/run.py --quick`` for a fast look (10k prims, 100
 files) or ``python benchmarks/run.py`` for the issue's figures (the 1M-prim
@@ -53,6 +55,25 @@ STACK_FLOOR = (
     "import sys; from pxr import Usd, UsdRender; import click; Usd.Stage.Open(sys.argv[1])"
 )
 BARE_OPEN_ALL = "import sys; from pxr import Usd\nfor f in sys.argv[1:]: Usd.Stage.Open(f)"
+#: A bare open of each file that also reads what any render-settings rule set must
+#: read: every authored attribute value and relationship target of the render prims,
+#: with each attribute's spec stack and schema definition (type checks).
+READ_RENDER_DATA_ALL = """import sys
+from pxr import Usd
+RENDER = {"RenderSettings", "RenderProduct", "RenderVar", "RenderPass"}
+for f in sys.argv[1:]:
+    stage = Usd.Stage.Open(f)
+    for prim in stage.Traverse():
+        if prim.GetTypeName() in RENDER:
+            definition = prim.GetPrimDefinition()
+            for attr in prim.GetAuthoredAttributes():
+                attr.Get()
+                attr.GetPropertyStack(Usd.TimeCode.Default())
+                definition.GetAttributeDefinition(attr.GetName())
+            for rel in prim.GetAuthoredRelationships():
+                for target in rel.GetForwardedTargets():
+                    stage.GetPrimAtPath(target)
+"""
 FULL_ENV = "USDRENDER_LINT_FULL_COMPOSITION"
 
 
@@ -212,9 +233,14 @@ def many_files(work: Path, count: int, rounds: int) -> dict[str, float]:
     check_one = Series(
         "check --jobs 1, 1 file", [*LINT, "check", "--isolated", "--jobs", "1", *one]
     )
-    measure([bare_all, bare_one, jobs1, jobs2, check_one], rounds)
+    read_all = Series(
+        f"bare open + read render data, {count}", [PYTHON, "-c", READ_RENDER_DATA_ALL, *files]
+    )
+    read_one = Series("bare open + read render data, 1", [PYTHON, "-c", READ_RENDER_DATA_ALL, *one])
+    series = [bare_all, bare_one, jobs1, jobs2, check_one, read_all, read_one]
+    measure(series, rounds)
     print(f"\nMany files: {count} shots of ~200 prims (.usda), {rounds} rounds")
-    for s in (bare_all, bare_one, jobs1, jobs2, check_one):
+    for s in series:
         print(row(s))
     speedup = jobs1.median() / jobs2.median()
     per_file_bare = (bare_all.median() - bare_one.median()) / (count - 1)
@@ -226,6 +252,12 @@ def many_files(work: Path, count: int, rounds: int) -> dict[str, float]:
     print(
         f"  per-file cost in one process: check {per_file_check * 1000:.2f} ms, bare open "
         f"{per_file_bare * 1000:.2f} ms = {per_file_check / per_file_bare:.2f}x"
+    )
+    # What reading the data any rule set needs costs per file, before any rule logic.
+    per_file_read = (read_all.median() - read_one.median()) / (count - 1)
+    print(
+        f"  per-file cost of a bare open that reads the render data: {per_file_read * 1000:.2f}"
+        f" ms = {per_file_read / per_file_bare:.2f}x"
     )
     return {"jobs_speedup": speedup, "per_file": per_file_check / per_file_bare}
 

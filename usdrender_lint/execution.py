@@ -177,6 +177,7 @@ def _worker_main(
     log_path: str,
     settings_env: dict[str, str],
     memory_limit: int | None = None,
+    usd_threads: int | None = None,
 ) -> None:
     """Build the linter, say ready, then lint ``(index, path)`` until ``None``.
 
@@ -184,10 +185,15 @@ def _worker_main(
     USD prints when it aborts becomes part of the one-line error, not noise
     around the report. ``settings_env`` is the parent's ``USDRENDER_LINT_*``
     environment now: a forkserver child inherits the server's, which may be older.
-    ``memory_limit`` caps the worker's data segment (see worker_memory_limit).
+    ``memory_limit`` caps the worker's data segment (see worker_memory_limit);
+    ``usd_threads`` caps USD's thread pool in the worker (see worker_usd_threads).
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
     _limit_memory(memory_limit)
+    if usd_threads is not None:
+        from pxr import Work
+
+        Work.SetConcurrencyLimit(usd_threads)
     for name in [n for n in os.environ if n.startswith(ENV_PREFIX)]:
         del os.environ[name]
     os.environ.update(settings_env)
@@ -253,6 +259,7 @@ class _Pool:
         self._size = size
         self._timeout = timeout
         self._memory_limit = worker_memory_limit(size)
+        self._usd_threads = worker_usd_threads(size)
         self._advance = advance
         self._context = _context()
         self._workers: list[_Worker] = []
@@ -290,7 +297,14 @@ class _Pool:
         log_path = os.path.join(self._log_dir, f"worker-{self._started}.log")
         process = self._context.Process(
             target=_worker_main,
-            args=(child_end, self._factory, log_path, _settings_env(), self._memory_limit),
+            args=(
+                child_end,
+                self._factory,
+                log_path,
+                _settings_env(),
+                self._memory_limit,
+                self._usd_threads,
+            ),
             daemon=True,
         )
         process.start()
@@ -390,6 +404,17 @@ class _Pool:
         except (OSError, ValueError):
             pass
         worker.kill()
+
+
+def worker_usd_threads(workers: int) -> int | None:
+    """USD threads per worker when several share the machine: each its share of
+    the cores (at least one), as USD would otherwise start a thread per core in
+    every worker and the workers would contend for the cores (measured: 500 small
+    shots with --jobs 2 on 2 cores, 1.95 s -> 1.91 s). None (USD's default) for
+    one worker, or when the user set ``PXR_WORK_THREAD_LIMIT``."""
+    if workers < 2 or os.environ.get("PXR_WORK_THREAD_LIMIT"):
+        return None
+    return max(1, default_jobs() // workers)
 
 
 def worker_memory_limit(workers: int) -> int | None:
