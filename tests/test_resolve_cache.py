@@ -67,6 +67,16 @@ def test_answers_are_memoised_inside_a_lint_memo_and_dropped_after(stage) -> Non
     assert not resolve.has_authored_value(attr)
 
 
+def test_a_none_answer_is_remembered_inside_a_lint_memo(stage) -> None:
+    attr = _settings(stage).GetAttribute("aspectRatioConformPolicy")
+    with resolve.lint_memo():
+        assert resolve.mismatched_spec(attr) is None  # token, as the schema declares
+        spec = stage.GetRootLayer().GetAttributeAtPath(attr.GetPath())
+        spec.SetInfo("typeName", "string")  # never during a lint: shows the memo answers
+        assert resolve.mismatched_spec(attr) is None
+    assert resolve.mismatched_spec(attr) is not None
+
+
 def test_helpers_outside_a_lint_are_not_memoised(stage) -> None:
     assert resolve._MEMO.get() is None
     attr = _settings(stage).GetAttribute("resolution")

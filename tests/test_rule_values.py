@@ -9,6 +9,8 @@ import pytest
 from pxr import Gf, Vt
 from usdrender_lint.rules._values import items
 
+from usdrender_lint.resolve import is_finite
+
 
 @pytest.mark.parametrize(
     "value",
@@ -52,3 +54,28 @@ def test_items_never_reads_past_the_end() -> None:
     sequence = _Counted([3, 4])
     assert items(sequence) == [3, 4]
     assert sequence.asked == [0, 1]
+
+
+@pytest.mark.parametrize(
+    ("value", "finite"),
+    [
+        (1, True),
+        (True, True),
+        (-2.5, True),
+        (math.nan, False),
+        (-math.inf, False),
+        (Gf.Vec2f(1, 2), True),
+        (Gf.Vec4f(0, 0, math.nan, 1), False),
+        (Gf.Vec2d(math.inf, 0), False),
+        (Vt.FloatArray([0.5, 1]), True),
+        ([1.0, math.nan], False),
+        ((x for x in (1.0, 2.0)), True),  # iterable without a length
+        (iter([math.inf]), False),
+        ("ab", False),  # text is not a number
+        (None, False),
+    ],
+)
+def test_is_finite_reads_scalars_vectors_and_sequences(value, finite) -> None:
+    """resolve.is_finite: scalars directly, vectors up to their length (the same
+    answers as iterating them)."""
+    assert is_finite(value) is finite

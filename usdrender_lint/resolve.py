@@ -15,6 +15,7 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass
 from functools import cached_property, wraps
+from itertools import islice
 from typing import Any, TypeVar
 
 from pxr import Sdf, Tf, Usd, UsdGeom, UsdRender
@@ -51,6 +52,10 @@ def lint_memo() -> Iterator[None]:
         _MEMO.reset(token)
 
 
+#: A memo's "not computed yet" (None is a remembered answer).
+_MISSING: Any = object()
+
+
 def _memoised(func: Callable[[_Key], _Answer]) -> Callable[[_Key], _Answer]:
     """``func`` answering from the current lint's memo (computed once per
     argument); a plain call outside a lint."""
@@ -61,11 +66,11 @@ def _memoised(func: Callable[[_Key], _Answer]) -> Callable[[_Key], _Answer]:
         if memo is None:
             return func(key)
         answers = memo[func]
-        try:
-            return answers[key]
-        except KeyError:
+        # a sentinel, not KeyError: raising costs ~0.3 us on each first call
+        answer = answers.get(key, _MISSING)
+        if answer is _MISSING:
             answer = answers[key] = func(key)
-            return answer
+        return answer
 
     return memoised
 
@@ -345,10 +350,16 @@ def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME)
 
 def is_finite(value: Any) -> bool:
     """True when every component of a scalar or Gf vector is finite."""
+    if isinstance(value, (int, float)):
+        return math.isfinite(value)
     try:
-        components = list(value)
+        # A Gf vector iterates until its __getitem__ raises (~10 us): stop at its length.
+        components = list(islice(value, len(value)))
     except TypeError:
-        components = [value]
+        try:
+            components = list(value)
+        except TypeError:
+            components = [value]
     return all(isinstance(c, (int, float)) and math.isfinite(c) for c in components)
 
 
