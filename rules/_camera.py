@@ -72,8 +72,10 @@ def first_failure(
     return None
 
 
-#: An attribute, whether it holds a well-typed authored value, and its fallback.
+#: An attribute, whether it holds a well-typed authored value, and its fallback
+#: (read when first needed for an authored one: only a blocked sample needs it).
 _Reader = tuple[Usd.Attribute, bool, Any]
+_NOT_READ: Any = object()
 
 
 def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
@@ -81,7 +83,8 @@ def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
     # opinion stack is costly and several CA rules read the same attributes.
     def compute() -> _Reader:
         attr = prim.GetAttribute(name)
-        return attr, has_authored_value(attr), fallback_value(prim, name)
+        authored = has_authored_value(attr)
+        return attr, authored, _NOT_READ if authored else fallback_value(prim, name)
 
     return ctx.memo(("camera", "reader", prim, name), compute)
 
@@ -89,8 +92,10 @@ def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:
     attr, authored, fallback = reader
     value = attr.Get(time) if authored else None
+    if value is not None:
+        return value
     # A blocked time sample (`1: None`) leaves typed C++ reads with the fallback.
-    return fallback if value is None else value
+    return fallback_value(attr.GetPrim(), attr.GetName()) if fallback is _NOT_READ else fallback
 
 
 def at_time(time: Usd.TimeCode) -> str:

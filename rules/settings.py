@@ -98,16 +98,17 @@ def _window_uses(ctx: Context) -> list[_WindowUse]:
     (catalog SE003: checked once per settings that targets the product)."""
 
     def compute() -> list[_WindowUse]:
-        uses = [
-            _WindowUse(config.effective("dataWindowNDC"), config.effective("resolution").value)
-            for config in ctx.configurations
-        ]
+        uses = []
+        for config in ctx.configurations:
+            window = config.effective("dataWindowNDC")
+            if window.authored:  # the resolution is read only for a window to check
+                uses.append(_WindowUse(window, config.effective("resolution").value))
         for prim in [*ctx.prims_of(UsdRender.Settings), *ctx.untargeted_products]:
             attr = prim.GetAttribute("dataWindowNDC")
             if has_authored_value(attr):
                 window = EffectiveValue(attr.Get(), attr, True)
                 uses.append(_WindowUse(window, composed_value(prim, "resolution")))
-        return [use for use in uses if use.window.authored]
+        return uses
 
     return ctx.memo("settings.window_uses", compute)
 
@@ -750,6 +751,10 @@ def _quoted(tokens: Sequence[str]) -> str:
     return ", ".join(f'"{t}"' for t in tokens)
 
 
+#: The purposes UsdGeom knows, in its order (fixed for the process).
+_PURPOSES = tuple(str(t) for t in UsdGeom.Imageable.GetOrderedPurposeTokens())
+
+
 class IncludedPurposesInvalid(Rule):
     """includedPurposes names a purpose that does not exist, or repeats one.
 
@@ -809,7 +814,7 @@ class IncludedPurposesInvalid(Rule):
         if purposes is None:
             return
         tokens = items(purposes)
-        known = [str(t) for t in UsdGeom.Imageable.GetOrderedPurposeTokens()]
+        known = _PURPOSES
         unknown = [t for t in dict.fromkeys(tokens) if t not in known]
         repeated = _duplicates(tokens)
         problems = []
