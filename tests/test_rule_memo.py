@@ -137,7 +137,7 @@ def test_a_collection_authored_after_a_lint_is_checked(stage) -> None:
     assert ("PA005", "/Render/pass.collection:prune:expansionRule") in _codes(linter, stage)
 
 
-def test_collections_left_to_their_fallbacks_are_not_evaluated(stage, monkeypatch) -> None:
+def _record_validated(monkeypatch) -> list[str]:
     validated: list[str] = []
     validate = Usd.CollectionAPI.Validate
 
@@ -146,9 +146,30 @@ def test_collections_left_to_their_fallbacks_are_not_evaluated(stage, monkeypatc
         return validate(collection)
 
     monkeypatch.setattr(Usd.CollectionAPI, "Validate", counting)
+    return validated
+
+
+def test_collections_left_to_their_fallbacks_are_not_evaluated(stage, monkeypatch) -> None:
+    validated = _record_validated(monkeypatch)
     Usd.CollectionAPI(stage.GetPrimAtPath("/Render/pass"), "matte").CreateIncludesRel()
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert validated == ["matte"]
+
+
+def test_only_properties_inside_a_collection_namespace_make_it_authored(stage, monkeypatch) -> None:
+    # "collection:matte" itself and "collection:matteX:..." are not in matte's
+    # namespace; an includes rel authored in a referenced layer is.
+    referenced = Sdf.Layer.CreateAnonymous(".usda")
+    referenced.ImportFromString(
+        '#usda 1.0\ndef RenderPass "p"\n{\n    rel collection:prune:includes = </cam>\n}\n'
+    )
+    render_pass = stage.GetPrimAtPath("/Render/pass")
+    render_pass.GetReferences().AddReference(referenced.identifier, "/p")
+    render_pass.CreateAttribute("collection:matte", Sdf.ValueTypeNames.Opaque)
+    render_pass.CreateAttribute("collection:matteX:foo", Sdf.ValueTypeNames.Token)
+    validated = _record_validated(monkeypatch)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert validated == ["prune"]
 
 
 def test_the_settings_path_opinion_is_read_once_per_lint(stage, monkeypatch) -> None:
