@@ -144,14 +144,14 @@ class RenderSourceInvalid(Rule):
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        render_pass = UsdRender.Pass(prim)
-        file_attr = render_pass.GetFileNameAttr()
+        # Read by name: a schema object costs ~1.2 us a pass and is not needed.
+        file_attr = prim.GetAttribute("fileName")
         if _value_lost_elsewhere(file_attr):
             return  # A fileName was meant; SE016 or SE017 reports how it is lost.
         file_name = authored_value(file_attr)
         if file_name is not None and file_name.authoredPath:
             return
-        rel = render_pass.GetRenderSourceRel()
+        rel = prim.GetRelationship("renderSource")
         targets = resolve_targets(rel)
         if not targets:
             yield Diagnostic(

@@ -225,8 +225,11 @@ class ProductNameDuplicate(Rule):
                 for product in products:
                     name = _product_name(product, time)
                     first = owners.setdefault(name, product)
+                    if not name or first == product:
+                        continue
+                    # Paths are built only for a duplicate.
                     pair = (first.GetPath(), product.GetPath())
-                    if not name or first == product or pair in reported:
+                    if pair in reported:
                         continue
                     reported.add(pair)
                     yield Diagnostic(
@@ -624,7 +627,7 @@ class DuplicateRenderVars(Rule):
             if None in key or not key[1]:
                 continue
             first = seen.setdefault(key, var)
-            if first.GetPath() == var.GetPath():
+            if first == var:  # the same prim (Usd.Prim equality), without building paths
                 continue
             source_type, source_name, data_type = key
             yield Diagnostic(
