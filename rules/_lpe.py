@@ -22,7 +22,9 @@ dialect admits renderer extensions: the ``?`` modifier and any other label.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Literal
 
 Dialect = Literal["osl", "extended"]
@@ -87,9 +89,16 @@ def parse_lpe(text: str, dialect: Dialect = "osl", extra_labels: tuple[str, ...]
 
 
 def lpe_problem(
-    text: str, dialect: Dialect = "osl", extra_labels: tuple[str, ...] = ()
+    text: str, dialect: Dialect = "osl", extra_labels: Iterable[str] = ()
 ) -> LpeProblem | None:
     """Why ``text`` is not a valid LPE of ``dialect``, or None when it is."""
+    return _lpe_problem(text, dialect, tuple(extra_labels))
+
+
+# A pure function of its strings: shots repeat the same few expressions, and a
+# parse costs ~10-20 us. Bounded, so hostile input cannot grow it without limit.
+@lru_cache(maxsize=1024)
+def _lpe_problem(text: str, dialect: Dialect, extra_labels: tuple[str, ...]) -> LpeProblem | None:
     try:
         parse_lpe(text, dialect, extra_labels)
     except ValueError as exc:

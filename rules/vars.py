@@ -161,8 +161,10 @@ class SourceTypeNotAllowed(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("sourceType")
         value = authored_value(attr)
-        allowed = allowed_tokens(prim, "sourceType")
-        if value is None or value in allowed:
+        if value is None:
+            return
+        allowed = allowed_tokens(prim, "sourceType")  # a schema lookup, only for a value
+        if value in allowed:
             return
         correction = unique_case_match(value, allowed)
         advice = (

@@ -92,6 +92,27 @@ def test_extra_labels_admit_named_labels_only() -> None:
     assert "unknown label 'W'" in lpe_problem("CWL", extra_labels=("U",)).message
 
 
+def test_a_remembered_answer_is_kept_apart_per_dialect_and_labels(monkeypatch) -> None:
+    from usdrender_lint.rules import _lpe
+
+    parsed: list[str] = []
+    parse = _lpe.parse_lpe
+
+    def counting(text, *args):
+        parsed.append(text)
+        return parse(text, *args)
+
+    monkeypatch.setattr(_lpe, "parse_lpe", counting)
+    _lpe._lpe_problem.cache_clear()
+    assert lpe_problem("CQL") is not None
+    assert lpe_problem("CQL") is not None
+    assert parsed == ["CQL"]  # the second answer is remembered
+    assert lpe_problem("CQL", extra_labels=["Q"]) is None  # any iterable of labels
+    assert lpe_problem("CD?L", "extended") is None
+    assert lpe_problem("CD?L") is not None
+    assert parsed == ["CQL", "CQL", "CD?L", "CD?L"]
+
+
 def test_parse_tree_shape() -> None:
     tree = parse_lpe("C<RD>*L")
     assert tree.kind == "cat"
