@@ -28,7 +28,6 @@ from ._camera import (
     positive_finite,
     usable_cameras,
 )
-from ._values import items
 
 
 def _camera_rel_label(config: RenderConfiguration) -> str:
@@ -917,7 +916,7 @@ def _inverted_shutter(shutter_open, shutter_close) -> str | None:
 
 def _clipping_problem(clipping_range, projection) -> str | None:
     near, far = float(clipping_range[0]), float(clipping_range[1])
-    if not is_finite(items(clipping_range)):
+    if not is_finite(clipping_range):
         return "has a NaN or infinite component"
     if near < 0:
         return f"has a negative near plane {near:g}"

@@ -19,6 +19,7 @@ from usdrender_lint.resolve import (
     forwarded_targets,
     has_authored_value,
     is_finite,
+    items,
     mismatched_spec,
     mismatched_specs,
     resolve_targets,
@@ -29,7 +30,6 @@ from usdrender_lint.resolve import (
 from . import _colorspace
 from ._corrections import set_value
 from ._raster import pixel_centres, pixel_span
-from ._values import items
 
 Apply = Callable[[Usd.Stage], None]
 

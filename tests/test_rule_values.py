@@ -1,4 +1,4 @@
-"""rules._values.items: the elements of USD vectors and arrays, read without
+"""resolve.items: the elements of USD vectors and arrays, read without
 running their iteration into the IndexError that ends it."""
 
 from __future__ import annotations
@@ -7,9 +7,8 @@ import math
 
 import pytest
 from pxr import Gf, Vt
-from usdrender_lint.rules._values import items
 
-from usdrender_lint.resolve import is_finite
+from usdrender_lint.resolve import is_finite, items
 
 
 @pytest.mark.parametrize(

@@ -348,13 +348,22 @@ def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME)
     return fallback_value(prim, name)
 
 
+def items(value: Any) -> list[Any]:
+    """The elements of a Gf vector or Vt array (or any sized sequence), in order.
+
+    Iterating a Gf vector or Vt array runs until its C++ ``__getitem__`` raises
+    IndexError, which costs ~10 us per loop (``min``, ``list``, unpacking and
+    ``dict.fromkeys`` all iterate); stopping at its length costs ~1 us.
+    """
+    return list(islice(value, len(value)))
+
+
 def is_finite(value: Any) -> bool:
     """True when every component of a scalar or Gf vector is finite."""
     if isinstance(value, (int, float)):
         return math.isfinite(value)
     try:
-        # A Gf vector iterates until its __getitem__ raises (~10 us): stop at its length.
-        components = list(islice(value, len(value)))
+        components = items(value)
     except TypeError:
         try:
             components = list(value)
