@@ -1,0 +1,108 @@
+"""ST002 composition-error-on-render-prim."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Sdf, Usd
+
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+
+from ._render_prims import RENDER_SCOPE, is_render_type
+
+
+def _composition_error_site(error) -> Sdf.Path | None:
+    site = getattr(error, "rootSite", None)
+    path = getattr(site, "path", None)
+    return path if isinstance(path, Sdf.Path) else None
+
+
+def _render_prim_paths(stage: Usd.Stage) -> list[Sdf.Path]:
+    """Paths of every render prim, inactive, `over` and abstract ones included
+    (``TraverseAll``); the schema test is cached per type name."""
+    by_type_name: dict[str, bool] = {}
+    paths = []
+    for prim in stage.TraverseAll():
+        type_name = prim.GetTypeName()
+        hit = by_type_name.get(type_name)
+        if hit is None:
+            hit = by_type_name[type_name] = is_render_type(prim)
+        if hit:
+            paths.append(prim.GetPath())
+    return paths
+
+
+class CompositionErrorOnRenderPrim(Rule):
+    """A composition error hits a render prim, its ancestors or descendants, or /Render.
+
+    ## What it does
+    Reports each of `stage.GetCompositionErrors()` whose site is under
+    `/Render`, or is a RenderSettings, RenderProduct, RenderVar or RenderPass
+    (inactive ones included), or an ancestor or descendant of one. Layer-stack
+    errors such as a missing sublayer have the site `/`, an ancestor of every
+    prim, so they are always reported. The message is USD's own.
+
+    ## Why is this bad?
+    A render prim whose reference, payload or inherit fails to compose
+    silently loses every opinion that arc supplies: a facility RenderSettings
+    referenced from a shared layer reverts to schema fallbacks (2048x1080, no
+    camera, no products). OpenUSD reports it only as a stage warning (*"Could
+    not open asset @...@ for reference introduced by ..."*,
+    `pxr/usd/usd/stage.cpp`), which CI logs usually ignore.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings" (
+            references = @./facility/shot_render_settings.usda@</Render/Settings>
+        )
+        {
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            uniform int2 resolution = (1920, 1080)
+        }
+    }
+    ```
+
+    ## Fix safety
+    No automatic fix: repair the asset path or remove the arc.
+    """
+
+    code = "ST002"
+    name = "composition-error-on-render-prim"
+    severity = Severity.ERROR
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        errors = ctx.stage.GetCompositionErrors()
+        if not errors:
+            return
+        render_paths: list[Sdf.Path] | None = None
+        for error in errors:
+            site = _composition_error_site(error)
+            if site is None:
+                continue
+            if site != Sdf.Path.absoluteRootPath and not site.HasPrefix(RENDER_SCOPE):
+                if render_paths is None:
+                    render_paths = _render_prim_paths(ctx.stage)
+                if not any(site.HasPrefix(p) or p.HasPrefix(site) for p in render_paths):
+                    continue
+            at_root = site == Sdf.Path.absoluteRootPath
+            scope = "every prim" if at_root else f"render data at <{site}>"
+            yield Diagnostic(
+                f"{' '.join(str(error).split())} {scope[0].upper()}{scope[1:]} loses the "
+                "opinions this layer or arc would supply; repair the asset path or remove it",
+                at=None if at_root else site,
+            )
