@@ -7,14 +7,18 @@ from collections.abc import Iterable
 
 import pytest
 from pxr import Gf, Sdf, Usd, UsdRender
-from usdrender_lint.rules.settings import (
+from usdrender_lint.rules.settings.se006_aspect_ratio_conform_policy_invalid import (
     AspectRatioConformPolicyInvalid,
-    AttributeTypeMismatch,
-    IncludedPurposesInvalid,
-    IncludedPurposesMissingDefault,
-    MaterialBindingPurposesInvalid,
-    TimeSamplesIgnored,
 )
+from usdrender_lint.rules.settings.se009_included_purposes_invalid import IncludedPurposesInvalid
+from usdrender_lint.rules.settings.se010_included_purposes_missing_default import (
+    IncludedPurposesMissingDefault,
+)
+from usdrender_lint.rules.settings.se011_material_binding_purposes_invalid import (
+    MaterialBindingPurposesInvalid,
+)
+from usdrender_lint.rules.settings.se016_attribute_type_mismatch import AttributeTypeMismatch
+from usdrender_lint.rules.settings.se017_time_samples_ignored import TimeSamplesIgnored
 
 from usdrender_lint.api import Context, Diagnostic, Rule
 

@@ -8,7 +8,10 @@ from pathlib import Path
 import pytest
 from pxr import Usd
 from usdrender_lint.rules import _colorspace, _raster
-from usdrender_lint.rules.settings import RenderingColorSpaceNotLinear, ResolutionNonPositive
+from usdrender_lint.rules.settings.se001_resolution_non_positive import ResolutionNonPositive
+from usdrender_lint.rules.settings.se013_rendering_color_space_not_linear import (
+    RenderingColorSpaceNotLinear,
+)
 
 from usdrender_lint.config import ConfigError, Settings
 from usdrender_lint.engine import Linter

@@ -1,0 +1,86 @@
+"""Authored dataWindowNDC values and the resolutions they render at, shared by
+the data-window rules (SE003, SE004, SE005)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from pxr import UsdRender
+
+from usdrender_lint.api import Context
+from usdrender_lint.resolve import (
+    EffectiveValue,
+    composed_value,
+    has_authored_value,
+    is_finite,
+    items,
+)
+
+from .._raster import pixel_centres
+from ._messages import _fmt
+
+
+def _data_window_problem(window, resolution) -> str | None:
+    """Why an authored dataWindowNDC renders nothing sensible, or None."""
+    components = items(window)
+    xmin, ymin, xmax, ymax = (float(c) for c in components)
+    if not is_finite(components):
+        return "has a NaN or infinite component"
+    if xmin >= xmax or ymin >= ymax:
+        axis = "x" if xmin >= xmax else "y"
+        return f"is inverted or empty on {axis} (min must be < max)"
+    width, height = int(resolution[0]), int(resolution[1])
+    if (
+        width > 0
+        and height > 0
+        and (pixel_centres(xmin, xmax, width) == 0 or pixel_centres(ymin, ymax, height) == 0)
+    ):
+        return f"contains no pixel centre at resolution {width}x{height}"
+    return None
+
+
+@dataclass(frozen=True)
+class _WindowUse:
+    """An authored dataWindowNDC and a resolution it is rendered at."""
+
+    window: EffectiveValue
+    resolution: Any
+
+    @property
+    def values(self) -> tuple[float, float, float, float]:
+        xmin, ymin, xmax, ymax = (float(c) for c in items(self.window.value))
+        return xmin, ymin, xmax, ymax
+
+    @property
+    def text(self) -> str:
+        return _fmt(tuple(round(c, 6) for c in self.values))
+
+
+def _window_uses(ctx: Context) -> list[_WindowUse]:
+    """Every authored dataWindowNDC with the resolution of each configuration
+    it is used in: a product's window or resolution overrides the settings'
+    (catalog SE003: checked once per settings that targets the product)."""
+
+    def compute() -> list[_WindowUse]:
+        uses = []
+        for config in ctx.configurations:
+            window = config.effective("dataWindowNDC")
+            if window.authored:  # the resolution is read only for a window to check
+                uses.append(_WindowUse(window, config.effective("resolution").value))
+        for prim in [*ctx.prims_of(UsdRender.Settings), *ctx.untargeted_products]:
+            attr = prim.GetAttribute("dataWindowNDC")
+            if has_authored_value(attr):
+                window = EffectiveValue(attr.Get(), attr, True)
+                uses.append(_WindowUse(window, composed_value(prim, "resolution")))
+        return uses
+
+    return ctx.memo("settings.window_uses", compute)
+
+
+def _well_formed_window_uses(ctx: Context) -> Iterator[_WindowUse]:
+    """The uses SE003 accepts: SE004 and SE005 only look at those."""
+    for use in _window_uses(ctx):
+        if _data_window_problem(use.window.value, use.resolution) is None:
+            yield use

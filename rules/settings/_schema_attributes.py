@@ -1,0 +1,29 @@
+"""The authored schema attributes of every render prim kind, shared by SE016
+and SE017."""
+
+from __future__ import annotations
+
+from pxr import Usd, UsdRender
+
+from usdrender_lint.api import Context
+
+#: Every render prim kind: SE016 and SE017 look at all their schema attributes.
+_RENDER_PRIM_TYPES = (UsdRender.SettingsBase, UsdRender.Var, UsdRender.Pass)
+
+
+def _authored_schema_attributes(
+    prim: Usd.Prim, ctx: Context
+) -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
+    """The prim's authored attributes that its schema declares, with their
+    definitions: SE016 and SE017 both walk them, so they are listed once per lint."""
+
+    def compute() -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
+        attribute_definition = prim.GetPrimDefinition().GetAttributeDefinition
+        found = []
+        for attr in prim.GetAuthoredAttributes():
+            definition = attribute_definition(attr.GetName())
+            if definition:  # custom attributes have none
+                found.append((attr, definition))
+        return tuple(found)
+
+    return ctx.memo(("settings.authored_schema_attributes", prim), compute)

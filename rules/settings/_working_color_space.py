@@ -1,0 +1,20 @@
+"""The working colour space, shared by SE012 and SE013: the authored
+renderingColorSpace and one colour-space cache per lint."""
+
+from __future__ import annotations
+
+from pxr import Usd
+
+from usdrender_lint.api import Context
+from usdrender_lint.resolve import authored_value
+
+
+def _rendering_color_space(prim: Usd.Prim) -> tuple[Usd.Attribute, str] | None:
+    """The authored, non-empty renderingColorSpace (an empty token means unset)."""
+    attr = prim.GetAttribute("renderingColorSpace")
+    name = authored_value(attr)
+    return (attr, str(name)) if name else None
+
+
+def _color_space_cache(ctx: Context) -> Usd.ColorSpaceCache:
+    return ctx.memo("settings.color_space_cache", Usd.ColorSpaceCache)

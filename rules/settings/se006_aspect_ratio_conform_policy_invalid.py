@@ -1,0 +1,90 @@
+"""SE006 aspect-ratio-conform-policy-invalid."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.resolve import allowed_tokens, authored_value
+
+from .._corrections import set_value
+
+
+class AspectRatioConformPolicyInvalid(Rule):
+    """An authored aspectRatioConformPolicy is not one of the schema's tokens.
+
+    ## What it does
+    Checks an authored `aspectRatioConformPolicy` on a RenderSettings or
+    RenderProduct against the attribute's `allowedTokens`, read at run time
+    from the prim definition (`expandAperture`, `cropAperture`,
+    `adjustApertureWidth`, `adjustApertureHeight`, `adjustPixelAspectRatio` in
+    usd-core 26.11). The comparison is case-sensitive.
+
+    ## Why is this bad?
+    `allowedTokens = ["expandAperture", "cropAperture", "adjustApertureWidth",
+    "adjustApertureHeight", "adjustPixelAspectRatio"]`
+    (`pxr/usd/usdRender/schema.usda`). `UsdRenderComputeSpec` matches these
+    tokens exactly; any other value falls through every branch, so no conform
+    is applied at all, not even the fallback `expandAperture`.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            uniform token aspectRatioConformPolicy = "cropaperture"
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            uniform token aspectRatioConformPolicy = "cropAperture"
+        }
+    }
+    ```
+
+    ## Fix safety
+    Safe, conditional: when the value matches exactly one allowed token
+    ignoring case (`cropaperture`), the fix authors that token; otherwise no
+    fix is offered.
+    """
+
+    code = "SE006"
+    name = "aspect-ratio-conform-policy-invalid"
+    severity = Severity.ERROR
+    fix_safety = "safe-conditional"
+    prim_types = (UsdRender.SettingsBase,)
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        name = "aspectRatioConformPolicy"
+        attr = prim.GetAttribute(name)
+        policy = authored_value(attr)
+        allowed = allowed_tokens(prim, name)
+        if policy is None or not allowed or policy in allowed:
+            return
+        same_letters = [t for t in allowed if t.lower() == str(policy).lower()]
+        fix = None
+        if len(same_letters) == 1:
+            fix = Fix(
+                f'set to "{same_letters[0]}"', True, set_value(attr.GetPath(), same_letters[0])
+            )
+        hint = f'did you mean "{same_letters[0]}"? ' if same_letters else ""
+        yield Diagnostic(
+            f'aspectRatioConformPolicy "{policy}" is not an allowed token, so no aspect-ratio '
+            f"conform is applied at all; {hint}use one of {', '.join(allowed)} "
+            "(case-sensitive)",
+            at=attr,
+            fix=fix,
+        )

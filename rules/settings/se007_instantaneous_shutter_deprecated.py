@@ -1,0 +1,109 @@
+"""SE007 instantaneous-shutter-deprecated."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Sdf, Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.resolve import has_authored_value
+
+from ._fixes import Apply
+
+
+def _replace_instantaneous_shutter(prim_path: Sdf.Path, author_disable: bool) -> Apply:
+    def apply(stage: Usd.Stage) -> None:
+        prim = stage.GetPrimAtPath(prim_path)
+        if author_disable:
+            UsdRender.SettingsBase(prim).CreateDisableMotionBlurAttr().Set(True)
+        prim.RemoveProperty("instantaneousShutter")
+        attr = prim.GetAttribute("instantaneousShutter")
+        if attr.HasAuthoredValue():
+            # The opinion comes through an arc (an inherited class) or sits below
+            # the edited layer: removing it there would touch other prims, so block it here.
+            attr.Block()
+
+    return apply
+
+
+class InstantaneousShutterDeprecated(Rule):
+    """instantaneousShutter is authored; it is deprecated and ignored.
+
+    ## What it does
+    Reports a RenderSettings or RenderProduct with an authored
+    `instantaneousShutter` opinion, `true` or `false`.
+
+    ## Why is this bad?
+    *"Deprecated, use disableMotionBlur instead."* (`RenderSettings.md`,
+    `pxr/usd/usdRender/schema.usda`). Since v22.05 `pxr/usd/usdRender/spec.cpp`
+    never reads the attribute and UsdImaging skips it, so an authored `true`
+    has no effect at all in OpenUSD's own consumers.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            uniform bool instantaneousShutter = 1
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            uniform bool disableMotionBlur = 1
+        }
+    }
+    ```
+
+    ## Fix safety
+    Safe, conditional: `instantaneousShutter = true` becomes
+    `disableMotionBlur = true` when `disableMotionBlur` has no authored opinion
+    (otherwise see SE008); `false` is simply removed. The old attribute set
+    `shutter:close = shutter:open` (one sample at frame + `shutter:open`), the
+    new one samples at the frame: identical only when the camera's
+    `shutter:open` is 0.
+    """
+
+    code = "SE007"
+    name = "instantaneous-shutter-deprecated"
+    severity = Severity.WARNING
+    fix_safety = "safe-conditional"
+    prim_types = (UsdRender.SettingsBase,)
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        attr = prim.GetAttribute("instantaneousShutter")
+        if not has_authored_value(attr):
+            return
+        value = bool(attr.Get())
+        fix = None
+        if not value:
+            fix = Fix(
+                "remove the deprecated instantaneousShutter opinion",
+                True,
+                _replace_instantaneous_shutter(prim.GetPath(), False),
+            )
+        elif not has_authored_value(prim.GetAttribute("disableMotionBlur")):
+            fix = Fix(
+                "replace with disableMotionBlur = true (same result only when the camera's "
+                "shutter:open is 0)",
+                True,
+                _replace_instantaneous_shutter(prim.GetPath(), True),
+            )
+        advice = "author disableMotionBlur = true instead" if value else "remove it"
+        yield Diagnostic(
+            f"instantaneousShutter = {str(value).lower()} is deprecated and ignored by "
+            f"OpenUSD's render consumers; {advice}",
+            at=attr,
+            fix=fix,
+        )

@@ -1,0 +1,101 @@
+"""SE009 included-purposes-invalid."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Usd, UsdGeom, UsdRender, Vt
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.resolve import authored_value, items
+
+from .._corrections import set_value
+from ._messages import _fmt, _quoted
+from ._purposes import _duplicates
+
+#: The purposes UsdGeom knows, in its order (fixed for the process).
+_PURPOSES = tuple(str(t) for t in UsdGeom.Imageable.GetOrderedPurposeTokens())
+
+
+class IncludedPurposesInvalid(Rule):
+    """includedPurposes names a purpose that does not exist, or repeats one.
+
+    ## What it does
+    Checks an authored `includedPurposes` on a RenderSettings: every token must
+    be an imageable purpose (`UsdGeom.Imageable.GetOrderedPurposeTokens()`:
+    `default`, `render`, `proxy`, `guide` in usd-core 26.11), listed once.
+
+    ## Why is this bad?
+    *"Imageable purpose values (e.g. default, render, proxy, guide) that should
+    be included in the render."* (RenderSettings prim definition, usd-core
+    26.11); *"A prim can only have one purpose, and the purpose can be one of
+    the following: default … render … proxy … guide"*
+    (`docs/user_guides/render_user_guide.rst`). A token such as `preview` (a
+    material-binding purpose) matches no prim.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            uniform token[] includedPurposes = ["default", "render", "preview"]
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            uniform token[] includedPurposes = ["default", "render"]
+        }
+    }
+    ```
+
+    ## Fix safety
+    Safe, conditional: when the only problem is repeated tokens, the fix drops
+    the repeats and keeps the order. Unknown tokens are not fixed.
+    """
+
+    code = "SE009"
+    name = "included-purposes-invalid"
+    severity = Severity.WARNING
+    fix_safety = "safe-conditional"
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        attr = prim.GetAttribute("includedPurposes")
+        purposes = authored_value(attr)
+        if purposes is None:
+            return
+        tokens = items(purposes)
+        known = _PURPOSES
+        unknown = [t for t in dict.fromkeys(tokens) if t not in known]
+        repeated = _duplicates(tokens)
+        problems = []
+        if unknown:
+            verb = "is not a purpose" if len(unknown) == 1 else "are not purposes"
+            problems.append(f"{_quoted(unknown)} {verb}")
+        if repeated:
+            problems.append(
+                f"{_quoted(repeated)} {'is' if len(repeated) == 1 else 'are'} listed more than once"
+            )
+        if not problems:
+            return
+        fix = None
+        if not unknown:
+            unique = Vt.TokenArray(list(dict.fromkeys(tokens)))
+            fix = Fix("drop the repeated purposes", True, set_value(attr.GetPath(), unique))
+        yield Diagnostic(
+            f"includedPurposes {_fmt(purposes)}: {'; '.join(problems)}; list each of "
+            f"{', '.join(known)} at most once",
+            at=attr,
+            fix=fix,
+        )
