@@ -8,20 +8,26 @@ from __future__ import annotations
 from pathlib import Path
 
 from pxr import Sdf, Usd, UsdGeom, UsdRender
-from usdrender_lint.rules.camera import (
+from usdrender_lint.rules.camera.ca001_camera_unset import CameraUnset
+from usdrender_lint.rules.camera.ca004_camera_target_not_camera import CameraTargetNotCamera
+from usdrender_lint.rules.camera.ca005_camera_optics_invalid import CameraOpticsInvalid
+from usdrender_lint.rules.camera.ca006_aspect_ratio_mismatch_implicit_conform import (
     AspectRatioMismatchImplicitConform,
-    CameraOpticsInvalid,
-    CameraTargetNotCamera,
-    CameraUnset,
 )
-from usdrender_lint.rules.stage import (
-    RenderPrimOutsideRenderScope,
-    RenderSettingsPathInSublayer,
-    RenderSettingsPathMissing,
-    RenderSettingsPathNotRenderSettings,
+from usdrender_lint.rules.stage.st003_render_settings_path_missing import RenderSettingsPathMissing
+from usdrender_lint.rules.stage.st005_render_settings_path_unresolved import (
     RenderSettingsPathUnresolved,
-    UnknownRenderPrimType,
 )
+from usdrender_lint.rules.stage.st006_render_settings_path_not_render_settings import (
+    RenderSettingsPathNotRenderSettings,
+)
+from usdrender_lint.rules.stage.st007_render_settings_path_in_sublayer import (
+    RenderSettingsPathInSublayer,
+)
+from usdrender_lint.rules.stage.st008_render_prim_outside_render_scope import (
+    RenderPrimOutsideRenderScope,
+)
+from usdrender_lint.rules.stage.st010_unknown_render_prim_type import UnknownRenderPrimType
 
 from usdrender_lint.api import Context, Diagnostic, Rule
 from usdrender_lint.engine import Linter

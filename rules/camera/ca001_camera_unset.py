@@ -1,0 +1,122 @@
+"""CA001 camera-unset."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Sdf, Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+
+from .._camera import usable_cameras
+
+
+def _set_settings_camera(settings_path: Sdf.Path, camera_path: Sdf.Path):
+    def apply(stage: Usd.Stage) -> None:
+        settings = UsdRender.SettingsBase(stage.GetPrimAtPath(settings_path))
+        settings.CreateCameraRel().SetTargets([camera_path])
+
+    return apply
+
+
+class CameraUnset(Rule):
+    """A render configuration has no camera at all.
+
+    ## What it does
+    For each render configuration (a RenderSettings with each usable product
+    of its `products`, or the settings alone when it has none), reports when
+    the effective camera is empty: the product's `camera` has no forwarded
+    target and neither has the settings' `camera`. An authored empty product
+    relationship (`rel camera = []`) does not clear the settings camera, so it
+    is not a finding when the settings has one.
+
+    ## Why is this bad?
+    *"This relationship specifies the primary camera to use for a render. The
+    relationship must target a Camera."* (`RenderSettings.md`). With no camera
+    `UsdRenderComputeSpec` posts *"Could not find camera <> for the render
+    product"* and drops the product from the render
+    (`pxr/usd/usdRender/spec.cpp`).
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel products = </Render/Beauty>
+        }
+
+        def RenderProduct "Beauty"
+        {
+            token productName = "beauty.exr"
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Camera "cam"
+        {
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/cam>
+            rel products = </Render/Beauty>
+        }
+
+        def RenderProduct "Beauty"
+        {
+            token productName = "beauty.exr"
+        }
+    }
+    ```
+
+    ## Fix safety
+    Unsafe: when the stage holds exactly one usable Camera, the fix targets it
+    from the RenderSettings' `camera`. It picks a camera for you, so review it.
+    """
+
+    code = "CA001"
+    name = "camera-unset"
+    severity = Severity.ERROR
+    fix_safety = "unsafe"
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        for config in ctx.configurations:
+            if config.camera_target is not None:
+                continue
+            settings_path = config.settings.GetPath()
+            if config.product is None:
+                what = f"RenderSettings <{settings_path}> has no camera"
+                effect = "renderers have no view to render"
+            else:
+                what = (
+                    f"RenderProduct <{config.product.GetPath()}> of <{settings_path}> has no "
+                    "camera (neither the product's nor the settings' camera has a target)"
+                )
+                effect = 'UsdRenderComputeSpec drops the product ("Could not find camera")'
+            fix = None
+            cameras = usable_cameras(ctx)
+            if len(cameras) == 1:
+                camera_path = cameras[0].GetPath()
+                fix = Fix(
+                    f"target the stage's only Camera <{camera_path}> from <{settings_path}>",
+                    False,
+                    _set_settings_camera(settings_path, camera_path),
+                )
+            yield Diagnostic(
+                f"{what}; {effect}. Author rel camera = </path/to/Camera> on "
+                f"<{settings_path}> (or on the product)",
+                at=config.settings,
+                fix=fix,
+            )

@@ -1,0 +1,98 @@
+"""CA003 camera-target-missing."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import UsdGeom
+
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.resolve import RenderConfiguration
+
+
+def _camera_rel_label(config: RenderConfiguration) -> str:
+    return str(config.camera_relationship.GetPath())
+
+
+class CameraTargetMissing(Rule):
+    """The render camera target does not exist, or is a Camera that is not usable.
+
+    ## What it does
+    For each render configuration (a RenderSettings with each of its products),
+    takes the effective camera (the product's first forwarded `camera` target
+    if it has one, else the settings') and reports it when no prim exists at
+    that path on the composed stage, or when the prim is a Camera that is
+    inactive, only an `over`, or abstract (a `class`). Relative targets are
+    anchored by Sdf to the owning prim before the check.
+
+    ## Why is this bad?
+    *"This relationship specifies the primary camera to use for a render. The
+    relationship must target a Camera."* (`RenderSettings.md`).
+    `UsdRenderComputeSpec` drops the product with *"Could not find camera"*
+    (`pxr/usd/usdRender/spec.cpp`), and Hydra's default traversal never sees
+    an inactive, `over`-only or abstract camera.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Camera "shotCam"
+        {
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/main_cam>
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Camera "shotCam"
+        {
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/shotCam>
+        }
+    }
+    ```
+
+    ## Fix safety
+    No automatic fix: only the author knows which camera was meant.
+    """
+
+    code = "CA003"
+    name = "camera-target-missing"
+    severity = Severity.ERROR
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        for config in ctx.configurations:
+            target = config.camera_target
+            if target is None:
+                continue
+            if target.is_missing:
+                reason = target.problem
+            elif target.prim is not None and target.prim.IsA(UsdGeom.Camera) and not target.ok:
+                reason = f"is a Camera but {target.problem}"
+            else:
+                continue
+            yield Diagnostic(
+                f"camera target <{target.path}> {reason}; point "
+                f"{_camera_rel_label(config)} at a defined, active Camera prim",
+                at=config.camera_relationship,
+            )

@@ -1,0 +1,136 @@
+"""CA004 camera-target-not-camera."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Sdf, Usd, UsdGeom
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.resolve import describe_prim_type, is_usable
+
+
+def _single_camera_descendant(prim: Usd.Prim) -> Usd.Prim | None:
+    cameras = [
+        p for p in Usd.PrimRange(prim) if p != prim and p.IsA(UsdGeom.Camera) and is_usable(p)
+    ]
+    return cameras[0] if len(cameras) == 1 else None
+
+
+def _retarget(rel_path: Sdf.Path, new_target: Sdf.Path):
+    def apply(stage: Usd.Stage) -> None:
+        rel = stage.GetRelationshipAtPath(rel_path)
+        targets = list(rel.GetTargets())
+        rel.SetTargets([new_target, *targets[1:]])
+
+    return apply
+
+
+class CameraTargetNotCamera(Rule):
+    """The render camera target is not a Camera prim.
+
+    ## What it does
+    For each render configuration, reports the effective camera target when it
+    resolves to a prim that is not a `UsdGeom.Camera` (an Xform camera rig, a
+    Scope, a typeless `def`) or to a property path such as
+    `</World/cam.focalLength>`.
+
+    ## Why is this bad?
+    *"This relationship specifies the primary camera to use for a render. The
+    relationship must target a Camera."* (`RenderSettings.md`); *"It must
+    target a UsdGeomCamera."* (`pxr/usd/usdRender/schema.usda`). spec.cpp reads
+    the target as `UsdGeomCamera`, and anything else drops the product with
+    *"Could not find camera"*.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Xform "camRig"
+        {
+            def Camera "cam"
+            {
+            }
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/camRig>
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Xform "camRig"
+        {
+            def Camera "cam"
+            {
+            }
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/camRig/cam>
+        }
+    }
+    ```
+
+    ## Fix safety
+    Safe, conditional: when the target prim has exactly one Camera descendant
+    (the rig case) the fix retargets to it; a property path is retargeted to its
+    owning prim when that prim is a Camera. Otherwise there is no fix.
+    """
+
+    code = "CA004"
+    name = "camera-target-not-camera"
+    severity = Severity.ERROR
+    fix_safety = "safe-conditional"
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        for config in ctx.configurations:
+            target = config.camera_target
+            if target is None or target.is_missing:
+                continue
+            rel = config.camera_relationship
+            suggestion: Usd.Prim | None = None
+            if target.path.IsPropertyPath():
+                what = "a property, not a prim"
+                owner = ctx.stage.GetPrimAtPath(target.path.GetPrimPath())
+                if owner and owner.IsA(UsdGeom.Camera) and is_usable(owner):
+                    suggestion = owner
+            elif not target.prim.IsA(UsdGeom.Camera):
+                what = describe_prim_type(target.prim)
+                if target.problem:
+                    what += f" that {target.problem}"
+                suggestion = _single_camera_descendant(target.prim)
+            else:
+                continue
+            if suggestion is None:
+                yield Diagnostic(
+                    f"camera target <{target.path}> is {what}, not a Camera; "
+                    "point it at a Camera prim",
+                    at=rel,
+                )
+                continue
+            new_path = suggestion.GetPath()
+            yield Diagnostic(
+                f"camera target <{target.path}> is {what}, not a Camera; "
+                f"target the Camera <{new_path}> instead",
+                at=rel,
+                fix=Fix(
+                    f"retarget camera to <{new_path}>", True, _retarget(rel.GetPath(), new_path)
+                ),
+            )

@@ -1,0 +1,175 @@
+"""CA006 aspect-ratio-mismatch-implicit-conform."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from functools import partial
+
+from pxr import Sdf, Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.resolve import RenderConfiguration, has_authored_value
+
+from .._camera import at_time, config_owners, first_failure, positive_finite
+
+
+def _author_conform_policy(settings_path: Sdf.Path):
+    def apply(stage: Usd.Stage) -> None:
+        settings = UsdRender.SettingsBase(stage.GetPrimAtPath(settings_path))
+        settings.CreateAspectRatioConformPolicyAttr().Set(UsdRender.Tokens.expandAperture)
+
+    return apply
+
+
+def _aspect_mismatch(
+    horizontal, vertical, image: tuple[float, str], tolerance: float
+) -> str | None:
+    if not (positive_finite(horizontal) and positive_finite(vertical)):
+        return None  # CA005 reports it
+    image_aspect, image_how = image
+    aperture_aspect = horizontal / vertical
+    if abs(image_aspect - aperture_aspect) / aperture_aspect <= tolerance:
+        return None
+    return (
+        f"image aspect {image_aspect:.4g} ({image_how}) differs from the camera "
+        f"aperture aspect {aperture_aspect:.4g} ({horizontal:g} / {vertical:g})"
+    )
+
+
+def _image_aspect(config: RenderConfiguration) -> tuple[float, str] | None:
+    """The configuration's image aspect (width / height * pixelAspectRatio,
+    fallbacks included) and how it was computed; None when an input is invalid
+    (SE001 and SE002 report those)."""
+    resolution = config.effective("resolution").value
+    pixel_aspect = config.effective("pixelAspectRatio").value
+    width, height = int(resolution[0]), int(resolution[1])
+    if width <= 0 or height <= 0 or not positive_finite(pixel_aspect):
+        return None
+    how = f"{width}x{height}"
+    if pixel_aspect != 1:
+        how += f", pixelAspectRatio {pixel_aspect:g}"
+    return width / height * pixel_aspect, how
+
+
+class AspectRatioMismatchImplicitConform(Rule):
+    """Image and camera aspect ratios differ and no aspectRatioConformPolicy says how to resolve it.
+
+    ## What it does
+    For each render configuration with a valid camera, compares the image
+    aspect (`resolution` width / height times `pixelAspectRatio`, the product's
+    authored value else the settings', fallbacks included) with the camera's
+    aperture aspect (`horizontalAperture / verticalAperture`, fallbacks
+    included, at the default time and every authored time sample). It reports
+    a relative difference above 1% when neither the settings nor the product
+    authors `aspectRatioConformPolicy`, so the fallback `expandAperture`
+    silently decides. Invalid inputs are skipped (SE001, SE002, CA005 report
+    them). The schema fallbacks alone mismatch (2048x1080 is 1.896, the default
+    aperture 1.370), which is intended.
+
+    ## Why is this bad?
+    *"Because the camera aperture and image dimensions are specified
+    independently, mismatches between aspect ratios can occur. ... Use the
+    aspectRatioConformPolicy attribute to communicate to the renderer how to
+    resolve the mismatch."* (`RenderSettings.md`). The fallback
+    `expandAperture` exposes scene content outside the approved framing
+    (`pxr/usd/usdRender/schema.usda`, `_ApplyAspectRatioPolicy` in
+    `pxr/usd/usdRender/spec.cpp`).
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Camera "cam"
+        {
+            float horizontalAperture = 20.955
+            float verticalAperture = 15.2908
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/cam>
+            uniform int2 resolution = (1920, 1080)
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Camera "cam"
+        {
+            float horizontalAperture = 20.955
+            float verticalAperture = 15.2908
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/cam>
+            uniform int2 resolution = (1920, 1080)
+            uniform token aspectRatioConformPolicy = "cropAperture"
+        }
+    }
+    ```
+
+    ## Fix safety
+    Safe: the fix authors `aspectRatioConformPolicy = "expandAperture"` on the
+    RenderSettings, which makes today's implicit behaviour explicit. Choosing
+    another policy is left to you.
+    """
+
+    code = "CA006"
+    name = "aspect-ratio-mismatch-implicit-conform"
+    severity = Severity.WARNING
+    fix_safety = "safe"
+
+    #: Relative aspect difference tolerated (catalog: 1%).
+    tolerance = 0.01
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        for config in ctx.configurations:
+            camera = config.camera
+            if camera is None or self._has_explicit_policy(config):
+                continue
+            image = _image_aspect(config)
+            if image is None:
+                continue
+            failure = first_failure(
+                camera.GetPrim(),
+                ("horizontalAperture", "verticalAperture"),
+                partial(_aspect_mismatch, image=image, tolerance=self.tolerance),
+                ctx,
+            )
+            if failure is None:
+                continue
+            time, problem = failure
+            settings_path = config.settings.GetPath()
+            yield Diagnostic(
+                f"{config.describe()}: {problem} ({at_time(time)}) and no "
+                "aspectRatioConformPolicy is authored, so the fallback expandAperture "
+                "silently renders scene content outside the camera framing; author "
+                f"aspectRatioConformPolicy on <{settings_path}> or match the aspects",
+                at=config.settings,
+                fix=Fix(
+                    'author aspectRatioConformPolicy = "expandAperture" (today\'s behaviour)',
+                    True,
+                    _author_conform_policy(settings_path),
+                ),
+            )
+
+    @staticmethod
+    def _has_explicit_policy(config: RenderConfiguration) -> bool:
+        return any(
+            has_authored_value(p.GetAttribute("aspectRatioConformPolicy"))
+            for p in config_owners(config)
+        )

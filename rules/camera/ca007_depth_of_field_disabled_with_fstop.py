@@ -1,0 +1,100 @@
+"""CA007 depth-of-field-disabled-with-fstop."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.resolve import evaluation_times, has_authored_value
+
+from .._camera import at_time, positive_finite
+
+
+class DepthOfFieldDisabledWithFStop(Rule):
+    """disableDepthOfField discards the render camera's authored fStop.
+
+    ## What it does
+    For each render configuration with a valid camera, reports an effective
+    `disableDepthOfField = true` when the camera authors an `fStop > 0` at the
+    default time or at any time sample (capped). An `fStop` left at its
+    fallback `0` already means no depth of field, so it is not reported.
+
+    ## Why is this bad?
+    *"Use to disable all depth of field by setting F-stop of the targeted
+    camera to infinity."* (`RenderSettings.md`); the camera's *"fStop ...
+    Defaults to 0.0, which turns off depth of field effects."*
+    (`usdGeom/schema.usda`). Legitimate for previews, but on a final-quality
+    settings it silently removes the camera department's creative choice.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Camera "cam"
+        {
+            float fStop = 2.8
+            float focusDistance = 350
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/cam>
+            uniform bool disableDepthOfField = 1
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Xform "World"
+    {
+        def Camera "cam"
+        {
+            float fStop = 2.8
+            float focusDistance = 350
+        }
+    }
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel camera = </World/cam>
+        }
+    }
+    ```
+
+    ## Fix safety
+    No automatic fix: disabling depth of field may be intended (previews).
+    """
+
+    code = "CA007"
+    name = "depth-of-field-disabled-with-fstop"
+    severity = Severity.INFO
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        for config in ctx.configurations:
+            camera = config.camera
+            disable = config.effective("disableDepthOfField")
+            if camera is None or not disable.value:
+                continue
+            fstop = camera.GetFStopAttr()
+            if not has_authored_value(fstop):
+                continue
+            for time in evaluation_times(fstop, ctx.time_sample_cap):
+                value = fstop.Get(time)
+                if positive_finite(value):
+                    yield Diagnostic(
+                        f"{config.describe()}: disableDepthOfField = true discards the "
+                        f"camera <{camera.GetPath()}> fStop {value:g} ({at_time(time)}); "
+                        "remove disableDepthOfField if this is a final render",
+                        at=disable.attr,
+                    )
+                    break
