@@ -1,0 +1,117 @@
+"""PR001 product-name-empty."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+from pxr import Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+
+from .._aov import checked_value
+from .._corrections import set_value
+
+
+class ProductNameEmpty(Rule):
+    """A RenderProduct's productName is empty.
+
+    ## What it does
+    Reports a usable RenderProduct whose `productName` (a varying `token`,
+    fallback `""`) is `""` at the default time and has no time samples: left
+    unauthored, authored empty, or blocked. A productName authored only as
+    time samples is SE017's case, and a type-mismatched opinion SE016's.
+
+    ## Why is this bad?
+    *"Specifies the name that the output/display driver should give the
+    product."* (`pxr/usd/usdRender/schema.usda`); *"e.g. using the productName
+    for the filename (and path) for an output image artifact"*
+    (`RenderProduct.md`). An empty name gives the display driver nothing to
+    write to: renderers either fail or invent a name.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderProduct "Beauty"
+        {
+            rel orderedVars = </Render/Vars/color>
+        }
+
+        def Scope "Vars"
+        {
+            def RenderVar "color"
+            {
+                string sourceName = "Ci"
+            }
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderProduct "Beauty"
+        {
+            token productName = "beauty.exr"
+            rel orderedVars = </Render/Vars/color>
+        }
+
+        def Scope "Vars"
+        {
+            def RenderVar "color"
+            {
+                string sourceName = "Ci"
+            }
+        }
+    }
+    ```
+
+    ## Fix safety
+    Safe, conditional: only when the pipeline configures a naming template
+    (option `name-template`, e.g. `"{prim}.exr"`) does the fix author the
+    name it gives; by default there is no fix, the output name being a
+    pipeline decision. (The catalog's class: none, pipeline template.)
+
+    ## Options
+    `name-template` (string, default empty: no fix): the productName the fix
+    authors; `{prim}` is replaced by the product's prim name.
+    """
+
+    code = "PR001"
+    name = "product-name-empty"
+    severity = Severity.ERROR
+    fix_safety = "safe-conditional"
+    prim_types = (UsdRender.Product,)
+
+    @dataclass(frozen=True)
+    class Options:
+        name_template: str = ""
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        attr = prim.GetAttribute("productName")
+        if attr.GetNumTimeSamples():
+            return
+        if checked_value(prim, "productName", ctx) != "":
+            return
+        if attr.GetResolveInfo().ValueIsBlocked():
+            how = "is blocked"
+        else:
+            how = "is authored empty" if attr.HasAuthoredValue() else "has no authored value"
+        template = self.options.name_template
+        fix = None
+        if template:
+            name = template.replace("{prim}", prim.GetName())
+            fix = Fix(f"author productName = {name!r}", True, set_value(attr.GetPath(), name))
+        yield Diagnostic(
+            f"RenderProduct {prim.GetPath()} has an empty productName (it {how}): the display "
+            f"driver has no name to write to; author one, e.g. token productName = "
+            f'"{prim.GetName()}.exr"',
+            at=attr if attr.IsAuthored() else prim,
+            fix=fix,
+        )

@@ -1,0 +1,127 @@
+"""PR002 product-name-duplicate."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Sdf, Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.resolve import (
+    composed_value,
+    format_time,
+    joint_evaluation_times,
+    mismatched_spec,
+)
+
+
+def _product_name(product: Usd.Prim, time: Usd.TimeCode) -> str:
+    """productName at ``time``: authored, else the fallback; "" when mistyped."""
+    attr = product.GetAttribute("productName")
+    if mismatched_spec(attr) is not None:
+        return ""
+    return composed_value(product, "productName", time) or ""
+
+
+class ProductNameDuplicate(Rule):
+    """Two products of one RenderSettings have the same productName.
+
+    ## What it does
+    For each RenderSettings, compares the `productName` of the usable
+    RenderProducts its `products` targets (forwarded), at the default time and
+    at every time where any of them has a time sample (capped). Two different
+    products with the same non-empty name are reported once, on the second,
+    at the first time they collide.
+
+    ## Why is this bad?
+    `productName` is *"used by render executables and pipeline tools to name
+    the product, for example, using the productName as the filename (and
+    path) for an output image artifact"* (RenderProduct prim definition,
+    usd-core 26.11). Two products of one render writing the same file clobber
+    each other.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel products = [</Render/Beauty>, </Render/Utility>]
+        }
+
+        def RenderProduct "Beauty"
+        {
+            token productName = "shot.exr"
+        }
+
+        def RenderProduct "Utility"
+        {
+            token productName = "shot.exr"
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+            rel products = [</Render/Beauty>, </Render/Utility>]
+        }
+
+        def RenderProduct "Beauty"
+        {
+            token productName = "shot_beauty.exr"
+        }
+
+        def RenderProduct "Utility"
+        {
+            token productName = "shot_utility.exr"
+        }
+    }
+    ```
+
+    ## Fix safety
+    No automatic fix: which product should be renamed, and to what, is the
+    author's choice.
+    """
+
+    code = "PR002"
+    name = "product-name-duplicate"
+    severity = Severity.ERROR
+
+    def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        reported: set[tuple[Sdf.Path, Sdf.Path]] = set()
+        # The configurations already pair each settings with its usable products, in order.
+        products_of: dict[Sdf.Path, list[Usd.Prim]] = {}
+        for config in ctx.configurations:
+            products = products_of.setdefault(config.settings.GetPath(), [])
+            if config.product is not None:
+                products.append(config.product)
+        for settings in ctx.prims_of(UsdRender.Settings):
+            products = products_of[settings.GetPath()]
+            attrs = [p.GetAttribute("productName") for p in products]
+            for time in joint_evaluation_times(attrs, ctx.time_sample_cap):
+                owners: dict[str, Usd.Prim] = {}
+                for product in products:
+                    name = _product_name(product, time)
+                    first = owners.setdefault(name, product)
+                    if not name or first == product:
+                        continue
+                    # Paths are built only for a duplicate.
+                    pair = (first.GetPath(), product.GetPath())
+                    if pair in reported:
+                        continue
+                    reported.add(pair)
+                    yield Diagnostic(
+                        f"RenderProduct {product.GetPath()} has productName {name!r} at "
+                        f"{format_time(time)}, like {first.GetPath()}: both are products of "
+                        f"{settings.GetPath()} and write the same output; give each product "
+                        "its own productName",
+                        at=product.GetAttribute("productName"),
+                    )

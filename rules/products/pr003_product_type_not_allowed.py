@@ -1,0 +1,104 @@
+"""PR003 product-type-not-allowed."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.resolve import allowed_tokens, authored_value
+
+from .._corrections import set_value, unique_case_match
+
+
+def _renderer_product_type(prim: Usd.Prim) -> str | None:
+    """An authored ``<renderer>:productType`` override, the schema-sanctioned
+    way to ask for a custom output type (catalog, Ambiguous semantics 14)."""
+    for attr in prim.GetAuthoredAttributes():
+        if attr.GetName().endswith(":productType") and attr.HasAuthoredValue():
+            return attr.GetName()
+    return None
+
+
+class ProductTypeNotAllowed(Rule):
+    """A RenderProduct's productType is not raster or deepRaster.
+
+    ## What it does
+    Reports an authored `productType` that is not one of the schema's
+    `allowedTokens` (`raster`, `deepRaster`), unless the product also has an
+    authored renderer-specific override attribute whose name ends in
+    `:productType` (e.g. `ri:productType`).
+
+    ## Why is this bad?
+    `allowedTokens = ["raster", "deepRaster"]` and *"Renderers that support
+    custom output types are encouraged to supply an applied API schema that
+    will add an `token myRenderContext:productType` attribute (e.g. `token
+    ri:productType`), which will override this attribute's value for that
+    renderer."* (`pxr/usd/usdRender/schema.usda`). A file format such as `exr`
+    in `productType` is a common confusion with `productName`.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderProduct "Beauty"
+        {
+            token productName = "beauty.exr"
+            uniform token productType = "exr"
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderProduct "Beauty"
+        {
+            token productName = "beauty.exr"
+            uniform token productType = "raster"
+        }
+    }
+    ```
+
+    ## Fix safety
+    Safe, conditional: a value that differs from an allowed token only in case
+    (`DeepRaster`) is corrected to it (`deepRaster`); otherwise there is no
+    fix.
+    """
+
+    code = "PR003"
+    name = "product-type-not-allowed"
+    severity = Severity.WARNING
+    fix_safety = "safe-conditional"
+    prim_types = (UsdRender.Product,)
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        attr = prim.GetAttribute("productType")
+        value = authored_value(attr)
+        allowed = allowed_tokens(prim, "productType")
+        if value is None or value in allowed or _renderer_product_type(prim):
+            return
+        correction = unique_case_match(value, allowed)
+        if correction:
+            advice = f"did you mean {correction!r}?"
+        else:
+            advice = (
+                f"use {' or '.join(allowed)} (a file format belongs in productName), or author "
+                "a renderer-specific override such as ri:productType"
+            )
+        yield Diagnostic(
+            f"productType {value!r} of {prim.GetPath()} is not one of {', '.join(allowed)}; "
+            + advice,
+            at=attr,
+            fix=Fix(
+                f"set productType to {correction!r}", True, set_value(attr.GetPath(), correction)
+            )
+            if correction
+            else None,
+        )

@@ -1,0 +1,121 @@
+"""PR005 ordered-vars-invalid-target."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+
+from pxr import Sdf, Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.resolve import authored_targets, describe_prim_type
+
+from .._aov import ordered_var_targets
+
+
+def _remove_target(rel_path: Sdf.Path, target: Sdf.Path) -> Callable[[Usd.Stage], None]:
+    def apply(stage: Usd.Stage) -> None:
+        stage.GetRelationshipAtPath(rel_path).RemoveTarget(target)
+
+    return apply
+
+
+class OrderedVarsInvalidTarget(Rule):
+    """An orderedVars target is not a usable RenderVar.
+
+    ## What it does
+    Checks each forwarded `orderedVars` target of a usable RenderProduct and
+    reports one that is not a prim path, has no prim on the composed stage, is
+    not usable (inactive, only an `over`, or abstract) or is not a RenderVar;
+    the message says which.
+
+    ## Why is this bad?
+    *"Specifies the RenderVars that should be consumed and combined into the
+    final product."* (`pxr/usd/usdRender/schema.usda`). spec.cpp: *"Render
+    product <%s> includes render var at path <%s>, but no suitable UsdRenderVar
+    prim was found. Skipping."* (`pxr/usd/usdRender/spec.cpp`): the channel
+    silently disappears from the output.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderProduct "Beauty"
+        {
+            token productName = "beauty.exr"
+            rel orderedVars = [</Render/Vars/color>, </Render/Vars/diffuse>]
+        }
+
+        def Scope "Vars"
+        {
+            def RenderVar "color"
+            {
+                string sourceName = "Ci"
+            }
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderProduct "Beauty"
+        {
+            token productName = "beauty.exr"
+            rel orderedVars = </Render/Vars/color>
+        }
+
+        def Scope "Vars"
+        {
+            def RenderVar "color"
+            {
+                string sourceName = "Ci"
+            }
+        }
+    }
+    ```
+
+    ## Fix safety
+    Unsafe: the fix removes the bad target from `orderedVars` (when this
+    relationship authors it rather than forwarding it), which changes the
+    product's channel list; the author may instead have meant another path.
+    """
+
+    code = "PR005"
+    name = "ordered-vars-invalid-target"
+    severity = Severity.ERROR
+    fix_safety = "unsafe"
+    prim_types = (UsdRender.Product,)
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        rel = prim.GetRelationship("orderedVars")
+        authored = set(authored_targets(rel))
+        for target in ordered_var_targets(prim, ctx):
+            if target.prim is None:
+                reason = target.problem
+            elif not target.prim.IsA(UsdRender.Var):
+                reason = f"is {describe_prim_type(target.prim)}, not a RenderVar"
+                if target.problem:
+                    reason += f", and {target.problem}"
+            elif target.problem:
+                reason = f"is a RenderVar but {target.problem}"
+            else:
+                continue
+            fix = None
+            if target.path in authored:
+                fix = Fix(
+                    f"remove <{target.path}> from orderedVars",
+                    False,
+                    _remove_target(rel.GetPath(), target.path),
+                )
+            yield Diagnostic(
+                f"orderedVars target <{target.path}> of {prim.GetPath()} {reason}: the channel "
+                "is silently missing from the output; target a defined, active RenderVar or "
+                "remove the target",
+                at=rel,
+                fix=fix,
+            )
