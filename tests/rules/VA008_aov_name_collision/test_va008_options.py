@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules.vars import AovNameCollision
+from usdrender_lint.rules.vars.va008_aov_name_collision import AovNameCollision
 
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry

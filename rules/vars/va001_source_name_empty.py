@@ -1,0 +1,82 @@
+"""VA001 source-name-empty."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from pxr import Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+
+from .._aov import checked_value
+
+
+class SourceNameEmpty(Rule):
+    """A RenderVar's sourceName is empty.
+
+    ## What it does
+    Reports a usable RenderVar whose composed `sourceName` (`uniform string`,
+    fallback `""`) is empty: left unauthored, authored `""` or blocked. A
+    type-mismatched opinion (e.g. `token sourceName`) is SE016's finding.
+
+    ## Why is this bad?
+    *"The renderer should look for an output of this name as the computed
+    value for the RenderVar."* (`pxr/usd/usdRender/schema.usda`). With `raw`
+    the empty string reaches the renderer as-is, with `lpe` it is an empty
+    expression, and hdPrman uses `sourceName` as the channel name of non-LPE
+    vars (`third_party/renderman-26/plugin/hdPrman/renderParam.cpp`).
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def Scope "Vars"
+        {
+            def RenderVar "normal"
+            {
+                token dataType = "normal3f"
+            }
+        }
+    }
+    ```
+
+    ## Use instead
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def Scope "Vars"
+        {
+            def RenderVar "normal"
+            {
+                token dataType = "normal3f"
+                string sourceName = "Nn"
+            }
+        }
+    }
+    ```
+
+    ## Fix safety
+    No automatic fix: only the author knows which output the var should read.
+    """
+
+    code = "VA001"
+    name = "source-name-empty"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Var,)
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        if checked_value(prim, "sourceName", ctx) != "":
+            return
+        attr = prim.GetAttribute("sourceName")
+        what = (
+            "light path expression" if checked_value(prim, "sourceType", ctx) == "lpe" else "output"
+        )
+        yield Diagnostic(
+            f"RenderVar {prim.GetPath()} has an empty sourceName: the renderer gets no {what} "
+            'to compute; author the source it should read, e.g. string sourceName = "Ci"',
+            at=attr if attr.IsAuthored() else prim,
+        )
