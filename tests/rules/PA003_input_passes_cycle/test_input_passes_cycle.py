@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from usdrender_lint.rules._passes import find_cycles
-from usdrender_lint.rules.passes import InputPassesCycle
+from usdrender_lint.rules.passes.pa003_input_passes_cycle import InputPassesCycle
 
 from usdrender_lint.testing import lint
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from usdrender_lint.rules.passes import FileNameUnresolvable
+from usdrender_lint.rules.passes.pa004_file_name_unresolvable import FileNameUnresolvable
 
 from usdrender_lint.testing import lint
 

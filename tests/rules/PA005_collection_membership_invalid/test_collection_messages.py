@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from usdrender_lint.rules.passes import CollectionMembershipInvalid
+from usdrender_lint.rules.passes.pa005_collection_membership_invalid import (
+    CollectionMembershipInvalid,
+)
 
 from usdrender_lint.testing import lint
 

@@ -6,7 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from pxr import Sdf, Usd
-from usdrender_lint.rules.passes import CollectionExpressionIgnored
+from usdrender_lint.rules.passes.pa006_collection_expression_ignored import (
+    CollectionExpressionIgnored,
+)
 
 from usdrender_lint.api import Context
 

@@ -1,0 +1,117 @@
+"""PA004 file-name-unresolvable."""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+
+from pxr import Sdf, Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.resolve import authored_value
+
+from ._default_value import _authored_layer
+
+_VARIABLE = re.compile(r"\$\{(\w+)\}")
+
+
+def _unresolvable_reason(value: Sdf.AssetPath, layer: Sdf.Layer | None) -> str:
+    """Why an authored asset path has no resolved path, and what to do."""
+    authored = value.authoredPath
+    where = f" relative to {layer.GetDisplayName()}" if layer is not None else ""
+    if Sdf.VariableExpression.IsExpression(authored):
+        errors = Sdf.VariableExpression(authored).GetErrors()
+        if errors:
+            return (
+                f"is a variable expression USD cannot evaluate ({'; '.join(errors)}); "
+                "correct the expression"
+            )
+        # usd-core leaves an unset variable in the evaluated path as written.
+        unset = sorted(set(_VARIABLE.findall(value.evaluatedPath)))
+        if unset:
+            names = ", ".join(unset)
+            return (
+                f"evaluates to {value.evaluatedPath!r}: expression variable(s) {names} not "
+                "set; define them in the root layer's expressionVariables"
+            )
+        return (
+            f"evaluates to {value.evaluatedPath!r}, which does not resolve{where}; "
+            "create the file or correct the path"
+        )
+    return f"does not resolve{where}; create the file or correct the path"
+
+
+class FileNameUnresolvable(Rule):
+    """A RenderPass fileName does not resolve to an existing asset.
+
+    ## What it does
+    Reports an authored, non-empty RenderPass `fileName` whose resolved path
+    is empty after composition: USD's asset resolver, with the stage's
+    resolver context, anchors a relative path to the layer that authored the
+    opinion. A variable expression (backquoted, with `${VAR}`) is evaluated by
+    USD first; unset variables and expression errors are named in the
+    message. The same value passes once the file exists next to that layer.
+
+    ## Why is this bad?
+    *"The asset that contains the rendering prims or other information needed
+    to render this pass."* (`pxr/usd/usdRender/schema.usda`, RenderPass
+    `fileName`), and *"If fileName is present, the source should be found in
+    the file there."* (same file, `renderSource`). A source that cannot be
+    found cannot be rendered.
+
+    ## Example
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderPass "composite"
+        {
+            uniform token passType = "nuke"
+            uniform asset fileName = @./comp/final_composite.nk@
+            uniform string[] command = ["nuke", "-x", "{fileName}"]
+        }
+    }
+    ```
+
+    ## Use instead
+    Author `fileName` only with a path that resolves, or render a
+    RenderSettings prim of this stage:
+
+    ```usda
+    #usda 1.0
+
+    def Scope "Render"
+    {
+        def RenderSettings "Settings"
+        {
+        }
+
+        def RenderPass "beauty"
+        {
+            uniform token passType = "prman"
+            rel renderSource = </Render/Settings>
+        }
+    }
+    ```
+
+    ## Fix safety
+    No automatic fix: the file is missing or the path is wrong, and only the
+    author knows which.
+    """
+
+    code = "PA004"
+    name = "file-name-unresolvable"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Pass,)
+
+    def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        attr = prim.GetAttribute("fileName")
+        value = authored_value(attr)
+        if not isinstance(value, Sdf.AssetPath) or not value.authoredPath or value.resolvedPath:
+            return
+        reason = _unresolvable_reason(value, _authored_layer(attr))
+        yield Diagnostic(
+            f"fileName @{value.authoredPath}@ {reason}",
+            at=attr,
+        )
