@@ -1,4 +1,4 @@
-"""UL: checks on the linter's own markup in the data (suppressions)."""
+"""UL001 unused-suppression."""
 
 from __future__ import annotations
 
@@ -65,6 +65,3 @@ class UnusedSuppression(Rule):
     name = "unused-suppression"
     severity = Severity.INFO
     fix_safety = "safe"
-
-
-RULES = (UnusedSuppression,)
