@@ -21,8 +21,8 @@ from pathlib import Path
 from pxr import Sdf
 
 from usdrender_lint.config import Settings
-from usdrender_lint.execution import lint_one
-from usdrender_lint.runner import make_linter
+from usdrender_lint.running.pipeline import make_linter
+from usdrender_lint.running.workers import lint_one
 
 SHOT = """#usda 1.0
 (

@@ -8,7 +8,7 @@ from typing import Any, Literal
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context
-from usdrender_lint.resolve import Target, composed_value, mismatched_spec, resolve_targets
+from usdrender_lint.api.resolve import Target, composed_value, mismatched_spec, resolve_targets
 
 #: How a renderer names a RenderVar's channel (catalog, Ambiguous semantics 7):
 #: the schema says the prim name; hdPrman uses ``sourceName`` for non-LPE vars.
@@ -19,10 +19,11 @@ def ordered_var_targets(product: Usd.Prim, ctx: Context) -> tuple[Target, ...]:
     """The product's forwarded ``orderedVars`` targets, resolved once per lint:
     PR005 checks each and :func:`product_render_vars` keeps the usable vars."""
 
-    def compute() -> tuple[Target, ...]:
-        return tuple(resolve_targets(product.GetRelationship("orderedVars")))
+    return ctx.cached(_ordered_var_targets, product)
 
-    return ctx.memo(("aov.ordered_var_targets", product), compute)
+
+def _ordered_var_targets(ctx: Context, product: Usd.Prim) -> tuple[Target, ...]:
+    return tuple(resolve_targets(product.GetRelationship("orderedVars")))
 
 
 def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]:
@@ -30,11 +31,12 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
     targets, in order (invalid targets are PR005's); read once per lint, as
     several PR and VA rules walk them."""
 
-    def compute() -> tuple[Usd.Prim, ...]:
-        targets = ordered_var_targets(product, ctx)
-        return tuple(t.prim for t in targets if t.ok and t.prim.IsA(UsdRender.Var))
+    return ctx.cached(_product_render_vars, product)
 
-    return ctx.memo(("aov.render_vars", product), compute)
+
+def _product_render_vars(ctx: Context, product: Usd.Prim) -> tuple[Usd.Prim, ...]:
+    targets = ordered_var_targets(product, ctx)
+    return tuple(t.prim for t in targets if t.ok and t.prim.IsA(UsdRender.Var))
 
 
 def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
@@ -43,13 +45,14 @@ def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
     not add a second one for the same mistake. Read once per lint: most VA
     rules and several PR rules read the same few RenderVar attributes."""
 
-    def compute() -> Any:
-        if mismatched_spec(prim.GetAttribute(name)) is not None:
-            return None
-        return composed_value(prim, name)
-
     # Keyed by the prim handle: it hashes faster than GetPath() builds a path.
-    return ctx.memo(("aov.checked_value", prim, name), compute)
+    return ctx.cached(_checked_value, prim, name)
+
+
+def _checked_value(ctx: Context, prim: Usd.Prim, name: str) -> Any:
+    if mismatched_spec(prim.GetAttribute(name)) is not None:
+        return None
+    return composed_value(prim, name)
 
 
 def channel_name(var: Usd.Prim, naming: AovNaming, ctx: Context) -> str:

@@ -10,7 +10,7 @@ from typing import Any
 from pxr import Usd, UsdGeom
 
 from usdrender_lint.api import Context
-from usdrender_lint.resolve import (
+from usdrender_lint.api.resolve import (
     RenderConfiguration,
     fallback_value,
     format_time,
@@ -35,18 +35,18 @@ def effective_cameras(ctx: Context) -> list[CameraUse]:
     """Each usable Camera that is the effective camera of some configuration,
     once, in first-use order (a camera shared by several products is checked
     once, so it gives one finding)."""
+    return ctx.cached(_effective_cameras)
 
-    def compute() -> list[CameraUse]:
-        uses: dict[str, tuple[Usd.Prim, list[RenderConfiguration]]] = {}
-        for config in ctx.configurations:
-            camera = config.camera
-            if camera is None:
-                continue
-            prim = camera.GetPrim()
-            uses.setdefault(str(prim.GetPath()), (prim, []))[1].append(config)
-        return [CameraUse(prim, tuple(configs)) for prim, configs in uses.values()]
 
-    return ctx.memo(("camera", "effective_cameras"), compute)
+def _effective_cameras(ctx: Context) -> list[CameraUse]:
+    uses: dict[str, tuple[Usd.Prim, list[RenderConfiguration]]] = {}
+    for config in ctx.configurations:
+        camera = config.camera
+        if camera is None:
+            continue
+        prim = camera.GetPrim()
+        uses.setdefault(str(prim.GetPath()), (prim, []))[1].append(config)
+    return [CameraUse(prim, tuple(configs)) for prim, configs in uses.values()]
 
 
 def config_owners(config: RenderConfiguration) -> list[Usd.Prim]:
@@ -81,12 +81,13 @@ _NOT_READ: Any = object()
 def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
     # Decided once per attribute and lint, not per time sample or rule: the
     # opinion stack is costly and several CA rules read the same attributes.
-    def compute() -> _Reader:
-        attr = prim.GetAttribute(name)
-        authored = has_authored_value(attr)
-        return attr, authored, _NOT_READ if authored else fallback_value(prim, name)
+    return ctx.cached(_read_attribute, prim, name)
 
-    return ctx.memo(("camera", "reader", prim, name), compute)
+
+def _read_attribute(ctx: Context, prim: Usd.Prim, name: str) -> _Reader:
+    attr = prim.GetAttribute(name)
+    authored = has_authored_value(attr)
+    return attr, authored, _NOT_READ if authored else fallback_value(prim, name)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:
@@ -113,21 +114,21 @@ def positive_finite(value: Any) -> bool:
 def usable_cameras(ctx: Context, most: int = 2) -> list[Usd.Prim]:
     """The first ``most`` usable Cameras on the stage (enough to tell "exactly
     one"). Walks the stage: only call it for a fix that needs it."""
-
-    def compute() -> list[Usd.Prim]:
-        cameras: list[Usd.Prim] = []
-        is_camera_type: dict[str, bool] = {}
-        for prim in ctx.stage.Traverse():
-            type_name = prim.GetTypeName()
-            hit = is_camera_type.get(type_name)
-            if hit is None:  # IsA depends on the type name only: test it once per type
-                hit = is_camera_type[type_name] = prim.IsA(UsdGeom.Camera)
-            if hit:
-                cameras.append(prim)
-                if len(cameras) == most:
-                    break
-        return cameras
-
     # Cameras anywhere in the scene: not on the engine's partial stage.
     ctx.require_full_stage()
-    return ctx.memo(("camera", "usable_cameras", most), compute)
+    return ctx.cached(_usable_cameras, most)
+
+
+def _usable_cameras(ctx: Context, most: int) -> list[Usd.Prim]:
+    cameras: list[Usd.Prim] = []
+    is_camera_type: dict[str, bool] = {}
+    for prim in ctx.stage.Traverse():
+        type_name = prim.GetTypeName()
+        hit = is_camera_type.get(type_name)
+        if hit is None:  # IsA depends on the type name only: test it once per type
+            hit = is_camera_type[type_name] = prim.IsA(UsdGeom.Camera)
+        if hit:
+            cameras.append(prim)
+            if len(cameras) == most:
+                break
+    return cameras

@@ -10,7 +10,7 @@ from typing import TypeVar
 from pxr import Sdf, Tf, Usd, UsdRender
 
 from usdrender_lint.api import Context
-from usdrender_lint.resolve import resolve_targets, typed_target_problem, unusable_reason
+from usdrender_lint.api.resolve import resolve_targets, typed_target_problem, unusable_reason
 
 #: The CollectionAPI instances the RenderPass schema applies (schema.usda).
 PASS_COLLECTIONS = ("renderVisibility", "cameraVisibility", "prune", "matte")
@@ -31,19 +31,19 @@ def usd_error_text(exc: Tf.ErrorException) -> str:
 def input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
     """Each usable RenderPass -> the passes its ``inputPasses`` validly target
     (forwarded; PA002 reports the others). Computed once per stage."""
+    return ctx.cached(_input_pass_graph)
 
-    def build() -> dict[Sdf.Path, list[Sdf.Path]]:
-        graph: dict[Sdf.Path, list[Sdf.Path]] = {}
-        for prim in ctx.prims_of(UsdRender.Pass):
-            rel = prim.GetRelationship("inputPasses")
-            graph[prim.GetPath()] = [
-                t.path
-                for t in resolve_targets(rel)
-                if typed_target_problem(t, UsdRender.Pass, "a RenderPass") is None
-            ]
-        return graph
 
-    return ctx.memo("PA:input-pass-graph", build)
+def _input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
+    graph: dict[Sdf.Path, list[Sdf.Path]] = {}
+    for prim in ctx.prims_of(UsdRender.Pass):
+        rel = prim.GetRelationship("inputPasses")
+        graph[prim.GetPath()] = [
+            t.path
+            for t in resolve_targets(rel)
+            if typed_target_problem(t, UsdRender.Pass, "a RenderPass") is None
+        ]
+    return graph
 
 
 def _rotated_to_smallest(cycle: Sequence[Node]) -> tuple[Node, ...]:
@@ -93,19 +93,19 @@ def authored_pass_collections(prim: Usd.Prim, ctx: Context) -> tuple[Usd.Collect
     arc). One left to its schema fallbacks validates, computes and has no
     expression or targets, so the collection rules (PA005, PA006, PA008) skip
     it without asking USD."""
+    return ctx.cached(_authored_pass_collections, prim)
 
-    def compute() -> tuple[Usd.CollectionAPI, ...]:
-        # One read of the authored names instead of a namespace query and a
-        # schema object per collection (~18 -> ~8 us a pass). As in
-        # GetAuthoredPropertiesInNamespace, "collection:<name>" alone is not in it.
-        authored = {
-            parts[1]
-            for parts in (name.split(":", 2) for name in prim.GetAuthoredPropertyNames())
-            if len(parts) == 3 and parts[0] == "collection"
-        }
-        return tuple(Usd.CollectionAPI(prim, name) for name in PASS_COLLECTIONS if name in authored)
 
-    return ctx.memo(("PA:authored-collections", prim), compute)
+def _authored_pass_collections(ctx: Context, prim: Usd.Prim) -> tuple[Usd.CollectionAPI, ...]:
+    # One read of the authored names instead of a namespace query and a
+    # schema object per collection (~18 -> ~8 us a pass). As in
+    # GetAuthoredPropertiesInNamespace, "collection:<name>" alone is not in it.
+    authored = {
+        parts[1]
+        for parts in (name.split(":", 2) for name in prim.GetAuthoredPropertyNames())
+        if len(parts) == 3 and parts[0] == "collection"
+    }
+    return tuple(Usd.CollectionAPI(prim, name) for name in PASS_COLLECTIONS if name in authored)
 
 
 def collection_label(collection: Usd.CollectionAPI) -> str:

@@ -12,9 +12,9 @@ from click.testing import CliRunner
 from pxr import Sdf
 
 from usdrender_lint import atomic
-from usdrender_lint.baseline import fingerprint, load_baseline, new_findings, write_baseline
 from usdrender_lint.cli import cli
 from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
+from usdrender_lint.running.baseline import fingerprint, load_baseline, new_findings, write_baseline
 
 SHOT = """#usda 1.0
 

@@ -30,8 +30,8 @@ from usdrender_lint.rules.stage.st008_render_prim_outside_render_scope import (
 from usdrender_lint.rules.stage.st010_unknown_render_prim_type import UnknownRenderPrimType
 
 from usdrender_lint.api import Context, Diagnostic, Rule
+from usdrender_lint.api.resolve import joint_evaluation_times
 from usdrender_lint.engine import Linter
-from usdrender_lint.resolve import joint_evaluation_times
 
 RENDER_SCHEMAS = (UsdRender.Settings, UsdRender.Product, UsdRender.Var, UsdRender.Pass)
 

@@ -242,7 +242,7 @@ def test_bad_flag_selector_names_the_flag(project) -> None:
 
 def test_readme_configuration_example_is_valid(tmp_path) -> None:
     from usdrender_lint.registry import build_registry
-    from usdrender_lint.runner import make_linter
+    from usdrender_lint.running.pipeline import make_linter
 
     readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
     section = readme.split("## Configuration", 1)[1].split("\n## ", 1)[0]

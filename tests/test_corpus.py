@@ -7,7 +7,7 @@ from pathlib import Path
 
 from usdrender_lint.engine import STAGE_OPEN_FAILED_CODE, Linter
 from usdrender_lint.model import INTERNAL_ERROR_CODE
-from usdrender_lint.runner import collect_files
+from usdrender_lint.running.discovery import collect_files
 from usdrender_lint.testing import all_rules
 
 

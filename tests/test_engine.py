@@ -9,8 +9,8 @@ from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
 from usdrender_lint.engine import Linter
+from usdrender_lint.engine.usda_lines import index_usda
 from usdrender_lint.model import INTERNAL_ERROR_CODE
-from usdrender_lint.usda_lines import index_usda
 
 SHOT = """#usda 1.0
 (
@@ -101,9 +101,9 @@ class ResolutionReporter(Rule):
     prim_types = (UsdRender.Settings,)
 
     def check_prim(self, prim, ctx):
-        yield Diagnostic("resolution", at=prim.GetAttribute("resolution"))
+        yield Diagnostic(message="resolution", at=prim.GetAttribute("resolution"))
         # The same diagnostic twice is reported once.
-        yield Diagnostic("resolution", at=prim.GetAttribute("resolution"))
+        yield Diagnostic(message="resolution", at=prim.GetAttribute("resolution"))
 
 
 def test_prims_are_dispatched_by_schema_type(shot: Path) -> None:
@@ -227,17 +227,57 @@ lines"""
     assert not any("Fake" in key or "Commented" in key for key in index)
 
 
-def test_context_memo_computes_each_key_once_none_included() -> None:
+def test_context_cached_computes_each_call_once_none_included() -> None:
     stage = Usd.Stage.CreateInMemory()
     prim = stage.DefinePrim("/Render/Settings", "RenderSettings")
     ctx = Context(stage=stage, file="shot.usda")
-    calls: list[str] = []
+    calls: list[tuple[str, object]] = []
 
-    def compute(answer):
-        return lambda: calls.append("computed") or answer
+    def nothing(ctx: Context, prim: Usd.Prim) -> None:
+        calls.append(("nothing", prim))
+        return None
 
-    assert ctx.memo(("none", prim), compute(None)) is None
-    assert ctx.memo(("none", prim), compute("other")) is None  # None is a remembered answer
-    assert ctx.memo(("value", prim), compute(0)) == 0
-    assert ctx.memo(("value", prim), compute(1)) == 0
-    assert calls == ["computed", "computed"]
+    def name_of(ctx: Context, prim: Usd.Prim, suffix: str) -> str:
+        calls.append(("name_of", suffix))
+        return prim.GetName() + suffix
+
+    assert ctx.cached(nothing, prim) is None
+    assert ctx.cached(nothing, prim) is None  # None is a remembered answer
+    assert ctx.cached(name_of, prim, "!") == "Settings!"
+    assert ctx.cached(name_of, prim, "!") == "Settings!"
+    assert ctx.cached(name_of, prim, "?") == "Settings?"  # other arguments, other answer
+    assert calls == [("nothing", prim), ("name_of", "!"), ("name_of", "?")]
+    # Keyed by function: another function with the same arguments is computed anew.
+    assert ctx.cached(lambda ctx, prim: "other", prim) == "other"
+
+
+def test_the_cache_is_dropped_with_the_lint() -> None:
+    stage = Usd.Stage.CreateInMemory()
+    stage.DefinePrim("/Render/Settings", "RenderSettings")
+    caches: list[object] = []
+
+    class Probe(Rule):
+        """Records the lint's cache (test-only).
+
+        ## What it does
+        ## Why is this bad?
+        ## Example
+        ## Use instead
+        ## Fix safety
+        """
+
+        code = "ZZ960"
+        name = "cache-probe"
+        severity = Severity.INFO
+        prim_types = (UsdRender.Settings,)
+
+        def check_prim(self, prim, ctx):
+            caches.append(ctx.cache)
+            ctx.cached(lambda ctx: 1)
+            yield from ()
+
+    linter = Linter([Probe()], raise_errors=True)
+    linter.lint_stage(stage)
+    linter.lint_stage(stage)
+    assert len(caches) == 2 and caches[0] is not caches[1]
+    assert all(len(cache) >= 1 for cache in caches)

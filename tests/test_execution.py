@@ -13,14 +13,15 @@ import pytest
 from click.testing import CliRunner
 from pxr import Sdf, UsdGeom
 
-from usdrender_lint import execution
 from usdrender_lint.api import Diagnostic, Rule, Severity
 from usdrender_lint.cli import cli
 from usdrender_lint.config import Settings
 from usdrender_lint.engine import Linter
-from usdrender_lint.execution import ExecutionError, lint_paths
-from usdrender_lint.model import FileResult
-from usdrender_lint.runner import collect_files, lint_files, make_linter
+from usdrender_lint.model import FileResult, Report
+from usdrender_lint.running import workers as execution
+from usdrender_lint.running.discovery import collect_files
+from usdrender_lint.running.pipeline import LinterSpec, make_linter
+from usdrender_lint.running.workers import ExecutionError, lint_paths
 
 SCOPE = '#usda 1.0\ndef Scope "{name}"\n{{\n}}\n'
 SETTINGS = """#usda 1.0
@@ -57,7 +58,7 @@ class TrapRule(Rule):
             os.write(2, b"\n---- python3.11 terminated ----\n")
             os.write(2, b"python3.11 crashed. FATAL ERROR: Dereferenced an invalid spec\n")
             os.abort()
-        yield Diagnostic(f"scope {prim.GetName()}", at=prim)
+        yield Diagnostic(message=f"scope {prim.GetName()}", at=prim)
 
 
 def trap_linter() -> Linter:
@@ -81,7 +82,7 @@ class EnvironmentRule(Rule):
         self.mark = os.environ.get("USDRENDER_LINT_TEST_MARK", "unset")
 
     def check_prim(self, prim, ctx):
-        yield Diagnostic(f"mark {self.mark}", at=prim)
+        yield Diagnostic(message=f"mark {self.mark}", at=prim)
 
 
 def environment_linter() -> Linter:
@@ -101,7 +102,7 @@ class ProcessRule(Rule):
     prim_types = (UsdGeom.Scope,)
 
     def check_prim(self, prim, ctx):
-        yield Diagnostic(f"pid {os.getpid()}", at=prim)
+        yield Diagnostic(message=f"pid {os.getpid()}", at=prim)
 
 
 def process_linter() -> Linter:
@@ -123,7 +124,7 @@ class ThreadsRule(Rule):
     def check_prim(self, prim, ctx):
         from pxr import Work
 
-        yield Diagnostic(f"threads {Work.GetConcurrencyLimit()}", at=prim)
+        yield Diagnostic(message=f"threads {Work.GetConcurrencyLimit()}", at=prim)
 
 
 def threads_linter() -> Linter:
@@ -155,8 +156,10 @@ def mixed_files(tmp_path: Path) -> list[str]:
 def test_workers_give_the_in_process_results_in_input_order(mixed_files: list[str]) -> None:
     settings = Settings()
     linter = make_linter(settings)
-    alone = lint_files(linter, mixed_files)
-    pooled = lint_files(linter, mixed_files, settings=settings, jobs=2, timeout=60)
+    alone = Report(execution.lint_paths(mixed_files, linter=linter))
+    pooled = Report(
+        execution.lint_paths(mixed_files, linter_factory=LinterSpec(settings), jobs=2, timeout=60)
+    )
     assert [r.file for r in pooled.files] == mixed_files
     assert pooled == alone
     statuses = [r.status for r in pooled.files]
@@ -315,8 +318,10 @@ def test_real_files_give_the_same_report_with_workers(shared_dir: Path) -> None:
     assert files
     settings = Settings()
     linter = make_linter(settings)
-    alone = lint_files(linter, files)
-    pooled = lint_files(linter, files, settings=settings, jobs=2, timeout=120)
+    alone = Report(execution.lint_paths(files, linter=linter))
+    pooled = Report(
+        execution.lint_paths(files, linter_factory=LinterSpec(settings), jobs=2, timeout=120)
+    )
     assert pooled == alone
     assert not pooled.errored_files
     assert all(f.code != "UL000" for f in pooled.findings)

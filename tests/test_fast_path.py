@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 from pxr import Sdf, UsdRender
 
-from usdrender_lint import fastpath
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.engine import FULL_COMPOSITION_ENV, Linter
+from usdrender_lint.engine import Linter
+from usdrender_lint.engine import partial as fastpath
 from usdrender_lint.testing import all_rules
 
 TESTS = Path(__file__).parent
@@ -345,7 +345,7 @@ class _CountsPrims(Rule):
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         ctx.require_full_stage()
-        yield Diagnostic(f"{sum(1 for _ in ctx.stage.Traverse())} prims")
+        yield Diagnostic(message=f"{sum(1 for _ in ctx.stage.Traverse())} prims")
 
 
 def test_a_rule_can_require_the_full_stage(tmp_path: Path) -> None:
@@ -372,10 +372,7 @@ def test_full_composition_switch_never_takes_the_fast_path(
     monkeypatch.setattr(fastpath, "open_partial", refuse)
     rules = all_rules()
     assert Linter(rules, full_composition=True, raise_errors=True).lint_path(str(root)).findings
-    monkeypatch.setenv(FULL_COMPOSITION_ENV, "1")
-    assert Linter(rules, raise_errors=True).full_composition
-    monkeypatch.setenv(FULL_COMPOSITION_ENV, "0")
-    assert not Linter(rules).full_composition
+    assert not Linter(rules).full_composition  # the built-in rules all opt in
 
 
 def test_payloads_load_only_inside_the_mask(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
@@ -505,7 +502,6 @@ def test_cli_full_composition_flag(monkeypatch: pytest.MonkeyPatch, tmp_path: Pa
     def refuse(*_args, **_kwargs):
         raise AssertionError("fast path used")
 
-    monkeypatch.setenv(FULL_COMPOSITION_ENV, "0")  # restored after the test
     monkeypatch.setattr(fastpath, "open_partial", refuse)
     argv = ["check", "--isolated", "--jobs", "1", "--timeout", "0", "--format", "json"]
     result = CliRunner().invoke(cli, [*argv, "--full-composition", str(root)])
@@ -532,3 +528,61 @@ def test_scanning_more_than_a_full_composition_composes_is_not_done(
     assert opened.stage is None and "cheaper" in opened.reason
     # The generated shot references each asset many times: the fast path pays.
     assert fastpath.open_partial(str(shot), wants).stage is not None
+
+
+class _ReadsTheSet(Rule):
+    """Reports when the set brought in by a reference has no Mesh (test-only).
+
+    Written as the README shows a third-party rule: on RenderSettings, it reads
+    a prim outside the render prims, their targets and ancestors.
+
+    ## What it does
+    ## Why is this bad?
+    ## Example
+    ## Use instead
+    ## Fix safety
+    """
+
+    code = "ZZ950"
+    name = "reads-the-set"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx: Context):
+        mesh = ctx.stage.GetPrimAtPath("/World/set/ground")
+        if not mesh:
+            yield Diagnostic(message="the set's ground is missing", at=prim)
+        else:
+            yield Diagnostic(message=f"the set's ground is a {mesh.GetTypeName()}", at=prim)
+
+
+SHOT_WITH_A_SET = {
+    "shot.usda": '#usda 1.0\ndef Xform "World"\n{\n    def "set" (references = @./set.usda@)\n'
+    "    {\n    }\n}\n"
+    'def Scope "Render"\n{\n    def RenderSettings "Settings"\n    {\n    }\n}\n',
+    "set.usda": '#usda 1.0\n(\n    defaultPrim = "set"\n)\ndef Xform "set"\n{\n'
+    '    def Mesh "ground"\n    {\n    }\n}\n',
+}
+
+
+def test_a_rule_that_does_not_opt_in_sees_the_whole_stage(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    monkeypatch.setattr(fastpath, "FLAT_STAGES_COMPOSE_FULLY", False)
+    root = str(_write(tmp_path, SHOT_WITH_A_SET))
+    plugin = Linter([_ReadsTheSet(), *all_rules()], raise_errors=True)
+    assert plugin.full_composition  # one rule without the opt-in decides
+    messages = {f.message for f in plugin.lint_path(root).findings if f.code == "ZZ950"}
+    assert messages == {"the set's ground is a Mesh"}
+    # The same rule claiming the opt-in it does not honour is what the mask
+    # would hide: the engine believes the declaration.
+    monkeypatch.setattr(_ReadsTheSet, "partial_composition", True)
+    masked = Linter([_ReadsTheSet()], raise_errors=True)
+    assert not masked.full_composition
+    messages = {f.message for f in masked.lint_path(root).findings if f.code == "ZZ950"}
+    assert messages == {"the set's ground is missing"}
+
+
+def test_every_built_in_rule_opts_in_to_partial_composition() -> None:
+    assert all(type(rule).partial_composition for rule in all_rules())
+    assert not Linter(all_rules()).full_composition

@@ -13,13 +13,13 @@ import pytest
 from click.testing import CliRunner
 from pxr import Sdf, Usd, UsdRender
 
-from usdrender_lint import fixer
 from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api.resolve import composed_value
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
+from usdrender_lint.engine.usda_lines import comment_lines
+from usdrender_lint.fixing import fixer
 from usdrender_lint.registry import build_registry
-from usdrender_lint.resolve import composed_value
-from usdrender_lint.usda_lines import comment_lines
 
 FIXTURES = Path(__file__).parent / "rules"
 
@@ -581,7 +581,11 @@ class _SettingsRule(Rule):
 
     def check_prim(self, prim, ctx):
         if not prim.GetCustomDataByKey("fixed"):
-            yield Diagnostic("not fixed yet", at=prim, fix=Fix("mark", True, type(self).apply))
+            yield Diagnostic(
+                message="not fixed yet",
+                at=prim,
+                fix=Fix(description="mark", safe=True, apply=type(self).apply),
+            )
 
 
 def _fix_with(apply, path: Path, **options) -> fixer.FixRun:
@@ -698,7 +702,11 @@ def _append_rule(code: str, token: str) -> type[Rule]:
             def apply(stage: Usd.Stage) -> None:
                 stage.GetAttributeAtPath(attr.GetPath()).Set([*current, token])
 
-            yield Diagnostic(f"no {token}", at=attr, fix=Fix(f"add {token}", True, apply))
+            yield Diagnostic(
+                message=f"no {token}",
+                at=attr,
+                fix=Fix(description=f"add {token}", safe=True, apply=apply),
+            )
 
     return type(
         f"Append{token}",

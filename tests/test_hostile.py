@@ -23,10 +23,11 @@ import pytest
 from click.testing import CliRunner, Result
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender, Vt
 
-from usdrender_lint import execution
 from usdrender_lint.api import Diagnostic, Rule, Severity
 from usdrender_lint.cli import cli
-from usdrender_lint.engine import MAX_MESSAGE_CHARS, Linter
+from usdrender_lint.engine import Linter
+from usdrender_lint.engine.locate import MAX_MESSAGE_CHARS
+from usdrender_lint.running import workers as execution
 
 CONTROL = """#usda 1.0
 def Scope "Render"
@@ -590,7 +591,7 @@ class QuoteEverything(Rule):
 
     def check_prim(self, prim, ctx):
         values = prim.GetAttribute("user:weights").Get()
-        yield Diagnostic(f"weights {list(values)}", at=prim)
+        yield Diagnostic(message=f"weights {list(values)}", at=prim)
 
 
 def test_a_rule_quoting_a_huge_array_gives_a_bounded_message(tmp_path: Path) -> None:

@@ -10,7 +10,7 @@ from usdrender_lint.rules.vars.va003_lpe_malformed import LpeMalformed
 
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
-from usdrender_lint.runner import make_rules
+from usdrender_lint.running.pipeline import make_rules
 from usdrender_lint.testing import lint
 
 VALID = [

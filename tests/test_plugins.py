@@ -37,7 +37,7 @@ class ProductNameHasFrameToken(Rule):
     def check_prim(self, prim, ctx):
         name = UsdRender.Product(prim).GetProductNameAttr().Get() or ""
         if "####" not in name:
-            yield Diagnostic(f"productName {name!r} has no frame token ####", at=prim)
+            yield Diagnostic(message=f"productName {name!r} has no frame token ####", at=prim)
 
 
 RULES = [ProductNameHasFrameToken]

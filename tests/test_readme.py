@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from usdrender_lint.docs import code_blocks, sections
+from usdrender_lint.api.docs import code_blocks, sections
 from usdrender_lint.engine import Linter
 
 README = Path(__file__).parent.parent / "README.md"

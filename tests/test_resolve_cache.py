@@ -1,5 +1,6 @@
-"""resolve.py memoises its per-attribute answers for one lint only: a later lint
-of an edited stage, a nested lint and a call outside any lint see fresh answers."""
+"""The per-lint cache: resolve.py's answers (and every rule's ctx.cached) live for
+one lint only: a later lint of an edited stage, a nested lint and a call outside
+any lint see fresh answers."""
 
 from __future__ import annotations
 
@@ -10,8 +11,8 @@ from collections.abc import Iterator
 import pytest
 from pxr import Gf, Sdf, Usd, UsdRender
 
-from usdrender_lint import resolve
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, resolve
+from usdrender_lint.api.cache import active_cache, lint_cache
 from usdrender_lint.engine import Linter
 from usdrender_lint.model import INTERNAL_ERROR_CODE
 from usdrender_lint.testing import all_rules
@@ -60,7 +61,7 @@ def test_a_second_lint_sees_an_edited_type_and_value(stage) -> None:
 
 def test_answers_are_memoised_inside_a_lint_memo_and_dropped_after(stage) -> None:
     attr = _settings(stage).GetAttribute("aspectRatioConformPolicy")
-    with resolve.lint_memo():
+    with lint_cache():
         assert resolve.has_authored_value(attr)
         attr.Block()  # the engine never edits while rules run: the memo may answer
         assert resolve.has_authored_value(attr)
@@ -69,7 +70,7 @@ def test_answers_are_memoised_inside_a_lint_memo_and_dropped_after(stage) -> Non
 
 def test_a_none_answer_is_remembered_inside_a_lint_memo(stage) -> None:
     attr = _settings(stage).GetAttribute("aspectRatioConformPolicy")
-    with resolve.lint_memo():
+    with lint_cache():
         assert resolve.mismatched_spec(attr) is None  # token, as the schema declares
         spec = stage.GetRootLayer().GetAttributeAtPath(attr.GetPath())
         spec.SetInfo("typeName", "string")  # never during a lint: shows the memo answers
@@ -78,7 +79,7 @@ def test_a_none_answer_is_remembered_inside_a_lint_memo(stage) -> None:
 
 
 def test_helpers_outside_a_lint_are_not_memoised(stage) -> None:
-    assert resolve._MEMO.get() is None
+    assert active_cache() is None
     attr = _settings(stage).GetAttribute("resolution")
     assert resolve.mismatched_spec(attr) is not None
     assert not resolve.has_authored_value(attr)
@@ -88,7 +89,7 @@ def test_helpers_outside_a_lint_are_not_memoised(stage) -> None:
     assert resolve.mismatched_spec(attr) is None
     assert resolve.has_authored_value(attr)
     assert resolve.composed_value(_settings(stage), "resolution") == Gf.Vec2i(640, 480)
-    assert resolve._MEMO.get() is None
+    assert active_cache() is None
 
 
 class _Probe(Rule):
@@ -110,7 +111,7 @@ class _Probe(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         resolve.has_authored_value(prim.GetAttribute("resolution"))
-        type(self).memos.append(resolve._MEMO.get())
+        type(self).memos.append(active_cache())
         if self.fail:
             raise RuntimeError("probe")
         yield from ()
@@ -128,7 +129,7 @@ def test_each_lint_has_its_own_memo_and_drops_it(stage, probe) -> None:
     linter.lint_stage(stage)
     first, second = probe.memos
     assert first is not None and second is not None and first is not second
-    assert resolve._MEMO.get() is None
+    assert active_cache() is None
 
 
 @pytest.mark.parametrize("raise_errors", [True, False])
@@ -141,7 +142,7 @@ def test_the_memo_is_dropped_when_a_rule_raises(stage, probe, raise_errors) -> N
     else:
         assert [f.code for f in linter.lint_stage(stage)] == [INTERNAL_ERROR_CODE]
     assert probe.memos[0] is not None
-    assert resolve._MEMO.get() is None
+    assert active_cache() is None
 
 
 def test_a_nested_lint_uses_a_fresh_memo_and_restores_the_outer_one(stage, probe) -> None:
@@ -153,9 +154,9 @@ def test_a_nested_lint_uses_a_fresh_memo_and_restores_the_outer_one(stage, probe
         name = "resolve-memo-outer"
 
         def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-            seen.append(resolve._MEMO.get())
+            seen.append(active_cache())
             inner.lint_stage(ctx.stage)
-            seen.append(resolve._MEMO.get())
+            seen.append(active_cache())
             yield from ()
 
     Linter([Outer()], raise_errors=True).lint_stage(stage)
@@ -167,9 +168,9 @@ def test_a_nested_lint_uses_a_fresh_memo_and_restores_the_outer_one(stage, probe
 def test_the_memo_belongs_to_one_thread(stage) -> None:
     attr = _settings(stage).GetAttribute("aspectRatioConformPolicy")
     seen: list[object] = []
-    with resolve.lint_memo():
+    with lint_cache():
         assert resolve.has_authored_value(attr)
-        worker = threading.Thread(target=lambda: seen.append(resolve._MEMO.get()))
+        worker = threading.Thread(target=lambda: seen.append(active_cache()))
         worker.start()
         worker.join()
     assert seen == [None]
@@ -206,7 +207,7 @@ def test_schema_facts_follow_each_prims_type_and_applied_schemas() -> None:
     name = "collection:x:expansionRule"
     expansion = ("explicitOnly", "expandPrims", "expandPrimsAndProperties")
     for _ in range(2):
-        with resolve.lint_memo():
+        with lint_cache():
             assert resolve.allowed_tokens(b, name) == ()
             assert resolve.allowed_tokens(a, name) == expansion
             assert "raw" in resolve.allowed_tokens(v, "sourceType")
@@ -214,7 +215,7 @@ def test_schema_facts_follow_each_prims_type_and_applied_schemas() -> None:
             assert resolve.mismatched_spec(a.GetAttribute(name)) is not None  # token in the API
             assert resolve.has_authored_value(b.GetAttribute(name))  # no schema: any type
     Usd.CollectionAPI.Apply(b, "x")
-    with resolve.lint_memo():
+    with lint_cache():
         assert resolve.allowed_tokens(b, name) == expansion
         assert not resolve.has_authored_value(b.GetAttribute(name))
 
@@ -232,7 +233,7 @@ def test_a_second_lint_sees_edited_relationship_targets(stage) -> None:
 def test_each_caller_gets_a_target_list_of_its_own(stage) -> None:
     rel = _settings(stage).CreateRelationship("camera")
     rel.SetTargets([Sdf.Path("/Cam")])
-    with resolve.lint_memo():
+    with lint_cache():
         resolve.forwarded_targets(rel).append(Sdf.Path("/Other"))
         assert resolve.forwarded_targets(rel) == [Sdf.Path("/Cam")]
         assert resolve.authored_targets(rel) == [Sdf.Path("/Cam")]
@@ -255,7 +256,7 @@ def test_the_declared_type_shortcut_keeps_schema_and_custom_answers(stage) -> No
     )
     custom = Usd.Stage.Open(strong)
     extra = custom.GetAttributeAtPath("/S.extra")
-    for memo in (resolve.lint_memo(), contextlib.nullcontext()):
+    for memo in (lint_cache(), contextlib.nullcontext()):
         with memo:
             assert extra.GetTypeName() == Sdf.ValueTypeNames.Float2  # the strongest spec's
             assert resolve.mismatched_spec(extra) is None  # no schema type to differ from

@@ -19,7 +19,8 @@ from usdrender_lint.model import (
     Report,
     Severity,
 )
-from usdrender_lint.roots import (
+from usdrender_lint.running.pipeline import make_linter
+from usdrender_lint.running.roots import (
     ContextPlan,
     dependencies,
     file_key,
@@ -27,7 +28,7 @@ from usdrender_lint.roots import (
     plan_from_settings,
     plan_in_context,
 )
-from usdrender_lint.runner import lint_files, make_linter
+from usdrender_lint.running.workers import lint_paths
 
 LAYOUT = """#usda 1.0
 def Xform "World"
@@ -272,7 +273,9 @@ def test_the_plan_narrows_a_report_to_the_changed_layers(shot: Path) -> None:
     lighting, root = str(shot / "lighting.usda"), str(shot / "shot.usda")
     plan = plan_in_context([lighting], [root])
     assert plan.files == [root]
-    full = lint_files(make_linter(Settings(select=tuple(SELECT.split(",")))), plan.files)
+    full = Report(
+        lint_paths(plan.files, linter=make_linter(Settings(select=tuple(SELECT.split(",")))))
+    )
     assert {f.code for f in full.findings} >= {"SE003", "SE007"}
     narrowed = plan.narrow(full)
     assert [(f.code, f.location.file) for f in narrowed.findings] == [("SE003", root)]
@@ -311,15 +314,19 @@ def test_a_real_shot_from_the_corpus(shared_dir: Path) -> None:
     assert {file_key(str(asset)), file_key(str(root))} <= dependencies(str(root))
 
     linter = make_linter(Settings())
-    full = lint_files(linter, [str(root)])
+    full = Report(lint_paths([str(root)], linter=linter))
     in_root = {f for f in full.findings if file_key(f.location.layer or "") == file_key(str(root))}
     assert in_root  # the root layer authors findings of its own
 
     plan = plan_in_context([str(asset)], [str(root)])
     assert (plan.files, plan.alone) == ([str(root)], ())
-    assert plan.narrow(lint_files(linter, plan.files)).findings == ()
+    assert plan.narrow(Report(lint_paths(plan.files, linter=linter))).findings == ()
 
     plan = plan_in_context([str(root), str(asset)], [str(root)])
     changed = {file_key(str(root)), file_key(str(asset))}
     expected = {f for f in full.findings if file_key(f.location.layer or "") in changed}
-    assert set(plan.narrow(lint_files(linter, plan.files)).findings) == expected >= in_root
+    assert (
+        set(plan.narrow(Report(lint_paths(plan.files, linter=linter))).findings)
+        == expected
+        >= in_root
+    )

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from usdrender_lint.api import DOC_SECTIONS
-from usdrender_lint.docs import code_blocks, missing_sections, sections, supporting_layers
+from usdrender_lint.api.docs import code_blocks, missing_sections, sections, supporting_layers
 from usdrender_lint.registry import build_registry
 from usdrender_lint.testing import all_rules, lint
 

@@ -8,7 +8,7 @@ import math
 import pytest
 from pxr import Gf, Vt
 
-from usdrender_lint.resolve import is_finite, items
+from usdrender_lint.api.resolve import is_finite, items
 
 
 @pytest.mark.parametrize(

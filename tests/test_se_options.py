@@ -16,7 +16,7 @@ from usdrender_lint.rules.settings.se013_rendering_color_space_not_linear import
 from usdrender_lint.config import ConfigError, Settings
 from usdrender_lint.engine import Linter
 from usdrender_lint.registry import build_registry
-from usdrender_lint.runner import make_rules
+from usdrender_lint.running.pipeline import make_rules
 
 UNAUTHORED_RESOLUTION = """#usda 1.0
 def RenderSettings "S"

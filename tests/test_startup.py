@@ -27,11 +27,11 @@ NEVER_NEEDED = (
     "rich",
     "tomllib",
     "zipfile",
-    "usdrender_lint.docs",
-    "usdrender_lint.fixer",
-    "usdrender_lint.roots",
-    "usdrender_lint.variants",
-    "usdrender_lint.baseline",
+    "usdrender_lint.api.docs",
+    "usdrender_lint.fixing.fixer",
+    "usdrender_lint.running.roots",
+    "usdrender_lint.engine.variants",
+    "usdrender_lint.running.baseline",
 )
 #: Modules only the worker pool needs (more than one job, or a --timeout).
 POOL_ONLY = ("multiprocessing", "tempfile", "shutil")
@@ -76,7 +76,7 @@ def test_check_with_workers_imports_the_pool_and_nothing_else_heavy() -> None:
 
 def test_rule_docs_are_built_only_for_a_formatter_that_reads_them() -> None:
     modules = _modules_after("--isolated", "--jobs", "1", "--timeout", "0", "--format", "sarif")
-    assert "usdrender_lint.docs" in modules  # SARIF describes the rules
+    assert "usdrender_lint.api.docs" in modules  # SARIF describes the rules
 
 
 def _pairs(found) -> list[tuple[str, str]]:

@@ -6,11 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from usdrender_lint import suppress
-from usdrender_lint.engine import Linter
+from usdrender_lint.engine import Linter, suppress
 from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
 from usdrender_lint.registry import build_registry
-from usdrender_lint.suppress import apply_path_ignores
+from usdrender_lint.running.path_ignores import apply_path_ignores
 
 REGISTRY = build_registry()
 
@@ -169,7 +168,7 @@ def test_internal_errors_are_never_path_ignored(tmp_path) -> None:
 
 
 def test_readme_suppression_example_works(tmp_path) -> None:
-    from usdrender_lint.docs import code_blocks
+    from usdrender_lint.api.docs import code_blocks
 
     readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
     section = readme.split("## Suppressing findings", 1)[1].split("\n## ", 1)[0]

@@ -6,15 +6,14 @@ import random
 import re
 import subprocess
 import sys
-import threading
 from collections.abc import Iterator
 from pathlib import Path
 
-import pytest
 from pxr import Sdf
 
-from usdrender_lint import usda_lines
-from usdrender_lint.usda_lines import comment_lines, index_usda, line_of
+from usdrender_lint.api.cache import lint_cache
+from usdrender_lint.engine import usda_lines
+from usdrender_lint.engine.usda_lines import comment_lines, index_usda, line_of
 
 TESTS = Path(__file__).parent
 REPO = TESTS.parent
@@ -160,9 +159,9 @@ def _assert_same_lines(path: Path) -> int:
     # One lazy layer asked in Sdf's order, one in reverse: what earlier lookups
     # read must not change later answers.
     for order in (asked, asked[::-1]):
-        usda_lines.clear_cache()
-        for spec_path in order:
-            assert line_of(str(path), spec_path) == expected.get(spec_path), (path, spec_path)
+        with lint_cache():  # a lint's lookups share one lazily read layer
+            for spec_path in order:
+                assert line_of(str(path), spec_path) == expected.get(spec_path), (path, spec_path)
     return len(asked)
 
 
@@ -174,7 +173,6 @@ def test_same_lines_as_reference_on_fixtures_and_examples() -> None:
     files = _usda_files(TESTS, REPO / "examples")
     assert len(files) > 300
     assert sum(_assert_same_lines(path) for path in files) > 5000
-    usda_lines.clear_cache()
 
 
 def test_same_lines_as_reference_on_the_corpus(shared_dir: Path) -> None:
@@ -182,7 +180,6 @@ def test_same_lines_as_reference_on_the_corpus(shared_dir: Path) -> None:
     assert files
     for path in files:
         _assert_same_lines(path)
-    usda_lines.clear_cache()
 
 
 # --- hostile text ----------------------------------------------------------------------
@@ -273,7 +270,6 @@ def test_hostile_text_lazy_lookups_match(tmp_path: Path) -> None:
     valid.write_text(HOSTILE.replace("</World{look=a}cam.focalLength>", "</World/over>"))
     assert Sdf.Layer.FindOrOpen(str(valid)) is not None
     assert _assert_same_lines(valid) > 30  # with every path Sdf lists
-    usda_lines.clear_cache()
 
 
 def test_crlf_line_endings_count_the_same_lines(tmp_path: Path) -> None:
@@ -281,10 +277,9 @@ def test_crlf_line_endings_count_the_same_lines(tmp_path: Path) -> None:
     layer.write_bytes(HOSTILE.replace("\n", "\r\n").encode())
     expected = _hostile_lines(HOSTILE)
     assert _hostile_lines(layer.read_bytes().decode()) == expected
-    usda_lines.clear_cache()
-    for spec_path, line in expected.items():
-        assert line_of(str(layer), spec_path) == line
-    usda_lines.clear_cache()
+    with lint_cache():
+        for spec_path, line in expected.items():
+            assert line_of(str(layer), spec_path) == line
 
 
 def test_nesting_deeper_than_the_patterns_match_at_once() -> None:
@@ -398,53 +393,32 @@ def test_a_layer_of_long_lines_is_read_whole_at_once() -> None:
     assert layer.complete and layer.lines == reference_index(text)
 
 
-def test_line_of_caches_until_cleared(tmp_path: Path) -> None:
+def test_line_of_reads_a_layer_once_per_lint_and_again_in_the_next(tmp_path: Path) -> None:
     layer = tmp_path / "shot.usda"
     layer.write_text('#usda 1.0\ndef Scope "A"\n{\n    int x = 1\n}\n')
-    usda_lines.clear_cache()
-    assert line_of(str(layer), "/A.x") == 4
-    layer.write_text('#usda 1.0\n\n\ndef Scope "A"\n{\n    int x = 1\n}\n')
-    assert line_of(str(layer), "/A.x") == 4  # the text read first, until cleared
-    usda_lines.clear_cache()
-    assert line_of(str(layer), "/A.x") == 6
+    with lint_cache():
+        assert line_of(str(layer), "/A.x") == 4
+        layer.write_text('#usda 1.0\n\n\ndef Scope "A"\n{\n    int x = 1\n}\n')
+        assert line_of(str(layer), "/A.x") == 4  # the text this lint read first
+    with lint_cache():
+        assert line_of(str(layer), "/A.x") == 6  # a new lint reads it again
+    assert line_of(str(layer), "/A.x") == 6  # outside a lint: read for the lookup
     assert line_of(str(tmp_path / "missing.usda"), "/A") is None
-    usda_lines.clear_cache()
 
 
-def test_a_lookup_in_another_thread_waits_for_a_half_read_layer(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_the_lint_cache_holds_each_layer_index_once(tmp_path: Path) -> None:
     layer = tmp_path / "shot.usda"
     layer.write_text(_shot(50, "float a = 1"))
-    usda_lines.clear_cache()
-    scan = usda_lines._Layer._scan
-    threads: list[threading.Thread] = []
-    other: list[int | None] = []
-
-    def ask() -> None:
-        other.append(line_of(str(layer), "/Render.x"))
-
-    def scan_while_another_thread_asks(
-        self: usda_lines._Layer, *args: object, **kwargs: object
-    ) -> None:
-        if not threads:  # the first lookup's first read: the root is marked read, unread
-            threads.append(threading.Thread(target=ask))
-            threads[0].start()
-            threads[0].join(0.5)
-            assert threads[0].is_alive()  # waiting for this lookup, not answering
-        scan(self, *args, **kwargs)
-
-    monkeypatch.setattr(usda_lines._Layer, "_scan", scan_while_another_thread_asks)
-    assert line_of(str(layer), "/Render.x") == 207
-    threads[0].join()
-    assert other == [207]
-    usda_lines.clear_cache()
+    with lint_cache() as cache:
+        assert line_of(str(layer), "/Render.x") == 207
+        assert line_of(str(layer), "/Render") is not None
+        assert len(cache) == 1
 
 
 def test_the_skipping_patterns_are_compiled_on_the_first_lookup_not_at_import() -> None:
     # They take milliseconds to compile; a check with no finding to place never needs them.
     code = (
-        "from usdrender_lint import usda_lines as u\n"
+        "from usdrender_lint.engine import usda_lines as u\n"
         "print(u._skippers.cache_info().currsize)\n"
         "u.index_usda('def \"A\" {\\n}\\n')\n"
         "print(u._skippers.cache_info().currsize)\n"

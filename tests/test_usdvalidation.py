@@ -193,7 +193,7 @@ from pathlib import Path
 from pxr import Sdf, Tf, Usd, UsdValidation
 from usdrender_lint.config import Settings
 from usdrender_lint.registry import build_registry
-from usdrender_lint.runner import make_linter
+from usdrender_lint.running.pipeline import make_linter
 from usdrender_lint.usdplugin import validator_name
 
 registry = UsdValidation.ValidationRegistry()

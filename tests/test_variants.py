@@ -13,8 +13,8 @@ from pxr import Usd
 import usdrender_lint
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
+from usdrender_lint.engine.variants import VariantExplorer, combination_count, render_variant_sets
 from usdrender_lint.testing import all_rules
-from usdrender_lint.variants import VariantExplorer, combination_count, render_variant_sets
 
 # The authored selections are clean; quality=final zeroes the pixel aspect
 # ratio (SE002) and camera=none leaves the settings without a camera (CA001).

@@ -6,12 +6,30 @@ from __future__ import annotations
 #: start-up needs no importlib.metadata.
 __version__ = "0.1.0"
 
+
+# In a source checkout the built-in rules sit beside the package (./rules, which
+# installs as usdrender_lint.rules): with the checkout's root as the current
+# directory Python imports this tree, not the installed copy, so let the
+# package find its rules there too. Installed, usdrender_lint/rules exists.
+def _find_source_rules() -> None:
+    import os
+
+    here = __path__[0]
+    checkout = os.path.dirname(here)
+    if not os.path.isdir(os.path.join(here, "rules")) and os.path.isfile(
+        os.path.join(checkout, "rules", "__init__.py")
+    ):
+        __path__.append(checkout)
+
+
+_find_source_rules()
+
 TYPE_CHECKING = False
 if TYPE_CHECKING:  # the Python API, for type checkers; imported lazily below
-    from .lint_api import lint_file, lint_stage
+    from .running.python_api import lint_file, lint_stage
 
 #: Loaded on first use, so ``import usdrender_lint`` stays cheap (no pxr).
-_LAZY = {"lint_file": "lint_api", "lint_stage": "lint_api"}
+_LAZY = {"lint_file": "running.python_api", "lint_stage": "running.python_api"}
 
 
 def __getattr__(name: str):

@@ -10,7 +10,6 @@ from __future__ import annotations
 import gc
 import os
 import sys
-from collections import Counter
 from collections.abc import Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
@@ -18,15 +17,17 @@ from typing import TYPE_CHECKING
 import click
 
 from . import __version__
-from .config import FAIL_ON_CHOICES, ConfigError, load_settings
-from .execution import DEFAULT_TIMEOUT, ExecutionError, default_jobs
+from .config import FAIL_ON_CHOICES
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
+from .running.workers import DEFAULT_TIMEOUT
 
 if TYPE_CHECKING:
     from .api import Rule
     from .registry import Registry
 
+#: The pipeline's exit codes (running/pipeline.py), repeated so that --help
+#: and --version need no import of USD.
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
 
 
@@ -202,94 +203,54 @@ def check(
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     _import_engine()
-    from .engine import FULL_COMPOSITION_ENV
-    from .runner import collect_files, fails, lint_files, make_linter
-    from .suppress import apply_path_ignores
+    from .running.pipeline import Request, RequestError, run
 
-    if full_composition:
-        os.environ[FULL_COMPOSITION_ENV] = "1"  # read by every Linter, in workers too
-    registry = _registry()
-    try:
-        settings = load_settings(config_path, isolated=isolated, start=paths[0])
-        settings = settings.merged(
-            select=_split(select),
-            ignore=_split(ignore),
-            extend_select=_split(extend_select),
-            fail_on=fail_on,
-            variants=variants,
-            max_variant_combinations=max_variant_combinations,
-        )
-        linter = make_linter(settings, registry)
-        known = _load_baseline(baseline_file, write_baseline_file)
-    except ConfigError as exc:
-        raise ToolError(str(exc)) from None
-
-    files = collect_files(paths)
-    # With config `roots`, PATHS are linted inside the stages that use them.
-    plan = None
-    if settings.roots and not no_roots:
-        from .roots import plan_from_settings  # USD's dependency tools: only for roots
-
-        plan = plan_from_settings(files, settings)
-    fix_options = _fix_options(fix, unsafe_fixes, show_diff, fix_to, fix_drop_comments)
-    if settings.variants and fix_options is not None:
-        raise ToolError(
-            "--variants (or config 'variants') cannot be combined with --fix, --diff or --fix-to"
-        )
-    fixed = None
-    if fix_options is not None:
-        fixed = _run_fixes(linter, plan.files if plan else files, fix_options, settings, registry)
-    try:
-        if fixed is not None and fix_to:
-            report = Report(tuple(fixed.remaining))  # what remains with the overrides
-        else:
-            report = lint_files(
-                linter,
-                plan.files if plan else files,
-                settings=settings,
-                jobs=jobs or default_jobs(),
-                timeout=timeout,
-                variant_combinations=(
-                    settings.max_variant_combinations if settings.variants else None
-                ),
-            )
-    except ExecutionError as exc:
-        raise ToolError(str(exc)) from None
-    if plan is not None:
-        report = plan.narrow(report)
-    report = type(report)(report.files)
-    report = apply_path_ignores(
-        report, settings.per_path_ignores, settings.base_dir, registry.rules
+    request = Request(
+        paths,
+        select=_split(select),
+        ignore=_split(ignore),
+        extend_select=_split(extend_select),
+        fail_on=fail_on,
+        config=config_path,
+        isolated=isolated,
+        use_roots=not no_roots,
+        fix=_fix_request(fix, unsafe_fixes, show_diff, fix_to, fix_drop_comments),
+        variants=variants,
+        max_variant_combinations=max_variant_combinations,
+        baseline=baseline_file,
+        write_baseline=write_baseline_file,
+        jobs=jobs,
+        timeout=timeout,
+        full_composition=full_composition,
     )
-    report = _apply_baseline(report, known, baseline_file, write_baseline_file)
-    if fixed is not None:
-        report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
+    try:
+        outcome = run(request)
+    except RequestError as exc:
+        raise ToolError(str(exc)) from None
     options = FormatOptions(
         show_info=show_info,
         tool_version=__version__,
         statistics=statistics,
-        fixing=fixed is not None,
+        fixing=request.fix is not None,
     )
     if show_diff:
         # stdout carries the diff alone; the report goes only to --output.
-        click.echo("".join(fixed.diffs), nl=False)
+        click.echo("".join(outcome.diffs), nl=False)
         if output_file:
-            _emit_report(report, output_format, linter.rules, options, output_file)
+            _emit_report(outcome.report, output_format, outcome.rules, options, output_file)
     else:
-        _emit_report(report, output_format, linter.rules, options, output_file)
-    if fixed is not None:
-        _echo_fix_summary(report, show_diff)
-    for result in report.errored_files:
-        click.echo(f"usdrender-lint: error: {result.error}", err=True)
-    if report.errored_files:
-        sys.exit(EXIT_TOOL_ERROR)
-    if write_baseline_file:
-        sys.exit(EXIT_OK)  # today's findings are accepted
-    sys.exit(EXIT_FINDINGS if fails(report, settings.fail_on) else EXIT_OK)
+        _emit_report(outcome.report, output_format, outcome.rules, options, output_file)
+    for note in outcome.notes:
+        click.echo(f"usdrender-lint: {note}", err=True)
+    for error in outcome.errors:
+        click.echo(f"usdrender-lint: error: {error}", err=True)
+    sys.exit(outcome.exit_status)
 
 
-def _fix_options(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, drop_comments: bool):
-    """The fixer's options, or None when no fixing was asked for."""
+def _fix_request(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, drop_comments: bool):
+    """What fixing the flags ask for, or None when none was."""
+    from .running.pipeline import FixRequest
+
     if show_diff and fix_to:
         raise ToolError("use either --diff or --fix-to, not both")
     if not (fix or show_diff or fix_to):
@@ -297,105 +258,9 @@ def _fix_options(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, d
             flag = "--unsafe-fixes" if unsafe else "--fix-drop-comments"
             raise ToolError(f"{flag} needs --fix, --diff or --fix-to")
         return None
-    from .fixer import FixOptions
-
-    return FixOptions(
-        unsafe=unsafe, drop_comments=drop_comments, write=not show_diff, fix_to=fix_to
+    return FixRequest(
+        write=not show_diff, unsafe=unsafe, drop_comments=drop_comments, fix_to=fix_to
     )
-
-
-def _run_fixes(linter, files: Sequence[str], options, settings, registry):
-    """Apply (or, for --diff, compute) the fixes on every stage, in this process."""
-    from .fixer import FixError, fix_files
-    from .model import FileResult
-    from .registry import matches_any
-    from .suppress import apply_path_ignores
-
-    if options.fix_to and len(files) != 1:
-        raise ToolError(f"--fix-to writes the overrides of one stage; got {len(files)} files")
-
-    unfixable = {r.code for r in registry.rules if matches_any(r, settings.unfixable)}
-
-    def reported(finding) -> bool:
-        # A finding per-path-ignores silence is not fixed either, nor one of an
-        # `unfixable` rule.
-        if finding.code in unfixable:
-            return False
-        alone = Report((FileResult(finding.location.file, findings=(finding,)),))
-        kept = apply_path_ignores(
-            alone, settings.per_path_ignores, settings.base_dir, registry.rules
-        )
-        return bool(kept.findings)
-
-    try:
-        return fix_files(linter, files, options, keep=reported)
-    except FixError as exc:
-        raise ToolError(str(exc)) from None
-
-
-def _echo_fix_summary(report: Report, dry_run: bool) -> None:
-    """On stderr: each reason a fix was not applied, once, and what was done."""
-    by_reason: dict[str, list[str]] = {}
-    for fix in report.unapplied_fixes:
-        by_reason.setdefault(fix.reason, []).append(fix.code)
-    for reason, codes in by_reason.items():
-        fixes = "1 fix" if len(codes) == 1 else f"{len(codes)} fixes"
-        kinds = ", ".join(sorted(set(codes)))
-        click.echo(f"usdrender-lint: {fixes} not applied ({kinds}): {reason}", err=True)
-    if dry_run:
-        count = len(report.applied_fixes)
-        fixes = "1 fix" if count == 1 else f"{count} fixes"
-        click.echo(f"usdrender-lint: --diff: {fixes} would be applied", err=True)
-
-
-def _load_baseline(baseline_file: str | None, write_baseline_file: str | None) -> Counter | None:
-    """The baseline's fingerprint counts (None without --baseline); checked
-    before linting so a missing or corrupt file fails fast."""
-    if baseline_file and write_baseline_file:
-        raise ToolError("use either --baseline or --write-baseline, not both")
-    if not baseline_file:
-        return None
-    from .baseline import BaselineError, load_baseline
-
-    try:
-        return load_baseline(baseline_file)
-    except BaselineError as exc:
-        raise ToolError(str(exc)) from None
-
-
-def _apply_baseline(
-    report: Report,
-    known: Counter | None,
-    baseline_file: str | None,
-    write_baseline_file: str | None,
-) -> Report:
-    """Keep only new findings (--baseline) or record them all (--write-baseline)."""
-    if write_baseline_file:
-        from .baseline import BaselineError, write_baseline
-
-        try:
-            count = write_baseline(report, write_baseline_file)
-        except BaselineError as exc:
-            raise ToolError(str(exc)) from None
-        click.echo(
-            f"usdrender-lint: recorded {_findings(count)} in {write_baseline_file}", err=True
-        )
-    elif known is not None:
-        from pathlib import Path
-
-        from .baseline import new_findings
-
-        report, dropped = new_findings(report, known, Path(baseline_file).resolve().parent)
-        if dropped:
-            click.echo(
-                f"usdrender-lint: {_findings(dropped)} recorded in {baseline_file} not shown",
-                err=True,
-            )
-    return report
-
-
-def _findings(count: int) -> str:
-    return f"{count} finding" if count == 1 else f"{count} findings"
 
 
 def _emit_report(
@@ -410,7 +275,7 @@ def _emit_report(
     formatter that reads them: building that costs every rule's docstring."""
     formatter = load_formatter(output_format)
     if reads_rules(formatter):
-        from .docs import rule_info
+        from .api.docs import rule_info
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     if output_file is None:
@@ -471,7 +336,7 @@ def list_rules(output_format: str) -> None:
 @click.argument("rule")
 def explain(rule: str) -> None:
     """Print a rule's documentation (by code or name)."""
-    from .docs import rule_doc
+    from .api.docs import rule_doc
 
     found = _registry().find(rule)
     if found is None:
@@ -547,12 +412,12 @@ def _import_engine() -> None:
     each collection on the way would walk every object USD created so far
     (about 10 ms of a one-file check); frozen objects are never walked again.
     Called by the commands that need USD: ``--help`` and ``--version`` do not."""
-    if "usdrender_lint.runner" in sys.modules:
+    if "usdrender_lint.running.pipeline" in sys.modules:
         return
     enabled = gc.isenabled()
     gc.disable()
     try:
-        from . import runner  # noqa: F401 - USD, the engine and the rule API
+        from .running import pipeline  # noqa: F401 - USD, the engine and the rule API
     finally:
         gc.freeze()
         if enabled:

@@ -39,6 +39,8 @@ _SEVERITY_RANK = {Severity.INFO: 0, Severity.WARNING: 1, Severity.ERROR: 2}
 #: Reserved code for a rule that raised: reported, never selectable away.
 INTERNAL_ERROR_CODE = "UL000"
 INTERNAL_ERROR_NAME = "internal-error"
+#: The customData key under which a prim lists the rules silenced on it.
+IGNORE_KEY = "usdrender_lint:ignore"
 
 
 @dataclass(frozen=True)

@@ -89,6 +89,7 @@ class CameraUnset(Rule):
     code = "CA001"
     name = "camera-unset"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "unsafe"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
@@ -110,12 +111,13 @@ class CameraUnset(Rule):
             if len(cameras) == 1:
                 camera_path = cameras[0].GetPath()
                 fix = Fix(
-                    f"target the stage's only Camera <{camera_path}> from <{settings_path}>",
-                    False,
-                    _set_settings_camera(settings_path, camera_path),
+                    description=f"target the stage's only Camera <{camera_path}> from "
+                    f"<{settings_path}>",
+                    safe=False,
+                    apply=_set_settings_camera(settings_path, camera_path),
                 )
             yield Diagnostic(
-                f"{what}; {effect}. Author rel camera = </path/to/Camera> on "
+                message=f"{what}; {effect}. Author rel camera = </path/to/Camera> on "
                 f"<{settings_path}> (or on the product)",
                 at=config.settings,
                 fix=fix,

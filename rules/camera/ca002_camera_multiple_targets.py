@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import forwarded_targets
+from usdrender_lint.api.resolve import forwarded_targets
 
 from .._camera import config_owners
 
@@ -93,6 +93,7 @@ class CameraMultipleTargets(Rule):
     code = "CA002"
     name = "camera-multiple-targets"
     severity = Severity.WARNING
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         seen: set[Sdf.Path] = set()
@@ -105,7 +106,7 @@ class CameraMultipleTargets(Rule):
                 seen.add(rel.GetPath())
                 listed = ", ".join(f"<{t}>" for t in targets)
                 yield Diagnostic(
-                    f"camera has {len(targets)} targets ({listed}); renderers use only the "
+                    message=f"camera has {len(targets)} targets ({listed}); renderers use only the "
                     f"first, <{targets[0]}>, and ignore the rest. Keep one camera here "
                     "(use one RenderProduct per camera for stereo)",
                     at=rel,

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import UsdGeom
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import RenderConfiguration
+from usdrender_lint.api.resolve import RenderConfiguration
 
 
 def _camera_rel_label(config: RenderConfiguration) -> str:
@@ -79,6 +79,7 @@ class CameraTargetMissing(Rule):
     code = "CA003"
     name = "camera-target-missing"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for config in ctx.configurations:
@@ -92,7 +93,7 @@ class CameraTargetMissing(Rule):
             else:
                 continue
             yield Diagnostic(
-                f"camera target <{target.path}> {reason}; point "
+                message=f"camera target <{target.path}> {reason}; point "
                 f"{_camera_rel_label(config)} at a defined, active Camera prim",
                 at=config.camera_relationship,
             )

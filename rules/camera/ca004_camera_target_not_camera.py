@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd, UsdGeom
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import describe_prim_type, is_usable
+from usdrender_lint.api.resolve import describe_prim_type, is_usable
 
 
 def _single_camera_descendant(prim: Usd.Prim) -> Usd.Prim | None:
@@ -97,6 +97,7 @@ class CameraTargetNotCamera(Rule):
     code = "CA004"
     name = "camera-target-not-camera"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
@@ -120,17 +121,19 @@ class CameraTargetNotCamera(Rule):
                 continue
             if suggestion is None:
                 yield Diagnostic(
-                    f"camera target <{target.path}> is {what}, not a Camera; "
+                    message=f"camera target <{target.path}> is {what}, not a Camera; "
                     "point it at a Camera prim",
                     at=rel,
                 )
                 continue
             new_path = suggestion.GetPath()
             yield Diagnostic(
-                f"camera target <{target.path}> is {what}, not a Camera; "
+                message=f"camera target <{target.path}> is {what}, not a Camera; "
                 f"target the Camera <{new_path}> instead",
                 at=rel,
                 fix=Fix(
-                    f"retarget camera to <{new_path}>", True, _retarget(rel.GetPath(), new_path)
+                    description=f"retarget camera to <{new_path}>",
+                    safe=True,
+                    apply=_retarget(rel.GetPath(), new_path),
                 ),
             )

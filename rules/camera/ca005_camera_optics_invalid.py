@@ -6,7 +6,7 @@ from collections.abc import Iterator
 from functools import partial
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import allowed_tokens
+from usdrender_lint.api.resolve import allowed_tokens
 
 from .._camera import at_time, effective_cameras, first_failure, is_perspective, positive_finite
 
@@ -103,6 +103,7 @@ class CameraOpticsInvalid(Rule):
     code = "CA005"
     name = "camera-optics-invalid"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for use in effective_cameras(ctx):
@@ -119,6 +120,6 @@ class CameraOpticsInvalid(Rule):
                 if failure is not None:
                     time, problem = failure
                     yield Diagnostic(
-                        f"render camera {names[0]} {problem} ({at_time(time)})",
+                        message=f"render camera {names[0]} {problem} ({at_time(time)})",
                         at=camera.GetAttribute(names[0]),
                     )

@@ -8,7 +8,7 @@ from functools import partial
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import RenderConfiguration, has_authored_value
+from usdrender_lint.api.resolve import RenderConfiguration, has_authored_value
 
 from .._camera import at_time, config_owners, first_failure, positive_finite
 
@@ -131,6 +131,7 @@ class AspectRatioMismatchImplicitConform(Rule):
     code = "CA006"
     name = "aspect-ratio-mismatch-implicit-conform"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe"
 
     #: Relative aspect difference tolerated (catalog: 1%).
@@ -155,15 +156,16 @@ class AspectRatioMismatchImplicitConform(Rule):
             time, problem = failure
             settings_path = config.settings.GetPath()
             yield Diagnostic(
-                f"{config.describe()}: {problem} ({at_time(time)}) and no "
+                message=f"{config.describe()}: {problem} ({at_time(time)}) and no "
                 "aspectRatioConformPolicy is authored, so the fallback expandAperture "
                 "silently renders scene content outside the camera framing; author "
                 f"aspectRatioConformPolicy on <{settings_path}> or match the aspects",
                 at=config.settings,
                 fix=Fix(
-                    'author aspectRatioConformPolicy = "expandAperture" (today\'s behaviour)',
-                    True,
-                    _author_conform_policy(settings_path),
+                    description='author aspectRatioConformPolicy = "expandAperture" (today\'s '
+                    "behaviour)",
+                    safe=True,
+                    apply=_author_conform_policy(settings_path),
                 ),
             )
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import evaluation_times, has_authored_value
+from usdrender_lint.api.resolve import evaluation_times, has_authored_value
 
 from .._camera import at_time, positive_finite
 
@@ -78,6 +78,7 @@ class DepthOfFieldDisabledWithFStop(Rule):
     code = "CA007"
     name = "depth-of-field-disabled-with-fstop"
     severity = Severity.INFO
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for config in ctx.configurations:
@@ -92,7 +93,7 @@ class DepthOfFieldDisabledWithFStop(Rule):
                 value = fstop.Get(time)
                 if positive_finite(value):
                     yield Diagnostic(
-                        f"{config.describe()}: disableDepthOfField = true discards the "
+                        message=f"{config.describe()}: disableDepthOfField = true discards the "
                         f"camera <{camera.GetPath()}> fStop {value:g} ({at_time(time)}); "
                         "remove disableDepthOfField if this is a final render",
                         at=disable.attr,

@@ -76,6 +76,7 @@ class ShutterIntervalInverted(Rule):
     code = "CA008"
     name = "shutter-interval-inverted"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for use in effective_cameras(ctx):
@@ -90,7 +91,7 @@ class ShutterIntervalInverted(Rule):
             if failure is not None:
                 time, problem = failure
                 yield Diagnostic(
-                    f"render camera {problem} ({at_time(time)}): there is no exposure and "
+                    message=f"render camera {problem} ({at_time(time)}): there is no exposure and "
                     "renderers produce a black image; author shutter:close >= shutter:open "
                     "(e.g. open -0.25, close 0.25)",
                     at=use.prim,

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import is_finite
+from usdrender_lint.api.resolve import is_finite
 
 from .._camera import at_time, effective_cameras, first_failure, is_perspective
 
@@ -88,6 +88,7 @@ class ClippingRangeInvalid(Rule):
     code = "CA009"
     name = "clipping-range-invalid"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for use in effective_cameras(ctx):
@@ -100,7 +101,8 @@ class ClippingRangeInvalid(Rule):
             if failure is not None:
                 time, problem = failure
                 yield Diagnostic(
-                    f"render camera clippingRange {problem} ({at_time(time)}); author finite "
+                    message=f"render camera clippingRange {problem} ({at_time(time)}); author "
+                    "finite "
                     "(near, far) with 0 <= near < far (near > 0 when perspective), "
                     "e.g. (0.1, 100000)",
                     at=use.prim.GetAttribute("clippingRange"),

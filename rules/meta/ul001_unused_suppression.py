@@ -64,4 +64,5 @@ class UnusedSuppression(Rule):
     code = "UL001"
     name = "unused-suppression"
     severity = Severity.INFO
+    partial_composition = True
     fix_safety = "safe"

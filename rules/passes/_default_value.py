@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pxr import Sdf, Usd
 
-from usdrender_lint.resolve import DEFAULT_TIME, mismatched_spec
+from usdrender_lint.api.resolve import DEFAULT_TIME, mismatched_spec
 
 
 def _authored_layer(attr: Usd.Attribute) -> Sdf.Layer | None:

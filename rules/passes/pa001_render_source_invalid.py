@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import (
+from usdrender_lint.api.resolve import (
     authored_targets,
     authored_value,
     is_usable,
@@ -107,6 +107,7 @@ class RenderSourceInvalid(Rule):
     code = "PA001"
     name = "render-source-invalid"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Pass,)
 
@@ -122,7 +123,7 @@ class RenderSourceInvalid(Rule):
         targets = resolve_targets(rel)
         if not targets:
             yield Diagnostic(
-                f"RenderPass {prim.GetPath()} has neither a fileName nor a renderSource "
+                message=f"RenderPass {prim.GetPath()} has neither a fileName nor a renderSource "
                 "target; point renderSource at the RenderSettings prim this pass renders, "
                 "or author fileName when the source lives in another file",
                 at=rel if rel.HasAuthoredTargets() else prim,
@@ -143,10 +144,10 @@ class RenderSourceInvalid(Rule):
                 )
                 if target.path in authored_targets(rel):
                     fix = Fix(
-                        f"retarget renderSource to <{intended}>",
-                        True,
-                        _replace_target(rel.GetPath(), target.path, intended),
+                        description=f"retarget renderSource to <{intended}>",
+                        safe=True,
+                        apply=_replace_target(rel.GetPath(), target.path, intended),
                     )
             yield Diagnostic(
-                f"renderSource target <{target.path}> {problem}; {advice}", at=rel, fix=fix
+                message=f"renderSource target <{target.path}> {problem}; {advice}", at=rel, fix=fix
             )

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import resolve_targets, typed_target_problem
+from usdrender_lint.api.resolve import resolve_targets, typed_target_problem
 
 
 class InputPassesInvalidTarget(Rule):
@@ -75,6 +75,7 @@ class InputPassesInvalidTarget(Rule):
     code = "PA002"
     name = "input-passes-invalid-target"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -83,7 +84,8 @@ class InputPassesInvalidTarget(Rule):
             problem = typed_target_problem(target, UsdRender.Pass, "a RenderPass")
             if problem is not None:
                 yield Diagnostic(
-                    f"inputPasses target <{target.path}> {problem}; list only the RenderPass "
+                    message=f"inputPasses target <{target.path}> {problem}; list only the "
+                    "RenderPass "
                     "prims this pass depends on",
                     at=rel,
                 )

@@ -85,6 +85,7 @@ class InputPassesCycle(Rule):
     code = "PA003"
     name = "input-passes-cycle"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for cycle in find_cycles(input_pass_graph(ctx)):
@@ -96,7 +97,7 @@ class InputPassesCycle(Rule):
                 else "is part of an inputPasses cycle"
             )
             yield Diagnostic(
-                f"RenderPass {cycle[0]} {what}: {chain}; the pass graph cannot be "
+                message=f"RenderPass {cycle[0]} {what}: {chain}; the pass graph cannot be "
                 "scheduled; remove one of these dependencies",
                 at=UsdRender.Pass(first).GetInputPassesRel(),
             )

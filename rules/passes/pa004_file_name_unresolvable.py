@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 from ._default_value import _authored_layer
 
@@ -103,6 +103,7 @@ class FileNameUnresolvable(Rule):
     code = "PA004"
     name = "file-name-unresolvable"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -112,6 +113,6 @@ class FileNameUnresolvable(Rule):
             return
         reason = _unresolvable_reason(value, _authored_layer(attr))
         yield Diagnostic(
-            f"fileName @{value.authoredPath}@ {reason}",
+            message=f"fileName @{value.authoredPath}@ {reason}",
             at=attr,
         )

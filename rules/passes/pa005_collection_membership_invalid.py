@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Tf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 from .._passes import (
     authored_pass_collections,
@@ -128,6 +128,7 @@ class CollectionMembershipInvalid(Rule):
     code = "PA005"
     name = "collection-membership-invalid"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -135,7 +136,7 @@ class CollectionMembershipInvalid(Rule):
             reasons, anchor = _collection_problems(collection)
             if reasons:
                 yield Diagnostic(
-                    f"{collection_label(collection)} on {prim.GetPath()} is invalid: "
+                    message=f"{collection_label(collection)} on {prim.GetPath()} is invalid: "
                     f"{'; '.join(reasons)}; correct it so the pass's membership is defined",
                     at=anchor if anchor and anchor.IsAuthored() else prim,
                 )

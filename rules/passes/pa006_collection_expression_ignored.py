@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Tf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import authored_targets, authored_value, has_authored_value
+from usdrender_lint.api.resolve import authored_targets, authored_value, has_authored_value
 
 from .._passes import authored_pass_collections, collection_label
 from ._default_value import _authored_layer
@@ -58,9 +58,9 @@ def _expression_mode_fix(collection: Usd.CollectionAPI) -> Fix | None:
         return None
     label = collection_label(collection)
     return Fix(
-        f'author {label}:mode = "expression"',
-        True,
-        _author_expression_mode(collection.GetPrim().GetPath(), collection.GetName()),
+        description=f'author {label}:mode = "expression"',
+        safe=True,
+        apply=_author_expression_mode(collection.GetPrim().GetPath(), collection.GetName()),
         layer=_authored_layer(collection.GetMembershipExpressionAttr()),
     )
 
@@ -138,6 +138,7 @@ class CollectionExpressionIgnored(Rule):
     code = "PA006"
     name = "collection-expression-ignored"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Pass,)
 
@@ -154,7 +155,7 @@ class CollectionExpressionIgnored(Rule):
                 continue  # The expression cannot be evaluated at all: PA005's finding.
             label = collection_label(collection)
             yield Diagnostic(
-                f'{label}:membershipExpression "{expression.GetText()}" is ignored because '
+                message=f'{label}:membershipExpression "{expression.GetText()}" is ignored because '
                 f"the collection is in relationship mode ({_relationship_mode_reason(collection)})"
                 f'; author {label}:mode = "expression" (or includeRoot = false)',
                 at=attr,

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_value, has_authored_value
+from usdrender_lint.api.resolve import authored_value, has_authored_value
 
 from ._default_value import _value_lost_elsewhere
 
@@ -68,6 +68,7 @@ class PassTypeEmpty(Rule):
     code = "PA007"
     name = "pass-type-empty"
     severity = Severity.INFO
+    partial_composition = True
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -78,7 +79,7 @@ class PassTypeEmpty(Rule):
             return
         state = "is the empty token" if has_authored_value(attr) else "is not set"
         yield Diagnostic(
-            f"passType of RenderPass {prim.GetPath()} {state}; author the pipeline's pass "
+            message=f"passType of RenderPass {prim.GetPath()} {state}; author the pipeline's pass "
             'type (e.g. "prman", "nuke") so job submission can dispatch the pass',
             at=attr if has_authored_value(attr) else prim,
         )

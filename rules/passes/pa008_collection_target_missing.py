@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_targets
+from usdrender_lint.api.resolve import authored_targets
 
 from .._passes import authored_pass_collections, collection_label, dangling_object_reason
 
@@ -79,6 +79,7 @@ class CollectionTargetMissing(Rule):
     code = "PA008"
     name = "collection-target-missing"
     severity = Severity.WARNING
+    partial_composition = True
     prim_types = (UsdRender.Pass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -93,7 +94,7 @@ class CollectionTargetMissing(Rule):
                     reason = dangling_object_reason(stage, target)
                     if reason is not None:
                         yield Diagnostic(
-                            f"{label}:{kind} target <{target}> {reason}; it silently "
+                            message=f"{label}:{kind} target <{target}> {reason}; it silently "
                             f"{effect} the pass; retarget it or remove it",
                             at=rel,
                         )

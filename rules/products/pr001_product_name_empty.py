@@ -86,6 +86,7 @@ class ProductNameEmpty(Rule):
     code = "PR001"
     name = "product-name-empty"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Product,)
 
@@ -107,9 +108,14 @@ class ProductNameEmpty(Rule):
         fix = None
         if template:
             name = template.replace("{prim}", prim.GetName())
-            fix = Fix(f"author productName = {name!r}", True, set_value(attr.GetPath(), name))
+            fix = Fix(
+                description=f"author productName = {name!r}",
+                safe=True,
+                apply=set_value(attr.GetPath(), name),
+            )
         yield Diagnostic(
-            f"RenderProduct {prim.GetPath()} has an empty productName (it {how}): the display "
+            message=f"RenderProduct {prim.GetPath()} has an empty productName (it {how}): the "
+            "display "
             f"driver has no name to write to; author one, e.g. token productName = "
             f'"{prim.GetName()}.exr"',
             at=attr if attr.IsAuthored() else prim,

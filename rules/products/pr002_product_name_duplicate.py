@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import (
+from usdrender_lint.api.resolve import (
     composed_value,
     format_time,
     joint_evaluation_times,
@@ -94,6 +94,7 @@ class ProductNameDuplicate(Rule):
     code = "PR002"
     name = "product-name-duplicate"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         reported: set[tuple[Sdf.Path, Sdf.Path]] = set()
@@ -119,7 +120,7 @@ class ProductNameDuplicate(Rule):
                         continue
                     reported.add(pair)
                     yield Diagnostic(
-                        f"RenderProduct {product.GetPath()} has productName {name!r} at "
+                        message=f"RenderProduct {product.GetPath()} has productName {name!r} at "
                         f"{format_time(time)}, like {first.GetPath()}: both are products of "
                         f"{settings.GetPath()} and write the same output; give each product "
                         "its own productName",

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import allowed_tokens, authored_value
+from usdrender_lint.api.resolve import allowed_tokens, authored_value
 
 from .._corrections import set_value, unique_case_match
 
@@ -75,6 +75,7 @@ class ProductTypeNotAllowed(Rule):
     code = "PR003"
     name = "product-type-not-allowed"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Product,)
 
@@ -93,11 +94,13 @@ class ProductTypeNotAllowed(Rule):
                 "a renderer-specific override such as ri:productType"
             )
         yield Diagnostic(
-            f"productType {value!r} of {prim.GetPath()} is not one of {', '.join(allowed)}; "
-            + advice,
+            message=f"productType {value!r} of {prim.GetPath()} is not one of "
+            f"{', '.join(allowed)}; " + advice,
             at=attr,
             fix=Fix(
-                f"set productType to {correction!r}", True, set_value(attr.GetPath(), correction)
+                description=f"set productType to {correction!r}",
+                safe=True,
+                apply=set_value(attr.GetPath(), correction),
             )
             if correction
             else None,

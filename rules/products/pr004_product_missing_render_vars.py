@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import forwarded_targets
+from usdrender_lint.api.resolve import forwarded_targets
 
 
 class ProductMissingRenderVars(Rule):
@@ -82,6 +82,7 @@ class ProductMissingRenderVars(Rule):
     code = "PR004"
     name = "product-missing-render-vars"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -90,7 +91,8 @@ class ProductMissingRenderVars(Rule):
             return
         state = "is empty" if rel and rel.HasAuthoredTargets() else "is not authored"
         yield Diagnostic(
-            f"RenderProduct {prim.GetPath()} has no RenderVars: orderedVars {state}; target "
+            message=f"RenderProduct {prim.GetPath()} has no RenderVars: orderedVars {state}; "
+            "target "
             "the RenderVars this output needs, e.g. rel orderedVars = [</Render/Vars/color>]",
             at=rel if rel and rel.HasAuthoredTargets() else prim,
         )

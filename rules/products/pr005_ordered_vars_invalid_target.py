@@ -7,7 +7,7 @@ from collections.abc import Callable, Iterator
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import authored_targets, describe_prim_type
+from usdrender_lint.api.resolve import authored_targets, describe_prim_type
 
 from .._aov import ordered_var_targets
 
@@ -88,6 +88,7 @@ class OrderedVarsInvalidTarget(Rule):
     code = "PR005"
     name = "ordered-vars-invalid-target"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "unsafe"
     prim_types = (UsdRender.Product,)
 
@@ -108,12 +109,13 @@ class OrderedVarsInvalidTarget(Rule):
             fix = None
             if target.path in authored:
                 fix = Fix(
-                    f"remove <{target.path}> from orderedVars",
-                    False,
-                    _remove_target(rel.GetPath(), target.path),
+                    description=f"remove <{target.path}> from orderedVars",
+                    safe=False,
+                    apply=_remove_target(rel.GetPath(), target.path),
                 )
             yield Diagnostic(
-                f"orderedVars target <{target.path}> of {prim.GetPath()} {reason}: the channel "
+                message=f"orderedVars target <{target.path}> of {prim.GetPath()} {reason}: the "
+                "channel "
                 "is silently missing from the output; target a defined, active RenderVar or "
                 "remove the target",
                 at=rel,

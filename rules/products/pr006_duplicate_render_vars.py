@@ -92,6 +92,7 @@ class DuplicateRenderVars(Rule):
     code = "PR006"
     name = "duplicate-render-vars"
     severity = Severity.WARNING
+    partial_composition = True
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -107,7 +108,8 @@ class DuplicateRenderVars(Rule):
                 continue
             source_type, source_name, data_type = key
             yield Diagnostic(
-                f"RenderVars {first.GetPath()} and {var.GetPath()} of {prim.GetPath()} both "
+                message=f"RenderVars {first.GetPath()} and {var.GetPath()} of {prim.GetPath()} "
+                "both "
                 f"compute sourceType {source_type!r}, sourceName {source_name!r}, dataType "
                 f"{data_type!r}: a redundant channel; remove one from orderedVars or change "
                 "its source",

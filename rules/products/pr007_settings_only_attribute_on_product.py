@@ -81,6 +81,7 @@ class SettingsOnlyAttributeOnProduct(Rule):
     code = "PR007"
     name = "settings-only-attribute-on-product"
     severity = Severity.WARNING
+    partial_composition = True
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -89,7 +90,8 @@ class SettingsOnlyAttributeOnProduct(Rule):
             if not prop or not prop.IsAuthored():
                 continue
             yield Diagnostic(
-                f"{name} is a RenderSettings property: on RenderProduct {prim.GetPath()} it is "
+                message=f"{name} is a RenderSettings property: on RenderProduct {prim.GetPath()} "
+                "it is "
                 "ignored by UsdRenderComputeSpec; author it on the RenderSettings (a separate "
                 "RenderSettings if only this output needs it)",
                 at=prop,

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import resolve_target
+from usdrender_lint.api.resolve import resolve_target
 
 from .._aov import checked_value, product_render_vars
 
@@ -117,6 +117,7 @@ class DeepRasterMissingAlpha(Rule):
     code = "PR008"
     name = "deep-raster-missing-alpha"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Product,)
 
@@ -134,7 +135,11 @@ class DeepRasterMissingAlpha(Rule):
         if not _is_alpha_source(target.prim, ctx):
             return None
         rel_path = product.GetRelationship("orderedVars").GetPath()
-        return Fix(f"append <{path}> to orderedVars", True, _append_target(rel_path, target.path))
+        return Fix(
+            description=f"append <{path}> to orderedVars",
+            safe=True,
+            apply=_append_target(rel_path, target.path),
+        )
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "productType", ctx) != "deepRaster":
@@ -143,7 +148,8 @@ class DeepRasterMissingAlpha(Rule):
         if not render_vars or any(_is_alpha_source(v, ctx) for v in render_vars):
             return
         yield Diagnostic(
-            f"deep RenderProduct {prim.GetPath()} has no alpha RenderVar (none named a or alpha "
+            message=f"deep RenderProduct {prim.GetPath()} has no alpha RenderVar (none named a or "
+            "alpha "
             "by prim name or sourceName, none with a 4-channel dataType): deep samples cannot "
             'be composited; add a RenderVar with sourceName "a" and dataType "float" to '
             "orderedVars",

@@ -10,7 +10,7 @@ from typing import Any
 from pxr import UsdRender
 
 from usdrender_lint.api import Context
-from usdrender_lint.resolve import (
+from usdrender_lint.api.resolve import (
     EffectiveValue,
     composed_value,
     has_authored_value,
@@ -62,21 +62,21 @@ def _window_uses(ctx: Context) -> list[_WindowUse]:
     """Every authored dataWindowNDC with the resolution of each configuration
     it is used in: a product's window or resolution overrides the settings'
     (catalog SE003: checked once per settings that targets the product)."""
+    return ctx.cached(_find_window_uses)
 
-    def compute() -> list[_WindowUse]:
-        uses = []
-        for config in ctx.configurations:
-            window = config.effective("dataWindowNDC")
-            if window.authored:  # the resolution is read only for a window to check
-                uses.append(_WindowUse(window, config.effective("resolution").value))
-        for prim in [*ctx.prims_of(UsdRender.Settings), *ctx.untargeted_products]:
-            attr = prim.GetAttribute("dataWindowNDC")
-            if has_authored_value(attr):
-                window = EffectiveValue(attr.Get(), attr, True)
-                uses.append(_WindowUse(window, composed_value(prim, "resolution")))
-        return uses
 
-    return ctx.memo("settings.window_uses", compute)
+def _find_window_uses(ctx: Context) -> list[_WindowUse]:
+    uses = []
+    for config in ctx.configurations:
+        window = config.effective("dataWindowNDC")
+        if window.authored:  # the resolution is read only for a window to check
+            uses.append(_WindowUse(window, config.effective("resolution").value))
+    for prim in [*ctx.prims_of(UsdRender.Settings), *ctx.untargeted_products]:
+        attr = prim.GetAttribute("dataWindowNDC")
+        if has_authored_value(attr):
+            window = EffectiveValue(attr.Get(), attr, True)
+            uses.append(_WindowUse(window, composed_value(prim, "resolution")))
+    return uses
 
 
 def _well_formed_window_uses(ctx: Context) -> Iterator[_WindowUse]:

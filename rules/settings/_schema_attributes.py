@@ -16,14 +16,16 @@ def _authored_schema_attributes(
 ) -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
     """The prim's authored attributes that its schema declares, with their
     definitions: SE016 and SE017 both walk them, so they are listed once per lint."""
+    return ctx.cached(_list_authored_schema_attributes, prim)
 
-    def compute() -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
-        attribute_definition = prim.GetPrimDefinition().GetAttributeDefinition
-        found = []
-        for attr in prim.GetAuthoredAttributes():
-            definition = attribute_definition(attr.GetName())
-            if definition:  # custom attributes have none
-                found.append((attr, definition))
-        return tuple(found)
 
-    return ctx.memo(("settings.authored_schema_attributes", prim), compute)
+def _list_authored_schema_attributes(
+    ctx: Context, prim: Usd.Prim
+) -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
+    attribute_definition = prim.GetPrimDefinition().GetAttributeDefinition
+    found = []
+    for attr in prim.GetAuthoredAttributes():
+        definition = attribute_definition(attr.GetName())
+        if definition:  # custom attributes have none
+            found.append((attr, definition))
+    return tuple(found)

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pxr import Usd
 
 from usdrender_lint.api import Context
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 
 def _rendering_color_space(prim: Usd.Prim) -> tuple[Usd.Attribute, str] | None:
@@ -17,4 +17,8 @@ def _rendering_color_space(prim: Usd.Prim) -> tuple[Usd.Attribute, str] | None:
 
 
 def _color_space_cache(ctx: Context) -> Usd.ColorSpaceCache:
-    return ctx.memo("settings.color_space_cache", Usd.ColorSpaceCache)
+    return ctx.cached(_new_color_space_cache)
+
+
+def _new_color_space_cache(ctx: Context) -> Usd.ColorSpaceCache:
+    return Usd.ColorSpaceCache()

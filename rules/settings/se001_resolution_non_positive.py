@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_value, composed_value, has_authored_value, items
+from usdrender_lint.api.resolve import authored_value, composed_value, has_authored_value, items
 
 from ._messages import _fmt
 
@@ -73,6 +73,7 @@ class ResolutionNonPositive(Rule):
     code = "SE001"
     name = "resolution-non-positive"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.SettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -83,13 +84,15 @@ class ResolutionNonPositive(Rule):
             return
         if min(items(value)) <= 0:
             yield Diagnostic(
-                f"resolution {_fmt(value)} has a component <= 0; author a positive pixel size "
+                message=f"resolution {_fmt(value)} has a component <= 0; author a positive pixel "
+                "size "
                 "such as (1920, 1080)",
                 at=attr,
             )
         elif is_settings and self.options.require_authored and not has_authored_value(attr):
             yield Diagnostic(
-                f"resolution is not authored on {prim.GetPath()}, so renderers use the fallback "
+                message=f"resolution is not authored on {prim.GetPath()}, so renderers use the "
+                "fallback "
                 f"{_fmt(value)} (DCI-2K); author the intended size, e.g. "
                 "uniform int2 resolution = (1920, 1080)",
                 at=prim,

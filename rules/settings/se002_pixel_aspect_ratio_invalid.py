@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 from ._messages import _fmt
 
@@ -62,6 +62,7 @@ class PixelAspectRatioInvalid(Rule):
     code = "SE002"
     name = "pixel-aspect-ratio-invalid"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.SettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -70,7 +71,7 @@ class PixelAspectRatioInvalid(Rule):
         if ratio is None or (math.isfinite(ratio) and ratio > 0):
             return
         yield Diagnostic(
-            f"pixelAspectRatio is {_fmt(float(ratio))}; it must be a finite number > 0 "
+            message=f"pixelAspectRatio is {_fmt(float(ratio))}; it must be a finite number > 0 "
             "(width/height of one pixel): author e.g. 1 for square pixels or 2 for a 2x "
             "anamorphic squeeze, or delete the opinion to get the fallback 1",
             at=attr,

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import is_finite
+from usdrender_lint.api.resolve import is_finite
 
 from ._data_window import _data_window_problem, _window_uses
 from ._fixes import Apply
@@ -75,6 +75,7 @@ class DataWindowMalformed(Rule):
     code = "SE003"
     name = "data-window-malformed"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "unsafe"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
@@ -86,9 +87,13 @@ class DataWindowMalformed(Rule):
             xmin, _, xmax, _ = window.value
             fix = None
             if "inverted" in problem and is_finite(window.value) and xmin > xmax:
-                fix = Fix("swap xmin and xmax", False, _swap_x(window.attr.GetPath()))
+                fix = Fix(
+                    description="swap xmin and xmax",
+                    safe=False,
+                    apply=_swap_x(window.attr.GetPath()),
+                )
             yield Diagnostic(
-                f"dataWindowNDC {use.text} {problem}; "
+                message=f"dataWindowNDC {use.text} {problem}; "
                 "use (xmin, ymin, xmax, ymax) with min < max, e.g. (0, 0, 1, 1)",
                 at=window.attr,
                 fix=fix,

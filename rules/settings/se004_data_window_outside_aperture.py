@@ -56,13 +56,14 @@ class DataWindowOutsideAperture(Rule):
     code = "SE004"
     name = "data-window-outside-aperture"
     severity = Severity.WARNING
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for use in _well_formed_window_uses(ctx):
             xmin, ymin, xmax, ymax = use.values
             if xmax <= 0 or xmin >= 1 or ymax <= 0 or ymin >= 1:
                 yield Diagnostic(
-                    f"dataWindowNDC {use.text} does not overlap the camera aperture "
+                    message=f"dataWindowNDC {use.text} does not overlap the camera aperture "
                     "(0, 0, 1, 1), so the image holds only overscan; NDC runs 0..1 across the "
                     "aperture: rescale pixel or percentage values, e.g. (0, 0, 1, 1)",
                     at=use.window.attr,

@@ -60,6 +60,7 @@ class DataWindowCropOrOverscan(Rule):
     code = "SE005"
     name = "data-window-crop-or-overscan"
     severity = Severity.INFO
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for use in _well_formed_window_uses(ctx):
@@ -83,7 +84,7 @@ class DataWindowCropOrOverscan(Rule):
                     f"aperture (0..{width - 1}, 0..{height - 1})"
                 )
             yield Diagnostic(
-                f"dataWindowNDC {use.text} {' and '.join(kinds)} the image{pixels}; "
+                message=f"dataWindowNDC {use.text} {' and '.join(kinds)} the image{pixels}; "
                 "if unintended, remove the opinion or author (0, 0, 1, 1)",
                 at=use.window.attr,
             )

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import allowed_tokens, authored_value
+from usdrender_lint.api.resolve import allowed_tokens, authored_value
 
 from .._corrections import set_value
 
@@ -64,6 +64,7 @@ class AspectRatioConformPolicyInvalid(Rule):
     code = "SE006"
     name = "aspect-ratio-conform-policy-invalid"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.SettingsBase,)
 
@@ -78,11 +79,14 @@ class AspectRatioConformPolicyInvalid(Rule):
         fix = None
         if len(same_letters) == 1:
             fix = Fix(
-                f'set to "{same_letters[0]}"', True, set_value(attr.GetPath(), same_letters[0])
+                description=f'set to "{same_letters[0]}"',
+                safe=True,
+                apply=set_value(attr.GetPath(), same_letters[0]),
             )
         hint = f'did you mean "{same_letters[0]}"? ' if same_letters else ""
         yield Diagnostic(
-            f'aspectRatioConformPolicy "{policy}" is not an allowed token, so no aspect-ratio '
+            message=f'aspectRatioConformPolicy "{policy}" is not an allowed token, so no '
+            "aspect-ratio "
             f"conform is applied at all; {hint}use one of {', '.join(allowed)} "
             "(case-sensitive)",
             at=attr,

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import has_authored_value
+from usdrender_lint.api.resolve import has_authored_value
 
 from ._fixes import Apply
 
@@ -78,6 +78,7 @@ class InstantaneousShutterDeprecated(Rule):
     code = "SE007"
     name = "instantaneous-shutter-deprecated"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.SettingsBase,)
 
@@ -89,20 +90,21 @@ class InstantaneousShutterDeprecated(Rule):
         fix = None
         if not value:
             fix = Fix(
-                "remove the deprecated instantaneousShutter opinion",
-                True,
-                _replace_instantaneous_shutter(prim.GetPath(), False),
+                description="remove the deprecated instantaneousShutter opinion",
+                safe=True,
+                apply=_replace_instantaneous_shutter(prim.GetPath(), False),
             )
         elif not has_authored_value(prim.GetAttribute("disableMotionBlur")):
             fix = Fix(
-                "replace with disableMotionBlur = true (same result only when the camera's "
+                description="replace with disableMotionBlur = true (same result only when the "
+                "camera's "
                 "shutter:open is 0)",
-                True,
-                _replace_instantaneous_shutter(prim.GetPath(), True),
+                safe=True,
+                apply=_replace_instantaneous_shutter(prim.GetPath(), True),
             )
         advice = "author disableMotionBlur = true instead" if value else "remove it"
         yield Diagnostic(
-            f"instantaneousShutter = {str(value).lower()} is deprecated and ignored by "
+            message=f"instantaneousShutter = {str(value).lower()} is deprecated and ignored by "
             f"OpenUSD's render consumers; {advice}",
             at=attr,
             fix=fix,

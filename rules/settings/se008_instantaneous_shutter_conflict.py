@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 
 class InstantaneousShutterConflict(Rule):
@@ -60,6 +60,7 @@ class InstantaneousShutterConflict(Rule):
     code = "SE008"
     name = "instantaneous-shutter-conflict"
     severity = Severity.WARNING
+    partial_composition = True
     prim_types = (UsdRender.SettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -67,7 +68,8 @@ class InstantaneousShutterConflict(Rule):
         disable = prim.GetAttribute("disableMotionBlur")
         if authored_value(shutter) is True and authored_value(disable) is False:
             yield Diagnostic(
-                "instantaneousShutter = true asks for no motion blur but disableMotionBlur = "
+                message="instantaneousShutter = true asks for no motion blur but "
+                "disableMotionBlur = "
                 "false asks for it; OpenUSD ignores instantaneousShutter, so this renders WITH "
                 "motion blur: remove instantaneousShutter and set disableMotionBlur to the "
                 "intended value",

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdGeom, UsdRender, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import authored_value, items
+from usdrender_lint.api.resolve import authored_value, items
 
 from .._corrections import set_value
 from ._messages import _fmt, _quoted
@@ -67,6 +67,7 @@ class IncludedPurposesInvalid(Rule):
     code = "SE009"
     name = "included-purposes-invalid"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Settings,)
 
@@ -92,9 +93,13 @@ class IncludedPurposesInvalid(Rule):
         fix = None
         if not unknown:
             unique = Vt.TokenArray(list(dict.fromkeys(tokens)))
-            fix = Fix("drop the repeated purposes", True, set_value(attr.GetPath(), unique))
+            fix = Fix(
+                description="drop the repeated purposes",
+                safe=True,
+                apply=set_value(attr.GetPath(), unique),
+            )
         yield Diagnostic(
-            f"includedPurposes {_fmt(purposes)}: {'; '.join(problems)}; list each of "
+            message=f"includedPurposes {_fmt(purposes)}: {'; '.join(problems)}; list each of "
             f"{', '.join(known)} at most once",
             at=attr,
             fix=fix,

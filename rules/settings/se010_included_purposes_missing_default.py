@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdGeom, UsdRender, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 from .._corrections import set_value
 from ._messages import _fmt
@@ -63,6 +63,7 @@ class IncludedPurposesMissingDefault(Rule):
     code = "SE010"
     name = "included-purposes-missing-default"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe"
     prim_types = (UsdRender.Settings,)
 
@@ -73,9 +74,11 @@ class IncludedPurposesMissingDefault(Rule):
             return
         fixed = Vt.TokenArray([UsdGeom.Tokens.default_, *purposes])
         yield Diagnostic(
-            f'includedPurposes {_fmt(purposes)} does not list "default"; whether prims '
+            message=f'includedPurposes {_fmt(purposes)} does not list "default"; whether prims '
             "without an authored purpose render then depends on the renderer: author "
             f"{_fmt(fixed)}",
             at=attr,
-            fix=Fix('prepend "default"', True, set_value(attr.GetPath(), fixed)),
+            fix=Fix(
+                description='prepend "default"', safe=True, apply=set_value(attr.GetPath(), fixed)
+            ),
         )

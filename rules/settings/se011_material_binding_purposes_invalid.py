@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import allowed_tokens, authored_value, items
+from usdrender_lint.api.resolve import allowed_tokens, authored_value, items
 
 from .._corrections import set_value
 from ._messages import _fmt, _quoted
@@ -68,6 +68,7 @@ class MaterialBindingPurposesInvalid(Rule):
     code = "SE011"
     name = "material-binding-purposes-invalid"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Settings,)
 
@@ -80,7 +81,8 @@ class MaterialBindingPurposesInvalid(Rule):
         allowed = allowed_tokens(prim, name)
         if not purposes:
             yield Diagnostic(
-                "materialBindingPurposes is an authored empty array, which names no binding "
+                message="materialBindingPurposes is an authored empty array, which names no "
+                "binding "
                 'purpose; author e.g. ["full", ""] or remove the opinion',
                 at=attr,
             )
@@ -99,14 +101,18 @@ class MaterialBindingPurposesInvalid(Rule):
         if all(t in _ALL_PURPOSE_ALIASES for t in unknown):
             mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in tokens]
             fixed = Vt.TokenArray(list(dict.fromkeys(mapped)))
-            fix = Fix(f"author {_fmt(fixed)}", True, set_value(attr.GetPath(), fixed))
+            fix = Fix(
+                description=f"author {_fmt(fixed)}",
+                safe=True,
+                apply=set_value(attr.GetPath(), fixed),
+            )
         alias_hint = (
             '; the all-purpose binding is the empty token ""'
             if any(t in _ALL_PURPOSE_ALIASES for t in unknown)
             else ""
         )
         yield Diagnostic(
-            f"materialBindingPurposes {_fmt(purposes)}: {', '.join(problems)}{alias_hint}; "
+            message=f"materialBindingPurposes {_fmt(purposes)}: {', '.join(problems)}{alias_hint}; "
             f"use each of {_quoted(allowed)} at most once",
             at=attr,
             fix=fix,

@@ -66,6 +66,7 @@ class RenderingColorSpaceUnknown(Rule):
     code = "SE012"
     name = "rendering-color-space-unknown"
     severity = Severity.WARNING
+    partial_composition = True
     prim_types = (UsdRender.Settings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -78,7 +79,8 @@ class RenderingColorSpaceUnknown(Rule):
         nearest = _colorspace.nearest_names(name)
         hint = f"did you mean {_quoted(nearest)}? Otherwise " if nearest else ""
         yield Diagnostic(
-            f'renderingColorSpace "{name}" is not a USD colour space (not a Gf.ColorSpace name '
+            message=f'renderingColorSpace "{name}" is not a USD colour space (not a Gf.ColorSpace '
+            "name "
             f"or alias, and no ColorSpaceDefinitionAPI on {prim.GetPath()} or its ancestors "
             f'defines it); {hint}use a canonical linear token such as "lin_ap1_scene"',
             at=attr,

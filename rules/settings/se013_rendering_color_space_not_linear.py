@@ -75,6 +75,7 @@ class RenderingColorSpaceNotLinear(Rule):
     code = "SE013"
     name = "rendering-color-space-not-linear"
     severity = Severity.WARNING
+    partial_composition = True
     prim_types = (UsdRender.Settings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -88,7 +89,7 @@ class RenderingColorSpaceNotLinear(Rule):
         if space.is_data_like:
             if self.options.flag_data_spaces:
                 yield Diagnostic(
-                    f'renderingColorSpace "{name}" designates data, not a working colour '
+                    message=f'renderingColorSpace "{name}" designates data, not a working colour '
                     'space; use a linear space such as "lin_ap1_scene"',
                     at=attr,
                 )
@@ -99,7 +100,8 @@ class RenderingColorSpaceNotLinear(Rule):
         suggestion = f'"{linear}" (same primaries)' if linear else 'e.g. "lin_ap1_scene"'
         origin = f", defined on {space.defined_on}" if space.defined_on else ""
         yield Diagnostic(
-            f'renderingColorSpace "{name}" is not linear (gamma {space.gamma:.4g}, linear bias '
+            message=f'renderingColorSpace "{name}" is not linear (gamma {space.gamma:.4g}, linear '
+            "bias "
             f"{space.linear_bias:.4g}{origin}); the working space must be linear: use "
             f"{suggestion}",
             at=attr,

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import resolve_targets, typed_target_problem
+from usdrender_lint.api.resolve import resolve_targets, typed_target_problem
 
 
 class ProductsTargetInvalid(Rule):
@@ -80,6 +80,7 @@ class ProductsTargetInvalid(Rule):
     code = "SE014"
     name = "products-target-invalid"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.Settings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -89,7 +90,8 @@ class ProductsTargetInvalid(Rule):
             if problem is None:
                 continue
             yield Diagnostic(
-                f"products target {target.path} {problem}, so that output is never rendered; "
+                message=f"products target {target.path} {problem}, so that output is never "
+                "rendered; "
                 "target a defined, active RenderProduct prim",
                 at=rel,
             )

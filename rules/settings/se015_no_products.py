@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import forwarded_targets
+from usdrender_lint.api.resolve import forwarded_targets
 
 
 class NoProducts(Rule):
@@ -61,6 +61,7 @@ class NoProducts(Rule):
     code = "SE015"
     name = "no-products"
     severity = Severity.INFO
+    partial_composition = True
     prim_types = (UsdRender.Settings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -70,7 +71,8 @@ class NoProducts(Rule):
         authored = bool(rel) and rel.HasAuthoredTargets()
         state = "is empty" if authored else "is not authored"
         yield Diagnostic(
-            f"RenderSettings {prim.GetPath()} has no products (products {state}); renderers "
+            message=f"RenderSettings {prim.GetPath()} has no products (products {state}); "
+            "renderers "
             "then write a default RGB image with a name of their choosing: target the "
             "RenderProducts to write, e.g. rel products = </Render/Products/beauty>",
             at=rel if authored else prim,

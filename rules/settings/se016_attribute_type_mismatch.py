@@ -9,7 +9,7 @@ from typing import Any
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import mismatched_spec, mismatched_specs
+from usdrender_lint.api.resolve import mismatched_spec, mismatched_specs
 
 from ._fixes import Apply
 from ._schema_attributes import _RENDER_PRIM_TYPES, _authored_schema_attributes
@@ -158,6 +158,7 @@ class AttributeTypeMismatch(Rule):
     code = "SE016"
     name = "attribute-type-mismatch"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = _RENDER_PRIM_TYPES
 
@@ -177,12 +178,13 @@ class AttributeTypeMismatch(Rule):
             fix = None
             if _retyped_values(spec, schema_type) is not None:
                 fix = Fix(
-                    f"re-author as {schema_type} in {where}",
-                    True,
-                    _retype_spec(attr.GetPath(), schema_type),
+                    description=f"re-author as {schema_type} in {where}",
+                    safe=True,
+                    apply=_retype_spec(attr.GetPath(), schema_type),
                 )
             yield Diagnostic(
-                f"{attr.GetName()} is authored as {spec.typeName} in {where}{hidden} but the "
+                message=f"{attr.GetName()} is authored as {spec.typeName} in {where}{hidden} but "
+                "the "
                 f"{prim.GetTypeName()} schema declares {schema_type}; C++ consumers drop "
                 f"the value: author it as {schema_type}",
                 at=attr,

@@ -8,7 +8,7 @@ from typing import Any
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import DEFAULT_TIME, mismatched_spec, time_samples
+from usdrender_lint.api.resolve import DEFAULT_TIME, mismatched_spec, time_samples
 
 from ._fixes import Apply
 from ._messages import _fmt
@@ -100,6 +100,7 @@ class TimeSamplesIgnored(Rule):
     code = "SE017"
     name = "time-samples-ignored"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = _RENDER_PRIM_TYPES
 
@@ -121,7 +122,8 @@ class TimeSamplesIgnored(Rule):
     def _uniform(self, attr: Usd.Attribute, count: int, ctx: Context) -> Iterator[Diagnostic]:
         if attr.HasSpline():
             yield Diagnostic(
-                f"uniform {attr.GetName()} is authored as a spline, but renderers read it once "
+                message=f"uniform {attr.GetName()} is authored as a spline, but renderers read it "
+                "once "
                 f"at the default time (getting {_fmt(attr.Get())}); author a single default "
                 "value instead",
                 at=attr,
@@ -141,15 +143,15 @@ class TimeSamplesIgnored(Rule):
         uniform_value = len(times) == count and all(v == values[0] for v in values)
         if uniform_value and default in (None, values[0]):
             fix = Fix(
-                f"replace the samples with the default value {_fmt(values[0])}",
-                True,
-                _samples_to_default(attr.GetPath(), values[0]),
+                description=f"replace the samples with the default value {_fmt(values[0])}",
+                safe=True,
+                apply=_samples_to_default(attr.GetPath(), values[0]),
             )
         shown = (
             _fmt(values[0]) if uniform_value else f"{len(set(map(str, values)))} distinct values"
         )
         yield Diagnostic(
-            f"uniform {attr.GetName()} has {count} time sample(s) ({shown}) from "
+            message=f"uniform {attr.GetName()} has {count} time sample(s) ({shown}) from "
             f"{first:g}, but renderers read it once at the default time and get "
             f"{_fmt(attr.Get())}; author one default value instead of time samples",
             at=attr,
@@ -165,7 +167,8 @@ class TimeSamplesIgnored(Rule):
             return
         first = time_samples(attr, 1)[0]
         yield Diagnostic(
-            f"productName has time samples (first {_fmt(attr.Get(first))} at {first:g}) but no "
+            message=f"productName has time samples (first {_fmt(attr.Get(first))} at {first:g}) "
+            "but no "
             f"default, so consumers reading at the default time get {_fmt(attr.Get())}; "
             "author a default productName as well",
             at=attr,

@@ -18,15 +18,15 @@ def settings_path_opinion(ctx: Context) -> tuple[str, Sdf.Layer] | None:
     Ambiguous semantics 8; a sublayer's opinion is invisible to
     ``stage.GetMetadata``); the session layer is the stronger. Read once per
     lint: five ST rules ask."""
+    return ctx.cached(_read_settings_path_opinion)
 
-    def compute() -> tuple[str, Sdf.Layer] | None:
-        stage = ctx.stage
-        for layer in (stage.GetSessionLayer(), stage.GetRootLayer()):
-            if layer is not None and layer.pseudoRoot.HasInfo(RENDER_SETTINGS_PATH_KEY):
-                return str(layer.pseudoRoot.GetInfo(RENDER_SETTINGS_PATH_KEY)), layer
-        return None
 
-    return ctx.memo("stage.settings_path_opinion", compute)
+def _read_settings_path_opinion(ctx: Context) -> tuple[str, Sdf.Layer] | None:
+    stage = ctx.stage
+    for layer in (stage.GetSessionLayer(), stage.GetRootLayer()):
+        if layer is not None and layer.pseudoRoot.HasInfo(RENDER_SETTINGS_PATH_KEY):
+            return str(layer.pseudoRoot.GetInfo(RENDER_SETTINGS_PATH_KEY)), layer
+    return None
 
 
 def _set_settings_path(value: str):
@@ -44,9 +44,9 @@ def _single_settings_fix(ctx: Context, what: str) -> Fix | None:
         return None
     path = str(settings[0].GetPath())
     return Fix(
-        f'{what} renderSettingsPrimPath = "{path}" in the root layer',
-        True,
-        _set_settings_path(path),
+        description=f'{what} renderSettingsPrimPath = "{path}" in the root layer',
+        safe=True,
+        apply=_set_settings_path(path),
         layer=ctx.stage.GetRootLayer(),
     )
 

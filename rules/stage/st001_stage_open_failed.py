@@ -46,3 +46,4 @@ class StageOpenFailed(Rule):
     code = "ST001"
     name = "stage-open-failed"
     severity = Severity.ERROR
+    partial_composition = True

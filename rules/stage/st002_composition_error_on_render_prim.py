@@ -84,6 +84,7 @@ class CompositionErrorOnRenderPrim(Rule):
     code = "ST002"
     name = "composition-error-on-render-prim"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         errors = ctx.stage.GetCompositionErrors()
@@ -102,7 +103,7 @@ class CompositionErrorOnRenderPrim(Rule):
             at_root = site == Sdf.Path.absoluteRootPath
             scope = "every prim" if at_root else f"render data at <{site}>"
             yield Diagnostic(
-                f"{' '.join(str(error).split())} {scope[0].upper()}{scope[1:]} loses the "
+                message=f"{' '.join(str(error).split())} {scope[0].upper()}{scope[1:]} loses the "
                 "opinions this layer or arc would supply; repair the asset path or remove it",
                 at=None if at_root else site,
             )

@@ -61,6 +61,7 @@ class RenderSettingsPathMissing(Rule):
     code = "ST003"
     name = "render-settings-path-missing"
     severity = Severity.INFO
+    partial_composition = True
     fix_safety = "safe"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
@@ -71,7 +72,7 @@ class RenderSettingsPathMissing(Rule):
         path = settings[0].GetPath()
         state = "is empty" if opinion is not None else "is not set"
         yield Diagnostic(
-            f"stage metadata renderSettingsPrimPath {state}, so "
+            message=f"stage metadata renderSettingsPrimPath {state}, so "
             f"UsdRenderSettings.GetStageRenderSettings() finds no settings although the stage "
             f'has one, <{path}>; author renderSettingsPrimPath = "{path}" in the root layer',
             fix=_single_settings_fix(ctx, "author"),

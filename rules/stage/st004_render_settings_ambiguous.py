@@ -68,6 +68,7 @@ class RenderSettingsAmbiguous(Rule):
     code = "ST004"
     name = "render-settings-ambiguous"
     severity = Severity.WARNING
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         opinion = settings_path_opinion(ctx)
@@ -76,7 +77,7 @@ class RenderSettingsAmbiguous(Rule):
             return
         candidates = ", ".join(f"<{p.GetPath()}>" for p in settings)
         yield Diagnostic(
-            f"the stage has {len(settings)} RenderSettings ({candidates}) and no "
+            message=f"the stage has {len(settings)} RenderSettings ({candidates}) and no "
             "renderSettingsPrimPath, so each tool picks its own; author "
             "renderSettingsPrimPath in the root layer naming the default one",
         )

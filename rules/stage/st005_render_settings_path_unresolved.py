@@ -64,6 +64,7 @@ class RenderSettingsPathUnresolved(Rule):
     code = "ST005"
     name = "render-settings-path-unresolved"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
@@ -76,7 +77,7 @@ class RenderSettingsPathUnresolved(Rule):
             return
         fix = _single_settings_fix(ctx, "rewrite to") if layer == ctx.stage.GetRootLayer() else None
         yield Diagnostic(
-            f'renderSettingsPrimPath "{value}" {problem}, so renderers find no default '
+            message=f'renderSettingsPrimPath "{value}" {problem}, so renderers find no default '
             "RenderSettings; name an existing RenderSettings prim by its absolute path",
             layer=layer,
             fix=fix,

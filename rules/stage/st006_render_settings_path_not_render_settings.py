@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import describe_prim_type, unusable_reason
+from usdrender_lint.api.resolve import describe_prim_type, unusable_reason
 
 from ._settings_path import _settings_path_problem, settings_path_opinion
 
@@ -74,6 +74,7 @@ class RenderSettingsPathNotRenderSettings(Rule):
     code = "ST006"
     name = "render-settings-path-not-render-settings"
     severity = Severity.ERROR
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         opinion = settings_path_opinion(ctx)
@@ -91,7 +92,7 @@ class RenderSettingsPathNotRenderSettings(Rule):
                 return
             what = f"a RenderSettings that {reason}"
         yield Diagnostic(
-            f'renderSettingsPrimPath "{value}" names {what}; renderers find no usable '
+            message=f'renderSettingsPrimPath "{value}" names {what}; renderers find no usable '
             "default settings. Name a defined, active RenderSettings prim",
             layer=layer,
         )

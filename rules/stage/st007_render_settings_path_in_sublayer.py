@@ -84,6 +84,7 @@ class RenderSettingsPathInSublayer(Rule):
     code = "ST007"
     name = "render-settings-path-in-sublayer"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
@@ -105,9 +106,9 @@ class RenderSettingsPathInSublayer(Rule):
             fix = None
             if fixable and index == 0:
                 fix = Fix(
-                    f'copy renderSettingsPrimPath = "{value}" into the root layer',
-                    True,
-                    _set_settings_path(value),
+                    description=f'copy renderSettingsPrimPath = "{value}" into the root layer',
+                    safe=True,
+                    apply=_set_settings_path(value),
                     layer=stage.GetRootLayer(),
                 )
             kind = "sublayer" if layer in rank else "referenced layer"
@@ -117,7 +118,7 @@ class RenderSettingsPathInSublayer(Rule):
                 else f'the stage uses "{effective}"; remove the ignored value'
             )
             yield Diagnostic(
-                f'renderSettingsPrimPath "{value}" is authored in the {kind} '
+                message=f'renderSettingsPrimPath "{value}" is authored in the {kind} '
                 f"{layer.GetDisplayName()}, where the stage ignores it (only the root and session "
                 f"layers count); {advice}",
                 layer=layer,

@@ -76,6 +76,7 @@ class RenderPrimOutsideRenderScope(Rule):
     code = "ST008"
     name = "render-prim-outside-render-scope"
     severity = Severity.INFO
+    partial_composition = True
     fix_safety = "unsafe"
     prim_types = RENDER_SCHEMAS
 
@@ -93,12 +94,12 @@ class RenderPrimOutsideRenderScope(Rule):
             and _is_locally_authored(prim)
         ):
             fix = Fix(
-                f"move to <{destination}> (targets of the old path are not updated)",
-                False,
-                _move_under_render_scope(path, destination),
+                description=f"move to <{destination}> (targets of the old path are not updated)",
+                safe=False,
+                apply=_move_under_render_scope(path, destination),
             )
         yield Diagnostic(
-            f"{prim.GetTypeName()} <{path}> is outside </Render>; the usdRender "
+            message=f"{prim.GetTypeName()} <{path}> is outside </Render>; the usdRender "
             "convention keeps render prims under </Render> so that masked stages compose "
             "them alone. Move it under </Render>",
             at=prim,

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import forwarded_targets
+from usdrender_lint.api.resolve import forwarded_targets
 
 
 class UnreferencedRenderPrim(Rule):
@@ -66,11 +66,13 @@ class UnreferencedRenderPrim(Rule):
     code = "ST009"
     name = "unreferenced-render-prim"
     severity = Severity.INFO
+    partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for product in ctx.untargeted_products:
             yield Diagnostic(
-                f"RenderProduct <{product.GetPath()}> is in no RenderSettings' products, so "
+                message=f"RenderProduct <{product.GetPath()}> is in no RenderSettings' products, "
+                "so "
                 "nothing renders it; add it to a RenderSettings' products or remove it",
                 at=product,
             )
@@ -82,7 +84,7 @@ class UnreferencedRenderPrim(Rule):
         for var in ctx.prims_of(UsdRender.Var):
             if var.GetPath() not in targeted:
                 yield Diagnostic(
-                    f"RenderVar <{var.GetPath()}> is in no RenderProduct's orderedVars, so "
+                    message=f"RenderVar <{var.GetPath()}> is in no RenderProduct's orderedVars, so "
                     "no product outputs it; add it to a product's orderedVars or remove it",
                     at=var,
                 )

@@ -90,6 +90,7 @@ class UnknownRenderPrimType(Rule):
     code = "ST010"
     name = "unknown-render-prim-type"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "unsafe"
 
     #: Farther than this, a usdRender type name is no plausible suggestion.
@@ -121,9 +122,9 @@ class UnknownRenderPrimType(Rule):
                 and ctx.stage.HasLocalLayer(spec.layer)
             ):
                 fix = Fix(
-                    f"retype <{path}> as {closest}",
-                    False,
-                    _retype(path, closest),
+                    description=f"retype <{path}> as {closest}",
+                    safe=False,
+                    apply=_retype(path, closest),
                     layer=spec.layer,
                 )
             what = "is not a registered schema here"
@@ -132,7 +133,7 @@ class UnknownRenderPrimType(Rule):
                 what = "is an abstract schema, which cannot type a prim"
                 advice = f"use a concrete type such as {closest}"
             yield Diagnostic(
-                f"type '{type_name}' of <{path}> {what}, so USD "
+                message=f"type '{type_name}' of <{path}> {what}, so USD "
                 f"composes it as a typeless prim that schema-based consumers skip; {advice}",
                 at=prim,
                 fix=fix,

@@ -13,4 +13,8 @@ from .._corrections import set_value
 def _case_fix(attr: Usd.Attribute, correction: str | None, name: str) -> Fix | None:
     if correction is None:
         return None
-    return Fix(f"set {name} to {correction!r}", True, set_value(attr.GetPath(), correction))
+    return Fix(
+        description=f"set {name} to {correction!r}",
+        safe=True,
+        apply=set_value(attr.GetPath(), correction),
+    )

@@ -66,6 +66,7 @@ class SourceNameEmpty(Rule):
     code = "VA001"
     name = "source-name-empty"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -76,7 +77,8 @@ class SourceNameEmpty(Rule):
             "light path expression" if checked_value(prim, "sourceType", ctx) == "lpe" else "output"
         )
         yield Diagnostic(
-            f"RenderVar {prim.GetPath()} has an empty sourceName: the renderer gets no {what} "
+            message=f"RenderVar {prim.GetPath()} has an empty sourceName: the renderer gets no "
+            f"{what} "
             'to compute; author the source it should read, e.g. string sourceName = "Ci"',
             at=attr if attr.IsAuthored() else prim,
         )

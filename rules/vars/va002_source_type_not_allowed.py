@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import allowed_tokens, authored_value
+from usdrender_lint.api.resolve import allowed_tokens, authored_value
 
 from .._corrections import unique_case_match
 from ._case_fix import _case_fix
@@ -69,6 +69,7 @@ class SourceTypeNotAllowed(Rule):
     code = "VA002"
     name = "source-type-not-allowed"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Var,)
 
@@ -88,7 +89,7 @@ class SourceTypeNotAllowed(Rule):
             "primvar for a primvar"
         )
         yield Diagnostic(
-            f"sourceType {value!r} of RenderVar {prim.GetPath()} is not one of "
+            message=f"sourceType {value!r} of RenderVar {prim.GetPath()} is not one of "
             f"{', '.join(allowed)}; {advice}",
             at=attr,
             fix=_case_fix(attr, correction, "sourceType"),

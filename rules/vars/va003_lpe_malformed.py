@@ -85,6 +85,7 @@ class LpeMalformed(Rule):
     code = "VA003"
     name = "lpe-malformed"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Var,)
 
@@ -118,9 +119,13 @@ class LpeMalformed(Rule):
             return
         fix = None
         if prefixed:
-            fix = Fix("remove the leading 'lpe:'", True, set_value(attr.GetPath(), expression))
+            fix = Fix(
+                description="remove the leading 'lpe:'",
+                safe=True,
+                apply=set_value(attr.GetPath(), expression),
+            )
         yield Diagnostic(
-            f"light path expression {source!r} of RenderVar {prim.GetPath()} "
+            message=f"light path expression {source!r} of RenderVar {prim.GetPath()} "
             f"{' and '.join(parts)}; {' and '.join(advice)}",
             at=attr,
             fix=fix,

@@ -15,6 +15,10 @@ RENDER_SCOPE = Sdf.Path("/Render")
 PRIMVARS_PREFIX = "primvars:"
 
 
+def _scene_primvars(ctx: Context) -> frozenset[str]:
+    return _scene_primvar_names(ctx.stage)
+
+
 def _scene_primvar_names(stage: Usd.Stage) -> frozenset[str]:
     """Names of the primvars with authored values on any prim outside /Render,
     instance prototypes included (each prototype once)."""
@@ -113,6 +117,7 @@ class PrimvarSourceNotFound(Rule):
     code = "VA004"
     name = "primvar-source-not-found"
     severity = Severity.INFO
+    partial_composition = True
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
@@ -127,11 +132,12 @@ class PrimvarSourceNotFound(Rule):
         if not ctx.stage.GetPopulationMask().IncludesSubtree("/"):
             return
         name = source.removeprefix(PRIMVARS_PREFIX)
-        names = ctx.memo(("VA004", "scene-primvars"), lambda: _scene_primvar_names(ctx.stage))
+        names = ctx.cached(_scene_primvars)
         if name in names:
             return
         yield Diagnostic(
-            f"no prim outside {RENDER_SCOPE} has a primvar {name!r} (RenderVar {prim.GetPath()} "
+            message=f"no prim outside {RENDER_SCOPE} has a primvar {name!r} (RenderVar "
+            f"{prim.GetPath()} "
             "reads it); check the spelling, or ignore this if the primvar comes from an "
             "unloaded payload or the material network",
             at=UsdRender.Var(prim).GetSourceNameAttr(),

@@ -8,7 +8,7 @@ from functools import cache
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 from .._corrections import unique_case_match
 from ._case_fix import _case_fix
@@ -79,6 +79,7 @@ class DataTypeUnknown(Rule):
     code = "VA005"
     name = "data-type-unknown"
     severity = Severity.ERROR
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Var,)
 
@@ -94,8 +95,8 @@ class DataTypeUnknown(Rule):
             else "use a USD attribute type such as color3f, float, int or normal3f"
         )
         yield Diagnostic(
-            f"dataType {value!r} of RenderVar {prim.GetPath()} is not a USD value type name; "
-            + advice,
+            message=f"dataType {value!r} of RenderVar {prim.GetPath()} is not a USD value type "
+            "name; " + advice,
             at=attr,
             fix=_case_fix(attr, correction, "dataType"),
         )

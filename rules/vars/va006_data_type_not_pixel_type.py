@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import authored_value
+from usdrender_lint.api.resolve import authored_value
 
 from .._corrections import set_value
 
@@ -92,6 +92,7 @@ class DataTypeNotPixelType(Rule):
     code = "VA006"
     name = "data-type-not-pixel-type"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "unsafe"
     prim_types = (UsdRender.Var,)
 
@@ -108,12 +109,16 @@ class DataTypeNotPixelType(Rule):
         fix = None
         if numeric:
             problem, advice = "is an array type", f"use {scalar!r}"
-            fix = Fix(f"set dataType to {scalar!r}", False, set_value(attr.GetPath(), scalar))
+            fix = Fix(
+                description=f"set dataType to {scalar!r}",
+                safe=False,
+                apply=set_value(attr.GetPath(), scalar),
+            )
         else:
             problem = "is not a numeric scalar or vector type"
             advice = "use a numeric type such as float, int, float3 or color3f"
         yield Diagnostic(
-            f"dataType {value!r} of RenderVar {prim.GetPath()} {problem} and cannot be a "
+            message=f"dataType {value!r} of RenderVar {prim.GetPath()} {problem} and cannot be a "
             f"per-pixel channel; {advice}",
             at=attr,
             fix=fix,

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.resolve import has_authored_value, mismatched_spec
+from usdrender_lint.api.resolve import has_authored_value, mismatched_spec
 
 from .._aov import checked_value
 from .._corrections import set_value
@@ -88,6 +88,7 @@ class ScalarSourceDefaultColor3f(Rule):
     code = "VA007"
     name = "scalar-source-default-color3f"
     severity = Severity.WARNING
+    partial_composition = True
     fix_safety = "safe-conditional"
     prim_types = (UsdRender.Var,)
 
@@ -103,14 +104,18 @@ class ScalarSourceDefaultColor3f(Rule):
         intended = types.pop() if len(types) == 1 else None
         fix = None
         if intended is not None:
-            fix = Fix(f"author dataType = {intended!r}", True, set_value(attr.GetPath(), intended))
+            fix = Fix(
+                description=f"author dataType = {intended!r}",
+                safe=True,
+                apply=set_value(attr.GetPath(), intended),
+            )
         advice = (
             f'author token dataType = "{intended}"'
             if intended
             else ('author the intended dataType, e.g. token dataType = "float"')
         )
         yield Diagnostic(
-            f"RenderVar {prim.GetPath()} ({matched[0]!r}) is a scalar quantity but leaves "
+            message=f"RenderVar {prim.GetPath()} ({matched[0]!r}) is a scalar quantity but leaves "
             f'dataType at the fallback "color3f": it is written as a 3-channel colour; {advice}',
             at=prim,
             fix=fix,

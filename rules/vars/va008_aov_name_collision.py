@@ -110,6 +110,7 @@ class AovNameCollision(Rule):
     code = "VA008"
     name = "aov-name-collision"
     severity = Severity.ERROR
+    partial_composition = True
     prim_types = (UsdRender.Product,)
 
     @dataclass(frozen=True)
@@ -137,7 +138,8 @@ class AovNameCollision(Rule):
                     else "channel name under hdPrman's naming (sourceName for non-LPE vars)"
                 )
                 yield Diagnostic(
-                    f"RenderVars {first.GetPath()} and {var.GetPath()} of {prim.GetPath()} share "
+                    message=f"RenderVars {first.GetPath()} and {var.GetPath()} of "
+                    f"{prim.GetPath()} share "
                     f"the {how} {channel!r}: the product gets two channels of that name and one "
                     "overwrites the other; rename one of them",
                     at=UsdRender.Product(prim).GetOrderedVarsRel(),

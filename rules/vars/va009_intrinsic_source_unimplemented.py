@@ -68,13 +68,14 @@ class IntrinsicSourceUnimplemented(Rule):
     code = "VA009"
     name = "intrinsic-source-unimplemented"
     severity = Severity.INFO
+    partial_composition = True
     prim_types = (UsdRender.Var,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "sourceType", ctx) != "intrinsic":
             return
         yield Diagnostic(
-            f'sourceType "intrinsic" of RenderVar {prim.GetPath()} is reserved and not yet '
+            message=f'sourceType "intrinsic" of RenderVar {prim.GetPath()} is reserved and not yet '
             'implemented: no renderer is expected to produce it; use sourceType "raw" (or '
             '"lpe") with the renderer\'s own source name',
             at=UsdRender.Var(prim).GetSourceTypeAttr(),

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Protocol, TextIO
 
 from ..entrypoints import EntryPointLike, entry_points
@@ -65,23 +64,3 @@ def statistics(report: Report) -> list[dict[str, object]]:
 def statistics_lines(report: Report) -> list[str]:
     """The statistics as plain text lines: count, code, name."""
     return [f"{row['count']:>5}  {row['code']}  {row['name']}" for row in statistics(report)]
-
-
-def layer_file(identifier: str | None) -> Path | None:
-    """The file on disk behind a layer identifier: a layer inside a ``.usdz``
-    (``pkg.usdz[inner.usda]``) is the package; anonymous layers have none."""
-    if not identifier or identifier.startswith("anon:"):
-        return None
-    if identifier.endswith("]") and "[" in identifier:
-        identifier = identifier[: identifier.index("[")]
-    return Path(identifier).resolve()
-
-
-def display_path(path: str | None) -> str:
-    """A path relative to the working directory when it is below it."""
-    if not path:
-        return ""
-    try:
-        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
-    except (ValueError, OSError):
-        return path

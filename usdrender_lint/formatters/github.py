@@ -13,7 +13,8 @@ from __future__ import annotations
 from typing import TextIO
 
 from ..model import Finding, Report, Severity
-from . import FormatOptions, display_path, layer_file, statistics_lines
+from ..paths import display_path, layer_file
+from . import FormatOptions, statistics_lines
 
 _COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 

@@ -6,7 +6,8 @@ import json
 from typing import Any, TextIO
 
 from ..model import AppliedFix, Finding, Report
-from . import FormatOptions, display_path, statistics
+from ..paths import display_path
+from . import FormatOptions, statistics
 
 SCHEMA_VERSION = 1
 

@@ -15,7 +15,8 @@ from typing import Any, TextIO
 from urllib.parse import quote
 
 from ..model import Finding, Report, RuleInfo, Severity
-from . import FormatOptions, layer_file, statistics
+from ..paths import layer_file
+from . import FormatOptions, statistics
 
 SARIF_VERSION = "2.1.0"
 SARIF_SCHEMA = (

@@ -10,7 +10,8 @@ from collections.abc import Iterator
 from typing import TextIO
 
 from ..model import Report, Severity
-from . import FormatOptions, display_path, statistics_lines
+from ..paths import display_path
+from . import FormatOptions, statistics_lines
 
 _STYLE = {Severity.ERROR: "bold red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 

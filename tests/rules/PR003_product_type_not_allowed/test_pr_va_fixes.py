@@ -12,7 +12,7 @@ from usdrender_lint.rules import products, vars
 from usdrender_lint.api import Context, Rule
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
-from usdrender_lint.runner import make_rules
+from usdrender_lint.running.pipeline import make_rules
 
 STAGE = """#usda 1.0
 

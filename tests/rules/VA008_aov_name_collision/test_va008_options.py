@@ -9,7 +9,7 @@ from usdrender_lint.rules.vars.va008_aov_name_collision import AovNameCollision
 
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
-from usdrender_lint.runner import make_rules
+from usdrender_lint.running.pipeline import make_rules
 from usdrender_lint.testing import lint
 
 # Same sourceName under different prim names: a collision only when channels

@@ -11,26 +11,20 @@ says which rules to silence in its metadata instead::
 
 The entry silences those rules on that prim and its properties (not on its
 children). An entry that silenced nothing is an unused suppression (UL001).
-``per-path-ignores`` from the configuration are applied after linting, to the
-finished report.
+(``per-path-ignores`` from the configuration are applied by the pipeline, to
+the finished report: running/path_ignores.py.)
 """
 
 from __future__ import annotations
 
-import dataclasses
-import fnmatch
-import os
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from pathlib import Path, PurePosixPath
+from collections.abc import Callable, Iterable, Sequence
 
 from pxr import Sdf, Usd, Vt
 
-from .api import Diagnostic, Fix, Rule
-from .model import Finding, Report
-from .registry import matches_any
+from ..api import Diagnostic, Fix, Rule
+from ..model import IGNORE_KEY, Finding
 
 #: The customData key path (``usdrender_lint`` dictionary, ``ignore`` entry).
-IGNORE_KEY = "usdrender_lint:ignore"
 UNUSED_SUPPRESSION_CODE = "UL001"
 UNUSED_SUPPRESSION_NAME = "unused-suppression"
 
@@ -197,7 +191,7 @@ def _unused(
     layer = _authoring_layer(here.prim)
     if here.entries is None:
         yield Diagnostic(
-            f"customData '{IGNORE_KEY}' must be a list of rule codes or names (string[]), "
+            message=f"customData '{IGNORE_KEY}' must be a list of rule codes or names (string[]), "
             "so it silences nothing",
             at=here.prim,
             layer=layer,
@@ -216,72 +210,25 @@ def _unused(
         else:
             continue  # a known rule that was not selected could not fire
         fix = Fix(
-            f"remove {entry!r} from customData '{IGNORE_KEY}'",
+            description=f"remove {entry!r} from customData '{IGNORE_KEY}'",
             safe=True,
             apply=_remove_entry(here.prim.GetPath(), entry),
             layer=layer,
         )
         yield Diagnostic(
-            f"suppression of {entry!r} is unused: {reason}", at=here.prim, fix=fix, layer=layer
+            message=f"suppression of {entry!r} is unused: {reason}",
+            at=here.prim,
+            fix=fix,
+            layer=layer,
         )
 
 
 # -- per-path ignores ---------------------------------------------------------------
 
 
-def _matches_path(pattern: str, path: str, base_dir: Path) -> bool:
-    """Glob match of a file against a pattern relative to ``base_dir``.
-
-    ``**/`` also matches no folder; a pattern without ``/`` matches the file
-    name in any folder (as in ruff's per-file-ignores).
-    """
-    absolute = Path(os.path.abspath(path))
-    try:
-        relative = PurePosixPath(absolute.relative_to(base_dir).as_posix())
-    except ValueError:
-        relative = PurePosixPath(absolute.as_posix())
-    candidates = {pattern, pattern.replace("**/", "")}
-    if "/" not in pattern:
-        return any(fnmatch.fnmatchcase(relative.name, p) for p in candidates)
-    return any(fnmatch.fnmatchcase(str(relative), p.lstrip("./")) for p in candidates)
-
-
-def apply_path_ignores(
-    report: Report,
-    per_path_ignores: Mapping[str, Sequence[str]],
-    base_dir: Path,
-    rules: Sequence[type[Rule]],
-) -> Report:
-    """Drop the findings per-path-ignores silence (codes, prefixes or names of
-    ``rules``). A pattern matches the linted file or the layer that holds the
-    finding's opinion. Internal errors (no rule) are never ignored."""
-    if not per_path_ignores:
-        return report
-    base_dir = Path(os.path.abspath(base_dir))
-    by_code = {rule.code: rule for rule in rules}
-
-    def ignored(finding: Finding) -> bool:
-        loc = finding.location
-        places = [p for p in (loc.file, loc.layer) if p]
-        rule = by_code.get(finding.code)
-        return rule is not None and any(
-            matches_any(rule, selectors)
-            for pattern, selectors in per_path_ignores.items()
-            if any(_matches_path(pattern, place, base_dir) for place in places)
-        )
-
-    files = tuple(
-        dataclasses.replace(result, findings=tuple(f for f in result.findings if not ignored(f)))
-        for result in report.files
-    )
-    return dataclasses.replace(report, files=files)
-
-
 __all__ = [
-    "IGNORE_KEY",
     "UNUSED_SUPPRESSION_CODE",
     "apply_data_suppressions",
-    "apply_path_ignores",
     "has_suppressions",
     "ignore_entries",
 ]

@@ -17,10 +17,10 @@ from dataclasses import dataclass, field, replace
 
 from pxr import Ar, Sdf, Tf, UsdUtils
 
-from .config import Settings
-from .engine import STAGE_OPEN_FAILED_CODE
-from .formatters import display_path
-from .model import INTERNAL_ERROR_CODE, Finding, Report
+from ..config import Settings
+from ..engine import STAGE_OPEN_FAILED_CODE
+from ..model import INTERNAL_ERROR_CODE, Finding, Report
+from ..paths import display_path
 
 #: Tool problems are never filtered away: a root that cannot be opened or a rule
 #: that raised means the changed files were not checked.

@@ -15,8 +15,8 @@ import os
 from collections import Counter
 from pathlib import Path, PurePath
 
-from .atomic import write_text_atomic
-from .model import Finding, Report
+from ..atomic import write_text_atomic
+from ..model import Finding, Report
 
 BASELINE_SCHEMA = 1
 

@@ -21,8 +21,9 @@ from __future__ import annotations
 
 import functools
 import re
-import threading
 from dataclasses import dataclass, field
+
+from ..api.cache import active_cache
 
 #: Characters that never start an atom, a block or a word (numbers, "=", spaces...).
 _INERT = r"""[^\n"'@<#/{}()\[\]A-Za-z_]"""
@@ -391,29 +392,22 @@ def index_usda(text: str) -> dict[str, int]:
     return _Layer(text).read_all()
 
 
-_CACHE: dict[str, _Layer] = {}
-#: A lookup leaves a layer half read while it runs: one lookup at a time (lints in
-#: threads of one process share the cache).
-_LOCK = threading.Lock()
+def _read_layer(layer_path: str) -> _Layer:
+    try:
+        with open(layer_path, encoding="utf-8", errors="replace") as handle:
+            text = handle.read()
+    except OSError:
+        text = ""
+    return _Layer(text)
 
 
 def line_of(layer_path: str, spec_path: str) -> int | None:
-    """The line of ``spec_path`` in the text layer at ``layer_path``, if found."""
-    with _LOCK:
-        layer = _CACHE.get(layer_path)
-        if layer is None:
-            try:
-                with open(layer_path, encoding="utf-8", errors="replace") as handle:
-                    text = handle.read()
-            except OSError:
-                text = ""
-            layer = _CACHE[layer_path] = _Layer(text)
-        return layer.lookup(spec_path)
-
-
-def clear_cache() -> None:
-    with _LOCK:
-        _CACHE.clear()
+    """The line of ``spec_path`` in the text layer at ``layer_path``, if found.
+    Inside a lint the layer's index lives in the lint's cache (read once per
+    lint, dropped with it); outside one the layer is read for this lookup."""
+    cache = active_cache()
+    layer = _read_layer(layer_path) if cache is None else cache.call(_read_layer, layer_path)
+    return layer.lookup(spec_path)
 
 
 def comment_lines(text: str) -> list[int]:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import inspect
 import re
 
-from .api import DOC_SECTIONS, Rule
-from .model import RuleInfo
+from ..model import RuleInfo
+from .rule import DOC_SECTIONS, Rule
 
 _HEADING = re.compile(r"^##\s+(.+?)\s*$", re.MULTILINE)
 _CODE_BLOCK = re.compile(r"```(\w*)\n(.*?)```", re.DOTALL)

@@ -27,14 +27,13 @@ from pathlib import Path
 
 from pxr import Sdf, Tf, Usd
 
-from . import usda_lines
-from .api import Fix
-from .atomic import replace_atomically
-from .engine import Linter, open_stage
-from .formatters import display_path
-from .model import AppliedFix, FileResult, Finding
-from .resolve import mismatched_specs
-from .usda_lines import comment_lines
+from ..api import Fix
+from ..api.resolve import mismatched_specs
+from ..atomic import replace_atomically
+from ..engine import Linter, open_stage
+from ..engine.usda_lines import comment_lines
+from ..model import AppliedFix, FileResult, Finding
+from ..paths import display_path
 
 #: Rounds of (lint, fix): each round fixes what the previous one revealed.
 MAX_ROUNDS = 10
@@ -148,7 +147,6 @@ class _StageFixer:
             finally:
                 self._discard_unsaved()
                 self.stage = None
-                usda_lines.clear_cache()
                 trap.Clear()
 
     def _rounds(self) -> list[Finding]:

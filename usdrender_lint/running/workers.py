@@ -23,14 +23,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .model import FileResult
+from ..model import FileResult
 
 if TYPE_CHECKING:
     import multiprocessing.context
     import multiprocessing.process
     from multiprocessing.connection import Connection
 
-    from .engine import Linter
+    from ..engine import Linter
 
 DEFAULT_TIMEOUT = 120.0
 #: A progress bar is worth drawing only for runs longer than this many files.

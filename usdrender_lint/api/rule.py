@@ -1,4 +1,4 @@
-"""The plugin surface: everything a rule, built-in or third-party, needs.
+"""What a rule is: metadata, hooks, and the diagnostics and fixes it yields.
 
 A rule is a subclass of :class:`Rule` with explicit metadata and one or more
 hooks that yield :class:`Diagnostic`. The engine stamps each diagnostic with the
@@ -10,40 +10,31 @@ from __future__ import annotations
 import dataclasses
 import re
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
-from functools import cached_property
-from typing import Any, ClassVar
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from .model import Severity
-from .resolve import RenderConfiguration, render_configurations
+from ..model import Severity
 
-__all__ = [
-    "Context",
-    "Diagnostic",
-    "Fix",
-    "FullStageRequired",
-    "Rule",
-    "Severity",
-    "DOC_SECTIONS",
-]
+if TYPE_CHECKING:
+    from .context import Context
 
 CODE_PATTERN = re.compile(r"^[A-Z]{1,4}[0-9]{3}$")
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
 FIX_SAFETY = ("safe", "safe-conditional", "unsafe", "none")
-#: Context.memo's marker for a key not computed yet (None is a value).
-_MISSING = object()
 #: Sections every rule docstring carries, in this order (ruff's layout).
 DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead", "Fix safety")
 
 
-@dataclass
+@dataclass(frozen=True, kw_only=True)
 class Fix:
     """An automatic fix a rule offers.
 
     ``apply`` receives the stage whose edit target the fixer has already set to
-    ``layer`` (or, when that is None, to the layer of the finding).
+    ``layer`` (or, when that is None, to the layer of the finding). ``safe``
+    fixes run with ``--fix``; unsafe ones (they may change what renders in a
+    way the author did not mean) only with ``--unsafe-fixes``.
     """
 
     description: str
@@ -52,7 +43,7 @@ class Fix:
     layer: Sdf.Layer | None = None
 
 
-@dataclass
+@dataclass(frozen=True, kw_only=True)
 class Diagnostic:
     """What a rule yields: a message anchored at a USD object.
 
@@ -73,7 +64,8 @@ class Rule:
     Subclasses set ``code``, ``name``, ``severity`` and, for ``check_prim``,
     ``prim_types`` (schema classes such as ``UsdRender.SettingsBase``; the engine
     hands each prim only to the rules that asked for its type). Options are a
-    frozen dataclass named ``Options`` nested in the rule.
+    frozen dataclass named ``Options`` nested in the rule. A base class that
+    other rules share, with no code of its own, sets ``abstract = True``.
     """
 
     code: ClassVar[str]
@@ -83,9 +75,21 @@ class Rule:
     Options: ClassVar[type | None] = None
     #: The catalog's fix class: "safe", "safe-conditional", "unsafe" or "none".
     fix_safety: ClassVar[str] = "none"
+    #: Other kebab-case names the rule answers to in selectors and suppressions.
+    aliases: ClassVar[tuple[str, ...]] = ()
+    #: True when the rule reads only render prims (RenderSettings, RenderProduct,
+    #: RenderVar, RenderPass, the prims of its ``prim_types``), what their
+    #: relationships target, and their ancestors. The engine then may compose
+    #: only those (its fast path); one selected rule without it makes the engine
+    #: compose the whole stage, so a rule always sees the stage it asks for.
+    partial_composition: ClassVar[bool] = False
+    #: True on a shared base class: not a rule, not validated or registered.
+    abstract: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
+        if cls.__dict__.get("abstract", False):
+            return
         problems = []
         if not CODE_PATTERN.match(getattr(cls, "code", "")):
             problems.append(f"code {getattr(cls, 'code', None)!r} is not a prefix plus 3 digits")
@@ -97,6 +101,10 @@ class Rule:
             problems.append(f"fix_safety {cls.fix_safety!r} is not one of {FIX_SAFETY}")
         if cls.Options is not None and not dataclasses.is_dataclass(cls.Options):
             problems.append("Options is not a dataclass")
+        if not isinstance(cls.aliases, tuple) or not all(
+            isinstance(alias, str) and NAME_PATTERN.match(alias) for alias in cls.aliases
+        ):
+            problems.append(f"aliases {cls.aliases!r} is not a tuple of kebab-case names")
         if problems:
             raise TypeError(f"rule class {cls.__qualname__}: " + "; ".join(problems))
 
@@ -117,59 +125,3 @@ class Rule:
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterable[Diagnostic]:
         """Called for each usable prim of one of ``prim_types``."""
         return ()
-
-
-class FullStageRequired(Exception):
-    """Raised by :meth:`Context.require_full_stage` on a partly composed stage;
-    the engine catches it and lints the file again, fully composed."""
-
-
-@dataclass
-class Context:
-    """What the engine knows about the stage being linted, shared by all rules.
-
-    Derived data (render configurations, memoised helpers) is computed once per
-    stage, on first use.
-    """
-
-    stage: Usd.Stage
-    file: str
-    #: Usable render prims found by the traversal, keyed by schema class.
-    render_prims: dict[type, list[Usd.Prim]] = field(default_factory=dict)
-    #: Usable prims whose non-empty type name no registered schema defines.
-    unknown_type_prims: list[Usd.Prim] = field(default_factory=list)
-    #: Cap on the authored time samples a rule evaluates.
-    time_sample_cap: int = 1000
-    #: True when the engine composed only the render prims, what they target
-    #: and their ancestors (its fast path; see fastpath.py).
-    partial: bool = False
-    _memo: dict[Any, Any] = field(default_factory=dict, repr=False)
-
-    def require_full_stage(self) -> None:
-        """Call before reading beyond the render prims, their targets and
-        ancestors (e.g. walking every prim): on a partly composed stage it
-        makes the engine lint the file again, fully composed."""
-        if self.partial:
-            raise FullStageRequired
-
-    def prims_of(self, schema: type) -> list[Usd.Prim]:
-        return self.render_prims.get(schema, [])
-
-    @cached_property
-    def configurations(self) -> list[RenderConfiguration]:
-        """Every (settings, product) render configuration on the stage."""
-        return render_configurations(self.prims_of(UsdRender.Settings))
-
-    @cached_property
-    def untargeted_products(self) -> list[Usd.Prim]:
-        """Usable RenderProducts that no RenderSettings' ``products`` targets."""
-        targeted = {c.product.GetPath() for c in self.configurations if c.product is not None}
-        return [p for p in self.prims_of(UsdRender.Product) if p.GetPath() not in targeted]
-
-    def memo(self, key: Any, compute: Callable[[], Any]) -> Any:
-        """Compute a per-stage value once and share it between rules."""
-        # One lookup on a hit: keys hold USD objects, whose hashing is not free.
-        value = self._memo.get(key, _MISSING)
-        if value is _MISSING:
-            value = self._memo[key] = compute()
-        return value

@@ -23,9 +23,10 @@ from dataclasses import dataclass, replace
 
 from pxr import Sdf, Usd
 
-from . import usda_lines
-from .engine import RENDER_SCHEMAS, Linter, locate, open_stage
-from .model import FileResult, Finding
+from ..model import FileResult, Finding
+from .linter import RENDER_SCHEMAS, Linter
+from .locate import locate
+from .stage import open_stage
 
 #: Default cap on the variant combinations linted per file.
 DEFAULT_MAX_COMBINATIONS = 64
@@ -123,10 +124,7 @@ class VariantExplorer:
         opened = open_stage(path)
         if opened.stage is None:
             return self.linter.lint_path(path)
-        try:
-            return FileResult(path, findings=tuple(self.lint_stage(opened.stage, path)))
-        finally:
-            usda_lines.clear_cache()
+        return FileResult(path, findings=tuple(self.lint_stage(opened.stage, path)))
 
     def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
         """Findings under every explored combination; the session layer is
@@ -165,18 +163,10 @@ def _annotated(stage: Usd.Stage, finding: Finding, selection: str) -> Finding:
     )
 
 
-def make_variant_explorer(settings, max_combinations: int = DEFAULT_MAX_COMBINATIONS):
-    """A picklable factory for worker processes (see runner.lint_files)."""
-    from .runner import make_linter
-
-    return VariantExplorer(make_linter(settings), max_combinations)
-
-
 __all__ = [
     "DEFAULT_MAX_COMBINATIONS",
     "VariantExplorer",
     "VariantSetChoice",
     "combination_count",
-    "make_variant_explorer",
     "render_variant_sets",
 ]

@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 
 from pxr import Ar, Sdf, Tf, Usd
 
-from .suppress import IGNORE_KEY
+from ..model import IGNORE_KEY
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")

@@ -1,7 +1,7 @@
 """The rule engine: open a stage, walk it once, run the rules, make findings.
 
-It knows rules (through :mod:`.api`) and the data model, never a formatter or
-the command line.
+It knows rules (through :mod:`usdrender_lint.api`) and the data model, never a
+formatter, the configuration or the command line.
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd, UsdRender
 
-from . import fastpath, resolve, suppress, usda_lines
-from .api import Context, Diagnostic, Fix, FullStageRequired, Rule
-from .model import (
+from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule
+from ..api.cache import lint_cache
+from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
     FileResult,
@@ -24,14 +24,18 @@ from .model import (
     Location,
     Severity,
 )
-
-STAGE_OPEN_FAILED_CODE = "ST001"
-STAGE_OPEN_FAILED_NAME = "stage-open-failed"
-#: Longest finding message kept (see bounded_message).
-MAX_MESSAGE_CHARS = 2000
-USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
-#: Set to 1 to compose every stage in full (no fast path; see fastpath.py).
-FULL_COMPOSITION_ENV = "USDRENDER_LINT_FULL_COMPOSITION"
+from . import partial, suppress
+from .locate import bounded_message, locate
+from .stage import (
+    STAGE_OPEN_FAILED_CODE,
+    STAGE_OPEN_FAILED_NAME,
+    CorruptValue,
+    StageOpenResult,
+    error_lines,
+    line_from_error,
+    open_stage,
+    unreadable_reason,
+)
 
 #: The render prim kinds the engine collects during its walk (Context.render_prims).
 RENDER_SCHEMAS: tuple[type, ...] = (
@@ -40,97 +44,6 @@ RENDER_SCHEMAS: tuple[type, ...] = (
     UsdRender.Var,
     UsdRender.Pass,
 )
-
-
-class CorruptValue(Exception):
-    """USD found a corrupt value in a layer while a rule read it (the file's
-    problem, reported as ST001)."""
-
-
-@dataclass(frozen=True)
-class StageOpenResult:
-    stage: Usd.Stage | None
-    #: One line per error USD posted when the stage could not be opened.
-    errors: tuple[str, ...] = ()
-
-
-def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenResult:
-    """Open a stage with every payload loaded, keeping USD's diagnostics off stderr.
-    ``session_layer`` (e.g. the fixer's --fix-to layer) replaces the anonymous one.
-
-    usd-core turns every Tf error posted during ``Open`` into an exception and
-    the stage handle is lost (catalog, ST001); its lines carry ``file:line:col``.
-    """
-    with Tf.DiagnosticTrap() as trap:
-        try:
-            if session_layer is None:
-                stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
-            else:
-                root = Sdf.Layer.FindOrOpen(path)
-                stage = Usd.Stage.Open(root, session_layer, Usd.Stage.LoadAll) if root else None
-            errors: tuple[str, ...] = ()
-        except Tf.ErrorException as exc:
-            stage = None
-            errors = tuple(_error_lines(exc, path))
-        except Exception as exc:  # noqa: BLE001 - any failure to open is a finding
-            stage = None
-            errors = (f"{type(exc).__name__}: {exc}",)
-        trap.Clear()
-    if stage is None and path.lower().endswith(".usdz"):
-        problem = _package_problem(path)
-        errors = ((problem,) if problem else ()) + errors
-    if stage is None and not errors:
-        errors = (f"USD could not open {path}",)
-    return StageOpenResult(stage, errors)
-
-
-def _package_problem(path: str) -> str | None:
-    """Why a ``.usdz`` is not a package USD reads; USD itself says only
-    "Failed to open layer" for these."""
-    import zipfile  # only for a .usdz USD could not open
-
-    try:
-        with zipfile.ZipFile(path) as archive:
-            entries = archive.infolist()
-    except (zipfile.BadZipFile, OSError, ValueError):
-        return "not a zip archive (a .usdz is an uncompressed zip whose first file is a layer)"
-    if not entries:
-        return "the .usdz package is empty"
-    first = entries[0].filename
-    if not first.lower().endswith((".usd", ".usda", ".usdc")):
-        return f"the first file in the .usdz package, {first!r}, is not a USD layer"
-    return None
-
-
-def _error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
-    for arg in exc.args:
-        try:
-            text = getattr(arg, "commentary", None) or str(arg)
-        except UnicodeDecodeError:
-            # USD quotes the offending text, and Python cannot decode the quote.
-            text = _undecodable_error(path)
-        for line in str(text).strip().splitlines():
-            if line.strip():
-                yield line.strip()
-
-
-def _undecodable_error(path: str) -> str:
-    """Say where a layer stops being UTF-8 (usd-core 26.11's usda parser
-    rejects invalid UTF-8 anywhere in the file, comments included)."""
-    try:
-        with open(path, "rb") as handle:
-            data = handle.read()
-        data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        line = data.count(b"\n", 0, exc.start) + 1
-        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
-        return (
-            f"{path}:{line}:{column}: invalid UTF-8 (byte 0x{data[exc.start]:02x}); "
-            "USD's parser rejects the file"
-        )
-    except OSError:
-        pass
-    return "USD reported an error whose message is not valid UTF-8"
 
 
 @dataclass(frozen=True)
@@ -192,9 +105,9 @@ class Linter:
     ``severities`` overrides rule default severities by code. With
     ``raise_errors`` a rule that raises propagates (for tests) instead of
     becoming an internal-error finding. ``lint_path`` composes only what the
-    rules read when that provably gives the same findings (fastpath.py);
-    ``full_composition`` (default: the USDRENDER_LINT_FULL_COMPOSITION
-    environment variable) always composes the whole stage.
+    rules read when every rule declares ``partial_composition`` and that
+    provably gives the same findings (partial.py); ``full_composition`` always
+    composes the whole stage.
     """
 
     def __init__(
@@ -205,12 +118,14 @@ class Linter:
         time_sample_cap: int = 1000,
         raise_errors: bool = False,
         known_rules: Sequence[type[Rule]] | None = None,
-        full_composition: bool | None = None,
+        full_composition: bool = False,
     ) -> None:
         self.rules = tuple(rules)
-        if full_composition is None:
-            full_composition = os.environ.get(FULL_COMPOSITION_ENV, "") not in ("", "0")
-        self.full_composition = full_composition
+        #: A rule that does not declare partial_composition (every third-party
+        #: rule by default) may read anything: it gets the whole stage.
+        self.full_composition = full_composition or not all(
+            r.partial_composition for r in self.rules
+        )
         self.severities = dict(severities or {})
         self.time_sample_cap = time_sample_cap
         self.raise_errors = raise_errors
@@ -230,7 +145,7 @@ class Linter:
 
     def lint_path(self, path: str) -> FileResult:
         """Lint one file; never raises for a bad file."""
-        problem = _unreadable_reason(path)
+        problem = unreadable_reason(path)
         if problem is not None:
             return FileResult(path, status="error", error=f"{path}: {problem}")
         try:
@@ -253,22 +168,17 @@ class Linter:
         return FileResult(path, findings=(finding,))
 
     def _lint_file(self, path: str) -> FileResult:
-        partial = None if self.full_composition else self._open_partial(path)
-        if partial is not None and partial.stage is not None:
+        masked = None if self.full_composition else self._open_partial(path)
+        if masked is not None and masked.stage is not None:
             try:
-                findings = self._lint(partial.stage, path, partial=True)
+                findings = self._lint(masked.stage, path, masked=True)
                 return FileResult(path, findings=tuple(findings))
             except FullStageRequired:
                 pass  # a rule reads the whole scene: compose all of it below
-            finally:
-                usda_lines.clear_cache()
         opened = open_stage(path)
         if opened.stage is None:
             return FileResult(path, findings=tuple(self._open_failure_findings(path, opened)))
-        try:
-            findings = self.lint_stage(opened.stage, path)
-        finally:
-            usda_lines.clear_cache()
+        findings = self.lint_stage(opened.stage, path)
         return FileResult(path, findings=tuple(findings))
 
     def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
@@ -298,20 +208,20 @@ class Linter:
         finally:
             self._origins = None
 
-    def _open_partial(self, path: str) -> fastpath.PartialStage | None:
+    def _open_partial(self, path: str) -> partial.PartialStage | None:
         try:
-            return fastpath.open_partial(path, self._dispatch.wants)
+            return partial.open_partial(path, self._dispatch.wants)
         except Exception:  # noqa: BLE001 - an optimisation must never cost a file
             if self.raise_errors:
                 raise
             return None
 
-    def _lint(self, stage: Usd.Stage, file: str | None, partial: bool = False) -> list[Finding]:
+    def _lint(self, stage: Usd.Stage, file: str | None, masked: bool = False) -> list[Finding]:
         file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
-        ctx = Context(stage=stage, file=file, time_sample_cap=self.time_sample_cap, partial=partial)
+        ctx = Context(stage=stage, file=file, time_sample_cap=self.time_sample_cap, partial=masked)
         findings: list[Finding] = []
-        # Nothing edits the stage while rules run, so resolve.py may memoise.
-        with Tf.DiagnosticTrap() as trap, resolve.lint_memo():
+        # Nothing edits the stage while rules run, so the helpers may cache.
+        with Tf.DiagnosticTrap() as trap, lint_cache(ctx.cache):
             try:
                 work, suppressing = self._walk(stage, ctx)
                 run = self._run
@@ -378,7 +288,7 @@ class Linter:
         """The internal-error finding for a hook that raised on ``target``
         (a prim or the Context), unless the error must propagate."""
         if isinstance(exc, Tf.ErrorException):
-            corrupt = [line for line in _error_lines(exc, ctx.file) if "Corrupt asset" in line]
+            corrupt = [line for line in error_lines(exc, ctx.file) if "Corrupt asset" in line]
             if corrupt:  # a crate value USD unpacks only when a rule reads it
                 raise CorruptValue(corrupt[0]) from exc
         if self.raise_errors:
@@ -427,39 +337,8 @@ class Linter:
                 STAGE_OPEN_FAILED_NAME,
                 severity,
                 line,
-                Location(path, None, os.path.abspath(path), _line_from_error(line)),
+                Location(path, None, os.path.abspath(path), line_from_error(line)),
             )
-
-
-def bounded_message(message: str) -> str:
-    """At most MAX_MESSAGE_CHARS of a message: a rule quoting a ten-million-element
-    array must not put hundreds of megabytes into every report."""
-    if len(message) <= MAX_MESSAGE_CHARS:
-        return message
-    return f"{message[:MAX_MESSAGE_CHARS]}… ({len(message) - MAX_MESSAGE_CHARS} more characters)"
-
-
-def _unreadable_reason(path: str) -> str | None:
-    """Why ``path`` cannot be handed to USD at all, or None when it can."""
-    if not os.path.exists(path):
-        return "a broken or looping symbolic link" if os.path.islink(path) else "no such file"
-    if os.path.isdir(path):
-        return "is a directory"
-    if not os.path.isfile(path):
-        # A FIFO or a device: opening it can block forever.
-        return "not a regular file"
-    if not os.access(path, os.R_OK):
-        return "permission denied"
-    return None
-
-
-def _line_from_error(text: str) -> int | None:
-    """USD's parser errors start ``/path/file.usda:LINE:COL:``."""
-    parts = text.split(":")
-    for first, second in zip(parts, parts[1:], strict=False):
-        if first.endswith(USD_EXTENSIONS) and second.strip().isdigit():
-            return int(second)
-    return None
 
 
 def _overrides(rule: Rule, hook: str) -> bool:
@@ -469,49 +348,3 @@ def _overrides(rule: Rule, hook: str) -> bool:
 
 def _fix_info(fix: Fix | None) -> FixInfo | None:
     return None if fix is None else FixInfo(fix.description, fix.safe)
-
-
-def _layer_name(layer: Sdf.Layer) -> str:
-    return layer.realPath or layer.identifier
-
-
-def _spec_stack(obj: Usd.Object) -> list[Sdf.Spec]:
-    if isinstance(obj, Usd.Property):
-        return list(obj.GetPropertyStack(Usd.TimeCode.Default()))
-    if isinstance(obj, Usd.Prim):
-        return list(obj.GetPrimStack())
-    return []
-
-
-def locate(
-    stage: Usd.Stage,
-    file: str,
-    at: Usd.Object | Sdf.Path | None,
-    layer: Sdf.Layer | None = None,
-) -> Location:
-    """Where a diagnostic is: its path, the layer of the strongest opinion
-    behind it (or ``layer`` when given), and the line there in a ``.usda``."""
-    if isinstance(at, Sdf.Path):
-        at = stage.GetObjectAtPath(at) or at
-    if at is None:
-        root = layer or stage.GetRootLayer()
-        return Location(file, None, _layer_name(root), None)
-    if isinstance(at, Sdf.Path):
-        return Location(file, str(at), _layer_name(layer) if layer else None, None)
-    specs = _spec_stack(at)
-    if layer is not None:
-        specs = [s for s in specs if s.layer == layer] or specs
-        spec = next(iter(specs), None)
-        chosen = layer
-    else:
-        spec = next(iter(specs), None)
-        chosen = spec.layer if spec is not None else None
-    line = None
-    if spec is not None and chosen is not None and _is_text_file(chosen):
-        line = usda_lines.line_of(chosen.realPath, str(spec.path))
-    return Location(file, str(at.GetPath()), _layer_name(chosen) if chosen else None, line)
-
-
-def _is_text_file(layer: Sdf.Layer) -> bool:
-    path = layer.realPath
-    return bool(path) and layer.GetFileFormat().formatId == "usda" and os.path.isfile(path)

@@ -1,0 +1,21 @@
+"""The rule-author API: everything a rule, built-in or third-party, needs.
+
+``from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity``;
+:mod:`usdrender_lint.api.resolve` holds the USD resolution every rule shares.
+"""
+
+from __future__ import annotations
+
+from ..model import Severity
+from .context import Context, FullStageRequired
+from .rule import DOC_SECTIONS, Diagnostic, Fix, Rule
+
+__all__ = [
+    "DOC_SECTIONS",
+    "Context",
+    "Diagnostic",
+    "Fix",
+    "FullStageRequired",
+    "Rule",
+    "Severity",
+]

@@ -1,0 +1,435 @@
+"""USD resolution shared by every rule: usable prims, relationship targets,
+authored and effective values, and the render configuration.
+
+These are the semantics of ``UsdRenderComputeSpec`` (``pxr/usd/usdRender/spec.cpp``),
+which usd-core 26.11 does not wrap for Python, re-implemented once here so that
+no rule re-derives them (catalog, "Conventions used by every rule").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from functools import cached_property
+from itertools import islice
+from typing import Any
+
+from pxr import Sdf, Tf, Usd, UsdGeom, UsdRender
+
+from .cache import cached
+
+DEFAULT_TIME = Usd.TimeCode.Default()
+
+
+# -- prims and targets ---------------------------------------------------------
+
+
+def is_usable(prim: Usd.Prim) -> bool:
+    """Active, defined, not abstract: what ``stage.Traverse()`` visits."""
+    return bool(prim) and prim.IsActive() and prim.IsDefined() and not prim.IsAbstract()
+
+
+def unusable_reason(prim: Usd.Prim) -> str | None:
+    """Why a prim that exists is not usable, or None when it is usable."""
+    if not prim.IsActive():
+        return "is inactive"
+    if not prim.IsDefined():
+        return "is only an 'over' (never defined)"
+    if prim.IsAbstract():
+        return "is abstract (a 'class')"
+    return None
+
+
+@dataclass(frozen=True)
+class Target:
+    """One forwarded relationship target and what it resolves to on the stage.
+
+    ``problem`` is None when the target is a usable prim; otherwise it says why
+    it is not (missing, a property, inactive, over-only, abstract), phrased to
+    follow the target path in a message.
+    """
+
+    path: Sdf.Path
+    prim: Usd.Prim | None
+    problem: str | None
+
+    @property
+    def ok(self) -> bool:
+        return self.problem is None
+
+    @property
+    def is_missing(self) -> bool:
+        return self.prim is None and not self.path.IsPropertyPath()
+
+
+def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
+    if path.IsPropertyPath():
+        return Target(path, None, "is a property, not a prim")
+    prim = stage.GetPrimAtPath(path)
+    if not prim:
+        return Target(path, None, "does not exist on the composed stage")
+    return Target(path, prim, unusable_reason(prim))
+
+
+def forwarded_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
+    """Targets with relationship forwarding honoured, as spec.cpp reads them."""
+    return _targets(rel, forwarded=True)
+
+
+def authored_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
+    """The relationship's own composed targets, without forwarding."""
+    return _targets(rel, forwarded=False)
+
+
+def _targets(rel: Usd.Relationship | None, forwarded: bool) -> list[Sdf.Path]:
+    return list(_composed_targets((rel, forwarded)))  # a list of its own for each caller
+
+
+@cached
+def _composed_targets(rel_and_mode: tuple[Usd.Relationship | None, bool]) -> tuple[Sdf.Path, ...]:
+    rel, forwarded = rel_and_mode
+    if not rel:
+        return ()
+    try:
+        return tuple(rel.GetForwardedTargets() if forwarded else rel.GetTargets())
+    except Tf.ErrorException as exc:
+        # An opinion authors the name as an attribute (`string camera = "/Cam"`):
+        # Pcp composes no targets from it ("... is not a relationship"), so no
+        # consumer sees any. Any other error (a corrupt crate value) is the
+        # file's problem and goes to the engine.
+        if "is not a relationship" not in str(exc):
+            raise
+        return ()
+
+
+def resolve_targets(rel: Usd.Relationship | None) -> list[Target]:
+    if not rel:
+        return []
+    stage = rel.GetStage()
+    return [resolve_target(stage, p) for p in forwarded_targets(rel)]
+
+
+def describe_prim_type(prim: Usd.Prim) -> str:
+    type_name = prim.GetTypeName()
+    if not type_name:
+        return "a typeless prim"
+    article = "an" if type_name[0] in "AEIOUX" else "a"
+    return f"{article} {type_name}"
+
+
+def typed_target_problem(target: Target, schema: type, expected: str) -> str | None:
+    """Why a target is not a usable prim of ``schema`` (e.g. ``UsdRender.Pass``,
+    ``expected`` = "a RenderPass"), phrased to follow the target path in a
+    message; None when it is one."""
+    if target.problem is not None:
+        return target.problem
+    if not target.prim.IsA(schema):
+        return f"is {describe_prim_type(target.prim)}, not {expected}"
+    return None
+
+
+# -- values -----------------------------------------------------------------
+
+
+@cached
+def _prim_definition(prim: Usd.Prim) -> Usd.PrimDefinition:
+    return prim.GetPrimDefinition()
+
+
+#: What a prim definition is built from: schema type name and applied API schemas.
+_DefinitionKey = tuple[str, tuple[str, ...]]
+
+
+@cached
+def _definition_key(prim: Usd.Prim) -> _DefinitionKey:
+    info = prim.GetPrimTypeInfo()
+    return info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas())
+
+
+@dataclass(frozen=True)
+class _SchemaAttribute:
+    """What a prim definition declares for an attribute name."""
+
+    #: None when the definition has no attribute of that name.
+    type_name: Sdf.ValueTypeName | None
+    allowed_tokens: tuple[str, ...]
+
+
+#: Per (definition key, attribute name), kept for the whole process: USD
+#: composes a prim definition from its key alone, and builds its schema
+#: registry once (later plugin registrations do not change it).
+_SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], _SchemaAttribute] = {}
+
+
+def _schema_attribute(prim: Usd.Prim, name: str) -> _SchemaAttribute:
+    key = (_definition_key(prim), name)
+    found = _SCHEMA_ATTRIBUTES.get(key)
+    if found is None:
+        definition = _prim_definition(prim).GetAttributeDefinition(name)
+        if definition:
+            tokens = definition.GetMetadata("allowedTokens") or ()
+            found = _SchemaAttribute(definition.GetTypeName(), tuple(str(t) for t in tokens))
+        else:
+            found = _SchemaAttribute(None, ())
+        _SCHEMA_ATTRIBUTES[key] = found
+    return found
+
+
+@cached
+def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
+    return _schema_attribute(attr.GetPrim(), attr.GetName()).type_name
+
+
+@cached
+def _attribute_specs(attr: Usd.Attribute) -> tuple[Sdf.AttributeSpec, ...]:
+    """The attribute's property stack without relationship specs: a layer may
+    author the name as ``rel dataWindowNDC = </X>``, which has no type or value."""
+    return tuple(s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec))
+
+
+@cached
+def _declared_type(attr: Usd.Attribute) -> Tf.Type:
+    """The attribute's composed value type: USD takes it from the prim definition
+    for a schema attribute (whatever the specs say), else from the strongest spec.
+    A spec of this type is never mismatched, so most checks stop here."""
+    return attr.GetTypeName().type
+
+
+@cached
+def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
+    """The strongest value-holding spec whose type differs from the schema's.
+
+    Python ``Get()`` returns such a value (e.g. a ``Gf.Vec2f`` for a ``float``)
+    although typed C++ reads cannot (catalog, Surprises 5). Roles are ignored:
+    ``color3f`` and ``float3`` store the same value type.
+    """
+    return _mismatched_in(_attribute_specs(attr), attr)
+
+
+def _mismatched_in(
+    specs: Iterable[Sdf.AttributeSpec], attr: Usd.Attribute
+) -> Sdf.AttributeSpec | None:
+    for spec in specs:
+        if spec.HasDefaultValue() or _has_time_samples(spec):
+            value_type = spec.typeName.type
+            if value_type == _declared_type(attr):
+                return None
+            schema_type = _schema_type(attr)
+            return spec if schema_type is not None and value_type != schema_type.type else None
+    return None
+
+
+def _has_time_samples(spec: Sdf.AttributeSpec) -> bool:
+    # HasInfo is the cheaper call and false for most specs (`.timeSamples = {}` has
+    # the field but no samples, so it only filters).
+    return spec.HasInfo("timeSamples") and spec.layer.GetNumTimeSamplesForPath(spec.path) > 0
+
+
+def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
+    """Every spec of the attribute, strongest first, whose type differs from the
+    schema's, value-holding or not (what ``usdValidation:AttributeTypeMismatch``
+    reports). Roles are ignored, as in :func:`mismatched_spec`."""
+    specs = _attribute_specs(attr)
+    declared = _declared_type(attr)
+    if all(s.typeName.type == declared for s in specs):
+        return []
+    schema_type = _schema_type(attr)
+    if schema_type is None:
+        return []
+    return [s for s in specs if s.typeName.type != schema_type.type]
+
+
+def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
+    """The schema's ``allowedTokens`` for an attribute, read from the prim
+    definition at run time; empty when the schema declares none."""
+    return _schema_attribute(prim, name).allowed_tokens
+
+
+@cached
+def has_authored_value(attr: Usd.Attribute | None) -> bool:
+    """Authored and well-typed: type-mismatched opinions count as unauthored
+    (catalog, Conventions: one mistake gives one finding, SE016)."""
+    if not attr or not attr.HasAuthoredValue():
+        return False
+    specs = _attribute_specs(attr)  # one property stack serves both checks
+    return _mismatched_in(specs, attr) is None and not _path_value_in(specs)
+
+
+def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
+    """usda accepts ``<...>`` as the value of an attribute of any type
+    (``uniform token sourceType = </X>``, also in time samples): an Sdf.Path that
+    no typed read of the declared type returns, so it is no value at all."""
+    found_default = found_samples = False
+    for spec in specs:
+        if not found_default and spec.HasDefaultValue():
+            found_default = True
+            if isinstance(spec.default, Sdf.Path):
+                return True
+        if not found_samples and _has_time_samples(spec):
+            found_samples = True
+            if any(isinstance(v, Sdf.Path) for v in spec.GetInfo("timeSamples").values()):
+                return True
+        if found_default and found_samples:
+            break
+    return False
+
+
+def fallback_value(prim: Usd.Prim, name: str) -> Any:
+    return _prim_definition(prim).GetAttributeFallbackValue(name)
+
+
+def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
+    """The attribute's value when it is authored and well-typed, else None."""
+    if not has_authored_value(attr):
+        return None
+    return attr.Get(time)
+
+
+def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
+    """The value a consumer reads (at Default unless ``time`` says otherwise):
+    authored (well-typed) or fallback."""
+    attr = prim.GetAttribute(name)
+    if has_authored_value(attr):
+        return attr.Get(time)
+    return fallback_value(prim, name)
+
+
+def items(value: Any) -> list[Any]:
+    """The elements of a Gf vector or Vt array (or any sized sequence), in order.
+
+    Iterating a Gf vector or Vt array runs until its C++ ``__getitem__`` raises
+    IndexError, which costs ~10 us per loop (``min``, ``list``, unpacking and
+    ``dict.fromkeys`` all iterate); stopping at its length costs ~1 us.
+    """
+    return list(islice(value, len(value)))
+
+
+def is_finite(value: Any) -> bool:
+    """True when every component of a scalar or Gf vector is finite."""
+    if isinstance(value, (int, float)):
+        return math.isfinite(value)
+    try:
+        components = items(value)
+    except TypeError:
+        try:
+            components = list(value)
+        except TypeError:
+            components = [value]
+    return all(isinstance(c, (int, float)) and math.isfinite(c) for c in components)
+
+
+def time_samples(attr: Usd.Attribute, cap: int) -> list[float]:
+    """The first ``cap`` authored time samples of an attribute."""
+    if not attr:
+        return []
+    return list(attr.GetTimeSamples())[:cap]
+
+
+def evaluation_times(attr: Usd.Attribute, cap: int) -> Iterator[Usd.TimeCode]:
+    """Default, then each authored time sample (capped): where camera values
+    are evaluated (catalog, Conventions: Time)."""
+    return joint_evaluation_times((attr,), cap)
+
+
+def joint_evaluation_times(attrs: Iterable[Usd.Attribute], cap: int) -> Iterator[Usd.TimeCode]:
+    """Default, then the sorted union of the attributes' authored time samples
+    (capped in total): where a check reading several varying values is evaluated."""
+    yield DEFAULT_TIME
+    union = sorted({t for attr in attrs for t in time_samples(attr, cap)})
+    for t in union[:cap]:
+        yield Usd.TimeCode(t)
+
+
+def format_time(time: Usd.TimeCode) -> str:
+    return "the default time" if time.IsDefault() else f"time {time.GetValue():g}"
+
+
+# -- render configuration --------------------------------------------------------
+
+SETTINGS_BASE_ATTRIBUTES = (
+    "aspectRatioConformPolicy",
+    "dataWindowNDC",
+    "disableDepthOfField",
+    "disableMotionBlur",
+    "instantaneousShutter",
+    "pixelAspectRatio",
+    "resolution",
+)
+
+
+@dataclass(frozen=True)
+class EffectiveValue:
+    """A RenderSettingsBase value in a configuration and where it comes from."""
+
+    value: Any
+    #: The attribute that supplies the value (the product's when it overrides).
+    attr: Usd.Attribute
+    authored: bool
+
+
+@dataclass(frozen=True)
+class RenderConfiguration:
+    """A RenderSettings paired with one usable RenderProduct of its ``products``
+    (or alone when it has none): the unit ``UsdRenderComputeSpec`` renders."""
+
+    settings: Usd.Prim
+    product: Usd.Prim | None = None
+
+    def effective(self, name: str) -> EffectiveValue:
+        """The product's value if it is authored there (a block ``= None`` is not),
+        otherwise the settings' composed value, authored or fallback."""
+        if self.product is not None:
+            attr = self.product.GetAttribute(name)
+            if has_authored_value(attr):
+                return EffectiveValue(attr.Get(), attr, True)
+        attr = self.settings.GetAttribute(name)
+        authored = has_authored_value(attr)
+        value = attr.Get() if authored else fallback_value(self.settings, name)
+        return EffectiveValue(value, attr, authored)
+
+    @cached_property
+    def camera_relationship(self) -> Usd.Relationship:
+        """The product's ``camera`` when it has a forwarded target (an empty
+        ``rel camera = []`` cannot clear the settings camera), else the settings'."""
+        if self.product is not None:
+            rel = self.product.GetRelationship("camera")  # a schema object costs ~1 us
+            if forwarded_targets(rel):
+                return rel
+        return self.settings.GetRelationship("camera")
+
+    @cached_property
+    def camera_target(self) -> Target | None:
+        """The first forwarded camera target, resolved; None when unset."""
+        targets = forwarded_targets(self.camera_relationship)
+        if not targets:
+            return None
+        return resolve_target(self.settings.GetStage(), targets[0])
+
+    @property
+    def camera(self) -> UsdGeom.Camera | None:
+        """The effective camera when it is a usable Camera prim."""
+        target = self.camera_target
+        if target is None or not target.ok or not target.prim.IsA(UsdGeom.Camera):
+            return None
+        return UsdGeom.Camera(target.prim)
+
+    def describe(self) -> str:
+        if self.product is None:
+            return f"settings {self.settings.GetPath()}"
+        return f"settings {self.settings.GetPath()} with product {self.product.GetPath()}"
+
+
+def render_configurations(settings_prims: list[Usd.Prim]) -> list[RenderConfiguration]:
+    configurations: list[RenderConfiguration] = []
+    for settings in settings_prims:
+        products = [
+            t.prim
+            for t in resolve_targets(settings.GetRelationship("products"))
+            if typed_target_problem(t, UsdRender.Product, "a RenderProduct") is None
+        ]
+        if products:
+            configurations.extend(RenderConfiguration(settings, p) for p in products)
+        else:
+            configurations.append(RenderConfiguration(settings))
+    return configurations

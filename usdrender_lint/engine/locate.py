@@ -1,0 +1,68 @@
+"""Where a diagnostic is: the layer of the strongest opinion behind it and,
+in a text ``.usda``, the line of that opinion."""
+
+from __future__ import annotations
+
+import os
+
+from pxr import Sdf, Usd
+
+from ..model import Location
+from . import usda_lines
+
+#: Longest finding message kept (see bounded_message).
+MAX_MESSAGE_CHARS = 2000
+
+
+def bounded_message(message: str) -> str:
+    """At most MAX_MESSAGE_CHARS of a message: a rule quoting a ten-million-element
+    array must not put hundreds of megabytes into every report."""
+    if len(message) <= MAX_MESSAGE_CHARS:
+        return message
+    return f"{message[:MAX_MESSAGE_CHARS]}… ({len(message) - MAX_MESSAGE_CHARS} more characters)"
+
+
+def _layer_name(layer: Sdf.Layer) -> str:
+    return layer.realPath or layer.identifier
+
+
+def _spec_stack(obj: Usd.Object) -> list[Sdf.Spec]:
+    if isinstance(obj, Usd.Property):
+        return list(obj.GetPropertyStack(Usd.TimeCode.Default()))
+    if isinstance(obj, Usd.Prim):
+        return list(obj.GetPrimStack())
+    return []
+
+
+def locate(
+    stage: Usd.Stage,
+    file: str,
+    at: Usd.Object | Sdf.Path | None,
+    layer: Sdf.Layer | None = None,
+) -> Location:
+    """Where a diagnostic is: its path, the layer of the strongest opinion
+    behind it (or ``layer`` when given), and the line there in a ``.usda``."""
+    if isinstance(at, Sdf.Path):
+        at = stage.GetObjectAtPath(at) or at
+    if at is None:
+        root = layer or stage.GetRootLayer()
+        return Location(file, None, _layer_name(root), None)
+    if isinstance(at, Sdf.Path):
+        return Location(file, str(at), _layer_name(layer) if layer else None, None)
+    specs = _spec_stack(at)
+    if layer is not None:
+        specs = [s for s in specs if s.layer == layer] or specs
+        spec = next(iter(specs), None)
+        chosen = layer
+    else:
+        spec = next(iter(specs), None)
+        chosen = spec.layer if spec is not None else None
+    line = None
+    if spec is not None and chosen is not None and _is_text_file(chosen):
+        line = usda_lines.line_of(chosen.realPath, str(spec.path))
+    return Location(file, str(at.GetPath()), _layer_name(chosen) if chosen else None, line)
+
+
+def _is_text_file(layer: Sdf.Layer) -> bool:
+    path = layer.realPath
+    return bool(path) and layer.GetFileFormat().formatId == "usda" and os.path.isfile(path)

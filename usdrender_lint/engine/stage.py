@@ -1,0 +1,128 @@
+"""Opening a stage: every payload loaded, USD's diagnostics turned into
+ST001 findings' messages (``file:line:col`` where USD gives one)."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from pxr import Sdf, Tf, Usd
+
+STAGE_OPEN_FAILED_CODE = "ST001"
+STAGE_OPEN_FAILED_NAME = "stage-open-failed"
+USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
+
+
+class CorruptValue(Exception):
+    """USD found a corrupt value in a layer while a rule read it (the file's
+    problem, reported as ST001)."""
+
+
+@dataclass(frozen=True)
+class StageOpenResult:
+    stage: Usd.Stage | None
+    #: One line per error USD posted when the stage could not be opened.
+    errors: tuple[str, ...] = ()
+
+
+def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenResult:
+    """Open a stage with every payload loaded, keeping USD's diagnostics off stderr.
+    ``session_layer`` (e.g. the fixer's --fix-to layer) replaces the anonymous one.
+
+    usd-core turns every Tf error posted during ``Open`` into an exception and
+    the stage handle is lost (catalog, ST001); its lines carry ``file:line:col``.
+    """
+    with Tf.DiagnosticTrap() as trap:
+        try:
+            if session_layer is None:
+                stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
+            else:
+                root = Sdf.Layer.FindOrOpen(path)
+                stage = Usd.Stage.Open(root, session_layer, Usd.Stage.LoadAll) if root else None
+            errors: tuple[str, ...] = ()
+        except Tf.ErrorException as exc:
+            stage = None
+            errors = tuple(error_lines(exc, path))
+        except Exception as exc:  # noqa: BLE001 - any failure to open is a finding
+            stage = None
+            errors = (f"{type(exc).__name__}: {exc}",)
+        trap.Clear()
+    if stage is None and path.lower().endswith(".usdz"):
+        problem = _package_problem(path)
+        errors = ((problem,) if problem else ()) + errors
+    if stage is None and not errors:
+        errors = (f"USD could not open {path}",)
+    return StageOpenResult(stage, errors)
+
+
+def _package_problem(path: str) -> str | None:
+    """Why a ``.usdz`` is not a package USD reads; USD itself says only
+    "Failed to open layer" for these."""
+    import zipfile  # only for a .usdz USD could not open
+
+    try:
+        with zipfile.ZipFile(path) as archive:
+            entries = archive.infolist()
+    except (zipfile.BadZipFile, OSError, ValueError):
+        return "not a zip archive (a .usdz is an uncompressed zip whose first file is a layer)"
+    if not entries:
+        return "the .usdz package is empty"
+    first = entries[0].filename
+    if not first.lower().endswith((".usd", ".usda", ".usdc")):
+        return f"the first file in the .usdz package, {first!r}, is not a USD layer"
+    return None
+
+
+def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
+    for arg in exc.args:
+        try:
+            text = getattr(arg, "commentary", None) or str(arg)
+        except UnicodeDecodeError:
+            # USD quotes the offending text, and Python cannot decode the quote.
+            text = _undecodable_error(path)
+        for line in str(text).strip().splitlines():
+            if line.strip():
+                yield line.strip()
+
+
+def _undecodable_error(path: str) -> str:
+    """Say where a layer stops being UTF-8 (usd-core 26.11's usda parser
+    rejects invalid UTF-8 anywhere in the file, comments included)."""
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+        data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        return (
+            f"{path}:{line}:{column}: invalid UTF-8 (byte 0x{data[exc.start]:02x}); "
+            "USD's parser rejects the file"
+        )
+    except OSError:
+        pass
+    return "USD reported an error whose message is not valid UTF-8"
+
+
+def unreadable_reason(path: str) -> str | None:
+    """Why ``path`` cannot be handed to USD at all, or None when it can."""
+    if not os.path.exists(path):
+        return "a broken or looping symbolic link" if os.path.islink(path) else "no such file"
+    if os.path.isdir(path):
+        return "is a directory"
+    if not os.path.isfile(path):
+        # A FIFO or a device: opening it can block forever.
+        return "not a regular file"
+    if not os.access(path, os.R_OK):
+        return "permission denied"
+    return None
+
+
+def line_from_error(text: str) -> int | None:
+    """USD's parser errors start ``/path/file.usda:LINE:COL:``."""
+    parts = text.split(":")
+    for first, second in zip(parts, parts[1:], strict=False):
+        if first.endswith(USD_EXTENSIONS) and second.strip().isdigit():
+            return int(second)
+    return None

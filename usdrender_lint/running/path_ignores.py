@@ -1,0 +1,62 @@
+"""``per-path-ignores``: rules silenced in files matching a glob, applied to
+the finished report (the configuration's counterpart of customData suppressions)."""
+
+from __future__ import annotations
+
+import dataclasses
+import fnmatch
+import os
+from collections.abc import Mapping, Sequence
+from pathlib import Path, PurePosixPath
+
+from ..api import Rule
+from ..model import Finding, Report
+from ..registry import matches_any
+
+
+def _matches_path(pattern: str, path: str, base_dir: Path) -> bool:
+    """Glob match of a file against a pattern relative to ``base_dir``.
+
+    ``**/`` also matches no folder; a pattern without ``/`` matches the file
+    name in any folder (as in ruff's per-file-ignores).
+    """
+    absolute = Path(os.path.abspath(path))
+    try:
+        relative = PurePosixPath(absolute.relative_to(base_dir).as_posix())
+    except ValueError:
+        relative = PurePosixPath(absolute.as_posix())
+    candidates = {pattern, pattern.replace("**/", "")}
+    if "/" not in pattern:
+        return any(fnmatch.fnmatchcase(relative.name, p) for p in candidates)
+    return any(fnmatch.fnmatchcase(str(relative), p.lstrip("./")) for p in candidates)
+
+
+def apply_path_ignores(
+    report: Report,
+    per_path_ignores: Mapping[str, Sequence[str]],
+    base_dir: Path,
+    rules: Sequence[type[Rule]],
+) -> Report:
+    """Drop the findings per-path-ignores silence (codes, prefixes or names of
+    ``rules``). A pattern matches the linted file or the layer that holds the
+    finding's opinion. Internal errors (no rule) are never ignored."""
+    if not per_path_ignores:
+        return report
+    base_dir = Path(os.path.abspath(base_dir))
+    by_code = {rule.code: rule for rule in rules}
+
+    def ignored(finding: Finding) -> bool:
+        loc = finding.location
+        places = [p for p in (loc.file, loc.layer) if p]
+        rule = by_code.get(finding.code)
+        return rule is not None and any(
+            matches_any(rule, selectors)
+            for pattern, selectors in per_path_ignores.items()
+            if any(_matches_path(pattern, place, base_dir) for place in places)
+        )
+
+    files = tuple(
+        dataclasses.replace(result, findings=tuple(f for f in result.findings if not ignored(f)))
+        for result in report.files
+    )
+    return dataclasses.replace(report, files=files)

@@ -1,0 +1,428 @@
+"""The one check pipeline: a :class:`Request` goes in, an :class:`Outcome` comes out.
+
+The command line only parses its options into a Request and prints the
+Outcome; the Python API (:mod:`.python_api`) builds the same Request. Every
+step lives here once: configuration, rule selection and options, file
+discovery, roots, fixing, the workers, per-path ignores and the baseline, and
+the exit status. Nothing here imports click or rich.
+"""
+
+from __future__ import annotations
+
+import os
+from collections import Counter
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..api import Rule
+from ..config import ConfigError, Settings, build_options, load_settings, read_config_file
+from ..engine import Linter
+from ..model import FileResult, Finding, Report, Severity
+from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
+from .discovery import collect_files
+from .path_ignores import apply_path_ignores
+from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
+
+if TYPE_CHECKING:
+    from ..engine.variants import VariantExplorer
+
+EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
+
+
+class RequestError(Exception):
+    """The request cannot be carried out at all (a usage or configuration
+    error, a rule plugin that fails to load): one line, exit 2."""
+
+
+@dataclass(frozen=True)
+class FixRequest:
+    """What fixing was asked for: ``--fix``, ``--diff`` or ``--fix-to LAYER``."""
+
+    #: False for --diff: compute the edits, report them, write nothing.
+    write: bool = True
+    unsafe: bool = False
+    drop_comments: bool = False
+    #: Write every fix as an override into this layer (--fix-to).
+    fix_to: str | None = None
+
+
+@dataclass(frozen=True)
+class Request:
+    """Everything a check run needs, as the user asked for it. ``None`` means
+    "not given": the configuration (or its default) decides."""
+
+    paths: tuple[str, ...]
+    select: tuple[str, ...] | None = None
+    ignore: tuple[str, ...] | None = None
+    extend_select: tuple[str, ...] | None = None
+    fail_on: str | None = None
+    #: A Settings object, a config file path, or None to search from the first path.
+    config: Settings | str | os.PathLike[str] | None = None
+    #: Ignore every configuration file (the defaults and the flags only).
+    isolated: bool = False
+    #: Lint the paths on their own even when the config sets ``roots``.
+    use_roots: bool = True
+    fix: FixRequest | None = None
+    variants: bool | None = None
+    max_variant_combinations: int | None = None
+    baseline: str | None = None
+    write_baseline: str | None = None
+    jobs: int | None = None
+    timeout: float | None = DEFAULT_TIMEOUT
+    #: None: a progress bar on a terminal for long runs.
+    progress: bool | None = None
+    #: Compose every stage in full (no fast path; same findings, slower).
+    full_composition: bool = False
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What a check run produced. ``notes`` are lines for the user beside the
+    report (stderr on the command line); ``errors`` are the files the tool
+    could not lint, one line each."""
+
+    report: Report
+    settings: Settings
+    rules: tuple[Rule, ...]
+    exit_status: int
+    #: With --diff: one unified diff per changed layer.
+    diffs: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
+
+    @property
+    def errors(self) -> tuple[str, ...]:
+        return tuple(r.error or r.file for r in self.report.errored_files)
+
+
+# -- configuration to a linter ----------------------------------------------------
+
+
+def resolve_settings(request: Request) -> Settings:
+    """The configuration the request names or finds, with its flags applied."""
+    if request.isolated and request.config is not None:
+        raise ConfigError("--config and --isolated cannot be used together")
+    if isinstance(request.config, Settings):
+        settings = request.config
+    elif request.config is not None:
+        settings = read_config_file(request.config)
+    else:
+        start = request.paths[0] if request.paths else "."
+        settings = load_settings(isolated=request.isolated, start=start)
+    return settings.merged(
+        select=request.select,
+        ignore=request.ignore,
+        extend_select=request.extend_select,
+        fail_on=request.fail_on,
+        variants=request.variants,
+        max_variant_combinations=request.max_variant_combinations,
+    )
+
+
+def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
+    """Instantiate the selected rules with their validated options."""
+    for key in ("select", "ignore", "extend_select", "unfixable"):
+        check_selectors(registry, getattr(settings, key) or (), settings.where(key))
+    for glob, selectors in settings.per_path_ignores.items():
+        check_selectors(registry, selectors, f"{settings.where('per_path_ignores')}.{glob}")
+    try:
+        chosen = select_rules(
+            registry.rules, settings.select, settings.ignore, settings.extend_select
+        )
+    except SelectionError as exc:
+        raise ConfigError(str(exc)) from None
+    options = _options_by_code(registry, settings)
+    return [rule(options.get(rule.code)) for rule in chosen]
+
+
+def check_selectors(registry: Registry, selectors: Iterable[str], where: str) -> None:
+    """Raise a ConfigError naming ``where`` for a selector that names no rule."""
+    for token in selectors:
+        if not any(matches_any(rule, [token]) for rule in registry.rules):
+            raise ConfigError(f"{where}: {token!r} matches no rule code, code prefix or rule name")
+
+
+def _options_by_code(registry: Registry, settings: Settings) -> dict[str, object]:
+    built = {}
+    for key, values in settings.rule_options.items():
+        rule = registry.find(key)
+        where = f"{settings.source or 'config'}: rules.{key}"
+        if rule is None:
+            raise ConfigError(f"{where}: no rule has this code or name")
+        built[rule.code] = build_options(rule.Options, values, where)
+    return built
+
+
+def severity_overrides(registry: Registry, settings: Settings) -> dict[str, Severity]:
+    overrides = {}
+    for key, severity in settings.severity.items():
+        rule = registry.find(key)
+        if rule is None:
+            raise ConfigError(
+                f"{settings.source or 'config'}: severity.{key}: no rule has this code or name"
+            )
+        overrides[rule.code] = severity
+    return overrides
+
+
+def make_linter(
+    settings: Settings, registry: Registry | None = None, *, full_composition: bool = False
+) -> Linter:
+    registry = registry or build_registry()
+    return Linter(
+        make_rules(registry, settings),
+        severity_overrides(registry, settings),
+        time_sample_cap=settings.time_sample_cap,
+        known_rules=registry.rules,
+        full_composition=full_composition,
+    )
+
+
+@dataclass(frozen=True)
+class LinterSpec:
+    """A picklable recipe for the linter: worker processes build theirs from it,
+    so every process lints with the same rules, options and composition."""
+
+    settings: Settings
+    full_composition: bool = False
+    #: With --variants: the variant combinations linted per file at most.
+    variant_combinations: int | None = None
+
+    def __call__(self) -> Linter | VariantExplorer:
+        return self.wrap(make_linter(self.settings, full_composition=self.full_composition))
+
+    def wrap(self, linter: Linter) -> Linter | VariantExplorer:
+        if self.variant_combinations is None:
+            return linter
+        from ..engine.variants import VariantExplorer
+
+        return VariantExplorer(linter, self.variant_combinations)
+
+
+@dataclass
+class Prepared:
+    """The request turned into what runs: settings, registry, linter."""
+
+    request: Request
+    settings: Settings
+    registry: Registry
+    linter: Linter
+    spec: LinterSpec
+
+    def finish(self, report: Report) -> Report:
+        """The report as the user sees it: per-path ignores applied."""
+        return apply_path_ignores(
+            report, self.settings.per_path_ignores, self.settings.base_dir, self.registry.rules
+        )
+
+    def is_reported(self, finding: Finding) -> bool:
+        """Whether a finding reaches the report (per-path ignores) and may be
+        fixed (not an ``unfixable`` rule's)."""
+        if finding.code in self._unfixable:
+            return False
+        alone = Report((FileResult(finding.location.file, findings=(finding,)),))
+        return bool(self.finish(alone).findings)
+
+    @property
+    def _unfixable(self) -> set[str]:
+        return {r.code for r in self.registry.rules if matches_any(r, self.settings.unfixable)}
+
+
+def prepare(request: Request, registry: Registry | None = None) -> Prepared:
+    """Load the rules and the configuration, and build the linter. Raises
+    :class:`RequestError` for a bad configuration or a rule plugin that fails."""
+    from ..registry import RegistryError
+
+    try:
+        registry = registry or build_registry()
+        settings = resolve_settings(request)
+        linter = make_linter(settings, registry, full_composition=request.full_composition)
+    except (ConfigError, RegistryError) as exc:
+        raise RequestError(str(exc)) from exc
+    spec = LinterSpec(
+        settings,
+        request.full_composition,
+        settings.max_variant_combinations if settings.variants else None,
+    )
+    return Prepared(request, settings, registry, linter, spec)
+
+
+# -- the run ------------------------------------------------------------------------
+
+
+def run(request: Request, registry: Registry | None = None) -> Outcome:
+    """Carry out a check request. Raises :class:`RequestError` when it cannot
+    start; a file that cannot be linted is an error result, never an exception."""
+    prepared = prepare(request, registry)
+    settings = prepared.settings
+    notes: list[str] = []
+    known = _load_baseline(request)
+    if settings.variants and request.fix is not None:
+        raise RequestError(
+            "--variants (or config 'variants') cannot be combined with --fix, --diff or --fix-to"
+        )
+    if request.fix is not None and request.fix.fix_to and request.fix.write is False:
+        raise RequestError("use either --diff or --fix-to, not both")
+    files = collect_files(request.paths)
+    # With config `roots`, the paths are linted inside the stages that use them.
+    plan = None
+    if settings.roots and request.use_roots:
+        from .roots import plan_from_settings  # USD's dependency tools: only for roots
+
+        plan = plan_from_settings(files, settings)
+    targets = plan.files if plan else files
+    fixed = _run_fixes(prepared, targets) if request.fix is not None else None
+    if fixed is not None and request.fix is not None and request.fix.fix_to:
+        report = Report(tuple(fixed.remaining))  # what remains with the overrides
+    else:
+        report = Report(_lint(prepared, targets))
+    if plan is not None:
+        report = plan.narrow(report)
+    report = prepared.finish(report)
+    report = _apply_baseline(report, known, request, notes)
+    if fixed is not None:
+        report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
+        notes.extend(_fix_notes(report, dry_run=not request.fix.write))  # type: ignore[union-attr]
+    return Outcome(
+        report,
+        settings,
+        prepared.linter.rules,
+        exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline)),
+        diffs=tuple(fixed.diffs) if fixed is not None else (),
+        notes=tuple(notes),
+    )
+
+
+def _lint(prepared: Prepared, files: Sequence[str]) -> tuple[FileResult, ...]:
+    request = prepared.request
+    try:
+        return lint_paths(
+            files,
+            linter=prepared.spec.wrap(prepared.linter),
+            linter_factory=prepared.spec,
+            jobs=request.jobs or default_jobs(),
+            timeout=request.timeout,
+            progress=request.progress,
+        )
+    except ExecutionError as exc:
+        raise RequestError(str(exc)) from None
+
+
+def exit_status(report: Report, fail_on: str, *, baseline_written: bool = False) -> int:
+    """2 when a file could not be linted; 0 after writing a baseline (today's
+    findings are accepted); else 1 when a finding is at or above ``fail_on``."""
+    if report.errored_files:
+        return EXIT_TOOL_ERROR
+    if baseline_written:
+        return EXIT_OK
+    return EXIT_FINDINGS if fails(report, fail_on) else EXIT_OK
+
+
+def fails(report: Report, fail_on: str) -> bool:
+    """True when a finding is at or above the ``fail_on`` threshold."""
+    if fail_on == "never":
+        return False
+    threshold = Severity.parse(fail_on).rank
+    return any(f.severity.rank >= threshold for f in report.findings)
+
+
+# -- fixing ---------------------------------------------------------------------------
+
+
+def _run_fixes(prepared: Prepared, files: Sequence[str]):
+    """Apply (or, for --diff, compute) the fixes on every stage, in this process."""
+    from ..fixing.fixer import FixError, FixOptions, fix_files
+
+    wanted = prepared.request.fix
+    assert wanted is not None
+    if wanted.fix_to and len(files) != 1:
+        raise RequestError(f"--fix-to writes the overrides of one stage; got {len(files)} files")
+    options = FixOptions(
+        unsafe=wanted.unsafe,
+        drop_comments=wanted.drop_comments,
+        write=wanted.write,
+        fix_to=wanted.fix_to,
+    )
+    try:
+        return fix_files(prepared.linter, files, options, keep=prepared.is_reported)
+    except FixError as exc:
+        raise RequestError(str(exc)) from None
+
+
+def _fix_notes(report: Report, dry_run: bool) -> list[str]:
+    """Each reason a fix was not applied, once, and what --diff would do."""
+    notes = []
+    by_reason: dict[str, list[str]] = {}
+    for fix in report.unapplied_fixes:
+        by_reason.setdefault(fix.reason or "", []).append(fix.code)
+    for reason, codes in by_reason.items():
+        kinds = ", ".join(sorted(set(codes)))
+        notes.append(f"{_count(len(codes), 'fix', 'fixes')} not applied ({kinds}): {reason}")
+    if dry_run:
+        count = _count(len(report.applied_fixes), "fix", "fixes")
+        notes.append(f"--diff: {count} would be applied")
+    return notes
+
+
+# -- baseline -------------------------------------------------------------------------
+
+
+def _load_baseline(request: Request) -> Counter | None:
+    """The baseline's fingerprint counts (None without one); read before
+    linting so a missing or corrupt file fails fast."""
+    if request.baseline and request.write_baseline:
+        raise RequestError("use either --baseline or --write-baseline, not both")
+    if not request.baseline:
+        return None
+    from .baseline import BaselineError, load_baseline
+
+    try:
+        return load_baseline(request.baseline)
+    except BaselineError as exc:
+        raise RequestError(str(exc)) from None
+
+
+def _apply_baseline(
+    report: Report, known: Counter | None, request: Request, notes: list[str]
+) -> Report:
+    """Keep only new findings (baseline) or record them all (write_baseline)."""
+    if request.write_baseline:
+        from .baseline import BaselineError, write_baseline
+
+        try:
+            count = write_baseline(report, request.write_baseline)
+        except BaselineError as exc:
+            raise RequestError(str(exc)) from None
+        notes.append(f"recorded {_count(count, 'finding')} in {request.write_baseline}")
+    elif known is not None and request.baseline:
+        from .baseline import new_findings
+
+        base_dir = Path(request.baseline).resolve().parent
+        report, dropped = new_findings(report, known, base_dir)
+        if dropped:
+            notes.append(f"{_count(dropped, 'finding')} recorded in {request.baseline} not shown")
+    return report
+
+
+def _count(count: int, one: str, many: str | None = None) -> str:
+    return f"{count} {one if count == 1 else (many or one + 's')}"
+
+
+__all__ = [
+    "EXIT_FINDINGS",
+    "EXIT_OK",
+    "EXIT_TOOL_ERROR",
+    "FixRequest",
+    "LinterSpec",
+    "Outcome",
+    "Prepared",
+    "Request",
+    "RequestError",
+    "exit_status",
+    "fails",
+    "make_linter",
+    "make_rules",
+    "prepare",
+    "run",
+]

@@ -1,0 +1,143 @@
+"""The Python API: lint a file or an open stage from a script or a DCC.
+
+``usdrender_lint.lint_file`` and ``usdrender_lint.lint_stage`` return a
+:class:`~usdrender_lint.model.Report` of plain frozen dataclasses. They build
+the same :class:`~.pipeline.Request` the command line does, so every
+configuration key (selection, severities, options, per-path ignores, roots,
+variants) gives the same findings. Nothing here imports the command line's
+dependencies (click, rich), and nothing writes to the stage or its files.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import replace
+
+from pxr import Usd
+
+from ..api.docs import rule_info
+from ..config import ConfigError, Settings
+from ..model import FileResult, Finding, Report
+from ..registry import RegistryError
+from .pipeline import Outcome, Request, RequestError, prepare, run
+
+ConfigLike = Settings | str | os.PathLike[str] | None
+
+
+def _tokens(values: Sequence[str] | None, key: str) -> tuple[str, ...] | None:
+    if values is None:
+        return None
+    if isinstance(values, str):
+        values = [values]
+    if not all(isinstance(v, str) for v in values):
+        raise ConfigError(f"{key}: expected rule codes, prefixes or names, got {values!r}")
+    return tuple(v.strip() for value in values for v in value.split(",") if v.strip())
+
+
+def _request(
+    paths: Sequence[str],
+    select: Sequence[str] | None,
+    ignore: Sequence[str] | None,
+    config: ConfigLike,
+    **options: object,
+) -> Request:
+    # No config file is searched for: None means the defaults, as documented.
+    return Request(
+        tuple(paths),
+        select=_tokens(select, "select"),
+        ignore=_tokens(ignore, "ignore"),
+        config=config,
+        isolated=config is None,
+        jobs=1,
+        timeout=None,
+        progress=False,
+        **options,  # type: ignore[arg-type]
+    )
+
+
+def _with_rules(outcome_report: Report, rules: Sequence[object]) -> Report:
+    return replace(outcome_report, rules=tuple(rule_info(type(rule)) for rule in rules))
+
+
+def _raise_as_before(exc: RequestError) -> None:
+    """The API's documented exceptions: ConfigError, or RegistryError for a plugin."""
+    cause = exc.__cause__
+    if isinstance(cause, (ConfigError, RegistryError)):
+        raise cause from None
+    raise ConfigError(str(exc)) from None
+
+
+def lint_file(
+    path: str | os.PathLike[str],
+    *,
+    select: Sequence[str] | None = None,
+    ignore: Sequence[str] | None = None,
+    config: ConfigLike = None,
+    variants: bool | None = None,
+    max_variant_combinations: int | None = None,
+) -> Report:
+    """Lint one USD file.
+
+    ``select`` / ``ignore`` take rule codes, prefixes or names, like the
+    flags; ``config`` is a :class:`Settings`, the path of a ``pyproject.toml``
+    or ``.usdrender-lint.toml``, or None for the defaults (no file is searched
+    for). ``variants`` (default: the configuration's) also lints other variant
+    selections of the render prims (see ``--variants``). A file that cannot be
+    linted is a result with ``status == "error"``, not an exception; a bad
+    configuration raises :class:`ConfigError`, a rule plugin that fails to
+    load :class:`RegistryError`.
+    """
+    request = _request(
+        [os.fspath(path)],
+        select,
+        ignore,
+        config,
+        variants=variants,
+        max_variant_combinations=max_variant_combinations,
+    )
+    try:
+        outcome: Outcome = run(request)
+    except RequestError as exc:
+        _raise_as_before(exc)
+        raise
+    return _with_rules(outcome.report, outcome.rules)
+
+
+def lint_stage(
+    stage: Usd.Stage,
+    *,
+    select: Sequence[str] | None = None,
+    ignore: Sequence[str] | None = None,
+    config: ConfigLike = None,
+    file: str | None = None,
+) -> Report:
+    """Lint an open stage as it is composed now (unsaved edits included).
+
+    ``file`` names it in the findings (default: the root layer's path or
+    identifier); the other arguments are those of :func:`lint_file`. The stage
+    is linted under its current variant selections only (config ``variants``
+    applies to files), and never edited.
+    """
+    name = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
+    try:
+        prepared = prepare(_request([name], select, ignore, config))
+    except RequestError as exc:
+        _raise_as_before(exc)
+        raise
+    # Variants are not explored: that authors selections into the stage's
+    # session layer, and this stage is the caller's.
+    findings = tuple(prepared.linter.lint_stage(stage, name))
+    report = prepared.finish(Report((FileResult(name, findings=findings),)))
+    return _with_rules(report, prepared.linter.rules)
+
+
+__all__ = [
+    "ConfigError",
+    "Finding",
+    "RegistryError",
+    "Report",
+    "Settings",
+    "lint_file",
+    "lint_stage",
+]
