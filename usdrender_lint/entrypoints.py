@@ -9,6 +9,11 @@ other case (a plugin in the group, a zip or egg on ``sys.path``, a finder with
 its own distributions, a file we would read differently) is handed to
 ``importlib.metadata``, so third-party plugins load exactly as before.
 Nothing is cached: every call looks at the file system again.
+
+Kept over a plain importlib.metadata call because it is measured to pay:
+benchmarks/entry_points.py (both groups in a fresh interpreter: ~33 ms against
+~113 ms on a 90-package environment); tests/api/test_entry_point_layouts.py
+checks it answers as importlib.metadata on each layout it reads itself.
 """
 
 from __future__ import annotations
