@@ -1,0 +1,150 @@
+"""The package's layers, as the tree shows them: every import (lazy ones
+included) goes from a higher layer to a lower one or stays inside its own
+component, and no modules import each other in a cycle.
+
+Run this file as a script to print the component graph.
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+PACKAGE = "usdrender_lint"
+
+#: Component -> the components it may import (itself always). Lowest first.
+ALLOWED: dict[str, set[str]] = {
+    "model": set(),
+    "paths": set(),
+    "atomic": set(),
+    "entrypoints": set(),
+    "config": {"model"},
+    "api": {"model"},
+    "resolve": {"api"},  # the 0.1 name of api.resolve
+    "registry": {"api", "entrypoints", "model"},
+    "rules": {"api", "model"},
+    "engine": {"api", "model", "registry"},
+    "formatters": {"model", "paths", "entrypoints"},
+    "fixing": {"api", "engine", "model", "paths", "atomic"},
+    "profiles": {"api", "model", "registry"},
+    "spec": {"api", "engine", "model", "paths", "profiles"},
+    "running": {
+        "api", "atomic", "config", "engine", "entrypoints", "fixing", "model", "paths",
+        "profiles", "registry",
+    },
+    "testing": {"api", "engine", "model", "registry"},
+    "usdplugin": {"api", "atomic", "engine", "model", "registry", "rules"},
+    "cli": {
+        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
+        "paths", "profiles", "registry", "running", "spec", "usdplugin", "__init__",
+    },
+    "__main__": {"cli"},
+    "__init__": {"running"},
+}  # fmt: skip
+
+
+def _modules() -> dict[str, Path]:
+    """Module name -> file, for the package and the rules (installed as usdrender_lint.rules)."""
+    found = {}
+    for root, prefix in ((REPO / PACKAGE, PACKAGE), (REPO / "rules", f"{PACKAGE}.rules")):
+        for path in root.rglob("*.py"):
+            parts = list(path.relative_to(root).with_suffix("").parts)
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            found[".".join([prefix, *parts])] = path
+    return found
+
+
+def _imports(name: str, path: Path, modules: set[str]) -> set[str]:
+    """The package modules ``name`` imports (``from . import x`` imports x, not ``.``)."""
+    is_package = path.name == "__init__.py"
+    package = name if is_package else name.rpartition(".")[0]
+    targets = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            targets.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+                base = ".".join([*anchor, base] if base else anchor)
+            submodules = {f"{base}.{alias.name}" for alias in node.names} & modules
+            targets.update(submodules or {base})
+    return targets & modules
+
+
+def _component(module: str) -> str:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def _graph() -> dict[str, set[str]]:
+    modules = _modules()
+    graph = {}
+    for name, path in modules.items():
+        graph[name] = _imports(name, path, set(modules)) - {name}
+    return graph
+
+
+def test_every_import_goes_down_the_layers() -> None:
+    wrong = []
+    for module, targets in _graph().items():
+        source = _component(module)
+        for target in targets:
+            destination = _component(target)
+            if destination != source and destination not in ALLOWED.get(source, set()):
+                wrong.append(f"{module} -> {target}")
+    assert not wrong, "imports against the layers:\n" + "\n".join(sorted(wrong))
+
+
+def test_every_module_belongs_to_a_known_component() -> None:
+    assert {_component(m) for m in _graph()} <= set(ALLOWED)
+
+
+def test_no_import_cycles() -> None:
+    graph = _graph()
+    cycles = []
+    state: dict[str, int] = {}  # 1 on the stack, 2 done
+
+    def visit(module: str, stack: list[str]) -> None:
+        state[module] = 1
+        stack.append(module)
+        for target in sorted(graph[module]):
+            # A package's __init__ importing its own submodules is not a cycle of design.
+            if target.startswith(module + "."):
+                continue
+            if state.get(target) == 1:
+                cycles.append(" -> ".join([*stack[stack.index(target) :], target]))
+            elif target not in state:
+                visit(target, stack)
+        stack.pop()
+        state[module] = 2
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [])
+    assert not cycles, "import cycles:\n" + "\n".join(cycles)
+
+
+def test_rules_import_only_the_rule_api() -> None:
+    for module, targets in _graph().items():
+        if _component(module) == "rules":
+            assert {_component(t) for t in targets} <= {"rules", "api", "model"}, module
+
+
+def component_graph() -> dict[str, set[str]]:
+    edges: dict[str, set[str]] = defaultdict(set)
+    for module, targets in _graph().items():
+        for target in targets:
+            if _component(target) != _component(module):
+                edges[_component(module)].add(_component(target))
+    return edges
+
+
+if __name__ == "__main__":
+    for source, targets in sorted(component_graph().items()):
+        print(f"{source:12} -> {', '.join(sorted(targets))}")
+    sys.exit(0)
