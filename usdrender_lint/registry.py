@@ -77,6 +77,11 @@ def build_registry(
                 raise RegistryError(
                     f"rule plugin {ep.name!r} provides {cls!r}, which is not a Rule subclass"
                 )
+            if cls.abstract:
+                raise RegistryError(
+                    f"rule plugin {ep.name!r} provides {cls.__qualname__}, an abstract base "
+                    "class (abstract = True), not a rule"
+                )
             if cls.code in origins:
                 raise RegistryError(
                     f"duplicate rule code {cls.code}: provided by plugin {origins[cls.code]!r} "

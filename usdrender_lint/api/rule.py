@@ -88,7 +88,9 @@ class Rule:
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        if cls.__dict__.get("abstract", False):
+        # Only the class that says so is abstract: its subclasses are rules.
+        cls.abstract = bool(cls.__dict__.get("abstract", False))
+        if cls.abstract:
             return
         problems = []
         if not CODE_PATTERN.match(getattr(cls, "code", "")):

@@ -1,0 +1,129 @@
+"""The rule-author API as the README documents it: abstract bases, aliases,
+frozen keyword-only Diagnostic and Fix, and the documented imports."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+from pxr import Usd, UsdRender
+
+from usdrender_lint.api import Context, Diagnostic, Fix, FullStageRequired, Rule, Severity
+from usdrender_lint.engine import Linter
+from usdrender_lint.registry import matches_any
+
+DOC = """Test-only rule.
+
+    ## What it does
+    ## Why is this bad?
+    ## Example
+    ## Use instead
+    ## Fix safety
+    """
+
+
+def test_an_abstract_base_needs_no_code_and_its_subclasses_are_checked() -> None:
+    class Base(Rule):
+        abstract = True
+        prim_types = (UsdRender.Product,)
+        partial_composition = True
+
+    class Concrete(Base):
+        __doc__ = DOC
+        code = "ZZ970"
+        name = "concrete-rule"
+        severity = Severity.INFO
+
+    assert Concrete.prim_types == (UsdRender.Product,) and not Concrete.abstract
+    assert Base.abstract
+    with pytest.raises(TypeError, match="code None is not a prefix plus 3 digits"):
+
+        class Forgotten(Base):  # not abstract itself: it must say what it is
+            name = "forgotten"
+            severity = Severity.INFO
+
+
+def test_aliases_are_validated_and_select_the_rule() -> None:
+    with pytest.raises(TypeError, match="aliases"):
+
+        class BadAlias(Rule):
+            code = "ZZ971"
+            name = "bad-alias"
+            severity = Severity.INFO
+            aliases = ("Not Kebab",)
+
+    class Renamed(Rule):
+        __doc__ = DOC
+        code = "ZZ972"
+        name = "new-name"
+        severity = Severity.INFO
+        aliases = ("old-name",)
+
+    assert matches_any(Renamed, ["old-name"]) and matches_any(Renamed, ["new-name"])
+
+
+def test_diagnostic_and_fix_are_frozen_and_keyword_only() -> None:
+    fix = Fix(description="set it", safe=True)
+    diagnostic = Diagnostic(message="wrong", fix=fix)
+    for value, field in ((fix, "safe"), (diagnostic, "message")):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(value, field, None)
+    with pytest.raises(TypeError):
+        Fix("set it", True)  # type: ignore[misc]
+    with pytest.raises(TypeError):
+        Diagnostic("wrong")  # type: ignore[misc]
+
+
+def test_the_documented_context_members_exist() -> None:
+    stage = Usd.Stage.CreateInMemory()
+    ctx = Context(stage=stage, file="shot.usda")
+    for member in ("stage", "file", "prims_of", "configurations", "untargeted_products",
+                   "time_sample_cap", "cached", "require_full_stage"):  # fmt: skip
+        assert hasattr(ctx, member), member
+    ctx.require_full_stage()  # a fully composed stage: nothing happens
+    with pytest.raises(FullStageRequired):
+        Context(stage=stage, file="shot.usda", partial=True).require_full_stage()
+
+
+def test_a_diagnostic_layer_names_the_layer_reported() -> None:
+    from pxr import Sdf
+
+    weak = Sdf.Layer.CreateAnonymous("weak.usda")
+    weak.ImportFromString('#usda 1.0\ndef RenderSettings "S"\n{\n}\n')
+    root = Sdf.Layer.CreateAnonymous("root.usda")
+    root.subLayerPaths.append(weak.identifier)
+    root.ImportFromString(
+        f'#usda 1.0\n(\n    subLayers = [@{weak.identifier}@]\n)\nover "S"\n{{\n}}\n'
+    )
+
+    class NamesTheWeakLayer(Rule):
+        __doc__ = DOC
+        code = "ZZ973"
+        name = "names-the-weak-layer"
+        severity = Severity.INFO
+        prim_types = (UsdRender.Settings,)
+
+        def check_prim(self, prim, ctx):
+            yield Diagnostic(message="here", at=prim)
+            yield Diagnostic(message="there", at=prim, layer=weak)
+
+    findings = Linter([NamesTheWeakLayer()]).lint_stage(Usd.Stage.Open(root))
+    layers = {f.message: f.location.layer for f in findings}
+    assert layers == {"here": root.identifier, "there": weak.identifier}
+
+
+def test_a_plugin_listing_an_abstract_base_is_refused() -> None:
+    from usdrender_lint.registry import RegistryError, build_registry
+
+    class Base(Rule):
+        abstract = True
+
+    class EntryPoint:
+        name, value = "acme", "acme:RULES"
+
+        @staticmethod
+        def load():
+            return [Base]
+
+    with pytest.raises(RegistryError, match="abstract base"):
+        build_registry([EntryPoint()])
