@@ -36,7 +36,8 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
 
 def _product_render_vars(ctx: Context, product: Usd.Prim) -> tuple[Usd.Prim, ...]:
     targets = ordered_var_targets(product, ctx)
-    return tuple(t.prim for t in targets if t.ok and t.prim.IsA(UsdRender.Var))
+    prims = (t.usable_prim for t in targets)
+    return tuple(p for p in prims if p is not None and p.IsA(UsdRender.Var))
 
 
 def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:

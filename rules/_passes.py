@@ -5,7 +5,7 @@ includes, excludes and membership expressions point at."""
 from __future__ import annotations
 
 from collections.abc import Hashable, Iterator, Mapping, Sequence
-from typing import TypeVar
+from typing import Any, Protocol, TypeVar
 
 from pxr import Sdf, Tf, Usd, UsdRender
 
@@ -15,7 +15,14 @@ from usdrender_lint.api.resolve import resolve_targets, typed_target_problem, un
 #: The CollectionAPI instances the RenderPass schema applies (schema.usda).
 PASS_COLLECTIONS = ("renderVisibility", "cameraVisibility", "prune", "matte")
 
-Node = TypeVar("Node", bound=Hashable)
+
+class _GraphNode(Hashable, Protocol):
+    """What find_cycles needs of a node: a set member with an order (to sort and rotate)."""
+
+    def __lt__(self, other: Any, /) -> bool: ...
+
+
+Node = TypeVar("Node", bound=_GraphNode)
 
 
 def usd_error_text(exc: Tf.ErrorException) -> str:

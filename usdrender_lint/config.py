@@ -8,6 +8,7 @@ The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
 from __future__ import annotations
 
 import dataclasses
+import os
 import types
 import typing
 from collections.abc import Mapping, Sequence
@@ -131,7 +132,7 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
     return Settings(**parsed)
 
 
-def read_config_file(path: str | Path) -> Settings:
+def read_config_file(path: str | os.PathLike[str]) -> Settings:
     """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``."""
     import tomllib  # only when there is a file to read
 

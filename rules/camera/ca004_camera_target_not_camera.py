@@ -112,7 +112,8 @@ class CameraTargetNotCamera(Rule):
                 owner = ctx.stage.GetPrimAtPath(target.path.GetPrimPath())
                 if owner and owner.IsA(UsdGeom.Camera) and is_usable(owner):
                     suggestion = owner
-            elif not target.prim.IsA(UsdGeom.Camera):
+            elif target.prim is not None and not target.prim.IsA(UsdGeom.Camera):
+                # (prim is None only when missing or a property path: both handled above)
                 what = describe_prim_type(target.prim)
                 if target.problem:
                     what += f" that {target.problem}"

@@ -130,9 +130,10 @@ class DeepRasterMissingAlpha(Rule):
         if not path or not Sdf.Path.IsValidPathString(path):
             return None
         target = resolve_target(product.GetStage(), Sdf.Path(path))
-        if not target.ok or not target.prim.IsA(UsdRender.Var):
+        var = target.usable_prim
+        if var is None or not var.IsA(UsdRender.Var):
             return None
-        if not _is_alpha_source(target.prim, ctx):
+        if not _is_alpha_source(var, ctx):
             return None
         rel_path = product.GetRelationship("orderedVars").GetPath()
         return Fix(

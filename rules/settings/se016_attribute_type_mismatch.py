@@ -69,17 +69,23 @@ def _retyped_values(
     """The spec's default and samples converted to ``type_name``, or None when
     a value would not survive the conversion (value blocks are kept)."""
     default, samples = _spec_values(spec)
-    converted = {}
-    for key, value in [("default", default), *samples.items()]:
-        if value is None or isinstance(value, Sdf.ValueBlock):
-            converted[key] = value
-            continue
-        new = _convert(value, type_name)
+    new_default = _retyped(default, type_name)
+    if new_default is _NOT_CONVERTIBLE:
+        return None
+    converted: dict[float, Any] = {}
+    for time, value in samples.items():
+        new = _retyped(value, type_name)
         if new is _NOT_CONVERTIBLE:
             return None
-        converted[key] = new
-    new_default = converted.pop("default")
+        converted[time] = new
     return new_default, converted
+
+
+def _retyped(value: Any, type_name: Sdf.ValueTypeName) -> Any:
+    """One value converted (None and value blocks kept), or _NOT_CONVERTIBLE."""
+    if value is None or isinstance(value, Sdf.ValueBlock):
+        return value
+    return _convert(value, type_name)
 
 
 def _retype_spec(attr_path: Sdf.Path, type_name: Sdf.ValueTypeName) -> Apply:

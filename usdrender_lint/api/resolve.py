@@ -59,6 +59,11 @@ class Target:
         return self.problem is None
 
     @property
+    def usable_prim(self) -> Usd.Prim | None:
+        """``prim`` when the target is usable (``ok``), else None."""
+        return self.prim if self.problem is None else None
+
+    @property
     def is_missing(self) -> bool:
         return self.prim is None and not self.path.IsPropertyPath()
 
@@ -122,10 +127,11 @@ def typed_target_problem(target: Target, schema: type, expected: str) -> str | N
     """Why a target is not a usable prim of ``schema`` (e.g. ``UsdRender.Pass``,
     ``expected`` = "a RenderPass"), phrased to follow the target path in a
     message; None when it is one."""
-    if target.problem is not None:
+    prim = target.usable_prim
+    if prim is None:
         return target.problem
-    if not target.prim.IsA(schema):
-        return f"is {describe_prim_type(target.prim)}, not {expected}"
+    if not prim.IsA(schema):
+        return f"is {describe_prim_type(prim)}, not {expected}"
     return None
 
 
@@ -281,7 +287,7 @@ def fallback_value(prim: Usd.Prim, name: str) -> Any:
 
 def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
     """The attribute's value when it is authored and well-typed, else None."""
-    if not has_authored_value(attr):
+    if attr is None or not has_authored_value(attr):
         return None
     return attr.Get(time)
 
@@ -410,9 +416,10 @@ class RenderConfiguration:
     def camera(self) -> UsdGeom.Camera | None:
         """The effective camera when it is a usable Camera prim."""
         target = self.camera_target
-        if target is None or not target.ok or not target.prim.IsA(UsdGeom.Camera):
+        prim = target.usable_prim if target is not None else None
+        if prim is None or not prim.IsA(UsdGeom.Camera):
             return None
-        return UsdGeom.Camera(target.prim)
+        return UsdGeom.Camera(prim)
 
     def describe(self) -> str:
         if self.product is None:

@@ -284,7 +284,9 @@ class Linter:
                 self._origins.setdefault(finding, (rule.code, prim))
         return findings
 
-    def _rule_error(self, rule: Rule, ctx: Context, exc: Exception, target: object) -> Finding:
+    def _rule_error(
+        self, rule: Rule, ctx: Context, exc: Exception, target: Usd.Prim | Context
+    ) -> Finding:
         """The internal-error finding for a hook that raised on ``target``
         (a prim or the Context), unless the error must propagate."""
         if isinstance(exc, Tf.ErrorException):
@@ -293,7 +295,8 @@ class Linter:
                 raise CorruptValue(corrupt[0]) from exc
         if self.raise_errors:
             raise exc
-        where = f" on {target.GetPath()}" if isinstance(target, Usd.Prim) else ""
+        prim_path = target.GetPath() if isinstance(target, Usd.Prim) else None
+        where = f" on {prim_path}" if prim_path is not None else ""
         frame = traceback.extract_tb(exc.__traceback__)[-1]
         detail = " ".join(str(exc).split())  # USD's errors span lines; findings do not
         message = (
@@ -306,7 +309,7 @@ class Linter:
             INTERNAL_ERROR_NAME,
             Severity.ERROR,
             message,
-            Location(ctx.file, str(target.GetPath()) if where else None),
+            Location(ctx.file, str(prim_path) if prim_path is not None else None),
         )
 
     def _severity(self, code: str, default: Severity) -> Severity:

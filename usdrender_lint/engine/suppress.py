@@ -148,7 +148,7 @@ def apply_data_suppressions(
     :func:`has_suppressions` (the engine collects them in its walk); by default
     the stage is traversed for them.
     """
-    on_prim: dict[Sdf.Path, _PrimSuppressions] = {}
+    on_prim: dict[Sdf.Path, _PrimSuppressions | None] = {}
 
     def suppressions(path: Sdf.Path) -> _PrimSuppressions | None:
         if path not in on_prim:
@@ -165,10 +165,11 @@ def apply_data_suppressions(
 
     if suppressing is None:
         suppressing = [prim for prim in stage.Traverse() if has_suppressions(prim)]
-    unused = []
+    unused: list[Diagnostic] = []
     for prim in suppressing:
         here = suppressions(prim.GetPath())
-        unused.extend(_unused(here, rules, known_rules))
+        if here is not None:  # always: each is a prim of this stage
+            unused.extend(_unused(here, rules, known_rules))
     return kept, unused
 
 

@@ -21,7 +21,9 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import cast
 
 from ..api.cache import active_cache
 
@@ -78,18 +80,28 @@ def _compile(pattern: str) -> re.Pattern[str]:
     return re.compile(pattern, re.DOTALL)
 
 
+#: ``Pattern.match`` of a pattern that matches at every offset (possibly nothing).
+_MatchAt = Callable[[str, int], re.Match[str]]
+
+
+def _match_at(pattern: str) -> _MatchAt:
+    # cast: every such pattern is a possessive repetition (``(...)*+``), which
+    # matches the empty string, so match() never returns None
+    return cast(_MatchAt, _compile(pattern).match)
+
+
 @dataclass(frozen=True)
 class _Skippers:
     """The patterns that match nested groups and blocks whole."""
 
     #: Up to an unmatched brace or bracket.
-    flat: re.Pattern[str]
+    flat: _MatchAt
     #: Up to an unmatched bracket.
-    in_brackets: re.Pattern[str]
+    in_brackets: _MatchAt
     #: Up to the end of a statement (a line end or brace) or a bracket too deep to match.
-    statement_rest: re.Pattern[str]
+    statement_rest: _MatchAt
     #: Up to the next word of a statement (words inside brackets do not count).
-    to_word: re.Pattern[str]
+    to_word: _MatchAt
 
 
 @functools.cache
@@ -99,18 +111,18 @@ def _skippers() -> _Skippers:
     group = _bracket_group(_DEPTH)
     statement_run = f"[^{_STATEMENT_STOP}A-Za-z_]*+"
     return _Skippers(
-        flat=_compile(_flat(group, _DEPTH)),
-        in_brackets=_compile(_runs(_IN_BRACKETS_STOP, f"{group}|{_ATOMS}")),
-        statement_rest=_compile(_runs(_STATEMENT_STOP, f"{group}|{_ATOMS}")),
-        to_word=_compile(f"{statement_run}(?:(?:{group}|{_ATOMS}){statement_run})*+"),
+        flat=_match_at(_flat(group, _DEPTH)),
+        in_brackets=_match_at(_runs(_IN_BRACKETS_STOP, f"{group}|{_ATOMS}")),
+        statement_rest=_match_at(_runs(_STATEMENT_STOP, f"{group}|{_ATOMS}")),
+        to_word=_match_at(f"{statement_run}(?:(?:{group}|{_ATOMS}){statement_run})*+"),
     )
 
 
 _INERT_GROUP = rf"\({_INERT}*\)"
 #: What a tokenizer drops between tokens: spaces, numbers, comments, (0, 1) runs.
-_GAP = _compile(rf"(?:{_INERT}++|{_COMMENT}|{_INERT_GROUP})*+")
+_gap_at = _match_at(rf"(?:{_INERT}++|{_COMMENT}|{_INERT_GROUP})*+")
 #: The same, line ends included: what precedes the first token of a statement.
-_BLANK = _compile(rf"(?:{_INERT}++|\n|{_COMMENT}|{_INERT_GROUP})*+")
+_blank_at = _match_at(rf"(?:{_INERT}++|\n|{_COMMENT}|{_INERT_GROUP})*+")
 _WORD_AT = _compile(_WORD)
 _ATOM_AT = _compile(_ATOMS)
 _STRING_AT = _compile(_STRING)
@@ -232,7 +244,7 @@ class _Layer:
         stack = [(kind, path)]
         pending: tuple[str, str] | None = None  # the frame the next "{" opens
         while True:
-            pos = _BLANK.match(text, pos).end()
+            pos = _blank_at(text, pos).end()
             if pos >= end:
                 return
             top_kind, top_path = stack[-1]
@@ -256,7 +268,9 @@ class _Layer:
                 else:
                     pos += 1
             elif char.isascii() and (char.isalpha() or char == "_"):
-                word = _WORD_AT.match(text, pos).group()
+                word_at = _WORD_AT.match(text, pos)
+                assert word_at is not None  # char starts a word
+                word = word_at.group()
                 pos += len(word)
                 if top_kind in _SPEC_FRAMES and word in _PRIM_SPECIFIERS:
                     quoted = _prim_name(text, pos)
@@ -266,7 +280,7 @@ class _Layer:
                         pending = ("prim", prim)
                         pos = quoted.end()
                 elif top_kind in _SPEC_FRAMES and word == "variantSet":
-                    string = _STRING_AT.match(text, _GAP.match(text, pos).end())
+                    string = _STRING_AT.match(text, _gap_at(text, pos).end())
                     if string:
                         pending = ("variantset", top_path + "{" + _unquote(string.group()) + "=")
                 else:
@@ -310,7 +324,7 @@ def _skip_brackets(text: str, pos: int) -> int:
     """The offset after the bracket that closes the one just before ``pos``."""
     depth = 1
     end = len(text)
-    in_brackets = _skippers().in_brackets.match
+    in_brackets = _skippers().in_brackets
     while True:
         pos = in_brackets(text, pos).end()
         if pos >= end:
@@ -325,7 +339,7 @@ def _skip_block(text: str, pos: int) -> int:
     """The offset after the brace that closes the one just before ``pos``."""
     depth = 1
     end = len(text)
-    flat = _skippers().flat.match
+    flat = _skippers().flat
     while True:
         pos = flat(text, pos).end()
         if pos >= end:
@@ -346,7 +360,7 @@ def _skip_block(text: str, pos: int) -> int:
 def _statement_end(text: str, pos: int) -> int:
     """The offset of the line end or brace that ends the statement (or the text's end)."""
     end = len(text)
-    statement_rest = _skippers().statement_rest.match
+    statement_rest = _skippers().statement_rest
     while True:
         pos = statement_rest(text, pos).end()
         if pos >= end or text[pos] in "\n{}":
@@ -358,7 +372,7 @@ def _statement_end(text: str, pos: int) -> int:
 def _prim_name(text: str, pos: int) -> re.Match[str] | None:
     """After ``def``/``over``/``class``: the name string past the type's words, if any."""
     while True:
-        pos = _GAP.match(text, pos).end()
+        pos = _gap_at(text, pos).end()
         word = _WORD_AT.match(text, pos)
         if word is None:
             return _STRING_AT.match(text, pos)
@@ -369,7 +383,7 @@ def _property_name(text: str, pos: int, rest: list[str]) -> tuple[int, str | Non
     """Read a statement's words up to its second unqualified one (``float3[] extent``):
     the property it declares, without a ``.timeSamples``/``.connect`` suffix."""
     end = len(text)
-    to_word = _skippers().to_word.match
+    to_word = _skippers().to_word
     while len(rest) < 2:
         pos = to_word(text, pos).end()
         if pos >= end or text[pos] in "\n{}":
@@ -380,7 +394,9 @@ def _property_name(text: str, pos: int, rest: list[str]) -> tuple[int, str | Non
         if text[pos] in ")]":  # a stray closing bracket changes nothing
             pos += 1
             continue
-        word = _WORD_AT.match(text, pos).group()
+        word_at = _WORD_AT.match(text, pos)
+        assert word_at is not None  # past the checks above, to_word stopped at a word
+        word = word_at.group()
         pos += len(word)
         if word not in _PROPERTY_QUALIFIERS:
             rest.append(word)

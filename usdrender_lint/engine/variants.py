@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 
 from pxr import Sdf, Usd
 
+from ..api import Rule
 from ..model import FileResult, Finding
 from .linter import RENDER_SCHEMAS, Linter
 from .locate import locate
@@ -111,7 +112,7 @@ class VariantExplorer:
         self.max_combinations = max_combinations
 
     @property
-    def rules(self):
+    def rules(self) -> tuple[Rule, ...]:
         return self.linter.rules
 
     @property

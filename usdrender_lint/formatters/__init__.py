@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import Protocol, TextIO
 
 from ..entrypoints import EntryPointLike, entry_points
-from ..model import Report
+from ..model import Finding, Report
 
 ENTRY_POINT_GROUP = "usdrender_lint.formatters"
 
@@ -50,15 +50,14 @@ def load_formatter(name: str) -> Formatter:
 
 def statistics(report: Report) -> list[dict[str, object]]:
     """Findings per rule code, most frequent first: code, name, severity, count."""
-    first = {}
+    first: dict[str, Finding] = {}
     for finding in report.findings:
         first.setdefault(finding.code, finding)
     counts = report.by_code()
-    rows = [
+    return [
         {"code": code, "name": f.name, "severity": f.severity.value, "count": counts[code]}
-        for code, f in first.items()
+        for code, f in sorted(first.items(), key=lambda item: (-counts[item[0]], item[0]))
     ]
-    return sorted(rows, key=lambda row: (-row["count"], row["code"]))
 
 
 def statistics_lines(report: Report) -> list[str]:

@@ -15,7 +15,7 @@ def collect_files(paths: Iterable[str]) -> list[str]:
     files: list[str] = []
     for path in paths:
         if os.path.isdir(path):
-            found = []
+            found: list[str] = []
             for folder, dirs, names in os.walk(path, followlinks=False):
                 dirs.sort()
                 found.extend(

@@ -281,9 +281,9 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         report = plan.narrow(report)
     report = prepared.finish(report)
     report = _apply_baseline(report, known, request, notes)
-    if fixed is not None:
+    if fixed is not None and request.fix is not None:
         report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
-        notes.extend(_fix_notes(report, dry_run=not request.fix.write))  # type: ignore[union-attr]
+        notes.extend(_fix_notes(report, dry_run=not request.fix.write))
     return Outcome(
         report,
         settings,

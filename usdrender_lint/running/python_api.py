@@ -16,6 +16,7 @@ from dataclasses import replace
 
 from pxr import Usd
 
+from ..api import Rule
 from ..api.docs import rule_info
 from ..config import ConfigError, Settings
 from ..model import FileResult, Finding, Report
@@ -40,7 +41,9 @@ def _request(
     select: Sequence[str] | None,
     ignore: Sequence[str] | None,
     config: ConfigLike,
-    **options: object,
+    *,
+    variants: bool | None = None,
+    max_variant_combinations: int | None = None,
 ) -> Request:
     # No config file is searched for: None means the defaults, as documented.
     return Request(
@@ -52,11 +55,12 @@ def _request(
         jobs=1,
         timeout=None,
         progress=False,
-        **options,  # type: ignore[arg-type]
+        variants=variants,
+        max_variant_combinations=max_variant_combinations,
     )
 
 
-def _with_rules(outcome_report: Report, rules: Sequence[object]) -> Report:
+def _with_rules(outcome_report: Report, rules: Sequence[Rule]) -> Report:
     return replace(outcome_report, rules=tuple(rule_info(type(rule)) for rule in rules))
 
 

@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from ..model import FileResult
 
@@ -30,7 +30,12 @@ if TYPE_CHECKING:
     import multiprocessing.process
     from multiprocessing.connection import Connection
 
-    from ..engine import Linter
+    # The contexts _context chooses from (BaseContext declares no Process).
+    _Context = (
+        multiprocessing.context.ForkContext
+        | multiprocessing.context.ForkServerContext
+        | multiprocessing.context.SpawnContext
+    )
 
 DEFAULT_TIMEOUT = 120.0
 #: A progress bar is worth drawing only for runs longer than this many files.
@@ -44,7 +49,14 @@ WORKER_RECYCLE_AFTER = 500
 #: The least memory a worker is allowed, however many there are.
 MIN_WORKER_MEMORY = 2 << 30
 
-LinterFactory = Callable[[], "Linter"]
+
+class FileLinter(Protocol):
+    """What the pool needs of a linter: an engine Linter or a VariantExplorer."""
+
+    def lint_path(self, path: str) -> FileResult: ...
+
+
+LinterFactory = Callable[[], FileLinter]
 #: Environment variables that configure the linter, handed to every worker.
 ENV_PREFIX = "USDRENDER_LINT_"
 
@@ -60,7 +72,7 @@ def default_jobs() -> int:
 def lint_paths(
     files: Sequence[str],
     *,
-    linter: Linter | None = None,
+    linter: FileLinter | None = None,
     linter_factory: LinterFactory | None = None,
     jobs: int = 1,
     timeout: float | None = None,
@@ -93,14 +105,14 @@ def lint_paths(
 
 
 def _lint_in_process(
-    linter: Linter, files: Sequence[str], advance: Callable[[], None]
+    linter: FileLinter, files: Sequence[str], advance: Callable[[], None]
 ) -> Iterator[FileResult]:
     for path in files:
         yield lint_one(linter, path)
         advance()
 
 
-def lint_one(linter: Linter, path: str) -> FileResult:
+def lint_one(linter: FileLinter, path: str) -> FileResult:
     """``linter.lint_path`` that turns an unexpected engine failure into an
     error result for this file, so the other files are still linted."""
     try:
@@ -152,7 +164,7 @@ def _single_threaded() -> bool:
         return False
 
 
-def _context() -> multiprocessing.context.BaseContext:
+def _context() -> _Context:
     import multiprocessing
 
     # A process still running one thread (USD starts its thread pool with the

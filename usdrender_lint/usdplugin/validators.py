@@ -149,8 +149,8 @@ class RuleValidator:
 
     # -- fixer ----------------------------------------------------------------
 
-    def _safe_fix(self, error: Any) -> tuple[Usd.Stage, TracedFinding] | None:
-        """The stage and the traced finding behind ``error`` when its fix is safe."""
+    def _safe_fix(self, error: Any) -> tuple[Usd.Stage, Callable[[Usd.Stage], None]] | None:
+        """The stage and the fix's apply of the finding behind ``error`` when its fix is safe."""
         sites = error.GetSites()
         if not sites or error.GetName() != self.rule.code:
             return None
@@ -158,16 +158,16 @@ class RuleValidator:
         if stage is None:
             return None
         for traced in self.lints.findings(stage):
-            finding = traced.finding
+            finding, fix = traced.finding, traced.fix
             if (
                 finding.code == self.rule.code
                 and finding.message == error.GetMessage()
                 and Sdf.Path(finding.location.path or "/") == _site_path(sites[0])
-                and traced.fix is not None
-                and traced.fix.safe
-                and traced.fix.apply is not None
+                and fix is not None
+                and fix.safe
+                and fix.apply is not None
             ):
-                return stage, traced
+                return stage, fix.apply
         return None
 
     def can_apply(self, error: Any, edit_target: Usd.EditTarget, time_code: Any = None) -> bool:
@@ -182,11 +182,11 @@ class RuleValidator:
             found = self._safe_fix(error)
             if found is None:
                 return False
-            stage, traced = found
+            stage, apply_fix = found
             previous = stage.GetEditTarget()
             stage.SetEditTarget(edit_target)
             try:
-                traced.fix.apply(stage)
+                apply_fix(stage)
             finally:
                 stage.SetEditTarget(previous)
             return True
@@ -263,6 +263,7 @@ def register_validators(usd_registry: Any = None) -> list[str]:
         for name in declared:
             metadata = usd_registry.GetValidatorMetadata(name)
             rule = by_name.get(name)
+            task: UnavailableValidator | RuleValidator
             if rule is None:
                 task = UnavailableValidator(name, reason or STALE_REASON)
                 prim = bool(metadata.GetSchemaTypes())
