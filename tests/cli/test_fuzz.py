@@ -19,16 +19,16 @@ import re
 import tempfile
 from pathlib import Path
 
+from cli_support import run_cli_process, settings_crate
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_hostile import run_cli_process, settings_crate
 
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
 from usdrender_lint.testing import all_rules
 
-RULE_FIXTURES = Path(__file__).parent / "rules"
+RULE_FIXTURES = Path(__file__).parents[1] / "rules"
 _EXAMPLES_ENV = os.environ.get("USDRENDER_LINT_FUZZ_EXAMPLES")
 EXAMPLES = int(_EXAMPLES_ENV or 500)
 FUZZ = settings(

@@ -15,7 +15,7 @@ import usdrender_lint
 from usdrender_lint.config import ConfigError, Settings
 from usdrender_lint.model import Finding, Report, Severity
 
-REPO = Path(__file__).parent.parent
+REPO = Path(__file__).parents[2]
 SE003 = REPO / "tests" / "rules" / "SE003_data_window_malformed"
 FAIL = SE003 / "fail_inverted.usda"
 

@@ -170,7 +170,7 @@ def test_internal_errors_are_never_path_ignored(tmp_path) -> None:
 def test_readme_suppression_example_works(tmp_path) -> None:
     from usdrender_lint.api.docs import code_blocks
 
-    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
     section = readme.split("## Suppressing findings", 1)[1].split("\n## ", 1)[0]
     (example,) = code_blocks(section)
     silenced = _pairs(_lint(tmp_path, example))

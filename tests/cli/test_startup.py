@@ -17,7 +17,7 @@ from usdrender_lint import entrypoints
 from usdrender_lint.formatters import available_formatters
 from usdrender_lint.registry import build_registry
 
-PASS_FILE = Path(__file__).parent / "rules" / "CA001_camera_unset" / "pass_traps.usda"
+PASS_FILE = Path(__file__).parents[1] / "rules" / "CA001_camera_unset" / "pass_traps.usda"
 GROUPS = ("usdrender_lint.rules", "usdrender_lint.formatters")
 #: Modules a plain check (text report to a pipe, no config file) never needs.
 NEVER_NEEDED = (

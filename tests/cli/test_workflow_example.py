@@ -17,7 +17,7 @@ from usdrender_lint.cli import cli
 
 yaml = pytest.importorskip("yaml")  # PyYAML comes with pre-commit
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 WORKFLOW = REPO / "examples" / "github-workflow.yml"
 
 

@@ -12,7 +12,7 @@ from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
 
-REPO = Path(__file__).parent.parent
+REPO = Path(__file__).parents[2]
 EXAMPLES = REPO / "examples"
 CLEAN = EXAMPLES / "clean_shot" / "shot.usda"
 BROKEN = EXAMPLES / "broken_shot" / "shot.usda"

@@ -157,7 +157,7 @@ def test_the_session_layer_is_reset_and_a_plain_file_lints_as_usual(shot: Path) 
     assert stage.GetPrimAtPath("/Render").GetVariantSet("quality").GetVariantSelection() == (
         "preview"
     )
-    plain = Path(__file__).parent / "rules" / "SE003_data_window_malformed" / "fail_inverted.usda"
+    plain = Path(__file__).parents[1] / "rules/SE003_data_window_malformed/fail_inverted.usda"
     assert explorer.lint_path(str(plain)) == Linter(all_rules()).lint_path(str(plain))
 
 

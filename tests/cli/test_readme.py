@@ -8,7 +8,7 @@ from pathlib import Path
 from usdrender_lint.api.docs import code_blocks, sections
 from usdrender_lint.engine import Linter
 
-README = Path(__file__).parent.parent / "README.md"
+README = Path(__file__).parents[2] / "README.md"
 
 
 def test_third_party_rule_example_works(tmp_path: Path) -> None:

@@ -15,7 +15,7 @@ from usdrender_lint.api.cache import lint_cache
 from usdrender_lint.engine import usda_lines
 from usdrender_lint.engine.usda_lines import comment_lines, index_usda, line_of
 
-TESTS = Path(__file__).parent
+TESTS = Path(__file__).parents[1]
 REPO = TESTS.parent
 
 # --- reference: the straightforward scanner the lazy lookup replaced ----------------

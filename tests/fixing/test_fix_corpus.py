@@ -8,8 +8,8 @@ import shutil
 from pathlib import Path
 
 import pytest
+from fix_support import check, codes, spec_fields, write
 from pxr import Sdf, Usd
-from test_fix import check, codes, spec_fields, write
 
 #: Self-contained layers with several kinds of safe fix (CA006, SE007, SE011, ST003).
 FILES = [

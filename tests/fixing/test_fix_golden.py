@@ -23,7 +23,7 @@ from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter, open_stage
 from usdrender_lint.registry import build_registry
 
-FIXTURES = Path(__file__).parent / "rules"
+FIXTURES = Path(__file__).parents[1] / "rules"
 GOLDEN_SUFFIX = ".fixed.usda"
 WRITE_GOLDENS = os.environ.get("USDRENDER_LINT_WRITE_GOLDENS", "") not in ("", "0")
 FIXABLE = {rule.code: rule for rule in build_registry().rules if rule.fix_safety != "none"}

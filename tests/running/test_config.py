@@ -244,7 +244,7 @@ def test_readme_configuration_example_is_valid(tmp_path) -> None:
     from usdrender_lint.registry import build_registry
     from usdrender_lint.running.pipeline import make_linter
 
-    readme = (Path(__file__).parent.parent / "README.md").read_text(encoding="utf-8")
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
     section = readme.split("## Configuration", 1)[1].split("\n## ", 1)[0]
     example = section.split("```toml\n", 1)[1].split("```", 1)[0]
     settings = load_settings(str(_write(tmp_path, example, "pyproject.toml")))

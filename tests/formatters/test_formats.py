@@ -14,7 +14,7 @@ from usdrender_lint.formatters.github import GithubFormatter, escape_data, escap
 from usdrender_lint.formatters.sarif import artifact_location, report_to_sarif
 from usdrender_lint.model import FileResult, Finding, Location, Report, RuleInfo, Severity
 
-REPO = Path(__file__).parent.parent
+REPO = Path(__file__).parents[2]
 SE003 = REPO / "tests" / "rules" / "SE003_data_window_malformed"
 FROM_SUBLAYER = SE003 / "fail_from_sublayer.usda"
 INVERTED = SE003 / "fail_inverted.usda"

@@ -37,7 +37,7 @@ from usdrender_lint.usdplugin import (
 )
 from usdrender_lint.usdplugin.validators import StageLints, default_linter
 
-REPO = Path(__file__).parent.parent
+REPO = Path(__file__).parents[2]
 FIXTURES = REPO / "tests" / "rules"
 SE003_FAIL = FIXTURES / "SE003_data_window_malformed" / "fail_inverted.usda"
 RULES = build_registry().rules

@@ -18,7 +18,7 @@ from usdrender_lint.engine import Linter
 from usdrender_lint.engine import partial as fastpath
 from usdrender_lint.testing import all_rules
 
-TESTS = Path(__file__).parent
+TESTS = Path(__file__).parents[1]
 REPO = TESTS.parent
 #: Every layer of every rule fixture folder (supporting layers too) and the
 #: examples, discovered so the check grows with the rules.

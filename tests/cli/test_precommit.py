@@ -27,7 +27,7 @@ yaml = pytest.importorskip("yaml")  # PyYAML comes with pre-commit
 if shutil.which("git") is None:
     pytest.skip("git is not installed", allow_module_level=True)
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 HOOK_ID = "usdrender-lint"
 
 #: The project's own clean example shot: no finding under any rule.

@@ -14,7 +14,7 @@ from usdrender_lint.testing import all_rules, lint
 
 REGISTRY = build_registry()
 RULE_CLASSES = REGISTRY.rules
-FIXTURES = Path(__file__).parent / "rules"
+FIXTURES = Path(__file__).parents[1] / "rules"
 RULES = all_rules()
 
 

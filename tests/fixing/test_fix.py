@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from fix_support import check, codes, spec_fields, write
 from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
@@ -21,7 +22,7 @@ from usdrender_lint.engine.usda_lines import comment_lines
 from usdrender_lint.fixing import fixer
 from usdrender_lint.registry import build_registry
 
-FIXTURES = Path(__file__).parent / "rules"
+FIXTURES = Path(__file__).parents[1] / "rules"
 
 #: SE006 with a case slip (safe fix) and SE007 (safe fix that removes an opinion).
 SHOT = """#usda 1.0
@@ -39,25 +40,9 @@ def Scope "Render"
 POLICY = "/Render/Settings.aspectRatioConformPolicy"
 
 
-def check(*args: str):
-    base = ["check", "--isolated", "--jobs", "1", "--timeout", "0", "--format", "json"]
-    result = CliRunner().invoke(cli, [*base, *args])
-    document = json.loads(result.stdout) if result.stdout.startswith("{") else None
-    return result, document
-
-
-def write(path: Path, text: str) -> Path:
-    path.write_text(text, encoding="utf-8")
-    return path
-
-
 def value(path: Path, attr: str = POLICY):
     stage = Usd.Stage.Open(str(path))
     return stage.GetAttributeAtPath(attr).Get()
-
-
-def codes(document: dict) -> list[str]:
-    return [f["code"] for result in document["files"] for f in result["findings"]]
 
 
 def reasons(document: dict) -> list[str]:
@@ -206,27 +191,6 @@ def test_a_linked_layer_is_fixed_through_the_link(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     assert link.is_symlink()
     assert value(real) == "cropAperture"
-
-
-def _text(value) -> str:
-    """A field value as text; list ops (whose repr is an address) by their items."""
-    if isinstance(value, Sdf.PathListOp | Sdf.TokenListOp | Sdf.StringListOp):
-        parts = ("explicitItems", "prependedItems", "appendedItems", "deletedItems")
-        return repr([value.isExplicit, *(list(getattr(value, part)) for part in parts)])
-    return repr(value)
-
-
-def spec_fields(layer: Sdf.Layer) -> dict[str, dict[str, str]]:
-    """Every spec of a layer with its fields, as comparable text."""
-    fields: dict[str, dict[str, str]] = {}
-
-    def visit(path: Sdf.Path) -> None:
-        spec = layer.GetObjectAtPath(path)
-        if spec is not None:
-            fields[str(path)] = {key: _text(spec.GetInfo(key)) for key in spec.ListInfoKeys()}
-
-    layer.Traverse(Sdf.Path.absoluteRootPath, visit)
-    return fields
 
 
 @pytest.mark.parametrize(

@@ -13,15 +13,15 @@ import json
 import os
 import re
 import subprocess
-import sys
 import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from cli_support import run_cli_process, settings_crate
 from click.testing import CliRunner, Result
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender, Vt
+from pxr import Sdf, Usd, UsdRender, Vt
 
 from usdrender_lint.api import Diagnostic, Rule, Severity
 from usdrender_lint.cli import cli
@@ -62,22 +62,6 @@ def run_cli(*args: str) -> Result:
     output = result.stdout + result.stderr
     assert "Traceback" not in output, output
     assert isinstance(result.exception, SystemExit | None), repr(result.exception)
-    return result
-
-
-def run_cli_process(folder: Path, *args: str) -> subprocess.CompletedProcess:
-    """The command in its own process, for inputs that make USD abort: USD
-    writes a crash report to its temporary folder, which here is ``folder``."""
-    crash_reports = folder / "usd-crash-reports"
-    crash_reports.mkdir(exist_ok=True)
-    result = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--format", "json", *args],
-        capture_output=True,
-        text=True,
-        env={**os.environ, "TMPDIR": str(crash_reports)},
-        timeout=600,
-    )
-    assert "Traceback" not in result.stdout + result.stderr, result.stderr
     return result
 
 
@@ -644,25 +628,6 @@ def test_a_layer_that_aborts_usd_costs_only_itself(tmp_path: Path) -> None:
         assert result.returncode == 2
     else:
         assert not lines
-
-
-def settings_crate(path: Path) -> bytes:
-    """A small crate layer with settings, product, var and camera (also fuzzed)."""
-    layer = Sdf.Layer.CreateNew(str(path))
-    stage = Usd.Stage.Open(layer)
-    settings = UsdRender.Settings.Define(stage, "/Render/S")
-    settings.CreateResolutionAttr(Gf.Vec2i(1920, 1080))
-    settings.CreateDataWindowNDCAttr(Gf.Vec4f(0, 0, 1, 1))
-    settings.GetCameraRel().SetTargets(["/World/Cam"])
-    product = UsdRender.Product.Define(stage, "/Render/P")
-    product.CreateProductNameAttr("a.exr")
-    settings.GetProductsRel().SetTargets(["/Render/P"])
-    var = UsdRender.Var.Define(stage, "/Render/V")
-    var.CreateSourceNameAttr("Ci")
-    product.GetOrderedVarsRel().SetTargets(["/Render/V"])
-    UsdGeom.Camera.Define(stage, "/World/Cam").CreateFocalLengthAttr(35)
-    layer.Save()
-    return path.read_bytes()
 
 
 def test_a_crate_that_makes_usd_allocate_without_end_is_cut_short(
