@@ -11,7 +11,7 @@ from usdrender_lint.rules.vars.va003_lpe_malformed import LpeMalformed
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
 from usdrender_lint.running.pipeline import make_rules
-from usdrender_lint.testing import lint
+from usdrender_lint.testing import lint_text
 
 VALID = [
     "C<RD>[<L.>O]",  # RenderVar.md's canonical example
@@ -146,19 +146,17 @@ def Scope "Render"
 """
 
 
-def _va003(path: Path, rule: LpeMalformed) -> list[str]:
-    return [f.message for f in lint(path, [rule]) if f.code == "VA003"]
+def _va003(rule: LpeMalformed) -> list[str]:
+    return [f.message for f in lint_text(OPTIONAL_LPE, rules=[rule]) if f.code == "VA003"]
 
 
-def test_dialect_option_changes_the_verdict(tmp_path: Path) -> None:
-    path = tmp_path / "optional.usda"
-    path.write_text(OPTIONAL_LPE, encoding="utf-8")
-    strict = _va003(path, LpeMalformed())
+def test_dialect_option_changes_the_verdict() -> None:
+    strict = _va003(LpeMalformed())
     assert len(strict) == 1
     assert "'?' is not OSL LPE syntax" in strict[0]
     assert "(at character 7)" in strict[0]
     assert "'lpe:'" in strict[0]
-    extended = _va003(path, LpeMalformed(LpeMalformed.Options(dialect="extended")))
+    extended = _va003(LpeMalformed(LpeMalformed.Options(dialect="extended")))
     # Only the non-portable prefix remains.
     assert len(extended) == 1
     assert "malformed" not in extended[0] and "'lpe:'" in extended[0]
