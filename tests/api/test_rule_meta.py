@@ -10,7 +10,7 @@ import pytest
 from usdrender_lint.api import DOC_SECTIONS
 from usdrender_lint.api.docs import code_blocks, missing_sections, sections, supporting_layers
 from usdrender_lint.registry import build_registry
-from usdrender_lint.testing import all_rules, lint
+from usdrender_lint.testing import all_rules, lint_text
 
 REGISTRY = build_registry()
 RULE_CLASSES = REGISTRY.rules
@@ -49,24 +49,16 @@ def _doc_cases(section: str):
             yield pytest.param(rule.code, block, layers, id=f"{rule.code}-{index}")
 
 
-def _write_doc_case(tmp_path: Path, name: str, usda: str, layers: dict[str, str]) -> Path:
-    for layer_name, text in layers.items():
-        (tmp_path / layer_name).write_text(text, encoding="utf-8")
-    path = tmp_path / name
-    path.write_text(usda, encoding="utf-8")
-    return path
-
-
 @pytest.mark.parametrize(("code", "usda", "layers"), list(_doc_cases("Example")))
-def test_doc_example_fires(code: str, usda: str, layers: dict, tmp_path: Path) -> None:
-    path = _write_doc_case(tmp_path, "example.usda", usda, layers)
-    assert code in {f.code for f in lint(path, RULES)}
+def test_doc_example_fires(code: str, usda: str, layers: dict) -> None:
+    found = lint_text(usda, rules=RULES, layers=layers, name="example.usda")
+    assert code in {f.code for f in found}
 
 
 @pytest.mark.parametrize(("code", "usda", "layers"), list(_doc_cases("Use instead")))
-def test_doc_use_instead_is_silent(code: str, usda: str, layers: dict, tmp_path: Path) -> None:
-    path = _write_doc_case(tmp_path, "use_instead.usda", usda, layers)
-    assert code not in {f.code for f in lint(path, RULES)}
+def test_doc_use_instead_is_silent(code: str, usda: str, layers: dict) -> None:
+    found = lint_text(usda, rules=RULES, layers=layers, name="use_instead.usda")
+    assert code not in {f.code for f in found}
 
 
 def test_every_rule_documents_an_example() -> None:

@@ -10,6 +10,7 @@ from usdrender_lint.engine import Linter, suppress
 from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
 from usdrender_lint.registry import build_registry
 from usdrender_lint.running.path_ignores import apply_path_ignores
+from usdrender_lint.testing import lint_text
 
 REGISTRY = build_registry()
 
@@ -37,12 +38,8 @@ def _ignore(*entries: str) -> str:
     return f"customData = {{ dictionary usdrender_lint = {{ string[] ignore = [{listed}] }} }}"
 
 
-def _lint(tmp_path: Path, text: str, codes: tuple[str, ...] | None = None) -> list[Finding]:
-    path = tmp_path / "shot.usda"
-    path.write_text(text, encoding="utf-8")
-    chosen = [r for r in REGISTRY.rules if codes is None or r.code in codes]
-    linter = Linter([r() for r in chosen], raise_errors=True, known_rules=REGISTRY.rules)
-    return list(linter.lint_path(str(path)).findings)
+def _lint(text: str, codes: tuple[str, ...] | None = None) -> list[Finding]:
+    return lint_text(text, select=codes, name="shot.usda")
 
 
 def _pairs(findings: list[Finding]) -> set[tuple[str, str | None]]:
@@ -50,21 +47,21 @@ def _pairs(findings: list[Finding]) -> set[tuple[str, str | None]]:
 
 
 @pytest.mark.parametrize("entry", ["SE003", "se003", "data-window-malformed"])
-def test_entry_silences_the_rule_on_the_prim_and_its_properties(tmp_path, entry) -> None:
-    found = _pairs(_lint(tmp_path, BAD_WINDOW.format(metadata=_ignore(entry))))
+def test_entry_silences_the_rule_on_the_prim_and_its_properties(entry) -> None:
+    found = _pairs(_lint(BAD_WINDOW.format(metadata=_ignore(entry))))
     assert ("SE003", "/Render/Settings.dataWindowNDC") not in found
     # Only that prim: the sibling keeps its finding, and the entry was used.
     assert ("SE003", "/Render/Other.dataWindowNDC") in found
     assert not any(code == "UL001" for code, _ in found)
 
 
-def test_without_suppression_both_prims_report(tmp_path) -> None:
-    found = _pairs(_lint(tmp_path, BAD_WINDOW.format(metadata="")))
+def test_without_suppression_both_prims_report() -> None:
+    found = _pairs(_lint(BAD_WINDOW.format(metadata="")))
     assert ("SE003", "/Render/Settings.dataWindowNDC") in found
     assert ("SE003", "/Render/Other.dataWindowNDC") in found
 
 
-def test_suppression_does_not_reach_children(tmp_path) -> None:
+def test_suppression_does_not_reach_children() -> None:
     text = f"""#usda 1.0
 
 def Scope "Render" (
@@ -77,20 +74,20 @@ def Scope "Render" (
     }}
 }}
 """
-    found = _pairs(_lint(tmp_path, text))
+    found = _pairs(_lint(text))
     assert ("SE003", "/Render/Settings.dataWindowNDC") in found
     assert ("UL001", "/Render") in found
 
 
-def test_unused_entry_for_an_unselected_rule_is_not_reported(tmp_path) -> None:
+def test_unused_entry_for_an_unselected_rule_is_not_reported() -> None:
     text = BAD_WINDOW.format(metadata=_ignore("SE003", "CA004"))
-    found = _pairs(_lint(tmp_path, text, codes=("SE003", "UL001")))
+    found = _pairs(_lint(text, codes=("SE003", "UL001")))
     assert found == {("SE003", "/Render/Other.dataWindowNDC")}
 
 
-def test_unused_entries_are_info_with_the_reason(tmp_path) -> None:
+def test_unused_entries_are_info_with_the_reason() -> None:
     text = BAD_WINDOW.format(metadata=_ignore("SE003", "SE007", "XX999"))
-    unused = [f for f in _lint(tmp_path, text) if f.code == "UL001"]
+    unused = [f for f in _lint(text) if f.code == "UL001"]
     assert [f.severity for f in unused] == [Severity.INFO, Severity.INFO]
     messages = sorted(f.message for f in unused)
     assert "SE007 reports nothing on this prim" in messages[0]
@@ -98,7 +95,7 @@ def test_unused_entries_are_info_with_the_reason(tmp_path) -> None:
     assert all(f.location.line == 5 for f in unused)  # the prim's line
 
 
-def test_the_engine_hands_over_the_suppressing_prims_of_its_walk(tmp_path, monkeypatch) -> None:
+def test_the_engine_hands_over_the_suppressing_prims_of_its_walk(monkeypatch) -> None:
     text = BAD_WINDOW.format(metadata=_ignore("SE003", "SE007", "XX999")).replace(
         'RenderSettings "Other"', f'RenderSettings "Other" ({_ignore("nothing")})'
     )
@@ -117,14 +114,14 @@ def test_the_engine_hands_over_the_suppressing_prims_of_its_walk(tmp_path, monke
         return kept, unused
 
     monkeypatch.setattr(suppress, "apply_data_suppressions", recording)
-    unused = [f for f in _lint(tmp_path, text) if f.code == "UL001"]
+    unused = [f for f in _lint(text) if f.code == "UL001"]
     assert handed == [["/Render/Settings", "/Render/Other"]]
     assert len(unused) == 3
 
 
-def test_without_the_meta_rule_unused_entries_are_silent(tmp_path) -> None:
+def test_without_the_meta_rule_unused_entries_are_silent() -> None:
     text = BAD_WINDOW.format(metadata=_ignore("SE003", "XX999"))
-    found = _pairs(_lint(tmp_path, text, codes=("SE003",)))
+    found = _pairs(_lint(text, codes=("SE003",)))
     assert found == {("SE003", "/Render/Other.dataWindowNDC")}
 
 
@@ -167,16 +164,16 @@ def test_internal_errors_are_never_path_ignored(tmp_path) -> None:
     assert result.findings == (finding,)
 
 
-def test_readme_suppression_example_works(tmp_path) -> None:
+def test_readme_suppression_example_works() -> None:
     from usdrender_lint.api.docs import code_blocks
 
     readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
     section = readme.split("## Suppressing findings", 1)[1].split("\n## ", 1)[0]
     (example,) = code_blocks(section)
-    silenced = _pairs(_lint(tmp_path, example))
+    silenced = _pairs(_lint(example))
     assert not {code for code, _ in silenced} & {"SE003", "CA001", "UL001"}
     unsuppressed = example.replace("usdrender_lint", "pipeline")
-    assert {"SE003", "CA001"} <= {code for code, _ in _pairs(_lint(tmp_path, unsuppressed))}
+    assert {"SE003", "CA001"} <= {code for code, _ in _pairs(_lint(unsuppressed))}
 
 
 # -- the UL001 fix ----------------------------------------------------------------
