@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pxr import Sdf, Usd, UsdRender
 
-from usdrender_lint.api import Context, Diagnostic, Rule
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule
 
 RENDER_SCHEMAS = (UsdRender.Settings, UsdRender.Product, UsdRender.Var, UsdRender.Pass)
 
@@ -67,11 +67,11 @@ def only(rule: Rule, stage: Usd.Stage, cap: int = 1000) -> Diagnostic:
     return diagnostic
 
 
-def _target_layer(stage: Usd.Stage, diagnostic: Diagnostic) -> Sdf.Layer:
+def _target_layer(stage: Usd.Stage, diagnostic: Diagnostic, fix: Fix) -> Sdf.Layer:
     """The fixer's choice: the fix's layer, else the finding's, else the
     strongest opinion on ``at``, else the root layer."""
-    if diagnostic.fix.layer is not None:
-        return diagnostic.fix.layer
+    if fix.layer is not None:
+        return fix.layer
     if diagnostic.layer is not None:
         return diagnostic.layer
     at = diagnostic.at
@@ -84,9 +84,11 @@ def _target_layer(stage: Usd.Stage, diagnostic: Diagnostic) -> Sdf.Layer:
 
 def apply_fix(stage: Usd.Stage, diagnostic: Diagnostic) -> Sdf.Layer:
     """Apply the diagnostic's fix in the layer the fixer targets; that layer."""
-    layer = _target_layer(stage, diagnostic)
+    fix = diagnostic.fix
+    assert fix is not None, f"no fix offered: {diagnostic.message}"
+    layer = _target_layer(stage, diagnostic, fix)
     stage.SetEditTarget(Usd.EditTarget(layer))
-    diagnostic.fix.apply(stage)
+    fix.apply(stage)
     return layer
 
 
