@@ -5,32 +5,114 @@ of the rule, and ``fail_*.usda`` files, which list the findings they expect on
 comment lines (USD ignores them), usually right after the header::
 
     #usda 1.0
-    # expect: SE003 </Render/Settings.dataWindowNDC>
+    # expect: CA004 </Render/Settings.camera> x1 fix "is an Xform, not a Camera"
+    # expect: SE003 </Render/S.dataWindowNDC> x2 nofix "xmin"
+
+One line, in this order: ``# expect:``, the rule code, the prim or property
+path in angle brackets (``<>`` for a whole-stage finding), then, each optional:
+
+- ``xN``: how many findings of the code at that path match the line (default 1);
+- ``fix`` or ``nofix``: whether each of them offers an automatic fix;
+- ``"fragment"``: text that must occur in each message; it runs to the last
+  double quote on the line, so it may itself hold quotes (no escapes).
+
+A fail fixture gives exactly the findings of its code that its lines declare:
+each line matches exactly N findings, and every finding of the code matches one
+line. Two lines on the same path need fragments (or fix states) that tell their
+findings apart. A line that starts with ``# expect:`` but does not parse is an
+error, never silently skipped.
 
 Any other file in the folder is a supporting layer (a sublayer or a reference).
+
+:func:`lint_text` lints usda text (with supporting layers by file name) without
+the caller writing files.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import os
 import re
-from collections.abc import Sequence
-from pathlib import Path
+import tempfile
+from collections.abc import Mapping, Sequence
+from pathlib import Path, PurePosixPath
 
 from .api import Rule
 from .engine import Linter
-from .model import Finding
-from .registry import build_registry
+from .model import Finding, Location
+from .registry import build_registry, select_rules
 
-_EXPECT = re.compile(r"^#\s*expect:\s*([A-Z]+[0-9]+)\s+<([^>]*)>\s*$")
+_EXPECT_PREFIX = re.compile(r"^#\s*expect:")
+_EXPECT = re.compile(
+    r"^#\s*expect:\s*(?P<code>[A-Z]+[0-9]+)\s+<(?P<path>[^>]*)>"
+    r"(?:\s+x(?P<count>[1-9][0-9]*))?"
+    r"(?:\s+(?P<fix>fix|nofix))?"
+    r'(?:\s+"(?P<fragment>.*)")?\s*$'
+)
 
 
-def expectations(path: str | Path) -> set[tuple[str, str]]:
-    """The ``(code, path)`` pairs a fail fixture declares."""
-    found = set()
-    for line in Path(path).read_text(encoding="utf-8").splitlines()[1:]:
-        match = _EXPECT.match(line.strip())
-        if match:
-            found.add((match.group(1), match.group(2)))
+@dataclasses.dataclass(frozen=True)
+class Expectation:
+    """One ``# expect:`` line of a fail fixture; None: not stated (not checked)."""
+
+    code: str
+    path: str
+    count: int | None = None
+    fix: bool | None = None
+    fragment: str | None = None
+    line: int = 0
+
+    @property
+    def full(self) -> bool:
+        """The line states count, fix and fragment."""
+        return None not in (self.count, self.fix, self.fragment)
+
+    def matches(self, finding: Finding) -> bool:
+        return (
+            finding.code == self.code
+            and (finding.location.path or "") == self.path
+            and (self.fix is None or (finding.fix is not None) == self.fix)
+            and (self.fragment is None or self.fragment in finding.message)
+        )
+
+    def __str__(self) -> str:
+        parts = [f"{self.code} <{self.path}> x{self.count or 1}"]
+        if self.fix is not None:
+            parts.append("fix" if self.fix else "nofix")
+        if self.fragment is not None:
+            parts.append(f'"{self.fragment}"')
+        return " ".join(parts)
+
+
+class ExpectationError(ValueError):
+    """A ``# expect:`` line that does not parse."""
+
+
+def expectations(path: str | Path) -> list[Expectation]:
+    """The expectations a fail fixture declares, in file order."""
+    path = Path(path)
+    found = []
+    for number, raw in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+        line = raw.strip()
+        if number == 1 or not _EXPECT_PREFIX.match(line):
+            continue
+        match = _EXPECT.match(line)
+        if match is None:
+            raise ExpectationError(
+                f"{path.name}:{number}: cannot read {line!r}; expected "
+                "'# expect: CODE <path> [xN] [fix|nofix] [\"message fragment\"]'"
+            )
+        count, fix = match.group("count"), match.group("fix")
+        found.append(
+            Expectation(
+                code=match.group("code"),
+                path=match.group("path"),
+                count=int(count) if count else None,
+                fix=None if fix is None else fix == "fix",
+                fragment=match.group("fragment"),
+                line=number,
+            )
+        )
     return found
 
 
@@ -46,6 +128,74 @@ def lint(path: str | Path, rules: Sequence[Rule] | None = None) -> list[Finding]
     return list(result.findings)
 
 
+def _chosen(rules: Sequence[Rule] | None, select: Sequence[str] | None) -> list[Rule]:
+    chosen = list(rules) if rules is not None else all_rules()
+    if select is None:
+        return chosen
+    kept = set(select_rules([type(rule) for rule in chosen], select))
+    return [rule for rule in chosen if type(rule) in kept]
+
+
+def _layer_file(folder: Path, name: str) -> Path:
+    relative = PurePosixPath(name)
+    if relative.is_absolute() or ".." in relative.parts or not relative.parts:
+        raise ValueError(f"layer name {name!r} must be a relative path inside the stage's folder")
+    return folder.joinpath(*relative.parts)
+
+
+def _relative(finding: Finding, folder: str) -> Finding:
+    """The finding with paths inside ``folder`` (gone after the lint) relative to it."""
+    prefix = folder + os.sep
+
+    def strip(text: str | None) -> str | None:
+        return None if text is None else text.replace(prefix, "")
+
+    location = finding.location
+    relative = Location(
+        file=strip(location.file) or "",
+        path=location.path,
+        layer=strip(location.layer),
+        line=location.line,
+    )
+    return dataclasses.replace(finding, message=strip(finding.message) or "", location=relative)
+
+
+def lint_text(
+    usda: str,
+    *,
+    rules: Sequence[Rule] | None = None,
+    select: Sequence[str] | None = None,
+    layers: Mapping[str, str] | None = None,
+    name: str = "stage.usda",
+) -> list[Finding]:
+    """Lint ``usda`` (a whole layer, header included) as the file ``name``.
+
+    ``rules`` are the rule instances to run (default: every registered rule,
+    with default options); ``select`` narrows them by code, prefix or name as
+    ``--select`` does (a selector matching none of them raises SelectionError).
+    ``layers`` maps relative file names to the text of the supporting layers
+    the stage's sublayers, references and payloads name (``@./lighting.usda@``).
+    The files live in a temporary folder for the lint only: in the findings,
+    files, layers and messages name them relative to it (``stage.usda``,
+    ``lighting.usda``). A rule that raises fails the test.
+    """
+    if layers and name in layers:
+        raise ValueError(f"{name!r} is the stage itself; give its supporting layers other names")
+    chosen = _chosen(rules, select)
+    # As with --select: a suppression naming a rule that is not run is not "unknown".
+    known = [*build_registry().rules, *(type(rule) for rule in chosen)]
+    linter = Linter(chosen, raise_errors=True, known_rules=list(dict.fromkeys(known)))
+    with tempfile.TemporaryDirectory(prefix="usdrender-lint-") as tmp:
+        folder = Path(os.path.realpath(tmp))
+        for layer_name, text in {**(layers or {}), name: usda}.items():
+            path = _layer_file(folder, layer_name)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text, encoding="utf-8")
+        result = linter.lint_path(str(_layer_file(folder, name)))
+        assert result.status == "linted", result.error
+    return [_relative(finding, str(folder)) for finding in result.findings]
+
+
 def found_pairs(findings: Sequence[Finding], code: str) -> set[tuple[str, str]]:
     return {(f.code, f.location.path or "") for f in findings if f.code == code}
 
@@ -59,14 +209,37 @@ def fixture_files(folder: str | Path) -> list[Path]:
     )
 
 
+def _describe(findings: Sequence[Finding]) -> str:
+    if not findings:
+        return "none"
+    return "; ".join(
+        f"<{f.location.path or ''}> {'fix' if f.fix else 'nofix'} {f.message!r}" for f in findings
+    )
+
+
 def check_fixture(path: str | Path, code: str, rules: Sequence[Rule] | None = None) -> None:
     """Assert a fixture behaves: pass files give no ``code`` finding, fail files
-    give exactly the findings of ``code`` they declare."""
+    give exactly the findings of ``code`` their ``# expect:`` lines declare
+    (count, fix offered and message fragment as stated)."""
     path = Path(path)
-    got = found_pairs(lint(path, rules), code)
+    found = [f for f in lint(path, rules) if f.code == code]
     if path.name.startswith("pass_"):
-        assert not got, f"{path.name}: expected no {code} finding, got {sorted(got)}"
+        assert not found, f"{path.name}: expected no {code} finding, got {_describe(found)}"
         return
-    expected = {pair for pair in expectations(path) if pair[0] == code}
-    assert expected, f"{path.name}: a fail fixture must declare '# expect: {code} <path>'"
-    assert got == expected, f"{path.name}: expected {sorted(expected)}, got {sorted(got)}"
+    expected = [e for e in expectations(path) if e.code == code]
+    assert expected, f"{path.name}: a fail fixture must declare '# expect: {code} <path> ...'"
+    for expectation in expected:
+        matching = [f for f in found if expectation.matches(f)]
+        at_path = [f for f in found if (f.location.path or "") == expectation.path]
+        assert len(matching) == (expectation.count or 1), (
+            f"{path.name}:{expectation.line}: expected {expectation}, "
+            f"got {len(matching)} matching; {code} findings at <{expectation.path}>: "
+            f"{_describe(at_path)}"
+        )
+    unexpected = [f for f in found if not any(e.matches(f) for e in expected)]
+    assert not unexpected, f"{path.name}: unexpected {code} findings: {_describe(unexpected)}"
+    claimed = sum(e.count or 1 for e in expected)
+    assert claimed == len(found), (
+        f"{path.name}: the expect lines claim {claimed} {code} findings but {len(found)} "
+        "occur: two lines match the same finding; make their fragments tell them apart"
+    )

@@ -1,5 +1,5 @@
 """Every rule fixture folder: pass_*.usda stay silent, fail_*.usda give exactly
-the findings they declare (see usdrender_lint.testing)."""
+the findings they declare, each expect line in full (see usdrender_lint.testing)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from usdrender_lint.testing import all_rules, check_fixture, fixture_files
+from usdrender_lint.testing import all_rules, check_fixture, expectations, fixture_files
 
 FOLDER = Path(__file__).parent
 RULES = all_rules()
@@ -23,3 +23,30 @@ def _cases():
 @pytest.mark.parametrize(("code", "fixture"), list(_cases()))
 def test_fixture(code: str, fixture: Path) -> None:
     check_fixture(fixture, code, RULES)
+
+
+def _fail_fixtures():
+    for folder in sorted(p for p in FOLDER.iterdir() if p.is_dir() and "_" in p.name):
+        for fixture in fixture_files(folder):
+            if fixture.name.startswith("fail_"):
+                yield pytest.param(fixture, id=f"{folder.name}/{fixture.name}")
+
+
+@pytest.mark.parametrize("fixture", list(_fail_fixtures()))
+def test_fail_fixture_states_count_fix_and_fragment(fixture: Path) -> None:
+    short = [f"line {e.line}: {e}" for e in expectations(fixture) if not e.full]
+    assert not short, (
+        f"{fixture.name}: write every expect line in full, "
+        f"'# expect: CODE <path> xN fix|nofix \"message fragment\"': {short}"
+    )
+
+
+def test_pass_fixtures_declare_nothing() -> None:
+    declaring = [
+        str(fixture.relative_to(FOLDER))
+        for folder in FOLDER.iterdir()
+        if folder.is_dir()
+        for fixture in fixture_files(folder)
+        if fixture.name.startswith("pass_") and expectations(fixture)
+    ]
+    assert not declaring, f"pass fixtures with expect lines: {declaring}"

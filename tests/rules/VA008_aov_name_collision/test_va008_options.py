@@ -10,7 +10,7 @@ from usdrender_lint.rules.vars.va008_aov_name_collision import AovNameCollision
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
 from usdrender_lint.running.pipeline import make_rules
-from usdrender_lint.testing import lint
+from usdrender_lint.testing import lint_text
 
 # Same sourceName under different prim names: a collision only when channels
 # are named after sourceName (hdPrman); the LPE var keeps its prim name there.
@@ -47,19 +47,17 @@ def Scope "Render"
 """
 
 
-def _messages(tmp_path: Path, rule: AovNameCollision) -> list[str]:
-    path = tmp_path / "same_source.usda"
-    path.write_text(SAME_SOURCE, encoding="utf-8")
-    return [f.message for f in lint(path, [rule]) if f.code == "VA008"]
+def _messages(rule: AovNameCollision) -> list[str]:
+    return [f.message for f in lint_text(SAME_SOURCE, rules=[rule]) if f.code == "VA008"]
 
 
-def test_prim_names_by_default(tmp_path: Path) -> None:
-    assert _messages(tmp_path, AovNameCollision()) == []
+def test_prim_names_by_default() -> None:
+    assert _messages(AovNameCollision()) == []
 
 
-def test_source_name_naming_reports_the_hdprman_clash(tmp_path: Path) -> None:
+def test_source_name_naming_reports_the_hdprman_clash() -> None:
     rule = AovNameCollision(AovNameCollision.Options(aov_naming="sourceName"))
-    (message,) = _messages(tmp_path, rule)
+    (message,) = _messages(rule)
     assert "/Render/Vars/albedo and /Render/Vars/albedoHalf" in message
     assert "'albedo'" in message
 

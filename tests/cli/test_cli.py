@@ -1,0 +1,218 @@
+"""The command line: exit codes, both formats, rules and explain."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+
+REPO = Path(__file__).parents[2]
+EXAMPLES = REPO / "examples"
+CLEAN = EXAMPLES / "clean_shot" / "shot.usda"
+BROKEN = EXAMPLES / "broken_shot" / "shot.usda"
+WIP = EXAMPLES / "broken_shot" / "lighting_wip.usda"
+
+HEADLINE = {"ST001", "CA003", "CA004", "SE003", "SE007", "PR004"}
+
+
+def run(*args: str):
+    return CliRunner().invoke(cli, ["check", "--isolated", *args])
+
+
+def findings_of(output: str) -> list[dict]:
+    document = json.loads(output)
+    return [f for file in document["files"] for f in file["findings"]]
+
+
+def test_clean_file_exits_0() -> None:
+    result = run(str(CLEAN))
+    assert result.exit_code == 0, result.output
+    assert "0 errors, 0 warnings" in result.output
+
+
+def test_examples_directory_reports_every_headline_check() -> None:
+    result = run("--format", "json", str(EXAMPLES))
+    assert result.exit_code == 1
+    findings = findings_of(result.output)
+    assert {f["code"] for f in findings} >= HEADLINE
+    clean = [
+        f for f in findings if "clean_shot" in f["file"] and f["severity"] in ("error", "warning")
+    ]
+    assert clean == []
+
+
+def test_missing_path_exits_2_and_still_lints_the_others(tmp_path: Path) -> None:
+    missing = tmp_path / "nope.usda"
+    result = run("--format", "json", str(missing), str(BROKEN))
+    assert result.exit_code == 2
+    files = {f["file"]: f for f in json.loads(result.stdout)["files"]}
+    assert files[str(missing)]["status"] == "error"
+    assert "no such file" in files[str(missing)]["error"]
+    assert files[str(BROKEN)]["status"] == "linted"
+    assert files[str(BROKEN)]["findings"]
+    assert f"usdrender-lint: error: {missing}: no such file" in result.stderr
+
+
+def test_unparsable_file_is_an_st001_finding_not_a_crash() -> None:
+    result = run("--format", "json", str(WIP), str(CLEAN))
+    assert result.exit_code == 1
+    findings = findings_of(result.output)
+    assert [f["code"] for f in findings] == ["ST001"]
+    assert findings[0]["line"] == 9
+    assert "Expected }" in findings[0]["message"]
+
+
+@pytest.mark.parametrize(
+    ("fail_on", "expected"), [("error", 0), ("warning", 1), ("info", 1), ("never", 0)]
+)
+def test_fail_on_threshold(fail_on: str, expected: int) -> None:
+    # Only SE007 (a warning) is selected.
+    result = run("--select", "SE007", "--fail-on", fail_on, str(BROKEN))
+    assert result.exit_code == expected, result.output
+
+
+def test_fail_on_never_still_reports() -> None:
+    result = run("--fail-on", "never", str(BROKEN))
+    assert result.exit_code == 0
+    assert "CA004" in result.output
+
+
+def test_select_and_ignore_by_prefix_code_and_name() -> None:
+    result = run(
+        "--format", "json", "--select", "CA", "--ignore", "camera-target-missing", str(BROKEN)
+    )
+    assert {f["code"] for f in findings_of(result.output)} == {"CA004"}
+
+
+def test_unknown_selector_is_a_usage_error() -> None:
+    result = run("--select", "XX999", str(CLEAN))
+    assert result.exit_code == 2
+    assert "'XX999' matches no rule" in result.stderr
+    assert "Traceback" not in result.output
+
+
+def test_unknown_format_is_a_usage_error() -> None:
+    result = run("--format", "yaml", str(CLEAN))
+    assert result.exit_code == 2
+
+
+def test_json_document_shape() -> None:
+    result = run("--format", "json", str(BROKEN))
+    document = json.loads(result.stdout)
+    assert set(document) >= {"schema_version", "tool", "files", "summary"}
+    assert document["schema_version"] == 1
+    assert document["tool"]["name"] == "usdrender-lint"
+    (file,) = document["files"]
+    assert set(file) == {"file", "status", "error", "findings"}
+    assert file["status"] == "linted" and file["error"] is None
+    keys = {"code", "name", "severity", "message", "path", "file", "layer", "line", "fix"}
+    for finding in file["findings"]:
+        assert set(finding) == keys
+        assert finding["severity"] in ("error", "warning", "info")
+        assert finding["fix"] is None or set(finding["fix"]) == {"description", "safe"}
+    ca004 = next(f for f in file["findings"] if f["code"] == "CA004")
+    assert ca004["path"] == "/Render/PrimarySettings.camera"
+    assert ca004["layer"].endswith("broken_shot/shot.usda")
+    assert isinstance(ca004["line"], int)
+    assert ca004["fix"]["safe"] is True
+    summary = document["summary"]
+    assert summary["files"] == 1
+    assert summary["findings"] == len(file["findings"])
+    assert sum(summary["by_severity"].values()) == summary["findings"]
+
+
+def test_info_hidden_in_text_unless_show_info(tmp_path: Path) -> None:
+    layer = tmp_path / "info.usda"
+    layer.write_text(
+        '#usda 1.0\ndef Scope "Render"\n{\n    def RenderSettings "S"\n    {\n    }\n}\n'
+    )
+    as_json = findings_of(run("--format", "json", str(layer)).output)
+    infos = [f for f in as_json if f["severity"] == "info"]
+    assert infos  # ST003: no renderSettingsPrimPath, one RenderSettings
+    hidden = run(str(layer)).output
+    shown = run("--show-info", str(layer)).output
+    assert infos[0]["code"] not in hidden.split("info hidden")[0]
+    assert infos[0]["code"] in shown
+
+
+def test_text_report_groups_per_file_with_layer_line() -> None:
+    result = run("--select", ",".join(sorted(HEADLINE)), str(BROKEN), str(WIP))
+    lines = result.output.splitlines()
+    assert lines[0].endswith("broken_shot/shot.usda")
+    assert any("CA004" in line and "shot.usda:" in line for line in lines)
+    assert "\x1b[" not in result.output  # not a terminal: no colour codes
+    assert lines[-1] == "6 findings in 2 files: 5 errors, 1 warning, 0 info."
+
+
+def test_rules_lists_every_rule_as_json() -> None:
+    result = CliRunner().invoke(cli, ["rules", "--format", "json"])
+    rows = json.loads(result.output)
+    codes = [r["code"] for r in rows]
+    assert set(codes) >= HEADLINE
+    assert codes == sorted(codes)
+    assert all(r["plugin"] == "builtin" for r in rows)
+
+
+def test_rules_table() -> None:
+    result = CliRunner().invoke(cli, ["rules"])
+    assert result.exit_code == 0
+    assert "camera-target-not-camera" in result.output
+
+
+@pytest.mark.parametrize("key", ["CA004", "camera-target-not-camera", "ca004"])
+def test_explain(key: str) -> None:
+    result = CliRunner().invoke(cli, ["explain", key])
+    assert result.exit_code == 0
+    for section in (
+        "## What it does",
+        "## Why is this bad?",
+        "## Example",
+        "## Use instead",
+        "## Fix safety",
+    ):
+        assert section in result.output
+
+
+def test_explain_unknown_rule() -> None:
+    result = CliRunner().invoke(cli, ["explain", "NOPE01"])
+    assert result.exit_code == 2
+    assert "no rule has the code or name" in result.stderr
+
+
+def test_python_dash_m_entry_point() -> None:
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "usdrender_lint",
+            "check",
+            "--isolated",
+            "--format",
+            "json",
+            str(BROKEN),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 1
+    assert json.loads(proc.stdout)["summary"]["findings"] > 0
+    assert proc.stderr == ""
+
+
+def test_usd_warnings_never_reach_stderr(tmp_path: Path) -> None:
+    layer = tmp_path / "dangling.usda"
+    layer.write_text("#usda 1.0\n(\n    subLayers = [@./missing.usda@]\n)\n")
+    proc = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--isolated", str(layer)],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert "Warning" not in proc.stderr and "Traceback" not in proc.stderr

@@ -1,0 +1,192 @@
+"""Start-up of ``usdrender-lint check``: what it imports, and the entry point
+lookup that lets it skip importlib.metadata (issue 6). Timing is measured by
+``benchmarks/run.py --only startup``, never asserted here."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from importlib import metadata
+from pathlib import Path
+
+import pytest
+
+import usdrender_lint
+from usdrender_lint import entrypoints
+from usdrender_lint.formatters import available_formatters
+from usdrender_lint.registry import build_registry
+
+PASS_FILE = Path(__file__).parents[1] / "rules" / "CA001_camera_unset" / "pass_traps.usda"
+GROUPS = ("usdrender_lint.rules", "usdrender_lint.formatters")
+#: Modules a plain check (text report to a pipe, no config file) never needs.
+NEVER_NEEDED = (
+    "importlib.metadata",
+    "email",
+    "csv",
+    "rich",
+    "tomllib",
+    "zipfile",
+    "usdrender_lint.api.docs",
+    "usdrender_lint.fixing.fixer",
+    "usdrender_lint.running.roots",
+    "usdrender_lint.engine.variants",
+    "usdrender_lint.running.baseline",
+)
+#: Modules only the worker pool needs (more than one job, or a --timeout).
+POOL_ONLY = ("multiprocessing", "tempfile", "shutil")
+
+IMPORTED_BY_CHECK = """
+import sys
+from usdrender_lint.cli import main
+try:
+    main(sys.argv[1:])
+except SystemExit:
+    pass
+print(__import__("json").dumps(sorted(sys.modules)), file=sys.stderr)
+"""
+
+
+def _modules_after(*args: str) -> set[str]:
+    proc = subprocess.run(
+        [sys.executable, "-c", IMPORTED_BY_CHECK, "check", *args, str(PASS_FILE)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    return set(json.loads(proc.stderr.splitlines()[-1]))
+
+
+def _imported(modules: set[str], name: str) -> bool:
+    return any(m == name or m.startswith(name + ".") for m in modules)
+
+
+def test_check_in_one_process_imports_only_what_it_needs() -> None:
+    modules = _modules_after("--isolated", "--jobs", "1", "--timeout", "0")
+    assert "usdrender_lint.engine" in modules  # it did lint
+    unexpected = [n for n in NEVER_NEEDED + POOL_ONLY if _imported(modules, n)]
+    assert unexpected == []
+
+
+def test_check_with_workers_imports_the_pool_and_nothing_else_heavy() -> None:
+    modules = _modules_after("--isolated")  # the default --timeout needs a worker
+    assert "multiprocessing" in modules
+    assert [n for n in NEVER_NEEDED if _imported(modules, n)] == []
+
+
+def test_rule_docs_are_built_only_for_a_formatter_that_reads_them() -> None:
+    modules = _modules_after("--isolated", "--jobs", "1", "--timeout", "0", "--format", "sarif")
+    assert "usdrender_lint.api.docs" in modules  # SARIF describes the rules
+
+
+def _pairs(found) -> list[tuple[str, str]]:
+    return sorted((ep.name, ep.value) for ep in found)
+
+
+@pytest.mark.parametrize("group", GROUPS)
+def test_lookup_agrees_with_importlib_metadata(group: str) -> None:
+    fast = entrypoints._single_registrant(group)
+    assert fast is not None  # only usdrender-lint registers here: no importlib.metadata
+    assert _pairs(fast) == _pairs(metadata.entry_points(group=group))
+    assert [ep.load() for ep in sorted(fast, key=lambda e: e.name)] == [
+        ep.load() for ep in sorted(metadata.entry_points(group=group), key=lambda e: e.name)
+    ]
+
+
+def _dist(site: Path, folder: str, entry_points: str | None) -> None:
+    info = site / folder
+    info.mkdir(parents=True)
+    name = folder.partition("-")[0]
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 9\n")
+    if entry_points is not None:
+        (info / "entry_points.txt").write_text(entry_points)
+
+
+def test_a_plugin_in_the_group_is_found_through_importlib_metadata(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _dist(tmp_path, "acme_fmt-1.dist-info", "[usdrender_lint.formatters]\nacme = json:dumps\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert entrypoints._single_registrant("usdrender_lint.formatters") is None
+    assert available_formatters()["acme"].value == "json:dumps"
+    assert set(available_formatters()) == {"acme", "github", "json", "sarif", "text"}
+
+
+def test_a_shadowing_distribution_hides_ours_as_in_importlib_metadata(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # importlib.metadata keeps the first distribution of a name on sys.path.
+    _dist(tmp_path, "usdrender_lint-9.dist-info", "[console_scripts]\nx = json:dumps\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert metadata.entry_points(group="usdrender_lint.formatters") == ()
+    assert entrypoints.entry_points("usdrender_lint.formatters") == ()
+
+
+def test_a_malformed_file_anywhere_fails_as_in_importlib_metadata(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _dist(tmp_path, "other-1.dist-info", "[console_scripts]\nno equals sign\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with pytest.raises(TypeError):
+        metadata.entry_points(group="usdrender_lint.rules")
+    with pytest.raises(TypeError):
+        entrypoints.entry_points("usdrender_lint.rules")
+
+
+def test_nothing_is_cached_between_lookups(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert set(available_formatters()) == {"github", "json", "sarif", "text"}
+    _dist(tmp_path, "late-1.dist-info", "[usdrender_lint.formatters]\nlate = json:dumps\n")
+    assert "late" in available_formatters()
+
+
+def test_builtin_rules_load_from_the_light_entry_point() -> None:
+    registry = build_registry()
+    assert registry.plugins() == {"builtin"}
+    assert len(registry.rules) == len(build_registry(metadata.entry_points(group=GROUPS[0])).rules)
+
+
+def test_version_is_the_installed_distributions() -> None:
+    assert usdrender_lint.__version__ == metadata.version("usdrender-lint")
+
+
+GC_AROUND_IMPORTS = """
+import gc, sys
+import usdrender_lint.cli as cli
+assert not any(m.startswith("pxr") for m in sys.modules), "the cli module imports USD"
+if sys.argv[1] == "off":
+    gc.disable()
+cli._import_engine()
+print(gc.isenabled(), gc.get_freeze_count() > 0, "pxr.Usd" in sys.modules)
+"""
+
+
+@pytest.mark.parametrize(("before", "after"), [("on", "True"), ("off", "False")])
+def test_usd_is_imported_with_collection_paused_then_frozen(before: str, after: str) -> None:
+    proc = subprocess.run(
+        [sys.executable, "-c", GC_AROUND_IMPORTS, before],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert proc.stdout.split() == [after, "True", "True"]
+
+
+VERSION_AND_HELP = """
+import sys
+import usdrender_lint.cli as cli
+try:
+    cli.main([sys.argv[1]])
+except SystemExit:
+    pass
+print("pxr.Usd" in sys.modules, file=sys.stderr)
+"""
+
+
+@pytest.mark.parametrize("flag", ["--version", "--help"])
+def test_version_and_help_do_not_import_usd(flag: str) -> None:
+    proc = subprocess.run(
+        [sys.executable, "-c", VERSION_AND_HELP, flag], capture_output=True, text=True, check=True
+    )
+    assert proc.stderr.split() == ["False"]
+    assert "usdrender-lint" in proc.stdout

@@ -1,0 +1,199 @@
+"""--variants: defects inside variants that are not selected."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from pxr import Usd
+
+import usdrender_lint
+from usdrender_lint.cli import cli
+from usdrender_lint.engine import Linter
+from usdrender_lint.engine.variants import VariantExplorer, combination_count, render_variant_sets
+from usdrender_lint.testing import all_rules
+
+# The authored selections are clean; quality=final zeroes the pixel aspect
+# ratio (SE002) and camera=none leaves the settings without a camera (CA001).
+SHOT = """#usda 1.0
+(
+    renderSettingsPrimPath = "/Render/Settings"
+)
+
+def Xform "World"
+{
+    def Camera "cam"
+    {
+    }
+}
+
+def Scope "Render" (
+    variants = {
+        string quality = "preview"
+    }
+    prepend variantSets = "quality"
+)
+{
+    def RenderSettings "Settings" (
+        variants = {
+            string camera = "main"
+        }
+        prepend variantSets = "camera"
+    )
+    {
+        rel products = </Render/Beauty>
+        int2 resolution = (1920, 1080)
+        uniform token aspectRatioConformPolicy = "expandAperture"
+        variantSet "camera" = {
+            "main" {
+                rel camera = </World/cam>
+            }
+            "none" {
+            }
+        }
+    }
+
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
+        rel orderedVars = </Render/Color>
+    }
+
+    def RenderVar "Color"
+    {
+        string sourceName = "Ci"
+    }
+
+    variantSet "quality" = {
+        "final" {
+            over "Settings"
+            {
+                float pixelAspectRatio = 0
+            }
+        }
+        "preview" {
+        }
+    }
+}
+"""
+SETTINGS_LINE = SHOT.splitlines().index('    def RenderSettings "Settings" (') + 1
+
+
+@pytest.fixture
+def shot(tmp_path: Path) -> Path:
+    path = tmp_path / "shot.usda"
+    path.write_text(SHOT)
+    return path
+
+
+def check(*args: str):
+    result = CliRunner().invoke(cli, ["check", "--isolated", "--format", "json", *args])
+    document = json.loads(result.output) if result.output.startswith("{") else None
+    findings = [f for file in document["files"] for f in file["findings"]] if document else []
+    return result, findings
+
+
+def test_without_variants_the_shot_is_clean(shot: Path) -> None:
+    result, findings = check(str(shot))
+    assert result.exit_code == 0, result.output
+    assert findings == []
+
+
+def test_variants_find_defects_in_unselected_variants_and_name_the_selection(
+    shot: Path,
+) -> None:
+    before = (shot.read_bytes(), shot.stat().st_mtime_ns, sorted(os.listdir(shot.parent)))
+    result, findings = check("--variants", str(shot))
+    assert result.exit_code == 1, result.output
+    by_code = {f["code"]: f for f in findings}
+    assert set(by_code) == {"SE002", "CA001"}
+    assert by_code["SE002"]["path"] == "/Render/Settings.pixelAspectRatio"
+    assert by_code["SE002"]["message"].endswith("[variant selection: /Render{quality=final}]")
+    assert by_code["CA001"]["message"].endswith(
+        "[variant selection: /Render/Settings{camera=none}]"
+    )
+    # The selections were authored on a session layer only: the finding is
+    # located in the user's file, and that file was neither written nor joined.
+    assert by_code["CA001"]["layer"] == str(shot.resolve())
+    assert by_code["CA001"]["line"] == SETTINGS_LINE
+    assert (shot.read_bytes(), shot.stat().st_mtime_ns, sorted(os.listdir(shot.parent))) == before
+
+
+def test_the_cap_limits_the_combinations(shot: Path) -> None:
+    # Authored first: (preview, main), then (preview, none), (final, main), ...
+    _, one = check("--variants", "--max-variant-combinations", "1", str(shot))
+    assert one == []
+    _, two = check("--variants", "--max-variant-combinations", "2", str(shot))
+    assert {f["code"] for f in two} == {"CA001"}
+
+
+def test_a_finding_under_the_authored_selection_is_not_annotated(tmp_path: Path) -> None:
+    path = tmp_path / "shot.usda"
+    path.write_text(SHOT.replace('string sourceName = "Ci"', 'string sourceName = ""'))
+    _, findings = check("--variants", "--select", "VA001", str(path))
+    assert len(findings) == 1
+    assert "variant selection" not in findings[0]["message"]
+
+
+def test_variant_sets_of_render_prims_and_ancestors(shot: Path) -> None:
+    stage = Usd.Stage.Open(str(shot))
+    sets = render_variant_sets(stage)
+    assert [(str(s.prim_path), s.name, s.choices) for s in sets] == [
+        ("/Render", "quality", ("preview", "final")),
+        ("/Render/Settings", "camera", ("main", "none")),
+    ]
+    assert combination_count(sets) == 4
+
+
+def test_the_session_layer_is_reset_and_a_plain_file_lints_as_usual(shot: Path) -> None:
+    explorer = VariantExplorer(Linter(all_rules()), max_combinations=8)
+    stage = Usd.Stage.Open(str(shot))
+    codes = {f.code for f in explorer.lint_stage(stage)}
+    assert codes == {"SE002", "CA001"}
+    assert len(stage.GetSessionLayer().rootPrims) == 0
+    assert stage.GetPrimAtPath("/Render").GetVariantSet("quality").GetVariantSelection() == (
+        "preview"
+    )
+    plain = Path(__file__).parents[1] / "rules/SE003_data_window_malformed/fail_inverted.usda"
+    assert explorer.lint_path(str(plain)) == Linter(all_rules()).lint_path(str(plain))
+
+
+def test_the_python_api_explores_variants_too(shot: Path) -> None:
+    assert usdrender_lint.lint_file(shot).findings == ()
+    codes = {f.code for f in usdrender_lint.lint_file(shot, variants=True).findings}
+    assert codes == {"SE002", "CA001"}
+
+
+def test_variants_refuse_fixing(shot: Path) -> None:
+    result = CliRunner().invoke(cli, ["check", "--isolated", "--variants", "--fix", str(shot)])
+    assert result.exit_code == 2
+    assert "cannot be combined with --fix" in result.output
+
+
+def test_a_missing_file_is_reported_as_usual(tmp_path: Path) -> None:
+    explorer = VariantExplorer(Linter(all_rules()))
+    result = explorer.lint_path(str(tmp_path / "missing.usda"))
+    assert result.status == "error" and "no such file" in result.error
+
+
+def test_variants_and_their_cap_from_the_config_file(shot: Path) -> None:
+    config = shot.parent / ".usdrender-lint.toml"
+    config.write_text("variants = true\nmax-variant-combinations = 2\n")
+    result = CliRunner().invoke(cli, ["check", "--format", "json", str(shot)])
+    codes = {f["code"] for file in json.loads(result.output)["files"] for f in file["findings"]}
+    assert codes == {"CA001"}  # the cap of 2 from the file applies
+    flag = CliRunner().invoke(
+        cli, ["check", "--format", "json", "--max-variant-combinations", "64", str(shot)]
+    )
+    codes = {f["code"] for file in json.loads(flag.output)["files"] for f in file["findings"]}
+    assert codes == {"SE002", "CA001"}  # the flag wins over the file
+
+
+def test_variants_config_value_is_validated(shot: Path) -> None:
+    (shot.parent / ".usdrender-lint.toml").write_text('variants = "yes"\n')
+    result = CliRunner().invoke(cli, ["check", str(shot)])
+    assert result.exit_code == 2
+    assert "'variants' must be true or false" in result.stderr

@@ -1,0 +1,744 @@
+"""--fix, --diff and --fix-to: the right layer, atomic format-keeping writes,
+refusals with reasons (read-only, outside the layer stack, comments), and
+overrides that give the fixed result when sublayered on top."""
+
+from __future__ import annotations
+
+import json
+import os
+import stat
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from fix_support import check, codes, spec_fields, write
+from pxr import Sdf, Usd, UsdRender
+
+from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api.resolve import composed_value
+from usdrender_lint.cli import cli
+from usdrender_lint.engine import Linter
+from usdrender_lint.engine.usda_lines import comment_lines
+from usdrender_lint.fixing import fixer
+from usdrender_lint.registry import build_registry
+
+FIXTURES = Path(__file__).parents[1] / "rules"
+
+#: SE006 with a case slip (safe fix) and SE007 (safe fix that removes an opinion).
+SHOT = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        uniform token aspectRatioConformPolicy = "cropaperture"
+        uniform bool instantaneousShutter = 1
+        int2 resolution = (1920, 1080)
+    }
+}
+"""
+POLICY = "/Render/Settings.aspectRatioConformPolicy"
+
+
+def value(path: Path, attr: str = POLICY):
+    stage = Usd.Stage.Open(str(path))
+    return stage.GetAttributeAtPath(attr).Get()
+
+
+def reasons(document: dict) -> list[str]:
+    return [fix["reason"] for fix in document["fixes"] if not fix["applied"]]
+
+
+# -- the basic path -------------------------------------------------------------------
+
+
+def test_fix_edits_the_file_and_reports_what_remains(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    result, document = check("--select", "SE006,SE007", "--fix", str(shot))
+    assert result.exit_code == 0, result.output  # nothing remains at error level
+    assert value(shot) == "cropAperture"
+    stage = Usd.Stage.Open(str(shot))
+    settings = stage.GetPrimAtPath("/Render/Settings")
+    assert not settings.GetAttribute("instantaneousShutter").HasAuthoredValue()
+    assert settings.GetAttribute("disableMotionBlur").Get() is True
+    assert codes(document) == []
+    applied = {(fix["code"], fix["path"]) for fix in document["fixes"] if fix["applied"]}
+    assert applied == {("SE006", POLICY), ("SE007", "/Render/Settings.instantaneousShutter")}
+    assert all(fix["layer"].endswith("shot.usda") for fix in document["fixes"])
+
+
+def test_text_report_lists_and_counts_applied_fixes(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    result = CliRunner().invoke(
+        cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--fix", str(shot)]
+    )
+    assert "1 fix applied" in result.output
+    assert f'fixed    SE006  {POLICY}  set to "cropAperture"' in result.output
+
+
+def test_second_fix_changes_nothing(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    check("--select", "SE006,SE007", "--fix", str(shot))
+    fixed = shot.read_bytes()
+    result, document = check("--select", "SE006,SE007", "--fix", str(shot))
+    assert result.exit_code == 0
+    assert shot.read_bytes() == fixed
+    assert document["fixes"] == []
+
+
+def test_unsafe_fixes_need_the_flag(tmp_path: Path) -> None:
+    # SE003's swap of an inverted data window is unsafe.
+    window_line = "uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)\n        "
+    text = SHOT.replace("int2 resolution", window_line + "int2 resolution")
+    shot = write(tmp_path / "shot.usda", text)
+    window = "/Render/Settings.dataWindowNDC"
+    result, document = check("--select", "SE003", "--fix", str(shot))
+    assert result.exit_code == 1
+    assert document["fixes"] == [] and codes(document) == ["SE003"]
+    result, document = check("--select", "SE003", "--fix", "--unsafe-fixes", str(shot))
+    assert result.exit_code == 0, result.output
+    assert tuple(value(shot, window)) == pytest.approx((0.2, 0, 0.8, 1))
+    # The catalog's spelling, --fix --unsafe, is the same flag.
+    write(tmp_path / "shot.usda", text)
+    result, _ = check("--select", "SE003", "--fix", "--unsafe", str(shot))
+    assert result.exit_code == 0, result.output
+    assert tuple(value(shot, window)) == pytest.approx((0.2, 0, 0.8, 1))
+
+
+def test_the_fix_goes_to_the_layer_of_the_strongest_opinion(tmp_path: Path) -> None:
+    write(tmp_path / "weak.usda", SHOT.replace('"cropaperture"', '"expandAperture"'))
+    strong = write(tmp_path / "strong.usda", SHOT)
+    root = write(
+        tmp_path / "root.usda", "#usda 1.0\n(\n    subLayers = [@strong.usda@, @weak.usda@]\n)\n"
+    )
+    weak_before = (tmp_path / "weak.usda").read_bytes()
+    result, document = check("--select", "SE006", "--fix", str(root))
+    assert result.exit_code == 0, result.output
+    assert value(strong) == "cropAperture"
+    assert (tmp_path / "weak.usda").read_bytes() == weak_before
+    assert "aspectRatioConformPolicy" not in root.read_text()
+    assert document["fixes"][0]["layer"].endswith("strong.usda")
+
+
+def test_per_path_ignored_findings_are_not_fixed(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    config = write(tmp_path / "lint.toml", '[per-path-ignores]\n"shot.usda" = ["SE006"]\n')
+    result = CliRunner().invoke(
+        cli, ["check", "-j", "1", "--config", str(config), "--select", "SE006", "--fix", str(shot)]
+    )
+    assert result.exit_code == 0, result.output
+    assert value(shot) == "cropaperture"
+
+
+# -- nothing is lost ------------------------------------------------------------------
+
+
+def test_a_failed_write_leaves_the_original_intact(tmp_path: Path, monkeypatch) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    original = shot.read_bytes()
+
+    def half_written_export(layer, path, args):
+        Path(path).write_text("#usda 1.0\ndef Scope", encoding="utf-8")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(fixer, "_export", half_written_export)
+    result, document = check("--select", "SE006", "--fix", str(shot))
+    assert shot.read_bytes() == original
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["shot.usda"]  # no temporary left
+    assert result.exit_code == 1  # the finding remains
+    assert codes(document) == ["SE006"]
+    (reason,) = reasons(document)
+    assert "disk full" in reason and "shot.usda" in reason
+    assert document["fixes"][0]["applied"] is False
+
+
+def test_a_usdc_stays_a_usdc(tmp_path: Path) -> None:
+    source = Sdf.Layer.CreateAnonymous(".usda")
+    source.ImportFromString(SHOT)
+    crate = tmp_path / "shot.usdc"
+    source.Export(str(crate))
+    result, _ = check("--select", "SE006", "--fix", str(crate))
+    assert result.exit_code == 0, result.output
+    assert crate.read_bytes().startswith(b"PXR-USDC")
+    assert value(crate) == "cropAperture"
+
+
+@pytest.mark.parametrize("encoding", ["usda", "usdc"])
+def test_a_usd_keeps_its_encoding(tmp_path: Path, encoding: str) -> None:
+    source = Sdf.Layer.CreateAnonymous(".usda")
+    source.ImportFromString(SHOT)
+    shot = tmp_path / "shot.usd"
+    source.Export(str(shot), args={"format": encoding})
+    result, _ = check("--select", "SE006", "--fix", str(shot))
+    assert result.exit_code == 0, result.output
+    assert shot.read_bytes().startswith(b"PXR-USDC") == (encoding == "usdc")
+    assert value(shot) == "cropAperture"
+
+
+def test_a_fix_keeps_the_file_permissions(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    shot.chmod(0o640)
+    check("--select", "SE006", "--fix", str(shot))
+    assert value(shot) == "cropAperture"
+    assert stat.S_IMODE(shot.stat().st_mode) == 0o640
+
+
+def test_a_linked_layer_is_fixed_through_the_link(tmp_path: Path) -> None:
+    real = write(tmp_path / "real.usda", SHOT)
+    link = tmp_path / "shot.usda"
+    link.symlink_to(real.name)
+    result, _ = check("--select", "SE006", "--fix", str(link))
+    assert result.exit_code == 0, result.output
+    assert link.is_symlink()
+    assert value(real) == "cropAperture"
+
+
+@pytest.mark.parametrize(
+    ("code", "fixture"),
+    [
+        ("SE016", "SE016_attribute_type_mismatch/fail_types.usda"),
+        ("CA006", "CA006_aspect_ratio_mismatch_implicit_conform/fail_mismatch.usda"),
+        ("ST008", "ST008_render_prim_outside_render_scope/fail_outside.usda"),
+    ],
+)
+def test_only_the_fixed_opinions_change(tmp_path: Path, code: str, fixture: str) -> None:
+    source = FIXTURES / fixture
+    shot = write(tmp_path / "shot.usda", source.read_text(encoding="utf-8"))
+    before = spec_fields(Usd.Stage.Open(str(shot)).Flatten())
+    extra = ("--unsafe-fixes",) if code == "ST008" else ()
+    _, document = check("--select", code, "--fix", "--fix-drop-comments", *extra, str(shot))
+    after = spec_fields(Usd.Stage.Open(str(shot)).Flatten())
+    fixed = {fix["path"] for fix in document["fixes"] if fix["applied"]}
+    assert fixed
+    changed = {p for p in before.keys() | after.keys() if before.get(p) != after.get(p)}
+    if code == "ST008":
+        # A move changes the moved prims, everything below them and the
+        # targets that pointed at them; nothing else.
+        moved = [Sdf.Path(p) for p in fixed]
+        outside = {p for p in changed if not any(Sdf.Path(p).HasPrefix(m) for m in moved)}
+        assert all(p.startswith("/Render") for p in outside), outside
+        return
+    # Only properties change, and only on the prims whose findings were fixed.
+    assert changed and all(Sdf.Path(p).IsPropertyPath() for p in changed), changed
+    fixed_prims = {Sdf.Path(p).GetPrimPath() for p in fixed}
+    assert {Sdf.Path(p).GetPrimPath() for p in changed} <= fixed_prims
+
+
+# -- refusals -------------------------------------------------------------------------
+
+
+def test_a_read_only_layer_is_not_edited(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    shot.chmod(0o444)
+    try:
+        result, document = check("--select", "SE006", "--fix", str(shot))
+    finally:
+        shot.chmod(0o644)
+    assert result.exit_code == 1
+    assert shot.read_text(encoding="utf-8") == SHOT
+    (reason,) = reasons(document)
+    assert "read-only" in reason
+    assert "1 fix not applied (SE006): " in result.stderr and "read-only" in result.stderr
+
+
+def test_a_layer_outside_the_layer_stack_is_not_edited(tmp_path: Path) -> None:
+    # The bad token lives in a referenced layer: editing it would change every
+    # other stage that references it, so --fix refuses (--fix-to can override).
+    asset = write(tmp_path / "asset.usda", SHOT.replace('def Scope "Render"', 'def Scope "R"'))
+    asset_before = asset.read_bytes()
+    shot = write(
+        tmp_path / "shot.usda",
+        '#usda 1.0\n\ndef Scope "Render" (\n    references = @asset.usda@</R>\n)\n{\n}\n',
+    )
+    shot_before = shot.read_bytes()
+    result, document = check("--select", "SE006", "--fix", str(shot))
+    assert result.exit_code == 1
+    assert asset.read_bytes() == asset_before and shot.read_bytes() == shot_before
+    (reason,) = reasons(document)
+    assert "outside the stage's layer stack" in reason and "--fix-to" in reason
+    # --fix-to overrides it from the stage, leaving both files alone.
+    overrides = tmp_path / "fixes.usda"
+    result, document = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 0, result.output
+    assert asset.read_bytes() == asset_before and shot.read_bytes() == shot_before
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
+
+
+def test_a_usda_with_comments_is_refused_naming_fix_to(tmp_path: Path) -> None:
+    text = SHOT.replace("def Scope", "# shot 42, approved\ndef Scope")
+    shot = write(tmp_path / "shot.usda", text)
+    result, document = check("--select", "SE006", "--fix", str(shot))
+    assert result.exit_code == 1
+    assert shot.read_text(encoding="utf-8") == text
+    (reason,) = reasons(document)
+    assert "comments (line 3)" in reason and "--fix-to" in reason
+    lines = [line for line in result.stderr.splitlines() if "comments" in line]
+    assert len(lines) == 1 and "--fix-to" in lines[0]
+    result, _ = check("--select", "SE006", "--fix", "--fix-drop-comments", str(shot))
+    assert result.exit_code == 0
+    assert value(shot) == "cropAperture"
+    assert "shot 42" not in shot.read_text(encoding="utf-8")
+
+
+def test_comment_lines_skip_the_header_strings_and_assets() -> None:
+    text = (
+        "#usda 1.0\n"
+        '(\n    doc = "# not a comment // either"\n)\n'
+        "# one\n"
+        'def "A" {\n    asset a = @x#y@  // two\n    /* three\n    */\n}\n'
+    )
+    assert comment_lines(text) == [5, 7, 8]
+    assert comment_lines('#usda 1.0\ndef Scope "A"\n{\n}\n') == []
+
+
+def test_a_layer_in_a_usdz_package_is_not_edited(tmp_path: Path) -> None:
+    source = write(tmp_path / "shot.usda", SHOT)
+    package = tmp_path / "shot.usdz"
+    from pxr import UsdUtils
+
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(source)), str(package))
+    package_before = package.read_bytes()
+    result, document = check("--select", "SE006", "--fix", str(package))
+    assert result.exit_code == 1
+    assert package.read_bytes() == package_before
+    (reason,) = reasons(document)
+    assert ".usdz" in reason
+
+
+# -- --diff ---------------------------------------------------------------------------
+
+
+def test_diff_prints_the_change_and_writes_nothing(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    result = CliRunner().invoke(
+        cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--diff", str(shot)]
+    )
+    assert result.exit_code == 1  # as for check: the finding is still there
+    assert shot.read_text(encoding="utf-8") == SHOT
+    assert f"--- a/{shot}" in result.stdout or "--- a/" in result.stdout
+    assert '-        uniform token aspectRatioConformPolicy = "cropaperture"' in result.stdout
+    assert '+        uniform token aspectRatioConformPolicy = "cropAperture"' in result.stdout
+    assert "1 fix would be applied" in result.stderr
+    # The in-memory edit is gone: linting again in this process sees the file.
+    _, document = check("--select", "SE006", str(shot))
+    assert codes(document) == ["SE006"]
+
+
+def test_diff_of_a_usdc_shows_its_text_form(tmp_path: Path) -> None:
+    source = Sdf.Layer.CreateAnonymous(".usda")
+    source.ImportFromString(SHOT)
+    crate = tmp_path / "shot.usdc"
+    source.Export(str(crate))
+    before = crate.read_bytes()
+    result = CliRunner().invoke(
+        cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--diff", str(crate)]
+    )
+    assert crate.read_bytes() == before
+    assert '+        uniform token aspectRatioConformPolicy = "cropAperture"' in result.stdout
+
+
+def test_diff_refuses_what_fix_refuses(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT.replace("def Scope", "# note\ndef Scope"))
+    result = CliRunner().invoke(
+        cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--diff", str(shot)]
+    )
+    assert result.stdout == ""
+    assert "--fix-to" in result.stderr
+
+
+# -- --fix-to -------------------------------------------------------------------------
+
+
+def _sublayered_on_top(tmp_path: Path, overrides: Path, shot: Path) -> Path:
+    return write(
+        tmp_path / "top.usda",
+        f"#usda 1.0\n(\n    subLayers = [@{overrides.name}@, @{shot.name}@]\n)\n",
+    )
+
+
+def test_fix_to_writes_overrides_that_give_the_fixed_result(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT.replace("def Scope", "# kept\ndef Scope"))
+    source = shot.read_bytes()
+    overrides = tmp_path / "fixes.usda"
+    result, document = check("--select", "SE006,SE007", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 0, result.output  # what remains with the overrides
+    assert shot.read_bytes() == source  # sources untouched, comments and all
+    assert codes(document) == []
+    assert {fix["layer"] for fix in document["fixes"]} == {"fixes.usda"} or all(
+        fix["layer"].endswith("fixes.usda") for fix in document["fixes"]
+    )
+    top = _sublayered_on_top(tmp_path, overrides, shot)
+    # Fixed through the override layer: SE006 by a value, SE007's removed
+    # instantaneousShutter by a block.
+    _, on_top = check("--select", "SE006,SE007", str(top))
+    assert codes(on_top) == []
+    # The same composed result as fixing in place, as the rules read values (a
+    # block reads as the fallback: usd-core's GetResolveInfo says Fallback,
+    # although Python's Get() returns None for it).
+    in_place = write(tmp_path / "in_place.usda", SHOT)
+    check("--select", "SE006,SE007", "--fix", str(in_place))
+    stages = Usd.Stage.Open(str(top)), Usd.Stage.Open(str(in_place))
+    for name in ("aspectRatioConformPolicy", "instantaneousShutter", "disableMotionBlur"):
+        top_value, in_place_value = (
+            composed_value(stage.GetPrimAtPath("/Render/Settings"), name) for stage in stages
+        )
+        assert top_value == in_place_value, name
+    # Idempotent: a second run finds nothing to override.
+    written = overrides.read_bytes()
+    _, again = check("--select", "SE006,SE007", "--fix-to", str(overrides), str(shot))
+    assert again["fixes"] == [] and overrides.read_bytes() == written
+
+
+def test_fix_to_overrides_removed_targets_with_an_explicit_list(tmp_path: Path) -> None:
+    fixture = FIXTURES / "PR005_ordered_vars_invalid_target" / "fail_targets.usda"
+    shot = write(tmp_path / "shot.usda", fixture.read_text(encoding="utf-8"))
+    overrides = tmp_path / "fixes.usdc"
+    result, document = check(
+        "--select", "PR005", "--unsafe-fixes", "--fix-to", str(overrides), str(shot)
+    )
+    assert result.exit_code == 0, result.output
+    assert overrides.read_bytes().startswith(b"PXR-USDC")
+    top = _sublayered_on_top(tmp_path, overrides, shot)
+    _, on_top = check("--select", "PR005", str(top))
+    assert codes(on_top) == []
+    golden = fixture.with_name("fail_targets.fixed.usda")
+    fixed_stage, top_stage = Usd.Stage.Open(str(golden)), Usd.Stage.Open(str(top))
+    for prim in fixed_stage.Traverse():
+        rel = prim.GetRelationship("orderedVars")
+        if rel:
+            path = rel.GetPath()
+            assert top_stage.GetRelationshipAtPath(path).GetTargets() == rel.GetTargets(), path
+
+
+def test_fix_to_refuses_stage_metadata(tmp_path: Path) -> None:
+    # renderSettingsPrimPath counts only in the root layer: a sublayer cannot fix it.
+    fixture = FIXTURES / "ST003_render_settings_path_missing" / "fail_unset.usda"
+    shot = write(tmp_path / "shot.usda", fixture.read_text(encoding="utf-8"))
+    overrides = tmp_path / "fixes.usda"
+    result, document = check("--select", "ST003", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 0  # ST003 is info
+    assert codes(document) == ["ST003"]
+    (reason,) = reasons(document)
+    assert "root or session layer" in reason
+    assert not overrides.exists()
+
+
+def test_fix_to_keeps_what_the_layer_already_has(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    overrides = write(
+        tmp_path / "fixes.usda",
+        '#usda 1.0\n\nover "World"\n{\n    custom int note = 7\n}\n',
+    )
+    check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert layer.GetAttributeAtPath("/World.note").default == 7
+    assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
+
+
+def test_fix_to_refuses_a_move(tmp_path: Path) -> None:
+    fixture = FIXTURES / "ST008_render_prim_outside_render_scope" / "fail_outside.usda"
+    shot = write(tmp_path / "shot.usda", fixture.read_text(encoding="utf-8"))
+    overrides = tmp_path / "fixes.usda"
+    args = ("--select", "ST008", "--unsafe-fixes", "--fix-to", str(overrides), str(shot))
+    _, document = check(*args)
+    assert document["fixes"] and not any(fix["applied"] for fix in document["fixes"])
+    assert all("removes or moves" in reason for reason in reasons(document))
+    assert not overrides.exists()
+
+
+def test_fix_to_a_value_then_a_refused_move_of_its_prim(tmp_path: Path) -> None:
+    # SE006 overrides a value on </Settings>; ST008 would then move that prim.
+    shot = write(tmp_path / "shot.usda", SHOT.replace('def Scope "Render"', 'def Scope "Other"'))
+    overrides = tmp_path / "fixes.usda"
+    args = ("--select", "SE006,ST008", "--unsafe-fixes", "--fix-to", str(overrides), str(shot))
+    result, document = check(*args)
+    assert result.exit_code == 0, result.output
+    outcome = {fix["code"]: fix["applied"] for fix in document["fixes"]}
+    assert outcome == {"SE006": True, "ST008": False}
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert layer.GetAttributeAtPath("/Other/Settings.aspectRatioConformPolicy").default == (
+        "cropAperture"
+    )
+
+
+def test_an_unexpected_error_costs_one_fix_only(tmp_path: Path, monkeypatch) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+
+    def broken(*args):
+        raise RuntimeError("unexpected")
+
+    monkeypatch.setattr(fixer, "_author_all", broken)
+    result, document = check("--select", "SE006", "--fix-to", str(tmp_path / "o.usda"), str(shot))
+    assert result.exit_code == 1  # a report, not a crash
+    (reason,) = reasons(document)
+    assert "internal error while fixing: RuntimeError: unexpected" in reason
+
+
+def test_fix_to_fixes_a_bad_value_the_override_layer_holds(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT.replace('"cropaperture"', '"expandAperture"'))
+    overrides = write(tmp_path / "fixes.usda", SHOT.replace("def ", "over "))
+    result, document = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 0, result.output
+    assert [fix["applied"] for fix in document["fixes"]] == [True]
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
+
+
+# -- usage ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--unsafe-fixes"], "--unsafe-fixes needs --fix"),
+        (["--fix-drop-comments"], "--fix-drop-comments needs --fix"),
+        (["--diff", "--fix-to", "x.usda"], "either --diff or --fix-to"),
+    ],
+)
+def test_flag_misuse_is_a_tool_error(tmp_path: Path, args: list[str], message: str) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    result, _ = check(*args, str(shot))
+    assert result.exit_code == 2
+    assert message in result.stderr
+
+
+def test_fix_to_a_layer_with_comments_needs_consent(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    overrides = write(tmp_path / "fixes.usda", "#usda 1.0\n# reviewed by lighting\n")
+    result, _ = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 2
+    assert "comments (line 2)" in result.stderr and "--fix-drop-comments" in result.stderr
+    args = ("--select", "SE006", "--fix-to", str(overrides), "--fix-drop-comments", str(shot))
+    result, _ = check(*args)
+    assert result.exit_code == 0
+    assert value(_sublayered_on_top(tmp_path, overrides, shot)) == "cropAperture"
+
+
+def test_fix_to_takes_one_stage(tmp_path: Path) -> None:
+    one, two = write(tmp_path / "a.usda", SHOT), write(tmp_path / "b.usda", SHOT)
+    result, _ = check("--fix-to", str(tmp_path / "fixes.usda"), str(one), str(two))
+    assert result.exit_code == 2
+    assert "one stage" in result.stderr
+
+
+def test_fix_to_an_unusable_layer_is_a_tool_error(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    result, _ = check("--fix-to", str(tmp_path / "no" / "fixes.usda"), str(shot))
+    assert result.exit_code == 2
+    assert "does not exist" in result.stderr
+    assert os.listdir(tmp_path) == ["shot.usda"]
+
+
+# -- the fixer's own guarantees, with rules made for the test ---------------------------
+
+
+class _SettingsRule(Rule):
+    """A rule for the test: fires on every RenderSettings with a given fix."""
+
+    code = "TF001"
+    name = "test-fix"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Settings,)
+    fix_safety = "safe"
+    apply = None
+
+    def check_prim(self, prim, ctx):
+        if not prim.GetCustomDataByKey("fixed"):
+            yield Diagnostic(
+                message="not fixed yet",
+                at=prim,
+                fix=Fix(description="mark", safe=True, apply=type(self).apply),
+            )
+
+
+def _fix_with(apply, path: Path, **options) -> fixer.FixRun:
+    rule = type("Rule", (_SettingsRule,), {"apply": staticmethod(apply)})
+    return fixer.fix_files(Linter([rule()]), [str(path)], fixer.FixOptions(**options))
+
+
+def _mark(stage: Usd.Stage) -> None:
+    stage.GetPrimAtPath("/Render/Settings").SetCustomDataByKey("fixed", True)
+
+
+def test_a_fix_that_raises_is_reported_and_undone(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+
+    def half_then_raise(stage: Usd.Stage) -> None:
+        _mark(stage)
+        raise RuntimeError("boom")
+
+    run = _fix_with(half_then_raise, shot)
+    (outcome,) = run.outcomes
+    assert not outcome.applied and "RuntimeError: boom" in outcome.reason
+    assert shot.read_text(encoding="utf-8") == SHOT
+
+
+def test_a_fix_that_changes_nothing_is_not_counted(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    run = _fix_with(lambda stage: None, shot)
+    (outcome,) = run.outcomes
+    assert outcome.reason == "the fix changed nothing"
+
+
+def test_a_fix_that_also_edits_a_read_only_layer_is_undone(tmp_path: Path) -> None:
+    weak = write(tmp_path / "weak.usda", '#usda 1.0\n\nover "Render"\n{\n}\n')
+    shot = write(
+        tmp_path / "shot.usda",
+        SHOT.replace("#usda 1.0", "#usda 1.0\n(\n    subLayers = [@weak.usda@]\n)"),
+    )
+    before = shot.read_bytes()
+    weak.chmod(0o444)
+
+    def edit_both(stage: Usd.Stage) -> None:
+        _mark(stage)
+        weak_layer = stage.GetLayerStack()[-1]
+        weak_layer.GetPrimAtPath("/Render").SetInfo("comment", "touched")
+
+    try:
+        run = _fix_with(edit_both, shot)
+    finally:
+        weak.chmod(0o644)
+    (outcome,) = run.outcomes
+    assert "also edits" in outcome.reason and "read-only" in outcome.reason
+    assert shot.read_bytes() == before and "touched" not in weak.read_text(encoding="utf-8")
+
+
+def test_a_fix_that_also_edits_a_referenced_layer_is_undone(tmp_path: Path) -> None:
+    asset = write(tmp_path / "asset.usda", '#usda 1.0\n\ndef Scope "A"\n{\n}\n')
+    text = SHOT.replace(
+        'def Scope "Render"', 'def Scope "Render" (\n    references = @asset.usda@</A>\n)'
+    )
+    shot = write(tmp_path / "shot.usda", text)
+
+    def edit_both(stage: Usd.Stage) -> None:
+        _mark(stage)
+        Sdf.Layer.Find(str(asset)).GetPrimAtPath("/A").SetInfo("comment", "touched")
+
+    (outcome,) = _fix_with(edit_both, shot).outcomes
+    assert "outside the stage's layer stack" in outcome.reason
+    assert shot.read_text(encoding="utf-8") == text
+    assert "touched" not in asset.read_text(encoding="utf-8")
+
+
+def test_a_broken_file_is_reported_not_fixed(tmp_path: Path) -> None:
+    broken = write(tmp_path / "broken.usda", '#usda 1.0\ndef Scope "A" {\n')
+    result, document = check("--fix", str(broken))
+    assert result.exit_code == 1
+    assert codes(document) == ["ST001"] and document["fixes"] == []
+    assert broken.read_text(encoding="utf-8") == '#usda 1.0\ndef Scope "A" {\n'
+
+
+def test_fix_to_on_a_broken_file_reports_it(tmp_path: Path) -> None:
+    broken = write(tmp_path / "broken.usda", '#usda 1.0\ndef Scope "A" {\n')
+    result, document = check("--fix-to", str(tmp_path / "fixes.usda"), str(broken))
+    assert result.exit_code == 1
+    assert codes(document) == ["ST001"]
+    assert not (tmp_path / "fixes.usda").exists()
+
+
+def test_json_has_no_fixes_field_without_fixing(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    _, document = check("--select", "SE006", str(shot))
+    assert "fixes" not in document
+    assert document["files"][0]["findings"][0]["fix"] == {
+        "description": 'set to "cropAperture"',
+        "safe": True,
+    }
+
+
+def test_fix_handles_several_files_in_one_run(tmp_path: Path) -> None:
+    one, two = write(tmp_path / "a.usda", SHOT), write(tmp_path / "b.usda", SHOT)
+    result, document = check("--select", "SE006", "--fix", str(one), str(two))
+    assert result.exit_code == 0, result.output
+    assert value(one) == value(two) == "cropAperture"
+    assert len(document["fixes"]) == 2
+
+
+def _append_rule(code: str, token: str) -> type[Rule]:
+    """A rule whose fix writes the list it read, plus ``token``."""
+
+    def check_prim(self, prim, ctx):
+        attr = prim.GetAttribute("includedPurposes")
+        current = list(attr.Get() or [])
+        if token not in current:
+
+            def apply(stage: Usd.Stage) -> None:
+                stage.GetAttributeAtPath(attr.GetPath()).Set([*current, token])
+
+            yield Diagnostic(
+                message=f"no {token}",
+                at=attr,
+                fix=Fix(description=f"add {token}", safe=True, apply=apply),
+            )
+
+    return type(
+        f"Append{token}",
+        (Rule,),
+        {
+            "code": code,
+            "name": f"append-{token}",
+            "severity": Severity.ERROR,
+            "prim_types": (UsdRender.Settings,),
+            "fix_safety": "safe",
+            "check_prim": check_prim,
+        },
+    )
+
+
+def test_fixes_on_one_property_run_in_rounds_and_keep_each_other(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    rules = [_append_rule("TF002", "alpha")(), _append_rule("TF003", "beta")()]
+    run = fixer.fix_files(Linter(rules), [str(shot)], fixer.FixOptions())
+    assert [o.applied for o in run.outcomes] == [True, True]
+    attr = "/Render/Settings.includedPurposes"
+    assert list(value(shot, attr)) == ["default", "render", "alpha", "beta"]
+
+
+def test_many_fixes_in_one_layer(tmp_path: Path) -> None:
+    # Undo is by notice and replay, not a copy per fix: this stays well under a second.
+    body = "".join(
+        f'    def RenderSettings "S{i}"\n    {{\n'
+        '        uniform token aspectRatioConformPolicy = "cropaperture"\n    }\n'
+        for i in range(300)
+    )
+    text = f'#usda 1.0\n\ndef Scope "Render"\n{{\n{body}}}\n'
+    shot, other = write(tmp_path / "shot.usda", text), write(tmp_path / "other.usda", text)
+    _, document = check("--select", "SE006", "--fix", str(shot))
+    assert sum(fix["applied"] for fix in document["fixes"]) == 300 and codes(document) == []
+    _, document = check("--select", "SE006", "--fix-to", str(tmp_path / "o.usda"), str(other))
+    assert sum(fix["applied"] for fix in document["fixes"]) == 300 and codes(document) == []
+    assert other.read_text(encoding="utf-8") == text
+
+
+def test_unfixable_rules_are_not_fixed(tmp_path: Path) -> None:
+    # The catalog (CA006): teams that want the decision forced disable the fixer.
+    shot = write(tmp_path / "shot.usda", SHOT)
+    config = write(tmp_path / "lint.toml", 'unfixable = ["aspect-ratio-conform-policy-invalid"]\n')
+    args = ["check", "-j", "1", "--config", str(config), "--format", "json"]
+    result = CliRunner().invoke(cli, [*args, "--select", "SE006,SE007", "--fix", str(shot)])
+    document = json.loads(result.stdout)
+    assert {fix["code"] for fix in document["fixes"]} == {"SE007"}
+    assert value(shot) == "cropaperture"
+    assert codes(document) == ["SE006"]
+
+
+def test_unfixable_names_a_rule(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    config = write(tmp_path / "lint.toml", 'unfixable = ["no-such-rule"]\n')
+    result = CliRunner().invoke(cli, ["check", "--config", str(config), "--fix", str(shot)])
+    assert result.exit_code == 2
+    assert "unfixable" in result.stderr and "no-such-rule" in result.stderr
+
+
+def test_lint_stage_with_fixes_pairs_each_finding_with_its_fix(tmp_path: Path) -> None:
+    shot = write(tmp_path / "shot.usda", SHOT)
+    stage = Usd.Stage.Open(str(shot))
+    linter = Linter([rule() for rule in build_registry().rules])
+    pairs = linter.lint_stage_with_fixes(stage)
+    assert [finding for finding, _ in pairs] == linter.lint_stage(stage)
+    assert pairs and any(fix for _, fix in pairs)
+    for finding, fix in pairs:
+        assert (fix is None) == (finding.fix is None)
+        if fix is not None:
+            assert (fix.description, fix.safe) == (finding.fix.description, finding.fix.safe)

@@ -1,0 +1,191 @@
+"""Golden tests of every fixable rule: ``check --fix`` on a copy of a fail
+fixture gives exactly its goldens, and a second ``--fix`` changes nothing.
+
+``fail_X.fixed.usda`` beside ``fail_X.usda`` is its fixed root layer and
+``fail_X--L.fixed.usda`` the fixed supporting layer ``L.usda`` (a fix edits the
+layer holding the strongest opinion); every layer without a golden must come
+out unchanged. To (re)write the goldens after a deliberate change to a fix,
+run with USDRENDER_LINT_WRITE_GOLDENS=1.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from pxr import Sdf
+
+from usdrender_lint.cli import cli
+from usdrender_lint.engine import Linter, open_stage
+from usdrender_lint.registry import build_registry
+
+FIXTURES = Path(__file__).parents[1] / "rules"
+GOLDEN_SUFFIX = ".fixed.usda"
+WRITE_GOLDENS = os.environ.get("USDRENDER_LINT_WRITE_GOLDENS", "") not in ("", "0")
+FIXABLE = {rule.code: rule for rule in build_registry().rules if rule.fix_safety != "none"}
+#: Options a pipeline configures before these rules offer a fix (catalog:
+#: "none, pipeline template / default vars" unless configured).
+RULE_CONFIG = {
+    "PR001": '[rules.PR001]\nname-template = "renders/{prim}.exr"\n',
+    "PR008": '[rules.PR008]\nalpha-var = "/Render/Vars/alpha"\n',
+}
+
+
+def _folder(code: str) -> Path:
+    (folder,) = FIXTURES.glob(f"{code}_*")
+    return folder
+
+
+def _source_of(golden: Path) -> Path:
+    """The fail fixture a golden belongs to."""
+    stem = golden.name[: -len(GOLDEN_SUFFIX)]
+    return golden.with_name(stem.split("--")[0] + ".usda")
+
+
+def _goldens(fail: Path) -> dict[str, Path]:
+    """The goldens of a fail fixture, by the name of the layer each one fixes."""
+    found = {fail.name: fail.with_name(fail.stem + GOLDEN_SUFFIX)}
+    for golden in fail.parent.glob(f"{fail.stem}--*{GOLDEN_SUFFIX}"):
+        layer = golden.name[len(fail.stem) + 2 : -len(GOLDEN_SUFFIX)] + ".usda"
+        found[layer] = golden
+    return {layer: golden for layer, golden in found.items() if golden.is_file()}
+
+
+def _cases():
+    for code in sorted(FIXABLE):
+        folder = _folder(code)
+        fails = sorted(folder.glob("fail_*.usda"))
+        fails = [f for f in fails if not f.name.endswith(GOLDEN_SUFFIX)]
+        for fail in fails:
+            if WRITE_GOLDENS or _goldens(fail):
+                yield pytest.param(code, fail, id=f"{code}/{fail.name}")
+
+
+def canonical(path: Path) -> str:
+    """A layer as Sdf exports it: formatting and comments do not count."""
+    return Sdf.Layer.OpenAsAnonymous(str(path)).ExportToString()
+
+
+def copy_fixture(fail: Path, destination: Path) -> Path:
+    """The fail file and its folder's supporting layers (not the other fixtures)."""
+    for path in fail.parent.iterdir():
+        supporting = path.is_file() and not path.name.startswith(("pass_", "fail_"))
+        if (supporting and path.suffix.startswith(".usd")) or path == fail:
+            shutil.copy(path, destination / path.name)
+    return destination / fail.name
+
+
+def run_fix(code: str, path: Path, *extra: str):
+    args = ["check", "--jobs", "1", "--timeout", "0", "--select", code, "--format", "json"]
+    if code in RULE_CONFIG:
+        config = path.parent / "fix-config.toml"
+        config.write_text(RULE_CONFIG[code], encoding="utf-8")
+        args += ["--config", str(config)]
+    else:
+        args.append("--isolated")
+    if FIXABLE[code].fix_safety == "unsafe":
+        args.append("--unsafe-fixes")
+    result = CliRunner().invoke(cli, [*args, "--fix", "--fix-drop-comments", *extra, str(path)])
+    assert result.exit_code in (0, 1), result.output
+    return json.loads(result.stdout)
+
+
+def _layers(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in folder.iterdir() if p.suffix.startswith(".usd")}
+
+
+@pytest.mark.parametrize(("code", "fail"), list(_cases()))
+def test_fix_matches_golden(code: str, fail: Path, tmp_path: Path) -> None:
+    path = copy_fixture(fail, tmp_path)
+    before = _layers(tmp_path)
+    document = run_fix(code, path)
+    applied = [fix for fix in document["fixes"] if fix["applied"]]
+    changed = {name for name, data in _layers(tmp_path).items() if before[name] != data}
+    if WRITE_GOLDENS:
+        for layer in changed if applied else ():
+            name = fail.stem if layer == fail.name else f"{fail.stem}--{Path(layer).stem}"
+            golden = fail.with_name(name + GOLDEN_SUFFIX)
+            golden.write_text(canonical(tmp_path / layer), encoding="utf-8")
+        pytest.skip("goldens written")
+    goldens = _goldens(fail)
+    assert applied, f"{fail.name}: no {code} fix was applied"
+    assert {fix["code"] for fix in document["fixes"]} == {code}
+    assert changed == set(goldens), f"--fix edited {sorted(changed)}, goldens: {sorted(goldens)}"
+    for layer, golden in goldens.items():
+        assert canonical(tmp_path / layer) == canonical(golden), layer
+    # A fix silences the finding it was offered for.
+    remaining = {(f["code"], f["path"]) for r in document["files"] for f in r["findings"]}
+    assert not {(fix["code"], fix["path"]) for fix in applied} & remaining
+    # Idempotent: fixing the fixed files changes nothing and applies nothing.
+    fixed = _layers(tmp_path)
+    again = run_fix(code, path)
+    assert _layers(tmp_path) == fixed
+    assert [fix for fix in again["fixes"] if fix["applied"]] == []
+
+
+def test_every_fixable_rule_has_a_golden() -> None:
+    missing = [code for code in FIXABLE if not list(_folder(code).glob(f"fail_*{GOLDEN_SUFFIX}"))]
+    assert not missing, f"fixable rules without a fail_*{GOLDEN_SUFFIX} golden: {missing}"
+
+
+def test_every_golden_has_its_fail_fixture() -> None:
+    orphans = [
+        golden.relative_to(FIXTURES)
+        for golden in FIXTURES.glob(f"*/*{GOLDEN_SUFFIX}")
+        if not _source_of(golden).is_file()
+    ]
+    assert not orphans
+
+
+@pytest.mark.parametrize("rule", build_registry().rules, ids=lambda rule: rule.code)
+def test_offered_fixes_match_the_rule_fix_class(rule) -> None:
+    """Safe and conditional rules offer safe fixes, unsafe rules unsafe ones,
+    and a rule whose class is "none" offers none (checked on its fail fixtures)."""
+    linter = Linter([rule()])
+    offered = []
+    for fail in sorted(_folder(rule.code).glob("fail_*.usda")):
+        if fail.name.endswith(GOLDEN_SUFFIX):
+            continue
+        opened = open_stage(str(fail))
+        if opened.stage is not None:
+            offered += [fix for _, fix in linter.lint_stage_with_fixes(opened.stage) if fix]
+    if rule.fix_safety == "none":
+        assert offered == []
+    else:
+        assert {fix.safe for fix in offered} <= {rule.fix_safety != "unsafe"}
+
+
+@pytest.mark.parametrize(("code", "fail"), list(_cases()))
+def test_fix_to_gives_what_fix_gives(code: str, fail: Path, tmp_path: Path) -> None:
+    """The --fix-to overrides, sublayered on top, silence the same findings as --fix
+    (fixes that cannot be overrides, stage metadata and moves, are refused)."""
+    path = copy_fixture(fail, tmp_path)
+    before = _layers(tmp_path)
+    overrides = tmp_path / "overrides.usda"
+    document = run_fix(code, path, "--fix-to", str(overrides))
+    assert _layers(tmp_path) == before | (
+        {"overrides.usda": overrides.read_bytes()} if overrides.exists() else {}
+    )
+    applied = {(fix["code"], fix["path"]) for fix in document["fixes"] if fix["applied"]}
+    refused = [fix["reason"] for fix in document["fixes"] if not fix["applied"]]
+    # Stage metadata, moves, and a retyped spec (a weaker mistyped spec stays an
+    # SE016 finding under any override) cannot be overrides.
+    expected = ("root or session layer", "removes or moves", "cannot be written as an override")
+    assert all(any(e in r for e in expected) for r in refused), refused
+    if not applied:
+        return
+    top = tmp_path / "top.usda"
+    top.write_text(
+        f"#usda 1.0\n(\n    subLayers = [@overrides.usda@, @{path.name}@]\n)\n", encoding="utf-8"
+    )
+    result = CliRunner().invoke(
+        cli, ["check", "-j", "1", "--isolated", "--select", code, "--format", "json", str(top)]
+    )
+    remaining = {
+        (f["code"], f["path"]) for r in json.loads(result.stdout)["files"] for f in r["findings"]
+    }
+    assert not applied & remaining

@@ -1,0 +1,222 @@
+"""SARIF and GitHub formats, --output and --statistics."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.formatters import FormatOptions
+from usdrender_lint.formatters.github import GithubFormatter, escape_data, escape_property
+from usdrender_lint.formatters.sarif import artifact_location, report_to_sarif
+from usdrender_lint.model import FileResult, Finding, Location, Report, RuleInfo, Severity
+
+REPO = Path(__file__).parents[2]
+SE003 = REPO / "tests" / "rules" / "SE003_data_window_malformed"
+FROM_SUBLAYER = SE003 / "fail_from_sublayer.usda"
+INVERTED = SE003 / "fail_inverted.usda"
+
+
+def check(*args: str):
+    return CliRunner().invoke(cli, ["check", "--isolated", "--jobs", "1", "--timeout", "0", *args])
+
+
+@pytest.fixture
+def in_repo(monkeypatch) -> Path:
+    monkeypatch.chdir(REPO)
+    return REPO
+
+
+# -- SARIF ------------------------------------------------------------------------
+
+
+def _sarif(*paths: str, extra: tuple[str, ...] = ()) -> dict:
+    result = check("--format", "sarif", *extra, *paths)
+    assert result.exit_code in (1, 2), result.output
+    return json.loads(result.stdout)
+
+
+def test_sarif_validates_against_the_official_schema(in_repo, shared_dir) -> None:
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((shared_dir / "schemas" / "sarif-schema-2.1.0.json").read_text())
+    document = _sarif(str(SE003), "missing.usda", extra=("--statistics",))
+    jsonschema.Draft4Validator(schema).validate(document)
+    assert document["version"] == "2.1.0"
+    run = document["runs"][0]
+    assert run["invocations"][0]["executionSuccessful"] is False
+    notification = run["invocations"][0]["toolExecutionNotifications"][0]
+    assert "missing.usda: no such file" in notification["message"]["text"]
+    assert any(row["code"] == "SE003" for row in run["properties"]["statistics"])
+
+
+def test_sarif_rules_carry_their_help_text(in_repo) -> None:
+    run = _sarif(str(INVERTED), extra=("--select", "SE003,UL001"))["runs"][0]
+    rules = {rule["id"]: rule for rule in run["tool"]["driver"]["rules"]}
+    assert set(rules) == {"SE003", "UL001"}
+    se003 = rules["SE003"]
+    assert se003["name"] == "data-window-malformed"
+    assert "## Why is this bad?" in se003["help"]["text"]
+    assert se003["help"]["markdown"] == se003["help"]["text"]
+    assert se003["defaultConfiguration"]["level"] == "error"
+    assert rules["UL001"]["defaultConfiguration"]["level"] == "note"
+
+
+def test_sarif_result_locations(in_repo) -> None:
+    run = _sarif(str(FROM_SUBLAYER), extra=("--select", "SE003"))["runs"][0]
+    assert run["originalUriBaseIds"]["SRCROOT"]["uri"] == REPO.resolve().as_uri() + "/"
+    (result,) = run["results"]
+    assert run["tool"]["driver"]["rules"][result["ruleIndex"]]["id"] == result["ruleId"] == "SE003"
+    assert result["level"] == "error"
+    (location,) = result["locations"]
+    physical = location["physicalLocation"]
+    # The layer holding the opinion, not the linted root file.
+    assert physical["artifactLocation"] == {
+        "uri": "tests/rules/SE003_data_window_malformed/bad_window_layer.usda",
+        "uriBaseId": "SRCROOT",
+    }
+    assert physical["region"] == {"startLine": 7}
+    assert location["logicalLocations"] == [
+        {
+            "fullyQualifiedName": "/Render/Settings.dataWindowNDC",
+            "name": "dataWindowNDC",
+            "kind": "member",
+        }
+    ]
+
+
+def test_sarif_describes_codes_without_a_rule_and_files_outside_the_root(tmp_path) -> None:
+    internal = Finding("UL000", "internal-error", Severity.ERROR, "boom", Location("/x/a.usda"))
+    report = Report((FileResult("/x/a.usda", findings=(internal,)),), rules=())
+    run = report_to_sarif(report, FormatOptions(), tmp_path)["runs"][0]
+    assert run["tool"]["driver"]["rules"][0]["id"] == "UL000"
+    location = run["results"][0]["locations"][0]
+    assert location["physicalLocation"]["artifactLocation"] == {"uri": "file:///x/a.usda"}
+    assert "region" not in location["physicalLocation"]
+    assert "logicalLocations" not in location
+    assert artifact_location(tmp_path / "a b.usda", tmp_path) == {
+        "uri": "a%20b.usda",
+        "uriBaseId": "SRCROOT",
+    }
+
+
+def test_sarif_usdz_layer_is_the_package(tmp_path) -> None:
+    finding = Finding(
+        "SE003",
+        "d",
+        Severity.WARNING,
+        "m",
+        Location(str(tmp_path / "a.usdz"), "/R", f"{tmp_path}/a.usdz[inner.usda]", None),
+    )
+    rule = RuleInfo("SE003", "d", Severity.ERROR, "s", "doc")
+    run = report_to_sarif(
+        Report((FileResult("f", findings=(finding,)),), (rule,)), FormatOptions(), tmp_path
+    )["runs"][0]
+    assert run["results"][0]["level"] == "warning"
+    physical = run["results"][0]["locations"][0]["physicalLocation"]
+    assert physical["artifactLocation"]["uri"] == "a.usdz"
+
+
+# -- GitHub -----------------------------------------------------------------------
+
+
+def test_github_escaping() -> None:
+    assert escape_data("50% done\r\nnext: a,b") == "50%25 done%0D%0Anext: a,b"
+    assert escape_property("a:b,c%\n") == "a%3Ab%2Cc%25%0A"
+
+
+def _github(report: Report, show_info: bool = False) -> list[str]:
+    import io
+
+    stream = io.StringIO()
+    GithubFormatter().render(report, stream, FormatOptions(show_info=show_info))
+    return stream.getvalue().splitlines()
+
+
+def test_github_annotations(tmp_path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    layer = str(tmp_path / "lay,er:1.usda")
+    findings = (
+        Finding(
+            "SE003",
+            "data-window-malformed",
+            Severity.ERROR,
+            "bad 100%\nwindow",
+            Location("shot.usda", "/R/S.dataWindowNDC", layer, 12),
+        ),
+        Finding(
+            "CA006", "aspect", Severity.WARNING, "w", Location("shot.usda", "/R/S", None, None)
+        ),
+        Finding("ST003", "info-rule", Severity.INFO, "i", Location("shot.usda", None, layer, None)),
+    )
+    report = Report(
+        (
+            FileResult("shot.usda", findings=findings),
+            FileResult("gone.usda", status="error", error="gone.usda: no such file"),
+        )
+    )
+    lines = _github(report)
+    assert lines == [
+        "::error file=lay%2Cer%3A1.usda,line=12,title=SE003::"
+        "/R/S.dataWindowNDC: bad 100%25%0Awindow [data-window-malformed]",
+        "::warning file=shot.usda,title=CA006::/R/S: w [aspect]",
+        "::error file=gone.usda::could not be linted: gone.usda: no such file",
+    ]
+    assert (
+        _github(report, show_info=True)[2]
+        == "::notice file=lay%2Cer%3A1.usda,title=ST003::i [info-rule]"
+    )
+
+
+def test_github_format_from_the_command_line(in_repo) -> None:
+    result = check("--format", "github", "--select", "SE003", str(INVERTED))
+    assert result.exit_code == 1
+    assert result.stdout == (
+        "::error file=tests/rules/SE003_data_window_malformed/fail_inverted.usda,line=8,"
+        "title=SE003::/Render/Settings.dataWindowNDC: "
+        + result.stdout.split("dataWindowNDC: ", 1)[1]
+    )
+    assert result.stdout.count("\n") == 1
+
+
+# -- --output and --statistics ----------------------------------------------------
+
+
+@pytest.mark.parametrize("output_format", ["text", "json", "sarif", "github"])
+def test_output_file_gets_the_report_and_stdout_nothing(in_repo, tmp_path, output_format) -> None:
+    target = tmp_path / "report.out"
+    to_stdout = check("--format", output_format, str(INVERTED))
+    to_file = check("--format", output_format, "--output", str(target), str(INVERTED))
+    assert to_file.exit_code == to_stdout.exit_code == 1
+    assert to_file.stdout == ""
+    assert target.read_text(encoding="utf-8") == to_stdout.stdout
+    assert [p.name for p in tmp_path.iterdir()] == ["report.out"]
+
+
+def test_unwritable_output_is_exit_2(tmp_path) -> None:
+    result = check("--output", str(tmp_path / "no" / "report.txt"), str(INVERTED))
+    assert result.exit_code == 2
+    assert "cannot write the report" in result.stderr and "Traceback" not in result.output
+
+
+def test_statistics_text(in_repo) -> None:
+    result = check("--statistics", "--select", "SE003", str(SE003))
+    tail = result.stdout.strip().splitlines()[-1]
+    count = result.stdout.count("  SE003  /")
+    assert tail.split() == [str(count), "SE003", "data-window-malformed"]
+    assert "data-window-malformed" not in check("--select", "SE003", str(SE003)).stdout
+
+
+def test_statistics_json_is_an_added_field(in_repo) -> None:
+    plain = json.loads(check("--format", "json", "--select", "SE003", str(SE003)).stdout)
+    assert "statistics" not in plain
+    document = json.loads(
+        check("--format", "json", "--statistics", "--select", "SE003", str(SE003)).stdout
+    )
+    assert {k: v for k, v in document.items() if k != "statistics"} == plain
+    count = len([f for file in plain["files"] for f in file["findings"]])
+    assert document["statistics"] == [
+        {"code": "SE003", "name": "data-window-malformed", "severity": "error", "count": count}
+    ]

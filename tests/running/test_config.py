@@ -1,0 +1,252 @@
+"""Configuration through the command line: every key, precedence, discovery, errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.config import Settings, load_settings
+
+# SE003 (error) on a bad window; SE001's require-authored option reports the
+# unauthored resolution; CA001 (error) for the missing camera.
+SHOT = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+    }
+}
+"""
+
+
+@pytest.fixture
+def project(tmp_path: Path) -> Path:
+    (tmp_path / "shots").mkdir()
+    (tmp_path / "shots" / "shot.usda").write_text(SHOT, encoding="utf-8")
+    return tmp_path
+
+
+def _write(folder: Path, text: str, name: str = ".usdrender-lint.toml") -> Path:
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def check(project: Path, *args: str):
+    """Run ``check --format json`` on the shot (serially: fast and in-process)."""
+    return CliRunner().invoke(
+        cli,
+        [
+            "check",
+            "--format",
+            "json",
+            "--jobs",
+            "1",
+            "--timeout",
+            "0",
+            *args,
+            str(project / "shots" / "shot.usda"),
+        ],
+    )
+
+
+def findings(result) -> dict[str, str]:
+    """code -> severity of the findings in a JSON report."""
+    assert result.exit_code in (0, 1), result.output
+    document = json.loads(result.stdout)
+    return {f["code"]: f["severity"] for file in document["files"] for f in file["findings"]}
+
+
+def error_line(result) -> str:
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert "Traceback" not in result.output
+    return lines[0]
+
+
+# -- every key --------------------------------------------------------------------
+
+
+def test_defaults_run_every_rule(project) -> None:
+    found = findings(check(project))
+    assert {"SE003", "CA001"} <= set(found)
+
+
+def test_select(project) -> None:
+    _write(project, 'select = ["SE003"]\n')
+    assert set(findings(check(project))) == {"SE003"}
+
+
+def test_ignore(project) -> None:
+    _write(project, 'ignore = ["SE003", "camera-unset"]\n')
+    found = findings(check(project))
+    assert "SE003" not in found and "CA001" not in found and found
+
+
+def test_extend_select(project) -> None:
+    _write(project, 'select = ["SE003"]\nextend-select = ["CA"]\n')
+    assert set(findings(check(project))) == {"SE003", "CA001"}
+
+
+@pytest.mark.parametrize(("fail_on", "code"), [("never", 0), ("error", 1), ("info", 1)])
+def test_fail_on(project, fail_on, code) -> None:
+    _write(project, f'fail-on = "{fail_on}"\n')
+    assert check(project).exit_code == code
+
+
+def test_fail_on_warning_counts_overridden_severities(project) -> None:
+    _write(project, 'select = ["SE003"]\nfail-on = "error"\n[severity]\nSE003 = "warning"\n')
+    result = check(project)
+    assert findings(result) == {"SE003": "warning"}
+    assert result.exit_code == 0
+
+
+def test_severity_override_by_name(project) -> None:
+    _write(project, 'select = ["SE003"]\n[severity]\ndata-window-malformed = "info"\n')
+    assert findings(check(project)) == {"SE003": "info"}
+
+
+def test_per_path_ignores(project) -> None:
+    _write(project, '[per-path-ignores]\n"shots/*.usda" = ["SE003", "CA"]\n"other/*" = ["ALL"]\n')
+    found = findings(check(project))
+    assert "SE003" not in found and "CA001" not in found and found
+
+
+def test_per_path_ignores_only_match_their_files(project) -> None:
+    _write(project, '[per-path-ignores]\n"other/*.usda" = ["SE003"]\n')
+    assert "SE003" in findings(check(project))
+
+
+def test_rule_options(project) -> None:
+    assert "SE001" not in findings(check(project))
+    _write(project, "[rules.resolution-non-positive]\nrequire-authored = true\n")
+    assert "SE001" in findings(check(project))
+    _write(project, "[rules.SE001]\nrequire_authored = true\n")
+    assert "SE001" in findings(check(project))
+
+
+def test_roots_and_time_sample_cap_are_read(project) -> None:
+    path = _write(project, 'roots = ["shots/*.usda"]\ntime-sample-cap = 5\n')
+    settings = load_settings(str(path))
+    assert settings.roots == ("shots/*.usda",)
+    assert settings.time_sample_cap == 5
+
+
+# -- precedence and discovery -----------------------------------------------------
+
+
+def test_flags_win_over_the_file(project) -> None:
+    _write(project, 'select = ["SE003"]\nfail-on = "never"\n')
+    result = check(project, "--select", "CA001", "--fail-on", "error")
+    assert set(findings(result)) == {"CA001"}
+    assert result.exit_code == 1
+
+
+def test_pyproject_table_is_found_from_the_linted_file(project) -> None:
+    _write(
+        project,
+        '[project]\nname = "x"\n[tool.usdrender-lint]\nselect = ["SE003"]\n',
+        "pyproject.toml",
+    )
+    assert set(findings(check(project))) == {"SE003"}
+
+
+def test_dedicated_file_wins_and_pyproject_without_table_is_skipped(project) -> None:
+    _write(project, 'select = ["CA001"]\n')
+    _write(project / "shots", '[project]\nname = "x"\n', "pyproject.toml")
+    assert set(findings(check(project))) == {"CA001"}
+
+
+def test_config_flag_and_isolated(project, tmp_path_factory) -> None:
+    _write(project, 'select = ["SE003"]\n')
+    elsewhere = _write(tmp_path_factory.mktemp("cfg"), 'select = ["CA001"]\n')
+    assert set(findings(check(project, "--config", str(elsewhere)))) == {"CA001"}
+    assert {"SE003", "CA001"} <= set(findings(check(project, "--isolated")))
+    line = error_line(check(project, "--isolated", "--config", str(elsewhere)))
+    assert "--config and --isolated" in line
+
+
+def test_settings_record_flags() -> None:
+    merged = Settings(source="a.toml").merged(select=("SE",), ignore=None)
+    assert merged.where("select") == "--select"
+    assert merged.where("ignore") == "a.toml: ignore"
+
+
+# -- errors: one line naming the key and the file, exit 2 ------------------------
+
+ERRORS = [
+    ("selct = []\n", "unknown key 'selct'"),
+    ('select = "SE003"\nignore = [1]\n', "'ignore' must be a list of strings"),
+    ('select = ["NOPE"]\n', "select: 'NOPE' matches no rule"),
+    ('extend-select = ["no-such-rule"]\n', "extend-select: 'no-such-rule' matches no rule"),
+    ('fail-on = "fatal"\n', "'fail-on' must be one of error, warning, info, never"),
+    ('severity = "error"\n', "'severity' must be a table"),
+    ('[severity]\nSE003 = "fatal"\n', "'severity.SE003' must be one of error, warning, info"),
+    ('[severity]\nXX001 = "info"\n', "severity.XX001: no rule has this code or name"),
+    ('[per-path-ignores]\n"*.usda" = 3\n', "'per-path-ignores.*.usda' must be a list of strings"),
+    ('[per-path-ignores]\n"*.usda" = ["XX"]\n', "per-path-ignores.*.usda: 'XX' matches no rule"),
+    ("[rules]\nSE001 = 1\n", "'rules.SE001' must be a table"),
+    ("[rules.no-such-rule]\nx = 1\n", "rules.no-such-rule: no rule has this code or name"),
+    ("[rules.SE001]\nstrict = true\n", "rules.SE001: unknown option 'strict'"),
+    ('[rules.SE001]\nrequire-authored = "yes"\n', "must be true or false, got 'yes'"),
+    ("[rules.SE003]\nx = 1\n", "rules.SE003: this rule takes no options"),
+    ("time-sample-cap = 0\n", "'time-sample-cap' must be a positive integer"),
+    ("roots = [1]\n", "'roots' must be a list of strings"),
+    ("select = [\n", "invalid TOML"),
+]
+
+
+@pytest.mark.parametrize(("text", "expected"), ERRORS, ids=[e[1][:40] for e in ERRORS])
+def test_bad_config_is_one_line_naming_key_and_file(project, text, expected) -> None:
+    path = _write(project, text)
+    line = error_line(check(project))
+    assert line.startswith("usdrender-lint: error: ")
+    assert str(path) in line and expected in line
+
+
+def test_pyproject_errors_name_the_qualified_key(project) -> None:
+    path = _write(project, "[tool.usdrender-lint]\nfail-on = 3\n", "pyproject.toml")
+    line = error_line(check(project))
+    assert str(path) in line and "'tool.usdrender-lint.fail-on' must be one of" in line
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ('[project]\nname = "x"\n', "no [tool.usdrender-lint] table"),
+        ("[tool]\nusdrender-lint = 3\n", "'tool.usdrender-lint' must be a table"),
+    ],
+)
+def test_config_flag_pyproject_without_a_table(project, text, expected) -> None:
+    path = _write(project, text, "pyproject.toml")
+    line = error_line(check(project, "--config", str(path)))
+    assert str(path) in line and expected in line
+
+
+def test_missing_config_file(project) -> None:
+    line = error_line(check(project, "--config", str(project / "nope.toml")))
+    assert "nope.toml: cannot read config file" in line
+
+
+def test_bad_flag_selector_names_the_flag(project) -> None:
+    line = error_line(check(project, "--ignore", "XX9"))
+    assert "--ignore: 'XX9' matches no rule" in line
+
+
+def test_readme_configuration_example_is_valid(tmp_path) -> None:
+    from usdrender_lint.registry import build_registry
+    from usdrender_lint.running.pipeline import make_linter
+
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## Configuration", 1)[1].split("\n## ", 1)[0]
+    example = section.split("```toml\n", 1)[1].split("```", 1)[0]
+    settings = load_settings(str(_write(tmp_path, example, "pyproject.toml")))
+    assert settings.fail_on == "warning" and settings.per_path_ignores
+    make_linter(settings, build_registry())  # every code, name and option exists

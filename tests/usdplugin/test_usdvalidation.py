@@ -1,0 +1,447 @@
+"""The UsdValidation plugin: the shipped plugInfo.json follows the registry, the
+validators load through OpenUSD's registry and report what the CLI reports,
+safe fixes are ValidationFixers, and no exception ever leaves a validator.
+
+USD registers plugins once per process and reads PXR_PLUGINPATH_NAME when its
+plugin registry starts, so everything that loads the plugin runs in a
+subprocess with the variable set.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import tomllib
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+from pxr import Sdf, Tf, Usd, UsdRender
+
+from usdrender_lint.api import Rule
+from usdrender_lint.cli import cli
+from usdrender_lint.model import Severity
+from usdrender_lint.registry import build_registry
+from usdrender_lint.usdplugin import (
+    PLUGIN_NAME,
+    DeclarationError,
+    plug_info,
+    plugin_dir,
+    render_plug_info,
+    undeclared_rules,
+    validator_name,
+    write_plug_info,
+)
+from usdrender_lint.usdplugin.validators import StageLints, default_linter
+
+REPO = Path(__file__).parents[2]
+FIXTURES = REPO / "tests" / "rules"
+SE003_FAIL = FIXTURES / "SE003_data_window_malformed" / "fail_inverted.usda"
+RULES = build_registry().rules
+
+
+def _run_child(script: str, plugin_path: Path, extra_path: Path | None = None, *args: str) -> dict:
+    env = dict(os.environ, PXR_PLUGINPATH_NAME=str(plugin_path))
+    if extra_path is not None:
+        env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(extra_path), env.get("PYTHONPATH")]))
+    done = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(script), *args],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=400,
+        cwd=REPO,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+# -- the declaration --------------------------------------------------------------
+
+
+def test_shipped_plug_info_matches_the_registry() -> None:
+    shipped = (plugin_dir() / "plugInfo.json").read_text(encoding="utf-8")
+    assert shipped == render_plug_info(RULES), (
+        "usdrender_lint/usdplugin/plugInfo.json is out of date with the registered rules: "
+        "run 'usdrender-lint plugin-path --write' and commit it"
+    )
+    assert undeclared_rules(RULES) == []
+
+
+def test_every_rule_is_declared_with_its_family_and_schema_types() -> None:
+    validators = plug_info(RULES)["Plugins"][0]["Info"]["Validators"]
+    assert validators.pop("keywords") == [PLUGIN_NAME]
+    assert len(validators) == len(RULES)
+    for rule in RULES:
+        entry = validators[validator_name(rule).split(":", 1)[1]]
+        family = rule.code.rstrip("0123456789")
+        assert f"{PLUGIN_NAME}:{family}" in entry["keywords"]
+        assert entry["doc"].startswith(f"{rule.code} ({rule.name}): ")
+        if rule.prim_types:
+            assert entry["schemaTypes"], rule.code
+            for type_name in entry["schemaTypes"]:
+                assert not Tf.Type.FindByName(type_name).isUnknown, type_name
+        else:
+            assert "schemaTypes" not in entry, rule.code
+    assert validators["ResolutionNonPositive"]["schemaTypes"] == ["UsdRenderSettingsBase"]
+
+
+def _rule(code: str, name: str, **attrs) -> type[Rule]:
+    return type(
+        name.title().replace("-", ""),
+        (Rule,),
+        {
+            "__doc__": f"{name} summary.",
+            "code": code,
+            "name": name,
+            "severity": Severity.ERROR,
+            **attrs,
+        },
+    )
+
+
+def test_two_rules_with_one_validator_name_are_refused() -> None:
+    # Kebab parts may start with a digit, so "a-1b" and "a1b" both give "A1b".
+    with pytest.raises(DeclarationError, match="ZZ001 and ZZ002"):
+        plug_info([_rule("ZZ001", "a-1b"), _rule("ZZ002", "a1b")])
+
+
+def test_a_changed_rule_makes_the_file_stale(tmp_path: Path) -> None:
+    write_plug_info(RULES, tmp_path)
+    assert undeclared_rules(RULES, tmp_path) == []
+    extra = _rule("ZZ003", "extra-check", prim_types=(UsdRender.Var,))
+    assert undeclared_rules([*RULES, extra], tmp_path) == ["ZZ003"]
+
+
+def test_the_wheel_ships_the_plugin() -> None:
+    # Verified by building a wheel; this keeps the packaging lines in place.
+    setuptools = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]
+    assert {"usdrender_lint.usdplugin", PLUGIN_NAME} <= set(setuptools["packages"])
+    assert "plugInfo.json" in setuptools["package-data"]["usdrender_lint.usdplugin"]
+    mapped = REPO / setuptools["package-dir"][PLUGIN_NAME] / "__init__.py"
+    assert mapped.is_file()
+
+
+# -- the command ------------------------------------------------------------------
+
+
+def test_plugin_path_prints_the_shipped_directory() -> None:
+    result = CliRunner().invoke(cli, ["plugin-path", "--check"])
+    assert result.exit_code == 0, result.output
+    assert result.output.strip() == str(plugin_dir())
+
+
+def test_plugin_path_write_and_check(tmp_path: Path) -> None:
+    target = tmp_path / "plugin"
+    stale = CliRunner().invoke(cli, ["plugin-path", "--check", "--dir", str(target)])
+    assert stale.exit_code == 1
+    assert "--write" in stale.output
+    written = CliRunner().invoke(cli, ["plugin-path", "--write", "--dir", str(target)])
+    assert written.exit_code == 0, written.output
+    assert written.output.strip() == str(target.resolve())
+    assert (target / "plugInfo.json").read_text() == render_plug_info(RULES)
+    fresh = CliRunner().invoke(cli, ["plugin-path", "--check", "--dir", str(target)])
+    assert fresh.exit_code == 0
+
+
+# -- the per-stage lint the validators share ---------------------------------------
+
+
+def test_one_lint_per_stage_state() -> None:
+    built = []
+
+    def factory():
+        built.append(1)
+        linter = default_linter(RULES)
+        original = linter.lint_stage_traced
+        calls = built
+
+        def counted(stage, file=None):
+            calls.append(stage)
+            return original(stage, file)
+
+        linter.lint_stage_traced = counted
+        return linter
+
+    lints = StageLints(factory)
+    stage = Usd.Stage.Open(str(SE003_FAIL))
+    first = lints.findings(stage)
+    # Another Python handle on the same stage shares the lint.
+    assert lints.findings(stage.GetPseudoRoot().GetStage()) is first
+    assert len(built) == 2  # one linter, one lint
+    assert ("SE003", "/Render/Settings.dataWindowNDC") in {
+        (t.finding.code, t.finding.location.path) for t in first
+    }
+    # An edit (here on the session layer) makes the next call lint again.
+    with Usd.EditContext(stage, stage.GetSessionLayer()):
+        stage.GetPrimAtPath("/Render/Settings").GetAttribute("dataWindowNDC").Set(
+            (0.0, 0.0, 1.0, 1.0)
+        )
+    again = lints.findings(stage)
+    assert len(built) == 3
+    assert "SE003" not in {t.finding.code for t in again}
+
+
+# -- through OpenUSD's registry (subprocesses) -------------------------------------
+
+_SAME_AS_CLI = """
+import json, sys
+from pathlib import Path
+from pxr import Sdf, Tf, Usd, UsdValidation
+from usdrender_lint.config import Settings
+from usdrender_lint.registry import build_registry
+from usdrender_lint.running.pipeline import make_linter
+from usdrender_lint.usdplugin import validator_name
+
+registry = UsdValidation.ValidationRegistry()
+declared = sorted(str(m.name) for m in registry.GetValidatorMetadataForKeyword("usdRenderLint"))
+rules = build_registry().rules
+loaded = [registry.GetOrLoadValidatorByName(validator_name(rule)) for rule in rules]
+context = UsdValidation.ValidationContext([v for v in loaded if v is not None])
+linter = make_linter(Settings())
+
+def site_path(site):
+    if site.IsProperty():
+        return str(site.GetProperty().GetPath())
+    if site.IsPrim() and not site.GetPrim().IsPseudoRoot():
+        return str(site.GetPrim().GetPath())
+    return ""
+
+def abstract_typed_prim(stage, where):
+    prim = stage.GetPrimAtPath(Sdf.Path(where).GetPrimPath()) if where else None
+    if not prim:
+        return False
+    registered = Usd.SchemaRegistry.GetTypeFromName(prim.GetTypeName())
+    return not registered.isUnknown and prim.GetPrimTypeInfo().GetSchemaType().isUnknown
+
+mismatches, checked, abstract_typed = [], 0, []
+paths = [Path(p) for p in sys.argv[1:]] or [
+    p for p in sorted(Path("tests/rules").glob("*/*.usda"))
+    if p.name.startswith(("pass_", "fail_")) and not p.name.endswith(".fixed.usda")
+]
+for path in paths:
+    cli = {(f.code, f.location.path or "") for f in linter.lint_path(str(path)).findings}
+    try:
+        stage = Usd.Stage.Open(str(path))
+    except Tf.ErrorException:
+        # usd-core refuses the file (ST001): there is no stage to validate.
+        assert {code for code, _ in cli} == {"ST001"}, (path, cli)
+        continue
+    validated = {(e.GetName(), site_path(e.GetSites()[0])) for e in context.Validate(stage)}
+    checked += 1
+    # USD gives a prim typed with an abstract schema (def RenderSettingsBase) no
+    # schema type, so UsdValidation never hands it to a schemaTypes validator; the
+    # engine dispatches by type name and runs the rules on it.
+    abstract = {pair for pair in cli - validated if abstract_typed_prim(stage, pair[1])}
+    abstract_typed.extend(sorted(abstract))
+    if validated != cli - abstract:
+        mismatches.append([str(path), sorted(cli - validated), sorted(validated - cli)])
+
+# The errors carry the offending property as their site, in the opinion's layer.
+stage = Usd.Stage.Open("tests/rules/SE003_data_window_malformed/fail_inverted.usda")
+se003 = [e for e in context.Validate(stage) if e.GetName() == "SE003"][0]
+site = se003.GetSites()[0]
+fixers = {e.GetName(): [f.name for f in e.GetFixers()] for e in context.Validate(stage)}
+print(json.dumps({
+    "declared": declared,
+    "loaded": sum(v is not None for v in loaded),
+    "checked": checked,
+    "mismatches": mismatches,
+    "abstract_typed": abstract_typed,
+    "site_is_property": site.IsProperty(),
+    "site_layer": site.GetLayer().realPath if site.GetLayer() else None,
+    "se003_type": str(se003.GetType()),
+    "se003_validator": str(se003.GetValidator().GetMetadata().name),
+    "fixers": fixers,
+}))
+"""
+
+
+def test_validators_load_by_keyword_and_name_and_match_the_cli_on_every_fixture() -> None:
+    got = _run_child(_SAME_AS_CLI, plugin_dir())
+    assert got["declared"] == sorted(validator_name(rule) for rule in RULES)
+    assert got["loaded"] == len(RULES)
+    assert got["checked"] > 250  # every pass_/fail_ fixture USD can open
+    assert got["mismatches"] == []
+    assert got["abstract_typed"] == []
+    assert got["site_is_property"] is True
+    assert got["site_layer"] == str(SE003_FAIL.resolve())
+    assert got["se003_type"].endswith("Error")
+    assert got["se003_validator"] == f"{PLUGIN_NAME}:DataWindowMalformed"
+    # ST003's fix is safe: a fixer; SE003's is unsafe: none.
+    assert got["fixers"]["ST003"] == ["RenderSettingsPathMissingFix"]
+    assert got["fixers"]["SE003"] == []
+
+
+_FIXER = """
+import json, shutil, sys
+from pxr import Usd, UsdValidation
+work = sys.argv[1]
+registry = UsdValidation.ValidationRegistry()
+validator = registry.GetOrLoadValidatorByName("usdRenderLint:RenderSettingsPathMissing")
+stage = Usd.Stage.Open(work)
+error = validator.Validate(stage)[0]
+fixer = error.GetFixers()[0]
+target = Usd.EditTarget(stage.GetRootLayer())
+can = fixer.CanApplyFix(error, target)
+applied = fixer.ApplyFix(error, target)
+print(json.dumps({"can": can, "applied": applied, "after": len(validator.Validate(stage))}))
+"""
+
+
+def test_a_safe_fix_applies_through_validation_fixer(tmp_path: Path) -> None:
+    work = tmp_path / "shot.usda"
+    work.write_text(SE003_FAIL.read_text())
+    got = _run_child(_FIXER, plugin_dir(), None, str(work))
+    # usd-core 26.11's ApplyFix saves the edit target's layer after the fix.
+    assert got == {"can": True, "applied": True, "after": 0}
+    assert 'renderSettingsPrimPath = "/Render/Settings"' in work.read_text()
+
+
+_RAISING_RULES = '''
+from pxr import UsdRender
+from usdrender_lint.api import Rule
+from usdrender_lint.model import Severity
+
+
+class PrimExplodes(Rule):
+    """Raises on every RenderSettings."""
+
+    code = "ZZ901"
+    name = "prim-explodes"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        raise RuntimeError("boom")
+
+
+class StageExplodes(Rule):
+    """Raises once per stage."""
+
+    code = "ZZ902"
+    name = "stage-explodes"
+    severity = Severity.ERROR
+
+    def check_stage(self, ctx):
+        raise RuntimeError("bang")
+        yield
+
+
+RAISING = (PrimExplodes, StageExplodes)
+'''
+
+_NEVER_RAISES = """
+import json
+from pxr import Sdf, Tf, Usd, UsdValidation
+import raising_rules
+import usdrender_lint.usdplugin.validators as adaptor
+from usdrender_lint.registry import build_registry
+
+rules = build_registry().rules + raising_rules.RAISING
+adaptor._registered_rules = lambda: (rules, None)
+registry = UsdValidation.ValidationRegistry()
+names = [str(m.name) for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")]
+context = UsdValidation.ValidationContext(registry.GetOrLoadValidatorsByName(names))
+RULE_DIR = "tests/rules/"
+SE003 = RULE_DIR + "SE003_data_window_malformed/fail_inverted.usda"
+errors = context.Validate(Usd.Stage.Open(SE003))
+raised = sorted(
+    [str(e.GetValidator().GetMetadata().name), e.GetName()]
+    for e in errors
+    if e.GetName() == "UL000"
+)
+codes = sorted({e.GetName() for e in errors})
+
+# The whole lint failing: each validator reports it, Validate still returns.
+def broken(self, stage, file=None):
+    raise MemoryError("no more")
+adaptor.Linter.lint_stage_traced = broken
+SE001 = RULE_DIR + "SE001_resolution_non_positive/pass_traps.usda"
+failures = context.Validate(Usd.Stage.Open(SE001))
+
+# The premise: one raising Python validator makes usd-core's Validate raise.
+def explode(stage, time_range):
+    raise RuntimeError("plain validator")
+metadata = UsdValidation.ValidatorMetadata(name="plain:Explodes", doc="raises", keywords=["plain"])
+registry.RegisterStageValidator(metadata, explode)
+plain = UsdValidation.ValidationContext([registry.GetOrLoadValidatorByName("plain:Explodes")])
+try:
+    plain.Validate(Usd.Stage.CreateInMemory())
+    premise = False
+except RuntimeError as exc:  # the validator's own exception comes out of Validate
+    premise = "plain validator" in str(exc)
+print(json.dumps({
+    "raised": raised, "codes": codes, "premise": premise,
+    "failures": sorted({e.GetName() for e in failures}), "failure_count": len(failures),
+    "message": failures[0].GetMessage() if failures else "",
+}))
+"""
+
+
+def test_a_raising_rule_never_makes_validate_raise(tmp_path: Path) -> None:
+    (tmp_path / "raising_rules.py").write_text(_RAISING_RULES)
+    sys.path.insert(0, str(tmp_path))
+    try:
+        import raising_rules
+
+        write_plug_info(RULES + raising_rules.RAISING, tmp_path / "plugin")
+    finally:
+        sys.path.remove(str(tmp_path))
+        sys.modules.pop("raising_rules", None)
+    got = _run_child(_NEVER_RAISES, tmp_path / "plugin", extra_path=tmp_path)
+    assert got["premise"] is True
+    # Each raising rule is one internal error of its own validator ...
+    assert got["raised"] == [
+        [f"{PLUGIN_NAME}:PrimExplodes", "UL000"],
+        [f"{PLUGIN_NAME}:StageExplodes", "UL000"],
+    ]
+    # ... and the other validators' results survive.
+    assert {"SE003", "CA001"} <= set(got["codes"])
+    assert got["failures"] == ["usdRenderLintFailure"]
+    assert got["failure_count"] >= 1
+    assert "MemoryError: no more" in got["message"]
+
+
+def test_a_declared_validator_without_a_rule_reports_why(tmp_path: Path) -> None:
+    # A stale plugInfo.json declares a rule that is no longer registered.
+    ghost = _rule("ZZ904", "ghost-check")
+    write_plug_info([*RULES, ghost], tmp_path)
+    script = """
+    import json
+    from pxr import Usd, UsdValidation
+    registry = UsdValidation.ValidationRegistry()
+    validator = registry.GetOrLoadValidatorByName("usdRenderLint:GhostCheck")
+    errors = validator.Validate(Usd.Stage.CreateInMemory())
+    print(json.dumps([e.GetMessage() for e in errors]))
+    """
+    messages = _run_child(script, tmp_path)
+    assert len(messages) == 1
+    assert "plugin-path --write" in messages[0]
+
+
+def test_sdf_paths_of_sites_round_trip() -> None:
+    # A stage-wide finding's site is the pseudo-root (no prim or property path).
+    from usdrender_lint.model import Finding, Location
+    from usdrender_lint.usdplugin.validators import to_error
+
+    stage = Usd.Stage.CreateInMemory()
+    finding = Finding("ST003", "x", Severity.INFO, "m", Location("f", None, None))
+    site = to_error(stage, finding).GetSites()[0]
+    assert site.GetPrim().GetPath() == Sdf.Path.absoluteRootPath
+
+
+def test_validators_match_the_cli_on_corpus_files(shared_dir: Path) -> None:
+    files = sorted((shared_dir / "corpus" / "files").rglob("*.usd*"))
+    # Every real file with render prims (a few seconds): the validators see what the CLI sees.
+    render = [str(p) for p in files if p.suffix == ".usda" and b"RenderSettings" in p.read_bytes()]
+    if not render:
+        pytest.skip("no corpus file with RenderSettings")
+    got = _run_child(_SAME_AS_CLI, plugin_dir(), None, *render)
+    assert got["mismatches"] == []
+    # The one known difference, set aside by the child: findings on prims typed with an
+    # abstract schema (maya-usd's materialAssignment.usda has `def RenderSettingsBase`).
+    assert got["checked"] >= len(render) * 0.8
