@@ -29,10 +29,12 @@ def Scope "Render"
 """
 FIXTURES = {
     "fail_no_token.usda": PRODUCT.format(
-        expect="# expect: ACME001 </Render/beauty.productName>", name="beauty.exr"
+        expect='# expect: ACME001 </Render/beauty.productName> x1 fix "has no frame token"',
+        name="beauty.exr",
     ),
     "fail_absolute.usda": PRODUCT.format(
-        expect="# expect: ACME002 </Render/beauty.productName>", name="/mnt/r/beauty.####.exr"
+        expect='# expect: ACME002 </Render/beauty.productName> x1 nofix "is absolute"',
+        name="/mnt/r/beauty.####.exr",
     ),
     "pass_conventions.usda": PRODUCT.format(expect="", name="beauty.####.exr"),
 }
