@@ -74,7 +74,8 @@ for f in sys.argv[1:]:
                 for target in rel.GetForwardedTargets():
                     stage.GetPrimAtPath(target)
 """
-FULL_ENV = "USDRENDER_LINT_FULL_COMPOSITION"
+#: The hidden flag that composes every stage in full (no fast path).
+FULL_FLAG = "--full-composition"
 
 
 @dataclass
@@ -133,15 +134,18 @@ def row(s: Series, baseline: Series | None = None, per: float = 1.0) -> str:
 
 
 def findings(path: Path, full: bool) -> list[tuple[str, str]]:
-    env = dict(os.environ)
-    env.pop(FULL_ENV, None)
-    if full:
-        env[FULL_ENV] = "1"
     out = subprocess.run(
-        [*LINT, "check", "--format", "json", "--isolated", str(path)],
+        [
+            *LINT,
+            "check",
+            "--format",
+            "json",
+            "--isolated",
+            *([FULL_FLAG] if full else []),
+            str(path),
+        ],
         capture_output=True,
         text=True,
-        env=env,
         check=False,
     )
     report = json.loads(out.stdout)
@@ -177,11 +181,10 @@ def big_stage(work: Path, prims: int, rounds: int) -> dict[str, float]:
     fast, full = findings(shot, False), findings(shot, True)
     expected = json.loads((folder / generate.EXPECTED_FILE).read_text())[shot.name]
     injected = {(e["code"], e["path"]) for e in expected} <= {(c, p) for c, p, _ in fast}
-    env_full = {**os.environ, FULL_ENV: "1"}
     bare = Series("bare Usd.Stage.Open", [PYTHON, "-c", BARE_OPEN, str(shot)])
     check = Series("usdrender-lint check", [*LINT, "check", "--isolated", str(shot)])
     check_full = Series(
-        "check, full composition", [*LINT, "check", "--isolated", str(shot)], env_full
+        "check, full composition", [*LINT, "check", "--isolated", FULL_FLAG, str(shot)]
     )
     measure([bare, check, check_full], rounds)
     print(f"\nOne big stage: {prims:,} prims (.usdc), {rounds} rounds")
