@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.api.resolve import evaluation_times, has_authored_value
+from usdrender_lint.api.resolve import has_authored_value, rendered_times
 
 from .._camera import at_time, positive_finite
 
@@ -89,7 +89,7 @@ class DepthOfFieldDisabledWithFStop(Rule):
             fstop = camera.GetFStopAttr()
             if not has_authored_value(fstop):
                 continue
-            for time in evaluation_times(fstop, ctx.time_sample_cap):
+            for time in rendered_times((fstop,), ctx.time_sample_cap):
                 value = fstop.Get(time)
                 if positive_finite(value):
                     yield Diagnostic(

@@ -15,7 +15,7 @@ from functools import cached_property
 from itertools import islice
 from typing import Any
 
-from pxr import Sdf, Tf, Usd, UsdGeom, UsdRender
+from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdRender
 
 from .cache import cached
 
@@ -332,19 +332,62 @@ def time_samples(attr: Usd.Attribute, cap: int) -> list[float]:
     return list(attr.GetTimeSamples())[:cap]
 
 
-def evaluation_times(attr: Usd.Attribute, cap: int) -> Iterator[Usd.TimeCode]:
-    """Default, then each authored time sample (capped): where camera values
-    are evaluated (catalog, Conventions: Time)."""
-    return joint_evaluation_times((attr,), cap)
-
-
 def joint_evaluation_times(attrs: Iterable[Usd.Attribute], cap: int) -> Iterator[Usd.TimeCode]:
     """Default, then the sorted union of the attributes' authored time samples
-    (capped in total): where a check reading several varying values is evaluated."""
+    (capped in total): where a check of a varying render-prim value that
+    Revision 2 leaves alone (PR002's productName) is evaluated. Camera inputs
+    are read at :func:`rendered_times` instead."""
     yield DEFAULT_TIME
     union = sorted({t for attr in attrs for t in time_samples(attr, cap)})
     for t in union[:cap]:
         yield Usd.TimeCode(t)
+
+
+def rendered_times(attrs: Iterable[Usd.Attribute], cap: int) -> list[Usd.TimeCode]:
+    """The times at which a renderer reads these varying attributes (catalog
+    Revision 2, R2-1 "Rendered times").
+
+    Hydra-based renderers read a varying attribute at the frame being rendered,
+    and at a numeric time an attribute's time samples beat its default value.
+    So:
+
+    - none of the attributes has a (well-typed) time sample: ``[Default]``;
+    - the stage authors both ``startTimeCode`` and ``endTimeCode`` (root or
+      session layer, as ``Usd.Stage.HasAuthoredTimeCodeRange`` reads them; a
+      range in a sublayer does not count): the attributes' sample times inside
+      ``[start, end]`` plus both ends, whose values are held (or interpolated)
+      from the nearest samples, so samples that all lie outside the range
+      still give the values rendered at its ends;
+    - otherwise: every sample time of the attributes.
+
+    Default is then not a rendered time. Sample times are stage times (layer
+    offsets and value clips applied, as ``Usd.Attribute.GetTimeSamples``
+    reports them); the result is sorted and holds at most ``cap`` times. The
+    stage range is read from the attributes' stage. A type-mismatched opinion
+    counts as unauthored (SE016), so its samples are not rendered times.
+    """
+    attrs = [a for a in attrs if a]
+    if not attrs:
+        return [DEFAULT_TIME]
+    stage = attrs[0].GetStage()
+    interval: Gf.Interval | None = None
+    if stage.HasAuthoredTimeCodeRange():
+        interval = Gf.Interval(stage.GetStartTimeCode(), stage.GetEndTimeCode())
+    times: set[float] = set()
+    sampled = False
+    for attr in attrs:
+        if not has_authored_value(attr) or attr.GetNumTimeSamples() == 0:
+            continue
+        sampled = True
+        if interval is None:
+            times.update(time_samples(attr, cap))
+        else:
+            times.update(islice(attr.GetTimeSamplesInInterval(interval), cap))
+    if not sampled:
+        return [DEFAULT_TIME]
+    if interval is not None:
+        times.update((interval.min, interval.max))
+    return [Usd.TimeCode(t) for t in sorted(times)[:cap]]
 
 
 def format_time(time: Usd.TimeCode) -> str:
