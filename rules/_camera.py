@@ -50,8 +50,11 @@ def _effective_cameras(ctx: Context) -> list[CameraUse]:
 
 
 def config_owners(config: RenderConfiguration) -> list[Usd.Prim]:
-    """The prims whose RenderSettingsBase opinions make up a configuration."""
-    return [config.settings] if config.product is None else [config.settings, config.product]
+    """The prims whose RenderSettingsBase opinions make up a configuration
+    (only the product for a product rendered on its own)."""
+    if config.settings is None or config.product is None:
+        return [config.owner]
+    return [config.settings, config.product]
 
 
 def first_failure(

@@ -13,10 +13,10 @@ from usdrender_lint.api.resolve import RenderConfiguration, has_authored_value
 from .._camera import at_time, config_owners, first_failure, positive_finite
 
 
-def _author_conform_policy(settings_path: Sdf.Path):
+def _author_conform_policy(owner_path: Sdf.Path):
     def apply(stage: Usd.Stage) -> None:
-        settings = UsdRender.SettingsBase(stage.GetPrimAtPath(settings_path))
-        settings.CreateAspectRatioConformPolicyAttr().Set(UsdRender.Tokens.expandAperture)
+        owner = UsdRender.SettingsBase(stage.GetPrimAtPath(owner_path))
+        owner.CreateAspectRatioConformPolicyAttr().Set(UsdRender.Tokens.expandAperture)
 
     return apply
 
@@ -154,18 +154,18 @@ class AspectRatioMismatchImplicitConform(Rule):
             if failure is None:
                 continue
             time, problem = failure
-            settings_path = config.settings.GetPath()
+            owner_path = config.owner.GetPath()
             yield Diagnostic(
                 message=f"{config.describe()}: {problem} ({at_time(time)}) and no "
                 "aspectRatioConformPolicy is authored, so the fallback expandAperture "
                 "silently renders scene content outside the camera framing; author "
-                f"aspectRatioConformPolicy on <{settings_path}> or match the aspects",
-                at=config.settings,
+                f"aspectRatioConformPolicy on <{owner_path}> or match the aspects",
+                at=config.owner,
                 fix=Fix(
                     description='author aspectRatioConformPolicy = "expandAperture" (today\'s '
                     "behaviour)",
                     safe=True,
-                    apply=_author_conform_policy(settings_path),
+                    apply=_author_conform_policy(owner_path),
                 ),
             )
 
