@@ -1,5 +1,5 @@
 """Camera helpers shared by the CA rules: the effective cameras of a stage and
-the evaluation of varying camera values over time."""
+the evaluation of varying camera values at the rendered times (catalog R2-1)."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from usdrender_lint.api.resolve import (
     format_time,
     has_authored_value,
     is_finite,
-    joint_evaluation_times,
+    rendered_times,
 )
 
 #: A check over camera values read at one time: a problem phrase, or None.
@@ -50,22 +50,28 @@ def _effective_cameras(ctx: Context) -> list[CameraUse]:
 
 
 def config_owners(config: RenderConfiguration) -> list[Usd.Prim]:
-    """The prims whose RenderSettingsBase opinions make up a configuration."""
-    return [config.settings] if config.product is None else [config.settings, config.product]
+    """The prims whose RenderSettingsBase opinions make up a configuration
+    (only the product for a product rendered on its own)."""
+    if config.settings is None or config.product is None:
+        return [config.owner]
+    return [config.settings, config.product]
 
 
 def first_failure(
     prim: Usd.Prim, names: Iterable[str], check: ValueCheck, ctx: Context
 ) -> tuple[Usd.TimeCode, str] | None:
-    """Evaluate ``check(*values)`` at Default and at every authored time sample
-    of the named attributes (capped); the first failing time and its problem.
+    """Evaluate ``check(*values)`` at the rendered times of the named
+    attributes (catalog R2-1: Default when none has time samples, else their
+    sample times within the stage's time range; see
+    :func:`~usdrender_lint.api.resolve.rendered_times`); the first failing
+    time and its problem.
 
     Values are composed: well-typed authored opinions, else the schema
     fallback (a type-mismatched opinion counts as unauthored, SE016's; a
     blocked sample reads as the fallback)."""
     readers = [_reader(prim, name, ctx) for name in names]
     attrs = [attr for attr, _, _ in readers]
-    for time in joint_evaluation_times(attrs, ctx.time_sample_cap):
+    for time in rendered_times(attrs, ctx.time_sample_cap):
         problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
             return time, problem

@@ -20,22 +20,25 @@ def _set_settings_camera(settings_path: Sdf.Path, camera_path: Sdf.Path):
 
 
 class CameraUnset(Rule):
-    """A render configuration has no camera at all.
+    """A RenderProduct of a RenderSettings has no camera at all.
 
     ## What it does
-    For each render configuration (a RenderSettings with each usable product
-    of its `products`, or the settings alone when it has none), reports when
-    the effective camera is empty: the product's `camera` has no forwarded
-    target and neither has the settings' `camera`. An authored empty product
-    relationship (`rel camera = []`) does not clear the settings camera, so it
-    is not a finding when the settings has one.
+    For each (RenderSettings, usable product of its `products`) pair, reports
+    when the effective camera is empty: the product's `camera` has no
+    forwarded target and neither has the settings' `camera`. An authored empty
+    product relationship (`rel camera = []`) does not clear the settings
+    camera, so it is not a finding when the settings has one. Since catalog
+    Revision 2 (R2-2) a RenderSettings with no usable products is never
+    reported: nothing is dropped, and the application supplies the camera
+    (usdview, Kit viewports, RTX Remix's settings container).
 
     ## Why is this bad?
     *"This relationship specifies the primary camera to use for a render. The
     relationship must target a Camera."* (`RenderSettings.md`). With no camera
     `UsdRenderComputeSpec` posts *"Could not find camera <> for the render
-    product"* and drops the product from the render
-    (`pxr/usd/usdRender/spec.cpp`).
+    product"* inside its loop over the products and drops that product from
+    the render (`pxr/usd/usdRender/spec.cpp`); that loop is the only place it
+    reports a missing camera (catalog R2-2).
 
     ## Example
     ```usda
@@ -94,18 +97,14 @@ class CameraUnset(Rule):
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for config in ctx.configurations:
+            # R2-2: only a (settings, product) pair loses a product; a settings
+            # alone gets its camera from the application. A product rendered
+            # on its own always has a camera target (R2-4).
+            if config.settings is None or config.product is None:
+                continue
             if config.camera_target is not None:
                 continue
             settings_path = config.settings.GetPath()
-            if config.product is None:
-                what = f"RenderSettings <{settings_path}> has no camera"
-                effect = "renderers have no view to render"
-            else:
-                what = (
-                    f"RenderProduct <{config.product.GetPath()}> of <{settings_path}> has no "
-                    "camera (neither the product's nor the settings' camera has a target)"
-                )
-                effect = 'UsdRenderComputeSpec drops the product ("Could not find camera")'
             fix = None
             cameras = usable_cameras(ctx)
             if len(cameras) == 1:
@@ -117,8 +116,10 @@ class CameraUnset(Rule):
                     apply=_set_settings_camera(settings_path, camera_path),
                 )
             yield Diagnostic(
-                message=f"{what}; {effect}. Author rel camera = </path/to/Camera> on "
-                f"<{settings_path}> (or on the product)",
+                message=f"RenderProduct <{config.product.GetPath()}> of <{settings_path}> has no "
+                "camera (neither the product's nor the settings' camera has a target); "
+                'UsdRenderComputeSpec drops the product ("Could not find camera"). Author '
+                f"rel camera = </path/to/Camera> on <{settings_path}> (or on the product)",
                 at=config.settings,
                 fix=fix,
             )

@@ -17,7 +17,10 @@ class CameraMultipleTargets(Rule):
 
     ## What it does
     Reports the `camera` relationship of a RenderSettings, or of a RenderProduct
-    in its `products`, when it has more than one forwarded target.
+    in its `products`, when it has more than one forwarded target. Since catalog
+    Revision 2 (R2-4) this includes a product rendered on its own (no usable
+    RenderSettings targets it and it authors its own camera, as ovrtx and Kit
+    render products by prim path).
 
     ## Why is this bad?
     The relationship names *"the primary camera"*, singular

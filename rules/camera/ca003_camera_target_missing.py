@@ -18,12 +18,15 @@ class CameraTargetMissing(Rule):
     """The render camera target does not exist, or is a Camera that is not usable.
 
     ## What it does
-    For each render configuration (a RenderSettings with each of its products),
-    takes the effective camera (the product's first forwarded `camera` target
-    if it has one, else the settings') and reports it when no prim exists at
-    that path on the composed stage, or when the prim is a Camera that is
-    inactive, only an `over`, or abstract (a `class`). Relative targets are
-    anchored by Sdf to the owning prim before the check.
+    For each render configuration (a RenderSettings with each of its products,
+    and, since catalog Revision 2 (R2-4), each product rendered on its own: no
+    usable RenderSettings targets it and it authors its own camera, as ovrtx
+    and Kit render products by prim path), takes the effective camera (the
+    product's first forwarded `camera` target if it has one, else the
+    settings') and reports it when no prim exists at that path on the composed
+    stage, or when the prim is a Camera that is inactive, only an `over`, or
+    abstract (a `class`). Relative targets are anchored by Sdf to the owning
+    prim before the check.
 
     ## Why is this bad?
     *"This relationship specifies the primary camera to use for a render. The

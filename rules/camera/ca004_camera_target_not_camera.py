@@ -30,7 +30,9 @@ class CameraTargetNotCamera(Rule):
     """The render camera target is not a Camera prim.
 
     ## What it does
-    For each render configuration, reports the effective camera target when it
+    For each render configuration (since catalog Revision 2 (R2-4) also each
+    product rendered on its own: no usable RenderSettings targets it and it
+    authors its own camera), reports the effective camera target when it
     resolves to a prim that is not a `UsdGeom.Camera` (an Xform camera rig, a
     Scope, a typeless `def`) or to a property path such as
     `</World/cam.focalLength>`.

@@ -36,8 +36,11 @@ class CameraOpticsInvalid(Rule):
     """The render camera has a non-positive aperture or focal length, or an unknown projection.
 
     ## What it does
-    On each effective render camera, evaluated at the default time and at every
-    authored time sample (capped): reports `horizontalAperture` or
+    On each effective render camera (since catalog Revision 2 also that of a
+    product rendered on its own, R2-4), read at the rendered times (R2-1: the
+    default time when the attribute has no time samples, else its sample times
+    inside the stage's authored `startTimeCode`..`endTimeCode` plus both ends,
+    or all of them without a range; capped), reports `horizontalAperture` or
     `verticalAperture` that is `<= 0` or not finite, a `projection` outside its
     allowedTokens (`perspective`, `orthographic`), and, while the camera is
     perspective, a `focalLength` that is `<= 0` or not finite. Each attribute is
@@ -51,6 +54,10 @@ class CameraOpticsInvalid(Rule):
     A zero aperture or focal length gives a degenerate frustum, and
     `UsdRenderComputeSpec` skips aspect-ratio conforming when an aperture size
     is `<= 0` (`pxr/usd/usdRender/spec.cpp`).
+
+    Renderers read the camera at the frame being rendered, where an
+    attribute's time samples beat its default value (catalog R2-1), so a
+    default value no frame renders is not reported.
 
     ## Example
     ```usda

@@ -13,10 +13,10 @@ from usdrender_lint.api.resolve import RenderConfiguration, has_authored_value
 from .._camera import at_time, config_owners, first_failure, positive_finite
 
 
-def _author_conform_policy(settings_path: Sdf.Path):
+def _author_conform_policy(owner_path: Sdf.Path):
     def apply(stage: Usd.Stage) -> None:
-        settings = UsdRender.SettingsBase(stage.GetPrimAtPath(settings_path))
-        settings.CreateAspectRatioConformPolicyAttr().Set(UsdRender.Tokens.expandAperture)
+        owner = UsdRender.SettingsBase(stage.GetPrimAtPath(owner_path))
+        owner.CreateAspectRatioConformPolicyAttr().Set(UsdRender.Tokens.expandAperture)
 
     return apply
 
@@ -57,12 +57,18 @@ class AspectRatioMismatchImplicitConform(Rule):
     ## What it does
     For each render configuration with a valid camera, compares the image
     aspect (`resolution` width / height times `pixelAspectRatio`, the product's
-    authored value else the settings', fallbacks included) with the camera's
-    aperture aspect (`horizontalAperture / verticalAperture`, fallbacks
-    included, at the default time and every authored time sample). It reports
-    a relative difference above 1% when neither the settings nor the product
-    authors `aspectRatioConformPolicy`, so the fallback `expandAperture`
-    silently decides. Invalid inputs are skipped (SE001, SE002, CA005 report
+    authored value else the settings', fallbacks included; uniform, so read at
+    the default time) with the camera's aperture aspect (`horizontalAperture /
+    verticalAperture`, fallbacks included) at the rendered times (catalog R2-1:
+    the default time when neither aperture has time samples, else their sample
+    times inside the stage's authored `startTimeCode`..`endTimeCode` plus both
+    ends, or all of them without a range; capped). It reports a relative
+    difference above 1% when neither the settings nor the product authors
+    `aspectRatioConformPolicy`, so the fallback `expandAperture` silently
+    decides, naming the first failing time. A product rendered on its own (no
+    usable RenderSettings targets it and it authors its own camera, R2-4) is a
+    configuration of its own, with its own values and the fallbacks; its
+    finding and fix go to the product. Invalid inputs are skipped (SE001, SE002, CA005 report
     them). The schema fallbacks alone mismatch (2048x1080 is 1.896, the default
     aperture 1.370), which is intended.
 
@@ -74,6 +80,10 @@ class AspectRatioMismatchImplicitConform(Rule):
     `expandAperture` exposes scene content outside the approved framing
     (`pxr/usd/usdRender/schema.usda`, `_ApplyAspectRatioPolicy` in
     `pxr/usd/usdRender/spec.cpp`).
+
+    Renderers read the camera at the frame being rendered, where an
+    attribute's time samples beat its default value (catalog R2-1), so a
+    default value no frame renders is not reported.
 
     ## Example
     ```usda
@@ -154,18 +164,18 @@ class AspectRatioMismatchImplicitConform(Rule):
             if failure is None:
                 continue
             time, problem = failure
-            settings_path = config.settings.GetPath()
+            owner_path = config.owner.GetPath()
             yield Diagnostic(
                 message=f"{config.describe()}: {problem} ({at_time(time)}) and no "
                 "aspectRatioConformPolicy is authored, so the fallback expandAperture "
                 "silently renders scene content outside the camera framing; author "
-                f"aspectRatioConformPolicy on <{settings_path}> or match the aspects",
-                at=config.settings,
+                f"aspectRatioConformPolicy on <{owner_path}> or match the aspects",
+                at=config.owner,
                 fix=Fix(
                     description='author aspectRatioConformPolicy = "expandAperture" (today\'s '
                     "behaviour)",
                     safe=True,
-                    apply=_author_conform_policy(settings_path),
+                    apply=_author_conform_policy(owner_path),
                 ),
             )
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.api.resolve import evaluation_times, has_authored_value
+from usdrender_lint.api.resolve import has_authored_value, rendered_times
 
 from .._camera import at_time, positive_finite
 
@@ -14,9 +14,13 @@ class DepthOfFieldDisabledWithFStop(Rule):
     """disableDepthOfField discards the render camera's authored fStop.
 
     ## What it does
-    For each render configuration with a valid camera, reports an effective
-    `disableDepthOfField = true` when the camera authors an `fStop > 0` at the
-    default time or at any time sample (capped). An `fStop` left at its
+    For each render configuration with a valid camera (since catalog Revision 2
+    also a product rendered on its own, R2-4), reports an effective
+    `disableDepthOfField = true` when the camera authors an `fStop > 0` at a
+    rendered time (R2-1: the default time when `fStop` has no time samples,
+    else its sample times inside the stage's authored
+    `startTimeCode`..`endTimeCode` plus both ends, or all of them without a
+    range; capped). An `fStop` left at its
     fallback `0` already means no depth of field, so it is not reported.
 
     ## Why is this bad?
@@ -25,6 +29,10 @@ class DepthOfFieldDisabledWithFStop(Rule):
     Defaults to 0.0, which turns off depth of field effects."*
     (`usdGeom/schema.usda`). Legitimate for previews, but on a final-quality
     settings it silently removes the camera department's creative choice.
+
+    Renderers read the camera at the frame being rendered, where an
+    attribute's time samples beat its default value (catalog R2-1), so a
+    default value no frame renders is not reported.
 
     ## Example
     ```usda
@@ -89,7 +97,7 @@ class DepthOfFieldDisabledWithFStop(Rule):
             fstop = camera.GetFStopAttr()
             if not has_authored_value(fstop):
                 continue
-            for time in evaluation_times(fstop, ctx.time_sample_cap):
+            for time in rendered_times((fstop,), ctx.time_sample_cap):
                 value = fstop.Get(time)
                 if positive_finite(value):
                     yield Diagnostic(

@@ -14,15 +14,22 @@ class ShutterIntervalInverted(Rule):
 
     ## What it does
     For each effective render camera used by a configuration with motion blur
-    enabled (effective `disableMotionBlur` false), reports `shutter:open >
-    shutter:close` at the default time or at any time sample (capped) of either
-    attribute, at the first failing time. Both fall back to 0.
+    enabled (effective `disableMotionBlur` false; since catalog Revision 2 also
+    a product rendered on its own, R2-4), reports `shutter:open >
+    shutter:close` at the first failing rendered time (R2-1: the default time
+    when neither has time samples, else their sample times inside the stage's
+    authored `startTimeCode`..`endTimeCode` plus both ends, or all of them
+    without a range; capped). Both fall back to 0.
 
     ## Why is this bad?
     *"shutter:close ... A value greater or equal to shutter:open should be
     authored, otherwise there is no exposure and a renderer should produce a
     black image."* (`usdGeom/schema.usda`, usd-core 26.11). With motion blur
     disabled the interval is forced to [0, 0], so that case is skipped.
+
+    Renderers read the camera at the frame being rendered, where an
+    attribute's time samples beat its default value (catalog R2-1), so a
+    default value no frame renders is not reported.
 
     ## Example
     ```usda

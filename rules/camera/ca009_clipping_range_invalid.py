@@ -27,8 +27,12 @@ class ClippingRangeInvalid(Rule):
     """The render camera's clippingRange is non-finite, negative, inverted or zero-near.
 
     ## What it does
-    On each effective render camera, evaluated at the default time and at every
-    authored time sample (capped) of `clippingRange` or `projection`, reports a
+    On each effective render camera (since catalog Revision 2 also that of a
+    product rendered on its own, R2-4), read at the rendered times of
+    `clippingRange` and `projection` (R2-1: the default time when neither has
+    time samples, else their sample times inside the stage's authored
+    `startTimeCode`..`endTimeCode` plus both ends, or all of them without a
+    range; capped), reports a
     `clippingRange` (near, far) with a NaN or infinite component, `near < 0`,
     `far <= near`, or `near == 0` while the camera is perspective.
 
@@ -38,6 +42,10 @@ class ClippingRangeInvalid(Rule):
     (`docs/user_guides/render_user_guide.rst`). An inverted or zero-near range
     gives an empty or degenerate perspective frustum: nothing, or only
     z-fighting, renders.
+
+    Renderers read the camera at the frame being rendered, where an
+    attribute's time samples beat its default value (catalog R2-1), so a
+    default value no frame renders is not reported.
 
     ## Example
     ```usda

@@ -101,6 +101,8 @@ class ProductNameDuplicate(Rule):
         # The configurations already pair each settings with its usable products, in order.
         products_of: dict[Sdf.Path, list[Usd.Prim]] = {}
         for config in ctx.configurations:
+            if config.settings is None:
+                continue  # a product rendered on its own has no sibling products
             products = products_of.setdefault(config.settings.GetPath(), [])
             if config.product is not None:
                 products.append(config.product)

@@ -3,31 +3,62 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import Any
 
 from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api.resolve import has_authored_value
 
 from .._aov import checked_value, product_render_vars
 
+#: The schema attributes compared by value (fallbacks included).
+_SOURCE = ("sourceType", "sourceName", "dataType")
+
+
+def _other_settings(ctx: Context, var: Usd.Prim) -> dict[str, Any]:
+    """Every other attribute the var authors a well-typed value for (namespaced
+    renderer settings such as ``arnold:filter`` or ``driver:parameters:aov:name``,
+    custom attributes), by name: its default value and its time samples."""
+    settings: dict[str, Any] = {}
+    for attr in var.GetAuthoredAttributes():
+        name = attr.GetName()
+        if name in _SOURCE or not has_authored_value(attr):
+            continue
+        samples = tuple((t, attr.Get(t)) for t in attr.GetTimeSamples())
+        settings[name] = (attr.Get(), samples)
+    return settings
+
 
 class DuplicateRenderVars(Rule):
-    """Two RenderVars of one product compute the same source.
+    """Two RenderVars of one product are the same var: same source, same settings.
 
     ## What it does
     Reports two different usable RenderVar prims targeted by the same
     product's `orderedVars` whose composed `(sourceType, sourceName, dataType)`
-    are identical. (The same path twice cannot occur: usd-core rejects duplicate
-    targets in one list-op at parse time, and composed list-ops de-duplicate.)
-    A var with an empty `sourceName` is left to VA001.
+    are identical **and** that author the same value for every other
+    attribute (catalog R2-3): namespaced renderer settings such as
+    `driver:parameters:aov:name`, `arnold:filter`, `ri:*` or `karma:*`, and
+    custom attributes, compared by composed default value and time samples.
+    An attribute only one of them authors makes them different vars. (The
+    same path twice cannot occur: usd-core rejects duplicate targets in one
+    list-op at parse time, and composed list-ops de-duplicate.) A var with an
+    empty `sourceName` is left to VA001. Revision 1 compared the three source
+    attributes alone and so reported, for example, arnold-usd's filtered and
+    unfiltered beauty.
 
     ## Why is this bad?
     Each RenderVar is *"a quantity or 'channel' of computed data"* (RenderVar
-    prim definition, usd-core 26.11): two vars computing the same source
+    prim definition, usd-core 26.11): two vars computing the same thing
     produce a redundant channel, and, in renderers that name channels after
     `sourceName` for non-LPE vars (hdPrman's `_ComputeRenderViewDesc`,
     `third_party/renderman-26/plugin/hdPrman/renderParam.cpp`), a channel-name
-    clash.
+    clash. Vars that differ in any other attribute are distinct channels:
+    `UsdRenderComputeSpec` keeps those attributes as the var's
+    `namespacedSettings` (`pxr/usd/usdRender/spec.cpp`) and renderers build
+    their outputs from them (arnold-usd creates each var's pixel filter from
+    its `arnold:filter` setting, `_CreateFilter` in
+    `libs/render_delegate/render_pass.cpp`).
 
     ## Example
     ```usda
@@ -96,22 +127,34 @@ class DuplicateRenderVars(Rule):
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        seen: dict[tuple, Usd.Prim] = {}
+        seen: dict[tuple, list[Usd.Prim]] = {}
         for var in product_render_vars(prim, ctx):
-            key = tuple(
-                checked_value(var, n, ctx) for n in ("sourceType", "sourceName", "dataType")
-            )
+            key = tuple(checked_value(var, n, ctx) for n in _SOURCE)
             if None in key or not key[1]:
                 continue
-            first = seen.setdefault(key, var)
-            if first == var:  # the same prim (Usd.Prim equality), without building paths
+            same_source = seen.setdefault(key, [])
+            first = _same_var(same_source, var, ctx)
+            same_source.append(var)
+            if first is None:
                 continue
             source_type, source_name, data_type = key
+            others = sorted(ctx.cached(_other_settings, var))
+            settings = f" and the same {', '.join(others)}" if others else ""
             yield Diagnostic(
                 message=f"RenderVars {first.GetPath()} and {var.GetPath()} of {prim.GetPath()} "
-                "both "
-                f"compute sourceType {source_type!r}, sourceName {source_name!r}, dataType "
-                f"{data_type!r}: a redundant channel; remove one from orderedVars or change "
-                "its source",
+                f"both compute sourceType {source_type!r}, sourceName {source_name!r}, dataType "
+                f"{data_type!r}{settings}, and no other attribute tells them apart: a "
+                "redundant channel; remove one from orderedVars or change its source or "
+                "settings",
                 at=UsdRender.Product(prim).GetOrderedVarsRel(),
             )
+
+
+def _same_var(candidates: list[Usd.Prim], var: Usd.Prim, ctx: Context) -> Usd.Prim | None:
+    """The first of ``candidates`` (vars with the same source) that authors the
+    same other attributes as ``var``; those are read only for vars whose
+    source collides."""
+    if not candidates:
+        return None
+    settings = ctx.cached(_other_settings, var)
+    return next((c for c in candidates if ctx.cached(_other_settings, c) == settings), None)

@@ -61,7 +61,8 @@ class _WindowUse:
 def _window_uses(ctx: Context) -> list[_WindowUse]:
     """Every authored dataWindowNDC with the resolution of each configuration
     it is used in: a product's window or resolution overrides the settings'
-    (catalog SE003: checked once per settings that targets the product)."""
+    (catalog SE003: checked once per settings that targets the product); a
+    product rendered on its own uses its own values and the fallbacks (R2-4)."""
     return ctx.cached(_find_window_uses)
 
 
@@ -71,11 +72,17 @@ def _find_window_uses(ctx: Context) -> list[_WindowUse]:
         window = config.effective("dataWindowNDC")
         if window.authored:  # the resolution is read only for a window to check
             uses.append(_WindowUse(window, config.effective("resolution").value))
+    # Each settings' own window at its own resolution (even when every product
+    # overrides it), and untargeted products whether or not they render on
+    # their own; a use already found above is not listed twice.
+    found = {(use.window.attr.GetPath(), tuple(items(use.resolution))) for use in uses}
     for prim in [*ctx.prims_of(UsdRender.Settings), *ctx.untargeted_products]:
         attr = prim.GetAttribute("dataWindowNDC")
         if has_authored_value(attr):
-            window = EffectiveValue(attr.Get(), attr, True)
-            uses.append(_WindowUse(window, composed_value(prim, "resolution")))
+            resolution = composed_value(prim, "resolution")
+            if (attr.GetPath(), tuple(items(resolution))) not in found:
+                window = EffectiveValue(attr.Get(), attr, True)
+                uses.append(_WindowUse(window, resolution))
     return uses
 
 

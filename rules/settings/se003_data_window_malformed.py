@@ -29,7 +29,8 @@ class DataWindowMalformed(Rule):
     Checks each authored `dataWindowNDC` `(xmin, ymin, xmax, ymax)` on a
     RenderSettings or RenderProduct, with the resolution of the render
     configuration it is used in (a product's authored `resolution`, else its
-    settings'). It is malformed when a component is NaN or infinite, when
+    settings'; for a product no usable settings targets, its own value or the
+    fallback, catalog R2-4). It is malformed when a component is NaN or infinite, when
     `xmin >= xmax` or `ymin >= ymax`, or when it contains no pixel centre: the
     centre of pixel *i* is at `(i + 0.5) / W`, the minimum edge inclusive and
     the maximum edge exclusive.

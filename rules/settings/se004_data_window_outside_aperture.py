@@ -15,7 +15,10 @@ class DataWindowOutsideAperture(Rule):
     ## What it does
     Reports an authored `dataWindowNDC` on a RenderSettings or RenderProduct
     that SE003 accepts but that does not overlap the unit square:
-    `xmax <= 0`, `xmin >= 1`, `ymax <= 0` or `ymin >= 1`.
+    `xmax <= 0`, `xmin >= 1`, `ymax <= 0` or `ymin >= 1`. A product no usable
+    RenderSettings targets is checked on its own value (catalog R2-4). The
+    check reads no camera attribute, so catalog R2-1's rendered times leave it
+    at the default time, like every uniform render-prim attribute.
 
     ## Why is this bad?
     *"Specifying a window outside the unit square will produce overscan

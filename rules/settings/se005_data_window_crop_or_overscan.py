@@ -18,7 +18,9 @@ class DataWindowCropOrOverscan(Rule):
     square but differs from `(0, 0, 1, 1)`: *cropped* when `xmin > 0`,
     `ymin > 0`, `xmax < 1` or `ymax < 1`; *overscan* when a bound lies outside
     the unit square (both may apply). The message gives the pixel data window
-    at the configuration's resolution.
+    at the configuration's resolution (for a product no usable RenderSettings
+    targets, its own or the fallback, catalog R2-4). The check reads no camera
+    attribute, so catalog R2-1's rendered times leave it at the default time.
 
     ## Why is this bad?
     *"Specifying a window outside the unit square will produce overscan data.

@@ -7,22 +7,27 @@ from collections.abc import Iterator
 from pxr import UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.api.resolve import forwarded_targets
+from usdrender_lint.api.resolve import forwarded_targets, renders_on_its_own
 
 
 class UnreferencedRenderPrim(Rule):
-    """A RenderProduct or RenderVar that nothing renders.
+    """A RenderProduct or RenderVar that no RenderSettings or product reaches.
 
     ## What it does
     Reports a usable RenderProduct that is not among the forwarded `products`
-    targets of any RenderSettings, and a usable RenderVar that is not among the
-    forwarded `orderedVars` targets of any RenderProduct.
+    targets of any usable RenderSettings, and a usable RenderVar that is not
+    among the forwarded `orderedVars` targets of any RenderProduct. A product
+    that authors its own camera is still reported, but since catalog Revision 2
+    (R2-4) it is also checked as a render configuration of its own (the CA and
+    data-window rules), and the message says so.
 
     ## Why is this bad?
     `UsdRenderComputeSpec` reaches products only through
     `settings.GetProductsRel().GetForwardedTargets()` and vars only through
     `GetOrderedVarsRel()` (`pxr/usd/usdRender/spec.cpp`): orphans are dead data
-    and usually mean a renamed or forgotten connection.
+    to it and usually mean a renamed or forgotten connection. Some renderers
+    render a product directly by its prim path (ovrtx, Kit's render products;
+    catalog R2-4), so an orphan product with a camera may be intended.
 
     ## Example
     ```usda
@@ -70,10 +75,17 @@ class UnreferencedRenderPrim(Rule):
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for product in ctx.untargeted_products:
+            if renders_on_its_own(product):
+                effect = (
+                    "so UsdRenderComputeSpec never renders it; renderers that render products "
+                    "by prim path render it on its own camera and values, which are checked as "
+                    "a configuration of their own"
+                )
+            else:
+                effect = "so nothing renders it"
             yield Diagnostic(
                 message=f"RenderProduct <{product.GetPath()}> is in no RenderSettings' products, "
-                "so "
-                "nothing renders it; add it to a RenderSettings' products or remove it",
+                f"{effect}; add it to a RenderSettings' products or remove it",
                 at=product,
             )
         targeted = {

@@ -240,6 +240,10 @@ def Scope "Render"
     {
         rel camera = </Render/S.hop>
         rel hop = </Render/S.camera>
+        rel products = </Render/P>
+    }
+    def RenderProduct "P"
+    {
     }
 }
 """
@@ -376,9 +380,10 @@ CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
         _text("forwarding.usda", FORWARDING_CYCLE),
         Expect(codes=("CA001",)),
     ),
+    # No composed products and no camera: a settings alone, so no CA001 (R2-2).
     "relationships-authored-as-attributes": (
         _text("rel_as_attr.usda", RELATIONSHIPS_AS_ATTRIBUTES),
-        Expect(codes=("CA001", "SE015")),
+        Expect(codes=("SE015",)),
     ),
     "var-and-collection-relationships-authored-as-attributes": (
         _text("rel_as_attr2.usda", VAR_AND_COLLECTION_RELATIONSHIPS_AS_ATTRIBUTES),

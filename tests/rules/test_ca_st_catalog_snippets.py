@@ -1,7 +1,9 @@
 """The catalog's failing snippets for the ST and CA rules
 (../shared/spec/snippets): each fires its own rule, and the ST/CA rules that
 fire are exactly the ones the catalog lists under "Other rules that also fire
-on the failing snippet" (copied here from the catalog)."""
+on the failing snippet" (copied here from the catalog), as Revision 2 changes
+them: R2-2 drops CA001 from every snippet whose RenderSettings has no usable
+product (ST002..ST005, ST007..ST009)."""
 
 from __future__ import annotations
 
@@ -25,14 +27,14 @@ EXPECTED = {
     "CA008": {"CA006", "CA008", "ST003"},
     "CA009": {"CA006", "CA009", "ST003"},
     "ST001": {"ST001"},
-    "ST002": {"CA001", "ST002", "ST003"},
-    "ST003": {"CA001", "ST003"},
-    "ST004": {"CA001", "ST004"},
-    "ST005": {"CA001", "ST005"},
+    "ST002": {"ST002", "ST003"},  # R2-2: a settings without products gets no CA001
+    "ST003": {"ST003"},  # R2-2: a settings without products gets no CA001
+    "ST004": {"ST004"},  # R2-2: a settings without products gets no CA001
+    "ST005": {"ST005"},  # R2-2: a settings without products gets no CA001
     "ST006": {"CA001", "ST006"},
-    "ST007": {"CA001", "ST003", "ST007"},
-    "ST008": {"CA001", "ST003", "ST008"},
-    "ST009": {"CA001", "ST003", "ST009"},
+    "ST007": {"ST003", "ST007"},  # R2-2: a settings without products gets no CA001
+    "ST008": {"ST003", "ST008"},  # R2-2: a settings without products gets no CA001
+    "ST009": {"ST003", "ST009"},  # R2-2: a settings without products gets no CA001
     "ST010": {"ST010"},
 }
 

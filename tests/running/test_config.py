@@ -12,7 +12,7 @@ from usdrender_lint.cli import cli
 from usdrender_lint.config import Settings, load_settings
 
 # SE003 (error) on a bad window; SE001's require-authored option reports the
-# unauthored resolution; CA001 (error) for the missing camera.
+# unauthored resolution; CA001 (error) for the product without a camera.
 SHOT = """#usda 1.0
 
 def Scope "Render"
@@ -20,6 +20,12 @@ def Scope "Render"
     def RenderSettings "Settings"
     {
         uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+        rel products = </Render/Beauty>
+    }
+
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
     }
 }
 """

@@ -10,7 +10,7 @@ from typing import TypeVar
 from pxr import Usd, UsdRender
 
 from .cache import LintCache
-from .resolve import RenderConfiguration, render_configurations
+from .resolve import RenderConfiguration, own_configurations, settings_configurations
 
 _T = TypeVar("_T")
 
@@ -54,14 +54,22 @@ class Context:
 
     @cached_property
     def configurations(self) -> list[RenderConfiguration]:
-        """Every (settings, product) render configuration on the stage."""
-        return render_configurations(self.prims_of(UsdRender.Settings))
+        """Every render configuration on the stage: each (settings, product)
+        pair, each settings without products, then each product rendered on
+        its own (``settings`` None; catalog R2-4)."""
+        return [*self._settings_configurations, *own_configurations(self.untargeted_products)]
 
     @cached_property
     def untargeted_products(self) -> list[Usd.Prim]:
-        """Usable RenderProducts that no RenderSettings' ``products`` targets."""
-        targeted = {c.product.GetPath() for c in self.configurations if c.product is not None}
+        """Usable RenderProducts that no usable RenderSettings' ``products`` targets."""
+        targeted = {
+            c.product.GetPath() for c in self._settings_configurations if c.product is not None
+        }
         return [p for p in self.prims_of(UsdRender.Product) if p.GetPath() not in targeted]
+
+    @cached_property
+    def _settings_configurations(self) -> list[RenderConfiguration]:
+        return settings_configurations(self.prims_of(UsdRender.Settings))
 
     def cached(self, func: Callable[..., _T], *args: Hashable) -> _T:
         """``func(self, *args)``, computed once per lint and shared between rules.

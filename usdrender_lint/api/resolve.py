@@ -15,7 +15,7 @@ from functools import cached_property
 from itertools import islice
 from typing import Any
 
-from pxr import Sdf, Tf, Usd, UsdGeom, UsdRender
+from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdRender
 
 from .cache import cached
 
@@ -332,19 +332,62 @@ def time_samples(attr: Usd.Attribute, cap: int) -> list[float]:
     return list(attr.GetTimeSamples())[:cap]
 
 
-def evaluation_times(attr: Usd.Attribute, cap: int) -> Iterator[Usd.TimeCode]:
-    """Default, then each authored time sample (capped): where camera values
-    are evaluated (catalog, Conventions: Time)."""
-    return joint_evaluation_times((attr,), cap)
-
-
 def joint_evaluation_times(attrs: Iterable[Usd.Attribute], cap: int) -> Iterator[Usd.TimeCode]:
     """Default, then the sorted union of the attributes' authored time samples
-    (capped in total): where a check reading several varying values is evaluated."""
+    (capped in total): where a check of a varying render-prim value that
+    Revision 2 leaves alone (PR002's productName) is evaluated. Camera inputs
+    are read at :func:`rendered_times` instead."""
     yield DEFAULT_TIME
     union = sorted({t for attr in attrs for t in time_samples(attr, cap)})
     for t in union[:cap]:
         yield Usd.TimeCode(t)
+
+
+def rendered_times(attrs: Iterable[Usd.Attribute], cap: int) -> list[Usd.TimeCode]:
+    """The times at which a renderer reads these varying attributes (catalog
+    Revision 2, R2-1 "Rendered times").
+
+    Hydra-based renderers read a varying attribute at the frame being rendered,
+    and at a numeric time an attribute's time samples beat its default value.
+    So:
+
+    - none of the attributes has a (well-typed) time sample: ``[Default]``;
+    - the stage authors both ``startTimeCode`` and ``endTimeCode`` (root or
+      session layer, as ``Usd.Stage.HasAuthoredTimeCodeRange`` reads them; a
+      range in a sublayer does not count): the attributes' sample times inside
+      ``[start, end]`` plus both ends, whose values are held (or interpolated)
+      from the nearest samples, so samples that all lie outside the range
+      still give the values rendered at its ends;
+    - otherwise: every sample time of the attributes.
+
+    Default is then not a rendered time. Sample times are stage times (layer
+    offsets and value clips applied, as ``Usd.Attribute.GetTimeSamples``
+    reports them); the result is sorted and holds at most ``cap`` times. The
+    stage range is read from the attributes' stage. A type-mismatched opinion
+    counts as unauthored (SE016), so its samples are not rendered times.
+    """
+    attrs = [a for a in attrs if a]
+    if not attrs:
+        return [DEFAULT_TIME]
+    stage = attrs[0].GetStage()
+    interval: Gf.Interval | None = None
+    if stage.HasAuthoredTimeCodeRange():
+        interval = Gf.Interval(stage.GetStartTimeCode(), stage.GetEndTimeCode())
+    times: set[float] = set()
+    sampled = False
+    for attr in attrs:
+        if not has_authored_value(attr) or attr.GetNumTimeSamples() == 0:
+            continue
+        sampled = True
+        if interval is None:
+            times.update(time_samples(attr, cap))
+        else:
+            times.update(islice(attr.GetTimeSamplesInInterval(interval), cap))
+    if not sampled:
+        return [DEFAULT_TIME]
+    if interval is not None:
+        times.update((interval.min, interval.max))
+    return [Usd.TimeCode(t) for t in sorted(times)[:cap]]
 
 
 def format_time(time: Usd.TimeCode) -> str:
@@ -376,22 +419,49 @@ class EffectiveValue:
 
 @dataclass(frozen=True)
 class RenderConfiguration:
-    """A RenderSettings paired with one usable RenderProduct of its ``products``
-    (or alone when it has none): the unit ``UsdRenderComputeSpec`` renders."""
+    """The unit a renderer renders: a RenderSettings paired with one usable
+    RenderProduct of its ``products`` (or alone when it has none), as
+    ``UsdRenderComputeSpec`` builds it, or a product rendered on its own.
 
-    settings: Usd.Prim
+    A product rendered on its own (``settings`` is None) is a usable product
+    that no usable RenderSettings targets and whose own ``camera`` has a
+    forwarded target: renderers that address products by prim path render it
+    with its own values and the schema fallbacks (catalog R2-4).
+    """
+
+    settings: Usd.Prim | None
     product: Usd.Prim | None = None
+
+    def __post_init__(self) -> None:
+        if self.settings is None and self.product is None:
+            raise ValueError("a render configuration needs a settings or a product prim")
+
+    @property
+    def owner(self) -> Usd.Prim:
+        """The prim that stands for the whole configuration (where its findings
+        and settings-level fixes go): the settings, or the product rendered on
+        its own."""
+        owner = self.settings if self.settings is not None else self.product
+        assert owner is not None  # __post_init__
+        return owner
+
+    @property
+    def rendered_on_its_own(self) -> bool:
+        """True for a product that no RenderSettings targets (catalog R2-4)."""
+        return self.settings is None
 
     def effective(self, name: str) -> EffectiveValue:
         """The product's value if it is authored there (a block ``= None`` is not),
-        otherwise the settings' composed value, authored or fallback."""
+        otherwise the settings' composed value, authored or fallback (the
+        product's fallback for a product rendered on its own)."""
         if self.product is not None:
             attr = self.product.GetAttribute(name)
             if has_authored_value(attr):
                 return EffectiveValue(attr.Get(), attr, True)
-        attr = self.settings.GetAttribute(name)
+        owner = self.owner
+        attr = owner.GetAttribute(name)
         authored = has_authored_value(attr)
-        value = attr.Get() if authored else fallback_value(self.settings, name)
+        value = attr.Get() if authored else fallback_value(owner, name)
         return EffectiveValue(value, attr, authored)
 
     @cached_property
@@ -400,9 +470,9 @@ class RenderConfiguration:
         ``rel camera = []`` cannot clear the settings camera), else the settings'."""
         if self.product is not None:
             rel = self.product.GetRelationship("camera")  # a schema object costs ~1 us
-            if forwarded_targets(rel):
+            if self.settings is None or forwarded_targets(rel):
                 return rel
-        return self.settings.GetRelationship("camera")
+        return self.owner.GetRelationship("camera")
 
     @cached_property
     def camera_target(self) -> Target | None:
@@ -410,7 +480,7 @@ class RenderConfiguration:
         targets = forwarded_targets(self.camera_relationship)
         if not targets:
             return None
-        return resolve_target(self.settings.GetStage(), targets[0])
+        return resolve_target(self.owner.GetStage(), targets[0])
 
     @property
     def camera(self) -> UsdGeom.Camera | None:
@@ -422,12 +492,17 @@ class RenderConfiguration:
         return UsdGeom.Camera(prim)
 
     def describe(self) -> str:
+        if self.settings is None:
+            return f"product {self.owner.GetPath()} (rendered on its own)"
         if self.product is None:
             return f"settings {self.settings.GetPath()}"
         return f"settings {self.settings.GetPath()} with product {self.product.GetPath()}"
 
 
-def render_configurations(settings_prims: list[Usd.Prim]) -> list[RenderConfiguration]:
+def settings_configurations(settings_prims: Iterable[Usd.Prim]) -> list[RenderConfiguration]:
+    """Each usable RenderSettings with each usable product its ``products``
+    targets (forwarded), or alone when it has none: ``UsdRenderComputeSpec``'s
+    product loop (``pxr/usd/usdRender/spec.cpp``)."""
     configurations: list[RenderConfiguration] = []
     for settings in settings_prims:
         products = [
@@ -440,3 +515,16 @@ def render_configurations(settings_prims: list[Usd.Prim]) -> list[RenderConfigur
         else:
             configurations.append(RenderConfiguration(settings))
     return configurations
+
+
+def renders_on_its_own(product: Usd.Prim) -> bool:
+    """True when an untargeted product authors a camera of its own (a forwarded
+    target), so renderers that address products by prim path (ovrtx, Kit's
+    render products) can render it alone (catalog R2-4)."""
+    return bool(forwarded_targets(product.GetRelationship("camera")))
+
+
+def own_configurations(untargeted_products: Iterable[Usd.Prim]) -> list[RenderConfiguration]:
+    """A configuration for each of ``untargeted_products`` (usable products
+    that no usable settings targets) that renders on its own (catalog R2-4)."""
+    return [RenderConfiguration(None, p) for p in untargeted_products if renders_on_its_own(p)]

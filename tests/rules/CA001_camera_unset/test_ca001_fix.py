@@ -6,6 +6,7 @@ from pxr import Sdf, UsdGeom, UsdRender
 from rule_support import apply_fix, diagnostics, only, stage_from_text
 from usdrender_lint.rules.camera.ca001_camera_unset import CameraUnset
 
+#: A product of a settings without a camera (a settings alone is no CA001: R2-2).
 SETTINGS_WITHOUT_CAMERA = """#usda 1.0
 def Xform "World"
 {
@@ -17,6 +18,11 @@ def Scope "Render"
 {
     def RenderSettings "Settings"
     {
+        rel products = </Render/Beauty>
+    }
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
     }
 }
 """
