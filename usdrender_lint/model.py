@@ -75,6 +75,10 @@ class Finding:
     message: str
     location: Location
     fix: FixInfo | None = None
+    #: The renderer profile the finding was judged under and why (R2-5);
+    #: None for findings no profile judges (a file USD cannot open).
+    profile: str | None = None
+    profile_reason: str | None = None
 
     def sort_key(self) -> tuple:
         return (

@@ -77,6 +77,12 @@ class CameraTargetMissing(Rule):
 
     ## Fix safety
     No automatic fix: only the author knows which camera was meant.
+
+    ## Profiles
+    A renderer profile may name cameras its application creates at run time
+    (the `omniverse` profile: Kit's `/OmniverseKit_Persp`, `_Front`, `_Top`,
+    `_Right`, made in the session layer); a missing target at such a path is
+    no finding under that profile.
     """
 
     code = "CA003"
@@ -90,6 +96,10 @@ class CameraTargetMissing(Rule):
             if target is None:
                 continue
             if target.is_missing:
+                if ctx.profile_accepts(
+                    config.camera_relationship, "runtime_camera", str(target.path)
+                ):
+                    continue  # the renderer's application creates it at run time (R2-5)
                 reason = target.problem
             elif target.prim is not None and target.prim.IsA(UsdGeom.Camera) and not target.ok:
                 reason = f"is a Camera but {target.problem}"

@@ -94,6 +94,11 @@ class CameraTargetNotCamera(Rule):
     Safe, conditional: when the target prim has exactly one Camera descendant
     (the rig case) the fix retargets to it; a property path is retargeted to its
     owning prim when that prim is a Camera. Otherwise there is no fix.
+
+    ## Profiles
+    A renderer profile may accept its own camera-like prim types (the
+    `omniverse` profile: `OmniLidar`, `OmniRadar`); a target of such a type is
+    then no finding, and a finding names the types the profile accepts.
     """
 
     code = "CA004"
@@ -116,22 +121,28 @@ class CameraTargetNotCamera(Rule):
                     suggestion = owner
             elif target.prim is not None and not target.prim.IsA(UsdGeom.Camera):
                 # (prim is None only when missing or a property path: both handled above)
+                if ctx.profile_accepts(rel, "camera_type", target.prim.GetTypeName()):
+                    continue  # a renderer's own sensor type (R2-5)
                 what = describe_prim_type(target.prim)
                 if target.problem:
                     what += f" that {target.problem}"
                 suggestion = _single_camera_descendant(target.prim)
             else:
                 continue
+            others = ctx.accepted_names(rel, "camera_types")
+            if others:
+                what += f", not a Camera (nor {', '.join(others)}, which this profile accepts)"
+            else:
+                what += ", not a Camera"
             if suggestion is None:
                 yield Diagnostic(
-                    message=f"camera target <{target.path}> is {what}, not a Camera; "
-                    "point it at a Camera prim",
+                    message=f"camera target <{target.path}> is {what}; point it at a Camera prim",
                     at=rel,
                 )
                 continue
             new_path = suggestion.GetPath()
             yield Diagnostic(
-                message=f"camera target <{target.path}> is {what}, not a Camera; "
+                message=f"camera target <{target.path}> is {what}; "
                 f"target the Camera <{new_path}> instead",
                 at=rel,
                 fix=Fix(

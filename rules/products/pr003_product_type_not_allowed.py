@@ -85,6 +85,9 @@ class ProductTypeNotAllowed(Rule):
         allowed = allowed_tokens(prim, "productType")
         if value is None or value in allowed or _renderer_product_type(prim):
             return
+        if ctx.profile_accepts(attr, "product_type", value):
+            return  # a product type the renderer itself writes (R2-5)
+        renderer_types = ctx.accepted_names(attr, "product_types")
         correction = unique_case_match(value, allowed)
         if correction:
             advice = f"did you mean {correction!r}?"
@@ -93,9 +96,9 @@ class ProductTypeNotAllowed(Rule):
                 f"use {' or '.join(allowed)} (a file format belongs in productName), or author "
                 "a renderer-specific override such as ri:productType"
             )
+        choices = ", ".join([*allowed, *renderer_types])
         yield Diagnostic(
-            message=f"productType {value!r} of {prim.GetPath()} is not one of "
-            f"{', '.join(allowed)}; " + advice,
+            message=f"productType {value!r} of {prim.GetPath()} is not one of {choices}; " + advice,
             at=attr,
             fix=Fix(
                 description=f"set productType to {correction!r}",

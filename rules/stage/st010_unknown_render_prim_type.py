@@ -47,7 +47,9 @@ class UnknownRenderPrimType(Rule):
     schema, when the prim is under `/Render` or its type name starts with
     `Render` (any case). It suggests the closest usdRender type name
     (`RenderSettings`, `RenderProduct`, `RenderVar`, `RenderPass`) by edit
-    distance.
+    distance. Under a renderer profile, the types that renderer's own
+    schemas define are not reported (`renderman`: `Pxr*`, hdPrman's usdRiPxr
+    schemas; `omniverse`: the omni_sensors types such as `OmniLidar`).
 
     ## Why is this bad?
     USD composes an unknown type as a typeless prim, so `def RenderSetting` or
@@ -103,6 +105,8 @@ class UnknownRenderPrimType(Rule):
             path = prim.GetPath()
             if not (path.HasPrefix(RENDER_SCOPE) or type_name.lower().startswith("render")):
                 continue
+            if ctx.profile_accepts(prim, "prim_type", type_name):
+                continue  # the renderer's own schema defines it (R2-5)
             ranked = sorted((edit_distance(type_name, c), c) for c in RENDER_TYPE_NAMES)
             (distance, closest), (runner_up, _) = ranked[0], ranked[1]
             if distance <= self.suggestion_distance:

@@ -5,12 +5,16 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
-from pxr import Usd, UsdRender
+from pxr import Sdf, Usd, UsdRender
 
 from .cache import LintCache
 from .resolve import RenderConfiguration, own_configurations, settings_configurations
+
+if TYPE_CHECKING:
+    from ..profiles.detect import Assignment
+    from ..profiles.model import Accepted, ProfileChoice
 
 _T = TypeVar("_T")
 
@@ -41,6 +45,8 @@ class Context:
     partial: bool = False
     #: This lint's cache (see :meth:`cached`).
     cache: LintCache = field(default_factory=LintCache, repr=False)
+    #: The configured profile (a name or "auto") and where it was configured.
+    profile_setting: tuple[str, str] = ("auto", "")
 
     def require_full_stage(self) -> None:
         """Call before reading beyond the render prims, their targets and
@@ -70,6 +76,54 @@ class Context:
     @cached_property
     def _settings_configurations(self) -> list[RenderConfiguration]:
         return settings_configurations(self.prims_of(UsdRender.Settings))
+
+    @cached_property
+    def profiles(self) -> Assignment:
+        """The profile of every configuration and of the stage (R2-5)."""
+        from ..profiles.detect import assign
+
+        setting, reason = self.profile_setting
+        return assign(
+            self.configurations,
+            self.untargeted_products,
+            self.prims_of(UsdRender.Pass),
+            setting,
+            reason,
+        )
+
+    def profile_of(self, config: RenderConfiguration) -> ProfileChoice:
+        """The profile a render configuration is judged under."""
+        return self.profiles.for_scope(config.settings.GetPath())
+
+    def profile_choices(self, at: Usd.Object | Sdf.Path | None) -> tuple[ProfileChoice, ...]:
+        """The profiles a finding anchored at ``at`` is judged under."""
+        if isinstance(at, Usd.Object):
+            at = at.GetPath()
+        return self.profiles.choices_for(at)
+
+    def profile_accepts(
+        self, at: Usd.Object | Sdf.Path | None, kind: str, value: str
+    ) -> tuple[ProfileChoice, Accepted] | None:
+        """When every profile a finding at ``at`` is judged under accepts
+        ``value`` as ``kind`` ("camera_type", "runtime_camera", "prim_type"
+        or "product_type"), the first of them and what it accepts; else None
+        (a prim shared with a configuration that does not accept it keeps its
+        finding)."""
+        found = None
+        for choice in self.profile_choices(at):
+            accepted = getattr(choice.profile, kind)(value)
+            if accepted is None:
+                return None
+            found = found or (choice, accepted)
+        return found
+
+    def accepted_names(self, at: Usd.Object | Sdf.Path | None, field_name: str) -> list[str]:
+        """Every name the profiles at ``at`` accept in ``field_name`` (e.g.
+        "camera_types"), for messages that say what else would do."""
+        names: list[str] = []
+        for choice in self.profile_choices(at):
+            names.extend(a.name for a in getattr(choice.profile, field_name))
+        return list(dict.fromkeys(names))
 
     def cached(self, func: Callable[..., _T], *args: Hashable) -> _T:
         """``func(self, *args)``, computed once per lint and shared between rules.

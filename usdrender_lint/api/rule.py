@@ -85,6 +85,9 @@ class Rule:
     partial_composition: ClassVar[bool] = False
     #: True on a shared base class: not a rule, not validated or registered.
     abstract: ClassVar[bool] = False
+    #: The renderer profile a renderer rule belongs to (``"karma"``): it runs
+    #: only on configurations judged under that profile. None: every profile.
+    profile: ClassVar[str | None] = None
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import os
 import traceback
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd, UsdRender
@@ -24,6 +24,8 @@ from ..model import (
     Location,
     Severity,
 )
+from ..profiles import AUTO
+from ..profiles.model import judge
 from . import partial, suppress
 from .locate import bounded_message, locate
 from .stage import (
@@ -119,6 +121,7 @@ class Linter:
         raise_errors: bool = False,
         known_rules: Sequence[type[Rule]] | None = None,
         full_composition: bool = False,
+        profile_for: Callable[[str], tuple[str, str]] | None = None,
     ) -> None:
         self.rules = tuple(rules)
         #: A rule that does not declare partial_composition (every third-party
@@ -132,6 +135,8 @@ class Linter:
         #: Every registered rule, so a customData suppression naming a rule that
         #: was not selected is not reported as naming no rule (default: ``rules``).
         self.known_rules = known_rules
+        #: The configured profile of a linted file: (name or "auto", where configured).
+        self.profile_for = profile_for or _auto_profile
         self._dispatch = _TypeDispatch(self.rules)
         #: Rules with a check_stage of their own (most have none: no call per file).
         self._stage_rules = tuple(r for r in self.rules if _overrides(r, "check_stage"))
@@ -218,18 +223,28 @@ class Linter:
 
     def _lint(self, stage: Usd.Stage, file: str | None, masked: bool = False) -> list[Finding]:
         file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
-        ctx = Context(stage=stage, file=file, time_sample_cap=self.time_sample_cap, partial=masked)
+        ctx = Context(
+            stage=stage,
+            file=file,
+            time_sample_cap=self.time_sample_cap,
+            partial=masked,
+            profile_setting=self.profile_for(file),
+        )
         findings: list[Finding] = []
         # Nothing edits the stage while rules run, so the helpers may cache.
         with Tf.DiagnosticTrap() as trap, lint_cache(ctx.cache):
             try:
                 work, suppressing = self._walk(stage, ctx)
                 run = self._run
+                # A renderer rule runs only where some configuration is its renderer's.
+                present = ctx.profiles.present()
                 for rule in self._stage_rules:
-                    findings.extend(run(rule, ctx, rule.check_stage, ctx))
+                    if rule.profile is None or rule.profile in present:
+                        findings.extend(run(rule, ctx, rule.check_stage, ctx))
                 for prim, rules in work:
                     for rule in rules:
-                        findings.extend(run(rule, ctx, rule.check_prim, prim, ctx))
+                        if rule.profile is None or rule.profile in present:
+                            findings.extend(run(rule, ctx, rule.check_prim, prim, ctx))
                 findings = self._apply_data_suppressions(ctx, findings, suppressing)
             finally:
                 trap.Clear()
@@ -244,7 +259,8 @@ class Linter:
         )
         for rule in self.rules:
             if rule.code == suppress.UNUSED_SUPPRESSION_CODE:
-                kept.extend(self._finding(rule, diagnostic, ctx) for diagnostic in unused)
+                made = (self._finding(rule, diagnostic, ctx) for diagnostic in unused)
+                kept.extend(f for f in made if f is not None)
         return kept
 
     # -- internals ------------------------------------------------------------
@@ -273,7 +289,8 @@ class Linter:
 
     def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
         try:
-            findings = [self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ()]
+            made = (self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ())
+            findings = [f for f in made if f is not None]
         except (FullStageRequired, UnicodeDecodeError):
             raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
         except Exception as exc:
@@ -315,14 +332,23 @@ class Linter:
     def _severity(self, code: str, default: Severity) -> Severity:
         return self.severities.get(code, default)
 
-    def _finding(self, rule: Rule, diagnostic: Diagnostic, ctx: Context) -> Finding:
+    def _finding(self, rule: Rule, diagnostic: Diagnostic, ctx: Context) -> Finding | None:
+        """The finding of a diagnostic, judged under its configuration's
+        profile (None when that profile switches the rule off there)."""
+        verdict = judge(rule.code, rule.severity, rule.profile, ctx.profile_choices(diagnostic.at))
+        if verdict is None:
+            return None
+        choice, severity = verdict
         finding = Finding(
             code=rule.code,
             name=rule.name,
-            severity=self._severity(rule.code, rule.severity),
+            # A severity the user configured wins over the profile's.
+            severity=self._severity(rule.code, severity),
             message=bounded_message(diagnostic.message),
             location=locate(ctx.stage, ctx.file, diagnostic.at, diagnostic.layer),
             fix=_fix_info(diagnostic.fix),
+            profile=choice.name,
+            profile_reason=choice.reason,
         )
         if self._fixes is not None and diagnostic.fix is not None:
             self._fixes.setdefault(finding, diagnostic.fix)
@@ -342,6 +368,10 @@ class Linter:
                 line,
                 Location(path, None, os.path.abspath(path), line_from_error(line)),
             )
+
+
+def _auto_profile(file: str) -> tuple[str, str]:
+    return AUTO, ""
 
 
 def _overrides(rule: Rule, hook: str) -> bool:

@@ -1,0 +1,36 @@
+"""``arnold``: Arnold through arnold-usd (husk's render delegate or the USD procedural)."""
+
+from __future__ import annotations
+
+from .model import Accepted, Profile
+
+RENDER_DELEGATE_CPP = (
+    "arnold-usd libs/render_delegate/render_delegate.cpp (_ParseDelegateRenderProducts)"
+)
+RENDER_PASS_CPP = "arnold-usd libs/render_delegate/render_pass.cpp (_CreateFilter)"
+READ_OPTIONS_CPP = (
+    "arnold-usd libs/translator/reader/read_options.cpp (UsdArnoldReadRenderSettings::Read)"
+)
+
+ARNOLD = Profile(
+    name="arnold",
+    description="Arnold through arnold-usd: the schema plus Arnold's drivers, filters and "
+    "AOV naming (AR rules).",
+    family="AR",
+    namespaces=("arnold:",),
+    api_schemas=("Arnold*",),
+    product_types=(
+        Accepted(
+            name="arnold",
+            why="arnold-usd writes products of type 'arnold' with its own Arnold driver "
+            "(arnold:driver, default driver_exr)",
+            source=RENDER_DELEGATE_CPP,
+        ),
+        Accepted(
+            name="deep",
+            why="arnold-usd still writes products of type 'deep' with driver_deepexr, "
+            "for backwards compatibility",
+            source=RENDER_DELEGATE_CPP,
+        ),
+    ),
+)

@@ -1,0 +1,169 @@
+"""Which profile each render configuration is judged under (R2-5).
+
+Explicit configuration wins. ``auto`` reads the evidence a renderer leaves in
+a stage: the namespaces of the authored properties of a RenderSettings, its
+products and their vars (``karma:``, ``ri:``, ``arnold:``, ``omni:rtx:``), the
+API schemas applied to them, and the scopes a renderer's application writes
+(Kit's ``/Render/OmniverseKit``). Evidence of exactly one renderer picks its
+profile; none, or several renderers' (a Houdini Render Settings LOP writes
+every installed renderer's), leaves the schema alone: ``generic``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
+
+from pxr import Sdf, Usd, UsdRender
+
+from ..api.resolve import RenderConfiguration, forwarded_targets, resolve_targets
+from . import AUTO, GENERIC, PROFILES, get_profile
+from .model import Profile, ProfileChoice
+
+#: Renderer profiles in the order their evidence is reported.
+_RENDERERS: tuple[Profile, ...] = tuple(p for p in PROFILES.values() if p is not GENERIC)
+
+
+@dataclass
+class Assignment:
+    """The profile of every scope (a RenderSettings, or a product no settings
+    targets) and of the stage, and which scopes each render prim belongs to."""
+
+    #: Scope key (the settings' or lone product's path) -> its choice.
+    scopes: dict[Sdf.Path, ProfileChoice] = field(default_factory=dict)
+    #: Prim path -> the scopes it belongs to (settings, products, vars, cameras).
+    members: dict[Sdf.Path, list[Sdf.Path]] = field(default_factory=dict)
+    stage: ProfileChoice = field(default_factory=lambda: ProfileChoice(GENERIC, ""))
+
+    def choices_for(self, path: Sdf.Path | None) -> tuple[ProfileChoice, ...]:
+        """The choices a finding at ``path`` is judged under (the stage's when
+        the path belongs to no scope)."""
+        if path is not None and path != Sdf.Path.emptyPath:
+            keys = self.members.get(path.GetPrimPath())
+            if keys:
+                return tuple(dict.fromkeys(self.scopes[k] for k in keys))
+        return (self.stage,)
+
+    def for_scope(self, key: Sdf.Path) -> ProfileChoice:
+        return self.scopes.get(key, self.stage)
+
+    def present(self) -> set[str]:
+        return {c.name for c in self.scopes.values()} | {self.stage.name}
+
+    def _add(self, key: Sdf.Path, prims: Iterable[Usd.Prim | Sdf.Path]) -> None:
+        for item in prims:
+            path = item if isinstance(item, Sdf.Path) else item.GetPath()
+            scopes = self.members.setdefault(path, [])
+            if key not in scopes:
+                scopes.append(key)
+
+
+def _evidence(prims: Sequence[Usd.Prim], profile: Profile) -> list[str]:
+    """What in ``prims`` points at ``profile``'s renderer, one phrase each."""
+    found = []
+    for prim in prims:
+        path = str(prim.GetPath())
+        if any(path.startswith(scope) or path + "/" == scope for scope in profile.scopes):
+            found.append(f"the prim <{path}> in {profile.scopes[0].rstrip('/')}")
+        for name in prim.GetAuthoredPropertyNames():
+            if name.startswith(profile.namespaces):
+                found.append(f"the property <{path}.{name}>")
+        for schema in prim.GetPrimTypeInfo().GetAppliedAPISchemas():
+            if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas):
+                found.append(f"the API schema {schema} on <{path}>")
+    return found
+
+
+def infer(prims: Sequence[Usd.Prim]) -> ProfileChoice:
+    """The ``auto`` choice for the render prims of one scope."""
+    hits = {p.name: e for p in _RENDERERS if (e := _evidence(prims, p))}
+    if len(hits) == 1:
+        name, evidence = next(iter(hits.items()))
+        more = f" and {len(evidence) - 1} more" if len(evidence) > 1 else ""
+        return ProfileChoice(PROFILES[name], f"auto: {evidence[0]}{more}")
+    if not hits:
+        return ProfileChoice(
+            GENERIC, "auto: no renderer's properties, API schemas or scopes on these render prims"
+        )
+    counts = ", ".join(f"{name}: {len(e)}" for name, e in hits.items())
+    return ProfileChoice(
+        GENERIC,
+        f"auto: evidence of several renderers ({counts}), so the schema alone; "
+        "pin one with profile = NAME or --profile",
+    )
+
+
+def _vars_of(product: Usd.Prim) -> list[Usd.Prim]:
+    return [
+        t.prim
+        for t in resolve_targets(product.GetRelationship("orderedVars"))
+        if t.ok and t.prim.IsA(UsdRender.Var)
+    ]
+
+
+def _camera_paths(prims: Iterable[Usd.Prim]) -> list[Sdf.Path]:
+    found = []
+    for prim in prims:
+        for path in forwarded_targets(prim.GetRelationship("camera")):
+            found.append(path.GetPrimPath())
+    return found
+
+
+def _connected(prim: Usd.Prim) -> list[Sdf.Path]:
+    """Prims the settings' attributes connect to (hdPrman's render terminals)."""
+    found = []
+    for attr in prim.GetAttributes():
+        if attr.HasAuthoredConnections():
+            found.extend(p.GetPrimPath() for p in attr.GetConnections())
+    return found
+
+
+def assign(
+    configurations: Sequence[RenderConfiguration],
+    lone_products: Sequence[Usd.Prim],
+    passes: Sequence[Usd.Prim],
+    setting: str = AUTO,
+    reason: str = "",
+) -> Assignment:
+    """Decide the profile of every scope. ``setting`` is a profile name or
+    ``auto``; ``reason`` says where an explicit one was configured."""
+    assignment = Assignment()
+    explicit = None if setting == AUTO else ProfileChoice(get_profile(setting), reason)
+    by_settings: dict[Sdf.Path, list[RenderConfiguration]] = {}
+    for config in configurations:
+        by_settings.setdefault(config.settings.GetPath(), []).append(config)
+    for key, configs in by_settings.items():
+        settings = configs[0].settings
+        products = [c.product for c in configs if c.product is not None]
+        prims = [settings, *products, *(v for p in products for v in _vars_of(p))]
+        assignment.scopes[key] = explicit or infer(prims)
+        assignment._add(key, prims)
+        assignment._add(key, _camera_paths([settings, *products]))
+        assignment._add(key, _connected(settings))
+    for product in lone_products:
+        key = product.GetPath()
+        prims = [product, *_vars_of(product)]
+        assignment.scopes[key] = explicit or infer(prims)
+        assignment._add(key, prims)
+        assignment._add(key, _camera_paths([product]))
+    for render_pass in passes:
+        for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
+            if path in assignment.scopes:
+                assignment._add(path, [render_pass])
+    assignment.stage = explicit or _stage_choice(assignment)
+    return assignment
+
+
+def _stage_choice(assignment: Assignment) -> ProfileChoice:
+    choices = list(dict.fromkeys(assignment.scopes.values()))
+    names = {c.name for c in choices}
+    if len(names) == 1:
+        return choices[0]
+    if not names:
+        return ProfileChoice(GENERIC, "auto: the stage has no render configuration")
+    return ProfileChoice(
+        GENERIC,
+        "auto: the stage's configurations use several profiles "
+        f"({', '.join(sorted(names))}); findings outside them use the schema alone",
+    )
