@@ -57,6 +57,12 @@ def _registry() -> Registry:
         raise ToolError(str(exc)) from None
 
 
+def _profile_choices() -> list[str]:
+    from .profiles import AUTO, profile_names  # data only: no USD import
+
+    return [AUTO, *profile_names()]
+
+
 def _format_choice() -> click.Choice:
     names = sorted(available_formatters()) or ["text", "json"]
     return click.Choice(names, case_sensitive=False)
@@ -170,6 +176,12 @@ def cli() -> None:
     help="With --variants: variant combinations linted per file at most  [default: 64].",
 )
 @click.option(
+    "--profile",
+    type=click.Choice(_profile_choices()),
+    default=None,
+    help="Renderer profile: auto (inferred per RenderSettings) or a name  [default: auto].",
+)
+@click.option(
     "--full-composition",
     is_flag=True,
     hidden=True,
@@ -199,6 +211,7 @@ def check(
     fix_drop_comments: bool,
     variants: bool | None,
     max_variant_combinations: int | None,
+    profile: str | None,
     full_composition: bool,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
@@ -222,6 +235,7 @@ def check(
         jobs=jobs,
         timeout=timeout,
         full_composition=full_composition,
+        profile=profile,
     )
     try:
         outcome = run(request)
@@ -301,34 +315,61 @@ def _emit_report(
     default="text",
     show_default=True,
 )
-def list_rules(output_format: str) -> None:
-    """List every registered rule."""
+@click.option(
+    "--profile",
+    type=click.Choice(_profile_choices()[1:]),
+    default=None,
+    help="Show the effective rule set under this renderer profile.",
+)
+def list_rules(output_format: str, profile: str | None) -> None:
+    """List every registered rule (under --profile: its severity and whether it runs)."""
     registry = _registry()
+    from .profiles import get_profile
+    from .profiles.effective import effective_rules
+
+    chosen = get_profile(profile) if profile else None
+    rows = effective_rules(registry.rules, chosen)
     if output_format == "json":
         import json
 
-        rows = [
-            {
-                "code": r.code,
-                "name": r.name,
-                "severity": r.severity.value,
-                "summary": r.summary(),
-                "fix": r.fix_safety,
-                "plugin": registry.origins[r.code],
+        out = []
+        for row in rows:
+            item = {
+                "code": row.rule.code,
+                "name": row.rule.name,
+                "severity": row.rule.severity.value,
+                "summary": row.rule.summary(),
+                "fix": row.rule.fix_safety,
+                "plugin": registry.origins[row.rule.code],
             }
-            for r in registry.rules
-        ]
-        click.echo(json.dumps(rows, indent=2))
+            if chosen is not None:
+                item["profile"] = chosen.name
+                item["effective_severity"] = row.severity.value if row.severity else None
+                item["enabled"] = row.enabled
+                item["why"] = row.why
+            out.append(item)
+        click.echo(json.dumps(out, indent=2))
         return
     from rich.console import Console
     from rich.table import Table
 
-    table = Table(title=f"{len(registry.rules)} rules", title_justify="left")
+    title = f"{len(registry.rules)} rules"
+    if chosen is not None:
+        title += f" under the {chosen.name} profile"
+    table = Table(title=title, title_justify="left")
     for column in ("Code", "Name", "Severity", "Fix"):
         table.add_column(column, no_wrap=True)
+    if chosen is not None:
+        table.add_column("Runs", no_wrap=True)
     table.add_column("Summary")
-    for r in registry.rules:
-        table.add_row(r.code, r.name, r.severity.value, r.fix_safety, r.summary())
+    for row in rows:
+        r = row.rule
+        severity = row.severity.value if row.severity else "-"
+        cells = [r.code, r.name, severity, r.fix_safety]
+        if chosen is not None:
+            cells.append("on" if row.enabled else "off")
+        summary = r.summary() if not row.why else f"{r.summary()} [{row.why}]"
+        table.add_row(*cells, summary)
     Console(soft_wrap=False).print(table)
 
 
@@ -341,8 +382,11 @@ def explain(rule: str) -> None:
     found = _registry().find(rule)
     if found is None:
         raise ToolError(f"no rule has the code or name {rule!r} (see 'usdrender-lint rules')")
+    from .profiles.effective import profile_treatment
+
     header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
-    click.echo(f"{header}\n\n{rule_doc(found)}")
+    lines = "\n".join(f"- {line}" for line in profile_treatment(found))
+    click.echo(f"{header}\n\n{rule_doc(found)}\n\n## Under each profile\n{lines}")
 
 
 @cli.command("plugin-path")

@@ -48,6 +48,10 @@ class Settings:
     #: Also lint under other variant selections (--variants), at most this many.
     variants: bool = False
     max_variant_combinations: int = 64
+    #: The renderer profile: "auto" (inferred per RenderSettings) or a name.
+    profile: str = "auto"
+    #: File glob -> profile name for matching files (wins over ``profile``).
+    per_path_profiles: Mapping[str, str] = field(default_factory=dict)
     #: The file the settings were read from, if any.
     source: str | None = None
     #: Settings given as command-line flags (they win over the file).
@@ -83,6 +87,15 @@ def _table(value: Any, key: str, source: str, shape: str) -> dict[str, Any]:
     if not isinstance(value, dict):
         raise ConfigError(f"{source}: '{key}' must be a table of {shape}, got {value!r}")
     return value
+
+
+def _profile_name(value: Any, key: str, source: str) -> str:
+    from .profiles import AUTO, PROFILES  # pure data, no pxr
+
+    if value != AUTO and value not in PROFILES:
+        known = ", ".join([AUTO, *PROFILES])
+        raise ConfigError(f"{source}: '{key}' must be one of {known}, got {value!r}")
+    return str(value)
 
 
 def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Settings:
@@ -123,6 +136,13 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
             if not isinstance(value, int) or isinstance(value, bool) or value < 1:
                 raise ConfigError(f"{source}: '{name}' must be a positive integer, got {value!r}")
             parsed[key.replace("-", "_")] = value
+        elif key == "profile":
+            parsed["profile"] = _profile_name(value, name, source)
+        elif key == "per-path-profiles":
+            parsed["per_path_profiles"] = {
+                glob: _profile_name(profile, f"{name}.{glob}", source)
+                for glob, profile in _table(value, name, source, "glob = profile").items()
+            }
         elif key == "variants":
             if not isinstance(value, bool):
                 raise ConfigError(f"{source}: '{name}' must be true or false, got {value!r}")

@@ -112,6 +112,7 @@ def test_json_document_shape() -> None:
     assert set(file) == {"file", "status", "error", "findings"}
     assert file["status"] == "linted" and file["error"] is None
     keys = {"code", "name", "severity", "message", "path", "file", "layer", "line", "fix"}
+    keys |= {"profile", "profile_reason"}  # added with renderer profiles (R2-5)
     for finding in file["findings"]:
         assert set(finding) == keys
         assert finding["severity"] in ("error", "warning", "info")

@@ -28,6 +28,9 @@ def finding_to_dict(finding: Finding) -> dict[str, Any]:
             if finding.fix is None
             else {"description": finding.fix.description, "safe": finding.fix.safe}
         ),
+        # The renderer profile the finding was judged under, and why (R2-5).
+        "profile": finding.profile,
+        "profile_reason": finding.profile_reason,
     }
 
 

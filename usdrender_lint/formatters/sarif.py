@@ -86,10 +86,14 @@ def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
         ]
     if location:
         result["locations"] = [location]
+    properties: dict[str, Any] = {}
     if finding.fix is not None:
-        result["properties"] = {
-            "fix": {"description": finding.fix.description, "safe": finding.fix.safe}
-        }
+        properties["fix"] = {"description": finding.fix.description, "safe": finding.fix.safe}
+    if finding.profile is not None:
+        properties["profile"] = finding.profile
+        properties["profileReason"] = finding.profile_reason
+    if properties:
+        result["properties"] = properties
     return result
 
 

@@ -83,6 +83,8 @@ class TextFormatter:
                 if finding.fix is not None:
                     kind = "fix" if finding.fix.safe else "unsafe fix"
                     line.append((f"  [{kind}: {finding.fix.description}]", "dim"))
+                if options.show_info and finding.profile:
+                    line.append((f"  [profile {finding.profile}: {finding.profile_reason}]", "dim"))
                 yield line
         for fix in report.applied_fixes:
             parts = [fix.code, fix.path or "(file)", fix.description]

@@ -14,7 +14,7 @@ from ..model import Finding, Report
 from ..registry import matches_any
 
 
-def _matches_path(pattern: str, path: str, base_dir: Path) -> bool:
+def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
     """Glob match of a file against a pattern relative to ``base_dir``.
 
     ``**/`` also matches no folder; a pattern without ``/`` matches the file
@@ -52,7 +52,7 @@ def apply_path_ignores(
         return rule is not None and any(
             matches_any(rule, selectors)
             for pattern, selectors in per_path_ignores.items()
-            if any(_matches_path(pattern, place, base_dir) for place in places)
+            if any(matches_path(pattern, place, base_dir) for place in places)
         )
 
     files = tuple(

@@ -75,6 +75,8 @@ class Request:
     progress: bool | None = None
     #: Compose every stage in full (no fast path; same findings, slower).
     full_composition: bool = False
+    #: The renderer profile (--profile): "auto" or a name; None: the config's.
+    profile: str | None = None
 
 
 @dataclass(frozen=True)
@@ -117,6 +119,7 @@ def resolve_settings(request: Request) -> Settings:
         fail_on=request.fail_on,
         variants=request.variants,
         max_variant_combinations=request.max_variant_combinations,
+        profile=request.profile,
     )
 
 
@@ -176,7 +179,29 @@ def make_linter(
         time_sample_cap=settings.time_sample_cap,
         known_rules=registry.rules,
         full_composition=full_composition,
+        profile_for=profile_chooser(settings),
     )
+
+
+def profile_chooser(settings: Settings):
+    """The configured profile of a file, and where it was configured: the
+    command line's --profile, else the first per-path-profiles glob that
+    matches, else the config's ``profile`` (default auto)."""
+    from .path_ignores import matches_path
+
+    base_dir = settings.base_dir
+
+    def choose(file: str) -> tuple[str, str]:
+        if "profile" in settings.from_flags:
+            return settings.profile, f"--profile {settings.profile}"
+        for glob, name in settings.per_path_profiles.items():
+            if matches_path(glob, file, base_dir):
+                return name, f"{settings.where('per_path_profiles')}.{glob} = {name}"
+        if settings.profile != "auto":
+            return settings.profile, f"{settings.where('profile')} = {settings.profile}"
+        return settings.profile, ""
+
+    return choose
 
 
 @dataclass(frozen=True)

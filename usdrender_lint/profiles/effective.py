@@ -1,0 +1,61 @@
+"""What a profile makes of the rules: the effective set (``rules --profile``)
+and how each profile treats one rule (``explain``). Pure data, no pxr."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from ..model import Severity
+from . import PROFILES
+from .model import Profile
+
+if TYPE_CHECKING:
+    from ..api import Rule
+
+
+@dataclass(frozen=True)
+class EffectiveRule:
+    rule: type[Rule]
+    #: None when the rule does not run under the profile.
+    severity: Severity | None
+    #: Why the profile differs from the rule's default ("" when it does not).
+    why: str = ""
+
+    @property
+    def enabled(self) -> bool:
+        return self.severity is not None
+
+
+def effective(rule: type[Rule], profile: Profile) -> EffectiveRule:
+    own = getattr(rule, "profile", None)
+    if own is not None:
+        if own == profile.name:
+            return EffectiveRule(rule, rule.severity)
+        return EffectiveRule(rule, None, f"a rule of the {own} profile only")
+    change = profile.change_for(rule.code)
+    if change is None:
+        return EffectiveRule(rule, rule.severity)
+    return EffectiveRule(rule, change.severity, f"{change.why} ({change.source})")
+
+
+def effective_rules(rules: Sequence[type[Rule]], profile: Profile | None) -> list[EffectiveRule]:
+    """Every rule with its severity under ``profile`` (None: the defaults)."""
+    if profile is None:
+        return [EffectiveRule(rule, rule.severity) for rule in rules]
+    return [effective(rule, profile) for rule in rules]
+
+
+def profile_treatment(rule: type[Rule]) -> list[str]:
+    """One line per profile: how it treats ``rule`` and why."""
+    lines = []
+    for profile in PROFILES.values():
+        row = effective(rule, profile)
+        if row.severity is None:
+            lines.append(f"{profile.name}: off ({row.why})")
+        elif row.why:
+            lines.append(f"{profile.name}: {row.severity} ({row.why})")
+        else:
+            lines.append(f"{profile.name}: {row.severity}, as by default")
+    return lines
