@@ -6,7 +6,19 @@ Installed as ``usdrender_lint.rules`` and registered through the
 
 from __future__ import annotations
 
-from . import camera, meta, passes, products, settings, stage, vars
+from . import (
+    arnold,
+    camera,
+    karma,
+    meta,
+    omniverse,
+    passes,
+    products,
+    renderman,
+    settings,
+    stage,
+    vars,
+)
 
 RULES = (
     *stage.RULES,
@@ -16,4 +28,9 @@ RULES = (
     *vars.RULES,
     *passes.RULES,
     *meta.RULES,
+    # Renderer rules: each runs only under its profile (R2-5).
+    *karma.RULES,
+    *renderman.RULES,
+    *arnold.RULES,
+    *omniverse.RULES,
 )

@@ -89,6 +89,7 @@ class Context:
             self.prims_of(UsdRender.Pass),
             setting,
             reason,
+            [p for prims in self.render_prims.values() for p in prims],
         )
 
     def profile_of(self, config: RenderConfiguration) -> ProfileChoice:

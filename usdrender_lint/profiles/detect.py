@@ -72,6 +72,10 @@ def _evidence(prims: Sequence[Usd.Prim], profile: Profile) -> list[str]:
         for schema in prim.GetPrimTypeInfo().GetAppliedAPISchemas():
             if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas):
                 found.append(f"the API schema {schema} on <{path}>")
+        if profile.product_types and prim.IsA(UsdRender.Product):
+            product_type = prim.GetAttribute("productType").Get()
+            if product_type and profile.product_type(str(product_type)):
+                found.append(f"productType {str(product_type)!r} of <{path}>")
     return found
 
 
@@ -125,6 +129,7 @@ def assign(
     passes: Sequence[Usd.Prim],
     setting: str = AUTO,
     reason: str = "",
+    render_prims: Sequence[Usd.Prim] = (),
 ) -> Assignment:
     """Decide the profile of every scope. ``setting`` is a profile name or
     ``auto``; ``reason`` says where an explicit one was configured."""
@@ -151,17 +156,18 @@ def assign(
         for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
             if path in assignment.scopes:
                 assignment._add(path, [render_pass])
-    assignment.stage = explicit or _stage_choice(assignment)
+    assignment.stage = explicit or _stage_choice(assignment, render_prims)
     return assignment
 
 
-def _stage_choice(assignment: Assignment) -> ProfileChoice:
+def _stage_choice(assignment: Assignment, render_prims: Sequence[Usd.Prim]) -> ProfileChoice:
     choices = list(dict.fromkeys(assignment.scopes.values()))
     names = {c.name for c in choices}
     if len(names) == 1:
         return choices[0]
     if not names:
-        return ProfileChoice(GENERIC, "auto: the stage has no render configuration")
+        # No configuration (only vars or passes): the render prims' own evidence.
+        return infer(render_prims)
     return ProfileChoice(
         GENERIC,
         "auto: the stage's configurations use several profiles "

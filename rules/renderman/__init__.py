@@ -1,0 +1,8 @@
+"""RM: rules of the renderman profile (RenderMan through hdPrman)."""
+
+from __future__ import annotations
+
+from .rm001_integrator_multiple_connections import IntegratorMultipleConnections
+from .rm002_render_terminal_target_missing import RenderTerminalTargetMissing
+
+RULES = (IntegratorMultipleConnections, RenderTerminalTargetMissing)
