@@ -237,7 +237,7 @@ class Linter:
                 work, suppressing = self._walk(stage, ctx)
                 run = self._run
                 # A renderer rule runs only where some configuration is its renderer's.
-                present = ctx.profiles.present()
+                present = self._profiles_present(ctx)
                 for rule in self._stage_rules:
                     if rule.profile is None or rule.profile in present:
                         findings.extend(run(rule, ctx, rule.check_stage, ctx))
@@ -249,6 +249,18 @@ class Linter:
             finally:
                 trap.Clear()
         return sorted(set(findings), key=Finding.sort_key)
+
+    def _profiles_present(self, ctx: Context) -> set[str]:
+        """The profiles of the stage's configurations (decided once per lint).
+        Deciding reads the render prims' properties: a crate value found
+        corrupt there is the file's problem (ST001), as in a rule."""
+        try:
+            return ctx.profiles.present()
+        except Tf.ErrorException as exc:
+            corrupt = [line for line in error_lines(exc, ctx.file) if "Corrupt asset" in line]
+            if corrupt:
+                raise CorruptValue(corrupt[0]) from exc
+            raise
 
     def _apply_data_suppressions(
         self, ctx: Context, findings: list[Finding], suppressing: list[Usd.Prim]

@@ -1,0 +1,282 @@
+"""Renderer profiles (catalog R2-5): which profile a configuration is judged
+under, what a profile changes, and how findings record it."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.config import ConfigError, Settings, read_config_file
+from usdrender_lint.engine import Linter
+from usdrender_lint.model import Severity
+from usdrender_lint.profiles import GENERIC, PROFILES, ProfileChoice
+from usdrender_lint.profiles.model import judge
+from usdrender_lint.running.pipeline import make_linter
+from usdrender_lint.testing import all_rules
+
+TWO_RENDERERS = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "KarmaShot"
+    {
+        int karma:global:samplesperpixel = 9
+        rel products = </Render/KarmaBeauty>
+    }
+    def RenderProduct "KarmaBeauty"
+    {
+        token productName = "husk:null_raster"
+    }
+    def RenderSettings "ArnoldShot"
+    {
+        rel products = </Render/ArnoldBeauty>
+    }
+    def RenderProduct "ArnoldBeauty"
+    {
+        string arnold:driver = "driver_tif"
+        token productName = "husk:null_raster"
+    }
+}
+"""
+
+KIT_STAGE = """#usda 1.0
+def OmniLidar "Lidar"
+{
+}
+def Scope "Render"
+{
+    def "OmniverseKit"
+    {
+        def "HydraTextures"
+        {
+            def RenderProduct "Viewport"
+            {
+                rel camera = </OmniverseKit_Persp>
+                rel orderedVars = </Render/Vars/LdrColor>
+            }
+        }
+    }
+    def RenderSettings "OmniverseGlobalRenderSettings"
+    {
+        rel products = </Render/OmniverseKit/HydraTextures/Viewport>
+    }
+    def RenderSettings "LidarSettings"
+    {
+        token omni:rtx:rendermode = "RaytracedLighting"
+        rel camera = </Lidar>
+        rel products = </Render/LidarProduct>
+    }
+    def RenderProduct "LidarProduct"
+    {
+        rel orderedVars = </Render/Vars/LdrColor>
+    }
+    def Scope "Vars"
+    {
+        def RenderVar "LdrColor"
+        {
+            string sourceName = "LdrColor"
+        }
+    }
+}
+"""
+
+
+def _lint(tmp_path: Path, text: str, profile: tuple[str, str] | None = None):
+    path = tmp_path / "shot.usda"
+    path.write_text(text, encoding="utf-8")
+    linter = Linter(
+        all_rules(), raise_errors=True, profile_for=(lambda f: profile) if profile else None
+    )
+    result = linter.lint_path(str(path))
+    assert result.status == "linted", result.error
+    return result.findings
+
+
+def _pairs(findings) -> set[tuple[str, str | None, str | None]]:
+    return {(f.code, f.location.path, f.profile) for f in findings}
+
+
+def test_auto_decides_per_render_settings(tmp_path: Path) -> None:
+    found = _pairs(_lint(tmp_path, TWO_RENDERERS))
+    # Each renderer's rules run on its own configuration only.
+    assert ("KA001", "/Render/KarmaBeauty.productName", "karma") in found
+    assert ("AR001", "/Render/ArnoldBeauty.arnold:driver", "arnold") in found
+    assert not any(code == "KA001" and "Arnold" in (path or "") for code, path, _ in found)
+    findings = _lint(tmp_path, TWO_RENDERERS)
+    reason = next(f.profile_reason for f in findings if f.code == "KA001")
+    assert reason.startswith("auto: the property </Render/KarmaShot.karma:global:samplesperpixel>")
+
+
+def test_several_renderers_evidence_is_generic(tmp_path: Path) -> None:
+    text = TWO_RENDERERS.replace(
+        "int karma:global:samplesperpixel = 9",
+        "int karma:global:samplesperpixel = 9\n        int arnold:global:AA_samples = 3",
+    )
+    findings = _lint(tmp_path, text)
+    karma_shot = [f for f in findings if (f.location.path or "").startswith("/Render/Karma")]
+    assert not any(f.code == "KA001" for f in karma_shot)
+    assert karma_shot and {f.profile for f in karma_shot} == {"generic"}
+    assert "several renderers (karma: 1, arnold: 1)" in karma_shot[0].profile_reason
+
+
+def test_explicit_profile_wins_and_says_where(tmp_path: Path) -> None:
+    findings = _lint(tmp_path, TWO_RENDERERS, ("karma", "--profile karma"))
+    assert {f.profile for f in findings} == {"karma"}
+    assert {f.profile_reason for f in findings} == {"--profile karma"}
+    # Under karma the arnold rule does not run, KA001 now also judges the Arnold shot.
+    codes = {(f.code, f.location.path) for f in findings}
+    assert ("KA001", "/Render/ArnoldBeauty.productName") in codes
+    assert not any(code == "AR001" for code, _ in codes)
+
+
+def test_omniverse_profile_drops_what_rtx_does_not_read(tmp_path: Path) -> None:
+    auto = _lint(tmp_path, KIT_STAGE)
+    codes = {(f.code, f.location.path) for f in auto}
+    # PR001: RTX products are buffers addressed by path; CA003: Kit's session
+    # camera; CA004: an OmniLidar is the product's sensor.
+    assert not any(code in ("PR001", "CA003", "CA004") for code, _ in codes)
+    assert {f.profile for f in auto} == {"omniverse"}
+    generic = _lint(tmp_path, KIT_STAGE, ("generic", "test"))
+    gcodes = {(f.code, f.location.path) for f in generic}
+    assert ("PR001", "/Render/OmniverseKit/HydraTextures/Viewport") in gcodes
+    assert ("CA003", "/Render/OmniverseKit/HydraTextures/Viewport.camera") in gcodes
+    assert ("CA004", "/Render/LidarSettings.camera") in gcodes
+
+
+def test_kit_scope_is_evidence(tmp_path: Path) -> None:
+    findings = _lint(tmp_path, KIT_STAGE)
+    reasons = {f.profile_reason for f in findings}
+    assert any("in /Render/OmniverseKit" in r for r in reasons)
+
+
+def test_ca004_names_the_types_the_profile_accepts(tmp_path: Path) -> None:
+    text = KIT_STAGE.replace('def OmniLidar "Lidar"', 'def Xform "Lidar"')
+    findings = _lint(tmp_path, text)
+    (ca004,) = [f for f in findings if f.code == "CA004"]
+    assert "nor OmniLidar, OmniRadar, which this profile accepts" in ca004.message
+
+
+def test_a_prim_shared_with_a_generic_configuration_keeps_its_finding(tmp_path: Path) -> None:
+    shared = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Rtx"
+    {
+        token omni:rtx:rendermode = "RaytracedLighting"
+        rel products = </Render/Shared>
+    }
+    def RenderSettings "Plain"
+    {
+        rel products = </Render/Shared>
+    }
+    def RenderProduct "Shared"
+    {
+    }
+}
+"""
+    findings = _lint(tmp_path, shared)
+    (pr001,) = [f for f in findings if f.code == "PR001"]
+    assert pr001.profile == "generic"
+
+
+def test_judge_takes_the_strictest_verdict() -> None:
+    omniverse = ProfileChoice(PROFILES["omniverse"], "x")
+    generic = ProfileChoice(GENERIC, "y")
+    assert judge("PR001", Severity.ERROR, None, (omniverse,)) is None
+    assert judge("PR001", Severity.ERROR, None, (omniverse, generic)) == (generic, Severity.ERROR)
+    assert judge("KA001", Severity.WARNING, "karma", (generic,)) is None
+
+
+def test_every_profile_change_and_acceptance_cites_a_source() -> None:
+    for profile in PROFILES.values():
+        for change in profile.changes:
+            assert change.source and change.why, (profile.name, change.code)
+        for field in ("camera_types", "runtime_cameras", "prim_types", "product_types"):
+            for accepted in getattr(profile, field):
+                assert accepted.source and accepted.why, (profile.name, accepted.name)
+
+
+def test_renderer_rules_cite_their_renderer_and_belong_to_its_family() -> None:
+    for rule in (type(r) for r in all_rules()):
+        if rule.profile is None:
+            continue
+        profile = PROFILES[rule.profile]
+        assert rule.code.startswith(profile.family), rule.code
+        why = rule.__doc__.split("## Why is this bad?")[1]
+        assert any(s in why for s in ("docs", ".cpp", "arnold-usd")), rule.code
+
+
+def test_config_profile_keys(tmp_path: Path) -> None:
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text(
+        'profile = "arnold"\n[per-path-profiles]\n"kit/**" = "omniverse"\n', encoding="utf-8"
+    )
+    settings = read_config_file(config)
+    assert settings.profile == "arnold"
+    linter = make_linter(settings)
+    kit = tmp_path / "kit" / "a.usda"
+    assert linter.profile_for(str(kit)) == (
+        "omniverse",
+        f"{config}: per-path-profiles.kit/** = omniverse",
+    )
+    assert linter.profile_for(str(tmp_path / "b.usda")) == ("arnold", f"{config}: profile = arnold")
+    flagged = make_linter(settings.merged(profile="generic"))
+    assert flagged.profile_for(str(kit)) == ("generic", "--profile generic")
+    config.write_text('profile = "vray"\n', encoding="utf-8")
+    with pytest.raises(ConfigError, match="'profile' must be one of auto, generic"):
+        read_config_file(config)
+
+
+def test_settings_default_is_auto() -> None:
+    assert Settings().profile == "auto"
+
+
+def test_cli_profile_flag_and_json_fields(tmp_path: Path) -> None:
+    path = tmp_path / "shot.usda"
+    path.write_text(KIT_STAGE, encoding="utf-8")
+    runner = CliRunner()
+    auto = json.loads(
+        runner.invoke(cli, ["check", "--isolated", "--format", "json", str(path)]).output
+    )
+    pinned = runner.invoke(
+        cli, ["check", "--isolated", "--format", "json", "--profile", "generic", str(path)]
+    )
+    generic = json.loads(pinned.output)
+    auto_codes = {f["code"] for f in auto["files"][0]["findings"]}
+    generic_codes = {f["code"] for f in generic["files"][0]["findings"]}
+    assert "PR001" in generic_codes - auto_codes
+    assert {f["profile"] for f in generic["files"][0]["findings"]} == {"generic"}
+    assert {f["profile_reason"] for f in generic["files"][0]["findings"]} == {"--profile generic"}
+    sarif = json.loads(
+        runner.invoke(cli, ["check", "--isolated", "--format", "sarif", str(path)]).output
+    )
+    props = sarif["runs"][0]["results"][0]["properties"]
+    assert props["profile"] == "omniverse" and props["profileReason"].startswith("auto:")
+    text = runner.invoke(cli, ["check", "--isolated", "--show-info", str(path)]).output
+    assert "[profile omniverse: auto:" in text
+    plain = runner.invoke(cli, ["check", "--isolated", str(path)]).output
+    assert "[profile " not in plain
+
+
+def test_rules_and_explain_show_profiles() -> None:
+    runner = CliRunner()
+    rows = json.loads(
+        runner.invoke(cli, ["rules", "--profile", "omniverse", "--format", "json"]).output
+    )
+    by_code = {row["code"]: row for row in rows}
+    assert by_code["PR001"]["enabled"] is False and by_code["PR001"]["effective_severity"] is None
+    assert "ovrtx" in by_code["PR001"]["why"]
+    assert by_code["OV001"]["enabled"] is True
+    assert by_code["KA001"]["enabled"] is False
+    assert by_code["SE003"] == {**by_code["SE003"], "enabled": True, "effective_severity": "error"}
+    plain = json.loads(runner.invoke(cli, ["rules", "--format", "json"]).output)
+    assert "enabled" not in plain[0]
+    text = runner.invoke(cli, ["explain", "PR001"]).output
+    assert "## Under each profile" in text
+    assert "- omniverse: off (an RTX render product" in text
+    assert "- karma: error, as by default" in text
+    bad = runner.invoke(cli, ["check", "--profile", "vray", "x.usda"])
+    assert bad.exit_code == 2
