@@ -334,7 +334,7 @@ def list_rules(output_format: str, profile: str | None) -> None:
 
         out = []
         for row in rows:
-            item = {
+            item: dict[str, object] = {
                 "code": row.rule.code,
                 "name": row.rule.name,
                 "severity": row.rule.severity.value,

@@ -92,7 +92,7 @@ class AovNameMissing(Rule):
             return
         for target in resolve_targets(prim.GetRelationship("orderedVars")):
             var = target.prim
-            if not target.ok or not var.IsA(UsdRender.Var):
+            if not target.ok or var is None or not var.IsA(UsdRender.Var):
                 continue
             name = var.GetAttribute(AOV_NAME)
             if name and name.Get():

@@ -98,7 +98,7 @@ class SensorOutputMissing(Rule):
         if not sensor or sensor.GetTypeName() not in SENSOR_TYPES:
             return
         for target in resolve_targets(prim.GetRelationship("orderedVars")):
-            if target.ok and target.prim.IsA(UsdRender.Var):
+            if target.ok and target.prim is not None and target.prim.IsA(UsdRender.Var):
                 source = authored_value(target.prim.GetAttribute("sourceName"))
                 if str(source or "") in SENSOR_OUTPUTS:
                     return

@@ -102,12 +102,12 @@ def _vars_of(product: Usd.Prim) -> list[Usd.Prim]:
     return [
         t.prim
         for t in resolve_targets(product.GetRelationship("orderedVars"))
-        if t.ok and t.prim.IsA(UsdRender.Var)
+        if t.ok and t.prim is not None and t.prim.IsA(UsdRender.Var)
     ]
 
 
 def _camera_paths(prims: Iterable[Usd.Prim]) -> list[Sdf.Path]:
-    found = []
+    found: list[Sdf.Path] = []
     for prim in prims:
         for path in forwarded_targets(prim.GetRelationship("camera")):
             found.append(path.GetPrimPath())
@@ -116,7 +116,7 @@ def _camera_paths(prims: Iterable[Usd.Prim]) -> list[Sdf.Path]:
 
 def _connected(prim: Usd.Prim) -> list[Sdf.Path]:
     """Prims the settings' attributes connect to (hdPrman's render terminals)."""
-    found = []
+    found: list[Sdf.Path] = []
     for attr in prim.GetAttributes():
         if attr.HasAuthoredConnections():
             found.extend(p.GetPrimPath() for p in attr.GetConnections())
