@@ -36,6 +36,7 @@ import re
 import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path, PurePosixPath
+from typing import Any
 
 from .api import Rule
 from .engine import Linter
@@ -120,9 +121,16 @@ def all_rules() -> list[Rule]:
     return [rule() for rule in build_registry().rules]
 
 
-def lint(path: str | Path, rules: Sequence[Rule] | None = None) -> list[Finding]:
-    """Lint a file with every registered rule; a rule that raises fails the test."""
-    linter = Linter(rules if rules is not None else all_rules(), raise_errors=True)
+def lint(
+    path: str | Path, rules: Sequence[Rule] | None = None, profiler: Any = None
+) -> list[Finding]:
+    """Lint a file with every registered rule; a rule that raises fails the test.
+    ``profiler`` judges findings under renderer profiles as ``check`` does
+    (``usdrender_lint.profiles.Profiler()``); without one, the schema alone and
+    no renderer rule runs."""
+    linter = Linter(
+        rules if rules is not None else all_rules(), raise_errors=True, profiler=profiler
+    )
     result = linter.lint_path(str(path))
     assert result.status == "linted", result.error
     return list(result.findings)
@@ -167,6 +175,7 @@ def lint_text(
     select: Sequence[str] | None = None,
     layers: Mapping[str, str] | None = None,
     name: str = "stage.usda",
+    profiler: Any = None,
 ) -> list[Finding]:
     """Lint ``usda`` (a whole layer, header included) as the file ``name``.
 
@@ -184,7 +193,9 @@ def lint_text(
     chosen = _chosen(rules, select)
     # As with --select: a suppression naming a rule that is not run is not "unknown".
     known = [*build_registry().rules, *(type(rule) for rule in chosen)]
-    linter = Linter(chosen, raise_errors=True, known_rules=list(dict.fromkeys(known)))
+    linter = Linter(
+        chosen, raise_errors=True, known_rules=list(dict.fromkeys(known)), profiler=profiler
+    )
     with tempfile.TemporaryDirectory(prefix="usdrender-lint-") as tmp:
         folder = Path(os.path.realpath(tmp))
         for layer_name, text in {**(layers or {}), name: usda}.items():
@@ -217,12 +228,14 @@ def _describe(findings: Sequence[Finding]) -> str:
     )
 
 
-def check_fixture(path: str | Path, code: str, rules: Sequence[Rule] | None = None) -> None:
+def check_fixture(
+    path: str | Path, code: str, rules: Sequence[Rule] | None = None, profiler: Any = None
+) -> None:
     """Assert a fixture behaves: pass files give no ``code`` finding, fail files
     give exactly the findings of ``code`` their ``# expect:`` lines declare
     (count, fix offered and message fragment as stated)."""
     path = Path(path)
-    found = [f for f in lint(path, rules) if f.code == code]
+    found = [f for f in lint(path, rules, profiler) if f.code == code]
     if path.name.startswith("pass_"):
         assert not found, f"{path.name}: expected no {code} finding, got {_describe(found)}"
         return

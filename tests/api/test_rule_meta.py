@@ -9,6 +9,7 @@ import pytest
 
 from usdrender_lint.api import DOC_SECTIONS
 from usdrender_lint.api.docs import code_blocks, missing_sections, sections, supporting_layers
+from usdrender_lint.profiles import Profiler
 from usdrender_lint.registry import build_registry
 from usdrender_lint.testing import all_rules, lint_text
 
@@ -51,13 +52,15 @@ def _doc_cases(section: str):
 
 @pytest.mark.parametrize(("code", "usda", "layers"), list(_doc_cases("Example")))
 def test_doc_example_fires(code: str, usda: str, layers: dict) -> None:
-    found = lint_text(usda, rules=RULES, layers=layers, name="example.usda")
+    found = lint_text(usda, rules=RULES, layers=layers, name="example.usda", profiler=Profiler())
     assert code in {f.code for f in found}
 
 
 @pytest.mark.parametrize(("code", "usda", "layers"), list(_doc_cases("Use instead")))
 def test_doc_use_instead_is_silent(code: str, usda: str, layers: dict) -> None:
-    found = lint_text(usda, rules=RULES, layers=layers, name="use_instead.usda")
+    found = lint_text(
+        usda, rules=RULES, layers=layers, name="use_instead.usda", profiler=Profiler()
+    )
     assert code not in {f.code for f in found}
 
 

@@ -13,7 +13,7 @@ from usdrender_lint.cli import cli
 from usdrender_lint.config import ConfigError, Settings, read_config_file
 from usdrender_lint.engine import Linter
 from usdrender_lint.model import Severity
-from usdrender_lint.profiles import GENERIC, PROFILES, ProfileChoice
+from usdrender_lint.profiles import GENERIC, PROFILES, ProfileChoice, Profiler
 from usdrender_lint.profiles.model import judge
 from usdrender_lint.running.pipeline import make_linter
 from usdrender_lint.testing import all_rules
@@ -87,12 +87,14 @@ def Scope "Render"
 def _lint(tmp_path: Path, text: str, profile: tuple[str, str] | None = None):
     path = tmp_path / "shot.usda"
     path.write_text(text, encoding="utf-8")
-    linter = Linter(
-        all_rules(), raise_errors=True, profile_for=(lambda f: profile) if profile else None
-    )
+    linter = Linter(all_rules(), raise_errors=True, profiler=Profiler(_fixed(profile)))
     result = linter.lint_path(str(path))
     assert result.status == "linted", result.error
     return result.findings
+
+
+def _fixed(profile):
+    return (lambda file: profile) if profile else None
 
 
 def _pairs(findings) -> set[tuple[str, str | None, str | None]]:
@@ -216,18 +218,20 @@ def test_config_profile_keys(tmp_path: Path) -> None:
     )
     settings = read_config_file(config)
     assert settings.profile == "arnold"
-    linter = make_linter(settings)
+    choose = make_linter(settings).profiler.choose
     kit = tmp_path / "kit" / "a.usda"
-    assert linter.profile_for(str(kit)) == (
+    assert choose(str(kit)) == (
         "omniverse",
         f"{config}: per-path-profiles.kit/** = omniverse",
     )
-    assert linter.profile_for(str(tmp_path / "b.usda")) == ("arnold", f"{config}: profile = arnold")
-    flagged = make_linter(settings.merged(profile="generic"))
-    assert flagged.profile_for(str(kit)) == ("generic", "--profile generic")
+    assert choose(str(tmp_path / "b.usda")) == ("arnold", f"{config}: profile = arnold")
+    flagged = make_linter(settings.merged(profile="generic")).profiler.choose
+    assert flagged(str(kit)) == ("generic", "--profile generic")
     config.write_text('profile = "vray"\n', encoding="utf-8")
-    with pytest.raises(ConfigError, match="'profile' must be one of auto, generic"):
-        read_config_file(config)
+    with pytest.raises(
+        ConfigError, match="profile: unknown profile 'vray' \\(known: auto, generic"
+    ):
+        make_linter(read_config_file(config))
 
 
 def test_settings_default_is_auto() -> None:

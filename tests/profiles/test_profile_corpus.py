@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from usdrender_lint.engine import Linter
-from usdrender_lint.profiles import PROFILES
+from usdrender_lint.profiles import PROFILES, Profiler
 from usdrender_lint.running.discovery import collect_files
 from usdrender_lint.testing import all_rules
 
@@ -23,8 +23,8 @@ PROFILE_AWARE = {c.code for p in PROFILES.values() for c in p.changes} | {
 
 def test_auto_keeps_every_generic_finding_its_renderer_acts_on(shared_dir: Path) -> None:
     rules = all_rules()
-    auto = Linter(rules)
-    generic = Linter(rules, profile_for=lambda f: ("generic", "test"))
+    auto = Linter(rules, profiler=Profiler())
+    generic = Linter(rules, profiler=Profiler(lambda f: ("generic", "test")))
     dropped: dict[str, set[tuple[str, str | None]]] = {}
     for path in collect_files([str(shared_dir / "corpus" / "files")]):
         by_generic = {(f.code, f.location.path) for f in generic.lint_path(path).findings}

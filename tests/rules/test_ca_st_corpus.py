@@ -45,3 +45,21 @@ def test_ca_st_findings_on_corpus_file(shared_dir: Path, relative: str) -> None:
     rules = [rule() for rule in (*stage.RULES, *camera.RULES)]
     result = Linter(rules, raise_errors=True).lint_path(str(path))
     assert {(f.code, f.location.path) for f in result.findings} == CASES[relative]
+
+
+def test_renderman_profile_knows_the_pxr_filters(shared_dir: Path) -> None:
+    """R2-5: the settings connect RenderMan sample filters (outputs:ri:*), so
+    ``auto`` judges the file under renderman, whose usdRiPxr schemas define
+    PxrMurkFilter: the two ST010 findings above (the schema alone) are gone."""
+    path = shared_dir / "corpus" / "files" / USDVIEW / "testUsdviewSampleFilterEdits/test.usda"
+    if not path.is_file():
+        pytest.skip("not in this corpus snapshot")
+    from usdrender_lint.profiles import Profiler
+
+    rules = [rule() for rule in (*stage.RULES, *camera.RULES)]
+    result = Linter(rules, raise_errors=True, profiler=Profiler()).lint_path(str(path))
+    assert {f.profile for f in result.findings} == {"renderman"}
+    expected = {pair for pair in CASES[f"{USDVIEW}/testUsdviewSampleFilterEdits/test.usda"]}
+    assert {(f.code, f.location.path) for f in result.findings} == {
+        pair for pair in expected if pair[0] != "ST010"
+    }

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from usdrender_lint.profiles import Profiler
 from usdrender_lint.testing import all_rules, check_fixture, expectations, fixture_files
 
 FOLDER = Path(__file__).parent
@@ -22,7 +23,8 @@ def _cases():
 
 @pytest.mark.parametrize(("code", "fixture"), list(_cases()))
 def test_fixture(code: str, fixture: Path) -> None:
-    check_fixture(fixture, code, RULES)
+    # Under auto, as `check` lints: every fixture holds with profiles (R2-5).
+    check_fixture(fixture, code, RULES, Profiler())
 
 
 def _fail_fixtures():

@@ -5,16 +5,12 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING, TypeVar
+from typing import Any, TypeVar
 
 from pxr import Sdf, Usd, UsdRender
 
 from .cache import LintCache
 from .resolve import RenderConfiguration, own_configurations, settings_configurations
-
-if TYPE_CHECKING:
-    from ..profiles.detect import Assignment
-    from ..profiles.model import Accepted, ProfileChoice
 
 _T = TypeVar("_T")
 
@@ -45,8 +41,11 @@ class Context:
     partial: bool = False
     #: This lint's cache (see :meth:`cached`).
     cache: LintCache = field(default_factory=LintCache, repr=False)
-    #: The configured profile (a name or "auto") and where it was configured.
-    profile_setting: tuple[str, str] = ("auto", "")
+    #: The renderer profile of every configuration (R2-5), set by the engine
+    #: when it lints with profiles (usdrender_lint.profiles.detect.Assignment):
+    #: ``choices_for(path)``, ``for_scope(path)``, ``present()``, ``judge(...)``.
+    #: None: no profiles, every finding judged by the schema alone.
+    profiles: Any = None
 
     def require_full_stage(self) -> None:
         """Call before reading beyond the render prims, their targets and
@@ -77,40 +76,32 @@ class Context:
     def _settings_configurations(self) -> list[RenderConfiguration]:
         return settings_configurations(self.prims_of(UsdRender.Settings))
 
-    @cached_property
-    def profiles(self) -> Assignment:
-        """The profile of every configuration and of the stage (R2-5)."""
-        from ..profiles.detect import assign
-
-        setting, reason = self.profile_setting
-        return assign(
-            self.configurations,
-            self.untargeted_products,
-            self.prims_of(UsdRender.Pass),
-            setting,
-            reason,
-            [p for prims in self.render_prims.values() for p in prims],
-        )
-
-    def profile_of(self, config: RenderConfiguration) -> ProfileChoice:
-        """The profile a render configuration is judged under."""
+    def profile_of(self, config: RenderConfiguration) -> Any:
+        """The profile choice a render configuration is judged under (None
+        without profiles)."""
+        if self.profiles is None:
+            return None
         return self.profiles.for_scope(config.settings.GetPath())
 
-    def profile_choices(self, at: Usd.Object | Sdf.Path | None) -> tuple[ProfileChoice, ...]:
-        """The profiles a finding anchored at ``at`` is judged under."""
+    def profile_choices(self, at: Usd.Object | Sdf.Path | None) -> tuple[Any, ...]:
+        """The profile choices a finding anchored at ``at`` is judged under
+        (none without profiles)."""
+        if self.profiles is None:
+            return ()
         if isinstance(at, Usd.Object):
             at = at.GetPath()
-        return self.profiles.choices_for(at)
+        return tuple(self.profiles.choices_for(at))
 
     def profile_accepts(
         self, at: Usd.Object | Sdf.Path | None, kind: str, value: str
-    ) -> tuple[ProfileChoice, Accepted] | None:
+    ) -> tuple[Any, Any] | None:
         """When every profile a finding at ``at`` is judged under accepts
         ``value`` as ``kind`` ("camera_type", "runtime_camera", "prim_type"
         or "product_type"), the first of them and what it accepts; else None
         (a prim shared with a configuration that does not accept it keeps its
         finding)."""
         found = None
+        # Without profiles nothing is accepted beyond the schema.
         for choice in self.profile_choices(at):
             accepted = getattr(choice.profile, kind)(value)
             if accepted is None:

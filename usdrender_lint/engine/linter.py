@@ -10,6 +10,7 @@ import os
 import traceback
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 from pxr import Sdf, Tf, Usd, UsdRender
 
@@ -24,8 +25,6 @@ from ..model import (
     Location,
     Severity,
 )
-from ..profiles import AUTO
-from ..profiles.model import judge
 from . import partial, suppress
 from .locate import bounded_message, locate
 from .stage import (
@@ -121,7 +120,7 @@ class Linter:
         raise_errors: bool = False,
         known_rules: Sequence[type[Rule]] | None = None,
         full_composition: bool = False,
-        profile_for: Callable[[str], tuple[str, str]] | None = None,
+        profiler: Callable[[Context], Any] | None = None,
     ) -> None:
         self.rules = tuple(rules)
         #: A rule that does not declare partial_composition (every third-party
@@ -135,8 +134,10 @@ class Linter:
         #: Every registered rule, so a customData suppression naming a rule that
         #: was not selected is not reported as naming no rule (default: ``rules``).
         self.known_rules = known_rules
-        #: The configured profile of a linted file: (name or "auto", where configured).
-        self.profile_for = profile_for or _auto_profile
+        #: Decides the renderer profile of each configuration of a lint (R2-5;
+        #: usdrender_lint.profiles.Profiler). None: no profiles, the schema alone,
+        #: and renderer rules (``Rule.profile``) do not run.
+        self.profiler = profiler
         self._dispatch = _TypeDispatch(self.rules)
         #: Rules with a check_stage of their own (most have none: no call per file).
         self._stage_rules = tuple(r for r in self.rules if _overrides(r, "check_stage"))
@@ -228,7 +229,6 @@ class Linter:
             file=file,
             time_sample_cap=self.time_sample_cap,
             partial=masked,
-            profile_setting=self.profile_for(file),
         )
         findings: list[Finding] = []
         # Nothing edits the stage while rules run, so the helpers may cache.
@@ -237,7 +237,7 @@ class Linter:
                 work, suppressing = self._walk(stage, ctx)
                 run = self._run
                 # A renderer rule runs only where some configuration is its renderer's.
-                present = self._profiles_present(ctx)
+                present = self._decide_profiles(ctx)
                 for rule in self._stage_rules:
                     if rule.profile is None or rule.profile in present:
                         findings.extend(run(rule, ctx, rule.check_stage, ctx))
@@ -250,12 +250,16 @@ class Linter:
                 trap.Clear()
         return sorted(set(findings), key=Finding.sort_key)
 
-    def _profiles_present(self, ctx: Context) -> set[str]:
-        """The profiles of the stage's configurations (decided once per lint).
-        Deciding reads the render prims' properties: a crate value found
-        corrupt there is the file's problem (ST001), as in a rule."""
+    def _decide_profiles(self, ctx: Context) -> set[str]:
+        """Decide the profile of every configuration (once per lint) and
+        return the profiles present. Deciding reads the render prims'
+        properties: a crate value found corrupt there is the file's problem
+        (ST001), as in a rule."""
+        if self.profiler is None:
+            return set()
         try:
-            return ctx.profiles.present()
+            ctx.profiles = self.profiler(ctx)
+            return set(ctx.profiles.present())
         except Tf.ErrorException as exc:
             corrupt = [line for line in error_lines(exc, ctx.file) if "Corrupt asset" in line]
             if corrupt:
@@ -347,10 +351,13 @@ class Linter:
     def _finding(self, rule: Rule, diagnostic: Diagnostic, ctx: Context) -> Finding | None:
         """The finding of a diagnostic, judged under its configuration's
         profile (None when that profile switches the rule off there)."""
-        verdict = judge(rule.code, rule.severity, rule.profile, ctx.profile_choices(diagnostic.at))
-        if verdict is None:
-            return None
-        choice, severity = verdict
+        severity, profile, reason = rule.severity, None, None
+        if ctx.profiles is not None:
+            verdict = ctx.profiles.judge(rule.code, rule.severity, rule.profile, diagnostic.at)
+            if verdict is None:
+                return None
+            choice, severity = verdict
+            profile, reason = choice.name, choice.reason
         finding = Finding(
             code=rule.code,
             name=rule.name,
@@ -359,8 +366,8 @@ class Linter:
             message=bounded_message(diagnostic.message),
             location=locate(ctx.stage, ctx.file, diagnostic.at, diagnostic.layer),
             fix=_fix_info(diagnostic.fix),
-            profile=choice.name,
-            profile_reason=choice.reason,
+            profile=profile,
+            profile_reason=reason,
         )
         if self._fixes is not None and diagnostic.fix is not None:
             self._fixes.setdefault(finding, diagnostic.fix)
@@ -380,10 +387,6 @@ class Linter:
                 line,
                 Location(path, None, os.path.abspath(path), line_from_error(line)),
             )
-
-
-def _auto_profile(file: str) -> tuple[str, str]:
-    return AUTO, ""
 
 
 def _overrides(rule: Rule, hook: str) -> bool:

@@ -19,6 +19,13 @@ AUTO = "auto"
 PROFILES: dict[str, Profile] = {p.name: p for p in (GENERIC, KARMA, RENDERMAN, ARNOLD, OMNIVERSE)}
 
 
+def Profiler(*args, **kwargs):  # noqa: N802 - the class, loaded with pxr on first use
+    """``detect.Profiler``: what the engine calls to decide profiles (imports pxr)."""
+    from .detect import Profiler as _Profiler
+
+    return _Profiler(*args, **kwargs)
+
+
 def get_profile(name: str) -> Profile:
     """The profile of that name; KeyError names the known ones."""
     try:
@@ -36,6 +43,7 @@ __all__ = [
     "AUTO",
     "GENERIC",
     "PROFILES",
+    "Profiler",
     "Accepted",
     "Profile",
     "ProfileChoice",

@@ -11,15 +11,18 @@ every installed renderer's), leaves the schema alone: ``generic``.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
+from typing import Any
 
 from pxr import Sdf, Usd, UsdRender
 
+from ..api import Context
 from ..api.resolve import RenderConfiguration, forwarded_targets, resolve_targets
+from ..model import Severity
 from . import AUTO, GENERIC, PROFILES, get_profile
-from .model import Profile, ProfileChoice
+from .model import Profile, ProfileChoice, judge
 
 #: Renderer profiles in the order their evidence is reported.
 _RENDERERS: tuple[Profile, ...] = tuple(p for p in PROFILES.values() if p is not GENERIC)
@@ -47,6 +50,14 @@ class Assignment:
 
     def for_scope(self, key: Sdf.Path) -> ProfileChoice:
         return self.scopes.get(key, self.stage)
+
+    def judge(
+        self, code: str, severity: Severity, rule_profile: str | None, at: Any
+    ) -> tuple[ProfileChoice, Severity] | None:
+        """The verdict on a finding of ``code`` anchored at ``at`` (a USD
+        object, a path or None): see :func:`.model.judge`."""
+        path = at.GetPath() if isinstance(at, Usd.Object) else at
+        return judge(code, severity, rule_profile, self.choices_for(path))
 
     def present(self) -> set[str]:
         return {c.name for c in self.scopes.values()} | {self.stage.name}
@@ -173,3 +184,27 @@ def _stage_choice(assignment: Assignment, render_prims: Sequence[Usd.Prim]) -> P
         "auto: the stage's configurations use several profiles "
         f"({', '.join(sorted(names))}); findings outside them use the schema alone",
     )
+
+
+def _auto(file: str) -> tuple[str, str]:
+    return AUTO, ""
+
+
+class Profiler:
+    """What the engine calls once per lint to decide the profiles: ``choose``
+    gives a linted file's configured profile (a name or ``auto``) and where it
+    was configured (default: ``auto`` for every file)."""
+
+    def __init__(self, choose: Callable[[str], tuple[str, str]] | None = None) -> None:
+        self.choose = choose or _auto
+
+    def __call__(self, ctx: Context) -> Assignment:
+        setting, reason = self.choose(ctx.file)
+        return assign(
+            ctx.configurations,
+            ctx.untargeted_products,
+            ctx.prims_of(UsdRender.Pass),
+            setting,
+            reason,
+            [p for prims in ctx.render_prims.values() for p in prims],
+        )

@@ -20,6 +20,8 @@ from ..api import Rule
 from ..config import ConfigError, Settings, build_options, load_settings, read_config_file
 from ..engine import Linter
 from ..model import FileResult, Finding, Report, Severity
+from ..profiles import AUTO, PROFILES
+from ..profiles.detect import Profiler
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from .discovery import collect_files
 from .path_ignores import apply_path_ignores
@@ -173,14 +175,28 @@ def make_linter(
     settings: Settings, registry: Registry | None = None, *, full_composition: bool = False
 ) -> Linter:
     registry = registry or build_registry()
+    check_profiles(settings)
     return Linter(
         make_rules(registry, settings),
         severity_overrides(registry, settings),
         time_sample_cap=settings.time_sample_cap,
         known_rules=registry.rules,
         full_composition=full_composition,
-        profile_for=profile_chooser(settings),
+        profiler=Profiler(profile_chooser(settings)),
     )
+
+
+def check_profiles(settings: Settings) -> None:
+    """Raise a ConfigError naming the key for a profile that does not exist."""
+    known = [AUTO, *PROFILES]
+    named = [(settings.profile, settings.where("profile"))]
+    named += [
+        (name, f"{settings.where('per_path_profiles')}.{glob}")
+        for glob, name in settings.per_path_profiles.items()
+    ]
+    for name, where in named:
+        if name not in known:
+            raise ConfigError(f"{where}: unknown profile {name!r} (known: {', '.join(known)})")
 
 
 def profile_chooser(settings: Settings):
