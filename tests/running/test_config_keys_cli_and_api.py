@@ -106,6 +106,9 @@ KEYS = {
     "rules": ("[rules.SE001]\nrequire-authored = true", "lighting.usda", "codes"),
     "roots": ('roots = ["shot.usda"]', "lighting.usda", "codes"),
     "time-sample-cap": ("time-sample-cap = 1", "shot.usda", "codes"),
+    # omniverse: PR001 does not apply to RTX products (R2-5).
+    "profile": ('profile = "omniverse"', "lighting.usda", "codes"),
+    "per-path-profiles": ('[per-path-profiles]\n"light*" = "omniverse"', "lighting.usda", "codes"),
     "variants": ("variants = true", "lighting.usda", "messages"),
     "max-variant-combinations": (
         "variants = true\nmax-variant-combinations = 1", "lighting.usda", "messages"

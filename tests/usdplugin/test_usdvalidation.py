@@ -201,7 +201,9 @@ declared = sorted(str(m.name) for m in registry.GetValidatorMetadataForKeyword("
 rules = build_registry().rules
 loaded = [registry.GetOrLoadValidatorByName(validator_name(rule)) for rule in rules]
 context = UsdValidation.ValidationContext([v for v in loaded if v is not None])
-linter = make_linter(Settings())
+# The validators know no renderer profiles (usdplugin sits below them): they
+# report what `check --profile generic` does (R2-5).
+linter = make_linter(Settings(profile="generic"))
 
 def site_path(site):
     if site.IsProperty():
