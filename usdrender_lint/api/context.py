@@ -81,7 +81,9 @@ class Context:
         without profiles)."""
         if self.profiles is None:
             return None
-        return self.profiles.for_scope(config.settings.GetPath())
+        # A product rendered on its own (R2-4) is a scope of its own.
+        owner = config.settings if config.settings is not None else config.product
+        return self.profiles.for_scope(owner.GetPath()) if owner is not None else None
 
     def profile_choices(self, at: Usd.Object | Sdf.Path | None) -> tuple[Any, ...]:
         """The profile choices a finding anchored at ``at`` is judged under

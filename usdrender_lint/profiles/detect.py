@@ -148,9 +148,11 @@ def assign(
     explicit = None if setting == AUTO else ProfileChoice(get_profile(setting), reason)
     by_settings: dict[Sdf.Path, list[RenderConfiguration]] = {}
     for config in configurations:
-        by_settings.setdefault(config.settings.GetPath(), []).append(config)
+        if config.settings is not None:  # products on their own: below (R2-4)
+            by_settings.setdefault(config.settings.GetPath(), []).append(config)
     for key, configs in by_settings.items():
         settings = configs[0].settings
+        assert settings is not None
         products = [c.product for c in configs if c.product is not None]
         prims = [settings, *products, *(v for p in products for v in _vars_of(p))]
         assignment.scopes[key] = explicit or infer(prims)
