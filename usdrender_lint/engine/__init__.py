@@ -5,7 +5,7 @@ configuration, a formatter or the command line."""
 
 from __future__ import annotations
 
-from .linter import RENDER_SCHEMAS, Linter, TracedFinding
+from .linter import RENDER_SCHEMAS, Inspected, Inspector, Linter, TracedFinding
 from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
@@ -20,6 +20,8 @@ __all__ = [
     "STAGE_OPEN_FAILED_CODE",
     "STAGE_OPEN_FAILED_NAME",
     "USD_EXTENSIONS",
+    "Inspected",
+    "Inspector",
     "Linter",
     "StageOpenResult",
     "TracedFinding",

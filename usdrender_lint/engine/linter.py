@@ -10,7 +10,7 @@ import os
 import traceback
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Generic, TypeVar
 
 from pxr import Sdf, Tf, Usd, UsdRender
 
@@ -38,6 +38,12 @@ from .stage import (
     unreadable_reason,
 )
 
+_T = TypeVar("_T")
+
+#: Called with the lint's Context and its findings once the rules have run
+#: (see Linter.inspect_path).
+Inspector = Callable[[Context, Sequence[Finding]], _T]
+
 #: The render prim kinds the engine collects during its walk (Context.render_prims).
 RENDER_SCHEMAS: tuple[type, ...] = (
     UsdRender.Settings,
@@ -57,6 +63,15 @@ class TracedFinding:
     fix: Fix | None
     rule_code: str
     prim_path: Sdf.Path | None
+
+
+@dataclass(frozen=True)
+class Inspected(Generic[_T]):
+    """A file's lint result and what an inspector read from the linted stage
+    (None when no stage could be linted: the result says why)."""
+
+    result: FileResult
+    value: _T | None = None
 
 
 class _TypeDispatch:
@@ -151,11 +166,19 @@ class Linter:
 
     def lint_path(self, path: str) -> FileResult:
         """Lint one file; never raises for a bad file."""
+        return self.inspect_path(path).result
+
+    def inspect_path(self, path: str, inspect: Inspector[_T] | None = None) -> Inspected[_T]:
+        """Lint one file like :meth:`lint_path` and hand the lint's Context and
+        findings to ``inspect`` while the stage it linted (partly composed when
+        the fast path applies) is open and the lint's cache active, so that a
+        reader of the render data (``spec``) composes and resolves nothing
+        twice. Its value is None when no stage could be linted."""
         problem = unreadable_reason(path)
         if problem is not None:
-            return FileResult(path, status="error", error=f"{path}: {problem}")
+            return Inspected(FileResult(path, status="error", error=f"{path}: {problem}"))
         try:
-            return self._lint_file(path)
+            return self._lint_file(path, inspect)
         except UnicodeDecodeError as exc:
             # A corrupt crate can hold names that are not UTF-8: USD composes
             # them, but every Python read of them raises.
@@ -171,25 +194,26 @@ class Linter:
         finding = Finding(
             STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, severity, message, location
         )
-        return FileResult(path, findings=(finding,))
+        return Inspected(FileResult(path, findings=(finding,)))
 
-    def _lint_file(self, path: str) -> FileResult:
+    def _lint_file(self, path: str, inspect: Inspector[_T] | None) -> Inspected[_T]:
         masked = None if self.full_composition else self._open_partial(path)
         if masked is not None and masked.stage is not None:
             try:
-                findings = self._lint(masked.stage, path, masked=True)
-                return FileResult(path, findings=tuple(findings))
+                findings, value = self._lint(masked.stage, path, masked=True, inspect=inspect)
+                return Inspected(FileResult(path, findings=tuple(findings)), value)
             except FullStageRequired:
                 pass  # a rule reads the whole scene: compose all of it below
         opened = open_stage(path)
         if opened.stage is None:
-            return FileResult(path, findings=tuple(self._open_failure_findings(path, opened)))
-        findings = self.lint_stage(opened.stage, path)
-        return FileResult(path, findings=tuple(findings))
+            failures = tuple(self._open_failure_findings(path, opened))
+            return Inspected(FileResult(path, findings=failures))
+        findings, value = self._lint(opened.stage, path, inspect=inspect)
+        return Inspected(FileResult(path, findings=tuple(findings)), value)
 
     def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
         """Lint an open stage; ``file`` names it in findings (default: root layer)."""
-        return self._lint(stage, file)
+        return self._lint(stage, file)[0]
 
     def lint_stage_with_fixes(
         self, stage: Usd.Stage, file: str | None = None
@@ -197,7 +221,7 @@ class Linter:
         """Like :meth:`lint_stage`, each finding paired with the rule's Fix (for the fixer)."""
         self._fixes = {}
         try:
-            findings = self._lint(stage, file)
+            findings = self._lint(stage, file)[0]
             return [(finding, self._fixes.get(finding)) for finding in findings]
         finally:
             self._fixes = None
@@ -222,7 +246,13 @@ class Linter:
                 raise
             return None
 
-    def _lint(self, stage: Usd.Stage, file: str | None, masked: bool = False) -> list[Finding]:
+    def _lint(
+        self,
+        stage: Usd.Stage,
+        file: str | None,
+        masked: bool = False,
+        inspect: Inspector[_T] | None = None,
+    ) -> tuple[list[Finding], _T | None]:
         file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
         ctx = Context(
             stage=stage,
@@ -231,6 +261,7 @@ class Linter:
             partial=masked,
         )
         findings: list[Finding] = []
+        value = None
         # Nothing edits the stage while rules run, so the helpers may cache.
         with Tf.DiagnosticTrap() as trap, lint_cache(ctx.cache):
             try:
@@ -246,9 +277,12 @@ class Linter:
                         if rule.profile is None or rule.profile in present:
                             findings.extend(run(rule, ctx, rule.check_prim, prim, ctx))
                 findings = self._apply_data_suppressions(ctx, findings, suppressing)
+                findings = sorted(set(findings), key=Finding.sort_key)
+                if inspect is not None:
+                    value = inspect(ctx, findings)
             finally:
                 trap.Clear()
-        return sorted(set(findings), key=Finding.sort_key)
+        return findings, value
 
     def _decide_profiles(self, ctx: Context) -> set[str]:
         """Decide the profile of every configuration (once per lint) and
