@@ -10,6 +10,7 @@ from typing import Any
 from pxr import UsdRender
 
 from usdrender_lint.api import Context
+from usdrender_lint.api.raster import pixel_centres
 from usdrender_lint.api.resolve import (
     EffectiveValue,
     composed_value,
@@ -18,7 +19,6 @@ from usdrender_lint.api.resolve import (
     items,
 )
 
-from .._raster import pixel_centres
 from ._messages import _fmt
 
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api.raster import pixel_span
 
-from .._raster import pixel_span
 from ._data_window import _well_formed_window_uses
 
 

@@ -1,11 +1,13 @@
 """The colour-space and raster helpers the SE rules share (rules/_colorspace.py,
-rules/_raster.py)."""
+usdrender_lint/api/raster.py)."""
 
 from __future__ import annotations
 
 import pytest
 from pxr import Usd
-from usdrender_lint.rules import _colorspace, _raster
+from usdrender_lint.rules import _colorspace
+
+from usdrender_lint.api import raster as _raster
 
 
 def test_canonical_names_are_the_26_11_tokens() -> None:

@@ -1,4 +1,4 @@
-"""Raster arithmetic shared by the data-window and aspect rules."""
+"""Raster arithmetic shared by the data-window rules and `spec`: the pixels a window keeps."""
 
 from __future__ import annotations
 
