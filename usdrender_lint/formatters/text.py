@@ -6,7 +6,7 @@ so a CI log or a pipe pays neither rich's import nor its escapes.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import TextIO
 
 from ..model import Report, Severity
@@ -28,27 +28,27 @@ def _is_terminal(stream: TextIO) -> bool:
     return bool(isatty and isatty())
 
 
+def write_lines(lines: Iterable[Line], stream: TextIO) -> None:
+    """Styled lines through rich on a terminal; plain text otherwise."""
+    if not _is_terminal(stream):
+        for line in lines:
+            stream.write("".join(text for text, _ in line) + "\n")
+        return
+    from rich.console import Console
+    from rich.markup import escape
+
+    # rich drops colour by itself when NO_COLOR is set.
+    console = Console(file=stream, soft_wrap=True, highlight=False)
+    for line in lines:
+        console.print("".join(f"[{s}]{escape(t)}[/]" if s else escape(t) for t, s in line))
+
+
 class TextFormatter:
     #: It never reads Report.rules, so the command does not build them.
     reads_rules = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        lines = self._lines(report, options)
-        if not _is_terminal(stream):
-            for line in lines:
-                stream.write("".join(text for text, _ in line) + "\n")
-            return
-        from rich.console import Console
-        from rich.markup import escape
-
-        # rich drops colour by itself when NO_COLOR is set.
-        console = Console(file=stream, soft_wrap=True, highlight=False)
-        for line in lines:
-            console.print(
-                "".join(
-                    f"[{style}]{escape(text)}[/]" if style else escape(text) for text, style in line
-                )
-            )
+        write_lines(self._lines(report, options), stream)
 
     def _lines(self, report: Report, options: FormatOptions) -> Iterator[Line]:
         hidden = 0
