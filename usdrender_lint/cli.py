@@ -1,4 +1,4 @@
-"""The ``usdrender-lint`` command: check, rules, explain.
+"""The ``usdrender-lint`` command: check, spec, rules, explain.
 
 Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it;
 2 the tool could not do its job (bad usage or config, a plugin that fails to
@@ -305,6 +305,97 @@ def _emit_report(
         write_text_atomic(output_file, buffer.getvalue())
     except OSError as exc:
         raise ToolError(f"{output_file}: cannot write the report: {exc.strerror or exc}") from None
+
+
+def _time_option(text: str | None) -> tuple[float | None, bool]:
+    """``--time``: a number, or ``default`` for Usd.TimeCode.Default()."""
+    if text is None:
+        return None, False
+    if text.strip().lower() == "default":
+        return None, True
+    try:
+        value = float(text)
+    except ValueError:
+        raise click.BadParameter(f"{text!r} is not a number or 'default'") from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise click.BadParameter(f"{text!r} is not a finite time")
+    return value, False
+
+
+@cli.command("spec")
+@click.argument("paths", nargs=-1, required=True, type=click.Path(readable=False))
+@click.option("--settings", "settings_path", help="Only this RenderSettings prim (a path).")
+@click.option(
+    "--time",
+    "time_text",
+    help="Time to read the camera and productName at: a number or 'default'  "
+    "[default: the stage's startTimeCode when authored, else Default].",
+)
+@click.option(
+    "--format",
+    "output_format",
+    type=click.Choice(["text", "json", "svg"], case_sensitive=False),
+    default="text",
+    show_default=True,
+)
+@click.option(
+    "--output",
+    help="Write to this file (text, json; atomically) or folder (svg: one file per product).",
+)
+@click.option(
+    "--config",
+    "config_path",
+    type=click.Path(dir_okay=False),
+    help="Read settings (rule selection for the findings) from this file.",
+)
+@click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+@click.option("--jobs", "-j", type=click.IntRange(min=1), default=None, help="Worker processes.")
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0),
+    default=DEFAULT_TIMEOUT,
+    show_default=True,
+    help="Seconds one file may take before it is reported as an error; 0: no limit.",
+)
+def spec_command(
+    paths: tuple[str, ...],
+    settings_path: str | None,
+    time_text: str | None,
+    output_format: str,
+    output: str | None,
+    config_path: str | None,
+    isolated: bool,
+    jobs: int | None,
+    timeout: float,
+) -> None:
+    """Show what will render: per RenderSettings and product, the camera, image
+    size, conformed aperture, data window, outputs, and the values the linter reports.
+
+    Exit codes: 0 every file's specification was computed; 2 a file could not
+    be read (missing, unopenable, timed out) or a usage error.
+    """
+    time, default_time = _time_option(time_text)
+    _import_engine()
+    from .running.pipeline import RequestError
+    from .spec.output import OutputError, emit
+    from .spec.runner import SpecOptions, SpecRequest, run_spec
+
+    request = SpecRequest(
+        paths,
+        SpecOptions(time=time, default_time=default_time, settings=settings_path),
+        config=config_path,
+        isolated=isolated,
+        jobs=jobs,
+        timeout=timeout,
+    )
+    try:
+        outcome = run_spec(request)
+        emit(outcome.results, output_format.lower(), output, __version__, sys.stdout)
+    except (RequestError, OutputError) as exc:
+        raise ToolError(str(exc)) from None
+    for error in outcome.errors:
+        click.echo(f"usdrender-lint: error: {error}", err=True)
+    sys.exit(outcome.exit_status)
 
 
 @cli.command("rules")

@@ -51,7 +51,8 @@ MIN_WORKER_MEMORY = 2 << 30
 
 
 class FileLinter(Protocol):
-    """What the pool needs of a linter: an engine Linter or a VariantExplorer."""
+    """What the pool needs of a linter: an engine Linter, a VariantExplorer or
+    running.inspect's InspectingLinter."""
 
     def lint_path(self, path: str) -> FileResult: ...
 

@@ -1,0 +1,271 @@
+"""The versioned JSON document of ``usdrender-lint spec`` (schema_version 1;
+fields may be added, never renamed or removed without a new version), built
+from the computed specifications and the file's findings. The text and SVG
+views draw this document, so all three show the same values.
+
+Numbers USD holds as ``float`` (apertures, pixelAspectRatio, dataWindowNDC,
+focal length) are written with the fewest digits that read back as the same
+float; doubles as Python writes them; a number that is not finite as null.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
+
+from ..formatters.json import finding_to_dict
+from ..model import FileResult, Finding, Severity
+from ..paths import display_path
+from .data import ProductSpec, SettingsSpec, Source, SpecFileResult, Time, VarSpec
+from .framing import f32
+
+SCHEMA_VERSION = 1
+TOOL_NAME = "usdrender-lint"
+#: Where a product's camera values live among its sources.
+APERTURE_SOURCES = (
+    "horizontalAperture",
+    "verticalAperture",
+    "horizontalApertureOffset",
+    "verticalApertureOffset",
+)
+
+
+def spec_document(results: Sequence[FileResult], tool_version: str) -> dict[str, Any]:
+    return {
+        "schema_version": SCHEMA_VERSION,
+        "tool": {"name": TOOL_NAME, "version": tool_version},
+        "files": [file_document(result) for result in results],
+    }
+
+
+def file_document(result: FileResult) -> dict[str, Any]:
+    spec = result.spec if isinstance(result, SpecFileResult) else None
+    document: dict[str, Any] = {
+        "file": result.file,
+        "status": "computed" if spec is not None else "error",
+        "error": result.error,
+        "time": None,
+        "timeFrom": None,
+        "renderSettingsPrimPath": None,
+        "settings": [],
+        "findings": [finding_to_dict(f) for f in result.findings],
+    }
+    if spec is not None:
+        document.update(
+            time=_time(spec.time),
+            timeFrom=spec.time_from,
+            renderSettingsPrimPath=spec.render_settings_prim_path,
+            settings=[_settings(s, result.findings) for s in spec.settings],
+        )
+    return document
+
+
+def _settings(settings: SettingsSpec, findings: Sequence[Finding]) -> dict[str, Any]:
+    product_paths = [p.path for p in settings.products if p.path]
+    own = [f for f in findings if _prim_path(f.location.path) == settings.path]
+    return {
+        "path": settings.path,
+        "primary": settings.primary,
+        "profile": settings.profile,
+        "includedPurposes": list(settings.included_purposes),
+        "materialBindingPurposes": list(settings.material_binding_purposes),
+        "renderingColorSpace": settings.rendering_color_space,
+        "namespacedSettings": dict(settings.namespaced_settings),
+        "sources": _sources(settings.sources),
+        "findings": _codes(own),
+        "base": _product(settings.base, settings.path, product_paths, findings),
+        "products": [
+            _product(p, settings.path, product_paths, findings) for p in settings.products
+        ],
+    }
+
+
+def _product(
+    product: ProductSpec, settings_path: str, siblings: list[str], findings: Sequence[Finding]
+) -> dict[str, Any]:
+    mine = product_findings(product, settings_path, siblings, findings)
+    framing = product.framing
+    window = product.data_window
+    return {
+        "path": product.path,
+        "name": product.name,
+        "type": product.type,
+        "camera": product.camera,
+        "cameraProblem": product.camera_problem,
+        "time": _time(product.time),
+        "renderedTimes": [_time(t) for t in product.rendered_times],
+        "resolution": list(product.resolution),
+        "pixelAspectRatio": _float(product.pixel_aspect_ratio),
+        "aspectRatioConformPolicy": product.aspect_ratio_conform_policy,
+        "aperture": None
+        if framing is None
+        else {
+            "camera": _floats(framing.aperture),
+            "conformed": _floats(framing.conformed.aperture),
+            "offset": _floats(framing.offset),
+            "adjusted": framing.conformed.adjusted,
+            "notConformed": framing.conformed.skipped,
+        },
+        "projection": framing.projection if framing is not None else None,
+        "focalLength": _float(framing.focal_length) if framing is not None else None,
+        "screenWindow": (
+            [_double(c) for c in framing.screen_window] if framing is not None else None
+        ),
+        "dataWindowNDC": _floats(product.data_window_ndc),
+        "dataWindow": None
+        if window is None
+        else {
+            "x": list(window.x),
+            "y": list(window.y),
+            "yFromTop": list(window.y_from_top),
+            "width": window.width,
+            "height": window.height,
+        },
+        "disableMotionBlur": product.disable_motion_blur,
+        "disableDepthOfField": product.disable_depth_of_field,
+        "shutter": [_double(c) for c in product.shutter] if product.shutter else None,
+        "vars": [_var(v) for v in product.vars],
+        "namespacedSettings": dict(product.namespaced_settings),
+        "sources": _sources(product.sources),
+        "findings": _codes(mine),
+        "flags": product_flags(product, mine),
+        "usdRenderComputeSpec": {
+            "included": product.compute_spec.included,
+            "reason": product.compute_spec.reason,
+            "differs": {k: _json_number(v) for k, v in product.compute_spec.differs.items()},
+        },
+    }
+
+
+def product_findings(
+    product: ProductSpec, settings_path: str, siblings: list[str], findings: Iterable[Finding]
+) -> list[Finding]:
+    """The findings at the product, its vars or its camera, and those at its
+    settings that concern it: not at a property the product overrides, and
+    naming this product or none of the settings' products (a finding about one
+    configuration names its product: ``settings ... with product <path>``)."""
+    owners = set(product.owners) - {settings_path}
+    overridden = {
+        source.path.rpartition(".")[2]
+        for source in product.sources.values()
+        if source.kind == "product" and source.path
+    }
+    mine = []
+    for finding in findings:
+        path = finding.location.path
+        prim = _prim_path(path)
+        if prim in owners:
+            mine.append(finding)
+        elif prim == settings_path:
+            if path and "." in path and path.split(".", 1)[1] in overridden:
+                continue
+            named = [p for p in siblings if _names(finding.message, p)]
+            if not named or (product.path is not None and product.path in named):
+                mine.append(finding)
+    return mine
+
+
+def product_flags(product: ProductSpec, findings: Iterable[Finding]) -> dict[str, list[str]]:
+    """Values to flag, by field: a missing camera and an empty data window,
+    and every value whose property an error or warning is reported at (its
+    codes; info findings are listed in ``findings`` only)."""
+    flags: dict[str, list[str]] = {}
+    if product.camera_problem is not None:
+        flags.setdefault("camera", []).append(product.camera_problem)
+    if product.data_window is not None and product.data_window.empty:
+        flags.setdefault("dataWindow", []).append("the data window contains no pixel centre")
+    by_path: dict[str, list[str]] = {}
+    for finding in findings:
+        if finding.location.path and finding.severity.rank > Severity.INFO.rank:
+            by_path.setdefault(finding.location.path, []).append(finding.code)
+    for key, source in product.sources.items():
+        field = _FIELD_OF_SOURCE.get(key, key)
+        for code in by_path.get(source.path or "", ()):
+            if code not in flags.get(field, []):
+                flags.setdefault(field, []).append(code)
+    return flags
+
+
+_FIELD_OF_SOURCE = {
+    **{name: "aperture" for name in APERTURE_SOURCES},
+    "shutter:open": "shutter",
+    "shutter:close": "shutter",
+}
+
+
+def _names(message: str, path: str) -> bool:
+    """Whether ``message`` names the prim ``path`` (not a longer path it prefixes)."""
+    start = message.find(path)
+    while start >= 0:
+        end = start + len(path)
+        if end == len(message) or not (message[end].isalnum() or message[end] in "_/"):
+            return True
+        start = message.find(path, end)
+    return False
+
+
+def _var(var: VarSpec) -> dict[str, Any]:
+    return {
+        "path": var.path,
+        "name": var.name,
+        "dataType": var.data_type,
+        "sourceName": var.source_name,
+        "sourceType": var.source_type,
+        "namespacedSettings": dict(var.namespaced_settings),
+    }
+
+
+def _sources(sources: Mapping[str, Source]) -> dict[str, Any]:
+    return {
+        key: {
+            "from": source.kind,
+            "path": source.path,
+            "layer": display_path(source.layer) if source.layer else None,
+            "line": source.line,
+        }
+        for key, source in sources.items()
+    }
+
+
+def _codes(findings: Iterable[Finding]) -> list[str]:
+    return sorted({f.code for f in findings})
+
+
+def _prim_path(path: str | None) -> str | None:
+    # A prim name never holds ".": what follows the first one is the property.
+    return path.split(".", 1)[0] if path else None
+
+
+def _time(time: Time) -> float | str:
+    return "default" if time is None else time
+
+
+def _float(value: float) -> float | None:
+    """A float32 value with the fewest digits that read back as the same float."""
+    if not math.isfinite(value):
+        return None
+    for digits in range(1, 10):
+        short = float(f"{value:.{digits}g}")
+        if f32(short) == value:
+            return short
+    return value
+
+
+def _floats(values: Iterable[float]) -> list[float | None]:
+    return [_float(v) for v in values]
+
+
+def _double(value: float) -> float | None:
+    return value if math.isfinite(value) else None
+
+
+def _json_number(value: Any) -> Any:
+    if isinstance(value, float):
+        return _float(value)
+    if isinstance(value, list):
+        return [_json_number(v) for v in value]
+    return value
+
+
+__all__ = ["SCHEMA_VERSION", "file_document", "product_findings", "spec_document"]

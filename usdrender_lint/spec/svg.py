@@ -1,0 +1,218 @@
+"""The framing picture: one SVG per product, drawn from the JSON document.
+
+The camera aperture (dashed), the image it is conformed to (solid), the data
+window (the rendered part green, overscan orange, what a crop leaves out
+grey), labelled, beside the product's values as the text view lists them.
+Values the linter reports are red, and so is a missing camera or an empty
+data window written across the image. Pure text: no pxr, no rich.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from typing import Any
+from xml.sax.saxutils import escape, quoteattr
+
+from ..formatters.text import Line
+from .picture import Picture, Rect, picture
+from .textview import FLAG, value_lines
+
+MIN_WIDTH = 900
+DRAWING = 440  # the drawing's width, in pixels
+#: The advance of one character of the 12 px monospace font, about.
+CHAR_WIDTH = 7.3
+MARGIN = 24
+LINE_HEIGHT = 17
+COLOURS = {
+    None: "#222222",
+    "dim": "#6b6b6b",
+    "bold": "#111111",
+    "yellow": "#9a6700",
+    "green": "#1a7f37",
+    "cyan": "#0969da",
+    FLAG: "#cf222e",
+}
+FILL = {"image": "#e6e6e6", "rendered": "#b7e1c1", "overscan": "#f5c26b"}
+
+
+def svg_files(document: dict[str, Any]) -> list[tuple[str, str]]:
+    """(file name, SVG text) for every product of every computed file, and for
+    a settings without products its own framing; names are unique in the run."""
+    files: list[tuple[str, str]] = []
+    taken: set[str] = set()
+    computed = [f for f in document["files"] if f["status"] == "computed"]
+    stems = [_stem(f["file"]) for f in computed]
+    for file, stem in zip(computed, stems, strict=True):
+        if stems.count(stem) > 1:  # shots/a/shot.usda and shots/b/shot.usda
+            stem = _slug(file["file"].rsplit(".", 1)[0].replace("\\", "/").replace("/", "_"))
+        for settings in file["settings"]:
+            products = settings["products"] or [settings["base"]]
+            for product in products:
+                parts = [stem, _slug(settings["path"].rsplit("/", 1)[-1])]
+                if product["path"]:
+                    parts.append(_slug(product["path"].rsplit("/", 1)[-1]))
+                name = _unique(".".join(parts), taken)
+                files.append((f"{name}.svg", product_svg(file, settings, product)))
+    return files
+
+
+def product_svg(file: dict[str, Any], settings: dict[str, Any], product: dict[str, Any]) -> str:
+    pic = picture(product)
+    problems = [
+        text
+        for field, text in (("camera", "no camera"), ("dataWindow", "empty data window"))
+        if field in product["flags"]
+    ]
+    title: list[Line] = [
+        [(file["file"], "bold")],
+        [("RenderSettings ", "dim"), (settings["path"], "bold")],
+    ]
+    if product["path"] is not None:
+        title.append([("RenderProduct ", "dim"), (product["path"], "bold")])
+        title.append([("→ ", "dim"), (product["name"] or "(no productName)", None)])
+    else:
+        title.append([("no products: the settings' own values", "yellow")])
+    values = list(value_lines(product))
+    text_x = MARGIN * 2 + DRAWING
+    body_top = MARGIN + LINE_HEIGHT * (len(title) + 1)
+    box = pic.bounds
+    aspect = box.height / box.width if box.width > 0 else 1.0
+    drawing_height = DRAWING * min(1.0, max(0.3, aspect)) + 40  # the legend below
+    height = round(
+        max(body_top + drawing_height + MARGIN, body_top + LINE_HEIGHT * len(values) + MARGIN)
+    )
+    longest = max((sum(len(t) for t, _ in line) for line in values), default=0)
+    width = max(MIN_WIDTH, round(text_x + longest * CHAR_WIDTH + MARGIN))
+    out = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+        f'viewBox="0 0 {width} {height}" font-family="Menlo, Consolas, monospace" '
+        'font-size="12">',
+        f'<rect width="{width}" height="{height}" fill="#ffffff"/>',
+    ]
+    out.extend(_lines(title, MARGIN, MARGIN + LINE_HEIGHT))
+    out.extend(_drawing(pic, problems, product, MARGIN, body_top, drawing_height - 40))
+    out.extend(_lines(values, text_x, body_top + LINE_HEIGHT))
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
+
+
+def _drawing(
+    pic: Picture,
+    problems: list[str],
+    product: dict[str, Any],
+    left: float,
+    top: float,
+    height: float,
+) -> Iterator[str]:
+    box = pic.bounds
+    pad = 0.06 * max(box.width, box.height)
+    box = Rect(box.left - pad, box.bottom - pad, box.right + pad, box.top + pad)
+    scale = min(DRAWING / box.width, height / box.height)
+    # Centre the drawing in its area.
+    x0 = left + (DRAWING - box.width * scale) / 2
+    y0 = top + (height - box.height * scale) / 2
+
+    def place(rect: Rect) -> tuple[float, float, float, float]:
+        return (
+            x0 + (rect.left - box.left) * scale,
+            y0 + (box.top - rect.top) * scale,
+            rect.width * scale,
+            rect.height * scale,
+        )
+
+    def rect(r: Rect, **attrs: str) -> str:
+        x, y, w, h = place(r)
+        extra = " ".join(f"{k.replace('_', '-')}={quoteattr(v)}" for k, v in attrs.items())
+        return f'<rect x="{x:.2f}" y="{y:.2f}" width="{w:.2f}" height="{h:.2f}" {extra}/>'
+
+    yield rect(pic.image, fill=FILL["image"])
+    if pic.data is not None:
+        yield rect(pic.data, fill=FILL["overscan"])
+        inside = pic.data.clamp(pic.image)
+        if inside.width > 0 and inside.height > 0:
+            yield rect(inside, fill=FILL["rendered"])
+    if pic.camera is not None:
+        yield rect(pic.camera, fill="none", stroke=COLOURS["cyan"], stroke_dasharray="6 4")
+    outline = COLOURS[FLAG] if problems else COLOURS["bold"]
+    yield rect(pic.image, fill="none", stroke=outline, stroke_width="2")
+    x, y, w, h = place(pic.image)
+    width, height = product["resolution"]
+    yield _text(x, y - 6, f"image {width} x {height}", COLOURS["bold"])
+    aperture = product["aperture"]
+    if pic.camera is not None and aperture is not None:
+        cx, cy, cw, ch = place(pic.camera)
+        h_ap, v_ap = aperture["camera"]
+        yield _text(cx, cy + ch + 14, f"camera aperture {h_ap:g} x {v_ap:g}", COLOURS["cyan"])
+    window = product["dataWindow"]
+    if pic.data is not None and window is not None:
+        kinds = [k for k, on in (("crop", pic.cropped), ("overscan", pic.overscan)) if on]
+        label = f"data window {window['width']} x {window['height']}"
+        if kinds:
+            label += f" ({', '.join(kinds)})"
+        dx, dy, dw, dh = place(pic.data)
+        yield _text(dx + 4, dy + dh - 6, label, COLOURS["green"])
+    for index, problem in enumerate(problems):
+        yield _text(
+            x + w / 2,
+            y + h / 2 + (index - (len(problems) - 1) / 2) * 22,
+            problem,
+            COLOURS[FLAG],
+            anchor="middle",
+            size=18,
+        )
+    legend_y = top + height + 28
+    for offset, (label, colour) in enumerate(
+        (
+            ("image", FILL["image"]),
+            ("rendered", FILL["rendered"]),
+            ("overscan", FILL["overscan"]),
+        )
+    ):
+        lx = left + offset * 110
+        yield f'<rect x="{lx}" y="{legend_y - 10}" width="12" height="12" fill="{colour}"/>'
+        yield _text(lx + 18, legend_y, label, COLOURS["dim"])
+    lx = left + 330
+    yield (
+        f'<line x1="{lx}" y1="{legend_y - 4}" x2="{lx + 24}" y2="{legend_y - 4}" '
+        f'stroke="{COLOURS["cyan"]}" stroke-dasharray="6 4"/>'
+    )
+    yield _text(lx + 30, legend_y, "camera", COLOURS["dim"])
+
+
+def _lines(lines: list[Line], x: float, y: float) -> Iterator[str]:
+    for index, line in enumerate(lines):
+        spans = "".join(_span(text, style) for text, style in line if text)
+        if spans:
+            yield (
+                f'<text x="{x}" y="{y + index * LINE_HEIGHT}" xml:space="preserve">{spans}</text>'
+            )
+
+
+def _span(text: str, style: str | None) -> str:
+    weight = ' font-weight="bold"' if style in ("bold", FLAG) else ""
+    return f'<tspan fill="{COLOURS.get(style, COLOURS[None])}"{weight}>{escape(text)}</tspan>'
+
+
+def _text(x: float, y: float, text: str, colour: str, anchor: str = "start", size: int = 12) -> str:
+    return (
+        f'<text x="{x:.2f}" y="{y:.2f}" fill="{colour}" font-size="{size}" '
+        f'text-anchor="{anchor}">{escape(text)}</text>'
+    )
+
+
+def _stem(file: str) -> str:
+    return _slug(re.split(r"[\\/]", file)[-1].rsplit(".", 1)[0])
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", text).strip("._") or "_"
+
+
+def _unique(name: str, taken: set[str]) -> str:
+    candidate, count = name, 1
+    while candidate in taken:
+        count += 1
+        candidate = f"{name}-{count}"
+    taken.add(candidate)
+    return candidate

@@ -1,0 +1,301 @@
+"""The terminal view of the JSON document: per product, the framing drawn in
+characters beside its values; values the linter reports are flagged in red
+with the finding codes (an empty data window, a missing camera, ...)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Sequence
+from typing import Any, TextIO
+
+from ..formatters.text import Line, write_lines
+from .picture import Picture, Rect, picture
+
+#: The drawing's size in characters (a character is about twice as tall as wide).
+COLUMNS, MAX_ROWS, MIN_ROWS = 30, 13, 5
+GAP = "   "
+FLAG = "bold red"
+LEGEND = ("─ image   · camera aperture", "░ rendered  ▒ overscan")
+
+
+def render(document: dict[str, Any], stream: TextIO) -> None:
+    write_lines(document_lines(document), stream)
+
+
+def document_lines(document: dict[str, Any]) -> Iterator[Line]:
+    for index, file in enumerate(document["files"]):
+        if index:
+            yield []
+        yield from file_lines(file)
+
+
+def file_lines(file: dict[str, Any]) -> Iterator[Line]:
+    if file["status"] != "computed":
+        yield [(file["file"], "bold")]
+        yield [("  ", None), ("error", FLAG), (f"  {file['error']}", None)]
+        return
+    when = {
+        "--time": "--time",
+        "startTimeCode": "the stage's startTimeCode",
+        "default": "no startTimeCode",
+    }[file["timeFrom"]]
+    yield [(file["file"], "bold"), (f"  at {_time(file['time'])} ({when})", "dim")]
+    if not file["settings"]:
+        yield [("  no usable RenderSettings", "yellow")]
+    for settings in file["settings"]:
+        yield []
+        yield from settings_lines(settings)
+
+
+def settings_lines(settings: dict[str, Any]) -> Iterator[Line]:
+    marks = ["primary"] if settings["primary"] else []
+    marks.append(f"profile {settings['profile']}")
+    yield [
+        ("RenderSettings ", None),
+        (settings["path"], "bold"),
+        (f"  ({', '.join(marks)})", "dim"),
+    ]
+    purposes = ", ".join(settings["includedPurposes"]) or "none"
+    bindings = ", ".join(p or '""' for p in settings["materialBindingPurposes"]) or "none"
+    color = settings["renderingColorSpace"] or "the renderer's default"
+    yield [(f"  purposes {purposes} · material bindings {bindings} · colour space {color}", None)]
+    if settings["findings"]:
+        yield [("  findings on the settings: ", None), (", ".join(settings["findings"]), FLAG)]
+    if not settings["products"]:
+        yield [
+            ("  no products: ", "yellow"),
+            ("the application decides the outputs; the settings' own values:", None),
+        ]
+        yield from product_lines(settings["base"])
+    for product in settings["products"]:
+        yield []
+        yield from product_lines(product)
+
+
+def product_lines(product: dict[str, Any]) -> Iterator[Line]:
+    if product["path"] is not None:
+        yield [
+            ("  RenderProduct ", None),
+            (product["path"], "bold"),
+            (f"  → {product['name'] or '(no productName)'}  ({product['type']})", None),
+        ]
+    problems = [
+        text
+        for field, text in (("camera", "no camera"), ("dataWindow", "empty data window"))
+        if field in product["flags"]
+    ]
+    drawing = draw(picture(product), problems)
+    values = list(value_lines(product))
+    width = sum(len(text) for text, _ in drawing[0]) if drawing else 0
+    for row in range(max(len(drawing), len(values))):
+        left: Line = drawing[row] if row < len(drawing) else [(" " * width, None)]
+        right = values[row] if row < len(values) else []
+        yield [("  ", None), *left, (GAP, None), *right]
+
+
+def value_lines(product: dict[str, Any]) -> Iterator[Line]:
+    flags = product["flags"]
+
+    def row(label: str, text: str, field: str | None = None, note: str = "") -> Line:
+        flagged = flags.get(field or label, [])
+        line: Line = [(f"{label:<15}", "dim"), (text, FLAG if flagged else None)]
+        if flagged:
+            line.append((f"  [{'; '.join(flagged)}]", FLAG))
+        if note:
+            line.append((f"  {note}", "dim"))
+        return line
+
+    sources = product["sources"]
+    yield row(
+        "camera",
+        product["camera"] or "none",
+        note=_source(sources.get("camera")),
+    )
+    rendered = ", ".join(_time(t) for t in product["renderedTimes"][:6])
+    if len(product["renderedTimes"]) > 6:
+        rendered += f", … ({len(product['renderedTimes'])})"
+    yield row("time", _time(product["time"]), note=f"rendered times {rendered or 'none'}")
+    width, height = product["resolution"]
+    yield row("resolution", f"{width} x {height}", note=_source(sources.get("resolution")))
+    yield row(
+        "pixel aspect",
+        _num(product["pixelAspectRatio"]),
+        "pixelAspectRatio",
+        _source(sources.get("pixelAspectRatio")),
+    )
+    aperture = product["aperture"]
+    policy = product["aspectRatioConformPolicy"]
+    if aperture is None:
+        yield row("conform", policy, "aspectRatioConformPolicy", "no camera aperture to conform")
+    else:
+        changed = aperture["adjusted"]
+        what = f"adjusts the {changed}" if changed in ("width", "height") else None
+        if changed == "pixelAspectRatio":
+            what = "adjusts the pixel aspect ratio"
+        what = what or aperture["notConformed"] or "nothing to adjust"
+        yield row("conform", policy, "aspectRatioConformPolicy", what)
+        yield row(
+            "aperture",
+            f"{_pair(aperture['camera'])} → {_pair(aperture['conformed'])}",
+            note=f"offset {_pair(aperture['offset'], ', ')}",
+        )
+        window = product["screenWindow"]
+        yield row("screen window", " ".join(_num(c, 4) for c in window), note=product["projection"])
+    ndc = product["dataWindowNDC"]
+    pixels = product["dataWindow"]
+    ndc_text = "(" + ", ".join(_num(c) for c in ndc) + ")"
+    if pixels is None:
+        yield row("data window", ndc_text, "dataWindow", "no pixels at this resolution")
+    else:
+        (x0, x1), (y0, y1) = pixels["x"], pixels["y"]
+        yield row(
+            "data window",
+            f"x {x0}..{x1}, y {y0}..{y1}  ({pixels['width']} x {pixels['height']})",
+            "dataWindow",
+        )
+        yield row("", f"NDC {ndc_text}", "dataWindowNDC", _source(sources.get("dataWindowNDC")))
+    shutter = product["shutter"]
+    blur = "off" if product["disableMotionBlur"] else "on"
+    if shutter is not None:
+        blur += f", shutter {_num(shutter[0])} .. {_num(shutter[1])}"
+    yield row("motion blur", blur, "disableMotionBlur")
+    yield row("depth of field", "off" if product["disableDepthOfField"] else "on")
+    for index, var in enumerate(product["vars"]):
+        yield row(
+            "vars" if index == 0 else "",
+            f"{var['name']}  {var['sourceName']!r} {var['sourceType']} {var['dataType']}",
+        )
+    if product["path"] is not None and not product["vars"]:
+        yield row("vars", "none")
+    compute = product["usdRenderComputeSpec"]
+    if not compute["included"] and product["path"] is not None:
+        yield [(f"{'ComputeSpec':<15}", "dim"), (compute["reason"], "yellow")]
+    elif compute["differs"]:
+        differs = "; ".join(f"{k} {_value(v)}" for k, v in compute["differs"].items())
+        yield [(f"{'ComputeSpec':<15}", "dim"), (f"reads Default: {differs}", "yellow")]
+    if product["findings"]:
+        yield row("findings", ", ".join(product["findings"]))
+
+
+# -- the drawing --------------------------------------------------------------------
+
+
+def draw(pic: Picture, problems: Sequence[str] = ()) -> list[Line]:
+    """The framing in characters: rows of styled segments, all one width;
+    ``problems`` (no camera, an empty data window) are written inside in red."""
+    box = pic.bounds
+    aspect = box.height / box.width if box.width > 0 else 1.0
+    rows = min(MAX_ROWS, max(MIN_ROWS, round(COLUMNS * aspect / 2)))
+    columns = COLUMNS if rows < MAX_ROWS else max(8, min(COLUMNS, round(rows * 2 / aspect)))
+    blank: tuple[str, str | None] = (" ", None)
+    grid = [[blank] * columns for _ in range(rows)]
+    cells = _Cells(box, columns, rows)
+    if pic.data is not None:
+        image = cells.span(pic.image)
+        c0, r0, c1, r1 = cells.span(pic.data)
+        for r in range(r0, r1 + 1):
+            for c in range(c0, c1 + 1):
+                inside = image[0] <= c <= image[2] and image[1] <= r <= image[3]
+                grid[r][c] = ("░", "green") if inside else ("▒", "yellow")
+    if pic.camera is not None:
+        _outline(grid, cells.span(pic.camera), {"h": "·", "v": "·", "corner": "·"}, "cyan")
+    image = cells.span(pic.image)
+    _outline(grid, image, _BOX, FLAG if problems else "bold")
+    inner = max(1, image[2] - image[0] - 1)
+    first = (image[1] + image[3] - len(problems) + 1) // 2
+    for row, problem in enumerate(problems, start=max(image[1] + 1, first)):
+        if row >= image[3]:
+            break
+        text = problem[:inner]
+        start = image[0] + 1 + (inner - len(text)) // 2
+        for offset, char in enumerate(text):
+            grid[row][start + offset] = (char, FLAG)
+    lines: list[Line] = [_merge(r) for r in grid]
+    lines.extend([(text[:columns].ljust(columns), "dim")] for text in LEGEND)
+    return lines
+
+
+_BOX = {"h": "─", "v": "│", "tl": "┌", "tr": "┐", "bl": "└", "br": "┘"}
+
+
+class _Cells:
+    """Maps aperture coordinates (y up) to character cells (row 0 at the top)."""
+
+    def __init__(self, box: Rect, columns: int, rows: int) -> None:
+        self.box, self.columns, self.rows = box, columns, rows
+
+    def span(self, rect: Rect) -> tuple[int, int, int, int]:
+        """(first column, first row, last column, last row) of a rectangle."""
+        box = self.box
+
+        def column(x: float) -> int:
+            t = (x - box.left) / box.width if box.width else 0.5
+            return min(self.columns - 1, max(0, round(t * (self.columns - 1))))
+
+        def row(y: float) -> int:
+            t = (box.top - y) / box.height if box.height else 0.5
+            return min(self.rows - 1, max(0, round(t * (self.rows - 1))))
+
+        return column(rect.left), row(rect.top), column(rect.right), row(rect.bottom)
+
+
+def _outline(grid: list, span: tuple[int, int, int, int], chars: dict, style: str) -> None:
+    c0, r0, c1, r1 = span
+    corner = chars.get("corner")
+    for c in range(c0, c1 + 1):
+        grid[r0][c] = (chars["h"], style)
+        grid[r1][c] = (chars["h"], style)
+    for r in range(r0, r1 + 1):
+        grid[r][c0] = (chars["v"], style)
+        grid[r][c1] = (chars["v"], style)
+    for r, c, key in ((r0, c0, "tl"), (r0, c1, "tr"), (r1, c0, "bl"), (r1, c1, "br")):
+        grid[r][c] = (corner or chars[key], style)
+
+
+def _merge(cells: list[tuple[str, str | None]]) -> Line:
+    """Adjacent cells of one style as one segment."""
+    line: Line = []
+    for char, style in cells:
+        if line and line[-1][1] == style:
+            line[-1] = (line[-1][0] + char, style)
+        else:
+            line.append((char, style))
+    return line
+
+
+# -- numbers -------------------------------------------------------------------------
+
+
+def _time(time: Any) -> str:
+    return "Default" if time == "default" else _num(time)
+
+
+def _num(value: Any, digits: int = 6) -> str:
+    if value is None:
+        return "nan"
+    if isinstance(value, float) and not math.isfinite(value):
+        return str(value)
+    return f"{value:.{digits}g}"
+
+
+def _pair(values: list[Any], sep: str = " x ") -> str:
+    return sep.join(_num(v) for v in values)
+
+
+def _value(value: Any) -> str:
+    if isinstance(value, list):
+        return _pair(value)
+    if isinstance(value, str):
+        return repr(value)
+    return _num(value)
+
+
+def _source(source: dict[str, Any] | None) -> str:
+    if source is None:
+        return ""
+    if source["from"] == "fallback":
+        return "fallback"
+    where = source["layer"] or ""
+    if where and source["line"]:
+        where += f":{source['line']}"
+    return f"{source['from']}, {where}" if where else source["from"]
