@@ -97,7 +97,7 @@ def compute_file_spec(ctx: Context, findings: Sequence[Finding], options: SpecOp
         prims = [p for p in prims if str(p.GetPath()) == options.settings]
         if not prims:
             raise SpecError(f"no usable RenderSettings at <{options.settings}>")
-    reader = _Reader(ctx, time)
+    reader = _Reader(ctx, time, at_default=options.default_time)
     settings = tuple(reader.settings_spec(prim, prim.GetPath() == primary_path) for prim in prims)
     metadata = stage.GetMetadata("renderSettingsPrimPath") or None
     return FileSpec(time, time_from, metadata, settings)
@@ -124,10 +124,12 @@ def _time_value(time: Usd.TimeCode) -> Time:
 class _Reader:
     """Reads the specification of one stage at one requested time."""
 
-    def __init__(self, ctx: Context, time: Time) -> None:
+    def __init__(self, ctx: Context, time: Time, at_default: bool = False) -> None:
         self.ctx = ctx
         self.stage = ctx.stage
         self.time = time
+        #: ``--time default``: everything at Default, sampled or not.
+        self.at_default = at_default
         self.cap = ctx.time_sample_cap
 
     # -- settings ------------------------------------------------------------
@@ -247,12 +249,14 @@ class _Reader:
         policy: str,
         sources: dict[str, Source],
     ) -> _Camera:
-        """The camera read at the product's camera time: the time asked for,
-        or, when that is Default, its first rendered time (R2-1: Default is
-        not rendered when a camera input is sampled)."""
+        """The camera read at the product's camera time: the time asked for;
+        without one (no startTimeCode, no --time), its first rendered time
+        (R2-1: Default is not rendered when a camera input is sampled)."""
         attrs = [prim.GetAttribute(n) for n in CAMERA_ATTRIBUTES]
         times = rendered_times(attrs, self.cap)
-        time = self.time if self.time is not None else _time_value(times[0])
+        time = self.time
+        if time is None and not self.at_default:
+            time = _time_value(times[0])
         for attr in attrs:
             sources[attr.GetName()] = self._source(attr, "camera")
         read = _camera_reader(prim, _time_code(time))
@@ -271,7 +275,7 @@ class _Reader:
         """productName (at ``time``; at Default, the first time it is
         rendered), productType, the ordered vars, the namespaced settings."""
         name_attr = product.GetAttribute("productName")
-        if time is None:
+        if time is None and not self.at_default:
             time = _time_value(rendered_times([name_attr], self.cap)[0])
         sources["name"] = self._source(name_attr, "product")
         sources["type"] = self._source(product.GetAttribute("productType"), "product")
@@ -311,9 +315,8 @@ class _Reader:
     # -- vars ------------------------------------------------------------------
 
     def _vars(self, product: Usd.Prim) -> Iterable[VarSpec]:
-        """The product's ordered vars, in order, repeats included (spec.cpp
-        gives a var listed twice two indices); targets that are no usable
-        RenderVar are skipped (spec.cpp: "Skipping")."""
+        """The product's ordered vars, in order (forwarded targets are unique);
+        targets that are no usable RenderVar are skipped (spec.cpp: "Skipping")."""
         for target in resolve_targets(product.GetRelationship("orderedVars")):
             if typed_target_problem(target, UsdRender.Var, "a RenderVar") is not None:
                 continue
