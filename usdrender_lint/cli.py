@@ -307,8 +307,11 @@ def _emit_report(
         raise ToolError(f"{output_file}: cannot write the report: {exc.strerror or exc}") from None
 
 
-def _time_option(text: str | None) -> tuple[float | None, bool]:
-    """``--time``: a number, or ``default`` for Usd.TimeCode.Default()."""
+def _time_option(
+    ctx: click.Context, param: click.Parameter, text: str | None
+) -> tuple[float | None, bool]:
+    """``--time``: (a number, False), or (None, True) for ``default``
+    (Usd.TimeCode.Default()); (None, False) when not given."""
     if text is None:
         return None, False
     if text.strip().lower() == "default":
@@ -327,7 +330,8 @@ def _time_option(text: str | None) -> tuple[float | None, bool]:
 @click.option("--settings", "settings_path", help="Only this RenderSettings prim (a path).")
 @click.option(
     "--time",
-    "time_text",
+    "time_option",
+    callback=_time_option,
     help="Time to read the camera and productName at: a number or 'default'  "
     "[default: the stage's startTimeCode when authored, else Default].",
 )
@@ -360,7 +364,7 @@ def _time_option(text: str | None) -> tuple[float | None, bool]:
 def spec_command(
     paths: tuple[str, ...],
     settings_path: str | None,
-    time_text: str | None,
+    time_option: tuple[float | None, bool],
     output_format: str,
     output: str | None,
     config_path: str | None,
@@ -374,7 +378,7 @@ def spec_command(
     Exit codes: 0 every file's specification was computed; 2 a file could not
     be read (missing, unopenable, timed out) or a usage error.
     """
-    time, default_time = _time_option(time_text)
+    time, default_time = time_option
     _import_engine()
     from .running.pipeline import RequestError
     from .spec.output import OutputError, emit

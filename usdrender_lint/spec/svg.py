@@ -78,7 +78,7 @@ def product_svg(file: dict[str, Any], settings: dict[str, Any], product: dict[st
     body_top = MARGIN + LINE_HEIGHT * (len(title) + 1)
     box = pic.bounds
     aspect = box.height / box.width if box.width > 0 else 1.0
-    drawing_height = DRAWING * min(1.0, max(0.3, aspect)) + 40  # the legend below
+    drawing_height = DRAWING * min(1.0, max(0.3, aspect)) + 30 + LINE_HEIGHT * 4  # + legend
     height = round(
         max(body_top + drawing_height + MARGIN, body_top + LINE_HEIGHT * len(values) + MARGIN)
     )
@@ -91,7 +91,8 @@ def product_svg(file: dict[str, Any], settings: dict[str, Any], product: dict[st
         f'<rect width="{width}" height="{height}" fill="#ffffff"/>',
     ]
     out.extend(_lines(title, MARGIN, MARGIN + LINE_HEIGHT))
-    out.extend(_drawing(pic, problems, product, MARGIN, body_top, drawing_height - 40))
+    area = drawing_height - 30 - LINE_HEIGHT * 4
+    out.extend(_drawing(pic, problems, product, MARGIN, body_top, area))
     out.extend(_lines(values, text_x, body_top + LINE_HEIGHT))
     out.append("</svg>")
     return "\n".join(out) + "\n"
@@ -103,15 +104,17 @@ def _drawing(
     product: dict[str, Any],
     left: float,
     top: float,
-    height: float,
+    area_height: float,
 ) -> Iterator[str]:
+    """The framing in ``DRAWING`` x ``area_height`` pixels at (left, top), and
+    below it a legend that labels each shape with its values."""
     box = pic.bounds
     pad = 0.06 * max(box.width, box.height)
     box = Rect(box.left - pad, box.bottom - pad, box.right + pad, box.top + pad)
-    scale = min(DRAWING / box.width, height / box.height)
+    scale = min(DRAWING / box.width, area_height / box.height)
     # Centre the drawing in its area.
     x0 = left + (DRAWING - box.width * scale) / 2
-    y0 = top + (height - box.height * scale) / 2
+    y0 = top + (area_height - box.height * scale) / 2
 
     def place(rect: Rect) -> tuple[float, float, float, float]:
         return (
@@ -137,47 +140,50 @@ def _drawing(
     outline = COLOURS[FLAG] if problems else COLOURS["bold"]
     yield rect(pic.image, fill="none", stroke=outline, stroke_width="2")
     x, y, w, h = place(pic.image)
-    width, height = product["resolution"]
-    yield _text(x, y - 6, f"image {width} x {height}", COLOURS["bold"])
-    aperture = product["aperture"]
-    if pic.camera is not None and aperture is not None:
-        cx, cy, cw, ch = place(pic.camera)
-        h_ap, v_ap = aperture["camera"]
-        yield _text(cx, cy + ch + 14, f"camera aperture {h_ap:g} x {v_ap:g}", COLOURS["cyan"])
-    window = product["dataWindow"]
-    if pic.data is not None and window is not None:
-        kinds = [k for k, on in (("crop", pic.cropped), ("overscan", pic.overscan)) if on]
-        label = f"data window {window['width']} x {window['height']}"
-        if kinds:
-            label += f" ({', '.join(kinds)})"
-        dx, dy, dw, dh = place(pic.data)
-        yield _text(dx + 4, dy + dh - 6, label, COLOURS["green"])
     for index, problem in enumerate(problems):
         yield _text(
             x + w / 2,
-            y + h / 2 + (index - (len(problems) - 1) / 2) * 22,
+            y + h / 2 + (index - (len(problems) - 1) / 2) * 22 + 6,
             problem,
             COLOURS[FLAG],
             anchor="middle",
             size=18,
         )
-    legend_y = top + height + 28
-    for offset, (label, colour) in enumerate(
-        (
-            ("image", FILL["image"]),
-            ("rendered", FILL["rendered"]),
-            ("overscan", FILL["overscan"]),
-        )
-    ):
-        lx = left + offset * 110
-        yield f'<rect x="{lx}" y="{legend_y - 10}" width="12" height="12" fill="{colour}"/>'
-        yield _text(lx + 18, legend_y, label, COLOURS["dim"])
-    lx = left + 330
-    yield (
-        f'<line x1="{lx}" y1="{legend_y - 4}" x2="{lx + 24}" y2="{legend_y - 4}" '
-        f'stroke="{COLOURS["cyan"]}" stroke-dasharray="6 4"/>'
-    )
-    yield _text(lx + 30, legend_y, "camera", COLOURS["dim"])
+    legend_top = top + area_height + 22
+    for index, (swatch, label) in enumerate(_legend(pic, product)):
+        ly = legend_top + index * LINE_HEIGHT
+        if swatch == "camera":
+            yield (
+                f'<line x1="{left}" y1="{ly - 4}" x2="{left + 12}" y2="{ly - 4}" '
+                f'stroke="{COLOURS["cyan"]}" stroke-width="2" stroke-dasharray="4 2"/>'
+            )
+        else:
+            yield f'<rect x="{left}" y="{ly - 10}" width="12" height="12" fill="{FILL[swatch]}"/>'
+        yield _text(left + 20, ly, label, COLOURS[None])
+
+
+def _legend(pic: Picture, product: dict[str, Any]) -> list[tuple[str, str]]:
+    """(swatch, label) for each shape drawn."""
+    width, height = product["resolution"]
+    aperture = product["aperture"]
+    image = f"image {width} x {height}"
+    if aperture is not None:
+        image += f" = the conformed aperture {_pair(aperture['conformed'])}"
+    entries = [("image", image)]
+    window = product["dataWindow"]
+    if pic.data is not None and window is not None:
+        kinds = [k for k, on in (("crop", pic.cropped), ("overscan", pic.overscan)) if on]
+        label = f"rendered: data window {window['width']} x {window['height']} pixels"
+        entries.append(("rendered", label + (f" ({', '.join(kinds)})" if kinds else "")))
+        if pic.overscan:
+            entries.append(("overscan", "overscan: rendered outside the image"))
+    if pic.camera is not None and aperture is not None:
+        entries.append(("camera", f"camera aperture {_pair(aperture['camera'])}"))
+    return entries
+
+
+def _pair(values: list[Any]) -> str:
+    return " x ".join(f"{v:.6g}" if v is not None else "nan" for v in values)
 
 
 def _lines(lines: list[Line], x: float, y: float) -> Iterator[str]:
