@@ -177,7 +177,10 @@ class _Reader:
             sources["camera"] = self._source(rel, "product" if own else "settings")
         camera = _Camera(None, self.time, (), None, None, None)
         if target is not None and target.prim is not None and camera_problem is None:
-            camera = self._camera(target.prim, resolution, pixel_aspect, policy, sources)
+            camera, camera_sources = self.ctx.cached(
+                _read_camera, self, target.prim, resolution, pixel_aspect, policy
+            )
+            sources.update(camera_sources)
             if disable_blur:
                 # The schema: disableMotionBlur sets the camera's shutter to [0, 0].
                 camera = replace(camera, shutter=(0.0, 0.0))
@@ -241,14 +244,9 @@ class _Reader:
             sources[name] = self._source(effective.attr, kind)
         return values
 
-    def _camera(
-        self,
-        prim: Usd.Prim,
-        resolution: tuple[int, int],
-        pixel_aspect: float,
-        policy: str,
-        sources: dict[str, Source],
-    ) -> _Camera:
+    def camera(
+        self, prim: Usd.Prim, resolution: tuple[int, int], pixel_aspect: float, policy: str
+    ) -> tuple[_Camera, dict[str, Source]]:
         """The camera read at the product's camera time: the time asked for;
         without one (no startTimeCode, no --time), its first rendered time
         (R2-1: Default is not rendered when a camera input is sampled)."""
@@ -257,10 +255,9 @@ class _Reader:
         time = self.time
         if time is None and not self.at_default:
             time = _time_value(times[0])
-        for attr in attrs:
-            sources[attr.GetName()] = self._source(attr, "camera")
+        sources = {attr.GetName(): self._source(attr, "camera") for attr in attrs}
         read = _camera_reader(prim, _time_code(time))
-        return _Camera(
+        camera = _Camera(
             time=time,
             rendered_times=tuple(_time_value(t) for t in times),
             framing=_framing(read, resolution, pixel_aspect, policy),
@@ -270,6 +267,7 @@ class _Reader:
             shutter=(float(read("shutter:open")), float(read("shutter:close"))),
             prim=prim,
         )
+        return camera, sources
 
     def _outputs(self, product: Usd.Prim, time: Time, sources: dict[str, Source]) -> _Outputs:
         """productName (at ``time``; at Default, the first time it is
@@ -335,17 +333,21 @@ class _Reader:
 
     def _source(self, prop: Usd.Property, kind: str) -> Source:
         """Where the value of ``prop`` comes from: its strongest opinion's layer
-        and line, or the schema fallback when it authors none."""
-        path = str(prop.GetPath()) if prop else None
-        authored = (
-            bool(prop.GetTargets())
-            if isinstance(prop, Usd.Relationship)
-            else has_authored_value(prop)
-        )
-        if not authored:
-            return Source("fallback", path)
-        where = locate(self.stage, self.ctx.file, prop)
-        return Source(kind, path, where.layer, where.line)
+        and line, or the schema fallback when it authors none. Once per property
+        and lint: products share their settings' and their camera's."""
+        return self.ctx.cached(_find_source, prop, kind)
+
+
+def _find_source(ctx: Context, prop: Usd.Property, kind: str) -> Source:
+    path = str(prop.GetPath()) if prop else None
+    if isinstance(prop, Usd.Relationship):
+        authored = bool(prop.GetTargets())
+    else:
+        authored = has_authored_value(prop)
+    if not authored:
+        return Source("fallback", path)
+    where = locate(ctx.stage, ctx.file, prop)
+    return Source(kind, path, where.layer, where.line)
 
 
 @dataclass(frozen=True)
@@ -386,6 +388,18 @@ def _framing(
         projection=projection,
         focal_length=float(read("focalLength")),
     )
+
+
+def _read_camera(
+    ctx: Context,
+    reader: _Reader,
+    prim: Usd.Prim,
+    resolution: tuple[int, int],
+    pixel_aspect: float,
+    policy: str,
+) -> tuple[_Camera, dict[str, Source]]:
+    # Once per camera and conform inputs: the products of a settings share both.
+    return reader.camera(prim, resolution, pixel_aspect, policy)
 
 
 def _camera_problem(config: RenderConfiguration) -> str | None:

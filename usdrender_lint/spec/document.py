@@ -10,6 +10,7 @@ float; doubles as Python writes them; a number that is not finite as null.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
@@ -32,6 +33,7 @@ APERTURE_SOURCES = (
 
 
 def spec_document(results: Sequence[FileResult], tool_version: str) -> dict[str, Any]:
+    _display_path.cache_clear()  # relative to the working directory of this call
     return {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": TOOL_NAME, "version": tool_version},
@@ -221,11 +223,18 @@ def _sources(sources: Mapping[str, Source]) -> dict[str, Any]:
         key: {
             "from": source.kind,
             "path": source.path,
-            "layer": display_path(source.layer) if source.layer else None,
+            "layer": _display_path(source.layer) if source.layer else None,
             "line": source.line,
         }
         for key, source in sources.items()
     }
+
+
+@functools.lru_cache(maxsize=64)
+def _display_path(layer: str) -> str:
+    # Resolving a path costs ~20 us and every value of a product names one of a
+    # few layers. The working directory does not change while a document is built.
+    return display_path(layer)
 
 
 def _codes(findings: Iterable[Finding]) -> list[str]:

@@ -11,7 +11,6 @@ from typing import TextIO
 
 from ..atomic import write_text_atomic
 from ..model import FileResult
-from . import svg, textview
 from .document import spec_document
 
 FORMATS = ("text", "json", "svg")
@@ -41,9 +40,13 @@ def emit(
     if output_format == "json":
         text = json.dumps(document, indent=2) + "\n"
     elif output is None:
+        from . import textview
+
         textview.render(document, stdout)
         return
     else:
+        from . import textview
+
         buffer = io.StringIO()  # not a terminal: plain text
         textview.render(document, buffer)
         text = buffer.getvalue()
@@ -57,6 +60,8 @@ def emit(
 
 
 def write_svgs(document: dict, folder: Path) -> list[Path]:
+    from . import svg  # only this format draws pictures
+
     if folder.exists() and not folder.is_dir():
         raise OutputError(f"{folder}: --format svg needs a folder, and this is a file")
     written = []

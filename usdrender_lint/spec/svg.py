@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterator
+from html import escape
 from typing import Any
-from xml.sax.saxutils import escape, quoteattr
 
 from ..formatters.text import Line
 from .picture import Picture, Rect, picture
@@ -126,7 +126,7 @@ def _drawing(
 
     def rect(r: Rect, **attrs: str) -> str:
         x, y, w, h = place(r)
-        extra = " ".join(f"{k.replace('_', '-')}={quoteattr(v)}" for k, v in attrs.items())
+        extra = " ".join(f'{k.replace("_", "-")}="{escape(v)}"' for k, v in attrs.items())
         return f'<rect x="{x:.2f}" y="{y:.2f}" width="{w:.2f}" height="{h:.2f}" {extra}/>'
 
     yield rect(pic.image, fill=FILL["image"])
@@ -197,13 +197,14 @@ def _lines(lines: list[Line], x: float, y: float) -> Iterator[str]:
 
 def _span(text: str, style: str | None) -> str:
     weight = ' font-weight="bold"' if style in ("bold", FLAG) else ""
-    return f'<tspan fill="{COLOURS.get(style, COLOURS[None])}"{weight}>{escape(text)}</tspan>'
+    colour = COLOURS.get(style, COLOURS[None])
+    return f'<tspan fill="{colour}"{weight}>{escape(text, quote=False)}</tspan>'
 
 
 def _text(x: float, y: float, text: str, colour: str, anchor: str = "start", size: int = 12) -> str:
     return (
         f'<text x="{x:.2f}" y="{y:.2f}" fill="{colour}" font-size="{size}" '
-        f'text-anchor="{anchor}">{escape(text)}</text>'
+        f'text-anchor="{anchor}">{escape(text, quote=False)}</text>'
     )
 
 

@@ -111,10 +111,16 @@ def value_lines(product: dict[str, Any]) -> Iterator[Line]:
         product["camera"] or "none",
         note=_source(sources.get("camera")),
     )
-    rendered = ", ".join(_time(t) for t in product["renderedTimes"][:6])
-    if len(product["renderedTimes"]) > 6:
-        rendered += f", … ({len(product['renderedTimes'])})"
-    yield row("time", _time(product["time"]), note=f"rendered times {rendered or 'none'}")
+    times = product["renderedTimes"]
+    if not times:
+        rendered = "no camera"
+    elif times == ["default"]:
+        rendered = "camera not animated"
+    else:
+        rendered = "rendered times " + ", ".join(_time(t) for t in times[:6])
+        if len(times) > 6:
+            rendered += f", … ({len(times)})"
+    yield row("time", _time(product["time"]), note=rendered)
     width, height = product["resolution"]
     yield row("resolution", f"{width} x {height}", note=_source(sources.get("resolution")))
     yield row(
