@@ -193,3 +193,14 @@ def test_the_readme_pictures_are_current(monkeypatch: pytest.MonkeyPatch) -> Non
     document = spec_document(outcome.results, "0")
     committed = {p.name: p.read_text() for p in (DOCS / "spec").glob("*.svg")}
     assert dict(svg_files(document)) == committed
+
+
+def test_the_readme_text_view_is_current(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every line of the README's (abridged) text view is a line ``spec`` prints."""
+    readme = (REPO / "README.md").read_text(encoding="utf-8")
+    intro = readme.index("The text view of `examples/framing_shot/shot.usda`")
+    start = readme.index("```text\n", intro) + len("```text\n")
+    shown = readme[start : readme.index("```", start)].splitlines()
+    monkeypatch.chdir(REPO)
+    printed = run("examples/framing_shot/shot.usda").stdout.splitlines()
+    assert [line for line in shown if line not in printed] == []
