@@ -23,6 +23,8 @@ from .model import Report
 from .running.workers import DEFAULT_TIMEOUT
 
 if TYPE_CHECKING:
+    from pathlib import Path
+
     from .api import Rule
     from .registry import Registry
 
@@ -297,14 +299,19 @@ def _emit_report(
         return
     import io
 
-    from .atomic import write_text_atomic
-
     buffer = io.StringIO()
     formatter.render(report, buffer, options)
+    _write_file(output_file, buffer.getvalue(), "the report")
+
+
+def _write_file(path: str | Path, text: str, what: str) -> None:
+    """Write ``text`` to ``path`` atomically; a failure is one line, exit 2."""
+    from .atomic import write_text_atomic
+
     try:
-        write_text_atomic(output_file, buffer.getvalue())
+        write_text_atomic(path, text)
     except OSError as exc:
-        raise ToolError(f"{output_file}: cannot write the report: {exc.strerror or exc}") from None
+        raise ToolError(f"{path}: cannot write {what}: {exc.strerror or exc}") from None
 
 
 def _time_option(
@@ -379,27 +386,70 @@ def spec_command(
     be read (missing, unopenable, timed out) or a usage error.
     """
     time, default_time = time_option
+    if output_format == "svg" and output is None:
+        raise ToolError("--format svg writes one file per product: give --output DIR")
     _import_engine()
-    from .running.pipeline import RequestError
-    from .spec.output import OutputError, emit
-    from .spec.runner import SpecOptions, SpecRequest, run_spec
+    from functools import partial
 
-    request = SpecRequest(
-        paths,
-        SpecOptions(time=time, default_time=default_time, settings=settings_path),
-        config=config_path,
-        isolated=isolated,
-        jobs=jobs,
-        timeout=timeout,
+    from .running.inspect import InspectedFile, InspectRequest, inspect_files
+    from .running.pipeline import RequestError
+    from .spec.compute import SpecOptions, compute_file_spec
+    from .spec.document import spec_document
+
+    options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
+    request = InspectRequest(
+        paths, config=config_path, isolated=isolated, jobs=jobs, timeout=timeout
     )
     try:
-        outcome = run_spec(request)
-        emit(outcome.results, output_format.lower(), output, __version__, sys.stdout)
-    except (RequestError, OutputError) as exc:
+        inspection = inspect_files(request, partial(compute_file_spec, options=options))
+    except RequestError as exc:
         raise ToolError(str(exc)) from None
-    for error in outcome.errors:
+    files = [(r, r.value if isinstance(r, InspectedFile) else None) for r in inspection.results]
+    _emit_spec(spec_document(files, __version__), output_format.lower(), output)
+    for error in inspection.errors:
         click.echo(f"usdrender-lint: error: {error}", err=True)
-    sys.exit(outcome.exit_status)
+    sys.exit(inspection.exit_status)
+
+
+def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
+    """The spec document as JSON or text, to stdout or ``output`` (atomically),
+    or as one SVG per product into the folder ``output`` (listing the files)."""
+    if output_format == "svg":
+        from pathlib import Path
+
+        from .spec.svg import svg_files
+
+        folder = Path(output or ".")
+        if folder.exists() and not folder.is_dir():
+            raise ToolError(f"{folder}: --format svg needs a folder, and this is a file")
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise ToolError(f"{folder}: cannot create the folder: {exc.strerror or exc}") from None
+        for name, text in svg_files(document):
+            _write_file(folder / name, text, "the picture")
+            click.echo(str(folder / name))
+        return
+    if output_format == "json":
+        import json
+
+        text = json.dumps(document, indent=2) + "\n"
+    else:
+        import io
+
+        from .formatters.text import write_lines
+        from .spec.textview import document_lines
+
+        if output is None:
+            write_lines(document_lines(document), sys.stdout)
+            return
+        buffer = io.StringIO()  # not a terminal: plain text
+        write_lines(document_lines(document), buffer)
+        text = buffer.getvalue()
+    if output is None:
+        sys.stdout.write(text)
+    else:
+        _write_file(output, text, "the specification")
 
 
 @cli.command("rules")

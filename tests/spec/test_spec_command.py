@@ -5,14 +5,16 @@ from __future__ import annotations
 
 import json
 import xml.etree.ElementTree as ElementTree
+from functools import partial
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
+from usdrender_lint.running.inspect import InspectRequest, inspect_files
+from usdrender_lint.spec.compute import SpecOptions, compute_file_spec
 from usdrender_lint.spec.document import spec_document
-from usdrender_lint.spec.runner import SpecRequest, run_spec
 from usdrender_lint.spec.svg import svg_files
 
 REPO = Path(__file__).resolve().parents[2]
@@ -187,10 +189,9 @@ def test_the_readme_pictures_are_current(monkeypatch: pytest.MonkeyPatch) -> Non
     today (regenerate: usdrender-lint spec --isolated --format svg --output
     docs/spec examples/framing_shot/shot.usda)."""
     monkeypatch.chdir(REPO)
-    outcome = run_spec(
-        SpecRequest(("examples/framing_shot/shot.usda",), isolated=True, jobs=1, timeout=0)
-    )
-    document = spec_document(outcome.results, "0")
+    request = InspectRequest(("examples/framing_shot/shot.usda",), isolated=True, jobs=1, timeout=0)
+    (result,) = inspect_files(request, partial(compute_file_spec, options=SpecOptions())).results
+    document = spec_document([(result, result.value)], "0")
     committed = {p.name: p.read_text() for p in (DOCS / "spec").glob("*.svg")}
     assert dict(svg_files(document)) == committed
 

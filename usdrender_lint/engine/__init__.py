@@ -5,7 +5,14 @@ configuration, a formatter or the command line."""
 
 from __future__ import annotations
 
-from .linter import RENDER_SCHEMAS, Inspected, Inspector, Linter, TracedFinding
+from .linter import (
+    RENDER_SCHEMAS,
+    Inspected,
+    InspectionError,
+    Inspector,
+    Linter,
+    TracedFinding,
+)
 from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
@@ -21,6 +28,7 @@ __all__ = [
     "STAGE_OPEN_FAILED_NAME",
     "USD_EXTENSIONS",
     "Inspected",
+    "InspectionError",
     "Inspector",
     "Linter",
     "StageOpenResult",

@@ -44,6 +44,12 @@ _T = TypeVar("_T")
 #: (see Linter.inspect_path).
 Inspector = Callable[[Context, Sequence[Finding]], _T]
 
+
+class InspectionError(Exception):
+    """Raised by an inspector that cannot read what it was asked for from this
+    stage: the file becomes an error result with this one-line message."""
+
+
 #: The render prim kinds the engine collects during its walk (Context.render_prims).
 RENDER_SCHEMAS: tuple[type, ...] = (
     UsdRender.Settings,
@@ -173,12 +179,15 @@ class Linter:
         findings to ``inspect`` while the stage it linted (partly composed when
         the fast path applies) is open and the lint's cache active, so that a
         reader of the render data (``spec``) composes and resolves nothing
-        twice. Its value is None when no stage could be linted."""
+        twice. Its value is None when no stage could be linted; an inspector
+        raising :class:`InspectionError` makes the file an error result."""
         problem = unreadable_reason(path)
         if problem is not None:
             return Inspected(FileResult(path, status="error", error=f"{path}: {problem}"))
         try:
             return self._lint_file(path, inspect)
+        except InspectionError as exc:
+            return Inspected(FileResult(path, status="error", error=f"{path}: {exc}"))
         except UnicodeDecodeError as exc:
             # A corrupt crate can hold names that are not UTF-8: USD composes
             # them, but every Python read of them raises.

@@ -36,6 +36,7 @@ from ..api.resolve import (
     resolve_targets,
     typed_target_problem,
 )
+from ..engine import InspectionError
 from ..engine.locate import locate
 from ..model import Finding
 from .data import (
@@ -64,7 +65,7 @@ CAMERA_ATTRIBUTES = (
 )
 
 
-class SpecError(Exception):
+class SpecError(InspectionError):
     """The specification asked for cannot be computed for this file (one line)."""
 
 

@@ -8,7 +8,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..model import FileResult
 from .framing import Conformed, Pair, PixelWindow, Window
 
 #: A time: a number, or None for ``Usd.TimeCode.Default()``.
@@ -118,11 +117,3 @@ class FileSpec:
     time_from: str
     render_settings_prim_path: str | None
     settings: tuple[SettingsSpec, ...]
-
-
-@dataclass(frozen=True)
-class SpecFileResult(FileResult):
-    """A file's lint result (its findings, or why it could not be read) and
-    its render specification when it could be computed."""
-
-    spec: FileSpec | None = None

@@ -15,10 +15,9 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
-from ..formatters.json import finding_to_dict
 from ..model import FileResult, Finding, Severity
 from ..paths import display_path
-from .data import ProductSpec, SettingsSpec, Source, SpecFileResult, Time, VarSpec
+from .data import FileSpec, ProductSpec, SettingsSpec, Source, Time, VarSpec
 from .framing import f32
 
 SCHEMA_VERSION = 1
@@ -32,26 +31,29 @@ APERTURE_SOURCES = (
 )
 
 
-def spec_document(results: Sequence[FileResult], tool_version: str) -> dict[str, Any]:
+def spec_document(
+    files: Sequence[tuple[FileResult, FileSpec | None]], tool_version: str
+) -> dict[str, Any]:
+    """The document of each file's lint result and its specification (None
+    when it could not be computed: the result's ``error`` says why)."""
     _display_path.cache_clear()  # relative to the working directory of this call
     return {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": TOOL_NAME, "version": tool_version},
-        "files": [file_document(result) for result in results],
+        "files": [file_document(result, spec) for result, spec in files],
     }
 
 
-def file_document(result: FileResult) -> dict[str, Any]:
-    spec = result.spec if isinstance(result, SpecFileResult) else None
+def file_document(result: FileResult, spec: FileSpec | None) -> dict[str, Any]:
     document: dict[str, Any] = {
         "file": result.file,
         "status": "computed" if spec is not None else "error",
-        "error": result.error,
+        "error": result.error if spec is None else None,
         "time": None,
         "timeFrom": None,
         "renderSettingsPrimPath": None,
         "settings": [],
-        "findings": [finding_to_dict(f) for f in result.findings],
+        "findings": _codes(result.findings),
     }
     if spec is not None:
         document.update(

@@ -14,9 +14,8 @@ from collections.abc import Iterator
 from html import escape
 from typing import Any
 
-from ..formatters.text import Line
 from .picture import Picture, Rect, picture
-from .textview import FLAG, value_lines
+from .textview import FLAG, Line, value_lines
 
 MIN_WIDTH = 900
 DRAWING = 440  # the drawing's width, in pixels

@@ -1,25 +1,24 @@
-"""The terminal view of the JSON document: per product, the framing drawn in
-characters beside its values; values the linter reports are flagged in red
-with the finding codes (an empty data window, a missing camera, ...)."""
+"""The terminal view of the JSON document, as styled lines: per product, the
+framing drawn in characters beside its values; values the linter reports are
+flagged in red with the finding codes (an empty data window, a missing camera)."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from typing import Any, TextIO
+from typing import Any
 
-from ..formatters.text import Line, write_lines
 from .picture import Picture, Rect, picture
+
+#: A line is a list of (text, rich style or None) segments (what the text
+#: formatter's ``write_lines`` prints: styled on a terminal, plain otherwise).
+Line = list[tuple[str, str | None]]
 
 #: The drawing's size in characters (a character is about twice as tall as wide).
 COLUMNS, MAX_ROWS, MIN_ROWS = 30, 13, 5
 GAP = "   "
 FLAG = "bold red"
 LEGEND = ("─ image   · camera aperture", "░ rendered  ▒ overscan")
-
-
-def render(document: dict[str, Any], stream: TextIO) -> None:
-    write_lines(document_lines(document), stream)
 
 
 def document_lines(document: dict[str, Any]) -> Iterator[Line]:

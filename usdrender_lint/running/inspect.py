@@ -1,0 +1,111 @@
+"""Files in, what an inspector reads from each linted stage out.
+
+For a command that reads the stage ``check`` lints (``spec``): the same
+configuration and rules, discovery, worker processes with their time limit,
+and per-path ignores as a check run, with each file linted by
+:meth:`Linter.inspect_path`. A file the inspector cannot read (it does not
+exist, USD cannot open it, it timed out, the inspector raised
+``InspectionError``) is an error result with one line saying why.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from ..engine import Inspector, Linter
+from ..model import FileResult, Report
+from .discovery import collect_files
+from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
+from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
+
+
+@dataclass(frozen=True)
+class InspectedFile(FileResult):
+    """A linted file's result with what the inspector read from its stage."""
+
+    value: Any = None
+
+
+@dataclass(frozen=True)
+class InspectRequest:
+    """What an inspection run needs, as the user asked for it."""
+
+    paths: tuple[str, ...]
+    #: A config file path, or None to search from the first path.
+    config: str | None = None
+    isolated: bool = False
+    jobs: int | None = None
+    timeout: float | None = DEFAULT_TIMEOUT
+    progress: bool | None = None
+
+
+@dataclass(frozen=True)
+class Inspection:
+    #: InspectedFile for each file inspected, a plain FileResult (status
+    #: "error") for each that could not be.
+    results: tuple[FileResult, ...]
+    exit_status: int
+
+    @property
+    def errors(self) -> tuple[str, ...]:
+        return tuple(r.error or r.file for r in self.results if r.status != "linted")
+
+
+class InspectingLinter:
+    """Lints a file and inspects its stage; what the workers run on each file."""
+
+    def __init__(self, linter: Linter, inspect: Inspector[Any]) -> None:
+        self.linter = linter
+        self.inspect = inspect
+
+    @property
+    def raise_errors(self) -> bool:
+        return self.linter.raise_errors
+
+    def lint_path(self, path: str) -> FileResult:
+        inspected = self.linter.inspect_path(path, self.inspect)
+        result = inspected.result
+        if inspected.value is not None:
+            return InspectedFile(result.file, findings=result.findings, value=inspected.value)
+        if result.status == "linted":  # no stage: USD cannot open it, its ST001 says why
+            why = result.findings[0].message if result.findings else "USD cannot open it"
+            return FileResult(path, status="error", error=f"{path}: {why}")
+        return result
+
+
+@dataclass(frozen=True)
+class InspectingLinterFactory:
+    """A picklable recipe for the inspecting linter, built once per worker
+    (``inspect`` must pickle: a module-level function or a partial of one)."""
+
+    linter: LinterSpec
+    inspect: Inspector[Any]
+
+    def __call__(self) -> InspectingLinter:
+        linter = self.linter()
+        assert isinstance(linter, Linter)  # no variant exploration: the stage as it is
+        return InspectingLinter(linter, self.inspect)
+
+
+def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspection:
+    """Lint and inspect every file. Raises RequestError when the run cannot
+    start (a bad configuration, a rule plugin that fails)."""
+    prepared = prepare(Request(request.paths, config=request.config, isolated=request.isolated))
+    factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
+    files = collect_files(request.paths)
+    try:
+        results: Sequence[FileResult] = lint_paths(
+            files,
+            linter=InspectingLinter(prepared.linter, inspect),
+            linter_factory=factory,
+            jobs=request.jobs or default_jobs(),
+            timeout=request.timeout,
+            progress=request.progress,
+        )
+    except ExecutionError as exc:
+        raise RequestError(str(exc)) from None
+    report = prepared.finish(Report(tuple(results)))
+    errored = any(r.status != "linted" for r in report.files)
+    return Inspection(report.files, EXIT_TOOL_ERROR if errored else EXIT_OK)
