@@ -187,7 +187,7 @@ class _Reader:
                 camera = replace(camera, shutter=(0.0, 0.0))
 
         outputs = _Outputs()
-        owners = [str(config.settings.GetPath())]
+        owners = [str(config.owner.GetPath())]  # the settings
         if product is not None:
             outputs = self._outputs(product, camera.time, sources)
             owners.append(str(product.GetPath()))
