@@ -72,7 +72,8 @@ class SpecError(InspectionError):
 @dataclass(frozen=True)
 class SpecOptions:
     """What ``spec`` is asked for: a time (None: the stage's startTimeCode
-    when authored, else Default), Default explicitly, or one settings prim."""
+    when authored, else each camera's first rendered time), Default
+    explicitly (``--time default``), or one settings prim."""
 
     time: float | None = None
     default_time: bool = False
