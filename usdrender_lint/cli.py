@@ -360,6 +360,12 @@ def _time_option(
     help="Read settings (rule selection for the findings) from this file.",
 )
 @click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+@click.option(
+    "--profile",
+    type=click.Choice(_profile_choices()),
+    default=None,
+    help="Renderer profile: auto (inferred per RenderSettings) or a name  [default: auto].",
+)
 @click.option("--jobs", "-j", type=click.IntRange(min=1), default=None, help="Worker processes.")
 @click.option(
     "--timeout",
@@ -376,6 +382,7 @@ def spec_command(
     output: str | None,
     config_path: str | None,
     isolated: bool,
+    profile: str | None,
     jobs: int | None,
     timeout: float,
 ) -> None:
@@ -398,7 +405,7 @@ def spec_command(
 
     options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
     request = InspectRequest(
-        paths, config=config_path, isolated=isolated, jobs=jobs, timeout=timeout
+        paths, config=config_path, isolated=isolated, profile=profile, jobs=jobs, timeout=timeout
     )
     try:
         inspection = inspect_files(request, partial(compute_file_spec, options=options))

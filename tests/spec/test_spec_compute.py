@@ -586,3 +586,26 @@ def test_spec_reads_the_partly_composed_stage_check_lints(
         ("/Render/RigSettings", 1),
         ("/Render/LostSettings", 1),
     }
+
+
+def test_the_profile_each_settings_is_judged_under(tmp_path: Path) -> None:
+    path = layer(
+        tmp_path,
+        CAMERA
+        + """
+def RenderSettings "karma"
+{
+    rel camera = </cam>
+    uniform int karma:global:pixelsamples = 9
+}
+def RenderSettings "plain"
+{
+    rel camera = </cam>
+}
+""",
+    )
+    karma, plain = spec(path)["settings"]
+    assert karma["profile"] == "karma" and "karma:" in karma["profileReason"]
+    assert plain["profile"] == "generic"
+    forced = spec(path, "--profile", "arnold")["settings"]
+    assert {s["profile"] for s in forced} == {"arnold"}

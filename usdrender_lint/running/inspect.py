@@ -36,6 +36,8 @@ class InspectRequest:
     #: A config file path, or None to search from the first path.
     config: str | None = None
     isolated: bool = False
+    #: The renderer profile: "auto" or a name; None: the configuration's.
+    profile: str | None = None
     jobs: int | None = None
     timeout: float | None = DEFAULT_TIMEOUT
     progress: bool | None = None
@@ -92,7 +94,14 @@ class InspectingLinterFactory:
 def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspection:
     """Lint and inspect every file. Raises RequestError when the run cannot
     start (a bad configuration, a rule plugin that fails)."""
-    prepared = prepare(Request(request.paths, config=request.config, isolated=request.isolated))
+    prepared = prepare(
+        Request(
+            request.paths,
+            config=request.config,
+            isolated=request.isolated,
+            profile=request.profile,
+        )
+    )
     factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
     files = collect_files(request.paths)
     try:

@@ -80,10 +80,13 @@ class SpecOptions:
     settings: str | None = None
 
 
-def settings_profile(settings: Usd.Prim) -> str:
-    """The renderer profile a RenderSettings is judged under (catalog R2-5).
-    Every settings is ``generic`` until renderer profiles exist."""
-    return "generic"
+def settings_profile(ctx: Context, settings: Usd.Prim) -> tuple[str, str]:
+    """The renderer profile a RenderSettings is judged under (catalog R2-5)
+    and why: the lint's choice for its scope, ``generic`` without profiles."""
+    choice = ctx.profile_of(RenderConfiguration(settings))
+    if choice is None:
+        return "generic", "the linter ran without profiles"
+    return choice.name, choice.reason
 
 
 def compute_file_spec(ctx: Context, findings: Sequence[Finding], options: SpecOptions) -> FileSpec:
@@ -144,10 +147,12 @@ class _Reader:
             for name in ("includedPurposes", "materialBindingPurposes", "renderingColorSpace")
         }
         color_space = composed_value(prim, "renderingColorSpace")
+        profile, why = settings_profile(self.ctx, prim)
         return SettingsSpec(
             path=str(prim.GetPath()),
             primary=primary,
-            profile=settings_profile(prim),
+            profile=profile,
+            profile_reason=why,
             included_purposes=_strings(composed_value(prim, "includedPurposes")),
             material_binding_purposes=_strings(composed_value(prim, "materialBindingPurposes")),
             rendering_color_space=str(color_space) if color_space is not None else None,

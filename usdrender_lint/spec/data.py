@@ -100,6 +100,8 @@ class SettingsSpec:
     path: str
     primary: bool
     profile: str
+    #: Why the profile was chosen (configured, or the evidence found).
+    profile_reason: str
     included_purposes: tuple[str, ...]
     material_binding_purposes: tuple[str, ...]
     rendering_color_space: str | None
