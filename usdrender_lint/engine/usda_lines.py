@@ -437,3 +437,225 @@ def comment_lines(text: str) -> list[int]:
             counted = match.start()
             found.append(line)
     return found
+
+
+# -- statement spans, for text edits ---------------------------------------------------
+#
+# A fix edits a layer through Sdf; the fixing package then writes that change
+# into the file's own text (usdrender_lint.fixing.text_edits). For that it needs
+# the statements of one block at a time, each with the spans of its parts: the
+# words of its head (``uniform token[] purposes``, ``def Scope "Render"``), the
+# value after ``=``, the ``( ... )`` metadata and the ``{ ... }`` body. The same
+# parser reads the file and Sdf's export of it, so statements pair up by key.
+
+#: The contexts a block's statements are read in: a prim's (or variant's, or the
+#: layer's top-level) body, a ``( ... )`` metadata list, a dictionary value, the
+#: variants of a variantSet.
+BODY, META, DICT, VARIANTS = "body", "meta", "dict", "variants"
+_LIST_OPS = frozenset({"prepend", "append", "add", "delete", "reorder"})
+#: Spaces, and /* */ comments, which never end a statement.
+_INLINE_GAP = _compile(r"(?:[ \t\r\f\v]++|/\*.*?\*/)*+")
+_GAP_LINES = _compile(r"(?:[ \t\r\f\v\n]++|\#[^\n]*+|//[^\n]*+|/\*.*?\*/)*+")
+_GAP_ENTRIES = _compile(r"(?:[ \t\r\f\v\n;]++|\#[^\n]*+|//[^\n]*+|/\*.*?\*/)*+")
+#: A number, ``None``, ``true``, ``-inf``: what is left of a value once atoms are out.
+_BARE_AT = _compile(r"""[^\s"'@<#/{}()\[\]=,;]++""")
+_ASSET_AT = _compile(_ASSET)
+_PATH_AT = _compile(_PATH)
+
+
+@dataclass(frozen=True)
+class Statement:
+    """One statement of a layer's text: offsets of the whole and of its parts.
+
+    ``key`` pairs it with the same statement in another text of the same layer
+    (a prim or variant by name, a property by name, list operation and suffix
+    such as ``timeSamples``, an entry by list operation and name). ``value``,
+    ``meta`` and ``body`` include their brackets.
+    """
+
+    kind: str  # "prim", "property", "variantSet", "variant", "reorder", "entry", "other"
+    key: tuple[str, ...]
+    start: int
+    end: int
+    words: tuple[tuple[int, int], ...] = ()
+    value: tuple[int, int] | None = None
+    meta: tuple[int, int] | None = None
+    body: tuple[int, int] | None = None
+
+    @property
+    def head_end(self) -> int:
+        return self.words[-1][1] if self.words else self.start
+
+
+@dataclass(frozen=True)
+class LayerText:
+    """The top of a text layer: the header line, the layer metadata, the body."""
+
+    header_end: int  # after the header line's line end
+    meta: tuple[int, int] | None
+    body: tuple[int, int]
+
+
+def _token_end(text: str, pos: int) -> int:
+    """The end of the token at ``pos`` (not a gap): an atom, a bracket group or
+    block as a whole, a word or a bare run, else one character."""
+    char = text[pos]
+    if char in "([":
+        return _skip_brackets(text, pos + 1)
+    if char == "{":
+        return _skip_block(text, pos + 1)
+    pattern = {'"': _STRING_AT, "'": _STRING_AT, "@": _ASSET_AT, "<": _PATH_AT}.get(char)
+    if pattern is None:
+        pattern = _WORD_AT if char.isalpha() or char == "_" else _BARE_AT
+    match = pattern.match(text, pos)
+    return match.end() if match and match.end() > pos else pos + 1
+
+
+def _ends_statement(text: str, pos: int, closers: str) -> bool:
+    char = text[pos]
+    return char == "\n" or char == "#" or char in closers or text.startswith("//", pos)
+
+
+def _head(text: str, pos: int, end: int, stop: str) -> tuple[list[tuple[int, int]], int]:
+    """The words of a statement's head, up to ``=``, a line end, or a ``stop`` character."""
+    words = []
+    while True:
+        pos = _INLINE_GAP.match(text, pos).end()
+        if pos >= end or _ends_statement(text, pos, stop):
+            return words, pos
+        after = _token_end(text, pos)
+        words.append((pos, after))
+        pos = after
+
+
+def _word(text: str, span: tuple[int, int]) -> str:
+    return _unquote(text[span[0] : span[1]])
+
+
+def _group_after(text: str, pos: int, end: int, opener: str) -> tuple[int, int] | None:
+    """The ``opener`` group starting after a gap (line ends and comments allowed)."""
+    pos = _GAP_LINES.match(text, pos).end()
+    if pos < end and text[pos] == opener:
+        return pos, _token_end(text, pos)
+    return None
+
+
+def _body_statement(text: str, pos: int, end: int) -> Statement:
+    start = pos
+    words, pos = _head(text, pos, end, "=({}")
+    names = [_word(text, w) for w in words]
+    first = names[0] if names else ""
+    if first in _PRIM_SPECIFIERS and len(words) >= 2:
+        meta = _group_after(text, pos, end, "(")
+        body = _group_after(text, meta[1] if meta else pos, end, "{")
+        stop = body[1] if body else meta[1] if meta else pos
+        return Statement("prim", ("prim", names[-1]), start, stop, tuple(words), None, meta, body)
+    if first == "variantSet" and len(words) == 2 and pos < end and text[pos] == "=":
+        block = _group_after(text, pos + 1, end, "{")
+        stop = block[1] if block else pos + 1
+        return Statement("variantSet", ("variantSet", names[1]), start, stop, tuple(words), block)
+    value = None
+    if pos < end and text[pos] == "=":
+        pos = _INLINE_GAP.match(text, pos + 1).end()
+        if pos < end and not _ends_statement(text, pos, "}"):
+            value = (pos, _token_end(text, pos))
+            pos = value[1]
+    meta = None
+    after = _INLINE_GAP.match(text, pos).end()
+    if after < end and text[after] == "(":
+        meta = (after, _token_end(text, after))
+    stop = meta[1] if meta else value[1] if value else words[-1][1] if words else pos
+    if first == "reorder" and len(names) == 2 and names[1] in ("nameChildren", "properties"):
+        return Statement("reorder", ("reorder", names[1]), start, stop, tuple(words), value, meta)
+    qualifiers = [n for n in names if n in _PROPERTY_QUALIFIERS]
+    if len(words) >= 2 and len(qualifiers) < len(names):
+        name, _, suffix = names[-1].partition(".")
+        op = first if first in _LIST_OPS else ""
+        key = ("property", name, op, suffix)
+        return Statement("property", key, start, stop, tuple(words), value, meta)
+    if stop <= start:
+        stop = _token_end(text, start)
+    return Statement("other", ("other", text[start:stop]), start, stop, tuple(words), value, meta)
+
+
+def _entry_statement(text: str, pos: int, end: int, closer: str) -> Statement:
+    """A metadata or dictionary entry: ``[op] [type] name = value``, or a bare doc string."""
+    start = pos
+    words, pos = _head(text, pos, end, "=;" + closer)
+    names = [_word(text, w) for w in words]
+    if pos >= end or text[pos] != "=":
+        if len(words) == 1 and text[words[0][0]] in "\"'":
+            return Statement("entry", ("entry", "", "doc"), start, words[0][1], (), words[0])
+        stop = words[-1][1] if words else _token_end(text, start)
+        return Statement("other", ("other", text[start:stop]), start, stop, tuple(words))
+    pos = _INLINE_GAP.match(text, pos + 1).end()
+    value_start, value_end = pos, pos
+    while pos < end and not _ends_statement(text, pos, ";" + closer):
+        value_end = _token_end(text, pos)
+        pos = _INLINE_GAP.match(text, value_end).end()
+    op = names[0] if len(names) > 1 and names[0] in _LIST_OPS else ""
+    value = (value_start, value_end) if value_end > value_start else None
+    stop = value_end if value else pos
+    name = names[-1] if names else ""
+    return Statement("entry", ("entry", op, name), start, stop, tuple(words), value)
+
+
+def _variant_statement(text: str, pos: int, end: int) -> Statement:
+    start = pos
+    name_end = _token_end(text, pos)
+    meta = _group_after(text, name_end, end, "(")
+    body = _group_after(text, meta[1] if meta else name_end, end, "{")
+    stop = body[1] if body else meta[1] if meta else name_end
+    name = _unquote(text[start:name_end])
+    return Statement(
+        "variant", ("variant", name), start, stop, ((start, name_end),), None, meta, body
+    )
+
+
+def statements(text: str, start: int, end: int, context: str) -> list[Statement]:
+    """The statements between ``start`` and ``end`` (the inside of a block)."""
+    entries = context in (META, DICT)
+    gap = _GAP_ENTRIES if entries else _GAP_LINES
+    closer = ")" if context == META else "}"
+    found = []
+    pos = start
+    while True:
+        pos = gap.match(text, pos, end).end()
+        if pos >= end:
+            return found
+        if entries:
+            statement = _entry_statement(text, pos, end, closer)
+        elif context == VARIANTS:
+            statement = _variant_statement(text, pos, end)
+        else:
+            statement = _body_statement(text, pos, end)
+        found.append(statement)
+        pos = max(statement.end, pos + 1)
+
+
+def layer_text(text: str) -> LayerText:
+    """Where the header line, the layer metadata and the body of a text layer are."""
+    newline = text.find("\n")
+    header_end = len(text) if newline < 0 else newline + 1
+    meta = _group_after(text, header_end, len(text), "(")
+    return LayerText(header_end, meta, (meta[1] if meta else header_end, len(text)))
+
+
+def element_spans(text: str, span: tuple[int, int]) -> list[tuple[int, int]]:
+    """The elements of the ``[ ... ]`` or ``( ... )`` at ``span``, without the
+    commas, spaces and comments between them."""
+    end = span[1] - 1
+    found = []
+    pos = span[0] + 1
+    while True:
+        pos = _GAP_LINES.match(text, pos, end).end()
+        if pos >= end:
+            return found
+        if text[pos] == ",":
+            pos += 1
+            continue
+        first = last = pos
+        while pos < end and text[pos] != ",":
+            last = _token_end(text, pos)
+            pos = _GAP_LINES.match(text, last, end).end()
+        found.append((first, last))
