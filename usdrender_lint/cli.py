@@ -163,7 +163,7 @@ def cli() -> None:
 @click.option(
     "--fix-drop-comments",
     is_flag=True,
-    help="Let --fix save a .usda that has comments (saving drops them).",
+    help="No effect: fixes always keep a layer's comments (accepted for old scripts).",
 )
 @click.option(
     "--variants",
@@ -210,7 +210,7 @@ def check(
     unsafe_fixes: bool,
     show_diff: bool,
     fix_to: str | None,
-    fix_drop_comments: bool,
+    fix_drop_comments: bool,  # no effect (see its help)
     variants: bool | None,
     max_variant_combinations: int | None,
     profile: str | None,
@@ -229,7 +229,7 @@ def check(
         config=config_path,
         isolated=isolated,
         use_roots=not no_roots,
-        fix=_fix_request(fix, unsafe_fixes, show_diff, fix_to, fix_drop_comments),
+        fix=_fix_request(fix, unsafe_fixes, show_diff, fix_to),
         variants=variants,
         max_variant_combinations=max_variant_combinations,
         baseline=baseline_file,
@@ -263,20 +263,17 @@ def check(
     sys.exit(outcome.exit_status)
 
 
-def _fix_request(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None, drop_comments: bool):
+def _fix_request(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None):
     """What fixing the flags ask for, or None when none was."""
     from .running.pipeline import FixRequest
 
     if show_diff and fix_to:
         raise ToolError("use either --diff or --fix-to, not both")
     if not (fix or show_diff or fix_to):
-        if unsafe or drop_comments:
-            flag = "--unsafe-fixes" if unsafe else "--fix-drop-comments"
-            raise ToolError(f"{flag} needs --fix, --diff or --fix-to")
+        if unsafe:
+            raise ToolError("--unsafe-fixes needs --fix, --diff or --fix-to")
         return None
-    return FixRequest(
-        write=not show_diff, unsafe=unsafe, drop_comments=drop_comments, fix_to=fix_to
-    )
+    return FixRequest(write=not show_diff, unsafe=unsafe, fix_to=fix_to)
 
 
 def _emit_report(

@@ -1,6 +1,6 @@
 """--fix, --diff and --fix-to: the right layer, atomic format-keeping writes,
-refusals with reasons (read-only, outside the layer stack, comments), and
-overrides that give the fixed result when sublayered on top."""
+refusals with reasons (read-only, outside the layer stack), comments kept, and
+overrides that give the fixed result when their layer roots the stage."""
 
 from __future__ import annotations
 
@@ -14,12 +14,13 @@ from click.testing import CliRunner
 from fix_support import check, codes, spec_fields, write
 from pxr import Sdf, Usd, UsdRender
 
+from usdrender_lint import fixing as fixer
 from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
 from usdrender_lint.api.resolve import composed_value
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
 from usdrender_lint.engine.usda_lines import comment_lines
-from usdrender_lint.fixing import fixer
+from usdrender_lint.fixing import writing
 from usdrender_lint.registry import build_registry
 
 FIXTURES = Path(__file__).parents[1] / "rules"
@@ -137,15 +138,15 @@ def test_a_failed_write_leaves_the_original_intact(tmp_path: Path, monkeypatch) 
     shot = write(tmp_path / "shot.usda", SHOT)
     original = shot.read_bytes()
 
-    def half_written_export(layer, path, args):
-        Path(path).write_text("#usda 1.0\ndef Scope", encoding="utf-8")
+    def full_disk(descriptor):  # the temporary file is written, then the disk is full
         raise OSError("disk full")
 
-    monkeypatch.setattr(fixer, "_export", half_written_export)
+    monkeypatch.setattr(writing.os, "fsync", full_disk)
     result, document = check("--select", "SE006", "--fix", str(shot))
     assert shot.read_bytes() == original
     assert sorted(p.name for p in tmp_path.iterdir()) == ["shot.usda"]  # no temporary left
-    assert result.exit_code == 1  # the finding remains
+    assert result.exit_code == 2  # a file the tool could not write
+    assert "shot.usda: writing failed: disk full" in result.stderr
     assert codes(document) == ["SE006"]
     (reason,) = reasons(document)
     assert "disk full" in reason and "shot.usda" in reason
@@ -256,6 +257,7 @@ def test_a_layer_outside_the_layer_stack_is_not_edited(tmp_path: Path) -> None:
     assert asset.read_bytes() == asset_before and shot.read_bytes() == shot_before
     (reason,) = reasons(document)
     assert "outside the stage's layer stack" in reason and "--fix-to" in reason
+    assert "--fix-to" in result.stderr
     # --fix-to overrides it from the stage, leaving both files alone.
     overrides = tmp_path / "fixes.usda"
     result, document = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
@@ -265,20 +267,18 @@ def test_a_layer_outside_the_layer_stack_is_not_edited(tmp_path: Path) -> None:
     assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
 
 
-def test_a_usda_with_comments_is_refused_naming_fix_to(tmp_path: Path) -> None:
+def test_a_usda_with_comments_is_fixed_keeping_them(tmp_path: Path) -> None:
     text = SHOT.replace("def Scope", "# shot 42, approved\ndef Scope")
     shot = write(tmp_path / "shot.usda", text)
     result, document = check("--select", "SE006", "--fix", str(shot))
-    assert result.exit_code == 1
-    assert shot.read_text(encoding="utf-8") == text
-    (reason,) = reasons(document)
-    assert "comments (line 3)" in reason and "--fix-to" in reason
-    lines = [line for line in result.stderr.splitlines() if "comments" in line]
-    assert len(lines) == 1 and "--fix-to" in lines[0]
-    result, _ = check("--select", "SE006", "--fix", "--fix-drop-comments", str(shot))
-    assert result.exit_code == 0
+    assert result.exit_code == 0, result.output
     assert value(shot) == "cropAperture"
-    assert "shot 42" not in shot.read_text(encoding="utf-8")
+    assert shot.read_text(encoding="utf-8") == text.replace('"cropaperture"', '"cropAperture"')
+    # --fix-drop-comments is accepted and changes nothing: comments are always kept.
+    again = write(tmp_path / "again.usda", text)
+    result, _ = check("--select", "SE006", "--fix", "--fix-drop-comments", str(again))
+    assert result.exit_code == 0
+    assert again.read_text(encoding="utf-8") == shot.read_text(encoding="utf-8")
 
 
 def test_comment_lines_skip_the_header_strings_and_assets() -> None:
@@ -309,14 +309,15 @@ def test_a_layer_in_a_usdz_package_is_not_edited(tmp_path: Path) -> None:
 # -- --diff ---------------------------------------------------------------------------
 
 
-def test_diff_prints_the_change_and_writes_nothing(tmp_path: Path) -> None:
+def test_diff_prints_the_change_and_writes_nothing(tmp_path: Path, monkeypatch) -> None:
     shot = write(tmp_path / "shot.usda", SHOT)
+    monkeypatch.chdir(tmp_path)
     result = CliRunner().invoke(
         cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--diff", str(shot)]
     )
-    assert result.exit_code == 1  # as for check: the finding is still there
+    assert result.exit_code == 1  # a fix is pending
     assert shot.read_text(encoding="utf-8") == SHOT
-    assert f"--- a/{shot}" in result.stdout or "--- a/" in result.stdout
+    assert result.stdout.startswith("--- a/shot.usda\n+++ b/shot.usda\n")
     assert '-        uniform token aspectRatioConformPolicy = "cropaperture"' in result.stdout
     assert '+        uniform token aspectRatioConformPolicy = "cropAperture"' in result.stdout
     assert "1 fix would be applied" in result.stderr
@@ -325,36 +326,42 @@ def test_diff_prints_the_change_and_writes_nothing(tmp_path: Path) -> None:
     assert codes(document) == ["SE006"]
 
 
-def test_diff_of_a_usdc_shows_its_text_form(tmp_path: Path) -> None:
+def test_diff_of_a_usdc_is_a_note_not_a_patch(tmp_path: Path, monkeypatch) -> None:
     source = Sdf.Layer.CreateAnonymous(".usda")
     source.ImportFromString(SHOT)
     crate = tmp_path / "shot.usdc"
     source.Export(str(crate))
     before = crate.read_bytes()
+    monkeypatch.chdir(tmp_path)
     result = CliRunner().invoke(
         cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--diff", str(crate)]
     )
     assert crate.read_bytes() == before
-    assert '+        uniform token aspectRatioConformPolicy = "cropAperture"' in result.stdout
+    assert result.stdout == ""  # nothing a patch tool could apply
+    assert "shot.usdc is a binary (crate) layer" in result.stderr
+    assert "--fix would rewrite it with 1 fix(es) (SE006)" in result.stderr
+    assert result.exit_code == 1  # still pending
 
 
 def test_diff_refuses_what_fix_refuses(tmp_path: Path) -> None:
-    shot = write(tmp_path / "shot.usda", SHOT.replace("def Scope", "# note\ndef Scope"))
+    shot = write(tmp_path / "shot.usda", SHOT)
+    shot.chmod(0o444)
     result = CliRunner().invoke(
         cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--diff", str(shot)]
     )
     assert result.stdout == ""
-    assert "--fix-to" in result.stderr
+    assert "read-only" in result.stderr
+    assert result.exit_code == 0  # no fix pending
 
 
 # -- --fix-to -------------------------------------------------------------------------
 
 
 def _sublayered_on_top(tmp_path: Path, overrides: Path, shot: Path) -> Path:
-    return write(
-        tmp_path / "top.usda",
-        f"#usda 1.0\n(\n    subLayers = [@{overrides.name}@, @{shot.name}@]\n)\n",
-    )
+    """The stage the fixes give: the --fix-to layer is its root, sublayering the shot."""
+    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
+    assert list(layer.subLayerPaths) == [shot.name]
+    return overrides
 
 
 def test_fix_to_writes_overrides_that_give_the_fixed_result(tmp_path: Path) -> None:
@@ -370,7 +377,8 @@ def test_fix_to_writes_overrides_that_give_the_fixed_result(tmp_path: Path) -> N
     )
     top = _sublayered_on_top(tmp_path, overrides, shot)
     # Fixed through the override layer: SE006 by a value, SE007's removed
-    # instantaneousShutter by a block.
+    # instantaneousShutter by a block (SE007 wants no opinion at all, not even
+    # the fallback false).
     _, on_top = check("--select", "SE006,SE007", str(top))
     assert codes(on_top) == []
     # The same composed result as fixing in place, as the rules read values (a
@@ -411,17 +419,20 @@ def test_fix_to_overrides_removed_targets_with_an_explicit_list(tmp_path: Path) 
             assert top_stage.GetRelationshipAtPath(path).GetTargets() == rel.GetTargets(), path
 
 
-def test_fix_to_refuses_stage_metadata(tmp_path: Path) -> None:
-    # renderSettingsPrimPath counts only in the root layer: a sublayer cannot fix it.
+def test_fix_to_carries_stage_metadata(tmp_path: Path) -> None:
+    # renderSettingsPrimPath counts only in the root layer: the --fix-to layer is the new root.
     fixture = FIXTURES / "ST003_render_settings_path_missing" / "fail_unset.usda"
     shot = write(tmp_path / "shot.usda", fixture.read_text(encoding="utf-8"))
     overrides = tmp_path / "fixes.usda"
     result, document = check("--select", "ST003", "--fix-to", str(overrides), str(shot))
     assert result.exit_code == 0  # ST003 is info
-    assert codes(document) == ["ST003"]
-    (reason,) = reasons(document)
-    assert "root or session layer" in reason
-    assert not overrides.exists()
+    assert codes(document) == []
+    assert [fix["applied"] for fix in document["fixes"]] == [True]
+    stage = Usd.Stage.Open(str(overrides))
+    assert stage.GetMetadata("renderSettingsPrimPath") == "/Render/Settings"
+    fixed = write(tmp_path / "fixed.usda", shot.read_text(encoding="utf-8"))
+    check("--select", "ST003", "--fix", str(fixed))
+    assert Usd.Stage.Open(str(fixed)).GetMetadata("renderSettingsPrimPath") == "/Render/Settings"
 
 
 def test_fix_to_keeps_what_the_layer_already_has(tmp_path: Path) -> None:
@@ -436,30 +447,33 @@ def test_fix_to_keeps_what_the_layer_already_has(tmp_path: Path) -> None:
     assert layer.GetAttributeAtPath(POLICY).default == "cropAperture"
 
 
-def test_fix_to_refuses_a_move(tmp_path: Path) -> None:
+def test_fix_to_moves_a_prim_by_deactivating_the_old_one(tmp_path: Path) -> None:
     fixture = FIXTURES / "ST008_render_prim_outside_render_scope" / "fail_outside.usda"
     shot = write(tmp_path / "shot.usda", fixture.read_text(encoding="utf-8"))
     overrides = tmp_path / "fixes.usda"
     args = ("--select", "ST008", "--unsafe-fixes", "--fix-to", str(overrides), str(shot))
     _, document = check(*args)
-    assert document["fixes"] and not any(fix["applied"] for fix in document["fixes"])
-    assert all("removes or moves" in reason for reason in reasons(document))
-    assert not overrides.exists()
+    assert document["fixes"] and all(fix["applied"] for fix in document["fixes"])
+    assert codes(document) == []
+    fixed = write(tmp_path / "fixed.usda", shot.read_text(encoding="utf-8"))
+    check("--select", "ST008", "--unsafe-fixes", "--fix", str(fixed))
+    stages = [Usd.Stage.Open(str(layer)) for layer in (overrides, fixed)]
+    paths = [[str(p.GetPath()) for p in stage.Traverse()] for stage in stages]
+    assert paths[0] == paths[1]
 
 
-def test_fix_to_a_value_then_a_refused_move_of_its_prim(tmp_path: Path) -> None:
-    # SE006 overrides a value on </Settings>; ST008 would then move that prim.
+def test_fix_to_a_value_then_a_move_of_its_prim(tmp_path: Path) -> None:
+    # SE006 overrides a value on </Other/Settings>; ST008 then moves that prim.
     shot = write(tmp_path / "shot.usda", SHOT.replace('def Scope "Render"', 'def Scope "Other"'))
     overrides = tmp_path / "fixes.usda"
     args = ("--select", "SE006,ST008", "--unsafe-fixes", "--fix-to", str(overrides), str(shot))
     result, document = check(*args)
     assert result.exit_code == 0, result.output
     outcome = {fix["code"]: fix["applied"] for fix in document["fixes"]}
-    assert outcome == {"SE006": True, "ST008": False}
-    layer = Sdf.Layer.OpenAsAnonymous(str(overrides))
-    assert layer.GetAttributeAtPath("/Other/Settings.aspectRatioConformPolicy").default == (
-        "cropAperture"
-    )
+    assert outcome == {"SE006": True, "ST008": True}
+    stage = Usd.Stage.Open(str(overrides))
+    assert stage.GetAttributeAtPath(POLICY).Get() == "cropAperture"
+    assert not stage.GetPrimAtPath("/Other/Settings").IsActive()
 
 
 def test_an_unexpected_error_costs_one_fix_only(tmp_path: Path, monkeypatch) -> None:
@@ -468,9 +482,10 @@ def test_an_unexpected_error_costs_one_fix_only(tmp_path: Path, monkeypatch) -> 
     def broken(*args):
         raise RuntimeError("unexpected")
 
-    monkeypatch.setattr(fixer, "_author_all", broken)
-    result, document = check("--select", "SE006", "--fix-to", str(tmp_path / "o.usda"), str(shot))
+    monkeypatch.setattr(fixer.sources.Sources, "commit", broken)
+    result, document = check("--select", "SE006", "--fix", str(shot))
     assert result.exit_code == 1  # a report, not a crash
+    assert shot.read_text(encoding="utf-8") == SHOT
     (reason,) = reasons(document)
     assert "internal error while fixing: RuntimeError: unexpected" in reason
 
@@ -492,7 +507,6 @@ def test_fix_to_fixes_a_bad_value_the_override_layer_holds(tmp_path: Path) -> No
     ("args", "message"),
     [
         (["--unsafe-fixes"], "--unsafe-fixes needs --fix"),
-        (["--fix-drop-comments"], "--fix-drop-comments needs --fix"),
         (["--diff", "--fix-to", "x.usda"], "either --diff or --fix-to"),
     ],
 )
@@ -503,16 +517,14 @@ def test_flag_misuse_is_a_tool_error(tmp_path: Path, args: list[str], message: s
     assert message in result.stderr
 
 
-def test_fix_to_a_layer_with_comments_needs_consent(tmp_path: Path) -> None:
+def test_fix_to_a_layer_with_comments_keeps_them(tmp_path: Path) -> None:
     shot = write(tmp_path / "shot.usda", SHOT)
     overrides = write(tmp_path / "fixes.usda", "#usda 1.0\n# reviewed by lighting\n")
     result, _ = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
-    assert result.exit_code == 2
-    assert "comments (line 2)" in result.stderr and "--fix-drop-comments" in result.stderr
-    args = ("--select", "SE006", "--fix-to", str(overrides), "--fix-drop-comments", str(shot))
-    result, _ = check(*args)
-    assert result.exit_code == 0
+    assert result.exit_code == 0, result.output
     assert value(_sublayered_on_top(tmp_path, overrides, shot)) == "cropAperture"
+    assert overrides.read_text(encoding="utf-8").startswith("#usda 1.0\n(\n")
+    assert "# reviewed by lighting\n" in overrides.read_text(encoding="utf-8")
 
 
 def test_fix_to_takes_one_stage(tmp_path: Path) -> None:

@@ -17,10 +17,11 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
-from pxr import Sdf
+from pxr import Sdf, Usd
 
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter, open_stage
+from usdrender_lint.fixing.overlay import composed_stage
 from usdrender_lint.registry import build_registry
 
 FIXTURES = Path(__file__).parents[1] / "rules"
@@ -89,7 +90,8 @@ def run_fix(code: str, path: Path, *extra: str):
         args.append("--isolated")
     if FIXABLE[code].fix_safety == "unsafe":
         args.append("--unsafe-fixes")
-    result = CliRunner().invoke(cli, [*args, "--fix", "--fix-drop-comments", *extra, str(path)])
+    fix = ["--fix"] if not extra else []
+    result = CliRunner().invoke(cli, [*args, *fix, *extra, str(path)])
     assert result.exit_code in (0, 1), result.output
     return json.loads(result.stdout)
 
@@ -161,31 +163,26 @@ def test_offered_fixes_match_the_rule_fix_class(rule) -> None:
 
 @pytest.mark.parametrize(("code", "fail"), list(_cases()))
 def test_fix_to_gives_what_fix_gives(code: str, fail: Path, tmp_path: Path) -> None:
-    """The --fix-to overrides, sublayered on top, silence the same findings as --fix
-    (fixes that cannot be overrides, stage metadata and moves, are refused)."""
-    path = copy_fixture(fail, tmp_path)
-    before = _layers(tmp_path)
-    overrides = tmp_path / "overrides.usda"
+    """The --fix-to layer, as the stage's new root, composes exactly like the
+    --fix result, and silences the same findings; the sources stay as they are."""
+    (tmp_path / "in_place").mkdir()
+    (tmp_path / "overlay").mkdir()
+    fixed = copy_fixture(fail, tmp_path / "in_place")
+    path = copy_fixture(fail, tmp_path / "overlay")
+    before = _layers(tmp_path / "overlay")
+    overrides = tmp_path / "overlay" / "overrides.usda"
     document = run_fix(code, path, "--fix-to", str(overrides))
-    assert _layers(tmp_path) == before | (
-        {"overrides.usda": overrides.read_bytes()} if overrides.exists() else {}
-    )
-    applied = {(fix["code"], fix["path"]) for fix in document["fixes"] if fix["applied"]}
+    written = {"overrides.usda": overrides.read_bytes()} if overrides.exists() else {}
+    assert _layers(tmp_path / "overlay") == before | written
     refused = [fix["reason"] for fix in document["fixes"] if not fix["applied"]]
-    # Stage metadata, moves, and a retyped spec (a weaker mistyped spec stays an
-    # SE016 finding under any override) cannot be overrides.
-    expected = ("root or session layer", "removes or moves", "cannot be written as an override")
-    assert all(any(e in r for e in expected) for r in refused), refused
-    if not applied:
+    # A retyped weaker spec (SE016 reports it under any stronger opinion) is the
+    # one change no override can make.
+    assert all("cannot be written as an override" in reason for reason in refused), refused
+    run_fix(code, fixed)
+    if refused:
         return
-    top = tmp_path / "top.usda"
-    top.write_text(
-        f"#usda 1.0\n(\n    subLayers = [@overrides.usda@, @{path.name}@]\n)\n", encoding="utf-8"
-    )
-    result = CliRunner().invoke(
-        cli, ["check", "-j", "1", "--isolated", "--select", code, "--format", "json", str(top)]
-    )
-    remaining = {
-        (f["code"], f["path"]) for r in json.loads(result.stdout)["files"] for f in r["findings"]
-    }
+    stages = Usd.Stage.Open(str(overrides)), Usd.Stage.Open(str(fixed))
+    assert composed_stage(stages[0]) == composed_stage(stages[1])
+    remaining = {(f["code"], f["path"]) for r in document["files"] for f in r["findings"]}
+    applied = {(fix["code"], fix["path"]) for fix in document["fixes"] if fix["applied"]}
     assert not applied & remaining

@@ -29,6 +29,7 @@ from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
 
 if TYPE_CHECKING:
     from ..engine.variants import VariantExplorer
+    from ..fixing import FixRun
 
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
 
@@ -45,7 +46,6 @@ class FixRequest:
     #: False for --diff: compute the edits, report them, write nothing.
     write: bool = True
     unsafe: bool = False
-    drop_comments: bool = False
     #: Write every fix as an override into this layer (--fix-to).
     fix_to: str | None = None
 
@@ -91,13 +91,15 @@ class Outcome:
     settings: Settings
     rules: tuple[Rule, ...]
     exit_status: int
-    #: With --diff: one unified diff per changed layer.
+    #: With --diff: one unified diff per changed text layer (a patch).
     diffs: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
+    #: Layers fixing could not write, one line each (the run exits 2).
+    fix_errors: tuple[str, ...] = ()
 
     @property
     def errors(self) -> tuple[str, ...]:
-        return tuple(r.error or r.file for r in self.report.errored_files)
+        return tuple(r.error or r.file for r in self.report.errored_files) + self.fix_errors
 
 
 # -- configuration to a linter ----------------------------------------------------
@@ -322,16 +324,26 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         report = plan.narrow(report)
     report = prepared.finish(report)
     report = _apply_baseline(report, known, request, notes)
-    if fixed is not None and request.fix is not None:
-        report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
-        notes.extend(_fix_notes(report, dry_run=not request.fix.write))
+    status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
+    if fixed is None:
+        return Outcome(report, settings, prepared.linter.rules, status, notes=tuple(notes))
+    assert request.fix is not None
+    report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
+    notes.extend(fixed.notes)
+    notes.extend(_fix_notes(report, dry_run=not request.fix.write))
+    if fixed.errors:
+        status = EXIT_TOOL_ERROR
+    elif not request.fix.write and status != EXIT_TOOL_ERROR:
+        # --diff answers "is a fix pending?" (as ruff does), not "are there findings?".
+        status = EXIT_FINDINGS if report.applied_fixes else EXIT_OK
     return Outcome(
         report,
         settings,
         prepared.linter.rules,
-        exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline)),
-        diffs=tuple(fixed.diffs) if fixed is not None else (),
+        status,
+        diffs=tuple(fixed.diffs),
         notes=tuple(notes),
+        fix_errors=tuple(fixed.errors),
     )
 
 
@@ -371,20 +383,15 @@ def fails(report: Report, fail_on: str) -> bool:
 # -- fixing ---------------------------------------------------------------------------
 
 
-def _run_fixes(prepared: Prepared, files: Sequence[str]):
+def _run_fixes(prepared: Prepared, files: Sequence[str]) -> FixRun:
     """Apply (or, for --diff, compute) the fixes on every stage, in this process."""
-    from ..fixing.fixer import FixError, FixOptions, fix_files
+    from ..fixing import FixError, FixOptions, fix_files
 
     wanted = prepared.request.fix
     assert wanted is not None
     if wanted.fix_to and len(files) != 1:
         raise RequestError(f"--fix-to writes the overrides of one stage; got {len(files)} files")
-    options = FixOptions(
-        unsafe=wanted.unsafe,
-        drop_comments=wanted.drop_comments,
-        write=wanted.write,
-        fix_to=wanted.fix_to,
-    )
+    options = FixOptions(unsafe=wanted.unsafe, write=wanted.write, fix_to=wanted.fix_to)
     try:
         return fix_files(prepared.linter, files, options, keep=prepared.is_reported)
     except FixError as exc:

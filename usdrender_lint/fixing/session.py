@@ -1,0 +1,511 @@
+"""Fixing one stage: lint, apply a fix, check it, repeat.
+
+A fix edits the layer that holds the strongest opinion behind its finding
+(``Fix.layer`` when the rule names one; the root layer for stage metadata)
+through ``Usd.EditContext``, and only a writable layer of the stage's own layer
+stack: never a layer a reference or payload brings in. Safe fixes (conditional
+ones are only offered when their condition holds) run by default, unsafe ones
+on request.
+
+Fixes are applied one at a time, each verified: its change must be expressible
+as a text edit of each text layer it touches (:mod:`.sources`), and linting the
+stage again must no longer report its finding; otherwise it is undone and
+reported as not applied, with the reason. The next fix comes from that new lint,
+so a fix that reveals another finding is handled and a second run changes
+nothing. At the end the changed layers are written (:mod:`.writing`) or, for
+``--diff``, shown as a patch (:mod:`.diff`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+
+from pxr import Sdf, Tf, Usd
+
+from ..api import Fix
+from ..engine import Linter, open_stage
+from ..model import AppliedFix, FileResult, Finding
+from ..paths import display_path
+from .diff import patch
+from .sources import Sources
+from .writing import ChangedOnDisk, save_layer, save_text
+
+#: Fixes tried on one stage at most, per fix the first lint offers (a chain of
+#: fixes that reveal new findings ends there).
+MAX_ATTEMPTS_PER_FIX = 10
+MIN_ATTEMPTS = 100
+
+
+class FixError(Exception):
+    """The fixing cannot start (e.g. the --fix-to layer is unusable): one line."""
+
+
+@dataclass(frozen=True)
+class FixOptions:
+    #: Apply unsafe fixes too (--unsafe-fixes).
+    unsafe: bool = False
+    #: False for --diff: compute the edits, show them, write nothing.
+    write: bool = True
+    #: Write every fix as an override into this layer (--fix-to).
+    fix_to: str | None = None
+
+
+@dataclass
+class FixRun:
+    """What fixing a set of files did."""
+
+    outcomes: list[AppliedFix] = field(default_factory=list)
+    #: One unified diff per changed text layer (--diff).
+    diffs: list[str] = field(default_factory=list)
+    #: Lines for the user beside the report (e.g. a .usdc --diff cannot show).
+    notes: list[str] = field(default_factory=list)
+    #: Layers that could not be written (the run exits 2), one line each.
+    errors: list[str] = field(default_factory=list)
+    #: With --fix-to: the findings left on each stage with the overrides applied.
+    remaining: list[FileResult] = field(default_factory=list)
+
+    @property
+    def applied(self) -> tuple[AppliedFix, ...]:
+        return tuple(o for o in self.outcomes if o.applied)
+
+    @property
+    def unapplied(self) -> tuple[AppliedFix, ...]:
+        return tuple(o for o in self.outcomes if not o.applied)
+
+    def extend(self, other: FixRun) -> None:
+        self.outcomes.extend(other.outcomes)
+        self.diffs.extend(other.diffs)
+        self.notes.extend(other.notes)
+        self.errors.extend(other.errors)
+        self.remaining.extend(other.remaining)
+
+
+def fix_files(
+    linter: Linter,
+    files: Sequence[str],
+    options: FixOptions,
+    keep: Callable[[Finding], bool] | None = None,
+) -> FixRun:
+    """Fix each file's stage in turn. ``keep`` says whether a finding is
+    reported at all (per-path ignores): a silenced finding is not fixed."""
+    keep = keep or (lambda finding: True)
+    if options.fix_to:
+        from .overlay import fix_to
+
+        return fix_to(linter, files, options, keep)
+    run = FixRun()
+    for path in files:
+        fixer = StageFixer(linter, path, options, keep)
+        fixer.run()
+        run.extend(fixer.result)
+    return run
+
+
+@dataclass
+class Applied:
+    """A fix applied (in memory) and what it changed on the stage."""
+
+    finding: Finding
+    fix: Fix
+    layer: Sdf.Layer
+    #: The stage paths the fix changed (resynced or changed info).
+    paths: set[Sdf.Path]
+    #: Its entry in :attr:`StageFixer.outcomes`.
+    outcome: int
+
+
+class StageFixer:
+    """Fixes one stage. ``in_memory`` (for --fix-to) edits layers in memory only,
+    any layer the stage uses, and keeps the stage for the caller."""
+
+    def __init__(
+        self,
+        linter: Linter,
+        path: str,
+        options: FixOptions,
+        keep: Callable[[Finding], bool],
+        *,
+        in_memory: bool = False,
+    ) -> None:
+        self.linter = linter
+        self.path = path
+        self.options = options
+        self.keep = keep
+        self.in_memory = in_memory
+        self.result = FixRun()
+        self.stage: Usd.Stage | None = None
+        self.sources: Sources | None = None
+        self.applied: list[Applied] = []
+        #: The findings on the stage as the accepted fixes left it.
+        self.findings: list[Finding] = []
+
+    @property
+    def outcomes(self) -> list[AppliedFix]:
+        return self.result.outcomes
+
+    def run(self, stage: Usd.Stage | None = None) -> None:
+        """Fix the stage of the file (or ``stage``, opened by the caller)."""
+        if stage is None:
+            stage = open_stage(self.path).stage
+            if stage is None:
+                return  # nothing to fix; the report says why (ST001, a missing file, ...)
+        self.stage = stage
+        # USD's own warnings (e.g. while exporting a spline) stay off the user's stderr.
+        with Tf.DiagnosticTrap() as trap:
+            try:
+                self.sources = Sources(self.stage, in_memory=self.in_memory)
+                self.findings = self._attempts()
+                if not self.in_memory:
+                    self._finish()
+            finally:
+                if not self.in_memory:
+                    self.close()
+                trap.Clear()
+
+    def close(self) -> None:
+        """Forget the in-memory edits and the stage."""
+        if self.sources is not None:
+            self.sources.discard()
+        self.stage = None
+
+    # -- fix by fix -----------------------------------------------------------------
+
+    def _attempts(self) -> list[Finding]:
+        """Fix until no fix is left to try: a round tries the fixes of objects
+        that do not overlap together (one commit, one lint to check them all);
+        a round that fails, and each fix of it, goes one fix at a time."""
+        pairs = self.linter.lint_stage_with_fixes(self.stage, self.path)
+        tried: set[tuple] = set()
+        alone: set[tuple] = set()  # fixes that must be tried one at a time
+        budget = None
+        while True:
+            todo = [(f, x) for f, x in pairs if self._wanted(f, x) and _fix_key(f, x) not in tried]
+            if budget is None:
+                budget = max(MIN_ATTEMPTS, MAX_ATTEMPTS_PER_FIX * len(todo))
+            if not todo or budget <= 0:
+                return [finding for finding, _ in pairs]
+            batch = self._round(todo, alone)
+            if len(batch) > 1:
+                after = self._together(batch)
+                if after is not None:
+                    tried.update(_fix_key(f, x) for f, x, _ in batch)
+                    budget -= len(batch)
+                    pairs = after
+                    continue
+                alone.update(_fix_key(f, x) for f, x, _ in batch)
+            finding, fix, _ = batch[0]
+            tried.add(_fix_key(finding, fix))
+            budget -= 1
+            try:
+                reason, after = self._alone(finding, fix)
+            except Exception as exc:  # noqa: BLE001 - one fix must not cost the others
+                reason, after = f"internal error while fixing: {type(exc).__name__}: {exc}", None
+            if after is not None:
+                pairs = after
+            self.outcomes.append(_outcome(finding, fix, self._shown_layer(finding, fix), reason))
+
+    def _round(self, todo, alone: set[tuple]) -> list[tuple[Finding, Fix, Sdf.Layer | None]]:
+        """The fixes to try together: the first fix, and the later ones that edit
+        other objects (two fixes on one object, or a prim and its property, could
+        undo each other) and may edit their layer."""
+        batch = []
+        scopes = _Scopes()
+        for finding, fix in todo:
+            key = _fix_key(finding, fix)
+            layer, problem = self._editable(finding, fix)
+            if batch and (key in alone or problem is not None):
+                continue
+            scope = _scope(finding)
+            if scopes.overlaps(scope):
+                continue
+            batch.append((finding, fix, layer))
+            scopes.add(scope)
+            if key in alone or problem is not None:
+                break
+        return batch
+
+    def _together(self, batch) -> list | None:
+        """Apply ``batch`` and check it as one; the lint after it, or None when
+        anything failed (then everything is undone)."""
+        assert self.stage is not None and self.sources is not None
+        checkpoint = self.sources.checkpoint()
+        touched: list[Sdf.Layer] = []
+        done = []
+        try:
+            for finding, fix, layer in batch:
+                changed, paths, failure = self._apply(fix, layer)
+                touched.extend(layer for layer in changed if layer not in touched)
+                if failure or self._also_edits(changed, layer):
+                    self.sources.back_to(checkpoint, touched)
+                    return None
+                done.append(Applied(finding, fix, layer, paths, -1))
+            if self.sources.commit(touched) is not None:
+                self.sources.back_to(checkpoint, touched)
+                return None
+            after = self.linter.lint_stage_with_fixes(self.stage, self.path)
+        except Exception:  # noqa: BLE001 - tried again one at a time, where it is reported
+            self.sources.back_to(checkpoint, touched)
+            return None
+        if any(_remains(a.finding, a.fix, after) for a in done):
+            self.sources.back_to(checkpoint, touched)
+            return None
+        for applied in done:
+            applied.outcome = len(self.outcomes)
+            self.applied.append(applied)
+            layer_shown = _layer_path(applied.layer)
+            self.outcomes.append(_outcome(applied.finding, applied.fix, layer_shown, None))
+        return after
+
+    def _wanted(self, finding: Finding, fix: Fix | None) -> bool:
+        return (
+            fix is not None
+            and fix.apply is not None
+            and (fix.safe or self.options.unsafe)
+            and self.keep(finding)
+        )
+
+    def _shown_layer(self, finding: Finding, fix: Fix) -> str | None:
+        layer = self._target_layer(finding, fix)
+        return _layer_path(layer) if layer is not None else finding.location.layer
+
+    def _editable(self, finding: Finding, fix: Fix) -> tuple[Sdf.Layer | None, str | None]:
+        """The layer the fix edits, and why it may not (None: it may)."""
+        assert self.stage is not None and self.sources is not None
+        layer = self._target_layer(finding, fix)
+        if layer is not None and self.in_memory and not self._in_layer_stack(layer):
+            # USD edits only the layer stack: a layer a reference brings in is
+            # overridden from the session layer (its composed effect is what counts).
+            layer = self.stage.GetSessionLayer()
+        if layer is None or not (self.in_memory or self._in_layer_stack(layer)):
+            return None, (
+                "its layer is outside the stage's layer stack (a reference or payload brings "
+                "it in); fix that file itself, or use --fix-to"
+            )
+        return layer, self.sources.problem(layer)
+
+    def _alone(self, finding: Finding, fix: Fix) -> tuple[str | None, list | None]:
+        """Apply one fix and check it. Returns why it was not applied (None: it
+        was) and, when it was, the lint of the stage after it."""
+        assert self.stage is not None and self.sources is not None
+        layer, problem = self._editable(finding, fix)
+        if problem is not None or layer is None:
+            return problem, None
+        checkpoint = self.sources.checkpoint()
+        touched: list[Sdf.Layer] = []
+        try:
+            touched, paths, failure = self._apply(fix, layer)
+            failure = failure or self._also_edits(touched, layer) or self.sources.commit(touched)
+            if failure is not None:
+                self.sources.back_to(checkpoint, touched)
+                return failure, None
+            after = self.linter.lint_stage_with_fixes(self.stage, self.path)
+        except BaseException:
+            self.sources.back_to(checkpoint, touched)
+            raise
+        if _remains(finding, fix, after):
+            self.sources.back_to(checkpoint, touched)
+            return (
+                "its finding remains after the fix (composition undoes the edit, e.g. a "
+                "stronger opinion or a prim that references the fixed one); undone",
+                None,
+            )
+        self.applied.append(Applied(finding, fix, layer, paths, len(self.outcomes)))
+        return None, after
+
+    def _apply(
+        self, fix: Fix, layer: Sdf.Layer
+    ) -> tuple[list[Sdf.Layer], set[Sdf.Path], str | None]:
+        """Run ``fix`` with ``layer`` as the edit target; the layers and stage paths
+        it changed, and why it failed (None: it ran)."""
+        assert self.stage is not None and self.sources is not None
+        used = set(self.stage.GetUsedLayers()) | {self.stage.GetSessionLayer()}
+        touched: list[Sdf.Layer] = []
+        paths: set[Sdf.Path] = set()
+
+        def record_layers(notice, sender) -> None:
+            for changed in notice.GetLayers():
+                if changed in used and changed not in touched:
+                    touched.append(changed)
+
+        def record_paths(notice, sender) -> None:
+            paths.update(notice.GetResyncedPaths())
+            paths.update(notice.GetChangedInfoOnlyPaths())
+
+        listeners = (
+            Tf.Notice.RegisterGlobally(Sdf.Notice.LayersDidChangeSentPerLayer, record_layers),
+            Tf.Notice.Register(Usd.Notice.ObjectsChanged, record_paths, self.stage),
+        )
+        try:
+            failure = _call_fix(fix, self.stage, layer)
+        finally:
+            for listener in listeners:
+                listener.Revoke()
+        if failure is None and not touched:
+            failure = "the fix changed nothing"
+        return touched, paths, failure
+
+    def _also_edits(self, touched: list[Sdf.Layer], layer: Sdf.Layer) -> str | None:
+        """Why the other layers a fix touched may not change (None: they may)."""
+        assert self.stage is not None and self.sources is not None
+        for candidate in touched:
+            if candidate == layer:
+                continue
+            if candidate == self.stage.GetSessionLayer() and not self.in_memory:
+                problem = "the session layer is never saved"
+            elif not (self.in_memory or self._in_layer_stack(candidate)):
+                problem = "it is outside the stage's layer stack"
+            else:
+                problem = self.sources.problem(candidate)
+            if problem is not None:
+                return f"it also edits {_display(candidate)}: {problem}"
+        return None
+
+    def _in_layer_stack(self, layer: Sdf.Layer) -> bool:
+        assert self.stage is not None
+        return layer in self.stage.GetLayerStack(includeSessionLayers=self.in_memory)
+
+    def _target_layer(self, finding: Finding, fix: Fix) -> Sdf.Layer | None:
+        assert self.stage is not None
+        if fix.layer is not None:
+            return fix.layer
+        if finding.location.layer is None:
+            return self.stage.GetRootLayer()
+        return _find_layer(self.stage.GetUsedLayers(), finding.location.layer)
+
+    # -- writing or showing -----------------------------------------------------------
+
+    def _finish(self) -> None:
+        assert self.sources is not None
+        for source in self.sources:
+            if not source.changed or source.disk is None:
+                continue
+            shown = display_path(source.disk.path)
+            if not self.options.write:
+                self._show(source, shown)
+                continue
+            try:
+                if source.text is not None:
+                    save_text(source.disk, source.text)
+                else:
+                    save_layer(source.layer, source.disk)
+            except ChangedOnDisk as exc:
+                self._unapply(source.layer, f"{shown} was not written: {exc}")
+                self.result.errors.append(f"{shown}: not written: {exc}")
+                continue
+            except OSError as exc:
+                message = exc.strerror or str(exc)
+                self._unapply(source.layer, f"writing {shown} failed: {message}")
+                self.result.errors.append(f"{shown}: writing failed: {message}")
+                continue
+            source.layer.Reload(True)  # the layer now matches the file: no longer dirty
+
+    def _show(self, source, shown: str) -> None:
+        fixes = [o for o in self.outcomes if o.applied and o.layer == _layer_path(source.layer)]
+        listed = ", ".join(sorted({o.code for o in fixes}))
+        if source.text is None:
+            self.result.notes.append(
+                f"--diff: {shown} is a binary (crate) layer, so it is not in the patch; "
+                f"--fix would rewrite it with {len(fixes)} fix(es) ({listed})"
+            )
+            return
+        text = patch(source.disk.path, source.original_text or "", source.text)
+        if text is None:
+            self.result.notes.append(
+                f"--diff: {shown} is outside the current directory, so it is not in the "
+                f"patch ({len(fixes)} fix(es): {listed}); run --diff from a folder that holds it"
+            )
+        elif text:
+            self.result.diffs.append(text)
+
+    def _unapply(self, layer: Sdf.Layer, reason: str) -> None:
+        """Mark the applied fixes of ``layer`` as not applied, with ``reason``."""
+        shown = _layer_path(layer)
+        self.result.outcomes[:] = [
+            AppliedFix(o.file, o.code, o.path, o.layer, o.description, reason)
+            if o.applied and o.layer == shown
+            else o
+            for o in self.outcomes
+        ]
+
+
+# -- helpers -----------------------------------------------------------------------------
+
+
+def _outcome(finding: Finding, fix: Fix, layer: str | None, reason: str | None) -> AppliedFix:
+    return AppliedFix(
+        finding.location.file, finding.code, finding.location.path, layer, fix.description, reason
+    )
+
+
+def _remains(finding: Finding, fix: Fix, pairs: list[tuple[Finding, Fix | None]]) -> bool:
+    """Whether the lint after a fix still reports its finding: the same code on
+    the same object with the same message, or the same fix offered again."""
+    for other, offered in pairs:
+        if other.code != finding.code or other.location.path != finding.location.path:
+            continue
+        if other.message == finding.message:
+            return True
+        if offered is not None and offered.description == fix.description:
+            return True
+    return False
+
+
+def _call_fix(fix: Fix, stage: Usd.Stage, layer: Sdf.Layer) -> str | None:
+    """Run a fix with ``layer`` as the edit target; the reason when it fails."""
+    try:
+        with Tf.DiagnosticTrap() as trap:
+            with Usd.EditContext(stage, Usd.EditTarget(layer)):
+                fix.apply(stage)  # type: ignore[misc]
+            errors = trap.GetErrors()
+            trap.Clear()
+    except Exception as exc:  # noqa: BLE001 - a failing fix is reported, never fatal
+        return f"the fix failed: {type(exc).__name__}: {str(exc).strip()[:200]}"
+    if errors:
+        return f"the fix failed: {errors[0].commentary.strip()[:200]}"
+    return None
+
+
+def _scope(finding: Finding) -> Sdf.Path | None:
+    """What a finding's fix may edit: its object (None: the stage's metadata)."""
+    return Sdf.Path(finding.location.path) if finding.location.path else None
+
+
+class _Scopes:
+    """The objects fixed in one round: a set of paths with their ancestors."""
+
+    def __init__(self) -> None:
+        self._paths: set[Sdf.Path | None] = set()
+        self._ancestors: set[Sdf.Path] = set()
+
+    def overlaps(self, scope: Sdf.Path | None) -> bool:
+        """True when ``scope`` is, contains or is inside an object already fixed."""
+        if scope is None:
+            return None in self._paths
+        return scope in self._ancestors or any(p in self._paths for p in scope.GetPrefixes())
+
+    def add(self, scope: Sdf.Path | None) -> None:
+        self._paths.add(scope)
+        if scope is not None:
+            self._ancestors.update(scope.GetPrefixes())
+
+
+def _fix_key(finding: Finding, fix: Fix | None) -> tuple:
+    return (finding.code, finding.location.path, fix.description if fix else None)
+
+
+def _find_layer(layers: Iterable[Sdf.Layer], name: str) -> Sdf.Layer | None:
+    """The layer a finding names (engine.locate writes realPath or identifier)."""
+    for layer in layers:
+        if name in (_layer_path(layer), layer.identifier):
+            return layer
+    return None
+
+
+def _layer_path(layer: Sdf.Layer) -> str:
+    """How findings name a layer (engine.locate): its file, else its identifier."""
+    return layer.realPath or layer.identifier
+
+
+def _display(layer: Sdf.Layer) -> str:
+    return display_path(_layer_path(layer))
