@@ -496,6 +496,12 @@ class LayerText:
     body: tuple[int, int]
 
 
+def _past(pattern: re.Pattern[str], text: str, pos: int, end: int | None = None) -> int:
+    """Where ``pattern`` (which matches the empty string too) stops matching."""
+    match = pattern.match(text, pos, len(text) if end is None else end)
+    return match.end() if match else pos
+
+
 def _token_end(text: str, pos: int) -> int:
     """The end of the token at ``pos`` (not a gap): an atom, a bracket group or
     block as a whole, a word or a bare run, else one character."""
@@ -518,9 +524,9 @@ def _ends_statement(text: str, pos: int, closers: str) -> bool:
 
 def _head(text: str, pos: int, end: int, stop: str) -> tuple[list[tuple[int, int]], int]:
     """The words of a statement's head, up to ``=``, a line end, or a ``stop`` character."""
-    words = []
+    words: list[tuple[int, int]] = []
     while True:
-        pos = _INLINE_GAP.match(text, pos).end()
+        pos = _past(_INLINE_GAP, text, pos)
         if pos >= end or _ends_statement(text, pos, stop):
             return words, pos
         after = _token_end(text, pos)
@@ -534,7 +540,7 @@ def _word(text: str, span: tuple[int, int]) -> str:
 
 def _group_after(text: str, pos: int, end: int, opener: str) -> tuple[int, int] | None:
     """The ``opener`` group starting after a gap (line ends and comments allowed)."""
-    pos = _GAP_LINES.match(text, pos).end()
+    pos = _past(_GAP_LINES, text, pos)
     if pos < end and text[pos] == opener:
         return pos, _token_end(text, pos)
     return None
@@ -556,12 +562,12 @@ def _body_statement(text: str, pos: int, end: int) -> Statement:
         return Statement("variantSet", ("variantSet", names[1]), start, stop, tuple(words), block)
     value = None
     if pos < end and text[pos] == "=":
-        pos = _INLINE_GAP.match(text, pos + 1).end()
+        pos = _past(_INLINE_GAP, text, pos + 1)
         if pos < end and not _ends_statement(text, pos, "}"):
             value = (pos, _token_end(text, pos))
             pos = value[1]
     meta = None
-    after = _INLINE_GAP.match(text, pos).end()
+    after = _past(_INLINE_GAP, text, pos)
     if after < end and text[after] == "(":
         meta = (after, _token_end(text, after))
     stop = meta[1] if meta else value[1] if value else words[-1][1] if words else pos
@@ -588,11 +594,11 @@ def _entry_statement(text: str, pos: int, end: int, closer: str) -> Statement:
             return Statement("entry", ("entry", "", "doc"), start, words[0][1], (), words[0])
         stop = words[-1][1] if words else _token_end(text, start)
         return Statement("other", ("other", text[start:stop]), start, stop, tuple(words))
-    pos = _INLINE_GAP.match(text, pos + 1).end()
+    pos = _past(_INLINE_GAP, text, pos + 1)
     value_start, value_end = pos, pos
     while pos < end and not _ends_statement(text, pos, ";" + closer):
         value_end = _token_end(text, pos)
-        pos = _INLINE_GAP.match(text, value_end).end()
+        pos = _past(_INLINE_GAP, text, value_end)
     op = names[0] if len(names) > 1 and names[0] in _LIST_OPS else ""
     value = (value_start, value_end) if value_end > value_start else None
     stop = value_end if value else pos
@@ -617,10 +623,10 @@ def statements(text: str, start: int, end: int, context: str) -> list[Statement]
     entries = context in (META, DICT)
     gap = _GAP_ENTRIES if entries else _GAP_LINES
     closer = ")" if context == META else "}"
-    found = []
+    found: list[Statement] = []
     pos = start
     while True:
-        pos = gap.match(text, pos, end).end()
+        pos = _past(gap, text, pos, end)
         if pos >= end:
             return found
         if entries:
@@ -645,10 +651,10 @@ def element_spans(text: str, span: tuple[int, int]) -> list[tuple[int, int]]:
     """The elements of the ``[ ... ]`` or ``( ... )`` at ``span``, without the
     commas, spaces and comments between them."""
     end = span[1] - 1
-    found = []
+    found: list[tuple[int, int]] = []
     pos = span[0] + 1
     while True:
-        pos = _GAP_LINES.match(text, pos, end).end()
+        pos = _past(_GAP_LINES, text, pos, end)
         if pos >= end:
             return found
         if text[pos] == ",":
@@ -657,5 +663,5 @@ def element_spans(text: str, span: tuple[int, int]) -> list[tuple[int, int]]:
         first = last = pos
         while pos < end and text[pos] != ",":
             last = _token_end(text, pos)
-            pos = _GAP_LINES.match(text, last, end).end()
+            pos = _past(_GAP_LINES, text, last, end)
         found.append((first, last))

@@ -28,6 +28,7 @@ from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from pxr import Sdf, Tf, Usd
 
@@ -379,7 +380,7 @@ class _State:
     is what :func:`_author` needs to write it (kept out of comparisons)."""
 
     key: tuple
-    payload: object = field(default=None, compare=False)
+    payload: Any = field(default=None, compare=False)
 
 
 _NO_VALUE = _State(("value", None))
@@ -548,15 +549,16 @@ def _author(stage: Usd.Stage, path: Sdf.Path, state: _State, block: bool) -> Non
     prim = stage.GetPrimAtPath(path.GetPrimPath())
     if not prim:
         return  # its prim cannot be brought back: the caller's check reports it
-    current = prim.GetProperty(path.name)
+    attr = prim.GetAttribute(path.name)
+    rel = prim.GetRelationship(path.name)
     if kind == "rel":
-        rel = prim.GetRelationship(path.name) or prim.CreateRelationship(path.name)
+        rel = rel or prim.CreateRelationship(path.name)
         rel.SetTargets(list(state.payload))
     elif kind == "attr":
         type_name, custom, default, samples, authored = state.payload
-        if not authored and not (current and current.HasAuthoredValue()):
+        if not authored and not (attr and attr.HasAuthoredValue()):
             return  # no opinion here either: the same fallback shows
-        attr = prim.GetAttribute(path.name) or prim.CreateAttribute(path.name, type_name, custom)
+        attr = attr or prim.CreateAttribute(path.name, type_name, custom)
         attr.Clear()
         if not authored and (block or default is None):
             attr.Block()  # no opinion at all: weaker ones hidden, the fallback shows
@@ -564,7 +566,7 @@ def _author(stage: Usd.Stage, path: Sdf.Path, state: _State, block: bool) -> Non
             attr.Set(default)  # the value, or the fallback a removal leaves
         for time, value in samples:
             attr.Set(value, time)
-    elif isinstance(current, Usd.Attribute) and current:
-        current.Block()  # the fix removed every value: block the weaker ones
-    elif isinstance(current, Usd.Relationship) and current:
-        current.SetTargets([])  # an explicit empty list hides the weaker targets
+    elif attr and attr.HasAuthoredValue():
+        attr.Block()  # the fix removed every value: block the weaker ones
+    elif rel and rel.HasAuthoredTargets():
+        rel.SetTargets([])  # an explicit empty list hides the weaker targets

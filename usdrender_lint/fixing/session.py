@@ -209,7 +209,7 @@ class StageFixer:
         """The fixes to try together: the first fix, and the later ones that edit
         other objects (two fixes on one object, or a prim and its property, could
         undo each other) and may edit their layer."""
-        batch = []
+        batch: list[tuple[Finding, Fix, Sdf.Layer | None]] = []
         scopes = _Scopes()
         for finding, fix in todo:
             key = _fix_key(finding, fix)
@@ -351,6 +351,7 @@ class StageFixer:
         for candidate in touched:
             if candidate == layer:
                 continue
+            problem: str | None
             if candidate == self.stage.GetSessionLayer() and not self.in_memory:
                 problem = "the session layer is never saved"
             elif not (self.in_memory or self._in_layer_stack(candidate)):

@@ -97,7 +97,7 @@ class Sources:
     def commit(self, touched: Iterable[Sdf.Layer]) -> str | None:
         """Accept what a fix did to ``touched``: a text layer gets the edit into its
         text. Returns why it cannot be accepted (the caller rolls back)."""
-        pending = []
+        pending: list[tuple[LayerSource, str | None, str]] = []
         for layer in touched:
             source = self.get(layer)
             after = layer.ExportToString()
@@ -106,7 +106,7 @@ class Sources:
                 continue
             if after == source.canonical:
                 continue
-            text = None
+            text: str | None = None
             if source.text is not None:
                 try:
                     text = edit_text(source.text, source.canonical, after)

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections import defaultdict
+from collections import Counter, defaultdict
 from dataclasses import dataclass, field
 
 from pxr import Sdf, Tf
@@ -40,6 +40,8 @@ from ..engine.usda_lines import (
 _SDF_INDENT = "    "
 _TRIPLE_STRING = re.compile(r'""".*?"""|' r"'''.*?'''", re.DOTALL)
 _SPACES = re.compile(r"[ \t\r\f\v]*")
+#: The indentation of each line with something on it.
+_LINE_INDENT = re.compile(r"^([ \t]*)\S", re.MULTILINE)
 _BOOL_WORD = re.compile(r"\bbool(?:\[\])?\s+[\w:]+\s*=\s*\[?\s*(?:true|false)\b")
 _BOOL_DIGIT = re.compile(r"(?<![\w.])[01](?![\w.])")
 
@@ -74,15 +76,18 @@ def edit_text(original: str, before: str, after: str) -> str:
 
 
 def indent_unit(text: str) -> str:
-    """The file's indentation step: a tab, or the smallest indentation in spaces."""
-    smallest = 0
-    for match in re.finditer(r"\n([ \t]+)\S", text[:200_000]):
-        lead = match.group(1)
-        if lead.startswith("\t"):
-            return "\t"
-        if smallest == 0 or len(lead) < smallest:
-            smallest = len(lead)
-    return " " * smallest if smallest else _SDF_INDENT
+    """The file's indentation step: the commonest increase of indentation from
+    one line to the next (a tab when lines are indented with tabs)."""
+    steps: Counter[str] = Counter()
+    previous = ""
+    for match in _LINE_INDENT.finditer(text, 0, 200_000):
+        indent = match.group(1)
+        if len(indent) > len(previous) and indent.startswith(previous):
+            steps[indent[len(previous) :]] += 1
+        previous = indent
+    if not steps:
+        return _SDF_INDENT
+    return max(steps, key=lambda step: (steps[step], -len(step)))
 
 
 # -- the editor ---------------------------------------------------------------------
@@ -157,7 +162,7 @@ class _Editor:
 
     def indent(self, text: str, pos: int) -> str:
         start = self.line_start(text, pos)
-        return _SPACES.match(text, start).group().replace("\r", "")
+        return text[start : _past_spaces(text, start)].replace("\r", "")
 
     def starts_line(self, pos: int) -> bool:
         start = self.line_start(self.t, pos)
@@ -316,7 +321,9 @@ class _Editor:
             return True
         return t.kind == "property" and any(self.t[a:b] == "dictionary" for a, b in t.words)
 
-    def elements(self, t_span, o_span, n_span) -> None:
+    def elements(
+        self, t_span: tuple[int, int], o_span: tuple[int, int], n_span: tuple[int, int]
+    ) -> None:
         """Edit an array or tuple element by element (the others keep their spelling)."""
         ts = element_spans(self.t, t_span)
         os_ = element_spans(self.o, o_span)
@@ -373,7 +380,7 @@ class _Editor:
         where a new statement of its kind may go."""
         text = self.t
         start = self.line_start(text, t.start)
-        after = _SPACES.match(text, t.end).end()
+        after = _past_spaces(text, t.end)
         at_line_end = after >= len(text) or text[after] == "\n"
         alone = self.starts_line(t.start)
         if alone and at_line_end:
@@ -384,7 +391,7 @@ class _Editor:
             return _Freed(t.kind, start, self.edits[-1], inline=False)
         if context in (META, DICT):
             if after < len(text) and text[after] == ";":
-                self.replace(t.start, _SPACES.match(text, after + 1).end(), "")
+                self.replace(t.start, _past_spaces(text, after + 1), "")
                 return None
             before = len(text[: t.start].rstrip(" \t"))
             if before > 0 and text[before - 1] == ";":
@@ -559,6 +566,12 @@ class _Placer:
 
 
 # -- helpers ---------------------------------------------------------------------------
+
+
+def _past_spaces(text: str, pos: int) -> int:
+    """The offset after the spaces (not line ends) at ``pos``."""
+    match = _SPACES.match(text, pos)
+    return match.end() if match else pos
 
 
 def _inner(span: tuple[int, int] | None) -> tuple[int, int]:
