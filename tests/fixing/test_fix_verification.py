@@ -103,3 +103,38 @@ def test_a_second_run_changes_nothing(tmp_path: Path) -> None:
     assert (shot.read_bytes(), (tmp_path / "weak.usda").read_bytes()) == fixed
     assert not again.applied
     assert [o.path for o in again.unapplied] == ["/Render/Strong.note"]
+
+
+class FixDoesNothingUseful(Rule):
+    """A rule for the test whose fix edits the prim without silencing it.
+
+    ## Fix safety
+    Safe.
+    """
+
+    code = "TV002"
+    name = "fix-does-nothing-useful"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Settings,)
+    fix_safety = "safe"
+
+    def check_prim(self, prim, ctx):
+        path = prim.GetPath()
+
+        def apply(stage):
+            stage.GetPrimAtPath(path).SetCustomDataByKey("tried", True)
+
+        yield Diagnostic(
+            message="always", at=prim, fix=Fix(description="try", safe=True, apply=apply)
+        )
+
+
+def test_an_undone_fix_leaves_a_usdc_byte_for_byte(tmp_path: Path) -> None:
+    source = Sdf.Layer.CreateAnonymous(".usda")
+    source.ImportFromString(SHOT.replace("    subLayers = [@weak.usda@]\n", ""))
+    crate = tmp_path / "shot.usdc"
+    source.Export(str(crate))
+    before = crate.read_bytes(), crate.stat().st_ino
+    result = fix_files(Linter([FixDoesNothingUseful()]), [str(crate)], FixOptions())
+    assert result.outcomes and not result.applied
+    assert (crate.read_bytes(), crate.stat().st_ino) == before  # not even written again

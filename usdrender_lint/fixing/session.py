@@ -1,4 +1,4 @@
-"""Fixing one stage: lint, apply a fix, check it, repeat.
+"""Fixing one stage: lint, apply fixes, check them, repeat.
 
 A fix edits the layer that holds the strongest opinion behind its finding
 (``Fix.layer`` when the rule names one; the root layer for stage metadata)
@@ -7,13 +7,15 @@ stack: never a layer a reference or payload brings in. Safe fixes (conditional
 ones are only offered when their condition holds) run by default, unsafe ones
 on request.
 
-Fixes are applied one at a time, each verified: its change must be expressible
-as a text edit of each text layer it touches (:mod:`.sources`), and linting the
-stage again must no longer report its finding; otherwise it is undone and
-reported as not applied, with the reason. The next fix comes from that new lint,
-so a fix that reveals another finding is handled and a second run changes
-nothing. At the end the changed layers are written (:mod:`.writing`) or, for
-``--diff``, shown as a patch (:mod:`.diff`).
+Every fix is verified: its change must be expressible as a text edit of each
+text layer it touches (:mod:`.sources`), and linting the stage again must no
+longer report its finding; otherwise it is undone and reported as not applied,
+with the reason. A round tries the fixes of objects that do not overlap
+together (one commit, one lint to check them all); when that fails, they are
+tried one at a time. The next round comes from the new lint, so a fix that
+reveals another finding is handled and a second run changes nothing. At the end
+the changed layers are written (:mod:`.writing`) or, for ``--diff``, shown as a
+patch (:mod:`.diff`).
 """
 
 from __future__ import annotations

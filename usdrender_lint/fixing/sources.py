@@ -38,12 +38,18 @@ class LayerSource:
     original_text: str | None = None
     #: Whether the text was checked to be what USD read.
     verified: bool = False
+    #: Sdf's export of the layer as read.
+    original_canonical: str = ""
+
+    def __post_init__(self) -> None:
+        self.original_canonical = self.original_canonical or self.canonical
 
     @property
     def changed(self) -> bool:
+        """Whether the accepted fixes changed it (a fix tried and undone does not)."""
         if self.text is not None:
             return self.text != self.original_text
-        return self.layer.dirty
+        return self.canonical != self.original_canonical
 
 
 class Sources:
