@@ -15,12 +15,12 @@ together (one commit, one lint to check them all); when that fails, they are
 tried one at a time. The next round comes from the new lint, so a fix that
 reveals another finding is handled and a second run changes nothing. At the end
 the changed layers are written (:mod:`.writing`) or, for ``--diff``, shown as a
-patch (:mod:`.diff`).
+patch (:mod:`.diff`). :func:`usdrender_lint.fixing.fix_files` runs it per file.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 from pxr import Sdf, Tf, Usd
@@ -81,27 +81,6 @@ class FixRun:
         self.notes.extend(other.notes)
         self.errors.extend(other.errors)
         self.remaining.extend(other.remaining)
-
-
-def fix_files(
-    linter: Linter,
-    files: Sequence[str],
-    options: FixOptions,
-    keep: Callable[[Finding], bool] | None = None,
-) -> FixRun:
-    """Fix each file's stage in turn. ``keep`` says whether a finding is
-    reported at all (per-path ignores): a silenced finding is not fixed."""
-    keep = keep or (lambda finding: True)
-    if options.fix_to:
-        from .overlay import fix_to
-
-        return fix_to(linter, files, options, keep)
-    run = FixRun()
-    for path in files:
-        fixer = StageFixer(linter, path, options, keep)
-        fixer.run()
-        run.extend(fixer.result)
-    return run
 
 
 @dataclass
