@@ -28,7 +28,7 @@ NEVER_NEEDED = (
     "tomllib",
     "zipfile",
     "usdrender_lint.api.docs",
-    "usdrender_lint.fixing.fixer",
+    "usdrender_lint.fixing",
     "usdrender_lint.running.roots",
     "usdrender_lint.engine.variants",
     "usdrender_lint.running.baseline",
