@@ -140,6 +140,9 @@ def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Findin
         _field(data, "layer", _OPTIONAL_STR, where),
         line,
     )
+    profile, reason = data.get("profile"), data.get("profile_reason")
+    if not isinstance(profile, _OPTIONAL_STR) or not isinstance(reason, _OPTIONAL_STR):
+        raise ReportFormatError(f"{where}: 'profile' and 'profile_reason' are strings or null")
     return Finding(
         _field(data, "code", str, where),
         _field(data, "name", str, where),
@@ -147,6 +150,8 @@ def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Findin
         _field(data, "message", str, where),
         location,
         fix,
+        profile,
+        reason,
     )
 
 

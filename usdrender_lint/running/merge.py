@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from ..formatters.json import ReportFormatError, read_report
-from ..model import FileResult, Report
+from ..model import AppliedFix, FileResult, Report
 
 
 class MergeError(Exception):
@@ -24,7 +24,8 @@ def merge_reports(paths: Sequence[str]) -> Report:
     if not paths:
         raise MergeError("merge needs at least one JSON report")
     files: dict[str, FileResult] = {}
-    applied, unapplied = [], []
+    applied: list[AppliedFix] = []
+    unapplied: list[AppliedFix] = []
     for path in paths:
         try:
             report = read_report(path)

