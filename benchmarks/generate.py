@@ -295,6 +295,23 @@ def generate_shot(folder: str | Path, prims: int, fmt: str = "usdc", defects: bo
     return shot
 
 
+def generate_flat_shot(folder: str | Path, prims: int, defects: bool = True) -> Path:
+    """Write a one-file shot: the layered shot of about ``prims`` prims (see
+    generate_shot) flattened into ``shot.usdc``, a single layer with no arcs to
+    other layers. ``expected_findings.json`` lists the same defects' findings."""
+    from pxr import Usd
+
+    folder = Path(folder)
+    layered = generate_shot(folder / "layered", prims, "usdc", defects)
+    flat = folder / "shot.usdc"
+    Usd.Stage.Open(str(layered)).Export(str(flat))
+    expected = json.loads((folder / "layered" / EXPECTED_FILE).read_text(encoding="utf-8"))
+    (folder / EXPECTED_FILE).write_text(
+        json.dumps({flat.name: expected[layered.name]}, indent=2) + "\n", encoding="utf-8"
+    )
+    return flat
+
+
 def _small_shot(path: Path, index: int, prims: int, defects: bool) -> list[Expected]:
     """A self-contained shot file: a camera, render prims and flat geometry."""
     layer = _new_layer(path)
@@ -341,6 +358,10 @@ def generate_many(
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     sub = parser.add_subparsers(dest="what", required=True)
+    flat = sub.add_parser("flat", help="one shot flattened into a single .usdc")
+    flat.add_argument("folder")
+    flat.add_argument("--prims", type=int, default=100_000)
+    flat.add_argument("--clean", action="store_true", help="no injected defects")
     shot = sub.add_parser("shot", help="one layered shot")
     shot.add_argument("folder")
     shot.add_argument("--prims", type=int, default=100_000)
@@ -351,14 +372,17 @@ def main(argv: list[str] | None = None) -> int:
     many.add_argument("--count", type=int, default=500)
     many.add_argument("--prims", type=int, default=200)
     many.add_argument("--format", choices=FORMATS, default="usda")
+    many.add_argument(
+        "--defect-every", type=int, default=10, help="every Nth file has defects (0: none)"
+    )
     args = parser.parse_args(argv)
-    if args.what == "shot":
+    if args.what == "flat":
+        print(generate_flat_shot(args.folder, args.prims, defects=not args.clean))
+    elif args.what == "shot":
         print(generate_shot(args.folder, args.prims, args.format, defects=not args.clean))
     else:
-        print(
-            f"{len(generate_many(args.folder, args.count, args.prims, args.format))} files "
-            f"in {args.folder}"
-        )
+        written = generate_many(args.folder, args.count, args.prims, args.format, args.defect_every)
+        print(f"{len(written)} files in {args.folder}")
     return 0
 
 

@@ -1,30 +1,36 @@
-"""Measure usdrender-lint against a bare ``Usd.Stage.Open`` of the same files.
+"""Measure usdrender-lint, each figure a ratio against its baseline in the same run.
 
 Every figure is a whole process (interpreter start included), timed against
 its baseline in the same run, interleaved round by round so machine load
-hits both alike. Each row shows the median, min and max over the rounds, the
-ratio of the medians and the peak resident memory of the processes
-(``os.wait4``). The goals come from issue 6 (and issue 16 for ``spec``):
+hits both alike. Each row shows the median, min and max over the rounds and
+the peak resident memory of the processes (``os.wait4``); each ratio is of the
+medians. The goals (issue 17, and issue 6 before it):
 
-- one big stage (100k and 1M prims, .usdc): ``check`` <= 1.0x a bare open
-  (aim 0.6x), findings identical to a full-composition run, peak RSS <= 1.1x;
-  ``spec`` (issue 16) <= 1.3x ``check`` on the same stage;
-- start-up on a 1k-prim file: <= 1.15x ``python -c "...Usd.Stage.Open(f)"``
-  (also printed: the same bare open that imports ``pxr.UsdRender`` and click,
-  what the stack costs before any linter code runs, and ``check`` in one
-  process without the worker that isolates a crash or hang);
+- one-file stage (a 100k-prim shot flattened into one ``.usdc``, no arcs to
+  other layers): ``check`` <= 1.25x a bare ``Usd.Stage.Open`` of it;
+- referenced shot (100k prims whose assets come through references and
+  payloads, ``.usdc``): ``check`` <= 0.5x a bare open, findings identical to a
+  full composition, peak RSS <= 1.1x; ``spec`` (issue 16) <= 1.3x ``check``;
+- start-up on a 1k-prim file: <= 1.3x the bare open;
+- result cache, 4,000 small files: the second run >= 8x faster than the first
+  (which starts from an empty cache), with an identical report;
+- shards: each of N ``check --shard K/N`` runs lints its part, the parts
+  differ by at most a factor of two, and ``merge`` of their reports equals
+  the unsharded report;
 - many files (500 shots of ~200 prims): ``--jobs 2`` files/s >= 1.7x
-  ``--jobs 1``, and the per-file cost in one process <= 1.2x a bare open
-  (also printed: a bare open that reads every authored attribute and target of
-  the render prims, what any rule set must read before its logic runs).
+  ``--jobs 1``; the per-file cost in one process (issue 6: <= 1.2x a bare open).
 
-Run ``python benchmarks/run.py --quick`` for a fast look (10k prims, 100
-files) or ``python benchmarks/run.py`` for the issue's figures (the 1M-prim
-stage takes minutes). Generated shots are kept in ``--work`` and reused.
+Floors are printed beside the goals they bound: a bare open that also imports
+``pxr.UsdRender`` and click (what the stack costs before any linter code runs),
+the same plus the rule modules and their registration, the interpreter with
+those imports alone, and a bare open that reads every render prim's data.
 
-Every measured process, bare open and lint alike, runs with bytecode caching
-as an installed tool has it: ``PYTHONDONTWRITEBYTECODE`` is dropped and
-``PYTHONPYCACHEPREFIX`` points at ``<work>/pycache`` (the warm-up round fills it).
+Every ``check`` here runs with ``--no-cache`` except in the cache case.
+Run ``python benchmarks/run.py --quick`` for a fast look or
+``python benchmarks/run.py`` for the issue's figures. Generated shots are kept
+in ``--work`` and reused. Every measured process, bare open and lint alike,
+runs with bytecode caching as an installed tool has it: ``PYTHONDONTWRITEBYTECODE``
+is dropped and ``PYTHONPYCACHEPREFIX`` points at ``<work>/pycache``.
 """
 
 from __future__ import annotations
@@ -38,22 +44,27 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-
-import generate  # noqa: E402 - a sibling script, not a package
+#: generate.py's name for the list of injected defects' findings.
+EXPECTED_FILE = "expected_findings.json"
 
 PYTHON = sys.executable
 #: The installed console script, as users run it (else the module).
 _SCRIPT = Path(PYTHON).with_name("usdrender-lint")
 LINT = [str(_SCRIPT)] if _SCRIPT.exists() else [PYTHON, "-m", "usdrender_lint"]
+CHECK = [*LINT, "check", "--isolated", "--no-cache"]
 BARE_OPEN = "import sys; from pxr import Usd; Usd.Stage.Open(sys.argv[1])"
-STACK_FLOOR = (
-    "import sys; from pxr import Usd, UsdRender; import click; Usd.Stage.Open(sys.argv[1])"
+STACK_IMPORTS = "from pxr import Usd, UsdRender; import click"
+STACK_FLOOR = f"import sys; {STACK_IMPORTS}; Usd.Stage.Open(sys.argv[1])"
+#: The stack, then the rule modules and their registration (what start-up pays
+#: for the rules before it reads a file).
+RULES_FLOOR = (
+    f"import sys; {STACK_IMPORTS}; from usdrender_lint.registry import build_registry; "
+    "build_registry(); Usd.Stage.Open(sys.argv[1])"
 )
 BARE_OPEN_ALL = "import sys; from pxr import Usd\nfor f in sys.argv[1:]: Usd.Stage.Open(f)"
 #: A bare open of each file that also reads what any render-settings rule set must
@@ -75,26 +86,29 @@ for f in sys.argv[1:]:
                 for target in rel.GetForwardedTargets():
                     stage.GetPrimAtPath(target)
 """
-#: The hidden flag that composes every stage in full (no fast path).
-FULL_FLAG = "--full-composition"
 
 
 @dataclass
 class Sample:
     seconds: float
     max_rss_kb: int
+    cpu_seconds: float
 
 
-def run_once(argv: Sequence[str], env: dict[str, str] | None = None) -> Sample:
-    """Wall time and peak RSS of one process (its output is discarded)."""
+def run_once(
+    argv: Sequence[str], env: dict[str, str] | None = None, cwd: Path | None = None
+) -> Sample:
+    """Wall time, peak RSS and CPU time of one process (its output is discarded)."""
     start = time.perf_counter()
-    process = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+    process = subprocess.Popen(
+        argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=cwd
+    )
     _, status, usage = os.wait4(process.pid, 0)
     elapsed = time.perf_counter() - start
     process.returncode = os.waitstatus_to_exitcode(status)
     if process.returncode not in (0, 1):
         raise SystemExit(f"{' '.join(argv)} exited with {process.returncode}")
-    return Sample(elapsed, usage.ru_maxrss)
+    return Sample(elapsed, usage.ru_maxrss, usage.ru_utime + usage.ru_stime)
 
 
 @dataclass
@@ -102,10 +116,21 @@ class Series:
     label: str
     argv: list[str]
     env: dict[str, str] | None = None
-    samples: list[Sample] | None = None
+    #: Run before each sample and not timed (e.g. emptying a cache).
+    before: Callable[[], None] | None = None
+    cwd: Path | None = None
+    samples: list[Sample] = field(default_factory=list)
+
+    def run(self) -> Sample:
+        if self.before is not None:
+            self.before()
+        return run_once(self.argv, self.env, self.cwd)
 
     def median(self) -> float:
         return statistics.median(s.seconds for s in self.samples)
+
+    def cpu(self) -> float:
+        return statistics.median(s.cpu_seconds for s in self.samples)
 
     def rss_mb(self) -> float:
         return max(s.max_rss_kb for s in self.samples) / 1024
@@ -116,40 +141,39 @@ def measure(series: list[Series], rounds: int) -> None:
     (which fills the file cache and is not counted)."""
     for s in series:
         s.samples = []
-        run_once(s.argv, s.env)
+        s.run()
     for _ in range(rounds):
         for s in series:
-            s.samples.append(run_once(s.argv, s.env))
+            s.samples.append(s.run())
 
 
-def row(s: Series, baseline: Series | None = None, per: float = 1.0) -> str:
-    times = [x.seconds / per for x in s.samples]
+def row(s: Series, baseline: Series | None = None) -> str:
+    times = [x.seconds for x in s.samples]
     text = (
-        f"  {s.label:<34} median {statistics.median(times):8.3f} s  "
-        f"min {min(times):8.3f}  max {max(times):8.3f}  peak RSS {s.rss_mb():7.1f} MB"
+        f"  {s.label:<40} median {statistics.median(times):7.3f} s  "
+        f"min {min(times):7.3f}  max {max(times):7.3f}  cpu {s.cpu():7.3f} s  "
+        f"RSS {s.rss_mb():6.1f} MB"
     )
     if baseline is not None:
-        text += f"  = {s.median() / baseline.median():.2f}x time, "
-        text += f"{s.rss_mb() / baseline.rss_mb():.2f}x RSS"
+        text += f"  = {s.median() / baseline.median():.2f}x"
+        text += f" (cpu {s.cpu() / baseline.cpu():.2f}x, RSS {s.rss_mb() / baseline.rss_mb():.2f}x)"
     return text
 
 
-def findings(path: Path, full: bool) -> list[tuple[str, str]]:
+def lint_json(paths: Sequence[str], *options: str, cwd: Path | None = None) -> dict:
     out = subprocess.run(
-        [
-            *LINT,
-            "check",
-            "--format",
-            "json",
-            "--isolated",
-            *([FULL_FLAG] if full else []),
-            str(path),
-        ],
+        [*LINT, "check", "--isolated", "--format", "json", *options, *paths],
         capture_output=True,
         text=True,
         check=False,
+        cwd=cwd,
     )
-    report = json.loads(out.stdout)
+    return json.loads(out.stdout)
+
+
+def findings(path: Path, full: bool) -> list[tuple[str, str, str]]:
+    options = ["--no-cache", *(["--full-composition"] if full else [])]
+    report = lint_json([str(path)], *options)
     return sorted(
         (f["code"], f["path"] or "", f["message"])
         for result in report["files"]
@@ -162,89 +186,189 @@ def use_bytecode_cache(work: Path) -> None:
     (a pip-installed user has them; a sandbox that disables them would time
     the compiling of every module instead)."""
     os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+    os.environ.pop("USDRENDER_LINT_NO_CACHE", None)
     os.environ["PYTHONPYCACHEPREFIX"] = str(work.resolve() / "pycache")
 
 
-def ensure(folder: Path, make) -> Path:
-    """Generate once per parameter set (a stamp file records completion)."""
+def ensure(folder: Path, *how: str) -> Path:
+    """Generate once per parameter set (a stamp file records completion), in a
+    process of its own: this one never imports USD, so the processes it starts
+    (forked from it) report their own peak memory, not this one's."""
     stamp = folder / ".complete"
     if not stamp.exists():
         shutil.rmtree(folder, ignore_errors=True)
         folder.mkdir(parents=True)
-        make(folder)
+        command = [PYTHON, str(HERE / "generate.py"), how[0], str(folder), *how[1:]]
+        subprocess.run(command, check=True, stdout=subprocess.DEVNULL)
         stamp.write_text("ok\n")
     return folder
 
 
-def big_stage(work: Path, prims: int, rounds: int) -> dict[str, float]:
-    folder = ensure(work / f"shot_{prims}_usdc", lambda f: generate.generate_shot(f, prims))
+def _expected_found(folder: Path, shot: Path, found: list[tuple[str, str, str]]) -> bool:
+    expected = json.loads((folder / EXPECTED_FILE).read_text())[shot.name]
+    return {(e["code"], e["path"]) for e in expected} <= {(c, p) for c, p, _ in found}
+
+
+# -- the cases ---------------------------------------------------------------------
+
+
+def one_file(work: Path, prims: int, rounds: int) -> dict[str, float]:
+    folder = ensure(work / f"flat_{prims}_usdc", "flat", "--prims", str(prims))
     shot = folder / "shot.usdc"
     fast, full = findings(shot, False), findings(shot, True)
-    expected = json.loads((folder / generate.EXPECTED_FILE).read_text())[shot.name]
-    injected = {(e["code"], e["path"]) for e in expected} <= {(c, p) for c, p, _ in fast}
     bare = Series("bare Usd.Stage.Open", [PYTHON, "-c", BARE_OPEN, str(shot)])
-    check = Series("usdrender-lint check", [*LINT, "check", "--isolated", str(shot)])
-    check_full = Series(
-        "check, full composition", [*LINT, "check", "--isolated", FULL_FLAG, str(shot)]
+    floor = Series("bare open + UsdRender + click", [PYTHON, "-c", STACK_FLOOR, str(shot)])
+    check = Series("usdrender-lint check", [*CHECK, str(shot)])
+    in_process = Series(
+        "check --jobs 1 --timeout 0", [*CHECK, "--jobs", "1", "--timeout", "0", str(shot)]
     )
+    measure([bare, floor, check, in_process], rounds)
+    print(f"\nOne-file stage: {prims:,} prims flattened into one .usdc, {rounds} rounds")
+    for s in (bare, floor, check, in_process):
+        print(row(s, None if s is bare else bare))
+    identical = fast == full and _expected_found(folder, shot, fast)
+    print(f"  findings identical to full composition: {fast == full} ({len(fast)} findings)")
+    return {
+        f"one_file{prims}_time": check.median() / bare.median(),
+        f"one_file{prims}_identical": float(identical),
+    }
+
+
+def referenced(work: Path, prims: int, rounds: int) -> dict[str, float]:
+    folder = ensure(work / f"shot_{prims}_usdc", "shot", "--prims", str(prims))
+    shot = folder / "shot.usdc"
+    fast, full = findings(shot, False), findings(shot, True)
+    bare = Series("bare Usd.Stage.Open", [PYTHON, "-c", BARE_OPEN, str(shot)])
+    imports = Series("interpreter + UsdRender + click", [PYTHON, "-c", STACK_IMPORTS])
+    check = Series("usdrender-lint check", [*CHECK, str(shot)])
+    check_full = Series("check --full-composition", [*CHECK, "--full-composition", str(shot)])
     # spec lints the file as check does and reads the render specification from
     # the same (partly composed) stage: its cost over check is that reading.
     spec = Series(
         "usdrender-lint spec --format json",
         [*LINT, "spec", "--isolated", "--format", "json", str(shot)],
     )
-    measure([bare, check, check_full, spec], rounds)
-    print(f"\nOne big stage: {prims:,} prims (.usdc), {rounds} rounds")
-    print(row(bare))
-    print(row(check, bare))
-    print(row(check_full, bare))
+    measure([bare, imports, check, check_full, spec], rounds)
+    what = "prims through references and payloads (.usdc)"
+    print(f"\nReferenced shot: {prims:,} {what}, {rounds} rounds")
+    for s in (bare, imports, check, check_full):
+        print(row(s, None if s is bare else bare))
     print(row(spec, bare) + f"; {spec.median() / check.median():.2f}x check")
+    identical = fast == full and _expected_found(folder, shot, fast)
     print(
         f"  findings identical to full composition: {fast == full} ({len(fast)} findings); "
-        f"injected defects found: {injected}"
+        f"injected defects found: {_expected_found(folder, shot, fast)}"
     )
     return {
-        f"big{prims}_time": check.median() / bare.median(),
-        f"big{prims}_rss": check.rss_mb() / bare.rss_mb(),
-        f"big{prims}_identical": float(fast == full and injected),
-        f"big{prims}_spec": spec.median() / check.median(),
+        f"referenced{prims}_time": check.median() / bare.median(),
+        f"referenced{prims}_rss": check.rss_mb() / bare.rss_mb(),
+        f"referenced{prims}_identical": float(identical),
+        f"referenced{prims}_spec": spec.median() / check.median(),
     }
 
 
 def start_up(work: Path, rounds: int) -> dict[str, float]:
     folder = ensure(
-        work / "single_1000_usda", lambda f: generate.generate_many(f, 1, 1000, defect_every=0)
+        work / "single_1000_usda", "many", "--count", "1", "--prims", "1000", "--defect-every", "0"
     )
     shot = folder / "shot_0000.usda"
     bare = Series("bare Usd.Stage.Open", [PYTHON, "-c", BARE_OPEN, str(shot)])
     # What the stack alone costs before any linter code runs: importing
-    # pxr.UsdRender (it imports UsdGeom, UsdShade and Sdr) and click.
+    # pxr.UsdRender (it imports UsdGeom, UsdShade and Sdr) and click; then
+    # also the rule modules and their registration.
     floor = Series("bare open + UsdRender + click", [PYTHON, "-c", STACK_FLOOR, str(shot)])
-    check = Series("usdrender-lint check", [*LINT, "check", "--isolated", str(shot)])
+    rules = Series("... + rule modules, registered", [PYTHON, "-c", RULES_FLOOR, str(shot)])
+    check = Series("usdrender-lint check", [*CHECK, str(shot)])
     in_process = Series(
-        "check --jobs 1 --timeout 0",
-        [*LINT, "check", "--isolated", "--jobs", "1", "--timeout", "0", str(shot)],
+        "check --jobs 1 --timeout 0", [*CHECK, "--jobs", "1", "--timeout", "0", str(shot)]
     )
-    measure([bare, floor, check, in_process], rounds)
+    measure([bare, floor, rules, check, in_process], rounds)
     print(f"\nStart-up: a 1k-prim shot file (.usda), {rounds} rounds")
-    print(row(bare))
-    print(row(floor, bare))
-    print(row(check, bare))
-    print(row(in_process, bare))
+    for s in (bare, floor, rules, check, in_process):
+        print(row(s, None if s is bare else bare))
     return {"startup_time": check.median() / bare.median()}
 
 
+def result_cache(work: Path, count: int, rounds: int) -> dict[str, float]:
+    folder = ensure(work / f"cache_{count}", "many", "--count", str(count))
+    cache = folder / ".usdrender_lint_cache"
+    args = [*LINT, "check", "--isolated", "--format", "json", "."]
+    first = Series(
+        "check, empty cache (first run)",
+        args,
+        before=lambda: shutil.rmtree(cache, ignore_errors=True),
+        cwd=folder,
+    )
+    second = Series("check, cache filled (second run)", args, cwd=folder)
+    uncached = Series("check --no-cache", [*args, "--no-cache"], cwd=folder)
+    measure([first, second, uncached], rounds)
+    shutil.rmtree(cache, ignore_errors=True)
+    reports = [lint_json(["."], cwd=folder) for _ in range(2)]
+    reports.append(lint_json(["."], "--no-cache", cwd=folder))
+    identical = reports[0] == reports[1] == reports[2]
+    print(f"\nResult cache: {count:,} small shot files (.usda), {rounds} rounds")
+    print(row(first))
+    print(row(second, first))
+    print(row(uncached, first))
+    speedup = first.median() / second.median()
+    print(
+        f"  second run {speedup:.1f}x faster than the first; reports identical (first, "
+        f"second, --no-cache): {identical}"
+    )
+    return {"cache_speedup": speedup, "cache_identical": float(identical)}
+
+
+def shards(work: Path, count: int, parts: int, rounds: int) -> dict[str, float]:
+    folder = ensure(work / f"cache_{count}", "many", "--count", str(count))
+    whole = Series("check, all files", [*CHECK, "--format", "json", "."], cwd=folder)
+    each = [
+        Series(f"check --shard {k}/{parts}", [*CHECK, "--shard", f"{k}/{parts}", "."], cwd=folder)
+        for k in range(1, parts + 1)
+    ]
+    measure([whole, *each], rounds)
+    sizes, reports = [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(1, parts + 1):
+            report = Path(tmp) / f"report-{k}.json"
+            options = ["--no-cache", "--shard", f"{k}/{parts}", "--output", str(report)]
+            subprocess.run(
+                [*LINT, "check", "--isolated", "--format", "json", *options, "."],
+                cwd=folder,
+                capture_output=True,
+                check=False,
+            )
+            sizes.append(len(json.loads(report.read_text())["files"]))
+            reports.append(str(report))
+        merged = subprocess.run(
+            [*LINT, "merge", "--isolated", "--format", "json", *reports],
+            cwd=folder,
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+    identical = json.loads(merged.stdout) == lint_json(["."], "--no-cache", cwd=folder)
+    print(f"\nShards: {count:,} small shot files in {parts} shards, {rounds} rounds")
+    print(row(whole))
+    for s in each:
+        print(row(s, whole))
+    balance = max(sizes) / max(1, min(sizes))
+    slowest = max(s.median() for s in each) / whole.median()
+    print(
+        f"  files per shard {sizes} (largest/smallest {balance:.2f}x); slowest shard "
+        f"{slowest:.2f}x the whole run; merged reports equal the unsharded one: {identical}"
+    )
+    return {"shard_balance": balance, "shard_slowest": slowest, "shard_identical": float(identical)}
+
+
 def many_files(work: Path, count: int, rounds: int) -> dict[str, float]:
-    folder = ensure(work / f"many_{count}", lambda f: generate.generate_many(f, count))
+    folder = ensure(work / f"many_{count}", "many", "--count", str(count))
     files = sorted(str(p) for p in folder.glob("shot_*.usda"))
     one = files[:1]
     bare_all = Series(f"bare open of {count} files", [PYTHON, "-c", BARE_OPEN_ALL, *files])
     bare_one = Series("bare open of 1 file", [PYTHON, "-c", BARE_OPEN_ALL, *one])
-    jobs1 = Series("check --jobs 1", [*LINT, "check", "--isolated", "--jobs", "1", *files])
-    jobs2 = Series("check --jobs 2", [*LINT, "check", "--isolated", "--jobs", "2", *files])
-    check_one = Series(
-        "check --jobs 1, 1 file", [*LINT, "check", "--isolated", "--jobs", "1", *one]
-    )
+    jobs1 = Series("check --jobs 1", [*CHECK, "--jobs", "1", *files])
+    jobs2 = Series("check --jobs 2", [*CHECK, "--jobs", "2", *files])
+    check_one = Series("check --jobs 1, 1 file", [*CHECK, "--jobs", "1", *one])
     read_all = Series(
         f"bare open + read render data, {count}", [PYTHON, "-c", READ_RENDER_DATA_ALL, *files]
     )
@@ -274,31 +398,48 @@ def many_files(work: Path, count: int, rounds: int) -> dict[str, float]:
     return {"jobs_speedup": speedup, "per_file": per_file_check / per_file_bare}
 
 
+#: (comparison, limit) per figure; a figure's name ends with its kind.
 GOALS = {
-    "startup_time": ("<=", 1.15),
+    "one_file": ("<=", 1.25),
+    "referenced": ("<=", 0.5),
+    "rss": ("<=", 1.1),
+    "identical": (">=", 1.0),
+    #: issue 16: spec at most 1.3x check on the same stage.
+    "spec": ("<=", 1.3),
+    "startup_time": ("<=", 1.3),
+    "cache_speedup": (">=", 8.0),
+    "shard_balance": ("<=", 2.0),
     "jobs_speedup": (">=", 1.7),
     "per_file": ("<=", 1.2),
 }
 
 
+def _goal(key: str) -> tuple[str, float] | None:
+    for suffix in ("identical", "rss", "spec"):
+        if key.endswith(suffix):
+            return GOALS[suffix]
+    for prefix in ("one_file", "referenced"):
+        if key.startswith(prefix) and key.endswith("_time"):
+            return GOALS[prefix]
+    return GOALS.get(key)
+
+
 def verdict(figures: dict[str, float]) -> bool:
-    print("\nGoals (issues 6 and 16):")
+    print("\nGoals (issues 17, 16 and 6):")
     ok = True
     for key, value in figures.items():
-        if key.endswith("_time") and key.startswith("big"):
-            op, limit = "<=", 1.0
-        elif key.endswith("_rss"):
-            op, limit = "<=", 1.1
-        elif key.endswith("_identical"):
-            op, limit = ">=", 1.0
-        elif key.endswith("_spec"):
-            op, limit = "<=", 1.3  # issue 16: spec at most 1.3x check
-        else:
-            op, limit = GOALS[key]
+        goal = _goal(key)
+        if goal is None:
+            print(f"  {key:<26} {value:6.2f}")
+            continue
+        op, limit = goal
         met = value <= limit if op == "<=" else value >= limit
         ok &= met
-        print(f"  {key:<22} {value:6.2f}  (goal {op} {limit})  {'met' if met else 'NOT MET'}")
+        print(f"  {key:<26} {value:6.2f}  (goal {op} {limit})  {'met' if met else 'NOT MET'}")
     return ok
+
+
+CASES = ("one-file", "referenced", "startup", "cache", "shards", "many")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -309,33 +450,41 @@ def main(argv: list[str] | None = None) -> int:
         help="where generated shots are kept and reused",
     )
     parser.add_argument(
-        "--sizes", default="100000,1000000", help="prim counts of the big stages, comma-separated"
+        "--sizes", default="100000", help="prim counts of the big stages, comma-separated"
     )
     parser.add_argument("--rounds", type=int, default=5, help="rounds of the small cases")
     parser.add_argument("--big-rounds", type=int, default=3, help="rounds of the big stages")
     parser.add_argument("--files", type=int, default=500, help="files of the many-files case")
     parser.add_argument(
-        "--quick", action="store_true", help="10k-prim stage, 100 files, 3 rounds: a fast look"
+        "--cache-files", type=int, default=4000, help="files of the cache and shards cases"
     )
+    parser.add_argument("--shards", type=int, default=2, help="N of the shards case")
     parser.add_argument(
-        "--only",
-        choices=("big", "startup", "many"),
-        action="append",
-        help="run only these cases (repeatable)",
+        "--quick", action="store_true", help="10k-prim stages, fewer files, 3 rounds: a fast look"
     )
+    parser.add_argument("--only", choices=CASES, action="append", help="run only these cases")
     args = parser.parse_args(argv)
     if args.quick:
-        args.sizes, args.files, args.rounds, args.big_rounds = "10000", 100, 3, 3
+        args.sizes, args.files, args.cache_files = "10000", 100, 400
+        args.rounds = args.big_rounds = 3
     work = Path(args.work)
     use_bytecode_cache(work)
-    cases = set(args.only or ("big", "startup", "many"))
+    cases = set(args.only or CASES)
     figures: dict[str, float] = {}
     print(f"usdrender-lint benchmark on {os.cpu_count()} CPUs, Python {sys.version.split()[0]}")
-    if "big" in cases:
-        for prims in (int(s) for s in args.sizes.split(",") if s.strip()):
-            figures.update(big_stage(work, prims, args.big_rounds))
+    sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    if "one-file" in cases:
+        for prims in sizes:
+            figures.update(one_file(work, prims, args.big_rounds))
+    if "referenced" in cases:
+        for prims in sizes:
+            figures.update(referenced(work, prims, args.big_rounds))
     if "startup" in cases:
         figures.update(start_up(work, args.rounds))
+    if "cache" in cases:
+        figures.update(result_cache(work, args.cache_files, args.rounds))
+    if "shards" in cases:
+        figures.update(shards(work, args.cache_files, args.shards, args.rounds))
     if "many" in cases:
         figures.update(many_files(work, args.files, args.rounds))
     return 0 if verdict(figures) else 1

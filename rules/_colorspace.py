@@ -7,7 +7,6 @@ custom spaces a ``ColorSpaceDefinitionAPI`` declares on the prim or an ancestor.
 
 from __future__ import annotations
 
-import difflib
 import re
 from dataclasses import dataclass
 
@@ -91,6 +90,8 @@ def nearest_names(name: str, count: int = 3) -> list[str]:
         if part.strip() and Gf.ColorSpace.IsValid(part.strip())
     ]
     lowered = {c.lower(): c for c in CANONICAL_NAMES}
+    import difflib  # only to suggest a name for an unknown one
+
     close = difflib.get_close_matches(name.lower(), list(lowered), n=count, cutoff=0.4)
     return list(dict.fromkeys(embedded + [lowered[m] for m in close]))[:count]
 

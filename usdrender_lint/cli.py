@@ -1,4 +1,4 @@
-"""The ``usdrender-lint`` command: check, spec, rules, explain.
+"""The ``usdrender-lint`` command: check, merge, spec, rules, explain.
 
 Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it;
 2 the tool could not do its job (bad usage or config, a plugin that fails to
@@ -189,6 +189,24 @@ def cli() -> None:
     hidden=True,
     help="Compose every stage in full, not only what the rules read (same findings, slower).",
 )
+@click.option(
+    "--no-cache",
+    is_flag=True,
+    envvar="USDRENDER_LINT_NO_CACHE",
+    help="Lint every file, neither reading nor writing the result cache.",
+)
+@click.option(
+    "--cache-dir",
+    type=click.Path(file_okay=False),
+    envvar="USDRENDER_LINT_CACHE_DIR",
+    help="The result cache's folder  [default: .usdrender_lint_cache at the project root].",
+)
+@click.option(
+    "--shard",
+    metavar="K/N",
+    callback=lambda _ctx, _param, value: _shard(value),
+    help="Lint only part K of N of the files (a CI matrix job); see 'merge'.",
+)
 def check(
     paths: tuple[str, ...],
     output_format: str,
@@ -215,6 +233,9 @@ def check(
     max_variant_combinations: int | None,
     profile: str | None,
     full_composition: bool,
+    no_cache: bool,
+    cache_dir: str | None,
+    shard: tuple[int, int] | None,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     _import_engine()
@@ -238,6 +259,9 @@ def check(
         timeout=timeout,
         full_composition=full_composition,
         profile=profile,
+        cache=not no_cache,
+        cache_dir=cache_dir,
+        shard=shard,
     )
     try:
         outcome = run(request)
@@ -261,6 +285,84 @@ def check(
     for error in outcome.errors:
         click.echo(f"usdrender-lint: error: {error}", err=True)
     sys.exit(outcome.exit_status)
+
+
+def _shard(value: str | None) -> tuple[int, int] | None:
+    if value is None:
+        return None
+    from .running.shards import ShardError, parse_shard
+
+    try:
+        return parse_shard(value)
+    except ShardError as exc:
+        raise click.BadParameter(str(exc)) from None
+
+
+@cli.command()
+@click.argument("reports", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option(
+    "--format",
+    "output_format",
+    default="text",
+    show_default=True,
+    type=_format_choice(),
+    help="Report format.",
+)
+@click.option(
+    "--fail-on",
+    type=click.Choice(FAIL_ON_CHOICES),
+    default=None,
+    help="Lowest severity that makes the exit code 1  [default: the config's, else error].",
+)
+@click.option("--show-info", is_flag=True, help="Show info findings in the text report.")
+@click.option(
+    "--config",
+    "config_path",
+    type=click.Path(dir_okay=False),
+    help="Read settings (fail-on, the rules described) from this file.",
+)
+@click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+@click.option(
+    "--output",
+    "output_file",
+    type=click.Path(dir_okay=False),
+    help="Write the report to this file (atomically) instead of stdout.",
+)
+@click.option("--statistics", is_flag=True, help="Add counts per rule code after the report.")
+def merge(
+    reports: tuple[str, ...],
+    output_format: str,
+    fail_on: str | None,
+    show_info: bool,
+    config_path: str | None,
+    isolated: bool,
+    output_file: str | None,
+    statistics: bool,
+) -> None:
+    """Merge JSON reports (of 'check --shard K/N' jobs) into one report.
+
+    The exit code is that of one check over all the files: 2 when a file could
+    not be linted, else 1 when a finding reaches --fail-on, else 0."""
+    _import_engine()
+    from .running.merge import MergeError, merge_reports
+    from .running.pipeline import Request, RequestError, exit_status, prepare
+
+    try:
+        report = merge_reports(reports)
+        # The configuration decides fail-on and which rules a SARIF report describes.
+        prepared = prepare(Request((".",), fail_on=fail_on, config=config_path, isolated=isolated))
+    except (MergeError, RequestError) as exc:
+        raise ToolError(str(exc)) from None
+    options = FormatOptions(
+        show_info=show_info,
+        tool_version=__version__,
+        statistics=statistics,
+        fixing=bool(report.applied_fixes or report.unapplied_fixes),
+    )
+    _emit_report(report, output_format, prepared.linter.rules, options, output_file)
+    for error in (r.error or r.file for r in report.errored_files):
+        click.echo(f"usdrender-lint: error: {error}", err=True)
+    sys.exit(exit_status(report, prepared.settings.fail_on))
 
 
 def _fix_request(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None):

@@ -52,6 +52,9 @@ class Settings:
     profile: str = "auto"
     #: File glob -> profile name for matching files (wins over ``profile``).
     per_path_profiles: Mapping[str, str] = field(default_factory=dict)
+    #: Where the result cache lives (relative to the config file's folder);
+    #: None: ``.usdrender_lint_cache`` there (running/result_cache.py).
+    cache_dir: str | None = None
     #: The file the settings were read from, if any.
     source: str | None = None
     #: Settings given as command-line flags (they win over the file).
@@ -142,6 +145,10 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
                 glob: _profile_name(profile, f"{name}.{glob}", source)
                 for glob, profile in _table(value, name, source, "glob = profile").items()
             }
+        elif key == "cache-dir":
+            if not isinstance(value, str) or not value.strip():
+                raise ConfigError(f"{source}: '{name}' must be a folder path, got {value!r}")
+            parsed["cache_dir"] = value
         elif key == "variants":
             if not isinstance(value, bool):
                 raise ConfigError(f"{source}: '{name}' must be true or false, got {value!r}")

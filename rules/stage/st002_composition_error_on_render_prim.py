@@ -87,7 +87,7 @@ class CompositionErrorOnRenderPrim(Rule):
     partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
-        errors = ctx.stage.GetCompositionErrors()
+        errors = ctx.composition_errors
         if not errors:
             return
         render_paths: list[Sdf.Path] | None = None

@@ -31,9 +31,10 @@ ALLOWED: dict[str, set[str]] = {
     "fixing": {"api", "engine", "model", "paths", "atomic"},
     "profiles": {"api", "model", "registry"},
     "spec": {"api", "engine", "model", "paths", "profiles"},
+    # running reads the JSON format's records back (merge, the result cache).
     "running": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "model", "paths",
-        "profiles", "registry",
+        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
+        "paths", "profiles", "registry",
     },
     "testing": {"api", "engine", "model", "registry"},
     "usdplugin": {"api", "atomic", "engine", "model", "registry", "rules"},

@@ -1,5 +1,6 @@
 """Nothing is written anywhere unless --fix, --fix-to, --output or
---write-baseline asks for it: after plain runs the inputs' bytes and
+--write-baseline asks for it, but the result cache (in its own folder at the
+project root; --no-cache: not even that): after plain runs the inputs' bytes and
 modification times, and the folder listings, are exactly as before."""
 
 from __future__ import annotations
@@ -84,17 +85,26 @@ def assets(tmp_path: Path) -> Path:
         pytest.param(["--jobs", "1", "--format", "github"], id="github"),
     ],
 )
-def test_a_plain_run_writes_nothing(
+def test_a_plain_run_writes_nothing_but_its_result_cache(
     assets: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch, options: list[str]
 ) -> None:
     workdir = tmp_path / "cwd"
     workdir.mkdir()
     monkeypatch.chdir(workdir)
+    monkeypatch.delenv("USDRENDER_LINT_NO_CACHE", raising=False)
     before = _snapshot(assets, workdir)
-    result = CliRunner().invoke(cli, ["check", "--isolated", *options, str(assets)])
-    assert result.exit_code == 1, result.stderr
-    assert "ST001" in result.stdout and "SE003" in result.stdout
-    assert _snapshot(assets, workdir) == before
+    for extra in (["--no-cache"], []):
+        result = CliRunner().invoke(cli, ["check", "--isolated", *options, *extra, str(assets)])
+        assert result.exit_code == 1, result.stderr
+        assert "ST001" in result.stdout and "SE003" in result.stdout
+        if extra:
+            assert _snapshot(assets, workdir) == before
+    # The cache goes to the project root (the working directory without a
+    # config file), in a folder of its own; the inputs are untouched.
+    after = _snapshot(assets, workdir)
+    cache = str(workdir / ".usdrender_lint_cache")
+    assert {k: v for k, v in after.items() if not k.startswith(cache)} == before
+    assert cache in after
 
 
 def test_reading_a_baseline_writes_nothing(

@@ -69,9 +69,18 @@ def test_check_in_one_process_imports_only_what_it_needs() -> None:
 
 
 def test_check_with_workers_imports_the_pool_and_nothing_else_heavy() -> None:
-    modules = _modules_after("--isolated")  # the default --timeout needs a worker
+    other = PASS_FILE.parent.parent / "CA002_camera_multiple_targets" / "pass_traps.usda"
+    modules = _modules_after("--isolated", str(other))  # two files, the default --timeout
     assert "multiprocessing" in modules
     assert [n for n in NEVER_NEEDED if _imported(modules, n)] == []
+
+
+def test_one_file_under_a_time_limit_needs_no_pool() -> None:
+    """A forked child lints it, with the linter already built (issue 17)."""
+    modules = _modules_after("--isolated")
+    assert "usdrender_lint.engine" in modules
+    unexpected = [n for n in NEVER_NEEDED + POOL_ONLY if _imported(modules, n)]
+    assert unexpected == []
 
 
 def test_rule_docs_are_built_only_for_a_formatter_that_reads_them() -> None:

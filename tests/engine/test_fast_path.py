@@ -14,7 +14,7 @@ import pytest
 from pxr import Sdf, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.engine import Linter
+from usdrender_lint.engine import Linter, layer_words
 from usdrender_lint.engine import partial as fastpath
 from usdrender_lint.testing import all_rules
 
@@ -74,7 +74,7 @@ def test_text_without_asset_paths_is_flat_before_usd_reads_it(
         '#usda 1.0\ndef "Set" (\n    payload = @lighting.usda@\n)\n{\n}\n',
         # Past the first read of the text.
         "#usda 1.0\n"
-        + "# padding\n" * (2 * fastpath.READ_CHUNK // 10)
+        + "# padding\n" * 20_000
         + 'def "Set" (\n    references = @lighting.usda@\n)\n{\n}\n',
     ],
     ids=["sublayer", "reference", "payload", "late-reference"],
@@ -86,7 +86,7 @@ def test_text_with_an_arc_to_a_layer_is_not_taken_for_flat(
     light = '#usda 1.0\ndef "Light"\n{\n}\n'
     root = _write(tmp_path, {"shot.usda": text, "lighting.usda": light})
     assert Sdf.Layer.FindOrOpen(str(root)).GetCompositionAssetDependencies()
-    assert not fastpath._text_without_asset_paths(str(root))
+    assert not layer_words.without_external_arcs(str(root))
     opened = fastpath.open_partial(str(root), Linter(all_rules())._dispatch.wants)
     assert opened.layers, "the layers must be asked for their dependencies"
 

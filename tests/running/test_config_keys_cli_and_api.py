@@ -115,6 +115,8 @@ KEYS = {
     ),
     "fail-on": ('fail-on = "never"', "lighting.usda", "exit"),
     "unfixable": ('unfixable = ["SE003"]', "lighting.usda", "none"),
+    # where the result cache lives, not what it finds (tests/running/test_result_cache.py)
+    "cache-dir": ('cache-dir = "lint-cache"', "lighting.usda", "none"),
 }  # fmt: skip
 
 

@@ -65,6 +65,12 @@ class Context:
         return [*self._settings_configurations, *own_configurations(self.untargeted_products)]
 
     @cached_property
+    def composition_errors(self) -> list:
+        """``stage.GetCompositionErrors()``, asked once per lint (it walks the
+        stage's prim indexes)."""
+        return list(self.stage.GetCompositionErrors())
+
+    @cached_property
     def untargeted_products(self) -> list[Usd.Prim]:
         """Usable RenderProducts that no usable RenderSettings' ``products`` targets."""
         targeted = {

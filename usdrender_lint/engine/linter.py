@@ -7,9 +7,9 @@ formatter, the configuration or the command line.
 from __future__ import annotations
 
 import os
-import traceback
-from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass, field
 from typing import Any, Generic, TypeVar
 
 from pxr import Sdf, Tf, Usd, UsdRender
@@ -25,7 +25,7 @@ from ..model import (
     Location,
     Severity,
 )
-from . import partial, suppress
+from . import layer_words, partial, suppress, typed_prims
 from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
@@ -78,6 +78,59 @@ class Inspected(Generic[_T]):
 
     result: FileResult
     value: _T | None = None
+
+
+@dataclass
+class Reads:
+    """What linting one file read, for a cache that must know when the findings
+    go stale (running/result_cache.py): every layer a linted stage used or the
+    fast path opened (value clips included), and the layers arcs name that do
+    not exist. ``complete`` is False when that is not known: a stage could not
+    be opened, or an arc's asset path is an expression."""
+
+    #: (identifier, real path, anonymous, has unsaved edits) of each layer read.
+    layers: list[tuple[str, str, bool, bool]] = field(default_factory=list)
+    #: Identifiers of layers an arc names, which may not exist (yet).
+    targets: list[str] = field(default_factory=list)
+    complete: bool = True
+
+    def add_layers(self, layers: Iterable[Sdf.Layer]) -> None:
+        self.layers.extend((x.identifier, x.realPath, x.anonymous, x.dirty) for x in layers)
+
+    def add_arc_targets(self, layers: Iterable[Sdf.Layer]) -> None:
+        """The sublayers, references and payloads ``layers`` name, found or not."""
+        for layer in layers:
+            if layer.anonymous:
+                continue
+            for asset in layer.GetCompositionAssetDependencies():
+                if "`" in asset:
+                    self.complete = False  # which file it names depends on variables
+                    continue
+                identifier = Sdf.ComputeAssetPathRelativeToLayer(layer, asset)
+                if not os.path.isabs(identifier.partition("[")[0]) and layer.realPath:
+                    # A search path the default resolver did not find: where it looked first.
+                    identifier = os.path.join(os.path.dirname(layer.realPath), identifier)
+                self.targets.append(identifier)
+
+    def add_clips(self, stage: Usd.Stage) -> None:
+        """Every value clip and clip manifest the stage's prims name (a clip
+        USD has not opened yet, because no rule read its times, still decides
+        what a rule would read)."""
+        prims = Usd.PrimRange.Stage(stage, Usd.TraverseInstanceProxies(Usd.PrimAllPrimsPredicate))
+        for prim in prims:
+            if not prim.HasAuthoredMetadata("clips"):
+                continue
+            clips = Usd.ClipsAPI(prim)
+            for clip_set in prim.GetMetadata("clips") or {}:
+                assets = list(clips.ComputeClipAssetPaths(clip_set))
+                manifest = clips.GetClipManifestAssetPath(clip_set)
+                if manifest is not None and manifest.path:
+                    assets.append(manifest)
+                for asset in assets:
+                    if asset.resolvedPath:
+                        self.targets.append(asset.resolvedPath)
+                    else:
+                        self.complete = False  # a clip that is missing: where would it be?
 
 
 class _TypeDispatch:
@@ -167,6 +220,17 @@ class Linter:
         self._fixes: dict[Finding, Fix] | None = None
         #: While lint_stage_traced runs: the rule code and check_prim prim behind each finding.
         self._origins: dict[Finding, tuple[str, Sdf.Path | None]] | None = None
+        #: While recording_reads is active: what the lints read.
+        self._reads: Reads | None = None
+
+    @contextmanager
+    def recording_reads(self) -> Iterator[Reads]:
+        """Record what the lints inside the block read (see :class:`Reads`)."""
+        previous, self._reads = self._reads, Reads()
+        try:
+            yield self._reads
+        finally:
+            self._reads = previous
 
     # -- entry points ---------------------------------------------------------
 
@@ -198,6 +262,8 @@ class Linter:
             )
         except CorruptValue as exc:
             message = str(exc)
+        if self._reads is not None:
+            self._reads.complete = False  # the lint stopped part way
         location = Location(path, None, os.path.abspath(path), None)
         severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
         finding = Finding(
@@ -207,6 +273,10 @@ class Linter:
 
     def _lint_file(self, path: str, inspect: Inspector[_T] | None) -> Inspected[_T]:
         masked = None if self.full_composition else self._open_partial(path)
+        if masked is not None and self._reads is not None:
+            # What the fast path read decided how the stage is composed.
+            self._reads.add_layers(masked.layers)
+            self._reads.targets.extend(masked.missing)
         if masked is not None and masked.stage is not None:
             try:
                 findings, value = self._lint(masked.stage, path, masked=True, inspect=inspect)
@@ -215,9 +285,12 @@ class Linter:
                 pass  # a rule reads the whole scene: compose all of it below
         opened = open_stage(path)
         if opened.stage is None:
+            if self._reads is not None:
+                self._reads.complete = False
             failures = tuple(self._open_failure_findings(path, opened))
             return Inspected(FileResult(path, findings=failures))
-        findings, value = self._lint(opened.stage, path, inspect=inspect)
+        # The engine's own stage: the walk may ask USD for the typed prims (typed_prims.py).
+        findings, value = self._lint(opened.stage, path, inspect=inspect, own_stage=True)
         return Inspected(FileResult(path, findings=tuple(findings)), value)
 
     def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
@@ -261,6 +334,7 @@ class Linter:
         file: str | None,
         masked: bool = False,
         inspect: Inspector[_T] | None = None,
+        own_stage: bool = False,
     ) -> tuple[list[Finding], _T | None]:
         file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
         ctx = Context(
@@ -274,7 +348,7 @@ class Linter:
         # Nothing edits the stage while rules run, so the helpers may cache.
         with Tf.DiagnosticTrap() as trap, lint_cache(ctx.cache):
             try:
-                work, suppressing = self._walk(stage, ctx)
+                work, suppressing = self._walk(stage, ctx, own_stage)
                 run = self._run
                 # A renderer rule runs only where some configuration is its renderer's.
                 present = self._decide_profiles(ctx)
@@ -291,6 +365,8 @@ class Linter:
                     value = inspect(ctx, findings)
             finally:
                 trap.Clear()
+        if self._reads is not None:
+            self._record(stage, ctx, masked)
         return findings, value
 
     def _decide_profiles(self, ctx: Context) -> set[str]:
@@ -309,6 +385,19 @@ class Linter:
                 raise CorruptValue(corrupt[0]) from exc
             raise
 
+    def _record(self, stage: Usd.Stage, ctx: Context, masked: bool) -> None:
+        reads = self._reads
+        assert reads is not None
+        used = stage.GetUsedLayers(includeClipLayers=True)
+        reads.add_layers(used)
+        # A stage composed without errors resolved every arc it composed; with
+        # errors, its layers' arcs are listed to find the assets that are missing.
+        # (The fast path lists the arcs of every layer it reaches: PartialStage.missing.)
+        if not masked and ctx.composition_errors:
+            reads.add_arc_targets(used)
+        if layer_words.layers_may_hold(used, "clips"):
+            reads.add_clips(stage)
+
     def _apply_data_suppressions(
         self, ctx: Context, findings: list[Finding], suppressing: list[Usd.Prim]
     ) -> list[Finding]:
@@ -325,16 +414,23 @@ class Linter:
     # -- internals ------------------------------------------------------------
 
     def _walk(
-        self, stage: Usd.Stage, ctx: Context
+        self, stage: Usd.Stage, ctx: Context, own_stage: bool = False
     ) -> tuple[list[tuple[Usd.Prim, tuple[Rule, ...]]], list[Usd.Prim]]:
         """One traversal of usable prims: collect render prims, the prim work and
         the prims with customData suppressions (no second traversal for those)."""
         work = []
         suppressing = []
         unknown = self._dispatch.unknown_type_names
-        has_suppressions = suppress.has_suppressions
-        for prim in stage.Traverse():
-            if has_suppressions(prim):
+        # Reading every prim's customData costs more than the rest of the walk:
+        # skipped when no layer's file holds the suppression key at all.
+        may_suppress = suppress.layers_may_suppress(stage.GetUsedLayers())
+        has_suppressions = suppress.has_suppressions if may_suppress else None
+        prims: Iterable[Usd.Prim] | None = None
+        if own_stage and not may_suppress:
+            # Then only the typed prims matter, and USD finds them without a Python walk.
+            prims = typed_prims.find(stage, self._dispatch.wants, unknown)
+        for prim in stage.Traverse() if prims is None else prims:
+            if has_suppressions is not None and has_suppressions(prim):
                 suppressing.append(prim)
             type_name = prim.GetTypeName()
             rules, kinds = self._dispatch.lookup(type_name)
@@ -373,6 +469,8 @@ class Linter:
             raise exc
         prim_path = target.GetPath() if isinstance(target, Usd.Prim) else None
         where = f" on {prim_path}" if prim_path is not None else ""
+        import traceback  # only for a rule that raised (it imports textwrap)
+
         frame = traceback.extract_tb(exc.__traceback__)[-1]
         detail = " ".join(str(exc).split())  # USD's errors span lines; findings do not
         message = (

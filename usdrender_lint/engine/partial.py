@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 from pxr import Ar, Sdf, Tf, Usd
 
 from ..model import IGNORE_KEY
+from . import layer_words
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")
@@ -69,13 +70,9 @@ MIN_SCAN = 50_000
 #: Root layer stack specs sampled to project how much their arcs compose.
 SAMPLE = 4096
 
-#: Files that may hold a usda text layer, its first bytes, and the read size
-#: when looking for asset paths in one.
-TEXT_EXTENSIONS = (".usda", ".usd")
-USDA_HEADER = b"#usda "
-READ_CHUNK = 1 << 16
-
 _ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
+#: The words that make a layer's spec fields worth listing (_scan).
+_KEYED_WORDS = (*sorted(_ARC_KEYS), "relocates", IGNORE_DICTIONARY)
 
 
 class NotProvable(Exception):
@@ -92,6 +89,11 @@ class PartialStage:
     #: this one does not read them again.
     layers: list[Sdf.Layer] = field(default_factory=list)
     reason: str | None = None
+    #: Identifiers of the layers an arc of ``layers`` names that do not exist.
+    missing: list[str] = field(default_factory=list)
+    #: The masked stage when the fast path gave up after composing it: it holds
+    #: the root layer stack's layers (``layers`` holds only weak handles to them).
+    held: Usd.Stage | None = field(default=None, repr=False)
 
 
 @dataclass
@@ -117,10 +119,13 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
 
     ``wants_type(type_name)`` is True for the prim type names the rules want
     to see (the engine's dispatch table decides)."""
-    if FLAT_STAGES_COMPOSE_FULLY and _text_without_asset_paths(path):
-        # Decided before USD reads the layer: the engine's full open reads it once.
+    if FLAT_STAGES_COMPOSE_FULLY and layer_words.without_external_arcs(path):
+        # Decided from the file's bytes, before USD reads the layer (or walks its
+        # specs for GetCompositionAssetDependencies): the full open reads it once.
         return PartialStage(None, [], "every layer is in the root layer stack")
     layers: list[Sdf.Layer] = []
+    missing: list[str] = []
+    stage = None
     with Tf.DiagnosticTrap() as trap:
         try:
             root = Sdf.Layer.FindOrOpen(path)
@@ -132,7 +137,7 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
             if FLAT_STAGES_COMPOSE_FULLY and not root.GetCompositionAssetDependencies():
                 raise NotProvable("every layer is in the root layer stack")
             stage = Usd.Stage.OpenMasked(path, Usd.StagePopulationMask(), Usd.Stage.LoadAll)
-            layers = _reachable_layers(stage)
+            layers = _reachable_layers(stage, missing)
             if trap.HasErrors():
                 raise NotProvable("an error was posted while reading the layers")
             root_stack = stage.GetLayerStack(includeSessionLayers=True)
@@ -144,41 +149,20 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
             if trap.HasErrors():
                 raise NotProvable("an error was posted while composing")
         except (NotProvable, Tf.ErrorException) as exc:
-            return PartialStage(None, layers, str(exc).strip() or type(exc).__name__)
+            reason = str(exc).strip() or type(exc).__name__
+            return PartialStage(None, layers, reason, missing, held=stage)
         finally:
             trap.Clear()
-    return PartialStage(stage, layers)
+    return PartialStage(stage, layers, missing=missing)
 
 
 # -- layers ---------------------------------------------------------------------------
 
 
-def _text_without_asset_paths(path: str) -> bool:
-    """True for a text layer with no ``@`` anywhere: usda writes every asset path
-    (sublayers, references, payloads) between ``@``, so it has no arc to another
-    layer. Cheaper than parsing it for GetCompositionAssetDependencies; any doubt
-    (crate, package, unreadable) answers False and the layer is asked."""
-    if not path.lower().endswith(TEXT_EXTENSIONS):
-        return False
-    # Read into one buffer: cheaper than a bytes object per read (~20 vs ~80 us on a shot).
-    buffer = bytearray(READ_CHUNK)
-    try:
-        with open(path, "rb", buffering=0) as handle:
-            size = handle.readinto(buffer)
-            if not buffer.startswith(USDA_HEADER):
-                return False
-            while size:
-                if buffer.find(b"@", 0, size) >= 0:
-                    return False
-                size = handle.readinto(buffer)
-    except OSError:
-        return False
-    return True
-
-
-def _reachable_layers(stage: Usd.Stage) -> list[Sdf.Layer]:
+def _reachable_layers(stage: Usd.Stage, missing: list[str]) -> list[Sdf.Layer]:
     """The root layer stack, then every layer reachable through sublayers,
-    references and payloads (variants included), each once."""
+    references and payloads (variants included), each once. The identifiers
+    of the layers that do not exist are added to ``missing``."""
     layers = list(stage.GetLayerStack(includeSessionLayers=True))
     seen = {layer.identifier for layer in layers}
     with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
@@ -190,7 +174,9 @@ def _reachable_layers(stage: Usd.Stage) -> list[Sdf.Layer]:
                     raise NotProvable(f"expression variables in @{asset_path}@")
                 # A layer that is missing is missing from the full stage too.
                 layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
-                if layer is not None and layer.identifier not in seen:
+                if layer is None:
+                    missing.append(Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path))
+                elif layer.identifier not in seen:
                     seen.add(layer.identifier)
                     layers.append(layer)
                     queue.append(layer)
@@ -223,17 +209,33 @@ def _scan(
         paths = _layer_paths(layer)
     scan = scan if scan is not None else _LayerScan(specs=len(paths))
     get_spec = layer.GetPrimAtPath
+    # A layer whose file holds none of these words has no arc, relocates or
+    # suppression on any spec: its specs' fields need no listing (layer_words.py).
+    words = (
+        _KEYED_WORDS
+        if layer.anonymous or layer.dirty or not layer.realPath
+        else (layer_words.may_hold(layer.realPath, _KEYED_WORDS))
+    )
+    keyed = bool(words)
+    suppressing = IGNORE_DICTIONARY in words
+    wanted: dict[str, bool] = {}
     for path in paths:
-        if not _is_prim_site(path):
-            continue
+        if path.IsPropertyPath() or not _is_prim_site(path):
+            continue  # most paths are properties: one call to skip each
         spec = get_spec(path)
         if not isinstance(spec, Sdf.PrimSpec):
             continue  # a variant set
-        keys = spec.ListInfoKeys()
         type_name = spec.typeName
-        if (type_name and wants_type(type_name)) or (
-            "customData" in keys and IGNORE_DICTIONARY in spec.customData
-        ):
+        if type_name:
+            want = wanted.get(type_name)
+            if want is None:
+                want = wanted[type_name] = wants_type(type_name)
+            if want:
+                scan.wanted.add(path.StripAllVariantSelections())
+        if not keyed:
+            continue
+        keys = spec.ListInfoKeys()
+        if suppressing and "customData" in keys and IGNORE_DICTIONARY in spec.customData:
             scan.wanted.add(path.StripAllVariantSelections())
         if "relocates" in keys:
             raise NotProvable(f"relocates on {path} in {layer.identifier}")

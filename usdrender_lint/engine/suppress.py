@@ -23,6 +23,7 @@ from pxr import Sdf, Usd, Vt
 
 from ..api import Diagnostic, Fix, Rule
 from ..model import IGNORE_KEY, Finding
+from . import layer_words
 
 #: The customData key path (``usdrender_lint`` dictionary, ``ignore`` entry).
 UNUSED_SUPPRESSION_CODE = "UL001"
@@ -173,6 +174,12 @@ def apply_data_suppressions(
     return kept, unused
 
 
+def layers_may_suppress(layers: Iterable[Sdf.Layer]) -> bool:
+    """False when no layer can author a suppression: their files hold no
+    ``usdrender_lint`` key at all, so no prim's customData needs reading."""
+    return layer_words.layers_may_hold(layers, IGNORE_KEY.partition(":")[0])
+
+
 def has_suppressions(prim: Usd.Prim) -> bool:
     """True when the prim authors the suppression customData (even malformed)."""
     return prim.GetCustomDataByKey(IGNORE_KEY) is not None
@@ -231,5 +238,6 @@ __all__ = [
     "UNUSED_SUPPRESSION_CODE",
     "apply_data_suppressions",
     "has_suppressions",
+    "layers_may_suppress",
     "ignore_entries",
 ]

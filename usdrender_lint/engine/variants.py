@@ -119,6 +119,10 @@ class VariantExplorer:
     def raise_errors(self) -> bool:
         return self.linter.raise_errors
 
+    def recording_reads(self):
+        """The wrapped linter's :meth:`Linter.recording_reads` (every combination's reads)."""
+        return self.linter.recording_reads()
+
     def lint_path(self, path: str) -> FileResult:
         if not os.path.isfile(path):
             return self.linter.lint_path(path)  # it reports what is wrong

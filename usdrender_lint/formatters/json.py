@@ -1,18 +1,31 @@
-"""The stable machine format: one JSON document on stdout (schema_version 1)."""
+"""The stable machine format: one JSON document on stdout (schema_version 1),
+and its reader (``usdrender-lint merge`` and the result cache turn documents
+and findings back into :mod:`~usdrender_lint.model` values)."""
 
 from __future__ import annotations
 
 import json
+from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Any, TextIO
 
-from ..model import AppliedFix, Finding, Report
+from ..model import AppliedFix, FileResult, Finding, FixInfo, Location, Report, Severity
 from ..paths import display_path
 from . import FormatOptions, statistics
 
 SCHEMA_VERSION = 1
+FILE_STATUSES = ("linted", "error")
 
 
-def finding_to_dict(finding: Finding) -> dict[str, Any]:
+class ReportFormatError(ValueError):
+    """A document that is not a usdrender-lint JSON report of a known schema."""
+
+
+def finding_to_dict(
+    finding: Finding, layer_path: Callable[[str], str] = display_path
+) -> dict[str, Any]:
+    """The finding as the report writes it; ``layer_path`` shows the layer
+    (relative to the working directory by default)."""
     loc = finding.location
     return {
         "code": finding.code,
@@ -21,7 +34,7 @@ def finding_to_dict(finding: Finding) -> dict[str, Any]:
         "message": finding.message,
         "path": loc.path,
         "file": loc.file,
-        "layer": display_path(loc.layer) if loc.layer else None,
+        "layer": layer_path(loc.layer) if loc.layer else None,
         "line": loc.line,
         "fix": (
             None
@@ -87,3 +100,121 @@ class JsonFormatter:
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         json.dump(report_to_dict(report, options), stream, indent=2, ensure_ascii=False)
         stream.write("\n")
+
+
+# -- reading ---------------------------------------------------------------------------
+
+
+def _field(data: Mapping[str, Any], key: str, kind: type | tuple[type, ...], where: str) -> Any:
+    value = data.get(key) if isinstance(data, Mapping) else None
+    if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+        raise ReportFormatError(f"{where}: '{key}' is missing or not a {_kind_name(kind)}")
+    return value
+
+
+def _kind_name(kind: type | tuple[type, ...]) -> str:
+    kinds = kind if isinstance(kind, tuple) else (kind,)
+    return " or ".join("null" if k is type(None) else k.__name__ for k in kinds)
+
+
+_OPTIONAL_STR = (str, type(None))
+
+
+def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Finding:
+    """The :class:`Finding` a :func:`finding_to_dict` record describes."""
+    try:
+        severity = Severity.parse(_field(data, "severity", str, where))
+    except ValueError as exc:
+        raise ReportFormatError(f"{where}: {exc}") from None
+    fix = data.get("fix")
+    if fix is not None:
+        fix = FixInfo(
+            _field(fix, "description", str, f"{where}.fix"), _field(fix, "safe", bool, where)
+        )
+    line = data.get("line")
+    if line is not None and (not isinstance(line, int) or isinstance(line, bool)):
+        raise ReportFormatError(f"{where}: 'line' is not an integer")
+    location = Location(
+        _field(data, "file", str, where),
+        _field(data, "path", _OPTIONAL_STR, where),
+        _field(data, "layer", _OPTIONAL_STR, where),
+        line,
+    )
+    profile, reason = data.get("profile"), data.get("profile_reason")
+    if not isinstance(profile, _OPTIONAL_STR) or not isinstance(reason, _OPTIONAL_STR):
+        raise ReportFormatError(f"{where}: 'profile' and 'profile_reason' are strings or null")
+    return Finding(
+        _field(data, "code", str, where),
+        _field(data, "name", str, where),
+        severity,
+        _field(data, "message", str, where),
+        location,
+        fix,
+        profile,
+        reason,
+    )
+
+
+def result_from_dict(data: Mapping[str, Any], where: str = "file") -> FileResult:
+    """The :class:`FileResult` of one entry of a report's ``files``."""
+    status = _field(data, "status", str, where)
+    if status not in FILE_STATUSES:
+        raise ReportFormatError(f"{where}: unknown status {status!r}")
+    findings = _field(data, "findings", list, where)
+    return FileResult(
+        _field(data, "file", str, where),
+        status,
+        _field(data, "error", _OPTIONAL_STR, where),
+        tuple(finding_from_dict(f, f"{where}.findings[{i}]") for i, f in enumerate(findings)),
+    )
+
+
+def _fix_from_dict(data: Mapping[str, Any], where: str) -> AppliedFix:
+    applied = _field(data, "applied", bool, where)
+    reason = _field(data, "reason", _OPTIONAL_STR, where)
+    if applied != (reason is None):
+        raise ReportFormatError(f"{where}: 'applied' and 'reason' disagree")
+    return AppliedFix(
+        _field(data, "file", str, where),
+        _field(data, "code", str, where),
+        _field(data, "path", _OPTIONAL_STR, where),
+        _field(data, "layer", _OPTIONAL_STR, where),
+        _field(data, "description", str, where),
+        reason,
+    )
+
+
+def report_from_dict(document: Any) -> Report:
+    """The :class:`Report` a ``--format json`` document describes (its rules,
+    statistics and summary are derived data and not read back)."""
+    if not isinstance(document, Mapping):
+        raise ReportFormatError("not a JSON object")
+    version = document.get("schema_version")
+    if version != SCHEMA_VERSION:
+        raise ReportFormatError(
+            f"schema_version {version!r} is not {SCHEMA_VERSION}: not a usdrender-lint "
+            "JSON report, or one from an incompatible version"
+        )
+    files = _field(document, "files", list, "report")
+    fixes = [_fix_from_dict(f, f"fixes[{i}]") for i, f in enumerate(document.get("fixes") or ())]
+    return Report(
+        tuple(result_from_dict(f, f"files[{i}]") for i, f in enumerate(files)),
+        applied_fixes=tuple(f for f in fixes if f.applied),
+        unapplied_fixes=tuple(f for f in fixes if not f.applied),
+    )
+
+
+def read_report(path: str | Path) -> Report:
+    """Read a JSON report file; raises :class:`ReportFormatError` naming it."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ReportFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise ReportFormatError(f"{path}: not UTF-8 text") from None
+    try:
+        return report_from_dict(json.loads(text))
+    except json.JSONDecodeError as exc:
+        raise ReportFormatError(f"{path}: not JSON: {exc}") from None
+    except ReportFormatError as exc:
+        raise ReportFormatError(f"{path}: {exc}") from None

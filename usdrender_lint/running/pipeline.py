@@ -30,6 +30,7 @@ from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
 if TYPE_CHECKING:
     from ..engine.variants import VariantExplorer
     from ..fixing import FixRun
+    from .result_cache import CachingLinter, ResultCache
 
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
 
@@ -79,6 +80,13 @@ class Request:
     full_composition: bool = False
     #: The renderer profile (--profile): "auto" or a name; None: the config's.
     profile: str | None = None
+    #: Reuse and store results in the result cache (running/result_cache.py);
+    #: the command line's default, off for the Python API.
+    cache: bool = False
+    #: Where the cache lives; None: config ``cache-dir``, else the project root.
+    cache_dir: str | os.PathLike[str] | None = None
+    #: (K, N): lint only part K of N of the files (running/shards.py).
+    shard: tuple[int, int] | None = None
 
 
 @dataclass(frozen=True)
@@ -231,16 +239,23 @@ class LinterSpec:
     full_composition: bool = False
     #: With --variants: the variant combinations linted per file at most.
     variant_combinations: int | None = None
+    #: Store each result linted in this cache.
+    cache: ResultCache | None = None
 
-    def __call__(self) -> Linter | VariantExplorer:
+    def __call__(self) -> Linter | VariantExplorer | CachingLinter:
         return self.wrap(make_linter(self.settings, full_composition=self.full_composition))
 
-    def wrap(self, linter: Linter) -> Linter | VariantExplorer:
-        if self.variant_combinations is None:
-            return linter
-        from ..engine.variants import VariantExplorer
+    def wrap(self, linter: Linter) -> Linter | VariantExplorer | CachingLinter:
+        wrapped: Linter | VariantExplorer = linter
+        if self.variant_combinations is not None:
+            from ..engine.variants import VariantExplorer
 
-        return VariantExplorer(linter, self.variant_combinations)
+            wrapped = VariantExplorer(linter, self.variant_combinations)
+        if self.cache is None:
+            return wrapped
+        from .result_cache import CachingLinter
+
+        return CachingLinter(wrapped, self.cache)
 
 
 @dataclass
@@ -314,12 +329,19 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         from .roots import plan_from_settings  # USD's dependency tools: only for roots
 
         plan = plan_from_settings(files, settings)
+    if request.shard is not None:
+        from .shards import select_plan_shard, select_shard
+
+        if plan is not None:
+            plan = select_plan_shard(plan, request.shard, settings.base_dir)
+        else:
+            files = select_shard(files, request.shard, settings.base_dir)
     targets = plan.files if plan else files
     fixed = _run_fixes(prepared, targets) if request.fix is not None else None
     if fixed is not None and request.fix is not None and request.fix.fix_to:
         report = Report(tuple(fixed.remaining))  # what remains with the overrides
     else:
-        report = Report(_lint(prepared, targets))
+        report = Report(_lint(prepared, targets, _open_cache(prepared, notes)))
     if plan is not None:
         report = plan.narrow(report)
     report = prepared.finish(report)
@@ -347,19 +369,55 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     )
 
 
-def _lint(prepared: Prepared, files: Sequence[str]) -> tuple[FileResult, ...]:
+def _lint(
+    prepared: Prepared, files: Sequence[str], cache: ResultCache | None = None
+) -> tuple[FileResult, ...]:
+    """Lint ``files`` (in input order); with a cache, only those whose stored
+    result is stale, and store what is linted."""
     request = prepared.request
-    try:
-        return lint_paths(
-            files,
-            linter=prepared.spec.wrap(prepared.linter),
-            linter_factory=prepared.spec,
-            jobs=request.jobs or default_jobs(),
-            timeout=request.timeout,
-            progress=request.progress,
-        )
-    except ExecutionError as exc:
-        raise RequestError(str(exc)) from None
+    cached = [cache.lookup(path) for path in files] if cache is not None else [None] * len(files)
+    todo = [path for path, hit in zip(files, cached, strict=True) if hit is None]
+    spec = replace(prepared.spec, cache=cache)
+    linted: Iterable[FileResult] = ()
+    if todo:
+        try:
+            linted = lint_paths(
+                todo,
+                linter=spec.wrap(prepared.linter),
+                linter_factory=spec,
+                jobs=request.jobs or default_jobs(),
+                timeout=request.timeout,
+                progress=request.progress,
+            )
+        except ExecutionError as exc:
+            raise RequestError(str(exc)) from None
+    fresh = iter(linted)
+    results = tuple(hit if hit is not None else next(fresh) for hit in cached)
+    if cache is not None and cache.stored:
+        cache.prune()
+    return results
+
+
+def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
+    """The result cache the request asks for, or None (with a note when the
+    folder cannot be written: the run goes on without it)."""
+    request = prepared.request
+    if not request.cache:
+        return None
+    from .result_cache import ResultCache, default_cache_dir, run_key
+
+    folder = Path(request.cache_dir) if request.cache_dir else default_cache_dir(prepared.settings)
+    key = run_key(
+        prepared.linter,
+        prepared.settings,
+        variant_combinations=prepared.spec.variant_combinations,
+    )
+    cache = ResultCache(folder, key)
+    problem = cache.prepare()
+    if problem is not None:
+        notes.append(f"{problem}; results are not cached")
+        return None
+    return cache
 
 
 def exit_status(report: Report, fail_on: str, *, baseline_written: bool = False) -> int:

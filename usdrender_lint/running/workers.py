@@ -48,6 +48,8 @@ WORKER_START_LIMIT = 120.0
 WORKER_RECYCLE_AFTER = 500
 #: The least memory a worker is allowed, however many there are.
 MIN_WORKER_MEMORY = 2 << 30
+#: How much of what a one-file child prints on stderr is kept (for its crash message).
+CHILD_STDERR_KEPT = 64 << 10
 
 
 class FileLinter(Protocol):
@@ -99,6 +101,10 @@ def lint_paths(
                     raise ValueError("lint_paths needs a linter or a linter_factory")
                 linter = linter_factory()
             return tuple(_lint_in_process(linter, files, advance))
+        if len(files) == 1 and _can_fork():
+            # One file needs no pool: a forked child of this process lints it
+            # with the linter already built (issue 17, start-up).
+            return (_lint_in_child(linter or _build(linter_factory), files[0], timeout),)
         if linter_factory is None:
             raise ValueError("worker processes need a picklable linter_factory")
         pool = _Pool(linter_factory, min(jobs, len(files)), timeout, advance)
@@ -152,6 +158,108 @@ def _progress_bar(total: int, show: bool) -> Iterator[Callable[[], None]]:
     ) as bar:
         task = bar.add_task("lint", total=total)
         yield lambda: bar.advance(task)
+
+
+# -- one file in a child process ---------------------------------------------------
+
+
+def _can_fork() -> bool:
+    # Only a process that still runs one thread forks safely (see _context).
+    return hasattr(os, "fork") and _single_threaded()
+
+
+def _build(linter_factory: LinterFactory | None) -> FileLinter:
+    if linter_factory is None:
+        raise ValueError("lint_paths needs a linter or a linter_factory")
+    try:
+        return linter_factory()
+    except Exception as exc:  # noqa: BLE001 - said as the pool says it
+        raise ExecutionError(
+            f"a worker process could not build the linter: {type(exc).__name__}: {exc}"
+        ) from exc
+
+
+def _lint_in_child(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
+    """Lint ``path`` in a forked child, which starts with this process's
+    modules and linter: no interpreter start, no import, no linter to build,
+    none of multiprocessing. The child is killed past ``timeout`` and a crash
+    costs only the file, as in the pool; what it printed on stderr (kept in a
+    pipe, the last CHILD_STDERR_KEPT bytes) becomes part of the error."""
+    import pickle
+    import select
+
+    result_read, result_write = os.pipe()
+    err_read, err_write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: lint, send the result, leave without cleaning up
+        status = 70
+        try:
+            os.close(result_read)
+            os.close(err_read)
+            signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
+            _limit_memory(worker_memory_limit(1))
+            os.dup2(err_write, 2)
+            data = pickle.dumps(lint_one(linter, path), pickle.HIGHEST_PROTOCOL)
+            with os.fdopen(result_write, "wb") as out:
+                out.write(data)
+            status = 0
+        finally:
+            os._exit(status)
+    os.close(result_write)
+    os.close(err_write)
+    deadline = time.monotonic() + timeout if timeout else None
+    result, said = bytearray(), bytearray()
+    open_ends = {result_read: result, err_read: said}
+    try:
+        while open_ends:
+            left = None if deadline is None else max(0.0, deadline - time.monotonic())
+            ready = select.select(list(open_ends), [], [], left)[0]
+            if not ready:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                return FileResult(path, status="error", error=f"{path}: {_timed_out(timeout)}")
+            for end in ready:
+                chunk = os.read(end, 1 << 16)
+                if not chunk:
+                    del open_ends[end]
+                    continue
+                kept = open_ends[end]
+                kept += chunk
+                if end == err_read and len(kept) > CHILD_STDERR_KEPT:
+                    del kept[: len(kept) - CHILD_STDERR_KEPT]
+        _, status = os.waitpid(pid, 0)
+    except BaseException:
+        with suppress(OSError):
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+        raise
+    finally:
+        for end in (result_read, err_read):
+            with suppress(OSError):
+                os.close(end)
+    code = os.waitstatus_to_exitcode(status)
+    if code == 0 and result:
+        return pickle.loads(result)
+    text = said.decode("utf-8", errors="replace")
+    return FileResult(path, status="error", error=f"{path}: {_crash(code, text)}")
+
+
+def _timed_out(timeout: float | None) -> str:
+    return f"timed out after {timeout:g} s (raise --timeout, or 0 for no limit)"
+
+
+def _crash(code: int | None, printed: str) -> str:
+    """Why a worker died, in one line: the signal or exit code, and what it
+    ``printed`` on stderr."""
+    if code is not None and code < 0:
+        try:
+            how = f"signal {signal.Signals(-code).name}"
+        except ValueError:
+            how = f"signal {-code}"
+    else:
+        how = f"exit code {code}"
+    said = _last_words(printed)
+    return f"the linter process crashed while reading it ({how}{': ' + said if said else ''})"
 
 
 # -- worker processes ---------------------------------------------------------------
@@ -354,11 +462,7 @@ class _Pool:
         now = time.monotonic()
         for worker in list(self._workers):
             if worker.task is not None and now >= worker.task[2]:
-                self._replace(
-                    worker,
-                    results,
-                    f"timed out after {self._timeout:g} s (raise --timeout, or 0 for no limit)",
-                )
+                self._replace(worker, results, _timed_out(self._timeout))
             elif not worker.ready and now >= worker.started + WORKER_START_LIMIT:
                 raise ExecutionError(
                     f"a worker process did not start within {WORKER_START_LIMIT:g} s"
@@ -381,16 +485,12 @@ class _Pool:
 
     def _death_message(self, worker: _Worker) -> str:
         worker.process.join(5)
-        code = worker.process.exitcode
-        if code is not None and code < 0:
-            try:
-                how = f"signal {signal.Signals(-code).name}"
-            except ValueError:
-                how = f"signal {-code}"
-        else:
-            how = f"exit code {code}"
-        said = _last_words(worker.log_path)
-        return f"the linter process crashed while reading it ({how}{': ' + said if said else ''})"
+        try:
+            with open(worker.log_path, encoding="utf-8", errors="replace") as handle:
+                printed = handle.read()
+        except OSError:
+            printed = ""
+        return _crash(worker.process.exitcode, printed)
 
     def _replace(self, worker: _Worker, results: list, error: str) -> None:
         """Kill a worker, record its file as an error and start a fresh one."""
@@ -475,14 +575,10 @@ def _settings_env() -> dict[str, str]:
     return {name: value for name, value in os.environ.items() if name.startswith(ENV_PREFIX)}
 
 
-def _last_words(log_path: str) -> str:
+def _last_words(printed: str) -> str:
     """The reason a worker printed before it died: USD's "FATAL ERROR: ..."
     line if there is one, else its last line (one line, at most 200 characters)."""
-    try:
-        with open(log_path, encoding="utf-8", errors="replace") as handle:
-            lines = [line.strip() for line in handle if line.strip()]
-    except OSError:
-        return ""
+    lines = [line.strip() for line in printed.splitlines() if line.strip()]
     fatal = [line for line in lines if "FATAL ERROR:" in line]
     if fatal:
         said = "USD " + fatal[-1][fatal[-1].index("FATAL ERROR:") :].replace(

@@ -1,0 +1,211 @@
+"""engine/layer_words.py: what a layer file can hold, from its bytes. A word it
+denies must be nowhere in the layer, as USD reads it; anything it cannot read
+for sure may hold every word."""
+
+from __future__ import annotations
+
+import shutil
+import struct
+from pathlib import Path
+
+import pytest
+from pxr import Sdf, Tf, Vt
+
+from usdrender_lint.engine import Linter, layer_words, suppress
+from usdrender_lint.engine.layer_words import WORDS, may_hold, without_external_arcs
+from usdrender_lint.testing import all_rules
+
+
+def _readable(path: Path) -> bool:
+    try:
+        return Sdf.Layer.FindOrOpen(str(path)) is not None
+    except Tf.ErrorException:
+        return False  # ST001's fixtures, and a few others that USD refuses on purpose
+
+
+FIXTURES = [
+    p for p in sorted((Path(__file__).parents[1] / "rules").glob("*/*.usda")) if _readable(p)
+]
+
+
+def _words_usd_sees(layer: Sdf.Layer) -> set[str]:
+    """The WORDS the layer's specs hold as field names or dictionary keys."""
+    found: set[str] = set()
+    if layer.subLayerPaths:
+        found.add("subLayers")
+
+    def visit(path: Sdf.Path) -> None:
+        spec = layer.GetObjectAtPath(path)
+        if spec is None:
+            return
+        keys = set(spec.ListInfoKeys())
+        if isinstance(spec, Sdf.PrimSpec):
+            if spec.hasReferences:
+                keys.add("references")
+            if spec.hasPayloads:
+                keys.add("payload")
+        found.update(keys & set(WORDS))
+        for key in ("customData", "clips"):
+            if key in keys:
+                found.update(_dictionary_keys(spec.GetInfo(key)) & set(WORDS))
+
+    layer.Traverse(Sdf.Path.absoluteRootPath, visit)
+    return found
+
+
+def _dictionary_keys(value: object) -> set[str]:
+    if not isinstance(value, dict):
+        return set()
+    keys = set(value)
+    for inner in value.values():
+        keys |= _dictionary_keys(inner)
+    return keys
+
+
+@pytest.mark.parametrize("fixture", FIXTURES, ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_a_crate_holds_every_word_usd_reads_in_it(fixture: Path, tmp_path: Path) -> None:
+    source = Sdf.Layer.FindOrOpen(str(fixture))
+    crate = tmp_path / (fixture.stem + ".usdc")
+    assert source.Export(str(crate))
+    scan = layer_words._scan(str(crate))
+    assert scan.kind == "crate", "usd-core's crate must decode"
+    assert _words_usd_sees(Sdf.Layer.FindOrOpen(str(crate))) <= scan.words
+    assert scan.specs == Sdf.CrateInfo.Open(str(crate)).GetSummaryStats().numSpecs
+    assert _words_usd_sees(source) <= may_hold(str(fixture), WORDS)
+
+
+def test_a_crate_without_a_word_denies_it(tmp_path: Path) -> None:
+    layer = Sdf.Layer.CreateNew(str(tmp_path / "plain.usdc"))
+    spec = Sdf.CreatePrimInLayer(layer, "/World/Mesh")
+    spec.specifier = Sdf.SpecifierDef
+    spec.typeName = "Mesh"
+    layer.Save()
+    assert may_hold(str(tmp_path / "plain.usdc"), WORDS) == set()
+    assert without_external_arcs(str(tmp_path / "plain.usdc"))
+    spec.customData = {"usdrender_lint": {"ignore": Vt.StringArray(["SE003"])}}
+    spec.referenceList.Prepend(Sdf.Reference("./other.usda"))
+    layer.Save()
+    assert may_hold(str(tmp_path / "plain.usdc"), WORDS) == {"usdrender_lint", "references"}
+    assert not without_external_arcs(str(tmp_path / "plain.usdc"))
+
+
+def test_text_is_read_as_bytes_and_escapes_may_hide_a_word(tmp_path: Path) -> None:
+    plain = tmp_path / "plain.usda"
+    plain.write_text('#usda 1.0\ndef Mesh "m"\n{\n}\n')
+    assert may_hold(str(plain), WORDS) == set() and without_external_arcs(str(plain))
+    escaped = tmp_path / "escaped.usda"
+    escaped.write_text(
+        '#usda 1.0\ndef "p" (\n    customData = {\n        dictionary "usdrender\\x5flint" = '
+        '{\n            string[] ignore = ["SE003"]\n        }\n    }\n)\n{\n}\n'
+    )
+    assert dict(Sdf.Layer.FindOrOpen(str(escaped)).GetPrimAtPath("/p").customData) == {
+        "usdrender_lint": {"ignore": Vt.StringArray(["SE003"])}
+    }
+    assert "usdrender_lint" in may_hold(str(escaped), WORDS)
+    arc = tmp_path / "arc.usda"
+    arc.write_text('#usda 1.0\ndef "p" (\n    references = @./x.usda@\n)\n{\n}\n')
+    assert not without_external_arcs(str(arc))
+
+
+def _damaged_crates(tmp_path: Path) -> list[Path]:
+    layer = Sdf.Layer.CreateNew(str(tmp_path / "good.usdc"))
+    Sdf.CreatePrimInLayer(layer, "/A").specifier = Sdf.SpecifierDef
+    layer.Save()
+    data = (tmp_path / "good.usdc").read_bytes()
+    (toc,) = struct.unpack_from("<q", data, 16)
+    damaged = {
+        "truncated": data[: len(data) // 2],
+        "future-version": data[:8] + bytes([1, 0, 0]) + data[11:],
+        "bad-toc": data[:16] + struct.pack("<q", len(data) + 10) + data[24:],
+        "zeroed-tokens": _zero_tokens(data, toc),
+        "header-only": data[:16],
+    }
+    paths = []
+    for name, content in damaged.items():
+        path = tmp_path / f"{name}.usdc"
+        path.write_bytes(content)
+        paths.append(path)
+    return paths
+
+
+def _zero_tokens(data: bytes, toc: int) -> bytes:
+    (count,) = struct.unpack_from("<Q", data, toc)
+    for index in range(count):
+        name, start, size = struct.unpack_from("<16sqq", data, toc + 8 + 32 * index)
+        if name.rstrip(b"\0") == b"TOKENS":
+            return data[: start + 24] + b"\x00" * (size - 24) + data[start + size :]
+    raise AssertionError("no TOKENS section")
+
+
+def test_what_cannot_be_read_for_sure_may_hold_every_word(tmp_path: Path) -> None:
+    others = [tmp_path / "missing.usdc", tmp_path / "package.usdz", tmp_path / "text.usdc"]
+    shutil.make_archive(str(tmp_path / "package"), "zip", tmp_path)
+    (tmp_path / "package.zip").rename(tmp_path / "package.usdz")
+    (tmp_path / "text.usdc").write_text("not a layer")
+    for path in [*_damaged_crates(tmp_path), *others]:
+        assert may_hold(str(path), WORDS) == set(WORDS), path.name
+        assert not without_external_arcs(str(path)), path.name
+
+
+def test_an_edited_file_is_read_again(tmp_path: Path) -> None:
+    path = tmp_path / "shot.usda"
+    path.write_text('#usda 1.0\ndef "p"\n{\n}\n')
+    assert may_hold(str(path), WORDS) == set()
+    path.write_text('#usda 1.0\ndef "p" (\n    clips = {}\n)\n{\n}\n')
+    assert may_hold(str(path), WORDS) == {"clips"}
+
+
+def test_lz4_matches_that_overlap_what_they_write_repeat_their_period() -> None:
+    # Literal "ab", then a match of length 6 at offset 2: "ababab" follows.
+    block = bytes([0x22]) + b"ab" + struct.pack("<H", 2) + bytes([0x10]) + b"!"
+    assert layer_words._lz4_block(block, 0, len(block), 64) == b"abababab!"
+    assert layer_words._lz4_block(block, 0, len(block), 4) is None  # past the declared size
+    assert layer_words._lz4_block(bytes([0x20]) + b"ab" + b"\x00\x00", 0, 5, 64) is None
+
+
+SUPPRESSED = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings" (
+        customData = {
+            dictionary usdrender_lint = {
+                string[] ignore = ["SE003", "CA004"]
+            }
+        }
+    )
+    {
+        uniform float4 dataWindowNDC = (1, 1, 0, 0)
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("fmt", ["usda", "usdc"])
+def test_suppressions_in_a_layer_of_either_format_are_found(tmp_path: Path, fmt: str) -> None:
+    text = tmp_path / "shot.usda"
+    text.write_text(SUPPRESSED)
+    path = text if fmt == "usda" else tmp_path / "shot.usdc"
+    if fmt == "usdc":
+        assert Sdf.Layer.FindOrOpen(str(text)).Export(str(path))
+    findings = Linter(all_rules()).lint_path(str(path)).findings
+    codes = {f.code for f in findings}
+    assert "SE003" not in codes  # silenced
+    assert [f.message for f in findings if f.code == "UL001"] == [
+        "suppression of 'CA004' is unused: CA004 reports nothing on this prim"
+    ]
+
+
+def test_without_the_key_in_any_layer_no_prim_s_custom_data_is_read(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    text = tmp_path / "shot.usda"
+    text.write_text(SUPPRESSED.replace("usdrender_lint", "someone_else"))
+    crate = tmp_path / "shot.usdc"
+    assert Sdf.Layer.FindOrOpen(str(text)).Export(str(crate))
+
+    def read(prim: object) -> bool:
+        raise AssertionError("customData read although no layer holds a suppression")
+
+    monkeypatch.setattr(suppress, "has_suppressions", read)
+    for path in (text, crate):
+        assert "SE003" in {f.code for f in Linter(all_rules()).lint_path(str(path)).findings}

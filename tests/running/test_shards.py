@@ -1,0 +1,274 @@
+"""check --shard K/N (running/shards.py) and usdrender-lint merge (running/merge.py):
+the shards partition the files deterministically and evenly, a shot stays with
+its roots, and the merged JSON reports are the report of one unsharded run."""
+
+from __future__ import annotations
+
+import json
+import random
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.running.shards import ShardError, parse_shard, partition, select_shard
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _shot(index: int, bad: bool) -> str:
+    window = "(1, 1, 0, 0)" if bad else "(0, 0, 1, 1)"
+    return f"""#usda 1.0
+def Scope "Render"
+{{
+    def RenderSettings "Settings_{index}"
+    {{
+        uniform float4 dataWindowNDC = {window}
+    }}
+}}
+"""
+
+
+@pytest.fixture
+def project(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """A checkout of 23 shots in nested folders, a third of them with an error."""
+    root = tmp_path / "project"
+    for i in range(23):
+        folder = root / "shots" / f"seq{i % 4}"
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / f"shot_{i:02d}.usda").write_text(_shot(i, bad=i % 3 == 0))
+    (root / "pyproject.toml").write_text("[tool.usdrender-lint]\n")
+    monkeypatch.chdir(root)
+    return root
+
+
+def _check(*args: str) -> tuple[int, str]:
+    result = CliRunner().invoke(cli, ["check", *args])
+    return result.exit_code, result.stdout
+
+
+def _files(json_text: str) -> list[str]:
+    return [entry["file"] for entry in json.loads(json_text)["files"]]
+
+
+# -- partitioning -----------------------------------------------------------------------
+
+
+def test_shard_values_are_k_of_n() -> None:
+    assert parse_shard("2/4") == (2, 4) and parse_shard(" 1/1 ") == (1, 1)
+    for bad in ("0/2", "3/2", "2", "a/b", "1/0", "-1/2", ""):
+        with pytest.raises(ShardError):
+            parse_shard(bad)
+
+
+@pytest.mark.parametrize("value", ["0/2", "3/2", "two"])
+def test_a_bad_shard_is_a_usage_error(project: Path, value: str) -> None:
+    result = CliRunner().invoke(cli, ["check", "--shard", value, "shots"])
+    assert result.exit_code == 2
+    assert "--shard" in result.stderr and "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize("count", [1, 2, 3, 4, 7])
+def test_the_shards_partition_the_files_and_differ_by_at_most_one(
+    project: Path, count: int
+) -> None:
+    everything = _files(_check("--format", "json", "shots")[1])
+    shards = [
+        _files(_check("--format", "json", "--shard", f"{k}/{count}", "shots")[1])
+        for k in range(1, count + 1)
+    ]
+    assert sorted(f for shard in shards for f in shard) == sorted(everything)
+    assert sum(len(shard) for shard in shards) == len(everything)  # disjoint
+    sizes = [len(shard) for shard in shards]
+    assert max(sizes) - min(sizes) <= 1
+    assert max(sizes) <= 2 * max(1, min(sizes))
+
+
+def test_a_shard_does_not_depend_on_the_argument_order_or_the_checkout_location(
+    project: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    folders = [f"shots/seq{i}" for i in range(4)]
+    first = _files(_check("--format", "json", "--shard", "2/3", *folders)[1])
+    shuffled = folders[:]
+    random.Random(7).shuffle(shuffled)
+    again = _files(_check("--format", "json", "--shard", "2/3", *shuffled)[1])
+    assert sorted(again) == sorted(first)
+    moved = tmp_path / "elsewhere" / "checkout"
+    shutil.copytree(project, moved)
+    monkeypatch.chdir(moved)
+    assert sorted(_files(_check("--format", "json", "--shard", "2/3", *folders)[1])) == sorted(
+        first
+    )
+    # Named from another working directory, the files are the same ones.
+    monkeypatch.chdir(moved.parent)
+    named = _files(_check("--format", "json", "--shard", "2/3", "checkout/shots")[1])
+    assert sorted(Path(p).relative_to("checkout").as_posix() for p in named) == sorted(first)
+
+
+def test_groups_that_stay_together_are_balanced_largest_first(tmp_path: Path) -> None:
+    units = [["a", "b", "c", "d"], ["e"], ["f", "g"], ["h"], ["i"], ["j", "k"]]
+    shards = partition(units, 2, tmp_path)
+    sizes = [sum(len(units[i]) for i in shard) for shard in shards]
+    assert sorted(sizes) == [5, 6]
+    assert sorted(i for shard in shards for i in shard) == list(range(len(units)))
+    assert select_shard([], (1, 3), tmp_path) == []
+
+
+def test_a_shot_stays_with_its_roots(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """With config roots, changed layers are linted inside the roots that use
+    them: roots that share a changed layer go to one shard, and the merged
+    shards report exactly what one run does (findings a shared layer causes
+    are reported once, as without shards)."""
+    root = tmp_path / "project"
+    (root / "shared").mkdir(parents=True)
+    (root / "shared" / "look.usda").write_text(
+        '#usda 1.0\nover "Render"\n{\n    over "Settings"\n    {\n'
+        "        uniform float4 dataWindowNDC = (1, 1, 0, 0)\n    }\n}\n"
+    )
+    for i in range(6):
+        shot = root / "shots" / f"s{i}"
+        shot.mkdir(parents=True)
+        sublayer = "@../../shared/look.usda@" if i < 3 else "@./own.usda@"
+        (shot / "own.usda").write_text('#usda 1.0\ndef "World"\n{\n}\n')
+        (shot / "shot.usda").write_text(
+            f'#usda 1.0\n(\n    subLayers = [{sublayer}]\n)\ndef Scope "Render"\n{{\n'
+            '    def RenderSettings "Settings"\n    {\n    }\n}\n'
+        )
+    (root / "pyproject.toml").write_text('[tool.usdrender-lint]\nroots = ["shots/*/shot.usda"]\n')
+    monkeypatch.chdir(root)
+    changed = ["shared/look.usda", *[f"shots/s{i}/own.usda" for i in range(3, 6)]]
+    whole = json.loads(_check("--format", "json", *changed)[1])
+    reports = []
+    for k in (1, 2, 3):
+        code, text = _check("--format", "json", "--shard", f"{k}/3", *changed)
+        (root / f"r{k}.json").write_text(text)
+        reports.append(json.loads(text))
+    holders = {
+        i
+        for i, report in enumerate(reports)
+        for entry in report["files"]
+        if entry["file"] in ("shots/s0/shot.usda", "shots/s1/shot.usda", "shots/s2/shot.usda")
+    }
+    assert len(holders) == 1, "the roots that share look.usda are in one shard"
+    merged = CliRunner().invoke(cli, ["merge", "--format", "json", "r1.json", "r2.json", "r3.json"])
+    expected = sorted(whole["files"], key=lambda entry: entry["file"])
+    assert json.loads(merged.stdout)["files"] == expected
+    assert (
+        sum(
+            1
+            for f in json.loads(merged.stdout)["files"]
+            for x in f["findings"]
+            if x["code"] == "SE003"
+        )
+        == 1
+    )
+
+
+# -- merge ------------------------------------------------------------------------------
+
+
+def _sharded_reports(count: int, *extra: str) -> list[str]:
+    names = []
+    for k in range(1, count + 1):
+        name = f"report-{k}.json"
+        code, _ = _check(
+            "--format", "json", "--output", name, "--shard", f"{k}/{count}", *extra, "shots"
+        )
+        assert code in (0, 1)
+        names.append(name)
+    return names
+
+
+@pytest.mark.parametrize("fmt", ["json", "sarif", "text", "github"])
+def test_merged_shards_are_the_report_of_one_run(project: Path, fmt: str) -> None:
+    code, whole = _check("--format", fmt, "shots")
+    merged = CliRunner().invoke(cli, ["merge", "--format", fmt, *reversed(_sharded_reports(3))])
+    assert merged.exit_code == code == 1
+    assert merged.stdout == whole
+
+
+def test_merge_keeps_statistics_info_and_fail_on_like_check(project: Path) -> None:
+    reports = _sharded_reports(2)
+    for flags in (["--statistics"], ["--show-info"], ["--fail-on", "never"]):
+        code, whole = _check(*flags, "shots")
+        merged = CliRunner().invoke(cli, ["merge", *flags, *reports])
+        assert (merged.exit_code, merged.stdout) == (code, whole), flags
+    assert CliRunner().invoke(cli, ["merge", "--fail-on", "never", *reports]).exit_code == 0
+
+
+def test_the_combined_exit_status(project: Path, tmp_path: Path) -> None:
+    clean = project / "clean"
+    clean.mkdir()
+    (clean / "a.usda").write_text(_shot(0, bad=False))
+    assert _check("--format", "json", "--output", "clean.json", "--select", "SE", "clean")[0] == 0
+    assert CliRunner().invoke(cli, ["merge", "clean.json"]).exit_code == 0
+    reports = _sharded_reports(2)
+    assert CliRunner().invoke(cli, ["merge", "clean.json", *reports]).exit_code == 1
+    error = (
+        "--format",
+        "json",
+        "--output",
+        "error.json",
+        "--select",
+        "SE",
+        "clean",
+        "missing.usda",
+    )
+    assert _check(*error)[0] == 2
+    merged = CliRunner().invoke(cli, ["merge", "clean.json", "error.json", *reports])
+    assert merged.exit_code == 2
+    assert "missing.usda: no such file" in merged.stderr
+
+
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        (None, "cannot read"),
+        ("not json", "not JSON"),
+        ('{"schema_version": 2, "files": []}', "schema_version 2"),
+        ('{"schema_version": 1, "files": [{"file": "a"}]}', "'status'"),
+        ("[]", "not a JSON object"),
+    ],
+    ids=["missing", "not-json", "future-schema", "bad-entry", "not-an-object"],
+)
+def test_a_report_merge_cannot_read_is_one_line_and_exit_2(
+    project: Path, content: str | None, message: str
+) -> None:
+    if content is not None:
+        (project / "bad.json").write_text(content)
+    result = CliRunner().invoke(cli, ["merge", "bad.json"])
+    assert result.exit_code == 2
+    assert result.stderr.startswith("usdrender-lint: error: bad.json") and message in result.stderr
+    assert result.stderr.count("\n") == 1
+
+
+def test_merge_writes_its_output_atomically_and_reads_fixes(project: Path) -> None:
+    reports = _sharded_reports(2)
+    result = CliRunner().invoke(
+        cli, ["merge", "--format", "sarif", "--output", "all.sarif", *reports]
+    )
+    assert result.exit_code == 1 and result.stdout == ""
+    sarif = json.loads((project / "all.sarif").read_text())
+    windows = [r for r in sarif["runs"][0]["results"] if r["ruleId"] == "SE003"]
+    assert len(windows) == 8  # shots 0, 3, ..., 21
+    assert len(sarif["runs"][0]["tool"]["driver"]["rules"]) > 50  # the rules that ran
+    fixed = _check(
+        "--format",
+        "json",
+        "--diff",
+        "--unsafe-fixes",
+        "--output",
+        "diff.json",
+        "--select",
+        "SE003",
+        "shots/seq0",
+    )
+    assert fixed[0] == 1
+    merged = CliRunner().invoke(cli, ["merge", "--format", "json", "diff.json"])
+    assert len(json.loads(merged.stdout)["fixes"]) == 2  # shots 0 and 12 of seq0
+    assert (
+        json.loads(merged.stdout)["fixes"]
+        == json.loads((project / "diff.json").read_text())["fixes"]
+    )

@@ -1,0 +1,252 @@
+"""Which words a layer file can hold, read from its bytes without USD.
+
+Some of the engine's work is needed only when a layer authors a certain field
+or key anywhere: customData suppressions (``usdrender_lint``), value clips
+(``clips``), references and payloads (``references``, ``payload``). Asking USD
+means visiting every spec (``GetCompositionAssetDependencies`` walks them all;
+reading a suppression means one metadata read per prim). The file itself
+answers for less:
+
+- a text layer (``#usda``) holds a word when its bytes do; a backslash anywhere
+  means a quoted string may spell it with escapes, so every word may be there;
+- a crate (``.usdc``) names every field, key, type, prim, property and string
+  through its TOKENS section, so a word that is not a token is nowhere in it.
+  The section is LZ4 compressed (usd-core's TfFastCompression, pxr/base/tf/
+  fastCompression.cpp; the layout is read in pxr/usd/sdf/crateFile.cpp,
+  ``CrateFile::_ReadTokens``): a small pure-Python decoder reads it.
+
+Anything else (a package, another file format, a crate version this module
+does not know, a section that does not decode to exactly what it declares)
+answers "may hold every word", so a caller only ever skips work that provably
+finds nothing.
+"""
+
+from __future__ import annotations
+
+import os
+import struct
+from collections.abc import Collection, Iterable
+from typing import TYPE_CHECKING, NamedTuple
+
+if TYPE_CHECKING:
+    from pxr import Sdf
+
+USDA_MAGIC = b"#usda "
+CRATE_MAGIC = b"PXR-USDC"
+#: Crate versions whose TOKENS section is compressed (0.4.0 on) and that this
+#: reader was checked against (usd-core 26.11 writes 0.8.0 by default).
+MIN_CRATE, MAX_CRATE = (0, 4, 0), (0, 99, 99)
+#: Largest TOKENS section decoded (larger ones: "may hold anything").
+MAX_TOKEN_BYTES = 64 << 20
+#: About how many bytes of usda text one spec takes (for spec_count's estimate).
+TEXT_BYTES_PER_SPEC = 60
+
+
+#: The words callers ask about (each answer is computed once per file version).
+WORDS = (
+    "references",
+    "payload",
+    "inheritPaths",
+    "specializes",
+    "relocates",
+    "subLayers",
+    "clips",
+    "usdrender_lint",
+    "untyped",
+)
+#: Fields usda spells with another keyword (``inherits = </Class>``).
+TEXT_SPELLING = {"inheritPaths": "inherits"}
+#: Answers kept per process, keyed by the file's path and version.
+_MEMO_SIZE = 256
+_memo: dict[tuple[str, int, int, int], _Scan] = {}
+
+
+class _Scan(NamedTuple):
+    #: "text", "crate" or "unknown" (may hold anything).
+    kind: str
+    #: The WORDS it holds, and "@" for a text layer with asset paths.
+    words: frozenset[str]
+    #: Its specs: a crate's count, a text layer's estimate; None when unknown.
+    specs: int | None
+
+
+_UNKNOWN = _Scan("unknown", frozenset(), None)
+
+
+def may_hold(path: str, words: Collection[str]) -> set[str]:
+    """The ``words`` (of WORDS) the layer file at ``path`` may hold (all of
+    them unless the file proves otherwise)."""
+    scan = _scan(path)
+    return set(words) if scan.kind == "unknown" else {w for w in words if w in scan.words}
+
+
+def layers_may_hold(layers: Iterable[Sdf.Layer], word: str) -> bool:
+    """Whether any of the layers may author ``word`` (of WORDS). A layer with
+    unsaved edits, an anonymous layer with specs (a session layer holding
+    variant selections) or one that is not a plain file may hold anything."""
+    for layer in layers:
+        if layer.anonymous:
+            if layer.rootPrims:
+                return True
+            continue
+        if layer.dirty or not layer.realPath or may_hold(layer.realPath, (word,)):
+            return True
+    return False
+
+
+def without_external_arcs(path: str) -> bool:
+    """True when the layer file provably has no sublayer, reference or payload
+    (a text layer with no ``@``: usda writes every asset path between them)."""
+    scan = _scan(path)
+    if scan.kind == "text":
+        return "@" not in scan.words
+    return scan.kind == "crate" and not scan.words.intersection(
+        ("references", "payload", "subLayers")
+    )
+
+
+def spec_count(path: str) -> int | None:
+    """How many specs the layer file holds: a crate says so in its SPECS
+    section; for a text layer, an estimate from its size; None otherwise."""
+    return _scan(path).specs
+
+
+def _scan(path: str) -> _Scan:
+    try:
+        info = os.stat(path)
+    except OSError:
+        return _UNKNOWN
+    key = (path, info.st_size, info.st_mtime_ns, info.st_ino)
+    answer = _memo.get(key)
+    if answer is None:
+        answer = _read(path)
+        if len(_memo) >= _MEMO_SIZE:
+            _memo.clear()
+        _memo[key] = answer
+    return answer
+
+
+def _read(path: str) -> _Scan:
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(16)
+            if head.startswith(CRATE_MAGIC):
+                tokens, specs = _crate_tokens(handle, head)
+                if tokens is None:
+                    return _UNKNOWN
+                return _Scan("crate", frozenset(w for w in WORDS if w in tokens), specs)
+            if head.startswith(USDA_MAGIC):
+                data = head + handle.read()
+                at = {"@"} if b"@" in data else set()
+                specs = len(data) // TEXT_BYTES_PER_SPEC
+                if b"\\" in data:  # a quoted string may spell any word with escapes
+                    return _Scan("text", frozenset(WORDS) | at, specs)
+                held = (w for w in WORDS if TEXT_SPELLING.get(w, w).encode() in data)
+                return _Scan("text", frozenset(held) | at, specs)
+    except (OSError, struct.error, ValueError):
+        pass  # unreadable, or a crate cut short: may hold anything
+    return _UNKNOWN
+
+
+def _crate_tokens(handle, head: bytes) -> tuple[set[str] | None, int | None]:
+    """Every token of a crate file (None when it cannot be read for sure) and
+    the number of specs it declares (pxr/usd/sdf/crateFile.cpp, _ReadSpecs)."""
+    if len(head) < 16 or tuple(head[8:11]) < MIN_CRATE or tuple(head[8:11]) > MAX_CRATE:
+        return None, None
+    (toc,) = struct.unpack("<q", handle.read(8))
+    size = os.fstat(handle.fileno()).st_size
+    if not 24 <= toc < size:
+        return None, None
+    handle.seek(toc)
+    (count,) = struct.unpack("<Q", handle.read(8))
+    if count > 64:
+        return None, None
+    sections = {}
+    for _ in range(count):
+        name, section_start, section_size = struct.unpack("<16sqq", handle.read(32))
+        sections[name.rstrip(b"\0")] = (section_start, section_start + section_size)
+    specs = None
+    if b"SPECS" in sections and 0 < sections[b"SPECS"][0] < sections[b"SPECS"][1] <= size:
+        handle.seek(sections[b"SPECS"][0])
+        (specs,) = struct.unpack("<Q", handle.read(8))
+    start, end = sections.get(b"TOKENS", (0, 0))
+    if not 0 < start < end <= size:
+        return None, specs
+    handle.seek(start)
+    num_tokens, raw_size, packed_size = struct.unpack("<QQQ", handle.read(24))
+    if raw_size > MAX_TOKEN_BYTES or packed_size > end - start - 24 or packed_size < 1:
+        return None, specs
+    raw = _fast_decompress(handle.read(packed_size), raw_size)
+    if raw is None or len(raw) != raw_size or raw.count(0) != num_tokens or raw[-1:] != b"\0":
+        return None, specs
+    try:
+        return set(raw[:-1].decode("utf-8").split("\0")), specs
+    except UnicodeDecodeError:
+        return None, specs
+
+
+def _fast_decompress(data: bytes, size: int) -> bytes | None:
+    """TfFastCompression: a chunk count byte (0: one LZ4 block follows), else
+    that many chunks, each an int32 size and an LZ4 block."""
+    if data[0] == 0:
+        return _lz4_block(data, 1, len(data), size)
+    out = bytearray()
+    pos = 1
+    for _ in range(data[0]):
+        if pos + 4 > len(data):
+            return None
+        (chunk,) = struct.unpack_from("<i", data, pos)
+        pos += 4
+        block = _lz4_block(data, pos, pos + chunk, size - len(out))
+        if block is None:
+            return None
+        out += block
+        pos += chunk
+    return bytes(out)
+
+
+def _lz4_block(data: bytes, pos: int, stop: int, limit: int) -> bytes | None:
+    """Decode one LZ4 block (the public block format: sequences of a token,
+    literals and a back-reference) of at most ``limit`` bytes."""
+    out = bytearray()
+    try:
+        while pos < stop:
+            token = data[pos]
+            pos += 1
+            literals = token >> 4
+            if literals == 15:
+                while True:
+                    extra = data[pos]
+                    pos += 1
+                    literals += extra
+                    if extra != 255:
+                        break
+            out += data[pos : pos + literals]
+            pos += literals
+            if pos >= stop:
+                break  # the last sequence has literals only
+            offset = data[pos] | (data[pos + 1] << 8)
+            pos += 2
+            length = token & 15
+            if length == 15:
+                while True:
+                    extra = data[pos]
+                    pos += 1
+                    length += extra
+                    if extra != 255:
+                        break
+            length += 4
+            begin = len(out) - offset
+            if offset == 0 or begin < 0 or len(out) + length > limit:
+                return None
+            if offset >= length:
+                out += out[begin : begin + length]
+            else:  # the match overlaps what it writes: repeat the period
+                period = out[begin:]
+                out += (period * (length // offset + 1))[:length]
+    except IndexError:
+        return None
+    return bytes(out) if len(out) <= limit else None
+
+
+__all__ = ["WORDS", "layers_may_hold", "may_hold", "spec_count", "without_external_arcs"]
