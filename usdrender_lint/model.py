@@ -50,13 +50,15 @@ class Location:
     ``file`` is the file that was linted (the stage's root layer as given),
     ``path`` the Sdf prim or property path (None for whole-file findings),
     ``layer`` the layer holding the strongest opinion behind the finding and
-    ``line`` the line of that opinion when the layer is a text ``.usda``.
+    ``line`` the line of that opinion when the layer is a text ``.usda``, and
+    ``column`` its column where known (USD's parse errors give one).
     """
 
     file: str
     path: str | None = None
     layer: str | None = None
     line: int | None = None
+    column: int | None = None
 
 
 @dataclass(frozen=True)
@@ -151,6 +153,15 @@ class Report:
     applied_fixes: tuple[AppliedFix, ...] = field(default=())
     #: Fixes --fix selected but could not apply, each with its reason.
     unapplied_fixes: tuple[AppliedFix, ...] = field(default=())
+    #: Rule codes whose fixes --fix never applies (config ``unfixable``).
+    unfixable: frozenset[str] = frozenset()
+
+    def fixable(self) -> tuple[int, int]:
+        """Findings a ``--fix`` would fix, and how many more ``--unsafe-fixes``
+        would: those whose fix is safe, and unsafe (``unfixable`` rules aside)."""
+        fixes = [f.fix for f in self.findings if f.fix is not None and f.code not in self.unfixable]
+        safe = sum(1 for fix in fixes if fix.safe)
+        return safe, len(fixes) - safe
 
     @property
     def findings(self) -> tuple[Finding, ...]:

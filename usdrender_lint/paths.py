@@ -1,8 +1,10 @@
-"""How paths are shown: relative to the working directory when below it, and
-the file on disk behind a layer identifier (no pxr)."""
+"""How paths are shown: relative to the working directory when below it, the
+file on disk behind a layer identifier, and names that are not UTF-8 in an
+escaped form any output can carry (no pxr)."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 
@@ -13,14 +15,51 @@ def layer_file(identifier: str | None) -> Path | None:
         return None
     if identifier.endswith("]") and "[" in identifier:
         identifier = identifier[: identifier.index("[")]
-    return Path(identifier).resolve()
+    try:
+        return Path(identifier).resolve()
+    except (OSError, RuntimeError):  # a symlink loop, a working directory too long to name
+        return Path(identifier)
 
 
 def display_path(path: str | None) -> str:
-    """A path relative to the working directory when it is below it."""
+    """A path relative to the working directory when it is below it. Symbolic
+    links are not followed: a link is named as the user named it."""
     if not path:
         return ""
     try:
-        return str(Path(path).resolve().relative_to(Path.cwd().resolve()))
-    except (ValueError, OSError):
+        cwd = os.getcwd()
+    except OSError:  # the working directory is gone, or too long to name
         return path
+    absolute = os.path.abspath(os.path.join(cwd, path))
+    prefix = cwd.rstrip(os.sep) + os.sep
+    return absolute[len(prefix) :] if absolute.startswith(prefix) else path
+
+
+def escape(text: str) -> str:
+    """``text`` as valid UTF-8 text, losslessly. A file name that is not UTF-8
+    reaches Python with each undecodable byte held as a surrogate escape, which
+    no UTF-8 output (a terminal, JSON, SARIF) can carry: such bytes are written
+    ``\\xNN`` and, in such a text only, a backslash is doubled, so the bytes
+    can be recovered. Valid text is returned as it is."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        raw = text.encode("utf-8", "surrogateescape").replace(b"\\", b"\\\\")
+        return raw.decode("utf-8", "backslashreplace")
+    return text
+
+
+def usd_path(path: str) -> str | bytes:
+    """``path`` as USD's Python bindings accept it: a name that is not UTF-8
+    goes as its bytes (the bindings cannot convert its surrogate escapes)."""
+    try:
+        path.encode("utf-8")
+    except UnicodeEncodeError:
+        return os.fsencode(path)
+    return path
+
+
+def from_usd(exc: UnicodeDecodeError) -> str | None:
+    """The path USD handed back when its bytes are not UTF-8 (the bindings
+    raise, holding the bytes in the error), as Python names such a file."""
+    return os.fsdecode(exc.object) if isinstance(exc.object, bytes) else None

@@ -113,6 +113,7 @@ def test_json_document_shape() -> None:
     assert file["status"] == "linted" and file["error"] is None
     keys = {"code", "name", "severity", "message", "path", "file", "layer", "line", "fix"}
     keys |= {"profile", "profile_reason"}  # added with renderer profiles (R2-5)
+    keys |= {"column"}  # added with the text format's positions (issue 13)
     for finding in file["findings"]:
         assert set(finding) == keys
         assert finding["severity"] in ("error", "warning", "info")
@@ -142,13 +143,16 @@ def test_info_hidden_in_text_unless_show_info(tmp_path: Path) -> None:
     assert infos[0]["code"] in shown
 
 
-def test_text_report_groups_per_file_with_layer_line() -> None:
+def test_text_report_lines_start_with_the_layer_and_line() -> None:
     result = run("--select", ",".join(sorted(HEADLINE)), str(BROKEN), str(WIP))
     lines = result.output.splitlines()
-    assert lines[0].endswith("broken_shot/shot.usda")
-    assert any("CA004" in line and "shot.usda:" in line for line in lines)
+    assert lines[0].startswith("examples/broken_shot/lighting_wip.usda:9:1: error ST001: ")
+    assert any(line.startswith("examples/broken_shot/shot.usda:32: error CA004 ") for line in lines)
     assert "\x1b[" not in result.output  # not a terminal: no colour codes
-    assert lines[-1] == "6 findings in 2 files: 5 errors, 1 warning, 0 info."
+    assert lines[-1] == (
+        "6 findings in 2 files: 5 errors, 1 warning, 0 info; 2 fixable with --fix"
+        " (1 more with --unsafe-fixes)."
+    )
 
 
 def test_rules_lists_every_rule_as_json() -> None:

@@ -74,7 +74,7 @@ def test_text_report_lists_and_counts_applied_fixes(tmp_path: Path) -> None:
         cli, ["check", "--isolated", "-j", "1", "--select", "SE006", "--fix", str(shot)]
     )
     assert "1 fix applied" in result.output
-    assert f'fixed    SE006  {POLICY}  set to "cropAperture"' in result.output
+    assert f'shot.usda: fixed SE006 {POLICY}: set to "cropAperture"' in result.output
 
 
 def test_second_fix_changes_nothing(tmp_path: Path) -> None:

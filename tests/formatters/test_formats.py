@@ -204,7 +204,7 @@ def test_unwritable_output_is_exit_2(tmp_path) -> None:
 def test_statistics_text(in_repo) -> None:
     result = check("--statistics", "--select", "SE003", str(SE003))
     tail = result.stdout.strip().splitlines()[-1]
-    count = result.stdout.count("  SE003  /")
+    count = result.stdout.count(" error SE003 /")
     assert tail.split() == [str(count), "SE003", "data-window-malformed"]
     assert "data-window-malformed" not in check("--select", "SE003", str(SE003)).stdout
 

@@ -26,15 +26,15 @@ from ..model import (
     Severity,
 )
 from . import layer_words, partial, suppress, typed_prims
-from .locate import bounded_message, locate
+from .locate import bounded_message, locate, real_path
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
     CorruptValue,
     StageOpenResult,
     error_lines,
-    line_from_error,
     open_stage,
+    position_from_error,
     unreadable_reason,
 )
 
@@ -336,7 +336,7 @@ class Linter:
         inspect: Inspector[_T] | None = None,
         own_stage: bool = False,
     ) -> tuple[list[Finding], _T | None]:
-        file = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
+        file = file or real_path(stage.GetRootLayer())
         ctx = Context(
             stage=stage,
             file=file,
@@ -526,8 +526,20 @@ class Linter:
                 STAGE_OPEN_FAILED_NAME,
                 severity,
                 line,
-                Location(path, None, os.path.abspath(path), line_from_error(line)),
+                _error_location(path, line),
             )
+
+
+def _error_location(path: str, message: str) -> Location:
+    """Where USD's error points: the layer and line (and column) it names, a
+    sublayer's own when the error is in one; else the file itself."""
+    position = position_from_error(message)
+    if position is None:
+        return Location(path, None, os.path.abspath(path), None)
+    layer, line, column = position
+    if not os.path.isfile(layer):
+        layer = path
+    return Location(path, None, os.path.abspath(layer), line, column)
 
 
 def _overrides(rule: Rule, hook: str) -> bool:

@@ -8,6 +8,7 @@ import os
 from pxr import Sdf, Usd
 
 from ..model import Location
+from ..paths import from_usd
 from . import usda_lines
 
 #: Longest finding message kept (see bounded_message).
@@ -22,8 +23,16 @@ def bounded_message(message: str) -> str:
     return f"{message[:MAX_MESSAGE_CHARS]}… ({len(message) - MAX_MESSAGE_CHARS} more characters)"
 
 
-def _layer_name(layer: Sdf.Layer) -> str:
-    return layer.realPath or layer.identifier
+def real_path(layer: Sdf.Layer) -> str:
+    """The layer's file (its identifier when it has none). A file name that is
+    not UTF-8 comes back as Python names such a file (see paths.from_usd)."""
+    try:
+        return layer.realPath or layer.identifier
+    except UnicodeDecodeError as exc:
+        path = from_usd(exc)
+        if path is None:
+            raise
+        return path
 
 
 def _spec_stack(obj: Usd.Object) -> list[Sdf.Spec]:
@@ -46,9 +55,9 @@ def locate(
         at = stage.GetObjectAtPath(at) or at
     if at is None:
         root = layer or stage.GetRootLayer()
-        return Location(file, None, _layer_name(root), None)
+        return Location(file, None, real_path(root), None)
     if isinstance(at, Sdf.Path):
-        return Location(file, str(at), _layer_name(layer) if layer else None, None)
+        return Location(file, str(at), real_path(layer) if layer else None, None)
     specs = _spec_stack(at)
     if layer is not None:
         specs = [s for s in specs if s.layer == layer] or specs
@@ -59,10 +68,10 @@ def locate(
         chosen = spec.layer if spec is not None else None
     line = None
     if spec is not None and chosen is not None and _is_text_file(chosen):
-        line = usda_lines.line_of(chosen.realPath, str(spec.path))
-    return Location(file, str(at.GetPath()), _layer_name(chosen) if chosen else None, line)
+        line = usda_lines.line_of(real_path(chosen), str(spec.path))
+    return Location(file, str(at.GetPath()), real_path(chosen) if chosen else None, line)
 
 
 def _is_text_file(layer: Sdf.Layer) -> bool:
-    path = layer.realPath
+    path = real_path(layer)
     return bool(path) and layer.GetFileFormat().formatId == "usda" and os.path.isfile(path)

@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 from pxr import Ar, Sdf, Tf, Usd
 
 from ..model import IGNORE_KEY
+from ..paths import usd_path
 from . import layer_words
 
 #: The convention's render scope, always composed (rules look under it).
@@ -128,7 +129,7 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
     stage = None
     with Tf.DiagnosticTrap() as trap:
         try:
-            root = Sdf.Layer.FindOrOpen(path)
+            root = Sdf.Layer.FindOrOpen(usd_path(path))
             if root is None:
                 raise NotProvable("USD cannot open the layer")
             layers = [root]
@@ -136,7 +137,9 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
             # before building any stage, which costs more than the check.
             if FLAT_STAGES_COMPOSE_FULLY and not root.GetCompositionAssetDependencies():
                 raise NotProvable("every layer is in the root layer stack")
-            stage = Usd.Stage.OpenMasked(path, Usd.StagePopulationMask(), Usd.Stage.LoadAll)
+            stage = Usd.Stage.OpenMasked(
+                usd_path(path), Usd.StagePopulationMask(), Usd.Stage.LoadAll
+            )
             layers = _reachable_layers(stage, missing)
             if trap.HasErrors():
                 raise NotProvable("an error was posted while reading the layers")

@@ -9,6 +9,8 @@ from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd
 
+from ..paths import usd_path
+
 STAGE_OPEN_FAILED_CODE = "ST001"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
 USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
@@ -36,9 +38,9 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
     with Tf.DiagnosticTrap() as trap:
         try:
             if session_layer is None:
-                stage = Usd.Stage.Open(path, Usd.Stage.LoadAll)
+                stage = Usd.Stage.Open(usd_path(path), Usd.Stage.LoadAll)
             else:
-                root = Sdf.Layer.FindOrOpen(path)
+                root = Sdf.Layer.FindOrOpen(usd_path(path))
                 stage = Usd.Stage.Open(root, session_layer, Usd.Stage.LoadAll) if root else None
             errors: tuple[str, ...] = ()
         except Tf.ErrorException as exc:
@@ -119,10 +121,16 @@ def unreadable_reason(path: str) -> str | None:
     return None
 
 
-def line_from_error(text: str) -> int | None:
-    """USD's parser errors start ``/path/file.usda:LINE:COL:``."""
+def position_from_error(text: str) -> tuple[str, int, int | None] | None:
+    """(file, line, column) of the first ``file.usda:LINE[:COL]`` in USD's
+    message: its parser errors start ``/path/file.usda:LINE:COL:``."""
     parts = text.split(":")
-    for first, second in zip(parts, parts[1:], strict=False):
+    for index, (first, second) in enumerate(zip(parts, parts[1:], strict=False)):
         if first.endswith(USD_EXTENSIONS) and second.strip().isdigit():
-            return int(second)
+            third = parts[index + 2].strip() if index + 2 < len(parts) else ""
+            return (
+                ":".join(parts[: index + 1]),
+                int(second),
+                int(third) if third.isdigit() else None,
+            )
     return None

@@ -9,6 +9,7 @@ from typing import Protocol, TextIO
 
 from ..entrypoints import EntryPointLike, entry_points
 from ..model import Finding, Report
+from ..paths import escape
 
 ENTRY_POINT_GROUP = "usdrender_lint.formatters"
 
@@ -63,3 +64,26 @@ def statistics(report: Report) -> list[dict[str, object]]:
 def statistics_lines(report: Report) -> list[str]:
     """The statistics as plain text lines: count, code, name."""
     return [f"{row['count']:>5}  {row['code']}  {row['name']}" for row in statistics(report)]
+
+
+def json_text(document: object) -> str:
+    """``document`` as indented JSON that is valid UTF-8: a file name that is
+    not UTF-8 is written in the lossless form of :func:`usdrender_lint.paths.escape`."""
+    import json
+
+    text = json.dumps(document, indent=2, ensure_ascii=False)
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        text = json.dumps(_escaped(document), indent=2, ensure_ascii=False)
+    return text + "\n"
+
+
+def _escaped(value: object) -> object:
+    if isinstance(value, str):
+        return escape(value)
+    if isinstance(value, dict):
+        return {_escaped(key): _escaped(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_escaped(item) for item in value]
+    return value

@@ -13,14 +13,14 @@ from __future__ import annotations
 from typing import TextIO
 
 from ..model import Finding, Report, Severity
-from ..paths import display_path, layer_file
+from ..paths import display_path, escape, layer_file
 from . import FormatOptions, statistics_lines
 
 _COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 
 
 def escape_data(text: str) -> str:
-    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+    return escape(text).replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
 
 
 def escape_property(text: str) -> str:
@@ -40,11 +40,13 @@ def command(name: str, message: str, **properties: object) -> str:
 def annotation(finding: Finding) -> str:
     loc = finding.location
     text = f"{loc.path}: {finding.message}" if loc.path else finding.message
+    line = loc.line if layer_file(loc.layer) and loc.line else None
     return command(
         _COMMAND[finding.severity],
         f"{text} [{finding.name}]",
         file=display_path(str(layer_file(loc.layer) or loc.file)),
-        line=loc.line if layer_file(loc.layer) and loc.line else None,
+        line=line,
+        col=loc.column if line else None,
         title=finding.code,
     )
 

@@ -11,7 +11,7 @@ from typing import Any, TextIO
 
 from ..model import AppliedFix, FileResult, Finding, FixInfo, Location, Report, Severity
 from ..paths import display_path
-from . import FormatOptions, statistics
+from . import FormatOptions, json_text, statistics
 
 SCHEMA_VERSION = 1
 FILE_STATUSES = ("linted", "error")
@@ -36,6 +36,7 @@ def finding_to_dict(
         "file": loc.file,
         "layer": layer_path(loc.layer) if loc.layer else None,
         "line": loc.line,
+        "column": loc.column,
         "fix": (
             None
             if finding.fix is None
@@ -98,8 +99,7 @@ class JsonFormatter:
     reads_rules = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        json.dump(report_to_dict(report, options), stream, indent=2, ensure_ascii=False)
-        stream.write("\n")
+        stream.write(json_text(report_to_dict(report, options)))
 
 
 # -- reading ---------------------------------------------------------------------------
@@ -131,14 +131,16 @@ def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Findin
         fix = FixInfo(
             _field(fix, "description", str, f"{where}.fix"), _field(fix, "safe", bool, where)
         )
-    line = data.get("line")
-    if line is not None and (not isinstance(line, int) or isinstance(line, bool)):
-        raise ReportFormatError(f"{where}: 'line' is not an integer")
+    line, column = data.get("line"), data.get("column")  # "column" came later: optional
+    for key, number in (("line", line), ("column", column)):
+        if number is not None and (not isinstance(number, int) or isinstance(number, bool)):
+            raise ReportFormatError(f"{where}: '{key}' is not an integer")
     location = Location(
         _field(data, "file", str, where),
         _field(data, "path", _OPTIONAL_STR, where),
         _field(data, "layer", _OPTIONAL_STR, where),
         line,
+        column,
     )
     profile, reason = data.get("profile"), data.get("profile_reason")
     if not isinstance(profile, _OPTIONAL_STR) or not isinstance(reason, _OPTIONAL_STR):

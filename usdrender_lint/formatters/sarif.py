@@ -9,14 +9,14 @@ property path.
 
 from __future__ import annotations
 
-import json
+import os
 from pathlib import Path
 from typing import Any, TextIO
-from urllib.parse import quote
+from urllib.parse import quote_from_bytes
 
 from ..model import Finding, Report, RuleInfo, Severity
 from ..paths import layer_file
-from . import FormatOptions, statistics
+from . import FormatOptions, json_text, statistics
 
 SARIF_VERSION = "2.1.0"
 SARIF_SCHEMA = (
@@ -32,7 +32,8 @@ def artifact_location(path: Path, root: Path) -> dict[str, str]:
         relative = path.relative_to(root)
     except ValueError:
         return {"uri": path.as_uri()}
-    return {"uri": quote(relative.as_posix()), "uriBaseId": SRCROOT}
+    # Percent-encoded bytes: a file name that is not UTF-8 stays exact.
+    return {"uri": quote_from_bytes(os.fsencode(relative.as_posix())), "uriBaseId": SRCROOT}
 
 
 def _descriptor(rule: RuleInfo) -> dict[str, Any]:
@@ -74,6 +75,8 @@ def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
         physical: dict[str, Any] = {"artifactLocation": artifact_location(file, root)}
         if loc.line and loc.layer and layer_file(loc.layer) == file:
             physical["region"] = {"startLine": loc.line}
+            if loc.column:
+                physical["region"]["startColumn"] = loc.column
         location["physicalLocation"] = physical
     if loc.path:
         is_property = "." in loc.path.rsplit("/", 1)[-1]
@@ -134,6 +137,4 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
 
 class SarifFormatter:
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        document = report_to_sarif(report, options, Path.cwd().resolve())
-        json.dump(document, stream, indent=2, ensure_ascii=False)
-        stream.write("\n")
+        stream.write(json_text(report_to_sarif(report, options, Path.cwd().resolve())))

@@ -1,22 +1,48 @@
-"""The human format: findings grouped per file, severity coloured.
+"""The human format: one line per finding, its location first.
 
-rich renders it on a terminal; piped output is the same text written plainly,
-so a CI log or a pipe pays neither rich's import nor its escapes.
+``path:line:col: severity CODE prim-path: message``, the way compilers write
+them, so a terminal, VS Code's problem matchers, vim's quickfix and emacs'
+compile mode jump to the opinion (``examples/usdrender-lint-problem-matcher.json``
+reads it in GitHub Actions). The path is the layer holding the opinion. Lines
+are sorted by path, line, then code. On a terminal the message wraps at words
+to its width (the location never does) and rich colours it, with no style at
+all when ``NO_COLOR`` is set; piped output keeps one plain line per finding
+and pays neither rich's import nor its escapes.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+import os
+import re
+import textwrap
+from collections.abc import Iterable
+from dataclasses import dataclass
 from typing import TextIO
 
-from ..model import Report, Severity
-from ..paths import display_path
+from ..model import AppliedFix, FileResult, Finding, Report, Severity
+from ..paths import display_path, escape, layer_file
 from . import FormatOptions, statistics_lines
 
 _STYLE = {Severity.ERROR: "bold red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
+#: Continuation lines of a wrapped message start here.
+INDENT = "    "
+#: USD's parse errors begin with the position the location already gives.
+_POSITION = re.compile(r"^.+?:(\d+)(?::(\d+))?: ")
 
-#: A line is a list of (text, rich style or None) segments.
-Line = list[tuple[str, str | None]]
+#: A piece of text and its rich style (None: plain).
+Segment = tuple[str, "str | None"]
+#: A line is a list of segments.
+Line = list[Segment]
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One report line before layout: the location, then the rest."""
+
+    sort_key: tuple
+    location: str
+    head: tuple[Segment, ...]
+    message: tuple[Segment, ...]
 
 
 def _plural(count: int, word: str, plural: str | None = None) -> str:
@@ -28,19 +54,135 @@ def _is_terminal(stream: TextIO) -> bool:
     return bool(isatty and isatty())
 
 
-def write_lines(lines: Iterable[Line], stream: TextIO) -> None:
-    """Styled lines through rich on a terminal; plain text otherwise."""
+def _no_color() -> bool:
+    # https://no-color.org: present and not empty.
+    return os.environ.get("NO_COLOR", "") != ""
+
+
+def _file_of(identifier: str | None, fallback: str) -> str:
+    """The file a location names, as the user would type it."""
+    on_disk = layer_file(identifier)
+    return escape(display_path(str(on_disk)) if on_disk else display_path(fallback) or fallback)
+
+
+def _terminal_width(stream: TextIO) -> int | None:
+    """The width to wrap at: the terminal's, or None when piped."""
     if not _is_terminal(stream):
+        return None
+    from rich.console import Console
+
+    return Console(file=stream).width
+
+
+def write_lines(lines: Iterable[Line], stream: TextIO) -> None:
+    """Styled lines through rich on a terminal (not even bold or dim with
+    NO_COLOR); plain text otherwise."""
+    if not _is_terminal(stream) or _no_color():
         for line in lines:
             stream.write("".join(text for text, _ in line) + "\n")
         return
     from rich.console import Console
-    from rich.markup import escape
+    from rich.text import Text
 
-    # rich drops colour by itself when NO_COLOR is set.
     console = Console(file=stream, soft_wrap=True, highlight=False)
     for line in lines:
-        console.print("".join(f"[{s}]{escape(t)}[/]" if s else escape(t) for t, s in line))
+        console.print(Text.assemble(*((text, style or "") for text, style in _merged(line))))
+
+
+def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
+    loc = finding.location
+    file = _file_of(loc.layer, loc.file)
+    line = loc.line if loc.layer and layer_file(loc.layer) else None
+    column = loc.column if line else None
+    where = file + (f":{line}" if line else "") + (f":{column}" if column else "") + ":"
+    message = escape(finding.message)
+    matched = _POSITION.match(message)
+    if matched and line and int(matched.group(1)) == line:
+        message = message[matched.end() :]
+    head: list[Segment] = [(finding.severity.value, _STYLE[finding.severity])]
+    tail: list[Segment] = [(message, None)]
+    if loc.path:  # the prim path may wrap, as the message does
+        head.append((finding.code, "bold"))
+        tail.insert(0, (escape(loc.path) + ":", None))
+    else:
+        head.append((finding.code + ":", "bold"))
+    if finding.fix is not None:
+        kind = "fix" if finding.fix.safe else "unsafe fix"
+        tail.append((f"[{kind}: {escape(finding.fix.description)}]", "dim"))
+    if show_profile and finding.profile:
+        tail.append((f"[profile {finding.profile}: {finding.profile_reason}]", "dim"))
+    linted = escape(display_path(loc.file) or loc.file)
+    if linted != file:
+        tail.append((f"(stage {linted})", "dim"))
+    key = (file, line or 0, column or 0, finding.code, linted, message)
+    return Entry(key, where, tuple(head), tuple(tail))
+
+
+def error_entry(result: FileResult) -> Entry:
+    file = escape(display_path(result.file) or result.file)
+    reason = escape(result.error or "could not be linted")
+    for prefix in (f"{escape(result.file)}: ", f"{file}: "):
+        if reason.startswith(prefix):
+            reason = reason[len(prefix) :]
+            break
+    return Entry((file, 0, 0, ""), file + ":", (("error:", "bold red"),), ((reason, None),))
+
+
+def fix_entry(fix: AppliedFix) -> Entry:
+    file = _file_of(fix.layer, fix.file)
+    head: list[Segment] = [("fixed", "green")]
+    tail: list[Segment] = [(escape(fix.description), None)]
+    if fix.path:
+        head.append((fix.code, "bold"))
+        tail.insert(0, (escape(fix.path) + ":", None))
+    else:
+        head.append((fix.code + ":", "bold"))
+    return Entry((file, fix.code), file + ":", tuple(head), tuple(tail))
+
+
+def wrap(entry: Entry, width: int | None) -> list[list[Segment]]:
+    """The entry's physical lines: the location whole on the first, then the
+    message. With a ``width`` its words fill lines up to it, continuing on
+    lines indented by INDENT (a word longer than a line is not cut); without
+    one it is a single line, the message as it is."""
+    first: list[Segment] = [(entry.location, "bold")]
+    for text, style in entry.head:
+        first += [(" ", None), (text, style)]
+    lines = [first]
+    if width is None:
+        for text, style in entry.message:
+            first += [(" ", None), (text, style)]
+        return lines
+    used = sum(len(text) for text, _ in first)
+    fresh = False  # the last line holds only the indent
+    for text, style in entry.message:
+        for word in text.split():
+            if not fresh and used + 1 + len(word) > width:
+                lines.append([(INDENT, None)])
+                used, fresh = len(INDENT), True
+            if fresh:
+                lines[-1].append((word, style))
+                used += len(word)
+                fresh = False
+            else:
+                lines[-1] += [(" ", None), (word, style)]
+                used += 1 + len(word)
+    return lines
+
+
+def _merged(line: list[Segment]) -> list[Segment]:
+    """Neighbouring segments of one style (a space between two words of it
+    included) as one, so a styled phrase costs one escape sequence."""
+    merged: list[Segment] = []
+    for index, (text, style) in enumerate(line):
+        between = 0 < index < len(line) - 1 and line[index - 1][1] == line[index + 1][1]
+        if text == " " and style is None and between:
+            style = line[index - 1][1]
+        if merged and merged[-1][1] == style:
+            merged[-1] = (merged[-1][0] + text, style)
+        else:
+            merged.append((text, style))
+    return merged
 
 
 class TextFormatter:
@@ -48,57 +190,31 @@ class TextFormatter:
     reads_rules = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        write_lines(self._lines(report, options), stream)
+        entries, summary = self._entries(report, options)
+        width = _terminal_width(stream)
+        lines = [line for entry in entries for line in wrap(entry, width)]
+        for text in summary:
+            parts = textwrap.wrap(text, width, subsequent_indent=INDENT) if width else [text]
+            lines.extend([(part, None)] for part in parts)
+        write_lines(lines, stream)
 
-    def _lines(self, report: Report, options: FormatOptions) -> Iterator[Line]:
-        hidden = 0
-        for result in report.files:
-            shown = [f for f in result.findings if options.show_info or f.severity != Severity.INFO]
-            hidden += len(result.findings) - len(shown)
-            if result.status != "linted":
-                yield [(result.file, "bold")]
-                yield [
-                    ("  ", None),
-                    ("error", "bold red"),
-                    ("  " + (result.error or "failed"), None),
-                ]
-                continue
-            if not shown:
-                continue
-            yield [(result.file, "bold")]
-            for finding in shown:
-                loc = finding.location
-                where = display_path(loc.layer) if loc.layer else ""
-                if where and loc.line:
-                    where += f":{loc.line}"
-                line: Line = [
-                    ("  ", None),
-                    (f"{finding.severity.value:<7}", _STYLE[finding.severity]),
-                    ("  ", None),
-                    (finding.code, "bold"),
-                    (f"  {loc.path or '(file)'}  {finding.message}", None),
-                ]
-                if where:
-                    line.append((f"  ({where})", "dim"))
-                if finding.fix is not None:
-                    kind = "fix" if finding.fix.safe else "unsafe fix"
-                    line.append((f"  [{kind}: {finding.fix.description}]", "dim"))
-                if options.show_info and finding.profile:
-                    line.append((f"  [profile {finding.profile}: {finding.profile_reason}]", "dim"))
-                yield line
-        for fix in report.applied_fixes:
-            parts = [fix.code, fix.path or "(file)", fix.description]
-            line = [("  ", None), ("fixed", "green"), ("    " + "  ".join(parts), None)]
-            if fix.layer:
-                line.append((f"  ({display_path(fix.layer)})", "dim"))
-            yield line
-        yield [(self._summary(report, hidden), None)]
+    def _entries(self, report: Report, options: FormatOptions) -> tuple[list[Entry], list[str]]:
+        shown = [
+            finding
+            for finding in report.findings
+            if options.show_info or finding.severity != Severity.INFO
+        ]
+        entries = [finding_entry(finding, options.show_info) for finding in shown]
+        entries += [error_entry(result) for result in report.errored_files]
+        entries.sort(key=lambda entry: entry.sort_key)
+        fixes = sorted((fix_entry(fix) for fix in report.applied_fixes), key=lambda e: e.sort_key)
+        summary = [self._summary(report, len(report.findings) - len(shown), options)]
         if options.statistics:
-            for text in statistics_lines(report):
-                yield [(text, None)]
+            summary += statistics_lines(report)
+        return entries + fixes, summary
 
     @staticmethod
-    def _summary(report: Report, hidden: int) -> str:
+    def _summary(report: Report, hidden: int, options: FormatOptions) -> str:
         counts = report.by_severity()
         errors = len(report.errored_files)
         text = (
@@ -111,8 +227,21 @@ class TextFormatter:
             text += f" ({hidden} info hidden; --show-info shows them)"
         if errors:
             text += f"; {_plural(errors, 'file')} could not be linted"
+        if not options.fixing:
+            text += "".join(_fixable(*report.fixable()))
         if report.applied_fixes:
             text += f"; {_plural(len(report.applied_fixes), 'fix', 'fixes')} applied"
         if report.unapplied_fixes:
             text += f"; {_plural(len(report.unapplied_fixes), 'fix', 'fixes')} not applied"
         return text + "."
+
+
+def _fixable(safe: int, unsafe: int) -> Iterable[str]:
+    if safe:
+        yield f"; {safe} fixable with --fix"
+    if unsafe:
+        yield (
+            f" ({unsafe} more with --unsafe-fixes)"
+            if safe
+            else (f"; {unsafe} fixable with --fix --unsafe-fixes")
+        )

@@ -277,13 +277,14 @@ class Prepared:
     def is_reported(self, finding: Finding) -> bool:
         """Whether a finding reaches the report (per-path ignores) and may be
         fixed (not an ``unfixable`` rule's)."""
-        if finding.code in self._unfixable:
+        if finding.code in self.unfixable:
             return False
         alone = Report((FileResult(finding.location.file, findings=(finding,)),))
         return bool(self.finish(alone).findings)
 
     @property
-    def _unfixable(self) -> set[str]:
+    def unfixable(self) -> set[str]:
+        """The codes of the rules whose fixes --fix never applies."""
         return {r.code for r in self.registry.rules if matches_any(r, self.settings.unfixable)}
 
 
@@ -344,7 +345,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         report = Report(_lint(prepared, targets, _open_cache(prepared, notes)))
     if plan is not None:
         report = plan.narrow(report)
-    report = prepared.finish(report)
+    report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
     report = _apply_baseline(report, known, request, notes)
     status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
     if fixed is None:
