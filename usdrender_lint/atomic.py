@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -19,6 +20,27 @@ def write_text_atomic(path: str | Path, text: str) -> None:
             os.fsync(stream.fileno())
 
     replace_atomically(path, write)
+
+
+def write_output(path: str | Path, text: str) -> None:
+    """Write a file the user named for output (``--output``, ``--write-baseline``)
+    as a shell's ``>`` would, but atomically where that is possible: a regular
+    file (or a new one) is replaced atomically; a symbolic link is followed and
+    its target replaced, the link kept; a FIFO or a device is opened and
+    written in place (a stream cannot be replaced, and replacing it would
+    put a regular file where the device was). Raises OSError."""
+    target = os.path.realpath(path)
+    try:
+        mode = os.stat(target).st_mode
+    except FileNotFoundError:
+        mode = None
+    if mode is not None and stat.S_ISDIR(mode):
+        raise IsADirectoryError(21, os.strerror(21), str(path))
+    if mode is not None and not stat.S_ISREG(mode):
+        with open(target, "w", encoding="utf-8", newline="\n") as stream:
+            stream.write(text)
+        return
+    write_text_atomic(target, text)
 
 
 def replace_atomically(

@@ -17,9 +17,17 @@ from typing import TYPE_CHECKING
 import click
 
 from . import __version__
-from .config import FAIL_ON_CHOICES
+from .config import (
+    FAIL_ON_CHOICES,
+    ConfigError,
+    check_jobs,
+    check_max_variant_combinations,
+    check_timeout,
+)
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
+from .paths import escape
+from .running.interrupts import Stopped, stop_on_signals
 from .running.workers import DEFAULT_TIMEOUT
 
 if TYPE_CHECKING:
@@ -39,7 +47,65 @@ class ToolError(click.ClickException):
     exit_code = EXIT_TOOL_ERROR
 
     def show(self, file=None) -> None:
-        click.echo(f"usdrender-lint: error: {self.format_message()}", err=True)
+        _error(self.format_message())
+
+
+class StdoutGone(Exception):
+    """stdout is closed, or its reader went away (``check | head``): nobody
+    reads the report, so the run ends with exit 2 and says nothing."""
+
+
+def _error(message: str) -> None:
+    click.echo(f"usdrender-lint: error: {escape(message)}", err=True)
+
+
+class _Stdout:
+    """sys.stdout, with its failures told apart: a closed or broken pipe is
+    :class:`StdoutGone`, any other (a full disk) a ToolError."""
+
+    def write(self, text: str) -> int:
+        return self._do(lambda stream: stream.write(text))
+
+    def flush(self) -> None:
+        self._do(lambda stream: stream.flush())
+
+    def isatty(self) -> bool:
+        return bool(sys.stdout is not None and sys.stdout.isatty())
+
+    @staticmethod
+    def _do(action):
+        if sys.stdout is None:  # fd 1 was closed when Python started
+            raise StdoutGone
+        try:
+            return action(sys.stdout)
+        except BrokenPipeError:
+            raise StdoutGone from None
+        except OSError as exc:
+            raise ToolError(f"cannot write the report: {exc.strerror or exc}") from None
+
+
+def _write(text: str) -> None:
+    """Write ``text`` to stdout and flush it, so that a failure is known now."""
+    stdout = _Stdout()
+    stdout.write(text)
+    stdout.flush()
+
+
+class _Checked(click.ParamType):
+    """A number checked by the configuration's own range check (config.py):
+    a value out of range is a usage error, exit 2."""
+
+    def __init__(self, base: click.ParamType, check) -> None:
+        self.base = base
+        self.check = check
+        self.name = base.name
+
+    def convert(self, value, param, ctx):
+        number = self.base.convert(value, param, ctx)
+        try:
+            return self.check(number, "it")
+        except ConfigError as exc:
+            self.fail(str(exc), param, ctx)
 
 
 def _split(values: Sequence[str]) -> tuple[str, ...] | None:
@@ -113,13 +179,13 @@ def cli() -> None:
 @click.option(
     "--jobs",
     "-j",
-    type=click.IntRange(min=1),
+    type=_Checked(click.INT, check_jobs),
     default=None,
     help="Files linted in parallel worker processes  [default: the CPU count].",
 )
 @click.option(
     "--timeout",
-    type=click.FloatRange(min=0),
+    type=_Checked(click.FLOAT, check_timeout),
     default=DEFAULT_TIMEOUT,
     show_default=True,
     help="Seconds one file may take before it is reported as an error; 0: no limit.",
@@ -173,7 +239,7 @@ def cli() -> None:
 )
 @click.option(
     "--max-variant-combinations",
-    type=click.IntRange(min=1),
+    type=_Checked(click.INT, check_max_variant_combinations),
     default=None,
     help="With --variants: variant combinations linted per file at most  [default: 64].",
 )
@@ -275,15 +341,15 @@ def check(
     )
     if show_diff:
         # stdout carries the diff alone; the report goes only to --output.
-        click.echo("".join(outcome.diffs), nl=False)
+        _write(escape("".join(outcome.diffs)))
         if output_file:
             _emit_report(outcome.report, output_format, outcome.rules, options, output_file)
     else:
         _emit_report(outcome.report, output_format, outcome.rules, options, output_file)
     for note in outcome.notes:
-        click.echo(f"usdrender-lint: {note}", err=True)
+        click.echo(f"usdrender-lint: {escape(note)}", err=True)
     for error in outcome.errors:
-        click.echo(f"usdrender-lint: error: {error}", err=True)
+        _error(error)
     sys.exit(outcome.exit_status)
 
 
@@ -361,7 +427,7 @@ def merge(
     )
     _emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for error in (r.error or r.file for r in report.errored_files):
-        click.echo(f"usdrender-lint: error: {error}", err=True)
+        _error(error)
     sys.exit(exit_status(report, prepared.settings.fail_on))
 
 
@@ -394,7 +460,9 @@ def _emit_report(
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     if output_file is None:
-        formatter.render(report, sys.stdout, options)
+        stdout = _Stdout()
+        formatter.render(report, stdout, options)  # type: ignore[arg-type]
+        stdout.flush()
         return
     import io
 
@@ -404,11 +472,12 @@ def _emit_report(
 
 
 def _write_file(path: str | Path, text: str, what: str) -> None:
-    """Write ``text`` to ``path`` atomically; a failure is one line, exit 2."""
-    from .atomic import write_text_atomic
+    """Write ``text`` to ``path`` as a shell's ``>`` would, atomically where
+    that can be (atomic.write_output); a failure is one line, exit 2."""
+    from .atomic import write_output
 
     try:
-        write_text_atomic(path, text)
+        write_output(path, text)
     except OSError as exc:
         raise ToolError(f"{path}: cannot write {what}: {exc.strerror or exc}") from None
 
@@ -513,7 +582,7 @@ def spec_command(
     files = [(r, r.value if isinstance(r, InspectedFile) else None) for r in inspection.results]
     _emit_spec(spec_document(files, __version__), output_format.lower(), output)
     for error in inspection.errors:
-        click.echo(f"usdrender-lint: error: {error}", err=True)
+        _error(error)
     sys.exit(inspection.exit_status)
 
 
@@ -534,7 +603,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
             raise ToolError(f"{folder}: cannot create the folder: {exc.strerror or exc}") from None
         for name, text in svg_files(document):
             _write_file(folder / name, text, "the picture")
-            click.echo(str(folder / name))
+            _write(f"{escape(str(folder / name))}\n")
         return
     if output_format == "json":
         import json
@@ -547,13 +616,15 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
         from .spec.textview import document_lines
 
         if output is None:
-            write_lines(document_lines(document), sys.stdout)
+            stdout = _Stdout()
+            write_lines(document_lines(document), stdout)  # type: ignore[arg-type]
+            stdout.flush()
             return
         buffer = io.StringIO()  # not a terminal: plain text
         write_lines(document_lines(document), buffer)
         text = buffer.getvalue()
     if output is None:
-        sys.stdout.write(text)
+        _write(text)
     else:
         _write_file(output, text, "the specification")
 
@@ -599,29 +670,59 @@ def list_rules(output_format: str, profile: str | None) -> None:
                 item["enabled"] = row.enabled
                 item["why"] = row.why
             out.append(item)
-        click.echo(json.dumps(out, indent=2))
+        _write(json.dumps(out, indent=2) + "\n")
         return
-    from rich.console import Console
-    from rich.table import Table
-
     title = f"{len(registry.rules)} rules"
     if chosen is not None:
         title += f" under the {chosen.name} profile"
-    table = Table(title=title, title_justify="left")
-    for column in ("Code", "Name", "Severity", "Fix"):
-        table.add_column(column, no_wrap=True)
-    if chosen is not None:
-        table.add_column("Runs", no_wrap=True)
-    table.add_column("Summary")
+    lines = []
     for row in rows:
         r = row.rule
-        severity = row.severity.value if row.severity else "-"
-        cells = [r.code, r.name, severity, r.fix_safety]
+        cells = [r.code, r.name, row.severity.value if row.severity else "-", r.fix_safety]
         if chosen is not None:
             cells.append("on" if row.enabled else "off")
-        summary = r.summary() if not row.why else f"{r.summary()} [{row.why}]"
-        table.add_row(*cells, summary)
-    Console(soft_wrap=False).print(table)
+        cells.append(r.summary() if not row.why else f"{r.summary()} [{row.why}]")
+        lines.append(tuple(cells))
+    _write(rules_text(lines, _terminal_width(), title))
+
+
+
+def _terminal_width() -> int | None:
+    """The terminal's width, or None when stdout is not a terminal."""
+    if sys.stdout is None or not sys.stdout.isatty():
+        return None
+    import shutil
+
+    return shutil.get_terminal_size().columns
+
+
+def rules_text(rows: Sequence[tuple[str, ...]], width: int | None, title: str) -> str:
+    """Rows of (code, name, severity, fix class, [runs,] summary), every field
+    in full: one aligned line per rule; on a terminal too narrow for those
+    lines, each rule is wrapped at words over a few lines instead (nothing is
+    ever cut)."""
+    import textwrap
+
+    columns = len(rows[0]) - 1 if rows else 0
+    widths = [max((len(row[column]) for row in rows), default=0) for column in range(columns)]
+    lines = [title]
+    aligned = [
+        "  ".join(field.ljust(size) for field, size in zip(row[:-1], widths, strict=True))
+        + f"  {row[-1]}"
+        for row in rows
+    ]
+    if width is None or max(map(len, aligned), default=0) <= width:
+        return "\n".join(lines + aligned) + "\n"
+    # Names are kebab-case: break at spaces only, and never inside a word.
+    wrap = textwrap.TextWrapper(width, break_long_words=False, break_on_hyphens=False)
+    indent = "    "
+    for code, name, severity, fix, *runs, summary in rows:
+        wrap.initial_indent, wrap.subsequent_indent = "", indent
+        ran = f", runs: {runs[0]}" if runs else ""
+        lines += wrap.wrap(f"{code} {name} ({severity}, fix: {fix}{ran})")
+        wrap.initial_indent = indent
+        lines += wrap.wrap(summary)
+    return "\n".join(lines) + "\n"
 
 
 @cli.command()
@@ -629,15 +730,20 @@ def list_rules(output_format: str, profile: str | None) -> None:
 def explain(rule: str) -> None:
     """Print a rule's documentation (by code or name)."""
     from .api.docs import rule_doc
+    from .model import INTERNAL_ERROR_RULE as internal
 
     found = _registry().find(rule)
-    if found is None:
-        raise ToolError(f"no rule has the code or name {rule!r} (see 'usdrender-lint rules')")
-    from .profiles.effective import profile_treatment
+    if found is not None:
+        from .profiles.effective import profile_treatment
 
-    header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
-    lines = "\n".join(f"- {line}" for line in profile_treatment(found))
-    click.echo(f"{header}\n\n{rule_doc(found)}\n\n## Under each profile\n{lines}")
+        header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
+        lines = "\n".join(f"- {line}" for line in profile_treatment(found))
+        _write(f"{header}\n\n{rule_doc(found)}\n\n## Under each profile\n{lines}\n")
+    elif rule.upper() == internal.code or rule.lower() == internal.name:
+        header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
+        _write(f"{header}\n\n{internal.doc}\n")
+    else:
+        raise ToolError(f"no rule has the code or name {rule!r} (see 'usdrender-lint rules')")
 
 
 @cli.command("plugin-path")
@@ -669,7 +775,7 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
         except (OSError, DeclarationError) as exc:
             raise ToolError(f"{folder}: cannot write plugInfo.json: {exc}") from None
     stale = undeclared_rules(rules, folder)
-    click.echo(str(folder))
+    _write(f"{folder}\n")
     if stale:
         click.echo(
             f"usdrender-lint: {folder}/plugInfo.json does not declare {len(stale)} registered "
@@ -682,23 +788,52 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> None:
-    """Console entry point: no traceback ever reaches the user."""
+    """Console entry point: no traceback ever reaches the user. Ctrl-C exits
+    130 and SIGTERM 143 (128 + the signal) after cleaning up; a closed or
+    broken stdout exits 2 quietly."""
+    _open_closed_standard_streams()
     try:
-        cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True)
+        with stop_on_signals():
+            cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True)
     except SystemExit:
         raise
-    except KeyboardInterrupt:
-        click.echo("usdrender-lint: interrupted", err=True)
-        sys.exit(130)
+    except Stopped as stopped:
+        click.echo(f"usdrender-lint: {stopped.reason}", err=True)
+        sys.exit(stopped.exit_status)
+    except StdoutGone:
+        _silence_stdout()
+        sys.exit(EXIT_TOOL_ERROR)
     except Exception as exc:
         if os.environ.get("USDRENDER_LINT_DEBUG"):
             raise
         click.echo(
-            f"usdrender-lint: internal error: {type(exc).__name__}: {exc} "
+            f"usdrender-lint: internal error: {type(exc).__name__}: {escape(str(exc))} "
             "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
             err=True,
         )
         sys.exit(EXIT_TOOL_ERROR)
+
+
+def _open_closed_standard_streams() -> None:
+    """Put /dev/null on a standard file descriptor that was closed when the
+    command started (``check >&-``): else the next file opened would get the
+    number, and whatever USD prints would land in it. Python already made
+    sys.stdout None for it, which the report's writing treats as gone."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            null = os.open(os.devnull, os.O_RDWR)
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
+
+
+def _silence_stdout() -> None:
+    """Point fd 1 at /dev/null, so that flushing stdout at exit fails no more."""
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.close(null)
 
 
 def _import_engine() -> None:

@@ -19,6 +19,12 @@ from typing import Any
 from .model import Severity
 
 FAIL_ON_CHOICES = ("error", "warning", "info", "never")
+#: The largest --timeout: a day per file (0 is no limit at all).
+MAX_TIMEOUT = 86_400
+#: The most worker processes a run starts.
+MAX_JOBS = 1024
+#: The most variant combinations linted per file (each composes the stage anew).
+MAX_VARIANT_COMBINATIONS = 10_000
 CONFIG_FILE_NAMES = (".usdrender-lint.toml", "pyproject.toml")
 TOOL_TABLE = "usdrender-lint"
 
@@ -137,6 +143,8 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
         elif key in ("time-sample-cap", "max-variant-combinations"):
             if not isinstance(value, int) or isinstance(value, bool) or value < 1:
                 raise ConfigError(f"{source}: '{name}' must be a positive integer, got {value!r}")
+            if key == "max-variant-combinations":
+                check_max_variant_combinations(value, f"{source}: '{name}'")
             parsed[key.replace("-", "_")] = value
         elif key == "profile":
             parsed["profile"] = _profile_name(value, name, source)
@@ -156,6 +164,37 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
         else:
             raise ConfigError(f"{source}: unknown key '{name}'")
     return Settings(**parsed)
+
+
+# -- option values ------------------------------------------------------------------
+
+
+def check_timeout(value: float, where: str = "--timeout") -> float:
+    """Seconds per file, 0 (no limit) to MAX_TIMEOUT; NaN and infinities are not."""
+    if not isinstance(value, int | float) or not 0 <= value <= MAX_TIMEOUT:
+        raise ConfigError(
+            f"{where} must be a number of seconds from 0 to {MAX_TIMEOUT} (0: no limit), "
+            f"got {value!r}"
+        )
+    return float(value)
+
+
+def check_jobs(value: int, where: str = "--jobs") -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_JOBS:
+        raise ConfigError(f"{where} must be a whole number from 1 to {MAX_JOBS}, got {value!r}")
+    return value
+
+
+def check_max_variant_combinations(value: int, where: str = "--max-variant-combinations") -> int:
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int)
+        or not 1 <= value <= MAX_VARIANT_COMBINATIONS
+    ):
+        raise ConfigError(
+            f"{where} must be a whole number from 1 to {MAX_VARIANT_COMBINATIONS}, got {value!r}"
+        )
+    return value
 
 
 def read_config_file(path: str | os.PathLike[str]) -> Settings:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import enum
 from collections import Counter
 from dataclasses import dataclass, field
+from inspect import cleandoc
 
 
 class Severity(enum.Enum):
@@ -180,3 +181,35 @@ class Report:
 
     def by_code(self) -> dict[str, int]:
         return dict(sorted(Counter(f.code for f in self.findings).items()))
+
+
+#: The reserved internal-error code: no rule class (it cannot be selected or
+#: ignored), but documented like one (``explain UL000``, SARIF's rule list).
+INTERNAL_ERROR_RULE = RuleInfo(
+    code=INTERNAL_ERROR_CODE,
+    name=INTERNAL_ERROR_NAME,
+    severity=Severity.ERROR,
+    summary="A rule raised an exception on this file; its other findings on it are lost.",
+    doc=cleandoc(
+        """
+        A rule raised an exception on this file; its other findings on it are lost.
+
+        ## What it does
+        Reports a rule that raised while checking the file: the finding names the
+        rule, the exception, the prim it was checking and where in the rule's source
+        it raised. The other rules' findings on the file are kept.
+
+        ## Why is this bad?
+        The rule did not check the file, and a gate must never pass a file a rule
+        could not check: like ST001, this code cannot be selected away.
+
+        ## What to do
+        It is a bug in the rule, not in the file: report it to the rule's authors
+        with the message and, if you can, the file. A value USD finds corrupt while
+        a rule reads it is the file's problem and is reported as ST001 instead.
+
+        ## Fix safety
+        No automatic fix.
+        """
+    ),
+)

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any, TextIO
 from urllib.parse import quote_from_bytes
 
-from ..model import Finding, Report, RuleInfo, Severity
+from ..model import INTERNAL_ERROR_RULE, Finding, Report, RuleInfo, Severity
 from ..paths import layer_file
 from . import FormatOptions, json_text, statistics
 
@@ -54,7 +54,9 @@ def _rules(report: Report) -> list[RuleInfo]:
     ``ruleId`` is described."""
     rules = {rule.code: rule for rule in report.rules}
     for finding in report.findings:
-        if finding.code not in rules:
+        if finding.code == INTERNAL_ERROR_RULE.code:
+            rules.setdefault(finding.code, INTERNAL_ERROR_RULE)
+        elif finding.code not in rules:
             rules[finding.code] = RuleInfo(
                 finding.code, finding.name, finding.severity, finding.name, ""
             )

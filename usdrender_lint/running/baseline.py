@@ -15,7 +15,7 @@ import os
 from collections import Counter
 from pathlib import Path, PurePath
 
-from ..atomic import write_text_atomic
+from ..atomic import write_output
 from ..model import Finding, Report
 
 BASELINE_SCHEMA = 1
@@ -40,14 +40,15 @@ def _counts(report: Report, base_dir: Path) -> Counter[Fingerprint]:
 def write_baseline(report: Report, path: str | Path) -> int:
     """Record every finding of ``report`` in ``path`` (atomically); returns how many."""
     path = Path(path)
-    counts = _counts(report, path.parent)
+    # Relative to the folder of the file behind a link, as --baseline reads it.
+    counts = _counts(report, Path(os.path.realpath(path)).parent)
     entries = [
         {"file": file, "code": code, "path": prim_path, "count": count}
         for (file, code, prim_path), count in sorted(counts.items())
     ]
     document = {"usdrender_lint_baseline": BASELINE_SCHEMA, "findings": entries}
     try:
-        write_text_atomic(path, json.dumps(document, indent=2) + "\n")
+        write_output(path, json.dumps(document, indent=2) + "\n")
     except OSError as exc:
         raise BaselineError(f"{path}: cannot write baseline: {exc.strerror or exc}") from None
     return sum(counts.values())

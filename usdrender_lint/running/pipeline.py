@@ -17,7 +17,16 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..api import Rule
-from ..config import ConfigError, Settings, build_options, load_settings, read_config_file
+from ..config import (
+    ConfigError,
+    Settings,
+    build_options,
+    check_jobs,
+    check_max_variant_combinations,
+    check_timeout,
+    load_settings,
+    read_config_file,
+)
 from ..engine import Linter
 from ..model import FileResult, Finding, Report, Severity
 from ..profiles import AUTO, PROFILES
@@ -133,6 +142,16 @@ def resolve_settings(request: Request) -> Settings:
         max_variant_combinations=request.max_variant_combinations,
         profile=request.profile,
     )
+
+
+def check_request(request: Request) -> None:
+    """Raise a ConfigError for an option value out of range."""
+    if request.timeout is not None:
+        check_timeout(request.timeout)
+    if request.jobs is not None:
+        check_jobs(request.jobs)
+    if request.max_variant_combinations is not None:
+        check_max_variant_combinations(request.max_variant_combinations)
 
 
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
@@ -294,6 +313,7 @@ def prepare(request: Request, registry: Registry | None = None) -> Prepared:
     from ..registry import RegistryError
 
     try:
+        check_request(request)
         registry = registry or build_registry()
         settings = resolve_settings(request)
         linter = make_linter(settings, registry, full_composition=request.full_composition)

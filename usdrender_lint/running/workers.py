@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
 from ..model import FileResult
+from .interrupts import default_signals_in_worker
 
 if TYPE_CHECKING:
     import multiprocessing.context
@@ -309,7 +310,8 @@ def _worker_main(
     ``memory_limit`` caps the worker's data segment (see worker_memory_limit);
     ``usd_threads`` caps USD's thread pool in the worker (see worker_usd_threads).
     """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
+    default_signals_in_worker()
+    _die_with_parent()
     _limit_memory(memory_limit)
     if usd_threads is not None:
         from pxr import Work
@@ -321,6 +323,12 @@ def _worker_main(
     log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
     os.dup2(log, 2)
     os.close(log)
+    # Nothing of a worker's belongs on stdout, and a worker must never hold the
+    # user's pipe open (``check | tee``) should it outlive the parent.
+    null = os.open(os.devnull, os.O_RDWR)
+    os.dup2(null, 0)
+    os.dup2(null, 1)
+    os.close(null)
     try:
         from pxr import Usd
 
@@ -569,6 +577,17 @@ def _limit_memory(limit: int | None) -> None:
     if soft == resource.RLIM_INFINITY or limit < soft:
         with suppress(ValueError, OSError):
             resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
+
+
+def _die_with_parent() -> None:
+    """Have Linux kill this worker when its parent dies, even by SIGKILL
+    (``prctl(PR_SET_PDEATHSIG)``); elsewhere the parent's clean-up must do."""
+    if not sys.platform.startswith("linux"):
+        return
+    import ctypes
+
+    with suppress(OSError, AttributeError):
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
 
 
 def _settings_env() -> dict[str, str]:

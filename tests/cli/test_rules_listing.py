@@ -1,0 +1,114 @@
+"""``rules`` prints every rule in full whatever the width, and ``explain``
+knows every code the README names."""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import pty
+import re
+import struct
+import subprocess
+import sys
+import termios
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli, rules_text
+from usdrender_lint.registry import build_registry
+
+REPO = Path(__file__).resolve().parents[2]
+RULES = build_registry().rules
+
+
+def rows() -> list[tuple[str, str, str, str, str]]:
+    return [(r.code, r.name, r.severity.value, r.fix_safety, r.summary()) for r in RULES]
+
+
+def test_piped_every_rule_is_one_line_with_everything_in_full() -> None:
+    result = CliRunner().invoke(cli, ["rules"])
+    assert result.exit_code == 0
+    lines = result.stdout.splitlines()
+    assert lines[0] == f"{len(RULES)} rules"
+    assert len(lines) == len(RULES) + 1
+    for line, (code, name, severity, fix, summary) in zip(lines[1:], rows(), strict=True):
+        assert line.split()[:4] == [code, name, severity, fix]
+        assert line.endswith("  " + summary)
+        assert "…" not in line
+
+
+def in_a_terminal(columns: int, *args: str) -> str:
+    """Run the command with its stdout on a pseudo-terminal ``columns`` wide."""
+    leader, follower = pty.openpty()
+    fcntl.ioctl(follower, termios.TIOCSWINSZ, struct.pack("HHHH", 24, columns, 0, 0))
+    env = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES")}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "usdrender_lint", *args],
+        stdout=follower,
+        stderr=subprocess.PIPE,
+        env=env,
+    )
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(leader, 65536)
+        except OSError:  # EIO: the terminal's other end is closed
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    os.close(leader)
+    assert process.wait(timeout=120) == 0
+    return b"".join(chunks).decode().replace("\r\n", "\n")
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="pseudo-terminals")
+def test_at_60_columns_nothing_is_cut() -> None:
+    text = in_a_terminal(60, "rules")
+    assert max(len(line) for line in text.splitlines()) <= 60
+    words = text.split()
+    for code, name, severity, fix, summary in rows():
+        at = words.index(code)
+        assert words[at : at + 4] == [code, name, f"({severity},", "fix:"]
+        assert words[at + 4] == f"{fix})"
+        assert " ".join(summary.split()) in " ".join(words)
+    assert "…" not in text
+
+
+def test_rules_text_wraps_only_what_does_not_fit() -> None:
+    wide = rules_text(RULES, 1000).splitlines()
+    assert wide == rules_text(RULES, None).splitlines()
+    narrow = rules_text(RULES, 60).splitlines()
+    assert len(narrow) > len(wide)
+    assert all(
+        line.startswith("    ") or line.split()[0] in {r.code for r in RULES} for line in narrow[1:]
+    )
+
+
+def readme_codes() -> set[str]:
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    # The built-in families; ACME001 is the README's third-party example.
+    return set(re.findall(r"\b(?:ST|SE|CA|PR|VA|PA|UL)\d{3}\b", text))
+
+
+@pytest.mark.parametrize("code", sorted(readme_codes()))
+def test_explain_knows_every_code_the_readme_names(code: str) -> None:
+    result = CliRunner().invoke(cli, ["explain", code])
+    assert result.exit_code == 0, result.output
+    assert result.stdout.startswith(f"{code} ")
+    assert "## What it does" in result.stdout
+
+
+def test_the_readme_names_the_internal_error_code() -> None:
+    assert "UL000" in readme_codes()
+
+
+@pytest.mark.parametrize("key", ["UL000", "ul000", "internal-error"])
+def test_explain_the_internal_error(key: str) -> None:
+    result = CliRunner().invoke(cli, ["explain", key])
+    assert result.exit_code == 0
+    assert result.stdout.splitlines()[0] == "UL000 internal-error (error, fix: none)"
+    assert "ST001" in result.stdout  # corrupt values are the file's problem

@@ -1,0 +1,203 @@
+"""Exit codes a shell and a CI runner expect: Ctrl-C is 130 and SIGTERM 143,
+after the workers are gone and nothing temporary is left; a stdout nobody
+reads is a quiet exit 2, a full one a one-line error."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
+
+pytestmark = pytest.mark.skipif(
+    not sys.platform.startswith("linux"), reason="FIFOs, /proc and /dev/full are Linux's"
+)
+
+
+def command(*args: str) -> list[str]:
+    return [sys.executable, "-m", "usdrender_lint", *args]
+
+
+def hanging_stage(folder: Path) -> Path:
+    """A stage whose sublayer is a FIFO: USD blocks reading it forever."""
+    os.mkfifo(folder / "pipe.usda")
+    stage = folder / "hangs.usda"
+    stage.write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
+    return stage
+
+
+def descendants(pid: int) -> set[int]:
+    found: set[int] = set()
+    pending = [pid]
+    while pending:
+        parent = pending.pop()
+        try:
+            tasks = os.listdir(f"/proc/{parent}/task")
+        except OSError:
+            continue
+        for task in tasks:
+            try:
+                children = Path(f"/proc/{parent}/task/{task}/children").read_text().split()
+            except OSError:
+                continue
+            for child in map(int, children):
+                if child not in found:
+                    found.add(child)
+                    pending.append(child)
+    return found
+
+
+def is_running(pid: int) -> bool:
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    return "\nState:\tZ" not in status
+
+
+def wait_for_a_worker(process: subprocess.Popen, temporary: Path, limit: float = 60) -> None:
+    """Until the pool has made its temporary folder and a worker is linting."""
+    deadline = time.monotonic() + limit
+    while time.monotonic() < deadline:
+        assert process.poll() is None, process.communicate()
+        if any(temporary.glob("usdrender-lint-*/worker-*.log")) and descendants(process.pid):
+            time.sleep(0.5)  # the worker has its file; the parent waits on it
+            return
+        time.sleep(0.05)
+    raise AssertionError("no worker started")
+
+
+@pytest.mark.parametrize(
+    ("signum", "status", "line"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+)
+def test_a_signal_stops_the_run_and_cleans_up(
+    tmp_path: Path, signum: int, status: int, line: str
+) -> None:
+    stage = hanging_stage(tmp_path)
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    report = tmp_path / "report.json"
+    process = subprocess.Popen(
+        command(
+            "check",
+            "--isolated",
+            "--format",
+            "json",
+            "--timeout",
+            "600",
+            "--output",
+            str(report),
+            str(stage),
+            str(BROKEN),
+        ),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "TMPDIR": str(temporary)},
+    )
+    wait_for_a_worker(process, temporary)
+    workers = descendants(process.pid)
+    process.send_signal(signum)
+    # communicate() returns only when every holder of stdout has closed it:
+    # no worker is left keeping the pipe open.
+    stdout, stderr = process.communicate(timeout=30)
+    assert process.returncode == status
+    assert stderr == f"usdrender-lint: {line}\n"
+    assert stdout == ""
+    assert not report.exists()  # no partial report
+    assert list(temporary.iterdir()) == []  # the workers' folder is gone
+    assert sorted(tmp_path.iterdir()) == sorted([stage, tmp_path / "pipe.usda", temporary])
+    assert not [pid for pid in workers if is_running(pid)]
+
+
+def test_workers_die_with_a_parent_killed_outright(tmp_path: Path) -> None:
+    """SIGKILL leaves no clean-up to run: Linux ends the workers itself."""
+    stage = hanging_stage(tmp_path)
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    process = subprocess.Popen(
+        command("check", "--isolated", "--timeout", "600", str(stage)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env={**os.environ, "TMPDIR": str(temporary)},
+    )
+    wait_for_a_worker(process, temporary)
+    workers = descendants(process.pid)
+    process.kill()
+    process.communicate(timeout=30)  # EOF: no worker holds the pipes
+    deadline = time.monotonic() + 10
+    while [pid for pid in workers if is_running(pid)] and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not [pid for pid in workers if is_running(pid)]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("check", "--isolated", str(BROKEN)),
+        ("check", "--isolated", "--format", "json", str(BROKEN)),
+        ("check", "--isolated", "--format", "sarif", str(BROKEN)),
+        ("rules",),
+        ("explain", "CA004"),
+    ],
+)
+def test_a_broken_stdout_is_a_quiet_exit_2(args: tuple[str, ...]) -> None:
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # nobody reads: every write fails with EPIPE
+    try:
+        result = subprocess.run(
+            command(*args), stdout=write_end, stderr=subprocess.PIPE, text=True, timeout=120
+        )
+    finally:
+        os.close(write_end)
+    assert (result.returncode, result.stderr) == (2, "")
+
+
+def test_a_closed_stdout_is_a_quiet_exit_2() -> None:
+    result = subprocess.run(
+        command("check", "--isolated", str(BROKEN)),
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=120,
+        preexec_fn=lambda: os.close(1),  # noqa: PLW1509 - the child only closes a descriptor
+    )
+    assert (result.returncode, result.stderr) == (2, "")
+
+
+def test_a_closed_stdout_does_not_stop_a_report_to_a_file(tmp_path: Path) -> None:
+    report = tmp_path / "report.json"
+    result = subprocess.run(
+        command("check", "--isolated", "--format", "json", "--output", str(report), str(BROKEN)),
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=120,
+        preexec_fn=lambda: os.close(1),  # noqa: PLW1509
+    )
+    assert (result.returncode, result.stderr) == (1, "")
+    assert json.loads(report.read_text())["summary"]["findings"] > 0
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+@pytest.mark.parametrize("output_format", ["text", "json"])
+def test_stdout_on_a_full_device_is_one_line_and_exit_2(output_format: str) -> None:
+    with open("/dev/full", "w") as full:
+        result = subprocess.run(
+            command("check", "--isolated", "--format", output_format, str(BROKEN)),
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=120,
+        )
+    assert result.returncode == 2
+    assert (
+        result.stderr == "usdrender-lint: error: cannot write the report: No space left on device\n"
+    )
