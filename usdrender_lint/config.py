@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 import types
 import typing
 from collections.abc import Mapping, Sequence
@@ -197,17 +198,49 @@ def check_max_variant_combinations(value: int, where: str = "--max-variant-combi
     return value
 
 
-def read_config_file(path: str | os.PathLike[str]) -> Settings:
-    """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``."""
+def _load_toml(path: Path) -> dict[str, Any]:
+    """The file's TOML document. A file that cannot be read or is not TOML is a
+    ConfigError, with ``file:line:col`` of the first error."""
     import tomllib  # only when there is a file to read
 
-    path = Path(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = path.read_bytes()
     except OSError as exc:
         raise ConfigError(f"{path}: cannot read config file: {exc.strerror or exc}") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ConfigError(f"{path}: invalid TOML: {exc}") from None
+    try:
+        text = data.decode("utf-8")
+        return tomllib.loads(text)
+    except UnicodeDecodeError as exc:
+        line, column = _position(data[: exc.start].decode("utf-8"))
+        reason = f"not UTF-8 (byte 0x{data[exc.start]:02x})"
+    except tomllib.TOMLDecodeError as exc:
+        line, column = _toml_error_position(exc, text)
+        reason = _TOML_POSITION.sub("", str(exc))
+    raise ConfigError(f"{path}:{line}:{column}: invalid TOML: {reason}")
+
+
+#: Where tomllib says its error is (Python 3.11 puts it in the message only).
+_TOML_POSITION = re.compile(r"\s*\((?:at line (\d+), column (\d+)|at end of document)\)$")
+
+
+def _toml_error_position(exc: Exception, text: str) -> tuple[int, int]:
+    if getattr(exc, "lineno", None) and getattr(exc, "colno", None):
+        return exc.lineno, exc.colno  # type: ignore[attr-defined]
+    found = _TOML_POSITION.search(str(exc))
+    if found and found.group(1):
+        return int(found.group(1)), int(found.group(2))
+    return _position(text)  # the end of the document
+
+
+def _position(text: str) -> tuple[int, int]:
+    """(line, column) of the character just after ``text``, 1-based."""
+    return text.count("\n") + 1, len(text) - (text.rfind("\n") + 1) + 1
+
+
+def read_config_file(path: str | os.PathLike[str]) -> Settings:
+    """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``."""
+    path = Path(path)
+    data = _load_toml(path)
     if path.name != "pyproject.toml":
         return _parse_table(data, str(path))
     tool = data.get("tool", {})
@@ -220,7 +253,9 @@ def read_config_file(path: str | os.PathLike[str]) -> Settings:
 
 def find_config_file(start: str | Path) -> Path | None:
     """The nearest config file from ``start`` upwards. A ``pyproject.toml``
-    counts only when it has a ``[tool.usdrender-lint]`` table."""
+    counts only when it has a ``[tool.usdrender-lint]`` table; one that cannot
+    be read or is not TOML stops the search (ConfigError): it may hold the
+    table, and the run must not silently fall back to the defaults."""
     here = Path(start).resolve()
     if here.is_file():
         here = here.parent
@@ -235,13 +270,8 @@ def find_config_file(start: str | Path) -> Path | None:
 
 
 def _has_tool_table(pyproject: Path) -> bool:
-    import tomllib
-
-    try:
-        data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
-    except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError):
-        return False
-    return TOOL_TABLE in data.get("tool", {})
+    tool = _load_toml(pyproject).get("tool", {})
+    return isinstance(tool, dict) and TOOL_TABLE in tool
 
 
 def load_settings(

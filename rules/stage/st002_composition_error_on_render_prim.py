@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api.resolve import usd_text
 
 from ._render_prims import RENDER_SCOPE, is_render_type
 
@@ -102,8 +103,9 @@ class CompositionErrorOnRenderPrim(Rule):
                     continue
             at_root = site == Sdf.Path.absoluteRootPath
             scope = "every prim" if at_root else f"render data at <{site}>"
+            text = " ".join(usd_text(error).split())
             yield Diagnostic(
-                message=f"{' '.join(str(error).split())} {scope[0].upper()}{scope[1:]} loses the "
+                message=f"{text} {scope[0].upper()}{scope[1:]} loses the "
                 "opinions this layer or arc would supply; repair the asset path or remove it",
                 at=None if at_root else site,
             )

@@ -514,23 +514,6 @@ def Scope "Render"
     assert any(cause in m for m in messages), messages
 
 
-def test_unreadable_file_is_a_tool_error(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    path = _text("secret.usda", SCOPE)(tmp_path)
-    control = _text("control.usda", CONTROL)(tmp_path)
-    os.chmod(path, 0)
-    if os.geteuid() == 0:
-        # root reads any file, so emulate the permission check's answer.
-        real_access = os.access
-        monkeypatch.setattr(os, "access", lambda p, mode: p != path and real_access(p, mode))
-    try:
-        result = run_cli("--jobs", "1", "--timeout", "0", path, control)
-    finally:
-        os.chmod(path, 0o644)
-    assert result.exit_code == 2
-    assert result.stderr == f"usdrender-lint: error: {path}: permission denied\n"
-    assert "SE003" in {f["code"] for f in _files_by_name(result)[control]["findings"]}
-
-
 def test_a_hung_read_times_out_and_the_rest_are_linted(tmp_path: Path) -> None:
     """A sublayer that is a FIFO: USD blocks reading it forever."""
     if not hasattr(os, "mkfifo"):

@@ -9,6 +9,7 @@ no rule re-derives them (catalog, "Conventions used by every rule").
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
@@ -20,6 +21,18 @@ from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdRender
 from .cache import cached
 
 DEFAULT_TIME = Usd.TimeCode.Default()
+
+
+def usd_text(value: object) -> str:
+    """``str(value)`` for a USD object whose text may name a file that is not
+    UTF-8 (a composition error): the bindings' strict decoding raises, so
+    the bytes are decoded as Python names such a file (``os.fsdecode``)."""
+    try:
+        return str(value)
+    except UnicodeDecodeError as exc:
+        if not isinstance(exc.object, bytes):
+            raise
+        return os.fsdecode(exc.object)
 
 
 # -- prims and targets ---------------------------------------------------------

@@ -3,7 +3,9 @@ ST001 findings' messages (``file:line:col`` where USD gives one)."""
 
 from __future__ import annotations
 
+import errno
 import os
+import stat
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -108,17 +110,39 @@ def _undecodable_error(path: str) -> str:
 
 
 def unreadable_reason(path: str) -> str | None:
-    """Why ``path`` cannot be handed to USD at all, or None when it can."""
-    if not os.path.exists(path):
-        return "a broken or looping symbolic link" if os.path.islink(path) else "no such file"
-    if os.path.isdir(path):
+    """Why ``path`` cannot be handed to USD at all, or None when it can. The
+    file is really opened (not ``os.access``, which a privileged user passes):
+    an unreadable file, or one in a folder without search permission, is
+    "permission denied", never "no such file"."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as exc:
+        if exc.errno in (errno.ENOENT, errno.ELOOP) and os.path.islink(path):
+            return "a broken or looping symbolic link"
+        return _os_reason(exc)
+    if stat.S_ISDIR(mode):
+        # Discovery hands over a folder only when it could not list it.
+        try:
+            os.listdir(path)
+        except OSError as exc:
+            return _os_reason(exc)
         return "is a directory"
-    if not os.path.isfile(path):
+    if not stat.S_ISREG(mode):
         # A FIFO or a device: opening it can block forever.
         return "not a regular file"
-    if not os.access(path, os.R_OK):
-        return "permission denied"
+    try:
+        os.close(os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)))
+    except OSError as exc:
+        return _os_reason(exc)
     return None
+
+
+def _os_reason(exc: OSError) -> str:
+    if exc.errno == errno.ENOENT:
+        return "no such file"
+    if exc.errno in (errno.EACCES, errno.EPERM):
+        return "permission denied"
+    return (exc.strerror or str(exc)).lower()
 
 
 def position_from_error(text: str) -> tuple[str, int, int | None] | None:

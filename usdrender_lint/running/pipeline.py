@@ -343,7 +343,11 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         )
     if request.fix is not None and request.fix.fix_to and request.fix.write is False:
         raise RequestError("use either --diff or --fix-to, not both")
-    files = collect_files(request.paths)
+    empty: list[str] = []
+    files = collect_files(request.paths, empty)
+    notes.extend(
+        f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
+    )
     # With config `roots`, the paths are linted inside the stages that use them.
     plan = None
     if settings.roots and request.use_roots:
