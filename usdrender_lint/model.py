@@ -105,6 +105,9 @@ class FileResult:
     status: str = "linted"
     error: str | None = None
     findings: tuple[Finding, ...] = ()
+    #: Lines for the user about this file beside its findings (e.g. how many
+    #: variant combinations --variants skipped).
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

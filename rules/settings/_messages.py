@@ -7,9 +7,12 @@ from typing import Any
 
 from pxr import Vt
 
+from usdrender_lint.api.text import listing
+
 
 def _fmt(value: Any) -> str:
-    """A value as it reads in a message: vectors as tuples, floats trimmed."""
+    """A value as it reads in a message: vectors as tuples, floats trimmed;
+    only as much of an array as a message can hold is formatted."""
     if value is None:
         return "no value"
     if isinstance(value, str):
@@ -17,15 +20,13 @@ def _fmt(value: Any) -> str:
     if isinstance(value, float):
         return f"{value:g}"
     try:
-        items = list(value)
+        first = next(iter(value), None)
     except TypeError:
         return str(value)
-    if value and all(isinstance(v, str) for v in items):
-        return "[" + ", ".join(f'"{v}"' for v in items) + "]"
-    if not items and isinstance(value, Vt.TokenArray):
-        return "[]"
-    return "(" + ", ".join(_fmt(v) for v in items) + ")"
+    if isinstance(value, Vt.TokenArray) or (first is not None and isinstance(first, str)):
+        return "[" + listing(value, lambda v: f'"{v}"') + "]"
+    return "(" + listing(value, _fmt) + ")"
 
 
 def _quoted(tokens: Sequence[str]) -> str:
-    return ", ".join(f'"{t}"' for t in tokens)
+    return listing(tokens, lambda t: f'"{t}"')

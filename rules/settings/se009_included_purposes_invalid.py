@@ -15,6 +15,8 @@ from ._purposes import _duplicates
 
 #: The purposes UsdGeom knows, in its order (fixed for the process).
 _PURPOSES = tuple(str(t) for t in UsdGeom.Imageable.GetOrderedPurposeTokens())
+#: Entries of a long list that are checked (a list past four entries is wrong anyway).
+CHECKED_ENTRIES = 10_000
 
 
 class IncludedPurposesInvalid(Rule):
@@ -61,7 +63,9 @@ class IncludedPurposesInvalid(Rule):
 
     ## Fix safety
     Safe, conditional: when the only problem is repeated tokens, the fix drops
-    the repeats and keeps the order. Unknown tokens are not fixed.
+    the repeats and keeps the order. Unknown tokens are not fixed, nor is a
+    list of more than 10,000 entries (only its first 10,000 are checked: any
+    list of more than four entries repeats or misnames a purpose).
     """
 
     code = "SE009"
@@ -76,7 +80,10 @@ class IncludedPurposesInvalid(Rule):
         purposes = authored_value(attr)
         if purposes is None:
             return
-        tokens = items(purposes)
+        # Any list of more than four entries repeats or misnames one, so a long
+        # list is judged by its start; it gets no fix (that would need it all).
+        whole = len(purposes) <= CHECKED_ENTRIES
+        tokens = items(purposes if whole else purposes[:CHECKED_ENTRIES])
         known = _PURPOSES
         unknown = [t for t in dict.fromkeys(tokens) if t not in known]
         repeated = _duplicates(tokens)
@@ -90,8 +97,10 @@ class IncludedPurposesInvalid(Rule):
             )
         if not problems:
             return
+        if not whole:
+            problems.append(f"the first {CHECKED_ENTRIES:,} of {len(purposes):,} entries checked")
         fix = None
-        if not unknown:
+        if not unknown and whole:
             unique = Vt.TokenArray(list(dict.fromkeys(tokens)))
             fix = Fix(
                 description="drop the repeated purposes",

@@ -279,3 +279,82 @@ def test_the_warning_does_not_hide_the_other_paths(tmp_path: Path) -> None:
     )
     assert result.exit_code == 1
     assert "no USD files" in result.stderr and "SE003" in result.stdout
+
+
+# -- a working directory USD cannot open files under --------------------------------
+
+
+def _run_in(folder: Path, *args: str) -> subprocess.CompletedProcess:
+    """The command started in ``folder`` (entered step by step: its path may be
+    longer than any path the system takes in one call)."""
+    code = (
+        "import os, sys\n"
+        "for part in sys.argv[1].split('/'):\n"
+        "    os.chdir(part or '/')\n"
+        "from usdrender_lint.cli import main\n"
+        "sys.argv = ['usdrender-lint', *sys.argv[2:]]\n"
+        "main()\n"
+    )
+    return subprocess.run(
+        [sys.executable, "-c", code, str(folder), *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+
+
+@pytest.fixture
+def too_deep(tmp_path: Path) -> Path:
+    """A folder whose path is longer than PATH_MAX, holding a shot."""
+    folder = tmp_path
+    here = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        while len(os.fsencode(str(folder))) <= 4200:
+            os.mkdir("d" * 200)
+            os.chdir("d" * 200)
+            folder = folder / ("d" * 200)
+        with open("shot.usda", "w") as handle:
+            handle.write(INVERTED.replace("@./sub.usda@", "@./shot.usda@"))
+    finally:
+        os.chdir(here)
+    return folder
+
+
+def test_a_working_directory_longer_than_path_max_is_one_line(too_deep: Path) -> None:
+    result = _run_in(too_deep, "check", "shot.usda")
+    assert result.returncode == 2
+    [line] = result.stderr.splitlines()
+    assert re.fullmatch(
+        r"usdrender-lint: error: the working directory's path is [\d,]+ bytes long, more than "
+        r"PATH_MAX \([\d,]+\): USD cannot open files below it; change to a folder with a "
+        r"shorter path",
+        line,
+    )
+    assert result.stdout == ""
+
+
+def test_absolute_paths_still_work_from_there(too_deep: Path) -> None:
+    clean = str(REPO / "examples" / "clean_shot" / "shot.usda")
+    result = _run_in(too_deep, "check", clean)
+    assert (result.returncode, result.stderr) == (0, "")
+
+
+def test_a_working_directory_that_is_gone_is_one_line(tmp_path: Path) -> None:
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    code = (
+        "import os, sys\n"
+        "os.chdir(sys.argv[1]); os.rmdir(sys.argv[1])\n"
+        "from usdrender_lint.cli import main\n"
+        "sys.argv = ['usdrender-lint', 'check', 'shot.usda']\n"
+        "main()\n"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code, str(gone)], capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 2
+    assert result.stderr == (
+        "usdrender-lint: error: the working directory cannot be read (No such file or "
+        "directory); change to another folder or give absolute paths\n"
+    )

@@ -91,7 +91,7 @@ def shot(tmp_path: Path) -> Path:
 
 def check(*args: str):
     result = CliRunner().invoke(cli, ["check", "--isolated", "--format", "json", *args])
-    document = json.loads(result.output) if result.output.startswith("{") else None
+    document = json.loads(result.stdout) if result.stdout.startswith("{") else None
     findings = [f for file in document["files"] for f in file["findings"]] if document else []
     return result, findings
 
@@ -122,12 +122,22 @@ def test_variants_find_defects_in_unselected_variants_and_name_the_selection(
     assert (shot.read_bytes(), shot.stat().st_mtime_ns, sorted(os.listdir(shot.parent))) == before
 
 
-def test_the_cap_limits_the_combinations(shot: Path) -> None:
-    # Authored first: (preview, main), then (preview, none), (final, main), ...
-    _, one = check("--variants", "--max-variant-combinations", "1", str(shot))
+def test_the_cap_limits_the_combinations_and_says_how_many_it_skipped(shot: Path) -> None:
+    # Authored first: (preview, main); then one set at a time, by prim path:
+    # (final, main), (preview, none); then (final, none).
+    result, one = check("--variants", "--max-variant-combinations", "1", str(shot))
     assert one == []
-    _, two = check("--variants", "--max-variant-combinations", "2", str(shot))
-    assert {f["code"] for f in two} == {"CA001"}
+    assert result.stderr == (
+        f"usdrender-lint: {shot}: --variants linted 1 variant combinations; 3 more were "
+        "skipped (raise --max-variant-combinations)\n"
+    )
+    result, two = check("--variants", "--max-variant-combinations", "2", str(shot))
+    assert {f["code"] for f in two} == {"SE002"}
+    assert "2 variant combinations; 2 more were skipped" in result.stderr
+    result, three = check("--variants", "--max-variant-combinations", "3", str(shot))
+    assert {f["code"] for f in three} == {"SE002", "CA001"}
+    result, four = check("--variants", "--max-variant-combinations", "4", str(shot))
+    assert four == three and result.stderr == ""  # nothing skipped, nothing said
 
 
 def test_a_finding_under_the_authored_selection_is_not_annotated(tmp_path: Path) -> None:
@@ -183,12 +193,12 @@ def test_variants_and_their_cap_from_the_config_file(shot: Path) -> None:
     config = shot.parent / ".usdrender-lint.toml"
     config.write_text("variants = true\nmax-variant-combinations = 2\n")
     result = CliRunner().invoke(cli, ["check", "--format", "json", str(shot)])
-    codes = {f["code"] for file in json.loads(result.output)["files"] for f in file["findings"]}
-    assert codes == {"CA001"}  # the cap of 2 from the file applies
+    codes = {f["code"] for file in json.loads(result.stdout)["files"] for f in file["findings"]}
+    assert codes == {"SE002"}  # the cap of 2 from the file applies
     flag = CliRunner().invoke(
         cli, ["check", "--format", "json", "--max-variant-combinations", "64", str(shot)]
     )
-    codes = {f["code"] for file in json.loads(flag.output)["files"] for f in file["findings"]}
+    codes = {f["code"] for file in json.loads(flag.stdout)["files"] for f in file["findings"]}
     assert codes == {"SE002", "CA001"}  # the flag wins over the file
 
 

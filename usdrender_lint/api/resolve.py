@@ -299,10 +299,22 @@ def fallback_value(prim: Usd.Prim, name: str) -> Any:
 
 
 def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
-    """The attribute's value when it is authored and well-typed, else None."""
+    """The attribute's value when it is authored and well-typed, else None.
+    At Default it is read once per lint: every rule that reads the attribute
+    shares it (a crate unpacks a large array anew on each read). Treat it as
+    read-only."""
+    if time.IsDefault():
+        return _authored_default(attr)
     if attr is None or not has_authored_value(attr):
         return None
     return attr.Get(time)
+
+
+@cached
+def _authored_default(attr: Usd.Attribute | None) -> Any:
+    if attr is None or not has_authored_value(attr):
+        return None
+    return attr.Get(DEFAULT_TIME)
 
 
 def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME) -> Any:

@@ -234,11 +234,14 @@ class Linter:
 
     # -- entry points ---------------------------------------------------------
 
-    def lint_path(self, path: str) -> FileResult:
-        """Lint one file; never raises for a bad file."""
-        return self.inspect_path(path).result
+    def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
+        """Lint one file; never raises for a bad file. ``full_composition``
+        composes the whole stage for this file (no fast path)."""
+        return self.inspect_path(path, full_composition=full_composition).result
 
-    def inspect_path(self, path: str, inspect: Inspector[_T] | None = None) -> Inspected[_T]:
+    def inspect_path(
+        self, path: str, inspect: Inspector[_T] | None = None, *, full_composition: bool = False
+    ) -> Inspected[_T]:
         """Lint one file like :meth:`lint_path` and hand the lint's Context and
         findings to ``inspect`` while the stage it linted (partly composed when
         the fast path applies) is open and the lint's cache active, so that a
@@ -249,7 +252,7 @@ class Linter:
         if problem is not None:
             return Inspected(FileResult(path, status="error", error=f"{path}: {problem}"))
         try:
-            return self._lint_file(path, inspect)
+            return self._lint_file(path, inspect, full_composition)
         except InspectionError as exc:
             return Inspected(FileResult(path, status="error", error=f"{path}: {exc}"))
         except UnicodeDecodeError as exc:
@@ -271,8 +274,11 @@ class Linter:
         )
         return Inspected(FileResult(path, findings=(finding,)))
 
-    def _lint_file(self, path: str, inspect: Inspector[_T] | None) -> Inspected[_T]:
-        masked = None if self.full_composition else self._open_partial(path)
+    def _lint_file(
+        self, path: str, inspect: Inspector[_T] | None, full_composition: bool = False
+    ) -> Inspected[_T]:
+        full = full_composition or self.full_composition
+        masked = None if full else self._open_partial(path)
         if masked is not None and self._reads is not None:
             # What the fast path read decided how the stage is composed.
             self._reads.add_layers(masked.layers)

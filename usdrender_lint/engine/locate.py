@@ -7,12 +7,10 @@ import os
 
 from pxr import Sdf, Usd
 
+from ..api.text import MAX_MESSAGE_CHARS
 from ..model import Location
 from ..paths import from_usd
 from . import usda_lines
-
-#: Longest finding message kept (see bounded_message).
-MAX_MESSAGE_CHARS = 2000
 
 
 def bounded_message(message: str) -> str:

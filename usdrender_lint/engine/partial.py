@@ -43,6 +43,7 @@ lints the file again, fully composed.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
@@ -127,12 +128,14 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
     layers: list[Sdf.Layer] = []
     missing: list[str] = []
     stage = None
+    specs = _Specs()
     with Tf.DiagnosticTrap() as trap:
         try:
             root = Sdf.Layer.FindOrOpen(usd_path(path))
             if root is None:
                 raise NotProvable("USD cannot open the layer")
             layers = [root]
+            specs.check(root)
             # The common small file: one layer, no arcs to others. Checked
             # before building any stage, which costs more than the check.
             if FLAT_STAGES_COMPOSE_FULLY and not root.GetCompositionAssetDependencies():
@@ -140,13 +143,13 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
             stage = Usd.Stage.OpenMasked(
                 usd_path(path), Usd.StagePopulationMask(), Usd.Stage.LoadAll
             )
-            layers = _reachable_layers(stage, missing)
+            layers = _reachable_layers(stage, missing, specs)
             if trap.HasErrors():
                 raise NotProvable("an error was posted while reading the layers")
             root_stack = stage.GetLayerStack(includeSessionLayers=True)
             if FLAT_STAGES_COMPOSE_FULLY and len(layers) == len(root_stack):
                 raise NotProvable("every layer is in the root layer stack")
-            mask = _initial_mask(stage, layers, wants_type)
+            mask = _initial_mask(stage, layers, wants_type, specs)
             stage.SetPopulationMask(mask)
             _expand(stage)
             if trap.HasErrors():
@@ -162,7 +165,7 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
 # -- layers ---------------------------------------------------------------------------
 
 
-def _reachable_layers(stage: Usd.Stage, missing: list[str]) -> list[Sdf.Layer]:
+def _reachable_layers(stage: Usd.Stage, missing: list[str], specs: _Specs) -> list[Sdf.Layer]:
     """The root layer stack, then every layer reachable through sublayers,
     references and payloads (variants included), each once. The identifiers
     of the layers that do not exist are added to ``missing``."""
@@ -172,6 +175,7 @@ def _reachable_layers(stage: Usd.Stage, missing: list[str]) -> list[Sdf.Layer]:
         queue = list(layers)
         while queue:
             anchor = queue.pop()
+            specs.check(anchor)
             for asset_path in anchor.GetCompositionAssetDependencies():
                 if "`" in asset_path:
                     raise NotProvable(f"expression variables in @{asset_path}@")
@@ -186,15 +190,69 @@ def _reachable_layers(stage: Usd.Stage, missing: list[str]) -> list[Sdf.Layer]:
     return layers
 
 
-def _layer_paths(layer: Sdf.Layer) -> list[Sdf.Path]:
-    """Every spec path of the layer, prims inside variants included."""
-    if layer.HasRelocates():
-        raise NotProvable(f"{layer.identifier} has relocates")
-    # Sdf's own traversal, collected and filtered, is cheaper than walking
-    # nameChildren from Python.
-    paths: list[Sdf.Path] = []
-    layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
-    return paths
+#: A variant named "" in usda text (``"" {``, or ``"" (`` for one with metadata).
+_EMPTY_VARIANT_NAME = re.compile(rb'""\s*[({]')
+
+
+class _Specs:
+    """Each layer's spec paths, read once per fast-path open, and only from a
+    layer that walking cannot crash.
+
+    Sdf's recursive walks of a layer (``Traverse``, and the one behind
+    ``GetCompositionAssetDependencies``) abort the process on names usd-core
+    26.11 reads but cannot make paths of, where composing the stage merely
+    posts an error or never looks: a variant named "" (the walks recurse
+    without end or dereference an invalid variant set spec) and, in a corrupt
+    crate, a prim named "" (an invalid prim spec). A layer holding either is
+    left to the full composition (NotProvable), so the fast path survives
+    whatever composing the stage survives. :meth:`check` comes before any walk
+    of a layer."""
+
+    def __init__(self) -> None:
+        self._paths: dict[str, list[Sdf.Path]] = {}
+        self._checked: set[str] = set()
+
+    def check(self, layer: Sdf.Layer) -> None:
+        if layer.identifier in self._checked:
+            return
+        if layer.GetFileFormat().formatId == "usda":
+            file = layer.realPath
+            if file and _has_empty_variant_name(file):
+                raise NotProvable(f'{layer.identifier} names a variant ""')
+        else:
+            # A crate's names are not text to search: Traverse survives a prim
+            # named "" and visits it as the empty path. (A crate holding a
+            # variant named "" remains beyond reach: Traverse recurses on it.)
+            self._paths[layer.identifier] = self._traverse(layer)
+        self._checked.add(layer.identifier)
+
+    def paths(self, layer: Sdf.Layer) -> list[Sdf.Path]:
+        """Every spec path of the layer, prims inside variants included."""
+        self.check(layer)
+        if layer.HasRelocates():
+            raise NotProvable(f"{layer.identifier} has relocates")
+        found = self._paths.get(layer.identifier)
+        if found is None:
+            found = self._paths[layer.identifier] = self._traverse(layer)
+        return found
+
+    @staticmethod
+    def _traverse(layer: Sdf.Layer) -> list[Sdf.Path]:
+        # Sdf's own traversal, collected and filtered, is cheaper than walking
+        # nameChildren from Python.
+        paths: list[Sdf.Path] = []
+        layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
+        if paths and not all(paths):  # an empty path: a prim named ""
+            raise NotProvable(f"{layer.identifier} holds a prim with no name")
+        return paths
+
+
+def _has_empty_variant_name(file: str) -> bool:
+    try:
+        with open(file, "rb") as handle:
+            return _EMPTY_VARIANT_NAME.search(handle.read()) is not None
+    except OSError:
+        return False
 
 
 def _is_prim_site(path: Sdf.Path) -> bool:
@@ -204,12 +262,10 @@ def _is_prim_site(path: Sdf.Path) -> bool:
 def _scan(
     layer: Sdf.Layer,
     wants_type: Callable[[str], bool],
-    paths: list[Sdf.Path] | None = None,
+    paths: list[Sdf.Path],
     scan: _LayerScan | None = None,
 ) -> _LayerScan:
-    """Record the layer's wanted specs and arcs (of ``paths``, default all)."""
-    if paths is None:
-        paths = _layer_paths(layer)
+    """Record the layer's wanted specs and arcs (of ``paths``)."""
     scan = scan if scan is not None else _LayerScan(specs=len(paths))
     get_spec = layer.GetPrimAtPath
     # A layer whose file holds none of these words has no arc, relocates or
@@ -273,7 +329,7 @@ def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan) -> None:
 
 
 def _initial_mask(
-    stage: Usd.Stage, layers: list[Sdf.Layer], wants_type: Callable[[str], bool]
+    stage: Usd.Stage, layers: list[Sdf.Layer], wants_type: Callable[[str], bool], specs: _Specs
 ) -> Usd.StagePopulationMask:
     root_stack = {layer.identifier for layer in stage.GetLayerStack(includeSessionLayers=True)}
     foreign_classes: set[str] = set()
@@ -281,7 +337,7 @@ def _initial_mask(
     for layer in layers:
         if layer.identifier in root_stack:
             continue
-        scan = scans[layer.identifier] = _scan(layer, wants_type)
+        scan = scans[layer.identifier] = _scan(layer, wants_type, specs.paths(layer))
         if scan.wanted:
             raise NotProvable(f"{layer.identifier} brings in wanted prims through an arc")
         if layer.pseudoRoot.HasInfo(SETTINGS_PATH_KEY):
@@ -289,7 +345,7 @@ def _initial_mask(
         foreign_classes |= scan.class_names
     weight = _Weights(layers, scans)
     root_layers = [layer for layer in layers if layer.identifier in root_stack]
-    root_paths = [_layer_paths(layer) for layer in root_layers]
+    root_paths = [specs.paths(layer) for layer in root_layers]
     _check_payoff(root_layers, root_paths, weight, sum(s.specs for s in scans.values()))
     root_scan = _LayerScan()
     for layer, paths in zip(root_layers, root_paths, strict=True):

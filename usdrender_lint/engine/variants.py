@@ -3,10 +3,15 @@
 A defect inside a variant that is not selected is not on the composed stage,
 so a normal run cannot see it. The explorer finds the variant sets of every
 usable render prim and its ancestors, then lints the stage once per
-combination of their variants (the authored selections first), capped because
-the combinations multiply. Selections are authored in the session layer of a
-stage opened for this and cleared before each combination; nothing is ever
-saved, so the user's files are never written.
+combination of their variants, capped because the combinations multiply: the
+authored selections first, then each other variant of each set alone (so that
+a cap reaches every set it can, and a finding names the one selection behind
+it), then the other combinations in order. A combination is the selections
+that differ from the authored ones, so its cost does not grow with the number
+of sets; how many combinations the cap left out is reported. Selections are
+authored in the session layer of a stage opened for this and cleared before
+each combination; nothing is ever saved, so the user's files are never
+written.
 
 A finding that appears under the authored selections is reported as it is; one
 that appears only under another combination says which selections (those that
@@ -17,7 +22,7 @@ differ from the authored ones) in its message, e.g.
 from __future__ import annotations
 
 import itertools
-import os
+import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 
@@ -27,7 +32,7 @@ from ..api import Rule
 from ..model import FileResult, Finding
 from .linter import RENDER_SCHEMAS, Linter
 from .locate import locate
-from .stage import open_stage
+from .stage import open_stage, unreadable_reason
 
 #: Default cap on the variant combinations linted per file.
 DEFAULT_MAX_COMBINATIONS = 64
@@ -67,6 +72,11 @@ def render_variant_sets(stage: Usd.Stage) -> list[VariantSetChoice]:
     return found
 
 
+#: A combination: the (index of the set, variant) selections that differ
+#: from the authored ones; () is the authored selections.
+Combination = tuple[tuple[int, str], ...]
+
+
 def combination_count(sets: Sequence[VariantSetChoice]) -> int:
     count = 1
     for variant_set in sets:
@@ -74,31 +84,57 @@ def combination_count(sets: Sequence[VariantSetChoice]) -> int:
     return count
 
 
-def combinations(sets: Sequence[VariantSetChoice], limit: int) -> Iterator[tuple[str, ...]]:
-    """At most ``limit`` combinations, the authored selections first."""
-    return itertools.islice(itertools.product(*(s.choices for s in sets)), limit)
+def combinations(sets: Sequence[VariantSetChoice], limit: int) -> Iterator[Combination]:
+    """At most ``limit`` combinations: the authored selections, then each other
+    variant of each set alone, then the rest in product order."""
+    if limit < 1:
+        return
+    yield ()
+    produced = 1
+    for index, variant_set in enumerate(sets):
+        for variant in variant_set.choices[1:]:
+            if produced >= limit:
+                return
+            yield ((index, variant),)
+            produced += 1
+    for choices in itertools.product(*(range(len(s.choices)) for s in sets)):
+        if produced >= limit:
+            return
+        changes = tuple((i, sets[i].choices[c]) for i, c in enumerate(choices) if c)
+        if len(changes) > 1:  # none or one: yielded above
+            yield changes
+            produced += 1
 
 
-def describe(sets: Sequence[VariantSetChoice], combination: Sequence[str]) -> str:
+def describe(sets: Sequence[VariantSetChoice], combination: Combination) -> str:
     """The selections that differ from the authored ones: ``/Render{quality=high}``."""
     return ", ".join(
-        str(s.prim_path.AppendVariantSelection(s.name, variant))
-        for s, variant in zip(sets, combination, strict=True)
-        if variant != s.authored
+        str(sets[index].prim_path.AppendVariantSelection(sets[index].name, variant))
+        for index, variant in combination
     )
 
 
 def author_selection(
-    stage: Usd.Stage, sets: Sequence[VariantSetChoice], combination: Sequence[str]
+    stage: Usd.Stage, sets: Sequence[VariantSetChoice], combination: Combination
 ) -> None:
     """Author ``combination`` in the stage's session layer, replacing the last one."""
     session = stage.GetSessionLayer()
     with Sdf.ChangeBlock():
         session.Clear()
-        for variant_set, variant in zip(sets, combination, strict=True):
-            if variant != variant_set.authored:
-                spec = Sdf.CreatePrimInLayer(session, variant_set.prim_path)
-                spec.variantSelections[variant_set.name] = variant
+        for index, variant in combination:
+            spec = Sdf.CreatePrimInLayer(session, sets[index].prim_path)
+            spec.variantSelections[sets[index].name] = variant
+
+
+def skipped_note(path: str, linted: int, total: int) -> str:
+    """What the cap left out, for the user: how many combinations were not linted."""
+    skipped = total - linted
+    # 10,000 sets of two variants make 2^10000 combinations: too many digits to print.
+    shown = f"{skipped:,}" if skipped < 10**15 else f"about 10^{int(math.log10(skipped))}"
+    return (
+        f"{path}: --variants linted {linted:,} variant combinations; {shown} more were "
+        "skipped (raise --max-variant-combinations)"
+    )
 
 
 class VariantExplorer:
@@ -123,21 +159,30 @@ class VariantExplorer:
         """The wrapped linter's :meth:`Linter.recording_reads` (every combination's reads)."""
         return self.linter.recording_reads()
 
-    def lint_path(self, path: str) -> FileResult:
-        if not os.path.isfile(path):
+    def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
+        """Lint ``path`` under each combination; the stage is always composed
+        whole (``full_composition`` is accepted, as by Linter.lint_path). The
+        result's notes say how many combinations the cap skipped."""
+        if unreadable_reason(path) is not None:
             return self.linter.lint_path(path)  # it reports what is wrong
         opened = open_stage(path)
         if opened.stage is None:
             return self.linter.lint_path(path)
-        return FileResult(path, findings=tuple(self.lint_stage(opened.stage, path)))
+        notes: list[str] = []
+        findings = self.lint_stage(opened.stage, path, notes)
+        return FileResult(path, findings=tuple(findings), notes=tuple(notes))
 
-    def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
+    def lint_stage(
+        self, stage: Usd.Stage, file: str | None = None, notes: list[str] | None = None
+    ) -> list[Finding]:
         """Findings under every explored combination; the session layer is
-        left empty again."""
+        left empty again. When the cap cut combinations, a line saying how
+        many is added to ``notes``."""
         sets = render_variant_sets(stage)
         if not sets:
             return self.linter.lint_stage(stage, file)
         seen: dict[tuple, Finding] = {}
+        linted = 0
         try:
             for combination in combinations(sets, self.max_combinations):
                 author_selection(stage, sets, combination)
@@ -146,8 +191,12 @@ class VariantExplorer:
                     key = (finding.code, finding.location.path, finding.message)
                     if key not in seen:
                         seen[key] = _annotated(stage, finding, selection)
+                linted += 1
         finally:
             stage.GetSessionLayer().Clear()
+        total = combination_count(sets)
+        if notes is not None and linted < total:
+            notes.append(skipped_note(file or stage.GetRootLayer().identifier, linted, total))
         return sorted(seen.values(), key=Finding.sort_key)
 
 

@@ -34,11 +34,18 @@ from ..profiles.detect import Profiler
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from .discovery import collect_files
 from .path_ignores import apply_path_ignores
-from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
+from .workers import (
+    DEFAULT_TIMEOUT,
+    ExecutionError,
+    default_jobs,
+    file_error,
+    lint_paths,
+    run_bounded,
+)
 
 if TYPE_CHECKING:
     from ..engine.variants import VariantExplorer
-    from ..fixing import FixRun
+    from ..fixing import FixOptions, FixRun
     from .result_cache import CachingLinter, ResultCache
 
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
@@ -145,13 +152,47 @@ def resolve_settings(request: Request) -> Settings:
 
 
 def check_request(request: Request) -> None:
-    """Raise a ConfigError for an option value out of range."""
+    """Raise a ConfigError for an option value out of range, or for relative
+    paths that cannot be reached from the working directory."""
+    named = [*request.paths]
+    if isinstance(request.config, str | os.PathLike):
+        named.append(os.fspath(request.config))
+    if any(not os.path.isabs(path) for path in named):
+        check_working_directory()
     if request.timeout is not None:
         check_timeout(request.timeout)
     if request.jobs is not None:
         check_jobs(request.jobs)
     if request.max_variant_combinations is not None:
         check_max_variant_combinations(request.max_variant_combinations)
+
+
+def path_max() -> int:
+    try:
+        return os.pathconf("/", "PC_PATH_MAX")
+    except (OSError, ValueError, AttributeError):
+        return 4096
+
+
+def check_working_directory() -> None:
+    """A working directory that is gone, or whose path is longer than
+    PATH_MAX: no file below it can be opened by its absolute path, which is
+    how USD opens every layer, so stop with one line instead of failing on
+    every file (or in the configuration search)."""
+    try:
+        cwd = os.getcwd()
+    except OSError as exc:
+        raise ConfigError(
+            f"the working directory cannot be read ({exc.strerror}); change to another "
+            "folder or give absolute paths"
+        ) from None
+    limit = path_max()
+    if len(os.fsencode(cwd)) >= limit:
+        raise ConfigError(
+            f"the working directory's path is {len(os.fsencode(cwd)):,} bytes long, more than "
+            f"PATH_MAX ({limit:,}): USD cannot open files below it; change to a folder with a "
+            "shorter path"
+        )
 
 
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
@@ -353,7 +394,9 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     if settings.roots and request.use_roots:
         from .roots import plan_from_settings  # USD's dependency tools: only for roots
 
-        plan = plan_from_settings(files, settings)
+        plan = plan_from_settings(
+            files, settings, timeout=request.timeout, jobs=request.jobs or default_jobs()
+        )
     if request.shard is not None:
         from .shards import select_plan_shard, select_shard
 
@@ -362,14 +405,21 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         else:
             files = select_shard(files, request.shard, settings.base_dir)
     targets = plan.files if plan else files
-    fixed = _run_fixes(prepared, targets) if request.fix is not None else None
+    fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
     if fixed is not None and request.fix is not None and request.fix.fix_to:
-        report = Report(tuple(fixed.remaining))  # what remains with the overrides
+        # What remains with the overrides.
+        report = Report(tuple(fixed.remaining) + fix_failed)
     else:
-        report = Report(_lint(prepared, targets, _open_cache(prepared, notes)))
+        # A stage whose fixing ran out of time is reported as that, not linted again.
+        failed = {result.file: result for result in fix_failed}
+        todo = [target for target in targets if target not in failed]
+        linted = iter(_lint(prepared, todo, _open_cache(prepared, notes)))
+        report = Report(tuple(failed[t] if t in failed else next(linted) for t in targets))
     if plan is not None:
+        report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
     report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
+    notes.extend(note for result in report.files for note in result.notes)
     report = _apply_baseline(report, known, request, notes)
     status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
     if fixed is None:
@@ -466,19 +516,75 @@ def fails(report: Report, fail_on: str) -> bool:
 # -- fixing ---------------------------------------------------------------------------
 
 
-def _run_fixes(prepared: Prepared, files: Sequence[str]) -> FixRun:
-    """Apply (or, for --diff, compute) the fixes on every stage, in this process."""
-    from ..fixing import FixError, FixOptions, fix_files
+def _run_fixes(prepared: Prepared, files: Sequence[str]) -> tuple[FixRun, tuple[FileResult, ...]]:
+    """Apply (or, for --diff, compute) the fixes on every stage, one stage after
+    another, and say which stages could not be fixed (error results). With a
+    time limit each stage is fixed in a worker process that is killed when it
+    runs past it (a FIFO in a layer stack blocks USD forever); without one, in
+    this process."""
+    from ..fixing import FixError, FixRun, fix_files
 
     wanted = prepared.request.fix
     assert wanted is not None
     if wanted.fix_to and len(files) != 1:
         raise RequestError(f"--fix-to writes the overrides of one stage; got {len(files)} files")
-    options = FixOptions(unsafe=wanted.unsafe, write=wanted.write, fix_to=wanted.fix_to)
+    if not prepared.request.timeout:
+        try:
+            run = fix_files(prepared.linter, files, _fix_options(wanted), keep=prepared.is_reported)
+        except FixError as exc:
+            raise RequestError(str(exc)) from None
+        return run, ()
+    # One worker, so that stages sharing a layer are still fixed one after another.
+    results = run_bounded(
+        files,
+        factory=_Fixing(replace(prepared.request, config=prepared.settings, isolated=False)),
+        handle=_fix_in_worker,
+        failed=file_error,
+        jobs=1,
+        timeout=prepared.request.timeout,
+    )
+    refused = [r for r in results if isinstance(r, _FixRefused)]
+    if refused:
+        raise RequestError(refused[0].reason)
+    run = FixRun()
+    for result in results:
+        if isinstance(result, FixRun):
+            run.extend(result)
+    return run, tuple(r for r in results if isinstance(r, FileResult))
+
+
+def _fix_options(wanted: FixRequest) -> FixOptions:
+    from ..fixing import FixOptions
+
+    return FixOptions(unsafe=wanted.unsafe, write=wanted.write, fix_to=wanted.fix_to)
+
+
+@dataclass(frozen=True)
+class _Fixing:
+    """A worker's fixer, built from the request (picklable)."""
+
+    request: Request
+
+    def __call__(self) -> Prepared:
+        return prepare(self.request)
+
+
+@dataclass(frozen=True)
+class _FixRefused:
+    """The fixing cannot start (FixError), said from a worker."""
+
+    reason: str
+
+
+def _fix_in_worker(prepared: Prepared, path: str) -> object:
+    from ..fixing import FixError, fix_files
+
+    assert prepared.request.fix is not None
+    options = _fix_options(prepared.request.fix)
     try:
-        return fix_files(prepared.linter, files, options, keep=prepared.is_reported)
+        return fix_files(prepared.linter, [path], options, keep=prepared.is_reported)
     except FixError as exc:
-        raise RequestError(str(exc)) from None
+        return _FixRefused(str(exc))
 
 
 def _fix_notes(report: Report, dry_run: bool) -> list[str]:

@@ -423,10 +423,10 @@ class CachingLinter:
     def raise_errors(self) -> bool:
         return bool(getattr(self.linter, "raise_errors", False))
 
-    def lint_path(self, path: str) -> FileResult:
+    def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
         started = time.time_ns()
         with self.linter.recording_reads() as reads:
-            result = self.linter.lint_path(path)
+            result = self.linter.lint_path(path, full_composition=full_composition)
         try:
             self.cache.store(path, result, reads, started)
         except Exception:  # noqa: BLE001 - a cache problem never costs a result

@@ -19,8 +19,10 @@ from pxr import Ar, Sdf, Tf, UsdUtils
 
 from ..config import Settings
 from ..engine import STAGE_OPEN_FAILED_CODE
-from ..model import INTERNAL_ERROR_CODE, Finding, Report
+from ..engine.stage import unreadable_reason
+from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
 from ..paths import display_path
+from .workers import file_error, run_bounded
 
 #: Tool problems are never filtered away: a root that cannot be opened or a rule
 #: that raised means the changed files were not checked.
@@ -87,6 +89,8 @@ def _walk_layers(root: str) -> Iterable[str]:
 
 
 def _readable(path: str) -> bool:
+    if unreadable_reason(path) is not None:
+        return False  # never hand USD a FIFO: reading it blocks forever
     with Tf.DiagnosticTrap() as trap:
         try:
             return Sdf.Layer.FindOrOpen(path) is not None
@@ -104,6 +108,8 @@ class ContextPlan:
     roots: Mapping[str, frozenset[str]] = field(default_factory=dict)
     #: Changed files no root uses: linted on their own, every finding kept.
     alone: tuple[str, ...] = ()
+    #: Roots whose layers could not be found in time, as error results.
+    failed: tuple[FileResult, ...] = ()
 
     @property
     def files(self) -> list[str]:
@@ -143,28 +149,75 @@ def _identity(finding: Finding) -> tuple:
     return (finding.code, finding.message, loc.path, loc.layer, loc.line)
 
 
-def plan_in_context(changed: Sequence[str], roots: Sequence[str]) -> ContextPlan:
+def plan_in_context(
+    changed: Sequence[str],
+    roots: Sequence[str],
+    *,
+    timeout: float | None = None,
+    jobs: int = 1,
+) -> ContextPlan:
     """Match the changed files against the roots' dependencies. A changed file
     USD cannot read is linted on its own: a root skips an unreadable sublayer
-    with a mere warning, which would hide the file's syntax error (ST001)."""
-    wanted = {file_key(path): path for path in changed if _readable(path)}
+    with a mere warning, which would hide the file's syntax error (ST001).
+
+    With a ``timeout`` USD reads the layers in worker processes, each root and
+    each changed file within it (a FIFO in a layer stack blocks USD forever):
+    a root that runs past it is an error result, a changed file is linted on
+    its own (and its own lint is bounded too)."""
+    questions = [("readable", path) for path in changed] + [("uses", root) for root in roots]
+    if timeout:
+        answers = run_bounded(
+            questions,
+            factory=_nothing,
+            handle=_answer,
+            failed=_unanswered,
+            jobs=jobs,
+            timeout=timeout,
+        )
+    else:
+        answers = [_answer(None, question) for question in questions]
+    readable = answers[: len(changed)]
+    wanted = {file_key(path): path for path, ok in zip(changed, readable, strict=True) if ok}
     used: set[str] = set()
     by_root: dict[str, frozenset[str]] = {}
-    for root in roots:
-        hits = dependencies(root).intersection(wanted)
+    failed = []
+    for root, uses in zip(roots, answers[len(changed) :], strict=True):
+        if isinstance(uses, FileResult):
+            failed.append(uses)
+            continue
+        hits = uses.intersection(wanted)
         if hits:
             by_root[root] = frozenset(hits)
             used.update(hits)
     alone = tuple(path for path in changed if file_key(path) not in used)
-    return ContextPlan(by_root, alone)
+    return ContextPlan(by_root, alone, tuple(failed))
 
 
-def plan_from_settings(changed: Sequence[str], settings: Settings) -> ContextPlan | None:
+def _nothing() -> None:
+    return None
+
+
+def _answer(_: None, question: tuple[str, str]) -> bool | frozenset[str]:
+    kind, path = question
+    return _readable(path) if kind == "readable" else dependencies(path)
+
+
+def _unanswered(question: tuple[str, str], why: str) -> bool | FileResult:
+    kind, path = question
+    if kind == "readable":
+        return False
+    return file_error(path, f"finding the layers it uses {why}")
+
+
+def plan_from_settings(
+    changed: Sequence[str], settings: Settings, *, timeout: float | None = None, jobs: int = 1
+) -> ContextPlan | None:
     """The plan for the configured ``roots`` globs (relative to the folder of
     the config file that set them), or None when no roots are configured."""
     if not settings.roots:
         return None
-    return plan_in_context(changed, find_roots(settings.roots, str(settings.base_dir)))
+    roots = find_roots(settings.roots, str(settings.base_dir))
+    return plan_in_context(changed, roots, timeout=timeout, jobs=jobs)
 
 
 __all__ = [

@@ -88,6 +88,8 @@ def select_plan_shard(plan: ContextPlan, shard: tuple[int, int], root: Path) -> 
         plan,
         roots={r: changed for r, changed in plan.roots.items() if r in kept_roots},
         alone=tuple(p for p in plan.alone if p in kept_alone),
+        # Roots whose layers could not be found are reported once, by the first shard.
+        failed=plan.failed if k == 1 else (),
     )
 
 

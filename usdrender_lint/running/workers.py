@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from ..model import FileResult
 from .interrupts import default_signals_in_worker
@@ -55,12 +55,18 @@ CHILD_STDERR_KEPT = 64 << 10
 
 class FileLinter(Protocol):
     """What the pool needs of a linter: an engine Linter, a VariantExplorer or
-    running.inspect's InspectingLinter."""
+    running.inspect's InspectingLinter. ``full_composition`` composes the
+    whole stage (a file a worker died on in the fast path is linted again so)."""
 
-    def lint_path(self, path: str) -> FileResult: ...
+    def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult: ...
 
 
 LinterFactory = Callable[[], FileLinter]
+#: What a worker does with each item: (what the factory built, the item) -> a
+#: picklable result. It must not raise (lint_one turns failures into results).
+Handler = Callable[[Any, Any], Any]
+#: The result for an item whose worker timed out or died: (item, why) -> result.
+OnFailure = Callable[[Any, str], Any]
 #: Environment variables that configure the linter, handed to every worker.
 ENV_PREFIX = "USDRENDER_LINT_"
 
@@ -112,6 +118,30 @@ def lint_paths(
         return pool.run(files)
 
 
+def run_bounded(
+    items: Sequence[Any],
+    *,
+    factory: Callable[[], Any],
+    handle: Handler,
+    failed: OnFailure,
+    jobs: int = 1,
+    timeout: float | None = None,
+) -> list[Any]:
+    """``handle(factory(), item)`` for each item, in worker processes that are
+    killed when an item runs past ``timeout`` seconds (None or 0: no limit) or
+    die on it; such an item's result is ``failed(item, why)``. In input order.
+    ``factory`` and ``handle`` must be picklable (module-level)."""
+    if not items:
+        return []
+    pool = _Pool(factory, min(jobs, len(items)), timeout or None, lambda: None, handle, failed)
+    return list(pool.run(items))
+
+
+def file_error(path: str, why: str) -> FileResult:
+    """The result for a file a worker could not lint: ``FILE: why``."""
+    return FileResult(path, status="error", error=f"{path}: {why}")
+
+
 def _lint_in_process(
     linter: FileLinter, files: Sequence[str], advance: Callable[[], None]
 ) -> Iterator[FileResult]:
@@ -120,11 +150,27 @@ def _lint_in_process(
         advance()
 
 
-def lint_one(linter: FileLinter, path: str) -> FileResult:
+@dataclass(frozen=True)
+class FullyComposed:
+    """A file to lint again with the whole stage composed (no fast path)."""
+
+    path: str
+
+
+def _path_of(item: Any) -> Any:
+    return item.path if isinstance(item, FullyComposed) else item
+
+
+def lint_one(linter: FileLinter, path: str | FullyComposed) -> FileResult:
     """``linter.lint_path`` that turns an unexpected engine failure into an
     error result for this file, so the other files are still linted."""
+    if isinstance(path, FullyComposed):
+        path = path.path
+        full = True
+    else:
+        full = False
     try:
-        return linter.lint_path(path)
+        return linter.lint_path(path, full_composition=full)
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
         if getattr(linter, "raise_errors", False):
             raise
@@ -180,15 +226,19 @@ def _build(linter_factory: LinterFactory | None) -> FileLinter:
         ) from exc
 
 
-def _lint_in_child(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
+def _lint_in_child(
+    linter: FileLinter, item: str | FullyComposed, timeout: float | None
+) -> FileResult:
     """Lint ``path`` in a forked child, which starts with this process's
     modules and linter: no interpreter start, no import, no linter to build,
     none of multiprocessing. The child is killed past ``timeout`` and a crash
-    costs only the file, as in the pool; what it printed on stderr (kept in a
-    pipe, the last CHILD_STDERR_KEPT bytes) becomes part of the error."""
+    costs only the file, as in the pool (after one more try, fully composed);
+    what it printed on stderr (kept in a pipe, the last CHILD_STDERR_KEPT
+    bytes) becomes part of the error."""
     import pickle
     import select
 
+    path = _path_of(item)
     result_read, result_write = os.pipe()
     err_read, err_write = os.pipe()
     pid = os.fork()
@@ -197,10 +247,12 @@ def _lint_in_child(linter: FileLinter, path: str, timeout: float | None) -> File
         try:
             os.close(result_read)
             os.close(err_read)
-            signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C
+            default_signals_in_worker()  # the parent handles Ctrl-C
+            _die_with_parent()
             _limit_memory(worker_memory_limit(1))
             os.dup2(err_write, 2)
-            data = pickle.dumps(lint_one(linter, path), pickle.HIGHEST_PROTOCOL)
+            _off_stdout()
+            data = pickle.dumps(lint_one(linter, item), pickle.HIGHEST_PROTOCOL)
             with os.fdopen(result_write, "wb") as out:
                 out.write(data)
             status = 0
@@ -241,6 +293,9 @@ def _lint_in_child(linter: FileLinter, path: str, timeout: float | None) -> File
     code = os.waitstatus_to_exitcode(status)
     if code == 0 and result:
         return pickle.loads(result)
+    if code < 0 and not isinstance(item, FullyComposed):
+        # It died: what composing survives, the fast path's walks may not.
+        return _lint_in_child(linter, FullyComposed(path), timeout)
     text = said.decode("utf-8", errors="replace")
     return FileResult(path, status="error", error=f"{path}: {_crash(code, text)}")
 
@@ -295,13 +350,15 @@ def _context() -> _Context:
 
 def _worker_main(
     conn: Connection,
-    linter_factory: LinterFactory,
+    linter_factory: Callable[[], Any],
+    handle: Handler,
     log_path: str,
     settings_env: dict[str, str],
     memory_limit: int | None = None,
     usd_threads: int | None = None,
 ) -> None:
-    """Build the linter, say ready, then lint ``(index, path)`` until ``None``.
+    """Build the linter (``linter_factory``), say ready, then answer each
+    ``(index, item)`` with ``handle(linter, item)`` until ``None``.
 
     The worker's stderr goes to ``log_path``, emptied before each file: what
     USD prints when it aborts becomes part of the one-line error, not noise
@@ -323,12 +380,7 @@ def _worker_main(
     log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
     os.dup2(log, 2)
     os.close(log)
-    # Nothing of a worker's belongs on stdout, and a worker must never hold the
-    # user's pipe open (``check | tee``) should it outlive the parent.
-    null = os.open(os.devnull, os.O_RDWR)
-    os.dup2(null, 0)
-    os.dup2(null, 1)
-    os.close(null)
+    _off_stdout()
     try:
         from pxr import Usd
 
@@ -347,11 +399,22 @@ def _worker_main(
             return
         if task is None:
             return
-        index, path = task
+        index, item = task
         os.ftruncate(2, 0)
         os.lseek(2, 0, os.SEEK_SET)
-        # The result holds only plain values; the stage dies with lint_path's frame.
-        conn.send((index, lint_one(linter, path)))
+        # The result holds only plain values; the stage dies with the handler's frame.
+        try:
+            result = handle(linter, item)
+        except Exception as exc:  # noqa: BLE001 - a handler's bug costs only its item
+            result = _Raised(f"internal error: {type(exc).__name__}: {exc}")
+        conn.send((index, result))
+
+
+@dataclass(frozen=True)
+class _Raised:
+    """What a worker sends back when its handler raised."""
+
+    why: str
 
 
 @dataclass
@@ -361,8 +424,8 @@ class _Worker:
     #: Where the worker's stderr goes.
     log_path: str
     ready: bool = False
-    #: (index, path, deadline) of the file being linted, if any.
-    task: tuple[int, str, float] | None = None
+    #: (index, item, deadline) of the item being handled, if any.
+    task: tuple[int, Any, float] | None = None
     started: float = 0.0
     linted: int = 0
 
@@ -379,12 +442,16 @@ class _Pool:
 
     def __init__(
         self,
-        linter_factory: LinterFactory,
+        linter_factory: Callable[[], Any],
         size: int,
         timeout: float | None,
         advance: Callable[[], None],
+        handle: Handler | None = None,
+        failed: OnFailure = file_error,
     ) -> None:
         self._factory = linter_factory
+        self._handle = handle or lint_one
+        self._failed = failed
         self._size = size
         self._timeout = timeout
         self._memory_limit = worker_memory_limit(size)
@@ -394,11 +461,11 @@ class _Pool:
         self._workers: list[_Worker] = []
         self._started = 0
         self._log_dir = ""
-        self._pending: list[tuple[int, str]] = []
+        self._pending: list[tuple[int, Any]] = []
         self._remaining = 0
 
-    def run(self, files: Sequence[str]) -> tuple[FileResult, ...]:
-        results: list[FileResult | None] = [None] * len(files)
+    def run(self, files: Sequence[Any]) -> tuple[Any, ...]:
+        results: list[Any] = [None] * len(files)
         self._pending = list(reversed(list(enumerate(files))))  # pop() keeps input order
         self._remaining = len(files)
         import shutil
@@ -416,7 +483,7 @@ class _Pool:
             for worker in self._workers:
                 self._stop(worker)
             shutil.rmtree(self._log_dir, ignore_errors=True)
-        return tuple(r for r in results if r is not None)
+        return tuple(results)
 
     def _start(self) -> _Worker:
         # Chosen per worker: a progress bar's thread makes forking unsafe.
@@ -429,6 +496,7 @@ class _Pool:
             args=(
                 child_end,
                 self._factory,
+                self._handle,
                 log_path,
                 _settings_env(),
                 self._memory_limit,
@@ -440,10 +508,10 @@ class _Pool:
         child_end.close()
         return _Worker(process, parent_end, log_path, started=time.monotonic())
 
-    def _assign(self, worker: _Worker, index: int, path: str) -> None:
+    def _assign(self, worker: _Worker, index: int, item: Any) -> None:
         deadline = time.monotonic() + self._timeout if self._timeout else float("inf")
-        worker.task = (index, path, deadline)
-        worker.conn.send((index, path))
+        worker.task = (index, item, deadline)
+        worker.conn.send((index, item))
 
     def _step(self, results: list[FileResult | None]) -> None:
         """Wait for one message, death or deadline, and handle it."""
@@ -462,11 +530,11 @@ class _Pool:
                 try:
                     message = worker.conn.recv()
                 except (EOFError, OSError):
-                    self._replace(worker, results, self._death_message(worker))
+                    self._replace(worker, results, self._death_message(worker), died=True)
                     continue
                 self._receive(worker, message, results)
             elif worker.process.sentinel in ready:
-                self._replace(worker, results, self._death_message(worker))
+                self._replace(worker, results, self._death_message(worker), died=True)
         now = time.monotonic()
         for worker in list(self._workers):
             if worker.task is not None and now >= worker.task[2]:
@@ -483,6 +551,8 @@ class _Pool:
         elif kind == "failed":
             raise ExecutionError(f"a worker process could not build the linter: {payload}")
         else:
+            if isinstance(payload, _Raised) and worker.task is not None:
+                payload = self._failed(worker.task[1], payload.why)
             self._done(results, kind, payload)
             worker.task = None
             worker.linted += 1
@@ -500,19 +570,25 @@ class _Pool:
             printed = ""
         return _crash(worker.process.exitcode, printed)
 
-    def _replace(self, worker: _Worker, results: list, error: str) -> None:
-        """Kill a worker, record its file as an error and start a fresh one."""
+    def _replace(self, worker: _Worker, results: list, error: str, died: bool = False) -> None:
+        """Kill a worker, record its file as an error (or, when it died on a
+        file the fast path read, lint that file again fully composed: what
+        composing survives, the fast path's walks of the layers may not) and
+        start a fresh one."""
         worker.kill()
         self._workers.remove(worker)
         if worker.task is None and not worker.ready:
             raise ExecutionError(f"a worker process died while starting: {error}")
         if worker.task is not None:
-            index, path, _ = worker.task
-            self._done(results, index, FileResult(path, status="error", error=f"{path}: {error}"))
+            index, item, _ = worker.task
+            if died and self._handle is lint_one and isinstance(item, str):
+                self._pending.append((index, FullyComposed(item)))
+            else:
+                self._done(results, index, self._failed(_path_of(item), error))
         if self._pending:
             self._workers.append(self._start())
 
-    def _done(self, results: list, index: int, result: FileResult) -> None:
+    def _done(self, results: list, index: int, result: Any) -> None:
         results[index] = result
         self._remaining -= 1
         self._advance()
@@ -577,6 +653,15 @@ def _limit_memory(limit: int | None) -> None:
     if soft == resource.RLIM_INFINITY or limit < soft:
         with suppress(ValueError, OSError):
             resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
+
+
+def _off_stdout() -> None:
+    """Nothing of a worker's belongs on stdout, and a worker must never hold the
+    user's pipe open (``check | tee``) should it outlive the parent."""
+    null = os.open(os.devnull, os.O_RDWR)
+    os.dup2(null, 0)
+    os.dup2(null, 1)
+    os.close(null)
 
 
 def _die_with_parent() -> None:
