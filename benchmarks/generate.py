@@ -21,7 +21,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from pxr import Gf, Sdf
+from pxr import Gf, Sdf, Vt
 
 FORMATS = ("usda", "usdc")
 #: Distinct asset files the layout instances reference.
@@ -353,6 +353,43 @@ def generate_many(
         files.append(path)
     _write_expected(folder, expected)
     return files
+
+
+def generate_purposes(folder: str | Path, count: int, fmt: str = "usdc") -> Path:
+    """One RenderSettings whose includedPurposes lists "default" ``count``
+    times: hostile content (issue 13) whose message must be bounded."""
+    path = Path(folder) / f"purposes_{count}.{fmt}"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    layer = _new_layer(path)
+    settings = _prim(layer, "/Render/Settings", "RenderSettings")
+    _prim(layer, "/Render", "Scope")
+    _attr(
+        settings,
+        "includedPurposes",
+        Sdf.ValueTypeNames.TokenArray,
+        Vt.TokenArray(["default"] * count),
+        uniform=True,
+    )
+    layer.Save()
+    return path
+
+
+def generate_variant_sets(folder: str | Path, count: int) -> Path:
+    """One RenderSettings with ``count`` variant sets of two variants each,
+    none selected: --variants must not cost more per set (issue 13)."""
+    path = Path(folder) / f"variant_sets_{count}.usda"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    layer = _new_layer(path)
+    _prim(layer, "/Render", "Scope")
+    settings = _prim(layer, "/Render/Settings", "RenderSettings")
+    with Sdf.ChangeBlock():
+        for index in range(count):
+            variant_set = Sdf.VariantSetSpec(settings, f"set{index}")
+            Sdf.VariantSpec(variant_set, "a")
+            Sdf.VariantSpec(variant_set, "b")
+        settings.variantSetNameList.prependedItems = [f"set{i}" for i in range(count)]
+    layer.Save()
+    return path
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -25,6 +25,13 @@ Floors are printed beside the goals they bound: a bare open that also imports
 the same plus the rule modules and their registration, the interpreter with
 those imports alone, and a bare open that reads every render prim's data.
 
+And from issue 13, hostile content: a RenderSettings listing "default" two
+million times in includedPurposes lints within 3x of a bare open of it (.usda
+and .usdc), and ``--variants`` on 10,000 variant sets costs at most 10x what
+it costs on 1,000: the cap bounds the compositions (USD composes the prim's
+variant sets anew for each, so each costs in proportion to the sets), not the
+number of sets (a composition per set would make it 100x).
+
 Every ``check`` here runs with ``--no-cache`` except in the cache case.
 Run ``python benchmarks/run.py --quick`` for a fast look or
 ``python benchmarks/run.py`` for the issue's figures. Generated shots are kept
@@ -398,6 +405,44 @@ def many_files(work: Path, count: int, rounds: int) -> dict[str, float]:
     return {"jobs_speedup": speedup, "per_file": per_file_check / per_file_bare}
 
 
+def hostile(work: Path, rounds: int) -> dict[str, float]:
+    """Issue 13: a 2M-entry includedPurposes lints within 3x of a bare open of
+    it (the message quotes only what it can hold), and --variants composes the
+    stage once per combination, not once per variant set."""
+    figures = {}
+    print(f"\nHostile content, {rounds} rounds")
+    for fmt in ("usda", "usdc"):
+        folder = ensure(
+            work / f"purposes_{fmt}",
+            lambda f, fmt=fmt: generate.generate_purposes(f, 2_000_000, fmt),
+        )
+        path = str(folder / f"purposes_2000000.{fmt}")
+        bare = Series(f"bare open, 2M purposes (.{fmt})", [PYTHON, "-c", BARE_OPEN, path])
+        check = Series(f"check, 2M purposes (.{fmt})", [*LINT, "check", "--isolated", path])
+        measure([bare, check], rounds)
+        print(row(bare))
+        print(row(check, bare))
+        figures[f"purposes_{fmt}_time"] = check.median() / bare.median()
+    series = []
+    for count in (1_000, 10_000):
+        folder = ensure(
+            work / f"variant_sets_{count}",
+            lambda f, count=count: generate.generate_variant_sets(f, count),
+        )
+        path = str(folder / f"variant_sets_{count}.usda")
+        series.append(
+            Series(
+                f"check --variants, {count:,} sets",
+                [*LINT, "check", "--isolated", "--variants", path],
+            )
+        )
+    measure(series, rounds)
+    print(row(series[0]))
+    print(row(series[1], series[0]))
+    figures["variants_per_set"] = series[1].median() / series[0].median()
+    return figures
+
+
 #: (comparison, limit) per figure; a figure's name ends with its kind.
 GOALS = {
     "one_file": ("<=", 1.25),
@@ -409,6 +454,12 @@ GOALS = {
     "startup_time": ("<=", 1.3),
     "cache_speedup": (">=", 8.0),
     "shard_balance": ("<=", 2.0),
+    #: issue 13: hostile content.
+    "purposes_usda_time": ("<=", 3.0),
+    "purposes_usdc_time": ("<=", 3.0),
+    # Ten times the sets: at most ten times the cost (USD composes a prim's
+    # variant sets anew for each combination); composing anew per set would be 100x.
+    "variants_per_set": ("<=", 10.0),
     "jobs_speedup": (">=", 1.7),
     "per_file": ("<=", 1.2),
 }
@@ -425,7 +476,7 @@ def _goal(key: str) -> tuple[str, float] | None:
 
 
 def verdict(figures: dict[str, float]) -> bool:
-    print("\nGoals (issues 17, 16 and 6):")
+    print("\nGoals (issues 17, 16, 13 and 6):")
     ok = True
     for key, value in figures.items():
         goal = _goal(key)
@@ -439,7 +490,7 @@ def verdict(figures: dict[str, float]) -> bool:
     return ok
 
 
-CASES = ("one-file", "referenced", "startup", "cache", "shards", "many")
+CASES = ("one-file", "referenced", "startup", "cache", "shards", "many", "hostile")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -487,6 +538,8 @@ def main(argv: list[str] | None = None) -> int:
         figures.update(shards(work, args.cache_files, args.shards, args.rounds))
     if "many" in cases:
         figures.update(many_files(work, args.files, args.rounds))
+    if "hostile" in cases:
+        figures.update(hostile(work, args.rounds))
     return 0 if verdict(figures) else 1
 
 

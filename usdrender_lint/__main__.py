@@ -1,4 +1,25 @@
-from .cli import main
+"""``python -m usdrender_lint`` and the ``usdrender-lint`` command.
+
+Ctrl-C and SIGTERM are handled from the moment this module is imported,
+before the command line's own imports (click, the engine): a signal during
+them exits 130 or 143 with one line, like one during the run.
+"""
+
+import sys
+
+from .running import interrupts
+
+interrupts.install()
+
+
+def main() -> None:
+    try:
+        from .cli import main as command
+    except interrupts.Stopped as stopped:
+        sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")
+        sys.exit(stopped.exit_status)
+    command()
+
 
 if __name__ == "__main__":
     main()

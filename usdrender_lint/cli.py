@@ -27,7 +27,7 @@ from .config import (
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
 from .paths import escape
-from .running.interrupts import Stopped, stop_on_signals
+from .running.interrupts import Stopped, check_stopped, stop_on_signals
 from .running.workers import DEFAULT_TIMEOUT
 
 if TYPE_CHECKING:
@@ -305,6 +305,7 @@ def check(
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
     _import_engine()
+    check_stopped()  # a signal while USD imported its modules
     from .running.pipeline import Request, RequestError, run
 
     request = Request(
@@ -459,6 +460,7 @@ def _emit_report(
         from .api.docs import rule_info
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
+    check_stopped()
     if output_file is None:
         stdout = _Stdout()
         formatter.render(report, stdout, options)  # type: ignore[arg-type]
@@ -844,10 +846,13 @@ def _import_engine() -> None:
     Called by the commands that need USD: ``--help`` and ``--version`` do not."""
     if "usdrender_lint.running.pipeline" in sys.modules:
         return
+    from .running.interrupts import deferred
+
     enabled = gc.isenabled()
     gc.disable()
     try:
-        from .running import pipeline  # noqa: F401 - USD, the engine and the rule API
+        with deferred():  # a Ctrl-C arrives after the imports, not inside USD's
+            from .running import pipeline  # noqa: F401 - USD, the engine and the rule API
     finally:
         gc.freeze()
         if enabled:

@@ -7,15 +7,19 @@ removes its temporary folder, an atomic write removes its temporary file, and
 no partial report is left behind. Only the first signal raises: the next ones
 are ignored, so a second Ctrl-C cannot cut the clean-up short. A hung USD call
 in this process (``--jobs 1 --timeout 0``) cannot be interrupted: Python runs
-the handler only when the call returns.
+the handler only when the call returns. USD's C++ may swallow the exception
+(a signal while it imports a module prints a warning and goes on), so the
+signal is also remembered and :func:`check_stopped` raises it again at the
+run's next step.
 """
 
 from __future__ import annotations
 
-import signal
-from collections.abc import Iterator
-from contextlib import contextmanager
-from types import FrameType
+import signal  # and nothing else: the command installs the handlers before its imports
+
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from types import FrameType, TracebackType
 
 #: The signals that stop a run, and what the one line on stderr says.
 STOPPING = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
@@ -37,21 +41,64 @@ class Stopped(BaseException):
         return STOPPING.get(signal.Signals(self.signum), f"stopped by signal {self.signum}")
 
 
+#: The signal that stopped the run, once one has.
+_received: int | None = None
+
+
 def _stop(signum: int, frame: FrameType | None) -> None:
+    global _received
+    _received = signum
     for stopping in STOPPING:
         signal.signal(stopping, signal.SIG_IGN)
     raise Stopped(signum)
 
 
-@contextmanager
-def stop_on_signals() -> Iterator[None]:
+def check_stopped() -> None:
+    """Raise :class:`Stopped` again if a signal came and its exception was lost."""
+    if _received is not None:
+        raise Stopped(_received)
+
+
+def install() -> None:
+    """From now on, SIGINT and SIGTERM raise :class:`Stopped` (the command's
+    first step, before its imports)."""
+    if _received is None:
+        for signum in STOPPING:
+            signal.signal(signum, _stop)
+
+
+class stop_on_signals:  # noqa: N801 - used as a context manager, like contextlib's
     """While the block runs, SIGINT and SIGTERM raise :class:`Stopped`."""
-    previous = {signum: signal.signal(signum, _stop) for signum in STOPPING}
-    try:
-        yield
-    finally:
-        for signum, handler in previous.items():
+
+    def __enter__(self) -> None:
+        self._previous = {signum: signal.getsignal(signum) for signum in STOPPING}
+        install()
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        for signum, handler in self._previous.items():
             signal.signal(signum, handler)
+        if kind is None:
+            check_stopped()
+
+
+class deferred:  # noqa: N801 - a context manager
+    """While the block runs, SIGINT and SIGTERM wait (blocked, not lost) and
+    arrive when it ends: for USD's module imports, whose C++ catches the
+    exception a handler raises inside them and prints a warning instead."""
+
+    def __enter__(self) -> None:
+        self._blocked = hasattr(signal, "pthread_sigmask")
+        if self._blocked:
+            self._previous = signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
+
+    def __exit__(self, *exc_info: object) -> None:
+        if self._blocked:
+            signal.pthread_sigmask(signal.SIG_SETMASK, self._previous)
 
 
 def default_signals_in_worker() -> None:

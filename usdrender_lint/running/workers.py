@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
 from ..model import FileResult
-from .interrupts import default_signals_in_worker
+from .interrupts import check_stopped, default_signals_in_worker
 
 if TYPE_CHECKING:
     import multiprocessing.context
@@ -147,6 +147,7 @@ def _lint_in_process(
 ) -> Iterator[FileResult]:
     for path in files:
         yield lint_one(linter, path)
+        check_stopped()
         advance()
 
 
@@ -517,6 +518,7 @@ class _Pool:
         """Wait for one message, death or deadline, and handle it."""
         from multiprocessing.connection import wait
 
+        check_stopped()
         now = time.monotonic()
         deadlines = [w.task[2] for w in self._workers if w.task is not None]
         deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
