@@ -412,8 +412,19 @@ def main(argv: list[str] | None = None) -> int:
     many.add_argument(
         "--defect-every", type=int, default=10, help="every Nth file has defects (0: none)"
     )
+    purposes = sub.add_parser("purposes", help="includedPurposes listing 'default' COUNT times")
+    purposes.add_argument("folder")
+    purposes.add_argument("--count", type=int, default=2_000_000)
+    purposes.add_argument("--format", choices=FORMATS, default="usdc")
+    variant_sets = sub.add_parser("variant-sets", help="a RenderSettings with COUNT variant sets")
+    variant_sets.add_argument("folder")
+    variant_sets.add_argument("--count", type=int, default=10_000)
     args = parser.parse_args(argv)
-    if args.what == "flat":
+    if args.what == "purposes":
+        print(generate_purposes(args.folder, args.count, args.format))
+    elif args.what == "variant-sets":
+        print(generate_variant_sets(args.folder, args.count))
+    elif args.what == "flat":
         print(generate_flat_shot(args.folder, args.prims, defects=not args.clean))
     elif args.what == "shot":
         print(generate_shot(args.folder, args.prims, args.format, defects=not args.clean))

@@ -412,10 +412,7 @@ def hostile(work: Path, rounds: int) -> dict[str, float]:
     figures = {}
     print(f"\nHostile content, {rounds} rounds")
     for fmt in ("usda", "usdc"):
-        folder = ensure(
-            work / f"purposes_{fmt}",
-            lambda f, fmt=fmt: generate.generate_purposes(f, 2_000_000, fmt),
-        )
+        folder = ensure(work / f"purposes_{fmt}", "purposes", "--format", fmt)
         path = str(folder / f"purposes_2000000.{fmt}")
         bare = Series(f"bare open, 2M purposes (.{fmt})", [PYTHON, "-c", BARE_OPEN, path])
         check = Series(f"check, 2M purposes (.{fmt})", [*LINT, "check", "--isolated", path])
@@ -425,10 +422,7 @@ def hostile(work: Path, rounds: int) -> dict[str, float]:
         figures[f"purposes_{fmt}_time"] = check.median() / bare.median()
     series = []
     for count in (1_000, 10_000):
-        folder = ensure(
-            work / f"variant_sets_{count}",
-            lambda f, count=count: generate.generate_variant_sets(f, count),
-        )
+        folder = ensure(work / f"variant_sets_{count}", "variant-sets", "--count", str(count))
         path = str(folder / f"variant_sets_{count}.usda")
         series.append(
             Series(

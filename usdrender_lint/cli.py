@@ -688,7 +688,6 @@ def list_rules(output_format: str, profile: str | None) -> None:
     _write(rules_text(lines, _terminal_width(), title))
 
 
-
 def _terminal_width() -> int | None:
     """The terminal's width, or None when stdout is not a terminal."""
     if sys.stdout is None or not sys.stdout.isatty():

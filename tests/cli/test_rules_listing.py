@@ -79,9 +79,9 @@ def test_at_60_columns_nothing_is_cut() -> None:
 
 
 def test_rules_text_wraps_only_what_does_not_fit() -> None:
-    wide = rules_text(RULES, 1000).splitlines()
-    assert wide == rules_text(RULES, None).splitlines()
-    narrow = rules_text(RULES, 60).splitlines()
+    wide = rules_text(rows(), 1000, "title").splitlines()
+    assert wide == rules_text(rows(), None, "title").splitlines()
+    narrow = rules_text(rows(), 60, "title").splitlines()
     assert len(narrow) > len(wide)
     assert all(
         line.startswith("    ") or line.split()[0] in {r.code for r in RULES} for line in narrow[1:]

@@ -63,12 +63,16 @@ def is_running(pid: int) -> bool:
     return "\nState:\tZ" not in status
 
 
-def wait_for_a_worker(process: subprocess.Popen, temporary: Path, limit: float = 60) -> None:
-    """Until the pool has made its temporary folder and a worker is linting."""
+def wait_for_a_worker(
+    process: subprocess.Popen, temporary: Path, pool: bool = True, limit: float = 60
+) -> None:
+    """Until a worker is linting (for a pool, once it has made its temporary
+    folder; one file is linted by a forked child, without one)."""
     deadline = time.monotonic() + limit
     while time.monotonic() < deadline:
         assert process.poll() is None, process.communicate()
-        if any(temporary.glob("usdrender-lint-*/worker-*.log")) and descendants(process.pid):
+        started = any(temporary.glob("usdrender-lint-*/worker-*.log")) or not pool
+        if started and descendants(process.pid):
             time.sleep(0.5)  # the worker has its file; the parent waits on it
             return
         time.sleep(0.05)
@@ -119,18 +123,20 @@ def test_a_signal_stops_the_run_and_cleans_up(
     assert not [pid for pid in workers if is_running(pid)]
 
 
-def test_workers_die_with_a_parent_killed_outright(tmp_path: Path) -> None:
+@pytest.mark.parametrize("pool", [False, True], ids=["one-file-child", "pool"])
+def test_workers_die_with_a_parent_killed_outright(tmp_path: Path, pool: bool) -> None:
     """SIGKILL leaves no clean-up to run: Linux ends the workers itself."""
     stage = hanging_stage(tmp_path)
     temporary = tmp_path / "tmp"
     temporary.mkdir()
+    files = [str(stage), str(BROKEN)] if pool else [str(stage)]
     process = subprocess.Popen(
-        command("check", "--isolated", "--timeout", "600", str(stage)),
+        command("check", "--isolated", "--timeout", "600", *files),
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         env={**os.environ, "TMPDIR": str(temporary)},
     )
-    wait_for_a_worker(process, temporary)
+    wait_for_a_worker(process, temporary, pool=pool)
     workers = descendants(process.pid)
     process.kill()
     process.communicate(timeout=30)  # EOF: no worker holds the pipes

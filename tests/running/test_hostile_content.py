@@ -182,7 +182,19 @@ def test_a_text_layer_naming_a_variant_with_no_name_survives_the_fast_path_in_pr
     (tmp_path / "shot.usda").write_text(EMPTY_VARIANT)
     (tmp_path / "control.usda").write_text(CONTROL)
     report = _same_as_full_composition(tmp_path, "shot.usda", "control.usda")
-    assert "CA001" in {f["code"] for f in report["files"][0]["findings"]}
+    assert "ST003" in {f["code"] for f in report["files"][0]["findings"]}
+
+
+def test_recording_what_a_failed_composition_read_survives_such_a_layer(tmp_path: Path) -> None:
+    """With a composition error the result cache lists the layers' arcs
+    (``GetCompositionAssetDependencies``), which aborts on a variant named ""."""
+    (tmp_path / "sub.usda").write_text("#usda 1.0\n")
+    (tmp_path / "shot.usda").write_text(
+        EMPTY_VARIANT.replace("@./sub.usda@", "@./sub.usda@, @./missing.usda@")
+    )
+    result = lint(tmp_path, "--isolated", "--jobs", "1", "--timeout", "0", "shot.usda")
+    assert (result.returncode, result.stderr) == (1, "")
+    assert "error ST002: Could not load sublayer" in result.stdout
 
 
 def test_a_worker_that_dies_in_the_fast_path_lints_the_file_fully_composed(tmp_path: Path) -> None:
@@ -196,7 +208,7 @@ def test_a_worker_that_dies_in_the_fast_path_lints_the_file_fully_composed(tmp_p
     report = _same_as_full_composition(
         tmp_path, "variant.usdc", "control.usda", jobs="2", timeout="60"
     )
-    assert "CA001" in {f["code"] for f in report["files"][0]["findings"]}
+    assert "ST003" in {f["code"] for f in report["files"][0]["findings"]}
 
 
 # -- messages are bounded before they are formatted ---------------------------------------

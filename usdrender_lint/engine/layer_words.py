@@ -28,6 +28,8 @@ import struct
 from collections.abc import Collection, Iterable
 from typing import TYPE_CHECKING, NamedTuple
 
+from .stage import layer_real_path
+
 if TYPE_CHECKING:
     from pxr import Sdf
 
@@ -89,7 +91,8 @@ def layers_may_hold(layers: Iterable[Sdf.Layer], word: str) -> bool:
             if layer.rootPrims:
                 return True
             continue
-        if layer.dirty or not layer.realPath or may_hold(layer.realPath, (word,)):
+        path = layer_real_path(layer)
+        if layer.dirty or not path or may_hold(path, (word,)):
             return True
     return False
 

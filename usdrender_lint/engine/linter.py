@@ -33,6 +33,8 @@ from .stage import (
     CorruptValue,
     StageOpenResult,
     error_lines,
+    layer_identifier,
+    layer_real_path,
     open_stage,
     position_from_error,
     unreadable_reason,
@@ -95,19 +97,24 @@ class Reads:
     complete: bool = True
 
     def add_layers(self, layers: Iterable[Sdf.Layer]) -> None:
-        self.layers.extend((x.identifier, x.realPath, x.anonymous, x.dirty) for x in layers)
+        self.layers.extend(
+            (layer_identifier(x), layer_real_path(x), x.anonymous, x.dirty) for x in layers
+        )
 
     def add_arc_targets(self, layers: Iterable[Sdf.Layer]) -> None:
         """The sublayers, references and payloads ``layers`` name, found or not."""
         for layer in layers:
             if layer.anonymous:
                 continue
+            if partial.unsafe_to_walk(layer) is not None:
+                self.complete = False  # walking it could abort the process
+                continue
             for asset in layer.GetCompositionAssetDependencies():
                 if "`" in asset:
                     self.complete = False  # which file it names depends on variables
                     continue
                 identifier = Sdf.ComputeAssetPathRelativeToLayer(layer, asset)
-                if not os.path.isabs(identifier.partition("[")[0]) and layer.realPath:
+                if not os.path.isabs(identifier.partition("[")[0]) and layer_real_path(layer):
                     # A search path the default resolver did not find: where it looked first.
                     identifier = os.path.join(os.path.dirname(layer.realPath), identifier)
                 self.targets.append(identifier)

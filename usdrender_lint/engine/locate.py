@@ -9,8 +9,8 @@ from pxr import Sdf, Usd
 
 from ..api.text import MAX_MESSAGE_CHARS
 from ..model import Location
-from ..paths import from_usd
 from . import usda_lines
+from .stage import layer_identifier, layer_real_path
 
 
 def bounded_message(message: str) -> str:
@@ -22,15 +22,9 @@ def bounded_message(message: str) -> str:
 
 
 def real_path(layer: Sdf.Layer) -> str:
-    """The layer's file (its identifier when it has none). A file name that is
-    not UTF-8 comes back as Python names such a file (see paths.from_usd)."""
-    try:
-        return layer.realPath or layer.identifier
-    except UnicodeDecodeError as exc:
-        path = from_usd(exc)
-        if path is None:
-            raise
-        return path
+    """The layer's file (its identifier when it has none); a file name that is
+    not UTF-8 as Python names such a file."""
+    return layer_real_path(layer) or layer_identifier(layer)
 
 
 def _spec_stack(obj: Usd.Object) -> list[Sdf.Spec]:

@@ -52,6 +52,7 @@ from pxr import Ar, Sdf, Tf, Usd
 from ..model import IGNORE_KEY
 from ..paths import usd_path
 from . import layer_words
+from .stage import layer_real_path
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")
@@ -216,8 +217,7 @@ class _Specs:
         if layer.identifier in self._checked:
             return
         if layer.GetFileFormat().formatId == "usda":
-            file = layer.realPath
-            if file and _has_empty_variant_name(file):
+            if _text_names_an_empty_variant(layer):
                 raise NotProvable(f'{layer.identifier} names a variant ""')
         else:
             # A crate's names are not text to search: Traverse survives a prim
@@ -247,6 +247,21 @@ class _Specs:
         return paths
 
 
+def unsafe_to_walk(layer: Sdf.Layer) -> str | None:
+    """Why Sdf's walks of ``layer`` could abort the process (see _Specs), or
+    None: for another caller of ``GetCompositionAssetDependencies``."""
+    try:
+        _Specs().check(layer)
+    except NotProvable as exc:
+        return str(exc)
+    return None
+
+
+def _text_names_an_empty_variant(layer: Sdf.Layer) -> bool:
+    file = layer_real_path(layer)
+    return bool(file) and _has_empty_variant_name(file)
+
+
 def _has_empty_variant_name(file: str) -> bool:
     try:
         with open(file, "rb") as handle:
@@ -272,8 +287,8 @@ def _scan(
     # suppression on any spec: its specs' fields need no listing (layer_words.py).
     words = (
         _KEYED_WORDS
-        if layer.anonymous or layer.dirty or not layer.realPath
-        else (layer_words.may_hold(layer.realPath, _KEYED_WORDS))
+        if layer.anonymous or layer.dirty or not layer_real_path(layer)
+        else (layer_words.may_hold(layer_real_path(layer), _KEYED_WORDS))
     )
     keyed = bool(words)
     suppressing = IGNORE_DICTIONARY in words

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd
 
-from ..paths import usd_path
+from ..paths import from_usd, usd_path
 
 STAGE_OPEN_FAILED_CODE = "ST001"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
@@ -107,6 +107,30 @@ def _undecodable_error(path: str) -> str:
     except OSError:
         pass
     return "USD reported an error whose message is not valid UTF-8"
+
+
+def layer_real_path(layer: Sdf.Layer) -> str:
+    """``layer.realPath``; a file name that is not UTF-8 comes back as Python
+    names such a file (the bindings' strict decoding raises on it)."""
+    try:
+        return layer.realPath
+    except UnicodeDecodeError as exc:
+        return _undecoded(exc)
+
+
+def layer_identifier(layer: Sdf.Layer) -> str:
+    """``layer.identifier``, as :func:`layer_real_path` reads a path."""
+    try:
+        return layer.identifier
+    except UnicodeDecodeError as exc:
+        return _undecoded(exc)
+
+
+def _undecoded(exc: UnicodeDecodeError) -> str:
+    path = from_usd(exc)
+    if path is None:
+        raise exc
+    return path
 
 
 def unreadable_reason(path: str) -> str | None:

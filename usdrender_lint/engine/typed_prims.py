@@ -27,6 +27,7 @@ from collections.abc import Callable, Iterable
 from pxr import Sdf, Usd
 
 from . import layer_words
+from .stage import layer_real_path
 
 #: Below this many prims a Python walk costs less than asking USD (about 2 us
 #: a prim against fixed costs of some 15 ms), and below about this many specs
@@ -88,7 +89,8 @@ def _spec_estimate(stage: Usd.Stage) -> int:
     for layer in stage.GetUsedLayers():
         if layer.anonymous:
             continue
-        count = layer_words.spec_count(layer.realPath) if layer.realPath else None
+        path = layer_real_path(layer)
+        count = layer_words.spec_count(path) if path else None
         if count is None:
             return MIN_SPECS
         total += count

@@ -67,9 +67,7 @@ class InspectingLinter:
         return self.linter.raise_errors
 
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
-        inspected = self.linter.inspect_path(
-            path, self.inspect, full_composition=full_composition
-        )
+        inspected = self.linter.inspect_path(path, self.inspect, full_composition=full_composition)
         result = inspected.result
         if inspected.value is not None:
             return InspectedFile(result.file, findings=result.findings, value=inspected.value)

@@ -426,7 +426,11 @@ class CachingLinter:
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
         started = time.time_ns()
         with self.linter.recording_reads() as reads:
-            result = self.linter.lint_path(path, full_composition=full_composition)
+            result = (
+                self.linter.lint_path(path, full_composition=True)
+                if full_composition
+                else self.linter.lint_path(path)
+            )
         try:
             self.cache.store(path, result, reads, started)
         except Exception:  # noqa: BLE001 - a cache problem never costs a result

@@ -171,7 +171,8 @@ def lint_one(linter: FileLinter, path: str | FullyComposed) -> FileResult:
     else:
         full = False
     try:
-        return linter.lint_path(path, full_composition=full)
+        # Only the retry passes the keyword: any linter with lint_path(path) works.
+        return linter.lint_path(path, full_composition=True) if full else linter.lint_path(path)
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
         if getattr(linter, "raise_errors", False):
             raise
