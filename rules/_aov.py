@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from typing import Any, Literal
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context
+from usdrender_lint.api import Context, schemas
 from usdrender_lint.api.resolve import Target, composed_value, mismatched_spec, resolve_targets
 
 #: How a renderer names a RenderVar's channel (catalog, Ambiguous semantics 7):
@@ -37,7 +37,7 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
 def _product_render_vars(ctx: Context, product: Usd.Prim) -> tuple[Usd.Prim, ...]:
     targets = ordered_var_targets(product, ctx)
     prims = (t.usable_prim for t in targets)
-    return tuple(p for p in prims if p is not None and p.IsA(UsdRender.Var))
+    return tuple(p for p in prims if p is not None and p.IsA(schemas.RenderVar))
 
 
 def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:

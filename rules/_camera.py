@@ -7,9 +7,9 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
-from pxr import Usd, UsdGeom
+from pxr import Usd
 
-from usdrender_lint.api import Context
+from usdrender_lint.api import Context, schemas
 from usdrender_lint.api.resolve import (
     RenderConfiguration,
     fallback_value,
@@ -41,10 +41,9 @@ def effective_cameras(ctx: Context) -> list[CameraUse]:
 def _effective_cameras(ctx: Context) -> list[CameraUse]:
     uses: dict[str, tuple[Usd.Prim, list[RenderConfiguration]]] = {}
     for config in ctx.configurations:
-        camera = config.camera
-        if camera is None:
+        prim = config.camera_prim
+        if prim is None:
             continue
-        prim = camera.GetPrim()
         uses.setdefault(str(prim.GetPath()), (prim, []))[1].append(config)
     return [CameraUse(prim, tuple(configs)) for prim, configs in uses.values()]
 
@@ -110,7 +109,7 @@ def at_time(time: Usd.TimeCode) -> str:
 
 
 def is_perspective(projection: Any) -> bool:
-    return str(projection) == UsdGeom.Tokens.perspective
+    return str(projection) == "perspective"
 
 
 def positive_finite(value: Any) -> bool:
@@ -132,7 +131,7 @@ def _usable_cameras(ctx: Context, most: int) -> list[Usd.Prim]:
         type_name = prim.GetTypeName()
         hit = is_camera_type.get(type_name)
         if hit is None:  # IsA depends on the type name only: test it once per type
-            hit = is_camera_type[type_name] = prim.IsA(UsdGeom.Camera)
+            hit = is_camera_type[type_name] = prim.IsA(schemas.Camera)
         if hit:
             cameras.append(prim)
             if len(cameras) == most:

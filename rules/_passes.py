@@ -7,9 +7,9 @@ from __future__ import annotations
 from collections.abc import Hashable, Iterator, Mapping, Sequence
 from typing import Any, Protocol, TypeVar
 
-from pxr import Sdf, Tf, Usd, UsdRender
+from pxr import Sdf, Tf, Usd
 
-from usdrender_lint.api import Context
+from usdrender_lint.api import Context, schemas
 from usdrender_lint.api.resolve import resolve_targets, typed_target_problem, unusable_reason
 
 #: The CollectionAPI instances the RenderPass schema applies (schema.usda).
@@ -43,12 +43,12 @@ def input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
 
 def _input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
     graph: dict[Sdf.Path, list[Sdf.Path]] = {}
-    for prim in ctx.prims_of(UsdRender.Pass):
+    for prim in ctx.prims_of(schemas.RenderPass):
         rel = prim.GetRelationship("inputPasses")
         graph[prim.GetPath()] = [
             t.path
             for t in resolve_targets(rel)
-            if typed_target_problem(t, UsdRender.Pass, "a RenderPass") is None
+            if typed_target_problem(t, schemas.RenderPass, "a RenderPass") is None
         ]
     return graph
 

@@ -4,11 +4,10 @@ included), and a fix applied where the fixer would apply it."""
 
 from __future__ import annotations
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule
-
-RENDER_SCHEMAS = (UsdRender.Settings, UsdRender.Product, UsdRender.Var, UsdRender.Pass)
+from usdrender_lint.engine import RENDER_SCHEMAS
 
 #: A stage with one RenderSettings, </Render/Settings>, and no metadata.
 ONE_SETTINGS = """#usda 1.0

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 
 class FilterNotString(Rule):
@@ -63,7 +63,7 @@ class FilterNotString(Rule):
     severity = Severity.WARNING
     partial_composition = True
     profile = "arnold"
-    prim_types = (UsdRender.Var, UsdRender.Product)
+    prim_types = (schemas.RenderVar, schemas.RenderProduct)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("arnold:filter")

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value, resolve_targets
 
 AOV_NAME = "driver:parameters:aov:name"
@@ -85,14 +85,14 @@ class AovNameMissing(Rule):
     severity = Severity.ERROR
     partial_composition = True
     profile = "arnold"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if str(authored_value(prim.GetAttribute("productType")) or "") != "arnold":
             return
         for target in resolve_targets(prim.GetRelationship("orderedVars")):
             var = target.prim
-            if not target.ok or var is None or not var.IsA(UsdRender.Var):
+            if not target.ok or var is None or not var.IsA(schemas.RenderVar):
                 continue
             name = var.GetAttribute(AOV_NAME)
             if name and name.Get():

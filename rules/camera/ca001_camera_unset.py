@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 
@@ -13,6 +13,8 @@ from .._camera import usable_cameras
 
 def _set_settings_camera(settings_path: Sdf.Path, camera_path: Sdf.Path):
     def apply(stage: Usd.Stage) -> None:
+        from pxr import UsdRender  # the schema API, imported only when a fix runs (start-up)
+
         settings = UsdRender.SettingsBase(stage.GetPrimAtPath(settings_path))
         settings.CreateCameraRel().SetTargets([camera_path])
 

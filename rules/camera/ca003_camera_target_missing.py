@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import UsdGeom
-
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import RenderConfiguration
 
 
@@ -101,7 +99,7 @@ class CameraTargetMissing(Rule):
                 ):
                     continue  # the renderer's application creates it at run time (R2-5)
                 reason = target.problem
-            elif target.prim is not None and target.prim.IsA(UsdGeom.Camera) and not target.ok:
+            elif target.prim is not None and target.prim.IsA(schemas.Camera) and not target.ok:
                 reason = f"is a Camera but {target.problem}"
             else:
                 continue

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdGeom
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import describe_prim_type, is_usable
 
 
 def _single_camera_descendant(prim: Usd.Prim) -> Usd.Prim | None:
     cameras = [
-        p for p in Usd.PrimRange(prim) if p != prim and p.IsA(UsdGeom.Camera) and is_usable(p)
+        p for p in Usd.PrimRange(prim) if p != prim and p.IsA(schemas.Camera) and is_usable(p)
     ]
     return cameras[0] if len(cameras) == 1 else None
 
@@ -33,7 +33,7 @@ class CameraTargetNotCamera(Rule):
     For each render configuration (since catalog Revision 2 (R2-4) also each
     product rendered on its own: no usable RenderSettings targets it and it
     authors its own camera), reports the effective camera target when it
-    resolves to a prim that is not a `UsdGeom.Camera` (an Xform camera rig, a
+    resolves to a prim that is not a `schemas.Camera` (an Xform camera rig, a
     Scope, a typeless `def`) or to a property path such as
     `</World/cam.focalLength>`.
 
@@ -117,9 +117,9 @@ class CameraTargetNotCamera(Rule):
             if target.path.IsPropertyPath():
                 what = "a property, not a prim"
                 owner = ctx.stage.GetPrimAtPath(target.path.GetPrimPath())
-                if owner and owner.IsA(UsdGeom.Camera) and is_usable(owner):
+                if owner and owner.IsA(schemas.Camera) and is_usable(owner):
                     suggestion = owner
-            elif target.prim is not None and not target.prim.IsA(UsdGeom.Camera):
+            elif target.prim is not None and not target.prim.IsA(schemas.Camera):
                 # (prim is None only when missing or a property path: both handled above)
                 if ctx.profile_accepts(rel, "camera_type", target.prim.GetTypeName()):
                     continue  # a renderer's own sensor type (R2-5)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from functools import partial
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 from usdrender_lint.api.resolve import RenderConfiguration, has_authored_value
@@ -15,6 +15,8 @@ from .._camera import at_time, config_owners, first_failure, positive_finite
 
 def _author_conform_policy(owner_path: Sdf.Path):
     def apply(stage: Usd.Stage) -> None:
+        from pxr import UsdRender  # the schema API, imported only when a fix runs (start-up)
+
         owner = UsdRender.SettingsBase(stage.GetPrimAtPath(owner_path))
         owner.CreateAspectRatioConformPolicyAttr().Set(UsdRender.Tokens.expandAperture)
 
@@ -149,14 +151,14 @@ class AspectRatioMismatchImplicitConform(Rule):
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for config in ctx.configurations:
-            camera = config.camera
+            camera = config.camera_prim
             if camera is None or self._has_explicit_policy(config):
                 continue
             image = _image_aspect(config)
             if image is None:
                 continue
             failure = first_failure(
-                camera.GetPrim(),
+                camera,
                 ("horizontalAperture", "verticalAperture"),
                 partial(_aspect_mismatch, image=image, tolerance=self.tolerance),
                 ctx,

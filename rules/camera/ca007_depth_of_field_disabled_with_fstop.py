@@ -90,11 +90,11 @@ class DepthOfFieldDisabledWithFStop(Rule):
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for config in ctx.configurations:
-            camera = config.camera
+            camera = config.camera_prim
             disable = config.effective("disableDepthOfField")
             if camera is None or not disable.value:
                 continue
-            fstop = camera.GetFStopAttr()
+            fstop = camera.GetAttribute("fStop")
             if not has_authored_value(fstop):
                 continue
             for time in rendered_times((fstop,), ctx.time_sample_cap):

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 #: productNames husk renders without writing a file: its null raster, and
@@ -80,7 +80,7 @@ class ProductNotWritten(Rule):
     severity = Severity.WARNING
     partial_composition = True
     profile = "karma"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("productName")

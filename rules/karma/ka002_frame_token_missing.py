@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 
@@ -91,7 +91,7 @@ class FrameTokenMissing(Rule):
     severity = Severity.WARNING
     partial_composition = True
     profile = "karma"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         frames = _frame_range(ctx.stage)

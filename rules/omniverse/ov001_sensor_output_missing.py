@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value, forwarded_targets, resolve_targets
 
 #: The RenderVars an RTX sensor writes: GenericModelOutput (Isaac Sim's RTX
@@ -90,7 +90,7 @@ class SensorOutputMissing(Rule):
     severity = Severity.WARNING
     partial_composition = True
     profile = "omniverse"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         cameras = forwarded_targets(prim.GetRelationship("camera"))
@@ -98,7 +98,7 @@ class SensorOutputMissing(Rule):
         if not sensor or sensor.GetTypeName() not in SENSOR_TYPES:
             return
         for target in resolve_targets(prim.GetRelationship("orderedVars")):
-            if target.ok and target.prim is not None and target.prim.IsA(UsdRender.Var):
+            if target.ok and target.prim is not None and target.prim.IsA(schemas.RenderVar):
                 source = authored_value(target.prim.GetAttribute("sourceName"))
                 if str(source or "") in SENSOR_OUTPUTS:
                     return

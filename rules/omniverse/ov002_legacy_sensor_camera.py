@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdGeom, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value, forwarded_targets
 
 #: The Camera attribute that made a Camera prim an RTX sensor before Isaac Sim 5.0.
@@ -77,12 +77,12 @@ class LegacySensorCamera(Rule):
     severity = Severity.WARNING
     partial_composition = True
     profile = "omniverse"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         cameras = forwarded_targets(prim.GetRelationship("camera"))
         camera = ctx.stage.GetPrimAtPath(cameras[0]) if cameras else None
-        if not camera or not camera.IsA(UsdGeom.Camera):
+        if not camera or not camera.IsA(schemas.Camera):
             return
         plugin = authored_value(camera.GetAttribute(PLUGIN_ATTR))
         if not plugin:

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import (
     authored_targets,
     authored_value,
@@ -27,7 +27,7 @@ def _intended_absolute_settings(owner: Usd.Prim, target: Sdf.Path) -> Sdf.Path |
         return None
     intended = Sdf.Path.absoluteRootPath.AppendPath(target.MakeRelativePath(owner_path))
     prim = owner.GetStage().GetPrimAtPath(intended)
-    return intended if prim and is_usable(prim) and prim.IsA(UsdRender.Settings) else None
+    return intended if prim and is_usable(prim) and prim.IsA(schemas.RenderSettings) else None
 
 
 def _replace_target(rel_path: Sdf.Path, old: Sdf.Path, new: Sdf.Path):
@@ -109,7 +109,7 @@ class RenderSourceInvalid(Rule):
     severity = Severity.ERROR
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Pass,)
+    prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         # Read by name: a schema object costs ~1.2 us a pass and is not needed.
@@ -130,7 +130,7 @@ class RenderSourceInvalid(Rule):
             )
             return
         for target in targets:
-            problem = typed_target_problem(target, UsdRender.Settings, "a RenderSettings")
+            problem = typed_target_problem(target, schemas.RenderSettings, "a RenderSettings")
             if problem is None:
                 continue
             intended = _intended_absolute_settings(prim, target.path)

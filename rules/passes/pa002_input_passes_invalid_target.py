@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import resolve_targets, typed_target_problem
 
 
@@ -76,12 +76,12 @@ class InputPassesInvalidTarget(Rule):
     name = "input-passes-invalid-target"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.Pass,)
+    prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = prim.GetRelationship("inputPasses")
         for target in resolve_targets(rel):
-            problem = typed_target_problem(target, UsdRender.Pass, "a RenderPass")
+            problem = typed_target_problem(target, schemas.RenderPass, "a RenderPass")
             if problem is not None:
                 yield Diagnostic(
                     message=f"inputPasses target <{target.path}> {problem}; list only the "

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import UsdRender
-
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
 
 from .._passes import find_cycles, input_pass_graph
@@ -99,5 +97,5 @@ class InputPassesCycle(Rule):
             yield Diagnostic(
                 message=f"RenderPass {cycle[0]} {what}: {chain}; the pass graph cannot be "
                 "scheduled; remove one of these dependencies",
-                at=UsdRender.Pass(first).GetInputPassesRel(),
+                at=first.GetRelationship("inputPasses"),
             )

@@ -5,9 +5,9 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 from ._default_value import _authored_layer
@@ -104,7 +104,7 @@ class FileNameUnresolvable(Rule):
     name = "file-name-unresolvable"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.Pass,)
+    prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("fileName")

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Tf, Usd, UsdRender
+from pxr import Tf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 from .._passes import (
@@ -129,7 +129,7 @@ class CollectionMembershipInvalid(Rule):
     name = "collection-membership-invalid"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.Pass,)
+    prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         for collection in authored_pass_collections(prim, ctx):

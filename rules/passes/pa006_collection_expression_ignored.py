@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Tf, Usd, UsdRender
+from pxr import Sdf, Tf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_targets, authored_value, has_authored_value
 
 from .._passes import authored_pass_collections, collection_label
@@ -140,7 +140,7 @@ class CollectionExpressionIgnored(Rule):
     severity = Severity.WARNING
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Pass,)
+    prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         for collection in authored_pass_collections(prim, ctx):

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value, has_authored_value
 
 from ._default_value import _value_lost_elsewhere
@@ -69,7 +69,7 @@ class PassTypeEmpty(Rule):
     name = "pass-type-empty"
     severity = Severity.INFO
     partial_composition = True
-    prim_types = (UsdRender.Pass,)
+    prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("passType")

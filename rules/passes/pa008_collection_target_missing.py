@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_targets
 
 from .._passes import authored_pass_collections, collection_label, dangling_object_reason
@@ -80,7 +80,7 @@ class CollectionTargetMissing(Rule):
     name = "collection-target-missing"
     severity = Severity.WARNING
     partial_composition = True
-    prim_types = (UsdRender.Pass,)
+    prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         stage = prim.GetStage()

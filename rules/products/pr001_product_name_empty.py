@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 
 from .._aov import checked_value
 from .._corrections import set_value
@@ -88,7 +88,7 @@ class ProductNameEmpty(Rule):
     severity = Severity.ERROR
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     @dataclass(frozen=True)
     class Options:

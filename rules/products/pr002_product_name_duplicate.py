@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import (
     composed_value,
     format_time,
@@ -106,7 +106,7 @@ class ProductNameDuplicate(Rule):
             products = products_of.setdefault(config.settings.GetPath(), [])
             if config.product is not None:
                 products.append(config.product)
-        for settings in ctx.prims_of(UsdRender.Settings):
+        for settings in ctx.prims_of(schemas.RenderSettings):
             products = products_of[settings.GetPath()]
             attrs = [p.GetAttribute("productName") for p in products]
             for time in joint_evaluation_times(attrs, ctx.time_sample_cap):

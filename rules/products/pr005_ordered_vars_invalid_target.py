@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_targets, describe_prim_type
 
 from .._aov import ordered_var_targets
@@ -90,7 +90,7 @@ class OrderedVarsInvalidTarget(Rule):
     severity = Severity.ERROR
     partial_composition = True
     fix_safety = "unsafe"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = prim.GetRelationship("orderedVars")
@@ -98,7 +98,7 @@ class OrderedVarsInvalidTarget(Rule):
         for target in ordered_var_targets(prim, ctx):
             if target.prim is None:
                 reason = target.problem
-            elif not target.prim.IsA(UsdRender.Var):
+            elif not target.prim.IsA(schemas.RenderVar):
                 reason = f"is {describe_prim_type(target.prim)}, not a RenderVar"
                 if target.problem:
                     reason += f", and {target.problem}"

@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import has_authored_value
 
 from .._aov import checked_value, product_render_vars
@@ -124,7 +124,7 @@ class DuplicateRenderVars(Rule):
     name = "duplicate-render-vars"
     severity = Severity.WARNING
     partial_composition = True
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         seen: dict[tuple, list[Usd.Prim]] = {}
@@ -146,7 +146,7 @@ class DuplicateRenderVars(Rule):
                 f"{data_type!r}{settings}, and no other attribute tells them apart: a "
                 "redundant channel; remove one from orderedVars or change its source or "
                 "settings",
-                at=UsdRender.Product(prim).GetOrderedVarsRel(),
+                at=prim.GetRelationship("orderedVars"),
             )
 
 

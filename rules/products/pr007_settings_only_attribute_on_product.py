@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 #: RenderSettings-only properties: UsdRenderComputeSpec never reads them on a product.
 SETTINGS_ONLY_PROPERTIES = (
@@ -82,7 +82,7 @@ class SettingsOnlyAttributeOnProduct(Rule):
     name = "settings-only-attribute-on-product"
     severity = Severity.WARNING
     partial_composition = True
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         for name in SETTINGS_ONLY_PROPERTIES:

@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import resolve_target
 
 from .._aov import checked_value, product_render_vars
@@ -119,7 +119,7 @@ class DeepRasterMissingAlpha(Rule):
     severity = Severity.WARNING
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     @dataclass(frozen=True)
     class Options:
@@ -131,7 +131,7 @@ class DeepRasterMissingAlpha(Rule):
             return None
         target = resolve_target(product.GetStage(), Sdf.Path(path))
         var = target.usable_prim
-        if var is None or not var.IsA(UsdRender.Var):
+        if var is None or not var.IsA(schemas.RenderVar):
             return None
         if not _is_alpha_source(var, ctx):
             return None

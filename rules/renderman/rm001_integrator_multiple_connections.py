@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from ._terminals import INTEGRATOR
 
@@ -78,7 +78,7 @@ class IntegratorMultipleConnections(Rule):
     severity = Severity.WARNING
     partial_composition = True
     profile = "renderman"
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute(INTEGRATOR)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import resolve_target
 
 from ._terminals import INTEGRATOR, TERMINALS
@@ -69,7 +69,7 @@ class RenderTerminalTargetMissing(Rule):
     severity = Severity.ERROR
     partial_composition = True
     profile = "renderman"
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         for name in TERMINALS:

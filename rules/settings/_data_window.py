@@ -7,9 +7,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from pxr import UsdRender
-
-from usdrender_lint.api import Context
+from usdrender_lint.api import Context, schemas
 from usdrender_lint.api.raster import pixel_centres
 from usdrender_lint.api.resolve import (
     EffectiveValue,
@@ -76,7 +74,7 @@ def _find_window_uses(ctx: Context) -> list[_WindowUse]:
     # overrides it), and untargeted products whether or not they render on
     # their own; a use already found above is not listed twice.
     found = {(use.window.attr.GetPath(), tuple(items(use.resolution))) for use in uses}
-    for prim in [*ctx.prims_of(UsdRender.Settings), *ctx.untargeted_products]:
+    for prim in [*ctx.prims_of(schemas.RenderSettings), *ctx.untargeted_products]:
         attr = prim.GetAttribute("dataWindowNDC")
         if has_authored_value(attr):
             resolution = composed_value(prim, "resolution")

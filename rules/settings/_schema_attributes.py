@@ -3,12 +3,12 @@ and SE017."""
 
 from __future__ import annotations
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context
+from usdrender_lint.api import Context, schemas
 
 #: Every render prim kind: SE016 and SE017 look at all their schema attributes.
-_RENDER_PRIM_TYPES = (UsdRender.SettingsBase, UsdRender.Var, UsdRender.Pass)
+_RENDER_PRIM_TYPES = (schemas.RenderSettingsBase, schemas.RenderVar, schemas.RenderPass)
 
 
 def _authored_schema_attributes(

@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value, composed_value, has_authored_value, items
 
 from ._messages import _fmt
@@ -74,11 +74,11 @@ class ResolutionNonPositive(Rule):
     name = "resolution-non-positive"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.SettingsBase,)
+    prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("resolution")
-        is_settings = prim.IsA(UsdRender.Settings)
+        is_settings = prim.IsA(schemas.RenderSettings)
         value = composed_value(prim, "resolution") if is_settings else authored_value(attr)
         if value is None:
             return

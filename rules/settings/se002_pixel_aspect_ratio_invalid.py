@@ -5,9 +5,9 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 from ._messages import _fmt
@@ -63,7 +63,7 @@ class PixelAspectRatioInvalid(Rule):
     name = "pixel-aspect-ratio-invalid"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.SettingsBase,)
+    prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("pixelAspectRatio")

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import allowed_tokens, authored_value
 
 from .._corrections import set_value
@@ -66,7 +66,7 @@ class AspectRatioConformPolicyInvalid(Rule):
     severity = Severity.ERROR
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.SettingsBase,)
+    prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         name = "aspectRatioConformPolicy"

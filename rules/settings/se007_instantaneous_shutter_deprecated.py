@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import has_authored_value
 
 from ._fixes import Apply
@@ -16,6 +16,8 @@ def _replace_instantaneous_shutter(prim_path: Sdf.Path, author_disable: bool) ->
     def apply(stage: Usd.Stage) -> None:
         prim = stage.GetPrimAtPath(prim_path)
         if author_disable:
+            from pxr import UsdRender  # the schema API, imported only when a fix runs (start-up)
+
             UsdRender.SettingsBase(prim).CreateDisableMotionBlurAttr().Set(True)
         prim.RemoveProperty("instantaneousShutter")
         attr = prim.GetAttribute("instantaneousShutter")
@@ -80,7 +82,7 @@ class InstantaneousShutterDeprecated(Rule):
     severity = Severity.WARNING
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.SettingsBase,)
+    prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("instantaneousShutter")

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 
@@ -61,7 +61,7 @@ class InstantaneousShutterConflict(Rule):
     name = "instantaneous-shutter-conflict"
     severity = Severity.WARNING
     partial_composition = True
-    prim_types = (UsdRender.SettingsBase,)
+    prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         shutter = prim.GetAttribute("instantaneousShutter")

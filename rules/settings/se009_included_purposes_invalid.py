@@ -4,17 +4,17 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdGeom, UsdRender, Vt
+from pxr import Usd, Vt
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value, items
 
 from .._corrections import set_value
 from ._messages import _fmt, _quoted
 from ._purposes import _duplicates
 
-#: The purposes UsdGeom knows, in its order (fixed for the process).
-_PURPOSES = tuple(str(t) for t in UsdGeom.Imageable.GetOrderedPurposeTokens())
+#: The purposes UsdGeom knows, in its order.
+_PURPOSES = schemas.ORDERED_PURPOSES
 #: Entries of a long list that are checked (a list past four entries is wrong anyway).
 CHECKED_ENTRIES = 10_000
 
@@ -73,7 +73,7 @@ class IncludedPurposesInvalid(Rule):
     severity = Severity.WARNING
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("includedPurposes")

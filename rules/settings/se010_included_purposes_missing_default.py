@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdGeom, UsdRender, Vt
+from pxr import Usd, Vt
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 from .._corrections import set_value
@@ -65,14 +65,14 @@ class IncludedPurposesMissingDefault(Rule):
     severity = Severity.WARNING
     partial_composition = True
     fix_safety = "safe"
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("includedPurposes")
         purposes = authored_value(attr)
-        if purposes is None or UsdGeom.Tokens.default_ in purposes:
+        if purposes is None or "default" in purposes:
             return
-        fixed = Vt.TokenArray([UsdGeom.Tokens.default_, *purposes])
+        fixed = Vt.TokenArray(["default", *purposes])
         yield Diagnostic(
             message=f'includedPurposes {_fmt(purposes)} does not list "default"; whether prims '
             "without an authored purpose render then depends on the renderer: author "

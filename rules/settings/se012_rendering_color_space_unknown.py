@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from .. import _colorspace
 from ._messages import _quoted
@@ -67,7 +67,7 @@ class RenderingColorSpaceUnknown(Rule):
     name = "rendering-color-space-unknown"
     severity = Severity.WARNING
     partial_composition = True
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         found = _rendering_color_space(prim)

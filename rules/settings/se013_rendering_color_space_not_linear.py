@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from .. import _colorspace
 from ._working_color_space import _color_space_cache, _rendering_color_space
@@ -76,7 +76,7 @@ class RenderingColorSpaceNotLinear(Rule):
     name = "rendering-color-space-not-linear"
     severity = Severity.WARNING
     partial_composition = True
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         found = _rendering_color_space(prim)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import resolve_targets, typed_target_problem
 
 
@@ -81,12 +81,12 @@ class ProductsTargetInvalid(Rule):
     name = "products-target-invalid"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = prim.GetRelationship("products")
         for target in resolve_targets(rel):
-            problem = typed_target_problem(target, UsdRender.Product, "a RenderProduct")
+            problem = typed_target_problem(target, schemas.RenderProduct, "a RenderProduct")
             if problem is None:
                 continue
             yield Diagnostic(

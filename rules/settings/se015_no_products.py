@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import forwarded_targets
 
 
@@ -62,7 +62,7 @@ class NoProducts(Rule):
     name = "no-products"
     severity = Severity.INFO
     partial_composition = True
-    prim_types = (UsdRender.Settings,)
+    prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = prim.GetRelationship("products")

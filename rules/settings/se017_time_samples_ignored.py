@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import DEFAULT_TIME, mismatched_spec, time_samples
 
 from ._fixes import Apply
@@ -116,7 +116,7 @@ class TimeSamplesIgnored(Rule):
                 continue  # nothing to report, or SE016's finding
             if definition.GetVariability() == Sdf.VariabilityUniform:
                 yield from self._uniform(attr, count, ctx)
-            elif attr.GetName() == "productName" and prim.IsA(UsdRender.Product):
+            elif attr.GetName() == "productName" and prim.IsA(schemas.RenderProduct):
                 yield from self._product_name(attr, count)
 
     def _uniform(self, attr: Usd.Attribute, count: int, ctx: Context) -> Iterator[Diagnostic]:

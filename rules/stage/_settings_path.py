@@ -3,9 +3,9 @@ rules that read it (ST003 to ST007)."""
 
 from __future__ import annotations
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Fix
+from usdrender_lint.api import Context, Fix, schemas
 
 #: The renderSettingsPrimPath layer-metadata field (pseudo-root of a layer).
 RENDER_SETTINGS_PATH_KEY = "renderSettingsPrimPath"
@@ -39,7 +39,7 @@ def _set_settings_path(value: str):
 
 def _single_settings_fix(ctx: Context, what: str) -> Fix | None:
     """Point renderSettingsPrimPath at the stage's only usable RenderSettings."""
-    settings = ctx.prims_of(UsdRender.Settings)
+    settings = ctx.prims_of(schemas.RenderSettings)
     if len(settings) != 1:
         return None
     path = str(settings[0].GetPath())

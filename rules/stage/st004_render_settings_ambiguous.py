@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import UsdRender
-
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from ._settings_path import settings_path_opinion
 
@@ -72,7 +70,7 @@ class RenderSettingsAmbiguous(Rule):
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         opinion = settings_path_opinion(ctx)
-        settings = ctx.prims_of(UsdRender.Settings)
+        settings = ctx.prims_of(schemas.RenderSettings)
         if (opinion is not None and opinion[0]) or len(settings) < 2:
             return
         candidates = ", ".join(f"<{p.GetPath()}>" for p in settings)

@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import UsdRender
-
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import describe_prim_type, unusable_reason
 
 from ._settings_path import _settings_path_problem, settings_path_opinion
@@ -84,7 +82,7 @@ class RenderSettingsPathNotRenderSettings(Rule):
         if _settings_path_problem(ctx.stage, value) is not None:
             return  # ST005's finding
         prim = ctx.stage.GetPrimAtPath(value)
-        if not prim.IsA(UsdRender.Settings):
+        if not prim.IsA(schemas.RenderSettings):
             what = f"{describe_prim_type(prim)}, not a RenderSettings"
         else:
             reason = unusable_reason(prim)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdGeom
+from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 
@@ -23,6 +23,8 @@ def _is_locally_authored(prim: Usd.Prim) -> bool:
 def _move_under_render_scope(source: Sdf.Path, destination: Sdf.Path):
     def apply(stage: Usd.Stage) -> None:
         if not stage.GetPrimAtPath(RENDER_SCOPE):
+            from pxr import UsdGeom  # the schema API, imported only when a fix runs (start-up)
+
             UsdGeom.Scope.Define(stage, RENDER_SCOPE)
         editor = Usd.NamespaceEditor(stage)
         if not (editor.MovePrimAtPath(source, destination) and editor.ApplyEdits()):

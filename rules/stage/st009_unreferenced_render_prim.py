@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import UsdRender
-
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import forwarded_targets, renders_on_its_own
 
 
@@ -90,10 +88,10 @@ class UnreferencedRenderPrim(Rule):
             )
         targeted = {
             path
-            for product in ctx.prims_of(UsdRender.Product)
+            for product in ctx.prims_of(schemas.RenderProduct)
             for path in forwarded_targets(product.GetRelationship("orderedVars"))
         }
-        for var in ctx.prims_of(UsdRender.Var):
+        for var in ctx.prims_of(schemas.RenderVar):
             if var.GetPath() not in targeted:
                 yield Diagnostic(
                     message=f"RenderVar <{var.GetPath()}> is in no RenderProduct's orderedVars, so "

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from .._aov import checked_value
 
@@ -67,7 +67,7 @@ class SourceNameEmpty(Rule):
     name = "source-name-empty"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.Var,)
+    prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "sourceName", ctx) != "":

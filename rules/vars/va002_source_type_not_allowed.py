@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import allowed_tokens, authored_value
 
 from .._corrections import unique_case_match
@@ -71,7 +71,7 @@ class SourceTypeNotAllowed(Rule):
     severity = Severity.ERROR
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Var,)
+    prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("sourceType")

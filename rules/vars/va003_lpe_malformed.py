@@ -6,9 +6,9 @@ import dataclasses
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 
 from .._aov import checked_value
 from .._corrections import set_value
@@ -87,7 +87,7 @@ class LpeMalformed(Rule):
     severity = Severity.ERROR
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Var,)
+    prim_types = (schemas.RenderVar,)
 
     @dataclass(frozen=True)
     class Options:

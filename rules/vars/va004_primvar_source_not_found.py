@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdGeom, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from .._aov import checked_value
 
@@ -22,6 +22,8 @@ def _scene_primvars(ctx: Context) -> frozenset[str]:
 def _scene_primvar_names(stage: Usd.Stage) -> frozenset[str]:
     """Names of the primvars with authored values on any prim outside /Render,
     instance prototypes included (each prototype once)."""
+    from pxr import UsdGeom  # its bindings cost start-up; only a primvar RenderVar needs them
+
     names: set[str] = set()
     roots = [stage.Traverse(), *(Usd.PrimRange(p) for p in stage.GetPrototypes())]
     for prims in roots:
@@ -118,7 +120,7 @@ class PrimvarSourceNotFound(Rule):
     name = "primvar-source-not-found"
     severity = Severity.INFO
     partial_composition = True
-    prim_types = (UsdRender.Var,)
+    prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "sourceType", ctx) != "primvar":
@@ -140,5 +142,5 @@ class PrimvarSourceNotFound(Rule):
             f"{prim.GetPath()} "
             "reads it); check the spelling, or ignore this if the primvar comes from an "
             "unloaded payload or the material network",
-            at=UsdRender.Var(prim).GetSourceNameAttr(),
+            at=prim.GetAttribute("sourceName"),
         )

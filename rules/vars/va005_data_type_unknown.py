@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from functools import cache
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 from .._corrections import unique_case_match
@@ -81,7 +81,7 @@ class DataTypeUnknown(Rule):
     severity = Severity.ERROR
     partial_composition = True
     fix_safety = "safe-conditional"
-    prim_types = (UsdRender.Var,)
+    prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("dataType")

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
 from .._corrections import set_value
@@ -94,7 +94,7 @@ class DataTypeNotPixelType(Rule):
     severity = Severity.WARNING
     partial_composition = True
     fix_safety = "unsafe"
-    prim_types = (UsdRender.Var,)
+    prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("dataType")

@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from .._aov import AovNaming, channel_name, product_render_vars
 
@@ -111,7 +111,7 @@ class AovNameCollision(Rule):
     name = "aov-name-collision"
     severity = Severity.ERROR
     partial_composition = True
-    prim_types = (UsdRender.Product,)
+    prim_types = (schemas.RenderProduct,)
 
     @dataclass(frozen=True)
     class Options:
@@ -142,5 +142,5 @@ class AovNameCollision(Rule):
                     f"{prim.GetPath()} share "
                     f"the {how} {channel!r}: the product gets two channels of that name and one "
                     "overwrites the other; rename one of them",
-                    at=UsdRender.Product(prim).GetOrderedVarsRel(),
+                    at=prim.GetRelationship("orderedVars"),
                 )

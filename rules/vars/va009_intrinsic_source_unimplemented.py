@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd, UsdRender
+from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
 from .._aov import checked_value
 
@@ -69,7 +69,7 @@ class IntrinsicSourceUnimplemented(Rule):
     name = "intrinsic-source-unimplemented"
     severity = Severity.INFO
     partial_composition = True
-    prim_types = (UsdRender.Var,)
+    prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "sourceType", ctx) != "intrinsic":
@@ -78,5 +78,5 @@ class IntrinsicSourceUnimplemented(Rule):
             message=f'sourceType "intrinsic" of RenderVar {prim.GetPath()} is reserved and not yet '
             'implemented: no renderer is expected to produce it; use sourceType "raw" (or '
             '"lpe") with the renderer\'s own source name',
-            at=UsdRender.Var(prim).GetSourceTypeAttr(),
+            at=prim.GetAttribute("sourceType"),
         )

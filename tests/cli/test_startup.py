@@ -32,6 +32,11 @@ NEVER_NEEDED = (
     "usdrender_lint.running.roots",
     "usdrender_lint.engine.variants",
     "usdrender_lint.running.baseline",
+    # The schema classes' bindings: rules name schemas as Tf.Type (api.schemas).
+    "pxr.UsdRender",
+    "pxr.UsdGeom",
+    "pxr.UsdShade",
+    "pxr.Sdr",
 )
 #: Modules only the worker pool needs (more than one job, or a --timeout).
 POOL_ONLY = ("multiprocessing", "tempfile", "shutil")

@@ -1,12 +1,13 @@
 """The rule-author API: everything a rule, built-in or third-party, needs.
 
-``from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity``;
+``from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas``;
 :mod:`usdrender_lint.api.resolve` holds the USD resolution every rule shares.
 """
 
 from __future__ import annotations
 
 from ..model import Severity
+from . import schemas
 from .context import Context, FullStageRequired
 from .rule import DOC_SECTIONS, Diagnostic, Fix, Rule
 
@@ -18,4 +19,5 @@ __all__ = [
     "FullStageRequired",
     "Rule",
     "Severity",
+    "schemas",
 ]

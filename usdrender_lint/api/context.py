@@ -7,8 +7,9 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any, TypeVar
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Tf, Usd
 
+from . import schemas
 from .cache import LintCache
 from .resolve import RenderConfiguration, own_configurations, settings_configurations
 
@@ -31,7 +32,7 @@ class Context:
     stage: Usd.Stage
     file: str
     #: Usable render prims found by the traversal, keyed by schema class.
-    render_prims: dict[type, list[Usd.Prim]] = field(default_factory=dict)
+    render_prims: dict[Tf.Type, list[Usd.Prim]] = field(default_factory=dict)
     #: Usable prims whose non-empty type name no registered schema defines.
     unknown_type_prims: list[Usd.Prim] = field(default_factory=list)
     #: Cap on the authored time samples a rule evaluates.
@@ -54,8 +55,10 @@ class Context:
         if self.partial:
             raise FullStageRequired
 
-    def prims_of(self, schema: type) -> list[Usd.Prim]:
-        return self.render_prims.get(schema, [])
+    def prims_of(self, schema: Tf.Type | type) -> list[Usd.Prim]:
+        """The usable prims of a render schema (RenderSettings, RenderProduct,
+        RenderVar, RenderPass), named as ``schemas.RenderVar`` or ``UsdRender.Var``."""
+        return self.render_prims.get(schemas.tf_type(schema), [])
 
     @cached_property
     def configurations(self) -> list[RenderConfiguration]:
@@ -76,11 +79,11 @@ class Context:
         targeted = {
             c.product.GetPath() for c in self._settings_configurations if c.product is not None
         }
-        return [p for p in self.prims_of(UsdRender.Product) if p.GetPath() not in targeted]
+        return [p for p in self.prims_of(schemas.RenderProduct) if p.GetPath() not in targeted]
 
     @cached_property
     def _settings_configurations(self) -> list[RenderConfiguration]:
-        return settings_configurations(self.prims_of(UsdRender.Settings))
+        return settings_configurations(self.prims_of(schemas.RenderSettings))
 
     def profile_of(self, config: RenderConfiguration) -> Any:
         """The profile choice a render configuration is judged under (None

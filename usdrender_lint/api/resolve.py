@@ -14,11 +14,15 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from itertools import islice
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from pxr import Gf, Sdf, Tf, Usd, UsdGeom, UsdRender
+from pxr import Gf, Sdf, Tf, Usd
 
+from . import schemas
 from .cache import cached
+
+if TYPE_CHECKING:
+    from pxr import UsdGeom
 
 DEFAULT_TIME = Usd.TimeCode.Default()
 
@@ -137,7 +141,7 @@ def describe_prim_type(prim: Usd.Prim) -> str:
 
 
 def typed_target_problem(target: Target, schema: type, expected: str) -> str | None:
-    """Why a target is not a usable prim of ``schema`` (e.g. ``UsdRender.Pass``,
+    """Why a target is not a usable prim of ``schema`` (e.g. ``schemas.RenderPass``,
     ``expected`` = "a RenderPass"), phrased to follow the target path in a
     message; None when it is one."""
     prim = target.usable_prim
@@ -508,12 +512,23 @@ class RenderConfiguration:
         return resolve_target(self.owner.GetStage(), targets[0])
 
     @property
-    def camera(self) -> UsdGeom.Camera | None:
-        """The effective camera when it is a usable Camera prim."""
+    def camera_prim(self) -> Usd.Prim | None:
+        """The effective camera's prim when it is a usable Camera."""
         target = self.camera_target
         prim = target.usable_prim if target is not None else None
-        if prim is None or not prim.IsA(UsdGeom.Camera):
+        if prim is None or not prim.IsA(schemas.Camera):
             return None
+        return prim
+
+    @property
+    def camera(self) -> UsdGeom.Camera | None:
+        """The effective camera when it is a usable Camera prim, as the schema
+        class (``camera_prim`` needs no import of UsdGeom's bindings)."""
+        prim = self.camera_prim
+        if prim is None:
+            return None
+        from pxr import UsdGeom  # its bindings cost start-up: only this API needs them
+
         return UsdGeom.Camera(prim)
 
     def describe(self) -> str:
@@ -533,7 +548,7 @@ def settings_configurations(settings_prims: Iterable[Usd.Prim]) -> list[RenderCo
         products = [
             t.prim
             for t in resolve_targets(settings.GetRelationship("products"))
-            if typed_target_problem(t, UsdRender.Product, "a RenderProduct") is None
+            if typed_target_problem(t, schemas.RenderProduct, "a RenderProduct") is None
         ]
         if products:
             configurations.extend(RenderConfiguration(settings, p) for p in products)

@@ -13,7 +13,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from pxr import Sdf, Usd
+from pxr import Sdf, Tf, Usd
 
 from ..model import Severity
 
@@ -62,8 +62,9 @@ class Rule:
     """Base class of every check.
 
     Subclasses set ``code``, ``name``, ``severity`` and, for ``check_prim``,
-    ``prim_types`` (schema classes such as ``UsdRender.SettingsBase``; the engine
-    hands each prim only to the rules that asked for its type). Options are a
+    ``prim_types`` (schema types such as ``schemas.RenderSettingsBase``, or schema
+    classes such as ``UsdRender.SettingsBase``; the engine hands each prim only
+    to the rules that asked for its type). Options are a
     frozen dataclass named ``Options`` nested in the rule. A base class that
     other rules share, with no code of its own, sets ``abstract = True``.
     """
@@ -71,7 +72,7 @@ class Rule:
     code: ClassVar[str]
     name: ClassVar[str]
     severity: ClassVar[Severity]
-    prim_types: ClassVar[tuple[type, ...]] = ()
+    prim_types: ClassVar[tuple[Tf.Type | type, ...]] = ()
     Options: ClassVar[type | None] = None
     #: The catalog's fix class: "safe", "safe-conditional", "unsafe" or "none".
     fix_safety: ClassVar[str] = "none"

@@ -12,9 +12,9 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any, Generic, TypeVar
 
-from pxr import Sdf, Tf, Usd, UsdRender
+from pxr import Sdf, Tf, Usd
 
-from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule
+from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
 from ..model import (
     INTERNAL_ERROR_CODE,
@@ -53,11 +53,11 @@ class InspectionError(Exception):
 
 
 #: The render prim kinds the engine collects during its walk (Context.render_prims).
-RENDER_SCHEMAS: tuple[type, ...] = (
-    UsdRender.Settings,
-    UsdRender.Product,
-    UsdRender.Var,
-    UsdRender.Pass,
+RENDER_SCHEMAS: tuple[Tf.Type, ...] = (
+    schemas.RenderSettings,
+    schemas.RenderProduct,
+    schemas.RenderVar,
+    schemas.RenderPass,
 )
 
 
@@ -145,14 +145,14 @@ class _TypeDispatch:
 
     def __init__(self, rules: Sequence[Rule]) -> None:
         self._rules = rules
-        self._by_type_name: dict[str, tuple[tuple[Rule, ...], tuple[type, ...]]] = {}
+        self._by_type_name: dict[str, tuple[tuple[Rule, ...], tuple[Tf.Type, ...]]] = {}
         self._wanted = {schema for rule in rules for schema in rule.prim_types}
         self._wanted.update(RENDER_SCHEMAS)
-        self._tf_types = {schema: Tf.Type.Find(schema) for schema in self._wanted}
+        self._tf_types = {schema: schemas.tf_type(schema) for schema in self._wanted}
         #: Type names no registered schema defines (USD composes them typeless).
         self.unknown_type_names: set[str] = set()
 
-    def lookup(self, type_name: str) -> tuple[tuple[Rule, ...], tuple[type, ...]]:
+    def lookup(self, type_name: str) -> tuple[tuple[Rule, ...], tuple[Tf.Type, ...]]:
         """(rules to run, render schemas the type belongs to) for a type name."""
         entry = self._by_type_name.get(type_name)
         if entry is None:

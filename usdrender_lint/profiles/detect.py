@@ -16,9 +16,9 @@ from dataclasses import dataclass, field
 from fnmatch import fnmatchcase
 from typing import Any
 
-from pxr import Sdf, Usd, UsdRender
+from pxr import Sdf, Usd
 
-from ..api import Context
+from ..api import Context, schemas
 from ..api.resolve import RenderConfiguration, forwarded_targets, resolve_targets
 from ..model import Severity
 from . import AUTO, GENERIC, PROFILES, get_profile
@@ -83,7 +83,7 @@ def _evidence(prims: Sequence[Usd.Prim], profile: Profile) -> list[str]:
         for schema in prim.GetPrimTypeInfo().GetAppliedAPISchemas():
             if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas):
                 found.append(f"the API schema {schema} on <{path}>")
-        if profile.product_types and prim.IsA(UsdRender.Product):
+        if profile.product_types and prim.IsA(schemas.RenderProduct):
             product_type = prim.GetAttribute("productType").Get()
             if product_type and profile.product_type(str(product_type)):
                 found.append(f"productType {str(product_type)!r} of <{path}>")
@@ -113,7 +113,7 @@ def _vars_of(product: Usd.Prim) -> list[Usd.Prim]:
     return [
         t.prim
         for t in resolve_targets(product.GetRelationship("orderedVars"))
-        if t.ok and t.prim is not None and t.prim.IsA(UsdRender.Var)
+        if t.ok and t.prim is not None and t.prim.IsA(schemas.RenderVar)
     ]
 
 
@@ -205,7 +205,7 @@ class Profiler:
         return assign(
             ctx.configurations,
             ctx.untargeted_products,
-            ctx.prims_of(UsdRender.Pass),
+            ctx.prims_of(schemas.RenderPass),
             setting,
             reason,
             [p for prims in ctx.render_prims.values() for p in prims],

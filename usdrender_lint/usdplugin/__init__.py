@@ -19,9 +19,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from pxr import Tf
-
-from ..api import Rule
+from ..api import Rule, schemas
 
 #: The Plug plugin name: validator names are ``<PLUGIN_NAME>:<ValidatorName>``
 #: and USD imports the Python module of this name to register them.
@@ -52,7 +50,7 @@ def family(rule: type[Rule]) -> str:
 
 def schema_type_names(rule: type[Rule]) -> list[str]:
     """USD's type names for the rule's schema classes (``UsdRenderSettingsBase``)."""
-    return [Tf.Type.Find(schema).typeName for schema in rule.prim_types]
+    return [schemas.tf_type(schema).typeName for schema in rule.prim_types]
 
 
 def is_prim_validator(rule: type[Rule]) -> bool:
