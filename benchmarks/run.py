@@ -74,6 +74,13 @@ RULES_FLOOR = (
     f"import sys; {STACK_IMPORTS}; from usdrender_lint.registry import build_registry; "
     "build_registry(); Usd.Stage.Open(sys.argv[1])"
 )
+#: ... and every module a plain ``check`` imports (command, pipeline, engine,
+#: text report): the whole import cost, with the file opened but not linted.
+IMPORTS_FLOOR = (
+    f"import sys; {STACK_IMPORTS}; from usdrender_lint.registry import build_registry; "
+    "build_registry(); import usdrender_lint.cli, usdrender_lint.running.pipeline, "
+    "usdrender_lint.formatters.text; Usd.Stage.Open(sys.argv[1])"
+)
 BARE_OPEN_ALL = "import sys; from pxr import Usd\nfor f in sys.argv[1:]: Usd.Stage.Open(f)"
 #: A bare open of each file that also reads what any render-settings rule set must
 #: read: every authored attribute value and relationship target of the render prims,
@@ -285,15 +292,20 @@ def start_up(work: Path, rounds: int) -> dict[str, float]:
     # click; then also the rule API, the rule modules and their registration.
     floor = Series("bare open + click", [PYTHON, "-c", STACK_FLOOR, str(shot)])
     rules = Series("... + rule modules, registered", [PYTHON, "-c", RULES_FLOOR, str(shot)])
+    imports = Series("... + every module check imports", [PYTHON, "-c", IMPORTS_FLOOR, str(shot)])
     check = Series("usdrender-lint check", [*CHECK, str(shot)])
     in_process = Series(
         "check --jobs 1 --timeout 0", [*CHECK, "--jobs", "1", "--timeout", "0", str(shot)]
     )
-    measure([bare, floor, rules, check, in_process], rounds)
+    measure([bare, floor, rules, imports, check, in_process], rounds)
     print(f"\nStart-up: a 1k-prim shot file (.usda), {rounds} rounds")
-    for s in (bare, floor, rules, check, in_process):
+    for s in (bare, floor, rules, imports, check, in_process):
         print(row(s, None if s is bare else bare))
-    return {"startup_time": check.median() / bare.median()}
+    return {
+        "startup_time": check.median() / bare.median(),
+        "startup_floor_rules": rules.median() / bare.median(),
+        "startup_floor_imports": imports.median() / bare.median(),
+    }
 
 
 def result_cache(work: Path, count: int, rounds: int) -> dict[str, float]:
