@@ -68,18 +68,26 @@ CHECK = [*LINT, "check", "--isolated", "--no-cache"]
 BARE_OPEN = "import sys; from pxr import Usd; Usd.Stage.Open(sys.argv[1])"
 STACK_IMPORTS = "from pxr import Usd; import click"
 STACK_FLOOR = f"import sys; {STACK_IMPORTS}; Usd.Stage.Open(sys.argv[1])"
+#: Open and ask one prim for its properties: USD initializes its property
+#: definitions at the first such question (about 14 ms here), which any linter,
+#: or any script that reads a value, pays.
+OPEN_AND_READ = (
+    "s = Usd.Stage.Open(sys.argv[1]); "
+    "[p.GetPropertyNames() for p in s.GetPseudoRoot().GetChildren()[:1]]"
+)
+READ_FLOOR = f"import sys; {STACK_IMPORTS}; {OPEN_AND_READ}"
 #: The stack, then the rule modules and their registration (what start-up pays
 #: for the rules before it reads a file).
 RULES_FLOOR = (
     f"import sys; {STACK_IMPORTS}; from usdrender_lint.registry import build_registry; "
-    "build_registry(); Usd.Stage.Open(sys.argv[1])"
+    f"build_registry(); {OPEN_AND_READ}"
 )
 #: ... and every module a plain ``check`` imports (command, pipeline, engine,
 #: text report): the whole import cost, with the file opened but not linted.
 IMPORTS_FLOOR = (
     f"import sys; {STACK_IMPORTS}; from usdrender_lint.registry import build_registry; "
     "build_registry(); import usdrender_lint.cli, usdrender_lint.running.pipeline, "
-    "usdrender_lint.formatters.text; Usd.Stage.Open(sys.argv[1])"
+    f"usdrender_lint.formatters.text; {OPEN_AND_READ}"
 )
 BARE_OPEN_ALL = "import sys; from pxr import Usd\nfor f in sys.argv[1:]: Usd.Stage.Open(f)"
 #: A bare open of each file that also reads what any render-settings rule set must
@@ -291,15 +299,16 @@ def start_up(work: Path, rounds: int) -> dict[str, float]:
     # What the stack alone costs before any linter code runs: importing
     # click; then also the rule API, the rule modules and their registration.
     floor = Series("bare open + click", [PYTHON, "-c", STACK_FLOOR, str(shot)])
+    read = Series("... + a first property read", [PYTHON, "-c", READ_FLOOR, str(shot)])
     rules = Series("... + rule modules, registered", [PYTHON, "-c", RULES_FLOOR, str(shot)])
     imports = Series("... + every module check imports", [PYTHON, "-c", IMPORTS_FLOOR, str(shot)])
     check = Series("usdrender-lint check", [*CHECK, str(shot)])
     in_process = Series(
         "check --jobs 1 --timeout 0", [*CHECK, "--jobs", "1", "--timeout", "0", str(shot)]
     )
-    measure([bare, floor, rules, imports, check, in_process], rounds)
+    measure([bare, floor, read, rules, imports, check, in_process], rounds)
     print(f"\nStart-up: a 1k-prim shot file (.usda), {rounds} rounds")
-    for s in (bare, floor, rules, imports, check, in_process):
+    for s in (bare, floor, read, rules, imports, check, in_process):
         print(row(s, None if s is bare else bare))
     return {
         "startup_time": check.median() / bare.median(),
