@@ -55,6 +55,8 @@ WORDS = (
     "clips",
     "usdrender_lint",
     "untyped",
+    # A crate's field for a prim's variant sets (partial.py checks their names).
+    "variantSetChildren",
 )
 #: Fields usda spells with another keyword (``inherits = </Class>``).
 TEXT_SPELLING = {"inheritPaths": "inherits"}

@@ -32,7 +32,7 @@ from .stage import (
     STAGE_OPEN_FAILED_NAME,
     CorruptValue,
     StageOpenResult,
-    error_lines,
+    corruption,
     layer_identifier,
     layer_real_path,
     open_stage,
@@ -272,6 +272,12 @@ class Linter:
             )
         except CorruptValue as exc:
             message = str(exc)
+        except Tf.ErrorException as exc:
+            # Outside a rule (the walk, suppressions, locating a finding).
+            found = corruption(exc, path)
+            if found is None:
+                raise
+            message = found
         if self._reads is not None:
             self._reads.complete = False  # the lint stopped part way
         location = Location(path, None, os.path.abspath(path), None)
@@ -290,6 +296,8 @@ class Linter:
             # What the fast path read decided how the stage is composed.
             self._reads.add_layers(masked.layers)
             self._reads.targets.extend(masked.missing)
+        if masked is not None and masked.corrupt is not None:
+            raise CorruptValue(masked.corrupt)
         if masked is not None and masked.stage is not None:
             try:
                 findings, value = self._lint(masked.stage, path, masked=True, inspect=inspect)
@@ -302,6 +310,12 @@ class Linter:
                 self._reads.complete = False
             failures = tuple(self._open_failure_findings(path, opened))
             return Inspected(FileResult(path, findings=failures))
+        checked = masked.checked if masked is not None else frozenset()
+        for layer in opened.stage.GetUsedLayers():
+            # Reading a spec USD cannot read crashes: no rule runs on such a file.
+            problem = None if layer.identifier in checked else partial.crate_problem(layer)
+            if problem is not None:
+                raise CorruptValue(problem)
         # The engine's own stage: the walk may ask USD for the typed prims (typed_prims.py).
         findings, value = self._lint(opened.stage, path, inspect=inspect, own_stage=True)
         return Inspected(FileResult(path, findings=tuple(findings)), value)
@@ -393,9 +407,9 @@ class Linter:
             ctx.profiles = self.profiler(ctx)
             return set(ctx.profiles.present())
         except Tf.ErrorException as exc:
-            corrupt = [line for line in error_lines(exc, ctx.file) if "Corrupt asset" in line]
-            if corrupt:
-                raise CorruptValue(corrupt[0]) from exc
+            corrupt = corruption(exc, ctx.file)
+            if corrupt is not None:
+                raise CorruptValue(corrupt) from exc
             raise
 
     def _record(self, stage: Usd.Stage, ctx: Context, masked: bool) -> None:
@@ -475,9 +489,9 @@ class Linter:
         """The internal-error finding for a hook that raised on ``target``
         (a prim or the Context), unless the error must propagate."""
         if isinstance(exc, Tf.ErrorException):
-            corrupt = [line for line in error_lines(exc, ctx.file) if "Corrupt asset" in line]
-            if corrupt:  # a crate value USD unpacks only when a rule reads it
-                raise CorruptValue(corrupt[0]) from exc
+            corrupt = corruption(exc, ctx.file)
+            if corrupt is not None:  # a crate value USD unpacks only when a rule reads it
+                raise CorruptValue(corrupt) from exc
         if self.raise_errors:
             raise exc
         prim_path = target.GetPath() if isinstance(target, Usd.Prim) else None

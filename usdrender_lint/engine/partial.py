@@ -50,9 +50,9 @@ from dataclasses import dataclass, field
 from pxr import Ar, Sdf, Tf, Usd
 
 from ..model import IGNORE_KEY
-from ..paths import usd_path
+from ..paths import display_path, usd_path
 from . import layer_words
-from .stage import layer_real_path
+from .stage import corruption, layer_real_path
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")
@@ -82,6 +82,11 @@ class NotProvable(Exception):
     """The fast path cannot show its mask is complete; compose everything."""
 
 
+class CorruptLayer(NotProvable):
+    """USD finds a layer's specs unreadable: reading them (a property stack,
+    a spec handle) can crash the process, so no rule may run on the file."""
+
+
 @dataclass
 class PartialStage:
     """A stage composed only within ``stage.GetPopulationMask()``, or None
@@ -97,6 +102,11 @@ class PartialStage:
     #: The masked stage when the fast path gave up after composing it: it holds
     #: the root layer stack's layers (``layers`` holds only weak handles to them).
     held: Usd.Stage | None = field(default=None, repr=False)
+    #: Why the file is corrupt (a layer's specs USD cannot read), or None.
+    corrupt: str | None = None
+    #: Identifiers of the crates whose specs were walked safely (no need to
+    #: check them again before a full composition's rules run).
+    checked: frozenset[str] = frozenset()
 
 
 @dataclass
@@ -157,10 +167,13 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
                 raise NotProvable("an error was posted while composing")
         except (NotProvable, Tf.ErrorException) as exc:
             reason = str(exc).strip() or type(exc).__name__
-            return PartialStage(None, layers, reason, missing, held=stage)
+            corrupt = reason if isinstance(exc, CorruptLayer) else None
+            return PartialStage(
+                None, layers, reason, missing, held=stage, corrupt=corrupt, checked=specs.walked()
+            )
         finally:
             trap.Clear()
-    return PartialStage(stage, layers, missing=missing)
+    return PartialStage(stage, layers, missing=missing, checked=specs.walked())
 
 
 # -- layers ---------------------------------------------------------------------------
@@ -206,8 +219,9 @@ class _Specs:
     without end or dereference an invalid variant set spec) and, in a corrupt
     crate, a prim named "" (an invalid prim spec). A layer holding either is
     left to the full composition (NotProvable), so the fast path survives
-    whatever composing the stage survives. :meth:`check` comes before any walk
-    of a layer."""
+    whatever composing the stage survives. A crate whose specs USD cannot
+    read (an invalid spec type: building a handle to that spec crashes) is
+    CorruptLayer. :meth:`check` comes before any walk of a layer."""
 
     def __init__(self) -> None:
         self._paths: dict[str, list[Sdf.Path]] = {}
@@ -221,10 +235,17 @@ class _Specs:
                 raise NotProvable(f'{layer.identifier} names a variant ""')
         else:
             # A crate's names are not text to search: Traverse survives a prim
-            # named "" and visits it as the empty path. (A crate holding a
-            # variant named "" remains beyond reach: Traverse recurses on it.)
+            # named "" and visits it as the empty path, but recurses without
+            # end on a variant (set) named "": looked for first, prim by prim,
+            # in a crate that has variants at all.
+            if _crate_names_an_empty_variant(layer):
+                raise NotProvable(f'{layer.identifier} names a variant ""')
             self._paths[layer.identifier] = self._traverse(layer)
         self._checked.add(layer.identifier)
+
+    def walked(self) -> frozenset[str]:
+        """The crates whose specs :meth:`check` walked without a problem."""
+        return frozenset(self._paths)
 
     def paths(self, layer: Sdf.Layer) -> list[Sdf.Path]:
         """Every spec path of the layer, prims inside variants included."""
@@ -241,7 +262,10 @@ class _Specs:
         # Sdf's own traversal, collected and filtered, is cheaper than walking
         # nameChildren from Python.
         paths: list[Sdf.Path] = []
-        layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
+        try:
+            layer.Traverse(Sdf.Path.absoluteRootPath, paths.append)
+        except Tf.ErrorException as exc:
+            raise CorruptLayer(_unreadable_specs(layer, exc)) from exc
         if paths and not all(paths):  # an empty path: a prim named ""
             raise NotProvable(f"{layer.identifier} holds a prim with no name")
         return paths
@@ -255,6 +279,59 @@ def unsafe_to_walk(layer: Sdf.Layer) -> str | None:
     except NotProvable as exc:
         return str(exc)
     return None
+
+
+def crate_problem(layer: Sdf.Layer) -> str | None:
+    """Why the crate ``layer``'s specs cannot be read safely (the file is
+    corrupt), or None; None for any other layer, and for a crate naming a
+    variant "" (walking it cannot be done safely; composing it can)."""
+    if layer.anonymous or layer.GetFileFormat().formatId != "usdc":
+        return None
+    with Tf.DiagnosticTrap() as trap:
+        try:
+            _Specs().check(layer)
+        except CorruptLayer as exc:
+            return str(exc)
+        except NotProvable:
+            return None
+        finally:
+            trap.Clear()
+    return None
+
+
+def _unreadable_specs(layer: Sdf.Layer, exc: Tf.ErrorException) -> str:
+    known = corruption(exc, layer_real_path(layer) or layer.identifier)
+    if known is not None and "Corrupt asset" in known:
+        return known  # as when a rule reads the value
+    commentary = [str(getattr(arg, "commentary", "") or "") for arg in exc.args]
+    # USD's "Invalid spec type N" quotes memory it did not initialise: no N.
+    why = next((c.strip() for c in commentary if c.strip()), "an unknown error")
+    why = "a spec of no valid type" if why.startswith("Invalid spec type") else why
+    name = display_path(layer_real_path(layer) or layer.identifier)
+    return f"USD cannot read the specs of {name} ({why}); the file is corrupt"
+
+
+def _crate_names_an_empty_variant(layer: Sdf.Layer) -> bool:
+    file = layer_real_path(layer)
+    if file and "variantSetChildren" not in layer_words.may_hold(file, ("variantSetChildren",)):
+        return False  # no variant set anywhere in the crate
+    get_spec = layer.GetPrimAtPath
+    stack = [Sdf.Path.absoluteRootPath]
+    while stack:
+        path = stack.pop()
+        spec = get_spec(path)
+        if spec is None:
+            continue
+        variant_sets = spec.variantSets
+        if len(variant_sets):
+            for set_name in variant_sets.keys():  # noqa: SIM118 - Sdf's views iterate specs
+                names = spec.GetVariantNames(set_name) if set_name else []
+                if not set_name or not all(names):
+                    return True
+                stack.extend(path.AppendVariantSelection(set_name, n) for n in names)
+        children = spec.nameChildren.keys()  # noqa: SIM118 - Sdf's views iterate specs
+        stack.extend(path.AppendChild(name) for name in children if name)
+    return False
 
 
 def _text_names_an_empty_variant(layer: Sdf.Layer) -> bool:

@@ -90,6 +90,24 @@ def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
                 yield line.strip()
 
 
+def corruption(exc: Tf.ErrorException, path: str) -> str | None:
+    """The ST001 message for a USD error that says the layer's data is corrupt
+    (found only when a value or spec is read), or None for any other error:
+    a crate value it cannot unpack ("Corrupt asset", or any error of the crate
+    reader, pxr/usd/sdf/crateFile.cpp) or a property with no name (which no
+    layer parser writes: UsdStage fails a verification on it)."""
+    for arg in exc.args:
+        commentary = str(getattr(arg, "commentary", "") or "")
+        source = str(getattr(arg, "sourceFileName", "") or "")
+        if "Corrupt asset" in commentary:
+            return next(iter(error_lines(exc, path)), commentary)
+        if source.endswith("crateFile.cpp"):
+            return f"USD cannot read a value of the file: {commentary.strip()}; the file is corrupt"
+        if "propName.IsEmpty()" in commentary:
+            return "the file holds a property with no name; the file is corrupt"
+    return None
+
+
 def _undecodable_error(path: str) -> str:
     """Say where a layer stops being UTF-8 (usd-core 26.11's usda parser
     rejects invalid UTF-8 anywhere in the file, comments included)."""
