@@ -15,6 +15,8 @@ from pathlib import Path
 import pytest
 from pxr import Sdf, Usd
 
+from usdrender_lint.running.workers import lint_one
+
 REPO = Path(__file__).resolve().parents[2]
 CONTROL = """#usda 1.0
 def Scope "Render"
@@ -146,3 +148,19 @@ def test_a_crate_naming_a_variant_with_no_name_through_an_arc_survives_in_proces
     files = {f["file"]: f for f in json.loads(fast.stdout)["files"]}
     assert files["shot.usda"]["status"] == "linted"
     assert "SE003" in {f["code"] for f in files["control.usda"]["findings"]}
+
+
+def test_an_unexpected_engine_failure_is_one_line() -> None:
+    """USD's exceptions span lines ("\\n\\tError in ..."): the report does not."""
+
+    class Failing:
+        raise_errors = False
+
+        def lint_path(self, path: str) -> None:
+            raise RuntimeError("\n\tError in 'Somewhere' at line 1 : 'what'\n")
+
+    result = lint_one(Failing(), "shot.usda")
+    assert (
+        result.error
+        == "shot.usda: internal error: RuntimeError: Error in 'Somewhere' at line 1 : 'what'"
+    )

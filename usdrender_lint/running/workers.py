@@ -176,8 +176,10 @@ def lint_one(linter: FileLinter, path: str | FullyComposed) -> FileResult:
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
         if getattr(linter, "raise_errors", False):
             raise
+        # USD's errors span lines; the report gives each file one line.
+        detail = " ".join(str(exc).split())
         return FileResult(
-            path, status="error", error=f"{path}: internal error: {type(exc).__name__}: {exc}"
+            path, status="error", error=f"{path}: internal error: {type(exc).__name__}: {detail}"
         )
 
 
@@ -408,7 +410,7 @@ def _worker_main(
         try:
             result = handle(linter, item)
         except Exception as exc:  # noqa: BLE001 - a handler's bug costs only its item
-            result = _Raised(f"internal error: {type(exc).__name__}: {exc}")
+            result = _Raised(f"internal error: {type(exc).__name__}: {' '.join(str(exc).split())}")
         conn.send((index, result))
 
 
