@@ -148,7 +148,7 @@ def test_the_command_line_report_is_identical_from_the_cache(tmp_path: Path) -> 
     fresh = CliRunner().invoke(cli, [*args, "--no-cache"])
     assert [r.exit_code for r in (*runs, fresh)] == [1, 1, 1]
     assert runs[0].stdout == runs[1].stdout == fresh.stdout
-    entries = list((tmp_path / ".usdrender_lint_cache" / "v1").glob("*.json"))
+    entries = list((tmp_path / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).glob("*.json"))
     # A file that does not open (examples/broken_shot/lighting_wip.usda, ST001) is never stored.
     files = json.loads(fresh.stdout)["files"]
     opened = [f for f in files if not any(x["code"] == "ST001" for x in f["findings"])]
@@ -418,7 +418,7 @@ def test_files_the_tool_could_not_read_fully_are_not_stored(tmp_path: Path, spy:
         report = check(tmp_path / "broken.usda", tmp_path / "nope.usda")
     assert [f.code for f in report.findings] == ["ST001"]
     assert spy.linted.count(str(tmp_path / "broken.usda")) == 2
-    assert not list((tmp_path / ".usdrender_lint_cache" / "v1").glob("*.json"))
+    assert not list((tmp_path / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).glob("*.json"))
 
 
 def test_a_result_is_not_stored_when_a_dependency_changed_while_it_was_linted(
@@ -456,7 +456,7 @@ def test_unsaved_edits_and_asset_expressions_are_not_cacheable() -> None:
 def _one_entry(tmp_path: Path) -> tuple[Path, Path]:
     shot = write(tmp_path, {"shot.usda": SHOT_WITH_SUBLAYER, "common.usda": settings_layer()})
     check(shot)
-    [entry] = (tmp_path / ".usdrender_lint_cache" / "v1").glob("*.json")
+    [entry] = (tmp_path / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).glob("*.json")
     return shot, entry
 
 
@@ -465,8 +465,8 @@ def _one_entry(tmp_path: Path) -> tuple[Path, Path]:
     [
         b"",
         b"\x00\xff garbage",
-        b'{"usdrender_lint_cache": 1, "key": "other"}',
-        b'{"usdrender_lint_cache": 2}',
+        b'{"usdrender_lint_cache": %d, "key": "other"}' % result_cache.FORMAT,
+        b'{"usdrender_lint_cache": %d}' % (result_cache.FORMAT + 1),
         b"[1, 2, 3]",
     ],
     ids=["empty", "binary", "foreign-key", "future-format", "not-an-object"],
@@ -479,7 +479,9 @@ def test_a_corrupt_or_foreign_entry_is_ignored_and_replaced(
     entry.write_bytes(damage)
     assert codes(check(shot)) == expected
     assert len(spy.linted) == 2
-    assert json.loads(entry.read_bytes())["usdrender_lint_cache"] == 1  # stored again
+    assert (
+        json.loads(entry.read_bytes())["usdrender_lint_cache"] == result_cache.FORMAT
+    )  # stored again
     assert codes(check(shot)) == expected and len(spy.linted) == 2
 
 
@@ -515,10 +517,10 @@ def test_concurrent_runs_share_a_cache_without_corrupting_it(tmp_path: Path) -> 
     outputs = [process.communicate(timeout=300)[0] for process in runs]
     assert [process.returncode for process in runs] == [1, 1, 1]
     assert len({output for output in outputs}) == 1
-    entries = list((tmp_path / ".usdrender_lint_cache" / "v1").glob("*.json"))
+    entries = list((tmp_path / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).glob("*.json"))
     assert len(entries) == 30
     for entry in entries:
-        assert json.loads(entry.read_bytes())["usdrender_lint_cache"] == 1
+        assert json.loads(entry.read_bytes())["usdrender_lint_cache"] == result_cache.FORMAT
     again = subprocess.run(command, stdout=subprocess.PIPE, env=env, check=False)
     assert again.stdout == outputs[0]
 
@@ -547,15 +549,15 @@ def test_the_cache_lives_at_the_project_root_or_where_it_is_told(tmp_path: Path)
     elsewhere.mkdir()
     os.chdir(elsewhere)
     assert CliRunner().invoke(cli, ["check", str(shot)]).exit_code == 1
-    assert (project / ".usdrender_lint_cache" / "v1").is_dir()
+    assert (project / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).is_dir()
     assert (project / ".usdrender_lint_cache" / ".gitignore").read_text().endswith("*\n")
     assert (project / ".usdrender_lint_cache" / "CACHEDIR.TAG").is_file()
     (project / "pyproject.toml").write_text('[tool.usdrender-lint]\ncache-dir = "build/lint"\n')
     assert CliRunner().invoke(cli, ["check", str(shot)]).exit_code == 1
-    assert list((project / "build" / "lint" / "v1").glob("*.json"))
+    assert list((project / "build" / "lint" / result_cache.ENTRIES_DIR).glob("*.json"))
     flag = tmp_path / "flag-cache"
     assert CliRunner().invoke(cli, ["check", "--cache-dir", str(flag), str(shot)]).exit_code == 1
-    assert list((flag / "v1").glob("*.json"))
+    assert list((flag / result_cache.ENTRIES_DIR).glob("*.json"))
     assert (
         CliRunner()
         .invoke(
@@ -564,7 +566,7 @@ def test_the_cache_lives_at_the_project_root_or_where_it_is_told(tmp_path: Path)
         .exit_code
         == 1
     )
-    assert list((elsewhere / "env-cache" / "v1").glob("*.json"))
+    assert list((elsewhere / "env-cache" / result_cache.ENTRIES_DIR).glob("*.json"))
 
 
 def test_a_cache_that_cannot_be_written_is_a_note_not_a_failure(tmp_path: Path) -> None:
@@ -585,7 +587,10 @@ def test_workers_store_the_results_they_lint(tmp_path: Path) -> None:
         write(tmp_path, {f"shot_{i}.usda": SHOT_WITH_SUBLAYER})
     shots = tuple(str(tmp_path / f"shot_{i}.usda") for i in range(4))
     first = run(Request(shots, isolated=True, jobs=2, cache=True)).report
-    assert len(list((tmp_path / ".usdrender_lint_cache" / "v1").glob("*.json"))) == 4
+    assert (
+        len(list((tmp_path / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).glob("*.json")))
+        == 4
+    )
     assert run(Request(shots, isolated=True, jobs=2, cache=True)).report == first
 
 
@@ -637,3 +642,49 @@ def test_the_stage_read_by_the_engine_is_what_the_entry_lists(tmp_path: Path) ->
     stage = Usd.Stage.Open(str(shot))
     used = {layer.realPath for layer in stage.GetUsedLayers() if not layer.anonymous}
     assert set(result_cache.dependencies(reads)) == used
+
+
+def test_the_note_of_combinations_the_variant_cap_skipped_survives_a_cache_hit(
+    tmp_path: Path, spy: Spy
+) -> None:
+    shot = write(
+        tmp_path,
+        {
+            "shot.usda": """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings" (
+        prepend variantSets = ["quality", "camera"]
+    )
+    {
+        variantSet "quality" = {
+            "draft" {
+            }
+            "final" {
+            }
+        }
+        variantSet "camera" = {
+            "main" {
+            }
+            "none" {
+            }
+        }
+    }
+}
+"""
+        },
+    )
+    request = Request(
+        (str(shot),),
+        isolated=True,
+        jobs=1,
+        timeout=None,
+        progress=False,
+        cache=True,
+        variants=True,
+        max_variant_combinations=2,
+    )
+    first, second = run(request), run(request)
+    assert spy.linted == [str(shot)], "the second run must not lint again"
+    assert first.notes == second.notes
+    assert any("more were skipped (raise --max-variant-combinations)" in n for n in first.notes)

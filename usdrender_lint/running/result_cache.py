@@ -49,7 +49,7 @@ if TYPE_CHECKING:
 #: working directory).
 CACHE_DIR_NAME = ".usdrender_lint_cache"
 #: Bumped when an entry's layout changes; older entries are then foreign.
-FORMAT = 1
+FORMAT = 2  # 2: entries keep the result's notes (--variants' skipped combinations)
 ENTRIES_DIR = f"v{FORMAT}"
 #: The cache's size bound, and what pruning brings it down to.
 MAX_BYTES = 256 << 20
@@ -322,10 +322,14 @@ class ResultCache:
         for path, digest in deps:
             if not isinstance(path, str) or self._digests.of(path) != digest:
                 return None
-        findings = data["findings"]
-        if not isinstance(findings, list):
+        findings, notes = data["findings"], data["notes"]
+        if not isinstance(findings, list) or not isinstance(notes, list):
             return None
-        return FileResult(file, findings=tuple(finding_from_dict(f) for f in findings))
+        if not all(isinstance(note, str) for note in notes):
+            return None
+        return FileResult(
+            file, findings=tuple(finding_from_dict(f) for f in findings), notes=tuple(notes)
+        )
 
     # -- store ---------------------------------------------------------------------
 
@@ -350,6 +354,7 @@ class ResultCache:
             "file": file,
             "deps": deps,
             "findings": [finding_to_dict(f, layer_path=str) for f in result.findings],
+            "notes": list(result.notes),
         }
         text = json.dumps(document, ensure_ascii=False, separators=(",", ":"))
         if len(text) > MAX_ENTRY_BYTES:
