@@ -313,7 +313,7 @@ class Linter:
         checked = masked.checked if masked is not None else frozenset()
         for layer in opened.stage.GetUsedLayers():
             # Reading a spec USD cannot read crashes: no rule runs on such a file.
-            problem = None if layer.identifier in checked else partial.crate_problem(layer)
+            problem = None if layer_identifier(layer) in checked else partial.crate_problem(layer)
             if problem is not None:
                 raise CorruptValue(problem)
         # The engine's own stage: the walk may ask USD for the typed prims (typed_prims.py).

@@ -52,7 +52,7 @@ from pxr import Ar, Sdf, Tf, Usd
 from ..model import IGNORE_KEY
 from ..paths import display_path, usd_path
 from . import layer_words
-from .stage import corruption, layer_real_path
+from .stage import corruption, layer_identifier, layer_real_path
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")
@@ -184,7 +184,7 @@ def _reachable_layers(stage: Usd.Stage, missing: list[str], specs: _Specs) -> li
     references and payloads (variants included), each once. The identifiers
     of the layers that do not exist are added to ``missing``."""
     layers = list(stage.GetLayerStack(includeSessionLayers=True))
-    seen = {layer.identifier for layer in layers}
+    seen = {layer_identifier(layer) for layer in layers}
     with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
         queue = list(layers)
         while queue:
@@ -197,8 +197,8 @@ def _reachable_layers(stage: Usd.Stage, missing: list[str], specs: _Specs) -> li
                 layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
                 if layer is None:
                     missing.append(Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path))
-                elif layer.identifier not in seen:
-                    seen.add(layer.identifier)
+                elif layer_identifier(layer) not in seen:
+                    seen.add(layer_identifier(layer))
                     layers.append(layer)
                     queue.append(layer)
     return layers
@@ -228,20 +228,20 @@ class _Specs:
         self._checked: set[str] = set()
 
     def check(self, layer: Sdf.Layer) -> None:
-        if layer.identifier in self._checked:
+        if layer_identifier(layer) in self._checked:
             return
         if layer.GetFileFormat().formatId == "usda":
             if _text_names_an_empty_variant(layer):
-                raise NotProvable(f'{layer.identifier} names a variant ""')
+                raise NotProvable(f'{layer_identifier(layer)} names a variant ""')
         else:
             # A crate's names are not text to search: Traverse survives a prim
             # named "" and visits it as the empty path, but recurses without
             # end on a variant (set) named "": looked for first, prim by prim,
             # in a crate that has variants at all.
             if _crate_names_an_empty_variant(layer):
-                raise NotProvable(f'{layer.identifier} names a variant ""')
-            self._paths[layer.identifier] = self._traverse(layer)
-        self._checked.add(layer.identifier)
+                raise NotProvable(f'{layer_identifier(layer)} names a variant ""')
+            self._paths[layer_identifier(layer)] = self._traverse(layer)
+        self._checked.add(layer_identifier(layer))
 
     def walked(self) -> frozenset[str]:
         """The crates whose specs :meth:`check` walked without a problem."""
@@ -251,10 +251,10 @@ class _Specs:
         """Every spec path of the layer, prims inside variants included."""
         self.check(layer)
         if layer.HasRelocates():
-            raise NotProvable(f"{layer.identifier} has relocates")
-        found = self._paths.get(layer.identifier)
+            raise NotProvable(f"{layer_identifier(layer)} has relocates")
+        found = self._paths.get(layer_identifier(layer))
         if found is None:
-            found = self._paths[layer.identifier] = self._traverse(layer)
+            found = self._paths[layer_identifier(layer)] = self._traverse(layer)
         return found
 
     @staticmethod
@@ -267,7 +267,7 @@ class _Specs:
         except Tf.ErrorException as exc:
             raise CorruptLayer(_unreadable_specs(layer, exc)) from exc
         if paths and not all(paths):  # an empty path: a prim named ""
-            raise NotProvable(f"{layer.identifier} holds a prim with no name")
+            raise NotProvable(f"{layer_identifier(layer)} holds a prim with no name")
         return paths
 
 
@@ -300,14 +300,14 @@ def crate_problem(layer: Sdf.Layer) -> str | None:
 
 
 def _unreadable_specs(layer: Sdf.Layer, exc: Tf.ErrorException) -> str:
-    known = corruption(exc, layer_real_path(layer) or layer.identifier)
+    known = corruption(exc, layer_real_path(layer) or layer_identifier(layer))
     if known is not None and "Corrupt asset" in known:
         return known  # as when a rule reads the value
     commentary = [str(getattr(arg, "commentary", "") or "") for arg in exc.args]
     # USD's "Invalid spec type N" quotes memory it did not initialise: no N.
     why = next((c.strip() for c in commentary if c.strip()), "an unknown error")
     why = "a spec of no valid type" if why.startswith("Invalid spec type") else why
-    name = display_path(layer_real_path(layer) or layer.identifier)
+    name = display_path(layer_real_path(layer) or layer_identifier(layer))
     return f"USD cannot read the specs of {name} ({why}); the file is corrupt"
 
 
@@ -389,7 +389,7 @@ def _scan(
         if suppressing and "customData" in keys and IGNORE_DICTIONARY in spec.customData:
             scan.wanted.add(path.StripAllVariantSelections())
         if "relocates" in keys:
-            raise NotProvable(f"relocates on {path} in {layer.identifier}")
+            raise NotProvable(f"relocates on {path} in {layer_identifier(layer)}")
         if not _ARC_KEYS.isdisjoint(keys):
             _record_arcs(spec, scan)
     return scan
@@ -423,20 +423,22 @@ def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan) -> None:
 def _initial_mask(
     stage: Usd.Stage, layers: list[Sdf.Layer], wants_type: Callable[[str], bool], specs: _Specs
 ) -> Usd.StagePopulationMask:
-    root_stack = {layer.identifier for layer in stage.GetLayerStack(includeSessionLayers=True)}
+    root_stack = {
+        layer_identifier(layer) for layer in stage.GetLayerStack(includeSessionLayers=True)
+    }
     foreign_classes: set[str] = set()
     scans: dict[str, _LayerScan] = {}
     for layer in layers:
-        if layer.identifier in root_stack:
+        if layer_identifier(layer) in root_stack:
             continue
-        scan = scans[layer.identifier] = _scan(layer, wants_type, specs.paths(layer))
+        scan = scans[layer_identifier(layer)] = _scan(layer, wants_type, specs.paths(layer))
         if scan.wanted:
-            raise NotProvable(f"{layer.identifier} brings in wanted prims through an arc")
+            raise NotProvable(f"{layer_identifier(layer)} brings in wanted prims through an arc")
         if layer.pseudoRoot.HasInfo(SETTINGS_PATH_KEY):
-            raise NotProvable(f"{layer.identifier} authors {SETTINGS_PATH_KEY}")
+            raise NotProvable(f"{layer_identifier(layer)} authors {SETTINGS_PATH_KEY}")
         foreign_classes |= scan.class_names
     weight = _Weights(layers, scans)
-    root_layers = [layer for layer in layers if layer.identifier in root_stack]
+    root_layers = [layer for layer in layers if layer_identifier(layer) in root_stack]
     root_paths = [specs.paths(layer) for layer in root_layers]
     _check_payoff(root_layers, root_paths, weight, sum(s.specs for s in scans.values()))
     root_scan = _LayerScan()
@@ -459,7 +461,7 @@ class _Weights:
     those of the layers it references (a projection, not a count)."""
 
     def __init__(self, layers: list[Sdf.Layer], scans: dict[str, _LayerScan]) -> None:
-        self._layers = {layer.identifier: layer for layer in layers}
+        self._layers = {layer_identifier(layer): layer for layer in layers}
         self._scans = scans
         self._weights: dict[str, int] = {}
 

@@ -34,8 +34,9 @@ from pxr import Sdf, Tf, Usd
 
 from ..api.resolve import mismatched_specs
 from ..engine import Linter, open_stage
+from ..engine.stage import layer_identifier, layer_real_path
 from ..model import AppliedFix, FileResult, Finding
-from ..paths import display_path
+from ..paths import display_path, escape, usd_path
 from .session import Applied, FixError, FixOptions, FixRun, StageFixer
 from .text_edits import CannotEdit, edit_text
 from .writing import ChangedOnDisk, DiskState, save_layer, save_new_layer, save_text
@@ -62,7 +63,13 @@ def fix_to(
     if overlay.layer in source.GetUsedLayers():
         raise FixError(f"--fix-to {overlay.path}: the layer is part of the stage it fixes")
     root = source.GetRootLayer()
-    overlay.root_path = root.realPath
+    overlay.root_path = layer_real_path(root)
+    if overlay.root_path != escape(overlay.root_path):
+        # The overlay sublayers the root, and an asset path must be UTF-8 (Sdf refuses it).
+        raise FixError(
+            f"--fix-to {overlay.path}: the stage's file name {display_path(path)} is not "
+            "valid UTF-8, and a layer can only name a file whose name is"
+        )
     overlay.root_metadata = _stage_metadata(root)
     overlay.reset()
     # The fixes run on the stage the overlay roots, in memory, as --fix runs them.
@@ -120,11 +127,11 @@ class _OverlayLayer:
         ):
             raise FixError(f"--fix-to {path}: not writable")
         if not target.exists():
-            layer = Sdf.Layer.New(file_format, str(target.resolve()))
+            layer = Sdf.Layer.New(file_format, usd_path(str(target.resolve())))
             return cls(path, layer, None, _snapshot(layer), layer.ExportToString())
         with Tf.DiagnosticTrap() as trap:
             try:
-                layer = Sdf.Layer.FindOrOpen(str(target))
+                layer = Sdf.Layer.FindOrOpen(usd_path(str(target)))
             except Tf.ErrorException:
                 layer = None
             trap.Clear()
@@ -285,7 +292,7 @@ class _Builder:
     def _report(self, todo: dict[Sdf.Path, _State]) -> None:
         """The outcomes: dropped fixes with their reason; fixes the overlay already
         held are not reported (nothing to do); the rest point at the overlay."""
-        shown = self.overlay.layer.realPath or self.overlay.path
+        shown = layer_real_path(self.overlay.layer) or self.overlay.path
         start = self.overlay.start.pseudoRoot
         meta_changed = any(
             not start.HasInfo(key) or start.GetInfo(key) != value
@@ -337,7 +344,7 @@ def _finding_key(finding: Finding) -> tuple[str, str | None, str]:
 
 def _add_sublayer(layer: Sdf.Layer, root_path: str) -> None:
     """Make ``layer`` sublayer the stage's root layer (relative to itself)."""
-    folder = os.path.dirname(layer.realPath or os.path.abspath(layer.identifier))
+    folder = os.path.dirname(layer_real_path(layer) or os.path.abspath(layer_identifier(layer)))
     for existing in layer.subLayerPaths:
         resolved = existing if os.path.isabs(existing) else os.path.join(folder, existing)
         if os.path.realpath(resolved) == os.path.realpath(root_path):

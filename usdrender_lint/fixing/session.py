@@ -27,6 +27,7 @@ from pxr import Sdf, Tf, Usd
 
 from ..api import Fix
 from ..engine import Linter, open_stage
+from ..engine.stage import layer_identifier, layer_real_path
 from ..model import AppliedFix, FileResult, Finding
 from ..paths import display_path
 from .diff import patch
@@ -479,14 +480,14 @@ def _fix_key(finding: Finding, fix: Fix | None) -> tuple:
 def _find_layer(layers: Iterable[Sdf.Layer], name: str) -> Sdf.Layer | None:
     """The layer a finding names (engine.locate writes realPath or identifier)."""
     for layer in layers:
-        if name in (_layer_path(layer), layer.identifier):
+        if name in (_layer_path(layer), layer_identifier(layer)):
             return layer
     return None
 
 
 def _layer_path(layer: Sdf.Layer) -> str:
     """How findings name a layer (engine.locate): its file, else its identifier."""
-    return layer.realPath or layer.identifier
+    return layer_real_path(layer) or layer_identifier(layer)
 
 
 def _display(layer: Sdf.Layer) -> str:

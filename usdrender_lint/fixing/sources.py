@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 from pxr import Sdf, Usd
 
+from ..engine.stage import layer_identifier, layer_real_path
 from ..paths import display_path
 from .text_edits import CannotEdit, canonical, edit_text
 from .writing import DiskState, write_problem
@@ -61,7 +62,7 @@ class Sources:
         self.in_memory = in_memory
         self.known: dict[str, LayerSource] = {}
         for layer in stage.GetLayerStack(includeSessionLayers=False):
-            self.known[layer.identifier] = self._read(layer)
+            self.known[layer_identifier(layer)] = self._read(layer)
 
     def _read(self, layer: Sdf.Layer) -> LayerSource:
         exported = layer.ExportToString()
@@ -70,11 +71,13 @@ class Sources:
         problem = write_problem(layer)
         disk = None
         text = None
-        if layer.realPath and problem is None:
+        if layer_real_path(layer) and problem is None:
             try:
-                disk = DiskState.read(layer.realPath)
+                disk = DiskState.read(layer_real_path(layer))
             except OSError as exc:
-                problem = f"{display_path(layer.realPath)} cannot be read: {exc.strerror or exc}"
+                problem = (
+                    f"{display_path(layer_real_path(layer))} cannot be read: {exc.strerror or exc}"
+                )
         if disk is not None and not disk.is_crate:
             try:
                 text = disk.data.decode("utf-8")
@@ -86,7 +89,7 @@ class Sources:
         return iter(self.known.values())
 
     def get(self, layer: Sdf.Layer) -> LayerSource | None:
-        return self.known.get(layer.identifier)
+        return self.known.get(layer_identifier(layer))
 
     def problem(self, layer: Sdf.Layer) -> str | None:
         """Why fixes may not edit ``layer`` (None: they may). A text layer whose
@@ -125,7 +128,7 @@ class Sources:
             source.canonical = after
             if text is not None:
                 source.text = text
-            self.known.setdefault(source.layer.identifier, source)
+            self.known.setdefault(layer_identifier(source.layer), source)
         return None
 
     def checkpoint(self) -> dict[str, tuple[LayerSource, str, str | None]]:
@@ -148,7 +151,7 @@ class Sources:
                 restore(layer, source.canonical)
             elif layer == session:
                 layer.Clear()
-            elif layer.realPath and not layer.anonymous:
+            elif layer_real_path(layer) and not layer.anonymous:
                 layer.Reload(True)
 
     def discard(self) -> None:
@@ -156,7 +159,7 @@ class Sources:
         read its file, not the registry's edited copy."""
         self.stage.GetSessionLayer().Clear()  # in memory, fixes may override from there
         for layer in self.stage.GetUsedLayers():
-            if layer.dirty and not layer.anonymous and os.path.isfile(layer.realPath):
+            if layer.dirty and not layer.anonymous and os.path.isfile(layer_real_path(layer)):
                 layer.Reload(True)
 
 
@@ -168,4 +171,4 @@ def restore(layer: Sdf.Layer, text: str) -> None:
 
 
 def _shown(layer: Sdf.Layer) -> str:
-    return display_path(layer.realPath or layer.identifier)
+    return display_path(layer_real_path(layer) or layer_identifier(layer))

@@ -19,7 +19,8 @@ from pathlib import Path
 from pxr import Sdf, Tf
 
 from ..atomic import replace_atomically
-from ..paths import display_path
+from ..engine.stage import layer_identifier, layer_real_path
+from ..paths import display_path, usd_path
 
 CRATE_MAGIC = b"PXR-USDC"
 
@@ -62,11 +63,11 @@ class DiskState:
 
 def write_problem(layer: Sdf.Layer) -> str | None:
     """Why --fix may not write ``layer``, or None when it may."""
-    path = layer.realPath
+    path = layer_real_path(layer)
     if layer.anonymous or not path:
         return f"{layer.GetDisplayName()} is not a file on disk"
     shown = display_path(path)
-    if layer.GetFileFormat().IsPackage() or layer.identifier.endswith("]"):
+    if layer.GetFileFormat().IsPackage() or layer_identifier(layer).endswith("]"):
         return (
             f"{shown} is inside a .usdz package, which --fix does not rewrite; "
             "use --fix-to LAYER to write the fixes as overrides"
@@ -146,7 +147,7 @@ def export(layer: Sdf.Layer, path: str, args: dict[str, str]) -> None:
     """Sdf's export, with its errors as OSError (a test replaces this to fail)."""
     try:
         with Tf.DiagnosticTrap() as trap:
-            ok = layer.Export(path, args=args)
+            ok = layer.Export(usd_path(path), args=args)
             trap.Clear()
     except Tf.ErrorException as exc:
         raise OSError(str(exc).strip().splitlines()[-1]) from None
