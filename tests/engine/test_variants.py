@@ -128,13 +128,14 @@ def test_the_cap_limits_the_combinations_and_says_how_many_it_skipped(shot: Path
     result, one = check("--variants", "--max-variant-combinations", "1", str(shot))
     assert one == []
     assert result.stderr == (
-        f"usdrender-lint: {shot}: --variants linted 1 variant combinations; 3 more were "
+        f"usdrender-lint: {shot}: --variants linted 1 variant combination; 3 more were "
         "skipped (raise --max-variant-combinations)\n"
     )
     result, two = check("--variants", "--max-variant-combinations", "2", str(shot))
     assert {f["code"] for f in two} == {"SE002"}
     assert "2 variant combinations; 2 more were skipped" in result.stderr
     result, three = check("--variants", "--max-variant-combinations", "3", str(shot))
+    assert "3 variant combinations; 1 more was skipped" in result.stderr
     assert {f["code"] for f in three} == {"SE002", "CA001"}
     result, four = check("--variants", "--max-variant-combinations", "4", str(shot))
     assert four == three and result.stderr == ""  # nothing skipped, nothing said

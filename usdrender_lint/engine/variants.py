@@ -131,8 +131,10 @@ def skipped_note(path: str, linted: int, total: int) -> str:
     skipped = total - linted
     # 10,000 sets of two variants make 2^10000 combinations: too many digits to print.
     shown = f"{skipped:,}" if skipped < 10**15 else f"about 10^{int(math.log10(skipped))}"
+    combinations = "combination" if linted == 1 else "combinations"
+    were = "was" if skipped == 1 else "were"
     return (
-        f"{path}: --variants linted {linted:,} variant combinations; {shown} more were "
+        f"{path}: --variants linted {linted:,} variant {combinations}; {shown} more {were} "
         "skipped (raise --max-variant-combinations)"
     )
 
