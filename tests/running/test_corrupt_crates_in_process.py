@@ -78,10 +78,17 @@ def _shot_crate(folder: Path) -> bytes:
     return data
 
 
+@pytest.mark.parametrize(
+    "where",
+    [["--jobs", "1", "--timeout", "0"], ["--jobs", "2"]],
+    ids=["in-process", "workers"],
+)
 @pytest.mark.parametrize("full", [False, True], ids=["fast-path", "full-composition"])
 def test_corrupt_crates_in_one_run_are_st001_and_the_others_are_linted(
-    tmp_path: Path, full: bool
+    tmp_path: Path, full: bool, where: list[str]
 ) -> None:
+    """In workers the crate walk before the rules is left to the retry after a
+    crash (engine.linter.contain_crashes): the same report either way."""
     data = _shot_crate(tmp_path)
     if len(data) != SHOT_CRATE_SIZE:
         pytest.skip("usd-core writes another crate layout; the corrupt bytes are elsewhere")
@@ -92,18 +99,7 @@ def test_corrupt_crates_in_one_run_are_st001_and_the_others_are_linted(
     (tmp_path / "control.usda").write_text(CONTROL)
     extra = ["--full-composition"] if full else []
     names = [f"flip{offset}.usdc" for offset in FLIPS]
-    result = lint(
-        tmp_path,
-        "--format",
-        "json",
-        "--jobs",
-        "1",
-        "--timeout",
-        "0",
-        *extra,
-        *names,
-        "control.usda",
-    )
+    result = lint(tmp_path, "--format", "json", *where, *extra, *names, "control.usda")
     assert (result.returncode, result.stderr) == (1, "")
     files = {f["file"]: f for f in json.loads(result.stdout)["files"]}
     for offset, message in FLIPS.items():
@@ -164,3 +160,29 @@ def test_an_unexpected_engine_failure_is_one_line() -> None:
         result.error
         == "shot.usda: internal error: RuntimeError: Error in 'Somewhere' at line 1 : 'what'"
     )
+
+
+@pytest.mark.parametrize("contained", [False, True], ids=["own-process", "worker"])
+def test_a_worker_leaves_the_crate_walk_to_the_retry(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, contained: bool
+) -> None:
+    """Where a crash costs only the file (a worker), a healthy crate is not
+    walked before the rules; the retry after a crash (full_composition) walks it."""
+    from usdrender_lint.engine import linter as engine_linter
+    from usdrender_lint.engine import partial
+    from usdrender_lint.registry import build_registry
+
+    walked: list[str] = []
+    real = partial.crate_problem
+    monkeypatch.setattr(engine_linter, "_crashes_contained", contained)
+    monkeypatch.setattr(
+        partial, "crate_problem", lambda layer: walked.append(layer.identifier) or real(layer)
+    )
+    path = tmp_path / "shot.usdc"
+    path.write_bytes(_shot_crate(tmp_path))
+    linter = engine_linter.Linter([rule() for rule in build_registry().rules])
+    linter.lint_path(str(path))
+    assert bool(walked) is not contained
+    walked.clear()
+    linter.lint_path(str(path), full_composition=True)
+    assert walked

@@ -254,6 +254,7 @@ def _lint_in_child(
             default_signals_in_worker()  # the parent handles Ctrl-C
             _die_with_parent()
             _limit_memory(worker_memory_limit(1))
+            _contain_crashes()
             os.dup2(err_write, 2)
             _off_stdout()
             data = pickle.dumps(lint_one(linter, item), pickle.HIGHEST_PROTOCOL)
@@ -374,6 +375,7 @@ def _worker_main(
     default_signals_in_worker()
     _die_with_parent()
     _limit_memory(memory_limit)
+    _contain_crashes()
     if usd_threads is not None:
         from pxr import Work
 
@@ -658,6 +660,13 @@ def _limit_memory(limit: int | None) -> None:
     if soft == resource.RLIM_INFINITY or limit < soft:
         with suppress(ValueError, OSError):
             resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
+
+
+def _contain_crashes() -> None:
+    # A crash here costs one file, linted again with full_composition (see lint_one).
+    from ..engine.linter import contain_crashes
+
+    contain_crashes()
 
 
 def _off_stdout() -> None:
