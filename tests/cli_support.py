@@ -1,5 +1,5 @@
-"""Helpers the command-line tests share: the command in its own process, and a
-small crate layer to corrupt."""
+"""Helpers the command-line tests share: the command in its own process, a
+small crate layer to corrupt, and a layer naming a variant \"\"."""
 
 from __future__ import annotations
 
@@ -9,6 +9,24 @@ import sys
 from pathlib import Path
 
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
+
+#: A RenderSettings whose variant set holds a variant named "": Sdf's walks of
+#: such a layer abort or recurse without end (usd-core 26.11); composing it works.
+EMPTY_VARIANT_NAME = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings" (
+        variantSets = "quality"
+    )
+    {
+        variantSet "quality" = {
+            "" {
+                rel camera = </World/cam>
+            }
+        }
+    }
+}
+"""
 
 
 def run_cli_process(folder: Path, *args: str) -> subprocess.CompletedProcess:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from cli_support import run_cli_process, settings_crate
+from cli_support import EMPTY_VARIANT_NAME, run_cli_process, settings_crate
 from click.testing import CliRunner, Result
 from pxr import Sdf, Usd, UsdRender, Vt
 
@@ -578,23 +578,6 @@ def test_a_rule_quoting_a_huge_array_gives_a_bounded_message(tmp_path: Path) -> 
     assert finding.message.endswith(
         f"({len('weights []') + 100_000 * 5 - 2 - MAX_MESSAGE_CHARS} more characters)"
     )
-
-
-EMPTY_VARIANT_NAME = """#usda 1.0
-def Scope "Render"
-{
-    def RenderSettings "Settings" (
-        variantSets = "quality"
-    )
-    {
-        variantSet "quality" = {
-            "" {
-                rel camera = </World/cam>
-            }
-        }
-    }
-}
-"""
 
 
 def test_a_layer_that_aborts_usd_costs_only_itself(tmp_path: Path) -> None:

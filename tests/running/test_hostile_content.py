@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from cli_support import EMPTY_VARIANT_NAME
 from pxr import Sdf, Usd, UsdRender, Vt
 
 from usdrender_lint.api.text import MAX_MESSAGE_CHARS, listing
@@ -36,24 +37,9 @@ def Scope "Render"
 }
 """
 HANGS = "#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n"
-EMPTY_VARIANT = """#usda 1.0
-(
-    subLayers = [@./sub.usda@]
+EMPTY_VARIANT = EMPTY_VARIANT_NAME.replace(
+    "#usda 1.0\n", "#usda 1.0\n(\n    subLayers = [@./sub.usda@]\n)\n", 1
 )
-def Scope "Render"
-{
-    def RenderSettings "Settings" (
-        variantSets = "quality"
-    )
-    {
-        variantSet "quality" = {
-            "" {
-                rel camera = </World/cam>
-            }
-        }
-    }
-}
-"""
 
 fifos = pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs")
 
