@@ -51,7 +51,7 @@ def test_piped_output_is_plain_and_does_not_import_rich(monkeypatch) -> None:
         "gone.usda: error: no such file",
         "shot.usda: error CA004 /Render/S.camera: camera target </rig> is an Xform"
         " [not a Camera] [fix: retarget]",
-        "1 finding in 2 files: 1 error, 0 warnings, 1 info (1 info hidden; --show-info shows"
+        "1 finding in 2 files: 1 error, 0 warnings (1 info hidden; --show-info shows"
         " them); 1 file could not be linted; 1 fixable with --fix.",
     ]
 

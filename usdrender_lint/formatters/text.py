@@ -220,11 +220,13 @@ class TextFormatter:
         text = (
             f"{_plural(len(report.findings) - hidden, 'finding')} in "
             f"{_plural(len(report.files), 'file')}: "
-            f"{_plural(counts['error'], 'error')}, {_plural(counts['warning'], 'warning')}, "
-            f"{counts['info']} info"
+            f"{_plural(counts['error'], 'error')}, {_plural(counts['warning'], 'warning')}"
         )
+        # Only info findings are hidden: the count says what is shown, then what is not.
         if hidden:
             text += f" ({hidden} info hidden; --show-info shows them)"
+        else:
+            text += f", {counts['info']} info"
         if errors:
             text += f"; {_plural(errors, 'file')} could not be linted"
         if not options.fixing:
