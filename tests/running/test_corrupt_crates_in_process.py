@@ -122,21 +122,9 @@ def test_a_crate_naming_a_variant_with_no_name_through_an_arc_survives_in_proces
         shot = "#usda 1.0\n(\n    subLayers = [@./variant.usdc@]\n)\n"
     (tmp_path / "shot.usda").write_text(shot)
     (tmp_path / "control.usda").write_text(CONTROL)
-    fast = lint(
-        tmp_path, "--format", "json", "--jobs", "1", "--timeout", "0", "shot.usda", "control.usda"
-    )
-    full = lint(
-        tmp_path,
-        "--format",
-        "json",
-        "--jobs",
-        "1",
-        "--timeout",
-        "0",
-        "--full-composition",
-        "shot.usda",
-        "control.usda",
-    )
+    in_process = ("--format", "json", "--jobs", "1", "--timeout", "0")
+    fast = lint(tmp_path, *in_process, "shot.usda", "control.usda")
+    full = lint(tmp_path, *in_process, "--full-composition", "shot.usda", "control.usda")
     assert (fast.returncode, fast.stderr) == (1, "")
     assert fast.stdout == full.stdout
     files = {f["file"]: f for f in json.loads(fast.stdout)["files"]}
