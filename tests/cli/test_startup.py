@@ -73,6 +73,35 @@ def test_check_in_one_process_imports_only_what_it_needs() -> None:
     assert unexpected == []
 
 
+def test_a_clean_file_needs_no_usda_line_finder() -> None:
+    """usda_lines (its regular expressions and records) locates findings only."""
+    clean = PASS_FILE.parents[3] / "examples" / "clean_shot" / "shot.usda"
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            IMPORTED_BY_CHECK,
+            "check",
+            "--isolated",
+            "--no-cache",
+            "--jobs",
+            "1",
+            "--timeout",
+            "0",
+            "--format",
+            "json",
+            str(clean),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert json.loads(proc.stdout)["files"][0]["findings"] == []
+    modules = set(json.loads(proc.stderr.splitlines()[-1]))
+    assert "usdrender_lint.engine.locate" in modules
+    assert "usdrender_lint.engine.usda_lines" not in modules
+
+
 def test_check_with_workers_imports_the_pool_and_nothing_else_heavy() -> None:
     other = PASS_FILE.parent.parent / "CA002_camera_multiple_targets" / "pass_traps.usda"
     modules = _modules_after("--isolated", str(other))  # two files, the default --timeout

@@ -9,7 +9,6 @@ from pxr import Sdf, Usd
 
 from ..api.text import MAX_MESSAGE_CHARS
 from ..model import Location
-from . import usda_lines
 from .stage import layer_identifier, layer_real_path
 
 
@@ -60,6 +59,8 @@ def locate(
         chosen = spec.layer if spec is not None else None
     line = None
     if spec is not None and chosen is not None and _is_text_file(chosen):
+        from . import usda_lines  # its regular expressions cost start-up: only findings need it
+
         line = usda_lines.line_of(real_path(chosen), str(spec.path))
     return Location(file, str(at.GetPath()), real_path(chosen) if chosen else None, line)
 
