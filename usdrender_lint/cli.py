@@ -136,6 +136,50 @@ def _format_choice() -> click.Choice:
     return click.Choice(names, case_sensitive=False)
 
 
+#: Options several commands take, defined once so they read and check alike.
+_report_format_option = click.option(
+    "--format",
+    "output_format",
+    default="text",
+    show_default=True,
+    type=_format_choice(),
+    help="Report format.",
+)
+_show_info_option = click.option(
+    "--show-info", is_flag=True, help="Show info findings in the text report."
+)
+_isolated_option = click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+_report_output_option = click.option(
+    "--output",
+    "output_file",
+    type=click.Path(dir_okay=False),
+    help="Write the report to this file (atomically) instead of stdout.",
+)
+_statistics_option = click.option(
+    "--statistics", is_flag=True, help="Add counts per rule code after the report."
+)
+_profile_option = click.option(
+    "--profile",
+    type=click.Choice(_profile_choices()),
+    default=None,
+    help="Renderer profile: auto (inferred per RenderSettings) or a name  [default: auto].",
+)
+_jobs_option = click.option(
+    "--jobs",
+    "-j",
+    type=_Checked(click.INT, check_jobs),
+    default=None,
+    help="Files linted in parallel worker processes  [default: the CPU count].",
+)
+_timeout_option = click.option(
+    "--timeout",
+    type=_Checked(click.FLOAT, check_timeout),
+    default=DEFAULT_TIMEOUT,
+    show_default=True,
+    help="Seconds one file may take before it is reported as an error; 0: no limit.",
+)
+
+
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="usdrender-lint")
 def cli() -> None:
@@ -146,14 +190,7 @@ def cli() -> None:
 # readable=False: an unreadable file is reported by the engine, and the others
 # are still linted, instead of click refusing the whole command.
 @click.argument("paths", nargs=-1, required=True, type=click.Path(readable=False))
-@click.option(
-    "--format",
-    "output_format",
-    default="text",
-    show_default=True,
-    type=_format_choice(),
-    help="Report format.",
-)
+@_report_format_option
 @click.option("--select", multiple=True, help="Rules to run: codes, prefixes (CA) or names.")
 @click.option("--ignore", multiple=True, help="Rules to skip: codes, prefixes or names.")
 @click.option("--extend-select", multiple=True, help="Rules to add to the selection.")
@@ -163,40 +200,23 @@ def cli() -> None:
     default=None,
     help="Lowest severity that makes the exit code 1  [default: error].",
 )
-@click.option("--show-info", is_flag=True, help="Show info findings in the text report.")
+@_show_info_option
 @click.option(
     "--config",
     "config_path",
     type=click.Path(dir_okay=False),
     help="Read settings from this file instead of the nearest one.",
 )
-@click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+@_isolated_option
 @click.option(
     "--no-roots",
     is_flag=True,
     help="Lint PATHS on their own, not inside the stage roots the config names.",
 )
-@click.option(
-    "--jobs",
-    "-j",
-    type=_Checked(click.INT, check_jobs),
-    default=None,
-    help="Files linted in parallel worker processes  [default: the CPU count].",
-)
-@click.option(
-    "--timeout",
-    type=_Checked(click.FLOAT, check_timeout),
-    default=DEFAULT_TIMEOUT,
-    show_default=True,
-    help="Seconds one file may take before it is reported as an error; 0: no limit.",
-)
-@click.option(
-    "--output",
-    "output_file",
-    type=click.Path(dir_okay=False),
-    help="Write the report to this file (atomically) instead of stdout.",
-)
-@click.option("--statistics", is_flag=True, help="Add counts per rule code after the report.")
+@_jobs_option
+@_timeout_option
+@_report_output_option
+@_statistics_option
 @click.option(
     "--baseline",
     "baseline_file",
@@ -243,12 +263,7 @@ def cli() -> None:
     default=None,
     help="With --variants: variant combinations linted per file at most  [default: 64].",
 )
-@click.option(
-    "--profile",
-    type=click.Choice(_profile_choices()),
-    default=None,
-    help="Renderer profile: auto (inferred per RenderSettings) or a name  [default: auto].",
-)
+@_profile_option
 @click.option(
     "--full-composition",
     is_flag=True,
@@ -367,35 +382,23 @@ def _shard(value: str | None) -> tuple[int, int] | None:
 
 @cli.command()
 @click.argument("reports", nargs=-1, required=True, type=click.Path(dir_okay=False))
-@click.option(
-    "--format",
-    "output_format",
-    default="text",
-    show_default=True,
-    type=_format_choice(),
-    help="Report format.",
-)
+@_report_format_option
 @click.option(
     "--fail-on",
     type=click.Choice(FAIL_ON_CHOICES),
     default=None,
     help="Lowest severity that makes the exit code 1  [default: the config's, else error].",
 )
-@click.option("--show-info", is_flag=True, help="Show info findings in the text report.")
+@_show_info_option
 @click.option(
     "--config",
     "config_path",
     type=click.Path(dir_okay=False),
     help="Read settings (fail-on, the rules described) from this file.",
 )
-@click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
-@click.option(
-    "--output",
-    "output_file",
-    type=click.Path(dir_okay=False),
-    help="Write the report to this file (atomically) instead of stdout.",
-)
-@click.option("--statistics", is_flag=True, help="Add counts per rule code after the report.")
+@_isolated_option
+@_report_output_option
+@_statistics_option
 def merge(
     reports: tuple[str, ...],
     output_format: str,
@@ -529,21 +532,10 @@ def _time_option(
     type=click.Path(dir_okay=False),
     help="Read settings (rule selection for the findings) from this file.",
 )
-@click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
-@click.option(
-    "--profile",
-    type=click.Choice(_profile_choices()),
-    default=None,
-    help="Renderer profile: auto (inferred per RenderSettings) or a name  [default: auto].",
-)
-@click.option("--jobs", "-j", type=click.IntRange(min=1), default=None, help="Worker processes.")
-@click.option(
-    "--timeout",
-    type=click.FloatRange(min=0),
-    default=DEFAULT_TIMEOUT,
-    show_default=True,
-    help="Seconds one file may take before it is reported as an error; 0: no limit.",
-)
+@_isolated_option
+@_profile_option
+@_jobs_option
+@_timeout_option
 def spec_command(
     paths: tuple[str, ...],
     settings_path: str | None,

@@ -46,6 +46,17 @@ def test_an_out_of_range_value_is_a_usage_error(option: str, value: str) -> None
 
 
 @pytest.mark.parametrize(
+    ("option", "value"), [("--timeout", "nan"), ("--timeout", "1e308"), ("--jobs", "0")]
+)
+def test_spec_checks_the_same_ranges(option: str, value: str) -> None:
+    """spec takes check's --jobs and --timeout, with check's range checks."""
+    result = CliRunner().invoke(cli, ["spec", "--isolated", option, value, CLEAN])
+    assert result.exit_code == 2
+    assert f"Invalid value for '{option}'" in result.stderr
+    assert "Traceback" not in result.output and "internal error" not in result.output
+
+
+@pytest.mark.parametrize(
     "args",
     [
         ("--timeout", "0"),
