@@ -9,12 +9,7 @@ from pxr import Usd
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
-#: productNames husk renders without writing a file: its null raster, and
-#: "ip", the interactive MPlay display (Karma Render Settings LOP, Output Picture).
-_NOT_WRITTEN = {
-    "husk:null_raster": "husk renders the image but saves nothing",
-    "ip": "husk sends the image to an MPlay window instead of a file",
-}
+from ._husk import NOT_WRITTEN
 
 
 class ProductNotWritten(Rule):
@@ -87,7 +82,7 @@ class ProductNotWritten(Rule):
         values = [authored_value(attr)]
         values += [attr.Get(t) for t in attr.GetTimeSamples()[: ctx.time_sample_cap]]
         for value in values:
-            effect = _NOT_WRITTEN.get(str(value)) if value is not None else None
+            effect = NOT_WRITTEN.get(str(value)) if value is not None else None
             if effect:
                 yield Diagnostic(
                     message=f"productName {str(value)!r} of {prim.GetPath()}: {effect}; "

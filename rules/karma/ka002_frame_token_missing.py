@@ -9,6 +9,8 @@ from pxr import Usd
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_value
 
+from ._husk import NOT_WRITTEN
+
 
 def _frame_range(stage: Usd.Stage) -> tuple[float, float] | None:
     """The authored [start, end] of the root layer when it spans frames."""
@@ -101,7 +103,7 @@ class FrameTokenMissing(Rule):
         if attr.GetNumTimeSamples():
             return
         name = authored_value(attr)
-        if not name or "$F" in str(name) or str(name) in ("husk:null_raster", "ip"):
+        if not name or "$F" in str(name) or str(name) in NOT_WRITTEN:
             return  # empty: PR001's; no file at all: KA001's
         yield Diagnostic(
             message=f"productName {str(name)!r} of {prim.GetPath()} has no $F and no value per "
