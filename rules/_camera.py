@@ -4,12 +4,11 @@ the evaluation of varying camera values at the rendered times (catalog R2-1)."""
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
 from typing import Any
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, schemas
+from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.resolve import (
     RenderConfiguration,
     fallback_value,
@@ -23,7 +22,7 @@ from usdrender_lint.api.resolve import (
 ValueCheck = Callable[..., str | None]
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class CameraUse:
     """A usable Camera prim and the render configurations it is effective in."""
 

@@ -8,9 +8,10 @@ custom spaces a ``ColorSpaceDefinitionAPI`` declares on the prim or an ancestor.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 
 from pxr import Gf, Usd
+
+from usdrender_lint.api import record
 
 #: The canonical built-in tokens, in Gf's order (aliases such as
 #: ``LinearDisplayP3`` name the same token, hence the de-duplication).
@@ -25,7 +26,7 @@ CANONICAL_NAMES: tuple[str, ...] = tuple(
 _DATA_LIKE = frozenset({"data", "raw", "identity", "unknown"})
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class ResolvedColorSpace:
     """A valid colour-space name and the transfer function it stands for."""
 

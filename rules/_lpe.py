@@ -23,9 +23,10 @@ dialect admits renderer extensions: the ``?`` modifier and any other label.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
 from functools import lru_cache
 from typing import Literal
+
+from usdrender_lint.api import record
 
 Dialect = Literal["osl", "extended"]
 
@@ -45,7 +46,7 @@ _UNBOUNDED = -1
 MAX_NESTING = 100
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class LpeProblem:
     """Why an expression is malformed; ``position`` is a 0-based character index."""
 
@@ -56,7 +57,7 @@ class LpeProblem:
         return f"{self.message} (at character {self.position + 1})"
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Node:
     """One parsed element: ``kind`` is label, custom, event, set, negset, cat or alt."""
 

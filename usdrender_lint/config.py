@@ -13,11 +13,12 @@ import re
 import types
 import typing
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any
 
 from .model import Severity
+from .records import record
 
 FAIL_ON_CHOICES = ("error", "warning", "info", "never")
 #: The largest --timeout: a day per file (0 is no limit at all).
@@ -34,7 +35,7 @@ class ConfigError(Exception):
     """The configuration is invalid; the message names the key and the file."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Settings:
     select: tuple[str, ...] | None = None
     ignore: tuple[str, ...] = ()

@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import enum
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import field
 from inspect import cleandoc
+
+from .records import record
 
 
 class Severity(enum.Enum):
@@ -44,7 +46,7 @@ INTERNAL_ERROR_NAME = "internal-error"
 IGNORE_KEY = "usdrender_lint:ignore"
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Location:
     """Where a finding is.
 
@@ -62,7 +64,7 @@ class Location:
     column: int | None = None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class FixInfo:
     """What an available automatic fix would do, and whether it is safe."""
 
@@ -70,7 +72,7 @@ class FixInfo:
     safe: bool
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Finding:
     code: str
     name: str
@@ -92,7 +94,7 @@ class Finding:
         )
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class FileResult:
     """The outcome for one input file.
 
@@ -110,7 +112,7 @@ class FileResult:
     notes: tuple[str, ...] = ()
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class RuleInfo:
     """A rule's metadata and documentation, for reports that describe rules."""
 
@@ -122,7 +124,7 @@ class RuleInfo:
     fix: str = "none"
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class AppliedFix:
     """A fix that --fix, --diff or --fix-to applied, or (with ``reason``) did not.
 
@@ -148,7 +150,7 @@ class AppliedFix:
         return text if self.applied else f"{text}: not applied: {self.reason}"
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Report:
     files: tuple[FileResult, ...] = ()
     #: The rules that ran (for formats that describe them, e.g. SARIF).

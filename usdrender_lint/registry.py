@@ -9,10 +9,10 @@ a CI gate must not silently lose rules.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 
 from . import entrypoints
 from .api import Rule
+from .records import record
 
 ENTRY_POINT_GROUP = "usdrender_lint.rules"
 
@@ -21,7 +21,7 @@ class RegistryError(Exception):
     """A rule plugin could not be loaded or conflicts with another."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Registry:
     rules: tuple[type[Rule], ...]
     #: Which entry point (plugin) provided each rule code.

@@ -41,6 +41,7 @@ from typing import Any
 from .api import Rule
 from .engine import Linter
 from .model import Finding, Location
+from .records import record
 from .registry import build_registry, select_rules
 
 _EXPECT_PREFIX = re.compile(r"^#\s*expect:")
@@ -52,7 +53,7 @@ _EXPECT = re.compile(
 )
 
 
-@dataclasses.dataclass(frozen=True)
+@record(frozen=True)
 class Expectation:
     """One ``# expect:`` line of a fail fixture; None: not stated (not checked)."""
 

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
 from usdrender_lint.api.resolve import authored_value
 
 from .._corrections import set_value
@@ -83,7 +82,7 @@ class DriverUnknown(Rule):
     profile = "arnold"
     prim_types = (schemas.RenderProduct,)
 
-    @dataclass(frozen=True)
+    @record(frozen=True)
     class Options:
         extra_drivers: tuple[str, ...] = ()
 

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
 
 from .._aov import checked_value
 from .._corrections import set_value
@@ -90,7 +89,7 @@ class ProductNameEmpty(Rule):
     fix_safety = "safe-conditional"
     prim_types = (schemas.RenderProduct,)
 
-    @dataclass(frozen=True)
+    @record(frozen=True)
     class Options:
         name_template: str = ""
 

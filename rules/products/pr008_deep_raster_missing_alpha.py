@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
 
 from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
 from usdrender_lint.api.resolve import resolve_target
 
 from .._aov import checked_value, product_render_vars
@@ -121,7 +120,7 @@ class DeepRasterMissingAlpha(Rule):
     fix_safety = "safe-conditional"
     prim_types = (schemas.RenderProduct,)
 
-    @dataclass(frozen=True)
+    @record(frozen=True)
     class Options:
         alpha_var: str = ""
 

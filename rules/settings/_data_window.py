@@ -4,10 +4,9 @@ the data-window rules (SE003, SE004, SE005)."""
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 from typing import Any
 
-from usdrender_lint.api import Context, schemas
+from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.raster import pixel_centres
 from usdrender_lint.api.resolve import (
     EffectiveValue,
@@ -39,7 +38,7 @@ def _data_window_problem(window, resolution) -> str | None:
     return None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _WindowUse:
     """An authored dataWindowNDC and a resolution it is rendered at."""
 

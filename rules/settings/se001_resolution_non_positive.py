@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, record, schemas
 from usdrender_lint.api.resolve import authored_value, composed_value, has_authored_value, items
 
 from ._messages import _fmt
@@ -66,7 +65,7 @@ class ResolutionNonPositive(Rule):
     semantics 2).
     """
 
-    @dataclass(frozen=True)
+    @record(frozen=True)
     class Options:
         require_authored: bool = False
 

@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, record, schemas
 
 from .. import _colorspace
 from ._working_color_space import _color_space_cache, _rendering_color_space
@@ -68,7 +67,7 @@ class RenderingColorSpaceNotLinear(Rule):
     example uses `renderingColorSpace = "raw"` (catalog, Ambiguous semantics 6).
     """
 
-    @dataclass(frozen=True)
+    @record(frozen=True)
     class Options:
         flag_data_spaces: bool = False
 

@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
 
 from .._aov import checked_value
 from .._corrections import set_value
@@ -89,7 +88,7 @@ class LpeMalformed(Rule):
     fix_safety = "safe-conditional"
     prim_types = (schemas.RenderVar,)
 
-    @dataclass(frozen=True)
+    @record(frozen=True)
     class Options:
         dialect: Dialect = "osl"
         extra_labels: tuple[str, ...] = ()

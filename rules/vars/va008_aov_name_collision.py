@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
+from usdrender_lint.api import Context, Diagnostic, Rule, Severity, record, schemas
 
 from .._aov import AovNaming, channel_name, product_render_vars
 
@@ -113,7 +112,7 @@ class AovNameCollision(Rule):
     partial_composition = True
     prim_types = (schemas.RenderProduct,)
 
-    @dataclass(frozen=True)
+    @record(frozen=True)
     class Options:
         aov_naming: AovNaming = "primName"
 

@@ -17,31 +17,33 @@ PACKAGE = "usdrender_lint"
 
 #: Component -> the components it may import (itself always). Lowest first.
 ALLOWED: dict[str, set[str]] = {
-    "model": set(),
+    # records: @dataclass without its import-time cost, for every layer.
+    "records": set(),
+    "model": {"records"},
     "paths": set(),
     "atomic": set(),
     "entrypoints": set(),
-    "config": {"model"},
-    "api": {"model"},
+    "config": {"records", "model"},
+    "api": {"records", "model"},
     "resolve": {"api"},  # the 0.1 name of api.resolve
-    "registry": {"api", "entrypoints", "model"},
+    "registry": {"records", "api", "entrypoints", "model"},
     "rules": {"api", "model"},
     # paths: names that are not UTF-8 go to USD as bytes and come back escaped.
-    "engine": {"api", "model", "paths", "registry"},
-    "formatters": {"model", "paths", "entrypoints"},
-    "fixing": {"api", "engine", "model", "paths", "atomic"},
-    "profiles": {"api", "model", "registry"},
-    "spec": {"api", "engine", "model", "paths", "profiles"},
+    "engine": {"records", "api", "model", "paths", "registry"},
+    "formatters": {"records", "model", "paths", "entrypoints"},
+    "fixing": {"records", "api", "engine", "model", "paths", "atomic"},
+    "profiles": {"records", "api", "model", "registry"},
+    "spec": {"records", "api", "engine", "model", "paths", "profiles"},
     # running reads the JSON format's records back (merge, the result cache).
     "running": {
         "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "registry",
+        "paths", "profiles", "records", "registry",
     },
-    "testing": {"api", "engine", "model", "registry"},
-    "usdplugin": {"api", "atomic", "engine", "model", "registry", "rules"},
+    "testing": {"records", "api", "engine", "model", "registry"},
+    "usdplugin": {"records", "api", "atomic", "engine", "model", "registry", "rules"},
     "cli": {
         "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "registry", "running", "spec", "usdplugin", "__init__",
+        "paths", "profiles", "records", "registry", "running", "spec", "usdplugin", "__init__",
     },
     # running.interrupts: the signal handlers, installed before the CLI's imports.
     "__main__": {"cli", "running"},

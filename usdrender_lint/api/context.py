@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Hashable
-from dataclasses import dataclass, field
+from dataclasses import field
 from functools import cached_property
 from typing import Any, TypeVar
 
 from pxr import Sdf, Tf, Usd
 
+from ..records import record
 from . import schemas
 from .cache import LintCache
 from .resolve import RenderConfiguration, own_configurations, settings_configurations
@@ -21,7 +22,7 @@ class FullStageRequired(Exception):
     the engine catches it and lints the file again, fully composed."""
 
 
-@dataclass
+@record
 class Context:
     """What the engine knows about the stage being linted, shared by all rules.
 

@@ -11,13 +11,13 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
 from functools import cached_property
 from itertools import islice
 from typing import TYPE_CHECKING, Any
 
 from pxr import Gf, Sdf, Tf, Usd
 
+from ..records import record
 from . import schemas
 from .cache import cached
 
@@ -58,7 +58,7 @@ def unusable_reason(prim: Usd.Prim) -> str | None:
     return None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Target:
     """One forwarded relationship target and what it resolves to on the stage.
 
@@ -170,7 +170,7 @@ def _definition_key(prim: Usd.Prim) -> _DefinitionKey:
     return info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas())
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _SchemaAttribute:
     """What a prim definition declares for an attribute name."""
 
@@ -436,7 +436,7 @@ SETTINGS_BASE_ATTRIBUTES = (
 )
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class EffectiveValue:
     """A RenderSettingsBase value in a configuration and where it comes from."""
 
@@ -446,7 +446,7 @@ class EffectiveValue:
     authored: bool
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class RenderConfiguration:
     """The unit a renderer renders: a RenderSettings paired with one usable
     RenderProduct of its ``products`` (or alone when it has none), as

@@ -10,12 +10,12 @@ from __future__ import annotations
 import dataclasses
 import re
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from pxr import Sdf, Tf, Usd
 
 from ..model import Severity
+from ..records import record
 
 if TYPE_CHECKING:
     from .context import Context
@@ -27,7 +27,7 @@ FIX_SAFETY = ("safe", "safe-conditional", "unsafe", "none")
 DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead", "Fix safety")
 
 
-@dataclass(frozen=True, kw_only=True)
+@record(frozen=True, kw_only=True)
 class Fix:
     """An automatic fix a rule offers.
 
@@ -43,7 +43,7 @@ class Fix:
     layer: Sdf.Layer | None = None
 
 
-@dataclass(frozen=True, kw_only=True)
+@record(frozen=True, kw_only=True)
 class Diagnostic:
     """What a rule yields: a message anchored at a USD object.
 

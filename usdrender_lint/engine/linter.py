@@ -9,7 +9,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any, Generic, TypeVar
 
 from pxr import Sdf, Tf, Usd
@@ -25,6 +25,7 @@ from ..model import (
     Location,
     Severity,
 )
+from ..records import record
 from . import layer_words, partial, suppress, typed_prims
 from .locate import bounded_message, locate, real_path
 from .stage import (
@@ -75,7 +76,7 @@ RENDER_SCHEMAS: tuple[Tf.Type, ...] = (
 )
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class TracedFinding:
     """A finding with its Fix and origin: the code of the rule that produced it
     (an internal-error finding keeps the rule that raised) and the prim whose
@@ -87,7 +88,7 @@ class TracedFinding:
     prim_path: Sdf.Path | None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Inspected(Generic[_T]):
     """A file's lint result and what an inspector read from the linted stage
     (None when no stage could be linted: the result says why)."""
@@ -96,7 +97,7 @@ class Inspected(Generic[_T]):
     value: _T | None = None
 
 
-@dataclass
+@record
 class Reads:
     """What linting one file read, for a cache that must know when the findings
     go stale (running/result_cache.py): every layer a linted stage used or the

@@ -45,12 +45,13 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from pxr import Ar, Sdf, Tf, Usd
 
 from ..model import IGNORE_KEY
 from ..paths import display_path, usd_path
+from ..records import record
 from . import layer_words
 from .stage import corruption, layer_identifier, layer_real_path
 
@@ -87,7 +88,7 @@ class CorruptLayer(NotProvable):
     a spec handle) can crash the process, so no rule may run on the file."""
 
 
-@dataclass
+@record
 class PartialStage:
     """A stage composed only within ``stage.GetPopulationMask()``, or None
     with the ``reason`` the whole stage must be composed instead."""
@@ -109,7 +110,7 @@ class PartialStage:
     checked: frozenset[str] = frozenset()
 
 
-@dataclass
+@record
 class _LayerScan:
     """What a layer's prim specs hold that decides the mask."""
 

@@ -7,11 +7,11 @@ import errno
 import os
 import stat
 from collections.abc import Iterable
-from dataclasses import dataclass
 
 from pxr import Sdf, Tf, Usd
 
 from ..paths import from_usd, usd_path
+from ..records import record
 
 STAGE_OPEN_FAILED_CODE = "ST001"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
@@ -23,7 +23,7 @@ class CorruptValue(Exception):
     problem, reported as ST001)."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class StageOpenResult:
     stage: Usd.Stage | None
     #: One line per error USD posted when the stage could not be opened.

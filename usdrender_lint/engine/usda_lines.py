@@ -22,10 +22,11 @@ from __future__ import annotations
 import functools
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import cast
 
 from ..api.cache import active_cache
+from ..records import record
 
 #: Characters that never start an atom, a block or a word (numbers, "=", spaces...).
 _INERT = r"""[^\n"'@<#/{}()\[\]A-Za-z_]"""
@@ -90,7 +91,7 @@ def _match_at(pattern: str) -> _MatchAt:
     return cast(_MatchAt, _compile(pattern).match)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _Skippers:
     """The patterns that match nested groups and blocks whole."""
 
@@ -162,7 +163,7 @@ def _prim_path(parent: str, name: str) -> str:
     return parent + name if parent.endswith("}") else parent + "/" + name
 
 
-@dataclass
+@record
 class _Layer:
     """The lines found so far in one layer's text and the blocks not read yet."""
 
@@ -463,7 +464,7 @@ _ASSET_AT = _compile(_ASSET)
 _PATH_AT = _compile(_PATH)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Statement:
     """One statement of a layer's text: offsets of the whole and of its parts.
 
@@ -487,7 +488,7 @@ class Statement:
         return self.words[-1][1] if self.words else self.start
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class LayerText:
     """The top of a text layer: the header line, the layer metadata, the body."""
 

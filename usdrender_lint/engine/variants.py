@@ -24,12 +24,13 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from pxr import Sdf, Usd
 
 from ..api import Rule
 from ..model import FileResult, Finding
+from ..records import record
 from .linter import RENDER_SCHEMAS, Linter
 from .locate import locate
 from .stage import open_stage, unreadable_reason
@@ -38,7 +39,7 @@ from .stage import open_stage, unreadable_reason
 DEFAULT_MAX_COMBINATIONS = 64
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class VariantSetChoice:
     """A variant set on a prim: its variants, the authored selection first."""
 

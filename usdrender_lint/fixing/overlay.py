@@ -26,7 +26,7 @@ from __future__ import annotations
 import os
 from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +37,7 @@ from ..engine import Linter, open_stage
 from ..engine.stage import layer_identifier, layer_real_path
 from ..model import AppliedFix, FileResult, Finding
 from ..paths import display_path, escape, usd_path
+from ..records import record
 from .session import Applied, FixError, FixOptions, FixRun, StageFixer
 from .text_edits import CannotEdit, edit_text
 from .writing import ChangedOnDisk, DiskState, save_layer, save_new_layer, save_text
@@ -90,7 +91,7 @@ def fix_to(
 # -- the override layer ------------------------------------------------------------------
 
 
-@dataclass
+@record
 class _OverlayLayer:
     path: str
     layer: Sdf.Layer
@@ -381,7 +382,7 @@ def _snapshot(layer: Sdf.Layer) -> Sdf.Layer:
 # -- composed state ------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _State:
     """A prim or property as a consumer sees it, comparable by value; ``payload``
     is what :func:`_author` needs to write it (kept out of comparisons)."""

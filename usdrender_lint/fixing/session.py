@@ -21,7 +21,7 @@ patch (:mod:`.diff`). :func:`usdrender_lint.fixing.fix_files` runs it per file.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from pxr import Sdf, Tf, Usd
 
@@ -30,6 +30,7 @@ from ..engine import Linter, open_stage
 from ..engine.stage import layer_identifier, layer_real_path
 from ..model import AppliedFix, FileResult, Finding
 from ..paths import display_path
+from ..records import record
 from .diff import patch
 from .sources import Sources
 from .writing import ChangedOnDisk, save_layer, save_text
@@ -44,7 +45,7 @@ class FixError(Exception):
     """The fixing cannot start (e.g. the --fix-to layer is unusable): one line."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class FixOptions:
     #: Apply unsafe fixes too (--unsafe-fixes).
     unsafe: bool = False
@@ -54,7 +55,7 @@ class FixOptions:
     fix_to: str | None = None
 
 
-@dataclass
+@record
 class FixRun:
     """What fixing a set of files did."""
 
@@ -84,7 +85,7 @@ class FixRun:
         self.remaining.extend(other.remaining)
 
 
-@dataclass
+@record
 class Applied:
     """A fix applied (in memory) and what it changed on the stage."""
 

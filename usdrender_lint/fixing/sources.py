@@ -12,17 +12,17 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable
-from dataclasses import dataclass
 
 from pxr import Sdf, Usd
 
 from ..engine.stage import layer_identifier, layer_real_path
 from ..paths import display_path
+from ..records import record
 from .text_edits import CannotEdit, canonical, edit_text
 from .writing import DiskState, write_problem
 
 
-@dataclass
+@record
 class LayerSource:
     """One layer's file and its state for fixing."""
 

@@ -13,7 +13,6 @@ from __future__ import annotations
 import contextlib
 import os
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
 
 from pxr import Sdf, Tf
@@ -21,6 +20,7 @@ from pxr import Sdf, Tf
 from ..atomic import replace_atomically
 from ..engine.stage import layer_identifier, layer_real_path
 from ..paths import display_path, usd_path
+from ..records import record
 
 CRATE_MAGIC = b"PXR-USDC"
 
@@ -29,7 +29,7 @@ class ChangedOnDisk(OSError):
     """The file changed on disk after it was read for fixing."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class DiskState:
     """A file as fixing read it: its real path, its bytes and its identity."""
 

@@ -4,17 +4,17 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Protocol, TextIO
 
 from ..entrypoints import EntryPointLike, entry_points
 from ..model import Finding, Report
 from ..paths import escape
+from ..records import record
 
 ENTRY_POINT_GROUP = "usdrender_lint.formatters"
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class FormatOptions:
     show_info: bool = False
     tool_name: str = "usdrender-lint"

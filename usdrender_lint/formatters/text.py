@@ -16,11 +16,11 @@ import os
 import re
 import textwrap
 from collections.abc import Iterable
-from dataclasses import dataclass
 from typing import TextIO
 
 from ..model import AppliedFix, FileResult, Finding, Report, Severity
 from ..paths import display_path, escape, layer_file
+from ..records import record
 from . import FormatOptions, statistics_lines
 
 _STYLE = {Severity.ERROR: "bold red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
@@ -35,7 +35,7 @@ Segment = tuple[str, "str | None"]
 Line = list[Segment]
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Entry:
     """One report line before layout: the location, then the rest."""
 

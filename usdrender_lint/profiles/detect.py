@@ -12,7 +12,7 @@ every installed renderer's), leaves the schema alone: ``generic``.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from fnmatch import fnmatchcase
 from typing import Any
 
@@ -21,6 +21,7 @@ from pxr import Sdf, Usd
 from ..api import Context, schemas
 from ..api.resolve import RenderConfiguration, forwarded_targets, resolve_targets
 from ..model import Severity
+from ..records import record
 from . import AUTO, GENERIC, PROFILES, get_profile
 from .model import Profile, ProfileChoice, judge
 
@@ -28,7 +29,7 @@ from .model import Profile, ProfileChoice, judge
 _RENDERERS: tuple[Profile, ...] = tuple(p for p in PROFILES.values() if p is not GENERIC)
 
 
-@dataclass
+@record
 class Assignment:
     """The profile of every scope (a RenderSettings, or a product no settings
     targets) and of the stage, and which scopes each render prim belongs to."""

@@ -4,10 +4,10 @@ and how each profile treats one rule (``explain``). Pure data, no pxr."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..model import Severity
+from ..records import record
 from . import PROFILES
 from .model import Profile
 
@@ -15,7 +15,7 @@ if TYPE_CHECKING:
     from ..api import Rule
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class EffectiveRule:
     rule: type[Rule]
     #: None when the rule does not run under the profile.

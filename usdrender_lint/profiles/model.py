@@ -10,12 +10,12 @@ justifies it, so ``explain`` and the README can show why.
 from __future__ import annotations
 
 import fnmatch
-from dataclasses import dataclass
 
 from ..model import Severity
+from ..records import record
 
 
-@dataclass(frozen=True, kw_only=True)
+@record(frozen=True, kw_only=True)
 class RuleChange:
     """How a profile treats one generic rule: off (``severity`` None) or at
     another severity, and why, with the renderer's source."""
@@ -34,7 +34,7 @@ class RuleChange:
         return f"{what}: {self.why} ({self.source})"
 
 
-@dataclass(frozen=True, kw_only=True)
+@record(frozen=True, kw_only=True)
 class Accepted:
     """A name a renderer defines where the schema knows none: a prim type
     (``OmniLidar``, or a pattern such as ``Pxr*``), a productType token, or a
@@ -52,7 +52,7 @@ def _find(accepted: tuple[Accepted, ...], value: str) -> Accepted | None:
     return next((a for a in accepted if a.matches(value)), None)
 
 
-@dataclass(frozen=True, kw_only=True)
+@record(frozen=True, kw_only=True)
 class Profile:
     """One renderer's profile; ``generic`` is the schema alone."""
 
@@ -93,7 +93,7 @@ class Profile:
         return _find(self.product_types, token)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class ProfileChoice:
     """The profile a configuration (or the stage) is judged under, and why."""
 

@@ -11,24 +11,24 @@ exist, USD cannot open it, it timed out, the inspector raised
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 from ..engine import Inspector, Linter
 from ..model import FileResult, Report
+from ..records import record
 from .discovery import collect_files
 from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
 from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class InspectedFile(FileResult):
     """A linted file's result with what the inspector read from its stage."""
 
     value: Any = None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class InspectRequest:
     """What an inspection run needs, as the user asked for it."""
 
@@ -43,7 +43,7 @@ class InspectRequest:
     progress: bool | None = None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Inspection:
     #: InspectedFile for each file inspected, a plain FileResult (status
     #: "error") for each that could not be.
@@ -77,7 +77,7 @@ class InspectingLinter:
         return result
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class InspectingLinterFactory:
     """A picklable recipe for the inspecting linter, built once per worker
     (``inspect`` must pickle: a module-level function or a partial of one)."""

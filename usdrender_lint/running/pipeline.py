@@ -12,7 +12,7 @@ from __future__ import annotations
 import os
 from collections import Counter
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -31,6 +31,7 @@ from ..engine import Linter
 from ..model import FileResult, Finding, Report, Severity
 from ..profiles import AUTO, PROFILES
 from ..profiles.detect import Profiler
+from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from .discovery import collect_files
 from .path_ignores import apply_path_ignores
@@ -56,7 +57,7 @@ class RequestError(Exception):
     error, a rule plugin that fails to load): one line, exit 2."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class FixRequest:
     """What fixing was asked for: ``--fix``, ``--diff`` or ``--fix-to LAYER``."""
 
@@ -67,7 +68,7 @@ class FixRequest:
     fix_to: str | None = None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Request:
     """Everything a check run needs, as the user asked for it. ``None`` means
     "not given": the configuration (or its default) decides."""
@@ -105,7 +106,7 @@ class Request:
     shard: tuple[int, int] | None = None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Outcome:
     """What a check run produced. ``notes`` are lines for the user beside the
     report (stderr on the command line); ``errors`` are the files the tool
@@ -290,7 +291,7 @@ def profile_chooser(settings: Settings):
     return choose
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class LinterSpec:
     """A picklable recipe for the linter: worker processes build theirs from it,
     so every process lints with the same rules, options and composition."""
@@ -318,7 +319,7 @@ class LinterSpec:
         return CachingLinter(wrapped, self.cache)
 
 
-@dataclass
+@record
 class Prepared:
     """The request turned into what runs: settings, registry, linter."""
 
@@ -559,7 +560,7 @@ def _fix_options(wanted: FixRequest) -> FixOptions:
     return FixOptions(unsafe=wanted.unsafe, write=wanted.write, fix_to=wanted.fix_to)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _Fixing:
     """A worker's fixer, built from the request (picklable)."""
 
@@ -569,7 +570,7 @@ class _Fixing:
         return prepare(self.request)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _FixRefused:
     """The fixing cannot start (FixError), said from a worker."""
 

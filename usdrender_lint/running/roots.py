@@ -13,7 +13,7 @@ from __future__ import annotations
 import glob
 import os
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 
 from pxr import Ar, Sdf, Tf, UsdUtils
 
@@ -22,6 +22,7 @@ from ..engine import STAGE_OPEN_FAILED_CODE
 from ..engine.stage import unreadable_reason
 from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
 from ..paths import display_path
+from ..records import record
 from .workers import file_error, run_bounded
 
 #: Tool problems are never filtered away: a root that cannot be opened or a rule
@@ -100,7 +101,7 @@ def _readable(path: str) -> bool:
             trap.Clear()
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class ContextPlan:
     """What to lint for a set of changed files, and how to narrow the result."""
 

@@ -19,11 +19,11 @@ import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager, suppress
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
 from ..model import FileResult
+from ..records import record
 from .interrupts import check_stopped, default_signals_in_worker
 
 if TYPE_CHECKING:
@@ -151,7 +151,7 @@ def _lint_in_process(
         advance()
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class FullyComposed:
     """A file to lint again with the whole stage composed (no fast path)."""
 
@@ -416,14 +416,14 @@ def _worker_main(
         conn.send((index, result))
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _Raised:
     """What a worker sends back when its handler raised."""
 
     why: str
 
 
-@dataclass
+@record
 class _Worker:
     process: multiprocessing.process.BaseProcess
     conn: Connection

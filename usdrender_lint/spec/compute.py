@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import field, replace
 from typing import Any
 
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender, UsdShade
@@ -39,6 +39,7 @@ from ..api.resolve import (
 from ..engine import InspectionError
 from ..engine.locate import locate
 from ..model import Finding
+from ..records import record
 from .data import (
     ComputeSpecView,
     FileSpec,
@@ -69,7 +70,7 @@ class SpecError(InspectionError):
     """The specification asked for cannot be computed for this file (one line)."""
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class SpecOptions:
     """What ``spec`` is asked for: a time (None: the stage's startTimeCode
     when authored, else each camera's first rendered time), Default
@@ -357,7 +358,7 @@ def _find_source(ctx: Context, prop: Usd.Property, kind: str) -> Source:
     return Source(kind, path, where.layer, where.line)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _Camera:
     """What a product reads from its camera (all None without one)."""
 
@@ -369,7 +370,7 @@ class _Camera:
     shutter: tuple[float, float] | None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class _Outputs:
     """What a product alone holds (all None for the settings' base values)."""
 

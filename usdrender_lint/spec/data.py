@@ -5,16 +5,17 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
+from ..records import record
 from .framing import Conformed, Pair, PixelWindow, Window
 
 #: A time: a number, or None for ``Usd.TimeCode.Default()``.
 Time = float | None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Source:
     """Where a value comes from: ``kind`` is ``product``, ``settings``,
     ``camera`` or ``fallback`` (the schema's); ``path`` is the property that
@@ -26,7 +27,7 @@ class Source:
     line: int | None = None
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class VarSpec:
     path: str
     name: str
@@ -36,7 +37,7 @@ class VarSpec:
     namespaced_settings: Mapping[str, Any] = field(default_factory=dict)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Framing:
     """The effective camera's aperture, read at the product's camera time,
     and what the conform policy made of it."""
@@ -49,7 +50,7 @@ class Framing:
     focal_length: float
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class ComputeSpecView:
     """What ``UsdRenderComputeSpec`` itself gives for this product where it
     differs: it drops a product without a camera and reads the camera and
@@ -61,7 +62,7 @@ class ComputeSpecView:
     differs: Mapping[str, Any] = field(default_factory=dict)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class ProductSpec:
     """One product of a RenderSettings (or, with ``path`` None, the settings'
     own values, which its products inherit)."""
@@ -95,7 +96,7 @@ class ProductSpec:
     compute_spec: ComputeSpecView
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class SettingsSpec:
     path: str
     primary: bool
@@ -111,7 +112,7 @@ class SettingsSpec:
     products: tuple[ProductSpec, ...]
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class FileSpec:
     #: The time asked for and where it came from: ``--time``,
     #: ``startTimeCode`` or ``default``.

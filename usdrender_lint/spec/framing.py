@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import math
 import struct
-from dataclasses import dataclass
 
 from ..api.raster import pixel_span
+from ..records import record
 
 EXPAND, CROP = "expandAperture", "cropAperture"
 ADJUST_WIDTH, ADJUST_HEIGHT = "adjustApertureWidth", "adjustApertureHeight"
@@ -37,7 +37,7 @@ def f32(value: float) -> float:
         return math.copysign(math.inf, value)
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Conformed:
     """What ``_ApplyAspectRatioPolicy`` made of a product's aperture."""
 
@@ -121,7 +121,7 @@ def screen_window(size: Pair, offset: Pair, projection: str) -> Window:
     return window
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class PixelWindow:
     """The pixels a data window keeps: ``first``..``last`` on each axis
     (inclusive; outside ``0..size-1`` in overscan). Rows count upwards from

@@ -4,14 +4,15 @@ in aperture units with y up, read from a product of the JSON document."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
+
+from ..records import record
 
 #: Overscan drawn at most this many image sizes beyond the image.
 MAX_OVERSCAN = 1.0
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Rect:
     left: float
     bottom: float
@@ -43,7 +44,7 @@ class Rect:
         )
 
 
-@dataclass(frozen=True)
+@record(frozen=True)
 class Picture:
     """``camera`` is None without a usable camera (the image then has the
     image aspect and unit height); ``data`` is None when the data window keeps

@@ -19,7 +19,7 @@ from __future__ import annotations
 import threading
 import traceback
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 from pxr import Sdf, Tf, Usd, UsdValidation
@@ -27,6 +27,7 @@ from pxr import Sdf, Tf, Usd, UsdValidation
 from ..api import Rule
 from ..engine import Linter, TracedFinding
 from ..model import Finding, Severity
+from ..records import record
 from . import PLUGIN_NAME, is_prim_validator, validator_key, validator_name
 
 ErrorType = UsdValidation.ValidationErrorType
@@ -45,7 +46,7 @@ STALE_REASON = (
 )
 
 
-@dataclass
+@record
 class _StageLint:
     """One stage's traced findings, valid until the stage changes."""
 
