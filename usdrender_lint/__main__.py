@@ -7,13 +7,15 @@ them exits 130 or 143 with one line, like one during the run.
 
 import sys
 
-from .running import interrupts
+from .running import interrupts, supervisor
 
 interrupts.install()
 
 
 def main() -> None:
     try:
+        if supervisor.wants_supervision(sys.argv[1:]):
+            supervisor.supervise()  # returns in the child, or after its crash (supervisor.py)
         from .cli import main as command
     except interrupts.Stopped as stopped:
         sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")

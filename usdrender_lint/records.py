@@ -106,6 +106,12 @@ def _frozen_delattr(self: object, name: str) -> None:
 
 
 def _make(cls: _T, frozen: bool, kw_only: bool) -> _T:
+    if cls.__doc__ is None:
+        # dataclass would write one from inspect.signature(cls), and of a class
+        # whose __init__ is still object's, inspect parses the text signature:
+        # compiling tokenize's patterns costs 14 ms, once per process.
+        fields = cls.__dict__.get("__annotations__", {})
+        cls.__doc__ = f"{cls.__name__}({', '.join(fields)})"
     # The dataclass without generated methods: its fields, and nothing compiled.
     dataclasses.dataclass(cls, init=False, repr=False, eq=False, kw_only=kw_only)
     cls.__record_layout__ = _Layout(cls)  # type: ignore[attr-defined]

@@ -131,6 +131,11 @@ def test_a_subclass_has_its_parents_fields_then_its_own() -> None:
     assert child != Point(1, 2)
 
 
+def test_a_record_without_a_docstring_gets_one_naming_its_fields() -> None:
+    assert Counter.__doc__ == "Counter(name, seen, total)"
+    assert Point.__doc__ is not None and Point.__doc__.startswith("A frozen record")
+
+
 def test_replace_asdict_copy_and_pickle_work_on_records() -> None:
     point = Point(1, 2, ("a",), "n")
     assert dataclasses.replace(point, y=5) == Point(1, 5, ("a",), "n")

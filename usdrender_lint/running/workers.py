@@ -24,7 +24,9 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from ..model import FileResult
 from ..records import record
+from . import supervisor
 from .interrupts import check_stopped, default_signals_in_worker
+from .supervisor import die_with_parent
 
 if TYPE_CHECKING:
     import multiprocessing.context
@@ -108,6 +110,11 @@ def lint_paths(
                     raise ValueError("lint_paths needs a linter or a linter_factory")
                 linter = linter_factory()
             return tuple(_lint_in_process(linter, files, advance))
+        if len(files) == 1 and supervisor.verdict is not None:
+            return (_after_verdict(linter or _build(linter_factory), files[0], timeout),)
+        if len(files) == 1 and supervisor.supervised:
+            # The supervisor stands in for the child below (running/supervisor.py).
+            return (_lint_supervised(linter or _build(linter_factory), files[0], timeout),)
         if len(files) == 1 and _can_fork():
             # One file needs no pool: a forked child of this process lints it
             # with the linter already built (issue 17, start-up).
@@ -245,6 +252,7 @@ def _lint_in_child(
     path = _path_of(item)
     result_read, result_write = os.pipe()
     err_read, err_write = os.pipe()
+    parent = os.getpid()
     pid = os.fork()
     if pid == 0:  # the child: lint, send the result, leave without cleaning up
         status = 70
@@ -252,7 +260,7 @@ def _lint_in_child(
             os.close(result_read)
             os.close(err_read)
             default_signals_in_worker()  # the parent handles Ctrl-C
-            _die_with_parent()
+            die_with_parent(parent)
             _limit_memory(worker_memory_limit(1))
             _contain_crashes()
             os.dup2(err_write, 2)
@@ -303,6 +311,27 @@ def _lint_in_child(
         return _lint_in_child(linter, FullyComposed(path), timeout)
     text = said.decode("utf-8", errors="replace")
     return FileResult(path, status="error", error=f"{path}: {_crash(code, text)}")
+
+
+def _lint_supervised(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
+    """Lint ``path`` in this process, whose supervisor reports a crash or a
+    time-out (SIGALRM past ``timeout``) and runs the command again."""
+    _limit_memory(worker_memory_limit(1))
+    _contain_crashes()  # the run after a crash composes the whole stage
+    supervisor.arm_timeout(timeout)
+    try:
+        return lint_one(linter, path)
+    finally:
+        supervisor.arm_timeout(None)
+
+
+def _after_verdict(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
+    """The file the supervised child did not finish: a time-out is reported as
+    the one-file child reports it; after a crash the file is linted again in a
+    forked child with the whole stage composed (the child's own retry)."""
+    if supervisor.verdict == "timeout":
+        return FileResult(path, status="error", error=f"{path}: {_timed_out(timeout)}")
+    return _lint_in_child(linter, FullyComposed(path), timeout)
 
 
 def _timed_out(timeout: float | None) -> str:
@@ -373,7 +402,7 @@ def _worker_main(
     ``usd_threads`` caps USD's thread pool in the worker (see worker_usd_threads).
     """
     default_signals_in_worker()
-    _die_with_parent()
+    die_with_parent(os.getppid())
     _limit_memory(memory_limit)
     _contain_crashes()
     if usd_threads is not None:
@@ -676,17 +705,6 @@ def _off_stdout() -> None:
     os.dup2(null, 0)
     os.dup2(null, 1)
     os.close(null)
-
-
-def _die_with_parent() -> None:
-    """Have Linux kill this worker when its parent dies, even by SIGKILL
-    (``prctl(PR_SET_PDEATHSIG)``); elsewhere the parent's clean-up must do."""
-    if not sys.platform.startswith("linux"):
-        return
-    import ctypes
-
-    with suppress(OSError, AttributeError):
-        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
 
 
 def _settings_env() -> dict[str, str]:

@@ -1,0 +1,146 @@
+"""The supervised one-file check (running/supervisor.py): the command's own
+process waits, holding no USD, while its child lints the file in-process; a
+time-out, a crash and a signal end as they did with a forked lint child."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from test_signals_and_stdout import BROKEN, command, descendants, hanging_stage, is_running
+
+from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV, wants_supervision
+
+pytestmark = pytest.mark.skipif(
+    not sys.platform.startswith("linux"), reason="the supervisor is Linux's (PR_SET_PDEATHSIG)"
+)
+
+
+@pytest.mark.parametrize(
+    ("argv", "supervised"),
+    [
+        (["check", "shot.usda"], True),
+        (["check", "--format", "json", "--output", "out.json", "shot.usda"], True),
+        (["--help", "check"], False),
+        (["check", "--fix", "shot.usda"], False),
+        (["check", "--diff", "shot.usda"], False),
+        (["check", "--fix-to=out.usda", "shot.usda"], False),
+        (["check", "--write-baseline", "b.json", "shot.usda"], False),
+        (["rules"], False),
+        (["explain", "CA004"], False),
+    ],
+)
+def test_only_a_check_that_writes_nothing_is_supervised(argv: list[str], supervised: bool) -> None:
+    assert wants_supervision(argv) is supervised
+
+
+def test_the_environment_turns_the_supervisor_off(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv(NO_SUPERVISOR_ENV, "1")
+    assert not wants_supervision(["check", "shot.usda"])
+
+
+def _run(*args: str, supervised: bool) -> subprocess.CompletedProcess[str]:
+    env = {k: v for k, v in os.environ.items() if k != NO_SUPERVISOR_ENV}
+    if not supervised:
+        env[NO_SUPERVISOR_ENV] = "1"
+    return subprocess.run(
+        command(*args), capture_output=True, text=True, env=env, timeout=120, check=False
+    )
+
+
+@pytest.mark.parametrize("report_format", ["text", "json"])
+def test_a_supervised_check_reports_as_one_without(report_format: str) -> None:
+    args = ("check", "--isolated", "--no-cache", "--format", report_format, str(BROKEN))
+    ours, theirs = _run(*args, supervised=True), _run(*args, supervised=False)
+    assert (ours.returncode, ours.stdout, ours.stderr) == (
+        theirs.returncode,
+        theirs.stdout,
+        theirs.stderr,
+    )
+    assert ours.returncode == 1 and "CA004" in ours.stdout
+
+
+def _uses_usd(pid: int) -> bool:
+    return "/pxr/Usd/_usd" in Path(f"/proc/{pid}/maps").read_text()
+
+
+def _start_on_a_hang(tmp_path: Path, *args: str) -> tuple[subprocess.Popen[str], Path]:
+    stage = hanging_stage(tmp_path)
+    process = subprocess.Popen(
+        command("check", "--isolated", "--no-cache", "--format", "json", *args, str(stage)),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        assert process.poll() is None, process.communicate()
+        children = descendants(process.pid)
+        if children and all(_uses_usd(child) for child in children):
+            time.sleep(0.3)  # the child is in USD, blocked on the FIFO
+            return process, stage
+        time.sleep(0.05)
+    raise AssertionError("the child never reached USD")
+
+
+def test_the_supervisor_holds_no_usd_while_its_child_lints(tmp_path: Path) -> None:
+    process, _ = _start_on_a_hang(tmp_path, "--timeout", "30")
+    try:
+        [child] = descendants(process.pid)
+        assert not _uses_usd(process.pid)
+        assert _uses_usd(child)
+    finally:
+        process.kill()
+        process.communicate(timeout=30)
+
+
+def test_a_time_out_is_the_files_error_as_without_a_supervisor(tmp_path: Path) -> None:
+    stage = hanging_stage(tmp_path)
+    args = ("check", "--isolated", "--no-cache", "--format", "json", "--timeout", "1", str(stage))
+    ours, theirs = _run(*args, supervised=True), _run(*args, supervised=False)
+    assert (ours.returncode, ours.stderr) == (theirs.returncode, theirs.stderr)
+    assert json.loads(ours.stdout) == json.loads(theirs.stdout)
+    [entry] = json.loads(ours.stdout)["files"]
+    assert entry["status"] == "error" and "timed out after 1 s" in entry["error"]
+    assert ours.returncode == 2
+
+
+def test_a_crash_of_the_child_costs_a_retry_not_the_report(tmp_path: Path) -> None:
+    process, stage = _start_on_a_hang(tmp_path, "--timeout", "3")
+    [child] = descendants(process.pid)
+    os.kill(child, signal.SIGSEGV)  # as USD crashing on the file would
+    # The supervisor lints the file again itself, in a forked child with the
+    # whole stage composed; the FIFO still blocks it, so that one times out.
+    stdout, stderr = process.communicate(timeout=60)
+    assert (process.returncode, stderr) == (
+        2,
+        f"usdrender-lint: error: {stage}: timed out "
+        "after 3 s (raise --timeout, or 0 for no limit)\n",
+    )
+    [entry] = json.loads(stdout)["files"]
+    assert entry["status"] == "error" and entry["error"].startswith(str(stage))
+    assert not is_running(child)
+
+
+@pytest.mark.parametrize(
+    ("signum", "status", "line"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+)
+def test_a_signal_to_the_supervisor_ends_a_child_stuck_in_usd(
+    tmp_path: Path, signum: int, status: int, line: str
+) -> None:
+    process, _ = _start_on_a_hang(tmp_path, "--timeout", "600")
+    [child] = descendants(process.pid)
+    started = time.monotonic()
+    process.send_signal(signum)
+    stdout, stderr = process.communicate(timeout=30)
+    assert (process.returncode, stdout) == (status, "")
+    assert stderr == f"usdrender-lint: {line}\n"
+    assert time.monotonic() - started < 10
+    assert not is_running(child)

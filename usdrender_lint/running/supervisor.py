@@ -1,0 +1,173 @@
+"""``usdrender-lint check``: a small process watches while its child runs the command.
+
+A file that crashes USD or never finishes must cost that file, not the report
+(issue 13). A check of one file used to get that by forking a child of the
+loaded process to lint it; the child then paid a copy of every page of the
+100 MB it touched, some 60 ms of a 0.3 s start-up (issue 17). Here the fork
+happens first, before any import, when the process is a few megabytes: the
+child runs the whole command and lints a lone file in-process, and this
+process, which imports nothing more, waits for it.
+
+- The child exits: this process exits with its status (it printed the report).
+- It dies of SIGALRM: the file ran past ``--timeout`` (the child arms the
+  timer around that file's lint, see :func:`arm_timeout`).
+- It dies of another signal: USD crashed on the file.
+
+In the last two cases this process runs the command itself, with the
+:data:`verdict` that the engine reads: it reports the time-out without linting
+again, or lints the file in a forked child with the whole stage composed,
+the retry the one-file child always had. Nothing is supervised where a second
+run could differ from the first: ``--fix``, ``--diff``, ``--fix-to`` and
+``--write-baseline`` write to the user's files.
+
+Signals: Ctrl-C reaches both processes (the terminal signals the process
+group); SIGINT or SIGTERM sent to this process alone is passed on. The child
+handles it (one line, exit 130 or 143); a child stuck in USD, where Python
+cannot run the handler, is killed after :data:`STOP_GRACE` seconds and this
+process says the line. If this process is killed outright, Linux ends the
+child (``PR_SET_PDEATHSIG``).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+
+#: The subcommand supervised, and the options after which a second run could differ.
+SUPERVISED_COMMAND = "check"
+WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", "--write-baseline")
+#: Seconds a stopped child has to clean up before it is killed.
+STOP_GRACE = 1.0
+#: Set to anything to run without a supervisor (as the Python API and tests do).
+NO_SUPERVISOR_ENV = "USDRENDER_LINT_NO_SUPERVISOR"
+
+#: True in the supervised child: a lone file is linted in this process.
+supervised = False
+#: In the supervisor, after its child ran out of time ("timeout") or crashed
+#: ("crash: signal NAME"): what the run in this process must know of the file.
+verdict: str | None = None
+
+_child = 0
+_stop_signal: int | None = None
+_STOPPING = (signal.SIGINT, signal.SIGTERM)
+_STOP_WORDS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
+
+
+def wants_supervision(argv: list[str]) -> bool:
+    """True for a ``check`` that writes nothing but its report, on Linux."""
+    if not sys.platform.startswith("linux") or not hasattr(os, "fork"):
+        return False
+    if os.environ.get(NO_SUPERVISOR_ENV):
+        return False
+    # The group has no option taking a value: its first word is the command.
+    if not argv or argv[0] != SUPERVISED_COMMAND:
+        return False
+    return not any(arg.split("=", 1)[0] in WRITING_OPTIONS for arg in argv)
+
+
+def supervise() -> None:
+    """Fork. In the child, return (it runs the command). Here, wait: exit with
+    the child's status, or return with :data:`verdict` set when it timed out
+    or crashed, for this process to run the command itself."""
+    global _child, supervised, verdict
+    parent = os.getpid()
+    # A signal during the fork waits: the child gets Ctrl-C's own, and one sent
+    # to this process is passed on once the handlers below are in place.
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, _STOPPING)
+    pid = os.fork()
+    if pid == 0:
+        supervised = True
+        signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+        die_with_parent(parent)
+        return
+    _child = pid
+    previous = {signum: signal.signal(signum, _pass_on) for signum in _STOPPING}
+    signal.signal(signal.SIGALRM, _kill_child)
+    signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
+    try:
+        status = _wait(pid)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    if _stop_signal is not None:
+        if os.WIFSIGNALED(status):  # it did not get to say it
+            sys.stderr.write(f"usdrender-lint: {_STOP_WORDS[signal.Signals(_stop_signal)]}\n")
+            os._exit(128 + _stop_signal)
+        os._exit(os.waitstatus_to_exitcode(status))
+    if os.WIFEXITED(status):
+        os._exit(os.WEXITSTATUS(status))
+    died = os.WTERMSIG(status)
+    if died in _STOPPING:  # stopped by a signal meant for it alone
+        os._exit(128 + died)
+    verdict = "timeout" if died == signal.SIGALRM else f"crash: signal {_signal_name(died)}"
+
+
+def arm_timeout(seconds: float | None) -> None:
+    """In the supervised child, around one file's lint: past ``seconds`` (None:
+    no limit) the child dies of SIGALRM, which its supervisor reports as the
+    file's time-out. ``arm_timeout(None)`` disarms."""
+    signal.signal(signal.SIGALRM, signal.SIG_DFL)
+    signal.setitimer(signal.ITIMER_REAL, seconds or 0)
+
+
+def _wait(pid: int) -> int:
+    while True:
+        try:
+            return os.waitpid(pid, 0)[1]
+        except ChildProcessError:
+            return 0
+        except InterruptedError:  # pragma: no cover - Python retries waitpid itself
+            continue
+
+
+def _pass_on(signum: int, frame: object) -> None:
+    global _stop_signal
+    if _stop_signal is None:
+        _stop_signal = signum
+        signal.setitimer(signal.ITIMER_REAL, STOP_GRACE)
+    try:
+        os.kill(_child, signum)
+    except ProcessLookupError:
+        return  # it has just ended
+
+
+def _kill_child(signum: int, frame: object) -> None:
+    try:
+        os.kill(_child, signal.SIGKILL)
+    except ProcessLookupError:
+        return
+
+
+def die_with_parent(parent: int) -> None:
+    """Have Linux kill this process when its parent (pid ``parent``) dies, even
+    by SIGKILL (``prctl(PR_SET_PDEATHSIG)``); elsewhere the parent's clean-up
+    must do. A parent already gone ends this process now."""
+    if not sys.platform.startswith("linux"):
+        return
+    import ctypes
+
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:  # it died before the call took effect
+        os._exit(128 + signal.SIGKILL)
+
+
+def _signal_name(signum: int) -> str:
+    try:
+        return signal.Signals(signum).name
+    except ValueError:
+        return str(signum)
+
+
+__all__ = [
+    "arm_timeout",
+    "die_with_parent",
+    "supervise",
+    "supervised",
+    "verdict",
+    "wants_supervision",
+]
