@@ -109,6 +109,8 @@ def lint_paths(
                 if linter_factory is None:
                     raise ValueError("lint_paths needs a linter or a linter_factory")
                 linter = linter_factory()
+            if supervisor.supervised:
+                _contain_crashes()  # the supervisor runs the command again after a crash
             return tuple(_lint_in_process(linter, files, advance))
         if len(files) == 1 and supervisor.verdict is not None:
             return (_after_verdict(linter or _build(linter_factory), files[0], timeout),)
