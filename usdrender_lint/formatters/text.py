@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import os
 import re
-import textwrap
 from collections.abc import Iterable
 from typing import TextIO
 
@@ -194,7 +193,12 @@ class TextFormatter:
         width = _terminal_width(stream)
         lines = [line for entry in entries for line in wrap(entry, width)]
         for text in summary:
-            parts = textwrap.wrap(text, width, subsequent_indent=INDENT) if width else [text]
+            if width:
+                import textwrap  # only for a terminal: its import compiles patterns
+
+                parts = textwrap.wrap(text, width, subsequent_indent=INDENT)
+            else:
+                parts = [text]
             lines.extend([(part, None)] for part in parts)
         write_lines(lines, stream)
 
