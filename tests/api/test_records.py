@@ -131,6 +131,14 @@ def test_a_subclass_has_its_parents_fields_then_its_own() -> None:
     assert child != Point(1, 2)
 
 
+def test_what_a_record_does_not_support_is_refused_when_the_class_is_made() -> None:
+    with pytest.raises(TypeError, match="needs @dataclass"):
+
+        @record(frozen=True)
+        class Hashed:
+            key: int = field(default=0, hash=False)
+
+
 def test_a_record_without_a_docstring_gets_one_naming_its_fields() -> None:
     assert Counter.__doc__ == "Counter(name, seen, total)"
     assert Point.__doc__ is not None and Point.__doc__.startswith("A frozen record")
