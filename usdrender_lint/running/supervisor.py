@@ -38,7 +38,7 @@ import sys
 SUPERVISED_COMMAND = "check"
 WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", "--write-baseline")
 #: Seconds a stopped child has to clean up before it is killed.
-STOP_GRACE = 1.0
+STOP_GRACE = 2.0
 #: Set to anything to run without a supervisor (as the Python API and tests do).
 NO_SUPERVISOR_ENV = "USDRENDER_LINT_NO_SUPERVISOR"
 
@@ -83,7 +83,7 @@ def supervise() -> None:
         return
     _child = pid
     previous = {signum: signal.signal(signum, _pass_on) for signum in _STOPPING}
-    signal.signal(signal.SIGALRM, _kill_child)
+    previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, _kill_child)
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
     try:
         status = _wait(pid)
@@ -94,6 +94,7 @@ def supervise() -> None:
     if _stop_signal is not None:
         if os.WIFSIGNALED(status):  # it did not get to say it
             sys.stderr.write(f"usdrender-lint: {_STOP_WORDS[signal.Signals(_stop_signal)]}\n")
+            sys.stderr.flush()
             os._exit(128 + _stop_signal)
         os._exit(os.waitstatus_to_exitcode(status))
     if os.WIFEXITED(status):
