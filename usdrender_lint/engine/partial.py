@@ -44,7 +44,8 @@ lints the file again, fully composed.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterable
+from collections import Counter
+from collections.abc import Callable, Collection, Iterable
 from dataclasses import field
 
 from pxr import Ar, Sdf, Tf, Usd
@@ -71,8 +72,6 @@ FLAT_STAGES_COMPOSE_FULLY = True
 PAYOFF = 3
 #: Scans smaller than this are cheap whatever the payoff.
 MIN_SCAN = 50_000
-#: Root layer stack specs sampled to project how much their arcs compose.
-SAMPLE = 4096
 
 _ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
 #: The words that make a layer's spec fields worth listing (_scan).
@@ -141,6 +140,7 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
     missing: list[str] = []
     stage = None
     specs = _Specs()
+    scans = _Scans(specs, wants_type)
     with Tf.DiagnosticTrap() as trap:
         try:
             root = Sdf.Layer.FindOrOpen(usd_path(path))
@@ -155,13 +155,13 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
             stage = Usd.Stage.OpenMasked(
                 usd_path(path), Usd.StagePopulationMask(), Usd.Stage.LoadAll
             )
-            layers = _reachable_layers(stage, missing, specs)
+            layers = _reachable_layers(stage, missing, scans)
             if trap.HasErrors():
                 raise NotProvable("an error was posted while reading the layers")
             root_stack = stage.GetLayerStack(includeSessionLayers=True)
             if FLAT_STAGES_COMPOSE_FULLY and len(layers) == len(root_stack):
                 raise NotProvable("every layer is in the root layer stack")
-            mask = _initial_mask(stage, layers, wants_type, specs)
+            mask = _initial_mask(stage, layers, scans)
             stage.SetPopulationMask(mask)
             _expand(stage)
             if trap.HasErrors():
@@ -180,18 +180,21 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
 # -- layers ---------------------------------------------------------------------------
 
 
-def _reachable_layers(stage: Usd.Stage, missing: list[str], specs: _Specs) -> list[Sdf.Layer]:
+def _reachable_layers(stage: Usd.Stage, missing: list[str], scans: _Scans) -> list[Sdf.Layer]:
     """The root layer stack, then every layer reachable through sublayers,
     references and payloads (variants included), each once. The identifiers
-    of the layers that do not exist are added to ``missing``."""
+    of the layers that do not exist are added to ``missing``.
+
+    A layer's arcs are read from its scan, which the mask needs anyway: asking
+    Sdf (``GetCompositionAssetDependencies``) walks every spec a second time."""
     layers = list(stage.GetLayerStack(includeSessionLayers=True))
     seen = {layer_identifier(layer) for layer in layers}
     with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
         queue = list(layers)
         while queue:
             anchor = queue.pop()
-            specs.check(anchor)
-            for asset_path in anchor.GetCompositionAssetDependencies():
+            asset_paths = (*anchor.subLayerPaths, *scans.of(anchor).external)
+            for asset_path in dict.fromkeys(asset_paths):
                 if "`" in asset_path:
                     raise NotProvable(f"expression variables in @{asset_path}@")
                 # A layer that is missing is missing from the full stage too.
@@ -203,6 +206,22 @@ def _reachable_layers(stage: Usd.Stage, missing: list[str], specs: _Specs) -> li
                     layers.append(layer)
                     queue.append(layer)
     return layers
+
+
+class _Scans:
+    """Each layer's :func:`_scan`, made once per fast-path open."""
+
+    def __init__(self, specs: _Specs, wants_type: Callable[[str], bool]) -> None:
+        self._specs = specs
+        self._wants_type = wants_type
+        self._scans: dict[str, _LayerScan] = {}
+
+    def of(self, layer: Sdf.Layer) -> _LayerScan:
+        found = self._scans.get(layer_identifier(layer))
+        if found is None:
+            found = _scan(layer, self._wants_type, self._specs.paths(layer))
+            self._scans[layer_identifier(layer)] = found
+        return found
 
 
 #: A variant named "" in usda text (``"" {``, or ``"" (`` for one with metadata).
@@ -352,24 +371,28 @@ def _is_prim_site(path: Sdf.Path) -> bool:
     return path.IsPrimPath() or path.IsPrimVariantSelectionPath()
 
 
-def _scan(
-    layer: Sdf.Layer,
-    wants_type: Callable[[str], bool],
-    paths: list[Sdf.Path],
-    scan: _LayerScan | None = None,
-) -> _LayerScan:
+#: The prim fields _scan asks a spec about, in the order it asks.
+_SPEC_KEYS = ("references", "payload", "inheritPaths", "specializes", "customData", "relocates")
+#: Above this many fields to ask about, one ListInfoKeys costs less than a
+#: HasInfo per field (about 2.7 and 1 microseconds a prim, usd-core 26.11).
+_MAX_HAS_INFO = 2
+
+
+def _scan(layer: Sdf.Layer, wants_type: Callable[[str], bool], paths: list[Sdf.Path]) -> _LayerScan:
     """Record the layer's wanted specs and arcs (of ``paths``)."""
-    scan = scan if scan is not None else _LayerScan(specs=len(paths))
+    scan = _LayerScan(specs=len(paths))
     get_spec = layer.GetPrimAtPath
     # A layer whose file holds none of these words has no arc, relocates or
     # suppression on any spec: its specs' fields need no listing (layer_words.py).
     words = (
-        _KEYED_WORDS
+        set(_KEYED_WORDS)
         if layer.anonymous or layer.dirty or not layer_real_path(layer)
-        else (layer_words.may_hold(layer_real_path(layer), _KEYED_WORDS))
+        else layer_words.may_hold(layer_real_path(layer), _KEYED_WORDS)
     )
-    keyed = bool(words)
-    suppressing = IGNORE_DICTIONARY in words
+    if IGNORE_DICTIONARY in words:
+        words.add("customData")
+    asked = tuple(key for key in _SPEC_KEYS if key in words)
+    list_keys = len(asked) > _MAX_HAS_INFO
     wanted: dict[str, bool] = {}
     for path in paths:
         if path.IsPropertyPath() or not _is_prim_site(path):
@@ -384,31 +407,36 @@ def _scan(
                 want = wanted[type_name] = wants_type(type_name)
             if want:
                 scan.wanted.add(path.StripAllVariantSelections())
-        if not keyed:
+        if not asked:
             continue
-        keys = spec.ListInfoKeys()
-        if suppressing and "customData" in keys and IGNORE_DICTIONARY in spec.customData:
+        keys = spec.ListInfoKeys() if list_keys else [k for k in asked if spec.HasInfo(k)]
+        if not keys:
+            continue
+        if "customData" in keys and IGNORE_DICTIONARY in spec.customData:
             scan.wanted.add(path.StripAllVariantSelections())
         if "relocates" in keys:
             raise NotProvable(f"relocates on {path} in {layer_identifier(layer)}")
         if not _ARC_KEYS.isdisjoint(keys):
-            _record_arcs(spec, scan)
+            _record_arcs(spec, scan, keys)
     return scan
 
 
-def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan) -> None:
+def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan, keys: Collection[str]) -> None:
+    """Record the arcs of the fields ``keys`` names (each list read only if present)."""
     site = spec.path.StripAllVariantSelections()
-    for target in (
-        *spec.inheritPathList.GetAddedOrExplicitItems(),
-        *spec.specializesList.GetAddedOrExplicitItems(),
-    ):
+    classes = (
+        *(spec.inheritPathList.GetAddedOrExplicitItems() if "inheritPaths" in keys else ()),
+        *(spec.specializesList.GetAddedOrExplicitItems() if "specializes" in keys else ()),
+    )
+    for target in classes:
         target = target.MakeAbsolutePath(spec.path).StripAllVariantSelections()
         scan.arcs.append((site, target))
         scan.class_names.add(target.name)
-    for arc in (
-        *spec.referenceList.GetAddedOrExplicitItems(),
-        *spec.payloadList.GetAddedOrExplicitItems(),
-    ):
+    arcs = (
+        *(spec.referenceList.GetAddedOrExplicitItems() if "references" in keys else ()),
+        *(spec.payloadList.GetAddedOrExplicitItems() if "payload" in keys else ()),
+    )
+    for arc in arcs:
         if arc.assetPath:
             scan.external.append(arc.assetPath)
             continue
@@ -422,29 +450,29 @@ def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan) -> None:
 
 
 def _initial_mask(
-    stage: Usd.Stage, layers: list[Sdf.Layer], wants_type: Callable[[str], bool], specs: _Specs
+    stage: Usd.Stage, layers: list[Sdf.Layer], scans: _Scans
 ) -> Usd.StagePopulationMask:
     root_stack = {
         layer_identifier(layer) for layer in stage.GetLayerStack(includeSessionLayers=True)
     }
     foreign_classes: set[str] = set()
-    scans: dict[str, _LayerScan] = {}
+    root_scan = _LayerScan()
+    weight = _Weights(layers, scans, root_stack)
+    own = composed = 0
     for layer in layers:
+        scan = scans.of(layer)
         if layer_identifier(layer) in root_stack:
+            root_scan.wanted |= scan.wanted
+            root_scan.arcs.extend(scan.arcs)
+            own += scan.specs
+            composed += scan.specs + weight.of_arcs(layer, scan.external)
             continue
-        scan = scans[layer_identifier(layer)] = _scan(layer, wants_type, specs.paths(layer))
         if scan.wanted:
             raise NotProvable(f"{layer_identifier(layer)} brings in wanted prims through an arc")
         if layer.pseudoRoot.HasInfo(SETTINGS_PATH_KEY):
             raise NotProvable(f"{layer_identifier(layer)} authors {SETTINGS_PATH_KEY}")
         foreign_classes |= scan.class_names
-    weight = _Weights(layers, scans)
-    root_layers = [layer for layer in layers if layer_identifier(layer) in root_stack]
-    root_paths = [specs.paths(layer) for layer in root_layers]
-    _check_payoff(root_layers, root_paths, weight, sum(s.specs for s in scans.values()))
-    root_scan = _LayerScan()
-    for layer, paths in zip(root_layers, root_paths, strict=True):
-        _scan(layer, wants_type, paths, root_scan)
+    _check_payoff(composed, sum(scans.of(layer).specs for layer in layers))
     wanted = _follow_arcs(root_scan.wanted | {RENDER_SCOPE}, root_scan.arcs)
     for path in wanted:
         if any(prefix.name in foreign_classes for prefix in path.GetPrefixes()):
@@ -461,47 +489,33 @@ class _Weights:
     """How many specs referencing a layer once composes: its own and, per arc,
     those of the layers it references (a projection, not a count)."""
 
-    def __init__(self, layers: list[Sdf.Layer], scans: dict[str, _LayerScan]) -> None:
+    def __init__(self, layers: list[Sdf.Layer], scans: _Scans, root_stack: set[str]) -> None:
         self._layers = {layer_identifier(layer): layer for layer in layers}
         self._scans = scans
+        self._root_stack = root_stack
         self._weights: dict[str, int] = {}
 
     def of_arc(self, anchor: Sdf.Layer, asset_path: str) -> int:
         identifier = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
         layer = self._layers.get(identifier)
-        if layer is None or identifier not in self._scans:
+        if layer is None or identifier in self._root_stack:
             return 0  # missing, or in the root layer stack (counted there)
         if identifier not in self._weights:
             self._weights[identifier] = 0  # a cycle adds nothing
-            scan = self._scans[identifier]
-            self._weights[identifier] = scan.specs + sum(
-                self.of_arc(layer, asset) for asset in scan.external
-            )
+            scan = self._scans.of(layer)
+            self._weights[identifier] = scan.specs + self.of_arcs(layer, scan.external)
         return self._weights[identifier]
 
+    def of_arcs(self, anchor: Sdf.Layer, asset_paths: list[str]) -> int:
+        # A layout references a few assets thousands of times: each asset once.
+        return sum(n * self.of_arc(anchor, a) for a, n in Counter(asset_paths).items())
 
-def _check_payoff(
-    layers: list[Sdf.Layer], paths: list[list[Sdf.Path]], weight: _Weights, scanned: int
-) -> None:
+
+def _check_payoff(composed: int, scanned: int) -> None:
     """Give up when a full composition would compose less than PAYOFF times
-    the specs the fast path scans, projected from an even sample of the root
-    layer stack's specs and the arcs they carry."""
-    own = sum(len(p) for p in paths)
-    scanned += own
-    if scanned < MIN_SCAN:
-        return
-    step = max(1, own // SAMPLE)
-    referenced = sampled = 0
-    for layer, layer_paths in zip(layers, paths, strict=True):
-        for path in layer_paths[::step]:
-            sampled += 1
-            spec = layer.GetPrimAtPath(path) if _is_prim_site(path) else None
-            if isinstance(spec, Sdf.PrimSpec) and (spec.hasReferences or spec.hasPayloads):
-                scan = _LayerScan()
-                _record_arcs(spec, scan)
-                referenced += sum(weight.of_arc(layer, asset) for asset in scan.external)
-    composed = own + referenced * own / max(1, sampled)
-    if composed < PAYOFF * scanned:
+    the specs the fast path scanned (``composed`` counts a referenced layer's
+    specs once per arc that brings them in)."""
+    if scanned >= MIN_SCAN and composed < PAYOFF * scanned:
         raise NotProvable(
             f"composing everything (about {composed:.0f} specs) is cheaper than scanning "
             f"{scanned} specs"
