@@ -586,3 +586,45 @@ def test_a_rule_that_does_not_opt_in_sees_the_whole_stage(
 def test_every_built_in_rule_opts_in_to_partial_composition() -> None:
     assert all(type(rule).partial_composition for rule in all_rules())
     assert not Linter(all_rules()).full_composition
+
+
+#: Every way a layer reaches another: a sublayer, a reference (prepended, in a
+#: variant), a payload, a sublayer of a referenced layer, one arc named twice,
+#: a missing layer; and a deleted reference, which composes nothing.
+REACHING = {
+    "shot.usda": "#usda 1.0\n(\n    subLayers = [@./layout.usda@]\n)\n"
+    'def Xform "World"\n{\n'
+    '    def "a" (prepend references = @./a.usda@)\n    {\n    }\n'
+    '    def "again" (prepend references = @./a.usda@)\n    {\n    }\n'
+    '    def "v" (\n        variants = {\n            string look = "on"\n        }\n'
+    '        prepend variantSets = "look"\n    )\n    {\n'
+    '        variantSet "look" = {\n'
+    '            "on" (prepend payload = @./p.usda@) {\n            }\n'
+    "        }\n    }\n"
+    '    over "gone" (delete references = @./deleted.usda@)\n    {\n    }\n'
+    '    def "lost" (prepend references = @./missing.usda@)\n    {\n    }\n}\n',
+    "layout.usda": '#usda 1.0\ndef Xform "set" (prepend payload = @./set.usda@)\n{\n}\n',
+    "a.usda": '#usda 1.0\n(\n    defaultPrim = "a"\n    subLayers = [@./a_base.usda@]\n)\n'
+    'def Xform "a"\n{\n}\n',
+    "a_base.usda": '#usda 1.0\ndef Xform "a"\n{\n    double size = 1\n}\n',
+    "p.usda": '#usda 1.0\n(\n    defaultPrim = "p"\n)\ndef Xform "p"\n{\n}\n',
+    "set.usda": '#usda 1.0\n(\n    defaultPrim = "set"\n)\ndef Xform "set"\n{\n}\n',
+    "deleted.usda": '#usda 1.0\n(\n    defaultPrim = "d"\n)\ndef Xform "d"\n{\n}\n',
+}
+
+
+def test_the_layers_reached_are_those_a_full_composition_uses(tmp_path: Path) -> None:
+    """The fast path reads a layer's arcs from its own scan of the specs (not
+    Sdf's GetCompositionAssetDependencies): it must reach what composing reads."""
+    from pxr import Usd
+
+    root = str(_write(tmp_path, REACHING))
+    stage = Usd.Stage.OpenMasked(root, Usd.StagePopulationMask(), Usd.Stage.LoadAll)
+    missing: list[str] = []
+    scans = fastpath._Scans(fastpath._Specs(), lambda type_name: False)
+    reached = fastpath._reachable_layers(stage, missing, scans)
+    full = Usd.Stage.Open(root)
+    files = {Path(layer.realPath).name for layer in reached if not layer.anonymous}
+    assert files == {Path(layer.realPath).name for layer in full.GetUsedLayers() if layer.realPath}
+    assert files == {"shot.usda", "layout.usda", "a.usda", "a_base.usda", "p.usda", "set.usda"}
+    assert [Path(name).name for name in missing] == ["missing.usda"]

@@ -25,11 +25,12 @@ group); SIGINT or SIGTERM sent to this process alone is passed on. The child
 handles it (one line, exit 130 or 143); a child stuck in USD, where Python
 cannot run the handler, is killed after :data:`STOP_GRACE` seconds and this
 process says the line. If this process is killed outright, Linux ends the
-child (``PR_SET_PDEATHSIG``).
+child (a SIGIO from the pipe it watches, see :func:`_end_with`).
 """
 
 from __future__ import annotations
 
+import fcntl
 import os
 import signal
 import sys
@@ -75,12 +76,16 @@ def supervise() -> None:
     # A signal during the fork waits: the child gets Ctrl-C's own, and one sent
     # to this process is passed on once the handlers below are in place.
     blocked = signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
+    # This process holds the write end for as long as it lives (see _end_with).
+    watched, held = os.pipe()
     pid = os.fork()
     if pid == 0:
         supervised = True
+        os.close(held)
         signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-        die_with_parent(parent)
+        _end_with(parent, watched)
         return
+    os.close(watched)
     _child = pid
     previous = {signum: signal.signal(signum, _pass_on) for signum in STOPPING}
     previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, _kill_child)
@@ -137,6 +142,18 @@ def _kill_child(signum: int, frame: object) -> None:
         os.kill(_child, signal.SIGKILL)
     except ProcessLookupError:
         return
+
+
+def _end_with(parent: int, watched: int) -> None:
+    """End this child when its supervisor ends, even by SIGKILL: Linux sends
+    the owner of a pipe's read end set O_ASYNC a SIGIO, whose default action
+    ends the process, when the last write end closes (fs/pipe.c,
+    ``pipe_release``). It does what :func:`die_with_parent` does without
+    importing ctypes, about 1% of a one-file check's start-up."""
+    fcntl.fcntl(watched, fcntl.F_SETOWN, os.getpid())
+    fcntl.fcntl(watched, fcntl.F_SETFL, fcntl.fcntl(watched, fcntl.F_GETFL) | os.O_ASYNC)
+    if os.getppid() != parent:  # it died before the owner was set
+        os._exit(128 + signal.SIGKILL)
 
 
 def die_with_parent(parent: int) -> None:
