@@ -628,3 +628,27 @@ def test_the_layers_reached_are_those_a_full_composition_uses(tmp_path: Path) ->
     assert files == {Path(layer.realPath).name for layer in full.GetUsedLayers() if layer.realPath}
     assert files == {"shot.usda", "layout.usda", "a.usda", "a_base.usda", "p.usda", "set.usda"}
     assert [Path(name).name for name in missing] == ["missing.usda"]
+
+
+def test_a_stage_of_sublayers_only_is_composed_without_scanning_a_spec(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """No layer of the root layer stack holds a reference or payload word: every
+    layer is in it, so a full composition reads them all once (layer_words.py)."""
+
+    def refuse(*_args, **_kwargs):
+        raise AssertionError("a layer was scanned")
+
+    monkeypatch.setattr(fastpath, "_scan", refuse)
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": '#usda 1.0\n(\n    subLayers = [@./lighting.usda@, @./layout.usda@]\n)\n',
+            "lighting.usda": '#usda 1.0\ndef Scope "Render"\n{\n    def RenderSettings "S"\n'
+            "    {\n    }\n}\n",
+            "layout.usda": '#usda 1.0\ndef Xform "World"\n{\n    def Camera "cam"\n    {\n    }\n}\n',
+        },
+    )
+    opened = fastpath.open_partial(str(root), lambda type_name: True)
+    assert opened.stage is None
+    assert opened.reason == "every layer is in the root layer stack"

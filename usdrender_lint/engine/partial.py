@@ -74,6 +74,8 @@ PAYOFF = 3
 MIN_SCAN = 50_000
 
 _ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
+#: The fields through which a layer stack reaches other layers.
+_EXTERNAL_ARC_WORDS = ("references", "payload")
 #: The words that make a layer's spec fields worth listing (_scan).
 _KEYED_WORDS = (*sorted(_ARC_KEYS), "relocates", IGNORE_DICTIONARY)
 
@@ -155,10 +157,15 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
             stage = Usd.Stage.OpenMasked(
                 usd_path(path), Usd.StagePopulationMask(), Usd.Stage.LoadAll
             )
+            root_stack = stage.GetLayerStack(includeSessionLayers=True)
+            if FLAT_STAGES_COMPOSE_FULLY and not any(
+                layer_words.layers_may_hold(root_stack, word) for word in _EXTERNAL_ARC_WORDS
+            ):
+                # Sublayers only: known before any layer's specs are scanned.
+                raise NotProvable("every layer is in the root layer stack")
             layers = _reachable_layers(stage, missing, scans)
             if trap.HasErrors():
                 raise NotProvable("an error was posted while reading the layers")
-            root_stack = stage.GetLayerStack(includeSessionLayers=True)
             if FLAT_STAGES_COMPOSE_FULLY and len(layers) == len(root_stack):
                 raise NotProvable("every layer is in the root layer stack")
             mask = _initial_mask(stage, layers, scans)
