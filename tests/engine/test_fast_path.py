@@ -643,7 +643,7 @@ def test_a_stage_of_sublayers_only_is_composed_without_scanning_a_spec(
     root = _write(
         tmp_path,
         {
-            "shot.usda": '#usda 1.0\n(\n    subLayers = [@./lighting.usda@, @./layout.usda@]\n)\n',
+            "shot.usda": "#usda 1.0\n(\n    subLayers = [@./lighting.usda@, @./layout.usda@]\n)\n",
             "lighting.usda": '#usda 1.0\ndef Scope "Render"\n{\n    def RenderSettings "S"\n'
             "    {\n    }\n}\n",
             "layout.usda": '#usda 1.0\ndef Xform "World"\n{\n    def Camera "cam"\n    {\n    }\n}\n',
