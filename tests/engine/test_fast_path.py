@@ -639,6 +639,7 @@ def test_a_stage_of_sublayers_only_is_composed_without_scanning_a_spec(
     def refuse(*_args, **_kwargs):
         raise AssertionError("a layer was scanned")
 
+    monkeypatch.setattr(fastpath, "FLAT_STAGES_COMPOSE_FULLY", True)
     monkeypatch.setattr(fastpath, "_scan", refuse)
     root = _write(
         tmp_path,
@@ -646,7 +647,8 @@ def test_a_stage_of_sublayers_only_is_composed_without_scanning_a_spec(
             "shot.usda": "#usda 1.0\n(\n    subLayers = [@./lighting.usda@, @./layout.usda@]\n)\n",
             "lighting.usda": '#usda 1.0\ndef Scope "Render"\n{\n    def RenderSettings "S"\n'
             "    {\n    }\n}\n",
-            "layout.usda": '#usda 1.0\ndef Xform "World"\n{\n    def Camera "cam"\n    {\n    }\n}\n',
+            "layout.usda": '#usda 1.0\ndef Xform "World"\n{\n    def Camera "cam"\n'
+            "    {\n    }\n}\n",
         },
     )
     opened = fastpath.open_partial(str(root), lambda type_name: True)

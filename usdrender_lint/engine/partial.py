@@ -47,6 +47,7 @@ import re
 from collections import Counter
 from collections.abc import Callable, Collection, Iterable
 from dataclasses import field
+from itertools import filterfalse
 
 from pxr import Ar, Sdf, Tf, Usd
 
@@ -401,9 +402,10 @@ def _scan(layer: Sdf.Layer, wants_type: Callable[[str], bool], paths: list[Sdf.P
     asked = tuple(key for key in _SPEC_KEYS if key in words)
     list_keys = len(asked) > _MAX_HAS_INFO
     wanted: dict[str, bool] = {}
-    for path in paths:
-        if path.IsPropertyPath() or not _is_prim_site(path):
-            continue  # most paths are properties: one call to skip each
+    # Most paths are properties: skipped by one C-level loop over them.
+    for path in filterfalse(Sdf.Path.IsPropertyPath, paths):
+        if not _is_prim_site(path):
+            continue
         spec = get_spec(path)
         if not isinstance(spec, Sdf.PrimSpec):
             continue  # a variant set
