@@ -4,7 +4,7 @@ Every figure is a whole process (interpreter start included), timed against
 its baseline in the same run, interleaved round by round so machine load
 hits both alike. Each row shows the median, min and max over the rounds and
 the peak resident memory of the processes (``os.wait4``); each ratio is of the
-medians. The goals (issue 17, and issue 6 before it):
+medians, and "paired" is the median of the rounds' own ratios. The goals (issue 17, and issue 6 before it):
 
 - one-file stage (a 100k-prim shot flattened into one ``.usdc``, no arcs to
   other layers): ``check`` <= 1.25x a bare ``Usd.Stage.Open`` of it;
@@ -181,8 +181,17 @@ def row(s: Series, baseline: Series | None = None) -> str:
     )
     if baseline is not None:
         text += f"  = {s.median() / baseline.median():.2f}x"
-        text += f" (cpu {s.cpu() / baseline.cpu():.2f}x, RSS {s.rss_mb() / baseline.rss_mb():.2f}x)"
+        text += f" (cpu {s.cpu() / baseline.cpu():.2f}x, RSS {s.rss_mb() / baseline.rss_mb():.2f}x"
+        text += f"; paired {paired(s, baseline):.2f}x)"
     return text
+
+
+def paired(s: Series, baseline: Series) -> float:
+    """The median of each round's own ratio: a round runs the series back to
+    back, so a load that drifts over the run weighs on both sides alike."""
+    return statistics.median(
+        a.seconds / b.seconds for a, b in zip(s.samples, baseline.samples, strict=True)
+    )
 
 
 def lint_json(paths: Sequence[str], *options: str, cwd: Path | None = None) -> dict:

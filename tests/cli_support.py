@@ -1,5 +1,6 @@
-"""Helpers the command-line tests share: the command in its own process, a
-small crate layer to corrupt, and a layer naming a variant \"\"."""
+"""Helpers the command-line tests share: the command in its own process and
+the processes it starts, a stage that hangs USD, a small crate layer to
+corrupt, and a layer naming a variant \"\"."""
 
 from __future__ import annotations
 
@@ -9,6 +10,10 @@ import sys
 from pathlib import Path
 
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
+
+REPO = Path(__file__).resolve().parents[1]
+#: The examples' shot with findings (exit 1).
+BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
 
 #: A RenderSettings whose variant set holds a variant named "": Sdf's walks of
 #: such a layer abort or recurse without end (usd-core 26.11); composing it works.
@@ -62,3 +67,44 @@ def settings_crate(path: Path) -> bytes:
     UsdGeom.Camera.Define(stage, "/World/Cam").CreateFocalLengthAttr(35)
     layer.Save()
     return path.read_bytes()
+
+
+def command(*args: str) -> list[str]:
+    return [sys.executable, "-m", "usdrender_lint", *args]
+
+
+def hanging_stage(folder: Path) -> Path:
+    """A stage whose sublayer is a FIFO: USD blocks reading it forever."""
+    os.mkfifo(folder / "pipe.usda")
+    stage = folder / "hangs.usda"
+    stage.write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
+    return stage
+
+
+def descendants(pid: int) -> set[int]:
+    found: set[int] = set()
+    pending = [pid]
+    while pending:
+        parent = pending.pop()
+        try:
+            tasks = os.listdir(f"/proc/{parent}/task")
+        except OSError:
+            continue
+        for task in tasks:
+            try:
+                children = Path(f"/proc/{parent}/task/{task}/children").read_text().split()
+            except OSError:
+                continue
+            for child in map(int, children):
+                if child not in found:
+                    found.add(child)
+                    pending.append(child)
+    return found
+
+
+def is_running(pid: int) -> bool:
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    return "\nState:\tZ" not in status

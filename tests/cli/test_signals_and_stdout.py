@@ -13,54 +13,11 @@ import time
 from pathlib import Path
 
 import pytest
-
-REPO = Path(__file__).resolve().parents[2]
-BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
+from cli_support import BROKEN, command, descendants, hanging_stage, is_running
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="FIFOs, /proc and /dev/full are Linux's"
 )
-
-
-def command(*args: str) -> list[str]:
-    return [sys.executable, "-m", "usdrender_lint", *args]
-
-
-def hanging_stage(folder: Path) -> Path:
-    """A stage whose sublayer is a FIFO: USD blocks reading it forever."""
-    os.mkfifo(folder / "pipe.usda")
-    stage = folder / "hangs.usda"
-    stage.write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
-    return stage
-
-
-def descendants(pid: int) -> set[int]:
-    found: set[int] = set()
-    pending = [pid]
-    while pending:
-        parent = pending.pop()
-        try:
-            tasks = os.listdir(f"/proc/{parent}/task")
-        except OSError:
-            continue
-        for task in tasks:
-            try:
-                children = Path(f"/proc/{parent}/task/{task}/children").read_text().split()
-            except OSError:
-                continue
-            for child in map(int, children):
-                if child not in found:
-                    found.add(child)
-                    pending.append(child)
-    return found
-
-
-def is_running(pid: int) -> bool:
-    try:
-        status = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    return "\nState:\tZ" not in status
 
 
 def wait_for_a_worker(

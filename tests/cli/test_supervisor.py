@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 import pytest
-from test_signals_and_stdout import BROKEN, command, descendants, hanging_stage, is_running
+from cli_support import BROKEN, command, descendants, hanging_stage, is_running
 
 from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV, wants_supervision
 

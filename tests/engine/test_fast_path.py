@@ -4,13 +4,12 @@ could miss something. Correctness only: timing is the benchmark's job."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from bench_support import load_script
 from pxr import Sdf, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
@@ -25,17 +24,7 @@ REPO = TESTS.parent
 LAYERS = sorted([*(TESTS / "rules").rglob("*.usd*"), *(REPO / "examples").rglob("*.usd*")])
 
 
-def _load_generator():
-    # benchmarks/ is a folder of scripts, not a package.
-    name = "usdrender_lint_benchmark_generate"
-    spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / "generate.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-generate = _load_generator()
+generate = load_script("generate")
 
 
 @pytest.fixture(scope="module")

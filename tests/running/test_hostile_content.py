@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from cli_support import EMPTY_VARIANT_NAME
+from cli_support import EMPTY_VARIANT_NAME, settings_crate
 from pxr import Sdf, Usd, UsdRender, Vt
 
 from usdrender_lint.api.text import MAX_MESSAGE_CHARS, listing
@@ -108,15 +108,6 @@ def test_a_changed_file_that_is_a_fifo_is_never_read_for_roots(hanging: Path) ->
 # -- corrupt layers in the fast path ----------------------------------------------------
 
 
-def _settings_crate(path: Path) -> bytes:
-    sys.path.insert(0, str(REPO / "tests"))
-    try:
-        from test_hostile import settings_crate  # the layout the hostile tests flip bytes in
-    finally:
-        sys.path.pop(0)
-    return settings_crate(path)
-
-
 def _same_as_full_composition(folder: Path, *files: str, jobs: str = "1", timeout: str = "0"):
     fast = lint(
         folder, "--isolated", "--format", "json", "--jobs", jobs, "--timeout", timeout, *files
@@ -149,7 +140,7 @@ def test_a_crate_naming_a_prim_with_no_name_survives_the_fast_path_in_process(
 ) -> None:
     """One flipped byte: a prim named "". Sdf's layer walks abort the process on
     it (``GetCompositionAssetDependencies``); composing the stage posts an error."""
-    data = bytearray(_settings_crate(tmp_path / "settings.usdc"))
+    data = bytearray(settings_crate(tmp_path / "settings.usdc"))
     if len(data) != 1219:
         pytest.skip("usd-core writes another crate layout; the corrupt byte is elsewhere")
     data[102] = 210

@@ -5,12 +5,11 @@ products, a missing camera, the vars, and the same partial composition as check.
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
 from pathlib import Path
 
 import pytest
+from bench_support import load_script
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
@@ -554,19 +553,10 @@ def RenderVar "v"
     assert "PR004" in inherits["findings"]
 
 
-def _load_generator():
-    name = "usdrender_lint_benchmark_generate_spec"
-    module_spec = importlib.util.spec_from_file_location(name, REPO / "benchmarks" / "generate.py")
-    module = importlib.util.module_from_spec(module_spec)
-    sys.modules[name] = module
-    module_spec.loader.exec_module(module)
-    return module
-
-
 def test_spec_reads_the_partly_composed_stage_check_lints(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    shot = _load_generator().generate_shot(tmp_path, prims=3000, fmt="usda")
+    shot = load_script("generate").generate_shot(tmp_path, prims=3000, fmt="usda")
     full = spec(shot)
     seen = []
     real = fastpath.open_partial
