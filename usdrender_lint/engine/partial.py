@@ -467,13 +467,12 @@ def _initial_mask(
     foreign_classes: set[str] = set()
     root_scan = _LayerScan()
     weight = _Weights(layers, scans, root_stack)
-    own = composed = 0
+    composed = 0
     for layer in layers:
         scan = scans.of(layer)
         if layer_identifier(layer) in root_stack:
             root_scan.wanted |= scan.wanted
             root_scan.arcs.extend(scan.arcs)
-            own += scan.specs
             composed += scan.specs + weight.of_arcs(layer, scan.external)
             continue
         if scan.wanted:
