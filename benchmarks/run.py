@@ -4,7 +4,8 @@ Every figure is a whole process (interpreter start included), timed against
 its baseline in the same run, interleaved round by round so machine load
 hits both alike. Each row shows the median, min and max over the rounds and
 the peak resident memory of the processes (``os.wait4``); each ratio is of the
-medians, and "paired" is the median of the rounds' own ratios. The goals (issue 17, and issue 6 before it):
+medians, and "paired" is the median of the rounds' own ratios. The goals
+(issue 17, and issue 6 before it):
 
 - one-file stage (a 100k-prim shot flattened into one ``.usdc``, no arcs to
   other layers): ``check`` <= 1.25x a bare ``Usd.Stage.Open`` of it;
