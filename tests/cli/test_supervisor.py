@@ -144,3 +144,43 @@ def test_a_signal_to_the_supervisor_ends_a_child_stuck_in_usd(
     assert stderr == f"usdrender-lint: {line}\n"
     assert time.monotonic() - started < 10
     assert not is_running(child)
+
+
+#: Run the command as the console script does, then say from the process that
+#: linted (the supervised child: the supervisor exits without printing) how
+#: much data it may allocate.
+DATA_LIMIT_AFTER_CHECK = """
+import json, resource, sys
+from usdrender_lint.__main__ import main
+try:
+    main()
+except SystemExit:
+    pass
+from usdrender_lint.running import supervisor
+soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
+print(json.dumps([supervisor.supervised, soft != resource.RLIM_INFINITY]), file=sys.stderr)
+"""
+
+
+@pytest.mark.parametrize("options", [(), ("--jobs", "1", "--timeout", "0")])
+def test_the_supervised_child_lints_under_a_memory_cap(options: tuple[str, ...]) -> None:
+    """A corrupt crate can make USD allocate until the machine runs out: in the
+    child, under the cap the pool's workers have, the allocation fails for that
+    file instead (tests/cli/test_hostile.py has the crate)."""
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            DATA_LIMIT_AFTER_CHECK,
+            "check",
+            "--isolated",
+            *options,
+            str(BROKEN),
+        ],
+        capture_output=True,
+        text=True,
+        env={k: v for k, v in os.environ.items() if k != NO_SUPERVISOR_ENV},
+        timeout=120,
+    )
+    assert "findings in 1 file" in proc.stdout, proc.stderr  # it did lint
+    assert json.loads(proc.stderr.splitlines()[-1]) == [True, True]

@@ -110,7 +110,10 @@ def lint_paths(
                     raise ValueError("lint_paths needs a linter or a linter_factory")
                 linter = linter_factory()
             if supervisor.supervised:
-                _contain_crashes()  # the supervisor runs the command again after a crash
+                # The supervisor runs the command again after a crash; a file that
+                # makes USD allocate without end fails its allocation instead.
+                _limit_memory(worker_memory_limit(1))
+                _contain_crashes()
             return tuple(_lint_in_process(linter, files, advance))
         if len(files) == 1 and supervisor.verdict is not None:
             return (_after_verdict(linter or _build(linter_factory), files[0], timeout),)
