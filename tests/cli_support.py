@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
@@ -108,3 +109,19 @@ def is_running(pid: int) -> bool:
     except OSError:
         return False
     return "\nState:\tZ" not in status
+
+
+def wait_for_a_worker(
+    process: subprocess.Popen, temporary: Path, pool: bool = True, limit: float = 60
+) -> None:
+    """Until a worker is linting (for a pool, once it has made its temporary
+    folder; one file is linted by a forked child, without one)."""
+    deadline = time.monotonic() + limit
+    while time.monotonic() < deadline:
+        assert process.poll() is None, process.communicate()
+        started = any(temporary.glob("usdrender-lint-*/worker-*.log")) or not pool
+        if started and descendants(process.pid):
+            time.sleep(0.5)  # the worker has its file; the parent waits on it
+            return
+        time.sleep(0.05)
+    raise AssertionError("no worker started")

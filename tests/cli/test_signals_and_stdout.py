@@ -13,27 +13,18 @@ import time
 from pathlib import Path
 
 import pytest
-from cli_support import BROKEN, command, descendants, hanging_stage, is_running
+from cli_support import (
+    BROKEN,
+    command,
+    descendants,
+    hanging_stage,
+    is_running,
+    wait_for_a_worker,
+)
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="FIFOs, /proc and /dev/full are Linux's"
 )
-
-
-def wait_for_a_worker(
-    process: subprocess.Popen, temporary: Path, pool: bool = True, limit: float = 60
-) -> None:
-    """Until a worker is linting (for a pool, once it has made its temporary
-    folder; one file is linted by a forked child, without one)."""
-    deadline = time.monotonic() + limit
-    while time.monotonic() < deadline:
-        assert process.poll() is None, process.communicate()
-        started = any(temporary.glob("usdrender-lint-*/worker-*.log")) or not pool
-        if started and descendants(process.pid):
-            time.sleep(0.5)  # the worker has its file; the parent waits on it
-            return
-        time.sleep(0.05)
-    raise AssertionError("no worker started")
 
 
 @pytest.mark.parametrize(

@@ -4,6 +4,7 @@ time-out, a crash and a signal end as they did with a forked lint child."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -13,7 +14,7 @@ import time
 from pathlib import Path
 
 import pytest
-from cli_support import BROKEN, command, descendants, hanging_stage, is_running
+from cli_support import BROKEN, command, descendants, hanging_stage, is_running, wait_for_a_worker
 
 from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV, wants_supervision
 
@@ -184,3 +185,44 @@ def test_the_supervised_child_lints_under_a_memory_cap(options: tuple[str, ...])
     )
     assert "findings in 1 file" in proc.stdout, proc.stderr  # it did lint
     assert json.loads(proc.stderr.splitlines()[-1]) == [True, True]
+
+
+def _pipes(pid: int) -> set[str]:
+    found = set()
+    for fd in Path(f"/proc/{pid}/fd").iterdir():
+        with contextlib.suppress(OSError):
+            target = os.readlink(fd)
+            if target.startswith("pipe:"):
+                found.add(target)
+    return found
+
+
+def test_only_the_child_holds_the_pipe_it_watches(tmp_path: Path) -> None:
+    """The pool's workers, forked from the child, close their copy: the pipe,
+    and the SIGIO its closing sends to the child's pid, end with the child."""
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    process = subprocess.Popen(
+        command(
+            "check", "--isolated", "--timeout", "600", str(hanging_stage(tmp_path)), str(BROKEN)
+        ),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        env={**os.environ, "TMPDIR": str(temporary)},
+    )
+    try:
+        wait_for_a_worker(process, temporary)
+        standard = {os.readlink(f"/proc/{process.pid}/fd/{fd}") for fd in (0, 1, 2)}
+        watch = _pipes(process.pid) - standard  # the supervisor's write end
+        [child] = [pid for pid in descendants(process.pid) if _parent(pid) == process.pid]
+        workers = descendants(child)
+        assert len(watch) == 1 and watch <= _pipes(child)
+        assert workers and not any(watch & _pipes(worker) for worker in workers)
+    finally:
+        process.kill()
+        process.communicate(timeout=30)
+
+
+def _parent(pid: int) -> int:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return int(fields[1])

@@ -53,6 +53,8 @@ verdict: str | None = None
 
 _child = 0
 _stop_signal: int | None = None
+#: In the supervised child: the read end of the pipe it watches (_end_with).
+_watched: int | None = None
 
 
 def wants_supervision(argv: list[str]) -> bool:
@@ -150,6 +152,8 @@ def _end_with(parent: int, watched: int) -> None:
     ends the process, when the last write end closes (fs/pipe.c,
     ``pipe_release``). It does what :func:`die_with_parent` does without
     importing ctypes, about 1% of a one-file check's start-up."""
+    global _watched
+    _watched = watched
     fcntl.fcntl(watched, fcntl.F_SETOWN, os.getpid())
     fcntl.fcntl(watched, fcntl.F_SETFL, fcntl.fcntl(watched, fcntl.F_GETFL) | os.O_ASYNC)
     if os.getppid() != parent:  # it died before the owner was set
@@ -162,6 +166,13 @@ def die_with_parent(parent: int) -> None:
     must do. A parent already gone ends this process now."""
     if not sys.platform.startswith("linux"):
         return
+    global _watched
+    if _watched is not None:
+        # Forked from the supervised child: the pipe it watches must close with
+        # it. Held on here, it would signal the child's pid once the child is
+        # gone, a pid Linux may have given to another process by then.
+        os.close(_watched)
+        _watched = None
     import ctypes
 
     try:
