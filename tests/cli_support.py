@@ -4,6 +4,7 @@ corrupt, and a layer naming a variant \"\"."""
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -11,6 +12,8 @@ import time
 from pathlib import Path
 
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
+
+from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV
 
 REPO = Path(__file__).resolve().parents[1]
 #: The examples' shot with findings (exit 1).
@@ -125,3 +128,32 @@ def wait_for_a_worker(
             return
         time.sleep(0.05)
     raise AssertionError("no worker started")
+
+
+#: Runs the command as the console script does, then prints from the process
+#: that ran it the JSON of ``[supervisor.supervised, <expression>]``: a line
+#: only the supervised child prints (its supervisor exits without printing).
+_AFTER_THE_COMMAND = """
+import json, resource, sys
+from usdrender_lint.__main__ import main
+try:
+    main()
+except SystemExit:
+    pass
+from usdrender_lint.running import supervisor
+print(json.dumps([supervisor.supervised, {expression}]), file=sys.stderr)
+"""
+
+
+def after_a_supervised_command(expression: str, *args: str) -> tuple[bool, object, str]:
+    """(supervised, the value of ``expression``, stdout) as the process that ran
+    ``usdrender-lint ARGS`` sees them once the command is done."""
+    proc = subprocess.run(
+        [sys.executable, "-c", _AFTER_THE_COMMAND.format(expression=expression), *args],
+        capture_output=True,
+        text=True,
+        env={k: v for k, v in os.environ.items() if k != NO_SUPERVISOR_ENV},
+        timeout=120,
+    )
+    supervised, value = json.loads(proc.stderr.splitlines()[-1])
+    return supervised, value, proc.stdout

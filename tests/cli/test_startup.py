@@ -5,19 +5,18 @@ lookup that lets it skip importlib.metadata (issue 6). Timing is measured by
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from importlib import metadata
 from pathlib import Path
 
 import pytest
+from cli_support import after_a_supervised_command
 
 import usdrender_lint
 from usdrender_lint import entrypoints
 from usdrender_lint.formatters import available_formatters
 from usdrender_lint.registry import build_registry
-from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV
 
 PASS_FILE = Path(__file__).parents[1] / "rules" / "CA001_camera_unset" / "pass_traps.usda"
 GROUPS = ("usdrender_lint.rules", "usdrender_lint.formatters")
@@ -119,29 +118,12 @@ def test_one_file_under_a_time_limit_needs_no_pool() -> None:
     assert unexpected == []
 
 
-SUPERVISED_CHECK = """
-import json, sys
-from usdrender_lint.__main__ import main
-try:
-    main()
-except SystemExit:
-    pass
-from usdrender_lint.running import supervisor
-print(json.dumps([supervisor.supervised, sorted(sys.modules)]), file=sys.stderr)
-"""
-
-
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the supervisor is Linux's")
 def test_a_supervised_check_imports_no_ctypes() -> None:
     """Its child watches a pipe to end with the supervisor (running/supervisor.py)."""
-    proc = subprocess.run(
-        [sys.executable, "-c", SUPERVISED_CHECK, "check", "--isolated", str(PASS_FILE)],
-        capture_output=True,
-        text=True,
-        check=True,
-        env={k: v for k, v in os.environ.items() if k != NO_SUPERVISOR_ENV},
+    supervised, modules, _ = after_a_supervised_command(
+        "sorted(sys.modules)", "check", "--isolated", str(PASS_FILE)
     )
-    supervised, modules = json.loads(proc.stderr.splitlines()[-1])
     assert supervised  # the line is the child's: the supervisor exits without printing
     assert "usdrender_lint.engine" in modules
     assert "ctypes" not in modules

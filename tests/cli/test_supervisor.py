@@ -14,7 +14,15 @@ import time
 from pathlib import Path
 
 import pytest
-from cli_support import BROKEN, command, descendants, hanging_stage, is_running, wait_for_a_worker
+from cli_support import (
+    BROKEN,
+    after_a_supervised_command,
+    command,
+    descendants,
+    hanging_stage,
+    is_running,
+    wait_for_a_worker,
+)
 
 from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV, wants_supervision
 
@@ -147,44 +155,17 @@ def test_a_signal_to_the_supervisor_ends_a_child_stuck_in_usd(
     assert not is_running(child)
 
 
-#: Run the command as the console script does, then say from the process that
-#: linted (the supervised child: the supervisor exits without printing) how
-#: much data it may allocate.
-DATA_LIMIT_AFTER_CHECK = """
-import json, resource, sys
-from usdrender_lint.__main__ import main
-try:
-    main()
-except SystemExit:
-    pass
-from usdrender_lint.running import supervisor
-soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
-print(json.dumps([supervisor.supervised, soft != resource.RLIM_INFINITY]), file=sys.stderr)
-"""
-
-
 @pytest.mark.parametrize("options", [(), ("--jobs", "1", "--timeout", "0")])
 def test_the_supervised_child_lints_under_a_memory_cap(options: tuple[str, ...]) -> None:
     """A corrupt crate can make USD allocate until the machine runs out: in the
     child, under the cap the pool's workers have, the allocation fails for that
     file instead (tests/cli/test_hostile.py has the crate)."""
-    proc = subprocess.run(
-        [
-            sys.executable,
-            "-c",
-            DATA_LIMIT_AFTER_CHECK,
-            "check",
-            "--isolated",
-            *options,
-            str(BROKEN),
-        ],
-        capture_output=True,
-        text=True,
-        env={k: v for k, v in os.environ.items() if k != NO_SUPERVISOR_ENV},
-        timeout=120,
+    supervised, capped, stdout = after_a_supervised_command(
+        "resource.getrlimit(resource.RLIMIT_DATA)[0] != resource.RLIM_INFINITY",
+        *("check", "--isolated", *options, str(BROKEN)),
     )
-    assert "findings in 1 file" in proc.stdout, proc.stderr  # it did lint
-    assert json.loads(proc.stderr.splitlines()[-1]) == [True, True]
+    assert "findings in 1 file" in stdout  # it did lint
+    assert (supervised, capped) == (True, True)
 
 
 def _pipes(pid: int) -> set[str]:

@@ -110,10 +110,7 @@ def lint_paths(
                     raise ValueError("lint_paths needs a linter or a linter_factory")
                 linter = linter_factory()
             if supervisor.supervised:
-                # The supervisor runs the command again after a crash; a file that
-                # makes USD allocate without end fails its allocation instead.
-                _limit_memory(worker_memory_limit(1))
-                _contain_crashes()
+                _guard_supervised()
             return tuple(_lint_in_process(linter, files, advance))
         if len(files) == 1 and supervisor.verdict is not None:
             return (_after_verdict(linter or _build(linter_factory), files[0], timeout),)
@@ -321,13 +318,21 @@ def _lint_in_child(
 def _lint_supervised(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
     """Lint ``path`` in this process, whose supervisor reports a crash or a
     time-out (SIGALRM past ``timeout``) and runs the command again."""
-    _limit_memory(worker_memory_limit(1))
-    _contain_crashes()  # the run after a crash composes the whole stage
+    _guard_supervised()
     supervisor.arm_timeout(timeout)
     try:
         return lint_one(linter, path)
     finally:
         supervisor.arm_timeout(None)
+
+
+def _guard_supervised() -> None:
+    """What the supervised child needs before it lints in its own process: a
+    file that makes USD allocate without end fails its allocation (the pool's
+    cap), and a crash is left to the supervisor, whose run after it composes
+    the whole stage."""
+    _limit_memory(worker_memory_limit(1))
+    _contain_crashes()
 
 
 def _after_verdict(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
