@@ -27,8 +27,10 @@ from .config import (
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
 from .paths import escape
+from .running import read_ahead as _read_ahead
+from .running import supervisor
 from .running.interrupts import Stopped, check_stopped, stop_on_signals
-from .running.workers import DEFAULT_TIMEOUT
+from .running.workers import DEFAULT_TIMEOUT, limit_supervised_memory
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -319,7 +321,7 @@ def check(
     shard: tuple[int, int] | None,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
-    _import_engine()
+    _import_engine(read_ahead=_lone_supervised(paths))
     check_stopped()  # a signal while USD imported its modules
     from .running.pipeline import Request, RequestError, run
 
@@ -557,7 +559,7 @@ def spec_command(
     time, default_time = time_option
     if output_format == "svg" and output is None:
         raise ToolError("--format svg writes one file per product: give --output DIR")
-    _import_engine()
+    _import_engine(read_ahead=_lone_supervised(paths))
     from functools import partial
 
     from .running.inspect import InspectedFile, InspectRequest, inspect_files
@@ -829,12 +831,19 @@ def _silence_stdout() -> None:
     os.close(null)
 
 
-def _import_engine() -> None:
+def _lone_supervised(paths: Sequence[str]) -> str | None:
+    """The file a supervised child lints in its own process, if it lints one."""
+    return paths[0] if supervisor.supervised and len(paths) == 1 else None
+
+
+def _import_engine(read_ahead: str | None = None) -> None:
     """Import USD and the engine with the cyclic garbage collector paused, then
     freeze what the imports made. Imports make no garbage worth collecting, and
     each collection on the way would walk every object USD created so far
     (about 10 ms of a one-file check); frozen objects are never walked again.
-    Called by the commands that need USD: ``--help`` and ``--version`` do not."""
+    Called by the commands that need USD: ``--help`` and ``--version`` do not.
+    ``read_ahead``: a file whose layers are read on a thread meanwhile, under
+    the supervised child's memory cap (running/read_ahead.py)."""
     if "usdrender_lint.running.pipeline" in sys.modules:
         return
     from .running.interrupts import deferred
@@ -843,6 +852,9 @@ def _import_engine() -> None:
     gc.disable()
     try:
         with deferred():  # a Ctrl-C arrives after the imports, not inside USD's
+            if read_ahead is not None and _read_ahead.wanted(read_ahead):
+                limit_supervised_memory()
+                _read_ahead.start(read_ahead)
             from .running import pipeline  # noqa: F401 - USD, the engine and the rule API
     finally:
         gc.freeze()

@@ -1,4 +1,4 @@
-"""``usdrender-lint check``: a small process watches while its child runs the command.
+"""``usdrender-lint check`` and ``spec``: a small process watches while its child runs the command.
 
 A file that crashes USD or never finishes must cost that file, not the report
 (issue 13). A check of one file used to get that by forking a child of the
@@ -37,8 +37,8 @@ import sys
 
 from .interrupts import STOPPING, Stopped
 
-#: The subcommand supervised, and the options after which a second run could differ.
-SUPERVISED_COMMAND = "check"
+#: The subcommands supervised, and the options after which a second run could differ.
+SUPERVISED_COMMANDS = ("check", "spec")
 WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", "--write-baseline")
 #: Seconds a stopped child has to clean up before it is killed.
 STOP_GRACE = 2.0
@@ -58,13 +58,14 @@ _watched: int | None = None
 
 
 def wants_supervision(argv: list[str]) -> bool:
-    """True for a ``check`` that writes nothing but its report, on Linux."""
+    """True for a ``check`` that writes nothing but its report, or a ``spec``
+    (which writes its document once, after every file is read), on Linux."""
     if not sys.platform.startswith("linux") or not hasattr(os, "fork"):
         return False
     if os.environ.get(NO_SUPERVISOR_ENV):
         return False
     # The group has no option taking a value: its first word is the command.
-    if not argv or argv[0] != SUPERVISED_COMMAND:
+    if not argv or argv[0] not in SUPERVISED_COMMANDS:
         return False
     return not any(arg.split("=", 1)[0] in WRITING_OPTIONS for arg in argv)
 

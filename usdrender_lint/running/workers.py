@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from ..model import FileResult
 from ..records import record
-from . import supervisor
+from . import read_ahead, supervisor
 from .interrupts import check_stopped, default_signals_in_worker
 from .supervisor import die_with_parent
 
@@ -180,8 +180,9 @@ def lint_one(linter: FileLinter, path: str | FullyComposed) -> FileResult:
     else:
         full = False
     try:
-        # Only the retry passes the keyword: any linter with lint_path(path) works.
-        return linter.lint_path(path, full_composition=True) if full else linter.lint_path(path)
+        with read_ahead.held(path):
+            # Only the retry passes the keyword: any linter with lint_path(path) works.
+            return linter.lint_path(path, full_composition=True) if full else linter.lint_path(path)
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
         if getattr(linter, "raise_errors", False):
             raise
@@ -331,8 +332,13 @@ def _guard_supervised() -> None:
     file that makes USD allocate without end fails its allocation (the pool's
     cap), and a crash is left to the supervisor, whose run after it composes
     the whole stage."""
-    _limit_memory(worker_memory_limit(1))
+    limit_supervised_memory()
     _contain_crashes()
+
+
+def limit_supervised_memory() -> None:
+    """The supervised child's memory cap: the pool's, for one worker."""
+    _limit_memory(worker_memory_limit(1))
 
 
 def _after_verdict(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
@@ -366,7 +372,9 @@ def _crash(code: int | None, printed: str) -> str:
 
 
 def _single_threaded() -> bool:
-    """True when this process runs one thread (known on Linux only)."""
+    """True when this process runs one thread (known on Linux only). A read
+    ahead, the one thread the package starts, ends first (read_ahead.py)."""
+    read_ahead.finish()
     try:
         return len(os.listdir("/proc/self/task")) == 1
     except OSError:
