@@ -79,6 +79,18 @@ def test_a_fifo_sublayer_is_left_to_the_lint(tmp_path: Path) -> None:
         assert Sdf.Layer.Find(str(root)) is not None
 
 
+def test_the_lint_of_another_file_ends_the_read_and_usd_gets_its_threads_back(
+    shot: Path,
+) -> None:
+    limit = Work.GetConcurrencyLimit()
+    read_ahead.start(str(shot))
+    other = shot.with_name("other.usda")
+    other.write_text(LIGHTING)
+    with read_ahead.held(str(other)):  # as with roots: a stage that uses the file
+        assert Work.GetConcurrencyLimit() == limit
+        assert Sdf.Layer.Find(str(shot)) is None
+
+
 def test_usd_runs_no_thread_pool_while_a_read_is_pending(shot: Path) -> None:
     limit = Work.GetConcurrencyLimit()
     read_ahead.start(str(shot))

@@ -23,9 +23,9 @@ Nothing a lint reports can change:
   (``workers.py``), and a crash while reading is the supervised child's crash,
   reported for the file as any crash of its lint;
 - USD reads on the one thread while a read is pending (``Work``'s concurrency
-  limit is 1, then restored): its thread pool would otherwise start with the
-  read, and a process running threads must not fork its workers (``workers.py``
-  forks only a process with one thread, as after any settled read).
+  limit is 1 until the lint, or a forked worker, restores it): its thread pool
+  would otherwise start with the read, and a process running threads must not
+  fork its workers (``workers.py`` forks only a process with one thread).
 
 Only the supervised child reads ahead: the supervisor's own run after a crash,
 the Python API and the pool's workers never do. A read no lint claims (the
@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import os
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -132,10 +133,13 @@ def held(path: str) -> Iterator[None]:
     """Around the lint of ``path``: wait for its read ahead (if any) and keep
     the layers it read open until the lint has its own handles."""
     read = _pending.pop(_key(path), None) if _pending else None
+    finish()  # a read of another file (the lint is of a root that uses it): not needed
+    if read is not None:
+        read.thread.join()
+    restore()
     if read is None:
         yield
         return
-    _settle(read)
     if read.layers:
         used.append(path)
     try:
@@ -145,21 +149,23 @@ def held(path: str) -> Iterator[None]:
 
 
 def finish() -> None:
-    """Wait for every read ahead and drop its layers (before a fork: a child
-    must not inherit a thread inside USD)."""
+    """Wait for every read ahead and drop its layers, USD still on one thread:
+    before a fork, as a child must not inherit a thread inside USD, and giving
+    USD its pool back here would start the pool's threads. A forked child
+    calls :func:`restore`."""
     while _pending:
         _, read = _pending.popitem()
         read.thread.join()
         # Dropped while USD runs on one thread: it frees a layer's data on its
-        # thread pool, which would start the pool and leave its threads running.
+        # pool, which would start the pool's threads.
         read.layers.clear()
-        _settle(read)
+        _wait_until_gone(read.thread)
 
 
-def _settle(read: _Read) -> None:
-    """Wait for ``read``; once no read is pending, USD's threads are its own again."""
+def restore() -> None:
+    """USD's own concurrency limit again, once no read is pending (the lint of
+    the file, or a child forked after :func:`finish`)."""
     global _limit
-    read.thread.join()
     if not _pending and _limit is not None:
         from pxr import Work
 
@@ -167,8 +173,17 @@ def _settle(read: _Read) -> None:
         _limit = None
 
 
+def _wait_until_gone(thread: threading.Thread) -> None:
+    """Wait (a second at most) for the thread to leave the process: ``join``
+    returns just before it does, and a fork then sees two threads (Linux)."""
+    task = f"/proc/self/task/{thread.native_id}"
+    deadline = time.monotonic() + 1.0
+    while os.path.exists(task) and time.monotonic() < deadline:
+        time.sleep(0.0005)
+
+
 def _key(path: str) -> str:
     return os.path.realpath(path)
 
 
-__all__ = ["EXTENSIONS", "MAX_LAYERS", "finish", "held", "start", "used", "wanted"]
+__all__ = ["EXTENSIONS", "MAX_LAYERS", "finish", "held", "restore", "start", "used", "wanted"]
