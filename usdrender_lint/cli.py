@@ -23,6 +23,7 @@ from .config import (
     check_jobs,
     check_max_variant_combinations,
     check_timeout,
+    load_settings,
 )
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
@@ -321,7 +322,7 @@ def check(
     shard: tuple[int, int] | None,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
-    _import_engine(read_ahead=_lone_supervised(paths))
+    _import_engine(read_ahead=_linted_here(paths, config_path, isolated, no_roots))
     check_stopped()  # a signal while USD imported its modules
     from .running.pipeline import Request, RequestError, run
 
@@ -559,7 +560,8 @@ def spec_command(
     time, default_time = time_option
     if output_format == "svg" and output is None:
         raise ToolError("--format svg writes one file per product: give --output DIR")
-    _import_engine(read_ahead=_lone_supervised(paths))
+    # spec reads each file on its own: no roots.
+    _import_engine(read_ahead=_linted_here(paths, config_path, isolated, no_roots=True))
     from functools import partial
 
     from .running.inspect import InspectedFile, InspectRequest, inspect_files
@@ -831,9 +833,22 @@ def _silence_stdout() -> None:
     os.close(null)
 
 
-def _lone_supervised(paths: Sequence[str]) -> str | None:
-    """The file a supervised child lints in its own process, if it lints one."""
-    return paths[0] if supervisor.supervised and len(paths) == 1 else None
+def _linted_here(
+    paths: Sequence[str], config_path: str | None, isolated: bool, no_roots: bool
+) -> str | None:
+    """The file the supervised child will lint in its own process, if any: a
+    lone layer file not linted inside the stage roots a configuration names
+    (the roots' layers are found in worker processes)."""
+    if not supervisor.supervised or len(paths) != 1 or not _read_ahead.wanted(paths[0]):
+        return None
+    if not no_roots:
+        try:
+            roots = load_settings(config_path, isolated=isolated, start=paths[0]).roots
+        except (ConfigError, OSError):
+            return None  # the run says what is wrong
+        if roots:
+            return None
+    return paths[0]
 
 
 def _import_engine(read_ahead: str | None = None) -> None:
@@ -852,7 +867,7 @@ def _import_engine(read_ahead: str | None = None) -> None:
     gc.disable()
     try:
         with deferred():  # a Ctrl-C arrives after the imports, not inside USD's
-            if read_ahead is not None and _read_ahead.wanted(read_ahead):
+            if read_ahead is not None:
                 limit_supervised_memory()
                 _read_ahead.start(read_ahead)
             from .running import pipeline  # noqa: F401 - USD, the engine and the rule API

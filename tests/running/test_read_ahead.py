@@ -7,13 +7,14 @@ import json
 import os
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import pytest
 from cli_support import after_a_supervised_command
-from pxr import Sdf, Work
+from pxr import Sdf
 
-from usdrender_lint.running import read_ahead
+from usdrender_lint.running import read_ahead, workers
 from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV
 
 SHOT = """#usda 1.0
@@ -26,8 +27,9 @@ def RenderSettings "Settings"
 }
 """
 LIGHTING = '#usda 1.0\ndef Xform "Lights"\n{\n}\n'
-#: Read ahead once, inside the command: what the supervised child recorded.
+#: What the supervised child recorded of its reads ahead, once the command is done.
 USED = "__import__('usdrender_lint.running.read_ahead', fromlist=['used']).used"
+STARTED = "__import__('usdrender_lint.running.read_ahead', fromlist=['started']).started"
 
 
 @pytest.fixture
@@ -79,51 +81,30 @@ def test_a_fifo_sublayer_is_left_to_the_lint(tmp_path: Path) -> None:
         assert Sdf.Layer.Find(str(root)) is not None
 
 
-def test_the_lint_of_another_file_ends_the_read_and_usd_gets_its_threads_back(
-    shot: Path,
-) -> None:
-    limit = Work.GetConcurrencyLimit()
+def test_the_lint_of_another_file_drops_the_read(shot: Path) -> None:
     read_ahead.start(str(shot))
     other = shot.with_name("other.usda")
     other.write_text(LIGHTING)
-    with read_ahead.held(str(other)):  # as with roots: a stage that uses the file
-        assert Work.GetConcurrencyLimit() == limit
+    with read_ahead.held(str(other)):
         assert Sdf.Layer.Find(str(shot)) is None
 
 
-def test_usd_runs_no_thread_pool_while_a_read_is_pending(shot: Path) -> None:
-    limit = Work.GetConcurrencyLimit()
+def test_a_fork_waits_for_the_read_and_drops_it(shot: Path) -> None:
     read_ahead.start(str(shot))
-    assert Work.GetConcurrencyLimit() == 1
-    with read_ahead.held(str(shot)):
-        assert Work.GetConcurrencyLimit() == limit
+    read_ahead.finish()
+    assert "usdrender-lint read-ahead" not in [t.name for t in threading.enumerate()]
+    assert Sdf.Layer.Find(str(shot)) is None
+    with read_ahead.held(str(shot)):  # nothing left to claim
+        assert Sdf.Layer.Find(str(shot)) is None
 
 
-#: In a fresh process (this one runs USD's thread pool already): start a read
-#: ahead of a crate, then ask what a fork would.
-_FORK_CHECK = """
-import json, sys, threading
-from usdrender_lint.running import read_ahead, workers
-read_ahead.start(sys.argv[1])
-single = workers._single_threaded()
-alive = [t.name for t in threading.enumerate() if t is not threading.main_thread()]
-print(json.dumps([single, alive]))
-"""
-
-
-def test_a_fork_waits_for_the_read_and_the_process_is_single_threaded_again(
-    shot: Path,
+def test_a_fork_checks_for_threads_after_the_read(
+    shot: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    crate = shot.with_suffix(".usdc")  # a crate starts USD's thread pool when read
-    Sdf.Layer.FindOrOpen(str(shot)).Export(str(crate))
-    proc = subprocess.run(
-        [sys.executable, "-c", _FORK_CHECK, str(crate)],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=True,
-    )
-    assert json.loads(proc.stdout) == [True, []]
+    finished: list[bool] = []
+    monkeypatch.setattr(read_ahead, "finish", lambda: finished.append(True))
+    workers._single_threaded()
+    assert finished == [True]
 
 
 @pytest.mark.parametrize(
@@ -142,6 +123,19 @@ def test_the_supervised_child_reads_a_lone_file_ahead(shot: Path, command: str) 
     supervised, used, _ = after_a_supervised_command(USED, command, "--isolated", str(shot))
     assert supervised
     assert used == [str(shot)]
+
+
+def test_a_file_linted_inside_its_roots_is_not_read_ahead(shot: Path) -> None:
+    (shot.parent / ".usdrender-lint.toml").write_text('roots = ["shot.usda"]\n')
+    lighting = str(shot.parent / "lighting.usda")
+    supervised, started, _ = after_a_supervised_command(STARTED, "check", "--no-cache", lighting)
+    assert supervised
+    assert started == []
+    # --no-roots lints it on its own, in the child: read ahead.
+    supervised, used, _ = after_a_supervised_command(
+        USED, "check", "--no-cache", "--no-roots", lighting
+    )
+    assert used == [lighting]
 
 
 def test_several_files_are_not_read_ahead(shot: Path) -> None:

@@ -1,4 +1,4 @@
-"""Read a lone file's layers on a second thread while ``check`` imports the linter.
+"""Read a lone file's layers on a second thread while ``check`` or ``spec`` imports the linter.
 
 A one-file ``check`` spends most of its time importing USD, click, the engine
 and the rules, and then reads the file. Reading a layer is USD's own work in
@@ -21,14 +21,14 @@ Nothing a lint reports can change:
   otherwise is read again by the stage, never used in its place;
 - the lint waits for the read inside its own time-out, after the memory cap
   (``workers.py``), and a crash while reading is the supervised child's crash,
-  reported for the file as any crash of its lint;
-- USD reads on the one thread while a read is pending (``Work``'s concurrency
-  limit is 1 until the lint, or a forked worker, restores it): its thread pool
-  would otherwise start with the read, and a process running threads must not
-  fork its workers (``workers.py`` forks only a process with one thread).
+  reported for the file as any crash of its lint.
 
-Only the supervised child reads ahead: the supervisor's own run after a crash,
-the Python API and the pool's workers never do. A read no lint claims (the
+Only the supervised child reads ahead, and only a file it lints in its own
+process (``cli.py``): not one linted inside the stage roots a configuration
+names, whose layers worker processes find, as a read starts USD's thread pool
+and a process running threads forks no worker (``workers.py``). The
+supervisor's own run after a crash, the Python API and the pool's workers
+never read ahead. A read no lint claims (the
 result cache had the file, or the configuration excludes it) ends before the
 process exits (the thread is not a daemon), or before any fork (:func:`finish`).
 """
@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import os
 import threading
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
@@ -51,10 +50,9 @@ EXTENSIONS = (".usd", ".usda", ".usdc")
 MAX_LAYERS = 64
 
 _pending: dict[str, _Read] = {}
-#: USD's concurrency limit before the pending reads, restored once they end.
-_limit: int | None = None
-#: The files whose lint found their layers read ahead, in order (what a test
-#: or a profile of the command can ask).
+#: The files read ahead, and those whose lint found their layers read, in
+#: order (what a test or a profile of the command can ask).
+started: list[str] = []
 used: list[str] = []
 
 
@@ -117,14 +115,11 @@ def wanted(path: str) -> bool:
 def start(path: str) -> None:
     """Start reading ``path``'s root layer stack on a thread. The thread
     imports nothing: ``pxr`` is imported here first."""
-    global _limit
-    from pxr import Ar, Sdf, Tf, Work  # noqa: F401 - imported on this thread, not the reader's
+    from pxr import Ar, Sdf, Tf  # noqa: F401 - imported on this thread, not the reader's
 
-    if _limit is None:
-        _limit = Work.GetConcurrencyLimit()
-        Work.SetConcurrencyLimit(1)
     read = _Read(path)
     _pending[_key(path)] = read
+    started.append(path)
     read.thread.start()
 
 
@@ -133,13 +128,11 @@ def held(path: str) -> Iterator[None]:
     """Around the lint of ``path``: wait for its read ahead (if any) and keep
     the layers it read open until the lint has its own handles."""
     read = _pending.pop(_key(path), None) if _pending else None
-    finish()  # a read of another file (the lint is of a root that uses it): not needed
-    if read is not None:
-        read.thread.join()
-    restore()
+    finish()  # a read of another file: not this lint's
     if read is None:
         yield
         return
+    read.thread.join()
     if read.layers:
         used.append(path)
     try:
@@ -149,41 +142,16 @@ def held(path: str) -> Iterator[None]:
 
 
 def finish() -> None:
-    """Wait for every read ahead and drop its layers, USD still on one thread:
-    before a fork, as a child must not inherit a thread inside USD, and giving
-    USD its pool back here would start the pool's threads. A forked child
-    calls :func:`restore`."""
+    """Wait for every read ahead and drop its layers (before a fork: a child
+    must not inherit a thread inside USD)."""
     while _pending:
         _, read = _pending.popitem()
         read.thread.join()
-        # Dropped while USD runs on one thread: it frees a layer's data on its
-        # pool, which would start the pool's threads.
         read.layers.clear()
-        _wait_until_gone(read.thread)
-
-
-def restore() -> None:
-    """USD's own concurrency limit again, once no read is pending (the lint of
-    the file, or a child forked after :func:`finish`)."""
-    global _limit
-    if not _pending and _limit is not None:
-        from pxr import Work
-
-        Work.SetConcurrencyLimit(_limit)
-        _limit = None
-
-
-def _wait_until_gone(thread: threading.Thread) -> None:
-    """Wait (a second at most) for the thread to leave the process: ``join``
-    returns just before it does, and a fork then sees two threads (Linux)."""
-    task = f"/proc/self/task/{thread.native_id}"
-    deadline = time.monotonic() + 1.0
-    while os.path.exists(task) and time.monotonic() < deadline:
-        time.sleep(0.0005)
 
 
 def _key(path: str) -> str:
     return os.path.realpath(path)
 
 
-__all__ = ["EXTENSIONS", "MAX_LAYERS", "finish", "held", "restore", "start", "used", "wanted"]
+__all__ = ["EXTENSIONS", "MAX_LAYERS", "finish", "held", "start", "started", "used", "wanted"]

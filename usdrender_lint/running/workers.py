@@ -264,7 +264,6 @@ def _lint_in_child(
             os.close(err_read)
             default_signals_in_worker()  # the parent handles Ctrl-C
             die_with_parent(parent)
-            read_ahead.restore()
             _limit_memory(worker_memory_limit(1))
             _contain_crashes()
             os.dup2(err_write, 2)
@@ -424,7 +423,6 @@ def _worker_main(
     die_with_parent(os.getppid())
     _limit_memory(memory_limit)
     _contain_crashes()
-    read_ahead.restore()  # forked after a read ahead: USD's pool is its own again
     if usd_threads is not None:
         from pxr import Work
 
