@@ -20,7 +20,14 @@ def main() -> None:
     except interrupts.Stopped as stopped:
         sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")
         sys.exit(stopped.exit_status)
-    command()
+    try:
+        command()
+    except SystemExit as done:
+        if supervisor.supervised:
+            from .running import read_ahead
+
+            read_ahead.end_unclaimed(done.code)
+        raise
 
 
 if __name__ == "__main__":

@@ -107,6 +107,62 @@ def test_a_fork_checks_for_threads_after_the_read(
     assert finished == [True]
 
 
+class _Exited(Exception):
+    pass
+
+
+def test_the_command_ends_without_waiting_for_a_read_no_lint_claimed(
+    shot: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def exit_now(status: int) -> None:
+        raise _Exited(status)
+
+    monkeypatch.setattr(os, "_exit", exit_now)
+    read_ahead.end_unclaimed(1)  # nothing pending: returns
+    release = threading.Event()
+    read_ahead.start(str(shot))
+    pending = next(iter(read_ahead._pending.values()))
+    pending.thread.join()
+    stuck = threading.Thread(target=release.wait)  # a read still inside USD
+    monkeypatch.setattr(pending, "thread", stuck)
+    stuck.start()
+    try:
+        with pytest.raises(_Exited) as exited:
+            read_ahead.end_unclaimed(1)
+        assert exited.value.args == (1,)
+        with pytest.raises(_Exited) as exited:
+            read_ahead.end_unclaimed(None)
+        assert exited.value.args == (0,)
+    finally:
+        release.set()
+        read_ahead.finish()
+
+
+def test_a_cached_lone_file_reports_as_the_first_run(tmp_path: Path) -> None:
+    # Big enough that its read is likely still running when the cache answers.
+    body = "".join(f'def Xform "X{i}"\n{{\n    double a = {i}\n}}\n' for i in range(60000))
+    big = tmp_path / "big.usda"
+    big.write_text(SHOT.replace('def RenderSettings "Settings"', body + 'def RenderSettings "S"'))
+    (tmp_path / "lighting.usda").write_text(LIGHTING)
+    unset = (NO_SUPERVISOR_ENV, "USDRENDER_LINT_NO_CACHE")  # supervised, cached
+    env = {k: v for k, v in os.environ.items() if k not in unset}
+    runs = [
+        subprocess.run(
+            [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "big.usda"],
+            capture_output=True,
+            text=True,
+            env=env,
+            cwd=tmp_path,
+            timeout=120,
+        )
+        for _ in range(2)
+    ]
+    assert (tmp_path / ".usdrender_lint_cache").is_dir()
+    assert runs[0].returncode == runs[1].returncode == 1
+    assert runs[0].stdout == runs[1].stdout
+    assert "SE003" in runs[1].stdout
+
+
 @pytest.mark.parametrize(
     ("name", "wanted"),
     [("shot.usda", True), ("shot.USDC", True), ("shot.usdz", False), ("missing.usda", False)],

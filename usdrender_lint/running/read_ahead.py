@@ -28,17 +28,18 @@ process (``cli.py``): not one linted inside the stage roots a configuration
 names, whose layers worker processes find, as a read starts USD's thread pool
 and a process running threads forks no worker (``workers.py``). The
 supervisor's own run after a crash, the Python API and the pool's workers
-never read ahead. A read no lint claims (the
-result cache had the file, or the configuration excludes it) ends before the
-process exits (the thread is not a daemon), or before any fork (:func:`finish`).
+never read ahead. A read no lint claims (the result cache had the file, or the
+configuration excludes it) is left behind: the process ends without waiting
+for it (:func:`end_unclaimed`). Before any fork every read ends (:func:`finish`).
 """
 
 from __future__ import annotations
 
 import os
+import sys
 import threading
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from typing import Any
 
 from ..paths import usd_path
@@ -150,8 +151,35 @@ def finish() -> None:
         read.layers.clear()
 
 
+def end_unclaimed(code: object) -> None:
+    """At the command's end (``code``: its ``SystemExit`` code): when a read
+    ahead no lint claimed is still running (the result cache had the file, or
+    the configuration excludes it), end the process now, its output flushed,
+    rather than wait for USD to finish a read nobody uses. Otherwise return."""
+    if not any(read.thread.is_alive() for read in _pending.values()):
+        return
+    if isinstance(code, str):
+        sys.stderr.write(f"{code}\n")
+    for stream in (sys.stdout, sys.stderr):
+        with suppress(Exception):  # a closed or broken stream: nothing more to say
+            stream.flush()
+    # os._exit: the interpreter's clean-up would wait for the thread, and USD's
+    # own at-exit clean-up must not run beside a read.
+    os._exit(code if isinstance(code, int) else 0 if code is None else 1)
+
+
 def _key(path: str) -> str:
     return os.path.realpath(path)
 
 
-__all__ = ["EXTENSIONS", "MAX_LAYERS", "finish", "held", "start", "started", "used", "wanted"]
+__all__ = [
+    "EXTENSIONS",
+    "MAX_LAYERS",
+    "end_unclaimed",
+    "finish",
+    "held",
+    "start",
+    "started",
+    "used",
+    "wanted",
+]
