@@ -44,7 +44,8 @@ from typing import Any
 
 from ..paths import usd_path
 
-#: The layer formats read ahead; a package (``.usdz``) is left to the lint.
+#: The layer formats read ahead: ``engine.stage.USD_EXTENSIONS`` less a package
+#: (``.usdz``), which is left to the lint (the engine is not imported yet).
 EXTENSIONS = (".usd", ".usda", ".usdc")
 #: Layers of the root layer stack read at most (a deeper stack: the rest is
 #: read by the lint, as without a read ahead).
@@ -70,16 +71,14 @@ class _Read:
     def _run(self) -> None:
         from pxr import Tf
 
-        layers: list[Any] = []
         with Tf.DiagnosticTrap() as trap:
             try:
                 layers = _root_layer_stack(self.path)
             except Exception:  # noqa: BLE001 - the lint reads the file again and reports it
                 layers = []
-            if not trap.IsClean():
-                layers = []
+            if trap.IsClean():
+                self.layers = layers
             trap.Clear()
-        self.layers = layers
 
 
 def _root_layer_stack(path: str) -> list[Any]:
