@@ -5,7 +5,6 @@ from __future__ import annotations
 import inspect
 import re
 
-from ..model import RuleInfo
 from .rule import DOC_SECTIONS, Rule
 
 _HEADING = re.compile(r"^##\s+(.+?)\s*$", re.MULTILINE)
@@ -41,14 +40,3 @@ def supporting_layers(text: str) -> dict[str, str]:
     """Blocks fenced as ```` ```usda <file>.usda ````: layers an example sublayers
     or references, written beside it (not examples themselves)."""
     return dict(_NAMED_BLOCK.findall(text))
-
-
-def rule_info(rule: type[Rule]) -> RuleInfo:
-    return RuleInfo(
-        code=rule.code,
-        name=rule.name,
-        severity=rule.severity,
-        summary=rule.summary(),
-        doc=rule_doc(rule),
-        fix=rule.fix_safety,
-    )
