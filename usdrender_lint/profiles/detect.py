@@ -116,10 +116,10 @@ def infer(
     hits: dict[str, list[str]] = {}
     for prim in prims:
         key = prim.GetPath()
-        evidence = memo.get(key)
-        if evidence is None:
-            evidence = memo[key] = _prim_evidence(prim)
-        for name, phrases in evidence.items():
+        found = memo.get(key)
+        if found is None:
+            found = memo[key] = _prim_evidence(prim)
+        for name, phrases in found.items():
             hits.setdefault(name, []).extend(phrases)
     # Reported in the renderers' order, as each renderer's own evidence is.
     hits = {p.name: hits[p.name] for p in _RENDERERS if p.name in hits}
