@@ -13,7 +13,7 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
-from usdrender_lint.running.shards import ShardError, parse_shard, partition, select_shard
+from usdrender_lint.running.shards import ShardError, assign, parse_shard, partition, select_shard
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -109,11 +109,32 @@ def test_a_shard_does_not_depend_on_the_argument_order_or_the_checkout_location(
 
 def test_groups_that_stay_together_are_balanced_largest_first(tmp_path: Path) -> None:
     units = [["a", "b", "c", "d"], ["e"], ["f", "g"], ["h"], ["i"], ["j", "k"]]
-    shards = partition(units, 2, tmp_path)
+    shards = [partition(units, 2, tmp_path, k) for k in (1, 2)]
     sizes = [sum(len(units[i]) for i in shard) for shard in shards]
     assert sorted(sizes) == [5, 6]
     assert sorted(i for shard in shards for i in shard) == list(range(len(units)))
     assert select_shard([], (1, 3), tmp_path) == []
+
+
+def test_a_shard_costs_the_same_whatever_the_shard_count(tmp_path: Path) -> None:
+    """Shards still empty are never held: 1e23 shards cost what 10 do (this
+    took over 300 s for 1e7 and never ended for 1e23)."""
+    units = [["a", "b"], ["c"], ["d"], ["e", "f", "g"]]
+    huge = 10**23
+    assert assign(units, huge, tmp_path) == assign(units, len(units), tmp_path)
+    assert sorted(assign(units, huge, tmp_path)) == [0, 1, 2, 3]
+    files = [f"f{i}.usda" for i in range(5)]
+    picked = [select_shard(files, (k, huge), tmp_path) for k in (1, 2, 3, 4, 5, 6, huge)]
+    assert sorted(f for shard in picked for f in shard) == sorted(files)
+    assert picked[-2:] == [[], []]
+    # The greedy rule is the one it was: the fewest files, then the lowest index.
+    assert assign([["a", "b", "c"], ["d"], ["e"], ["f"]], 2, tmp_path) == [0, 1, 1, 1]
+    assert assign([["a", "b"], ["d"], ["e"], ["f"]], 2, tmp_path) in ([0, 1, 1, 0], [0, 1, 0, 1])
+
+
+def test_a_huge_shard_count_from_the_command_line(project: Path) -> None:
+    status, out = _check("--format", "json", "--shard", f"{10**23}/{10**23}", "shots")
+    assert status == 0 and _files(out) == []
 
 
 def test_a_shot_stays_with_its_roots(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
