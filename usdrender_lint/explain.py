@@ -20,13 +20,21 @@ def explain_text(rule: type[Rule]) -> str:
     return f"{header(rule)}\n\n{rule_doc(rule)}\n\n## Under each profile\n{lines}\n"
 
 
+#: A rule class and its docstring never change, and every report lists them.
+_INFO: dict[type[Rule], RuleInfo] = {}
+
+
 def rule_info(rule: type[Rule]) -> RuleInfo:
-    """The rule as a report describes it, its documentation in full."""
-    return RuleInfo(
-        code=rule.code,
-        name=rule.name,
-        severity=rule.severity,
-        summary=rule.summary(),
-        doc=explain_text(rule),
-        fix=rule.fix_safety,
-    )
+    """The rule as a report describes it, its documentation in full (built
+    once per process)."""
+    info = _INFO.get(rule)
+    if info is None:
+        info = _INFO[rule] = RuleInfo(
+            code=rule.code,
+            name=rule.name,
+            severity=rule.severity,
+            summary=rule.summary(),
+            doc=explain_text(rule),
+            fix=rule.fix_safety,
+        )
+    return info
