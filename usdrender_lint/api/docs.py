@@ -5,7 +5,6 @@ from __future__ import annotations
 import inspect
 import re
 
-from ..model import RuleInfo
 from .rule import DOC_SECTIONS, Rule
 
 #: The documentation site; it has one page per rule (:func:`rule_doc_url`).
@@ -49,21 +48,3 @@ def supporting_layers(text: str) -> dict[str, str]:
     """Blocks fenced as ```` ```usda <file>.usda ````: layers an example sublayers
     or references, written beside it (not examples themselves)."""
     return dict(_NAMED_BLOCK.findall(text))
-
-
-#: A rule class and its docstring never change, and every report lists them.
-_INFO: dict[type[Rule], RuleInfo] = {}
-
-
-def rule_info(rule: type[Rule]) -> RuleInfo:
-    info = _INFO.get(rule)
-    if info is None:
-        info = _INFO[rule] = RuleInfo(
-            code=rule.code,
-            name=rule.name,
-            severity=rule.severity,
-            summary=rule.summary(),
-            doc=rule_doc(rule),
-            fix=rule.fix_safety,
-        )
-    return info
