@@ -17,7 +17,7 @@ _NAMED_BLOCK = re.compile(r"```usda ([\w.-]+\.usda)\n(.*?)```", re.DOTALL)
 
 def rule_doc_url(code: str, name: str) -> str:
     """The address of a rule's page on the documentation site."""
-    return f"{DOCS_URL}rules/{code}-{name}/"
+    return f"{DOCS_URL}reference/rules/{code}-{name}/"
 
 
 def rule_doc(rule: type[Rule]) -> str:

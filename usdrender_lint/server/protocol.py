@@ -404,7 +404,9 @@ class UsdRenderLintServer(LanguageServer):
 
 def rule_markdown(rule: RuleDoc) -> str:
     head = f"**{rule.code} {rule.name}** ({rule.severity}; fix: {rule.fix})"
-    return f"{head}\n\n{rule.doc}\n\n[{rule.code} on the documentation site]({rule.url})"
+    # explain's text starts with the same facts, unformatted.
+    doc = rule.doc.split("\n", 1)[1] if rule.doc.startswith(rule.code) else rule.doc
+    return f"{head}\n\n{doc.strip()}\n\n[{rule.code} on the documentation site]({rule.url})"
 
 
 def usd_path(uri: str) -> str | None:

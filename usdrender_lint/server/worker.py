@@ -220,7 +220,8 @@ class Linting:
 
 
 def _rule_docs(registry) -> tuple[RuleDoc, ...]:
-    from ..api.docs import rule_doc_url, rule_info
+    from ..api.docs import rule_doc_url
+    from ..explain import rule_info
     from ..model import INTERNAL_ERROR_RULE
 
     infos = [(rule_info(rule), getattr(rule, "aliases", ())) for rule in registry.rules]
