@@ -686,6 +686,14 @@ def list_rules(output_format: str, profile: str | None) -> None:
     _write(rules_text(lines, _terminal_width(), title))
 
 
+@cli.command("server")
+def server_command() -> None:
+    """Run the language server for editors (LSP over stdio; the [server] extra)."""
+    from .server import main as serve
+
+    serve()
+
+
 def _terminal_width() -> int | None:
     """The terminal's width, or None when stdout is not a terminal."""
     if sys.stdout is None or not sys.stdout.isatty():
