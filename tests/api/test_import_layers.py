@@ -24,26 +24,30 @@ ALLOWED: dict[str, set[str]] = {
     "atomic": set(),
     "entrypoints": set(),
     "config": {"records", "model"},
+    # layers: the floor below the engine and the fixer (.usda text, layer files, writing).
+    "layers": {"records", "api", "paths", "atomic"},
+    # report_json: the report's JSON codec, beside the model.
+    "report_json": {"model", "paths"},
     "api": {"records", "model"},
-    "resolve": {"api"},  # the 0.1 name of api.resolve
     "registry": {"records", "api", "entrypoints", "model"},
     "rules": {"api", "model"},
     # paths: names that are not UTF-8 go to USD as bytes and come back escaped.
-    "engine": {"records", "api", "model", "paths", "registry"},
-    "formatters": {"records", "model", "paths", "entrypoints"},
-    "fixing": {"records", "api", "engine", "model", "paths", "atomic"},
+    "engine": {"records", "api", "layers", "model", "paths", "registry"},
+    "formatters": {"records", "model", "paths", "entrypoints", "report_json"},
+    "fixing": {"records", "api", "engine", "layers", "model", "paths"},
     "profiles": {"records", "api", "model", "registry"},
-    "spec": {"records", "api", "engine", "model", "paths", "profiles"},
+    "render_spec": {"records", "api", "engine", "model", "paths", "profiles"},
     # running reads the JSON format's records back (merge, the result cache).
     "running": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "records", "registry",
+        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "layers",
+        "model", "paths", "profiles", "records", "registry", "report_json",
     },
     "testing": {"records", "api", "engine", "model", "registry"},
     "usdplugin": {"records", "api", "atomic", "engine", "model", "registry", "rules"},
     "cli": {
         "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "records", "registry", "running", "spec", "usdplugin", "__init__",
+        "paths", "profiles", "records", "registry", "running", "render_spec", "usdplugin",
+        "__init__",
     },
     # running.interrupts: the signal handlers, installed before the CLI's imports.
     "__main__": {"cli", "running"},

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ..formatters.json import ReportFormatError, read_report
 from ..model import AppliedFix, FileResult, Report
+from ..report_json import ReportFormatError, read_report
 
 
 class MergeError(Exception):
