@@ -357,6 +357,7 @@ def check(
         tool_version=__version__,
         statistics=statistics,
         fixing=request.fix is not None,
+        configuration=outcome.configuration,
     )
     if show_diff:
         # stdout carries the diff alone; the report goes only to --output.
@@ -421,7 +422,7 @@ def merge(
     from .running.pipeline import Request, RequestError, exit_status, prepare
 
     try:
-        report = merge_reports(reports)
+        report, configuration = merge_reports(reports)
         # The configuration decides fail-on and which rules a SARIF report describes.
         prepared = prepare(Request((".",), fail_on=fail_on, config=config_path, isolated=isolated))
     except (MergeError, RequestError) as exc:
@@ -431,6 +432,7 @@ def merge(
         tool_version=__version__,
         statistics=statistics,
         fixing=bool(report.applied_fixes or report.unapplied_fixes),
+        configuration=configuration,
     )
     _emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for error in (r.error or r.file for r in report.errored_files):

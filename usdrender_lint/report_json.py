@@ -65,12 +65,15 @@ def report_to_dict(
     tool_version: str,
     with_fixes: bool = False,
     statistics: list[dict[str, object]] | None = None,
+    configuration: str | None = None,
 ) -> dict[str, Any]:
     """The report's document; ``statistics`` (--statistics) and ``fixes`` only
     when asked for or fixes were made, so the default document stays as documented."""
     document: dict[str, Any] = {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": tool_name, "version": tool_version},
+        # What merge compares (running/merge.py); written by check and merge.
+        **({"configuration": configuration} if configuration else {}),
         "files": [
             {
                 "file": result.file,
@@ -196,8 +199,9 @@ def report_from_dict(document: Any) -> Report:
     )
 
 
-def read_report(path: str | Path) -> Report:
-    """Read a JSON report file; raises :class:`ReportFormatError` naming it."""
+def read_document(path: str | Path) -> Any:
+    """A JSON file's document; raises :class:`ReportFormatError` naming it
+    (a document nested too deeply for the parser included)."""
     try:
         text = Path(path).read_text(encoding="utf-8")
     except OSError as exc:
@@ -205,8 +209,17 @@ def read_report(path: str | Path) -> Report:
     except UnicodeDecodeError:
         raise ReportFormatError(f"{path}: not UTF-8 text") from None
     try:
-        return report_from_dict(json.loads(text))
+        return json.loads(text)
     except json.JSONDecodeError as exc:
         raise ReportFormatError(f"{path}: not JSON: {exc}") from None
+    except RecursionError:
+        raise ReportFormatError(f"{path}: not a report: JSON nested too deeply") from None
+
+
+def read_report(path: str | Path) -> Report:
+    """Read a JSON report file; raises :class:`ReportFormatError` naming it."""
+    document = read_document(path)
+    try:
+        return report_from_dict(document)
     except ReportFormatError as exc:
         raise ReportFormatError(f"{path}: {exc}") from None

@@ -43,7 +43,14 @@ ALLOWED: dict[str, set[str]] = {
         "model", "paths", "profiles", "records", "registry", "report_json",
     },
     "testing": {"records", "api", "engine", "model", "registry"},
-    "usdplugin": {"records", "api", "atomic", "engine", "model", "registry", "rules"},
+    # The validation plugins lint and fix one stage as check does (running.stage_lints,
+    # fixing.single).
+    "usdplugin": {
+        "records", "api", "atomic", "engine", "fixing", "model", "registry", "rules", "running",
+    },
+    "assetvalidator": {
+        "records", "api", "engine", "fixing", "model", "registry", "rules", "running",
+    },
     "cli": {
         "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
         "paths", "profiles", "records", "registry", "running", "render_spec", "usdplugin",

@@ -28,6 +28,7 @@ from ..model import (
 )
 from ..records import record
 from . import layer_words, partial, suppress, typed_prims
+from .assets import Unkeyable, arc_target
 from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
@@ -123,14 +124,22 @@ class Reads:
                 self.complete = False  # walking it could abort the process
                 continue
             for asset in layer.GetCompositionAssetDependencies():
-                if "`" in asset:
-                    self.complete = False  # which file it names depends on variables
-                    continue
-                identifier = Sdf.ComputeAssetPathRelativeToLayer(layer, asset)
-                if not os.path.isabs(identifier.partition("[")[0]) and layer_real_path(layer):
-                    # A search path the default resolver did not find: where it looked first.
-                    identifier = os.path.join(os.path.dirname(layer.realPath), identifier)
-                self.targets.append(identifier)
+                self.add_target(layer, asset)
+
+    def add_target(self, anchor: Sdf.Layer, asset_path: str) -> None:
+        """The layer an arc of ``anchor`` names with ``asset_path`` (which may
+        not exist); an internal arc names none."""
+        try:
+            identifier = arc_target(anchor, asset_path)
+        except Unkeyable:
+            self.complete = False  # which file it names is not known from its path
+            return
+        if identifier is None:
+            return
+        if not os.path.isabs(identifier.partition("[")[0]) and layer_real_path(anchor):
+            # A search path the default resolver did not find: where it looked first.
+            identifier = os.path.join(os.path.dirname(anchor.realPath), identifier)
+        self.targets.append(identifier)
 
     def add_clips(self, stage: Usd.Stage) -> None:
         """Every value clip and clip manifest the stage's prims name (a clip
@@ -308,7 +317,8 @@ class Linter:
         if masked is not None and self._reads is not None:
             # What the fast path read decided how the stage is composed.
             self._reads.add_layers(masked.layers)
-            self._reads.targets.extend(masked.missing)
+            for anchor, asset_path in masked.missing:
+                self._reads.add_target(anchor, asset_path)
         if masked is not None and masked.corrupt is not None:
             raise CorruptValue(masked.corrupt)
         if masked is not None and masked.stage is not None:

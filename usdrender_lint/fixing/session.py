@@ -20,6 +20,7 @@ patch (:mod:`.diff`). :func:`usdrender_lint.fixing.fix_files` runs it per file.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterable
 from dataclasses import field
 
@@ -110,8 +111,14 @@ class StageFixer:
         keep: Callable[[Finding], bool],
         *,
         in_memory: bool = False,
+        callers_stage: bool = False,
     ) -> None:
         self.linter = linter
+        #: The stage is the caller's (a UsdValidation fixer, an Asset Validator
+        #: Suggestion): at the end its session layer is kept and only the layers
+        #: that were clean when fixing started are read back from their files.
+        self.callers_stage = callers_stage
+        self._clean_at_start: list[Sdf.Layer] = []
         self.path = path
         self.options = options
         self.keep = keep
@@ -134,6 +141,12 @@ class StageFixer:
             if stage is None:
                 return  # nothing to fix; the report says why (ST001, a missing file, ...)
         self.stage = stage
+        if self.callers_stage:
+            self._clean_at_start = [
+                layer
+                for layer in stage.GetLayerStack(includeSessionLayers=False)
+                if not layer.dirty
+            ]
         # USD's own warnings (e.g. while exporting a spline) stay off the user's stderr.
         with Tf.DiagnosticTrap() as trap:
             try:
@@ -148,7 +161,12 @@ class StageFixer:
 
     def close(self) -> None:
         """Forget the in-memory edits and the stage."""
-        if self.sources is not None:
+        if self.callers_stage:
+            # A fix tried and undone leaves its layer dirty with the same content.
+            for layer in self._clean_at_start:
+                if layer.dirty and os.path.isfile(layer_real_path(layer)):
+                    layer.Reload(True)
+        elif self.sources is not None:
             self.sources.discard()
         self.stage = None
 

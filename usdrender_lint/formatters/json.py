@@ -17,6 +17,7 @@ def report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
         options.tool_version,
         with_fixes=options.fixing,
         statistics=statistics(report) if options.statistics else None,
+        configuration=options.configuration,
     )
 
 
