@@ -27,7 +27,7 @@ from .config import (
 )
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
-from .paths import escape
+from .paths import escape, printable
 from .running import read_ahead as _read_ahead
 from .running import supervisor
 from .running.interrupts import Stopped, check_stopped, stop_on_signals
@@ -59,7 +59,7 @@ class StdoutGone(Exception):
 
 
 def _error(message: str) -> None:
-    click.echo(f"usdrender-lint: error: {escape(message)}", err=True)
+    click.echo(f"usdrender-lint: error: {printable(message)}", err=True)
 
 
 class _Stdout:
@@ -367,7 +367,7 @@ def check(
     else:
         _emit_report(outcome.report, output_format, outcome.rules, options, output_file)
     for note in outcome.notes:
-        click.echo(f"usdrender-lint: {escape(note)}", err=True)
+        click.echo(f"usdrender-lint: {printable(note)}", err=True)
     for error in outcome.errors:
         _error(error)
     sys.exit(outcome.exit_status)
@@ -603,7 +603,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
             raise ToolError(f"{folder}: cannot create the folder: {exc.strerror or exc}") from None
         for name, text in svg_files(document):
             _write_file(folder / name, text, "the picture")
-            _write(f"{escape(str(folder / name))}\n")
+            _write(f"{printable(str(folder / name))}\n")
         return
     if output_format == "json":
         import json
@@ -806,7 +806,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         if os.environ.get("USDRENDER_LINT_DEBUG"):
             raise
         click.echo(
-            f"usdrender-lint: internal error: {type(exc).__name__}: {escape(str(exc))} "
+            f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
             "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
             err=True,
         )

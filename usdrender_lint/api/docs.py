@@ -43,12 +43,19 @@ def supporting_layers(text: str) -> dict[str, str]:
     return dict(_NAMED_BLOCK.findall(text))
 
 
+#: A rule class and its docstring never change, and every report lists them.
+_INFO: dict[type[Rule], RuleInfo] = {}
+
+
 def rule_info(rule: type[Rule]) -> RuleInfo:
-    return RuleInfo(
-        code=rule.code,
-        name=rule.name,
-        severity=rule.severity,
-        summary=rule.summary(),
-        doc=rule_doc(rule),
-        fix=rule.fix_safety,
-    )
+    info = _INFO.get(rule)
+    if info is None:
+        info = _INFO[rule] = RuleInfo(
+            code=rule.code,
+            name=rule.name,
+            severity=rule.severity,
+            summary=rule.summary(),
+            doc=rule_doc(rule),
+            fix=rule.fix_safety,
+        )
+    return info
