@@ -37,10 +37,12 @@ ALLOWED: dict[str, set[str]] = {
     "fixing": {"records", "api", "engine", "layers", "model", "paths"},
     "profiles": {"records", "api", "model", "registry"},
     "render_spec": {"records", "api", "engine", "model", "paths", "profiles"},
+    # explain: a rule's documentation with its profiles (explain, SARIF, the site).
+    "explain": {"api", "model", "profiles"},
     # running reads the JSON format's records back (merge, the result cache).
     "running": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "layers",
-        "model", "paths", "profiles", "records", "registry", "report_json",
+        "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
+        "layers", "model", "paths", "profiles", "records", "registry", "report_json",
     },
     "testing": {"records", "api", "engine", "model", "registry"},
     # The validation plugins lint and fix one stage as check does (running.stage_lints,
@@ -51,9 +53,15 @@ ALLOWED: dict[str, set[str]] = {
     "assetvalidator": {
         "records", "api", "engine", "fixing", "model", "registry", "rules", "running",
     },
+    # server: the language server (usdrender-lint server) lints documents as check does.
+    "server": {
+        "records", "api", "engine", "explain", "fixing", "layers", "model", "registry", "running",
+        "__init__",
+    },
     "cli": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "records", "registry", "running", "render_spec", "usdplugin",
+        "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
+        "model", "paths", "profiles", "records", "registry", "running", "render_spec", "server",
+        "usdplugin",
         "__init__",
     },
     # running.interrupts: the signal handlers, installed before the CLI's imports.
