@@ -3,10 +3,14 @@
 Explicit configuration wins. ``auto`` reads the evidence a renderer leaves in
 a stage: the namespaces of the authored properties of a RenderSettings, its
 products and their vars (``karma:``, ``ri:``, ``arnold:``, ``omni:rtx:``), the
-API schemas applied to them, and the scopes a renderer's application writes
-(Kit's ``/Render/OmniverseKit``). Evidence of exactly one renderer picks its
-profile; none, or several renderers' (a Houdini Render Settings LOP writes
-every installed renderer's), leaves the schema alone: ``generic``.
+API schemas applied to them, the scopes a renderer's application writes
+(Kit's ``/Render/OmniverseKit``), what the settings' and products' ``camera``
+targets (a prim type only one renderer defines, such as an ``OmniLidar``, or
+a camera its application creates at run time, such as Kit's
+``/OmniverseKit_Persp``) and the keys its application writes into the root
+layer's customLayerData. Evidence of exactly one renderer picks its profile;
+none, or several renderers' (a Houdini Render Settings LOP writes every
+installed renderer's), leaves the schema alone: ``generic``.
 """
 
 from __future__ import annotations
@@ -19,7 +23,12 @@ from typing import Any
 from pxr import Sdf, Usd
 
 from ..api import Context, schemas
-from ..api.resolve import RenderConfiguration, forwarded_targets, resolve_targets
+from ..api.resolve import (
+    RenderConfiguration,
+    describe_prim_type,
+    forwarded_targets,
+    resolve_targets,
+)
 from ..model import Severity
 from ..records import record
 from . import AUTO, GENERIC, PROFILES, get_profile
@@ -71,8 +80,11 @@ class Assignment:
                 scopes.append(key)
 
 
-def _evidence(prims: Sequence[Usd.Prim], profile: Profile) -> list[str]:
-    """What in ``prims`` points at ``profile``'s renderer, one phrase each."""
+def _evidence(
+    prims: Sequence[Usd.Prim], profile: Profile, layer_keys: Sequence[str] = ()
+) -> list[str]:
+    """What in ``prims`` (and the root layer's customLayerData ``layer_keys``)
+    points at ``profile``'s renderer, one phrase each."""
     found = []
     for prim in prims:
         path = str(prim.GetPath())
@@ -88,19 +100,59 @@ def _evidence(prims: Sequence[Usd.Prim], profile: Profile) -> list[str]:
             product_type = prim.GetAttribute("productType").Get()
             if product_type and profile.product_type(str(product_type)):
                 found.append(f"productType {str(product_type)!r} of <{path}>")
+        if (profile.camera_types or profile.runtime_cameras) and prim.IsA(
+            schemas.RenderSettingsBase
+        ):
+            found.extend(_camera_evidence(prim, profile))
+    found.extend(
+        f"the root layer's customLayerData {key}" for key in layer_keys if profile.layer_datum(key)
+    )
     return found
 
 
-def infer(prims: Sequence[Usd.Prim]) -> ProfileChoice:
+def _camera_evidence(prim: Usd.Prim, profile: Profile) -> list[str]:
+    """The camera targets of a settings or product prim that only
+    ``profile``'s renderer knows: a prim of one of its camera types, or a
+    camera its application creates at run time."""
+    found = []
+    for target in forwarded_targets(prim.GetRelationship("camera")):
+        where = f"the camera target <{target}> of <{prim.GetPath()}>"
+        if profile.runtime_camera(str(target)):
+            found.append(f"{where}, a camera the renderer's application creates")
+            continue
+        camera = prim.GetStage().GetPrimAtPath(target)
+        type_name = camera.GetTypeName() if camera else ""
+        if type_name and profile.camera_type(type_name):
+            found.append(f"{where}, {describe_prim_type(camera)}")
+    return found
+
+
+def layer_data_keys(stage: Usd.Stage) -> list[str]:
+    """The keys of the root layer's customLayerData, nested dictionaries'
+    keys joined with ":" (``cameraSettings:boundCamera``)."""
+    keys: list[str] = []
+    pending: list[tuple[str, dict]] = [("", dict(stage.GetRootLayer().customLayerData))]
+    while pending:
+        prefix, data = pending.pop()
+        for key, value in data.items():
+            keys.append(prefix + key)
+            if isinstance(value, dict):
+                pending.append((f"{prefix}{key}:", value))
+    return keys
+
+
+def infer(prims: Sequence[Usd.Prim], layer_keys: Sequence[str] = ()) -> ProfileChoice:
     """The ``auto`` choice for the render prims of one scope."""
-    hits = {p.name: e for p in _RENDERERS if (e := _evidence(prims, p))}
+    hits = {p.name: e for p in _RENDERERS if (e := _evidence(prims, p, layer_keys))}
     if len(hits) == 1:
         name, evidence = next(iter(hits.items()))
         more = f" and {len(evidence) - 1} more" if len(evidence) > 1 else ""
         return ProfileChoice(PROFILES[name], f"auto: {evidence[0]}{more}")
     if not hits:
         return ProfileChoice(
-            GENERIC, "auto: no renderer's properties, API schemas or scopes on these render prims"
+            GENERIC,
+            "auto: no renderer's properties, API schemas, scopes, camera targets or layer "
+            "data on these render prims",
         )
     counts = ", ".join(f"{name}: {len(e)}" for name, e in hits.items())
     return ProfileChoice(
@@ -147,6 +199,7 @@ def assign(
     ``auto``; ``reason`` says where an explicit one was configured."""
     assignment = Assignment()
     explicit = None if setting == AUTO else ProfileChoice(get_profile(setting), reason)
+    keys = _layer_keys(configurations, lone_products, render_prims) if explicit is None else []
     by_settings: dict[Sdf.Path, list[RenderConfiguration]] = {}
     for config in configurations:
         if config.settings is not None:  # products on their own: below (R2-4)
@@ -156,32 +209,45 @@ def assign(
         assert settings is not None
         products = [c.product for c in configs if c.product is not None]
         prims = [settings, *products, *(v for p in products for v in _vars_of(p))]
-        assignment.scopes[key] = explicit or infer(prims)
+        assignment.scopes[key] = explicit or infer(prims, keys)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([settings, *products]))
         assignment._add(key, _connected(settings))
     for product in lone_products:
         key = product.GetPath()
         prims = [product, *_vars_of(product)]
-        assignment.scopes[key] = explicit or infer(prims)
+        assignment.scopes[key] = explicit or infer(prims, keys)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([product]))
     for render_pass in passes:
         for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
             if path in assignment.scopes:
                 assignment._add(path, [render_pass])
-    assignment.stage = explicit or _stage_choice(assignment, render_prims)
+    assignment.stage = explicit or _stage_choice(assignment, render_prims, keys)
     return assignment
 
 
-def _stage_choice(assignment: Assignment, render_prims: Sequence[Usd.Prim]) -> ProfileChoice:
+def _layer_keys(
+    configurations: Sequence[RenderConfiguration],
+    lone_products: Sequence[Usd.Prim],
+    render_prims: Sequence[Usd.Prim],
+) -> list[str]:
+    """The root layer's customLayerData keys of the stage these prims are on."""
+    prims = [c.owner for c in configurations if c.owner is not None]
+    prims += [*lone_products, *render_prims]
+    return layer_data_keys(prims[0].GetStage()) if prims else []
+
+
+def _stage_choice(
+    assignment: Assignment, render_prims: Sequence[Usd.Prim], layer_keys: Sequence[str] = ()
+) -> ProfileChoice:
     choices = list(dict.fromkeys(assignment.scopes.values()))
     names = {c.name for c in choices}
     if len(names) == 1:
         return choices[0]
     if not names:
         # No configuration (only vars or passes): the render prims' own evidence.
-        return infer(render_prims)
+        return infer(render_prims, layer_keys)
     return ProfileChoice(
         GENERIC,
         "auto: the stage's configurations use several profiles "
