@@ -27,7 +27,7 @@ from .config import (
 )
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
-from .paths import escape
+from .paths import escape, printable
 from .running import read_ahead as _read_ahead
 from .running import supervisor
 from .running.interrupts import Stopped, check_stopped, stop_on_signals
@@ -59,7 +59,7 @@ class StdoutGone(Exception):
 
 
 def _error(message: str) -> None:
-    click.echo(f"usdrender-lint: error: {escape(message)}", err=True)
+    click.echo(f"usdrender-lint: error: {printable(message)}", err=True)
 
 
 class _Stdout:
@@ -357,6 +357,7 @@ def check(
         tool_version=__version__,
         statistics=statistics,
         fixing=request.fix is not None,
+        configuration=outcome.configuration,
     )
     if show_diff:
         # stdout carries the diff alone; the report goes only to --output.
@@ -366,7 +367,7 @@ def check(
     else:
         _emit_report(outcome.report, output_format, outcome.rules, options, output_file)
     for note in outcome.notes:
-        click.echo(f"usdrender-lint: {escape(note)}", err=True)
+        click.echo(f"usdrender-lint: {printable(note)}", err=True)
     for error in outcome.errors:
         _error(error)
     sys.exit(outcome.exit_status)
@@ -421,7 +422,7 @@ def merge(
     from .running.pipeline import Request, RequestError, exit_status, prepare
 
     try:
-        report = merge_reports(reports)
+        report, configuration = merge_reports(reports)
         # The configuration decides fail-on and which rules a SARIF report describes.
         prepared = prepare(Request((".",), fail_on=fail_on, config=config_path, isolated=isolated))
     except (MergeError, RequestError) as exc:
@@ -431,6 +432,7 @@ def merge(
         tool_version=__version__,
         statistics=statistics,
         fixing=bool(report.applied_fixes or report.unapplied_fixes),
+        configuration=configuration,
     )
     _emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for error in (r.error or r.file for r in report.errored_files):
@@ -463,7 +465,7 @@ def _emit_report(
     formatter that reads them: building that costs every rule's docstring."""
     formatter = load_formatter(output_format)
     if reads_rules(formatter):
-        from .api.docs import rule_info
+        from .explain import rule_info
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     check_stopped()
@@ -601,7 +603,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
             raise ToolError(f"{folder}: cannot create the folder: {exc.strerror or exc}") from None
         for name, text in svg_files(document):
             _write_file(folder / name, text, "the picture")
-            _write(f"{escape(str(folder / name))}\n")
+            _write(f"{printable(str(folder / name))}\n")
         return
     if output_format == "json":
         import json
@@ -684,6 +686,14 @@ def list_rules(output_format: str, profile: str | None) -> None:
     _write(rules_text(lines, _terminal_width(), title))
 
 
+@cli.command("server")
+def server_command() -> None:
+    """Run the language server for editors (LSP over stdio; the [server] extra)."""
+    from .server import main as serve
+
+    serve()
+
+
 def _terminal_width() -> int | None:
     """The terminal's width, or None when stdout is not a terminal."""
     if sys.stdout is None or not sys.stdout.isatty():
@@ -726,16 +736,13 @@ def rules_text(rows: Sequence[tuple[str, ...]], width: int | None, title: str) -
 @click.argument("rule")
 def explain(rule: str) -> None:
     """Print a rule's documentation (by code or name)."""
-    from .api.docs import rule_doc
     from .model import INTERNAL_ERROR_RULE as internal
 
     found = _registry().find(rule)
     if found is not None:
-        from .profiles.effective import profile_treatment
+        from .explain import explain_text
 
-        header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
-        lines = "\n".join(f"- {line}" for line in profile_treatment(found))
-        _write(f"{header}\n\n{rule_doc(found)}\n\n## Under each profile\n{lines}\n")
+        _write(explain_text(found))
     elif rule.upper() == internal.code or rule.lower() == internal.name:
         header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
         _write(f"{header}\n\n{internal.doc}\n")
@@ -804,7 +811,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         if os.environ.get("USDRENDER_LINT_DEBUG"):
             raise
         click.echo(
-            f"usdrender-lint: internal error: {type(exc).__name__}: {escape(str(exc))} "
+            f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
             "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
             err=True,
         )

@@ -8,8 +8,10 @@ The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
 from __future__ import annotations
 
 import dataclasses
+import errno
 import os
 import re
+import stat
 import types
 import typing
 from collections.abc import Mapping, Sequence
@@ -37,9 +39,13 @@ class ConfigError(Exception):
 
 @record(frozen=True)
 class Settings:
+    #: Rules to run: codes, code prefixes or names ("ALL"); by default every rule.
     select: tuple[str, ...] | None = None
+    #: Rules to skip: codes, code prefixes or names.
     ignore: tuple[str, ...] = ()
+    #: Rules added to ``select``.
     extend_select: tuple[str, ...] = ()
+    #: The lowest severity that fails the run (exit 1): error, warning, info or never.
     fail_on: str = "error"
     #: Severity overrides, keyed by rule code or name.
     severity: Mapping[str, Severity] = field(default_factory=dict)
@@ -53,8 +59,9 @@ class Settings:
     time_sample_cap: int = 1000
     #: Rules (codes, prefixes or names) whose fixes --fix never applies.
     unfixable: tuple[str, ...] = ()
-    #: Also lint under other variant selections (--variants), at most this many.
+    #: Also lint under other variant selections of the render prims (--variants).
     variants: bool = False
+    #: The most variant combinations linted per file with ``variants``.
     max_variant_combinations: int = 64
     #: The renderer profile: "auto" (inferred per RenderSettings) or a name.
     profile: str = "auto"
@@ -199,15 +206,45 @@ def check_max_variant_combinations(value: int, where: str = "--max-variant-combi
     return value
 
 
+#: A config file larger than this is refused, not read (``--config /dev/zero``
+#: read until the kernel killed the process).
+MAX_CONFIG_BYTES = 4 * 1024 * 1024
+
+
+def _read_config_bytes(path: Path) -> bytes:
+    """The bytes of a config file, which must be a regular file (a FIFO would
+    block, a device never end) of at most MAX_CONFIG_BYTES."""
+    try:
+        # O_NONBLOCK: opening a FIFO returns at once instead of waiting for a writer.
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
+        if path.is_symlink() and not path.exists():
+            reason = "a symbolic link to nothing" if exc.errno != errno.ELOOP else reason
+        raise ConfigError(f"{path}: cannot read config file: {reason}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        kind = "a folder" if stat.S_ISDIR(mode) else "not a regular file"
+        raise ConfigError(f"{path}: cannot read config file: {kind}")
+    with os.fdopen(fd, "rb") as handle:
+        try:
+            data = handle.read(MAX_CONFIG_BYTES + 1)
+        except OSError as exc:
+            raise ConfigError(f"{path}: cannot read config file: {exc.strerror or exc}") from None
+    if len(data) > MAX_CONFIG_BYTES:
+        raise ConfigError(
+            f"{path}: cannot read config file: larger than {MAX_CONFIG_BYTES // 1024 // 1024} MiB"
+        )
+    return data
+
+
 def _load_toml(path: Path) -> dict[str, Any]:
     """The file's TOML document. A file that cannot be read or is not TOML is a
     ConfigError, with ``file:line:col`` of the first error."""
     import tomllib  # only when there is a file to read
 
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise ConfigError(f"{path}: cannot read config file: {exc.strerror or exc}") from None
+    data = _read_config_bytes(path)
     try:
         text = data.decode("utf-8")
         return tomllib.loads(text)
@@ -217,6 +254,8 @@ def _load_toml(path: Path) -> dict[str, Any]:
     except tomllib.TOMLDecodeError as exc:
         line, column = _toml_error_position(exc, text)
         reason = _TOML_POSITION.sub("", str(exc))
+    except RecursionError:
+        raise ConfigError(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
     raise ConfigError(f"{path}:{line}:{column}: invalid TOML: {reason}")
 
 
@@ -258,14 +297,21 @@ def find_config_file(start: str | Path) -> Path | None:
     be read or is not TOML stops the search (ConfigError): it may hold the
     table, and the run must not silently fall back to the defaults."""
     here = Path(start).resolve()
-    if here.is_file():
+    try:
+        if here.is_file():
+            here = here.parent
+    except OSError:  # inside a folder without search permission: the file reports it
         here = here.parent
     for folder in (here, *here.parents):
+        # A config file's name taken by something that is not a regular file (a
+        # dangling link, a loop, a FIFO, a folder) is an error, not a file to skip
+        # in favour of a parent folder's config.
         dedicated = folder / CONFIG_FILE_NAMES[0]
-        if dedicated.is_file():
+        if os.path.lexists(dedicated):
+            _read_config_bytes(dedicated)
             return dedicated
         pyproject = folder / "pyproject.toml"
-        if pyproject.is_file() and _has_tool_table(pyproject):
+        if os.path.lexists(pyproject) and _has_tool_table(pyproject):
             return pyproject
     return None
 

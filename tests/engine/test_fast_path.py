@@ -609,14 +609,14 @@ def test_the_layers_reached_are_those_a_full_composition_uses(tmp_path: Path) ->
 
     root = str(_write(tmp_path, REACHING))
     stage = Usd.Stage.OpenMasked(root, Usd.StagePopulationMask(), Usd.Stage.LoadAll)
-    missing: list[str] = []
+    missing: list[tuple[Sdf.Layer, str]] = []
     scans = fastpath._Scans(fastpath._Specs(), lambda type_name: False)
     reached = fastpath._reachable_layers(stage, missing, scans)
     full = Usd.Stage.Open(root)
     files = {Path(layer.realPath).name for layer in reached if not layer.anonymous}
     assert files == {Path(layer.realPath).name for layer in full.GetUsedLayers() if layer.realPath}
     assert files == {"shot.usda", "layout.usda", "a.usda", "a_base.usda", "p.usda", "set.usda"}
-    assert [Path(name).name for name in missing] == ["missing.usda"]
+    assert [Path(asset_path).name for _, asset_path in missing] == ["missing.usda"]
 
 
 def test_a_stage_of_sublayers_only_is_composed_without_scanning_a_spec(

@@ -174,6 +174,17 @@ def test_missing_or_corrupt_baseline_is_exit_2(shot, tmp_path, content, expected
     assert result.stdout == ""
 
 
+def test_a_deeply_nested_baseline_is_one_line(shot, tmp_path) -> None:
+    """Was "internal error: RecursionError"."""
+    baseline = tmp_path / "baseline.json"
+    baseline.write_text("[" * 200_000 + "]" * 200_000, encoding="utf-8")
+    result = check("--baseline", str(baseline), str(shot))
+    assert result.exit_code == 2 and result.stdout == ""
+    assert result.stderr == (
+        f"usdrender-lint: error: {baseline}: not a baseline file (JSON nested too deeply)\n"
+    )
+
+
 def test_baseline_and_write_baseline_together_is_exit_2(shot, tmp_path) -> None:
     result = check("--baseline", "a.json", "--write-baseline", "b.json", str(shot))
     assert result.exit_code == 2

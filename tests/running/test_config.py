@@ -256,3 +256,57 @@ def test_readme_configuration_example_is_valid(tmp_path) -> None:
     settings = load_settings(str(_write(tmp_path, example, "pyproject.toml")))
     assert settings.fail_on == "warning" and settings.per_path_ignores
     make_linter(settings, build_registry())  # every code, name and option exists
+
+
+# -- hostile config files (issue 31) ------------------------------------------------
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "/dev/urandom"])
+def test_a_config_that_is_a_device_is_refused(project, device) -> None:
+    """/dev/zero was read until the kernel killed the process; /dev/urandom never ended."""
+    if not Path(device).exists():
+        pytest.skip(f"no {device}")
+    line = error_line(check(project, "--config", device))
+    assert line == f"usdrender-lint: error: {device}: cannot read config file: not a regular file"
+
+
+def test_a_config_larger_than_the_bound_is_refused(project) -> None:
+    path = _write(project, "# " + "x" * (4 * 1024 * 1024) + "\n")
+    line = error_line(check(project, "--config", str(path)))
+    assert line.endswith(": cannot read config file: larger than 4 MiB")
+
+
+def _fifo(path: Path) -> None:
+    import os
+
+    os.mkfifo(path)
+
+
+@pytest.mark.parametrize("name", [".usdrender-lint.toml", "pyproject.toml"])
+@pytest.mark.parametrize(
+    ("kind", "make", "expected"),
+    [
+        ("dangling", lambda p: p.symlink_to(p.parent / "gone.toml"), "a symbolic link to nothing"),
+        ("loop", lambda p: p.symlink_to(p), "Too many levels of symbolic links"),
+        ("fifo", _fifo, "not a regular file"),
+        ("folder", lambda p: p.mkdir(), "a folder"),
+    ],
+)
+def test_a_config_name_that_is_not_a_regular_file_is_an_error(
+    project, name, kind, make, expected
+) -> None:
+    """Such a file was skipped silently and the parent folder's config used."""
+    _write(project, "[tool.usdrender-lint]\nselect = ['CA']\n", "pyproject.toml")
+    make(project / "shots" / name)
+    line = error_line(check(project))
+    assert line == (
+        f"usdrender-lint: error: {project / 'shots' / name}: cannot read config file: {expected}"
+    ), kind
+
+
+def test_a_deeply_nested_config_is_one_line(project) -> None:
+    path = _write(project, "a = " + "[" * 100_000 + "]" * 100_000 + "\n")
+    line = error_line(check(project, "--config", str(path)))
+    assert (
+        line == f"usdrender-lint: error: {path}: invalid TOML: arrays or tables nested too deeply"
+    )

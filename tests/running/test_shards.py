@@ -13,7 +13,7 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
-from usdrender_lint.running.shards import ShardError, parse_shard, partition, select_shard
+from usdrender_lint.running.shards import ShardError, assign, parse_shard, partition, select_shard
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -109,11 +109,32 @@ def test_a_shard_does_not_depend_on_the_argument_order_or_the_checkout_location(
 
 def test_groups_that_stay_together_are_balanced_largest_first(tmp_path: Path) -> None:
     units = [["a", "b", "c", "d"], ["e"], ["f", "g"], ["h"], ["i"], ["j", "k"]]
-    shards = partition(units, 2, tmp_path)
+    shards = [partition(units, 2, tmp_path, k) for k in (1, 2)]
     sizes = [sum(len(units[i]) for i in shard) for shard in shards]
     assert sorted(sizes) == [5, 6]
     assert sorted(i for shard in shards for i in shard) == list(range(len(units)))
     assert select_shard([], (1, 3), tmp_path) == []
+
+
+def test_a_shard_costs_the_same_whatever_the_shard_count(tmp_path: Path) -> None:
+    """Shards still empty are never held: 1e23 shards cost what 10 do (this
+    took over 300 s for 1e7 and never ended for 1e23)."""
+    units = [["a", "b"], ["c"], ["d"], ["e", "f", "g"]]
+    huge = 10**23
+    assert assign(units, huge, tmp_path) == assign(units, len(units), tmp_path)
+    assert sorted(assign(units, huge, tmp_path)) == [0, 1, 2, 3]
+    files = [f"f{i}.usda" for i in range(5)]
+    picked = [select_shard(files, (k, huge), tmp_path) for k in (1, 2, 3, 4, 5, 6, huge)]
+    assert sorted(f for shard in picked for f in shard) == sorted(files)
+    assert picked[-2:] == [[], []]
+    # The greedy rule is the one it was: the fewest files, then the lowest index.
+    assert assign([["a", "b", "c"], ["d"], ["e"], ["f"]], 2, tmp_path) == [0, 1, 1, 1]
+    assert assign([["a", "b"], ["d"], ["e"], ["f"]], 2, tmp_path) in ([0, 1, 1, 0], [0, 1, 0, 1])
+
+
+def test_a_huge_shard_count_from_the_command_line(project: Path) -> None:
+    status, out = _check("--format", "json", "--shard", f"{10**23}/{10**23}", "shots")
+    assert status == 0 and _files(out) == []
 
 
 def test_a_shot_stays_with_its_roots(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -198,11 +219,73 @@ def test_merge_keeps_statistics_info_and_fail_on_like_check(project: Path) -> No
     assert CliRunner().invoke(cli, ["merge", "--fail-on", "never", *reports]).exit_code == 0
 
 
+def test_merge_refuses_reports_of_different_configurations(project: Path) -> None:
+    """A shard linted under --select CA merged with full shards made a smaller
+    report, silently: the configuration digest tells them apart."""
+    full = _sharded_reports(2)
+    assert _check(
+        "--format", "json", "--output", "narrow.json", "--shard", "1/2", "--select", "SE", "shots"
+    )[0] in (0, 1)
+    result = CliRunner().invoke(cli, ["merge", "narrow.json", full[1]])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        "usdrender-lint: error: narrow.json and report-2.json were made with different "
+        "configurations (rules, options, settings or baseline): lint every part with the same "
+        "ones\n"
+    )
+    # A baseline, a profile or a setting from the config file count too.
+    _check("--write-baseline", "base.json", "shots")
+    for flags in (["--baseline", "base.json"], ["--profile", "karma"], ["--variants"]):
+        _check("--format", "json", "--output", "other.json", "--shard", "1/2", *flags, "shots")
+        result = CliRunner().invoke(cli, ["merge", full[0], "other.json"])
+        assert result.exit_code == 2 and "different configurations" in result.stderr, flags
+
+
+def test_merge_refuses_reports_of_different_versions(project: Path) -> None:
+    reports = _sharded_reports(2)
+    document = json.loads(Path(reports[1]).read_text())
+    document["tool"]["version"] = "0.0.1"
+    Path("old.json").write_text(json.dumps(document))
+    result = CliRunner().invoke(cli, ["merge", reports[0], "old.json"])
+    assert result.exit_code == 2
+    assert "report-1.json and old.json were made by different versions" in result.stderr
+
+
+def test_merge_refuses_reports_that_disagree_about_a_file(project: Path) -> None:
+    """Both reports hold a file with different findings: the first was kept,
+    silently. Reports that agree about a file merge (a shard given twice)."""
+    reports = _sharded_reports(2)
+    twice = CliRunner().invoke(cli, ["merge", "--format", "json", reports[0], reports[0]])
+    once = CliRunner().invoke(cli, ["merge", "--format", "json", reports[0]])
+    assert twice.exit_code == once.exit_code == 1 and twice.stdout == once.stdout
+    document = json.loads(Path(reports[0]).read_text())
+    entry = next(e for e in document["files"] if e["findings"])
+    entry["findings"] = entry["findings"][1:]
+    Path("edited.json").write_text(json.dumps(document))
+    result = CliRunner().invoke(cli, ["merge", reports[0], "edited.json", reports[1]])
+    assert result.exit_code == 2 and result.stdout == ""
+    findings = len(entry["findings"])
+    assert result.stderr.startswith(
+        f"usdrender-lint: error: report-1.json and edited.json disagree about {entry['file']} ("
+        f"{findings + 1} findings vs {findings} finding"
+    )
+    assert result.stderr.count("\n") == 1
+
+
+def test_merge_of_a_deeply_nested_report_is_one_line(project: Path) -> None:
+    Path("deep.json").write_text("[" * 200_000 + "]" * 200_000)
+    result = CliRunner().invoke(cli, ["merge", "deep.json"])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        "usdrender-lint: error: deep.json: not a report: JSON nested too deeply\n"
+    )
+
+
 def test_the_combined_exit_status(project: Path, tmp_path: Path) -> None:
     clean = project / "clean"
     clean.mkdir()
     (clean / "a.usda").write_text(_shot(0, bad=False))
-    assert _check("--format", "json", "--output", "clean.json", "--select", "SE", "clean")[0] == 0
+    assert _check("--format", "json", "--output", "clean.json", "clean")[0] == 0
     assert CliRunner().invoke(cli, ["merge", "clean.json"]).exit_code == 0
     reports = _sharded_reports(2)
     assert CliRunner().invoke(cli, ["merge", "clean.json", *reports]).exit_code == 1
@@ -211,8 +294,6 @@ def test_the_combined_exit_status(project: Path, tmp_path: Path) -> None:
         "json",
         "--output",
         "error.json",
-        "--select",
-        "SE",
         "clean",
         "missing.usda",
     )

@@ -35,7 +35,7 @@ from usdrender_lint.usdplugin import (
     validator_name,
     write_plug_info,
 )
-from usdrender_lint.usdplugin.validators import StageLints, default_linter
+from usdrender_lint.usdplugin.validators import StageLints, default_linter, fixer_description
 
 REPO = Path(__file__).parents[2]
 FIXTURES = REPO / "tests" / "rules"
@@ -166,7 +166,14 @@ def test_one_lint_per_stage_state() -> None:
         linter.lint_stage_traced = counted
         return linter
 
-    lints = StageLints(factory)
+    made: list = []
+
+    def linter_for(stage):  # the linter is built once (StageLints asks per stage)
+        if not made:
+            made.append(factory())
+        return made[0]
+
+    lints = StageLints(linter_for)
     stage = Usd.Stage.Open(str(SE003_FAIL))
     first = lints.findings(stage)
     # Another Python handle on the same stage shares the lint.
@@ -447,3 +454,72 @@ def test_validators_match_the_cli_on_corpus_files(shared_dir: Path) -> None:
     # The one known difference, set aside by the child: findings on prims typed with an
     # abstract schema (maya-usd's materialAssignment.usda has `def RenderSettingsBase`).
     assert got["checked"] >= len(render) * 0.8
+
+
+# -- fixes as minimal text edits -----------------------------------------------------
+
+_FIX_ALL = """
+import json, sys
+from pxr import Sdf, Usd, UsdValidation
+work, dirty = sys.argv[1], sys.argv[2] == "dirty"
+registry = UsdValidation.ValidationRegistry()
+validators = [registry.GetOrLoadValidatorByName(m.name)
+              for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")]
+context = UsdValidation.ValidationContext(validators)
+stage = Usd.Stage.Open(work)
+if dirty:  # an unsaved edit: the fixer can only edit through Sdf
+    stage.GetRootLayer().documentation = "edited in memory"
+applied = []
+for _ in range(10):  # fix, validate again, until no fixer applies
+    fixed = False
+    for error in context.Validate(stage):
+        for fixer in error.GetFixers():
+            target = Usd.EditTarget(stage.GetRootLayer())
+            if fixer.CanApplyFix(error, target) and fixer.ApplyFix(error, target):
+                applied.append(str(error.GetName()))
+                fixed = True
+                break
+        if fixed:
+            break
+    if not fixed:
+        break
+print(json.dumps({
+    "applied": applied,
+    "dirty_after": stage.GetRootLayer().dirty,
+    "descriptions": sorted({f.description for e in context.Validate(stage) for f in e.GetFixers()}),
+}))
+"""
+
+
+def test_a_validation_fix_is_the_text_edit_of_check_fix(tmp_path: Path) -> None:
+    """The UsdValidation fixers leave the layer's text exactly as `check --fix`
+    does: comments, blank lines and layout kept."""
+    source = REPO / "examples" / "broken_shot" / "shot.usda"
+    by_cli = tmp_path / "cli" / "shot.usda"
+    by_fixer = tmp_path / "fixer" / "shot.usda"
+    for copy in (by_cli, by_fixer):
+        copy.parent.mkdir()
+        copy.write_text(source.read_text())
+    result = CliRunner().invoke(cli, ["check", "--isolated", "--fix", str(by_cli)])
+    assert result.exit_code in (0, 1), result.output
+    got = _run_child(_FIX_ALL, plugin_dir(), None, str(by_fixer), "clean")
+    assert sorted(got["applied"]) == ["CA004", "SE007"]
+    assert got["dirty_after"] is False
+    assert by_fixer.read_text() == by_cli.read_text()
+    assert by_fixer.read_text() != source.read_text()
+    assert "# CA004: the camera relationship targets the rig" in by_fixer.read_text()
+    # What the fixers say they do, where it can only be an Sdf edit.
+    assert got["descriptions"] == [] or all("through Sdf" in d for d in got["descriptions"])
+    assert "through Sdf" in fixer_description(RULES[0])
+
+
+def test_a_validation_fix_of_a_layer_with_unsaved_edits_goes_through_sdf(tmp_path: Path) -> None:
+    """The documented limit: with unsaved edits in the layer the fix is an Sdf
+    edit, and ApplyFix's Save writes Sdf's export (comments gone)."""
+    work = tmp_path / "shot.usda"
+    work.write_text((REPO / "examples" / "broken_shot" / "shot.usda").read_text())
+    got = _run_child(_FIX_ALL, plugin_dir(), None, str(work), "dirty")
+    assert sorted(got["applied"]) == ["CA004", "SE007"]
+    text = work.read_text()
+    assert "edited in memory" in text and "# CA004" not in text
+    assert "rel camera = </World/camRig/shotCam>" in text

@@ -27,6 +27,7 @@ from ..model import (
 )
 from ..records import record
 from . import layer_words, partial, suppress, typed_prims
+from .assets import Unkeyable, arc_target
 from .locate import bounded_message, locate, real_path
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
@@ -125,14 +126,22 @@ class Reads:
                 self.complete = False  # walking it could abort the process
                 continue
             for asset in layer.GetCompositionAssetDependencies():
-                if "`" in asset:
-                    self.complete = False  # which file it names depends on variables
-                    continue
-                identifier = Sdf.ComputeAssetPathRelativeToLayer(layer, asset)
-                if not os.path.isabs(identifier.partition("[")[0]) and layer_real_path(layer):
-                    # A search path the default resolver did not find: where it looked first.
-                    identifier = os.path.join(os.path.dirname(layer.realPath), identifier)
-                self.targets.append(identifier)
+                self.add_target(layer, asset)
+
+    def add_target(self, anchor: Sdf.Layer, asset_path: str) -> None:
+        """The layer an arc of ``anchor`` names with ``asset_path`` (which may
+        not exist); an internal arc names none."""
+        try:
+            identifier = arc_target(anchor, asset_path)
+        except Unkeyable:
+            self.complete = False  # which file it names is not known from its path
+            return
+        if identifier is None:
+            return
+        if not os.path.isabs(identifier.partition("[")[0]) and layer_real_path(anchor):
+            # A search path the default resolver did not find: where it looked first.
+            identifier = os.path.join(os.path.dirname(anchor.realPath), identifier)
+        self.targets.append(identifier)
 
     def add_clips(self, stage: Usd.Stage) -> None:
         """Every value clip and clip manifest the stage's prims name (a clip
@@ -310,7 +319,8 @@ class Linter:
         if masked is not None and self._reads is not None:
             # What the fast path read decided how the stage is composed.
             self._reads.add_layers(masked.layers)
-            self._reads.targets.extend(masked.missing)
+            for anchor, asset_path in masked.missing:
+                self._reads.add_target(anchor, asset_path)
         if masked is not None and masked.corrupt is not None:
             raise CorruptValue(masked.corrupt)
         if masked is not None and masked.stage is not None:
@@ -336,9 +346,13 @@ class Linter:
         findings, value = self._lint(opened.stage, path, inspect=inspect, own_stage=True)
         return Inspected(FileResult(path, findings=tuple(findings)), value)
 
-    def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
-        """Lint an open stage; ``file`` names it in findings (default: root layer)."""
-        return self._lint(stage, file)[0]
+    def lint_stage(
+        self, stage: Usd.Stage, file: str | None = None, *, texts: Mapping[str, str] | None = None
+    ) -> list[Finding]:
+        """Lint an open stage; ``file`` names it in findings (default: root layer).
+        ``texts``: the text of layers with unsaved edits (an editor's), by real
+        path, where their findings' lines are found instead of in their files."""
+        return self._lint(stage, file, texts=texts)[0]
 
     def lint_stage_with_fixes(
         self, stage: Usd.Stage, file: str | None = None
@@ -378,6 +392,7 @@ class Linter:
         masked: bool = False,
         inspect: Inspector[_T] | None = None,
         own_stage: bool = False,
+        texts: Mapping[str, str] | None = None,
     ) -> tuple[list[Finding], _T | None]:
         file = file or real_path(stage.GetRootLayer())
         ctx = Context(
@@ -390,6 +405,11 @@ class Linter:
         value = None
         # Nothing edits the stage while rules run, so the helpers may cache.
         with Tf.DiagnosticTrap() as trap, lint_cache(ctx.cache):
+            if texts:
+                from .usda_lines import hold_text
+
+                for layer_path, text in texts.items():
+                    hold_text(layer_path, text)
             try:
                 work, suppressing = self._walk(stage, ctx, own_stage)
                 run = self._run

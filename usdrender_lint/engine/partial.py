@@ -100,8 +100,8 @@ class PartialStage:
     #: this one does not read them again.
     layers: list[Sdf.Layer] = field(default_factory=list)
     reason: str | None = None
-    #: Identifiers of the layers an arc of ``layers`` names that do not exist.
-    missing: list[str] = field(default_factory=list)
+    #: (layer, asset path) of the arcs of ``layers`` whose layer does not exist.
+    missing: list[tuple[Sdf.Layer, str]] = field(default_factory=list)
     #: The masked stage when the fast path gave up after composing it: it holds
     #: the root layer stack's layers (``layers`` holds only weak handles to them).
     held: Usd.Stage | None = field(default=None, repr=False)
@@ -140,7 +140,7 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
         # specs for GetCompositionAssetDependencies): the full open reads it once.
         return PartialStage(None, [], "every layer is in the root layer stack")
     layers: list[Sdf.Layer] = []
-    missing: list[str] = []
+    missing: list[tuple[Sdf.Layer, str]] = []
     stage = None
     specs = _Specs()
     scans = _Scans(specs, wants_type)
@@ -188,10 +188,12 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
 # -- layers ---------------------------------------------------------------------------
 
 
-def _reachable_layers(stage: Usd.Stage, missing: list[str], scans: _Scans) -> list[Sdf.Layer]:
+def _reachable_layers(
+    stage: Usd.Stage, missing: list[tuple[Sdf.Layer, str]], scans: _Scans
+) -> list[Sdf.Layer]:
     """The root layer stack, then every layer reachable through sublayers,
-    references and payloads (variants included), each once. The identifiers
-    of the layers that do not exist are added to ``missing``.
+    references and payloads (variants included), each once. The arcs whose
+    layer does not exist are added to ``missing``.
 
     A layer's arcs are read from its scan, which the mask needs anyway: asking
     Sdf (``GetCompositionAssetDependencies``) walks every spec a second time."""
@@ -208,7 +210,7 @@ def _reachable_layers(stage: Usd.Stage, missing: list[str], scans: _Scans) -> li
                 # A layer that is missing is missing from the full stage too.
                 layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
                 if layer is None:
-                    missing.append(Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path))
+                    missing.append((anchor, asset_path))
                 elif layer_identifier(layer) not in seen:
                     seen.add(layer_identifier(layer))
                     layers.append(layer)

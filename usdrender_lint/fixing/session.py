@@ -20,7 +20,8 @@ patch (:mod:`.diff`). :func:`usdrender_lint.fixing.fix_files` runs it per file.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+import os
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import field
 
 from pxr import Sdf, Tf, Usd
@@ -53,6 +54,9 @@ class FixOptions:
     write: bool = True
     #: Write every fix as an override into this layer (--fix-to).
     fix_to: str | None = None
+    #: The text of layers as an editor holds them, unsaved, by real path (the
+    #: language server): fixes edit that text instead of the file's.
+    texts: Mapping[str, str] | None = None
 
 
 @record
@@ -110,8 +114,14 @@ class StageFixer:
         keep: Callable[[Finding], bool],
         *,
         in_memory: bool = False,
+        callers_stage: bool = False,
     ) -> None:
         self.linter = linter
+        #: The stage is the caller's (a UsdValidation fixer, an Asset Validator
+        #: Suggestion): at the end its session layer is kept and only the layers
+        #: that were clean when fixing started are read back from their files.
+        self.callers_stage = callers_stage
+        self._clean_at_start: list[Sdf.Layer] = []
         self.path = path
         self.options = options
         self.keep = keep
@@ -134,10 +144,18 @@ class StageFixer:
             if stage is None:
                 return  # nothing to fix; the report says why (ST001, a missing file, ...)
         self.stage = stage
+        if self.callers_stage:
+            self._clean_at_start = [
+                layer
+                for layer in stage.GetLayerStack(includeSessionLayers=False)
+                if not layer.dirty
+            ]
         # USD's own warnings (e.g. while exporting a spline) stay off the user's stderr.
         with Tf.DiagnosticTrap() as trap:
             try:
-                self.sources = Sources(self.stage, in_memory=self.in_memory)
+                self.sources = Sources(
+                    self.stage, in_memory=self.in_memory, texts=self.options.texts
+                )
                 self.findings = self._attempts()
                 if not self.in_memory:
                     self._finish()
@@ -148,7 +166,12 @@ class StageFixer:
 
     def close(self) -> None:
         """Forget the in-memory edits and the stage."""
-        if self.sources is not None:
+        if self.callers_stage:
+            # A fix tried and undone leaves its layer dirty with the same content.
+            for layer in self._clean_at_start:
+                if layer.dirty and os.path.isfile(layer_real_path(layer)):
+                    layer.Reload(True)
+        elif self.sources is not None:
             self.sources.discard()
         self.stage = None
 

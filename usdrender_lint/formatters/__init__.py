@@ -23,6 +23,8 @@ class FormatOptions:
     statistics: bool = False
     #: Fixing was asked for (--fix, --diff, --fix-to): report the fixes.
     fixing: bool = False
+    #: The run's configuration digest (running/merge.py), for the JSON report.
+    configuration: str | None = None
 
 
 class Formatter(Protocol):

@@ -77,6 +77,8 @@ def _report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
     return {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": options.tool_name, "version": options.tool_version},
+        # What merge compares (running/merge.py); written by check and merge.
+        **({"configuration": options.configuration} if options.configuration else {}),
         "files": [
             {
                 "file": result.file,
@@ -206,8 +208,9 @@ def report_from_dict(document: Any) -> Report:
     )
 
 
-def read_report(path: str | Path) -> Report:
-    """Read a JSON report file; raises :class:`ReportFormatError` naming it."""
+def read_document(path: str | Path) -> Any:
+    """A JSON file's document; raises :class:`ReportFormatError` naming it
+    (a document nested too deeply for the parser included)."""
     try:
         text = Path(path).read_text(encoding="utf-8")
     except OSError as exc:
@@ -215,8 +218,17 @@ def read_report(path: str | Path) -> Report:
     except UnicodeDecodeError:
         raise ReportFormatError(f"{path}: not UTF-8 text") from None
     try:
-        return report_from_dict(json.loads(text))
+        return json.loads(text)
     except json.JSONDecodeError as exc:
         raise ReportFormatError(f"{path}: not JSON: {exc}") from None
+    except RecursionError:
+        raise ReportFormatError(f"{path}: not a report: JSON nested too deeply") from None
+
+
+def read_report(path: str | Path) -> Report:
+    """Read a JSON report file; raises :class:`ReportFormatError` naming it."""
+    document = read_document(path)
+    try:
+        return report_from_dict(document)
     except ReportFormatError as exc:
         raise ReportFormatError(f"{path}: {exc}") from None

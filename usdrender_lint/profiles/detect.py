@@ -80,56 +80,66 @@ class Assignment:
                 scopes.append(key)
 
 
-def _evidence(
-    prims: Sequence[Usd.Prim], profile: Profile, layer_keys: Sequence[str] = ()
-) -> list[str]:
-    """What in ``prims`` (and the root layer's customLayerData ``layer_keys``)
-    points at ``profile``'s renderer, one phrase each."""
-    found = []
-    for prim in prims:
-        path = str(prim.GetPath())
+#: Evidence per renderer profile found on one prim, one phrase each.
+PrimEvidence = dict[str, list[str]]
+
+
+def _prim_evidence(prim: Usd.Prim) -> PrimEvidence:
+    """What on ``prim`` points at each renderer, read in one pass over its
+    properties and API schemas (every renderer's namespaces at once)."""
+    found: PrimEvidence = {}
+    path = str(prim.GetPath())
+    names = prim.GetAuthoredPropertyNames()
+    applied = prim.GetPrimTypeInfo().GetAppliedAPISchemas()
+    is_product = prim.IsA(schemas.RenderProduct)
+    # The settings' and products' camera targets, read once for every renderer.
+    cameras = _camera_targets(prim) if prim.IsA(schemas.RenderSettingsBase) else ()
+    product_type = None
+    for profile in _RENDERERS:
+        phrases = []
         if any(path.startswith(scope) or path + "/" == scope for scope in profile.scopes):
-            found.append(f"the prim <{path}> in {profile.scopes[0].rstrip('/')}")
-        for name in prim.GetAuthoredPropertyNames():
-            if name.startswith(profile.namespaces):
-                found.append(f"the property <{path}.{name}>")
-        for schema in prim.GetPrimTypeInfo().GetAppliedAPISchemas():
+            phrases.append(f"the prim <{path}> in {profile.scopes[0].rstrip('/')}")
+        if profile.namespaces:
+            phrases.extend(
+                f"the property <{path}.{name}>"
+                for name in names
+                if name.startswith(profile.namespaces)
+            )
+        for schema in applied:
             if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas):
-                found.append(f"the API schema {schema} on <{path}>")
-        if profile.product_types and prim.IsA(schemas.RenderProduct):
-            product_type = prim.GetAttribute("productType").Get()
-            if product_type and profile.product_type(str(product_type)):
-                found.append(f"productType {str(product_type)!r} of <{path}>")
-        if (profile.camera_types or profile.runtime_cameras) and prim.IsA(
-            schemas.RenderSettingsBase
-        ):
-            found.extend(_camera_evidence(prim, profile))
-    found.extend(
-        f"the root layer's customLayerData {key}" for key in layer_keys if profile.layer_datum(key)
-    )
+                phrases.append(f"the API schema {schema} on <{path}>")
+        if profile.product_types and is_product:
+            if product_type is None:
+                product_type = str(prim.GetAttribute("productType").Get() or "")
+            if product_type and profile.product_type(product_type):
+                phrases.append(f"productType {product_type!r} of <{path}>")
+        for target, camera in cameras:
+            where = f"the camera target <{target}> of <{path}>"
+            if profile.runtime_camera(str(target)):
+                phrases.append(f"{where}, a camera the renderer's application creates")
+            elif camera is not None and profile.camera_type(camera.GetTypeName()):
+                phrases.append(f"{where}, {describe_prim_type(camera)}")
+        if phrases:
+            found[profile.name] = phrases
     return found
 
 
-def _camera_evidence(prim: Usd.Prim, profile: Profile) -> list[str]:
-    """The camera targets of a settings or product prim that only
-    ``profile``'s renderer knows: a prim of one of its camera types, or a
-    camera its application creates at run time."""
-    found = []
+def _camera_targets(prim: Usd.Prim) -> list[tuple[Sdf.Path, Usd.Prim | None]]:
+    """A settings or product prim's camera targets and the typed prims there."""
+    stage = prim.GetStage()
+    found: list[tuple[Sdf.Path, Usd.Prim | None]] = []
     for target in forwarded_targets(prim.GetRelationship("camera")):
-        where = f"the camera target <{target}> of <{prim.GetPath()}>"
-        if profile.runtime_camera(str(target)):
-            found.append(f"{where}, a camera the renderer's application creates")
-            continue
-        camera = prim.GetStage().GetPrimAtPath(target)
-        type_name = camera.GetTypeName() if camera else ""
-        if type_name and profile.camera_type(type_name):
-            found.append(f"{where}, {describe_prim_type(camera)}")
+        camera = stage.GetPrimAtPath(target) if target.IsPrimPath() else None
+        found.append((target, camera if camera and camera.GetTypeName() else None))
     return found
 
 
-def layer_data_keys(stage: Usd.Stage) -> list[str]:
-    """The keys of the root layer's customLayerData, nested dictionaries'
-    keys joined with ":" (``cameraSettings:boundCamera``)."""
+def layer_data_evidence(stage: Usd.Stage | None) -> PrimEvidence:
+    """The keys of the root layer's customLayerData (nested dictionaries'
+    keys joined with ":", ``cameraSettings:boundCamera``) that a renderer's
+    application writes, per renderer."""
+    if stage is None:
+        return {}
     keys: list[str] = []
     pending: list[tuple[str, dict]] = [("", dict(stage.GetRootLayer().customLayerData))]
     while pending:
@@ -138,12 +148,40 @@ def layer_data_keys(stage: Usd.Stage) -> list[str]:
             keys.append(prefix + key)
             if isinstance(value, dict):
                 pending.append((f"{prefix}{key}:", value))
-    return keys
+    found: PrimEvidence = {}
+    for profile in _RENDERERS:
+        phrases = [
+            f"the root layer's customLayerData {key}" for key in keys if profile.layer_datum(key)
+        ]
+        if phrases:
+            found[profile.name] = phrases
+    return found
 
 
-def infer(prims: Sequence[Usd.Prim], layer_keys: Sequence[str] = ()) -> ProfileChoice:
-    """The ``auto`` choice for the render prims of one scope."""
-    hits = {p.name: e for p in _RENDERERS if (e := _evidence(prims, p, layer_keys))}
+def infer(
+    prims: Sequence[Usd.Prim],
+    memo: dict[Sdf.Path, PrimEvidence] | None = None,
+    layer_data: PrimEvidence | None = None,
+) -> ProfileChoice:
+    """The ``auto`` choice for the render prims of one scope. ``memo`` keeps
+    each prim's evidence across the scopes that share it (vars, products);
+    ``layer_data`` is the stage's customLayerData evidence (default: read from
+    the prims' stage)."""
+    memo = {} if memo is None else memo
+    if layer_data is None:
+        layer_data = layer_data_evidence(prims[0].GetStage() if prims else None)
+    hits: dict[str, list[str]] = {}
+    for prim in prims:
+        key = prim.GetPath()
+        found = memo.get(key)
+        if found is None:
+            found = memo[key] = _prim_evidence(prim)
+        for name, phrases in found.items():
+            hits.setdefault(name, []).extend(phrases)
+    for name, phrases in layer_data.items():
+        hits.setdefault(name, []).extend(phrases)
+    # Reported in the renderers' order, as each renderer's own evidence is.
+    hits = {p.name: hits[p.name] for p in _RENDERERS if p.name in hits}
     if len(hits) == 1:
         name, evidence = next(iter(hits.items()))
         more = f" and {len(evidence) - 1} more" if len(evidence) > 1 else ""
@@ -181,7 +219,7 @@ def _camera_paths(prims: Iterable[Usd.Prim]) -> list[Sdf.Path]:
 def _connected(prim: Usd.Prim) -> list[Sdf.Path]:
     """Prims the settings' attributes connect to (hdPrman's render terminals)."""
     found: list[Sdf.Path] = []
-    for attr in prim.GetAttributes():
+    for attr in prim.GetAuthoredAttributes():  # a connection is always authored
         if attr.HasAuthoredConnections():
             found.extend(p.GetPrimPath() for p in attr.GetConnections())
     return found
@@ -198,8 +236,10 @@ def assign(
     """Decide the profile of every scope. ``setting`` is a profile name or
     ``auto``; ``reason`` says where an explicit one was configured."""
     assignment = Assignment()
+    memo: dict[Sdf.Path, PrimEvidence] = {}
     explicit = None if setting == AUTO else ProfileChoice(get_profile(setting), reason)
-    keys = _layer_keys(configurations, lone_products, render_prims) if explicit is None else []
+    prims = [*lone_products, *render_prims]
+    layer_data = {} if explicit else layer_data_evidence(_stage_of(configurations, prims))
     by_settings: dict[Sdf.Path, list[RenderConfiguration]] = {}
     for config in configurations:
         if config.settings is not None:  # products on their own: below (R2-4)
@@ -209,37 +249,37 @@ def assign(
         assert settings is not None
         products = [c.product for c in configs if c.product is not None]
         prims = [settings, *products, *(v for p in products for v in _vars_of(p))]
-        assignment.scopes[key] = explicit or infer(prims, keys)
+        assignment.scopes[key] = explicit or infer(prims, memo, layer_data)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([settings, *products]))
         assignment._add(key, _connected(settings))
     for product in lone_products:
         key = product.GetPath()
         prims = [product, *_vars_of(product)]
-        assignment.scopes[key] = explicit or infer(prims, keys)
+        assignment.scopes[key] = explicit or infer(prims, memo, layer_data)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([product]))
     for render_pass in passes:
         for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
             if path in assignment.scopes:
                 assignment._add(path, [render_pass])
-    assignment.stage = explicit or _stage_choice(assignment, render_prims, keys)
+    assignment.stage = explicit or _stage_choice(assignment, render_prims, memo, layer_data)
     return assignment
 
 
-def _layer_keys(
-    configurations: Sequence[RenderConfiguration],
-    lone_products: Sequence[Usd.Prim],
-    render_prims: Sequence[Usd.Prim],
-) -> list[str]:
-    """The root layer's customLayerData keys of the stage these prims are on."""
-    prims = [c.owner for c in configurations if c.owner is not None]
-    prims += [*lone_products, *render_prims]
-    return layer_data_keys(prims[0].GetStage()) if prims else []
+def _stage_of(
+    configurations: Sequence[RenderConfiguration], render_prims: Sequence[Usd.Prim]
+) -> Usd.Stage | None:
+    for config in configurations:
+        return config.owner.GetStage()
+    return render_prims[0].GetStage() if render_prims else None
 
 
 def _stage_choice(
-    assignment: Assignment, render_prims: Sequence[Usd.Prim], layer_keys: Sequence[str] = ()
+    assignment: Assignment,
+    render_prims: Sequence[Usd.Prim],
+    memo: dict[Sdf.Path, PrimEvidence],
+    layer_data: PrimEvidence,
 ) -> ProfileChoice:
     choices = list(dict.fromkeys(assignment.scopes.values()))
     names = {c.name for c in choices}
@@ -247,7 +287,7 @@ def _stage_choice(
         return choices[0]
     if not names:
         # No configuration (only vars or passes): the render prims' own evidence.
-        return infer(render_prims, layer_keys)
+        return infer(render_prims, memo, layer_data)
     return ProfileChoice(
         GENERIC,
         "auto: the stage's configurations use several profiles "

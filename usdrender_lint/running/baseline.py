@@ -67,6 +67,8 @@ def load_baseline(path: str | Path) -> Counter[Fingerprint]:
         raise BaselineError(f"{path}: cannot read baseline: {exc.strerror or exc}") from None
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise BaselineError(f"{path}: not a baseline file (invalid JSON: {exc})") from None
+    except RecursionError:
+        raise BaselineError(f"{path}: not a baseline file (JSON nested too deeply)") from None
     if not isinstance(document, dict) or "usdrender_lint_baseline" not in document:
         raise BaselineError(f"{path}: not a usdrender-lint baseline file")
     if document["usdrender_lint_baseline"] != BASELINE_SCHEMA:

@@ -1,45 +1,131 @@
 """``usdrender-lint merge REPORT...``: the JSON reports of ``check --shard K/N``
 jobs (or any JSON reports) as one report, in any format.
 
-A file that several reports hold is kept once (the first report's result). The
-files are ordered by path, so the merged report does not depend on which shard
-linted what or on the order the reports are given in; fixes are kept in report
-order.
+Reports merge only when they could be parts of one run: the same tool version
+and the same configuration (the ``configuration`` digest a check writes into
+its JSON report: the rules that ran and their options and severities, the
+settings, the usd-core version and the baseline). A file that several reports
+hold is kept once when they agree about it (same status, error and findings);
+when they disagree, the merge is refused, naming the file and the two reports,
+since no rule can tell which one is right. The files are ordered by path, so
+the merged report does not depend on which shard linted what or on the order
+the reports are given in; fixes are kept in report order.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import hashlib
+import json
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
-from ..formatters.json import ReportFormatError, read_report
+from ..formatters.json import ReportFormatError, read_document, report_from_dict
 from ..model import AppliedFix, FileResult, Report
+
+if TYPE_CHECKING:
+    from collections import Counter
+
+    from ..api import Rule
+    from ..config import Settings
 
 
 class MergeError(Exception):
-    """A report cannot be read; the message names the file."""
+    """Reports that cannot be read or merged; the message names the files."""
 
 
-def merge_reports(paths: Sequence[str]) -> Report:
-    """One report holding every file of the reports at ``paths``."""
+def configuration_digest(
+    settings: Settings, rules: Sequence[Rule], baseline: Counter | None = None
+) -> str:
+    """What decides a run's findings besides the files, the same on every
+    machine and checkout (no paths, times or environment): two reports with
+    the same digest come from runs that judge a file alike."""
+    from pxr import Usd
+
+    from .result_cache import settings_key
+
+    parts = {
+        "usd": list(Usd.GetVersion()),
+        "rules": [
+            (type(rule).__module__, type(rule).__qualname__, rule.code, repr(rule.options))
+            for rule in rules
+        ],
+        "settings": settings_key(settings),
+        "baseline": sorted(baseline.items()) if baseline else None,
+    }
+    text = json.dumps(parts, sort_keys=True, default=repr, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
+
+
+def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
+    """One report holding every file of the reports at ``paths``, and the
+    configuration digest they share (None for reports written without one)."""
     if not paths:
         raise MergeError("merge needs at least one JSON report")
-    files: dict[str, FileResult] = {}
+    files: dict[str, tuple[FileResult, str]] = {}
     applied: list[AppliedFix] = []
     unapplied: list[AppliedFix] = []
+    first: tuple[str, str | None, str | None] | None = None
     for path in paths:
         try:
-            report = read_report(path)
+            document = read_document(path)
         except ReportFormatError as exc:
             raise MergeError(str(exc)) from None
+        try:
+            report = report_from_dict(document)
+        except ReportFormatError as exc:
+            raise MergeError(f"{path}: {exc}") from None
+        identity = (path, _version(document), _configuration(document))
+        if first is None:
+            first = identity
+        _same_run(first, identity)
         for result in report.files:
-            files.setdefault(result.file, result)
+            held = files.setdefault(result.file, (result, path))
+            if held[0] != result:
+                raise MergeError(
+                    f"{held[1]} and {path} disagree about {result.file} "
+                    f"({_summary(held[0])} vs {_summary(result)}): not parts of one run"
+                )
         applied.extend(report.applied_fixes)
         unapplied.extend(report.unapplied_fixes)
-    return Report(
-        tuple(files[name] for name in sorted(files)),
+    merged = Report(
+        tuple(files[name][0] for name in sorted(files)),
         applied_fixes=tuple(applied),
         unapplied_fixes=tuple(unapplied),
     )
+    assert first is not None
+    return merged, first[2]
 
 
-__all__ = ["MergeError", "merge_reports"]
+def _version(document: Mapping[str, Any]) -> str | None:
+    tool = document.get("tool")
+    version = tool.get("version") if isinstance(tool, Mapping) else None
+    return version if isinstance(version, str) else None
+
+
+def _configuration(document: Mapping[str, Any]) -> str | None:
+    value = document.get("configuration")
+    return value if isinstance(value, str) else None
+
+
+def _same_run(
+    first: tuple[str, str | None, str | None], other: tuple[str, str | None, str | None]
+) -> None:
+    if other[1] != first[1]:
+        raise MergeError(
+            f"{first[0]} and {other[0]} were made by different versions "
+            f"({first[1]} and {other[1]}): lint every part with one version"
+        )
+    if other[2] != first[2]:
+        raise MergeError(
+            f"{first[0]} and {other[0]} were made with different configurations "
+            "(rules, options, settings or baseline): lint every part with the same ones"
+        )
+
+
+def _summary(result: FileResult) -> str:
+    if result.status != "linted":
+        return result.status
+    return f"{len(result.findings)} finding{'s' if len(result.findings) != 1 else ''}"
+
+
+__all__ = ["MergeError", "configuration_digest", "merge_reports"]

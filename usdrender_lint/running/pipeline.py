@@ -121,6 +121,8 @@ class Outcome:
     notes: tuple[str, ...] = ()
     #: Layers fixing could not write, one line each (the run exits 2).
     fix_errors: tuple[str, ...] = ()
+    #: The run's configuration digest, which merge compares (running/merge.py).
+    configuration: str | None = None
 
     @property
     def errors(self) -> tuple[str, ...]:
@@ -423,8 +425,18 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     notes.extend(note for result in report.files for note in result.notes)
     report = _apply_baseline(report, known, request, notes)
     status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
+    from .merge import configuration_digest
+
+    configuration = configuration_digest(settings, prepared.linter.rules, known)
     if fixed is None:
-        return Outcome(report, settings, prepared.linter.rules, status, notes=tuple(notes))
+        return Outcome(
+            report,
+            settings,
+            prepared.linter.rules,
+            status,
+            notes=tuple(notes),
+            configuration=configuration,
+        )
     assert request.fix is not None
     report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
     notes.extend(fixed.notes)
@@ -442,6 +454,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         diffs=tuple(fixed.diffs),
         notes=tuple(notes),
         fix_errors=tuple(fixed.errors),
+        configuration=configuration,
     )
 
 

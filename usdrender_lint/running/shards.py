@@ -14,6 +14,7 @@ are dealt out largest first, each to the shard with the fewest files so far.
 from __future__ import annotations
 
 import hashlib
+import heapq
 import os
 from collections.abc import Sequence
 from pathlib import Path, PurePath
@@ -48,26 +49,40 @@ def shard_key(path: str, root: Path) -> str:
     return hashlib.sha256(relative.as_posix().encode("utf-8")).hexdigest()
 
 
-def partition(units: Sequence[Sequence[str]], count: int, root: Path) -> list[list[int]]:
+def assign(units: Sequence[Sequence[str]], count: int, root: Path) -> list[int]:
     """Deal ``units`` (groups of files that stay together) into ``count``
-    shards; returns the unit indexes of each shard, each in input order."""
+    shards: the shard index (0-based) of each unit. Units go largest first,
+    each to the shard with the fewest files so far (the lowest index on a tie).
+    The cost depends on the units only, never on ``count``: shards still empty
+    are not held, since an empty shard is always the one with fewest files and
+    the lowest empty index is the next never used."""
     keyed = sorted(
         range(len(units)),
         key=lambda i: (-len(units[i]), min(shard_key(p, root) for p in units[i])),
     )
-    shards: list[list[int]] = [[] for _ in range(count)]
-    sizes = [0] * count
+    shard_of = [0] * len(units)
+    used: list[tuple[int, int]] = []  # (files so far, shard index) of the shards in use
     for index in keyed:
-        target = min(range(count), key=lambda s: (sizes[s], s))
-        shards[target].append(index)
-        sizes[target] += len(units[index])
-    return [sorted(shard) for shard in shards]
+        size = len(units[index])
+        if len(used) < count:
+            target, held = len(used), 0
+        else:
+            held, target = heapq.heappop(used)
+        shard_of[index] = target
+        heapq.heappush(used, (held + size, target))
+    return shard_of
+
+
+def partition(units: Sequence[Sequence[str]], count: int, root: Path, k: int) -> list[int]:
+    """The indexes of the units that shard ``k`` (1-based) of ``count`` holds,
+    in input order."""
+    return [i for i, shard in enumerate(assign(units, count, root)) if shard == k - 1]
 
 
 def select_shard(files: Sequence[str], shard: tuple[int, int], root: Path) -> list[str]:
     """The files of shard ``K`` of ``N`` (each file is its own unit)."""
     k, n = shard
-    chosen = partition([[f] for f in files], n, root)[k - 1]
+    chosen = partition([[f] for f in files], n, root, k)
     return [files[i] for i in chosen]
 
 
@@ -81,7 +96,7 @@ def select_plan_shard(plan: ContextPlan, shard: tuple[int, int], root: Path) -> 
     groups = _groups(roots, [plan.roots[r] for r in roots])
     units: list[list[str]] = [[roots[i] for i in group] for group in groups]
     units += [[path] for path in plan.alone]
-    chosen = set(partition(units, n, root)[k - 1])
+    chosen = set(partition(units, n, root, k))
     kept_roots = {r for i in chosen if i < len(groups) for r in units[i]}
     kept_alone = {units[i][0] for i in chosen if i >= len(groups)}
     return replace(
@@ -116,4 +131,4 @@ def _groups(roots: Sequence[str], changed: Sequence[frozenset[str]]) -> list[lis
     return list(groups.values())
 
 
-__all__ = ["ShardError", "parse_shard", "partition", "select_plan_shard", "select_shard"]
+__all__ = ["ShardError", "assign", "parse_shard", "partition", "select_plan_shard", "select_shard"]

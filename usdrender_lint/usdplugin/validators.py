@@ -16,18 +16,17 @@ becomes a ``ValidationError`` of the validator that failed.
 
 from __future__ import annotations
 
-import threading
 import traceback
-from collections.abc import Callable, Sequence
-from dataclasses import field
+from collections.abc import Sequence
 from typing import Any
 
 from pxr import Sdf, Tf, Usd, UsdValidation
 
-from ..api import Rule
+from ..api import Fix, Rule
 from ..engine import Linter, TracedFinding
+from ..fixing.single import fix_one
 from ..model import Finding, Severity
-from ..records import record
+from ..running.stage_lints import StageLints
 from . import PLUGIN_NAME, is_prim_validator, validator_key, validator_name
 
 ErrorType = UsdValidation.ValidationErrorType
@@ -36,56 +35,12 @@ _ERROR_TYPES = {
     Severity.WARNING: ErrorType.Warn,
     Severity.INFO: ErrorType.Info,
 }
-#: Stages whose lint is kept (the most recently validated ones).
-MAX_CACHED_STAGES = 4
 #: Error name of a validator that could not do its job.
 FAILURE_ERROR_NAME = "usdRenderLintFailure"
 STALE_REASON = (
     "no registered rule has this validator name; regenerate the plugInfo.json "
     "(usdrender-lint plugin-path --write)"
 )
-
-
-@record
-class _StageLint:
-    """One stage's traced findings, valid until the stage changes."""
-
-    findings: list[TracedFinding]
-    listener: Any = field(default=None, repr=False)
-
-
-class StageLints:
-    """Traced findings per stage, computed once per stage state, thread-safe
-    (UsdValidation may call validators from worker threads)."""
-
-    def __init__(self, linter_factory: Callable[[], Linter]) -> None:
-        self._linter_factory = linter_factory
-        self._linter: Linter | None = None
-        self._lints: dict[Usd.Stage, _StageLint] = {}
-        self._lock = threading.RLock()
-
-    def findings(self, stage: Usd.Stage) -> list[TracedFinding]:
-        with self._lock:
-            cached = self._lints.get(stage)
-            if cached is None:
-                if self._linter is None:
-                    self._linter = self._linter_factory()
-                # The edit that invalidates comes from anywhere: USD tells us.
-                listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._forget, stage)
-                cached = _StageLint(self._linter.lint_stage_traced(stage), listener)
-                self._lints[stage] = cached
-                while len(self._lints) > MAX_CACHED_STAGES:
-                    self._drop(next(iter(self._lints)))
-            return cached.findings
-
-    def _forget(self, notice: Usd.Notice.ObjectsChanged, stage: Usd.Stage) -> None:
-        with self._lock:
-            self._drop(stage)
-
-    def _drop(self, stage: Usd.Stage) -> None:
-        cached = self._lints.pop(stage, None)
-        if cached is not None and cached.listener is not None:
-            cached.listener.Revoke()
 
 
 def _site(stage: Usd.Stage, finding: Finding) -> UsdValidation.ValidationErrorSite:
@@ -150,8 +105,8 @@ class RuleValidator:
 
     # -- fixer ----------------------------------------------------------------
 
-    def _safe_fix(self, error: Any) -> tuple[Usd.Stage, Callable[[Usd.Stage], None]] | None:
-        """The stage and the fix's apply of the finding behind ``error`` when its fix is safe."""
+    def _safe_fix(self, error: Any) -> tuple[Usd.Stage, Finding, Fix] | None:
+        """The stage, finding and fix behind ``error`` when its fix is safe."""
         sites = error.GetSites()
         if not sites or error.GetName() != self.rule.code:
             return None
@@ -168,7 +123,7 @@ class RuleValidator:
                 and fix.safe
                 and fix.apply is not None
             ):
-                return stage, fix.apply
+                return stage, finding, fix
         return None
 
     def can_apply(self, error: Any, edit_target: Usd.EditTarget, time_code: Any = None) -> bool:
@@ -178,19 +133,22 @@ class RuleValidator:
             return False
 
     def apply(self, error: Any, edit_target: Usd.EditTarget, time_code: Any = None) -> bool:
-        """Apply the rule's safe fix with the caller's edit target."""
+        """Apply the rule's safe fix into the caller's edit target: ``--fix``'s
+        text edit when that is the layer ``--fix`` edits (fixing/single.py),
+        else an Sdf edit (ApplyFix then saves the layer through Sdf)."""
         try:
             found = self._safe_fix(error)
             if found is None:
                 return False
-            stage, apply_fix = found
+            stage, finding, fix = found
             previous = stage.GetEditTarget()
-            stage.SetEditTarget(edit_target)
             try:
-                apply_fix(stage)
+                done = fix_one(
+                    self.lints.linter(stage), stage, finding, fix, edit_target.GetLayer()
+                )
             finally:
                 stage.SetEditTarget(previous)
-            return True
+            return done.applied
         except Exception:  # noqa: BLE001 - see the module docstring
             return False
 
@@ -201,13 +159,23 @@ class RuleValidator:
         return [
             UsdValidation.ValidationFixer(
                 name=f"{validator_key(self.rule)}Fix",
-                description=f"Apply the safe fix of {self.rule.code} ({self.rule.name}).",
+                description=fixer_description(self.rule),
                 fixerImplFn=self.apply,
                 canApplyFn=self.can_apply,
                 keywords=[PLUGIN_NAME],
                 errorName=self.rule.code,
             )
         ]
+
+
+def fixer_description(rule: type[Rule]) -> str:
+    return (
+        f"Apply the safe fix of {rule.code} ({rule.name}). With the edit target on the "
+        "layer `usdrender-lint check --fix` edits (a writable file without unsaved edits), "
+        "it is --fix's edit: verified, written as a minimal text edit of a .usda (comments "
+        "and layout kept), the layer left clean. With any other edit target it can only be "
+        "an Sdf edit, which ApplyFix saves through Sdf (comments and layout not kept)."
+    )
 
 
 def _site_path(site: Any) -> Sdf.Path:
@@ -259,7 +227,14 @@ def register_validators(usd_registry: Any = None) -> list[str]:
             if not usd_registry.HasValidator(m.name)
         ]
         rules, reason = _registered_rules()
-        lints = StageLints(lambda: default_linter(rules))
+        linter: list[Linter] = []
+
+        def linter_for(stage: Usd.Stage) -> Linter:
+            if not linter:
+                linter.append(default_linter(rules))
+            return linter[0]
+
+        lints = StageLints(linter_for)
         by_name = {validator_name(rule): rule for rule in rules}
         for name in declared:
             metadata = usd_registry.GetValidatorMetadata(name)

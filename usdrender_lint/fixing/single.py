@@ -1,0 +1,106 @@
+"""One finding's fix applied to a caller's open stage: what the UsdValidation
+fixer and the Asset Validator's ``Suggestion`` do.
+
+When the edit target is the layer ``--fix`` would edit and that layer is a
+writable file with no unsaved edits, the fix is ``--fix``'s own
+(:class:`.session.StageFixer` restricted to this finding): verified by linting
+again, written as the minimal text edit of a ``.usda`` (comments and layout
+kept; a crate file is rewritten, as ``--fix`` does), and the layer read back
+from its file, so it is clean and a later ``Save()`` writes nothing more.
+
+Otherwise (an anonymous layer, a layer with unsaved edits, a package, or an
+edit target that is another layer) the fix can only be an Sdf edit of the edit
+target in memory; whoever saves that layer writes Sdf's export of it, which
+keeps neither comments nor layout.
+"""
+
+from __future__ import annotations
+
+from pxr import Sdf, Usd
+
+from ..api import Fix
+from ..engine import Linter
+from ..model import Finding
+from ..records import record
+from .session import FixOptions, StageFixer, _call_fix, _find_layer
+from .writing import write_problem
+
+TEXT = "text"
+SDF = "sdf"
+
+
+@record(frozen=True)
+class SingleFix:
+    """What applying one fix did: ``how`` is :data:`TEXT` (written as
+    ``--fix``'s edit) or :data:`SDF` (an Sdf edit in memory); ``reason`` says
+    why it was not applied."""
+
+    how: str
+    reason: str | None = None
+
+    @property
+    def applied(self) -> bool:
+        return self.reason is None
+
+
+def same_finding(a: Finding, b: Finding) -> bool:
+    """The same finding in two lints of one stage (the file name may differ)."""
+    return (a.code, a.location.path, a.message) == (b.code, b.location.path, b.message)
+
+
+def target_layer(stage: Usd.Stage, finding: Finding, fix: Fix) -> Sdf.Layer | None:
+    """The layer ``--fix`` edits for this finding (session.StageFixer's choice)."""
+    if fix.layer is not None:
+        return fix.layer
+    if finding.location.layer is None:
+        return stage.GetRootLayer()
+    return _find_layer(stage.GetUsedLayers(), finding.location.layer)
+
+
+def writes_text(stage: Usd.Stage, finding: Finding, fix: Fix, edit_layer: Sdf.Layer) -> bool:
+    """Whether fixing into ``edit_layer`` is ``--fix``'s written edit (else an Sdf edit)."""
+    target = target_layer(stage, finding, fix)
+    return (
+        target is not None
+        and edit_layer == target
+        and not target.dirty
+        and target in stage.GetLayerStack(includeSessionLayers=False)
+        and write_problem(target) is None
+    )
+
+
+def fix_one(
+    linter: Linter,
+    stage: Usd.Stage,
+    finding: Finding,
+    fix: Fix,
+    edit_layer: Sdf.Layer | None = None,
+) -> SingleFix:
+    """Apply ``fix`` (the fix ``linter`` offered for ``finding`` on ``stage``)
+    into ``edit_layer`` (default: the layer ``--fix`` edits). Never raises for
+    a fix that fails: the result says why."""
+    if fix.apply is None:
+        return SingleFix(SDF, "the rule offers no automatic fix")
+    edit_layer = edit_layer or target_layer(stage, finding, fix)
+    if edit_layer is None:
+        return SingleFix(SDF, "the layer holding the finding is not open")
+    if not writes_text(stage, finding, fix, edit_layer):
+        failure = _call_fix(fix, stage, edit_layer)
+        return SingleFix(SDF, failure)
+    fixer = StageFixer(
+        linter,
+        finding.location.file,
+        FixOptions(unsafe=True),
+        lambda other: same_finding(other, finding),
+        callers_stage=True,
+    )
+    fixer.run(stage)
+    if fixer.result.errors:
+        return SingleFix(TEXT, fixer.result.errors[0])
+    for outcome in fixer.outcomes:
+        if outcome.code == finding.code and outcome.path == finding.location.path:
+            return SingleFix(TEXT, outcome.reason)
+    return SingleFix(TEXT, "the finding is no longer reported on this stage")
+
+
+__all__ = ["SDF", "TEXT", "SingleFix", "fix_one", "same_finding", "target_layer", "writes_text"]

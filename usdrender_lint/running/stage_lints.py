@@ -1,0 +1,119 @@
+"""Linting stages that a host application opened (UsdValidation, NVIDIA's
+Asset Validator): each stage linted once per state, by a linter built as
+``check`` builds it for that file.
+
+A host calls one validator (or rule) per usdrender-lint rule, but the rules
+share a per-stage Context, the engine's customData suppressions and the
+profile decision, so the first call on a stage lints it with every rule and
+the others read that lint. The lint is dropped when the stage changes.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from collections.abc import Callable
+from dataclasses import field
+from typing import Any
+
+from pxr import Tf, Usd
+
+from ..engine import Linter, TracedFinding
+from ..model import FileResult, Report
+from ..records import record
+
+#: Stages whose lint is kept (the most recently linted ones).
+MAX_CACHED_STAGES = 4
+
+
+@record
+class _StageLint:
+    """One stage's traced findings, valid until the stage changes."""
+
+    findings: list[TracedFinding]
+    listener: Any = field(default=None, repr=False)
+
+
+class StageLints:
+    """Traced findings per stage, computed once per stage state, thread-safe
+    (UsdValidation may call validators from worker threads).
+
+    ``linter_for`` gives the linter for a stage (built once per linter key)."""
+
+    def __init__(self, linter_for: Callable[[Usd.Stage], Linter]) -> None:
+        self._linter_for = linter_for
+        self._lints: dict[Usd.Stage, _StageLint] = {}
+        self._lock = threading.RLock()
+
+    def findings(self, stage: Usd.Stage) -> list[TracedFinding]:
+        with self._lock:
+            cached = self._lints.get(stage)
+            if cached is None:
+                linter = self._linter_for(stage)
+                # The edit that invalidates comes from anywhere: USD tells us.
+                listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._forget, stage)
+                cached = _StageLint(linter.lint_stage_traced(stage, stage_file(stage)), listener)
+                self._lints[stage] = cached
+                while len(self._lints) > MAX_CACHED_STAGES:
+                    self._drop(next(iter(self._lints)))
+            return cached.findings
+
+    def linter(self, stage: Usd.Stage) -> Linter:
+        return self._linter_for(stage)
+
+    def _forget(self, notice: Usd.Notice.ObjectsChanged, stage: Usd.Stage) -> None:
+        with self._lock:
+            self._drop(stage)
+
+    def _drop(self, stage: Usd.Stage) -> None:
+        cached = self._lints.pop(stage, None)
+        if cached is not None and cached.listener is not None:
+            cached.listener.Revoke()
+
+
+def stage_file(stage: Usd.Stage) -> str:
+    """How findings name the stage: its root layer's file, else its identifier."""
+    root = stage.GetRootLayer()
+    return root.realPath or root.identifier
+
+
+class CheckLinters:
+    """The linter ``check`` would use for a stage's file: the configuration
+    found from its folder (as ``check`` finds it), so the same rules, options
+    and renderer profiles (``auto`` infers each stage's from its settings).
+    One linter per folder; per-path ignores applied as ``check`` applies them."""
+
+    def __init__(self) -> None:
+        self._prepared: dict[str, Any] = {}
+        self._lock = threading.Lock()
+
+    def prepared(self, stage: Usd.Stage) -> Any:
+        """The pipeline's Prepared for the stage's file (raises RequestError)."""
+        from .pipeline import Request, prepare
+
+        file = stage_file(stage)
+        folder = os.path.dirname(file) if os.path.isabs(file) else os.getcwd()
+        with self._lock:
+            prepared = self._prepared.get(folder)
+            if prepared is None:
+                request = Request((file,), jobs=1, timeout=None, progress=False)
+                prepared = self._prepared[folder] = prepare(request)
+            return prepared
+
+    def linter(self, stage: Usd.Stage) -> Linter:
+        linter = self.prepared(stage).linter
+        assert isinstance(linter, Linter)
+        return linter
+
+    def reported(self, stage: Usd.Stage, traced: list[TracedFinding]) -> list[TracedFinding]:
+        """The findings ``check`` reports (per-path ignores applied)."""
+        file = stage_file(stage)
+        kept = set(
+            self.prepared(stage)
+            .finish(Report((FileResult(file, findings=tuple(t.finding for t in traced)),)))
+            .findings
+        )
+        return [t for t in traced if t.finding in kept]
+
+
+__all__ = ["MAX_CACHED_STAGES", "CheckLinters", "StageLints", "stage_file"]
