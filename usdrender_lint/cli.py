@@ -471,7 +471,7 @@ def _emit_report(
     formatter that reads them: building that costs every rule's docstring."""
     formatter = load_formatter(output_format)
     if reads_rules(formatter):
-        from .api.docs import rule_info
+        from .explain import rule_info
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     check_stopped()
@@ -700,6 +700,14 @@ def list_rules(output_format: str, profile: str | None) -> None:
     _write(rules_text(lines, _terminal_width(), title))
 
 
+@cli.command("server")
+def server_command() -> None:
+    """Run the language server for editors (LSP over stdio; the [server] extra)."""
+    from .server import main as serve
+
+    serve()
+
+
 def _terminal_width() -> int | None:
     """The terminal's width, or None when stdout is not a terminal."""
     if sys.stdout is None or not sys.stdout.isatty():
@@ -742,16 +750,13 @@ def rules_text(rows: Sequence[tuple[str, ...]], width: int | None, title: str) -
 @click.argument("rule")
 def explain(rule: str) -> None:
     """Print a rule's documentation (by code or name)."""
-    from .api.docs import rule_doc
     from .model import INTERNAL_ERROR_RULE as internal
 
     found = _registry().find(rule)
     if found is not None:
-        from .profiles.effective import profile_treatment
+        from .explain import explain_text
 
-        header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
-        lines = "\n".join(f"- {line}" for line in profile_treatment(found))
-        _write(f"{header}\n\n{rule_doc(found)}\n\n## Under each profile\n{lines}\n")
+        _write(explain_text(found))
     elif rule.upper() == internal.code or rule.lower() == internal.name:
         header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
         _write(f"{header}\n\n{internal.doc}\n")

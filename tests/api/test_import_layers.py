@@ -34,16 +34,19 @@ ALLOWED: dict[str, set[str]] = {
     "fixing": {"records", "api", "engine", "model", "paths", "atomic"},
     "profiles": {"records", "api", "model", "registry"},
     "spec": {"records", "api", "engine", "model", "paths", "profiles"},
+    # explain: a rule's documentation with its profiles (explain, SARIF, the site).
+    "explain": {"api", "model", "profiles"},
     # running reads the JSON format's records back (merge, the result cache).
     "running": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "records", "registry",
+        "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
+        "model", "paths", "profiles", "records", "registry",
     },
     "testing": {"records", "api", "engine", "model", "registry"},
     "usdplugin": {"records", "api", "atomic", "engine", "model", "registry", "rules"},
     "cli": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "records", "registry", "running", "spec", "usdplugin", "__init__",
+        "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
+        "model", "paths", "profiles", "records", "registry", "running", "spec", "usdplugin",
+        "__init__",
     },
     # running.interrupts: the signal handlers, installed before the CLI's imports.
     "__main__": {"cli", "running"},

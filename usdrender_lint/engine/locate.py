@@ -66,5 +66,11 @@ def locate(
 
 
 def _is_text_file(layer: Sdf.Layer) -> bool:
+    # A layer with unsaved edits may have no file yet: its lint may hold its text
+    # (usda_lines.hold_text); otherwise no line is found.
     path = real_path(layer)
-    return bool(path) and layer.GetFileFormat().formatId == "usda" and os.path.isfile(path)
+    return (
+        bool(path)
+        and layer.GetFileFormat().formatId == "usda"
+        and (layer.dirty or os.path.isfile(path))
+    )
