@@ -566,10 +566,10 @@ def spec_command(
     _import_engine(read_ahead=_linted_here(paths, config_path, isolated, no_roots=True))
     from functools import partial
 
+    from .render_spec.compute import SpecOptions, compute_file_spec
+    from .render_spec.document import spec_document
     from .running.inspect import InspectedFile, InspectRequest, inspect_files
     from .running.pipeline import RequestError
-    from .spec.compute import SpecOptions, compute_file_spec
-    from .spec.document import spec_document
 
     options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
     request = InspectRequest(
@@ -592,7 +592,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
     if output_format == "svg":
         from pathlib import Path
 
-        from .spec.svg import svg_files
+        from .render_spec.svg import svg_files
 
         folder = Path(output or ".")
         if folder.exists() and not folder.is_dir():
@@ -613,7 +613,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
         import io
 
         from .formatters.text import write_lines
-        from .spec.textview import document_lines
+        from .render_spec.textview import document_lines
 
         if output is None:
             stdout = _Stdout()

@@ -16,6 +16,7 @@ from pxr import Sdf, Tf, Usd
 
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
+from ..layers.files import layer_identifier, layer_real_path, real_path, unreadable_reason
 from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
@@ -28,18 +29,15 @@ from ..model import (
 from ..records import record
 from . import layer_words, partial, suppress, typed_prims
 from .assets import Unkeyable, arc_target
-from .locate import bounded_message, locate, real_path
+from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
     CorruptValue,
     StageOpenResult,
     corruption,
-    layer_identifier,
-    layer_real_path,
     open_stage,
     position_from_error,
-    unreadable_reason,
 )
 
 _T = TypeVar("_T")
@@ -406,7 +404,7 @@ class Linter:
         # Nothing edits the stage while rules run, so the helpers may cache.
         with Tf.DiagnosticTrap() as trap, lint_cache(ctx.cache):
             if texts:
-                from .usda_lines import hold_text
+                from ..layers.usda_text import hold_text
 
                 for layer_path, text in texts.items():
                     hold_text(layer_path, text)

@@ -28,13 +28,13 @@ from pxr import Sdf, Tf, Usd
 
 from ..api import Fix
 from ..engine import Linter, open_stage
-from ..engine.stage import layer_identifier, layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
+from ..layers.writing import ChangedOnDisk, save_layer, save_text
 from ..model import AppliedFix, FileResult, Finding
 from ..paths import display_path
 from ..records import record
 from .diff import patch
 from .sources import Sources
-from .writing import ChangedOnDisk, save_layer, save_text
 
 #: Fixes tried on one stage at most, per fix the first lint offers (a chain of
 #: fixes that reveal new findings ends there).

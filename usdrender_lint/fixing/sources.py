@@ -15,11 +15,11 @@ from collections.abc import Iterable, Mapping
 
 from pxr import Sdf, Usd
 
-from ..engine.stage import layer_identifier, layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
+from ..layers.writing import DiskState, write_problem
 from ..paths import display_path
 from ..records import record
 from .text_edits import CannotEdit, canonical, edit_text
-from .writing import DiskState, write_problem
 
 
 @record

@@ -31,10 +31,10 @@ from ..engine.stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
     error_lines,
-    layer_real_path,
     open_stage,
     position_from_error,
 )
+from ..layers.files import layer_real_path
 from ..model import IGNORE_KEY, FileResult, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry

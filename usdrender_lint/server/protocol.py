@@ -185,7 +185,7 @@ class UsdRenderLintServer(LanguageServer):
                 continue
             # Another file, not open: shown where the document brings the object in.
             if index is None:
-                from ..engine.usda_lines import index_usda
+                from ..layers.usda_text import index_usda
 
                 index = index_usda(text)
             line = spec_line(text, finding.location.path, index)

@@ -50,7 +50,7 @@ def spec_line(text: str, path: str | None, index: dict[str, int] | None = None) 
     there is none, that of its nearest ancestor (None: not even a root prim)."""
     if not path:
         return None
-    from ..engine.usda_lines import index_usda
+    from ..layers.usda_text import index_usda
 
     lines = index if index is not None else index_usda(text)
     candidate = path
