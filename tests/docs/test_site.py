@@ -190,3 +190,15 @@ def test_the_changelog_has_this_version() -> None:
     changelog = (REPO / "CHANGELOG.md").read_text(encoding="utf-8")
     assert f"\n## {__version__}\n" in changelog
     assert "\n## Unreleased\n" in changelog
+
+
+def test_the_contributing_page_names_every_test_that_reads_shared() -> None:
+    page = (DOCS / "contributing.md").read_text(encoding="utf-8")
+    section = page.split("## Tests that need `../shared`", 1)[1].split("\n## ", 1)[0]
+    named = set(re.findall(r"`(?:tests/\w+/)?(test_\w+\.py)`", section))
+    readers = {
+        path.name
+        for path in (REPO / "tests").rglob("test_*.py")
+        if re.search(r"\bshared_dir\b|\bSHARED\b", path.read_text(encoding="utf-8"))
+    } - {"test_shared_skips.py"}
+    assert readers - named == set()
