@@ -352,7 +352,14 @@ class UsdRenderLintServer(LanguageServer):
         self.ticks += 1
         try:
             return await loop.run_in_executor(
-                self.executor, self.linting.call, method, path, self.ticks, args, texts, self.timeout
+                self.executor,
+                self.linting.call,
+                method,
+                path,
+                self.ticks,
+                args,
+                texts,
+                self.timeout,
             )
         except LintFailed:
             return None
