@@ -25,7 +25,7 @@ from usdrender_lint import config as config_module
 from usdrender_lint.cli import cli
 from usdrender_lint.config import Settings
 from usdrender_lint.engine import Linter
-from usdrender_lint.engine.linter import Reads
+from usdrender_lint.engine.assets import Reads
 from usdrender_lint.engine.variants import VariantExplorer
 from usdrender_lint.model import FileResult
 from usdrender_lint.running import result_cache

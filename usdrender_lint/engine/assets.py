@@ -18,9 +18,9 @@ from dataclasses import field
 
 from pxr import Sdf, Tf, Usd
 
+from ..layers.files import layer_identifier, layer_real_path
 from ..records import record
 from . import partial
-from .stage import layer_identifier, layer_real_path
 
 #: A URI scheme or the anonymous layers' prefix (``omniverse:``, ``https:``,
 #: ``anon:``); two characters at least, so that ``C:`` stays a drive.

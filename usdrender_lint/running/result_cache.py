@@ -47,8 +47,10 @@ import hashlib
 import json
 import os
 import re
+import shutil
 import stat
 import sys
+import tempfile
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -57,9 +59,9 @@ from typing import TYPE_CHECKING, Any
 from ..atomic import replace_atomically, write_text_atomic
 from ..config import Settings
 from ..engine.assets import ClipTemplate, is_search_path
-from ..formatters.json import ReportFormatError, finding_from_dict, finding_to_dict
 from ..model import FileResult
 from ..records import record
+from ..report_json import ReportFormatError, finding_from_dict, finding_to_dict
 from . import read_ahead
 
 if TYPE_CHECKING:
@@ -177,7 +179,7 @@ def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
     development) changes the key even when the version does not."""
     files: set[str] = set()
     for folder in sys.modules["usdrender_lint"].__path__:
-        for root, dirs, names in os.walk(folder):
+        for root, dirs, names in os.walk(folder, followlinks=True):  # a checkout links rules/
             dirs[:] = [d for d in dirs if not d.startswith((".", "__pycache__"))]
             files.update(os.path.join(root, n) for n in names if n.endswith((".py", ".json")))
     for rule in (*linter.rules, *(linter.known_rules or ())):
@@ -436,18 +438,10 @@ class ResultCache:
         cache cannot be written, or None."""
         tag = self.folder / "CACHEDIR.TAG"
         try:
-            self.folder.parent.mkdir(parents=True, exist_ok=True)
-            try:
-                self.folder.mkdir()
-                created = True
-            except FileExistsError:
-                created = False
-            if not created:
+            if not self._create():
                 self._claim(tag)
-            if created or not tag.exists():
-                write_text_atomic(tag, _CACHEDIR_TAG)
-            if created:  # never into a folder of the user's: it would hide their files from git
-                write_text_atomic(self.folder / ".gitignore", _GITIGNORE)
+                if not tag.exists():
+                    write_text_atomic(tag, _CACHEDIR_TAG)
             self.entries.mkdir(exist_ok=True)
             probe = self.entries / f".probe-{os.getpid()}"
             probe.write_bytes(b"")
@@ -456,6 +450,29 @@ class ResultCache:
             return f"cannot write the result cache {self.folder}: {exc.strerror or exc}"
         return None
 
+    def _create(self) -> bool:
+        """Create the folder with its tag, ``.gitignore`` and entries folder in
+        one rename (a concurrent run never sees it half made); False when it
+        exists already."""
+        if os.path.lexists(self.folder):
+            return False
+        self.folder.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{self.folder.name}.", dir=self.folder.parent))
+        try:
+            (staging / "CACHEDIR.TAG").write_text(_CACHEDIR_TAG, encoding="utf-8")
+            # Only into a folder made here: in a user's, it would hide their files from git.
+            (staging / ".gitignore").write_text(_GITIGNORE, encoding="utf-8")
+            (staging / ENTRIES_DIR).mkdir()
+            try:
+                os.rename(staging, self.folder)
+            except OSError:
+                if not os.path.lexists(self.folder):
+                    raise
+                return False  # another run made it first
+            return True
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
+
     def _claim(self, tag: Path) -> None:
         """Refuse a folder that is not the cache's: not a folder, or holding
         files and no CACHEDIR.TAG of ours."""
@@ -463,7 +480,7 @@ class ResultCache:
             raise ForeignFolder(f"the cache folder {self.folder} is not a folder")
         if _is_ours(tag):
             return
-        if any(os.scandir(self.folder)):
+        if any(not e.name.startswith(".CACHEDIR.TAG.") for e in os.scandir(self.folder)):
             raise ForeignFolder(
                 f"{self.folder} is not a usdrender-lint cache folder (it holds files and no "
                 "CACHEDIR.TAG of ours): give --cache-dir or cache-dir a new or empty folder"

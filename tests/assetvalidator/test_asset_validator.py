@@ -1,0 +1,293 @@
+"""usdrender-lint inside NVIDIA's Asset Validator (``usdrender-lint[omniverse]``).
+
+These tests need the PyPI package ``omniverse-asset-validator`` and this
+project installed with its entry points (``pip install '.[omniverse]'``):
+.ci/run makes that environment of its own (.venv-av) and runs this folder
+there; elsewhere they skip. Every comparison is with what ``check`` reports
+on the same file, run once as a command over all the files.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from collections import Counter, defaultdict
+from pathlib import Path
+
+import pytest
+
+av = pytest.importorskip(
+    "omni.asset_validator",
+    reason="omniverse-asset-validator is not installed (pip install '.[omniverse]')",
+)
+
+from usdrender_lint.assetvalidator import CATEGORY, ENGINE_CHECKER, checker_name  # noqa: E402
+from usdrender_lint.registry import build_registry  # noqa: E402
+
+REPO = Path(__file__).parents[2]
+EXAMPLES = [REPO / "examples" / "broken_shot", REPO / "examples" / "clean_shot"]
+BIN = Path(sys.executable).parent
+RULES = build_registry().rules
+#: Checker name -> rule code (the Asset Validator's JSON names the rule, not the code).
+CODES = {checker_name(rule): rule.code for rule in RULES} | {ENGINE_CHECKER: "UL001"}
+AV_SEVERITY = {"error": "FAILURE", "warning": "WARNING", "info": "INFO"}
+
+
+def _usd_files(folders: list[Path]) -> list[Path]:
+    exts = {".usd", ".usda", ".usdc", ".usdz"}
+    return sorted(p.resolve() for f in folders for p in f.rglob("*") if p.suffix in exts)
+
+
+def _check(files: list[Path], *extra: str) -> dict[str, dict]:
+    """``check --format json`` over ``files`` in one process: findings per file."""
+    out = subprocess.run(
+        [str(BIN / "usdrender-lint"), "check", "--format", "json", "--jobs", "1", *extra]
+        + [str(f) for f in files],
+        capture_output=True,
+        text=True,
+        env=dict(os.environ, USDRENDER_LINT_NO_CACHE="1"),
+        check=False,
+    )
+    assert out.returncode in (0, 1), out.stderr
+    report = json.loads(out.stdout)
+    by_file: dict[str, dict] = {}
+    for result in report["files"]:
+        by_file[str(Path(result["file"]).resolve())] = result
+    return by_file
+
+
+def _expected(result: dict) -> set[tuple]:
+    return {
+        (
+            f["code"],
+            AV_SEVERITY[f["severity"]] if f["code"] != "UL000" else "ERROR",
+            f["path"] or None,
+            f["message"],
+        )
+        for f in result["findings"]
+    }
+
+
+def _engine():
+    """A ValidationEngine with only usdrender-lint's category, as a user makes one."""
+    av.PluginManager().initialize()
+    engine = av.ValidationEngine(init_rules=False)
+    for rule in av.CategoryRuleRegistry().get_rules(CATEGORY):
+        engine.enable_rule(rule)
+    return engine
+
+
+def _issue_key(issue) -> tuple:
+    """(code, severity, Sdf path or None, message) of an Asset Validator Issue."""
+    path = getattr(issue.at, "path", None)
+    return (issue.code, issue.severity.name, str(path) if path else None, issue.message)
+
+
+def test_the_plugin_registers_every_rule_in_its_own_category() -> None:
+    av.PluginManager().initialize()
+    loaded = {p.entrypoint.value for p in av.PluginManager().loaded_plugins}
+    assert "usdrender_lint.assetvalidator:plugin" in loaded
+    registry = av.CategoryRuleRegistry()
+    checkers = registry.get_rules(CATEGORY)
+    assert sorted(c.__name__ for c in checkers) == sorted(CODES)
+    for rule in RULES:
+        checker = registry.find_rule(checker_name(rule))
+        assert checker is not None and registry.get_category(checker) == CATEGORY
+        doc = checker.GetDescription()
+        assert doc.startswith(f"{rule.code} ({rule.name}): ")
+        assert rule.__doc__ and rule.__doc__.strip().splitlines()[0] in doc
+    # No built-in Asset Validator rule lands in our category, none of ours elsewhere.
+    assert all(c.__module__ == "usdrender_lint.assetvalidator" for c in checkers)
+
+
+def _validate_files(files: list[Path]) -> dict[str, set[tuple]]:
+    engine = _engine()
+    got: dict[str, set[tuple]] = {}
+    for path in files:
+        results = engine.validate(str(path))
+        got[str(path)] = {_issue_key(i) for i in results.issues()}
+    return got
+
+
+def _compare(files: list[Path], got: dict[str, set[tuple]]) -> list[str]:
+    expected = _check(files)
+    differences = []
+    for path in files:
+        result = expected[str(path)]
+        codes = {f["code"] for f in result["findings"]}
+        if "ST001" in codes:
+            # USD cannot open it: the Asset Validator says so itself, no rule runs.
+            failed = [k for k in got[str(path)] if k[1] == "ERROR" and "Failed to Open" in k[3]]
+            if not failed:
+                differences.append(f"{path}: ST001 in check, Asset Validator: {got[str(path)]}")
+            continue
+        if got[str(path)] != _expected(result):
+            differences.append(
+                f"{path}:\n  check only: {_expected(result) - got[str(path)]}\n"
+                f"  Asset Validator only: {got[str(path)] - _expected(result)}"
+            )
+    return differences
+
+
+def test_python_api_findings_are_checks_on_the_examples() -> None:
+    files = _usd_files(EXAMPLES)
+    got = _validate_files(files)
+    assert _compare(files, got) == []
+    broken = got[str((REPO / "examples/broken_shot/shot.usda").resolve())]
+    assert {k[0] for k in broken} == {"CA003", "CA004", "SE003", "SE007", "PR004"}
+    assert got[str((REPO / "examples/clean_shot/shot.usda").resolve())] == set()
+
+
+def test_python_api_findings_are_checks_on_the_corpus(shared_dir: Path) -> None:
+    files = _usd_files([shared_dir / "corpus" / "files"])
+    assert files, "the corpus has no USD files"
+    got = _validate_files(files)
+    assert _compare(files, got) == []
+    assert sum(len(v) for v in got.values()) > 0
+
+
+def _cli(target: Path, out: Path, *extra: str) -> dict:
+    """The Asset Validator's own command line, only usdrender-lint's category."""
+    return _cli_run(target, out, *extra)[0]
+
+
+def _cli_run(target: Path, out: Path, *extra: str) -> tuple[dict, str]:
+    run = subprocess.run(
+        [
+            str(BIN / "omni_asset_validate"),
+            "--no-init-rules",
+            "-c",
+            CATEGORY,
+            "--json-output",
+            str(out),
+            *extra,
+            str(target),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert out.exists(), run.stdout + run.stderr
+    return json.loads(out.read_text()), run.stdout + run.stderr
+
+
+def _cli_issue(rule: dict, issue: dict) -> tuple:
+    at = issue.get("at") or {}
+    kind = at.get("type")
+    path = at.get("path") if kind in ("PRIM", "PROPERTY", "ATTRIBUTE", "RELATIONSHIP") else None
+    if path and kind != "PRIM":
+        path = f"{path}.{at['name']}"
+    return (CODES.get(rule["rule"]["name"]), issue["severity"], path, issue["message"])
+
+
+def _cli_issues(document: dict) -> set[tuple]:
+    return {_cli_issue(r, i) for r in document.get("rules", []) for i in r.get("issues", [])}
+
+
+def test_command_line_findings_are_checks_file_by_file(tmp_path: Path) -> None:
+    files = _usd_files(EXAMPLES)
+    expected = _check(files)
+    for path in files:
+        if "ST001" in {f["code"] for f in expected[str(path)]["findings"]}:
+            continue
+        document = _cli(path, tmp_path / f"{path.parent.name}_{path.stem}.json")
+        assert _cli_issues(document) == _expected(expected[str(path)]), path
+
+
+def test_a_suggestion_applies_the_text_edit_of_check_fix(tmp_path: Path) -> None:
+    source = REPO / "examples" / "broken_shot" / "shot.usda"
+    by_cli, by_api, by_av_cli = (tmp_path / name / "shot.usda" for name in ("a", "b", "c"))
+    for copy in (by_cli, by_api, by_av_cli):
+        copy.parent.mkdir()
+        shutil.copy(source, copy)
+    subprocess.run([str(BIN / "usdrender-lint"), "check", "--fix", str(by_cli)], check=False)
+    # The Python API: validate, fix, save (the Asset Validator's documented flow).
+    results = _engine().validate(str(by_api))
+    fixer = av.IssueFixer(str(by_api))
+    statuses = {r.issue.code: r.status.name for r in fixer.fix(list(results.issues()))}
+    fixer.save()
+    assert statuses["CA004"] == "SUCCESS" and statuses["SE007"] == "SUCCESS"
+    assert statuses["SE003"] == "NO_SUGGESTION"  # an unsafe fix: check --fix leaves it too
+    assert by_api.read_text() == by_cli.read_text() != source.read_text()
+    assert "# CA004: the camera relationship targets the rig" in by_api.read_text()
+    # Its command line's --fix.
+    _cli(by_av_cli, tmp_path / "fix.json", "--fix")
+    assert by_av_cli.read_text() == by_cli.read_text()
+
+
+def test_shutdown_unregisters_the_rules() -> None:
+    from usdrender_lint.assetvalidator import UsdRenderLintPlugin
+
+    own = UsdRenderLintPlugin()
+    registry = av.CategoryRuleRegistry()
+    before = len(registry.get_rules(CATEGORY))
+    own.on_startup()  # new classes of the same names, registered beside the plugin's
+    assert len(registry.get_rules(CATEGORY)) == before + len(CODES)
+    own.on_shutdown()
+    assert len(registry.get_rules(CATEGORY)) == before
+
+
+_LOGGED = re.compile(r"^(ERROR|WARNING|INFO):omni\.asset_validator\._cli:\[(\w+)\] (.*)$")
+_ASSET = re.compile(r"^INFO:omni\.asset_validator\._cli:Results for Asset '(.*)'$")
+
+
+def _logged_by_asset(log: str) -> dict[str, list[tuple[str, str]]]:
+    """The command line's log: (rule name, message and location) per asset."""
+    blocks: dict[str, list[tuple[str, str]]] = defaultdict(list)
+    asset = None
+    for line in log.splitlines():
+        if header := _ASSET.match(line):
+            asset = str(Path(header.group(1)).resolve())
+            blocks[asset]
+        elif (issue := _LOGGED.match(line)) and asset is not None:
+            blocks[asset].append((issue.group(2), issue.group(3)))
+    return blocks
+
+
+def test_command_line_findings_are_checks_on_the_corpus(shared_dir: Path, tmp_path: Path) -> None:
+    """One run of the Asset Validator's command line over the corpus folder:
+    per file (its log) the same rules and messages as check, and over all
+    (its JSON, which names no file) the same findings with their paths."""
+    folder = shared_dir / "corpus" / "files"
+    files = _usd_files([folder])
+    expected = _check(files)
+    document, log = _cli_run(folder, tmp_path / "corpus.json")
+    logged = _logged_by_asset(log)
+    assert set(logged) == {str(p) for p in files}
+    differences = []
+    everything: Counter = Counter()
+    for path in files:
+        result = expected[str(path)]
+        if "ST001" in {f["code"] for f in result["findings"]}:
+            if not any(
+                name == "other" and "Failed to Open" in rest for name, rest in logged[str(path)]
+            ):
+                differences.append(f"{path}: ST001 in check, not a failed open")
+            continue
+        everything.update(_expected(result))
+        left = list(logged[str(path)])
+        for code, _, _, message in sorted(_expected(result)):
+            match = next(
+                (e for e in left if CODES.get(e[0]) == code and e[1].startswith(message)), None
+            )
+            if match is None:
+                differences.append(f"{path}: {code} {message!r} not in the Asset Validator's log")
+            else:
+                left.remove(match)
+        differences.extend(f"{path}: only in the Asset Validator: {extra}" for extra in left)
+    assert differences == []
+    assert Counter(_cli_issues_list(document)) == everything
+
+
+def _cli_issues_list(document: dict) -> list[tuple]:
+    found = []
+    for rule in document.get("rules", []):
+        if rule["rule"]["name"] not in CODES:
+            continue  # the Asset Validator's own "failed to open"
+        for issue in rule.get("issues", []):
+            found.append(_cli_issue(rule, issue))
+    return found
