@@ -74,8 +74,17 @@ def test_every_profile_has_its_page_with_every_change(generated: dict[str, str])
             row = next(line for line in page.splitlines() if f"[{change.code}](" in line)
             assert change.why.split()[0] in row
             assert change.source.split()[0] in row
-        for accepted in (*profile.camera_types, *profile.prim_types, *profile.product_types):
+        accepted_names = (
+            *profile.camera_types,
+            *profile.prim_types,
+            *profile.product_types,
+            *profile.var_outputs,
+            *profile.layer_data,
+        )
+        for accepted in accepted_names:
             assert f"`{accepted.name}`" in page
+        for source in profile.evidence_sources:
+            assert source.split()[0] in page
 
 
 def test_the_configuration_reference_lists_every_key_the_parser_accepts(
