@@ -25,7 +25,13 @@ from .config import (
     check_timeout,
     load_settings,
 )
-from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
+from .formatters import (
+    FormatOptions,
+    available_formatters,
+    escaped,
+    load_formatter,
+    reads_rules,
+)
 from .model import Report
 from .paths import escape, printable
 from .running import read_ahead as _read_ahead
@@ -491,7 +497,7 @@ def _emit_report(
     formatter that reads them: building that costs every rule's docstring."""
     formatter = load_formatter(output_format)
     if reads_rules(formatter):
-        from .api.docs import rule_info
+        from .explain import rule_info
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     check_stopped()
@@ -594,10 +600,10 @@ def spec_command(
     _import_engine(read_ahead=_linted_here(paths, config_path, isolated, no_roots=True))
     from functools import partial
 
+    from .render_spec.compute import SpecOptions, compute_file_spec
+    from .render_spec.document import spec_document
     from .running.inspect import InspectedFile, InspectRequest, inspect_files
     from .running.pipeline import RequestError
-    from .spec.compute import SpecOptions, compute_file_spec
-    from .spec.document import spec_document
 
     options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
     request = InspectRequest(
@@ -625,11 +631,19 @@ def _emit_spec(
     document: dict, output_format: str, output: str | None, inputs: Sequence[str] = ()
 ) -> None:
     """The spec document as JSON or text, to stdout or ``output`` (atomically),
-    or as one SVG per product into the folder ``output`` (listing the files)."""
+    or as one SVG per product into the folder ``output`` (listing the files).
+    Names that are not UTF-8 are written in their lossless escaped form, and
+    the views printed as they are escape control characters too."""
+    from functools import partial
+
+    if output_format == "json":
+        document = escaped(document)
+    else:
+        document = escaped(document, partial(printable, limit=None))
     if output_format == "svg":
         from pathlib import Path
 
-        from .spec.svg import svg_files
+        from .render_spec.svg import svg_files
 
         folder = Path(output or ".")
         if folder.exists() and not folder.is_dir():
@@ -657,7 +671,7 @@ def _emit_spec(
         import io
 
         from .formatters.text import write_lines
-        from .spec.textview import document_lines
+        from .render_spec.textview import document_lines
 
         if output is None:
             stdout = _Stdout()
@@ -730,6 +744,14 @@ def list_rules(output_format: str, profile: str | None) -> None:
     _write(rules_text(lines, _terminal_width(), title))
 
 
+@cli.command("server")
+def server_command() -> None:
+    """Run the language server for editors (LSP over stdio; the [server] extra)."""
+    from .server import main as serve
+
+    serve()
+
+
 def _terminal_width() -> int | None:
     """The terminal's width, or None when stdout is not a terminal."""
     if sys.stdout is None or not sys.stdout.isatty():
@@ -772,16 +794,13 @@ def rules_text(rows: Sequence[tuple[str, ...]], width: int | None, title: str) -
 @click.argument("rule")
 def explain(rule: str) -> None:
     """Print a rule's documentation (by code or name)."""
-    from .api.docs import rule_doc
     from .model import INTERNAL_ERROR_RULE as internal
 
     found = _registry().find(rule)
     if found is not None:
-        from .profiles.effective import profile_treatment
+        from .explain import explain_text
 
-        header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
-        lines = "\n".join(f"- {line}" for line in profile_treatment(found))
-        _write(f"{header}\n\n{rule_doc(found)}\n\n## Under each profile\n{lines}\n")
+        _write(explain_text(found))
     elif rule.upper() == internal.code or rule.lower() == internal.name:
         header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
         _write(f"{header}\n\n{internal.doc}\n")

@@ -20,7 +20,7 @@ from pathlib import Path
 from pxr import Sdf, Tf
 
 from ..atomic import keep_owner, replace_atomically, temporary_prefix
-from ..engine.stage import layer_identifier, layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
 from ..paths import display_path, usd_path
 from ..records import record
 
@@ -151,7 +151,11 @@ class _Held:
             os.replace(self.backup, self.state.path)
             self.backup = None
         else:  # no hard links here: its content goes back, in a new file
-            replace_atomically(self.state.path, lambda t: t.write_bytes(data))
+
+            def put_back(temporary: Path) -> None:
+                temporary.write_bytes(data)
+
+            replace_atomically(self.state.path, put_back)
         raise ChangedOnDisk(
             "it changed on disk while the fix was written; the fix was undone and the "
             "other edit kept"
