@@ -150,7 +150,9 @@ class StageFixer:
         # USD's own warnings (e.g. while exporting a spline) stay off the user's stderr.
         with Tf.DiagnosticTrap() as trap:
             try:
-                self.sources = Sources(self.stage, in_memory=self.in_memory)
+                self.sources = Sources(
+                    self.stage, in_memory=self.in_memory, writing=self.options.write
+                )
                 self.findings = self._attempts()
                 if not self.in_memory:
                     self._finish()

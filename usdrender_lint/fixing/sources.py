@@ -57,9 +57,11 @@ class Sources:
     """The editable layers of one stage. ``in_memory`` (--fix-to): nothing is
     written, so any layer may change in memory and no text is kept."""
 
-    def __init__(self, stage: Usd.Stage, *, in_memory: bool = False) -> None:
+    def __init__(self, stage: Usd.Stage, *, in_memory: bool = False, writing: bool = True) -> None:
         self.stage = stage
         self.in_memory = in_memory
+        #: False for --diff: a read-only file may still be shown as a patch.
+        self.writing = writing
         self.known: dict[str, LayerSource] = {}
         for layer in stage.GetLayerStack(includeSessionLayers=False):
             self.known[layer_identifier(layer)] = self._read(layer)
@@ -68,7 +70,7 @@ class Sources:
         exported = layer.ExportToString()
         if self.in_memory:
             return LayerSource(layer, None, exported, None, None)
-        problem = write_problem(layer)
+        problem = write_problem(layer, self.writing)
         disk = None
         text = None
         if layer_real_path(layer) and problem is None:
