@@ -71,7 +71,7 @@ def normal(line: str) -> str:
 
 def comments(text: str) -> Counter:
     """Every comment's text (the header line's too)."""
-    from usdrender_lint.engine.usda_lines import comment_lines
+    from usdrender_lint.layers.usda_text import comment_lines
 
     found: Counter = Counter()
     all_lines = text.split("\n")

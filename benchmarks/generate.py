@@ -355,6 +355,98 @@ def generate_many(
     return files
 
 
+def _gate_render(layer: Sdf.Layer, index: int) -> None:
+    """The render prims of a CI-gate shot: 3 cameras, 6 vars, 12 products,
+    4 RenderSettings and 4 passes, as a production shot file holds them; every
+    tenth shot has two mistakes (a malformed data window, a missing camera)."""
+    names = Sdf.ValueTypeNames
+    _prim(layer, "/World/cams", "Xform")
+    cameras = []
+    for c, focal in enumerate((35.0, 50.0, 85.0)):
+        cam = _prim(layer, f"/World/cams/cam{c}", "Camera")
+        _attr(cam, "focalLength", names.Float, focal)
+        _attr(cam, "horizontalAperture", names.Float, 36.0)
+        _attr(cam, "verticalAperture", names.Float, 20.25)
+        _attr(cam, "clippingRange", names.Float2, Gf.Vec2f(0.1, 10000.0))
+        cameras.append(cam.path.pathString)
+    _prim(layer, "/Render", "Scope")
+    _prim(layer, "/Render/Vars", "Scope")
+    var_paths = []
+    for name, source, data_type in (
+        ("color", "Ci", "color3f"),
+        ("alpha", "a", "float"),
+        ("depth", "z", "float"),
+        ("normal", "N", "normal3f"),
+        ("position", "P", "point3f"),
+        ("albedo", "albedo", "color3f"),
+    ):
+        var = _prim(layer, f"/Render/Vars/{name}", "RenderVar")
+        _attr(var, "sourceName", names.String, source, uniform=True)
+        _attr(var, "dataType", names.Token, data_type, uniform=True)
+        _attr(var, "sourceType", names.Token, "raw", uniform=True)
+        var_paths.append(var.path.pathString)
+    _prim(layer, "/Render/Products", "Scope")
+    products = []
+    for p in range(12):
+        product = _prim(layer, f"/Render/Products/out{p:02d}", "RenderProduct")
+        _attr(product, "productName", names.Token, f"shot{index:04d}.out{p:02d}.####.exr")
+        _rel(product, "orderedVars", var_paths[: 2 + p % 5])
+        if p % 3 == 0:
+            _rel(product, "camera", [cameras[p % 3]])
+            _attr(product, "resolution", names.Int2, Gf.Vec2i(2048, 858), uniform=True)
+        products.append(product.path.pathString)
+    settings_paths = []
+    for s in range(4):
+        settings = _prim(layer, f"/Render/Settings{s}", "RenderSettings")
+        _attr(settings, "resolution", names.Int2, Gf.Vec2i(1920, 1080), uniform=True)
+        _attr(settings, "pixelAspectRatio", names.Float, 1.0, uniform=True)
+        _attr(settings, "aspectRatioConformPolicy", names.Token, "expandAperture", uniform=True)
+        _attr(settings, "includedPurposes", names.TokenArray, ["default", "render"], uniform=True)
+        _attr(settings, "materialBindingPurposes", names.TokenArray, ["full", ""], uniform=True)
+        broken = index % 10 == 0 and s == 3
+        _rel(settings, "camera", ["/World/cams/noSuchCam" if broken else cameras[s % 3]])
+        _rel(settings, "products", products[s * 3 : s * 3 + 3])
+        if broken:
+            _attr(settings, "dataWindowNDC", names.Float4, Gf.Vec4f(0.8, 0, 0.2, 1), uniform=True)
+        settings_paths.append(settings.path.pathString)
+    _prim(layer, "/Render/Passes", "Scope")
+    for r in range(4):
+        render_pass = _prim(layer, f"/Render/Passes/pass{r}", "RenderPass")
+        _attr(render_pass, "passType", names.Token, "prman", uniform=True)
+        _rel(render_pass, "renderSource", [settings_paths[r]])
+        _rel(render_pass, "collection:renderVisibility:includes", ["/World/geo"])
+    layer.pseudoRoot.SetInfo("renderSettingsPrimPath", settings_paths[0])
+
+
+def _gate_shot(path: Path, index: int, prims: int) -> None:
+    """A CI-gate shot file: the render prims of :func:`_gate_render` and about
+    ``prims`` scene prims (groups of meshes)."""
+    layer = _new_layer(path)
+    with Sdf.ChangeBlock():
+        _prim(layer, "/World", "Xform")
+        _gate_render(layer, index)
+        _prim(layer, "/World/geo", "Xform")
+        budget = max(0, prims - 5)
+        per_group = 9
+        for g in range(math.ceil(budget / (per_group + 1))):
+            group = f"/World/geo/grp_{g:03d}"
+            _prim(layer, group, "Xform")
+            for m in range(min(per_group, budget - g * (per_group + 1) - 1)):
+                _mesh(layer, f"{group}/mesh_{m}", index + g * per_group + m)
+    layer.Save()
+
+
+def generate_gate(folder: str | Path, count: int = 200, prims: int = 200) -> list[Path]:
+    """Write ``count`` CI-gate shots (see :func:`_gate_shot`) as ``.usda``."""
+    folder = Path(folder)
+    files = []
+    for i in range(count):
+        path = folder / f"gate_{i:04d}.usda"
+        _gate_shot(path, i, prims)
+        files.append(path)
+    return files
+
+
 def generate_purposes(folder: str | Path, count: int, fmt: str = "usdc") -> Path:
     """One RenderSettings whose includedPurposes lists "default" ``count``
     times: hostile content (issue 13) whose message must be bounded."""
@@ -412,6 +504,10 @@ def main(argv: list[str] | None = None) -> int:
     many.add_argument(
         "--defect-every", type=int, default=10, help="every Nth file has defects (0: none)"
     )
+    gate = sub.add_parser("gate", help="a folder of CI-gate shots (many render prims each)")
+    gate.add_argument("folder")
+    gate.add_argument("--count", type=int, default=200)
+    gate.add_argument("--prims", type=int, default=200)
     purposes = sub.add_parser("purposes", help="includedPurposes listing 'default' COUNT times")
     purposes.add_argument("folder")
     purposes.add_argument("--count", type=int, default=2_000_000)
@@ -420,7 +516,9 @@ def main(argv: list[str] | None = None) -> int:
     variant_sets.add_argument("folder")
     variant_sets.add_argument("--count", type=int, default=10_000)
     args = parser.parse_args(argv)
-    if args.what == "purposes":
+    if args.what == "gate":
+        print(f"{len(generate_gate(args.folder, args.count, args.prims))} files in {args.folder}")
+    elif args.what == "purposes":
         print(generate_purposes(args.folder, args.count, args.format))
     elif args.what == "variant-sets":
         print(generate_variant_sets(args.folder, args.count))

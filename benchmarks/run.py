@@ -20,6 +20,10 @@ medians, and "paired" is the median of the rounds' own ratios. The goals
   the unsharded report;
 - many files (500 shots of ~200 prims): ``--jobs 2`` files/s >= 1.7x
   ``--jobs 1``; the per-file cost in one process (issue 6: <= 1.2x a bare open).
+- the CI gate (issue 27: 200 and 1,000 shots, each with 4 RenderSettings, 12
+  products, 6 vars, 4 passes and 3 cameras): ``check --jobs 1`` <= 2x one
+  process that opens and traverses the same shots, ``--jobs 2`` >= 1.7x
+  ``--jobs 1``, and ``--jobs 2``'s peak RSS per process <= 1.5x a lint of one shot.
 
 Floors are printed beside the goals they bound: a bare open that also imports
 click (what the stack costs before any linter code runs; the rules name
@@ -47,6 +51,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shlex
 import shutil
 import statistics
 import subprocess
@@ -482,6 +487,58 @@ def many_files(work: Path, count: int, rounds: int) -> dict[str, float]:
     return {"jobs_speedup": speedup, "per_file": per_file_check / per_file_bare}
 
 
+OPEN_TRAVERSE_ALL = (
+    "import sys; from pxr import Usd\n"
+    "for f in sys.argv[1:]:\n"
+    "    stage = Usd.Stage.Open(f)\n"
+    "    for prim in stage.Traverse(): pass"
+)
+
+
+def gate(work: Path, count: int, rounds: int) -> dict[str, float]:
+    """Issue 27: the CI gate, ``count`` shots of ~200 scene prims, each with 4
+    RenderSettings, 12 products, 6 vars, 4 passes and 3 cameras. The floor is
+    one Python process that opens and traverses the same files (for ``--jobs
+    2``: two such processes at once, each over half of them)."""
+    folder = ensure(work / f"gate_{count}", "gate", "--count", str(count))
+    files = sorted(str(p) for p in folder.glob("gate_*.usda"))
+    half = len(files) // 2
+    two_floors = (
+        f"{PYTHON} -c {shlex.quote(OPEN_TRAVERSE_ALL)} {' '.join(files[:half])} & "
+        f"{PYTHON} -c {shlex.quote(OPEN_TRAVERSE_ALL)} {' '.join(files[half:])} & wait"
+    )
+    floor1 = Series(
+        f"open+traverse {count} shots, 1 process", [PYTHON, "-c", OPEN_TRAVERSE_ALL, *files]
+    )
+    floor2 = Series(f"open+traverse {count} shots, 2 processes", ["sh", "-c", two_floors])
+    jobs1 = Series(f"check --jobs 1 {count} shots", [*CHECK, "--jobs", "1", str(folder)])
+    jobs2 = Series(f"check --jobs 2 {count} shots", [*CHECK, "--jobs", "2", str(folder)])
+    one = Series("check --jobs 1, 1 shot", [*CHECK, "--jobs", "1", files[0]])
+    series = [floor1, floor2, jobs1, jobs2, one]
+    measure(series, rounds)
+    print(f"\nCI gate: {count} shots (.usda, 4 settings, 12 products each), {rounds} rounds")
+    for s in series:
+        print(row(s))
+    for label, lint, floor in (("--jobs 1", jobs1, floor1), ("--jobs 2", jobs2, floor2)):
+        print(
+            f"  {label}: {lint.median() / count * 1000:.2f} ms a shot, floor "
+            f"{floor.median() / count * 1000:.2f} ms = {lint.median() / floor.median():.2f}x"
+            f" (paired {paired(lint, floor):.2f}x; CPU time {lint.cpu() / floor.cpu():.2f}x,"
+            " the figure load moves least)"
+        )
+    speedup = jobs1.median() / jobs2.median()
+    print(f"  --jobs 2 is {speedup:.2f}x --jobs 1")
+    print(
+        f"  peak RSS: --jobs 2 {jobs2.rss_mb():.0f} MB per process, one shot "
+        f"{one.rss_mb():.0f} MB = {jobs2.rss_mb() / one.rss_mb():.2f}x"
+    )
+    return {
+        f"gate_{count}_jobs1": jobs1.median() / floor1.median(),
+        f"gate_{count}_speedup": speedup,
+        f"gate_{count}_rss": jobs2.rss_mb() / one.rss_mb(),
+    }
+
+
 def hostile(work: Path, rounds: int) -> dict[str, float]:
     """Issue 13: a 2M-entry includedPurposes lints within 3x of a bare open of
     it (the message quotes only what it can hold), and --variants composes the
@@ -534,10 +591,18 @@ GOALS = {
     "variants_per_set": ("<=", 10.0),
     "jobs_speedup": (">=", 1.7),
     "per_file": ("<=", 1.2),
+    # Issue 27, the CI gate: --jobs 1 at most 2x opening and traversing the
+    # shots in one process, --jobs 2 at least 1.7x --jobs 1, and the peak RSS
+    # per process of --jobs 2 at most 1.5x a lint of one shot.
+    "gate_jobs1": ("<=", 2.0),
+    "gate_speedup": (">=", 1.7),
+    "gate_rss": ("<=", 1.5),
 }
 
 
 def _goal(key: str) -> tuple[str, float] | None:
+    if key.startswith("gate_"):
+        return GOALS.get("gate_" + key.rsplit("_", 1)[1])
     for suffix in ("identical", "rss", "spec"):
         if key.endswith(suffix):
             return GOALS[suffix]
@@ -548,7 +613,7 @@ def _goal(key: str) -> tuple[str, float] | None:
 
 
 def verdict(figures: dict[str, float]) -> bool:
-    print("\nGoals (issues 17, 16, 13 and 6):")
+    print("\nGoals (issues 27, 17, 16, 13 and 6):")
     ok = True
     for key, value in figures.items():
         goal = _goal(key)
@@ -562,7 +627,7 @@ def verdict(figures: dict[str, float]) -> bool:
     return ok
 
 
-CASES = ("one-file", "referenced", "startup", "cache", "shards", "many", "hostile")
+CASES = ("one-file", "referenced", "startup", "cache", "shards", "many", "gate", "hostile")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -579,6 +644,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--big-rounds", type=int, default=3, help="rounds of the big stages")
     parser.add_argument("--files", type=int, default=500, help="files of the many-files case")
     parser.add_argument(
+        "--gate-shots", default="200,1000", help="shot counts of the CI-gate case, comma-separated"
+    )
+    parser.add_argument(
         "--cache-files", type=int, default=4000, help="files of the cache and shards cases"
     )
     parser.add_argument("--shards", type=int, default=2, help="N of the shards case")
@@ -593,7 +661,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     args = parser.parse_args(argv)
     if args.quick:
-        args.sizes, args.files, args.cache_files = "10000", 100, 400
+        args.sizes, args.files, args.cache_files, args.gate_shots = "10000", 100, 400, "100"
         args.rounds = args.big_rounds = 3
     work = Path(args.work)
     use_bytecode_cache(work)
@@ -615,6 +683,9 @@ def main(argv: list[str] | None = None) -> int:
         figures.update(shards(work, args.cache_files, args.shards, args.rounds))
     if "many" in cases:
         figures.update(many_files(work, args.files, args.rounds))
+    if "gate" in cases:
+        for count in (int(c) for c in args.gate_shots.split(",") if c.strip()):
+            figures.update(gate(work, count, args.rounds))
     if "hostile" in cases:
         figures.update(hostile(work, args.rounds))
     return 0 if verdict(figures) else 1

@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -9,6 +10,7 @@ TESTS = Path(__file__).parent
 REPO = TESTS.parent
 #: ../shared beside the project: present on developer machines and in CI only.
 SHARED = Path(os.environ.get("USDRENDER_LINT_SHARED", REPO.parent / "shared"))
+SHARED_MISSING = "../shared is not present (only on developer machines and in CI)"
 
 
 @pytest.fixture(autouse=True)
@@ -22,5 +24,25 @@ def _no_result_cache(monkeypatch: pytest.MonkeyPatch) -> None:
 @pytest.fixture
 def shared_dir() -> Path:
     if not SHARED.is_dir():
-        pytest.skip("../shared is not present (only on developer machines and in CI)")
+        pytest.skip(SHARED_MISSING)
     return SHARED
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> Iterator[None]:
+    """One line, just above pytest's closing one, for a plain clone: how many
+    tests skipped because ../shared (the real-file corpus, the rule catalog) is
+    not there, and where the contributing guide says what they cover. (The
+    outermost wrapper: after the short test summary that ``-ra`` prints.)"""
+    yield
+    skipped = [
+        report
+        for report in terminalreporter.stats.get("skipped", [])
+        if SHARED_MISSING in str(getattr(report, "longrepr", ""))
+    ]
+    if skipped:
+        count = f"{len(skipped)} test{'s' if len(skipped) != 1 else ''}"
+        terminalreporter.write_line(
+            f"{count} skipped for want of ../shared (the real-file corpus and the rule "
+            "catalog): see 'Tests that need ../shared' in docs/contributing.md"
+        )

@@ -7,23 +7,6 @@ from __future__ import annotations
 __version__ = "0.1.0"
 
 
-# In a source checkout the built-in rules sit beside the package (./rules, which
-# installs as usdrender_lint.rules): with the checkout's root as the current
-# directory Python imports this tree, not the installed copy, so let the
-# package find its rules there too. Installed, usdrender_lint/rules exists.
-def _find_source_rules() -> None:
-    import os
-
-    here = __path__[0]
-    checkout = os.path.dirname(here)
-    if not os.path.isdir(os.path.join(here, "rules")) and os.path.isfile(
-        os.path.join(checkout, "rules", "__init__.py")
-    ):
-        __path__.append(checkout)
-
-
-_find_source_rules()
-
 TYPE_CHECKING = False
 if TYPE_CHECKING:  # the Python API, for type checkers; imported lazily below
     from .running.python_api import lint_file, lint_stage

@@ -27,7 +27,7 @@ from .config import (
 )
 from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
 from .model import Report
-from .paths import escape
+from .paths import escape, printable
 from .running import read_ahead as _read_ahead
 from .running import supervisor
 from .running.interrupts import Stopped, check_stopped, stop_on_signals
@@ -59,7 +59,7 @@ class StdoutGone(Exception):
 
 
 def _error(message: str) -> None:
-    click.echo(f"usdrender-lint: error: {escape(message)}", err=True)
+    click.echo(f"usdrender-lint: error: {printable(message)}", err=True)
 
 
 class _Stdout:
@@ -367,7 +367,7 @@ def check(
     else:
         _emit_report(outcome.report, output_format, outcome.rules, options, output_file)
     for note in outcome.notes:
-        click.echo(f"usdrender-lint: {escape(note)}", err=True)
+        click.echo(f"usdrender-lint: {printable(note)}", err=True)
     for error in outcome.errors:
         _error(error)
     sys.exit(outcome.exit_status)
@@ -465,7 +465,7 @@ def _emit_report(
     formatter that reads them: building that costs every rule's docstring."""
     formatter = load_formatter(output_format)
     if reads_rules(formatter):
-        from .api.docs import rule_info
+        from .explain import rule_info
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     check_stopped()
@@ -566,10 +566,10 @@ def spec_command(
     _import_engine(read_ahead=_linted_here(paths, config_path, isolated, no_roots=True))
     from functools import partial
 
+    from .render_spec.compute import SpecOptions, compute_file_spec
+    from .render_spec.document import spec_document
     from .running.inspect import InspectedFile, InspectRequest, inspect_files
     from .running.pipeline import RequestError
-    from .spec.compute import SpecOptions, compute_file_spec
-    from .spec.document import spec_document
 
     options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
     request = InspectRequest(
@@ -592,7 +592,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
     if output_format == "svg":
         from pathlib import Path
 
-        from .spec.svg import svg_files
+        from .render_spec.svg import svg_files
 
         folder = Path(output or ".")
         if folder.exists() and not folder.is_dir():
@@ -603,7 +603,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
             raise ToolError(f"{folder}: cannot create the folder: {exc.strerror or exc}") from None
         for name, text in svg_files(document):
             _write_file(folder / name, text, "the picture")
-            _write(f"{escape(str(folder / name))}\n")
+            _write(f"{printable(str(folder / name))}\n")
         return
     if output_format == "json":
         import json
@@ -613,7 +613,7 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
         import io
 
         from .formatters.text import write_lines
-        from .spec.textview import document_lines
+        from .render_spec.textview import document_lines
 
         if output is None:
             stdout = _Stdout()
@@ -686,6 +686,14 @@ def list_rules(output_format: str, profile: str | None) -> None:
     _write(rules_text(lines, _terminal_width(), title))
 
 
+@cli.command("server")
+def server_command() -> None:
+    """Run the language server for editors (LSP over stdio; the [server] extra)."""
+    from .server import main as serve
+
+    serve()
+
+
 def _terminal_width() -> int | None:
     """The terminal's width, or None when stdout is not a terminal."""
     if sys.stdout is None or not sys.stdout.isatty():
@@ -728,16 +736,13 @@ def rules_text(rows: Sequence[tuple[str, ...]], width: int | None, title: str) -
 @click.argument("rule")
 def explain(rule: str) -> None:
     """Print a rule's documentation (by code or name)."""
-    from .api.docs import rule_doc
     from .model import INTERNAL_ERROR_RULE as internal
 
     found = _registry().find(rule)
     if found is not None:
-        from .profiles.effective import profile_treatment
+        from .explain import explain_text
 
-        header = f"{found.code} {found.name} ({found.severity.value}, fix: {found.fix_safety})"
-        lines = "\n".join(f"- {line}" for line in profile_treatment(found))
-        _write(f"{header}\n\n{rule_doc(found)}\n\n## Under each profile\n{lines}\n")
+        _write(explain_text(found))
     elif rule.upper() == internal.code or rule.lower() == internal.name:
         header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
         _write(f"{header}\n\n{internal.doc}\n")
@@ -806,7 +811,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         if os.environ.get("USDRENDER_LINT_DEBUG"):
             raise
         click.echo(
-            f"usdrender-lint: internal error: {type(exc).__name__}: {escape(str(exc))} "
+            f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
             "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
             err=True,
         )

@@ -39,9 +39,13 @@ class ConfigError(Exception):
 
 @record(frozen=True)
 class Settings:
+    #: Rules to run: codes, code prefixes or names ("ALL"); by default every rule.
     select: tuple[str, ...] | None = None
+    #: Rules to skip: codes, code prefixes or names.
     ignore: tuple[str, ...] = ()
+    #: Rules added to ``select``.
     extend_select: tuple[str, ...] = ()
+    #: The lowest severity that fails the run (exit 1): error, warning, info or never.
     fail_on: str = "error"
     #: Severity overrides, keyed by rule code or name.
     severity: Mapping[str, Severity] = field(default_factory=dict)
@@ -55,8 +59,9 @@ class Settings:
     time_sample_cap: int = 1000
     #: Rules (codes, prefixes or names) whose fixes --fix never applies.
     unfixable: tuple[str, ...] = ()
-    #: Also lint under other variant selections (--variants), at most this many.
+    #: Also lint under other variant selections of the render prims (--variants).
     variants: bool = False
+    #: The most variant combinations linted per file with ``variants``.
     max_variant_combinations: int = 64
     #: The renderer profile: "auto" (inferred per RenderSettings) or a name.
     profile: str = "auto"

@@ -5,6 +5,7 @@ escaped form any output can carry (no pxr)."""
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 
@@ -47,6 +48,42 @@ def escape(text: str) -> str:
         raw = text.encode("utf-8", "surrogateescape").replace(b"\\", b"\\\\")
         return raw.decode("utf-8", "backslashreplace")
     return text
+
+
+#: Characters no printed line carries as they are: C0 and C1 controls and DEL
+#: (a layer's token value could move the cursor, colour or retitle a terminal,
+#: or start a forged report line), Unicode line and paragraph separators, and
+#: the bidirectional controls that reorder what a reader sees ("Trojan Source").
+_UNPRINTABLE = "\x00-\x1f\x7f-\x9f\u061c\u200e\u200f\u2028\u2029\u202a-\u202e\u2066-\u2069"
+_SHORT = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
+_PATTERNS: dict[str, re.Pattern[str]] = {}
+#: Characters of a message, a path or an error printed for a person (text,
+#: GitHub annotations, SARIF, stderr) at most; the JSON report keeps it whole.
+PRINT_LIMIT = 2000
+
+
+def printable(text: str, keep: str = "", limit: int | None = PRINT_LIMIT) -> str:
+    """``text`` as a printed line may carry it: :func:`escape` d, with every
+    control character but those in ``keep`` written ``\\n``, ``\\x1b`` or
+    ``\\u202e``, and cut at ``limit`` characters (saying how long it was)."""
+    pattern = _PATTERNS.get(keep)
+    if pattern is None:
+        kept = "".join(f"\\x{ord(c):02x}" for c in keep)
+        body = f"[{_UNPRINTABLE}]" if not kept else f"(?![{kept}])[{_UNPRINTABLE}]"
+        pattern = _PATTERNS[keep] = re.compile(body)
+    shown = pattern.sub(_escaped_control, escape(text))
+    if limit is not None and len(shown) > limit:
+        shown = (
+            f"{shown[:limit]}... [cut: {len(text):,} characters in all; the JSON report holds them]"
+        )
+    return shown
+
+
+def _escaped_control(match: re.Match[str]) -> str:
+    char = match.group()
+    if char in _SHORT:
+        return _SHORT[char]
+    return f"\\x{ord(char):02x}" if ord(char) < 0x100 else f"\\u{ord(char):04x}"
 
 
 def usd_path(path: str) -> str | bytes:

@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules.settings.se003_data_window_malformed import DataWindowMalformed
 
 from usdrender_lint.registry import SelectionError
+from usdrender_lint.rules.settings.se003_data_window_malformed import DataWindowMalformed
 from usdrender_lint.testing import (
     Expectation,
     ExpectationError,

@@ -24,26 +24,45 @@ ALLOWED: dict[str, set[str]] = {
     "atomic": set(),
     "entrypoints": set(),
     "config": {"records", "model"},
+    # layers: the floor below the engine and the fixer (.usda text, layer files, writing).
+    "layers": {"records", "api", "paths", "atomic"},
+    # report_json: the report's JSON codec, beside the model.
+    "report_json": {"model", "paths"},
     "api": {"records", "model"},
-    "resolve": {"api"},  # the 0.1 name of api.resolve
     "registry": {"records", "api", "entrypoints", "model"},
     "rules": {"api", "model"},
     # paths: names that are not UTF-8 go to USD as bytes and come back escaped.
-    "engine": {"records", "api", "model", "paths", "registry"},
-    "formatters": {"records", "model", "paths", "entrypoints"},
-    "fixing": {"records", "api", "engine", "model", "paths", "atomic"},
+    "engine": {"records", "api", "layers", "model", "paths", "registry"},
+    "formatters": {"records", "model", "paths", "entrypoints", "report_json"},
+    "fixing": {"records", "api", "engine", "layers", "model", "paths"},
     "profiles": {"records", "api", "model", "registry"},
-    "spec": {"records", "api", "engine", "model", "paths", "profiles"},
+    "render_spec": {"records", "api", "engine", "model", "paths", "profiles"},
+    # explain: a rule's documentation with its profiles (explain, SARIF, the site).
+    "explain": {"api", "model", "profiles"},
     # running reads the JSON format's records back (merge, the result cache).
     "running": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "records", "registry",
+        "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
+        "layers", "model", "paths", "profiles", "records", "registry", "report_json",
     },
     "testing": {"records", "api", "engine", "model", "registry"},
-    "usdplugin": {"records", "api", "atomic", "engine", "model", "registry", "rules"},
+    # The validation plugins lint and fix one stage as check does (running.stage_lints,
+    # fixing.single).
+    "usdplugin": {
+        "records", "api", "atomic", "engine", "fixing", "model", "registry", "rules", "running",
+    },
+    "assetvalidator": {
+        "records", "api", "engine", "fixing", "model", "registry", "rules", "running",
+    },
+    # server: the language server (usdrender-lint server) lints documents as check does.
+    "server": {
+        "records", "api", "engine", "explain", "fixing", "layers", "model", "registry", "running",
+        "__init__",
+    },
     "cli": {
-        "api", "atomic", "config", "engine", "entrypoints", "fixing", "formatters", "model",
-        "paths", "profiles", "records", "registry", "running", "spec", "usdplugin", "__init__",
+        "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
+        "model", "paths", "profiles", "records", "registry", "running", "render_spec", "server",
+        "usdplugin",
+        "__init__",
     },
     # running.interrupts: the signal handlers, installed before the CLI's imports.
     "__main__": {"cli", "running"},

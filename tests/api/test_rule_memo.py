@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import pytest
 from pxr import Sdf, Usd
-from usdrender_lint.rules import _aov, _camera
-from usdrender_lint.rules.stage._settings_path import settings_path_opinion
 
 from usdrender_lint.api import Context
 from usdrender_lint.engine import Linter
+from usdrender_lint.rules import _aov, _camera
+from usdrender_lint.rules.stage._settings_path import settings_path_opinion
 from usdrender_lint.testing import all_rules
 
 SHOT = """#usda 1.0

@@ -3,6 +3,7 @@ a subpackage left out installs nowhere, and only a plain install would show it."
 
 from __future__ import annotations
 
+import os
 import tomllib
 from pathlib import Path
 
@@ -23,3 +24,28 @@ def test_every_package_is_listed() -> None:
                 continue  # the plugin module USD imports, mapped to its own top-level name
             found.add(".".join([name, *parts]))
     assert found <= listed, sorted(found - listed)
+
+
+def test_the_checkout_is_one_package_without_path_changes() -> None:
+    # The source tree's rules are reached through the usdrender_lint/rules link,
+    # not by putting the checkout's root on the package's path (which made the
+    # cache key cover tests/ and benchmarks/).
+    import usdrender_lint
+    import usdrender_lint.rules
+
+    assert [os.path.realpath(p) for p in usdrender_lint.__path__] == [str(REPO / "usdrender_lint")]
+    assert os.path.realpath(usdrender_lint.rules.__path__[0]) == str(REPO / "rules")
+    link = REPO / "usdrender_lint" / "rules"
+    assert link.is_symlink() and os.readlink(link) == os.path.join("..", "rules")
+    assert not (REPO / "usdrender_lint" / "resolve.py").exists()
+
+
+def test_the_cache_key_covers_the_rules_and_not_the_tests() -> None:
+    from usdrender_lint.engine import Linter
+    from usdrender_lint.running.result_cache import _code_signature
+    from usdrender_lint.testing import all_rules
+
+    files = {os.path.realpath(path) for path, _, _ in _code_signature(Linter(all_rules()))}
+    assert str(REPO / "rules" / "_aov.py") in files  # a helper no rule class names
+    assert not [f for f in files if f.startswith(str(REPO / "tests"))]
+    assert not [f for f in files if f.startswith(str(REPO / "benchmarks"))]

@@ -29,6 +29,9 @@ if shutil.which("git") is None:
 
 REPO = Path(__file__).resolve().parents[2]
 HOOK_ID = "usdrender-lint"
+FIX_HOOK_ID = "usdrender-lint-fix"
+#: The release tag the docs' pre-commit example pins.
+TAG = f"v{__version__}"
 
 #: The project's own clean example shot: no finding under any rule.
 CLEAN = (REPO / "examples" / "clean_shot" / "shot.usda").read_text(encoding="utf-8")
@@ -61,6 +64,17 @@ def Xform "World"
 {
     def Camera "cam"
     {
+    }
+}
+"""
+
+#: Two safe fixes: SE010 (prepend "default") and ST003 (author renderSettingsPrimPath).
+FIXABLE = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        uniform token[] includedPurposes = ["render"]
     }
 }
 """
@@ -98,7 +112,8 @@ def _git(cwd: Path, *args: str) -> None:
 
 @pytest.fixture(scope="module")
 def hook_repo(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A git repository whose HEAD is this working tree, as it is now."""
+    """A clone of this project as a user's pre-commit meets it: a git repository
+    whose release tag (the rev the docs pin) is this working tree, as it is now."""
     listed = subprocess.run(
         ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
         cwd=REPO,
@@ -115,6 +130,7 @@ def hook_repo(tmp_path_factory: pytest.TempPathFactory) -> Path:
     _git(copy, "init", "-q")
     _git(copy, "add", "-A")
     _git(copy, "commit", "-q", "-m", "working tree")
+    _git(copy, "tag", TAG)
     return copy
 
 
@@ -151,14 +167,14 @@ def _pre_commit(target: Path, home: Path, *args: str) -> subprocess.CompletedPro
     )
 
 
-def _run_sample_config(target: Path, hook_repo: Path, home: Path) -> subprocess.CompletedProcess:
-    """``pre-commit run`` with the sample config, its repo pointed at ``hook_repo``."""
+def _run_sample_config(
+    target: Path, hook_repo: Path, home: Path, hook_id: str = HOOK_ID
+) -> subprocess.CompletedProcess:
+    """``pre-commit run`` with the sample config (the rev it documents), its repo
+    pointed at ``hook_repo`` and its hook ``hook_id``."""
     sample = yaml.safe_load((REPO / "examples" / ".pre-commit-config.yaml").read_text())
     [entry] = sample["repos"]
-    head = subprocess.run(
-        ["git", "rev-parse", "HEAD"], cwd=hook_repo, capture_output=True, text=True, check=True
-    ).stdout.strip()
-    entry.update(repo=str(hook_repo), rev=head)
+    entry.update(repo=str(hook_repo), hooks=[{"id": hook_id}])
     config = target.parent / f"{target.name}-pre-commit-config.yaml"
     config.write_text(yaml.safe_dump(sample), encoding="utf-8")
     return _pre_commit(target, home, "run", "--config", str(config))
@@ -177,17 +193,17 @@ def test_the_manifest_and_the_sample_config_are_valid() -> None:
         assert run.returncode == 0, run.stdout + run.stderr
     sample = yaml.safe_load((REPO / "examples" / ".pre-commit-config.yaml").read_text())
     assert [h["id"] for repo in sample["repos"] for h in repo["hooks"]] == [HOOK_ID]
-    assert [repo["rev"] for repo in sample["repos"]] == [f"v{__version__}"]
+    assert [repo["rev"] for repo in sample["repos"]] == [TAG]
 
 
-def test_the_hook_matches_every_usd_extension_and_nothing_else() -> None:
-    [hook] = yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text())
-    assert (hook["id"], hook["entry"], hook["language"]) == (
-        HOOK_ID,
-        "usdrender-lint check",
-        "python",
-    )
-    pattern = re.compile(hook["files"])  # pre-commit matches with re.search
+def test_the_hooks_match_every_usd_extension_and_nothing_else() -> None:
+    hooks = yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text())
+    assert [(h["id"], h["entry"], h["language"]) for h in hooks] == [
+        (HOOK_ID, "usdrender-lint check", "python"),
+        (FIX_HOOK_ID, "usdrender-lint check --fix", "python"),
+    ]
+    assert hooks[0]["files"] == hooks[1]["files"]
+    pattern = re.compile(hooks[0]["files"])  # pre-commit matches with re.search
     matched = {n for n in ("a.usd", "a.usda", "a.usdc", "a.usdz", "B.USDA") if pattern.search(n)}
     assert matched == {"a.usd", "a.usda", "a.usdc", "a.usdz", "B.USDA"}
     for name in ("a.usdx", "a.usda.bak", "usda.txt", "a.usd.json"):
@@ -200,7 +216,8 @@ def test_a_commit_with_a_broken_layer_fails_the_hook(
     target = _target_repo(
         tmp_path / "assets", {}, {"shots/clean.usda": CLEAN, "shots/broken.usda": BROKEN}
     )
-    run = _pre_commit(target, pre_commit_home, "try-repo", str(hook_repo), HOOK_ID)
+    # try-repo at the documented rev, as a user tries the hook before adopting it.
+    run = _pre_commit(target, pre_commit_home, "try-repo", str(hook_repo), HOOK_ID, "--ref", TAG)
     output = run.stdout + run.stderr
     assert run.returncode == 1, output
     assert "SE003" in output
@@ -236,3 +253,19 @@ def test_a_changed_lighting_layer_is_linted_in_its_shot_by_the_hook(
     )
     run = _run_sample_config(target, hook_repo, pre_commit_home)
     assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_the_fix_hook_fixes_the_staged_layer_and_then_passes(
+    tmp_path: Path, hook_repo: Path, pre_commit_home: Path
+) -> None:
+    target = _target_repo(tmp_path / "assets", {}, {"shots/fixable.usda": FIXABLE})
+    run = _run_sample_config(target, hook_repo, pre_commit_home, FIX_HOOK_ID)
+    # pre-commit fails a hook that changed files: the user reviews and stages them.
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert "files were modified by this hook" in run.stdout, run.stdout
+    fixed = (target / "shots" / "fixable.usda").read_text(encoding="utf-8")
+    assert '["default", "render"]' in fixed
+    assert 'renderSettingsPrimPath = "/Render/Settings"' in fixed
+    _git(target, "add", "-A")
+    again = _run_sample_config(target, hook_repo, pre_commit_home, FIX_HOOK_ID)
+    assert again.returncode == 0, again.stdout + again.stderr

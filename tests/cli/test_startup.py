@@ -75,7 +75,7 @@ def test_check_in_one_process_imports_only_what_it_needs() -> None:
 
 
 def test_a_clean_file_needs_no_usda_line_finder() -> None:
-    """usda_lines (its regular expressions and records) locates findings only."""
+    """layers.usda_text (its regular expressions and records) locates findings only."""
     clean = PASS_FILE.parents[3] / "examples" / "clean_shot" / "shot.usda"
     proc = subprocess.run(
         [
@@ -100,7 +100,7 @@ def test_a_clean_file_needs_no_usda_line_finder() -> None:
     assert json.loads(proc.stdout)["files"][0]["findings"] == []
     modules = set(json.loads(proc.stderr.splitlines()[-1]))
     assert "usdrender_lint.engine.locate" in modules
-    assert "usdrender_lint.engine.usda_lines" not in modules
+    assert "usdrender_lint.layers.usda_text" not in modules
 
 
 def test_check_with_workers_imports_the_pool_and_nothing_else_heavy() -> None:

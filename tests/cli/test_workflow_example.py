@@ -51,7 +51,11 @@ def test_the_workflow_runs_on_pull_requests_with_the_permissions_it_needs(
     assert "pull_request" in triggers
     assert workflow["permissions"]["security-events"] == "write"
     installs = [s["run"] for s in _steps(workflow) if "pip install" in s.get("run", "")]
-    assert len(installs) == 1 and f"usdrender-lint=={__version__}" in installs[0]
+    # From a tag of the Git repository (the package is on no index yet).
+    assert installs == [
+        'python -m pip install "git+${{ env.USDRENDER_LINT_GIT }}@v' + __version__ + '"'
+    ]
+    assert workflow["env"]["USDRENDER_LINT_GIT"].endswith(".git")
 
 
 def test_every_lint_command_parses_with_the_real_cli(workflow: dict) -> None:

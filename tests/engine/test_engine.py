@@ -9,7 +9,7 @@ from pxr import Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
 from usdrender_lint.engine import Linter
-from usdrender_lint.engine.usda_lines import index_usda
+from usdrender_lint.layers.usda_text import index_usda
 from usdrender_lint.model import INTERNAL_ERROR_CODE
 
 SHOT = """#usda 1.0

@@ -1,4 +1,4 @@
-"""engine.usda_lines.statements: the statements of one block with the spans of
+"""layers.usda_text.statements: the statements of one block with the spans of
 their parts, keyed so that a file and Sdf's export of it pair up."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from pxr import Sdf
 
-from usdrender_lint.engine.usda_lines import (
+from usdrender_lint.layers.usda_text import (
     BODY,
     DICT,
     META,

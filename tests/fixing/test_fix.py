@@ -19,8 +19,8 @@ from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
 from usdrender_lint.api.resolve import composed_value
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
-from usdrender_lint.engine.usda_lines import comment_lines
-from usdrender_lint.fixing import writing
+from usdrender_lint.layers import writing
+from usdrender_lint.layers.usda_text import comment_lines
 from usdrender_lint.registry import build_registry
 
 FIXTURES = Path(__file__).parents[1] / "rules"

@@ -94,3 +94,39 @@ def test_patch_names_are_relative_and_never_leave_the_directory(tmp_path: Path) 
     (tmp_path / "in").mkdir()
     assert patch_name(str(tmp_path / "in" / "x.usda"), str(tmp_path)) == "in/x.usda"
     assert patch_name(str(tmp_path / "x.usda"), str(tmp_path / "in")) is None
+
+
+@pytest.mark.parametrize(
+    "tool",
+    [["git", "apply"], ["patch", "-p1", "-s", "-i"]],
+    ids=["git apply", "patch -p1"],
+)
+def test_names_with_controls_and_quotes_survive_the_patch(
+    tmp_path: Path, monkeypatch, tool: list[str]
+) -> None:
+    """A name holding a line break broke the header in two (neither tool read
+    the patch) and one holding an escape code sent it to the terminal: such
+    names are quoted as git quotes them."""
+    if shutil.which(tool[0]) is None:
+        pytest.skip(f"{tool[0]} is not installed")
+    names = ["x\ny.usda", "e\x1b[31m.usda", 'q"\\.usda']
+    try:
+        for name in names:
+            (tmp_path / name).write_text(SHOT, encoding="utf-8")
+    except OSError:
+        pytest.skip("this file system refuses such names")
+    monkeypatch.chdir(tmp_path)
+    result = diff(".")
+    assert result.exit_code == 1
+    assert "\x1b" not in result.stdout
+    assert '--- "a/x\\ny.usda"\n+++ "b/x\\ny.usda"\n' in result.stdout
+    assert '--- "a/e\\033[31m.usda"\n' in result.stdout
+    assert '--- "a/q\\"\\\\.usda"\n' in result.stdout
+    (tmp_path / "fixes.patch").write_text(result.stdout, encoding="utf-8")
+    if tool[0] == "git":
+        subprocess.run(["git", "init", "-q", "."], cwd=tmp_path, check=True)
+    applied = subprocess.run([*tool, "fixes.patch"], cwd=tmp_path, capture_output=True, text=True)
+    assert applied.returncode == 0, applied.stdout + applied.stderr
+    for name in names:
+        patched = (tmp_path / name).read_text(encoding="utf-8")
+        assert patched == SHOT.replace('"cropaperture"', '"cropAperture"'), name

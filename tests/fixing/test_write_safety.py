@@ -74,7 +74,7 @@ def test_a_file_edited_while_fixing_is_left_alone(tmp_path: Path) -> None:
 
 
 def test_the_run_exits_2_when_a_file_could_not_be_written(tmp_path: Path, monkeypatch) -> None:
-    from usdrender_lint.fixing import writing
+    from usdrender_lint.layers import writing
 
     shot = tmp_path / "shot.usda"
     shot.write_text(SHOT, encoding="utf-8")
@@ -106,7 +106,7 @@ def test_owner_group_and_mode_are_kept(tmp_path: Path) -> None:
 def test_keep_owner_keeps_the_group_when_the_owner_cannot_be_set(
     tmp_path: Path, monkeypatch
 ) -> None:
-    from usdrender_lint.fixing import writing
+    from usdrender_lint.layers import writing
 
     path = tmp_path / "f"
     path.write_text("x", encoding="utf-8")

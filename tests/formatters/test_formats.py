@@ -58,8 +58,11 @@ def test_sarif_rules_carry_their_help_text(in_repo) -> None:
     assert set(rules) == {"SE003", "UL001"}
     se003 = rules["SE003"]
     assert se003["name"] == "data-window-malformed"
-    assert "## Why is this bad?" in se003["help"]["text"]
-    assert se003["help"]["markdown"] == se003["help"]["text"]
+    # The documentation explain prints, as text and as Markdown, for code scanning.
+    explained = CliRunner().invoke(cli, ["explain", "SE003"]).stdout
+    assert "## Why is this bad?" in explained and "## Under each profile" in explained
+    assert se003["help"]["text"] == se003["help"]["markdown"] == explained
+    assert all(rule["help"]["text"] for rule in rules.values())
     assert se003["defaultConfiguration"]["level"] == "error"
     assert rules["UL001"]["defaultConfiguration"]["level"] == "note"
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules import camera, stage
 
+from usdrender_lint.rules import camera, stage
 from usdrender_lint.testing import lint
 
 FAMILY_RULES = [rule() for rule in (*stage.RULES, *camera.RULES)]

@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules import camera, stage
 
 from usdrender_lint.engine import Linter
+from usdrender_lint.rules import camera, stage
 
 ARNOLD = "Autodesk__arnold-usd/testsuite"
 USDVIEW = "PixarAnimationStudios__OpenUSD/pxr/usdImaging/bin/testusdview/testenv"

@@ -9,8 +9,8 @@ import re
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules import products, vars
 
+from usdrender_lint.rules import products, vars
 from usdrender_lint.testing import lint
 
 FAMILY_RULES = [rule() for rule in (*products.RULES, *vars.RULES)]

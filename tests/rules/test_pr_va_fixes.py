@@ -7,11 +7,11 @@ from pathlib import Path
 
 import pytest
 from pxr import Sdf, Usd
-from usdrender_lint.rules import products, vars
 
 from usdrender_lint.api import Context, Rule
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
+from usdrender_lint.rules import products, vars
 from usdrender_lint.running.pipeline import make_rules
 
 STAGE = """#usda 1.0

@@ -6,9 +6,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules.settings import RULES
 
 from usdrender_lint.engine import Linter
+from usdrender_lint.rules.settings import RULES
 
 ARNOLD = "Autodesk__arnold-usd/testsuite"
 CASES = {

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import pytest
 from pxr import Usd
-from usdrender_lint.rules import _colorspace
 
 from usdrender_lint.api import raster as _raster
+from usdrender_lint.rules import _colorspace
 
 
 def test_canonical_names_are_the_26_11_tokens() -> None:

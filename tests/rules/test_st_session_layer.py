@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from rule_support import ONE_SETTINGS, diagnostics, stage_from_text
+
 from usdrender_lint.rules.stage.st003_render_settings_path_missing import RenderSettingsPathMissing
 from usdrender_lint.rules.stage.st007_render_settings_path_in_sublayer import (
     RenderSettingsPathInSublayer,

@@ -5,12 +5,19 @@ from __future__ import annotations
 import inspect
 import re
 
-from ..model import RuleInfo
 from .rule import DOC_SECTIONS, Rule
+
+#: The documentation site; it has one page per rule (:func:`rule_doc_url`).
+DOCS_URL = "https://usdrender-lint.readthedocs.io/en/latest/"
 
 _HEADING = re.compile(r"^##\s+(.+?)\s*$", re.MULTILINE)
 _CODE_BLOCK = re.compile(r"```(\w*)\n(.*?)```", re.DOTALL)
 _NAMED_BLOCK = re.compile(r"```usda ([\w.-]+\.usda)\n(.*?)```", re.DOTALL)
+
+
+def rule_doc_url(code: str, name: str) -> str:
+    """The address of a rule's page on the documentation site."""
+    return f"{DOCS_URL}reference/rules/{code}-{name}/"
 
 
 def rule_doc(rule: type[Rule]) -> str:
@@ -41,14 +48,3 @@ def supporting_layers(text: str) -> dict[str, str]:
     """Blocks fenced as ```` ```usda <file>.usda ````: layers an example sublayers
     or references, written beside it (not examples themselves)."""
     return dict(_NAMED_BLOCK.findall(text))
-
-
-def rule_info(rule: type[Rule]) -> RuleInfo:
-    return RuleInfo(
-        code=rule.code,
-        name=rule.name,
-        severity=rule.severity,
-        summary=rule.summary(),
-        doc=rule_doc(rule),
-        fix=rule.fix_safety,
-    )

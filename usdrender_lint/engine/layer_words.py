@@ -28,7 +28,7 @@ import struct
 from collections.abc import Collection, Iterable
 from typing import TYPE_CHECKING, NamedTuple
 
-from .stage import layer_real_path
+from ..layers.files import layer_real_path
 
 if TYPE_CHECKING:
     from pxr import Sdf

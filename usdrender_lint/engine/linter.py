@@ -16,6 +16,7 @@ from pxr import Sdf, Tf, Usd
 
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
+from ..layers.files import layer_identifier, layer_real_path, real_path, unreadable_reason
 from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
@@ -28,18 +29,15 @@ from ..model import (
 from ..records import record
 from . import layer_words, partial, suppress, typed_prims
 from .assets import Unkeyable, arc_target
-from .locate import bounded_message, locate, real_path
+from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
     CorruptValue,
     StageOpenResult,
     corruption,
-    layer_identifier,
-    layer_real_path,
     open_stage,
     position_from_error,
-    unreadable_reason,
 )
 
 _T = TypeVar("_T")
@@ -346,9 +344,13 @@ class Linter:
         findings, value = self._lint(opened.stage, path, inspect=inspect, own_stage=True)
         return Inspected(FileResult(path, findings=tuple(findings)), value)
 
-    def lint_stage(self, stage: Usd.Stage, file: str | None = None) -> list[Finding]:
-        """Lint an open stage; ``file`` names it in findings (default: root layer)."""
-        return self._lint(stage, file)[0]
+    def lint_stage(
+        self, stage: Usd.Stage, file: str | None = None, *, texts: Mapping[str, str] | None = None
+    ) -> list[Finding]:
+        """Lint an open stage; ``file`` names it in findings (default: root layer).
+        ``texts``: the text of layers with unsaved edits (an editor's), by real
+        path, where their findings' lines are found instead of in their files."""
+        return self._lint(stage, file, texts=texts)[0]
 
     def lint_stage_with_fixes(
         self, stage: Usd.Stage, file: str | None = None
@@ -388,6 +390,7 @@ class Linter:
         masked: bool = False,
         inspect: Inspector[_T] | None = None,
         own_stage: bool = False,
+        texts: Mapping[str, str] | None = None,
     ) -> tuple[list[Finding], _T | None]:
         file = file or real_path(stage.GetRootLayer())
         ctx = Context(
@@ -400,6 +403,11 @@ class Linter:
         value = None
         # Nothing edits the stage while rules run, so the helpers may cache.
         with Tf.DiagnosticTrap() as trap, lint_cache(ctx.cache):
+            if texts:
+                from ..layers.usda_text import hold_text
+
+                for layer_path, text in texts.items():
+                    hold_text(layer_path, text)
             try:
                 work, suppressing = self._walk(stage, ctx, own_stage)
                 run = self._run

@@ -8,8 +8,8 @@ import os
 from pxr import Sdf, Usd
 
 from ..api.text import MAX_MESSAGE_CHARS
+from ..layers.files import real_path
 from ..model import Location
-from .stage import layer_identifier, layer_real_path
 
 
 def bounded_message(message: str) -> str:
@@ -18,12 +18,6 @@ def bounded_message(message: str) -> str:
     if len(message) <= MAX_MESSAGE_CHARS:
         return message
     return f"{message[:MAX_MESSAGE_CHARS]}… ({len(message) - MAX_MESSAGE_CHARS} more characters)"
-
-
-def real_path(layer: Sdf.Layer) -> str:
-    """The layer's file (its identifier when it has none); a file name that is
-    not UTF-8 as Python names such a file."""
-    return layer_real_path(layer) or layer_identifier(layer)
 
 
 def _spec_stack(obj: Usd.Object) -> list[Sdf.Spec]:
@@ -59,12 +53,20 @@ def locate(
         chosen = spec.layer if spec is not None else None
     line = None
     if spec is not None and chosen is not None and _is_text_file(chosen):
-        from . import usda_lines  # its regular expressions cost start-up: only findings need it
+        from ..layers import (
+            usda_text,  # its regular expressions cost start-up: only findings need it
+        )
 
-        line = usda_lines.line_of(real_path(chosen), str(spec.path))
+        line = usda_text.line_of(real_path(chosen), str(spec.path))
     return Location(file, str(at.GetPath()), real_path(chosen) if chosen else None, line)
 
 
 def _is_text_file(layer: Sdf.Layer) -> bool:
+    # A layer with unsaved edits may have no file yet: its lint may hold its text
+    # (usda_text.hold_text); otherwise no line is found.
     path = real_path(layer)
-    return bool(path) and layer.GetFileFormat().formatId == "usda" and os.path.isfile(path)
+    return (
+        bool(path)
+        and layer.GetFileFormat().formatId == "usda"
+        and (layer.dirty or os.path.isfile(path))
+    )

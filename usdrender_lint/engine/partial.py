@@ -51,11 +51,12 @@ from itertools import filterfalse
 
 from pxr import Ar, Sdf, Tf, Usd
 
+from ..layers.files import layer_identifier, layer_real_path
 from ..model import IGNORE_KEY
 from ..paths import display_path, usd_path
 from ..records import record
 from . import layer_words
-from .stage import corruption, layer_identifier, layer_real_path
+from .stage import corruption
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")

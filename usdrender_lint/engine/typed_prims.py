@@ -26,8 +26,8 @@ from collections.abc import Callable, Iterable
 
 from pxr import Sdf, Usd
 
+from ..layers.files import layer_real_path
 from . import layer_words
-from .stage import layer_real_path
 
 #: Below this many prims a Python walk costs less than asking USD (about 2 us
 #: a prim against fixed costs of some 15 ms), and below about this many specs

@@ -29,11 +29,12 @@ from dataclasses import replace
 from pxr import Sdf, Usd
 
 from ..api import Rule
+from ..layers.files import unreadable_reason
 from ..model import FileResult, Finding
 from ..records import record
 from .linter import RENDER_SCHEMAS, Linter
 from .locate import locate
-from .stage import open_stage, unreadable_reason
+from .stage import open_stage
 
 #: Default cap on the variant combinations linted per file.
 DEFAULT_MAX_COMBINATIONS = 64

@@ -6,7 +6,7 @@ as overrides in a separate layer (``--fix-to``).
 - :mod:`.sources`: the layers fixes edit, as read and as the fixes left them;
 - :mod:`.text_edits`: a fix's change written into a text layer's own text;
 - :mod:`.overlay`: ``--fix-to``, the fixes as overrides in a new root layer;
-- :mod:`.writing`: safe writes (unchanged since read, owner kept, atomic);
+- :mod:`usdrender_lint.layers.writing`: safe writes (unchanged since read, owner kept, atomic);
 - :mod:`.diff`: the patch ``--diff`` prints.
 """
 

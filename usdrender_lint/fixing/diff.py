@@ -12,6 +12,8 @@ from __future__ import annotations
 import difflib
 import os
 
+from ..paths import printable
+
 NO_NEWLINE = "\\ No newline at end of file\n"
 
 
@@ -39,14 +41,43 @@ def patch(path: str, old: str, new: str, cwd: str | None = None) -> str | None:
     lines = difflib.unified_diff(
         _lines(old),
         _lines(new),
-        fromfile=f"a/{name}",
-        tofile=f"b/{name}",
+        fromfile=header_name(f"a/{name}"),
+        tofile=header_name(f"b/{name}"),
     )
     for line in lines:
         out.append(line)
         if not line.endswith("\n"):
             out.append("\n" + NO_NEWLINE)
     return "".join(out)
+
+
+#: The C escapes git writes in a quoted file name (and git apply and GNU patch read).
+_C_ESCAPES = {7: "\\a", 8: "\\b", 9: "\\t", 10: "\\n", 11: "\\v", 12: "\\f", 13: "\\r"}
+
+
+def header_name(name: str) -> str:
+    """``name`` as a patch header carries it: as it is, or, when it holds a
+    control character (paths.printable), a quote, a backslash or bytes that
+    are not UTF-8 (which would break the header or forge lines), quoted as git
+    quotes it: ``"a/x\\ny"``, other bytes than ASCII as octal escapes."""
+    raw = os.fsencode(name)
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        text = None
+    if text is not None and printable(text, limit=None) == text and not set('"\\') & set(text):
+        return name
+    out = []
+    for byte in raw:
+        if byte in _C_ESCAPES:
+            out.append(_C_ESCAPES[byte])
+        elif byte in b'"\\':
+            out.append("\\" + chr(byte))
+        elif byte < 0x20 or byte >= 0x7F:
+            out.append(f"\\{byte:03o}")
+        else:
+            out.append(chr(byte))
+    return '"' + "".join(out) + '"'
 
 
 def _lines(text: str) -> list[str]:

@@ -34,13 +34,13 @@ from pxr import Sdf, Tf, Usd
 
 from ..api.resolve import mismatched_specs
 from ..engine import Linter, open_stage
-from ..engine.stage import layer_identifier, layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
+from ..layers.writing import ChangedOnDisk, DiskState, save_layer, save_new_layer, save_text
 from ..model import AppliedFix, FileResult, Finding
 from ..paths import display_path, escape, usd_path
 from ..records import record
 from .session import Applied, FixError, FixOptions, FixRun, StageFixer
 from .text_edits import CannotEdit, edit_text
-from .writing import ChangedOnDisk, DiskState, save_layer, save_new_layer, save_text
 
 #: Root layer fields that are not stage metadata.
 _NOT_STAGE_METADATA = frozenset(

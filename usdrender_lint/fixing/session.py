@@ -21,20 +21,20 @@ patch (:mod:`.diff`). :func:`usdrender_lint.fixing.fix_files` runs it per file.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import field
 
 from pxr import Sdf, Tf, Usd
 
 from ..api import Fix
 from ..engine import Linter, open_stage
-from ..engine.stage import layer_identifier, layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
+from ..layers.writing import ChangedOnDisk, save_layer, save_text
 from ..model import AppliedFix, FileResult, Finding
 from ..paths import display_path
 from ..records import record
 from .diff import patch
 from .sources import Sources
-from .writing import ChangedOnDisk, save_layer, save_text
 
 #: Fixes tried on one stage at most, per fix the first lint offers (a chain of
 #: fixes that reveal new findings ends there).
@@ -54,6 +54,9 @@ class FixOptions:
     write: bool = True
     #: Write every fix as an override into this layer (--fix-to).
     fix_to: str | None = None
+    #: The text of layers as an editor holds them, unsaved, by real path (the
+    #: language server): fixes edit that text instead of the file's.
+    texts: Mapping[str, str] | None = None
 
 
 @record
@@ -151,7 +154,10 @@ class StageFixer:
         with Tf.DiagnosticTrap() as trap:
             try:
                 self.sources = Sources(
-                    self.stage, in_memory=self.in_memory, writing=self.options.write
+                    self.stage,
+                    in_memory=self.in_memory,
+                    texts=self.options.texts,
+                    writing=self.options.write,
                 )
                 self.findings = self._attempts()
                 if not self.in_memory:

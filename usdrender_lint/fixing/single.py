@@ -20,10 +20,10 @@ from pxr import Sdf, Usd
 
 from ..api import Fix
 from ..engine import Linter
+from ..layers.writing import write_problem
 from ..model import Finding
 from ..records import record
 from .session import FixOptions, StageFixer, _call_fix, _find_layer
-from .writing import write_problem
 
 TEXT = "text"
 SDF = "sdf"

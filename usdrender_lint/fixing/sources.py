@@ -11,15 +11,15 @@ edit of :mod:`.text_edits`) or put back as they were before it.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 from pxr import Sdf, Usd
 
-from ..engine.stage import layer_identifier, layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
+from ..layers.writing import DiskState, write_problem
 from ..paths import display_path
 from ..records import record
 from .text_edits import CannotEdit, canonical, edit_text
-from .writing import DiskState, write_problem
 
 
 @record
@@ -57,9 +57,18 @@ class Sources:
     """The editable layers of one stage. ``in_memory`` (--fix-to): nothing is
     written, so any layer may change in memory and no text is kept."""
 
-    def __init__(self, stage: Usd.Stage, *, in_memory: bool = False, writing: bool = True) -> None:
+    def __init__(
+        self,
+        stage: Usd.Stage,
+        *,
+        in_memory: bool = False,
+        texts: Mapping[str, str] | None = None,
+        writing: bool = True,
+    ) -> None:
         self.stage = stage
         self.in_memory = in_memory
+        #: Layers' unsaved text in an editor, by real path: edited instead of the file.
+        self.texts = texts or {}
         #: False for --diff: a read-only file may still be shown as a patch.
         self.writing = writing
         self.known: dict[str, LayerSource] = {}
@@ -70,6 +79,10 @@ class Sources:
         exported = layer.ExportToString()
         if self.in_memory:
             return LayerSource(layer, None, exported, None, None)
+        unsaved = self.texts.get(layer_real_path(layer))
+        if unsaved is not None:
+            # The editor's buffer: its text is what fixes edit, and nothing is written.
+            return LayerSource(layer, None, exported, unsaved, None, unsaved)
         problem = write_problem(layer, self.writing)
         disk = None
         text = None

@@ -5,7 +5,7 @@ whole file the way Sdf writes layers (properties sorted, comments dropped,
 numbers respelled), so instead the change is found and spliced into the text:
 the layer's text ``T`` is read as Sdf exported it before the fix (``O``) and
 after (``N``). The three texts are read block by block with the same statement
-parser (``engine.usda_lines.statements``), statements pair up by key, and only
+parser (``layers.usda_text.statements``), statements pair up by key, and only
 where ``O`` and ``N`` differ does the edit reach into ``T``: a changed word of a
 head, a value (an array element by element), a metadata entry, a dictionary
 entry, a whole statement added or removed. Everything else in ``T`` keeps its
@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 from pxr import Sdf, Tf
 
-from ..engine.usda_lines import (
+from ..layers.usda_text import (
     BODY,
     DICT,
     META,

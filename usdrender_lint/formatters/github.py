@@ -13,14 +13,16 @@ from __future__ import annotations
 from typing import TextIO
 
 from ..model import Finding, Report, Severity
-from ..paths import display_path, escape, layer_file
+from ..paths import display_path, layer_file, printable
 from . import FormatOptions, statistics_lines
 
 _COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 
 
 def escape_data(text: str) -> str:
-    return escape(text).replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+    # CR and LF are the toolkit's to encode; every other control is escaped.
+    text = printable(text, keep="\r\n")
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
 
 
 def escape_property(text: str) -> str:

@@ -1,99 +1,24 @@
 """The stable machine format: one JSON document on stdout (schema_version 1),
-and its reader (``usdrender-lint merge`` and the result cache turn documents
-and findings back into :mod:`~usdrender_lint.model` values)."""
+written with the report codec (:mod:`usdrender_lint.report_json`)."""
 
 from __future__ import annotations
 
-import json
-from collections.abc import Callable, Mapping
-from pathlib import Path
 from typing import Any, TextIO
 
-from ..model import AppliedFix, FileResult, Finding, FixInfo, Location, Report, Severity
-from ..paths import display_path
+from ..model import Report
+from ..report_json import report_to_dict as document_of
 from . import FormatOptions, json_text, statistics
-
-SCHEMA_VERSION = 1
-FILE_STATUSES = ("linted", "error")
-
-
-class ReportFormatError(ValueError):
-    """A document that is not a usdrender-lint JSON report of a known schema."""
-
-
-def finding_to_dict(
-    finding: Finding, layer_path: Callable[[str], str] = display_path
-) -> dict[str, Any]:
-    """The finding as the report writes it; ``layer_path`` shows the layer
-    (relative to the working directory by default)."""
-    loc = finding.location
-    return {
-        "code": finding.code,
-        "name": finding.name,
-        "severity": finding.severity.value,
-        "message": finding.message,
-        "path": loc.path,
-        "file": loc.file,
-        "layer": layer_path(loc.layer) if loc.layer else None,
-        "line": loc.line,
-        "column": loc.column,
-        "fix": (
-            None
-            if finding.fix is None
-            else {"description": finding.fix.description, "safe": finding.fix.safe}
-        ),
-        # The renderer profile the finding was judged under, and why (R2-5).
-        "profile": finding.profile,
-        "profile_reason": finding.profile_reason,
-    }
-
-
-def fix_to_dict(fix: AppliedFix) -> dict[str, Any]:
-    return {
-        "file": fix.file,
-        "code": fix.code,
-        "path": fix.path,
-        "layer": display_path(fix.layer) if fix.layer else None,
-        "description": fix.description,
-        "applied": fix.applied,
-        "reason": fix.reason,
-    }
 
 
 def report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
-    document = _report_to_dict(report, options)
-    if options.statistics:
-        # Added only with --statistics, so the default document stays as documented.
-        document["statistics"] = statistics(report)
-    if options.fixing or report.applied_fixes or report.unapplied_fixes:
-        # Added only when fixing, like "statistics".
-        document["fixes"] = [
-            fix_to_dict(fix) for fix in (*report.applied_fixes, *report.unapplied_fixes)
-        ]
-    return document
-
-
-def _report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
-    return {
-        "schema_version": SCHEMA_VERSION,
-        "tool": {"name": options.tool_name, "version": options.tool_version},
-        # What merge compares (running/merge.py); written by check and merge.
-        **({"configuration": options.configuration} if options.configuration else {}),
-        "files": [
-            {
-                "file": result.file,
-                "status": result.status,
-                "error": result.error,
-                "findings": [finding_to_dict(f) for f in result.findings],
-            }
-            for result in report.files
-        ],
-        "summary": {
-            "files": len(report.files),
-            "findings": len(report.findings),
-            "by_severity": report.by_severity(),
-        },
-    }
+    return document_of(
+        report,
+        options.tool_name,
+        options.tool_version,
+        with_fixes=options.fixing,
+        statistics=statistics(report) if options.statistics else None,
+        configuration=options.configuration,
+    )
 
 
 class JsonFormatter:
@@ -102,133 +27,3 @@ class JsonFormatter:
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         stream.write(json_text(report_to_dict(report, options)))
-
-
-# -- reading ---------------------------------------------------------------------------
-
-
-def _field(data: Mapping[str, Any], key: str, kind: type | tuple[type, ...], where: str) -> Any:
-    value = data.get(key) if isinstance(data, Mapping) else None
-    if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
-        raise ReportFormatError(f"{where}: '{key}' is missing or not a {_kind_name(kind)}")
-    return value
-
-
-def _kind_name(kind: type | tuple[type, ...]) -> str:
-    kinds = kind if isinstance(kind, tuple) else (kind,)
-    return " or ".join("null" if k is type(None) else k.__name__ for k in kinds)
-
-
-_OPTIONAL_STR = (str, type(None))
-
-
-def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Finding:
-    """The :class:`Finding` a :func:`finding_to_dict` record describes."""
-    try:
-        severity = Severity.parse(_field(data, "severity", str, where))
-    except ValueError as exc:
-        raise ReportFormatError(f"{where}: {exc}") from None
-    fix = data.get("fix")
-    if fix is not None:
-        fix = FixInfo(
-            _field(fix, "description", str, f"{where}.fix"), _field(fix, "safe", bool, where)
-        )
-    line, column = data.get("line"), data.get("column")  # "column" came later: optional
-    for key, number in (("line", line), ("column", column)):
-        if number is not None and (not isinstance(number, int) or isinstance(number, bool)):
-            raise ReportFormatError(f"{where}: '{key}' is not an integer")
-    location = Location(
-        _field(data, "file", str, where),
-        _field(data, "path", _OPTIONAL_STR, where),
-        _field(data, "layer", _OPTIONAL_STR, where),
-        line,
-        column,
-    )
-    profile, reason = data.get("profile"), data.get("profile_reason")
-    if not isinstance(profile, _OPTIONAL_STR) or not isinstance(reason, _OPTIONAL_STR):
-        raise ReportFormatError(f"{where}: 'profile' and 'profile_reason' are strings or null")
-    return Finding(
-        _field(data, "code", str, where),
-        _field(data, "name", str, where),
-        severity,
-        _field(data, "message", str, where),
-        location,
-        fix,
-        profile,
-        reason,
-    )
-
-
-def result_from_dict(data: Mapping[str, Any], where: str = "file") -> FileResult:
-    """The :class:`FileResult` of one entry of a report's ``files``."""
-    status = _field(data, "status", str, where)
-    if status not in FILE_STATUSES:
-        raise ReportFormatError(f"{where}: unknown status {status!r}")
-    findings = _field(data, "findings", list, where)
-    return FileResult(
-        _field(data, "file", str, where),
-        status,
-        _field(data, "error", _OPTIONAL_STR, where),
-        tuple(finding_from_dict(f, f"{where}.findings[{i}]") for i, f in enumerate(findings)),
-    )
-
-
-def _fix_from_dict(data: Mapping[str, Any], where: str) -> AppliedFix:
-    applied = _field(data, "applied", bool, where)
-    reason = _field(data, "reason", _OPTIONAL_STR, where)
-    if applied != (reason is None):
-        raise ReportFormatError(f"{where}: 'applied' and 'reason' disagree")
-    return AppliedFix(
-        _field(data, "file", str, where),
-        _field(data, "code", str, where),
-        _field(data, "path", _OPTIONAL_STR, where),
-        _field(data, "layer", _OPTIONAL_STR, where),
-        _field(data, "description", str, where),
-        reason,
-    )
-
-
-def report_from_dict(document: Any) -> Report:
-    """The :class:`Report` a ``--format json`` document describes (its rules,
-    statistics and summary are derived data and not read back)."""
-    if not isinstance(document, Mapping):
-        raise ReportFormatError("not a JSON object")
-    version = document.get("schema_version")
-    if version != SCHEMA_VERSION:
-        raise ReportFormatError(
-            f"schema_version {version!r} is not {SCHEMA_VERSION}: not a usdrender-lint "
-            "JSON report, or one from an incompatible version"
-        )
-    files = _field(document, "files", list, "report")
-    fixes = [_fix_from_dict(f, f"fixes[{i}]") for i, f in enumerate(document.get("fixes") or ())]
-    return Report(
-        tuple(result_from_dict(f, f"files[{i}]") for i, f in enumerate(files)),
-        applied_fixes=tuple(f for f in fixes if f.applied),
-        unapplied_fixes=tuple(f for f in fixes if not f.applied),
-    )
-
-
-def read_document(path: str | Path) -> Any:
-    """A JSON file's document; raises :class:`ReportFormatError` naming it
-    (a document nested too deeply for the parser included)."""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ReportFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        raise ReportFormatError(f"{path}: not UTF-8 text") from None
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ReportFormatError(f"{path}: not JSON: {exc}") from None
-    except RecursionError:
-        raise ReportFormatError(f"{path}: not a report: JSON nested too deeply") from None
-
-
-def read_report(path: str | Path) -> Report:
-    """Read a JSON report file; raises :class:`ReportFormatError` naming it."""
-    document = read_document(path)
-    try:
-        return report_from_dict(document)
-    except ReportFormatError as exc:
-        raise ReportFormatError(f"{path}: {exc}") from None

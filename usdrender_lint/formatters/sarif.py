@@ -15,7 +15,7 @@ from typing import Any, TextIO
 from urllib.parse import quote_from_bytes
 
 from ..model import INTERNAL_ERROR_RULE, Finding, Report, RuleInfo, Severity
-from ..paths import layer_file
+from ..paths import layer_file, printable
 from . import FormatOptions, json_text, statistics
 
 SARIF_VERSION = "2.1.0"
@@ -69,7 +69,8 @@ def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
         "ruleId": finding.code,
         "ruleIndex": index,
         "level": _LEVEL[finding.severity],
-        "message": {"text": finding.message},
+        # A viewer prints the text: controls escaped, its length bounded (JSON keeps it).
+        "message": {"text": printable(finding.message, keep="\n")},
     }
     location: dict[str, Any] = {}
     file = layer_file(loc.layer) or layer_file(loc.file)
@@ -108,7 +109,9 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
     notifications = [
         {
             "level": "error",
-            "message": {"text": result.error or f"{result.file}: could not be linted"},
+            "message": {
+                "text": printable(result.error or f"{result.file}: could not be linted", keep="\n")
+            },
             "locations": [{"physicalLocation": {"artifactLocation": artifact_location(file, root)}}]
             if (file := layer_file(result.file)) is not None
             else [],

@@ -18,7 +18,7 @@ from collections.abc import Iterable
 from typing import TextIO
 
 from ..model import AppliedFix, FileResult, Finding, Report, Severity
-from ..paths import display_path, escape, layer_file
+from ..paths import display_path, layer_file, printable
 from ..records import record
 from . import FormatOptions, statistics_lines
 
@@ -61,7 +61,7 @@ def _no_color() -> bool:
 def _file_of(identifier: str | None, fallback: str) -> str:
     """The file a location names, as the user would type it."""
     on_disk = layer_file(identifier)
-    return escape(display_path(str(on_disk)) if on_disk else display_path(fallback) or fallback)
+    return printable(display_path(str(on_disk)) if on_disk else display_path(fallback) or fallback)
 
 
 def _terminal_width(stream: TextIO) -> int | None:
@@ -94,7 +94,7 @@ def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
     line = loc.line if loc.layer and layer_file(loc.layer) else None
     column = loc.column if line else None
     where = file + (f":{line}" if line else "") + (f":{column}" if column else "") + ":"
-    message = escape(finding.message)
+    message = printable(finding.message)
     matched = _POSITION.match(message)
     if matched and line and int(matched.group(1)) == line:
         message = message[matched.end() :]
@@ -102,15 +102,15 @@ def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
     tail: list[Segment] = [(message, None)]
     if loc.path:  # the prim path may wrap, as the message does
         head.append((finding.code, "bold"))
-        tail.insert(0, (escape(loc.path) + ":", None))
+        tail.insert(0, (printable(loc.path) + ":", None))
     else:
         head.append((finding.code + ":", "bold"))
     if finding.fix is not None:
         kind = "fix" if finding.fix.safe else "unsafe fix"
-        tail.append((f"[{kind}: {escape(finding.fix.description)}]", "dim"))
+        tail.append((f"[{kind}: {printable(finding.fix.description)}]", "dim"))
     if show_profile and finding.profile:
         tail.append((f"[profile {finding.profile}: {finding.profile_reason}]", "dim"))
-    linted = escape(display_path(loc.file) or loc.file)
+    linted = printable(display_path(loc.file) or loc.file)
     if linted != file:
         tail.append((f"(stage {linted})", "dim"))
     key = (file, line or 0, column or 0, finding.code, linted, message)
@@ -118,9 +118,9 @@ def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
 
 
 def error_entry(result: FileResult) -> Entry:
-    file = escape(display_path(result.file) or result.file)
-    reason = escape(result.error or "could not be linted")
-    for prefix in (f"{escape(result.file)}: ", f"{file}: "):
+    file = printable(display_path(result.file) or result.file)
+    reason = printable(result.error or "could not be linted")
+    for prefix in (f"{printable(result.file)}: ", f"{file}: "):
         if reason.startswith(prefix):
             reason = reason[len(prefix) :]
             break
@@ -130,10 +130,10 @@ def error_entry(result: FileResult) -> Entry:
 def fix_entry(fix: AppliedFix) -> Entry:
     file = _file_of(fix.layer, fix.file)
     head: list[Segment] = [("fixed", "green")]
-    tail: list[Segment] = [(escape(fix.description), None)]
+    tail: list[Segment] = [(printable(fix.description), None)]
     if fix.path:
         head.append((fix.code, "bold"))
-        tail.insert(0, (escape(fix.path) + ":", None))
+        tail.insert(0, (printable(fix.path) + ":", None))
     else:
         head.append((fix.code + ":", "bold"))
     return Entry((file, fix.code), file + ":", tuple(head), tuple(tail))

@@ -71,29 +71,58 @@ class Assignment:
                 scopes.append(key)
 
 
-def _evidence(prims: Sequence[Usd.Prim], profile: Profile) -> list[str]:
-    """What in ``prims`` points at ``profile``'s renderer, one phrase each."""
-    found = []
-    for prim in prims:
-        path = str(prim.GetPath())
+#: Evidence per renderer profile found on one prim, one phrase each.
+PrimEvidence = dict[str, list[str]]
+
+
+def _prim_evidence(prim: Usd.Prim) -> PrimEvidence:
+    """What on ``prim`` points at each renderer, read in one pass over its
+    properties and API schemas (every renderer's namespaces at once)."""
+    found: PrimEvidence = {}
+    path = str(prim.GetPath())
+    names = prim.GetAuthoredPropertyNames()
+    applied = prim.GetPrimTypeInfo().GetAppliedAPISchemas()
+    is_product = prim.IsA(schemas.RenderProduct)
+    product_type = None
+    for profile in _RENDERERS:
+        phrases = []
         if any(path.startswith(scope) or path + "/" == scope for scope in profile.scopes):
-            found.append(f"the prim <{path}> in {profile.scopes[0].rstrip('/')}")
-        for name in prim.GetAuthoredPropertyNames():
-            if name.startswith(profile.namespaces):
-                found.append(f"the property <{path}.{name}>")
-        for schema in prim.GetPrimTypeInfo().GetAppliedAPISchemas():
+            phrases.append(f"the prim <{path}> in {profile.scopes[0].rstrip('/')}")
+        if profile.namespaces:
+            phrases.extend(
+                f"the property <{path}.{name}>"
+                for name in names
+                if name.startswith(profile.namespaces)
+            )
+        for schema in applied:
             if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas):
-                found.append(f"the API schema {schema} on <{path}>")
-        if profile.product_types and prim.IsA(schemas.RenderProduct):
-            product_type = prim.GetAttribute("productType").Get()
-            if product_type and profile.product_type(str(product_type)):
-                found.append(f"productType {str(product_type)!r} of <{path}>")
+                phrases.append(f"the API schema {schema} on <{path}>")
+        if profile.product_types and is_product:
+            if product_type is None:
+                product_type = str(prim.GetAttribute("productType").Get() or "")
+            if product_type and profile.product_type(product_type):
+                phrases.append(f"productType {product_type!r} of <{path}>")
+        if phrases:
+            found[profile.name] = phrases
     return found
 
 
-def infer(prims: Sequence[Usd.Prim]) -> ProfileChoice:
-    """The ``auto`` choice for the render prims of one scope."""
-    hits = {p.name: e for p in _RENDERERS if (e := _evidence(prims, p))}
+def infer(
+    prims: Sequence[Usd.Prim], memo: dict[Sdf.Path, PrimEvidence] | None = None
+) -> ProfileChoice:
+    """The ``auto`` choice for the render prims of one scope. ``memo`` keeps
+    each prim's evidence across the scopes that share it (vars, products)."""
+    memo = {} if memo is None else memo
+    hits: dict[str, list[str]] = {}
+    for prim in prims:
+        key = prim.GetPath()
+        found = memo.get(key)
+        if found is None:
+            found = memo[key] = _prim_evidence(prim)
+        for name, phrases in found.items():
+            hits.setdefault(name, []).extend(phrases)
+    # Reported in the renderers' order, as each renderer's own evidence is.
+    hits = {p.name: hits[p.name] for p in _RENDERERS if p.name in hits}
     if len(hits) == 1:
         name, evidence = next(iter(hits.items()))
         more = f" and {len(evidence) - 1} more" if len(evidence) > 1 else ""
@@ -129,7 +158,7 @@ def _camera_paths(prims: Iterable[Usd.Prim]) -> list[Sdf.Path]:
 def _connected(prim: Usd.Prim) -> list[Sdf.Path]:
     """Prims the settings' attributes connect to (hdPrman's render terminals)."""
     found: list[Sdf.Path] = []
-    for attr in prim.GetAttributes():
+    for attr in prim.GetAuthoredAttributes():  # a connection is always authored
         if attr.HasAuthoredConnections():
             found.extend(p.GetPrimPath() for p in attr.GetConnections())
     return found
@@ -146,6 +175,7 @@ def assign(
     """Decide the profile of every scope. ``setting`` is a profile name or
     ``auto``; ``reason`` says where an explicit one was configured."""
     assignment = Assignment()
+    memo: dict[Sdf.Path, PrimEvidence] = {}
     explicit = None if setting == AUTO else ProfileChoice(get_profile(setting), reason)
     by_settings: dict[Sdf.Path, list[RenderConfiguration]] = {}
     for config in configurations:
@@ -156,32 +186,34 @@ def assign(
         assert settings is not None
         products = [c.product for c in configs if c.product is not None]
         prims = [settings, *products, *(v for p in products for v in _vars_of(p))]
-        assignment.scopes[key] = explicit or infer(prims)
+        assignment.scopes[key] = explicit or infer(prims, memo)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([settings, *products]))
         assignment._add(key, _connected(settings))
     for product in lone_products:
         key = product.GetPath()
         prims = [product, *_vars_of(product)]
-        assignment.scopes[key] = explicit or infer(prims)
+        assignment.scopes[key] = explicit or infer(prims, memo)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([product]))
     for render_pass in passes:
         for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
             if path in assignment.scopes:
                 assignment._add(path, [render_pass])
-    assignment.stage = explicit or _stage_choice(assignment, render_prims)
+    assignment.stage = explicit or _stage_choice(assignment, render_prims, memo)
     return assignment
 
 
-def _stage_choice(assignment: Assignment, render_prims: Sequence[Usd.Prim]) -> ProfileChoice:
+def _stage_choice(
+    assignment: Assignment, render_prims: Sequence[Usd.Prim], memo: dict[Sdf.Path, PrimEvidence]
+) -> ProfileChoice:
     choices = list(dict.fromkeys(assignment.scopes.values()))
     names = {c.name for c in choices}
     if len(names) == 1:
         return choices[0]
     if not names:
         # No configuration (only vars or passes): the render prims' own evidence.
-        return infer(render_prims)
+        return infer(render_prims, memo)
     return ProfileChoice(
         GENERIC,
         "auto: the stage's configurations use several profiles "

@@ -19,8 +19,8 @@ import json
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
-from ..formatters.json import ReportFormatError, read_document, report_from_dict
 from ..model import AppliedFix, FileResult, Report
+from ..report_json import ReportFormatError, read_document, report_from_dict
 
 if TYPE_CHECKING:
     from collections import Counter

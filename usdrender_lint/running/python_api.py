@@ -17,8 +17,8 @@ from dataclasses import replace
 from pxr import Usd
 
 from ..api import Rule
-from ..api.docs import rule_info
 from ..config import ConfigError, Settings
+from ..explain import rule_info
 from ..model import FileResult, Finding, Report
 from ..registry import RegistryError
 from .pipeline import Outcome, Request, RequestError, prepare, run

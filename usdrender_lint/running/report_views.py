@@ -131,9 +131,9 @@ def _excerpt(finding: Finding) -> Excerpt | None:
 def _specs(report: Report, files: Sequence[str], views: ReportViews) -> None:
     """The framing pictures: ``spec``'s computation and SVG, per product."""
     try:
-        from ..spec.compute import SpecOptions, compute_file_spec
-        from ..spec.document import file_document, product_findings
-        from ..spec.svg import product_svg
+        from ..render_spec.compute import SpecOptions, compute_file_spec
+        from ..render_spec.document import file_document, product_findings
+        from ..render_spec.svg import product_svg
         from .inspect import InspectedFile, InspectRequest, inspect_files
 
         inspection = inspect_files(
@@ -185,11 +185,10 @@ def _diffs(report: Report, files: Sequence[str], views: ReportViews) -> None:
         )
         wanted = wanted[:MAX_DIFFS]
     try:
+        from ..engine import open_stage
         from ..fixing.session import FixOptions, StageFixer
         from ..fixing.single import same_finding
         from .pipeline import Request, prepare
-
-        from ..engine import open_stage
 
         linters: dict[str, Any] = {}
         stages: dict[str, Any] = {}

@@ -37,9 +37,9 @@ from typing import TYPE_CHECKING, Any
 
 from ..atomic import replace_atomically, write_text_atomic
 from ..config import Settings
-from ..formatters.json import ReportFormatError, finding_from_dict, finding_to_dict
 from ..model import FileResult
 from ..paths import layer_file
+from ..report_json import ReportFormatError, finding_from_dict, finding_to_dict
 
 if TYPE_CHECKING:
     from ..engine import Linter
@@ -152,7 +152,7 @@ def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
     development) changes the key even when the version does not."""
     files: set[str] = set()
     for folder in sys.modules["usdrender_lint"].__path__:
-        for root, dirs, names in os.walk(folder):
+        for root, dirs, names in os.walk(folder, followlinks=True):  # a checkout links rules/
             dirs[:] = [d for d in dirs if not d.startswith((".", "__pycache__"))]
             files.update(os.path.join(root, n) for n in names if n.endswith((".py", ".json")))
     for rule in (*linter.rules, *(linter.known_rules or ())):

@@ -19,7 +19,7 @@ from pxr import Ar, Sdf, Tf, UsdUtils
 
 from ..config import Settings
 from ..engine import STAGE_OPEN_FAILED_CODE
-from ..engine.stage import unreadable_reason
+from ..layers.files import unreadable_reason
 from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
 from ..paths import display_path
 from ..records import record

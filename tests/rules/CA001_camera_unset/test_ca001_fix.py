@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pxr import Sdf, UsdGeom, UsdRender
 from rule_support import apply_fix, diagnostics, only, stage_from_text
+
 from usdrender_lint.rules.camera.ca001_camera_unset import CameraUnset
 
 #: A product of a settings without a camera (a settings alone is no CA001: R2-2).

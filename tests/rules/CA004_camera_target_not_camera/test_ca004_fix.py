@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pxr import Sdf, UsdRender
 from rule_support import apply_fix, diagnostics, only, stage_from_text
+
 from usdrender_lint.rules.camera.ca004_camera_target_not_camera import CameraTargetNotCamera
 
 

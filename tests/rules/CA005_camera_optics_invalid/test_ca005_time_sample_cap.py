@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from usdrender_lint.rules.camera.ca005_camera_optics_invalid import CameraOpticsInvalid
-
 from usdrender_lint.engine import Linter
+from usdrender_lint.rules.camera.ca005_camera_optics_invalid import CameraOpticsInvalid
 
 
 def _lint_text(tmp_path: Path, text: str, cap: int) -> list[str]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from rule_support import apply_fix, diagnostics, only, stage_from_text
+
 from usdrender_lint.rules.camera.ca006_aspect_ratio_mismatch_implicit_conform import (
     AspectRatioMismatchImplicitConform,
 )

@@ -5,9 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 from pxr import Sdf, Usd
-from usdrender_lint.rules.passes.pa001_render_source_invalid import RenderSourceInvalid
 
 from usdrender_lint.api import Context
+from usdrender_lint.rules.passes.pa001_render_source_invalid import RenderSourceInvalid
 
 HERE = Path(__file__).parent
 

@@ -6,7 +6,6 @@ from pathlib import Path
 
 from usdrender_lint.rules._passes import find_cycles
 from usdrender_lint.rules.passes.pa003_input_passes_cycle import InputPassesCycle
-
 from usdrender_lint.testing import lint
 
 HERE = Path(__file__).parent

@@ -5,7 +5,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from usdrender_lint.rules.passes.pa004_file_name_unresolvable import FileNameUnresolvable
-
 from usdrender_lint.testing import lint
 
 HERE = Path(__file__).parent

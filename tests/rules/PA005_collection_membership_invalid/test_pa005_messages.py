@@ -7,7 +7,6 @@ from pathlib import Path
 from usdrender_lint.rules.passes.pa005_collection_membership_invalid import (
     CollectionMembershipInvalid,
 )
-
 from usdrender_lint.testing import lint
 
 HERE = Path(__file__).parent

@@ -6,11 +6,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from pxr import Sdf, Usd
+
+from usdrender_lint.api import Context
 from usdrender_lint.rules.passes.pa006_collection_expression_ignored import (
     CollectionExpressionIgnored,
 )
-
-from usdrender_lint.api import Context
 
 HERE = Path(__file__).parent
 

@@ -4,10 +4,10 @@ resolution when set, and a mistyped or unknown option is a config error."""
 from __future__ import annotations
 
 import pytest
-from usdrender_lint.rules.settings.se001_resolution_non_positive import ResolutionNonPositive
 
 from usdrender_lint.config import ConfigError, Settings
 from usdrender_lint.registry import build_registry
+from usdrender_lint.rules.settings.se001_resolution_non_positive import ResolutionNonPositive
 from usdrender_lint.running.pipeline import make_rules
 from usdrender_lint.testing import lint_text
 

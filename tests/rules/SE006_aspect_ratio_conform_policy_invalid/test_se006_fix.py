@@ -10,6 +10,7 @@ from rule_support import (
     settings_layer,
     stage_from_text,
 )
+
 from usdrender_lint.rules.settings.se006_aspect_ratio_conform_policy_invalid import (
     AspectRatioConformPolicyInvalid,
 )

@@ -10,6 +10,7 @@ from rule_support import (
     settings_layer,
     stage_from_text,
 )
+
 from usdrender_lint.rules.settings.se009_included_purposes_invalid import IncludedPurposesInvalid
 
 

@@ -8,6 +8,7 @@ from rule_support import (
     only,
     stage_from_text,
 )
+
 from usdrender_lint.rules.settings.se010_included_purposes_missing_default import (
     IncludedPurposesMissingDefault,
 )

@@ -12,6 +12,7 @@ from rule_support import (
     settings_layer,
     stage_from_text,
 )
+
 from usdrender_lint.rules.settings.se011_material_binding_purposes_invalid import (
     MaterialBindingPurposesInvalid,
 )

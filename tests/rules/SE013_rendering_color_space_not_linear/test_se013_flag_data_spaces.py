@@ -4,12 +4,12 @@
 from __future__ import annotations
 
 import pytest
-from usdrender_lint.rules.settings.se013_rendering_color_space_not_linear import (
-    RenderingColorSpaceNotLinear,
-)
 
 from usdrender_lint.config import ConfigError, Settings
 from usdrender_lint.registry import build_registry
+from usdrender_lint.rules.settings.se013_rendering_color_space_not_linear import (
+    RenderingColorSpaceNotLinear,
+)
 from usdrender_lint.running.pipeline import make_rules
 from usdrender_lint.testing import lint_text
 

@@ -13,6 +13,7 @@ from rule_support import (
     settings_layer,
     stage_from_text,
 )
+
 from usdrender_lint.rules.settings.se016_attribute_type_mismatch import AttributeTypeMismatch
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pxr import UsdRender
 from rule_support import ONE_SETTINGS, apply_fix, diagnostics, only, stage_from_text
+
 from usdrender_lint.rules.stage.st003_render_settings_path_missing import RenderSettingsPathMissing
 
 

@@ -4,6 +4,7 @@ RenderSettings; none is offered where the value lives in the session layer."""
 from __future__ import annotations
 
 from rule_support import ONE_SETTINGS, apply_fix, diagnostics, only, stage_from_text
+
 from usdrender_lint.rules.stage.st005_render_settings_path_unresolved import (
     RenderSettingsPathUnresolved,
 )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from rule_support import ONE_SETTINGS, apply_fix, diagnostics, stage_from_text
+
 from usdrender_lint.rules.stage.st007_render_settings_path_in_sublayer import (
     RenderSettingsPathInSublayer,
 )

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pxr import UsdRender
 from rule_support import apply_fix, diagnostics, only, stage_from_text
+
 from usdrender_lint.rules.stage.st008_render_prim_outside_render_scope import (
     RenderPrimOutsideRenderScope,
 )

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pxr import UsdRender
 from rule_support import apply_fix, diagnostics, only, stage_from_text
+
 from usdrender_lint.rules.stage.st010_unknown_render_prim_type import UnknownRenderPrimType
 
 

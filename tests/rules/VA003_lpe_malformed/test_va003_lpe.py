@@ -5,11 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules._lpe import lpe_problem, parse_lpe, strip_renderer_prefix
-from usdrender_lint.rules.vars.va003_lpe_malformed import LpeMalformed
 
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
+from usdrender_lint.rules._lpe import lpe_problem, parse_lpe, strip_renderer_prefix
+from usdrender_lint.rules.vars.va003_lpe_malformed import LpeMalformed
 from usdrender_lint.running.pipeline import make_rules
 from usdrender_lint.testing import lint_text
 

@@ -6,10 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from pxr import Usd
-from usdrender_lint.rules.vars import va004_primvar_source_not_found as vars
-from usdrender_lint.rules.vars.va004_primvar_source_not_found import PrimvarSourceNotFound
 
 from usdrender_lint.engine import Linter
+from usdrender_lint.rules.vars import va004_primvar_source_not_found as vars
+from usdrender_lint.rules.vars.va004_primvar_source_not_found import PrimvarSourceNotFound
 
 FOLDER = Path(__file__).parent
 TWO_PRIMVAR_VARS = """#usda 1.0

@@ -5,10 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from usdrender_lint.rules.vars.va008_aov_name_collision import AovNameCollision
 
 from usdrender_lint.config import ConfigError, read_config_file
 from usdrender_lint.registry import build_registry
+from usdrender_lint.rules.vars.va008_aov_name_collision import AovNameCollision
 from usdrender_lint.running.pipeline import make_rules
 from usdrender_lint.testing import lint_text
 

@@ -12,10 +12,10 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
+from usdrender_lint.render_spec.compute import SpecOptions, compute_file_spec
+from usdrender_lint.render_spec.document import spec_document
+from usdrender_lint.render_spec.svg import svg_files
 from usdrender_lint.running.inspect import InspectRequest, inspect_files
-from usdrender_lint.spec.compute import SpecOptions, compute_file_spec
-from usdrender_lint.spec.document import spec_document
-from usdrender_lint.spec.svg import svg_files
 
 REPO = Path(__file__).resolve().parents[2]
 EXAMPLES = REPO / "examples"

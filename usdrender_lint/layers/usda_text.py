@@ -427,6 +427,14 @@ def line_of(layer_path: str, spec_path: str) -> int | None:
     return layer.lookup(spec_path)
 
 
+def hold_text(layer_path: str, text: str) -> None:
+    """Inside a lint, find the specs of the layer at ``layer_path`` in ``text``
+    (an editor's unsaved text of it) instead of in its file."""
+    cache = active_cache()
+    if cache is not None:
+        cache.put(_read_layer, (layer_path,), _Layer(text))
+
+
 def comment_lines(text: str) -> list[int]:
     """The lines where a ``#``, ``//`` or ``/* */`` comment starts, the ``#usda``
     header excepted: what Sdf drops when it saves the layer again."""

@@ -12,8 +12,8 @@ from pathlib import Path
 from pxr import Sdf
 
 from usdrender_lint.api.cache import lint_cache
-from usdrender_lint.engine import usda_lines
-from usdrender_lint.engine.usda_lines import comment_lines, index_usda, line_of
+from usdrender_lint.layers import usda_text
+from usdrender_lint.layers.usda_text import comment_lines, index_usda, line_of
 
 TESTS = Path(__file__).parents[1]
 REPO = TESTS.parent
@@ -285,7 +285,7 @@ def test_crlf_line_endings_count_the_same_lines(tmp_path: Path) -> None:
 def test_nesting_deeper_than_the_patterns_match_at_once() -> None:
     # Prim bodies, dictionaries and brackets nested past what one compiled pattern
     # matches are walked in Python; the lines must not move.
-    depth = 3 * usda_lines._DEPTH
+    depth = 3 * usda_text._DEPTH
     parts = ["#usda 1.0\n"]
     for level in range(depth):
         parts.append(f'def Xform "p{level}"\n{{\n    float a{level} = {level}\n')
@@ -299,7 +299,7 @@ def test_nesting_deeper_than_the_patterns_match_at_once() -> None:
     assert index[deepest + ".after"] == 3 * depth + 4
     assert index["/Sibling.b"] == text.count("\n") - 1
     for spec_path, line in index.items():
-        assert usda_lines._Layer(text).lookup(spec_path) == line
+        assert usda_text._Layer(text).lookup(spec_path) == line
 
 
 def test_malformed_text_still_matches_the_reference() -> None:
@@ -315,7 +315,7 @@ def test_malformed_text_still_matches_the_reference() -> None:
     ):
         index = _hostile_lines(text)
         for spec_path, line in index.items():
-            assert usda_lines._Layer(text).lookup(spec_path) == line
+            assert usda_text._Layer(text).lookup(spec_path) == line
 
 
 def test_damaged_hostile_text_matches_the_reference() -> None:
@@ -337,7 +337,7 @@ def test_damaged_hostile_text_matches_the_reference() -> None:
                 chars[i] = rng.choice(structural)
         text = "".join(chars)
         index = _hostile_lines(text)  # a full read: always the reference's lines
-        layer = usda_lines._Layer(text)
+        layer = usda_text._Layer(text)
         asked = list(index)[::-1] + ["/World.nothing", "/World{look=a}cam.x"]
         found = {spec_path: layer.lookup(spec_path) for spec_path in asked}
         if _sdf_accepts(text):
@@ -364,7 +364,7 @@ def _shot(prims: int, line: str) -> str:
 
 
 def test_a_lookup_reads_only_the_blocks_on_its_way() -> None:
-    layer = usda_lines._Layer(_shot(200, "float a = 1"))
+    layer = usda_text._Layer(_shot(200, "float a = 1"))
     assert layer.lookup("/Render.x") == 807
     assert layer.read == {"", "/Render"} and not layer.complete
     assert "/Geo/m0" not in layer.lines
@@ -377,9 +377,9 @@ def test_many_lookups_deep_in_large_blocks_end_in_one_full_read() -> None:
     body = "".join(f"    float a{i} = {i}\n" for i in range(300))
     text = "#usda 1.0\n" + heads + body + "}\n" * depth
     deepest = "/" + "/".join(f"p{i}" for i in range(depth))
-    small = usda_lines._Layer(text)
+    small = usda_text._Layer(text)
     assert small.lookup("/p0.nothing") is None and not small.complete
-    layer = usda_lines._Layer(text)
+    layer = usda_text._Layer(text)
     assert layer.lookup(deepest + ".a299") == 2 * depth + 301
     assert layer.complete
     assert layer.lines == reference_index(text)
@@ -388,7 +388,7 @@ def test_many_lookups_deep_in_large_blocks_end_in_one_full_read() -> None:
 
 def test_a_layer_of_long_lines_is_read_whole_at_once() -> None:
     text = _shot(3, "float3[] points = [" + "(0, 1e-05, 0), " * 2000 + "(1, 1, 1)]")
-    layer = usda_lines._Layer(text)
+    layer = usda_text._Layer(text)
     assert layer.lookup("/Render.x") == 19
     assert layer.complete and layer.lines == reference_index(text)
 
@@ -418,7 +418,7 @@ def test_the_lint_cache_holds_each_layer_index_once(tmp_path: Path) -> None:
 def test_the_skipping_patterns_are_compiled_on_the_first_lookup_not_at_import() -> None:
     # They take milliseconds to compile; a check with no finding to place never needs them.
     code = (
-        "from usdrender_lint.engine import usda_lines as u\n"
+        "from usdrender_lint.layers import usda_text as u\n"
         "print(u._skippers.cache_info().currsize)\n"
         "u.index_usda('def \"A\" {\\n}\\n')\n"
         "print(u._skippers.cache_info().currsize)\n"

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from usdrender_lint.spec.framing import (
+from usdrender_lint.render_spec.framing import (
     PixelWindow,
     apply_aspect_ratio_policy,
     data_window,

@@ -18,7 +18,7 @@ from pathlib import Path
 from pxr import Sdf, Tf
 
 from ..atomic import replace_atomically
-from ..engine.stage import layer_identifier, layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
 from ..paths import display_path, usd_path
 from ..records import record
 

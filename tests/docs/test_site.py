@@ -1,0 +1,192 @@
+"""The documentation site: every registered rule and profile has its generated
+page, every internal link (hand-written and generated pages alike) reaches a
+page or file that exists, and its anchor a heading of that page. Cheap: the
+pages come from docs/hooks.py without MkDocs (.ci/run builds the site with
+``mkdocs build --strict``)."""
+
+from __future__ import annotations
+
+import importlib.util
+import posixpath
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+from usdrender_lint.profiles import PROFILES
+from usdrender_lint.registry import build_registry
+
+REPO = Path(__file__).resolve().parents[2]
+DOCS = REPO / "docs"
+
+
+def _hooks():
+    spec = importlib.util.spec_from_file_location("docs_hooks", DOCS / "hooks.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+hooks = _hooks()
+
+
+@pytest.fixture(scope="module")
+def generated() -> dict[str, str]:
+    return hooks.reference_pages()
+
+
+@pytest.fixture(scope="module")
+def site(generated: dict[str, str]) -> dict[str, str]:
+    """Every page of the site, docs-relative path -> Markdown."""
+    pages = {
+        path.relative_to(DOCS).as_posix(): path.read_text(encoding="utf-8")
+        for path in DOCS.rglob("*.md")
+    }
+    assert not set(pages) & set(generated), "a generated page is also written by hand"
+    return pages | generated
+
+
+def test_every_registered_rule_has_its_page(generated: dict[str, str]) -> None:
+    for rule in build_registry().rules:
+        page = generated[f"reference/rules/{rule.code}-{rule.name}.md"]
+        assert f"\n# {rule.code} {rule.name}\n" in page
+        assert "## What it does" in page and "## Under each profile" in page
+        # The same documentation explain prints: its docstring's first section.
+        assert rule.__doc__ and rule.summary() in page
+        index = generated["reference/rules/index.md"]
+        assert f"({rule.code}-{rule.name}.md)" in index
+
+
+def test_a_rule_page_shows_its_options_and_its_profiles(generated: dict[str, str]) -> None:
+    pr001 = generated["reference/rules/PR001-product-name-empty.md"]
+    assert '| `name-template` | string | `""` |' in pr001
+    assert "[tool.usdrender-lint.rules.product-name-empty]" in pr001
+    # omniverse switches PR001 off, with its source as a link.
+    assert re.search(r"- omniverse: off \(.*\(<https://nvidia-omniverse", pr001)
+
+
+def test_every_profile_has_its_page_with_every_change(generated: dict[str, str]) -> None:
+    for profile in PROFILES.values():
+        page = generated[f"reference/profiles/{profile.name}.md"]
+        for change in profile.changes:
+            row = next(line for line in page.splitlines() if f"[{change.code}](" in line)
+            assert change.why.split()[0] in row
+            assert change.source.split()[0] in row
+        for accepted in (*profile.camera_types, *profile.prim_types, *profile.product_types):
+            assert f"`{accepted.name}`" in page
+
+
+def test_the_configuration_reference_lists_every_key_the_parser_accepts(
+    generated: dict[str, str], tmp_path: Path
+) -> None:
+    from usdrender_lint.config import ConfigError, load_settings
+
+    page = generated["reference/configuration.md"]
+    settings = hooks.settings_declaration()
+    assert {s.key for s in settings} >= {"select", "fail-on", "roots", "rules", "profile"}
+    for setting in settings:
+        assert f"| `{setting.key}` |" in page
+        assert setting.help, f"{setting.key} has no #: comment in its declaration"
+    # Each key is one the configuration file takes; an undocumented one is not.
+    config = tmp_path / ".usdrender-lint.toml"
+    for key in [s.key for s in settings] + ["not-a-key"]:
+        config.write_text(f"{key} = 0\n", encoding="utf-8")
+        with pytest.raises(ConfigError) as error:
+            load_settings(str(config))
+        assert ("unknown key" in str(error.value)) == (key == "not-a-key"), error.value
+
+
+def test_the_cli_reference_lists_every_command_and_option(generated: dict[str, str]) -> None:
+    from usdrender_lint.cli import cli
+
+    page = generated["reference/cli.md"]
+    for name, command in cli.commands.items():
+        assert f"\n## {name}\n" in page
+        for param in command.params:
+            if getattr(param, "hidden", False):
+                continue  # --full-composition: for tests and benchmarks
+            for flag in getattr(param, "opts", []):
+                if flag.startswith("-"):
+                    assert flag in page, (name, flag)
+
+
+def _slug(heading: str) -> str:
+    """Python-Markdown's toc slug: lower case, no punctuation, spaces to '-'."""
+    text = re.sub(r"<[^>]+>|`", "", heading)
+    text = re.sub(r"\[([^\]]*)\]\([^)]*\)", r"\1", text)
+    text = re.sub(r"[^\w\s-]", "", text).strip().lower()
+    return re.sub(r"[-\s]+", "-", text)
+
+
+def _anchors(markdown: str) -> set[str]:
+    text = re.sub(r"```.*?```", "", markdown, flags=re.DOTALL)
+    found = {_slug(m.group(1)) for m in re.finditer(r"^#{1,6}\s+(.+?)\s*$", text, re.MULTILINE)}
+    return found | set(re.findall(r"\{\s*#([\w-]+)\s*\}", text))
+
+
+def test_no_internal_link_is_broken(site: dict[str, str]) -> None:
+    files = {p.relative_to(DOCS).as_posix() for p in DOCS.rglob("*") if p.is_file()}
+    broken = []
+    for page, markdown in site.items():
+        for target in hooks._iter_links(markdown):
+            if re.match(r"[a-z]+:", target):
+                continue  # http:, https:, mailto:
+            path, _, anchor = target.partition("#")
+            resolved = (
+                posixpath.normpath(posixpath.join(posixpath.dirname(page), path)) if path else page
+            )
+            if resolved not in site and resolved not in files:
+                broken.append(f"{page}: {target} (no such page)")
+            elif anchor and resolved in site and anchor not in _anchors(site[resolved]):
+                broken.append(f"{page}: {target} (no such heading)")
+    assert broken == []
+
+
+def test_every_page_is_in_the_navigation(site: dict[str, str]) -> None:
+    yaml = pytest.importorskip("yaml")
+    config = (REPO / "mkdocs.yml").read_text(encoding="utf-8")
+    # mkdocs.yml's nav only: its other keys use tags PyYAML's safe loader refuses.
+    nav = yaml.safe_load("nav:" + config.split("\nnav:", 1)[1])["nav"]
+    nav = hooks._expand(
+        nav,
+        {
+            hooks.RULES_INDEX: hooks._rules_nav(list(build_registry().rules)),
+            hooks.PROFILES_INDEX: hooks._profiles_nav(),
+        },
+    )
+    listed = set(re.findall(r"'([^']+\.md)'", repr(nav)))
+    assert set(site) - listed == set()
+    assert listed - set(site) == set()
+
+
+def test_every_release_the_docs_name_is_this_version(site: dict[str, str]) -> None:
+    """The version lives in usdrender_lint.__version__; the tags the docs and
+    examples pin (pre-commit's rev, pip's @vX.Y.Z) follow it."""
+    from usdrender_lint import __version__
+
+    texts = dict(site)
+    for path in (
+        "README.md",
+        "examples/.pre-commit-config.yaml",
+        "examples/github-workflow.yml",
+        "examples/github-workflow-sharded.yml",
+    ):
+        texts[path] = (REPO / path).read_text(encoding="utf-8")
+    texts.pop("changelog.md")  # lists every release
+    named = {
+        (path, tag)
+        for path, text in texts.items()
+        for tag in re.findall(r"(?:rev: |@|--ref )v(\d+\.\d+\.\d+)", text)
+    }
+    assert {path for path, _ in named} >= {"guides/pre-commit.md", "getting-started.md"}
+    assert {(path, tag) for path, tag in named if tag != __version__} == set()
+
+
+def test_the_changelog_has_this_version() -> None:
+    from usdrender_lint import __version__
+
+    changelog = (REPO / "CHANGELOG.md").read_text(encoding="utf-8")
+    assert f"\n## {__version__}\n" in changelog
+    assert "\n## Unreleased\n" in changelog

@@ -1,0 +1,313 @@
+"""The differential test: every real file (``../shared/corpus``) and every
+fixture of the suite gets the same answer on every path it can be linted by.
+
+The paths: the result cache cold and warm, ``--no-cache --jobs 2`` (the pool),
+``--jobs 1 --timeout 0`` (in-process), a lone file (the supervised child's
+path) and the same file among others, the Python API's ``lint_file``, and the
+UsdValidation plugin (as far as its errors map: code, site path, layer,
+message and severity, against ``check --profile generic``, since validators
+know no renderer profiles). A file that one path lints and another cannot is a
+difference too.
+
+Cheap by design: one process per path over every file (about 700 of them), not
+one per file; the lone-file path forks one child per file from a process that
+imported the engine once (every real file, every eighth fixture), and three
+files take the whole installed command.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from collections.abc import Iterable
+from pathlib import Path
+
+import pytest
+from conftest import REPO, SHARED
+
+from usdrender_lint import lint_file
+from usdrender_lint.formatters import FormatOptions
+from usdrender_lint.formatters.json import report_to_dict
+from usdrender_lint.usdplugin import plugin_dir
+
+USD_SUFFIXES = {".usd", ".usda", ".usdc", ".usdz"}
+#: What a finding is, for the comparison.
+FIELDS = ("code", "path", "layer", "line", "message", "severity", "profile")
+#: The plugin's errors carry no line, and the validators no profile.
+PLUGIN_FIELDS = ("code", "path", "layer", "message", "severity")
+
+
+def _usd_files(folder: Path) -> list[Path]:
+    return sorted(p for p in folder.rglob("*") if p.suffix.lower() in USD_SUFFIXES and p.is_file())
+
+
+def _targets() -> list[str]:
+    files = _usd_files(REPO / "tests")
+    corpus = SHARED / "corpus" / "files"
+    if corpus.is_dir():
+        files += _usd_files(corpus)
+    return [str(p.resolve()) for p in files]
+
+
+TARGETS = _targets()
+#: Every path runs from a folder above no file (no checkout is ever under
+#: /proc), so that each shows the same absolute paths.
+ELSEWHERE = "/proc"
+CORPUS_PRESENT = (SHARED / "corpus" / "files").is_dir()
+
+
+def _answers(document: dict, fields: Iterable[str] = FIELDS) -> dict[str, tuple]:
+    """Per file: its status, its error line, and its findings (sorted)."""
+    fields = tuple(fields)
+    out = {}
+    for entry in document["files"]:
+        # repr: a missing line sorts beside a number.
+        findings = sorted(tuple(repr(f.get(k)) for k in fields) for f in entry["findings"])
+        out[entry["file"]] = (entry["status"], entry.get("error"), tuple(findings))
+    return out
+
+
+def _env(**extra: str) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if not k.startswith("USDRENDER_LINT_")}
+    env.update(extra)
+    return env
+
+
+def _check(*args: str, env: dict[str, str] | None = None, files: list[str] = TARGETS) -> dict:
+    """One ``check`` process over ``files``: its JSON report."""
+    done = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--format", "json"]
+        + ["--fail-on", "never", "--show-info", *args, *files],
+        capture_output=True,
+        env=env or _env(),
+        timeout=600,
+        cwd=ELSEWHERE,
+    )
+    assert "Traceback" not in done.stderr.decode(errors="replace"), done.stderr[-3000:]
+    assert done.returncode in (0, 2), done.stderr[-3000:]
+    return json.loads(done.stdout)
+
+
+#: The supervised child's path, one forked child per file: the command runs as
+#: it does in the child ``supervisor.supervise`` leaves (a lone file linted in
+#: that process), minus the interpreter's start-up.
+_LONE = """
+import os, sys
+from usdrender_lint import cli, lint_file
+from usdrender_lint.running import supervisor
+
+out, files = sys.argv[1], sys.argv[2:]
+lint_file(files[0])  # USD, the engine, the rules and their first-use costs: once, here
+for index, path in enumerate(files):
+    child = os.fork()
+    if child == 0:
+        code = 3
+        try:
+            report = os.open(f"{out}/{index}.json", os.O_WRONLY | os.O_CREAT, 0o644)
+            os.dup2(report, 1)
+            supervisor.supervised = True
+            cli.main(["check", "--isolated", "--no-cache", "--format", "json", "--show-info",
+                      "--fail-on", "never", path])
+        except SystemExit as done:
+            code = done.code if isinstance(done.code, int) else 3
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(child, 0)
+    if os.waitstatus_to_exitcode(status) not in (0, 2):
+        print(f"{path}: exit {os.waitstatus_to_exitcode(status)}", file=sys.stderr)
+        sys.exit(1)
+"""
+
+
+def _lone(folder: Path, files: list[str]) -> dict:
+    done = subprocess.run(
+        [sys.executable, "-c", _LONE, str(folder), *files],
+        capture_output=True,
+        env=_env(),
+        timeout=600,
+        cwd=ELSEWHERE,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    found = []
+    for index in range(len(files)):
+        found += json.loads((folder / f"{index}.json").read_text())["files"]
+    return {"files": found}
+
+
+def _api() -> dict:
+    files = []
+    for path in TARGETS:
+        report = lint_file(path)
+        files += report_to_dict(report, FormatOptions(show_info=True))["files"]
+    return {"files": files}
+
+
+#: The validators through OpenUSD's registry, on every file USD opens.
+_PLUGIN = """
+import json, sys
+from pxr import Sdf, Tf, Usd, UsdValidation
+
+registry = UsdValidation.ValidationRegistry()
+validators = [
+    registry.GetOrLoadValidatorByName(m.name)
+    for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")
+]
+context = UsdValidation.ValidationContext(validators)
+severity = {"Error": "error", "Warn": "warning", "Info": "info"}
+
+def site_path(site):
+    if site.IsProperty():
+        return str(site.GetProperty().GetPath())
+    if site.IsPrim() and not site.GetPrim().IsPseudoRoot():
+        return str(site.GetPrim().GetPath())
+    return None
+
+def abstract_typed(stage, where):
+    prim = stage.GetPrimAtPath(Sdf.Path(where).GetPrimPath()) if where else None
+    if not prim:
+        return False
+    registered = Usd.SchemaRegistry.GetTypeFromName(prim.GetTypeName())
+    return not registered.isUnknown and prim.GetPrimTypeInfo().GetSchemaType().isUnknown
+
+files = []
+for path in sys.argv[1:]:
+    try:
+        stage = Usd.Stage.Open(path)
+    except Tf.ErrorException:
+        continue  # no stage to validate (the CLI's ST001)
+    findings = []
+    for error in context.Validate(stage):
+        site = error.GetSites()[0]
+        layer = site.GetLayer()
+        findings.append({
+            "code": error.GetName(),
+            "path": site_path(site),
+            "layer": layer.realPath or layer.identifier if layer else None,
+            "message": error.GetMessage(),
+            "severity": severity[str(error.GetType()).rsplit(".", 1)[-1]],
+        })
+    # USD gives a prim typed with an abstract schema (def RenderSettingsBase) no
+    # schema type, so UsdValidation never hands it to a validator: those
+    # prims' paths, for the comparison to set findings on them aside.
+    untyped = sorted(
+        {str(p.GetPath()) for p in stage.Traverse() if abstract_typed(stage, str(p.GetPath()))}
+    )
+    files.append({"file": path, "status": "linted", "error": None, "findings": findings,
+                  "untyped": untyped})
+print(json.dumps({"files": files}))
+"""
+
+
+def _plugin() -> dict:
+    done = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(_PLUGIN), *TARGETS],
+        capture_output=True,
+        env=_env(PXR_PLUGINPATH_NAME=str(plugin_dir())),
+        timeout=600,
+        cwd=ELSEWHERE,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    return json.loads(done.stdout.decode().strip().splitlines()[-1])
+
+
+def _differences(reference: dict[str, tuple], other: dict[str, tuple]) -> list[str]:
+    """One line per file whose answer differs (a file one side lacks included)."""
+    lines = []
+    for file in sorted(set(reference) | set(other)):
+        mine, theirs = reference.get(file), other.get(file)
+        if mine == theirs:
+            continue
+        if mine is None or theirs is None:
+            lines.append(f"{file}: linted on one path only")
+            continue
+        status = f"{mine[0]} / {theirs[0]}: {mine[1] or ''} / {theirs[1] or ''}"
+        only_ref = sorted(set(mine[2]) - set(theirs[2]))[:3]
+        only_other = sorted(set(theirs[2]) - set(mine[2]))[:3]
+        lines.append(f"{file}: {status}; only in reference {only_ref}; only here {only_other}")
+    return lines
+
+
+@pytest.fixture(scope="module")
+def reference() -> dict[str, tuple]:
+    """``--no-cache --jobs 2``: the pool, the files among others."""
+    return _answers(_check("--no-cache", "--jobs", "2"))
+
+
+def test_there_is_real_content_to_compare() -> None:
+    assert len(TARGETS) > 400  # the fixtures alone
+    if CORPUS_PRESENT:
+        corpus = [t for t in TARGETS if "/corpus/files/" in t]
+        assert len(corpus) > 190, len(corpus)
+
+
+def test_every_file_is_linted(reference: dict[str, tuple]) -> None:
+    """Every file gives findings or a clean ST001: none is a tool error."""
+    assert set(reference) == set(TARGETS)
+    errored = [f"{file}: {why}" for file, (done, why, _) in reference.items() if done != "linted"]
+    assert errored == []
+
+
+def test_the_cache_cold_and_warm_and_the_in_process_path_agree(
+    reference: dict[str, tuple], tmp_path: Path
+) -> None:
+    cache = ["--cache-dir", str(tmp_path / "cache")]
+    cold = _answers(_check(*cache))
+    warm = _answers(_check(*cache))
+    assert any((tmp_path / "cache").rglob("*")), "the cold run stored nothing"
+    in_process = _answers(_check("--no-cache", "--jobs", "1", "--timeout", "0"))
+    for name, answers in (("cold", cold), ("warm", warm), ("--jobs 1 --timeout 0", in_process)):
+        assert _differences(reference, answers) == [], name
+
+
+def test_a_lone_file_gets_its_answer_among_others(
+    reference: dict[str, tuple], tmp_path: Path
+) -> None:
+    """Every real file, and every eighth fixture (each child costs about 25 ms
+    of CPU: the whole command but the interpreter's start-up)."""
+    fixtures = [t for t in TARGETS if "/corpus/files/" not in t]
+    files = [t for t in TARGETS if "/corpus/files/" in t] + fixtures[::8]
+    alone = _answers(_lone(tmp_path, files))
+    assert set(alone) == set(files)
+    assert _differences({f: reference[f] for f in files}, alone) == []
+
+
+def test_the_installed_command_on_a_lone_file(reference: dict[str, tuple]) -> None:
+    """The real supervisor, its child and the interpreter's start-up, on a few
+    files (the harness above covers every file)."""
+    sample = TARGETS[:: max(1, len(TARGETS) // 3)][:3]
+    for path in sample:
+        alone = _answers(_check("--no-cache", files=[path]))
+        assert alone == {path: reference[path]}
+
+
+def test_the_python_api(reference: dict[str, tuple], monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(ELSEWHERE)
+    assert _differences(reference, _answers(_api())) == []
+
+
+def test_the_usdvalidation_plugin_as_far_as_its_errors_map() -> None:
+    generic = _check("--no-cache", "--profile", "generic")
+    plugin = _plugin()
+    validated = {entry["file"]: entry for entry in plugin["files"]}
+    cli, mapped = {}, {}
+    for entry in generic["files"]:
+        file = entry["file"]
+        if file not in validated:
+            # USD refuses the file: the CLI says so with ST001 alone.
+            assert {f["code"] for f in entry["findings"]} == {"ST001"}, file
+            continue
+        untyped = set(validated[file]["untyped"])
+
+        def kept(findings: list[dict], untyped: set[str] = untyped) -> list[dict]:
+            # Prims of an abstract type are set aside on both sides (see _PLUGIN).
+            return [f for f in findings if (f["path"] or "").split(".")[0] not in untyped]
+
+        cli[file] = {**entry, "findings": kept(entry["findings"])}
+        mapped[file] = {**validated[file], "findings": kept(validated[file]["findings"])}
+    assert len(cli) > len(TARGETS) * 0.8
+    expected = _answers({"files": list(cli.values())}, PLUGIN_FIELDS)
+    got = _answers({"files": list(mapped.values())}, PLUGIN_FIELDS)
+    assert _differences(expected, got) == []

@@ -1,0 +1,344 @@
+"""``usdrender-lint server`` driven over stdio by pytest-lsp's client: the
+protocol as an editor speaks it (initialize, open, change, diagnostics, code
+actions, hover, configuration changes, shutdown).
+
+One server serves the module (it starts USD in a child process: a start per
+test would cost more than the tests).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import pytest_lsp
+from lsprotocol import types
+from pygls.protocol import default_converter
+from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
+from pytest_lsp.client import DEFAULT_CLIENT_FEATURES, register_lsp_features
+
+from usdrender_lint.server.ranges import Edit, Span, apply_edits
+
+REPO = Path(__file__).resolve().parents[2]
+BROKEN_SHOT = REPO / "examples" / "broken_shot" / "shot.usda"
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    root = tmp_path_factory.mktemp("workspace")
+    shutil.copy(BROKEN_SHOT, root / "shot.usda")
+    (root / "cams.usda").write_text(
+        '#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cam"\n    {\n    }\n}\n'
+    )
+    return root
+
+
+#: The version of the document each URI's last diagnostics were published for.
+published_versions: dict[str, int | None] = {}
+
+
+def make_client() -> LanguageClient:
+    """pytest-lsp's client, which also records the version of each publication
+    and accepts the server's registration of file watchers."""
+
+    def publish(client: LanguageClient, params: types.PublishDiagnosticsParams) -> None:
+        client.diagnostics[params.uri] = params.diagnostics
+        published_versions[params.uri] = params.version
+
+    def register(client: LanguageClient, params: types.RegistrationParams) -> None:
+        return None
+
+    client = LanguageClient(converter_factory=default_converter)
+    features = {
+        **DEFAULT_CLIENT_FEATURES,
+        types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS: publish,
+        types.CLIENT_REGISTER_CAPABILITY: register,
+    }
+    register_lsp_features(client, features)
+    return client
+
+
+SERVER = ClientServerConfig(
+    server_command=[sys.executable, "-m", "usdrender_lint", "server"], client_factory=make_client
+)
+
+
+@pytest_lsp.fixture(scope="module", config=SERVER)
+async def client(lsp_client: LanguageClient, workspace: Path):
+    params = types.InitializeParams(
+        capabilities=client_capabilities("visual-studio-code"),
+        root_uri=workspace.as_uri(),
+        workspace_folders=[types.WorkspaceFolder(uri=workspace.as_uri(), name="shots")],
+    )
+    await lsp_client.initialize_session(params)
+    yield
+    await lsp_client.shutdown_session()
+
+
+async def diagnostics_of(client: LanguageClient, uri: str, version: int) -> list:
+    """The diagnostics published for ``uri`` at ``version`` (waits for them)."""
+    async with asyncio.timeout(60):
+        while published_versions.get(uri) != version or uri not in client.diagnostics:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+        return list(client.diagnostics[uri])
+
+
+def open_document(client: LanguageClient, path: Path, text: str | None = None) -> str:
+    uri = path.as_uri()
+    client.text_document_did_open(
+        types.DidOpenTextDocumentParams(
+            types.TextDocumentItem(
+                uri=uri, language_id="usda", version=1, text=text or path.read_text()
+            )
+        )
+    )
+    return uri
+
+
+def change(client: LanguageClient, uri: str, version: int, text: str) -> None:
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=version),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text=text)],
+        )
+    )
+
+
+def apply(text: str, edits: list[types.TextEdit]) -> str:
+    return apply_edits(
+        text,
+        [
+            Edit(
+                Span(
+                    (e.range.start.line, e.range.start.character),
+                    (e.range.end.line, e.range.end.character),
+                ),
+                e.new_text,
+            )
+            for e in edits
+        ],
+    )
+
+
+async def test_open_publishes_the_findings_of_check(client: LanguageClient, workspace: Path):
+    path = workspace / "shot.usda"
+    uri = open_document(client, path)
+    found = await diagnostics_of(client, uri, 1)
+    by_code = {d.code: d for d in found}
+    assert set(by_code) == {"CA004", "SE007", "CA003", "SE003", "PR004"}
+    camera = by_code["CA004"]
+    line = path.read_text().splitlines()[camera.range.start.line]
+    assert line.strip() == "rel camera = </World/camRig>"
+    assert camera.range.start.character == line.index("rel")
+    assert camera.range.end.character == len(line)
+    assert camera.severity == types.DiagnosticSeverity.Error
+    assert by_code["SE007"].severity == types.DiagnosticSeverity.Warning
+    assert camera.code_description.href.endswith("/rules/CA004-camera-target-not-camera/")
+    assert camera.source == "usdrender-lint"
+    assert camera.data["profile"] == "generic"
+    assert camera.data["fix"] == {
+        "description": "retarget camera to </World/camRig/shotCam>",
+        "safe": True,
+    }
+    # The same findings as check on the saved file, line for line.
+    checked = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "usdrender_lint",
+            "check",
+            "--no-cache",
+            "--format",
+            "json",
+            str(path),
+        ],
+        capture_output=True,
+        text=True,
+    )
+    import json
+
+    report = json.loads(checked.stdout)
+    expected = {(f["code"], f["line"]) for f in report["files"][0]["findings"]}
+    assert {(d.code, d.range.start.line + 1) for d in found} == expected
+
+
+async def test_a_change_relints_the_unsaved_text(client: LanguageClient, workspace: Path):
+    path = workspace / "shot.usda"
+    uri = path.as_uri()
+    text = path.read_text().replace("(0.75, 0.25, 0.25, 0.75)", "(0.25, 0.25, 0.75, 0.75)")
+    change(client, uri, 2, text)
+    found = await diagnostics_of(client, uri, 2)
+    assert "SE003" not in {d.code for d in found}
+    # Back as it was on disk.
+    change(client, uri, 3, path.read_text())
+    assert "SE003" in {d.code for d in await diagnostics_of(client, uri, 3)}
+
+
+async def test_a_reference_resolves_from_the_document_folder(
+    client: LanguageClient, workspace: Path
+):
+    path = workspace / "new_shot.usda"  # never saved: no file on disk
+    text = (
+        "#usda 1.0\n"
+        'def Xform "World" (\n    references = @./cams.usda@</rig>\n)\n{\n}\n'
+        'def RenderSettings "S"\n{\n    rel camera = </World/cam>\n'
+        "    uniform int2 resolution = (0, 10)\n}\n"
+    )
+    uri = open_document(client, path, text)
+    found = await diagnostics_of(client, uri, 1)
+    codes = {d.code for d in found}
+    # The camera target exists only through the reference: no CA003.
+    assert "CA003" not in codes
+    resolution = next(d for d in found if d.code == "SE001")
+    assert resolution.range.start.line == 9
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+
+
+async def test_a_parse_error_is_one_diagnostic_at_usds_line(
+    client: LanguageClient, workspace: Path
+):
+    path = workspace / "broken.usda"
+    text = '#usda 1.0\ndef Scope "Lights"\n{\n    float x = \n}\n'
+    uri = open_document(client, path, text)
+    found = await diagnostics_of(client, uri, 1)
+    assert len(found) == 1
+    (error,) = found
+    assert error.code == "ST001"
+    assert error.range.start.line == 3  # USD says line 4
+    assert "Expected" in error.message
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+
+
+async def test_quick_fix_and_fix_all_give_the_fix_result(
+    client: LanguageClient, workspace: Path, tmp_path: Path
+):
+    path = workspace / "shot.usda"
+    uri = path.as_uri()
+    text = path.read_text()
+    found = await diagnostics_of(client, uri, 3)
+    camera = next(d for d in found if d.code == "CA004")
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=camera.range,
+            context=types.CodeActionContext(diagnostics=[camera]),
+        )
+    )
+    titles = [a.title for a in actions]
+    fix = next(a for a in actions if a.title.startswith("Fix CA004"))
+    assert fix.kind == types.CodeActionKind.QuickFix and fix.is_preferred
+    fixed = apply(text, fix.edit.changes[uri])
+    assert "rel camera = </World/camRig/shotCam>" in fixed
+    assert len(fix.edit.changes[uri]) == 1  # one minimal edit
+    assert any(t.startswith("Suppress CA004 on /Render/PrimarySettings") for t in titles)
+
+    # The unsafe fix is labelled so.
+    window = next(d for d in found if d.code == "SE003")
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=window.range,
+            context=types.CodeActionContext(diagnostics=[window]),
+        )
+    )
+    unsafe = next(a for a in actions if a.title.startswith("Fix SE003"))
+    assert "unsafe" in unsafe.title and not unsafe.is_preferred
+
+    # Fix all: exactly what check --fix writes.
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=types.Range(types.Position(0, 0), types.Position(0, 0)),
+            context=types.CodeActionContext(
+                diagnostics=[], only=[types.CodeActionKind.SourceFixAll]
+            ),
+        )
+    )
+    (fix_all,) = actions
+    assert fix_all.kind == "source.fixAll.usdrender-lint"
+    copy = tmp_path / "shot.usda"
+    shutil.copy(path, copy)
+    subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--no-cache", "--fix", str(copy)],
+        capture_output=True,
+    )
+    assert apply(text, fix_all.edit.changes[uri]) == copy.read_text() != text
+
+
+async def test_suppress_in_custom_data_silences_the_finding(
+    client: LanguageClient, workspace: Path
+):
+    path = workspace / "shot.usda"
+    uri = path.as_uri()
+    text = path.read_text()
+    found = await diagnostics_of(client, uri, 3)
+    product = next(d for d in found if d.code == "PR004")
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=product.range,
+            context=types.CodeActionContext(diagnostics=[product]),
+        )
+    )
+    suppress = next(a for a in actions if a.title.startswith("Suppress PR004"))
+    suppressed = apply(text, suppress.edit.changes[uri])
+    assert '"PR004"' in suppressed
+    change(client, uri, 4, suppressed)
+    assert "PR004" not in {d.code for d in await diagnostics_of(client, uri, 4)}
+
+    # Hover on the code in the suppression: the rule's documentation.
+    lines = suppressed.splitlines()
+    line = next(i for i, x in enumerate(lines) if '"PR004"' in x)
+    hover = await client.text_document_hover_async(
+        types.HoverParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            position=types.Position(line, lines[line].index("PR004") + 2),
+        )
+    )
+    assert hover is not None and "PR004" in hover.contents.value
+    assert "## What it does" in hover.contents.value
+    change(client, uri, 5, text)
+    await diagnostics_of(client, uri, 5)
+
+
+async def test_hover_on_a_finding_shows_its_rule(client: LanguageClient, workspace: Path):
+    uri = (workspace / "shot.usda").as_uri()
+    found = await diagnostics_of(client, uri, 5)
+    window = next(d for d in found if d.code == "SE003")
+    hover = await client.text_document_hover_async(
+        types.HoverParams(
+            text_document=types.TextDocumentIdentifier(uri), position=window.range.start
+        )
+    )
+    assert hover is not None
+    assert hover.contents.value.startswith("**SE003 ")
+    assert window.code_description.href in hover.contents.value
+
+
+async def test_a_configuration_change_relints(client: LanguageClient, workspace: Path):
+    uri = (workspace / "shot.usda").as_uri()
+    config = workspace / ".usdrender-lint.toml"
+    config.write_text('ignore = ["PR004"]\n[severity]\nSE007 = "info"\n')
+    client.workspace_did_change_watched_files(
+        types.DidChangeWatchedFilesParams(
+            [types.FileEvent(uri=config.as_uri(), type=types.FileChangeType.Created)]
+        )
+    )
+    async with asyncio.timeout(60):
+        while True:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+            found = {d.code: d for d in client.diagnostics[uri]}
+            if "PR004" not in found:
+                break
+    assert found["SE007"].severity == types.DiagnosticSeverity.Information
+    config.unlink()

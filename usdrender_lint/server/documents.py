@@ -1,0 +1,302 @@
+"""The editor's documents as USD sees them, linted as ``check`` lints the file.
+
+Each open document is a layer whose identifier is the document's own path
+(``Sdf.Layer.New`` with that identifier, or the layer already open under it),
+filled with the editor's unsaved text by ``ImportFromString``. USD resolves a
+layer's relative asset paths against its identifier
+(``SdfComputeAssetPathRelativeToLayer``), so ``@./shot_cam.usda@`` in the
+buffer reaches the file beside the document exactly as it would from the saved
+file, and every stage that opens the path (the document's own, or one of
+another open document that references it) finds this layer in USD's layer
+registry: unsaved documents compose with each other and with the files on disk.
+
+A lint goes through the pipeline's own pieces: the configuration found from the
+document's folder (:func:`~usdrender_lint.running.pipeline.prepare`, as
+``check`` finds it), the linter it builds, and the report's per-path ignores
+(``Prepared.finish``). Fixes go through the fixer ``--fix`` uses, editing the
+buffers' text instead of the files. Nothing here knows the protocol; the
+worker process (``worker.py``) serves it, and the benchmark drives it in-process.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable
+from contextlib import suppress
+
+from pxr import Sdf, Tf, Usd, Vt
+
+from ..engine.stage import (
+    STAGE_OPEN_FAILED_CODE,
+    STAGE_OPEN_FAILED_NAME,
+    error_lines,
+    open_stage,
+    position_from_error,
+)
+from ..layers.files import layer_real_path
+from ..model import IGNORE_KEY, FileResult, Finding, Location, Report, Severity
+from ..records import record
+from ..registry import Registry, build_registry
+from ..running.pipeline import Prepared, Request, RequestError, prepare
+
+_USDA = Sdf.FileFormat.FindById("usda")
+
+#: (code, object path, message): how a quick fix names the finding it fixes.
+FindingKey = tuple[str, str | None, str]
+
+
+def finding_key(finding: Finding) -> FindingKey:
+    return (finding.code, finding.location.path, finding.message)
+
+
+@record(frozen=True)
+class Linted:
+    """One document's lint: its findings (in any layer), or why it could not
+    be linted at all (a configuration error)."""
+
+    findings: tuple[Finding, ...] = ()
+    error: str | None = None
+    seconds: float = 0.0
+
+
+@record
+class _Config:
+    prepared: Prepared
+    #: The configuration file and its modification time when read (None: defaults).
+    source: str | None
+    stamp: int | None
+
+
+def _stamp(path: str | None) -> int | None:
+    try:
+        return os.stat(path).st_mtime_ns if path else None
+    except OSError:
+        return None
+
+
+class Documents:
+    """The open documents (by absolute path) and their layers."""
+
+    def __init__(self, registry: Registry | None = None) -> None:
+        self._registry = registry
+        self.texts: dict[str, str] = {}
+        self._layers: dict[str, Sdf.Layer] = {}
+        #: The text each layer holds now (a fix or a reload makes it stale).
+        self._imported: dict[str, str] = {}
+        #: USD's parse error of a document's text (its layer keeps the last good text).
+        self._parse_errors: dict[str, tuple[str, int | None, int | None]] = {}
+        self._stages: dict[str, Usd.Stage] = {}
+        self._configs: dict[str, _Config] = {}
+
+    @property
+    def registry(self) -> Registry:
+        if self._registry is None:
+            self._registry = build_registry()
+        return self._registry
+
+    # -- the editor's state -------------------------------------------------------------
+
+    def update(self, texts: dict[str, str | None]) -> None:
+        """Set the text of documents; None closes one (its layer is the file's again)."""
+        for path, text in texts.items():
+            if text is not None:
+                self.texts[path] = text
+                continue
+            self.texts.pop(path, None)
+            self._imported.pop(path, None)
+            self._parse_errors.pop(path, None)
+            self._stages.pop(path, None)
+            layer = self._layers.pop(path, None)
+            if layer is not None and os.path.isfile(path):
+                with Tf.DiagnosticTrap() as trap:
+                    try:
+                        layer.Reload(True)  # a stage still holding it sees the file
+                    except Tf.ErrorException:
+                        layer.Clear()
+                    trap.Clear()
+
+    def forget_configuration(self) -> None:
+        """A configuration file changed: read the configuration again."""
+        self._configs.clear()
+
+    # -- linting ------------------------------------------------------------------------
+
+    def lint(self, path: str) -> Linted:
+        """Lint the document at ``path`` as ``check`` lints it (no --fail-on)."""
+        started = time.perf_counter()
+        try:
+            prepared = self._prepare(path)
+        except RequestError as exc:
+            return Linted(error=str(exc))
+        self._sync()
+        parse_error = self._parse_errors.get(path)
+        if parse_error is not None:
+            findings: tuple[Finding, ...] = (self._parse_finding(prepared, path, parse_error),)
+        else:
+            findings = self._lint_stage(prepared, path)
+        return Linted(findings, seconds=time.perf_counter() - started)
+
+    def _lint_stage(self, prepared: Prepared, path: str) -> tuple[Finding, ...]:
+        stage = self._stages.get(path)
+        if stage is None:
+            stage = open_stage(path).stage
+        if stage is None:
+            # The engine says why (a sublayer USD cannot read, ...), as check does.
+            result = prepared.linter.lint_path(path, full_composition=True)
+        else:
+            self._stages[path] = stage
+            self._reload_files(stage)
+            findings = prepared.linter.lint_stage(stage, path, texts=self.texts)
+            result = FileResult(path, findings=tuple(findings))
+        if result.status != "linted":
+            location = Location(path, None, path)
+            message = result.error or "the document could not be linted"
+            failed = Finding(
+                STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, Severity.ERROR, message, location
+            )
+            return (failed,)
+        return prepared.finish(Report((result,))).findings
+
+    def _reload_files(self, stage: Usd.Stage) -> None:
+        """Read again the layers on disk whose files changed since USD read them
+        (a reload without force does nothing for a file that did not change)."""
+        for layer in stage.GetUsedLayers():
+            if layer.anonymous or layer.dirty or layer_real_path(layer) in self.texts:
+                continue
+            # Gone or unreadable: the composition reports it.
+            with Tf.DiagnosticTrap() as trap:
+                with suppress(Tf.ErrorException):
+                    layer.Reload()
+                trap.Clear()
+
+    def _parse_finding(
+        self, prepared: Prepared, path: str, error: tuple[str, int | None, int | None]
+    ) -> Finding:
+        message, line, column = error
+        severity = prepared.linter.severities.get(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
+        return Finding(
+            STAGE_OPEN_FAILED_CODE,
+            STAGE_OPEN_FAILED_NAME,
+            severity,
+            message,
+            Location(path, None, path, line, column),
+        )
+
+    def _prepare(self, path: str) -> Prepared:
+        """The pipeline's preparation of a check of ``path``: its configuration
+        (searched from its folder), rules and linter; read again when the
+        configuration file changed."""
+        folder = os.path.dirname(path)
+        config = self._configs.get(folder)
+        if config is not None and _stamp(config.source) != config.stamp:
+            config = None
+        if config is None:
+            request = Request((path,), jobs=1, timeout=None, progress=False)
+            prepared = prepare(request, self.registry)
+            source = prepared.settings.source
+            config = self._configs[folder] = _Config(prepared, source, _stamp(source))
+        return config.prepared
+
+    # -- layers -------------------------------------------------------------------------
+
+    def _sync(self) -> None:
+        """Make every document's layer hold its text (USD recomposes the stages
+        that use it from what changed)."""
+        for path, text in self.texts.items():
+            if self._imported.get(path) is text:
+                continue
+            layer = self._layers.get(path)
+            if layer is None:
+                layer = Sdf.Layer.Find(path) or Sdf.Layer.New(_USDA, path)
+                self._layers[path] = layer
+            with Tf.DiagnosticTrap() as trap:
+                try:
+                    layer.ImportFromString(text)
+                    self._parse_errors.pop(path, None)
+                except Tf.ErrorException as exc:
+                    self._parse_errors[path] = _parse_error(exc, path)
+                trap.Clear()
+            self._imported[path] = text
+
+    # -- edits --------------------------------------------------------------------------
+
+    def fixes(
+        self, path: str, target: FindingKey | None, unsafe: bool
+    ) -> dict[str, tuple[str, str]]:
+        """The text of each layer before and after the fixes ``--fix`` would
+        apply to the document's stage (``unsafe``: ``--unsafe-fixes`` too), by
+        real path; only the fix of the finding ``target`` when given. Only the
+        layers that change (a document's buffer, or a file of its layer stack)."""
+        from ..fixing import FixOptions
+        from ..fixing.session import StageFixer
+
+        prepared = self._prepare(path)
+        self._sync()
+        if path in self._parse_errors:
+            return {}
+        keep: Callable[[Finding], bool] = prepared.is_reported
+        if target is not None:
+
+            def keep(finding: Finding) -> bool:
+                return finding_key(finding) == target and prepared.is_reported(finding)
+
+        options = FixOptions(unsafe=unsafe, write=False, texts=dict(self.texts))
+        fixer = StageFixer(prepared.linter, path, options, keep)
+        try:
+            fixer.run()
+        finally:
+            self._imported.clear()  # the fixer put its layers back as their files hold them
+        changed = {}
+        for source in fixer.sources or ():
+            if source.changed and source.text is not None and source.original_text is not None:
+                changed[layer_real_path(source.layer)] = (source.original_text, source.text)
+        return changed
+
+    def suppress(self, path: str, code: str, object_path: str) -> str | None:
+        """The document's text with ``code`` added to the customData suppression
+        of the prim of ``object_path`` (None where it cannot be written)."""
+        from ..engine.suppress import ignore_entries
+        from ..fixing.text_edits import CannotEdit, edit_text
+
+        self._sync()
+        stage = self._stages.get(path)
+        layer = self._layers.get(path)
+        text = self.texts.get(path)
+        if stage is None or layer is None or text is None or path in self._parse_errors:
+            return None
+        if not Sdf.Path.IsValidPathString(object_path):
+            return None
+        prim_path = Sdf.Path(object_path).GetPrimPath()
+        prim = stage.GetPrimAtPath(prim_path)
+        entries = ignore_entries(prim) if prim else None
+        if entries is None or code in entries:
+            return None  # no such prim, or a malformed suppression the user must mend
+        dictionary, _, key = IGNORE_KEY.partition(":")
+        before = layer.ExportToString()
+        try:
+            spec = layer.GetPrimAtPath(prim_path) or Sdf.CreatePrimInLayer(layer, prim_path)
+            data = dict(spec.customData)
+            ours = dict(data.get(dictionary) or {})
+            ours[key] = Vt.StringArray([*entries, code])
+            data[dictionary] = ours
+            spec.SetInfo("customData", data)
+            after = layer.ExportToString()
+        finally:
+            self._imported.pop(path, None)  # the next lint imports the text again
+        try:
+            return edit_text(text, before, after)
+        except CannotEdit:
+            return None
+
+
+def _parse_error(exc: Tf.ErrorException, path: str) -> tuple[str, int | None, int | None]:
+    """USD's parse error of a document's text: the message naming the file,
+    and its line and column. A layer imported from a string has no file name
+    in USD's message (``:3:3: Expected ...``): the document's path is put there."""
+    lines = [f"{path}{line}" if line.startswith(":") else line for line in error_lines(exc, path)]
+    for line in lines:
+        position = position_from_error(line)
+        if position is not None:
+            return line, position[1], position[2]
+    return (lines[0] if lines else f"USD cannot read {path}"), None, None

@@ -1,0 +1,557 @@
+"""``usdrender-lint server``: the Language Server Protocol over stdio (pygls).
+
+The protocol thread only keeps the documents' text and turns results into
+protocol messages; USD runs in a child process (:mod:`.worker`), called from
+this server's worker threads, so the server answers while a lint runs.
+Diagnostics are published on open, on change and on save: a lint starts at
+once for a document whose last lint was quick (changes that arrive meanwhile
+wait for it and only the newest is linted), after a short pause for a slow
+one, and a newer edit of a slow document cancels its running lint.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import re
+import threading
+import time
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any
+
+from lsprotocol import types
+from pygls.lsp.server import LanguageServer
+from pygls.uris import from_fs_path, to_fs_path
+from pygls.workspace.position_codec import ServerTextPosition
+
+from .. import __version__
+from ..model import Finding, Severity
+from .documents import Linted, finding_key
+from .ranges import Edit, Span, spec_line, statement_span, text_edits
+from .worker import LintFailed, Linting, RuleDoc
+
+NAME = "usdrender-lint"
+#: source.fixAll for this server: the safe fixes of the document, as --fix applies them.
+FIX_ALL = f"{types.CodeActionKind.SourceFixAll.value}.{NAME}"
+#: Files whose change means the configuration may have changed.
+CONFIG_FILES = (".usdrender-lint.toml", "pyproject.toml")
+USD_TEXT_SUFFIXES = (".usda", ".usd")
+#: A lint that took longer than this is "slow": the next edit waits DEBOUNCE
+#: seconds before linting, and cancels a running lint of the document.
+SLOW = 0.25
+DEBOUNCE = 0.2
+#: Text this long is presumed slow before its first lint finishes.
+LARGE_TEXT = 1_000_000
+#: Seconds a lint may take before it is stopped (check's default --timeout).
+TIMEOUT = 120.0
+#: How often the server checks that the client's process is still alive.
+PARENT_POLL = 2.0
+
+_SEVERITY = {
+    Severity.ERROR: types.DiagnosticSeverity.Error,
+    Severity.WARNING: types.DiagnosticSeverity.Warning,
+    Severity.INFO: types.DiagnosticSeverity.Information,
+}
+_WORD = re.compile(r"[A-Za-z][\w-]*")
+
+
+class UsdRenderLintServer(LanguageServer):
+    def __init__(self, linting: Linting | None = None) -> None:
+        super().__init__(
+            NAME, __version__, text_document_sync_kind=types.TextDocumentSyncKind.Incremental
+        )
+        self.linting = linting or Linting()
+        self.executor = ThreadPoolExecutor(max_workers=4, thread_name_prefix="usdrender-lint")
+        self.rules: dict[str, RuleDoc] = {}
+        #: Every code, name and alias, lower-cased, to its rule.
+        self.rule_names: dict[str, RuleDoc] = {}
+        #: The newest lint asked for, per document (a counter: saves count too).
+        self.wanted: dict[str, int] = {}
+        self.ticks = 0
+        self.seconds: dict[str, float] = {}
+        #: The findings of each document's last lint, and the text they were made from.
+        self.findings: dict[str, tuple[tuple[Finding, ...], dict[str, str]]] = {}
+        #: What each linted document (the source) publishes on each document URI.
+        self.published: dict[str, dict[str, list[types.Diagnostic]]] = {}
+        self.ready = threading.Event()
+
+    # -- documents -----------------------------------------------------------------
+
+    def texts(self) -> dict[str, str]:
+        """The text of every open USD document, by path."""
+        found = {}
+        for uri, document in list(self.workspace.text_documents.items()):
+            path = usd_path(uri)
+            if path is not None:
+                found[path] = document.source
+        return found
+
+    def version_of(self, uri: str) -> int | None:
+        document = self.workspace.text_documents.get(uri)
+        return document.version if document is not None else None
+
+    async def start_linting(self) -> None:
+        loop = asyncio.get_running_loop()
+        try:
+            docs = await loop.run_in_executor(self.executor, self.linting.start)
+        except LintFailed as failed:
+            self.window_log_message(
+                types.LogMessageParams(types.MessageType.Error, f"{NAME}: {failed.reason}")
+            )
+            return
+        self.rules = {rule.code: rule for rule in docs}
+        for rule in docs:
+            for word in (rule.code, rule.name, *rule.aliases):
+                self.rule_names[word.lower()] = rule
+        self.ready.set()
+
+    async def lint(self, uri: str) -> None:
+        """Lint the document and publish its diagnostics, unless a newer lint
+        of it is asked for meanwhile."""
+        path = usd_path(uri)
+        if path is None or uri not in self.workspace.text_documents:
+            return
+        self.ticks += 1
+        tick = self.wanted[uri] = self.ticks
+        text = self.workspace.get_text_document(uri).source
+        expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
+        if expected >= SLOW:
+            self.linting.cancel(path, tick)
+            await asyncio.sleep(DEBOUNCE)
+            if self.wanted.get(uri) != tick:
+                return
+        loop = asyncio.get_running_loop()
+        texts = self.texts()
+        version = self.version_of(uri)
+        try:
+            linted: Linted = await loop.run_in_executor(
+                self.executor, self.linting.call, "lint", path, tick, (path,), texts, TIMEOUT
+            )
+        except LintFailed as failed:
+            if failed.cancelled:
+                return
+            linted = Linted(error=failed.reason)
+        if self.wanted.get(uri) != tick or uri not in self.workspace.text_documents:
+            return
+        self.seconds[path] = linted.seconds
+        self.findings[uri] = (linted.findings, texts)
+        self.publish(uri, self.diagnostics(uri, path, linted, texts), version)
+
+    def forget(self, uri: str) -> None:
+        """A closed document: its lint's diagnostics go, on it and elsewhere."""
+        self.wanted.pop(uri, None)
+        self.findings.pop(uri, None)
+        self.publish(uri, {uri: []}, None)
+        self.published.pop(uri, None)
+
+    # -- diagnostics ---------------------------------------------------------------
+
+    def diagnostics(
+        self, uri: str, path: str, linted: Linted, texts: dict[str, str]
+    ) -> dict[str, list[types.Diagnostic]]:
+        """The lint's diagnostics by the URI they are published on: the
+        document's, and those of other open documents whose layers hold findings."""
+        text = texts.get(path, "")
+        found: dict[str, list[types.Diagnostic]] = {uri: []}
+        if linted.error is not None:
+            span = statement_span(text, 1)
+            found[uri].append(
+                types.Diagnostic(
+                    range=self.range(text, span),
+                    message=linted.error,
+                    severity=types.DiagnosticSeverity.Error,
+                    source=NAME,
+                )
+            )
+            return found
+        index: dict[str, int] | None = None
+        for finding in linted.findings:
+            layer = finding.location.layer or path
+            if layer == path or layer in texts:
+                target = uri if layer == path else from_fs_path(layer) or uri
+                target_text = texts[layer]
+                span = statement_span(target_text, finding.location.line, finding.location.column)
+                found.setdefault(target, []).append(
+                    self.diagnostic(finding, self.range(target_text, span))
+                )
+                continue
+            # Another file, not open: shown where the document brings the object in.
+            if index is None:
+                from ..layers.usda_text import index_usda
+
+                index = index_usda(text)
+            line = spec_line(text, finding.location.path, index)
+            related_line = max((finding.location.line or 1) - 1, 0)
+            related = types.DiagnosticRelatedInformation(
+                location=types.Location(
+                    uri=from_fs_path(layer) or layer,
+                    range=types.Range(
+                        types.Position(related_line, 0), types.Position(related_line, 0)
+                    ),
+                ),
+                message=f"the opinion is in {layer}"
+                + (f", line {finding.location.line}" if finding.location.line else ""),
+            )
+            found[uri].append(
+                self.diagnostic(finding, self.range(text, statement_span(text, line)), [related])
+            )
+        return found
+
+    def diagnostic(
+        self,
+        finding: Finding,
+        range_: types.Range,
+        related: list[types.DiagnosticRelatedInformation] | None = None,
+    ) -> types.Diagnostic:
+        rule = self.rules.get(finding.code)
+        fix = finding.fix
+        return types.Diagnostic(
+            range=range_,
+            severity=_SEVERITY[finding.severity],
+            code=finding.code,
+            code_description=types.CodeDescription(href=rule.url) if rule else None,
+            source=NAME,
+            message=finding.message,
+            related_information=related,
+            data={
+                "name": finding.name,
+                "path": finding.location.path,
+                "profile": finding.profile,
+                "profileReason": finding.profile_reason,
+                "fix": {"description": fix.description, "safe": fix.safe} if fix else None,
+                "key": list(finding_key(finding)),
+            },
+        )
+
+    def range(self, text: str, span: Span) -> types.Range:
+        lines = text.splitlines(keepends=True) or [""]
+        codec = self.workspace.position_codec
+
+        def position(at: tuple[int, int]) -> types.Position:
+            return codec.position_to_client_units(lines, ServerTextPosition(*at))
+
+        return types.Range(position(span.start), position(span.end))
+
+    def publish(
+        self, source: str, found: dict[str, list[types.Diagnostic]], version: int | None
+    ) -> None:
+        """Publish what the lint of ``source`` found on each URI, beside what
+        the lints of other documents found there."""
+        before = self.published.get(source, {})
+        self.published[source] = found
+        for target in set(before) | set(found):
+            merged: list[types.Diagnostic] = []
+            seen: set[tuple] = set()
+            for published in self.published.values():
+                for diagnostic in published.get(target, ()):
+                    key = (
+                        diagnostic.range.start.line,
+                        diagnostic.range.start.character,
+                        diagnostic.code,
+                        diagnostic.message,
+                    )
+                    if key not in seen:
+                        seen.add(key)
+                        merged.append(diagnostic)
+            self.text_document_publish_diagnostics(
+                types.PublishDiagnosticsParams(
+                    uri=target,
+                    diagnostics=merged,
+                    version=version if target == source else self.version_of(target),
+                )
+            )
+
+    # -- code actions --------------------------------------------------------------
+
+    async def code_actions(self, params: types.CodeActionParams) -> list[types.CodeAction]:
+        uri = params.text_document.uri
+        path = usd_path(uri)
+        if path is None or uri not in self.workspace.text_documents:
+            return []
+        only = params.context.only
+        wanted = [
+            d
+            for d in params.context.diagnostics
+            if d.source == NAME and isinstance(d.data, dict) and d.data.get("key")
+        ]
+        texts = self.texts()
+        version = self.version_of(uri)
+        actions: list[types.CodeAction] = []
+        if _wants(only, types.CodeActionKind.QuickFix):
+            for diagnostic in wanted:
+                actions.extend(await self._quick_fixes(path, diagnostic, texts))
+        linted = self.findings.get(uri)
+        safe = linted is not None and any(f.fix is not None and f.fix.safe for f in linted[0])
+        if safe and _wants(only, FIX_ALL, explicit=True):
+            edit = await self._fix_edit(path, None, False, texts)
+            if edit is not None:
+                actions.append(
+                    types.CodeAction(
+                        title=f"{NAME}: apply every safe fix",
+                        kind=FIX_ALL,
+                        edit=edit,
+                    )
+                )
+        if self.version_of(uri) != version:
+            return []  # the text changed meanwhile: these edits are for the old one
+        return actions
+
+    async def _quick_fixes(
+        self, path: str, diagnostic: types.Diagnostic, texts: dict[str, str]
+    ) -> list[types.CodeAction]:
+        data: dict[str, Any] = diagnostic.data or {}
+        code, object_path, message = data["key"]
+        actions = []
+        fix = data.get("fix")
+        if fix:
+            safe = bool(fix.get("safe"))
+            edit = await self._fix_edit(path, (code, object_path, message), not safe, texts)
+            if edit is not None:
+                label = "" if safe else " (unsafe: check the result)"
+                actions.append(
+                    types.CodeAction(
+                        title=f"Fix {code}: {fix.get('description')}{label}",
+                        kind=types.CodeActionKind.QuickFix,
+                        diagnostics=[diagnostic],
+                        edit=edit,
+                        is_preferred=safe,
+                    )
+                )
+        if object_path and code in self.rules:
+            text = await self._call("suppress", path, (path, code, object_path), texts)
+            if isinstance(text, str) and path in texts:
+                prim = object_path.split(".")[0]
+                actions.append(
+                    types.CodeAction(
+                        title=f"Suppress {code} on {prim} (customData)",
+                        kind=types.CodeActionKind.QuickFix,
+                        diagnostics=[diagnostic],
+                        edit=self.workspace_edit({path: (texts[path], text)}),
+                    )
+                )
+        return actions
+
+    async def _fix_edit(
+        self, path: str, target: tuple | None, unsafe: bool, texts: dict[str, str]
+    ) -> types.WorkspaceEdit | None:
+        changed = await self._call("fixes", path, (path, target, unsafe), texts)
+        if not changed:
+            return None
+        return self.workspace_edit(changed)
+
+    async def _call(self, method: str, path: str, args: tuple, texts: dict[str, str]) -> Any:
+        loop = asyncio.get_running_loop()
+        self.ticks += 1
+        try:
+            return await loop.run_in_executor(
+                self.executor, self.linting.call, method, path, self.ticks, args, texts, TIMEOUT
+            )
+        except LintFailed:
+            return None
+
+    def workspace_edit(self, changed: dict[str, tuple[str, str]]) -> types.WorkspaceEdit:
+        changes = {}
+        for path, (before, after) in changed.items():
+            changes[from_fs_path(path) or path] = [
+                types.TextEdit(range=self.range(before, edit.span), new_text=edit.text)
+                for edit in text_edits(before, after)
+            ]
+        return types.WorkspaceEdit(changes=changes)
+
+    # -- hover ---------------------------------------------------------------------
+
+    def hover(self, params: types.HoverParams) -> types.Hover | None:
+        uri = params.text_document.uri
+        if uri not in self.workspace.text_documents or not self.rules:
+            return None
+        document = self.workspace.get_text_document(uri)
+        position = params.position
+        shown: list[RuleDoc] = []
+        word = _suppression_word(document.lines, document, position)
+        if word is not None and word.lower() in self.rule_names:
+            shown.append(self.rule_names[word.lower()])
+        for published in self.published.values():
+            for diagnostic in published.get(uri, ()):
+                if _contains(diagnostic.range, position) and diagnostic.code in self.rules:
+                    rule = self.rules[str(diagnostic.code)]
+                    if rule not in shown:
+                        shown.append(rule)
+        if not shown:
+            return None
+        return types.Hover(
+            contents=types.MarkupContent(
+                kind=types.MarkupKind.Markdown, value="\n\n---\n\n".join(map(rule_markdown, shown))
+            )
+        )
+
+    # -- configuration and files ---------------------------------------------------
+
+    async def files_changed(self, paths: list[str]) -> None:
+        """Files changed on disk: a configuration file makes every open
+        document be linted with the configuration read again; a layer, with
+        the layer read again (its lint reloads changed files)."""
+        if any(os.path.basename(p) in CONFIG_FILES for p in paths):
+            await self._call("forget_configuration", "", (), self.texts())
+        for uri in list(self.workspace.text_documents):
+            if usd_path(uri) is not None:
+                asyncio.ensure_future(self.lint(uri))
+
+    def close(self) -> None:
+        self.linting.close()
+        self.executor.shutdown(wait=False, cancel_futures=True)
+
+
+def rule_markdown(rule: RuleDoc) -> str:
+    head = f"**{rule.code} {rule.name}** ({rule.severity}; fix: {rule.fix})"
+    # explain's text starts with the same facts, unformatted.
+    doc = rule.doc.split("\n", 1)[1] if rule.doc.startswith(rule.code) else rule.doc
+    return f"{head}\n\n{doc.strip()}\n\n[{rule.code} on the documentation site]({rule.url})"
+
+
+def usd_path(uri: str) -> str | None:
+    """The file path of a USD text document's URI (None: not one we lint)."""
+    if not uri.startswith("file:"):
+        return None
+    path = to_fs_path(uri)
+    if path is None or not path.lower().endswith(USD_TEXT_SUFFIXES):
+        return None
+    return os.path.abspath(path)
+
+
+def _wants(only: Sequence[str] | None, kind: str, *, explicit: bool = False) -> bool:
+    """Whether a code action request that asks for ``only`` kinds wants ``kind``
+    (source actions only when asked for: clients list them in their menus)."""
+    if only is None:
+        return not explicit
+    return any(kind == k or kind.startswith(f"{k}.") for k in only)
+
+
+def _contains(range_: types.Range, position: types.Position) -> bool:
+    start, end = range_.start, range_.end
+    after_start = (position.line, position.character) >= (start.line, start.character)
+    return after_start and (position.line, position.character) <= (end.line, end.character)
+
+
+def _suppression_word(lines, document, position: types.Position) -> str | None:
+    """The quoted word under the cursor when it is an entry of a customData
+    ``usdrender_lint`` suppression (``string[] ignore = ["SE003"]``)."""
+    if position.line >= len(lines):
+        return None
+    line = lines[position.line]
+    column = document.position_from_client_units(position).character
+    for match in _WORD.finditer(line):
+        if match.start() <= column <= match.end():
+            quoted = line[match.start() - 1 : match.start()] in "\"'" and match.start() > 0
+            if not quoted:
+                return None
+            above = "".join(lines[max(0, position.line - 6) : position.line + 1])
+            return match.group() if "usdrender_lint" in above or "ignore" in line else None
+    return None
+
+
+# -- the server --------------------------------------------------------------------------
+
+
+def build(linting: Linting | None = None) -> UsdRenderLintServer:
+    server = UsdRenderLintServer(linting)
+
+    @server.feature(types.INITIALIZED)
+    async def initialized(ls: UsdRenderLintServer, params: types.InitializedParams) -> None:
+        watch_client(ls)
+        capabilities = ls.client_capabilities.workspace
+        watched = capabilities.did_change_watched_files if capabilities else None
+        if watched is not None and watched.dynamic_registration:
+            patterns = [f"**/{name}" for name in CONFIG_FILES] + ["**/*.usd*"]
+            options = types.DidChangeWatchedFilesRegistrationOptions(
+                watchers=[types.FileSystemWatcher(glob_pattern=p) for p in patterns]
+            )
+            registration = types.Registration(
+                id=f"{NAME}-files",
+                method=types.WORKSPACE_DID_CHANGE_WATCHED_FILES,
+                register_options=options,
+            )
+            ls.client_register_capability(types.RegistrationParams([registration]))
+        await ls.start_linting()
+        for uri in list(ls.workspace.text_documents):
+            asyncio.ensure_future(ls.lint(uri))
+
+    @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
+    async def did_open(ls: UsdRenderLintServer, params: types.DidOpenTextDocumentParams) -> None:
+        if ls.ready.is_set():
+            await ls.lint(params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
+    async def did_change(
+        ls: UsdRenderLintServer, params: types.DidChangeTextDocumentParams
+    ) -> None:
+        if ls.ready.is_set():
+            await ls.lint(params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
+    async def did_save(ls: UsdRenderLintServer, params: types.DidSaveTextDocumentParams) -> None:
+        path = to_fs_path(params.text_document.uri) or ""
+        if os.path.basename(path) in CONFIG_FILES:
+            await ls.files_changed([path])
+        elif ls.ready.is_set():
+            await ls.lint(params.text_document.uri)
+
+    @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
+    def did_close(ls: UsdRenderLintServer, params: types.DidCloseTextDocumentParams) -> None:
+        ls.forget(params.text_document.uri)
+
+    @server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
+    async def watched(ls: UsdRenderLintServer, params: types.DidChangeWatchedFilesParams) -> None:
+        await ls.files_changed([to_fs_path(change.uri) or "" for change in params.changes])
+
+    @server.feature(
+        types.TEXT_DOCUMENT_CODE_ACTION,
+        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix, FIX_ALL]),
+    )
+    async def code_action(
+        ls: UsdRenderLintServer, params: types.CodeActionParams
+    ) -> list[types.CodeAction]:
+        return await ls.code_actions(params)
+
+    @server.feature(types.TEXT_DOCUMENT_HOVER)
+    def hover(ls: UsdRenderLintServer, params: types.HoverParams) -> types.Hover | None:
+        return ls.hover(params)
+
+    @server.feature(types.SHUTDOWN)
+    def shutdown(ls: UsdRenderLintServer, params: Any) -> None:
+        ls.close()
+
+    return server
+
+
+def watch_client(server: UsdRenderLintServer) -> None:
+    """End the server when the client's process (initialize's processId) is
+    gone without closing the connection (the protocol asks servers to)."""
+    pid = server.process_id
+    if not pid:
+        return
+
+    def watch() -> None:
+        while True:
+            time.sleep(PARENT_POLL)
+            try:
+                os.kill(pid, 0)
+            except ProcessLookupError:
+                server.close()
+                # The protocol loop waits in a read no one will answer.
+                os._exit(0)
+            except PermissionError:
+                pass  # alive, as another user
+
+    threading.Thread(target=watch, name="usdrender-lint-client-watch", daemon=True).start()
+
+
+def serve() -> None:
+    server = build()
+    try:
+        server.start_io()
+    finally:
+        server.close()
+
+
+__all__ = ["Edit", "build", "serve"]
