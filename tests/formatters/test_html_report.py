@@ -104,16 +104,14 @@ def test_merge_html_of_shard_reports(tmp_path: Path) -> None:
     assert strict_problems(away.stdout) == ([], [])
 
 
-def test_diff_shows_a_read_only_file(tmp_path: Path) -> None:
-    """--diff (and the report's diffs) write nothing, so a read-only file is shown."""
+def test_the_report_shows_the_fixes_of_a_read_only_file(tmp_path: Path) -> None:
+    """The report writes nothing, so a read-only file's fixes are shown as diffs
+    (--diff, a preview of --fix, says --fix would refuse to write it)."""
     work = tmp_path / "shot.usda"
     shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", work)
     os.chmod(work, 0o444)
-    run = _run("check", "--diff", "shot.usda", cwd=tmp_path)
-    assert "+        rel camera = </World/camRig/shotCam>" in run.stdout, run.stderr
-    assert "read-only" not in run.stderr
     page = _run("check", "--format", "html", "shot.usda", cwd=tmp_path).stdout
     assert page.count('class="diff"') == 3
+    assert '<span class="d-add">+        rel camera = &lt;/World/camRig/shotCam&gt;</span>' in page
     assert work.read_text() == (REPO / "examples" / "broken_shot" / "shot.usda").read_text()
-    fix = _run("check", "--fix", "shot.usda", cwd=tmp_path)
-    assert "read-only" in fix.stderr  # --fix still refuses to write it
+    assert "read-only" in _run("check", "--diff", "shot.usda", cwd=tmp_path).stderr

@@ -199,7 +199,7 @@ def _diffs(report: Report, files: Sequence[str], views: ReportViews) -> None:
             fixer = StageFixer(
                 linters[folder],
                 file,
-                FixOptions(unsafe=True, write=False),
+                FixOptions(unsafe=True, write=False, any_file=True),
                 partial(same_finding, finding),
             )
             if file not in stages:  # one stage per file: each fixer puts back what it changed
