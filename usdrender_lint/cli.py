@@ -25,7 +25,13 @@ from .config import (
     check_timeout,
     load_settings,
 )
-from .formatters import FormatOptions, available_formatters, load_formatter, reads_rules
+from .formatters import (
+    FormatOptions,
+    available_formatters,
+    escaped,
+    load_formatter,
+    reads_rules,
+)
 from .model import Report
 from .paths import escape, printable
 from .running import read_ahead as _read_ahead
@@ -588,7 +594,15 @@ def spec_command(
 
 def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
     """The spec document as JSON or text, to stdout or ``output`` (atomically),
-    or as one SVG per product into the folder ``output`` (listing the files)."""
+    or as one SVG per product into the folder ``output`` (listing the files).
+    Names that are not UTF-8 are written in their lossless escaped form, and
+    the views printed as they are escape control characters too."""
+    from functools import partial
+
+    if output_format == "json":
+        document = escaped(document)
+    else:
+        document = escaped(document, partial(printable, limit=None))
     if output_format == "svg":
         from pathlib import Path
 
