@@ -132,7 +132,6 @@ def _specs(report: Report, files: Sequence[str], views: ReportViews) -> None:
     """The framing pictures: ``spec``'s computation and SVG, per product."""
     try:
         from ..render_spec.compute import SpecOptions, compute_file_spec
-        from ..render_spec.document import file_document, product_findings
         from ..render_spec.svg import product_svg
         from .inspect import InspectedFile, InspectRequest, inspect_files
 
@@ -151,25 +150,35 @@ def _specs(report: Report, files: Sequence[str], views: ReportViews) -> None:
         if not isinstance(result, InspectedFile) or result.value is None:
             view.spec_error = result.error or "its specification could not be computed"
             continue
-        spec = result.value
-        findings = reported[result.file].findings
-        document = file_document(reported[result.file], spec)
-        for settings, settings_doc in zip(spec.settings, document["settings"], strict=True):
-            view.profiles[settings.path] = (settings.profile, settings.profile_reason)
-            siblings = [p.path for p in settings.products if p.path]
-            pairs = list(zip(settings.products, settings_doc["products"], strict=True))
-            if not pairs:
-                pairs = [(settings.base, settings_doc["base"])]
-            for product, product_doc in pairs:
-                mine = product_findings(product, settings.path, siblings, findings)
-                view.products.append(
-                    ProductView(
-                        settings.path,
-                        product.path,
-                        product_svg(document, settings_doc, product_doc),
-                        tuple(finding_key(f) for f in mine),
-                    )
+        try:
+            _file_products(view, reported[result.file], result.value, product_svg)
+        except Exception as exc:  # noqa: BLE001 - that file is shown without pictures
+            view.products.clear()
+            view.spec_error = f"its pictures could not be drawn: {type(exc).__name__}: {exc}"
+
+
+def _file_products(view: FileView, result: Any, spec: Any, product_svg: Any) -> None:
+    from ..render_spec.document import FindingIndex, file_document, product_findings
+
+    findings = result.findings
+    document = file_document(result, spec)
+    for settings, settings_doc in zip(spec.settings, document["settings"], strict=True):
+        view.profiles[settings.path] = (settings.profile, settings.profile_reason)
+        siblings = [p.path for p in settings.products if p.path]
+        index = FindingIndex(findings, settings.path, siblings)
+        pairs = list(zip(settings.products, settings_doc["products"], strict=True))
+        if not pairs:
+            pairs = [(settings.base, settings_doc["base"])]
+        for product, product_doc in pairs:
+            mine = product_findings(product, index)
+            view.products.append(
+                ProductView(
+                    settings.path,
+                    product.path,
+                    product_svg(document, settings_doc, product_doc),
+                    tuple(finding_key(f) for f in mine),
                 )
+            )
 
 
 def _diffs(report: Report, files: Sequence[str], views: ReportViews) -> None:
