@@ -64,7 +64,7 @@ def test_no_user_page_carries_issue_numbers_or_commit_hashes() -> None:
     found = []
     for page in pages:
         text = page.read_text(encoding="utf-8")
-        for pattern in (r"\bissues? \d+\b", r"#\d{2,}\b", r"`[0-9a-f]{7,40}`", r"\bsession \d+\b"):
+        for pattern in (r"\bissues? \d+\b", r"(?<!&)#\d{2,}\b", r"`[0-9a-f]{7,40}`", r"\bsession \d+\b"):
             found += [f"{page.relative_to(REPO)}: {m}" for m in re.findall(pattern, text)]
     assert found == []
 
