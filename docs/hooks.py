@@ -173,7 +173,8 @@ def _rules_index(rules: list[type]) -> str:
         "(`CA004`), code prefix (`CA`, `SE00`) or name (`camera-target-not-camera`).",
     ]
     for code, members in _by_family(rules):
-        parts.append(f"## {code}\n\n{family_description(members[0])}")
+        about = family_description(members[0]).rstrip(".")
+        parts.append(f"## {code}: {about[:1].upper()}{about[1:]} {{#{code.lower()}}}")
         rows = [
             (
                 f"[{r.code}]({_rel(RULES_INDEX, rule_page(r))})",
