@@ -69,24 +69,49 @@ def _error(message: str) -> None:
 
 
 class _Stdout:
-    """sys.stdout, with its failures told apart: a closed or broken pipe is
-    :class:`StdoutGone`, any other (a full disk) a ToolError."""
+    """sys.stdout, written to the end: the text is gathered and written with
+    :func:`~.atomic.write_all` (a single ``write()`` to a pipe whose reader
+    left takes part of it and says nothing, so Python's own stream could
+    leave a report cut short with exit 0). A closed or broken pipe is
+    :class:`StdoutGone`, any other failure (a full disk) a ToolError."""
+
+    #: Bytes gathered before they are written.
+    CHUNK = 1 << 16
+
+    def __init__(self) -> None:
+        self._parts: list[str] = []
+        self._size = 0
 
     def write(self, text: str) -> int:
-        return self._do(lambda stream: stream.write(text))
+        self._parts.append(text)
+        self._size += len(text)
+        if self._size >= self.CHUNK:
+            self.flush()
+        return len(text)
 
     def flush(self) -> None:
-        self._do(lambda stream: stream.flush())
+        text, self._parts, self._size = "".join(self._parts), [], 0
+        self._do(text)
 
     def isatty(self) -> bool:
         return bool(sys.stdout is not None and sys.stdout.isatty())
 
     @staticmethod
-    def _do(action):
-        if sys.stdout is None:  # fd 1 was closed when Python started
+    def _do(text: str) -> None:
+        from .atomic import write_all
+
+        stream = sys.stdout
+        if stream is None:  # fd 1 was closed when Python started
             raise StdoutGone
         try:
-            return action(sys.stdout)
+            stream.flush()
+            try:
+                fd = stream.fileno()
+            except (AttributeError, ValueError, OSError):  # not a file (a test's capture)
+                stream.write(text)
+                stream.flush()
+                return
+            write_all(fd, text.encode(stream.encoding or "utf-8", stream.errors or "strict"))
         except BrokenPipeError:
             raise StdoutGone from None
         except OSError as exc:
@@ -353,6 +378,7 @@ def check(
         cache=not no_cache,
         cache_dir=cache_dir,
         shard=shard,
+        output=output_file,
     )
     try:
         outcome = run(request)
@@ -494,6 +520,8 @@ def _write_file(path: str | Path, text: str, what: str) -> None:
 
     try:
         write_output(path, text)
+    except BrokenPipeError:
+        raise StdoutGone from None  # a pipe the user named, whose reader left
     except OSError as exc:
         raise ToolError(f"{path}: cannot write {what}: {exc.strerror or exc}") from None
 
@@ -579,20 +607,29 @@ def spec_command(
 
     options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
     request = InspectRequest(
-        paths, config=config_path, isolated=isolated, profile=profile, jobs=jobs, timeout=timeout
+        paths,
+        config=config_path,
+        isolated=isolated,
+        profile=profile,
+        jobs=jobs,
+        timeout=timeout,
+        output=output if output_format != "svg" else None,
     )
     try:
         inspection = inspect_files(request, partial(compute_file_spec, options=options))
     except RequestError as exc:
         raise ToolError(str(exc)) from None
     files = [(r, r.value if isinstance(r, InspectedFile) else None) for r in inspection.results]
-    _emit_spec(spec_document(files, __version__), output_format.lower(), output)
+    inputs = [result.file for result, _ in files]
+    _emit_spec(spec_document(files, __version__), output_format.lower(), output, inputs)
     for error in inspection.errors:
         _error(error)
     sys.exit(inspection.exit_status)
 
 
-def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
+def _emit_spec(
+    document: dict, output_format: str, output: str | None, inputs: Sequence[str] = ()
+) -> None:
     """The spec document as JSON or text, to stdout or ``output`` (atomically),
     or as one SVG per product into the folder ``output`` (listing the files).
     Names that are not UTF-8 are written in their lossless escaped form, and
@@ -615,7 +652,14 @@ def _emit_spec(document: dict, output_format: str, output: str | None) -> None:
             folder.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise ToolError(f"{folder}: cannot create the folder: {exc.strerror or exc}") from None
-        for name, text in svg_files(document):
+        from .running.outputs import OutputOnInput, refuse_inputs
+
+        pictures = svg_files(document)
+        try:
+            refuse_inputs([(str(folder / name), "a picture") for name, _ in pictures], inputs)
+        except OutputOnInput as exc:
+            raise ToolError(str(exc)) from None
+        for name, text in pictures:
             _write_file(folder / name, text, "the picture")
             _write(f"{printable(str(folder / name))}\n")
         return
@@ -821,15 +865,37 @@ def main(argv: Sequence[str] | None = None) -> None:
     except StdoutGone:
         _silence_stdout()
         sys.exit(EXIT_TOOL_ERROR)
-    except Exception as exc:
-        if os.environ.get("USDRENDER_LINT_DEBUG"):
-            raise
-        click.echo(
-            f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
-            "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
-            err=True,
-        )
+    except OSError as exc:
+        if not _raised_by_echo(exc):
+            _internal_error(exc)
+        # click printing help, the version or usage: stdout is full or gone.
+        _silence_stdout()
+        if not isinstance(exc, BrokenPipeError):
+            _error(f"cannot write the output: {exc.strerror or exc}")
         sys.exit(EXIT_TOOL_ERROR)
+    except Exception as exc:
+        _internal_error(exc)
+
+
+def _raised_by_echo(exc: BaseException) -> bool:
+    """Whether ``exc`` came out of ``click.echo`` (help, version, usage)."""
+    import traceback
+
+    return any(
+        frame.name == "echo" and frame.filename.endswith(os.path.join("click", "utils.py"))
+        for frame in traceback.extract_tb(exc.__traceback__)
+    )
+
+
+def _internal_error(exc: Exception) -> None:
+    if os.environ.get("USDRENDER_LINT_DEBUG"):
+        raise exc
+    click.echo(
+        f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
+        "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
+        err=True,
+    )
+    sys.exit(EXIT_TOOL_ERROR)
 
 
 def _open_closed_standard_streams() -> None:

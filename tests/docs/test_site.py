@@ -64,7 +64,8 @@ def test_a_rule_page_shows_its_options_and_its_profiles(generated: dict[str, str
     assert '| `name-template` | string | `""` |' in pr001
     assert "[tool.usdrender-lint.rules.product-name-empty]" in pr001
     # omniverse switches PR001 off, with its source as a link.
-    assert re.search(r"- omniverse: off \(.*\(<https://nvidia-omniverse", pr001)
+    omniverse = r"- \[omniverse\]\(../profiles/omniverse.md\): off \(.*\(https://nvidia-omniverse"
+    assert re.search(omniverse, pr001)
 
 
 def test_every_profile_has_its_page_with_every_change(generated: dict[str, str]) -> None:
@@ -74,8 +75,17 @@ def test_every_profile_has_its_page_with_every_change(generated: dict[str, str])
             row = next(line for line in page.splitlines() if f"[{change.code}](" in line)
             assert change.why.split()[0] in row
             assert change.source.split()[0] in row
-        for accepted in (*profile.camera_types, *profile.prim_types, *profile.product_types):
+        accepted_names = (
+            *profile.camera_types,
+            *profile.prim_types,
+            *profile.product_types,
+            *profile.var_outputs,
+            *profile.layer_data,
+        )
+        for accepted in accepted_names:
             assert f"`{accepted.name}`" in page
+        for source in profile.evidence_sources:
+            assert source.split()[0] in page
 
 
 def test_the_configuration_reference_lists_every_key_the_parser_accepts(

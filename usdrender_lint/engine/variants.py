@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import replace
 
 from pxr import Sdf, Usd
@@ -193,21 +193,26 @@ class VariantExplorer:
         return FileResult(path, findings=tuple(findings), notes=tuple(notes))
 
     def lint_stage(
-        self, stage: Usd.Stage, file: str | None = None, notes: list[str] | None = None
+        self,
+        stage: Usd.Stage,
+        file: str | None = None,
+        notes: list[str] | None = None,
+        *,
+        texts: Mapping[str, str] | None = None,
     ) -> list[Finding]:
         """Findings under every explored combination; the session layer is
         left empty again. When the cap cut combinations, a line saying how
-        many is added to ``notes``."""
+        many is added to ``notes``. ``texts``: as for :meth:`Linter.lint_stage`."""
         sets = render_variant_sets(stage)
         if not sets:
-            return self.linter.lint_stage(stage, file)
+            return self.linter.lint_stage(stage, file, texts=texts)
         seen: dict[tuple, Finding] = {}
         linted = 0
         try:
             for combination in combinations(sets, self.max_combinations):
                 author_selection(stage, sets, combination)
                 selection = describe(sets, combination)
-                for finding in self.linter.lint_stage(stage, file):
+                for finding in self.linter.lint_stage(stage, file, texts=texts):
                     key = (finding.code, finding.location.path, finding.message)
                     if key not in seen:
                         seen[key] = _annotated(stage, finding, selection)

@@ -104,6 +104,9 @@ class Request:
     cache_dir: str | os.PathLike[str] | None = None
     #: (K, N): lint only part K of N of the files (running/shards.py).
     shard: tuple[int, int] | None = None
+    #: The file the caller will write the report to (--output): refused, before
+    #: anything is linted, when the run reads it (running/outputs.py).
+    output: str | None = None
 
 
 @record(frozen=True)
@@ -408,6 +411,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         else:
             files = select_shard(files, request.shard, settings.base_dir)
     targets = plan.files if plan else files
+    refuse_outputs_on_inputs(request, settings, targets)
     fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
     if fixed is not None and request.fix is not None and request.fix.fix_to:
         # What remains with the overrides.
@@ -458,6 +462,20 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     )
 
 
+def refuse_outputs_on_inputs(request: Request, settings: Settings, targets: Sequence[str]) -> None:
+    """Raise RequestError when the report or the baseline would be written
+    onto a file this run reads: a linted file, a layer, the configuration or
+    the baseline read."""
+    from .outputs import OutputOnInput, refuse_inputs
+
+    outputs = [(request.output, "the report"), (request.write_baseline, "the baseline")]
+    inputs = [*targets, *(p for p in (settings.source, request.baseline) if p)]
+    try:
+        refuse_inputs(outputs, inputs)
+    except OutputOnInput as exc:
+        raise RequestError(str(exc)) from None
+
+
 def _lint(
     prepared: Prepared, files: Sequence[str], cache: ResultCache | None = None
 ) -> tuple[FileResult, ...]:
@@ -493,7 +511,7 @@ def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
     request = prepared.request
     if not request.cache:
         return None
-    from .result_cache import ResultCache, default_cache_dir, run_key
+    from .result_cache import ForeignFolder, ResultCache, default_cache_dir, run_key
 
     folder = Path(request.cache_dir) if request.cache_dir else default_cache_dir(prepared.settings)
     key = run_key(
@@ -502,7 +520,10 @@ def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
         variant_combinations=prepared.spec.variant_combinations,
     )
     cache = ResultCache(folder, key)
-    problem = cache.prepare()
+    try:
+        problem = cache.prepare()
+    except ForeignFolder as exc:
+        raise RequestError(str(exc)) from None
     if problem is not None:
         notes.append(f"{problem}; results are not cached")
         return None
