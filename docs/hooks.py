@@ -210,10 +210,17 @@ def _profile_markdown(profile: Any, rules: list[type]) -> str:
         ("property namespaces", profile.namespaces),
         ("applied API schemas", profile.api_schemas),
         ("scopes", profile.scopes),
+        ("camera targets of these types", [a.name for a in profile.camera_types]),
+        ("camera targets the application creates", [a.name for a in profile.runtime_cameras]),
+        ("the root layer's customLayerData keys", [a.name for a in profile.layer_data]),
     ]
     found = [
         f"- {what}: " + ", ".join(f"`{v}`" for v in values) for what, values in evidence if values
     ]
+    if found and profile.evidence_sources:
+        found.append(
+            "\nSource: " + "; ".join(_linked(source) for source in profile.evidence_sources)
+        )
     parts.append(
         "## When `auto` picks it\n\n"
         + (
@@ -240,11 +247,14 @@ def _profile_markdown(profile: Any, rules: list[type]) -> str:
         ("Cameras the application creates at run time", "CA003", profile.runtime_cameras),
         ("Prim types its schemas define", "ST010", profile.prim_types),
         ("productType tokens it renders", "PR003", profile.product_types),
+        ("RenderVar properties that define the var's output", "VA001", profile.var_outputs),
+        ("customLayerData keys its application writes (evidence)", "", profile.layer_data),
     ]
     for title, code, names in accepted:
         if names:
             rows = [(f"`{a.name}`", a.why, _linked(a.source)) for a in names]
-            parts.append(f"## {title} ({link(code)})\n\n" + _table(("name", "why", "source"), rows))
+            where = f" ({link(code)})" if code else ""
+            parts.append(f"## {title}{where}\n\n" + _table(("name", "why", "source"), rows))
     own = [r for r in rules if getattr(r, "profile", None) == profile.name]
     if own:
         rows = [(link(r.code), f"`{r.name}`", r.severity.value, r.summary()) for r in own]

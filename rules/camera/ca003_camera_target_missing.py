@@ -7,6 +7,8 @@ from collections.abc import Iterator
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import RenderConfiguration
 
+from .._camera import runtime_camera_held
+
 
 def _camera_rel_label(config: RenderConfiguration) -> str:
     return str(config.camera_relationship.GetPath())
@@ -79,8 +81,15 @@ class CameraTargetMissing(Rule):
     ## Profiles
     A renderer profile may name cameras its application creates at run time
     (the `omniverse` profile: Kit's `/OmniverseKit_Persp`, `_Front`, `_Top`,
-    `_Right`, made in the session layer); a missing target at such a path is
-    no finding under that profile.
+    `_Right`, made in the session layer); a target at such a path is no
+    finding under that profile when the stage holds nothing there, or only
+    `over`s (typeless or `over Camera`, in any layer: a stage saved from Kit
+    keeps the viewport's edits as such an `over`, which composes onto the
+    session layer's camera). A `def` there, or a deactivated `over`, is
+    still judged.
+
+    The message of a Camera that is not defined because an ancestor is only
+    an `over` names that ancestor.
     """
 
     code = "CA003"
@@ -94,12 +103,12 @@ class CameraTargetMissing(Rule):
             if target is None:
                 continue
             if target.is_missing:
-                if ctx.profile_accepts(
-                    config.camera_relationship, "runtime_camera", str(target.path)
-                ):
+                if runtime_camera_held(ctx, config):
                     continue  # the renderer's application creates it at run time (R2-5)
                 reason = target.problem
             elif target.prim is not None and target.prim.IsA(schemas.Camera) and not target.ok:
+                if runtime_camera_held(ctx, config):
+                    continue  # an `over Camera` composing onto the application's camera
                 reason = f"is a Camera but {target.problem}"
             else:
                 continue

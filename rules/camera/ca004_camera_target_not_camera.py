@@ -9,6 +9,8 @@ from pxr import Sdf, Usd
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import describe_prim_type, is_usable
 
+from .._camera import runtime_camera_held
+
 
 def _single_camera_descendant(prim: Usd.Prim) -> Usd.Prim | None:
     cameras = [
@@ -98,7 +100,10 @@ class CameraTargetNotCamera(Rule):
     ## Profiles
     A renderer profile may accept its own camera-like prim types (the
     `omniverse` profile: `OmniLidar`, `OmniRadar`); a target of such a type is
-    then no finding, and a finding names the types the profile accepts.
+    then no finding, and a finding names the types the profile accepts. A
+    typeless `over` at the path of a camera the profile's application creates
+    at run time (Kit's `/OmniverseKit_Persp`, ...) composes onto that camera
+    and is no finding either; a `def` of another type there still is.
     """
 
     code = "CA004"
@@ -121,6 +126,8 @@ class CameraTargetNotCamera(Rule):
                     suggestion = owner
             elif target.prim is not None and not target.prim.IsA(schemas.Camera):
                 # (prim is None only when missing or a property path: both handled above)
+                if runtime_camera_held(ctx, config):
+                    continue  # a typeless `over` on the application's session camera (R2-5)
                 if ctx.profile_accepts(rel, "camera_type", target.prim.GetTypeName()):
                     continue  # a renderer's own sensor type (R2-5)
                 what = describe_prim_type(target.prim)

@@ -138,6 +138,16 @@ class AspectRatioMismatchImplicitConform(Rule):
     Safe: the fix authors `aspectRatioConformPolicy = "expandAperture"` on the
     RenderSettings, which makes today's implicit behaviour explicit. Choosing
     another policy is left to you.
+
+    ## Profiles
+    Every profile keeps this rule. Under `omniverse` it was checked and kept:
+    Omniverse's camera documentation lists the camera attributes RTX ignores
+    (aperture offsets, shutter, stereo role), and the horizontal and vertical
+    apertures are not among them, so RTX frames with both; no public NVIDIA
+    source (Kit, RTX, ovrtx or Isaac Sim documentation) says how RTX resolves
+    an aperture/image aspect mismatch or whether it reads
+    `aspectRatioConformPolicy`, so the mismatch stays a risk on Kit viewport
+    and ovrtx products.
     """
 
     code = "CA006"

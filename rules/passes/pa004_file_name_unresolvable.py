@@ -109,9 +109,13 @@ class FileNameUnresolvable(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         attr = prim.GetAttribute("fileName")
         value = authored_value(attr)
-        if not isinstance(value, Sdf.AssetPath) or not value.authoredPath or value.resolvedPath:
+        if not isinstance(value, Sdf.AssetPath) or not value.authoredPath:
             return
-        reason = _unresolvable_reason(value, _authored_layer(attr))
+        layer = _authored_layer(attr)
+        ctx.depends_on_asset(value, layer)  # the finding comes and goes with the file
+        if value.resolvedPath:
+            return
+        reason = _unresolvable_reason(value, layer)
         yield Diagnostic(
             message=f"fileName @{value.authoredPath}@ {reason}",
             at=attr,

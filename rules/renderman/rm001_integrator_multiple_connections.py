@@ -8,22 +8,28 @@ from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 
-from ._terminals import INTEGRATOR
+from ._terminals import INTEGRATOR, forms
 
 
 class IntegratorMultipleConnections(Rule):
-    """The RenderSettings connects more than one integrator.
+    """The RenderSettings names more than one integrator.
 
     ## What it does
-    Under the `renderman` profile, reports a RenderSettings whose
-    `outputs:ri:integrator` has more than one authored connection.
+    Under the `renderman` profile, reports a RenderSettings whose integrator
+    terminal names more than one prim, in either of its forms: the
+    relationship `ri:integrator` with several targets, or the attribute
+    `outputs:ri:integrator` with several connections.
 
     ## Why is this bad?
-    hdPrman reads the connections of `outputs:ri:integrator` and hands RenderMan
-    only the first (`paths.front()` in `HdPrman_RenderSettings::_Sync`, OpenUSD
-    `third_party/renderman-26/plugin/hdPrman/renderSettings.cpp`): a render has
-    one integrator. The others are ignored silently, and which one renders
-    depends on the order of list edits across layers.
+    hdPrman hands RenderMan only the first integrator it is given
+    (`paths.front()` in `HdPrman_RenderSettings::_ProcessRenderTerminals`,
+    OpenUSD `third_party/renderman-26/plugin/hdPrman/renderSettings.cpp`): a
+    render has one integrator. usdImaging passes on every target of the
+    relationship, or of the connection when no relationship target exists
+    (`UsdImagingRenderSettingsAdapter::Populate`,
+    `pxr/usdImaging/usdImaging/renderSettingsAdapter.cpp`). The others are
+    ignored silently, and which one renders depends on the order of list
+    edits across layers.
 
     ## Example
     ```usda
@@ -39,12 +45,12 @@ class IntegratorMultipleConnections(Rule):
             ]
         }
 
-        def "PathTracer"
+        def PxrPathTracer "PathTracer"
         {
             token outputs:result
         }
 
-        def "Direct"
+        def PxrDirectLighting "Direct"
         {
             token outputs:result
         }
@@ -62,7 +68,7 @@ class IntegratorMultipleConnections(Rule):
             token outputs:ri:integrator.connect = </Render/PathTracer.outputs:result>
         }
 
-        def "PathTracer"
+        def PxrPathTracer "PathTracer"
         {
             token outputs:result
         }
@@ -81,13 +87,14 @@ class IntegratorMultipleConnections(Rule):
     prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute(INTEGRATOR)
-        sources = attr.GetConnections() if attr else []
-        if len(sources) > 1:
-            listed = ", ".join(f"<{p}>" for p in sources)
+        for form in forms(prim, INTEGRATOR):
+            if len(form.paths) < 2:
+                continue
+            listed = ", ".join(f"<{p}>" for p in form.paths)
+            verb = "targets" if form.is_relationship else "connects"
             yield Diagnostic(
-                message=f"{attr.GetPath()} connects {len(sources)} integrators ({listed}); "
-                f"hdPrman renders with the first, <{sources[0].GetPrimPath()}>, and ignores "
-                "the others: keep one connection",
-                at=attr,
+                message=f"{form.prop.GetPath()} {verb} {len(form.paths)} integrators "
+                f"({listed}); hdPrman renders with the first, <{form.paths[0]}>, and ignores "
+                f"the others: keep one {form.describe()}",
+                at=form.prop,
             )

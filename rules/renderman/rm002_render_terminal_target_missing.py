@@ -7,27 +7,34 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import resolve_target
 
-from ._terminals import INTEGRATOR, TERMINALS
+from ._terminals import TERMINALS, forms, target_problem
 
 
 class RenderTerminalTargetMissing(Rule):
-    """A RenderSettings connects an integrator or filter that is not on the stage.
+    """A RenderSettings names an integrator or filter that is not on the stage or not one.
 
     ## What it does
-    Under the `renderman` profile, reports each connection of a RenderSettings'
-    `outputs:ri:integrator`, `outputs:ri:sampleFilters` or
-    `outputs:ri:displayFilters` whose prim does not exist on the composed
-    stage or is not usable (inactive, `over`-only, abstract).
+    Under the `renderman` profile, reports each target of a RenderSettings'
+    integrator, sample filter or display filter terminal, in either form (the
+    relationships `ri:integrator`, `ri:sampleFilters`, `ri:displayFilters` or
+    the connections of `outputs:ri:integrator`, `outputs:ri:sampleFilters`,
+    `outputs:ri:displayFilters`), whose prim does not exist on the composed
+    stage, is not usable (inactive, `over`-only, abstract), is typeless, or
+    has a type the schema registry knows that is not the terminal's
+    RenderMan type (a `Shader`, a `Scope`, ...).
 
     ## Why is this bad?
-    hdPrman takes the integrator and the sample and display filters from these
-    connections (`HdPrman_RenderSettings::_Sync`, OpenUSD
-    `third_party/renderman-26/plugin/hdPrman/renderSettings.cpp`) and looks the
-    connected prims up in the render index. A connection to a prim that is not
-    there renders without that filter, or with RenderMan's default integrator
-    instead of the one the shot asked for, and nothing fails.
+    hdPrman takes the integrator and the sample and display filters from
+    these terminals (`HdPrman_RenderSettings::_ProcessRenderTerminals`, OpenUSD
+    `third_party/renderman-26/plugin/hdPrman/renderSettings.cpp`), and
+    usdImaging populates each target only through the prim adapter of its
+    type, which RenderMan registers for its usdRiPxr types
+    (`UsdImagingRenderSettingsAdapter::Populate`,
+    `pxr/usdImaging/usdImaging/renderSettingsAdapter.cpp`). A target that is
+    not there, or not such a type, renders without that filter, or with
+    RenderMan's default integrator instead of the one the shot asked for,
+    and nothing fails.
 
     ## Example
     ```usda
@@ -53,7 +60,7 @@ class RenderTerminalTargetMissing(Rule):
             token outputs:ri:integrator.connect = </Render/Integrator.outputs:result>
         }
 
-        def "Integrator"
+        def PxrPathTracer "Integrator"
         {
             token outputs:result
         }
@@ -72,21 +79,16 @@ class RenderTerminalTargetMissing(Rule):
     prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for name in TERMINALS:
-            attr = prim.GetAttribute(name)
-            if not attr:
-                continue
-            for source in attr.GetConnections():
-                target = resolve_target(ctx.stage, source.GetPrimPath())
-                if target.ok:
-                    continue
-                effect = (
-                    "renders with RenderMan's default integrator"
-                    if name == INTEGRATOR
-                    else "renders without that filter"
-                )
-                yield Diagnostic(
-                    message=f"{attr.GetPath()} connects <{source}>, whose prim "
-                    f"{target.problem}; hdPrman {effect}. Connect an existing prim",
-                    at=attr,
-                )
+        for terminal in TERMINALS:
+            for form in forms(prim, terminal):
+                verb = "targets" if form.is_relationship else "connects"
+                for path in form.paths:
+                    problem = target_problem(ctx.stage, path, terminal)
+                    if problem is None:
+                        continue
+                    yield Diagnostic(
+                        message=f"{form.prop.GetPath()} {verb} <{path}>, which {problem}; "
+                        f"hdPrman {terminal.effect()}. Name an existing RenderMan "
+                        f"{terminal.what}",
+                        at=form.prop,
+                    )

@@ -61,6 +61,12 @@ class SourceNameEmpty(Rule):
 
     ## Fix safety
     No automatic fix: only the author knows which output the var should read.
+
+    ## Profiles
+    A renderer profile may name var properties that define the var's output
+    in place of `sourceName` (the `moonray` profile:
+    `parameters:moonray:result`, which hdMoonray copies onto the MoonRay
+    RenderOutput); a var authoring one is no finding under that profile.
     """
 
     code = "VA001"
@@ -72,6 +78,8 @@ class SourceNameEmpty(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "sourceName", ctx) != "":
             return
+        if any(ctx.profile_accepts(prim, "var_output", n) for n in prim.GetAuthoredPropertyNames()):
+            return  # the renderer reads the var's output from its own settings (R2-5)
         attr = prim.GetAttribute("sourceName")
         what = (
             "light path expression" if checked_value(prim, "sourceType", ctx) == "lpe" else "output"

@@ -1,4 +1,4 @@
-"""The rule-author API as the README documents it: abstract bases, aliases,
+"""The rule-author API as docs/guides/writing-rules.md documents it: abstract bases, aliases,
 frozen keyword-only Diagnostic and Fix, and the documented imports."""
 
 from __future__ import annotations

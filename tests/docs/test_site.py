@@ -74,8 +74,17 @@ def test_every_profile_has_its_page_with_every_change(generated: dict[str, str])
             row = next(line for line in page.splitlines() if f"[{change.code}](" in line)
             assert change.why.split()[0] in row
             assert change.source.split()[0] in row
-        for accepted in (*profile.camera_types, *profile.prim_types, *profile.product_types):
+        accepted_names = (
+            *profile.camera_types,
+            *profile.prim_types,
+            *profile.product_types,
+            *profile.var_outputs,
+            *profile.layer_data,
+        )
+        for accepted in accepted_names:
             assert f"`{accepted.name}`" in page
+        for source in profile.evidence_sources:
+            assert source.split()[0] in page
 
 
 def test_the_configuration_reference_lists_every_key_the_parser_accepts(
@@ -190,3 +199,15 @@ def test_the_changelog_has_this_version() -> None:
     changelog = (REPO / "CHANGELOG.md").read_text(encoding="utf-8")
     assert f"\n## {__version__}\n" in changelog
     assert "\n## Unreleased\n" in changelog
+
+
+def test_the_contributing_page_names_every_test_that_reads_shared() -> None:
+    page = (DOCS / "contributing.md").read_text(encoding="utf-8")
+    section = page.split("## Tests that need `../shared`", 1)[1].split("\n## ", 1)[0]
+    named = set(re.findall(r"`(?:tests/\w+/)?(test_\w+\.py)`", section))
+    readers = {
+        path.name
+        for path in (REPO / "tests").rglob("test_*.py")
+        if re.search(r"\bshared_dir\b|\bSHARED\b", path.read_text(encoding="utf-8"))
+    } - {"test_shared_skips.py"}
+    assert readers - named == set()

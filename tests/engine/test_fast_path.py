@@ -522,7 +522,7 @@ def test_scanning_more_than_a_full_composition_composes_is_not_done(
 class _ReadsTheSet(Rule):
     """Reports when the set brought in by a reference has no Mesh (test-only).
 
-    Written as the README shows a third-party rule: on RenderSettings, it reads
+    Written as the plugin guide shows a third-party rule: on RenderSettings, it reads
     a prim outside the render prims, their targets and ancestors.
 
     ## What it does

@@ -164,11 +164,12 @@ def test_internal_errors_are_never_path_ignored(tmp_path) -> None:
     assert result.findings == (finding,)
 
 
-def test_readme_suppression_example_works() -> None:
+def test_the_guides_suppression_example_works() -> None:
     from usdrender_lint.api.docs import code_blocks
 
-    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
-    section = readme.split("## Suppressing findings", 1)[1].split("\n## ", 1)[0]
+    guide = Path(__file__).parents[2] / "docs" / "guides" / "configuration.md"
+    section = guide.read_text(encoding="utf-8").split("## Suppressing findings", 1)[1]
+    section = section.split("\n## ", 1)[0]
     (example,) = code_blocks(section)
     silenced = _pairs(_lint(example))
     assert not {code for code, _ in silenced} & {"SE003", "CA001", "UL001"}

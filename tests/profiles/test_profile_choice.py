@@ -196,9 +196,137 @@ def test_every_profile_change_and_acceptance_cites_a_source() -> None:
     for profile in PROFILES.values():
         for change in profile.changes:
             assert change.source and change.why, (profile.name, change.code)
-        for field in ("camera_types", "runtime_cameras", "prim_types", "product_types"):
+        fields = ("camera_types", "runtime_cameras", "prim_types", "product_types")
+        for field in (*fields, "layer_data", "var_outputs"):
             for accepted in getattr(profile, field):
                 assert accepted.source and accepted.why, (profile.name, accepted.name)
+
+
+def test_profiles_with_evidence_of_their_own_cite_it() -> None:
+    for name in ("moonray", "cycles", "omniverse"):
+        assert PROFILES[name].evidence_sources, name
+
+
+SENSOR_STAGE = """#usda 1.0
+def OmniLidar "Lidar"
+{
+}
+def Scope "Render"
+{
+    def RenderProduct "LidarProduct"
+    {
+        rel camera = </Lidar>
+        rel orderedVars = </Render/Vars/Points>
+    }
+    def Scope "Vars"
+    {
+        def RenderVar "Points"
+        {
+            string sourceName = "GenericModelOutput"
+        }
+    }
+}
+"""
+
+
+def test_a_camera_target_of_a_renderers_own_type_is_evidence(tmp_path: Path) -> None:
+    # An ovrtx sensor stage: no RenderSettings, no omni:rtx: property.
+    auto = _lint(tmp_path, SENSOR_STAGE)
+    assert {f.profile for f in auto} == {"omniverse"}
+    reason = auto[0].profile_reason
+    assert reason.startswith(
+        "auto: the camera target </Lidar> of </Render/LidarProduct>, an OmniLidar"
+    )
+    assert not {"CA004", "PR001"} & {f.code for f in auto}
+    generic = {f.code for f in _lint(tmp_path, SENSOR_STAGE, ("generic", "test"))}
+    assert {"CA004", "PR001"} <= generic
+
+
+def test_kit_session_camera_targets_and_layer_data_are_evidence(tmp_path: Path) -> None:
+    product = """
+def Scope "Render"
+{
+    def RenderProduct "Capture"
+    {
+        rel camera = </OmniverseKit_Persp>
+        rel orderedVars = </Render/LdrColor>
+    }
+    def RenderVar "LdrColor"
+    {
+        string sourceName = "LdrColor"
+    }
+}
+"""
+    found = _lint(tmp_path, "#usda 1.0\n" + product)
+    assert {f.profile for f in found} == {"omniverse"}
+    assert "</OmniverseKit_Persp> of </Render/Capture>, a camera the renderer's application" in (
+        found[0].profile_reason
+    )
+    assert "CA003" not in {f.code for f in found}
+    saved = """#usda 1.0
+(
+    customLayerData = {
+        dictionary cameraSettings = {
+            string boundCamera = "/OmniverseKit_Persp"
+        }
+    }
+)
+def Camera "Cam"
+{
+}
+def Scope "Render"
+{
+    def RenderProduct "Capture"
+    {
+        rel camera = </Cam>
+        rel orderedVars = </Render/LdrColor>
+    }
+    def RenderVar "LdrColor"
+    {
+        string sourceName = "LdrColor"
+    }
+}
+"""
+    found = _lint(tmp_path, saved)
+    assert {f.profile for f in found} == {"omniverse"}
+    assert found[0].profile_reason == (
+        "auto: the root layer's customLayerData cameraSettings:boundCamera"
+    )
+    plain = _lint(tmp_path, saved.replace("boundCamera", "favouriteCamera"))
+    assert {f.profile for f in plain} == {"generic"}
+
+
+def test_moonray_and_cycles_namespaces_are_evidence(tmp_path: Path) -> None:
+    settings = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        SETTING
+        rel products = </Render/Beauty>
+    }
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
+    }
+}
+"""
+    moonray = _lint(
+        tmp_path, settings.replace("SETTING", "int moonray:sceneVariable:max_depth = 2")
+    )
+    assert {f.profile for f in moonray} == {"moonray"}
+    assert moonray[0].profile_reason.startswith(
+        "auto: the property </Render/Settings.moonray:sceneVariable:max_depth>"
+    )
+    cycles = _lint(tmp_path, settings.replace("SETTING", "int cycles:samples = 64"))
+    assert {f.profile for f in cycles} == {"cycles"}
+    # Cycles' and Karma's settings on one prim: several renderers, the schema alone.
+    both = _lint(
+        tmp_path,
+        settings.replace("SETTING", "int cycles:samples = 64\n        int karma:global:x = 1"),
+    )
+    assert {f.profile for f in both} == {"generic"}
+    assert "several renderers (karma: 1, cycles: 1)" in both[0].profile_reason
 
 
 def test_renderer_rules_cite_their_renderer_and_belong_to_its_family() -> None:

@@ -12,12 +12,13 @@ from usdrender_lint.running.discovery import collect_files
 from usdrender_lint.testing import all_rules
 
 #: The generic rules a profile may drop a finding of: its rule changes and the
-#: rules that read its accepted cameras, types and product types.
+#: rules that read its accepted cameras, types, product types and var outputs.
 PROFILE_AWARE = {c.code for p in PROFILES.values() for c in p.changes} | {
     "CA003",
     "CA004",
     "ST010",
     "PR003",
+    "VA001",
 }
 
 

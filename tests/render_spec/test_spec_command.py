@@ -196,9 +196,9 @@ def test_the_readme_pictures_are_current(monkeypatch: pytest.MonkeyPatch) -> Non
     assert dict(svg_files(document)) == committed
 
 
-def test_the_readme_text_view_is_current(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Every line of the README's (abridged) text view is a line ``spec`` prints."""
-    readme = (REPO / "README.md").read_text(encoding="utf-8")
+def test_the_guides_text_view_is_current(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every line of the spec guide's (abridged) text view is a line ``spec`` prints."""
+    readme = (REPO / "docs" / "guides" / "spec.md").read_text(encoding="utf-8")
     intro = readme.index("The text view of `examples/framing_shot/shot.usda`")
     start = readme.index("```text\n", intro) + len("```text\n")
     shown = readme[start : readme.index("```", start)].splitlines()

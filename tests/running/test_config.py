@@ -246,12 +246,12 @@ def test_bad_flag_selector_names_the_flag(project) -> None:
     assert "--ignore: 'XX9' matches no rule" in line
 
 
-def test_readme_configuration_example_is_valid(tmp_path) -> None:
+def test_the_configuration_guides_example_is_valid(tmp_path) -> None:
     from usdrender_lint.registry import build_registry
     from usdrender_lint.running.pipeline import make_linter
 
-    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
-    section = readme.split("## Configuration", 1)[1].split("\n## ", 1)[0]
+    guide = Path(__file__).parents[2] / "docs" / "guides" / "configuration.md"
+    section = guide.read_text(encoding="utf-8").split("\n## ", 1)[0]
     example = section.split("```toml\n", 1)[1].split("```", 1)[0]
     settings = load_settings(str(_write(tmp_path, example, "pyproject.toml")))
     assert settings.fail_on == "warning" and settings.per_path_ignores

@@ -18,8 +18,7 @@ from click.testing import CliRunner
 from pxr import Sdf
 
 from usdrender_lint.cli import cli
-from usdrender_lint.engine.assets import Unkeyable, arc_target
-from usdrender_lint.engine.linter import Reads
+from usdrender_lint.engine.assets import Reads, Unkeyable, arc_target
 from usdrender_lint.model import INTERNAL_ERROR_CODE
 from usdrender_lint.running import result_cache
 

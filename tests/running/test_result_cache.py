@@ -25,7 +25,7 @@ from usdrender_lint import config as config_module
 from usdrender_lint.cli import cli
 from usdrender_lint.config import Settings
 from usdrender_lint.engine import Linter
-from usdrender_lint.engine.linter import Reads
+from usdrender_lint.engine.assets import Reads
 from usdrender_lint.engine.variants import VariantExplorer
 from usdrender_lint.model import FileResult
 from usdrender_lint.running import result_cache
@@ -430,11 +430,9 @@ def test_a_result_is_not_stored_when_a_dependency_changed_while_it_was_linted(
     assert cache.prepare() is None
     with linter.recording_reads() as reads:
         result = linter.lint_path(str(shot))
-    assert sorted(Path(p).name for p in result_cache.dependencies(reads)) == [
-        "common.usda",
-        "shot.usda",
-    ]
-    started = (tmp_path / "common.usda").stat().st_mtime_ns - 1  # edited after the lint began
+    found = result_cache.dependencies(reads, str(shot))
+    assert found is not None and [Path(p).name for p in found.files] == ["common.usda"]
+    started = (tmp_path / "common.usda").stat().st_ctime_ns - 1  # changed after the lint began
     assert not cache.store(str(shot), result, reads, started)
     assert cache.store(str(shot), result, reads, started + 10**12)
     assert cache.lookup(str(shot)) == result
@@ -447,7 +445,8 @@ def test_unsaved_edits_and_asset_expressions_are_not_cacheable() -> None:
     anonymous_only = Reads(
         layers=[("anon:1", "", True, False), ("/a.usda", "/a.usda", False, False)]
     )
-    assert result_cache.dependencies(anonymous_only) == ["/a.usda"]
+    found = result_cache.dependencies(anonymous_only)
+    assert found is not None and found.files == ("/a.usda",)
 
 
 # -- robustness -------------------------------------------------------------------------
@@ -495,15 +494,16 @@ def test_an_entry_with_a_tampered_result_shape_is_a_miss(tmp_path: Path, spy: Sp
 
 
 def test_the_cache_is_bounded_and_keeps_the_recently_used(tmp_path: Path) -> None:
-    folder = tmp_path / "cache" / result_cache.ENTRIES_DIR
-    folder.mkdir(parents=True)
-    for i in range(10):
-        (folder / f"{i}.json").write_bytes(b"x" * 1000)
-        os.utime(folder / f"{i}.json", ns=(i * 10**9, i * 10**9))
     cache = ResultCache(tmp_path / "cache", "key")
+    assert cache.prepare() is None
+    folder = cache.entries
+    names = [f"{i:040x}.json" for i in range(10)]
+    for i, name in enumerate(names):
+        (folder / name).write_bytes(b"x" * 1000)
+        os.utime(folder / name, ns=(i * 10**9, i * 10**9))
     assert cache.prune(max_bytes=20_000) == 0
     assert cache.prune(max_bytes=5_000, keep_bytes=3_000) == 7
-    assert sorted(p.name for p in folder.iterdir()) == ["7.json", "8.json", "9.json"]
+    assert sorted(p.name for p in folder.iterdir()) == names[7:]
 
 
 def test_concurrent_runs_share_a_cache_without_corrupting_it(tmp_path: Path) -> None:
@@ -641,7 +641,8 @@ def test_the_stage_read_by_the_engine_is_what_the_entry_lists(tmp_path: Path) ->
         linter.lint_path(str(shot))
     stage = Usd.Stage.Open(str(shot))
     used = {layer.realPath for layer in stage.GetUsedLayers() if not layer.anonymous}
-    assert set(result_cache.dependencies(reads)) == used
+    found = result_cache.dependencies(reads, str(shot))
+    assert found is not None and {str(shot), *found.files} == used
 
 
 def test_the_note_of_combinations_the_variant_cap_skipped_survives_a_cache_hit(

@@ -48,6 +48,18 @@ class Context:
     #: ``choices_for(path)``, ``for_scope(path)``, ``present()``, ``judge(...)``.
     #: None: no profiles, every finding judged by the schema alone.
     profiles: Any = None
+    #: The asset values whose existence rules checked (:meth:`depends_on_asset`).
+    asset_dependencies: list[tuple[Sdf.Layer | None, Sdf.AssetPath]] = field(
+        default_factory=list, repr=False
+    )
+
+    def depends_on_asset(self, value: Sdf.AssetPath, layer: Sdf.Layer | None) -> None:
+        """Say that a finding (or its absence) depends on whether the asset
+        ``value`` resolves, as authored in ``layer`` (the layer of the
+        opinion, which anchors a relative path): a rule that checks an asset
+        exists calls this, and a cached result is linted again once that file
+        appears, disappears or resolves elsewhere."""
+        self.asset_dependencies.append((layer, value))
 
     def require_full_stage(self) -> None:
         """Call before reading beyond the render prims, their targets and

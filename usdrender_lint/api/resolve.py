@@ -52,9 +52,25 @@ def unusable_reason(prim: Usd.Prim) -> str | None:
     if not prim.IsActive():
         return "is inactive"
     if not prim.IsDefined():
-        return "is only an 'over' (never defined)"
+        hiding = hiding_over(prim)
+        if hiding is None or hiding == prim.GetPath():
+            return "is only an 'over' (never defined)"
+        # Its own spec is a def, but an ancestor is only an over: Usd
+        # composes it as undefined, so traversal never reaches it.
+        return f"is under <{hiding}>, which is only an 'over' (never defined)"
     if prim.IsAbstract():
         return "is abstract (a 'class')"
+    return None
+
+
+def hiding_over(prim: Usd.Prim) -> Sdf.Path | None:
+    """The nearest of ``prim`` and its ancestors that has no defining
+    specifier (only ``over``s), which makes ``prim`` undefined; None when
+    ``prim`` is defined."""
+    while prim and not prim.IsPseudoRoot():
+        if not prim.HasDefiningSpecifier():
+            return prim.GetPath()
+        prim = prim.GetParent()
     return None
 
 

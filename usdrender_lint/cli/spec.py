@@ -105,7 +105,7 @@ def spec_command(
     except RequestError as exc:
         raise ToolError(str(exc)) from None
     files = [(r, r.value if isinstance(r, InspectedFile) else None) for r in inspection.results]
-    document = spec_document(files, __version__)
+    document = _escaped(spec_document(files, __version__), output_format)
     if output_format == "svg":
         _write_pictures(document, output or ".")
     else:
@@ -113,6 +113,18 @@ def spec_command(
     for line in inspection.errors:
         error(line)
     sys.exit(inspection.exit_status)
+
+
+def _escaped(document: dict, output_format: str) -> dict:
+    """Names that are not UTF-8 in their lossless escaped form; the views
+    printed as they are escape control characters too."""
+    from functools import partial
+
+    from ..formatters import escaped
+
+    if output_format == "json":
+        return escaped(document)
+    return escaped(document, partial(printable, limit=None))
 
 
 def _write_pictures(document: dict, output: str) -> None:

@@ -9,14 +9,13 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import field
 from typing import Any, Generic, TypeVar
 
 from pxr import Sdf, Tf, Usd
 
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
-from ..layers.files import layer_identifier, layer_real_path, real_path, unreadable_reason
+from ..layers.files import layer_identifier, real_path, unreadable_reason
 from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
@@ -28,7 +27,7 @@ from ..model import (
 )
 from ..records import record
 from . import layer_words, partial, suppress, typed_prims
-from .assets import Unkeyable, arc_target
+from .assets import Reads
 from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
@@ -94,72 +93,6 @@ class Inspected(Generic[_T]):
 
     result: FileResult
     value: _T | None = None
-
-
-@record
-class Reads:
-    """What linting one file read, for a cache that must know when the findings
-    go stale (running/result_cache.py): every layer a linted stage used or the
-    fast path opened (value clips included), and the layers arcs name that do
-    not exist. ``complete`` is False when that is not known: a stage could not
-    be opened, or an arc's asset path is an expression."""
-
-    #: (identifier, real path, anonymous, has unsaved edits) of each layer read.
-    layers: list[tuple[str, str, bool, bool]] = field(default_factory=list)
-    #: Identifiers of layers an arc names, which may not exist (yet).
-    targets: list[str] = field(default_factory=list)
-    complete: bool = True
-
-    def add_layers(self, layers: Iterable[Sdf.Layer]) -> None:
-        self.layers.extend(
-            (layer_identifier(x), layer_real_path(x), x.anonymous, x.dirty) for x in layers
-        )
-
-    def add_arc_targets(self, layers: Iterable[Sdf.Layer]) -> None:
-        """The sublayers, references and payloads ``layers`` name, found or not."""
-        for layer in layers:
-            if layer.anonymous:
-                continue
-            if partial.unsafe_to_walk(layer) is not None:
-                self.complete = False  # walking it could abort the process
-                continue
-            for asset in layer.GetCompositionAssetDependencies():
-                self.add_target(layer, asset)
-
-    def add_target(self, anchor: Sdf.Layer, asset_path: str) -> None:
-        """The layer an arc of ``anchor`` names with ``asset_path`` (which may
-        not exist); an internal arc names none."""
-        try:
-            identifier = arc_target(anchor, asset_path)
-        except Unkeyable:
-            self.complete = False  # which file it names is not known from its path
-            return
-        if identifier is None:
-            return
-        if not os.path.isabs(identifier.partition("[")[0]) and layer_real_path(anchor):
-            # A search path the default resolver did not find: where it looked first.
-            identifier = os.path.join(os.path.dirname(anchor.realPath), identifier)
-        self.targets.append(identifier)
-
-    def add_clips(self, stage: Usd.Stage) -> None:
-        """Every value clip and clip manifest the stage's prims name (a clip
-        USD has not opened yet, because no rule read its times, still decides
-        what a rule would read)."""
-        prims = Usd.PrimRange.Stage(stage, Usd.TraverseInstanceProxies(Usd.PrimAllPrimsPredicate))
-        for prim in prims:
-            if not prim.HasAuthoredMetadata("clips"):
-                continue
-            clips = Usd.ClipsAPI(prim)
-            for clip_set in prim.GetMetadata("clips") or {}:
-                assets = list(clips.ComputeClipAssetPaths(clip_set))
-                manifest = clips.GetClipManifestAssetPath(clip_set)
-                if manifest is not None and manifest.path:
-                    assets.append(manifest)
-                for asset in assets:
-                    if asset.resolvedPath:
-                        self.targets.append(asset.resolvedPath)
-                    else:
-                        self.complete = False  # a clip that is missing: where would it be?
 
 
 class _TypeDispatch:
@@ -451,6 +384,9 @@ class Linter:
         assert reads is not None
         used = stage.GetUsedLayers(includeClipLayers=True)
         reads.add_layers(used)
+        reads.context = repr(stage.GetPathResolverContext())
+        for anchor, value in ctx.asset_dependencies:
+            reads.add_asset(anchor, value)
         # A stage composed without errors resolved every arc it composed; with
         # errors, its layers' arcs are listed to find the assets that are missing.
         # (The fast path lists the arcs of every layer it reaches: PartialStage.missing.)

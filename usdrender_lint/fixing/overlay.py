@@ -402,13 +402,19 @@ def _absent(path: Sdf.Path) -> _State:
 def composed_stage(stage: Usd.Stage) -> dict[str, object]:
     """What ``--fix-to`` reproduces of the stage ``--fix`` gives: the stage
     metadata, the order of root prims, and each prim a traversal sees and its
-    properties, as consumers read them (comparable with ``==``)."""
+    properties, as consumers read them (comparable with ``==``). A property
+    with no value, targets or connections reads as one that is not there (an
+    override cannot remove a weaker layer's declaration)."""
     pseudo_root = stage.GetPseudoRoot()
     states = _capture(stage, [child.GetPath() for child in pseudo_root.GetChildren()])
     return {
         "metadata": _stage_metadata(stage.GetRootLayer()),
         "root prims": _child_names(pseudo_root),
-        "objects": {str(path): state.key for path, state in states.items() if state != _ABSENT},
+        "objects": {
+            str(path): state.key
+            for path, state in states.items()
+            if state != _ABSENT and not (path.IsPropertyPath() and state == _NO_VALUE)
+        },
     }
 
 
@@ -479,11 +485,21 @@ def _property_state(prop: Usd.Property | None) -> _State:
         samples = tuple((time, prop.Get(time)) for time in prop.GetTimeSamples())
         # A weaker mistyped spec stays an SE016 finding although a stronger one hides it.
         mistyped = bool(mismatched_specs(prop))
-        if default is None and not samples and not mistyped:
+        # Connections count too (RM003 turns them into a relationship's targets).
+        sources = tuple(prop.GetConnections()) if prop.HasAuthoredConnections() else ()
+        if default is None and not samples and not mistyped and not sources:
             return _NO_VALUE
         authored = prop.HasAuthoredValue()
-        key = ("attr", str(prop.GetTypeName()), repr(default), repr(samples), mistyped, authored)
-        payload = (prop.GetTypeName(), prop.IsCustom(), default, samples, authored)
+        key = (
+            "attr",
+            str(prop.GetTypeName()),
+            repr(default),
+            repr(samples),
+            mistyped,
+            tuple(map(str, sources)),
+            authored,
+        )
+        payload = (prop.GetTypeName(), prop.IsCustom(), default, samples, authored, sources)
         return _State(key, payload)
     return _NO_VALUE
 
@@ -563,7 +579,12 @@ def _author(stage: Usd.Stage, path: Sdf.Path, state: _State, block: bool) -> Non
         rel = rel or prim.CreateRelationship(path.name)
         rel.SetTargets(list(state.payload))
     elif kind == "attr":
-        type_name, custom, default, samples, authored = state.payload
+        type_name, custom, default, samples, authored, sources = state.payload
+        if attr and list(attr.GetConnections()) != list(sources):
+            attr.SetConnections(list(sources))  # explicit: weaker connections hidden
+        elif sources and not attr:
+            attr = prim.CreateAttribute(path.name, type_name, custom)
+            attr.SetConnections(list(sources))
         if not authored and not (attr and attr.HasAuthoredValue()):
             return  # no opinion here either: the same fallback shows
         attr = attr or prim.CreateAttribute(path.name, type_name, custom)
@@ -574,7 +595,10 @@ def _author(stage: Usd.Stage, path: Sdf.Path, state: _State, block: bool) -> Non
             attr.Set(default)  # the value, or the fallback a removal leaves
         for time, value in samples:
             attr.Set(value, time)
-    elif attr and attr.HasAuthoredValue():
-        attr.Block()  # the fix removed every value: block the weaker ones
+    elif attr and (attr.HasAuthoredValue() or attr.HasAuthoredConnections()):
+        if attr.HasAuthoredValue():
+            attr.Block()  # the fix removed every value: block the weaker ones
+        if attr.HasAuthoredConnections():
+            attr.SetConnections([])  # an explicit empty list hides the weaker ones
     elif rel and rel.HasAuthoredTargets():
         rel.SetTargets([])  # an explicit empty list hides the weaker targets

@@ -3,8 +3,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Protocol, TextIO
+from collections.abc import Callable, Mapping
+from typing import Any, Protocol, TextIO
 
 from ..entrypoints import EntryPointLike, entry_points
 from ..model import Finding, Report
@@ -77,15 +77,18 @@ def json_text(document: object) -> str:
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:
-        text = json.dumps(_escaped(document), indent=2, ensure_ascii=False)
+        text = json.dumps(escaped(document), indent=2, ensure_ascii=False)
     return text + "\n"
 
 
-def _escaped(value: object) -> object:
+def escaped(value: Any, convert: Callable[[str], str] = escape) -> Any:
+    """``value`` (a JSON-like document) with every string, keys included,
+    passed through ``convert``: by default the lossless form of a name that is
+    not UTF-8; :func:`~usdrender_lint.paths.printable` for a view printed as is."""
     if isinstance(value, str):
-        return escape(value)
+        return convert(value)
     if isinstance(value, dict):
-        return {_escaped(key): _escaped(item) for key, item in value.items()}
+        return {escaped(key, convert): escaped(item, convert) for key, item in value.items()}
     if isinstance(value, list | tuple):
-        return [_escaped(item) for item in value]
+        return [escaped(item, convert) for item in value]
     return value

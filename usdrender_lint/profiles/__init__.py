@@ -8,15 +8,19 @@ Nothing here imports pxr, so the command line can list profiles cheaply.
 from __future__ import annotations
 
 from .arnold import ARNOLD
+from .cycles import CYCLES
 from .generic import GENERIC
 from .karma import KARMA
 from .model import Accepted, Profile, ProfileChoice, RuleChange
+from .moonray import MOONRAY
 from .omniverse import OMNIVERSE
 from .renderman import RENDERMAN
 
 AUTO = "auto"
 
-PROFILES: dict[str, Profile] = {p.name: p for p in (GENERIC, KARMA, RENDERMAN, ARNOLD, OMNIVERSE)}
+PROFILES: dict[str, Profile] = {
+    p.name: p for p in (GENERIC, KARMA, RENDERMAN, ARNOLD, OMNIVERSE, MOONRAY, CYCLES)
+}
 
 
 def Profiler(*args, **kwargs):  # noqa: N802 - the class, loaded with pxr on first use

@@ -3,10 +3,14 @@
 Explicit configuration wins. ``auto`` reads the evidence a renderer leaves in
 a stage: the namespaces of the authored properties of a RenderSettings, its
 products and their vars (``karma:``, ``ri:``, ``arnold:``, ``omni:rtx:``), the
-API schemas applied to them, and the scopes a renderer's application writes
-(Kit's ``/Render/OmniverseKit``). Evidence of exactly one renderer picks its
-profile; none, or several renderers' (a Houdini Render Settings LOP writes
-every installed renderer's), leaves the schema alone: ``generic``.
+API schemas applied to them, the scopes a renderer's application writes
+(Kit's ``/Render/OmniverseKit``), what the settings' and products' ``camera``
+targets (a prim type only one renderer defines, such as an ``OmniLidar``, or
+a camera its application creates at run time, such as Kit's
+``/OmniverseKit_Persp``) and the keys its application writes into the root
+layer's customLayerData. Evidence of exactly one renderer picks its profile;
+none, or several renderers' (a Houdini Render Settings LOP writes every
+installed renderer's), leaves the schema alone: ``generic``.
 """
 
 from __future__ import annotations
@@ -19,7 +23,12 @@ from typing import Any
 from pxr import Sdf, Usd
 
 from ..api import Context, schemas
-from ..api.resolve import RenderConfiguration, forwarded_targets, resolve_targets
+from ..api.resolve import (
+    RenderConfiguration,
+    describe_prim_type,
+    forwarded_targets,
+    resolve_targets,
+)
 from ..model import Severity
 from ..records import record
 from . import AUTO, GENERIC, PROFILES, get_profile
@@ -83,6 +92,8 @@ def _prim_evidence(prim: Usd.Prim) -> PrimEvidence:
     names = prim.GetAuthoredPropertyNames()
     applied = prim.GetPrimTypeInfo().GetAppliedAPISchemas()
     is_product = prim.IsA(schemas.RenderProduct)
+    # The settings' and products' camera targets, read once for every renderer.
+    cameras = _camera_targets(prim) if prim.IsA(schemas.RenderSettingsBase) else ()
     product_type = None
     for profile in _RENDERERS:
         phrases = []
@@ -102,17 +113,63 @@ def _prim_evidence(prim: Usd.Prim) -> PrimEvidence:
                 product_type = str(prim.GetAttribute("productType").Get() or "")
             if product_type and profile.product_type(product_type):
                 phrases.append(f"productType {product_type!r} of <{path}>")
+        for target, camera in cameras:
+            where = f"the camera target <{target}> of <{path}>"
+            if profile.runtime_camera(str(target)):
+                phrases.append(f"{where}, a camera the renderer's application creates")
+            elif camera is not None and profile.camera_type(camera.GetTypeName()):
+                phrases.append(f"{where}, {describe_prim_type(camera)}")
+        if phrases:
+            found[profile.name] = phrases
+    return found
+
+
+def _camera_targets(prim: Usd.Prim) -> list[tuple[Sdf.Path, Usd.Prim | None]]:
+    """A settings or product prim's camera targets and the typed prims there."""
+    stage = prim.GetStage()
+    found: list[tuple[Sdf.Path, Usd.Prim | None]] = []
+    for target in forwarded_targets(prim.GetRelationship("camera")):
+        camera = stage.GetPrimAtPath(target) if target.IsPrimPath() else None
+        found.append((target, camera if camera and camera.GetTypeName() else None))
+    return found
+
+
+def layer_data_evidence(stage: Usd.Stage | None) -> PrimEvidence:
+    """The keys of the root layer's customLayerData (nested dictionaries'
+    keys joined with ":", ``cameraSettings:boundCamera``) that a renderer's
+    application writes, per renderer."""
+    if stage is None:
+        return {}
+    keys: list[str] = []
+    pending: list[tuple[str, dict]] = [("", dict(stage.GetRootLayer().customLayerData))]
+    while pending:
+        prefix, data = pending.pop()
+        for key, value in data.items():
+            keys.append(prefix + key)
+            if isinstance(value, dict):
+                pending.append((f"{prefix}{key}:", value))
+    found: PrimEvidence = {}
+    for profile in _RENDERERS:
+        phrases = [
+            f"the root layer's customLayerData {key}" for key in keys if profile.layer_datum(key)
+        ]
         if phrases:
             found[profile.name] = phrases
     return found
 
 
 def infer(
-    prims: Sequence[Usd.Prim], memo: dict[Sdf.Path, PrimEvidence] | None = None
+    prims: Sequence[Usd.Prim],
+    memo: dict[Sdf.Path, PrimEvidence] | None = None,
+    layer_data: PrimEvidence | None = None,
 ) -> ProfileChoice:
     """The ``auto`` choice for the render prims of one scope. ``memo`` keeps
-    each prim's evidence across the scopes that share it (vars, products)."""
+    each prim's evidence across the scopes that share it (vars, products);
+    ``layer_data`` is the stage's customLayerData evidence (default: read from
+    the prims' stage)."""
     memo = {} if memo is None else memo
+    if layer_data is None:
+        layer_data = layer_data_evidence(prims[0].GetStage() if prims else None)
     hits: dict[str, list[str]] = {}
     for prim in prims:
         key = prim.GetPath()
@@ -121,6 +178,8 @@ def infer(
             found = memo[key] = _prim_evidence(prim)
         for name, phrases in found.items():
             hits.setdefault(name, []).extend(phrases)
+    for name, phrases in layer_data.items():
+        hits.setdefault(name, []).extend(phrases)
     # Reported in the renderers' order, as each renderer's own evidence is.
     hits = {p.name: hits[p.name] for p in _RENDERERS if p.name in hits}
     if len(hits) == 1:
@@ -129,7 +188,9 @@ def infer(
         return ProfileChoice(PROFILES[name], f"auto: {evidence[0]}{more}")
     if not hits:
         return ProfileChoice(
-            GENERIC, "auto: no renderer's properties, API schemas or scopes on these render prims"
+            GENERIC,
+            "auto: no renderer's properties, API schemas, scopes, camera targets or layer "
+            "data on these render prims",
         )
     counts = ", ".join(f"{name}: {len(e)}" for name, e in hits.items())
     return ProfileChoice(
@@ -177,6 +238,8 @@ def assign(
     assignment = Assignment()
     memo: dict[Sdf.Path, PrimEvidence] = {}
     explicit = None if setting == AUTO else ProfileChoice(get_profile(setting), reason)
+    prims = [*lone_products, *render_prims]
+    layer_data = {} if explicit else layer_data_evidence(_stage_of(configurations, prims))
     by_settings: dict[Sdf.Path, list[RenderConfiguration]] = {}
     for config in configurations:
         if config.settings is not None:  # products on their own: below (R2-4)
@@ -186,26 +249,37 @@ def assign(
         assert settings is not None
         products = [c.product for c in configs if c.product is not None]
         prims = [settings, *products, *(v for p in products for v in _vars_of(p))]
-        assignment.scopes[key] = explicit or infer(prims, memo)
+        assignment.scopes[key] = explicit or infer(prims, memo, layer_data)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([settings, *products]))
         assignment._add(key, _connected(settings))
     for product in lone_products:
         key = product.GetPath()
         prims = [product, *_vars_of(product)]
-        assignment.scopes[key] = explicit or infer(prims, memo)
+        assignment.scopes[key] = explicit or infer(prims, memo, layer_data)
         assignment._add(key, prims)
         assignment._add(key, _camera_paths([product]))
     for render_pass in passes:
         for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
             if path in assignment.scopes:
                 assignment._add(path, [render_pass])
-    assignment.stage = explicit or _stage_choice(assignment, render_prims, memo)
+    assignment.stage = explicit or _stage_choice(assignment, render_prims, memo, layer_data)
     return assignment
 
 
+def _stage_of(
+    configurations: Sequence[RenderConfiguration], render_prims: Sequence[Usd.Prim]
+) -> Usd.Stage | None:
+    for config in configurations:
+        return config.owner.GetStage()
+    return render_prims[0].GetStage() if render_prims else None
+
+
 def _stage_choice(
-    assignment: Assignment, render_prims: Sequence[Usd.Prim], memo: dict[Sdf.Path, PrimEvidence]
+    assignment: Assignment,
+    render_prims: Sequence[Usd.Prim],
+    memo: dict[Sdf.Path, PrimEvidence],
+    layer_data: PrimEvidence,
 ) -> ProfileChoice:
     choices = list(dict.fromkeys(assignment.scopes.values()))
     names = {c.name for c in choices}
@@ -213,7 +287,7 @@ def _stage_choice(
         return choices[0]
     if not names:
         # No configuration (only vars or passes): the render prims' own evidence.
-        return infer(render_prims, memo)
+        return infer(render_prims, memo, layer_data)
     return ProfileChoice(
         GENERIC,
         "auto: the stage's configurations use several profiles "

@@ -67,6 +67,9 @@ class Profile:
     api_schemas: tuple[str, ...] = ()
     #: Prim path prefixes of scopes the renderer's application writes.
     scopes: tuple[str, ...] = ()
+    #: The public sources that show the namespaces, API schemas and scopes
+    #: above are the renderer's own.
+    evidence_sources: tuple[str, ...] = ()
     changes: tuple[RuleChange, ...] = ()
     #: Prim types accepted where the schema expects a Camera (CA004).
     camera_types: tuple[Accepted, ...] = ()
@@ -76,6 +79,12 @@ class Profile:
     prim_types: tuple[Accepted, ...] = ()
     #: productType tokens the renderer renders besides the schema's (PR003).
     product_types: tuple[Accepted, ...] = ()
+    #: Keys of the root layer's customLayerData (nested dictionaries joined
+    #: with ":") that the renderer's application writes: evidence (``auto``).
+    layer_data: tuple[Accepted, ...] = ()
+    #: RenderVar properties that define the var's output in place of
+    #: sourceName (VA001).
+    var_outputs: tuple[Accepted, ...] = ()
 
     def change_for(self, code: str) -> RuleChange | None:
         return next((c for c in self.changes if c.code == code), None)
@@ -91,6 +100,12 @@ class Profile:
 
     def product_type(self, token: str) -> Accepted | None:
         return _find(self.product_types, token)
+
+    def layer_datum(self, key: str) -> Accepted | None:
+        return _find(self.layer_data, key)
+
+    def var_output(self, property_name: str) -> Accepted | None:
+        return _find(self.var_outputs, property_name)
 
 
 @record(frozen=True)

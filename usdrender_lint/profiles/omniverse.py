@@ -29,12 +29,40 @@ SENSOR_SCHEMA_DOC = (
     "(https://docs.omniverse.nvidia.com/kit/docs/omni.usd.schema.omni_sensors/latest/index.html)"
 )
 
+KIT_VIEWPORT_CHANGELOG = (
+    "Omniverse Kit docs, omni.kit.widget.viewport CHANGELOG 105.1.2 (a stage 'with implicit "
+    "camera saved to' it) "
+    "(https://docs.omniverse.nvidia.com/kit/docs/omni.kit.widget.viewport/106.0.2/CHANGELOG.html)"
+)
+#: Kit's own render-settings schemas, which it applies to its render prims.
+RTX_SETTINGS_SCHEMA_DOC = (
+    "Omniverse Kit docs, omni.usd.schema.render_settings.rtx, Settings "
+    "(https://docs.omniverse.nvidia.com/kit/docs/omni.usd.schema.render_settings.rtx/1.0.0/"
+    "SETTINGS.html)"
+)
+#: Which camera attributes RTX ignores (CA006 is kept: the apertures are read).
+KIT_CAMERAS_DOC = (
+    "Omniverse docs, Materials and Rendering, Cameras "
+    "(https://docs.omniverse.nvidia.com/app_view/prod_materials-and-rendering/cameras.html)"
+)
+#: NVIDIA's Kit extensions record the viewport's bound camera in the root
+#: layer's customLayerData (cameraSettings:boundCamera = "/OmniverseKit_Persp").
+KIT_LAYER_DATA_SRC = (
+    "NVIDIA-Omniverse/PhysX, omni.physx demos (set_initial_camera writes the root layer's "
+    'customLayerData cameraSettings.boundCamera = "/OmniverseKit_Persp" for Kit\'s viewport)'
+)
+
 _SESSION_CAMERA = (
     "Kit creates its viewport cameras /OmniverseKit_Persp, _Front, _Top and _Right in the "
     "session layer of every stage it opens, so a saved viewport product targets a camera the "
-    "file does not hold"
+    "file does not hold, or holds only as an `over` (typeless or `over Camera`) carrying the "
+    "viewport's edits, which composes onto the session layer's camera"
 )
 
+# CA006 (aspect mismatch with an implicit conform policy) is kept, not
+# changed: KIT_CAMERAS_DOC says RTX ignores the aperture offsets, shutter and
+# stereo role but reads both apertures, and no public source says how RTX
+# conforms a mismatch or whether it reads aspectRatioConformPolicy.
 OMNIVERSE = Profile(
     name="omniverse",
     description="Omniverse RTX (Kit viewports, Isaac Sim and ovrtx sensors): render products "
@@ -44,6 +72,15 @@ OMNIVERSE = Profile(
     namespaces=("omni:rtx:", "omni:kit:"),
     api_schemas=("OmniRtx*",),
     scopes=("/Render/OmniverseKit/",),
+    evidence_sources=(RTX_SETTINGS_SCHEMA_DOC,),
+    layer_data=(
+        Accepted(
+            name="cameraSettings:boundCamera",
+            why="Kit keeps the camera its viewport is bound to in the root layer's "
+            "customLayerData, dictionary cameraSettings, key boundCamera",
+            source=KIT_LAYER_DATA_SRC,
+        ),
+    ),
     changes=(
         RuleChange(
             code="PR001",
@@ -67,7 +104,11 @@ OMNIVERSE = Profile(
         ),
     ),
     runtime_cameras=tuple(
-        Accepted(name=f"/OmniverseKit_{view}", why=_SESSION_CAMERA, source=REMIX_PERSP_DOC)
+        Accepted(
+            name=f"/OmniverseKit_{view}",
+            why=_SESSION_CAMERA,
+            source=f"{REMIX_PERSP_DOC}; {KIT_VIEWPORT_CHANGELOG}",
+        )
         for view in ("Persp", "Front", "Top", "Right")
     ),
     prim_types=tuple(

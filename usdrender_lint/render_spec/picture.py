@@ -4,6 +4,7 @@ in aperture units with y up, read from a product of the JSON document."""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from ..records import record
@@ -68,13 +69,16 @@ class Picture:
 def picture(product: dict[str, Any]) -> Picture:
     aperture = product["aperture"]
     camera = None
+    image: Rect | None = None
     if aperture is not None and _finite(aperture["conformed"], aperture["offset"]):
         (w, h), (x, y) = aperture["conformed"], aperture["offset"]
-        image = Rect(x - w / 2, y - h / 2, x + w / 2, y + h / 2)
-        if _finite(aperture["camera"]):
+        image = _drawable(Rect(x - w / 2, y - h / 2, x + w / 2, y + h / 2))
+        if image is not None and _finite(aperture["camera"]):
             cw, ch = aperture["camera"]
-            camera = Rect(x - cw / 2, y - ch / 2, x + cw / 2, y + ch / 2)
-    else:
+            camera = _drawable(Rect(x - cw / 2, y - ch / 2, x + cw / 2, y + ch / 2))
+    if image is None:
+        # No camera, or an aperture that cannot be drawn: a zero aperture, or
+        # an offset so large that the aperture vanishes beside it in floats.
         width, height = product["resolution"]
         aspect = (width / height) * (product["pixelAspectRatio"] or 1) if height > 0 else 1
         aspect = aspect if 0.05 < aspect < 20 else 1
@@ -102,6 +106,12 @@ def picture(product: dict[str, Any]) -> Picture:
         if data.width <= 0 or data.height <= 0:
             data = None  # far outside the image: not drawn (SE004 reports it)
     return Picture(image, camera, data, overscan, cropped)
+
+
+def _drawable(rect: Rect) -> Rect | None:
+    """``rect`` when it has a finite, positive size in floats, else None."""
+    sizes = (rect.width, rect.height)
+    return rect if all(math.isfinite(v) and v > 0 for v in sizes) else None
 
 
 def _finite(*values: Any) -> bool:

@@ -477,7 +477,7 @@ def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
     request = prepared.request
     if not request.cache:
         return None
-    from .result_cache import ResultCache, default_cache_dir, run_key
+    from .result_cache import ForeignFolder, ResultCache, default_cache_dir, run_key
 
     folder = Path(request.cache_dir) if request.cache_dir else default_cache_dir(prepared.settings)
     key = run_key(
@@ -486,7 +486,10 @@ def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
         variant_combinations=prepared.spec.variant_combinations,
     )
     cache = ResultCache(folder, key)
-    problem = cache.prepare()
+    try:
+        problem = cache.prepare()
+    except ForeignFolder as exc:
+        raise RequestError(str(exc)) from None
     if problem is not None:
         notes.append(f"{problem}; results are not cached")
         return None

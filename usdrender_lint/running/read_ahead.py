@@ -38,6 +38,7 @@ from __future__ import annotations
 import os
 import sys
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
@@ -56,6 +57,9 @@ _pending: dict[str, _Read] = {}
 #: order (what a test or a profile of the command can ask).
 started: list[str] = []
 used: list[str] = []
+#: When each file's read ahead began (time.time_ns()): what the lint read of it
+#: is as old as that (the result cache stores nothing changed since).
+_began: dict[str, int] = {}
 
 
 class _Read:
@@ -118,6 +122,7 @@ def start(path: str) -> None:
     from pxr import Ar, Sdf, Tf  # noqa: F401 - imported on this thread, not the reader's
 
     read = _Read(path)
+    _began.setdefault(_key(path), time.time_ns())
     _pending[_key(path)] = read
     started.append(path)
     read.thread.start()
@@ -139,6 +144,11 @@ def held(path: str) -> Iterator[None]:
         yield
     finally:
         read.layers.clear()
+
+
+def began(path: str) -> int | None:
+    """When a read ahead of ``path`` began in this process (time.time_ns()), or None."""
+    return _began.get(_key(path)) if _began else None
 
 
 def finish() -> None:
@@ -174,6 +184,7 @@ def _key(path: str) -> str:
 __all__ = [
     "EXTENSIONS",
     "MAX_LAYERS",
+    "began",
     "end_unclaimed",
     "finish",
     "held",

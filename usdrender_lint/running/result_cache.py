@@ -4,21 +4,39 @@ has changed (``check`` uses it by default, like ruff's; ``--no-cache`` turns it 
 An entry is found by the **run key** (the tool's version and code, usd-core's
 version, the rules that run with their options, the severities, every setting
 that can change a finding, the environment that configures USD or the linter)
-and the file as given with the working directory. It holds the file's result and
-the **content digest of every file the lint read**: the root layer, its
-sublayers, the references and payloads it reached, the value clips it opened,
-the layers the fast path scanned (engine/linter.py ``Reads``), and, as "absent",
-each asset an arc names that did not exist. An entry is used only when every
-digest still matches, so an edit to a sublayer that 4,000 files share shows up
-in all 4,000, and creating a missing reference target re-lints its users.
-Results that are not known to be complete (a stage USD could not open, a file
-the tool could not lint, a layer with unsaved edits or an asset path this module
-cannot map to a file) are never stored.
+and the file as given with the working directory. It holds the file's result
+and what the result depends on (engine/assets.py ``Reads``), each checked on
+lookup:
 
-Entries are one JSON file each, written atomically, so concurrent runs (CI
-shards sharing a cache) never see half an entry; a corrupt or foreign file is
-ignored (and replaced on the next store). The folder is bounded: after a run that
-stored entries, the least recently used ones are removed beyond MAX_BYTES.
+- the **content digest** of every file the lint read (the root layer first: an
+  entry is only ever served for the file it names), its sublayers, the
+  references and payloads it reached, the value clips, the layers the fast path
+  scanned, and, as "absent", each asset an arc names that did not exist;
+- the **real path** of each of those files as named (a retargeted symbolic
+  link, the file's or a folder's, is another file);
+- the **existence** of each asset a rule checked (``Context.depends_on_asset``);
+- what the resolver finds for each **search path** an arc names, in the
+  **resolver context** the stage is opened with (a file appearing earlier on
+  ``PXR_AR_DEFAULT_SEARCH_PATH``, in the working directory or next to the
+  layer naming it is found instead);
+- the files each value clip **template** matches in its folder.
+
+Results that are not known to be complete (a stage USD could not open, a file
+the tool could not lint, a layer with unsaved edits, an asset path whose file
+depends on more than its path) are never stored, nor is a result when a file
+it depends on changed after the lint began: its digest is taken before the
+lint and compared after it, and every dependency's change time (which a copy
+keeping times, ``cp -p``, cannot set back) must predate the lint (or the lone
+file's read ahead).
+
+The folder is the cache's own: created by it (with a ``CACHEDIR.TAG`` and a
+``.gitignore``), or empty when first used (it gets the tag only), or holding
+its tag; any other folder is refused (:class:`ForeignFolder`). Entries are one
+JSON file each, written atomically, so concurrent runs (CI shards sharing a
+cache) never see half an entry; an entry is read only when it is a regular
+file of bounded size (a FIFO, a link, a folder or a deeply nested document is
+ignored, and replaced on the next store). After a run that stored entries, the
+least recently used entry files (by name) are removed beyond MAX_BYTES.
 """
 
 from __future__ import annotations
@@ -28,8 +46,11 @@ import dataclasses
 import hashlib
 import json
 import os
+import re
+import shutil
 import stat
 import sys
+import tempfile
 import time
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -37,21 +58,27 @@ from typing import TYPE_CHECKING, Any
 
 from ..atomic import replace_atomically, write_text_atomic
 from ..config import Settings
+from ..engine.assets import ClipTemplate, is_search_path
 from ..model import FileResult
-from ..paths import layer_file
+from ..records import record
 from ..report_json import ReportFormatError, finding_from_dict, finding_to_dict
 from ..settings_table import not_in_cache_key, settings_key
+from . import read_ahead
 
 if TYPE_CHECKING:
     from ..engine import Linter
-    from ..engine.linter import Reads
+    from ..engine.assets import Reads
 
 #: The default folder, at the project root (the config file's folder, else the
 #: working directory).
 CACHE_DIR_NAME = ".usdrender_lint_cache"
 #: Bumped when an entry's layout changes; older entries are then foreign.
-FORMAT = 2  # 2: entries keep the result's notes (--variants' skipped combinations)
+#: 2: entries keep the result's notes (--variants' skipped combinations); 3: real
+#: paths, existence-only assets, search paths, resolver context, clip templates.
+FORMAT = 3
 ENTRIES_DIR = f"v{FORMAT}"
+#: The name of an entry file: the only files pruning removes.
+ENTRY_NAME = re.compile(r"[0-9a-f]{40}\.json")
 #: The cache's size bound, and what pruning brings it down to.
 MAX_BYTES = 256 << 20
 PRUNE_TO = 3 * MAX_BYTES // 4
@@ -166,21 +193,30 @@ def _digest_text(text: str) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-class _Digests:
-    """Content digests of files, computed once per process while a file's
-    size, times and inode stay the same (a shared sublayer is read once per run)."""
+#: A dependency's state when only its existence matters (a rule checked it).
+PRESENT = "present"
+
+
+class _Files:
+    """Content digests and real paths of files, computed once per run while a
+    file's size, times and inode stay the same (a shared sublayer is read once
+    per run)."""
 
     def __init__(self) -> None:
         self._known: dict[str, tuple[tuple[int, int, int, int], str]] = {}
+        self._folders: dict[str, str] = {}
 
-    def of(self, path: str) -> str | None:
-        """The file's digest; None when it does not exist."""
+    def state(self, path: str, existence_only: bool = False) -> str | None:
+        """The file's digest (or PRESENT when only its existence is asked); None
+        when it does not exist."""
         try:
             info = os.stat(path)
         except (FileNotFoundError, NotADirectoryError):
             return None
         except OSError as exc:
             return f"unreadable:{exc.errno}"
+        if existence_only:
+            return PRESENT
         if not stat.S_ISREG(info.st_mode):
             return f"not-a-file:{stat.S_IFMT(info.st_mode):o}"
         stamp = (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
@@ -188,40 +224,104 @@ class _Digests:
         if known is not None and known[0] == stamp:
             return known[1]
         try:
-            with open(path, "rb") as handle:
+            # O_NONBLOCK: a FIFO put in the file's place after the stat must not block.
+            fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+        except OSError as exc:
+            return f"unreadable:{exc.errno}"
+        try:
+            with open(fd, "rb") as handle:
+                if not stat.S_ISREG(os.fstat(handle.fileno()).st_mode):
+                    return "not-a-file"
                 digest = hashlib.file_digest(handle, "sha256").hexdigest()
         except OSError as exc:
             return f"unreadable:{exc.errno}"
         self._known[path] = (stamp, digest)
         return digest
 
+    def real(self, path: str) -> str:
+        """``os.path.realpath(path)``, each folder's resolved once per run (a
+        retargeted link, the file's or a folder's, gives another real path)."""
+        folder, name = os.path.split(path)
+        real_folder = self._folders.get(folder)
+        if real_folder is None:
+            real_folder = self._folders[folder] = os.path.realpath(folder)
+        joined = os.path.join(real_folder, name)
+        try:
+            is_link = stat.S_ISLNK(os.lstat(joined).st_mode)
+        except OSError:
+            return joined
+        return os.path.realpath(joined) if is_link else joined
+
 
 # -- dependencies --------------------------------------------------------------------
 
 
-def dependencies(reads: Reads) -> list[str] | None:
-    """The files a lint's result depends on (the layers it read and the files
-    arcs name, found or not), or None when that cannot be known exactly."""
+@record(frozen=True)
+class Dependencies:
+    """What a lint's result depends on besides the run key, as checked on
+    lookup: the content (or absence) of ``files``, the existence of ``assets``,
+    what the resolver finds for ``searches`` in ``context``, and the files
+    clip templates match."""
+
+    files: tuple[str, ...]
+    assets: tuple[str, ...] = ()
+    searches: tuple[str, ...] = ()
+    clip_templates: tuple[ClipTemplate, ...] = ()
+    context: str = ""
+
+
+def dependencies(reads: Reads, root: str | None = None) -> Dependencies | None:
+    """What the result of linting ``root`` (the file as given) depends on, from
+    what the lint read; None when that cannot be known exactly."""
     if not reads.complete:
         return None
-    if reads.targets and os.environ.get("PXR_AR_DEFAULT_SEARCH_PATH"):
-        return None  # a search path could supply a missing asset from anywhere
     files: set[str] = set()
+    searches: set[str] = set(reads.searches)
+    folders: set[str] = set()
+    root_identifiers = {root, os.path.abspath(root)} if root else set()
     for identifier, real_path, anonymous, dirty in reads.layers:
         if anonymous:
             continue  # the engine's session layer, or one a file format makes from a file
         if dirty:
             return None  # edited in memory: its file is not what was linted
-        path = _file_of(real_path or identifier)
+        if identifier in root_identifiers:
+            identifier = os.path.abspath(identifier)
+        elif is_search_path(identifier):
+            searches.add(identifier)  # found by the resolver: found where, next time?
+            identifier = real_path
+        path = _file_of(identifier)
         if path is None:
             return None
         files.add(path)
+        if real_path and os.path.isabs(real_path):
+            folders.add(os.path.dirname(real_path))
+    for search in searches:
+        # Sdf anchors a search path next to the layer naming it when that file
+        # exists: next to any layer read, the file must stay as it was.
+        files.update(os.path.join(folder, search) for folder in folders)
     for identifier in reads.targets:
         path = _file_of(identifier)
         if path is None:
             return None
         files.add(path)
-    return sorted(files)
+    assets: set[str] = set()
+    for identifier in reads.assets:
+        if is_search_path(identifier):
+            searches.add(identifier)
+            continue
+        path = _file_of(identifier)
+        if path is None:
+            return None
+        assets.add(path)
+    if root is not None:
+        files.discard(os.path.abspath(root))
+    return Dependencies(
+        files=tuple(sorted(files)),
+        assets=tuple(sorted(assets - files)),
+        searches=tuple(sorted(searches)),
+        clip_templates=tuple(reads.clip_templates),
+        context=reads.context,
+    )
 
 
 def _outer(identifier: str) -> str:
@@ -230,15 +330,72 @@ def _outer(identifier: str) -> str:
 
 
 def _file_of(identifier: str) -> str | None:
-    """The file on disk behind a layer identifier, or None when it is not a
-    plain file path (a URI for another resolver, file format arguments)."""
+    """The file on disk behind a layer identifier as named (symbolic links not
+    followed), or None when it is not a plain file path (a URI for another
+    resolver, file format arguments)."""
     if ":SDF_FORMAT_ARGS:" in identifier or not os.path.isabs(_outer(identifier)):
         return None
-    path = layer_file(identifier)
-    return str(path) if path is not None else None
+    return os.path.normpath(_outer(identifier))
+
+
+def _resolver_state(root: str, searches: Sequence[str]) -> tuple[str, list[str]]:
+    """The resolver context a stage of ``root`` is opened with (its repr), and
+    what the resolver finds for each search path in it."""
+    from pxr import Ar
+
+    resolver = Ar.GetResolver()
+    context = resolver.CreateDefaultContextForAsset(os.path.abspath(root))
+    if not searches:
+        return repr(context), []
+    with Ar.ResolverContextBinder(context):
+        return repr(context), [str(resolver.Resolve(search)) for search in searches]
+
+
+# -- reading an entry ------------------------------------------------------------------
+
+
+def read_bounded(path: str | os.PathLike[str], limit: int) -> bytes | None:
+    """The bytes of a regular file of at most ``limit`` bytes; None for
+    anything else (a FIFO, a device, a folder, a symbolic link, a larger file)
+    or a file that cannot be read. Never blocks on a FIFO."""
+    flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
+    try:
+        fd = os.open(path, flags | getattr(os, "O_CLOEXEC", 0))
+    except OSError:
+        return None
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode) or info.st_size > limit:
+            return None
+        chunks = []
+        size = 0
+        while size <= limit:
+            chunk = os.read(fd, min(1 << 20, limit + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks) if size <= limit else None
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+
+
+def _is_ours(tag: Path) -> bool:
+    data = read_bounded(tag, 4096)
+    return (
+        data is not None
+        and data.startswith(_CACHEDIR_TAG.encode()[:43])
+        and (b"usdrender-lint" in data)
+    )
 
 
 # -- the cache -------------------------------------------------------------------------
+
+
+class ForeignFolder(Exception):
+    """The cache folder asked for is not one the cache may write into."""
 
 
 class ResultCache:
@@ -249,7 +406,7 @@ class ResultCache:
     def __init__(self, folder: str | os.PathLike[str], key: str) -> None:
         self.folder = Path(folder)
         self.key = key
-        self._digests = _Digests()
+        self._files = _Files()
         self.stored = 0
         self.hits = 0
 
@@ -264,20 +421,60 @@ class ResultCache:
         return self.folder / ENTRIES_DIR
 
     def prepare(self) -> str | None:
-        """Create the folder (with a ``.gitignore`` and ``CACHEDIR.TAG`` in it);
-        returns why the cache cannot be written, or None."""
+        """Make the folder ready: created here (with a ``CACHEDIR.TAG`` and a
+        ``.gitignore``), or an empty folder (which gets the tag), or one holding
+        our tag. Raises :class:`ForeignFolder` for any other folder (a user's,
+        which the cache must never write into or prune); returns why the
+        cache cannot be written, or None."""
+        tag = self.folder / "CACHEDIR.TAG"
         try:
-            self.entries.mkdir(parents=True, exist_ok=True)
-            for name, text in (("CACHEDIR.TAG", _CACHEDIR_TAG), (".gitignore", _GITIGNORE)):
-                marker = self.folder / name
-                if not marker.exists():
-                    write_text_atomic(marker, text)
+            if not self._create():
+                self._claim(tag)
+                if not tag.exists():
+                    write_text_atomic(tag, _CACHEDIR_TAG)
+            self.entries.mkdir(exist_ok=True)
             probe = self.entries / f".probe-{os.getpid()}"
             probe.write_bytes(b"")
             probe.unlink()
         except OSError as exc:
             return f"cannot write the result cache {self.folder}: {exc.strerror or exc}"
         return None
+
+    def _create(self) -> bool:
+        """Create the folder with its tag, ``.gitignore`` and entries folder in
+        one rename (a concurrent run never sees it half made); False when it
+        exists already."""
+        if os.path.lexists(self.folder):
+            return False
+        self.folder.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{self.folder.name}.", dir=self.folder.parent))
+        try:
+            (staging / "CACHEDIR.TAG").write_text(_CACHEDIR_TAG, encoding="utf-8")
+            # Only into a folder made here: in a user's, it would hide their files from git.
+            (staging / ".gitignore").write_text(_GITIGNORE, encoding="utf-8")
+            (staging / ENTRIES_DIR).mkdir()
+            try:
+                os.rename(staging, self.folder)
+            except OSError:
+                if not os.path.lexists(self.folder):
+                    raise
+                return False  # another run made it first
+            return True
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
+
+    def _claim(self, tag: Path) -> None:
+        """Refuse a folder that is not the cache's: not a folder, or holding
+        files and no CACHEDIR.TAG of ours."""
+        if not self.folder.is_dir():
+            raise ForeignFolder(f"the cache folder {self.folder} is not a folder")
+        if _is_ours(tag):
+            return
+        if any(not e.name.startswith(".CACHEDIR.TAG.") for e in os.scandir(self.folder)):
+            raise ForeignFolder(
+                f"{self.folder} is not a usdrender-lint cache folder (it holds files and no "
+                "CACHEDIR.TAG of ours): give --cache-dir or cache-dir a new or empty folder"
+            )
 
     def _entry_path(self, file: str) -> Path:
         where = _canonical([self.key, os.getcwd(), file, os.path.realpath(file)])
@@ -286,14 +483,16 @@ class ResultCache:
     # -- lookup --------------------------------------------------------------------
 
     def lookup(self, file: str) -> FileResult | None:
-        """The stored result for ``file`` when every file it depends on is as
+        """The stored result for ``file`` when everything it depends on is as
         it was; None otherwise (also for a missing, corrupt or foreign entry)."""
         entry = self._entry_path(file)
-        try:
-            data = json.loads(entry.read_bytes())
-            result = self._valid(data, file)
-        except (OSError, ValueError, TypeError, KeyError, ReportFormatError):
+        data = read_bounded(entry, MAX_ENTRY_BYTES)
+        if data is None:
             return None
+        try:
+            result = self._valid(json.loads(data), file)
+        except (ValueError, TypeError, KeyError, ReportFormatError, RecursionError):
+            result = None  # corrupt (a deeply nested one included): linted and stored again
         if result is None:
             return None
         self.hits += 1
@@ -307,51 +506,88 @@ class ResultCache:
         if data.get("key") != self.key or data.get("file") != file:
             return None
         deps = data["deps"]
-        if not isinstance(deps, list) or not deps:
+        # The entry is for this file: its first dependency is the file itself.
+        if not isinstance(deps, list) or not deps or deps[0][0] != os.path.abspath(file):
             return None
-        for path, digest in deps:
-            if not isinstance(path, str) or self._digests.of(path) != digest:
+        for named, real, state in deps:
+            if not isinstance(named, str) or self._files.real(named) != real:
                 return None
+            if self._files.state(named, existence_only=state == PRESENT) != state:
+                return None
+        for folder, pattern, matched in data["clips"]:
+            if clip_matches(folder, pattern) != matched:
+                return None
+        searches = data["searches"]
+        context, found = _resolver_state(file, [search for search, _ in searches])
+        if context != data["context"] or found != [where for _, where in searches]:
+            return None
         findings, notes = data["findings"], data["notes"]
         if not isinstance(findings, list) or not isinstance(notes, list):
             return None
         if not all(isinstance(note, str) for note in notes):
             return None
-        return FileResult(
+        result = FileResult(
             file, findings=tuple(finding_from_dict(f) for f in findings), notes=tuple(notes)
         )
+        if any(f.location.file != file for f in result.findings):
+            return None  # another file's findings
+        return result
 
     # -- store ---------------------------------------------------------------------
 
-    def store(self, file: str, result: FileResult, reads: Reads, started_ns: int) -> bool:
-        """Record a result linted from ``started_ns`` on; False when it is not
-        stored (not cacheable, a dependency changed while it was linted, or the
-        folder cannot be written)."""
+    def state(self, path: str) -> str | None:
+        """A file's content digest now (None when it does not exist)."""
+        return self._files.state(path)
+
+    def store(
+        self,
+        file: str,
+        result: FileResult,
+        reads: Reads,
+        started_ns: int,
+        digest_before: str | None = None,
+    ) -> bool:
+        """Record a result linted from ``started_ns`` on (``digest_before``:
+        the file's digest before the lint read it); False when it is not
+        stored (not cacheable, a dependency changed while it was linted, or
+        the folder cannot be written)."""
         if result.status != "linted":
             return False
-        files = dependencies(reads)
-        if not files:
+        found = dependencies(reads, file)
+        if found is None:
             return False
-        deps = []
-        for path in files:
-            digest = self._digests.of(path)
-            if digest is not None and _modified_since(path, started_ns):
-                return False  # edited while it was being linted: which version was read?
-            deps.append([path, digest])
+        root = os.path.abspath(file)
+        after = self._files.state(root)
+        if after is None or (digest_before is not None and after != digest_before):
+            return False  # the file changed while it was linted
+        deps: list[list[str | None]] = [[root, self._files.real(root), after]]
+        for path in found.files:
+            deps.append([path, self._files.real(path), self._files.state(path)])
+        for path in found.assets:
+            deps.append([path, self._files.real(path), self._files.state(path, True)])
+        # After the digests: a change after the lint began and before a digest shows here.
+        if any(_changed_since(path, started_ns) for path in (root, *found.files, *found.assets)):
+            return False  # changed or replaced while it was linted: which version was read?
+        context, where = _resolver_state(file, found.searches)
+        if found.context and found.context != context:
+            return False  # opened in another resolver context than a lookup would see
         document = {
             "usdrender_lint_cache": FORMAT,
             "key": self.key,
             "file": file,
             "deps": deps,
+            "searches": [list(pair) for pair in zip(found.searches, where, strict=True)],
+            "context": context,
+            "clips": [[t.folder, t.pattern, list(t.matched)] for t in found.clip_templates],
             "findings": [finding_to_dict(f, layer_path=str) for f in result.findings],
             "notes": list(result.notes),
         }
         text = json.dumps(document, ensure_ascii=False, separators=(",", ":"))
-        if len(text) > MAX_ENTRY_BYTES:
+        if len(text.encode("utf-8", "surrogateescape")) > MAX_ENTRY_BYTES:
             return False
         try:
             replace_atomically(self._entry_path(file), lambda tmp: _write(tmp, text))
-        except OSError:
+        except (OSError, UnicodeEncodeError):
             return False
         self.stored += 1
         return True
@@ -360,19 +596,26 @@ class ResultCache:
 
     def prune(self, max_bytes: int = MAX_BYTES, keep_bytes: int = PRUNE_TO) -> int:
         """Remove the least recently used entries while the folder holds more
-        than ``max_bytes`` (down to ``keep_bytes``); returns how many."""
+        than ``max_bytes`` (down to ``keep_bytes``); returns how many. Only
+        the cache's own entry files are counted and removed (by name, regular
+        files only), and only in a folder holding our CACHEDIR.TAG."""
+        if not _is_ours(self.folder / "CACHEDIR.TAG"):
+            return 0
         try:
             names = os.listdir(self.entries)
         except OSError:
             return 0
         sized = []
         for name in names:
+            if not ENTRY_NAME.fullmatch(name):
+                continue
             path = self.entries / name
             try:
-                info = path.stat()
+                info = path.lstat()
             except OSError:
                 continue
-            sized.append((info.st_mtime_ns, info.st_size, path))
+            if stat.S_ISREG(info.st_mode):
+                sized.append((info.st_mtime_ns, info.st_size, path))
         total = sum(size for _, size, _ in sized)
         if total <= max_bytes:
             return 0
@@ -389,16 +632,31 @@ class ResultCache:
         return removed
 
 
-def _modified_since(path: str, started_ns: int) -> bool:
+def clip_matches(folder: str, pattern: str) -> list[str]:
+    """The names in ``folder`` a clip template's pattern matches, sorted."""
     try:
-        return os.stat(path).st_mtime_ns > started_ns
+        names = os.listdir(folder)
+    except OSError:
+        return []
+    return sorted(n for n in names if re.fullmatch(pattern, n))
+
+
+def _changed_since(path: str, started_ns: int) -> bool:
+    """True when ``path`` (the file, or the link naming it) changed after
+    ``started_ns``. The change time, which no copy keeping times (``cp -p``,
+    ``rsync -t``) or ``touch`` can set back, and which a rename sets."""
+    try:
+        changed = max(os.stat(path).st_ctime_ns, os.lstat(path).st_ctime_ns)
+    except FileNotFoundError:
+        return False  # absent: its absence is what the entry records
     except OSError:
         return True
+    return changed > started_ns
 
 
 def _write(temporary: Path, text: str) -> None:
     # No fsync: a torn entry after a power cut is corrupt, and corrupt entries are ignored.
-    with open(temporary, "w", encoding="utf-8") as stream:
+    with open(temporary, "w", encoding="utf-8", errors="surrogateescape") as stream:
         stream.write(text)
 
 
@@ -420,6 +678,10 @@ class CachingLinter:
 
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
         started = time.time_ns()
+        read_before = read_ahead.began(path)  # its layers were read from then on
+        if read_before is not None:
+            started = min(started, read_before)
+        before = self.cache.state(os.path.abspath(path))
         with self.linter.recording_reads() as reads:
             result = (
                 self.linter.lint_path(path, full_composition=True)
@@ -427,7 +689,7 @@ class CachingLinter:
                 else self.linter.lint_path(path)
             )
         try:
-            self.cache.store(path, result, reads, started)
+            self.cache.store(path, result, reads, started, before)
         except Exception:  # noqa: BLE001 - a cache problem never costs a result
             if self.raise_errors:
                 raise
@@ -437,9 +699,12 @@ class CachingLinter:
 __all__ = [
     "CACHE_DIR_NAME",
     "CachingLinter",
+    "Dependencies",
+    "ForeignFolder",
     "ResultCache",
     "default_cache_dir",
     "dependencies",
+    "read_bounded",
     "run_key",
     "settings_key",
 ]

@@ -75,6 +75,8 @@ class UsdRenderLintServer(LanguageServer):
         #: What each linted document (the source) publishes on each document URI.
         self.published: dict[str, dict[str, list[types.Diagnostic]]] = {}
         self.ready = threading.Event()
+        #: Seconds a lint may take (initializationOptions ``timeout``).
+        self.timeout = TIMEOUT
 
     # -- documents -----------------------------------------------------------------
 
@@ -117,7 +119,12 @@ class UsdRenderLintServer(LanguageServer):
         text = self.workspace.get_text_document(uri).source
         expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
         if expected >= SLOW:
-            self.linting.cancel(path, tick)
+            if self.linting.cancel(path, tick):
+                self.window_log_message(
+                    types.LogMessageParams(
+                        types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
+                    )
+                )
             await asyncio.sleep(DEBOUNCE)
             if self.wanted.get(uri) != tick:
                 return
@@ -126,7 +133,7 @@ class UsdRenderLintServer(LanguageServer):
         version = self.version_of(uri)
         try:
             linted: Linted = await loop.run_in_executor(
-                self.executor, self.linting.call, "lint", path, tick, (path,), texts, TIMEOUT
+                self.executor, self.linting.call, "lint", path, tick, (path,), texts, self.timeout
             )
         except LintFailed as failed:
             if failed.cancelled:
@@ -345,7 +352,14 @@ class UsdRenderLintServer(LanguageServer):
         self.ticks += 1
         try:
             return await loop.run_in_executor(
-                self.executor, self.linting.call, method, path, self.ticks, args, texts, TIMEOUT
+                self.executor,
+                self.linting.call,
+                method,
+                path,
+                self.ticks,
+                args,
+                texts,
+                self.timeout,
             )
         except LintFailed:
             return None
@@ -455,6 +469,13 @@ def _suppression_word(lines, document, position: types.Position) -> str | None:
 
 def build(linting: Linting | None = None) -> UsdRenderLintServer:
     server = UsdRenderLintServer(linting)
+
+    @server.feature(types.INITIALIZE)
+    def initialize(ls: UsdRenderLintServer, params: types.InitializeParams) -> None:
+        options = params.initialization_options
+        timeout = options.get("timeout") if isinstance(options, dict) else None
+        if isinstance(timeout, int | float) and timeout > 0:
+            ls.timeout = float(timeout)
 
     @server.feature(types.INITIALIZED)
     async def initialized(ls: UsdRenderLintServer, params: types.InitializedParams) -> None:

@@ -169,6 +169,9 @@ class Linting:
                 if self._active is not None:
                     self._active.close()
                 self._active, self._spare = self._spare or Child(), None
+                if not self._active.alive:  # the spare died too (killed from outside)
+                    self._active.close()
+                    self._active = Child()
             if self._spare is None:
                 self._spare = Child()
             return self._active
@@ -190,6 +193,14 @@ class Linting:
                 self._running = (path, version, child)
             try:
                 return child.call(method, args, texts, timeout)
+            except LintFailed:
+                # It crashed, ran out of time or was cancelled: the spare takes over.
+                child.kill()
+                with self._state:
+                    if self._active is child:
+                        self._active = None
+                child.close()
+                raise
             finally:
                 with self._state:
                     self._running = None

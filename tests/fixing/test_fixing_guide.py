@@ -1,5 +1,6 @@
-"""The README's "Fixing" section stays true: its table lists each rule with a
-fix and its fix class, and its --fix-to example is what --fix-to writes."""
+"""The fixing guide (docs/guides/fixing.md) stays true: its table lists each
+rule with a fix and its fix class, and its --fix-to example is what --fix-to
+writes."""
 
 from __future__ import annotations
 
@@ -11,13 +12,12 @@ from click.testing import CliRunner
 from usdrender_lint.cli import cli
 from usdrender_lint.registry import build_registry
 
-README = Path(__file__).parents[2] / "README.md"
+GUIDE = Path(__file__).parents[2] / "docs" / "guides" / "fixing.md"
 CLASSES = {"safe": "safe", "safe, conditional": "safe-conditional", "unsafe": "unsafe"}
 
 
 def fixing_section() -> str:
-    text = README.read_text(encoding="utf-8")
-    return text[text.index("## Fixing\n") : text.index("## Output formats\n")]
+    return GUIDE.read_text(encoding="utf-8")
 
 
 def test_the_table_shows_each_fix_class() -> None:

@@ -1,0 +1,120 @@
+"""A real editor drives the server: headless Neovim (Debian's package) with
+the configuration docs/guides/editors.md gives, opening the broken example
+shot; and the other editors' snippets of that page say what the server is."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+GUIDE = REPO / "docs" / "guides" / "editors.md"
+BROKEN_SHOT = REPO / "examples" / "broken_shot" / "shot.usda"
+
+#: Run after the guide's snippet: wait for the diagnostics, write them out, quit.
+HARNESS = """
+local received = vim.wait(90000, function() return #vim.diagnostic.get(0) >= 5 end, 100)
+local found = {}
+for _, d in ipairs(vim.diagnostic.get(0)) do
+  local lsp = (d.user_data or {}).lsp or {}
+  table.insert(found, {
+    code = d.code or lsp.code, line = d.lnum, col = d.col, severity = d.severity,
+    message = d.message, href = (lsp.codeDescription or {}).href,
+  })
+end
+vim.fn.writefile({vim.fn.json_encode({received = received, diagnostics = found})},
+  os.getenv("USDRENDER_LINT_NVIM_OUT"))
+vim.cmd("qa!")
+"""
+
+
+def snippet(heading: str, language: str) -> str:
+    """The first ``language`` code block under ``## heading`` in the guide."""
+    text = GUIDE.read_text(encoding="utf-8")
+    section = text.split(f"\n## {heading}\n", 1)[1].split("\n## ", 1)[0]
+    match = re.search(rf"```{language}\n(.*?)```", section, re.DOTALL)
+    assert match, f"no {language} block under {heading}"
+    return match.group(1)
+
+
+def test_neovim_shows_the_findings_of_a_broken_shot(tmp_path: Path):
+    nvim = shutil.which("nvim")
+    if nvim is None:
+        pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
+    shot = tmp_path / "shot.usda"
+    shutil.copy(BROKEN_SHOT, shot)
+    (tmp_path / "init.lua").write_text(snippet("Neovim", "lua"))
+    (tmp_path / "harness.lua").write_text(HARNESS)
+    out = tmp_path / "diagnostics.json"
+    # The snippet runs `usdrender-lint server`: the one beside this Python.
+    env = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+        "USDRENDER_LINT_NVIM_OUT": str(out),
+        "XDG_STATE_HOME": str(tmp_path / "state"),
+        "XDG_DATA_HOME": str(tmp_path / "data"),
+        "XDG_CONFIG_HOME": str(tmp_path / "config"),
+    }
+    result = subprocess.run(
+        [
+            nvim,
+            "--headless",
+            "-i",
+            "NONE",
+            "-u",
+            str(tmp_path / "init.lua"),
+            str(shot),
+            "-c",
+            f"luafile {tmp_path / 'harness.lua'}",
+        ],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=180,
+    )
+    assert out.exists(), result.stderr
+    seen = json.loads(out.read_text())
+    print(json.dumps(seen, indent=1))  # the test's output: what Neovim received
+    assert seen["received"] is True
+    found = {(d["code"], d["line"] + 1) for d in seen["diagnostics"]}
+    assert found == {("CA004", 32), ("SE007", 37), ("CA003", 51), ("SE003", 54), ("PR004", 59)}
+    camera = next(d for d in seen["diagnostics"] if d["code"] == "CA004")
+    assert camera["col"] == 8 and camera["severity"] == 1
+    assert camera["href"].endswith("/reference/rules/CA004-camera-target-not-camera/")
+
+
+def test_the_helix_snippet_runs_the_server():
+    config = tomllib.loads(snippet("Helix", "toml"))
+    server = config["language-server"]["usdrender-lint"]
+    assert [server["command"], *server["args"]] == ["usdrender-lint", "server"]
+    (language,) = config["language"]
+    assert language["language-servers"] == ["usdrender-lint"]
+    assert set(language["file-types"]) == {"usda", "usd"}
+
+
+def test_the_vs_code_snippet_runs_the_server():
+    settings = json.loads(snippet("VS Code", "json"))
+    command = [settings["glspc.server.command"], *settings["glspc.server.commandArguments"]]
+    assert command == ["usdrender-lint", "server"]
+    assert settings["files.associations"]["*.usda"] in settings["glspc.server.languageId"]
+
+
+def test_the_eglot_snippet_runs_the_server():
+    elisp = snippet("Emacs (eglot)", "elisp")
+    assert elisp.count("(") == elisp.count(")")
+    assert '(usda-mode "usdrender-lint" "server")' in elisp
+    # The mode's pattern matches both text extensions (Emacs regexp: \\' ends the name).
+    pattern = re.search(r'"(\\\\\.usda\?\\\\\')"', elisp)
+    assert pattern is not None
+    as_python = pattern.group(1).replace("\\\\", "\\").replace("\\'", "$")
+    assert re.search(as_python, "shot.usda") and re.search(as_python, "shot.usd")
+    assert not re.search(as_python, "shot.usdc")

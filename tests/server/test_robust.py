@@ -1,0 +1,165 @@
+"""The server stays up whatever a document does to USD, answers while a long
+lint runs, cancels a lint a newer edit outdates, and ends cleanly: on
+shutdown and exit, and when its client's process dies."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+import pytest_lsp
+from cli_support import descendants, hanging_stage
+from lsprotocol import types
+from pytest_lsp import ClientServerConfig, LanguageClient
+from test_protocol import change, diagnostics_of, make_client, open_document, published_versions
+
+in_server_loop = pytest.mark.asyncio(loop_scope="module")
+
+SERVER = ClientServerConfig(
+    server_command=[sys.executable, "-m", "usdrender_lint", "server"], client_factory=make_client
+)
+
+
+def large_document(prims: int) -> str:
+    """A render template of ``prims`` Xforms (about 145 characters each)."""
+    body = "".join(
+        f'    def Xform "node{i}"\n    {{\n        double3 xformOp:translate = ({i}, 0, 0)\n'
+        '        uniform token[] xformOpOrder = ["xformOp:translate"]\n    }\n'
+        for i in range(prims)
+    )
+    return (
+        f'#usda 1.0\ndef Xform "World"\n{{\n{body}}}\n'
+        'def RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    )
+
+
+@pytest_lsp.fixture(scope="module", config=SERVER)
+async def client(lsp_client: LanguageClient, tmp_path_factory: pytest.TempPathFactory):
+    root = tmp_path_factory.mktemp("robust")
+    await lsp_client.initialize_session(
+        types.InitializeParams(
+            capabilities=types.ClientCapabilities(),
+            root_uri=root.as_uri(),
+            initialization_options={"timeout": 4},
+        )
+    )
+    # Ready: a first document is linted.
+    await diagnostics_of(lsp_client, open_document(lsp_client, root / "a.usda", "#usda 1.0\n"), 1)
+    yield
+    await lsp_client.shutdown_session()
+
+
+@in_server_loop
+async def test_a_newer_edit_cancels_the_running_lint(client: LanguageClient, tmp_path: Path):
+    path = tmp_path / "large.usda"
+    text = large_document(20_000)  # 2.9 MB: presumed slow before its first lint
+    uri = open_document(client, path, text)
+    await asyncio.sleep(0.5)  # its lint runs now
+    started = time.perf_counter()
+    hover = await client.text_document_hover_async(
+        types.HoverParams(types.TextDocumentIdentifier(uri), types.Position(1, 5))
+    )
+    assert hover is None
+    answered = time.perf_counter() - started
+    change(client, uri, 2, text.replace("(0, 10)", "(10, 10)"))
+    found = await diagnostics_of(client, uri, 2)
+    assert "SE001" not in {d.code for d in found}
+    assert any("a newer edit cancelled the lint" in m.message for m in client.log_messages)
+    assert published_versions[uri] == 2  # version 1's lint never published
+    assert answered < 2.0  # the protocol thread did not wait for the lint
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+
+
+@in_server_loop
+async def test_a_document_that_hangs_usd_costs_that_document(
+    client: LanguageClient, tmp_path: Path
+):
+    hangs = hanging_stage(tmp_path)
+    uri = open_document(client, hangs)
+    found = await diagnostics_of(client, uri, 1)
+    assert [d.message for d in found] == [
+        "USD did not finish within 4 s (the time-out of check); the lint was stopped"
+    ]
+    assert found[0].severity == types.DiagnosticSeverity.Error
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+    # The next document is linted as usual.
+    other = open_document(client, tmp_path / "fine.usda", large_document(2))
+    assert "SE001" in {d.code for d in await diagnostics_of(client, other, 1)}
+
+
+@in_server_loop
+async def test_a_document_that_crashes_usd_costs_that_document(
+    client: LanguageClient, tmp_path: Path
+):
+    path = tmp_path / "crashes.usda"
+    uri = open_document(client, path, large_document(12_000))
+    await asyncio.sleep(0.5)
+    # As USD would crash on it: the child that lints it dies of a signal.
+    server = client._server
+    assert server is not None
+    children = descendants(server.pid)
+    for pid in children:
+        os.kill(pid, signal.SIGSEGV)
+    found = await diagnostics_of(client, uri, 1)
+    assert [d.message for d in found] == ["USD crashed while linting this document (signal 11)"]
+    change(client, uri, 2, large_document(3))
+    assert "SE001" in {d.code for d in await diagnostics_of(client, uri, 2)}
+
+
+def _frame(message: str) -> bytes:
+    data = message.encode()
+    return b"Content-Length: %d\r\n\r\n" % len(data) + data
+
+
+def test_the_server_ends_when_its_client_dies(tmp_path: Path):
+    """The client's process (initialize's processId) ends without closing the
+    server's input: the server and its USD children end within a few seconds."""
+    # A stand-in client process that exits at once; the server's stdin stays open.
+    client = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(1)"])
+    server = subprocess.Popen(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.DEVNULL,
+    )
+    assert server.stdin is not None
+    server.stdin.write(
+        _frame(
+            '{"jsonrpc":"2.0","id":1,"method":"initialize","params":'
+            f'{{"processId":{client.pid},"capabilities":{{}}}}}}'
+        )
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+    )
+    server.stdin.flush()
+    time.sleep(0.5)
+    children = descendants(server.pid)
+    client.wait()
+    assert server.wait(timeout=30) == 0
+    deadline = time.time() + 10
+    while any(Path(f"/proc/{pid}").exists() for pid in children) and time.time() < deadline:
+        time.sleep(0.1)
+    assert not any(Path(f"/proc/{pid}/status").exists() for pid in children)
+    server.stdin.close()
+
+
+def test_shutdown_and_exit_end_the_server_with_status_0():
+    server = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _frame('{"jsonrpc":"2.0","id":2,"method":"shutdown"}')
+        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
+        capture_output=True,
+        timeout=60,
+    )
+    assert server.returncode == 0
+    assert b'"id": 2' in server.stdout and b'"result": null' in server.stdout
