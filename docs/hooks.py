@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import html
 import inspect
 import re
 import sys
@@ -51,12 +52,15 @@ def _table(header: tuple[str, ...], rows: list[tuple[object, ...]]) -> str:
     return "\n".join(lines)
 
 
-_URL = re.compile(r"\((https?://[^\s()]+)\)")
+_URL = re.compile(r"(?<!\])\((https?://[^\s()]+)\)")
+#: "Title (URL)" inside a longer text: the title runs back to a sentence break.
+_TITLED_URL = re.compile(r"([^;:()]*?[^\s;:()])\s+\((https?://[^\s()]+)\)")
 
 
 def _linked(text: str) -> str:
-    """A source string with its parenthesised URL as a link."""
-    return _URL.sub(lambda m: f"(<{m.group(1)}>)", text)
+    """A source string with each "Title (URL)" as a link named by its title."""
+    linked = _TITLED_URL.sub(lambda m: f"[{m.group(1).strip()}]({m.group(2)})", text)
+    return _URL.sub(lambda m: f"(<{m.group(1)}>)", linked)
 
 
 def _registry():
@@ -148,7 +152,10 @@ def _rule_markdown(rule: type, rel: str) -> str:
             + f"\n\nSet them in the configuration, by the rule's name or code:\n\n"
             f"```toml\n[tool.usdrender-lint.rules.{rule.name}]\n{example}\n```"
         )
-    treatment = "\n".join(f"- {_linked(line)}" for line in profile_treatment(rule))
+    treatment = "\n".join(
+        f"- [{name}]({_rel(rel, profile_page(name))}):{_linked(rest)}"
+        for name, _, rest in (line.partition(":") for line in profile_treatment(rule))
+    )
     parts.append(
         "## Under each profile\n\n"
         f"As `usdrender-lint explain {rule.code}` prints it (see [profiles]"
@@ -166,7 +173,8 @@ def _rules_index(rules: list[type]) -> str:
         "(`CA004`), code prefix (`CA`, `SE00`) or name (`camera-target-not-camera`).",
     ]
     for code, members in _by_family(rules):
-        parts.append(f"## {code}\n\n{family_description(members[0])}")
+        about = family_description(members[0]).rstrip(".")
+        parts.append(f"## {code}: {about[:1].upper()}{about[1:]} {{#{code.lower()}}}")
         rows = [
             (
                 f"[{r.code}]({_rel(RULES_INDEX, rule_page(r))})",
@@ -372,7 +380,10 @@ def _type_name(hint: Any) -> str:
     if origin in (tuple, list):
         return f"list of {_type_name(args[0])}s" if args else "list"
     if origin is not None and "Mapping" in str(origin) or origin is dict:
-        return f"table of {_type_name(args[1])}" if len(args) == 2 else "table"
+        if len(args) != 2:
+            return "table"
+        inner = _type_name(args[1])
+        return "table of tables" if inner.startswith("table") else f"table of {inner}"
     if origin is typing.Literal:
         return " | ".join(repr(a) for a in args)
     if hint is Any:
@@ -457,10 +468,12 @@ def _cli_markdown() -> str:
         rows = []
         for param in command.get_params(ctx):
             record = param.get_help_record(ctx)
-            if record is None:
-                continue  # arguments (the usage line shows them) and hidden options
+            if record is None or isinstance(param, click.Argument):
+                continue  # hidden options, and arguments (the usage line shows them)
             flags, help_text = record
-            rows.append((f"`{flags}`", help_text))
+            # HTML, so that the pipes between choices do not split the table's cells.
+            flags = html.escape(flags).replace("|", "&#124;")
+            rows.append((f"<code>{flags}</code>", help_text))
         parts.append(_table(("option", "meaning"), rows))
     return "\n\n".join(parts) + "\n"
 

@@ -64,7 +64,8 @@ def test_a_rule_page_shows_its_options_and_its_profiles(generated: dict[str, str
     assert '| `name-template` | string | `""` |' in pr001
     assert "[tool.usdrender-lint.rules.product-name-empty]" in pr001
     # omniverse switches PR001 off, with its source as a link.
-    assert re.search(r"- omniverse: off \(.*\(<https://nvidia-omniverse", pr001)
+    omniverse = r"- \[omniverse\]\(../profiles/omniverse.md\): off \(.*\(https://nvidia-omniverse"
+    assert re.search(omniverse, pr001)
 
 
 def test_every_profile_has_its_page_with_every_change(generated: dict[str, str]) -> None:

@@ -412,3 +412,50 @@ def test_rules_and_explain_show_profiles() -> None:
     assert "- karma: error, as by default" in text
     bad = runner.invoke(cli, ["check", "--profile", "vray", "x.usda"])
     assert bad.exit_code == 2
+
+
+def test_camera_and_layer_evidence_through_composition(tmp_path: Path) -> None:
+    # The lidar comes through a payload, the product's camera from a sublayer;
+    # a sublayer's customLayerData is not the root layer's (Kit writes the root's).
+    (tmp_path / "sensor.usda").write_text(
+        '#usda 1.0\ndef OmniLidar "Sensor"\n{\n}\n', encoding="utf-8"
+    )
+    (tmp_path / "render.usda").write_text(
+        """#usda 1.0
+(
+    customLayerData = {
+        dictionary cameraSettings = {
+            string boundCamera = "/OmniverseKit_Persp"
+        }
+    }
+)
+def Scope "Render"
+{
+    def RenderProduct "Lidar"
+    {
+        rel camera = </Rig/Lidar>
+    }
+}
+""",
+        encoding="utf-8",
+    )
+    root = """#usda 1.0
+(
+    subLayers = [@render.usda@]
+)
+def Xform "Rig"
+{
+    def "Lidar" (
+        prepend payload = @sensor.usda@</Sensor>
+    )
+    {
+    }
+}
+"""
+    found = _lint(tmp_path, root)
+    assert {f.profile for f in found} == {"omniverse"}
+    assert found[0].profile_reason == (
+        "auto: the camera target </Rig/Lidar> of </Render/Lidar>, an OmniLidar"
+    )
+    unloaded = _lint(tmp_path, root.replace("prepend payload = @sensor.usda@</Sensor>", ""))
+    assert {f.profile for f in unloaded} == {"generic"}

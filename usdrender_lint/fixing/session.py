@@ -57,6 +57,10 @@ class FixOptions:
     #: The text of layers as an editor holds them, unsaved, by real path (the
     #: language server): fixes edit that text instead of the file's.
     texts: Mapping[str, str] | None = None
+    #: With ``write`` False: show the edit even where --fix may not write the
+    #: file (read-only, hard links); the HTML report's diffs. --diff itself
+    #: previews --fix, refusals included.
+    any_file: bool = False
 
 
 @record
@@ -154,7 +158,10 @@ class StageFixer:
         with Tf.DiagnosticTrap() as trap:
             try:
                 self.sources = Sources(
-                    self.stage, in_memory=self.in_memory, texts=self.options.texts
+                    self.stage,
+                    in_memory=self.in_memory,
+                    texts=self.options.texts,
+                    writing=self.options.write or not self.options.any_file,
                 )
                 self.findings = self._attempts()
                 if not self.in_memory:

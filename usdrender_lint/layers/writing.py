@@ -61,8 +61,9 @@ class DiskState:
             raise ChangedOnDisk("it changed on disk while fixing; it was left as it is")
 
 
-def write_problem(layer: Sdf.Layer) -> str | None:
-    """Why --fix may not write ``layer``, or None when it may."""
+def write_problem(layer: Sdf.Layer, writing: bool = True) -> str | None:
+    """Why --fix may not write ``layer``, or None when it may. With ``writing``
+    False (--diff, which writes nothing) only why it cannot be read as a file."""
     path = layer_real_path(layer)
     if layer.anonymous or not path:
         return f"{layer.GetDisplayName()} is not a file on disk"
@@ -76,6 +77,8 @@ def write_problem(layer: Sdf.Layer) -> str | None:
         stat = os.stat(path)
     except OSError as exc:
         return f"{shown} cannot be read: {exc.strerror or exc}"
+    if not writing:
+        return None
     # A file without write permission is read-only even to root, who may write it anyway.
     if not os.access(path, os.W_OK) or not stat.st_mode & 0o222:
         return f"{shown} is read-only"
