@@ -22,6 +22,8 @@ ALLOWED: dict[str, set[str]] = {
     "model": {"records"},
     "paths": set(),
     "atomic": set(),
+    # debug: USDRENDER_LINT_DEBUG's tracebacks, from any process.
+    "debug": {"atomic"},
     "entrypoints": set(),
     # settings_table: every setting declared once, below the config and the CLI.
     "settings_table": {"records", "model"},
@@ -34,20 +36,20 @@ ALLOWED: dict[str, set[str]] = {
     "registry": {"records", "api", "entrypoints", "model"},
     "rules": {"api", "model"},
     # paths: names that are not UTF-8 go to USD as bytes and come back escaped.
-    "engine": {"records", "api", "layers", "model", "paths", "registry"},
+    "engine": {"records", "api", "debug", "layers", "model", "paths", "registry"},
     # formatters.html reads the linted files' render specification through
     # running.report_views (which computes it with render_spec): above the
     # other formatters, a layering the HTML report's owner may want to revisit.
     "formatters": {"records", "model", "paths", "entrypoints", "report_json", "running"},
-    "fixing": {"records", "api", "engine", "layers", "model", "paths"},
+    "fixing": {"records", "api", "debug", "engine", "layers", "model", "paths"},
     "profiles": {"records", "api", "model", "registry"},
     "render_spec": {"records", "api", "engine", "model", "paths", "profiles"},
     # explain: a rule's documentation with its profiles (explain, SARIF, the site).
     "explain": {"api", "model", "profiles"},
     # running reads the JSON format's records back (merge, the result cache).
     "running": {
-        "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
-        "layers", "model", "paths", "profiles", "records", "registry", "render_spec",
+        "api", "atomic", "config", "debug", "engine", "entrypoints", "explain", "fixing",
+        "formatters", "layers", "model", "paths", "profiles", "records", "registry", "render_spec",
         "report_json", "settings_table",
     },
     "testing": {"records", "api", "engine", "model", "registry"},

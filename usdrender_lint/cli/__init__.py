@@ -21,7 +21,7 @@ from ..running.interrupts import Stopped, stop_on_signals
 from .check import check
 from .explain import explain
 from .merge import merge
-from .output import EXIT_TOOL_ERROR, StdoutGone
+from .output import EXIT_TOOL_ERROR, StdoutGone, error
 from .plugin_path import plugin_path
 from .rules import list_rules, rules_text
 from .server import server_command
@@ -54,15 +54,37 @@ def main(argv: Sequence[str] | None = None) -> None:
     except StdoutGone:
         _silence_stdout()
         sys.exit(EXIT_TOOL_ERROR)
-    except Exception as exc:
-        if os.environ.get("USDRENDER_LINT_DEBUG"):
-            raise
-        click.echo(
-            f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
-            "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
-            err=True,
-        )
+    except OSError as exc:
+        if not _raised_by_echo(exc):
+            _internal_error(exc)
+        # click printing help, the version or usage: stdout is full or gone.
+        _silence_stdout()
+        if not isinstance(exc, BrokenPipeError):
+            error(f"cannot write the output: {exc.strerror or exc}")
         sys.exit(EXIT_TOOL_ERROR)
+    except Exception as exc:
+        _internal_error(exc)
+
+
+def _raised_by_echo(exc: BaseException) -> bool:
+    """Whether ``exc`` came out of ``click.echo`` (help, version, usage)."""
+    import traceback
+
+    return any(
+        frame.name == "echo" and frame.filename.endswith(os.path.join("click", "utils.py"))
+        for frame in traceback.extract_tb(exc.__traceback__)
+    )
+
+
+def _internal_error(exc: Exception) -> None:
+    if os.environ.get("USDRENDER_LINT_DEBUG"):
+        raise exc
+    click.echo(
+        f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
+        "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
+        err=True,
+    )
+    sys.exit(EXIT_TOOL_ERROR)
 
 
 def _open_closed_standard_streams() -> None:

@@ -121,6 +121,7 @@ def check(
         baseline=baseline_file,
         write_baseline=write_baseline_file,
         shard=shard,
+        output=output_file,
         **setting_values("check", settings),
     )
     try:

@@ -39,24 +39,49 @@ def note(message: str) -> None:
 
 
 class Stdout:
-    """sys.stdout, with its failures told apart: a closed or broken pipe is
-    :class:`StdoutGone`, any other (a full disk) a ToolError."""
+    """sys.stdout, written to the end: the text is gathered and written with
+    :func:`~usdrender_lint.atomic.write_all` (a single ``write()`` to a pipe
+    whose reader left takes part of it and says nothing, so Python's own
+    stream could leave a report cut short with exit 0). A closed or broken
+    pipe is :class:`StdoutGone`, any other failure (a full disk) a ToolError."""
+
+    #: Bytes gathered before they are written.
+    CHUNK = 1 << 16
+
+    def __init__(self) -> None:
+        self._parts: list[str] = []
+        self._size = 0
 
     def write(self, text: str) -> int:
-        return self._do(lambda stream: stream.write(text))
+        self._parts.append(text)
+        self._size += len(text)
+        if self._size >= self.CHUNK:
+            self.flush()
+        return len(text)
 
     def flush(self) -> None:
-        self._do(lambda stream: stream.flush())
+        text, self._parts, self._size = "".join(self._parts), [], 0
+        self._do(text)
 
     def isatty(self) -> bool:
         return bool(sys.stdout is not None and sys.stdout.isatty())
 
     @staticmethod
-    def _do(action):
-        if sys.stdout is None:  # fd 1 was closed when Python started
+    def _do(text: str) -> None:
+        from ..atomic import write_all
+
+        stream = sys.stdout
+        if stream is None:  # fd 1 was closed when Python started
             raise StdoutGone
         try:
-            return action(sys.stdout)
+            stream.flush()
+            try:
+                fd = stream.fileno()
+            except (AttributeError, ValueError, OSError):  # not a file (a test's capture)
+                stream.write(text)
+                stream.flush()
+                return
+            write_all(fd, text.encode(stream.encoding or "utf-8", stream.errors or "strict"))
         except BrokenPipeError:
             raise StdoutGone from None
         except OSError as exc:
@@ -77,5 +102,7 @@ def write_file(path: str | Path, text: str, what: str) -> None:
 
     try:
         write_output(path, text)
+    except BrokenPipeError:
+        raise StdoutGone from None  # a pipe the user named, whose reader left
     except OSError as exc:
         raise ToolError(f"{path}: cannot write {what}: {exc.strerror or exc}") from None

@@ -98,7 +98,11 @@ def spec_command(
 
     options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
     request = InspectRequest(
-        paths, config=config_path, isolated=isolated, **setting_values("spec", settings)
+        paths,
+        config=config_path,
+        isolated=isolated,
+        output=output if output_format != "svg" else None,
+        **setting_values("spec", settings),
     )
     try:
         inspection = inspect_files(request, partial(compute_file_spec, options=options))
@@ -107,7 +111,7 @@ def spec_command(
     files = [(r, r.value if isinstance(r, InspectedFile) else None) for r in inspection.results]
     document = _escaped(spec_document(files, __version__), output_format)
     if output_format == "svg":
-        _write_pictures(document, output or ".")
+        _write_pictures(document, output or ".", [result.file for result, _ in files])
     else:
         emit("spec", output_format, document, output, "the specification")
     for line in inspection.errors:
@@ -127,11 +131,13 @@ def _escaped(document: dict, output_format: str) -> dict:
     return escaped(document, partial(printable, limit=None))
 
 
-def _write_pictures(document: dict, output: str) -> None:
-    """One SVG per product into the folder ``output``, listing the files."""
+def _write_pictures(document: dict, output: str, inputs: list[str]) -> None:
+    """One SVG per product into the folder ``output``, listing the files;
+    never onto one of the ``inputs``."""
     from pathlib import Path
 
     from ..render_spec.svg import svg_files
+    from ..running.outputs import OutputOnInput, refuse_inputs
 
     folder = Path(output)
     if folder.exists() and not folder.is_dir():
@@ -140,6 +146,11 @@ def _write_pictures(document: dict, output: str) -> None:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ToolError(f"{folder}: cannot create the folder: {exc.strerror or exc}") from None
-    for name, text in svg_files(document):
+    pictures = svg_files(document)
+    try:
+        refuse_inputs([(str(folder / name), "a picture") for name, _ in pictures], inputs)
+    except OutputOnInput as exc:
+        raise ToolError(str(exc)) from None
+    for name, text in pictures:
         write_file(folder / name, text, "the picture")
         write(f"{printable(str(folder / name))}\n")

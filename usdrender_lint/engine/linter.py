@@ -13,6 +13,7 @@ from typing import Any, Generic, TypeVar
 
 from pxr import Sdf, Tf, Usd
 
+from .. import debug
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
 from ..layers.files import layer_identifier, real_path, unreadable_reason
@@ -466,6 +467,7 @@ class Linter:
             raise exc
         prim_path = target.GetPath() if isinstance(target, Usd.Prim) else None
         where = f" on {prim_path}" if prim_path is not None else ""
+        debug.show(exc, f"{ctx.file}: rule {rule.code} raised (UL000){where}")
         import traceback  # only for a rule that raised (it imports textwrap)
 
         frame = traceback.extract_tb(exc.__traceback__)[-1]

@@ -26,6 +26,7 @@ from dataclasses import field
 
 from pxr import Sdf, Tf, Usd
 
+from .. import debug
 from ..api import Fix
 from ..engine import Linter, open_stage
 from ..layers.files import layer_identifier, layer_real_path
@@ -213,6 +214,7 @@ class StageFixer:
             try:
                 reason, after = self._alone(finding, fix)
             except Exception as exc:  # noqa: BLE001 - one fix must not cost the others
+                debug.show(exc, f"internal error while fixing {finding.code}")
                 reason, after = f"internal error while fixing: {type(exc).__name__}: {exc}", None
             if after is not None:
                 pairs = after
@@ -474,6 +476,7 @@ def _call_fix(fix: Fix, stage: Usd.Stage, layer: Sdf.Layer) -> str | None:
             errors = trap.GetErrors()
             trap.Clear()
     except Exception as exc:  # noqa: BLE001 - a failing fix is reported, never fatal
+        debug.show(exc, "a fix raised")
         return f"the fix failed: {type(exc).__name__}: {str(exc).strip()[:200]}"
     if errors:
         return f"the fix failed: {errors[0].commentary.strip()[:200]}"

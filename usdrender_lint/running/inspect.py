@@ -18,6 +18,7 @@ from ..model import FileResult, Report
 from ..records import record
 from ..settings_table import DEFAULT_TIMEOUT
 from .discovery import collect_files
+from .outputs import OutputOnInput, refuse_inputs
 from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
 from .workers import ExecutionError, default_jobs, lint_paths
 
@@ -42,6 +43,8 @@ class InspectRequest:
     jobs: int | None = None
     timeout: float | None = DEFAULT_TIMEOUT
     progress: bool | None = None
+    #: The file the caller will write to (``spec --output``): refused when it is an input.
+    output: str | None = None
 
 
 @record(frozen=True)
@@ -106,6 +109,10 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
     factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
     files = collect_files(request.paths)
     try:
+        refuse_inputs([(request.output, "the specification")], [*files, *_config(prepared)])
+    except OutputOnInput as exc:
+        raise RequestError(str(exc)) from None
+    try:
         results: Sequence[FileResult] = lint_paths(
             files,
             linter=InspectingLinter(prepared.linter, inspect),
@@ -119,3 +126,7 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
     report = prepared.finish(Report(tuple(results)))
     errored = any(r.status != "linted" for r in report.files)
     return Inspection(report.files, EXIT_TOOL_ERROR if errored else EXIT_OK)
+
+
+def _config(prepared: Any) -> list[str]:
+    return [prepared.settings.source] if prepared.settings.source else []

@@ -95,6 +95,9 @@ class Request:
     cache_dir: str | os.PathLike[str] | None = None
     #: (K, N): lint only part K of N of the files (running/shards.py).
     shard: tuple[int, int] | None = None
+    #: The file the caller will write the report to (--output): refused, before
+    #: anything is linted, when the run reads it (running/outputs.py).
+    output: str | None = None
 
 
 @record(frozen=True)
@@ -392,6 +395,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         else:
             files = select_shard(files, request.shard, settings.base_dir)
     targets = plan.files if plan else files
+    refuse_outputs_on_inputs(request, settings, targets)
     fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
     if fixed is not None and request.fix is not None and request.fix.fix_to:
         # What remains with the overrides.
@@ -440,6 +444,20 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         fix_errors=tuple(fixed.errors),
         configuration=configuration,
     )
+
+
+def refuse_outputs_on_inputs(request: Request, settings: Settings, targets: Sequence[str]) -> None:
+    """Raise RequestError when the report or the baseline would be written
+    onto a file this run reads: a linted file, a layer, the configuration or
+    the baseline read."""
+    from .outputs import OutputOnInput, refuse_inputs
+
+    outputs = [(request.output, "the report"), (request.write_baseline, "the baseline")]
+    inputs = [*targets, *(p for p in (settings.source, request.baseline) if p)]
+    try:
+        refuse_inputs(outputs, inputs)
+    except OutputOnInput as exc:
+        raise RequestError(str(exc)) from None
 
 
 def _lint(
