@@ -278,7 +278,7 @@ def dependencies(reads: Reads, root: str | None = None) -> Dependencies | None:
     files: set[str] = set()
     searches: set[str] = set(reads.searches)
     folders: set[str] = set()
-    root_identifiers = {root, os.path.abspath(root)} if root else set()
+    root_identifiers = {root, os.path.normpath(root), os.path.abspath(root)} if root else set()
     for identifier, real_path, anonymous, dirty in reads.layers:
         if anonymous:
             continue  # the engine's session layer, or one a file format makes from a file
@@ -582,12 +582,16 @@ class ResultCache:
             "findings": [finding_to_dict(f, layer_path=str) for f in result.findings],
             "notes": list(result.notes),
         }
-        text = json.dumps(document, ensure_ascii=False, separators=(",", ":"))
-        if len(text.encode("utf-8", "surrogateescape")) > MAX_ENTRY_BYTES:
+        try:
+            # A name that is not UTF-8 cannot be read back: such a result is not stored.
+            data = json.dumps(document, ensure_ascii=False, separators=(",", ":")).encode()
+        except UnicodeEncodeError:
+            return False
+        if len(data) > MAX_ENTRY_BYTES:
             return False
         try:
-            replace_atomically(self._entry_path(file), lambda tmp: _write(tmp, text))
-        except (OSError, UnicodeEncodeError):
+            replace_atomically(self._entry_path(file), lambda tmp: _write(tmp, data))
+        except OSError:
             return False
         self.stored += 1
         return True
@@ -654,10 +658,10 @@ def _changed_since(path: str, started_ns: int) -> bool:
     return changed > started_ns
 
 
-def _write(temporary: Path, text: str) -> None:
+def _write(temporary: Path, data: bytes) -> None:
     # No fsync: a torn entry after a power cut is corrupt, and corrupt entries are ignored.
-    with open(temporary, "w", encoding="utf-8", errors="surrogateescape") as stream:
-        stream.write(text)
+    with open(temporary, "wb") as stream:
+        stream.write(data)
 
 
 class CachingLinter:

@@ -147,7 +147,14 @@ class Documents:
         else:
             self._stages[path] = stage
             self._reload_files(stage)
-            findings = prepared.linter.lint_stage(stage, path, texts=self.texts)
+            combinations = prepared.spec.variant_combinations
+            if combinations is None:
+                findings = prepared.linter.lint_stage(stage, path, texts=self.texts)
+            else:  # config `variants`: other selections too, as check lints them
+                from ..engine.variants import VariantExplorer
+
+                explorer = VariantExplorer(prepared.linter, combinations)
+                findings = explorer.lint_stage(stage, path, texts=self.texts)
             result = FileResult(path, findings=tuple(findings))
         if result.status != "linted":
             location = Location(path, None, path)
