@@ -64,7 +64,7 @@ def test_every_product_has_its_framing_picture_and_findings_beside_it(examples_p
         if f["status"] == "computed"
         for s in f["settings"]
     )
-    assert examples_page.count('<figure class="product">') == products
+    assert examples_page.count('<figure class="product" id=') == products
     assert examples_page.count("<svg ") == products
     crop = examples_page[examples_page.index("<h3>/Render/Products/crop</h3>") :]
     crop = crop[: crop.index("</figure>")]

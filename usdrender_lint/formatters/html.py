@@ -165,20 +165,20 @@ def _file_section(index: int, result: FileResult, view: FileView | None, rules: 
             f"picture{_s(count)} (what <code>usdrender-lint spec</code> draws)</summary>"
         )
         out.append('<div class="products">')
-        for product in view.products:
-            out.extend(_product_figure(product, result.findings, ids))
+        for number, product in enumerate(view.products):
+            out.extend(_product_figure(f"p{index}-{number}", product, result.findings, ids))
         out.append("</div></details>")
     out.append("</details>")
     out.append("</section>")
     return out
 
 
-def _product_figure(product, findings: Iterable[Finding], ids: dict) -> list[str]:
+def _product_figure(anchor: str, product, findings: Iterable[Finding], ids: dict) -> list[str]:
     keys = set(product.findings)
     mine = [f for f in findings if _key(f) in keys]
     label = product.product or f"{product.settings} (no products)"
     out = [
-        '<figure class="product">',
+        f'<figure class="product" id="{anchor}">',
         f'<div class="picture">{product.svg}</div>',
         f"<figcaption><h3>{escape(label)}</h3>",
     ]
@@ -323,12 +323,13 @@ main { padding:12px 20px 40px; max-width:1600px; }
 .file > details > :not(summary) { margin-left:12px; margin-right:12px; }
 .products { display:grid; gap:12px; margin:10px 12px; }
 .framing > summary { cursor:pointer; font-weight:600; margin:6px 0; }
-.product { margin:0; display:grid; grid-template-columns:minmax(0,1fr) minmax(240px,340px);
+.product { margin:0; display:grid; grid-template-columns:minmax(0,1fr) 290px;
   gap:14px; border:1px solid var(--line); border-radius:6px; padding:8px; }
 .product .picture svg { width:100%; height:auto; display:block; }
 .product h3 { margin:0 0 6px; font-size:14px; font-family:ui-monospace, Menlo, monospace; }
-.beside { list-style:none; margin:0; padding:0; }
-.beside li { margin:0 0 6px; }
+.beside { list-style:none; margin:0; padding:0; overflow-wrap:anywhere; }
+.product figcaption { min-width:0; }
+.beside li { margin:0 0 6px; font-size:13px; }
 .beside a { color:inherit; text-decoration:none; }
 .beside a:hover { text-decoration:underline; }
 .findings { list-style:none; padding:0; margin:10px 12px 14px; }
@@ -343,7 +344,7 @@ main { padding:12px 20px 40px; max-width:1600px; }
 .sev.info { color:var(--info); }
 .code { font-family:ui-monospace, Menlo, monospace; }
 .name, .dim, .where { color:var(--dim); }
-.message { margin:4px 0; }
+.message { margin:4px 0; overflow-wrap:anywhere; }
 .profile { margin:4px 0; font-size:13px; }
 .why { margin:2px 0; font-size:12px; }
 .chip.prof { font-size:11.5px; }
