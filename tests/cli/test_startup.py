@@ -208,10 +208,11 @@ def test_version_is_the_installed_distributions() -> None:
 GC_AROUND_IMPORTS = """
 import gc, sys
 import usdrender_lint.cli as cli
+from usdrender_lint.cli.loading import import_engine
 assert not any(m.startswith("pxr") for m in sys.modules), "the cli module imports USD"
 if sys.argv[1] == "off":
     gc.disable()
-cli._import_engine()
+import_engine()
 print(gc.isenabled(), gc.get_freeze_count() > 0, "pxr.Usd" in sys.modules)
 """
 

@@ -16,10 +16,11 @@ from typing import Any
 from ..engine import Inspector, Linter
 from ..model import FileResult, Report
 from ..records import record
+from ..settings_table import DEFAULT_TIMEOUT
 from .discovery import collect_files
 from .outputs import OutputOnInput, refuse_inputs
 from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
-from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
+from .workers import ExecutionError, default_jobs, lint_paths
 
 
 @record(frozen=True)

@@ -17,26 +17,17 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..api import Rule
-from ..config import (
-    ConfigError,
-    Settings,
-    build_options,
-    check_jobs,
-    check_max_variant_combinations,
-    check_timeout,
-    load_settings,
-    read_config_file,
-)
+from ..config import ConfigError, Settings, build_options, load_settings, read_config_file
 from ..engine import Linter
 from ..model import FileResult, Finding, Report, Severity
 from ..profiles import AUTO, PROFILES
 from ..profiles.detect import Profiler
 from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
+from ..settings_table import DEFAULT_TIMEOUT, request_settings
 from .discovery import collect_files
 from .path_ignores import apply_path_ignores
 from .workers import (
-    DEFAULT_TIMEOUT,
     ExecutionError,
     default_jobs,
     file_error,
@@ -146,14 +137,9 @@ def resolve_settings(request: Request) -> Settings:
     else:
         start = request.paths[0] if request.paths else "."
         settings = load_settings(isolated=request.isolated, start=start)
+    # Every configuration key the request can give (a flag or an API keyword) wins.
     return settings.merged(
-        select=request.select,
-        ignore=request.ignore,
-        extend_select=request.extend_select,
-        fail_on=request.fail_on,
-        variants=request.variants,
-        max_variant_combinations=request.max_variant_combinations,
-        profile=request.profile,
+        **{s.name: getattr(request, s.name) for s in request_settings() if s.config_key}
     )
 
 
@@ -165,12 +151,10 @@ def check_request(request: Request) -> None:
         named.append(os.fspath(request.config))
     if any(not os.path.isabs(path) for path in named):
         check_working_directory()
-    if request.timeout is not None:
-        check_timeout(request.timeout)
-    if request.jobs is not None:
-        check_jobs(request.jobs)
-    if request.max_variant_combinations is not None:
-        check_max_variant_combinations(request.max_variant_combinations)
+    for entry in request_settings():
+        value = getattr(request, entry.name)
+        if value is not None:
+            entry.parse(value, entry.flag or entry.name)
 
 
 def path_max() -> int:

@@ -62,6 +62,7 @@ from ..engine.assets import ClipTemplate, is_search_path
 from ..model import FileResult
 from ..records import record
 from ..report_json import ReportFormatError, finding_from_dict, finding_to_dict
+from ..settings_table import not_in_cache_key, settings_key
 from . import read_ahead
 
 if TYPE_CHECKING:
@@ -84,7 +85,7 @@ PRUNE_TO = 3 * MAX_BYTES // 4
 #: A result larger than this (a file with a huge number of findings) is not stored.
 MAX_ENTRY_BYTES = 4 << 20
 #: Settings that change what a report is used for, not any file's findings.
-SETTINGS_NOT_IN_KEY = frozenset({"source", "from_flags", "fail_on", "unfixable", "cache_dir"})
+SETTINGS_NOT_IN_KEY = not_in_cache_key() | {"source", "from_flags"}
 #: Environment prefixes that can change what USD composes or what the rules
 #: report (plugin and resolver paths, the linter's own switches).
 ENV_PREFIXES = ("PXR_", "TF_", "USD_", "USDRENDER_LINT_")
@@ -146,17 +147,6 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
         "extra": extra,
     }
     return _digest_text(_canonical(parts))
-
-
-def settings_key(settings: Settings) -> dict[str, Any]:
-    """Every setting that can change a finding: all fields of Settings but the
-    few that cannot, so that a setting added later is in the key unless it is
-    listed in SETTINGS_NOT_IN_KEY."""
-    return {
-        f.name: getattr(settings, f.name)
-        for f in dataclasses.fields(Settings)
-        if f.name not in SETTINGS_NOT_IN_KEY
-    }
 
 
 def _canonical(value: object) -> str:

@@ -41,7 +41,6 @@ if TYPE_CHECKING:
         | multiprocessing.context.SpawnContext
     )
 
-DEFAULT_TIMEOUT = 120.0
 #: A progress bar is worth drawing only for runs longer than this many files.
 PROGRESS_MIN_FILES = 20
 #: How long a new worker may take to import USD and build its linter.
