@@ -1,12 +1,65 @@
-"""Atomic file writes: a reader sees the old file or the new one, never half."""
+"""Writing the user's files: atomically where that can be (a reader sees the
+old file or the new one, never half), streamed where it cannot (a pipe, a
+FIFO, a terminal, the command's own stdout), always every byte."""
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import hashlib
 import os
+import re
+import select
 import stat
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
+
+#: The longest file name most file systems take (NAME_MAX), in bytes.
+NAME_MAX = 255
+#: Names of a descriptor the process already holds: what a shell's
+#: ``> /dev/stdout`` writes through (its offset and append mode), not a file
+#: to open again and replace.
+_DESCRIPTOR_NAMES = re.compile(r"/dev/fd/(\d+)|/proc/(?:self|thread-self|(\d+))/fd/(\d+)")
+_STANDARD_NAMES = {"/dev/stdin": 0, "/dev/stdout": 1, "/dev/stderr": 2}
+
+
+def write_all(fd: int, data: bytes) -> None:
+    """Write every byte of ``data`` to ``fd``. One ``write()`` may take only
+    part (a pipe whose reader goes away takes what fits and says nothing), so
+    this writes until all is out or the descriptor fails: a reader gone is a
+    BrokenPipeError. A non-blocking descriptor is waited for."""
+    view = memoryview(data)
+    while view:
+        try:
+            written = os.write(fd, view)
+        except BlockingIOError:
+            select.select([], [fd], [])
+            continue
+        except InterruptedError:
+            continue
+        if written == 0:  # only ever for an empty write: never loop on it
+            raise OSError(errno.EIO, os.strerror(errno.EIO))
+        view = view[written:]
+
+
+def named_descriptor(path: str | os.PathLike[str]) -> int | None:
+    """The descriptor ``path`` names, when it is one this process holds
+    (``/dev/stdout``, ``/dev/fd/3``, ``/proc/self/fd/1``, or a link to one),
+    else None."""
+    current = os.path.abspath(path)
+    for _ in range(40):  # the kernel's own limit on links followed
+        if current in _STANDARD_NAMES:
+            return _STANDARD_NAMES[current]
+        match = _DESCRIPTOR_NAMES.fullmatch(current)
+        if match and match.group(2) in (None, str(os.getpid())):
+            return int(match.group(1) or match.group(3))
+        try:
+            link = os.readlink(current)
+        except OSError:
+            return None
+        current = os.path.normpath(os.path.join(os.path.dirname(current), link))
+    return None
 
 
 def write_text_atomic(path: str | Path, text: str) -> None:
@@ -23,24 +76,80 @@ def write_text_atomic(path: str | Path, text: str) -> None:
 
 
 def write_output(path: str | Path, text: str) -> None:
-    """Write a file the user named for output (``--output``, ``--write-baseline``)
-    as a shell's ``>`` would, but atomically where that is possible: a regular
-    file (or a new one) is replaced atomically; a symbolic link is followed and
-    its target replaced, the link kept; a FIFO or a device is opened and
-    written in place (a stream cannot be replaced, and replacing it would
-    put a regular file where the device was). Raises OSError."""
+    """Write a file the user named for output (``--output``, ``--write-baseline``,
+    ``spec --output``) as a shell's ``>`` would, but atomically where that is
+    possible:
+
+    - a descriptor this process holds (``/dev/stdout``, ``/dev/stderr``,
+      ``/dev/fd/N``): written through it, at its offset and in its append
+      mode, so ``{ echo A; check --output /dev/stdout; } >> log`` keeps A and
+      what the log held;
+    - a FIFO, a terminal or another device: opened and streamed into (a
+      stream cannot be replaced, and replacing it would put a regular file
+      where the device was);
+    - a regular file (or a new one): replaced atomically, keeping its mode,
+      owner and group; when its owner or group cannot be kept (another
+      user's file in a shared folder) it is written in place instead, which
+      keeps them; a symbolic link is followed and its target written, the
+      link kept.
+
+    Raises OSError (BrokenPipeError: the reader went away)."""
+    data = text.encode("utf-8")
+    fd = named_descriptor(path)
+    if fd is not None:
+        write_all(fd, data)
+        return
     target = os.path.realpath(path)
     try:
-        mode = os.stat(target).st_mode
+        before = os.stat(target)
     except FileNotFoundError:
-        mode = None
-    if mode is not None and stat.S_ISDIR(mode):
+        before = None
+    if before is not None and stat.S_ISDIR(before.st_mode):
         raise IsADirectoryError(21, os.strerror(21), str(path))
-    if mode is not None and not stat.S_ISREG(mode):
-        with open(target, "w", encoding="utf-8", newline="\n") as stream:
-            stream.write(text)
+    if before is not None and not stat.S_ISREG(before.st_mode):
+        _write_in_place(target, data, truncate=False)
         return
-    write_text_atomic(target, text)
+
+    def write(temporary: Path) -> None:
+        with open(temporary, "wb") as stream:
+            stream.write(data)
+            stream.flush()
+            os.fsync(stream.fileno())
+        if before is not None and not keep_owner(temporary, before.st_uid, before.st_gid):
+            raise _OwnerNotKept
+
+    try:
+        replace_atomically(target, write)
+    except _OwnerNotKept:
+        _write_in_place(target, data, truncate=True)
+
+
+class _OwnerNotKept(Exception):
+    """The replacement could not be given the replaced file's owner or group."""
+
+
+def _write_in_place(target: str, data: bytes, *, truncate: bool) -> None:
+    flags = os.O_WRONLY | (os.O_TRUNC if truncate else 0)
+    fd = os.open(target, flags | getattr(os, "O_CLOEXEC", 0))
+    try:
+        write_all(fd, data)
+    finally:
+        os.close(fd)
+
+
+def keep_owner(path: str | Path, uid: int, gid: int) -> bool:
+    """Give ``path`` this owner and group, as far as permitted (at least the
+    group); True when both are now the ones asked for."""
+    now = os.stat(path)
+    if (now.st_uid, now.st_gid) == (uid, gid):
+        return True
+    try:
+        os.chown(path, uid, gid)
+        return True
+    except PermissionError:
+        with contextlib.suppress(PermissionError):
+            os.chown(path, -1, gid)
+    return False
 
 
 def replace_atomically(
@@ -51,7 +160,7 @@ def replace_atomically(
     On any failure the original is intact and the temporary file is removed."""
     target = Path(path)
     handle, temporary = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=suffix, dir=target.parent
+        prefix=temporary_prefix(target.name, suffix), suffix=suffix, dir=target.parent
     )
     os.close(handle)
     try:
@@ -66,3 +175,16 @@ def replace_atomically(
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def temporary_prefix(name: str, suffix: str) -> str:
+    """``.NAME.``, the prefix of a temporary file beside ``name``, short enough
+    for the whole temporary name (prefix, 8 random characters, suffix) to stay
+    within NAME_MAX bytes: a long name is cut and made unique by a hash of it."""
+    prefix = f".{name}."
+    room = NAME_MAX - len(os.fsencode(suffix)) - 8 - 1
+    if len(os.fsencode(prefix)) <= room:
+        return prefix
+    digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:12]
+    cut = os.fsdecode(os.fsencode(name)[: room - len(digest) - 3])
+    return f".{cut}~{digest}."

@@ -78,7 +78,8 @@ def test_the_documented_context_members_exist() -> None:
     stage = Usd.Stage.CreateInMemory()
     ctx = Context(stage=stage, file="shot.usda")
     for member in ("stage", "file", "prims_of", "configurations", "untargeted_products",
-                   "time_sample_cap", "cached", "require_full_stage"):  # fmt: skip
+                   "time_sample_cap", "cached", "require_full_stage",
+                   "depends_on_asset"):  # fmt: skip
         assert hasattr(ctx, member), member
     ctx.require_full_stage()  # a fully composed stage: nothing happens
     with pytest.raises(FullStageRequired):

@@ -59,12 +59,17 @@ def test_the_readme_links_reach_files_of_the_repository() -> None:
     assert [t for t in local if not (REPO / t).exists()] == []
 
 
+#: The project's history: issue numbers (an HTML entity such as &#124; is none),
+#: commit hashes, sessions.
+HISTORY = (r"\bissues? \d+\b", r"(?<!&)#\d{2,}\b", r"`[0-9a-f]{7,40}`", r"\bsession \d+\b")
+
+
 def test_no_user_page_carries_issue_numbers_or_commit_hashes() -> None:
     pages = [README, REPO / "CHANGELOG.md", *sorted((REPO / "docs").rglob("*.md"))]
     found = []
     for page in pages:
         text = page.read_text(encoding="utf-8")
-        for pattern in (r"\bissues? \d+\b", r"#\d{2,}\b", r"`[0-9a-f]{7,40}`", r"\bsession \d+\b"):
+        for pattern in HISTORY:
             found += [f"{page.relative_to(REPO)}: {m}" for m in re.findall(pattern, text)]
     assert found == []
 

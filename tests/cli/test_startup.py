@@ -164,7 +164,7 @@ def test_a_plugin_in_the_group_is_found_through_importlib_metadata(
     monkeypatch.syspath_prepend(str(tmp_path))
     assert entrypoints._single_registrant("usdrender_lint.formatters") is None
     assert available_formatters()["acme"].value == "json:dumps"
-    assert set(available_formatters()) == {"acme", "github", "json", "sarif", "text"}
+    assert set(available_formatters()) == {"acme", "github", "html", "json", "sarif", "text"}
 
 
 def test_a_shadowing_distribution_hides_ours_as_in_importlib_metadata(
@@ -190,7 +190,7 @@ def test_a_malformed_file_anywhere_fails_as_in_importlib_metadata(
 
 def test_nothing_is_cached_between_lookups(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.syspath_prepend(str(tmp_path))
-    assert set(available_formatters()) == {"github", "json", "sarif", "text"}
+    assert set(available_formatters()) == {"github", "html", "json", "sarif", "text"}
     _dist(tmp_path, "late-1.dist-info", "[usdrender_lint.formatters]\nlate = json:dumps\n")
     assert "late" in available_formatters()
 
@@ -208,10 +208,11 @@ def test_version_is_the_installed_distributions() -> None:
 GC_AROUND_IMPORTS = """
 import gc, sys
 import usdrender_lint.cli as cli
+from usdrender_lint.cli.loading import import_engine
 assert not any(m.startswith("pxr") for m in sys.modules), "the cli module imports USD"
 if sys.argv[1] == "off":
     gc.disable()
-cli._import_engine()
+import_engine()
 print(gc.isenabled(), gc.get_freeze_count() > 0, "pxr.Usd" in sys.modules)
 """
 

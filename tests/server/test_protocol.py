@@ -342,3 +342,58 @@ async def test_a_configuration_change_relints(client: LanguageClient, workspace:
                 break
     assert found["SE007"].severity == types.DiagnosticSeverity.Information
     config.unlink()
+
+
+LIGHTING = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+
+
+async def test_findings_in_another_layer(client: LanguageClient, workspace: Path):
+    """A finding in a sublayer: related information on the document while the
+    sublayer is not open; on the sublayer's own URI, at its unsaved line, once it is."""
+    lighting = workspace / "lighting.usda"
+    lighting.write_text(LIGHTING)
+    root = open_document(
+        client, workspace / "root.usda", "#usda 1.0\n(\n    subLayers = [@./lighting.usda@]\n)\n"
+    )
+    (found,) = [d for d in await diagnostics_of(client, root, 1) if d.code == "SE001"]
+    (related,) = found.related_information
+    assert related.location.uri == lighting.as_uri()
+    assert related.location.range.start.line == 3
+    assert str(lighting) in related.message
+
+    unsaved = "#usda 1.0\n# a comment the file does not have\n" + LIGHTING.split("\n", 1)[1]
+    lighting_uri = open_document(client, lighting, unsaved)
+    async with asyncio.timeout(60):
+        while True:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+            on_root = [d for d in client.diagnostics.get(root, []) if d.code == "SE001"]
+            on_lighting = [d for d in client.diagnostics.get(lighting_uri, []) if d.code == "SE001"]
+            if not on_root and on_lighting:
+                break
+    (shown,) = on_lighting  # the root's finding and the sublayer's own are one
+    assert shown.range.start.line == 4
+    for uri in (root, lighting_uri):
+        client.text_document_did_close(
+            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+        )
+
+
+async def test_a_quick_fix_edits_the_unsaved_text(client: LanguageClient, workspace: Path):
+    path = workspace / "shot.usda"
+    uri = path.as_uri()
+    unsaved = "#usda 1.0\n# not saved yet\n" + path.read_text().split("\n", 1)[1]
+    change(client, uri, 20, unsaved)
+    camera = next(d for d in await diagnostics_of(client, uri, 20) if d.code == "CA004")
+    assert unsaved.splitlines()[camera.range.start.line].strip().startswith("rel camera")
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=camera.range,
+            context=types.CodeActionContext(diagnostics=[camera]),
+        )
+    )
+    fix = next(a for a in actions if a.title.startswith("Fix CA004"))
+    fixed = apply(unsaved, fix.edit.changes[uri])
+    assert fixed == unsaved.replace("</World/camRig>", "</World/camRig/shotCam>", 1)
+    change(client, uri, 21, path.read_text())
+    await diagnostics_of(client, uri, 21)

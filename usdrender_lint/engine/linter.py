@@ -13,6 +13,7 @@ from typing import Any, Generic, TypeVar
 
 from pxr import Sdf, Tf, Usd
 
+from .. import debug
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
 from ..layers.files import layer_identifier, real_path, unreadable_reason
@@ -286,13 +287,18 @@ class Linter:
         return self._lint(stage, file, texts=texts)[0]
 
     def lint_walked_stage(
-        self, stage: Usd.Stage, file: str | None, prims: Sequence[Usd.Prim]
+        self,
+        stage: Usd.Stage,
+        file: str | None,
+        prims: Sequence[Usd.Prim],
+        *,
+        texts: Mapping[str, str] | None = None,
     ) -> list[Finding]:
         """Like :meth:`lint_stage`, with no traversal: ``prims`` are the usable
         prims the walk would keep (:meth:`walk_candidates`), in traversal order
         (--variants knows them from the previous combination and what USD
         recomposed since)."""
-        return self._lint(stage, file, prims=prims)[0]
+        return self._lint(stage, file, texts=texts, prims=prims)[0]
 
     def walk_candidates(
         self, stage: Usd.Stage, prims: Iterable[Usd.Prim] | None = None, own_stage: bool = False
@@ -500,6 +506,7 @@ class Linter:
             raise exc
         prim_path = target.GetPath() if isinstance(target, Usd.Prim) else None
         where = f" on {prim_path}" if prim_path is not None else ""
+        debug.show(exc, f"{ctx.file}: rule {rule.code} raised (UL000){where}")
         import traceback  # only for a rule that raised (it imports textwrap)
 
         frame = traceback.extract_tb(exc.__traceback__)[-1]
@@ -556,9 +563,23 @@ class Linter:
                 STAGE_OPEN_FAILED_CODE,
                 STAGE_OPEN_FAILED_NAME,
                 severity,
-                line,
+                _without_position(line),
                 _error_location(path, line),
             )
+
+
+def _without_position(message: str) -> str:
+    """USD's message without its leading ``/abs/file.usda:LINE:COL:``: the
+    finding's location carries them (shown relative to where the report is
+    read), and a message must not carry the machine's absolute paths."""
+    position = position_from_error(message)
+    if position is None:
+        return message
+    file, line, column = position
+    prefix = f"{file}:{line}:" + (f"{column}:" if column is not None else "")
+    if not message.startswith(prefix):
+        return message
+    return message[len(prefix) :].strip() or message
 
 
 def _error_location(path: str, message: str) -> Location:

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -69,14 +69,30 @@ def render_variant_sets(
                 prim = prim.GetParent()
     found = []
     for path in sorted(owners):
-        variant_sets = stage.GetPrimAtPath(path).GetVariantSets()
-        for name in variant_sets.GetNames():
-            variant_set = variant_sets.GetVariantSet(name)
-            authored = variant_set.GetVariantSelection()
-            others = [v for v in variant_set.GetVariantNames() if v != authored]
+        prim = stage.GetPrimAtPath(path)
+        names = prim.GetVariantSets().GetNames()
+        if not names:
+            continue
+        selections = prim.GetVariantSets().GetAllVariantSelections()
+        variants = _variant_names(prim)
+        for name in names:
+            authored = selections.get(name, "")
+            others = [v for v in variants.get(name, ()) if v != authored]
             if others:
                 found.append(VariantSetChoice(path, name, (authored, *others)))
     return found
+
+
+def _variant_names(prim: Usd.Prim) -> dict[str, list[str]]:
+    """Every variant set's variants, sorted, as UsdVariantSet.GetVariantNames
+    gives them (the variants its specs in the prim's stack define), read in
+    one pass over the stack: that call walks the whole prim index for each
+    set, so a prim with 10,000 sets cost 10,000 walks."""
+    variants: dict[str, set[str]] = {}
+    for spec in prim.GetPrimStack():
+        for name, variant_set in spec.variantSets.items():
+            variants.setdefault(name, set()).update(variant_set.variants.keys())
+    return {name: sorted(found) for name, found in variants.items()}
 
 
 #: A combination: the (index of the set, variant) selections that differ
@@ -182,12 +198,17 @@ class VariantExplorer:
         return FileResult(path, findings=tuple(findings), notes=tuple(notes))
 
     def lint_stage(
-        self, stage: Usd.Stage, file: str | None = None, notes: list[str] | None = None
+        self,
+        stage: Usd.Stage,
+        file: str | None = None,
+        notes: list[str] | None = None,
+        *,
+        texts: Mapping[str, str] | None = None,
     ) -> list[Finding]:
         """Findings under every explored combination; the session layer is
         left empty again. When the cap cut combinations, a line saying how
-        many is added to ``notes``."""
-        return self._lint_stage(stage, file, notes)
+        many is added to ``notes``. ``texts``: as for :meth:`Linter.lint_stage`."""
+        return self._lint_stage(stage, file, notes, texts=texts)
 
     def _lint_stage(
         self,
@@ -195,18 +216,20 @@ class VariantExplorer:
         file: str | None,
         notes: list[str] | None,
         own_stage: bool = False,
+        texts: Mapping[str, str] | None = None,
     ) -> list[Finding]:
         seen: dict[tuple, Finding] = {}
         linted = 0
         with _Walk(self.linter, stage, own_stage) as walk:
             sets = render_variant_sets(stage, walk.prims())
             if not sets:
-                return self.linter.lint_walked_stage(stage, file, walk.prims())
+                return self.linter.lint_walked_stage(stage, file, walk.prims(), texts=texts)
             try:
                 for combination in combinations(sets, self.max_combinations):
                     author_selection(stage, sets, combination)
                     selection = describe(sets, combination)
-                    for finding in self.linter.lint_walked_stage(stage, file, walk.prims()):
+                    prims = walk.prims()
+                    for finding in self.linter.lint_walked_stage(stage, file, prims, texts=texts):
                         key = (finding.code, finding.location.path, finding.message)
                         if key not in seen:
                             seen[key] = _annotated(stage, finding, selection)

@@ -117,7 +117,11 @@ class _OverlayLayer:
         target = Path(path)
         if target.is_dir():
             raise FixError(f"--fix-to {path}: is a directory")
-        file_format = Sdf.FileFormat.FindByExtension(target.suffix.lstrip("."))
+        if target.exists() and not target.is_file():  # /dev/null, a FIFO: no layer to keep
+            raise FixError(f"--fix-to {path}: not a regular file; name a .usda, .usdc or .usd file")
+        suffix = target.suffix.lstrip(".")
+        # Sdf raises for an empty extension (a name without one).
+        file_format = Sdf.FileFormat.FindByExtension(suffix) if suffix else None
         if file_format is None or file_format.IsPackage():
             raise FixError(f"--fix-to {path}: the layer must be a .usda, .usdc or .usd file")
         folder = target.parent if str(target.parent) else Path(".")

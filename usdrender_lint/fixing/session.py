@@ -26,6 +26,7 @@ from dataclasses import field
 
 from pxr import Sdf, Tf, Usd
 
+from .. import debug
 from ..api import Fix
 from ..engine import Linter, open_stage
 from ..layers.files import layer_identifier, layer_real_path
@@ -57,6 +58,10 @@ class FixOptions:
     #: The text of layers as an editor holds them, unsaved, by real path (the
     #: language server): fixes edit that text instead of the file's.
     texts: Mapping[str, str] | None = None
+    #: With ``write`` False: show the edit even where --fix may not write the
+    #: file (read-only, hard links); the HTML report's diffs. --diff itself
+    #: previews --fix, refusals included.
+    any_file: bool = False
 
 
 @record
@@ -154,7 +159,10 @@ class StageFixer:
         with Tf.DiagnosticTrap() as trap:
             try:
                 self.sources = Sources(
-                    self.stage, in_memory=self.in_memory, texts=self.options.texts
+                    self.stage,
+                    in_memory=self.in_memory,
+                    texts=self.options.texts,
+                    writing=self.options.write or not self.options.any_file,
                 )
                 self.findings = self._attempts()
                 if not self.in_memory:
@@ -206,6 +214,7 @@ class StageFixer:
             try:
                 reason, after = self._alone(finding, fix)
             except Exception as exc:  # noqa: BLE001 - one fix must not cost the others
+                debug.show(exc, f"internal error while fixing {finding.code}")
                 reason, after = f"internal error while fixing: {type(exc).__name__}: {exc}", None
             if after is not None:
                 pairs = after
@@ -416,13 +425,8 @@ class StageFixer:
                 f"--fix would rewrite it with {len(fixes)} fix(es) ({listed})"
             )
             return
-        text = patch(source.disk.path, source.original_text or "", source.text)
-        if text is None:
-            self.result.notes.append(
-                f"--diff: {shown} is outside the current directory, so it is not in the "
-                f"patch ({len(fixes)} fix(es): {listed}); run --diff from a folder that holds it"
-            )
-        elif text:
+        text = patch(source.disk.path, source.original_text or "", source.text, given=self.path)
+        if text:
             self.result.diffs.append(text)
 
     def _unapply(self, layer: Sdf.Layer, reason: str) -> None:
@@ -467,6 +471,7 @@ def _call_fix(fix: Fix, stage: Usd.Stage, layer: Sdf.Layer) -> str | None:
             errors = trap.GetErrors()
             trap.Clear()
     except Exception as exc:  # noqa: BLE001 - a failing fix is reported, never fatal
+        debug.show(exc, "a fix raised")
         return f"the fix failed: {type(exc).__name__}: {str(exc).strip()[:200]}"
     if errors:
         return f"the fix failed: {errors[0].commentary.strip()[:200]}"

@@ -63,11 +63,14 @@ class Sources:
         *,
         in_memory: bool = False,
         texts: Mapping[str, str] | None = None,
+        writing: bool = True,
     ) -> None:
         self.stage = stage
         self.in_memory = in_memory
         #: Layers' unsaved text in an editor, by real path: edited instead of the file.
         self.texts = texts or {}
+        #: False for --diff: a read-only file may still be shown as a patch.
+        self.writing = writing
         self.known: dict[str, LayerSource] = {}
         for layer in stage.GetLayerStack(includeSessionLayers=False):
             self.known[layer_identifier(layer)] = self._read(layer)
@@ -80,7 +83,7 @@ class Sources:
         if unsaved is not None:
             # The editor's buffer: its text is what fixes edit, and nothing is written.
             return LayerSource(layer, None, exported, unsaved, None, unsaved)
-        problem = write_problem(layer)
+        problem = write_problem(layer, self.writing)
         disk = None
         text = None
         if layer_real_path(layer) and problem is None:

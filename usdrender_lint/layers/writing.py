@@ -1,11 +1,13 @@
 """Writing fixed layers safely.
 
 A layer is replaced atomically (a temporary file in its folder, then a rename),
-so an interrupted write leaves the original intact. Before the rename the file
-must still hold the bytes read when fixing started: an edit made meanwhile is
-never lost (the file is left alone and the run exits 2). The new file keeps the
-old one's mode, owner and group (as far as the user may set them), and a file
-with several hard links is not replaced at all: a rename would split the links.
+so an interrupted write leaves the original intact. Before and after the
+temporary file is written, and after the rename, the file must still hold the
+bytes read when fixing started: an edit made meanwhile is never lost (the file
+is left alone, or put back, and the run exits 2). The new file keeps the old
+one's mode, owner and group; a file whose owner or group a new file cannot
+have (another user's) is left alone with a message, and a file with several
+hard links is not replaced at all: a rename would split the links.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from pathlib import Path
 
 from pxr import Sdf, Tf
 
-from ..atomic import replace_atomically
+from ..atomic import keep_owner, replace_atomically, temporary_prefix
 from ..layers.files import layer_identifier, layer_real_path
 from ..paths import display_path, usd_path
 from ..records import record
@@ -61,8 +63,9 @@ class DiskState:
             raise ChangedOnDisk("it changed on disk while fixing; it was left as it is")
 
 
-def write_problem(layer: Sdf.Layer) -> str | None:
-    """Why --fix may not write ``layer``, or None when it may."""
+def write_problem(layer: Sdf.Layer, writing: bool = True) -> str | None:
+    """Why --fix may not write ``layer``, or None when it may. With ``writing``
+    False (--diff, which writes nothing) only why it cannot be read as a file."""
     path = layer_real_path(layer)
     if layer.anonymous or not path:
         return f"{layer.GetDisplayName()} is not a file on disk"
@@ -76,6 +79,8 @@ def write_problem(layer: Sdf.Layer) -> str | None:
         stat = os.stat(path)
     except OSError as exc:
         return f"{shown} cannot be read: {exc.strerror or exc}"
+    if not writing:
+        return None
     # A file without write permission is read-only even to root, who may write it anyway.
     if not os.access(path, os.W_OK) or not stat.st_mode & 0o222:
         return f"{shown} is read-only"
@@ -93,28 +98,85 @@ def write_problem(layer: Sdf.Layer) -> str | None:
 def replace_file(state: DiskState, write: Callable[[Path], None]) -> None:
     """Replace the file read as ``state`` by what ``write`` puts into a temporary
     file, if it has not changed since. Raises ChangedOnDisk or OSError; the
-    original is intact on any failure."""
+    original is intact on any failure.
+
+    The file is compared with what was read before the temporary file is
+    written, after it is written, and after the rename: an edit made in that
+    window through the old file (a writer that opened it before the rename)
+    would otherwise be lost with it, so the rename is undone (the old file,
+    kept under a hard link meanwhile, is put back) and ChangedOnDisk raised."""
     state.check_unchanged()
-    stat = os.stat(state.path)
-
-    def write_keeping_owner(temporary: Path) -> None:
-        write(temporary)
-        keep_owner(temporary, stat.st_uid, stat.st_gid)
-
+    before = os.stat(state.path)
     destination = Path(state.path)
-    replace_atomically(destination, write_keeping_owner, destination.suffix)
+
+    def write_checked(temporary: Path) -> None:
+        write(temporary)
+        if not keep_owner(temporary, before.st_uid, before.st_gid):
+            raise OSError(
+                f"a new file cannot keep its owner and group ({before.st_uid}:{before.st_gid}) "
+                "here; it was left as it is (fix it as its owner, or use --fix-to)"
+            )
+        state.check_unchanged()
+
+    with _Held(state) as held:
+        replace_atomically(destination, write_checked, destination.suffix)
+        held.confirm()
 
 
-def keep_owner(path: Path, uid: int, gid: int) -> None:
-    """Give ``path`` this owner and group, or at least the group, as permitted."""
-    now = os.stat(path)
-    if (now.st_uid, now.st_gid) == (uid, gid):
-        return
-    try:
-        os.chown(path, uid, gid)
-    except PermissionError:
-        with contextlib.suppress(PermissionError):
-            os.chown(path, -1, gid)
+class _Held:
+    """The file being replaced, held through the rename: a hard link to it
+    (to put it back) where the file system has them, and an open descriptor."""
+
+    def __init__(self, state: DiskState) -> None:
+        self.state = state
+        self.fd = -1
+        self.backup: str | None = None
+
+    def __enter__(self) -> _Held:
+        self.fd = os.open(self.state.path, os.O_RDONLY | getattr(os, "O_CLOEXEC", 0))
+        folder, name = os.path.split(self.state.path)
+        unique = os.urandom(4).hex()
+        backup = os.path.join(folder, f"{temporary_prefix(name, '.orig')}{unique}.orig")
+        try:
+            os.link(self.state.path, backup)
+            self.backup = backup
+        except OSError:
+            self.backup = None
+        return self
+
+    def confirm(self) -> None:
+        """After the rename: raise ChangedOnDisk, with the old file back in
+        place, when it changed since it was read."""
+        data = _read_all(self.fd)
+        if data == self.state.data:
+            return
+        if self.backup is not None:
+            os.replace(self.backup, self.state.path)
+            self.backup = None
+        else:  # no hard links here: its content goes back, in a new file
+
+            def put_back(temporary: Path) -> None:
+                temporary.write_bytes(data)
+
+            replace_atomically(self.state.path, put_back)
+        raise ChangedOnDisk(
+            "it changed on disk while the fix was written; the fix was undone and the "
+            "other edit kept"
+        )
+
+    def __exit__(self, *exc_info: object) -> None:
+        if self.backup is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(self.backup)
+        os.close(self.fd)
+
+
+def _read_all(fd: int) -> bytes:
+    chunks, offset = [], 0
+    while chunk := os.pread(fd, 1 << 20, offset):
+        chunks.append(chunk)
+        offset += len(chunk)
+    return b"".join(chunks)
 
 
 def save_text(state: DiskState, text: str) -> None:

@@ -15,7 +15,7 @@ import os
 from collections import Counter
 from pathlib import Path, PurePath
 
-from ..atomic import write_output
+from ..atomic import named_descriptor, write_output
 from ..model import Finding, Report
 
 BASELINE_SCHEMA = 1
@@ -40,8 +40,12 @@ def _counts(report: Report, base_dir: Path) -> Counter[Fingerprint]:
 def write_baseline(report: Report, path: str | Path) -> int:
     """Record every finding of ``report`` in ``path`` (atomically); returns how many."""
     path = Path(path)
-    # Relative to the folder of the file behind a link, as --baseline reads it.
-    counts = _counts(report, Path(os.path.realpath(path)).parent)
+    # Relative to the folder of the file behind a link, as --baseline reads it;
+    # to the working directory for a stream this process holds (/dev/stdout).
+    if named_descriptor(path) is not None:
+        counts = _counts(report, Path.cwd())
+    else:
+        counts = _counts(report, Path(os.path.realpath(path)).parent)
     entries = [
         {"file": file, "code": code, "path": prim_path, "count": count}
         for (file, code, prim_path), count in sorted(counts.items())

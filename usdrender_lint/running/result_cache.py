@@ -62,6 +62,7 @@ from ..engine.assets import ClipTemplate, is_search_path
 from ..model import FileResult
 from ..records import record
 from ..report_json import ReportFormatError, finding_from_dict, finding_to_dict
+from ..settings_table import not_in_cache_key, settings_key
 from . import read_ahead
 
 if TYPE_CHECKING:
@@ -84,7 +85,7 @@ PRUNE_TO = 3 * MAX_BYTES // 4
 #: A result larger than this (a file with a huge number of findings) is not stored.
 MAX_ENTRY_BYTES = 4 << 20
 #: Settings that change what a report is used for, not any file's findings.
-SETTINGS_NOT_IN_KEY = frozenset({"source", "from_flags", "fail_on", "unfixable", "cache_dir"})
+SETTINGS_NOT_IN_KEY = not_in_cache_key() | {"source", "from_flags"}
 #: Environment prefixes that can change what USD composes or what the rules
 #: report (plugin and resolver paths, the linter's own switches).
 ENV_PREFIXES = ("PXR_", "TF_", "USD_", "USDRENDER_LINT_")
@@ -146,17 +147,6 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
         "extra": extra,
     }
     return _digest_text(_canonical(parts))
-
-
-def settings_key(settings: Settings) -> dict[str, Any]:
-    """Every setting that can change a finding: all fields of Settings but the
-    few that cannot, so that a setting added later is in the key unless it is
-    listed in SETTINGS_NOT_IN_KEY."""
-    return {
-        f.name: getattr(settings, f.name)
-        for f in dataclasses.fields(Settings)
-        if f.name not in SETTINGS_NOT_IN_KEY
-    }
 
 
 def _canonical(value: object) -> str:
@@ -288,7 +278,7 @@ def dependencies(reads: Reads, root: str | None = None) -> Dependencies | None:
     files: set[str] = set()
     searches: set[str] = set(reads.searches)
     folders: set[str] = set()
-    root_identifiers = {root, os.path.abspath(root)} if root else set()
+    root_identifiers = {root, os.path.normpath(root), os.path.abspath(root)} if root else set()
     for identifier, real_path, anonymous, dirty in reads.layers:
         if anonymous:
             continue  # the engine's session layer, or one a file format makes from a file
@@ -592,12 +582,16 @@ class ResultCache:
             "findings": [finding_to_dict(f, layer_path=str) for f in result.findings],
             "notes": list(result.notes),
         }
-        text = json.dumps(document, ensure_ascii=False, separators=(",", ":"))
-        if len(text.encode("utf-8", "surrogateescape")) > MAX_ENTRY_BYTES:
+        try:
+            # A name that is not UTF-8 cannot be read back: such a result is not stored.
+            data = json.dumps(document, ensure_ascii=False, separators=(",", ":")).encode()
+        except UnicodeEncodeError:
+            return False
+        if len(data) > MAX_ENTRY_BYTES:
             return False
         try:
-            replace_atomically(self._entry_path(file), lambda tmp: _write(tmp, text))
-        except (OSError, UnicodeEncodeError):
+            replace_atomically(self._entry_path(file), lambda tmp: _write(tmp, data))
+        except OSError:
             return False
         self.stored += 1
         return True
@@ -664,10 +658,10 @@ def _changed_since(path: str, started_ns: int) -> bool:
     return changed > started_ns
 
 
-def _write(temporary: Path, text: str) -> None:
+def _write(temporary: Path, data: bytes) -> None:
     # No fsync: a torn entry after a power cut is corrupt, and corrupt entries are ignored.
-    with open(temporary, "w", encoding="utf-8", errors="surrogateescape") as stream:
-        stream.write(text)
+    with open(temporary, "wb") as stream:
+        stream.write(data)
 
 
 class CachingLinter:

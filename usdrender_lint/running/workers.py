@@ -22,6 +22,7 @@ from contextlib import contextmanager, suppress
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
+from .. import debug
 from ..model import FileResult
 from ..records import record
 from . import read_ahead, supervisor
@@ -40,7 +41,6 @@ if TYPE_CHECKING:
         | multiprocessing.context.SpawnContext
     )
 
-DEFAULT_TIMEOUT = 120.0
 #: A progress bar is worth drawing only for runs longer than this many files.
 PROGRESS_MIN_FILES = 20
 #: How long a new worker may take to import USD and build its linter.
@@ -186,6 +186,7 @@ def lint_one(linter: FileLinter, path: str | FullyComposed) -> FileResult:
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
         if getattr(linter, "raise_errors", False):
             raise
+        debug.show(exc, f"{path}: internal error")
         # USD's errors span lines; the report gives each file one line.
         detail = " ".join(str(exc).split())
         return FileResult(
@@ -235,6 +236,7 @@ def _build(linter_factory: LinterFactory | None) -> FileLinter:
     try:
         return linter_factory()
     except Exception as exc:  # noqa: BLE001 - said as the pool says it
+        debug.show(exc, "the linter could not be built")
         raise ExecutionError(
             f"a worker process could not build the linter: {type(exc).__name__}: {exc}"
         ) from exc
@@ -430,6 +432,7 @@ def _worker_main(
     for name in [n for n in os.environ if n.startswith(ENV_PREFIX)]:
         del os.environ[name]
     os.environ.update(settings_env)
+    debug.keep_stderr()
     log = os.open(log_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
     os.dup2(log, 2)
     os.close(log)
@@ -442,6 +445,7 @@ def _worker_main(
         # measures the file, not the start-up.
         Usd.Stage.CreateInMemory()
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
+        debug.show(exc, "a worker could not start")
         conn.send(("failed", f"{type(exc).__name__}: {exc}"))
         return
     conn.send(("ready", None))
@@ -459,6 +463,7 @@ def _worker_main(
         try:
             result = handle(linter, item)
         except Exception as exc:  # noqa: BLE001 - a handler's bug costs only its item
+            debug.show(exc, "internal error")
             result = _Raised(f"internal error: {type(exc).__name__}: {' '.join(str(exc).split())}")
         conn.send((index, result))
 

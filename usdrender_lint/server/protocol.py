@@ -108,9 +108,10 @@ class UsdRenderLintServer(LanguageServer):
                 self.rule_names[word.lower()] = rule
         self.ready.set()
 
-    async def lint(self, uri: str) -> None:
+    async def lint(self, uri: str, *, dependents: bool = True) -> None:
         """Lint the document and publish its diagnostics, unless a newer lint
-        of it is asked for meanwhile."""
+        of it is asked for meanwhile; then (``dependents``) the other open
+        documents that name its file (a sublayer or reference of theirs)."""
         path = usd_path(uri)
         if path is None or uri not in self.workspace.text_documents:
             return
@@ -118,13 +119,15 @@ class UsdRenderLintServer(LanguageServer):
         tick = self.wanted[uri] = self.ticks
         text = self.workspace.get_text_document(uri).source
         expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
-        if expected >= SLOW:
-            if self.linting.cancel(path, tick):
-                self.window_log_message(
-                    types.LogMessageParams(
-                        types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
-                    )
+        # A slow document's running lint is cancelled at once; a quick one's
+        # only when it turns out slow (USD hangs on it, say): else it ends soon.
+        if self.linting.cancel(path, tick, running_for=0.0 if expected >= SLOW else SLOW):
+            self.window_log_message(
+                types.LogMessageParams(
+                    types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
                 )
+            )
+        if expected >= SLOW:
             await asyncio.sleep(DEBOUNCE)
             if self.wanted.get(uri) != tick:
                 return
@@ -144,6 +147,11 @@ class UsdRenderLintServer(LanguageServer):
         self.seconds[path] = linted.seconds
         self.findings[uri] = (linted.findings, texts)
         self.publish(uri, self.diagnostics(uri, path, linted, texts), version)
+        if dependents:
+            name = os.path.basename(path)
+            for other, text in texts.items():
+                if other != path and name in text:
+                    asyncio.ensure_future(self.lint(from_fs_path(other) or other, dependents=False))
 
     def forget(self, uri: str) -> None:
         """A closed document: its lint's diagnostics go, on it and elsewhere."""

@@ -1,0 +1,132 @@
+"""``--format html``: one self-contained page (tests/formatters/test_html_browser.py
+looks at it in a real browser)."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from html_support import strict_problems
+
+REPO = Path(__file__).parents[2]
+BIN = Path(sys.executable).parent / "usdrender-lint"
+
+
+def _run(*args: str, cwd: Path = REPO) -> subprocess.CompletedProcess:
+    return subprocess.run([str(BIN), *args], capture_output=True, text=True, cwd=cwd, check=False)
+
+
+@pytest.fixture(scope="module")
+def examples_page() -> str:
+    run = _run("check", "--format", "html", "examples")
+    assert run.returncode == 1, run.stderr
+    return run.stdout
+
+
+def test_the_page_is_well_formed_and_fetches_nothing(examples_page: str) -> None:
+    problems, fetches = strict_problems(examples_page)
+    assert problems == []
+    assert fetches == []
+    assert "default-src 'none'" in examples_page  # the browser may not fetch either
+    assert not re.search(r"(?i)(src|href)\s*=\s*[\"']?(https?:)?//", examples_page)
+
+
+def test_findings_carry_source_lines_fix_diffs_and_profile(examples_page: str) -> None:
+    # CA004 at shot.usda:32, with the lines around it and the line itself marked.
+    ca004 = examples_page[examples_page.index('data-code="CA004"') :]
+    ca004 = ca004[: ca004.index("</li>")]
+    assert '<span class="hit"><i>32</i>        rel camera = &lt;/World/camRig&gt;</span>' in ca004
+    assert "<i>29</i>" in ca004 and "<i>35</i>" in ca004
+    # Its fix as a diff: --fix's edit.
+    assert '<span class="d-del">-        rel camera = &lt;/World/camRig&gt;</span>' in ca004
+    assert '<span class="d-add">+        rel camera = &lt;/World/camRig/shotCam&gt;</span>' in ca004
+    assert "profile generic" in ca004
+    # An unsafe fix is shown as such, with its diff too.
+    se003 = examples_page[examples_page.index('data-code="SE003"') :]
+    assert "unsafe fix (--unsafe-fixes)" in se003[: se003.index("</li>")]
+    # The profile and why, once per RenderSettings.
+    assert 'profile <b>generic</b> <span class="dim">(auto: no renderer' in examples_page
+    # A file USD cannot open: its ST001, no picture.
+    assert "lighting_wip.usda" in examples_page and 'data-code="ST001"' in examples_page
+
+
+def test_every_product_has_its_framing_picture_and_findings_beside_it(examples_page: str) -> None:
+    spec = json.loads(_run("spec", "--format", "json", "examples").stdout)
+    products = sum(
+        max(1, len(s["products"]))
+        for f in spec["files"]
+        if f["status"] == "computed"
+        for s in f["settings"]
+    )
+    assert examples_page.count('<figure class="product" id=') == products
+    assert examples_page.count("<svg ") == products
+    crop = examples_page[examples_page.index("<h3>/Render/Products/crop</h3>") :]
+    crop = crop[: crop.index("</figure>")]
+    assert {"CA003", "SE003", "SE007"} <= set(re.findall(r"<b>([A-Z]{2}\d{3})</b>", crop))
+    assert 'href="#f' in crop  # each links to the finding below
+
+
+def test_filters_list_the_codes_and_profiles_present(examples_page: str) -> None:
+    codes = set(re.findall(r'<option value="([A-Z]{2}\d{3})">', examples_page))
+    assert codes == set(
+        re.findall(r'<li class="finding"[^>]* data-code="([A-Z]{2}\d{3})"', examples_page)
+    )
+    assert '<option value="generic">' in examples_page
+    for severity in ("error", "warning", "info"):
+        assert f'name="severity" value="{severity}" checked' in examples_page
+
+
+def test_merge_html_of_shard_reports(tmp_path: Path) -> None:
+    shards = []
+    for k in (1, 2):
+        run = _run("check", "--format", "json", "--shard", f"{k}/2", "examples")
+        assert run.returncode in (0, 1), run.stderr
+        shard = tmp_path / f"shard{k}.json"
+        shard.write_text(run.stdout)
+        shards.append(str(shard))
+    here = _run("merge", "--format", "html", *shards)
+    assert here.returncode == 1, here.stderr
+    whole = _run("check", "--format", "html", "examples").stdout
+    assert here.stdout.count('class="finding"') == whole.count('class="finding"')
+    assert here.stdout.count("<svg ") == whole.count("<svg ")  # the files are here: read them
+    # Elsewhere (the files are not there): the findings, and a note on what is missing.
+    away = _run("merge", "--format", "html", *shards, cwd=tmp_path)
+    assert away.returncode == 1, away.stderr
+    assert away.stdout.count('class="finding"') == whole.count('class="finding"')
+    assert "<svg " not in away.stdout and 'class="diff"' not in away.stdout
+    assert "are not on disk here" in away.stdout
+    assert strict_problems(away.stdout) == ([], [])
+
+
+def test_the_report_shows_the_fixes_of_a_read_only_file(tmp_path: Path) -> None:
+    """The report writes nothing, so a read-only file's fixes are shown as diffs
+    (--diff, a preview of --fix, says --fix would refuse to write it)."""
+    work = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", work)
+    os.chmod(work, 0o444)
+    page = _run("check", "--format", "html", "shot.usda", cwd=tmp_path).stdout
+    assert page.count('class="diff"') == 3
+    assert '<span class="d-add">+        rel camera = &lt;/World/camRig/shotCam&gt;</span>' in page
+    assert work.read_text() == (REPO / "examples" / "broken_shot" / "shot.usda").read_text()
+    assert "read-only" in _run("check", "--diff", "shot.usda", cwd=tmp_path).stderr
+
+
+def test_a_file_name_that_is_not_utf8_gives_a_valid_page(tmp_path: Path) -> None:
+    name = os.fsencode(tmp_path) + b"/sh\xffot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", name)
+    run = subprocess.run(
+        [str(BIN), "check", "--format", "html", "."],
+        capture_output=True,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert run.returncode == 1, run.stderr
+    page = run.stdout.decode("utf-8")  # strict: valid UTF-8
+    assert '<span class="path">sh\\xffot.usda</span>' in page
+    assert page.count('class="finding"') == 5

@@ -1,0 +1,240 @@
+"""What a report shows beside its findings, read from the files it names: the
+source lines around each finding, each fix as a diff, and each RenderSettings'
+and product's specification (the framing ``spec`` draws) with the findings
+on it. The HTML report renders these (formatters/html.py); a report merged
+from shards gets them too where the files are still there, and is shown
+without them where they are not.
+
+Everything is read again from the files at the time the report is written:
+``check --format html`` reads them right after linting them. Nothing is
+written.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+from collections.abc import Iterable, Sequence
+from dataclasses import field
+from functools import partial
+from typing import Any
+
+from ..model import Finding, Report
+from ..paths import display_path
+from ..records import record
+
+#: Lines of source shown before and after a finding's line.
+CONTEXT_LINES = 3
+#: Fixes shown as diffs per report at most (each costs two lints of its stage).
+MAX_DIFFS = 200
+#: Text layers larger than this are not read for excerpts.
+MAX_SOURCE_BYTES = 20 * 1024 * 1024
+
+
+def finding_key(finding: Finding) -> tuple[str, str, str, str]:
+    """How a finding is named across the lints of one file."""
+    return (finding.location.file, finding.code, finding.location.path or "", finding.message)
+
+
+@record(frozen=True)
+class Excerpt:
+    """Lines ``first``.. of a layer's text, the finding's line among them."""
+
+    layer: str
+    first: int
+    lines: tuple[str, ...]
+    line: int
+
+
+@record(frozen=True)
+class ProductView:
+    """A product (or settings without products) as ``spec`` draws it."""
+
+    settings: str
+    product: str | None
+    svg: str
+    findings: tuple[tuple[str, str, str, str], ...]
+
+
+@record
+class FileView:
+    file: str
+    excerpts: dict[tuple, Excerpt] = field(default_factory=dict)
+    diffs: dict[tuple, str] = field(default_factory=dict)
+    products: list[ProductView] = field(default_factory=list)
+    #: Why the file's specification could not be drawn (None: it was, or no settings).
+    spec_error: str | None = None
+    #: The settings' profile and why, by settings path.
+    profiles: dict[str, tuple[str, str]] = field(default_factory=dict)
+
+
+@record
+class ReportViews:
+    files: dict[str, FileView] = field(default_factory=dict)
+    #: Lines for the reader about what could not be shown.
+    notes: list[str] = field(default_factory=list)
+
+
+def gather(report: Report) -> ReportViews:
+    """Read what the report's files show beside the findings. Never raises."""
+    views = ReportViews({r.file: FileView(r.file) for r in report.files})
+    present = [r.file for r in report.files if r.status == "linted" and os.path.isfile(r.file)]
+    missing = [r.file for r in report.files if r.status == "linted" and r.file not in present]
+    if missing:
+        views.notes.append(
+            f"{len(missing)} file(s) are not on disk here (a merged report read elsewhere): "
+            "their findings are shown without source lines, fixes or framing pictures"
+        )
+    for result in report.files:
+        view = views.files[result.file]
+        for finding in result.findings:
+            excerpt = _excerpt(finding)
+            if excerpt is not None:
+                view.excerpts[finding_key(finding)] = excerpt
+    if present:
+        _specs(report, present, views)
+        _diffs(report, present, views)
+    return views
+
+
+_TEXTS: dict[str, list[str] | None] = {}
+
+
+def _lines(path: str) -> list[str] | None:
+    if path not in _TEXTS:
+        lines = None
+        try:
+            if os.path.getsize(path) <= MAX_SOURCE_BYTES:
+                with open(path, "rb") as handle:
+                    data = handle.read()
+                if not data.startswith(b"PXR-USDC"):
+                    lines = data.decode("utf-8").splitlines()
+        except (OSError, UnicodeDecodeError):
+            lines = None
+        _TEXTS[path] = lines
+    return _TEXTS[path]
+
+
+def _excerpt(finding: Finding) -> Excerpt | None:
+    loc = finding.location
+    layer = loc.layer or loc.file
+    if loc.line is None or not layer or not os.path.isfile(layer):
+        return None
+    lines = _lines(layer)
+    if not lines or loc.line > len(lines):
+        return None
+    first = max(1, loc.line - CONTEXT_LINES)
+    last = min(len(lines), loc.line + CONTEXT_LINES)
+    return Excerpt(display_path(layer), first, tuple(lines[first - 1 : last]), loc.line)
+
+
+def _specs(report: Report, files: Sequence[str], views: ReportViews) -> None:
+    """The framing pictures: ``spec``'s computation and SVG, per product."""
+    try:
+        from ..render_spec.compute import SpecOptions, compute_file_spec
+        from ..render_spec.svg import product_svg
+        from .inspect import InspectedFile, InspectRequest, inspect_files
+
+        inspection = inspect_files(
+            InspectRequest(tuple(files), jobs=1, progress=False),
+            partial(compute_file_spec, options=SpecOptions()),
+        )
+    except Exception as exc:  # noqa: BLE001 - the report is shown without pictures
+        views.notes.append(f"framing pictures not drawn: {type(exc).__name__}: {exc}")
+        return
+    reported = {r.file: r for r in report.files}
+    for result in inspection.results:
+        view = views.files.get(result.file)
+        if view is None:
+            continue
+        if not isinstance(result, InspectedFile) or result.value is None:
+            view.spec_error = result.error or "its specification could not be computed"
+            continue
+        try:
+            _file_products(view, reported[result.file], result.value, product_svg)
+        except Exception as exc:  # noqa: BLE001 - that file is shown without pictures
+            view.products.clear()
+            view.spec_error = f"its pictures could not be drawn: {type(exc).__name__}: {exc}"
+
+
+def _file_products(view: FileView, result: Any, spec: Any, product_svg: Any) -> None:
+    from ..render_spec.document import FindingIndex, file_document, product_findings
+
+    findings = result.findings
+    document = file_document(result, spec)
+    for settings, settings_doc in zip(spec.settings, document["settings"], strict=True):
+        view.profiles[settings.path] = (settings.profile, settings.profile_reason)
+        siblings = [p.path for p in settings.products if p.path]
+        index = FindingIndex(findings, settings.path, siblings)
+        pairs = list(zip(settings.products, settings_doc["products"], strict=True))
+        if not pairs:
+            pairs = [(settings.base, settings_doc["base"])]
+        for product, product_doc in pairs:
+            mine = product_findings(product, index)
+            view.products.append(
+                ProductView(
+                    settings.path,
+                    product.path,
+                    product_svg(document, settings_doc, product_doc),
+                    tuple(finding_key(f) for f in mine),
+                )
+            )
+
+
+def _diffs(report: Report, files: Sequence[str], views: ReportViews) -> None:
+    """Each fixable finding's fix as a unified diff of the text layers it edits
+    (``--fix``'s verified edit, computed in memory, nothing written)."""
+    wanted = [(r.file, f) for r in report.files if r.file in files for f in r.findings if f.fix]
+    if not wanted:
+        return
+    if len(wanted) > MAX_DIFFS:
+        views.notes.append(
+            f"{len(wanted)} findings have fixes: the first {MAX_DIFFS} are shown as diffs; "
+            "`usdrender-lint check --diff --unsafe-fixes` prints them all"
+        )
+        wanted = wanted[:MAX_DIFFS]
+    try:
+        from ..engine import open_stage
+        from ..fixing.session import FixOptions, StageFixer
+        from ..fixing.single import same_finding
+        from .pipeline import Request, prepare
+
+        linters: dict[str, Any] = {}
+        stages: dict[str, Any] = {}
+        for file, finding in wanted:
+            folder = os.path.dirname(os.path.abspath(file))
+            if folder not in linters:
+                linters[folder] = prepare(Request((file,), jobs=1, progress=False)).linter
+            fixer = StageFixer(
+                linters[folder],
+                file,
+                FixOptions(unsafe=True, write=False, any_file=True),
+                partial(same_finding, finding),
+            )
+            if file not in stages:  # one stage per file: each fixer puts back what it changed
+                stages = {file: open_stage(file).stage}
+            if stages[file] is None:
+                continue
+            fixer.run(stages[file])
+            diff = "".join(_unified(fixer.sources or ()))
+            if diff:
+                views.files[file].diffs[finding_key(finding)] = diff
+    except Exception as exc:  # noqa: BLE001 - the report is shown without the rest
+        views.notes.append(f"fix diffs not computed: {type(exc).__name__}: {exc}")
+
+
+def _unified(sources: Iterable[Any]) -> Iterable[str]:
+    for source in sources:
+        if not source.changed or source.text is None or source.original_text is None:
+            continue
+        name = display_path(source.disk.path) if source.disk else "layer"
+        yield from difflib.unified_diff(
+            source.original_text.splitlines(keepends=True),
+            source.text.splitlines(keepends=True),
+            fromfile=name if os.path.isabs(name) else f"a/{name}",
+            tofile=name if os.path.isabs(name) else f"b/{name}",
+            n=2,
+        )
+
+
+__all__ = ["CONTEXT_LINES", "Excerpt", "FileView", "ProductView", "ReportViews", "gather"]
