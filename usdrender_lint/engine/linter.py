@@ -524,9 +524,23 @@ class Linter:
                 STAGE_OPEN_FAILED_CODE,
                 STAGE_OPEN_FAILED_NAME,
                 severity,
-                line,
+                _without_position(line),
                 _error_location(path, line),
             )
+
+
+def _without_position(message: str) -> str:
+    """USD's message without its leading ``/abs/file.usda:LINE:COL:``: the
+    finding's location carries them (shown relative to where the report is
+    read), and a message must not carry the machine's absolute paths."""
+    position = position_from_error(message)
+    if position is None:
+        return message
+    file, line, column = position
+    prefix = f"{file}:{line}:" + (f"{column}:" if column is not None else "")
+    if not message.startswith(prefix):
+        return message
+    return message[len(prefix) :].strip() or message
 
 
 def _error_location(path: str, message: str) -> Location:
