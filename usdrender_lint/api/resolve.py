@@ -142,10 +142,18 @@ def _composed_targets(rel_and_mode: tuple[Usd.Relationship | None, bool]) -> tup
 
 
 def resolve_targets(rel: Usd.Relationship | None) -> list[Target]:
+    """The relationship's forwarded targets, resolved (a list of its own for
+    each caller)."""
+    return list(_resolved_targets(rel))
+
+
+@cached
+def _resolved_targets(rel: Usd.Relationship | None) -> tuple[Target, ...]:
+    # Several rules and the profiles resolve the same relationships: once per lint.
     if not rel:
-        return []
+        return ()
     stage = rel.GetStage()
-    return [resolve_target(stage, p) for p in forwarded_targets(rel)]
+    return tuple(resolve_target(stage, p) for p in forwarded_targets(rel))
 
 
 def describe_prim_type(prim: Usd.Prim) -> str:
