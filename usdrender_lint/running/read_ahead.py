@@ -43,6 +43,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
 
+from ..layers.crate import crate_structure_problem
 from ..paths import usd_path
 
 #: The layer formats read ahead: ``engine.stage.USD_EXTENSIONS`` less a package
@@ -88,6 +89,8 @@ class _Read:
 def _root_layer_stack(path: str) -> list[Any]:
     from pxr import Ar, Sdf
 
+    if crate_structure_problem(path) is not None:
+        return []  # the lint reports it, without USD reading it
     root = Sdf.Layer.FindOrOpen(usd_path(path))
     if root is None:
         return []
@@ -100,8 +103,11 @@ def _root_layer_stack(path: str) -> list[Any]:
             for asset_path in anchor.subLayerPaths:
                 if "`" in asset_path:
                     continue  # an expression: the stage's variables decide
-                if not os.path.isfile(Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)):
+                file = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
+                if not os.path.isfile(file):
                     continue  # a FIFO would block the read for good: the lint's time-out bounds it
+                if crate_structure_problem(file) is not None:
+                    continue
                 layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
                 if layer is None or layer.identifier in seen:
                     continue
