@@ -245,7 +245,11 @@ def _profile_markdown(profile: Any, rules: list[type]) -> str:
     ]
     parts.append(
         "## Rules it changes\n\n"
-        + (_table(("rule", "under this profile", "why", "source"), changes) if changes else "None.")
+        + (
+            _table(("rule", "under this profile", "why", "source"), changes)
+            if changes
+            else "None: every rule of the schema runs at its default severity."
+        )
     )
     accepted = [
         (
