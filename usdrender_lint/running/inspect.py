@@ -20,6 +20,7 @@ from ..settings_table import DEFAULT_TIMEOUT
 from .discovery import collect_files
 from .outputs import OutputOnInput, refuse_inputs
 from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
+from .supervisor import Supervision
 from .workers import ExecutionError, default_jobs, lint_paths
 
 
@@ -43,6 +44,8 @@ class InspectRequest:
     jobs: int | None = None
     timeout: float | None = DEFAULT_TIMEOUT
     progress: bool | None = None
+    #: How the supervisor ran this process (running/supervisor.py); None: not supervised.
+    supervision: Supervision | None = None
     #: The file the caller will write to (``spec --output``): refused when it is an input.
     output: str | None = None
 
@@ -120,6 +123,7 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             jobs=request.jobs or default_jobs(),
             timeout=request.timeout,
             progress=request.progress,
+            supervision=request.supervision,
         )
     except ExecutionError as exc:
         raise RequestError(str(exc)) from None
