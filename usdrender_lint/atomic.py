@@ -158,7 +158,7 @@ def replace_atomically(
     ``suffix``) in the same folder, keeping the replaced file's permissions.
     On any failure the original is intact and the temporary file is removed."""
     target = Path(path)
-    import tempfile  # only to write a file: a report to stdout does without it
+    import tempfile  # not at import: a lint that writes no file never needs it
 
     handle, temporary = tempfile.mkstemp(
         prefix=temporary_prefix(target.name, suffix), suffix=suffix, dir=target.parent

@@ -130,7 +130,8 @@ def check(
     except RequestError as exc:
         raise ToolError(str(exc)) from None
     options = FormatOptions(
-        show_info=show_info,
+        # A gate that fails on info findings shows them: they are why it fails.
+        show_info=show_info or outcome.settings.fail_on == "info",
         tool_version=__version__,
         statistics=statistics,
         fixing=request.fix is not None,

@@ -59,7 +59,7 @@ def merge(
     except (MergeError, RequestError) as exc:
         raise ToolError(str(exc)) from None
     options = FormatOptions(
-        show_info=show_info,
+        show_info=show_info or prepared.settings.fail_on == "info",
         tool_version=__version__,
         statistics=statistics,
         fixing=bool(report.applied_fixes or report.unapplied_fixes),

@@ -10,11 +10,13 @@ exist, USD cannot open it, it timed out, the inspector raised
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any
 
 from ..engine import Inspector, Linter
 from ..model import FileResult, Report
+from ..paths import display_path
 from ..records import record
 from ..settings_table import DEFAULT_TIMEOUT
 from .discovery import collect_files
@@ -79,8 +81,8 @@ class InspectingLinter:
         if inspected.value is not None:
             return InspectedFile(result.file, findings=result.findings, value=inspected.value)
         if result.status == "linted":  # no stage: USD cannot open it, its ST001 says why
-            why = result.findings[0].message if result.findings else "USD cannot open it"
-            return FileResult(path, status="error", error=f"{path}: {why}")
+            why = _where(result.findings[0]) if result.findings else "USD cannot open it"
+            return FileResult(path, status="error", error=f"{path}{why}")
         return result
 
 
@@ -130,6 +132,18 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
     report = prepared.finish(Report(tuple(results)))
     errored = any(r.status != "linted" for r in report.files)
     return Inspection(report.files, EXIT_TOOL_ERROR if errored else EXIT_OK)
+
+
+def _where(finding: Any) -> str:
+    """``:LINE:COL: message`` (the line where USD gives one), or ``: message``;
+    the position in another layer (a sublayer) with that layer's name."""
+    location = finding.location
+    if location.line is None:
+        return f": {finding.message}"
+    where = f":{location.line}" + (f":{location.column}" if location.column else "")
+    if location.layer and os.path.realpath(location.layer) != os.path.realpath(location.file):
+        where = f": {display_path(location.layer)}{where}"
+    return f"{where}: {finding.message}"
 
 
 def _config(prepared: Any) -> list[str]:

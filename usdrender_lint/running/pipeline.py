@@ -188,10 +188,16 @@ def check_working_directory() -> None:
         )
 
 
+#: The codes the engine reports whatever the selection: a file it could not
+#: check must never pass a gate (ST001 stage-open-failed).
+UNIGNORABLE = ("ST001",)
+
+
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
     for key in ("select", "ignore", "extend_select", "unfixable"):
         check_selectors(registry, getattr(settings, key) or (), settings.where(key))
+    unignorable_notes(registry, settings)
     for glob, selectors in settings.per_path_ignores.items():
         check_selectors(registry, selectors, f"{settings.where('per_path_ignores')}.{glob}")
     try:
@@ -202,6 +208,28 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
         raise ConfigError(str(exc)) from None
     options = _options_by_code(registry, settings)
     return [rule(options.get(rule.code)) for rule in chosen]
+
+
+def unignorable_notes(registry: Registry, settings: Settings) -> list[str]:
+    """Raise a ConfigError for an ``ignore`` that names an unignorable rule
+    itself (``--ignore ST001``); one note for each wider selector that covers
+    one (``--ignore ALL``, ``--ignore ST``), which ignores the others."""
+    notes = []
+    for rule in [r for r in registry.rules if r.code in UNIGNORABLE]:
+        for token in settings.ignore:
+            if not matches_any(rule, [token]):
+                continue
+            why = (
+                f"{rule.code} ({rule.name}) is always reported: a file USD cannot open is "
+                "not linted, and a gate must not pass it"
+            )
+            if token.strip().upper() == rule.code or token.strip().lower() == rule.name:
+                raise ConfigError(
+                    f"{settings.where('ignore')}: {token!r} cannot be ignored: {why}; fix the "
+                    "file, or leave it out of the paths linted"
+                )
+            notes.append(f"note: ignore {token!r}: {why}; the other rules it names are ignored")
+    return notes
 
 
 def check_selectors(registry: Registry, selectors: Iterable[str], where: str) -> None:
@@ -369,7 +397,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     start; a file that cannot be linted is an error result, never an exception."""
     prepared = prepare(request, registry)
     settings = prepared.settings
-    notes: list[str] = []
+    notes = unignorable_notes(prepared.registry, settings)
     known = _load_baseline(request)
     if settings.variants and request.fix is not None:
         raise RequestError(
