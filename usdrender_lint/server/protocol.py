@@ -119,13 +119,15 @@ class UsdRenderLintServer(LanguageServer):
         tick = self.wanted[uri] = self.ticks
         text = self.workspace.get_text_document(uri).source
         expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
-        if expected >= SLOW:
-            if self.linting.cancel(path, tick):
-                self.window_log_message(
-                    types.LogMessageParams(
-                        types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
-                    )
+        # A slow document's running lint is cancelled at once; a quick one's
+        # only when it turns out slow (USD hangs on it, say): else it ends soon.
+        if self.linting.cancel(path, tick, running_for=0.0 if expected >= SLOW else SLOW):
+            self.window_log_message(
+                types.LogMessageParams(
+                    types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
                 )
+            )
+        if expected >= SLOW:
             await asyncio.sleep(DEBOUNCE)
             if self.wanted.get(uri) != tick:
                 return
