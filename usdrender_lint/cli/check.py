@@ -13,7 +13,7 @@ from .. import __version__
 from ..formatters import FormatOptions, load_formatter, reads_rules
 from ..paths import escape
 from ..running.interrupts import check_stopped
-from .loading import import_engine, linted_here
+from .loading import import_engine, supervision
 from .options import (
     config_option,
     isolated_option,
@@ -108,7 +108,7 @@ def check(
     **settings: Any,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
-    import_engine(read_ahead=linted_here(paths, config_path, isolated, no_roots))
+    import_engine()
     check_stopped()  # a signal while USD imported its modules
     from ..running.pipeline import Request, RequestError, run
 
@@ -122,6 +122,7 @@ def check(
         write_baseline=write_baseline_file,
         shard=shard,
         output=output_file,
+        supervision=supervision(),
         **setting_values("check", settings),
     )
     try:

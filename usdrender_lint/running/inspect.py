@@ -22,6 +22,7 @@ from ..settings_table import DEFAULT_TIMEOUT
 from .discovery import Exclusions, collect_files
 from .outputs import OutputOnInput, refuse_inputs
 from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
+from .supervisor import Supervision
 from .workers import ExecutionError, default_jobs, lint_paths
 
 
@@ -45,6 +46,8 @@ class InspectRequest:
     jobs: int | None = None
     timeout: float | None = DEFAULT_TIMEOUT
     progress: bool | None = None
+    #: How the supervisor ran this process (running/supervisor.py); None: not supervised.
+    supervision: Supervision | None = None
     #: Patterns not inspected in a folder walked (--exclude, --extend-exclude).
     exclude: tuple[str, ...] | None = None
     extend_exclude: tuple[str, ...] | None = None
@@ -127,6 +130,7 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             jobs=request.jobs or default_jobs(),
             timeout=request.timeout,
             progress=request.progress,
+            supervision=request.supervision,
         )
     except ExecutionError as exc:
         raise RequestError(str(exc)) from None

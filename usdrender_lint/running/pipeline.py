@@ -27,6 +27,7 @@ from ..registry import Registry, SelectionError, build_registry, matches_any, se
 from ..settings_table import DEFAULT_TIMEOUT, request_settings
 from .discovery import Exclusions, collect_files
 from .path_ignores import apply_path_ignores
+from .supervisor import Supervision
 from .workers import (
     ExecutionError,
     default_jobs,
@@ -95,6 +96,8 @@ class Request:
     cache_dir: str | os.PathLike[str] | None = None
     #: (K, N): lint only part K of N of the files (running/shards.py).
     shard: tuple[int, int] | None = None
+    #: How the supervisor ran this process (running/supervisor.py); None: not supervised.
+    supervision: Supervision | None = None
     #: Patterns not linted in a folder walked (--exclude, --extend-exclude).
     exclude: tuple[str, ...] | None = None
     extend_exclude: tuple[str, ...] | None = None
@@ -510,6 +513,7 @@ def _lint(
                 jobs=request.jobs or default_jobs(),
                 timeout=request.timeout,
                 progress=request.progress,
+                supervision=request.supervision,
             )
         except ExecutionError as exc:
             raise RequestError(str(exc)) from None
