@@ -191,4 +191,17 @@ def emit_report(
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     check_stopped()
+    report = _relative_messages(report)
     send(lambda stream: formatter.render(report, stream, options), output_file, "the report")
+
+
+def _relative_messages(report: Report) -> Report:
+    """The report with the absolute paths in its messages written relative to
+    the working directory when below it, as its files are named."""
+    from ..paths import relative_in
+
+    files = []
+    for result in report.files:
+        findings = tuple(replace(f, message=relative_in(f.message)) for f in result.findings)
+        files.append(result if findings == result.findings else replace(result, findings=findings))
+    return replace(report, files=tuple(files))

@@ -7,6 +7,7 @@ from collections.abc import Iterable
 
 from pxr import Sdf, Tf, Usd
 
+from ..layers.files import lfs_pointer_problem
 from ..paths import usd_path
 from ..records import record
 
@@ -52,6 +53,9 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
     if stage is None and path.lower().endswith(".usdz"):
         problem = _package_problem(path)
         errors = ((problem,) if problem else ()) + errors
+    if stage is None:
+        pointer = lfs_pointer_problem(path)
+        errors = (pointer,) if pointer else errors  # USD's own words do not say it
     if stage is None and not errors:
         errors = (f"USD could not open {path}",)
     return StageOpenResult(stage, errors)
