@@ -245,7 +245,11 @@ def _profile_markdown(profile: Any, rules: list[type]) -> str:
     ]
     parts.append(
         "## Rules it changes\n\n"
-        + (_table(("rule", "under this profile", "why", "source"), changes) if changes else "None.")
+        + (
+            _table(("rule", "under this profile", "why", "source"), changes)
+            if changes
+            else "None: every rule of the schema runs at its default severity."
+        )
     )
     accepted = [
         (
@@ -319,58 +323,41 @@ class Setting:
     default: str
     changes_findings: bool
     help: str
-
-
-#: Settings fields that are no configuration key (bookkeeping of the loader).
-_NOT_KEYS = {"source", "from_flags"}
-#: Settings fields whose key is not the field's name in kebab-case.
-_KEY_OF = {"rule_options": "rules"}
+    flag: str = ""
 
 
 def settings_declaration() -> list[Setting]:
-    """Every configuration key, from the settings' declaration
-    (``usdrender_lint.config.Settings``, its ``#:`` comments and the result
-    cache's list of settings that cannot change a finding). The one place to
-    re-point when the declaration moves."""
+    """Every configuration key, from the settings table
+    (``usdrender_lint.settings_table.SETTINGS``: key, help, default, flag and
+    whether it can change a finding) and the types of the Settings it fills.
+    The one place to re-point when the declaration moves."""
     from usdrender_lint.config import Settings
-    from usdrender_lint.running.result_cache import SETTINGS_NOT_IN_KEY
+    from usdrender_lint.settings_table import SETTINGS
 
-    comments = _field_comments(Settings)
     hints = typing.get_type_hints(Settings)
+    fields = {f.name: f for f in dataclasses.fields(Settings)}
     found = []
-    for f in dataclasses.fields(Settings):
-        if f.name in _NOT_KEYS:
-            continue
-        if f.default is not dataclasses.MISSING:
-            default: Any = f.default
-        else:
-            default = f.default_factory()  # type: ignore[misc]
+    for entry in SETTINGS:
+        if not entry.config_key:
+            continue  # a run option (--jobs, --timeout): the command-line reference has it
+        field = fields[entry.name]
+        default = entry.default
+        if default is None and field.default is not dataclasses.MISSING:
+            default = field.default
+        help_text = entry.help if entry.help.endswith(".") else entry.help + "."
+        if entry.shown_default and default is None:
+            help_text += f" Default: {entry.shown_default}."
         found.append(
             Setting(
-                key=_KEY_OF.get(f.name, f.name.replace("_", "-")),
-                type=_type_name(hints[f.name]),
+                key=entry.config_key,
+                type=_type_name(hints[entry.name]),
                 default=_toml(default),
-                changes_findings=f.name not in SETTINGS_NOT_IN_KEY,
-                help=comments.get(f.name, ""),
+                changes_findings=entry.changes_findings,
+                help=help_text,
+                flag=entry.flag or "",
             )
         )
     return found
-
-
-def _field_comments(cls: type) -> dict[str, str]:
-    """``#:`` comments above each field of a class, by field name."""
-    comments: dict[str, str] = {}
-    pending: list[str] = []
-    for line in inspect.getsource(cls).splitlines():
-        stripped = line.strip()
-        if stripped.startswith("#:"):
-            pending.append(stripped[2:].strip())
-            continue
-        field = re.match(r"(\w+)\s*:", stripped)
-        if field and pending:
-            comments[field.group(1)] = " ".join(pending)
-        pending = []
-    return comments
 
 
 def _type_name(hint: Any) -> str:
@@ -420,7 +407,7 @@ def _config_markdown() -> str:
             s.type,
             f"`{s.default}`",
             "yes" if s.changes_findings else "no",
-            s.help,
+            s.help + (f" Flag: `{s.flag}`." if s.flag else ""),
         )
         for s in settings_declaration()
     ]

@@ -285,3 +285,107 @@ def test_variant_sets_read_in_one_pass_match_usds_own_answer(tmp_path: Path) -> 
     ]
     found = [(s.name, s.authored, sorted(s.choices)) for s in render_variant_sets(stage)]
     assert found == [(name, chosen, sorted(names)) for name, chosen, names in expected]
+
+
+# A variant that adds a product, one that deactivates the vars' scope, and a
+# scope that copies /Render through an internal reference (USD recomposes it
+# when a selection on /Render changes) with a suppression on the copy.
+ARCS = """#usda 1.0
+
+def Scope "Render" (
+    variants = {
+        string extra = "no"
+        string vars = "on"
+    }
+    prepend variantSets = ["extra", "vars"]
+)
+{
+    def RenderSettings "Settings"
+    {
+        rel products = </Render/Beauty>
+    }
+
+    def RenderProduct "Beauty"
+    {
+        rel orderedVars = </Render/Vars/Color>
+    }
+
+    def Scope "Vars"
+    {
+        def RenderVar "Color"
+        {
+        }
+    }
+
+    variantSet "extra" = {
+        "no" {
+        }
+        "yes" {
+            def RenderProduct "Extra"
+            {
+            }
+        }
+    }
+    variantSet "vars" = {
+        "off" {
+            over "Vars" (
+                active = false
+            )
+            {
+            }
+        }
+        "on" {
+        }
+    }
+}
+
+def Scope "Copy" (
+    customData = {
+        dictionary usdrender_lint = {
+            string[] ignore = ["ST008"]
+        }
+    }
+    references = </Render>
+)
+{
+}
+"""
+
+
+def test_each_combination_walks_only_what_usd_recomposed(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """After the first walk a combination re-walks only the subtrees USD
+    recomposed, and keeps exactly the prims a whole walk would."""
+    from usdrender_lint.engine import variants
+
+    path = tmp_path / "arcs.usda"
+    path.write_text(ARCS)
+    linter = Linter(all_rules())
+    stage = Usd.Stage.Open(str(path))
+    sets = render_variant_sets(stage)
+    assert combination_count(sets) == 16  # /Copy has the sets too
+    whole_walks = []
+    walk_candidates = linter.walk_candidates
+
+    def counted(stage, prims=None, own_stage=False):
+        if prims is None:
+            whole_walks.append(stage)
+        return walk_candidates(stage, prims, own_stage)
+
+    with variants._Walk(linter, stage, own_stage=True) as walk:
+        seen = set()
+        for combination in variants.combinations(sets, 16):
+            variants.author_selection(stage, sets, combination)
+            monkeypatch.setattr(linter, "walk_candidates", counted)
+            kept = [p.GetPath() for p in walk.prims()]
+            monkeypatch.setattr(linter, "walk_candidates", walk_candidates)
+            assert kept == [p.GetPath() for p in walk_candidates(stage)]
+            seen.add(tuple(kept))
+    assert whole_walks == []
+    assert len(seen) > 4  # the combinations compose other prims
+    explored = VariantExplorer(linter).lint_path(str(path))
+    stage.GetSessionLayer().Clear()
+    assert explored.findings  # the same as a whole walk per combination:
+    monkeypatch.setattr(variants._Walk, "prims", lambda self: walk_candidates(self._stage))
+    assert VariantExplorer(linter).lint_path(str(path)).findings == explored.findings

@@ -18,11 +18,13 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterable
-from html import escape
+from html import escape as _html_escape
 from typing import TYPE_CHECKING, TextIO
 
 from ..model import FileResult, Finding, Report, Severity
 from ..paths import display_path
+from ..paths import escape as _utf8
+from ..running.report_views import finding_key as _key
 from . import FormatOptions
 
 if TYPE_CHECKING:
@@ -37,7 +39,12 @@ class HtmlFormatter:
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         from ..running.report_views import gather
 
-        stream.write(render_page(report, gather(report), options))
+        page = render_page(report, gather(report), options)
+        try:
+            page.encode("utf-8")
+        except UnicodeEncodeError:  # a name not UTF-8 inside a picture: never invalid UTF-8
+            page = page.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+        stream.write(page)
 
 
 def render_page(report: Report, views: ReportViews, options: FormatOptions) -> str:
@@ -227,7 +234,7 @@ def _finding(finding: Finding, anchor: str, view: FileView | None, rules: dict) 
             f'<p class="why dim">profile {escape(finding.profile)}: '
             f"{escape(finding.profile_reason or '')}</p>"
         )
-    key = _view_key(finding)
+    key = _key(finding)
     excerpt = view.excerpts.get(key) if view is not None else None
     if excerpt is not None:
         out.append(_excerpt(excerpt))
@@ -275,11 +282,9 @@ def _data(finding: Finding) -> str:
     )
 
 
-def _key(finding: Finding) -> tuple:
-    return (finding.location.file, finding.code, finding.location.path or "", finding.message)
-
-
-_view_key = _key
+def escape(text: str) -> str:
+    """``text`` for HTML: a file name that is not UTF-8 written losslessly (``\\xNN``)."""
+    return _html_escape(_utf8(text))
 
 
 def _first_name(findings: Iterable[Finding], code: str) -> str:

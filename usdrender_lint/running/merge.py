@@ -41,7 +41,7 @@ def configuration_digest(
     the same digest come from runs that judge a file alike."""
     from pxr import Usd
 
-    from .result_cache import settings_key
+    from ..settings_table import settings_key
 
     parts = {
         "usd": list(Usd.GetVersion()),
