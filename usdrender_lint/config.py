@@ -23,6 +23,7 @@ from .model import Severity
 from .records import record
 from .settings_table import (
     BY_CONFIG_KEY,
+    DEFAULT_EXCLUDE,
     FAIL_ON_CHOICES,
     MAX_JOBS,
     MAX_TIMEOUT,
@@ -64,6 +65,12 @@ class Settings:
     profile: str = "auto"
     #: File glob -> profile name for matching files (wins over ``profile``).
     per_path_profiles: Mapping[str, str] = field(default_factory=dict)
+    #: Gitignore-style patterns not linted when a folder is walked (the default replaced).
+    exclude: tuple[str, ...] = DEFAULT_EXCLUDE
+    #: Patterns excluded as well as ``exclude``'s.
+    extend_exclude: tuple[str, ...] = ()
+    #: Skip what .gitignore files ignore when a folder is walked.
+    respect_gitignore: bool = True
     #: Where the result cache lives (relative to the config file's folder);
     #: None: ``.usdrender_lint_cache`` there (running/result_cache.py).
     cache_dir: str | None = None

@@ -24,6 +24,9 @@ MAX_TIMEOUT = 86_400
 MAX_JOBS = 1024
 #: The most variant combinations linted per file (each composes the stage anew).
 MAX_VARIANT_COMBINATIONS = 10_000
+#: Folders never walked into unless named (beside every hidden file and folder):
+#: other tools' environments, which hold USD files that are not the project's.
+DEFAULT_EXCLUDE = ("node_modules", "site-packages", "venv", "__pypackages__")
 #: Seconds one file may take by default: a hang (a FIFO in a layer stack, a
 #: runaway composition) costs the file, not the run.
 DEFAULT_TIMEOUT = 120.0
@@ -311,6 +314,39 @@ SETTINGS: tuple[Setting, ...] = (
         _glob_profiles,
         default={},
         config_key="per-path-profiles",
+    ),
+    # Which files a folder yields (running/discovery.py): never what is found in a file.
+    Setting(
+        "exclude",
+        "Gitignore-style patterns of files and folders not linted when a folder is walked "
+        "(a path given is always linted); replaces the default list",
+        _strings,
+        kind="tokens",
+        default=DEFAULT_EXCLUDE,
+        config_key="exclude",
+        flag="--exclude",
+        commands=("check", "spec"),
+        shown_default=", ".join(DEFAULT_EXCLUDE),
+        changes_findings=False,
+    ),
+    Setting(
+        "extend_exclude",
+        "Patterns excluded as well as those of exclude",
+        _strings,
+        kind="tokens",
+        default=(),
+        config_key="extend-exclude",
+        flag="--extend-exclude",
+        commands=("check", "spec"),
+        changes_findings=False,
+    ),
+    Setting(
+        "respect_gitignore",
+        "Skip what .gitignore files (and .git/info/exclude) ignore when a folder is walked.",
+        _bool,
+        default=True,
+        config_key="respect-gitignore",
+        changes_findings=False,
     ),
     Setting(
         "cache_dir",

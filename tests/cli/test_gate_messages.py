@@ -86,3 +86,49 @@ def test_st001_does_not_repeat_the_absolute_path(output_format: str) -> None:
         (finding,) = json.loads(result.stdout)["files"][0]["findings"]
         assert finding["message"] == "Expected } at '' in </Lights/key>"
         assert (finding["line"], finding["column"]) == (9, 1)
+
+
+# -- Git LFS pointers and absolute paths in messages ------------------------------------
+
+LFS_POINTER = (
+    "version https://git-lfs.github.com/spec/v1\n"
+    "oid sha256:4d7a214614ab2935c943f9e0ff69d22eadbb8f32b1258daaa5e2ca24d17e2393\n"
+    "size 12345\n"
+)
+
+
+@pytest.mark.parametrize("suffix", [".usd", ".usda", ".usdc"])
+def test_a_git_lfs_pointer_is_named_as_such(tmp_path: Path, suffix: str) -> None:
+    pointer = tmp_path / f"shot{suffix}"
+    pointer.write_text(LFS_POINTER)
+    result = check("--format", "json", str(pointer))
+    assert result.exit_code == 1
+    (finding,) = json.loads(result.stdout)["files"][0]["findings"]
+    assert finding["code"] == "ST001"
+    assert finding["message"].startswith("this is a Git LFS pointer, not the layer")
+    assert "git lfs pull" in finding["message"]
+
+
+def test_a_sublayer_that_is_a_git_lfs_pointer_is_named_and_paths_are_relative(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "lighting.usda").write_text(LFS_POINTER)
+    (tmp_path / "shot.usda").write_text("#usda 1.0\n(\n    subLayers = [@./lighting.usda@]\n)\n")
+    monkeypatch.chdir(tmp_path)
+    for output_format in ("json", "github", "sarif", "text"):
+        result = check("--format", output_format, "shot.usda")
+        assert result.exit_code == 1
+        assert "@lighting.usda@ is a Git LFS pointer, not the layer" in result.stdout
+        # No absolute path leaks (SARIF names the base folder its URIs are relative to).
+        text = result.stdout.replace(f'"uri": "{tmp_path.as_uri()}/"', "")
+        assert str(tmp_path) not in text, output_format
+
+
+def test_relative_in_rewrites_only_paths_below_the_directory() -> None:
+    from usdrender_lint.paths import relative_in
+
+    text = "@/ci/work/shot.usda@ and </ci/work/a.usda> but not /x/ci/work/b or /ci/workshop/c"
+    assert relative_in(text, "/ci/work") == (
+        "@shot.usda@ and <a.usda> but not /x/ci/work/b or /ci/workshop/c"
+    )
+    assert relative_in(text, "/") == text

@@ -217,3 +217,20 @@ def test_the_contributing_page_names_every_test_that_reads_shared() -> None:
         if re.search(r"\bshared_dir\b|\bSHARED\b", path.read_text(encoding="utf-8"))
     } - {"test_shared_skips.py"}
     assert readers - named == set()
+
+
+def test_no_page_installs_from_a_package_index(site: dict[str, str]) -> None:
+    """usdrender-lint is on no index yet: every install is from a clone (.) or a
+    Git tag (``usdrender-lint[extra] @ git+URL@vX.Y.Z``), never ``pip install
+    usdrender-lint`` or ``usdrender-lint==X``."""
+    texts = {**site, "README.md": (REPO / "README.md").read_text(encoding="utf-8")}
+    wrong = [
+        f"{page}: {line.strip()}"
+        for page, text in texts.items()
+        for line in text.splitlines()
+        if re.search(
+            r"pip install\b.*['\"\s]usdrender-lint\b(?![-\w]*(?:\[[\w,]+\])?\s*@\s*git\+)", line
+        )
+        or "usdrender-lint==" in line
+    ]
+    assert wrong == []

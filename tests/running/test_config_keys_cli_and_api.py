@@ -117,6 +117,10 @@ KEYS = {
     "unfixable": ('unfixable = ["SE003"]', "lighting.usda", "none"),
     # where the result cache lives, not what it finds (tests/running/test_result_cache.py)
     "cache-dir": ('cache-dir = "lint-cache"', "lighting.usda", "none"),
+    # which files a folder yields, not what a file gives (tests/running/test_discovery.py)
+    "exclude": ('exclude = ["lighting.usda"]', "lighting.usda", "none"),
+    "extend-exclude": ('extend-exclude = ["lighting.usda"]', "lighting.usda", "none"),
+    "respect-gitignore": ("respect-gitignore = false", "lighting.usda", "none"),
 }  # fmt: skip
 
 

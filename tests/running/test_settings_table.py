@@ -42,6 +42,9 @@ SAMPLES: dict[str, tuple[str, Any]] = {
     "profile": ('"karma"', "karma"),
     "per-path-profiles": ('{ "a/*.usda" = "arnold" }', {"a/*.usda": "arnold"}),
     "cache-dir": ('"build/cache"', "build/cache"),
+    "exclude": ('["build"]', ("build",)),
+    "extend-exclude": ('["wip/*.usda"]', ("wip/*.usda",)),
+    "respect-gitignore": ("false", False),
 }
 
 _CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - {"source", "from_flags"}

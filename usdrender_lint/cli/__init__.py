@@ -18,6 +18,7 @@ import click
 from .. import __version__
 from ..paths import printable
 from ..running.interrupts import Stopped, stop_on_signals
+from ..running.supervisor import Supervision
 from .check import check
 from .explain import explain
 from .merge import merge
@@ -38,14 +39,15 @@ for _command in (check, merge, spec_command, list_rules, server_command, explain
     cli.add_command(_command)
 
 
-def main(argv: Sequence[str] | None = None) -> None:
+def main(argv: Sequence[str] | None = None, supervision: Supervision | None = None) -> None:
     """Console entry point: no traceback ever reaches the user. Ctrl-C exits
     130 and SIGTERM 143 (128 + the signal) after cleaning up; a closed or
-    broken stdout exits 2 quietly."""
+    broken stdout exits 2 quietly. ``supervision``: how the supervisor
+    (running/supervisor.py) ran this process, for the commands it supervises."""
     _open_closed_standard_streams()
     try:
         with stop_on_signals():
-            cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True)
+            cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True, obj=supervision)
     except SystemExit:
         raise
     except Stopped as stopped:

@@ -13,7 +13,7 @@ from .. import __version__
 from ..formatters import FormatOptions, load_formatter, reads_rules
 from ..paths import escape
 from ..running.interrupts import check_stopped
-from .loading import import_engine, linted_here
+from .loading import import_engine, supervision
 from .options import (
     config_option,
     isolated_option,
@@ -108,7 +108,7 @@ def check(
     **settings: Any,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
-    import_engine(read_ahead=linted_here(paths, config_path, isolated, no_roots))
+    import_engine()
     check_stopped()  # a signal while USD imported its modules
     from ..running.pipeline import Request, RequestError, run
 
@@ -122,6 +122,7 @@ def check(
         write_baseline=write_baseline_file,
         shard=shard,
         output=output_file,
+        supervision=supervision(),
         **setting_values("check", settings),
     )
     try:
@@ -190,4 +191,17 @@ def emit_report(
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
     check_stopped()
+    report = _relative_messages(report)
     send(lambda stream: formatter.render(report, stream, options), output_file, "the report")
+
+
+def _relative_messages(report: Report) -> Report:
+    """The report with the absolute paths in its messages written relative to
+    the working directory when below it, as its files are named."""
+    from ..paths import relative_in
+
+    files = []
+    for result in report.files:
+        findings = tuple(replace(f, message=relative_in(f.message)) for f in result.findings)
+        files.append(result if findings == result.findings else replace(result, findings=findings))
+    return replace(report, files=tuple(files))

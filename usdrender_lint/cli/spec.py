@@ -9,7 +9,7 @@ import click
 
 from .. import __version__
 from ..paths import printable
-from .loading import import_engine, linted_here
+from .loading import import_engine, supervision
 from .options import config_option, isolated_option, setting_options, setting_values
 from .output import ToolError, error, write, write_file
 from .views import emit, format_option, view
@@ -87,8 +87,7 @@ def spec_command(
     output_format = output_format.lower()
     if output_format == "svg" and output is None:
         raise ToolError("--format svg writes one file per product: give --output DIR")
-    # spec reads each file on its own: no roots.
-    import_engine(read_ahead=linted_here(paths, config_path, isolated, no_roots=True))
+    import_engine()
     from functools import partial
 
     from ..render_spec.compute import SpecOptions, compute_file_spec
@@ -102,6 +101,7 @@ def spec_command(
         config=config_path,
         isolated=isolated,
         output=output if output_format != "svg" else None,
+        supervision=supervision(),
         **setting_values("spec", settings),
     )
     try:

@@ -19,9 +19,10 @@ from ..model import FileResult, Report
 from ..paths import display_path
 from ..records import record
 from ..settings_table import DEFAULT_TIMEOUT
-from .discovery import collect_files
+from .discovery import Exclusions, collect_files
 from .outputs import OutputOnInput, refuse_inputs
 from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
+from .supervisor import Supervision
 from .workers import ExecutionError, default_jobs, lint_paths
 
 
@@ -45,6 +46,11 @@ class InspectRequest:
     jobs: int | None = None
     timeout: float | None = DEFAULT_TIMEOUT
     progress: bool | None = None
+    #: How the supervisor ran this process (running/supervisor.py); None: not supervised.
+    supervision: Supervision | None = None
+    #: Patterns not inspected in a folder walked (--exclude, --extend-exclude).
+    exclude: tuple[str, ...] | None = None
+    extend_exclude: tuple[str, ...] | None = None
     #: The file the caller will write to (``spec --output``): refused when it is an input.
     output: str | None = None
 
@@ -106,10 +112,12 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             config=request.config,
             isolated=request.isolated,
             profile=request.profile,
+            exclude=request.exclude,
+            extend_exclude=request.extend_exclude,
         )
     )
     factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
-    files = collect_files(request.paths)
+    files = collect_files(request.paths, exclusions=Exclusions.of(prepared.settings))
     try:
         refuse_inputs([(request.output, "the specification")], [*files, *_config(prepared)])
     except OutputOnInput as exc:
@@ -122,6 +130,7 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             jobs=request.jobs or default_jobs(),
             timeout=request.timeout,
             progress=request.progress,
+            supervision=request.supervision,
         )
     except ExecutionError as exc:
         raise RequestError(str(exc)) from None

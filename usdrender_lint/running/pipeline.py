@@ -25,8 +25,9 @@ from ..profiles.detect import Profiler
 from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from ..settings_table import DEFAULT_TIMEOUT, request_settings
-from .discovery import collect_files
+from .discovery import Exclusions, collect_files
 from .path_ignores import apply_path_ignores
+from .supervisor import Supervision
 from .workers import (
     ExecutionError,
     default_jobs,
@@ -95,6 +96,11 @@ class Request:
     cache_dir: str | os.PathLike[str] | None = None
     #: (K, N): lint only part K of N of the files (running/shards.py).
     shard: tuple[int, int] | None = None
+    #: How the supervisor ran this process (running/supervisor.py); None: not supervised.
+    supervision: Supervision | None = None
+    #: Patterns not linted in a folder walked (--exclude, --extend-exclude).
+    exclude: tuple[str, ...] | None = None
+    extend_exclude: tuple[str, ...] | None = None
     #: The file the caller will write the report to (--output): refused, before
     #: anything is linted, when the run reads it (running/outputs.py).
     output: str | None = None
@@ -403,7 +409,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     if request.fix is not None and request.fix.fix_to and request.fix.write is False:
         raise RequestError("use either --diff or --fix-to, not both")
     empty: list[str] = []
-    files = collect_files(request.paths, empty)
+    files = collect_files(request.paths, empty, Exclusions.of(settings))
     notes.extend(
         f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
     )
@@ -507,6 +513,7 @@ def _lint(
                 jobs=request.jobs or default_jobs(),
                 timeout=request.timeout,
                 progress=request.progress,
+                supervision=request.supervision,
             )
         except ExecutionError as exc:
             raise RequestError(str(exc)) from None
