@@ -9,6 +9,7 @@ test would cost more than the tests).
 from __future__ import annotations
 
 import asyncio
+import os
 import shutil
 import subprocess
 import sys
@@ -41,6 +42,8 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 #: The version of the document each URI's last diagnostics were published for.
 published_versions: dict[str, int | None] = {}
+#: How many times diagnostics were published for each URI.
+publications: dict[str, int] = {}
 
 
 def make_client() -> LanguageClient:
@@ -50,6 +53,7 @@ def make_client() -> LanguageClient:
     def publish(client: LanguageClient, params: types.PublishDiagnosticsParams) -> None:
         client.diagnostics[params.uri] = params.diagnostics
         published_versions[params.uri] = params.version
+        publications[params.uri] = publications.get(params.uri, 0) + 1
 
     def register(client: LanguageClient, params: types.RegistrationParams) -> None:
         return None
@@ -397,3 +401,33 @@ async def test_a_quick_fix_edits_the_unsaved_text(client: LanguageClient, worksp
     assert fixed == unsaved.replace("</World/camRig>", "</World/camRig/shotCam>", 1)
     change(client, uri, 21, path.read_text())
     await diagnostics_of(client, uri, 21)
+
+
+async def test_a_save_relints_with_the_files_on_disk(client: LanguageClient, workspace: Path):
+    """Saving lints again: a file the document references that changed on disk
+    meanwhile is read again (here the camera the settings target disappears)."""
+    cams = workspace / "cams.usda"
+    path = workspace / "saved.usda"
+    text = (
+        '#usda 1.0\ndef Xform "World" (\n    references = @./cams.usda@</rig>\n)\n{\n}\n'
+        'def RenderSettings "S"\n{\n    rel camera = </World/cam>\n}\n'
+    )
+    path.write_text(text)
+    uri = open_document(client, path, text)
+    assert "CA003" not in {d.code for d in await diagnostics_of(client, uri, 1)}
+    before = cams.stat().st_mtime
+    original = cams.read_text()
+    cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n}\n')
+    os.utime(cams, (before + 5, before + 5))
+    count = publications[uri]
+    client.text_document_did_save(
+        types.DidSaveTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+    async with asyncio.timeout(60):
+        while publications[uri] == count:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert "CA003" in {d.code for d in client.diagnostics[uri]}
+    cams.write_text(original)
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )

@@ -16,6 +16,7 @@ from pxr import Sdf, Tf, Usd
 from .. import debug
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
+from ..layers.crate import crate_structure_problem
 from ..layers.files import layer_identifier, real_path, unreadable_reason
 from ..model import (
     INTERNAL_ERROR_CODE,
@@ -246,6 +247,9 @@ class Linter:
     def _lint_file(
         self, path: str, inspect: Inspector[_T] | None, full_composition: bool = False
     ) -> Inspected[_T]:
+        problem = crate_structure_problem(path)
+        if problem is not None:  # before USD reads it: a corrupt count costs minutes and GBs
+            raise CorruptValue(problem)
         full = full_composition or self.full_composition
         masked = None if full else self._open_partial(path)
         if masked is not None and self._reads is not None:

@@ -30,6 +30,7 @@ from typing import Any
 from pxr import Sdf, Tf, Usd
 
 from ..api import Rule
+from ..layers.crate import crate_structure_problem
 from ..layers.files import unreadable_reason
 from ..model import FileResult, Finding
 from ..records import record
@@ -188,7 +189,7 @@ class VariantExplorer:
         """Lint ``path`` under each combination; the stage is always composed
         whole (``full_composition`` is accepted, as by Linter.lint_path). The
         result's notes say how many combinations the cap skipped."""
-        if unreadable_reason(path) is not None:
+        if unreadable_reason(path) is not None or crate_structure_problem(path) is not None:
             return self.linter.lint_path(path)  # it reports what is wrong
         opened = open_stage(path)
         if opened.stage is None:
