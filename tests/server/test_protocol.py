@@ -114,6 +114,20 @@ def change(client: LanguageClient, uri: str, version: int, text: str) -> None:
     )
 
 
+async def quick_actions(
+    client: LanguageClient, uri: str, diagnostic: types.Diagnostic
+) -> list[types.CodeAction]:
+    """The code actions offered on one diagnostic, as a light bulb asks for them."""
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=diagnostic.range,
+            context=types.CodeActionContext(diagnostics=[diagnostic]),
+        )
+    )
+    return list(actions or [])
+
+
 def apply(text: str, edits: list[types.TextEdit]) -> str:
     return apply_edits(
         text,
@@ -231,13 +245,7 @@ async def test_quick_fix_and_fix_all_give_the_fix_result(
     text = path.read_text()
     found = await diagnostics_of(client, uri, 3)
     camera = next(d for d in found if d.code == "CA004")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=camera.range,
-            context=types.CodeActionContext(diagnostics=[camera]),
-        )
-    )
+    actions = await quick_actions(client, uri, camera)
     titles = [a.title for a in actions]
     fix = next(a for a in actions if a.title.startswith("Fix CA004"))
     assert fix.kind == types.CodeActionKind.QuickFix and fix.is_preferred
@@ -248,13 +256,7 @@ async def test_quick_fix_and_fix_all_give_the_fix_result(
 
     # The unsafe fix is labelled so.
     window = next(d for d in found if d.code == "SE003")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=window.range,
-            context=types.CodeActionContext(diagnostics=[window]),
-        )
-    )
+    actions = await quick_actions(client, uri, window)
     unsafe = next(a for a in actions if a.title.startswith("Fix SE003"))
     assert "unsafe" in unsafe.title and not unsafe.is_preferred
 
@@ -287,13 +289,7 @@ async def test_suppress_in_custom_data_silences_the_finding(
     text = path.read_text()
     found = await diagnostics_of(client, uri, 3)
     product = next(d for d in found if d.code == "PR004")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=product.range,
-            context=types.CodeActionContext(diagnostics=[product]),
-        )
-    )
+    actions = await quick_actions(client, uri, product)
     suppress = next(a for a in actions if a.title.startswith("Suppress PR004"))
     suppressed = apply(text, suppress.edit.changes[uri])
     assert '"PR004"' in suppressed
@@ -389,13 +385,7 @@ async def test_a_quick_fix_edits_the_unsaved_text(client: LanguageClient, worksp
     change(client, uri, 20, unsaved)
     camera = next(d for d in await diagnostics_of(client, uri, 20) if d.code == "CA004")
     assert unsaved.splitlines()[camera.range.start.line].strip().startswith("rel camera")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=camera.range,
-            context=types.CodeActionContext(diagnostics=[camera]),
-        )
-    )
+    actions = await quick_actions(client, uri, camera)
     fix = next(a for a in actions if a.title.startswith("Fix CA004"))
     fixed = apply(unsaved, fix.edit.changes[uri])
     assert fixed == unsaved.replace("</World/camRig>", "</World/camRig/shotCam>", 1)
