@@ -58,7 +58,7 @@ def _init(self: object, *args: Any, **kwargs: Any) -> None:
     layout = _layout(self)
     if not kwargs and layout.all_positional and len(args) == len(layout.positional):
         # The common call (a Target, a Finding built by position): every field given.
-        self.__dict__.update(zip(layout.positional, args))
+        self.__dict__.update(zip(layout.positional, args, strict=True))
         post_init = getattr(self, "__post_init__", None)
         if post_init is not None:
             post_init()
