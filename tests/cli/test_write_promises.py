@@ -199,6 +199,19 @@ def test_version_and_help_onto_a_full_device(args: list[str]) -> None:
     )
 
 
+@pytest.mark.parametrize("args", [["--version"], ["--help"]])
+def test_version_and_help_to_a_reader_gone_are_a_quiet_exit_2(args: list[str]) -> None:
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # nobody reads
+    try:
+        result = subprocess.run(
+            command(*args), stdout=write_end, stderr=subprocess.PIPE, text=True, timeout=120
+        )
+    finally:
+        os.close(write_end)
+    assert (result.returncode, result.stderr) == (2, "")
+
+
 # -- USDRENDER_LINT_DEBUG --------------------------------------------------------------
 
 RAISING_RULE = '''

@@ -3,6 +3,7 @@ the Python API on real files, text ``.usd`` documents, and config ``variants``."
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -101,3 +102,33 @@ def test_an_edit_is_linted_from_the_buffer(tmp_path: Path, saved: bool):
     # Closed: the file (if any) is what other stages see again.
     documents.update({str(path): None})
     assert documents.texts == {}
+
+
+def test_per_path_ignores_apply_as_in_check(tmp_path: Path):
+    (tmp_path / ".usdrender-lint.toml").write_text(
+        '[per-path-ignores]\n"shots/*.usda" = ["SE001"]\n'
+    )
+    (tmp_path / "shots").mkdir()
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    documents = Documents()
+    ignored, kept = str(tmp_path / "shots" / "a.usda"), str(tmp_path / "b.usda")
+    documents.update({ignored: text, kept: text})
+    assert "SE001" not in {f.code for f in documents.lint(ignored).findings}
+    assert "SE001" in {f.code for f in documents.lint(kept).findings}
+
+
+def test_a_referenced_file_changed_on_disk_is_read_again(tmp_path: Path):
+    cams = tmp_path / "cams.usda"
+    cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cam"\n    {\n    }\n}\n')
+    text = (
+        '#usda 1.0\ndef Xform "World" (\n    references = @./cams.usda@</rig>\n)\n{\n}\n'
+        'def RenderSettings "S"\n{\n    rel camera = </World/cam>\n}\n'
+    )
+    path = str(tmp_path / "shot.usda")
+    documents = Documents()
+    documents.update({path: text})
+    assert "CA003" not in {f.code for f in documents.lint(path).findings}
+    before = cams.stat().st_mtime
+    cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n}\n')  # the camera is gone
+    os.utime(cams, (before + 5, before + 5))  # a later time, whatever the clock's grain
+    assert "CA003" in {f.code for f in documents.lint(path).findings}

@@ -48,7 +48,11 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
     try:
         with stop_on_signals():
             cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True, obj=supervision)
-    except SystemExit:
+    except SystemExit as done:
+        # click ends a broken pipe while it printed (help, the version) with
+        # exit 1, its stdout wrapped to pacify the flush at exit: ours is 2.
+        if done.code == 1 and type(sys.stdout).__name__.endswith("PacifyFlushWrapper"):
+            sys.exit(EXIT_TOOL_ERROR)
         raise
     except Stopped as stopped:
         click.echo(f"usdrender-lint: {stopped.reason}", err=True)

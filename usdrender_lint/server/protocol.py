@@ -390,7 +390,7 @@ class UsdRenderLintServer(LanguageServer):
         document = self.workspace.get_text_document(uri)
         position = params.position
         shown: list[RuleDoc] = []
-        word = _suppression_word(document.lines, document, position)
+        word = self._suppression_word(document.source, position)
         if word is not None and word.lower() in self.rule_names:
             shown.append(self.rule_names[word.lower()])
         for published in self.published.values():
@@ -406,6 +406,26 @@ class UsdRenderLintServer(LanguageServer):
                 kind=types.MarkupKind.Markdown, value="\n\n---\n\n".join(map(rule_markdown, shown))
             )
         )
+
+    def _suppression_word(self, text: str, position: types.Position) -> str | None:
+        """The quoted word under the cursor when it is an entry of a customData
+        ``usdrender_lint`` suppression (``string[] ignore = ["SE003"]``). Only
+        the lines up to the cursor's are split (a document may be 15 MB)."""
+        lines = text.split("\n", position.line + 1)[: position.line + 1]
+        if len(lines) <= position.line:
+            return None
+        line = lines[position.line]
+        column = self.workspace.position_codec.position_from_client_units(
+            [line], types.Position(0, position.character)
+        ).character
+        for match in _WORD.finditer(line):
+            if match.start() <= column <= match.end():
+                quoted = match.start() > 0 and line[match.start() - 1] in "\"'"
+                if not quoted:
+                    return None
+                above = "".join(lines[max(0, position.line - 6) :])
+                return match.group() if "usdrender_lint" in above or "ignore" in line else None
+        return None
 
     # -- configuration and files ---------------------------------------------------
 
@@ -453,23 +473,6 @@ def _contains(range_: types.Range, position: types.Position) -> bool:
     start, end = range_.start, range_.end
     after_start = (position.line, position.character) >= (start.line, start.character)
     return after_start and (position.line, position.character) <= (end.line, end.character)
-
-
-def _suppression_word(lines, document, position: types.Position) -> str | None:
-    """The quoted word under the cursor when it is an entry of a customData
-    ``usdrender_lint`` suppression (``string[] ignore = ["SE003"]``)."""
-    if position.line >= len(lines):
-        return None
-    line = lines[position.line]
-    column = document.position_from_client_units(position).character
-    for match in _WORD.finditer(line):
-        if match.start() <= column <= match.end():
-            quoted = line[match.start() - 1 : match.start()] in "\"'" and match.start() > 0
-            if not quoted:
-                return None
-            above = "".join(lines[max(0, position.line - 6) : position.line + 1])
-            return match.group() if "usdrender_lint" in above or "ignore" in line else None
-    return None
 
 
 # -- the server --------------------------------------------------------------------------
