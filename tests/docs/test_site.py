@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 
+from usdrender_lint.api.docs import rule_doc
 from usdrender_lint.profiles import PROFILES
 from usdrender_lint.registry import build_registry
 
@@ -53,8 +54,14 @@ def test_every_registered_rule_has_its_page(generated: dict[str, str]) -> None:
         page = generated[f"reference/rules/{rule.code}-{rule.name}.md"]
         assert f"\n# {rule.code} {rule.name}\n" in page
         assert "## What it does" in page and "## Under each profile" in page
-        # The same documentation explain prints: its docstring's first section.
-        assert rule.__doc__ and rule.summary() in page
+        # The same documentation explain prints: every line of the rule's docstring
+        # (a fence naming a supporting layer becomes a titled fence).
+        missing = [
+            line
+            for line in rule_doc(rule).splitlines()
+            if line.strip() and not line.startswith("```") and line not in page
+        ]
+        assert missing == [], rule.code
         index = generated["reference/rules/index.md"]
         assert f"({rule.code}-{rule.name}.md)" in index
 

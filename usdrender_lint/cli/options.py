@@ -116,7 +116,8 @@ report_output_option = click.option(
     "--output",
     "output_file",
     type=click.Path(dir_okay=False),
-    help="Write the report to this file (atomically) instead of stdout.",
+    help="Write the report to this file instead of stdout: a file is replaced atomically, "
+    "keeping its owner and mode; /dev/stdout, a pipe, a FIFO or a terminal is streamed into.",
 )
 statistics_option = click.option(
     "--statistics", is_flag=True, help="Add counts per rule code after the report."
