@@ -24,6 +24,10 @@ medians, and "paired" is the median of the rounds' own ratios. The goals
   products, 6 vars, 4 passes and 3 cameras): ``check --jobs 1`` <= 2x one
   process that opens and traverses the same shots, ``--jobs 2`` >= 1.7x
   ``--jobs 1``, and ``--jobs 2``'s peak RSS per process <= 1.5x a lint of one shot.
+- ``--variants`` (issue 27): the 100k-prim flat shot whose RenderSettings has
+  six variant sets of two variants, 64 combinations, <= 4x a plain ``check``
+  of it, with the findings of each combination (a combination costs the
+  recomposition USD does and the rules, not a walk of the stage).
 
 Floors are printed beside the goals they bound: a bare open that also imports
 click (what the stack costs before any linter code runs; the rules name
@@ -544,6 +548,20 @@ def gate(work: Path, count: int, rounds: int) -> dict[str, float]:
     }
 
 
+def variants(work: Path, prims: int, rounds: int) -> dict[str, float]:
+    """Issue 27: ``--variants`` over 64 combinations of a ``prims``-prim shot
+    against a plain ``check`` of it (the goal: at most 4x)."""
+    folder = ensure(work / f"variant_shot_{prims}", "variant-shot", "--prims", str(prims))
+    path = str(folder / "shot.usdc")
+    plain = Series(f"check, {prims:,}-prim shot with 6 variant sets", [*CHECK, path])
+    explored = Series("check --variants (64 combinations)", [*CHECK, "--variants", path])
+    measure([plain, explored], rounds)
+    print(f"\n--variants: {prims:,}-prim shot, 64 combinations, {rounds} rounds")
+    print(row(plain))
+    print(row(explored, plain))
+    return {"variants_64": explored.median() / plain.median()}
+
+
 def hostile(work: Path, rounds: int) -> dict[str, float]:
     """Issue 13: a 2M-entry includedPurposes lints within 3x of a bare open of
     it (the message quotes only what it can hold), and --variants composes the
@@ -602,6 +620,8 @@ GOALS = {
     "gate_jobs1": ("<=", 2.0),
     "gate_speedup": (">=", 1.7),
     "gate_rss": ("<=", 1.5),
+    # Issue 27: 64 variant combinations at most 4x a plain check of the shot.
+    "variants_64": ("<=", 4.0),
 }
 
 
@@ -632,7 +652,17 @@ def verdict(figures: dict[str, float]) -> bool:
     return ok
 
 
-CASES = ("one-file", "referenced", "startup", "cache", "shards", "many", "gate", "hostile")
+CASES = (
+    "one-file",
+    "referenced",
+    "startup",
+    "cache",
+    "shards",
+    "many",
+    "gate",
+    "variants",
+    "hostile",
+)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -691,6 +721,9 @@ def main(argv: list[str] | None = None) -> int:
     if "gate" in cases:
         for count in (int(c) for c in args.gate_shots.split(",") if c.strip()):
             figures.update(gate(work, count, args.rounds))
+    if "variants" in cases:
+        for prims in sizes:
+            figures.update(variants(work, prims, args.big_rounds))
     if "hostile" in cases:
         figures.update(hostile(work, args.rounds))
     return 0 if verdict(figures) else 1

@@ -261,25 +261,42 @@ def build_options(options_class: type | None, values: Mapping[str, Any], where: 
 
 
 def _coerce(value: Any, hint: Any, where: str) -> Any:
+    """``value`` as the rule option's type ``hint`` says (Literal, sequences,
+    unions, Any, None, scalars); a ConfigError naming ``where`` otherwise."""
     origin = typing.get_origin(hint)
-    args = typing.get_args(hint)
     if origin is typing.Literal:
-        if value not in args:
-            allowed = ", ".join(repr(a) for a in args)
-            raise ConfigError(f"{where}: must be one of {allowed}, got {value!r}")
-        return value
+        return _literal(value, typing.get_args(hint), where)
     if origin in (tuple, list, Sequence) or hint in (tuple, list):
-        if not isinstance(value, (list, tuple)):
-            raise ConfigError(f"{where}: must be a list, got {value!r}")
-        item = args[0] if args else Any
-        return tuple(_coerce(v, item, where) for v in value)
+        return _sequence(value, typing.get_args(hint), where)
     if origin in (typing.Union, types.UnionType):
-        for option in args:
-            try:
-                return _coerce(value, option, where)
-            except ConfigError:
-                continue
-        raise ConfigError(f"{where}: invalid value {value!r}")
+        return _union(value, typing.get_args(hint), where)
+    return _scalar(value, hint, where)
+
+
+def _literal(value: Any, allowed: tuple[Any, ...], where: str) -> Any:
+    if value not in allowed:
+        choices = ", ".join(repr(a) for a in allowed)
+        raise ConfigError(f"{where}: must be one of {choices}, got {value!r}")
+    return value
+
+
+def _sequence(value: Any, args: tuple[Any, ...], where: str) -> tuple[Any, ...]:
+    if not isinstance(value, (list, tuple)):
+        raise ConfigError(f"{where}: must be a list, got {value!r}")
+    item = args[0] if args else Any
+    return tuple(_coerce(v, item, where) for v in value)
+
+
+def _union(value: Any, options: tuple[Any, ...], where: str) -> Any:
+    for option in options:
+        try:
+            return _coerce(value, option, where)
+        except ConfigError:
+            continue
+    raise ConfigError(f"{where}: invalid value {value!r}")
+
+
+def _scalar(value: Any, hint: Any, where: str) -> Any:
     if hint is Any:
         return value
     if hint is type(None):

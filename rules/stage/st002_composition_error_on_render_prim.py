@@ -8,8 +8,8 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api.files import lfs_pointer_problem
 from usdrender_lint.api.resolve import usd_text
-from usdrender_lint.layers.files import lfs_pointer_problem
 
 from ._render_prims import RENDER_SCOPE, is_render_type
 

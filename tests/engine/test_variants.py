@@ -389,3 +389,21 @@ def test_each_combination_walks_only_what_usd_recomposed(
     assert explored.findings  # the same as a whole walk per combination:
     monkeypatch.setattr(variants._Walk, "prims", lambda self: walk_candidates(self._stage))
     assert VariantExplorer(linter).lint_path(str(path)).findings == explored.findings
+
+
+def test_the_benchmark_s_variant_shot_has_64_combinations_and_their_defects(
+    tmp_path: Path,
+) -> None:
+    """benchmarks/run.py --only variants lints this shot (at 100k prims)."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parents[1]))
+    from bench_support import load_script
+
+    shot = load_script("generate").generate_variant_shot(tmp_path, prims=300)
+    stage = Usd.Stage.Open(str(shot))
+    assert combination_count(render_variant_sets(stage)) == 64
+    result = VariantExplorer(Linter(all_rules())).lint_path(str(shot))
+    assert result.notes == ()
+    selected = {f.code for f in result.findings if "[variant selection:" in f.message}
+    assert {"SE002", "SE003"} <= selected

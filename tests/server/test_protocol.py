@@ -372,10 +372,17 @@ async def test_findings_in_another_layer(client: LanguageClient, workspace: Path
                 break
     (shown,) = on_lighting  # the root's finding and the sublayer's own are one
     assert shown.range.start.line == 4
-    for uri in (root, lighting_uri):
-        client.text_document_did_close(
-            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
-        )
+    # Closed again: back on the root, as related information.
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(lighting_uri))
+    )
+    async with asyncio.timeout(60):
+        while not [d for d in client.diagnostics.get(root, []) if d.code == "SE001"]:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert not client.diagnostics[lighting_uri]
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(root))
+    )
 
 
 async def test_a_quick_fix_edits_the_unsaved_text(client: LanguageClient, workspace: Path):

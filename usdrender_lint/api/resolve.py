@@ -101,7 +101,10 @@ class Target:
         return self.prim is None and not self.path.IsPropertyPath()
 
 
+@cached
 def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
+    """What ``path`` is on the stage (once per lint: a dozen products target
+    the same few vars and cameras)."""
     if path.IsPropertyPath():
         return Target(path, None, "is a property, not a prim")
     prim = stage.GetPrimAtPath(path)
@@ -142,10 +145,18 @@ def _composed_targets(rel_and_mode: tuple[Usd.Relationship | None, bool]) -> tup
 
 
 def resolve_targets(rel: Usd.Relationship | None) -> list[Target]:
+    """The relationship's forwarded targets, resolved (a list of its own for
+    each caller)."""
+    return list(_resolved_targets(rel))
+
+
+@cached
+def _resolved_targets(rel: Usd.Relationship | None) -> tuple[Target, ...]:
+    # Several rules and the profiles resolve the same relationships: once per lint.
     if not rel:
-        return []
+        return ()
     stage = rel.GetStage()
-    return [resolve_target(stage, p) for p in forwarded_targets(rel)]
+    return tuple(resolve_target(stage, p) for p in forwarded_targets(rel))
 
 
 def describe_prim_type(prim: Usd.Prim) -> str:
@@ -291,27 +302,32 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     (catalog, Conventions: one mistake gives one finding, SE016)."""
     if not attr or not attr.HasAuthoredValue():
         return False
-    specs = _attribute_specs(attr)  # one property stack serves both checks
-    return _mismatched_in(specs, attr) is None and not _path_value_in(specs)
-
-
-def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
-    """usda accepts ``<...>`` as the value of an attribute of any type
-    (``uniform token sourceType = </X>``, also in time samples): an Sdf.Path that
-    no typed read of the declared type returns, so it is no value at all."""
-    found_default = found_samples = False
-    for spec in specs:
-        if not found_default and spec.HasDefaultValue():
+    # One pass over one property stack: the first value-holding spec must have
+    # the schema's type (as _mismatched_in reads it), and neither the first
+    # default nor the first time samples may be a path: usda accepts ``<...>``
+    # as the value of an attribute of any type (``uniform token sourceType =
+    # </X>``, also in time samples), an Sdf.Path no typed read returns.
+    found_default = found_samples = typed = False
+    for spec in _attribute_specs(attr):
+        has_default = not found_default and spec.HasDefaultValue()
+        has_samples = not found_samples and _has_time_samples(spec)
+        if not (has_default or has_samples):
+            continue
+        if not typed:
+            if _mismatched_in((spec,), attr) is not None:
+                return False
+            typed = True
+        if has_default:
             found_default = True
             if isinstance(spec.default, Sdf.Path):
-                return True
-        if not found_samples and _has_time_samples(spec):
+                return False
+        if has_samples:
             found_samples = True
             if any(isinstance(v, Sdf.Path) for v in spec.GetInfo("timeSamples").values()):
-                return True
+                return False
         if found_default and found_samples:
             break
-    return False
+    return True
 
 
 def fallback_value(prim: Usd.Prim, name: str) -> Any:

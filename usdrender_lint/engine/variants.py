@@ -32,6 +32,7 @@ from pxr import Sdf, Tf, Usd
 from ..api import Rule
 from ..layers.crate import crate_structure_problem
 from ..layers.files import unreadable_reason
+from ..layers.nesting import nesting_problem
 from ..model import FileResult, Finding
 from ..records import record
 from .linter import RENDER_SCHEMAS, Linter
@@ -189,7 +190,7 @@ class VariantExplorer:
         """Lint ``path`` under each combination; the stage is always composed
         whole (``full_composition`` is accepted, as by Linter.lint_path). The
         result's notes say how many combinations the cap skipped."""
-        if unreadable_reason(path) is not None or crate_structure_problem(path) is not None:
+        if unreadable_reason(path) or crate_structure_problem(path) or nesting_problem(path):
             return self.linter.lint_path(path)  # it reports what is wrong
         opened = open_stage(path)
         if opened.stage is None:

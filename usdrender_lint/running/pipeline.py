@@ -40,6 +40,7 @@ if TYPE_CHECKING:
     from ..engine.variants import VariantExplorer
     from ..fixing import FixOptions, FixRun
     from .result_cache import CachingLinter, ResultCache
+    from .roots import ContextPlan
 
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
 
@@ -402,18 +403,49 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     settings = prepared.settings
     notes = unignorable_notes(prepared.registry, settings)
     known = _load_baseline(request)
+    _check_fix_request(request, settings)
+    targets, plan = _targets(prepared, notes)
+    refuse_outputs_on_inputs(request, settings, targets)
+    fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
+    report = _lint_targets(prepared, targets, fixed, fix_failed, notes)
+    if plan is not None:
+        report = replace(report, files=plan.failed + report.files)
+        report = plan.narrow(report)
+    report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
+    notes.extend(note for result in report.files for note in result.notes)
+    report = _apply_baseline(report, known, request, notes)
+    status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
+    from .merge import configuration_digest
+
+    outcome = Outcome(
+        report,
+        settings,
+        prepared.linter.rules,
+        status,
+        notes=tuple(notes),
+        configuration=configuration_digest(settings, prepared.linter.rules, known),
+    )
+    return outcome if fixed is None else _with_fixes(outcome, fixed, request)
+
+
+def _check_fix_request(request: Request, settings: Settings) -> None:
     if settings.variants and request.fix is not None:
         raise RequestError(
             "--variants (or config 'variants') cannot be combined with --fix, --diff or --fix-to"
         )
     if request.fix is not None and request.fix.fix_to and request.fix.write is False:
         raise RequestError("use either --diff or --fix-to, not both")
+
+
+def _targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], ContextPlan | None]:
+    """The files the request names (folders walked), their shard, and with
+    config ``roots`` the plan that lints them inside the stages that use them."""
+    request, settings = prepared.request, prepared.settings
     empty: list[str] = []
     files = collect_files(request.paths, empty, Exclusions.of(settings))
     notes.extend(
         f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
     )
-    # With config `roots`, the paths are linted inside the stages that use them.
     plan = None
     if settings.roots and request.use_roots:
         from .roots import plan_from_settings  # USD's dependency tools: only for roots
@@ -428,55 +460,46 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
             plan = select_plan_shard(plan, request.shard, settings.base_dir)
         else:
             files = select_shard(files, request.shard, settings.base_dir)
-    targets = plan.files if plan else files
-    refuse_outputs_on_inputs(request, settings, targets)
-    fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
-    if fixed is not None and request.fix is not None and request.fix.fix_to:
-        # What remains with the overrides.
-        report = Report(tuple(fixed.remaining) + fix_failed)
-    else:
-        # A stage whose fixing ran out of time is reported as that, not linted again.
-        failed = {result.file: result for result in fix_failed}
-        todo = [target for target in targets if target not in failed]
-        linted = iter(_lint(prepared, todo, _open_cache(prepared, notes)))
-        report = Report(tuple(failed[t] if t in failed else next(linted) for t in targets))
-    if plan is not None:
-        report = replace(report, files=plan.failed + report.files)
-        report = plan.narrow(report)
-    report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
-    notes.extend(note for result in report.files for note in result.notes)
-    report = _apply_baseline(report, known, request, notes)
-    status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
-    from .merge import configuration_digest
+    return (plan.files if plan else files), plan
 
-    configuration = configuration_digest(settings, prepared.linter.rules, known)
-    if fixed is None:
-        return Outcome(
-            report,
-            settings,
-            prepared.linter.rules,
-            status,
-            notes=tuple(notes),
-            configuration=configuration,
-        )
+
+def _lint_targets(
+    prepared: Prepared,
+    targets: Sequence[str],
+    fixed: FixRun | None,
+    fix_failed: tuple[FileResult, ...],
+    notes: list[str],
+) -> Report:
+    """The report of ``targets``: what remains with --fix-to's overrides, else
+    each file linted (after its fixes), but a stage whose fixing ran out of
+    time, which is reported as that, not linted again."""
+    fix = prepared.request.fix
+    if fixed is not None and fix is not None and fix.fix_to:
+        return Report(tuple(fixed.remaining) + fix_failed)
+    failed = {result.file: result for result in fix_failed}
+    todo = [target for target in targets if target not in failed]
+    linted = iter(_lint(prepared, todo, _open_cache(prepared, notes)))
+    return Report(tuple(failed[t] if t in failed else next(linted) for t in targets))
+
+
+def _with_fixes(outcome: Outcome, fixed: FixRun, request: Request) -> Outcome:
+    """The outcome of a run that fixed (or, for --diff, would fix)."""
     assert request.fix is not None
-    report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
-    notes.extend(fixed.notes)
-    notes.extend(_fix_notes(report, dry_run=not request.fix.write))
+    report = replace(outcome.report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
+    notes = [*outcome.notes, *fixed.notes, *_fix_notes(report, dry_run=not request.fix.write)]
+    status = outcome.exit_status
     if fixed.errors:
         status = EXIT_TOOL_ERROR
     elif not request.fix.write and status != EXIT_TOOL_ERROR:
         # --diff answers "is a fix pending?" (as ruff does), not "are there findings?".
         status = EXIT_FINDINGS if report.applied_fixes else EXIT_OK
-    return Outcome(
-        report,
-        settings,
-        prepared.linter.rules,
-        status,
+    return replace(
+        outcome,
+        report=report,
+        exit_status=status,
         diffs=tuple(fixed.diffs),
         notes=tuple(notes),
         fix_errors=tuple(fixed.errors),
-        configuration=configuration,
     )
 
 

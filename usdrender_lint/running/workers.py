@@ -548,14 +548,8 @@ class _Pool:
         from multiprocessing.connection import wait
 
         check_stopped()
-        now = time.monotonic()
-        deadlines = [w.task[2] for w in self._workers if w.task is not None]
-        deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
-        # No limit (--timeout 0) is an infinite deadline: wait without a timeout.
-        nearest = min(deadlines, default=float("inf"))
-        wait_for = max(0.0, nearest - now) if nearest != float("inf") else None
         handles = [w.conn for w in self._workers] + [w.process.sentinel for w in self._workers]
-        ready = set(wait(handles, timeout=wait_for))
+        ready = set(wait(handles, timeout=self._wait_for()))
         for worker in list(self._workers):
             if worker.conn in ready:
                 try:
@@ -566,6 +560,17 @@ class _Pool:
                 self._receive(worker, message, results)
             elif worker.process.sentinel in ready:
                 self._replace(worker, results, self._death_message(worker), died=True)
+        self._enforce_deadlines(results)
+
+    def _wait_for(self) -> float | None:
+        """Seconds to the nearest deadline (a file's, a starting worker's);
+        None: no limit (--timeout 0), wait without a timeout."""
+        deadlines = [w.task[2] for w in self._workers if w.task is not None]
+        deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
+        nearest = min(deadlines, default=float("inf"))
+        return max(0.0, nearest - time.monotonic()) if nearest != float("inf") else None
+
+    def _enforce_deadlines(self, results: list[FileResult | None]) -> None:
         now = time.monotonic()
         for worker in list(self._workers):
             if worker.task is not None and now >= worker.task[2]:

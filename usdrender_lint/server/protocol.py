@@ -154,11 +154,16 @@ class UsdRenderLintServer(LanguageServer):
                     asyncio.ensure_future(self.lint(from_fs_path(other) or other, dependents=False))
 
     def forget(self, uri: str) -> None:
-        """A closed document: its lint's diagnostics go, on it and elsewhere."""
+        """A closed document: its lint's diagnostics go, on it and elsewhere;
+        the open documents whose findings were shown on it are linted again
+        (they now show them as related information, with the file's text)."""
         self.wanted.pop(uri, None)
         self.findings.pop(uri, None)
         self.publish(uri, {uri: []}, None)
         self.published.pop(uri, None)
+        for source, published in list(self.published.items()):
+            if uri in published:
+                asyncio.ensure_future(self.lint(source, dependents=False))
 
     # -- diagnostics ---------------------------------------------------------------
 

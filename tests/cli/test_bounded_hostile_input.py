@@ -18,6 +18,7 @@ from cli_support import command, settings_crate
 from pxr import Gf, Usd, UsdGeom, Vt
 
 from usdrender_lint.layers.crate import crate_structure_problem
+from usdrender_lint.layers.nesting import MAX_DEPTH, nesting_depth
 
 CLEAN = '#usda 1.0\ndef Scope "Render"\n{\n}\n'
 
@@ -215,3 +216,62 @@ def test_corrupt_crate_messages_are_the_same_on_every_path(tmp_path: Path) -> No
     assert all(answer == answers[0] for answer in answers)
     messages = {f["findings"][0]["message"] for f in answers[0]}
     assert messages == {"USD cannot read the structure of this crate file: the file is corrupt"}
+
+
+# -- text layers nested too deeply ---------------------------------------------------
+
+
+def _deep_prims(levels: int, filler: str = "") -> str:
+    return "#usda 1.0\n" + f'def "a" {{{filler}\n' * levels + "}\n" * levels
+
+
+def test_nesting_depth_reads_structure_not_text() -> None:
+    assert nesting_depth(_deep_prims(100_000).encode()) == 100_000
+    # Closing braces inside strings and comments do not hide the depth.
+    sneaky = _deep_prims(20_000, ' string s = "}}" # }').encode()
+    assert nesting_depth(sneaky) == 20_000
+    # ... nor do opening ones inside them, or in paths, add to it.
+    shallow = '#usda 1.0\ndef "a" {\n' + '    string s = "{{{{" # ((((\n' * 20_000 + "}\n"
+    assert nesting_depth(shallow.encode()) < MAX_DEPTH
+    paths = '#usda 1.0\ndef "a" {\n' + "    rel r = </a{v=x}>\n" * 20_000 + "}\n"
+    assert nesting_depth(paths.encode()) < MAX_DEPTH
+    # A million tuples in an array: shallow, and the check stops early.
+    mesh = '#usda 1.0\ndef Mesh "m" {\n point3f[] points = [' + "(0, 0, 0), " * 1_000_000
+    assert nesting_depth((mesh + "]\n}\n").encode()) < MAX_DEPTH
+
+
+@pytest.mark.parametrize(
+    ("text", "levels"),
+    [
+        (_deep_prims(100_000), 100_000),
+        (
+            '#usda 1.0\ndef "a" {\n int x = ' + "(" * 100_000 + "1" + ")" * 100_000 + "\n}\n",
+            100_001,
+        ),
+    ],
+    ids=["prims", "parentheses"],
+)
+def test_a_text_layer_nested_too_deeply_is_st001_and_the_others_are_linted(
+    tmp_path: Path, text: str, levels: int
+) -> None:
+    """100,000 nested prims: --jobs 1 --timeout 0 died of signal 11 with no
+    output; 100,000 nested parentheses made USD allocate 23 GB."""
+    folder = tmp_path / "shots"
+    folder.mkdir()
+    (folder / "deep.usda").write_text(text)
+    (folder / "clean.usda").write_text(CLEAN)
+    for mode in (["--jobs", "1", "--timeout", "0"], ["--jobs", "2"]):
+        result = subprocess.run(
+            command("check", "--isolated", "--no-cache", "--format", "json", *mode, "shots"),
+            capture_output=True,
+            text=True,
+            cwd=tmp_path,
+            timeout=120,
+            preexec_fn=_limited,
+        )
+        assert result.returncode == 1, (mode, result.returncode, result.stderr)
+        files = {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
+        [finding] = files["shots/deep.usda"]["findings"]
+        assert finding["code"] == "ST001"
+        assert finding["message"].startswith(f"the file nests {levels:,} levels deep")
+        assert files["shots/clean.usda"]["status"] == "linted"
