@@ -262,10 +262,10 @@ class _Walk:
         self._listener: Any = None
 
     def __enter__(self) -> _Walk:
-        self._listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._note, self._stage)
         prims = self._linter.walk_candidates(self._stage, own_stage=self._own_stage)
         self._paths = [p.GetPath() for p in prims]
-        self._changed.clear()  # the typed-prim query's own edits
+        # From here on every edit of the stage is a combination's.
+        self._listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._note, self._stage)
         return self
 
     def __exit__(self, *exc: object) -> None:
