@@ -263,3 +263,16 @@ def test_debug_shows_the_traceback_of_an_internal_error(
     assert "UL000" in loud.stdout
     assert "usdrender-lint: debug:" in loud.stderr and "Traceback" in loud.stderr
     assert 'raise RuntimeError("raised on purpose")' in loud.stderr
+
+
+def test_merge_never_writes_onto_a_report_it_reads(tmp_path: Path, shot: Path) -> None:
+    first = tmp_path / "first.json"
+    result = run("check", "--isolated", "--format", "json", "--output", str(first), str(shot))
+    assert result.returncode == 1, result.stderr
+    kept = first.read_text()
+    merged = run("merge", str(first), "--output", str(first))
+    assert merged.returncode == 2
+    assert "first.json: is an input of this run; refusing to write the merged report" in (
+        merged.stderr
+    )
+    assert first.read_text() == kept

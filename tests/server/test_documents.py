@@ -132,3 +132,17 @@ def test_a_referenced_file_changed_on_disk_is_read_again(tmp_path: Path):
     cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n}\n')  # the camera is gone
     os.utime(cams, (before + 5, before + 5))  # a later time, whatever the clock's grain
     assert "CA003" in {f.code for f in documents.lint(path).findings}
+
+
+def test_suppress_names_only_registered_rules(tmp_path: Path):
+    path = str(tmp_path / "shot.usda")
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    documents = Documents()
+    documents.update({path: text})
+    documents.lint(path)
+    suppressed = documents.suppress(path, "SE001", "/S.resolution")
+    assert suppressed is not None and '"SE001"' in suppressed
+    documents.update({path: suppressed})
+    assert "SE001" not in {f.code for f in documents.lint(path).findings}
+    # A rule that raised (UL000) cannot be silenced in customData.
+    assert documents.suppress(path, "UL000", "/S") is None

@@ -49,9 +49,15 @@ def merge(
     not be linted, else 1 when a finding reaches --fail-on, else 0."""
     import_engine()
     from ..running.merge import MergeError, merge_reports
+    from ..running.outputs import OutputOnInput, refuse_inputs
     from ..running.pipeline import Request, RequestError, exit_status, prepare
 
     given = setting_values("merge", settings)
+    try:
+        inputs = [*reports, *([config_path] if config_path else [])]
+        refuse_inputs([(output_file, "the merged report")], inputs)
+    except OutputOnInput as exc:
+        raise ToolError(str(exc)) from None
     try:
         report, configuration = merge_reports(reports)
         # The configuration decides fail-on and which rules a SARIF report describes.

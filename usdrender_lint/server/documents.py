@@ -289,6 +289,8 @@ class Documents:
             return None
         if not Sdf.Path.IsValidPathString(object_path):
             return None
+        if not any(rule.code == code for rule in self.registry.rules):
+            return None  # UL000 (a rule that raised) is no rule a suppression names
         prim_path = Sdf.Path(object_path).GetPrimPath()
         prim = stage.GetPrimAtPath(prim_path)
         entries = ignore_entries(prim) if prim else None
