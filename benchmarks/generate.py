@@ -484,6 +484,44 @@ def generate_variant_sets(folder: str | Path, count: int) -> Path:
     return path
 
 
+#: What each variant set of :func:`generate_variant_shot` changes on the
+#: settings: (attribute, type, authored variant's value, other variant's value).
+_VARIANT_EDITS = (
+    ("resolution", "Int2", Gf.Vec2i(1920, 1080), Gf.Vec2i(4096, 1716)),
+    ("pixelAspectRatio", "Float", 1.0, 0.0),
+    ("aspectRatioConformPolicy", "Token", "expandAperture", "cropAperture"),
+    ("dataWindowNDC", "Float4", Gf.Vec4f(0.0, 0.0, 1.0, 1.0), Gf.Vec4f(0.8, 0.0, 0.2, 1.0)),
+    ("disableMotionBlur", "Bool", False, True),
+    ("instantaneousShutter", "Bool", False, True),
+)
+
+
+def generate_variant_shot(folder: str | Path, prims: int, sets: int = 6) -> Path:
+    """The flat shot of about ``prims`` prims (see generate_flat_shot) whose
+    RenderSettings has ``sets`` variant sets (at most six) of two variants
+    each, the first selected: 2^sets combinations for --variants, some of
+    whose other variants hold a defect (a zero pixel aspect ratio, a
+    malformed data window)."""
+    if not 1 <= sets <= len(_VARIANT_EDITS):
+        raise ValueError(f"sets must be 1 to {len(_VARIANT_EDITS)}, got {sets}")
+    flat = generate_flat_shot(folder, prims, defects=False)
+    layer = Sdf.Layer.FindOrOpen(str(flat))
+    settings = layer.GetPrimAtPath("/Render/Settings")
+    names = Sdf.ValueTypeNames
+    with Sdf.ChangeBlock():
+        for index, (name, type_name, *values) in enumerate(_VARIANT_EDITS[:sets]):
+            if name in settings.attributes:  # a local opinion would beat the variants'
+                settings.RemoveProperty(settings.attributes[name])
+            variant_set = Sdf.VariantSetSpec(settings, f"look{index}")
+            for variant, value in zip(("a", "b"), values, strict=True):
+                spec = Sdf.VariantSpec(variant_set, variant).primSpec
+                _attr(spec, name, getattr(names, type_name), value, uniform=True)
+            settings.variantSelections[f"look{index}"] = "a"
+        settings.variantSetNameList.prependedItems = [f"look{i}" for i in range(sets)]
+    layer.Save()
+    return flat
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     sub = parser.add_subparsers(dest="what", required=True)
@@ -515,11 +553,19 @@ def main(argv: list[str] | None = None) -> int:
     variant_sets = sub.add_parser("variant-sets", help="a RenderSettings with COUNT variant sets")
     variant_sets.add_argument("folder")
     variant_sets.add_argument("--count", type=int, default=10_000)
+    variant_shot = sub.add_parser(
+        "variant-shot", help="the flat shot with variant sets on its RenderSettings"
+    )
+    variant_shot.add_argument("folder")
+    variant_shot.add_argument("--prims", type=int, default=100_000)
+    variant_shot.add_argument("--sets", type=int, default=6)
     args = parser.parse_args(argv)
     if args.what == "gate":
         print(f"{len(generate_gate(args.folder, args.count, args.prims))} files in {args.folder}")
     elif args.what == "purposes":
         print(generate_purposes(args.folder, args.count, args.format))
+    elif args.what == "variant-shot":
+        print(generate_variant_shot(args.folder, args.prims, args.sets))
     elif args.what == "variant-sets":
         print(generate_variant_sets(args.folder, args.count))
     elif args.what == "flat":

@@ -71,6 +71,8 @@ class Client:
         self.log = log
         self.inbox: queue.Queue[dict | None] = queue.Queue()
         self.ids = 0
+        #: The server's window/logMessage lines, as they arrive.
+        self.logs: list[str] = []
         threading.Thread(target=self._read, daemon=True).start()
 
     def _read(self) -> None:
@@ -117,6 +119,8 @@ class Client:
                 raise RuntimeError("the server closed its output")
             if self.log:
                 print(f"<-- {json.dumps(message)}")
+            if message.get("method") == "window/logMessage":
+                self.logs.append(message["params"]["message"])
             if message.get("method") == "client/registerCapability":
                 self.send({"id": message["id"], "result": None})
             if wanted(message):
@@ -133,11 +137,13 @@ class Client:
         )
 
     def start(self, root: Path) -> None:
+        """Initialize, and wait until the server lints (a first small document)."""
         self.request(
             "initialize",
             {"processId": None, "rootUri": root.as_uri(), "capabilities": {}},
         )
         self.notify("initialized", {})
+        self.diagnostics(self.open(root / "ready.usda", "#usda 1.0\n"), 1)
 
     def open(self, path: Path, text: str) -> str:
         uri = path.as_uri()
@@ -246,15 +252,14 @@ def large(folder: Path) -> None:
             ],
         },
     )
-    cancelled = client.wait(
-        lambda m: m.get("method") == "window/logMessage" and "cancelled" in m["params"]["message"]
-    )
     client.diagnostics(uri, 2)
     edit = time.perf_counter() - started
+    cancelled = [line for line in client.logs if "cancelled" in line]
     client.stop()
     print(f"large: a 100k-prim .usda ({len(text) / 1e6:.1f} MB)")
     print(f"  hover while its first lint runs   {_ms(hover)}")
-    print(f"  edit -> its diagnostics           {edit:.2f} s ({cancelled['params']['message']})")
+    said = cancelled[0] if cancelled else "the first lint was NOT cancelled"
+    print(f"  edit -> its diagnostics           {edit:.2f} s ({said})")
     print(f"  bare Usd.Stage.Open of the text   {bare:.2f} s  ratio {edit / bare:.2f}x")
 
 

@@ -13,8 +13,6 @@ from pathlib import Path
 
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
 
-from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV
-
 REPO = Path(__file__).resolve().parents[1]
 #: The examples' shot with findings (exit 1).
 BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
@@ -130,30 +128,42 @@ def wait_for_a_worker(
     raise AssertionError("no worker started")
 
 
-#: Runs the command as the console script does, then prints from the process
-#: that ran it the JSON of ``[supervisor.supervised, <expression>]``: a line
-#: only the supervised child prints (its supervisor exits without printing).
+#: Runs the command as the console script does, then prints from each process
+#: that ran the command the JSON of ``[supervised child, <expression>]``: the
+#: supervisor's run and its child's both end here.
 _AFTER_THE_COMMAND = """
 import json, resource, sys
+import usdrender_lint.cli as cli
 from usdrender_lint.__main__ import main
+seen = []
+command = cli.main
+def watched(argv=None, supervision=None):
+    seen.append(supervision is not None and supervision.child)
+    command(argv, supervision)
+cli.main = watched
 try:
     main()
 except SystemExit:
     pass
-from usdrender_lint.running import supervisor
-print(json.dumps([supervisor.supervised, {expression}]), file=sys.stderr)
+print(json.dumps([any(seen), {expression}]), file=sys.stderr)
 """
 
 
 def after_a_supervised_command(expression: str, *args: str) -> tuple[bool, object, str]:
-    """(supervised, the value of ``expression``, stdout) as the process that ran
-    ``usdrender-lint ARGS`` sees them once the command is done."""
+    """(supervised, the value of ``expression``, stdout) as the supervised
+    child that ran ``usdrender-lint ARGS`` sees them once the command is done
+    (else as the process that ran it)."""
     proc = subprocess.run(
         [sys.executable, "-c", _AFTER_THE_COMMAND.format(expression=expression), *args],
         capture_output=True,
         text=True,
-        env={k: v for k, v in os.environ.items() if k != NO_SUPERVISOR_ENV},
         timeout=120,
     )
-    supervised, value = json.loads(proc.stderr.splitlines()[-1])
+    said = [json.loads(line) for line in proc.stderr.splitlines() if line.startswith("[")]
+    supervised, value = next((entry for entry in said if entry[0]), said[-1])
     return supervised, value, proc.stdout
+
+
+def unsupervised(*args: str) -> list[str]:
+    """The command run by ``usdrender_lint.cli.main`` itself: no supervisor."""
+    return [sys.executable, "-c", "import sys; from usdrender_lint.cli import main; main()", *args]

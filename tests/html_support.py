@@ -120,9 +120,9 @@ def screenshot(url: str, out: Path, size: str = "1440,900") -> Path:
     return out
 
 
-def dump_dom(url: str) -> str:
+def dump_dom(url: str, *args: str) -> str:
     """The DOM after the page's script ran (Chromium waits for the load)."""
-    run = run_chromium(url, "--dump-dom", "--virtual-time-budget=5000")
+    run = run_chromium(url, "--dump-dom", "--virtual-time-budget=5000", *args)
     assert run.stdout.strip(), run.stderr[-2000:]
     return run.stdout
 

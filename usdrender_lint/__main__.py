@@ -13,21 +13,16 @@ interrupts.install()
 
 
 def main() -> None:
+    supervision = None
     try:
         if supervisor.wants_supervision(sys.argv[1:]):
-            supervisor.supervise()  # returns in the child, or after its crash (supervisor.py)
+            # The child, or this process after the child's crash or time-out.
+            supervision = supervisor.supervise()
         from .cli import main as command
     except interrupts.Stopped as stopped:
         sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")
         sys.exit(stopped.exit_status)
-    try:
-        command()
-    except SystemExit as done:
-        if supervisor.supervised:
-            from .running import read_ahead
-
-            read_ahead.end_unclaimed(done.code)
-        raise
+    command(supervision=supervision)
 
 
 if __name__ == "__main__":

@@ -11,7 +11,6 @@ import os
 import re
 import select
 import stat
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
@@ -159,6 +158,8 @@ def replace_atomically(
     ``suffix``) in the same folder, keeping the replaced file's permissions.
     On any failure the original is intact and the temporary file is removed."""
     target = Path(path)
+    import tempfile  # not at import: a lint that writes no file never needs it
+
     handle, temporary = tempfile.mkstemp(
         prefix=temporary_prefix(target.name, suffix), suffix=suffix, dir=target.parent
     )

@@ -21,20 +21,18 @@ from typing import Any
 
 from .model import Severity
 from .records import record
+from .settings_table import (
+    BY_CONFIG_KEY,
+    DEFAULT_EXCLUDE,
+    FAIL_ON_CHOICES,
+    MAX_JOBS,
+    MAX_TIMEOUT,
+    MAX_VARIANT_COMBINATIONS,
+    ConfigError,
+)
 
-FAIL_ON_CHOICES = ("error", "warning", "info", "never")
-#: The largest --timeout: a day per file (0 is no limit at all).
-MAX_TIMEOUT = 86_400
-#: The most worker processes a run starts.
-MAX_JOBS = 1024
-#: The most variant combinations linted per file (each composes the stage anew).
-MAX_VARIANT_COMBINATIONS = 10_000
 CONFIG_FILE_NAMES = (".usdrender-lint.toml", "pyproject.toml")
 TOOL_TABLE = "usdrender-lint"
-
-
-class ConfigError(Exception):
-    """The configuration is invalid; the message names the key and the file."""
 
 
 @record(frozen=True)
@@ -67,6 +65,12 @@ class Settings:
     profile: str = "auto"
     #: File glob -> profile name for matching files (wins over ``profile``).
     per_path_profiles: Mapping[str, str] = field(default_factory=dict)
+    #: Gitignore-style patterns not linted when a folder is walked (the default replaced).
+    exclude: tuple[str, ...] = DEFAULT_EXCLUDE
+    #: Patterns excluded as well as ``exclude``'s.
+    extend_exclude: tuple[str, ...] = ()
+    #: Skip what .gitignore files ignore when a folder is walked.
+    respect_gitignore: bool = True
     #: Where the result cache lives (relative to the config file's folder);
     #: None: ``.usdrender_lint_cache`` there (running/result_cache.py).
     cache_dir: str | None = None
@@ -93,117 +97,17 @@ class Settings:
         return Path(self.source).resolve().parent if self.source else Path.cwd()
 
 
-def _string_list(value: Any, key: str, source: str) -> tuple[str, ...]:
-    if isinstance(value, str):
-        value = [value]
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise ConfigError(f"{source}: '{key}' must be a list of strings, got {value!r}")
-    return tuple(value)
-
-
-def _table(value: Any, key: str, source: str, shape: str) -> dict[str, Any]:
-    if not isinstance(value, dict):
-        raise ConfigError(f"{source}: '{key}' must be a table of {shape}, got {value!r}")
-    return value
-
-
-def _profile_name(value: Any, key: str, source: str) -> str:
-    """A profile name; which names exist is checked where the profiles are
-    known (running.pipeline.check_profiles)."""
-    if not isinstance(value, str) or not value:
-        raise ConfigError(f"{source}: '{key}' must be a profile name, got {value!r}")
-    return value
-
-
 def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Settings:
-    """Settings from the config table; ``prefix`` qualifies key names in errors
-    (``tool.usdrender-lint.`` in a pyproject)."""
+    """Settings from the config table (each key as the settings table reads
+    it); ``prefix`` qualifies key names in errors (``tool.usdrender-lint.`` in
+    a pyproject)."""
     parsed: dict[str, Any] = {"source": source}
     for key, value in table.items():
-        name = prefix + key
-        if key in ("select", "ignore", "extend-select", "roots", "unfixable"):
-            parsed[key.replace("-", "_")] = _string_list(value, name, source)
-        elif key == "fail-on":
-            if value not in FAIL_ON_CHOICES:
-                raise ConfigError(
-                    f"{source}: '{name}' must be one of {', '.join(FAIL_ON_CHOICES)}, got {value!r}"
-                )
-            parsed["fail_on"] = value
-        elif key == "severity":
-            overrides = {}
-            for rule, level in _table(value, name, source, "rule = severity").items():
-                try:
-                    overrides[rule] = Severity.parse(level if isinstance(level, str) else "")
-                except ValueError:
-                    raise ConfigError(
-                        f"{source}: '{name}.{rule}' must be one of error, warning, info, "
-                        f"got {level!r}"
-                    ) from None
-            parsed["severity"] = overrides
-        elif key == "per-path-ignores":
-            parsed["per_path_ignores"] = {
-                glob: _string_list(codes, f"{name}.{glob}", source)
-                for glob, codes in _table(value, name, source, "glob = codes").items()
-            }
-        elif key == "rules":
-            for rule, options in _table(value, name, source, "rule tables").items():
-                _table(options, f"{name}.{rule}", source, "option = value")
-            parsed["rule_options"] = value
-        elif key in ("time-sample-cap", "max-variant-combinations"):
-            if not isinstance(value, int) or isinstance(value, bool) or value < 1:
-                raise ConfigError(f"{source}: '{name}' must be a positive integer, got {value!r}")
-            if key == "max-variant-combinations":
-                check_max_variant_combinations(value, f"{source}: '{name}'")
-            parsed[key.replace("-", "_")] = value
-        elif key == "profile":
-            parsed["profile"] = _profile_name(value, name, source)
-        elif key == "per-path-profiles":
-            parsed["per_path_profiles"] = {
-                glob: _profile_name(profile, f"{name}.{glob}", source)
-                for glob, profile in _table(value, name, source, "glob = profile").items()
-            }
-        elif key == "cache-dir":
-            if not isinstance(value, str) or not value.strip():
-                raise ConfigError(f"{source}: '{name}' must be a folder path, got {value!r}")
-            parsed["cache_dir"] = value
-        elif key == "variants":
-            if not isinstance(value, bool):
-                raise ConfigError(f"{source}: '{name}' must be true or false, got {value!r}")
-            parsed["variants"] = value
-        else:
-            raise ConfigError(f"{source}: unknown key '{name}'")
+        entry = BY_CONFIG_KEY.get(key)
+        if entry is None:
+            raise ConfigError(f"{source}: unknown key '{prefix + key}'")
+        parsed[entry.name] = entry.parse(value, f"{source}: '{prefix + key}'")
     return Settings(**parsed)
-
-
-# -- option values ------------------------------------------------------------------
-
-
-def check_timeout(value: float, where: str = "--timeout") -> float:
-    """Seconds per file, 0 (no limit) to MAX_TIMEOUT; NaN and infinities are not."""
-    if not isinstance(value, int | float) or not 0 <= value <= MAX_TIMEOUT:
-        raise ConfigError(
-            f"{where} must be a number of seconds from 0 to {MAX_TIMEOUT} (0: no limit), "
-            f"got {value!r}"
-        )
-    return float(value)
-
-
-def check_jobs(value: int, where: str = "--jobs") -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= MAX_JOBS:
-        raise ConfigError(f"{where} must be a whole number from 1 to {MAX_JOBS}, got {value!r}")
-    return value
-
-
-def check_max_variant_combinations(value: int, where: str = "--max-variant-combinations") -> int:
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int)
-        or not 1 <= value <= MAX_VARIANT_COMBINATIONS
-    ):
-        raise ConfigError(
-            f"{where} must be a whole number from 1 to {MAX_VARIANT_COMBINATIONS}, got {value!r}"
-        )
-    return value
 
 
 #: A config file larger than this is refused, not read (``--config /dev/zero``
@@ -357,25 +261,42 @@ def build_options(options_class: type | None, values: Mapping[str, Any], where: 
 
 
 def _coerce(value: Any, hint: Any, where: str) -> Any:
+    """``value`` as the rule option's type ``hint`` says (Literal, sequences,
+    unions, Any, None, scalars); a ConfigError naming ``where`` otherwise."""
     origin = typing.get_origin(hint)
-    args = typing.get_args(hint)
     if origin is typing.Literal:
-        if value not in args:
-            allowed = ", ".join(repr(a) for a in args)
-            raise ConfigError(f"{where}: must be one of {allowed}, got {value!r}")
-        return value
+        return _literal(value, typing.get_args(hint), where)
     if origin in (tuple, list, Sequence) or hint in (tuple, list):
-        if not isinstance(value, (list, tuple)):
-            raise ConfigError(f"{where}: must be a list, got {value!r}")
-        item = args[0] if args else Any
-        return tuple(_coerce(v, item, where) for v in value)
+        return _sequence(value, typing.get_args(hint), where)
     if origin in (typing.Union, types.UnionType):
-        for option in args:
-            try:
-                return _coerce(value, option, where)
-            except ConfigError:
-                continue
-        raise ConfigError(f"{where}: invalid value {value!r}")
+        return _union(value, typing.get_args(hint), where)
+    return _scalar(value, hint, where)
+
+
+def _literal(value: Any, allowed: tuple[Any, ...], where: str) -> Any:
+    if value not in allowed:
+        choices = ", ".join(repr(a) for a in allowed)
+        raise ConfigError(f"{where}: must be one of {choices}, got {value!r}")
+    return value
+
+
+def _sequence(value: Any, args: tuple[Any, ...], where: str) -> tuple[Any, ...]:
+    if not isinstance(value, (list, tuple)):
+        raise ConfigError(f"{where}: must be a list, got {value!r}")
+    item = args[0] if args else Any
+    return tuple(_coerce(v, item, where) for v in value)
+
+
+def _union(value: Any, options: tuple[Any, ...], where: str) -> Any:
+    for option in options:
+        try:
+            return _coerce(value, option, where)
+        except ConfigError:
+            continue
+    raise ConfigError(f"{where}: invalid value {value!r}")
+
+
+def _scalar(value: Any, hint: Any, where: str) -> Any:
     if hint is Any:
         return value
     if hint is type(None):
@@ -393,3 +314,17 @@ def _coerce(value: Any, hint: Any, where: str) -> Any:
     ):
         raise ConfigError(f"{where}: must be {getattr(hint, '__name__', hint)}, got {value!r}")
     return value
+
+
+__all__ = [
+    "FAIL_ON_CHOICES",
+    "MAX_JOBS",
+    "MAX_TIMEOUT",
+    "MAX_VARIANT_COMBINATIONS",
+    "ConfigError",
+    "Settings",
+    "build_options",
+    "find_config_file",
+    "load_settings",
+    "read_config_file",
+]

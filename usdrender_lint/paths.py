@@ -36,6 +36,24 @@ def display_path(path: str | None) -> str:
     return absolute[len(prefix) :] if absolute.startswith(prefix) else path
 
 
+def relative_in(text: str, cwd: str | None = None) -> str:
+    """``text`` (a message) with each absolute path below the working
+    directory written relative to it, as the report names files: USD's
+    messages quote absolute paths (``@/ci/runner/work/shot.usda@``), which
+    would carry the machine's folders into annotations."""
+    try:
+        cwd = cwd or os.getcwd()
+    except OSError:
+        return text
+    prefix = cwd.rstrip(os.sep) + os.sep
+    if prefix == os.sep or prefix not in text:
+        return text
+    import re
+
+    # Only where a path starts: not inside a longer path (/x/work/ for /work/).
+    return re.sub(r"(?<![\w./~-])" + re.escape(prefix), "", text)
+
+
 def escape(text: str) -> str:
     """``text`` as valid UTF-8 text, losslessly. A file name that is not UTF-8
     reaches Python with each undecodable byte held as a surrogate escape, which

@@ -32,7 +32,7 @@ _T = TypeVar("_T", bound=type)
 class _Layout:
     """What the shared methods need of one record class, computed once."""
 
-    __slots__ = ("positional", "keyword", "fields", "shown", "compared")
+    __slots__ = ("positional", "keyword", "fields", "shown", "compared", "all_positional")
 
     def __init__(self, cls: type) -> None:
         fields: tuple[Field[Any], ...] = dataclasses.fields(cls)
@@ -44,6 +44,9 @@ class _Layout:
         self.fields = tuple((f.name, f.default, f.default_factory) for f in fields)
         self.shown = tuple(f.name for f in fields if f.repr)
         self.compared = tuple(f.name for f in fields if f.compare)
+        #: Every field is a positional __init__ argument: a call that passes
+        #: them all by position needs no defaults (_init's fast path).
+        self.all_positional = len(self.positional) == len(fields)
 
 
 def _layout(record: object) -> _Layout:
@@ -53,6 +56,13 @@ def _layout(record: object) -> _Layout:
 
 def _init(self: object, *args: Any, **kwargs: Any) -> None:
     layout = _layout(self)
+    if not kwargs and layout.all_positional and len(args) == len(layout.positional):
+        # The common call (a Target, a Finding built by position): every field given.
+        self.__dict__.update(zip(layout.positional, args, strict=True))
+        post_init = getattr(self, "__post_init__", None)
+        if post_init is not None:
+            post_init()
+        return
     name = type(self).__qualname__
     if len(args) > len(layout.positional):
         raise TypeError(

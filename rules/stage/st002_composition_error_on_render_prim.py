@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api.files import lfs_pointer_problem
 from usdrender_lint.api.resolve import usd_text
 
 from ._render_prims import RENDER_SCOPE, is_render_type
@@ -16,6 +18,16 @@ def _composition_error_site(error) -> Sdf.Path | None:
     site = getattr(error, "rootSite", None)
     path = getattr(site, "path", None)
     return path if isinstance(path, Sdf.Path) else None
+
+
+def _lfs_pointers(text: str) -> str:
+    """ " (@a.usda@ is a Git LFS pointer ...)" for each asset USD's error names
+    that is one: USD says only that it is not a valid layer."""
+    said = ""
+    for asset in dict.fromkeys(re.findall(r"@([^@]+)@", text)):
+        if lfs_pointer_problem(asset):
+            said += f" (@{asset}@ is a Git LFS pointer, not the layer: run `git lfs pull`)"
+    return said
 
 
 def _render_prim_paths(stage: Usd.Stage) -> list[Sdf.Path]:
@@ -104,6 +116,7 @@ class CompositionErrorOnRenderPrim(Rule):
             at_root = site == Sdf.Path.absoluteRootPath
             scope = "every prim" if at_root else f"render data at <{site}>"
             text = " ".join(usd_text(error).split())
+            text += _lfs_pointers(text)
             yield Diagnostic(
                 message=f"{text} {scope[0].upper()}{scope[1:]} loses the "
                 "opinions this layer or arc would supply; repair the asset path or remove it",

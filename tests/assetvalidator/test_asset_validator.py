@@ -9,6 +9,7 @@ on the same file, run once as a command over all the files.
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import re
@@ -42,10 +43,16 @@ def _usd_files(folders: list[Path]) -> list[Path]:
     return sorted(p.resolve() for f in folders for p in f.rglob("*") if p.suffix in exts)
 
 
-def _check(files: list[Path], *extra: str) -> dict[str, dict]:
-    """``check --format json`` over ``files`` in one process: findings per file."""
+def _check(files: list[Path]) -> dict[str, dict]:
+    """``check --format json`` over ``files`` in one process: findings per file
+    (run once per set of files in this module)."""
+    return _checked(tuple(files))
+
+
+@functools.cache
+def _checked(files: tuple[Path, ...]) -> dict[str, dict]:
     out = subprocess.run(
-        [str(BIN / "usdrender-lint"), "check", "--format", "json", "--jobs", "1", *extra]
+        [str(BIN / "usdrender-lint"), "check", "--format", "json", "--jobs", "1"]
         + [str(f) for f in files],
         capture_output=True,
         text=True,

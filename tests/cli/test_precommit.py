@@ -269,3 +269,23 @@ def test_the_fix_hook_fixes_the_staged_layer_and_then_passes(
     _git(target, "add", "-A")
     again = _run_sample_config(target, hook_repo, pre_commit_home, FIX_HOOK_ID)
     assert again.returncode == 0, again.stdout + again.stderr
+
+
+def test_pip_installs_from_the_release_tag(tmp_path: Path, hook_repo: Path) -> None:
+    """The docs' ``pip install "git+URL@v0.1.0"``, with the clone as the URL (the
+    dependencies are left out: the hook's environment above installs them)."""
+    target = tmp_path / "site-packages"
+    run = subprocess.run(
+        [
+            sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
+            "--no-build-isolation", "--target", str(target),
+            f"git+{hook_repo.as_uri()}@{TAG}",
+        ],
+        env=_git_env(),
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert (target / f"usdrender_lint-{__version__}.dist-info").is_dir()
+    assert (target / "usdrender_lint" / "rules" / "__init__.py").is_file()

@@ -21,10 +21,12 @@ from cli_support import (
     descendants,
     hanging_stage,
     is_running,
+    unsupervised,
     wait_for_a_worker,
 )
 
-from usdrender_lint.running.supervisor import NO_SUPERVISOR_ENV, wants_supervision
+from usdrender_lint.running import supervisor
+from usdrender_lint.running.supervisor import wants_supervision
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="the supervisor is Linux's (PR_SET_PDEATHSIG)"
@@ -49,17 +51,23 @@ def test_only_a_check_that_writes_nothing_is_supervised(argv: list[str], supervi
     assert wants_supervision(argv) is supervised
 
 
-def test_the_environment_turns_the_supervisor_off(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setenv(NO_SUPERVISOR_ENV, "1")
-    assert not wants_supervision(["check", "shot.usda"])
+def test_no_module_global_or_environment_variable_steers_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # How the supervisor ran a process is a value handed to the command
+    # (Supervision), not a module global or an environment variable.
+    assert not hasattr(supervisor, "supervised") and not hasattr(supervisor, "verdict")
+    monkeypatch.setenv("USDRENDER_LINT_NO_SUPERVISOR", "1")
+    assert wants_supervision(["check", "shot.usda"])
 
 
 def _run(*args: str, supervised: bool) -> subprocess.CompletedProcess[str]:
-    env = {k: v for k, v in os.environ.items() if k != NO_SUPERVISOR_ENV}
-    if not supervised:
-        env[NO_SUPERVISOR_ENV] = "1"
     return subprocess.run(
-        command(*args), capture_output=True, text=True, env=env, timeout=120, check=False
+        command(*args) if supervised else unsupervised(*args),
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
     )
 
 
@@ -124,8 +132,9 @@ def test_a_crash_of_the_child_costs_a_retry_not_the_report(tmp_path: Path) -> No
     process, stage = _start_on_a_hang(tmp_path, "--timeout", "3")
     [child] = descendants(process.pid)
     os.kill(child, signal.SIGSEGV)  # as USD crashing on the file would
-    # The supervisor lints the file again itself, in a forked child with the
-    # whole stage composed; the FIFO still blocks it, so that one times out.
+    # The supervisor lints the file again itself, in a worker with the whole
+    # stage composed (AfterSupervisedChild); the FIFO still blocks it, so that
+    # one times out.
     stdout, stderr = process.communicate(timeout=60)
     assert (process.returncode, stderr) == (
         2,

@@ -199,6 +199,19 @@ def test_version_and_help_onto_a_full_device(args: list[str]) -> None:
     )
 
 
+@pytest.mark.parametrize("args", [["--version"], ["--help"]])
+def test_version_and_help_to_a_reader_gone_are_a_quiet_exit_2(args: list[str]) -> None:
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # nobody reads
+    try:
+        result = subprocess.run(
+            command(*args), stdout=write_end, stderr=subprocess.PIPE, text=True, timeout=120
+        )
+    finally:
+        os.close(write_end)
+    assert (result.returncode, result.stderr) == (2, "")
+
+
 # -- USDRENDER_LINT_DEBUG --------------------------------------------------------------
 
 RAISING_RULE = '''
@@ -250,3 +263,38 @@ def test_debug_shows_the_traceback_of_an_internal_error(
     assert "UL000" in loud.stdout
     assert "usdrender-lint: debug:" in loud.stderr and "Traceback" in loud.stderr
     assert 'raise RuntimeError("raised on purpose")' in loud.stderr
+
+
+def test_merge_never_writes_onto_a_report_it_reads(tmp_path: Path, shot: Path) -> None:
+    first = tmp_path / "first.json"
+    result = run("check", "--isolated", "--format", "json", "--output", str(first), str(shot))
+    assert result.returncode == 1, result.stderr
+    kept = first.read_text()
+    merged = run("merge", str(first), "--output", str(first))
+    assert merged.returncode == 2
+    assert "first.json: is an input of this run; refusing to write the merged report" in (
+        merged.stderr
+    )
+    assert first.read_text() == kept
+
+
+def test_debug_shows_the_traceback_of_a_file_that_could_not_be_linted(
+    shot: Path, monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]
+) -> None:
+    from usdrender_lint.engine import Linter
+
+    def broken(self, path, **kwargs):
+        raise RuntimeError("the engine broke on purpose")
+
+    monkeypatch.setattr(Linter, "lint_path", broken)
+    args = ["check", "--isolated", "--no-cache", "--jobs", "1", "--timeout", "0", str(shot)]
+    quiet = CliRunner().invoke(cli, args)
+    assert quiet.exit_code == 2
+    assert "internal error: RuntimeError: the engine broke on purpose" in quiet.stderr
+    assert "Traceback" not in capfd.readouterr().err
+    monkeypatch.setenv("USDRENDER_LINT_DEBUG", "1")
+    loud = CliRunner().invoke(cli, args)
+    assert loud.exit_code == 2
+    printed = capfd.readouterr().err
+    assert f"usdrender-lint: debug: {shot}: internal error" in printed
+    assert "Traceback" in printed and 'raise RuntimeError("the engine broke on purpose")' in printed

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 
+from usdrender_lint.api.docs import rule_doc
 from usdrender_lint.profiles import PROFILES
 from usdrender_lint.registry import build_registry
 
@@ -53,8 +54,14 @@ def test_every_registered_rule_has_its_page(generated: dict[str, str]) -> None:
         page = generated[f"reference/rules/{rule.code}-{rule.name}.md"]
         assert f"\n# {rule.code} {rule.name}\n" in page
         assert "## What it does" in page and "## Under each profile" in page
-        # The same documentation explain prints: its docstring's first section.
-        assert rule.__doc__ and rule.summary() in page
+        # The same documentation explain prints: every line of the rule's docstring
+        # (a fence naming a supporting layer becomes a titled fence).
+        missing = [
+            line
+            for line in rule_doc(rule).splitlines()
+            if line.strip() and not line.startswith("```") and line not in page
+        ]
+        assert missing == [], rule.code
         index = generated["reference/rules/index.md"]
         assert f"({rule.code}-{rule.name}.md)" in index
 
@@ -94,8 +101,13 @@ def test_the_configuration_reference_lists_every_key_the_parser_accepts(
     from usdrender_lint.config import ConfigError, load_settings
 
     page = generated["reference/configuration.md"]
+    from usdrender_lint.settings_table import SETTINGS
+
     settings = hooks.settings_declaration()
-    assert {s.key for s in settings} >= {"select", "fail-on", "roots", "rules", "profile"}
+    # Every key of the settings table, and its verdict on the cache key.
+    assert [(s.key, s.changes_findings) for s in settings] == [
+        (entry.config_key, entry.changes_findings) for entry in SETTINGS if entry.config_key
+    ]
     for setting in settings:
         assert f"| `{setting.key}` |" in page
         assert setting.help, f"{setting.key} has no #: comment in its declaration"
@@ -212,3 +224,20 @@ def test_the_contributing_page_names_every_test_that_reads_shared() -> None:
         if re.search(r"\bshared_dir\b|\bSHARED\b", path.read_text(encoding="utf-8"))
     } - {"test_shared_skips.py"}
     assert readers - named == set()
+
+
+def test_no_page_installs_from_a_package_index(site: dict[str, str]) -> None:
+    """usdrender-lint is on no index yet: every install is from a clone (.) or a
+    Git tag (``usdrender-lint[extra] @ git+URL@vX.Y.Z``), never ``pip install
+    usdrender-lint`` or ``usdrender-lint==X``."""
+    texts = {**site, "README.md": (REPO / "README.md").read_text(encoding="utf-8")}
+    wrong = [
+        f"{page}: {line.strip()}"
+        for page, text in texts.items()
+        for line in text.splitlines()
+        if re.search(
+            r"pip install\b.*['\"\s]usdrender-lint\b(?![-\w]*(?:\[[\w,]+\])?\s*@\s*git\+)", line
+        )
+        or "usdrender-lint==" in line
+    ]
+    assert wrong == []

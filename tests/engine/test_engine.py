@@ -188,8 +188,10 @@ def test_open_failure_is_st001_with_line(tmp_path: Path) -> None:
     layer.write_text('#usda 1.0\ndef Scope "A"\n{\n    int x = \n}\n')
     (finding,) = Linter([]).lint_path(str(layer)).findings
     assert finding.code == "ST001"
-    assert finding.location.line is not None
-    assert str(layer) in finding.message
+    assert (finding.location.layer, finding.location.line) == (str(layer), 4)
+    # The location says where; the message does not repeat the absolute path.
+    assert str(layer) not in finding.message
+    assert finding.message == "Expected } at 'int x = ' in </A>"
 
 
 def test_line_index_handles_variants_strings_and_nesting() -> None:

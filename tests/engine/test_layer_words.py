@@ -209,3 +209,22 @@ def test_without_the_key_in_any_layer_no_prim_s_custom_data_is_read(
     monkeypatch.setattr(suppress, "has_suppressions", read)
     for path in (text, crate):
         assert "SE003" in {f.code for f in Linter(all_rules()).lint_path(str(path)).findings}
+
+
+def test_a_session_layer_of_variant_selections_holds_no_word() -> None:
+    """--variants' own selections keep every shortcut; anything more may hold any word."""
+    session = Sdf.Layer.CreateAnonymous()
+    assert not layer_words.layers_may_hold([session], "usdrender_lint")
+    Sdf.CreatePrimInLayer(session, "/Render/Settings").variantSelections["look"] = "b"
+    assert layer_words.holds_only_selections(session)
+    assert not layer_words.layers_may_hold([session], "usdrender_lint")
+    over = session.GetPrimAtPath("/Render")
+    over.SetInfo("customData", {"usdrender_lint": {"ignore": Vt.StringArray(["SE003"])}})
+    assert not layer_words.holds_only_selections(session)
+    assert layer_words.layers_may_hold([session], "usdrender_lint")
+    over.ClearInfo("customData")
+    Sdf.AttributeSpec(over, "x", Sdf.ValueTypeNames.Int)
+    assert layer_words.layers_may_hold([session], "clips")
+    session.Clear()
+    Sdf.CreatePrimInLayer(session, "/Render").specifier = Sdf.SpecifierDef
+    assert layer_words.layers_may_hold([session], "untyped")

@@ -132,9 +132,27 @@ def test_an_unknown_type_or_a_busy_session_layer_sends_the_caller_to_its_walk(
     named_untyped.write_text('#usda 1.0\ndef untyped "odd"\n{\n}\n')
     assert _found(Usd.Stage.Open(str(named_untyped)), linter) is None
     stage = Usd.Stage.Open(str(TESTS / "rules" / "SE003_data_window_malformed" / "pass_traps.usda"))
-    Sdf.CreatePrimInLayer(stage.GetSessionLayer(), "/Render").specifier = Sdf.SpecifierOver
+    over = Sdf.CreatePrimInLayer(stage.GetSessionLayer(), "/Render")
+    over.specifier = Sdf.SpecifierOver
+    over.SetInfo("active", False)
     dispatch = linter._dispatch
     assert typed_prims.find(stage, dispatch.wants, dispatch.unknown_type_names) is None
+
+
+def test_variant_selections_in_the_session_layer_keep_the_lookup() -> None:
+    """--variants authors its selections in the session layer: the query is
+    authored beside them and they stay."""
+    stage = Usd.Stage.Open(str(FIXTURES[0]))
+    session = stage.GetSessionLayer()
+    Sdf.CreatePrimInLayer(session, "/Render").variantSelections["look"] = "b"
+    dispatch = Linter(all_rules())._dispatch
+    found = typed_prims.find(stage, dispatch.wants, dispatch.unknown_type_names)
+    assert found is not None
+    assert [p.GetPath() for p in found] == [
+        p.GetPath() for p in stage.Traverse() if dispatch.wants(p.GetTypeName())
+    ]
+    assert [p.path for p in session.rootPrims] == [Sdf.Path("/Render")]
+    assert session.GetPrimAtPath("/Render").variantSelections["look"] == "b"
 
 
 @pytest.mark.parametrize("limit", ["MIN_PRIMS", "MIN_SPECS"])

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -208,3 +209,201 @@ def test_variants_config_value_is_validated(shot: Path) -> None:
     result = CliRunner().invoke(cli, ["check", str(shot)])
     assert result.exit_code == 2
     assert "'variants' must be true or false" in result.stderr
+
+
+def _many_sets(count: int) -> str:
+    """A RenderSettings with ``count`` variant sets of two variants each."""
+    names = ", ".join(f'"v{i}"' for i in range(count))
+    selections = "\n".join(f'            string v{i} = "a"' for i in range(count))
+    bodies = "".join(
+        f'        variantSet "v{i}" = {{\n            "a" {{\n            }}\n'
+        '            "b" {\n                int2 resolution = (0, 0)\n            }\n        }\n'
+        for i in range(count)
+    )
+    return (
+        '#usda 1.0\ndef Scope "Render"\n{\n    def RenderSettings "S" (\n        variants = {\n'
+        f"{selections}\n        }}\n        prepend variantSets = [{names}]\n    )\n    {{\n"
+        f"{bodies}    }}\n}}\n"
+    )
+
+
+def test_many_variant_sets_cost_the_cap_not_their_combinations(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """10,000 variant sets took 1,118 s of CPU (1,000: 11 s): reading each
+    set's variants walked the whole prim index once per set. Now the sets are
+    read in one pass, exactly the cap's combinations are composed, and four
+    times the sets cost about four times the Python calls."""
+    from usdrender_lint.engine import variants
+
+    authored: list[tuple] = []
+    real = variants.author_selection
+    monkeypatch.setattr(
+        variants, "author_selection", lambda *a: (authored.append(a[2]), real(*a))[1]
+    )
+    linter = Linter(all_rules())
+
+    def calls(count: int) -> int:
+        path = tmp_path / f"sets{count}.usda"
+        path.write_text(_many_sets(count))
+        stage = Usd.Stage.Open(str(path))
+        made = 0
+
+        def counting(frame: object, event: str, arg: object) -> None:
+            nonlocal made
+            made += 1
+
+        authored.clear()
+        notes: list[str] = []
+        sys.setprofile(counting)
+        try:
+            findings = VariantExplorer(linter, max_combinations=5).lint_stage(stage, None, notes)
+        finally:
+            sys.setprofile(None)
+        assert len(authored) == 5  # the cap, never the 2^count combinations
+        assert any("v0=b" in f.message for f in findings)
+        assert notes[0] == variants.skipped_note(str(path), 5, 2**count)
+        return made
+
+    calls(25)  # first-use costs out of the count
+    ratio = calls(400) / calls(100)
+    assert ratio < 6, ratio
+
+
+def test_variant_sets_read_in_one_pass_match_usds_own_answer(tmp_path: Path) -> None:
+    path = tmp_path / "sets.usda"
+    path.write_text(_many_sets(30))
+    stage = Usd.Stage.Open(str(path))
+    variant_sets = stage.GetPrimAtPath("/Render/S").GetVariantSets()
+    expected = [
+        (
+            name,
+            variant_sets.GetVariantSet(name).GetVariantSelection(),
+            variant_sets.GetVariantSet(name).GetVariantNames(),
+        )
+        for name in variant_sets.GetNames()
+    ]
+    found = [(s.name, s.authored, sorted(s.choices)) for s in render_variant_sets(stage)]
+    assert found == [(name, chosen, sorted(names)) for name, chosen, names in expected]
+
+
+# A variant that adds a product, one that deactivates the vars' scope, and a
+# scope that copies /Render through an internal reference (USD recomposes it
+# when a selection on /Render changes) with a suppression on the copy.
+ARCS = """#usda 1.0
+
+def Scope "Render" (
+    variants = {
+        string extra = "no"
+        string vars = "on"
+    }
+    prepend variantSets = ["extra", "vars"]
+)
+{
+    def RenderSettings "Settings"
+    {
+        rel products = </Render/Beauty>
+    }
+
+    def RenderProduct "Beauty"
+    {
+        rel orderedVars = </Render/Vars/Color>
+    }
+
+    def Scope "Vars"
+    {
+        def RenderVar "Color"
+        {
+        }
+    }
+
+    variantSet "extra" = {
+        "no" {
+        }
+        "yes" {
+            def RenderProduct "Extra"
+            {
+            }
+        }
+    }
+    variantSet "vars" = {
+        "off" {
+            over "Vars" (
+                active = false
+            )
+            {
+            }
+        }
+        "on" {
+        }
+    }
+}
+
+def Scope "Copy" (
+    customData = {
+        dictionary usdrender_lint = {
+            string[] ignore = ["ST008"]
+        }
+    }
+    references = </Render>
+)
+{
+}
+"""
+
+
+def test_each_combination_walks_only_what_usd_recomposed(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """After the first walk a combination re-walks only the subtrees USD
+    recomposed, and keeps exactly the prims a whole walk would."""
+    from usdrender_lint.engine import variants
+
+    path = tmp_path / "arcs.usda"
+    path.write_text(ARCS)
+    linter = Linter(all_rules())
+    stage = Usd.Stage.Open(str(path))
+    sets = render_variant_sets(stage)
+    assert combination_count(sets) == 16  # /Copy has the sets too
+    whole_walks = []
+    walk_candidates = linter.walk_candidates
+
+    def counted(stage, prims=None, own_stage=False):
+        if prims is None:
+            whole_walks.append(stage)
+        return walk_candidates(stage, prims, own_stage)
+
+    with variants._Walk(linter, stage, own_stage=True) as walk:
+        seen = set()
+        for combination in variants.combinations(sets, 16):
+            variants.author_selection(stage, sets, combination)
+            monkeypatch.setattr(linter, "walk_candidates", counted)
+            kept = [p.GetPath() for p in walk.prims()]
+            monkeypatch.setattr(linter, "walk_candidates", walk_candidates)
+            assert kept == [p.GetPath() for p in walk_candidates(stage)]
+            seen.add(tuple(kept))
+    assert whole_walks == []
+    assert len(seen) > 4  # the combinations compose other prims
+    explored = VariantExplorer(linter).lint_path(str(path))
+    stage.GetSessionLayer().Clear()
+    assert explored.findings  # the same as a whole walk per combination:
+    monkeypatch.setattr(variants._Walk, "prims", lambda self: walk_candidates(self._stage))
+    assert VariantExplorer(linter).lint_path(str(path)).findings == explored.findings
+
+
+def test_the_benchmark_s_variant_shot_has_64_combinations_and_their_defects(
+    tmp_path: Path,
+) -> None:
+    """benchmarks/run.py --only variants lints this shot (at 100k prims)."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parents[1]))
+    from bench_support import load_script
+
+    shot = load_script("generate").generate_variant_shot(tmp_path, prims=300)
+    stage = Usd.Stage.Open(str(shot))
+    assert combination_count(render_variant_sets(stage)) == 64
+    result = VariantExplorer(Linter(all_rules())).lint_path(str(shot))
+    assert result.notes == ()
+    selected = {f.code for f in result.findings if "[variant selection:" in f.message}
+    assert {"SE002", "SE003"} <= selected

@@ -317,7 +317,7 @@ def test_diff_prints_the_change_and_writes_nothing(tmp_path: Path, monkeypatch) 
     )
     assert result.exit_code == 1  # a fix is pending
     assert shot.read_text(encoding="utf-8") == SHOT
-    assert result.stdout.startswith("--- a/shot.usda\n+++ b/shot.usda\n")
+    assert result.stdout.startswith("--- shot.usda\n+++ shot.usda\n")
     assert '-        uniform token aspectRatioConformPolicy = "cropaperture"' in result.stdout
     assert '+        uniform token aspectRatioConformPolicy = "cropAperture"' in result.stdout
     assert "1 fix would be applied" in result.stderr

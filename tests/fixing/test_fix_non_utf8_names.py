@@ -79,7 +79,7 @@ def test_diff_shows_the_patch_of_a_file_whose_name_is_not_utf8(tmp_path: Path, s
     )
     patch = result.stdout.decode("utf-8")
     # Quoted with octal escapes, as git quotes such a name: git apply and patch read it.
-    assert patch.startswith('--- "a/d\\377/shot\\376.usda"\n+++ "b/d\\377/shot\\376.usda"\n')
+    assert patch.startswith('--- "d\\377/shot\\376.usda"\n+++ "d\\377/shot\\376.usda"\n')
     assert "+        rel camera = </World/camRig/shotCam>\n" in patch
     assert _read(tmp_path, shot) == BROKEN  # --diff writes nothing
 

@@ -1,5 +1,6 @@
-"""--diff prints a patch that ``git apply`` and ``patch -p1`` accept from the
-current directory, and exits 1 when a fix is pending, 0 when none, 2 on errors."""
+"""--diff prints a patch that ``git apply -p0`` and ``patch -p0`` accept from the
+current directory (ruff's form: both headers name the file as given), and
+exits 1 when a fix is pending, 0 when none, 2 on errors."""
 
 from __future__ import annotations
 
@@ -40,34 +41,51 @@ def shots(tmp_path: Path, monkeypatch) -> Path:
 
 @pytest.mark.parametrize(
     "tool",
-    [["git", "apply", "--check"], ["patch", "-p1", "--dry-run", "-i"]],
-    ids=["git apply", "patch -p1"],
+    [["git", "apply", "-p0", "--check"], ["patch", "-p0", "--dry-run", "-i"]],
+    ids=["git apply -p0", "patch -p0"],
 )
 def test_the_patch_applies_from_the_current_directory(shots: Path, tool: list[str]) -> None:
     if shutil.which(tool[0]) is None:
         pytest.skip(f"{tool[0]} is not installed")
     result = diff("shots")
     assert result.exit_code == 1  # fixes are pending
-    assert "--- a/shots/a.usda\n+++ b/shots/a.usda\n" in result.stdout
+    assert "--- shots/a.usda\n+++ shots/a.usda\n" in result.stdout
     assert NO_NEWLINE in result.stdout
     (shots / "fixes.patch").write_text(result.stdout, encoding="utf-8")
     applied = subprocess.run([*tool, "fixes.patch"], cwd=shots, capture_output=True, text=True)
     assert applied.returncode == 0, applied.stdout + applied.stderr
     # And really applied, it gives what --fix writes.
-    subprocess.run(["patch", "-p1", "-s", "-i", "fixes.patch"], cwd=shots, check=True)
+    subprocess.run(["patch", "-p0", "-s", "-i", "fixes.patch"], cwd=shots, check=True)
     patched = (shots / "shots" / "a.usda").read_text(encoding="utf-8")
     assert patched == SHOT.replace('"cropaperture"', '"cropAperture"')
 
 
-def test_a_file_outside_the_current_directory_is_a_note(tmp_path: Path, monkeypatch) -> None:
+@pytest.mark.parametrize("spelling", ["relative", "absolute"])
+def test_a_file_outside_the_current_directory_is_named_as_given(
+    tmp_path: Path, monkeypatch, spelling: str
+) -> None:
+    """ruff's and diff's users expect the patch, the file named as given: GNU
+    patch applies it named (``patch -p0 FILE``), git with ``--unsafe-paths``."""
     shot = tmp_path / "shot.usda"
     shot.write_text(SHOT, encoding="utf-8")
-    (tmp_path / "here").mkdir()
-    monkeypatch.chdir(tmp_path / "here")
-    result = diff(str(shot))
-    assert result.stdout == ""
-    assert "is outside the current directory, so it is not in the patch" in result.stderr
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)
+    given = "../shot.usda" if spelling == "relative" else str(shot)
+    result = diff(given)
     assert result.exit_code == 1
+    assert result.stdout.startswith(f"--- {given}\n+++ {given}\n")
+    assert "not in the patch" not in result.stderr
+    (here / "fixes.patch").write_text(result.stdout, encoding="utf-8")
+    tools = [["patch", "-p0", "--dry-run", given, "-i", "fixes.patch"]]
+    tools.append(["git", "apply", "-p0", "--unsafe-paths", "--check", "fixes.patch"])
+    for tool in tools:
+        if shutil.which(tool[0]) is None:
+            continue
+        applied = subprocess.run(tool, cwd=here, capture_output=True, text=True)
+        assert applied.returncode == 0, applied.stdout + applied.stderr
+    subprocess.run(["patch", "-p0", "-s", given, "-i", "fixes.patch"], cwd=here, check=True)
+    assert shot.read_text(encoding="utf-8") == SHOT.replace('"cropaperture"', '"cropAperture"')
 
 
 def test_nothing_pending_exits_0_even_with_findings(tmp_path: Path) -> None:
@@ -90,16 +108,20 @@ def test_patch_marks_a_missing_final_line_end_and_splits_only_at_line_ends() -> 
     assert '\x0c"\n' in text  # a form feed is not a line end for patch tools
 
 
-def test_patch_names_are_relative_and_never_leave_the_directory(tmp_path: Path) -> None:
+def test_patch_names_are_relative_below_the_directory_else_as_given(tmp_path: Path) -> None:
     (tmp_path / "in").mkdir()
-    assert patch_name(str(tmp_path / "in" / "x.usda"), str(tmp_path)) == "in/x.usda"
-    assert patch_name(str(tmp_path / "x.usda"), str(tmp_path / "in")) is None
+    inside, outside = str(tmp_path / "in" / "x.usda"), str(tmp_path / "x.usda")
+    assert patch_name(inside, str(tmp_path)) == "in/x.usda"
+    assert patch_name(outside, str(tmp_path / "in"), "../x.usda") == "../x.usda"
+    assert patch_name(outside, str(tmp_path / "in"), "./../x.usda") == "../x.usda"
+    # A layer the command line did not name (a sublayer) is named absolutely.
+    assert patch_name(outside, str(tmp_path / "in"), "../other.usda") == outside
 
 
 @pytest.mark.parametrize(
     "tool",
-    [["git", "apply"], ["patch", "-p1", "-s", "-i"]],
-    ids=["git apply", "patch -p1"],
+    [["git", "apply", "-p0"], ["patch", "-p0", "-s", "-i"]],
+    ids=["git apply -p0", "patch -p0"],
 )
 def test_names_with_controls_and_quotes_survive_the_patch(
     tmp_path: Path, monkeypatch, tool: list[str]
@@ -119,9 +141,9 @@ def test_names_with_controls_and_quotes_survive_the_patch(
     result = diff(".")
     assert result.exit_code == 1
     assert "\x1b" not in result.stdout
-    assert '--- "a/x\\ny.usda"\n+++ "b/x\\ny.usda"\n' in result.stdout
-    assert '--- "a/e\\033[31m.usda"\n' in result.stdout
-    assert '--- "a/q\\"\\\\.usda"\n' in result.stdout
+    assert '--- "x\\ny.usda"\n+++ "x\\ny.usda"\n' in result.stdout
+    assert '--- "e\\033[31m.usda"\n' in result.stdout
+    assert '--- "q\\"\\\\.usda"\n' in result.stdout
     (tmp_path / "fixes.patch").write_text(result.stdout, encoding="utf-8")
     if tool[0] == "git":
         subprocess.run(["git", "init", "-q", "."], cwd=tmp_path, check=True)

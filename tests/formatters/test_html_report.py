@@ -64,7 +64,7 @@ def test_every_product_has_its_framing_picture_and_findings_beside_it(examples_p
         if f["status"] == "computed"
         for s in f["settings"]
     )
-    assert examples_page.count('<figure class="product">') == products
+    assert examples_page.count('<figure class="product" id=') == products
     assert examples_page.count("<svg ") == products
     crop = examples_page[examples_page.index("<h3>/Render/Products/crop</h3>") :]
     crop = crop[: crop.index("</figure>")]
@@ -115,3 +115,18 @@ def test_the_report_shows_the_fixes_of_a_read_only_file(tmp_path: Path) -> None:
     assert '<span class="d-add">+        rel camera = &lt;/World/camRig/shotCam&gt;</span>' in page
     assert work.read_text() == (REPO / "examples" / "broken_shot" / "shot.usda").read_text()
     assert "read-only" in _run("check", "--diff", "shot.usda", cwd=tmp_path).stderr
+
+
+def test_a_file_name_that_is_not_utf8_gives_a_valid_page(tmp_path: Path) -> None:
+    name = os.fsencode(tmp_path) + b"/sh\xffot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", name)
+    run = subprocess.run(
+        [str(BIN), "check", "--format", "html", "."],
+        capture_output=True,
+        cwd=tmp_path,
+        check=False,
+    )
+    assert run.returncode == 1, run.stderr
+    page = run.stdout.decode("utf-8")  # strict: valid UTF-8
+    assert '<span class="path">sh\\xffot.usda</span>' in page
+    assert page.count('class="finding"') == 5

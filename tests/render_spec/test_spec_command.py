@@ -73,7 +73,7 @@ def test_bad_input_is_one_line_each_and_the_others_are_still_computed(tmp_path: 
     errors = [line for line in result.stderr.splitlines() if line]
     assert errors == [
         f"usdrender-lint: error: {missing}: no such file",
-        f"usdrender-lint: error: {WIP}: {WIP}:9:1: Expected }} at '' in </Lights/key>",
+        f"usdrender-lint: error: {WIP}:9:1: Expected }} at '' in </Lights/key>",
     ]
     files = {f["file"]: f for f in json.loads(result.stdout)["files"]}
     assert files[str(CLEAN)]["status"] == "computed"

@@ -26,7 +26,7 @@ from click.testing import CliRunner
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
 from usdrender_lint.model import Finding
-from usdrender_lint.running import read_ahead, result_cache
+from usdrender_lint.running import result_cache
 from usdrender_lint.running.pipeline import Request, run
 
 BAD = "(1, 1, 0, 0)"  # an inverted dataWindowNDC: SE003
@@ -346,18 +346,6 @@ def test_a_layer_replaced_by_an_older_copy_while_it_is_linted_is_not_stored(
         _during_the_lint(patched, copy_keeping_times)
         assert "SE003" in codes(lint("shot.usda"))
     agrees("shot.usda")
-
-
-def test_a_lone_file_edited_after_its_read_ahead_is_not_stored(tmp_path: Path) -> None:
-    """The supervised child reads a lone file's layers before the lint starts
-    (running/read_ahead.py): an edit after that read is an edit during the lint."""
-    (tmp_path / "common.usda").write_text(settings_layer(BAD))
-    (tmp_path / "shot.usda").write_text(SHOT)
-    read_ahead.start("shot.usda")
-    read_ahead.finish()  # the layers were read (and dropped: the lint reads them again)
-    _same_size_same_times(tmp_path / "common.usda", settings_layer(GOOD))
-    lint("shot.usda")
-    assert not entries(), "read before the edit began: not stored"
 
 
 # -- entries ------------------------------------------------------------------------------

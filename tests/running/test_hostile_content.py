@@ -253,9 +253,9 @@ class CountingLinter(Linter):
         super().__init__(all_rules())
         self.lints = 0
 
-    def lint_stage(self, stage, file=None):
+    def lint_walked_stage(self, stage, file, prims, *, texts=None):
         self.lints += 1
-        return super().lint_stage(stage, file)
+        return super().lint_walked_stage(stage, file, prims, texts=texts)
 
 
 def test_ten_thousand_variant_sets_are_linted_cap_times_one_selection_each() -> None:

@@ -108,9 +108,8 @@ for index, path in enumerate(files):
         try:
             report = os.open(f"{out}/{index}.json", os.O_WRONLY | os.O_CREAT, 0o644)
             os.dup2(report, 1)
-            supervisor.supervised = True
             cli.main(["check", "--isolated", "--no-cache", "--format", "json", "--show-info",
-                      "--fail-on", "never", path])
+                      "--fail-on", "never", path], supervision=supervisor.CHILD)
         except SystemExit as done:
             code = done.code if isinstance(done.code, int) else 3
         finally:

@@ -9,6 +9,7 @@ test would cost more than the tests).
 from __future__ import annotations
 
 import asyncio
+import os
 import shutil
 import subprocess
 import sys
@@ -41,6 +42,8 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 #: The version of the document each URI's last diagnostics were published for.
 published_versions: dict[str, int | None] = {}
+#: How many times diagnostics were published for each URI.
+publications: dict[str, int] = {}
 
 
 def make_client() -> LanguageClient:
@@ -50,6 +53,7 @@ def make_client() -> LanguageClient:
     def publish(client: LanguageClient, params: types.PublishDiagnosticsParams) -> None:
         client.diagnostics[params.uri] = params.diagnostics
         published_versions[params.uri] = params.version
+        publications[params.uri] = publications.get(params.uri, 0) + 1
 
     def register(client: LanguageClient, params: types.RegistrationParams) -> None:
         return None
@@ -108,6 +112,20 @@ def change(client: LanguageClient, uri: str, version: int, text: str) -> None:
             content_changes=[types.TextDocumentContentChangeWholeDocument(text=text)],
         )
     )
+
+
+async def quick_actions(
+    client: LanguageClient, uri: str, diagnostic: types.Diagnostic
+) -> list[types.CodeAction]:
+    """The code actions offered on one diagnostic, as a light bulb asks for them."""
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=diagnostic.range,
+            context=types.CodeActionContext(diagnostics=[diagnostic]),
+        )
+    )
+    return list(actions or [])
 
 
 def apply(text: str, edits: list[types.TextEdit]) -> str:
@@ -227,13 +245,7 @@ async def test_quick_fix_and_fix_all_give_the_fix_result(
     text = path.read_text()
     found = await diagnostics_of(client, uri, 3)
     camera = next(d for d in found if d.code == "CA004")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=camera.range,
-            context=types.CodeActionContext(diagnostics=[camera]),
-        )
-    )
+    actions = await quick_actions(client, uri, camera)
     titles = [a.title for a in actions]
     fix = next(a for a in actions if a.title.startswith("Fix CA004"))
     assert fix.kind == types.CodeActionKind.QuickFix and fix.is_preferred
@@ -244,13 +256,7 @@ async def test_quick_fix_and_fix_all_give_the_fix_result(
 
     # The unsafe fix is labelled so.
     window = next(d for d in found if d.code == "SE003")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=window.range,
-            context=types.CodeActionContext(diagnostics=[window]),
-        )
-    )
+    actions = await quick_actions(client, uri, window)
     unsafe = next(a for a in actions if a.title.startswith("Fix SE003"))
     assert "unsafe" in unsafe.title and not unsafe.is_preferred
 
@@ -266,6 +272,12 @@ async def test_quick_fix_and_fix_all_give_the_fix_result(
     )
     (fix_all,) = actions
     assert fix_all.kind == "source.fixAll.usdrender-lint"
+    # Asked for every action, it comes without its edit, made when it is chosen.
+    offered = await quick_actions(client, uri, camera)
+    (lazy,) = [a for a in offered if a.kind == "source.fixAll.usdrender-lint"]
+    assert lazy.edit is None
+    resolved = await client.code_action_resolve_async(lazy)
+    assert resolved.edit == fix_all.edit
     copy = tmp_path / "shot.usda"
     shutil.copy(path, copy)
     subprocess.run(
@@ -283,13 +295,7 @@ async def test_suppress_in_custom_data_silences_the_finding(
     text = path.read_text()
     found = await diagnostics_of(client, uri, 3)
     product = next(d for d in found if d.code == "PR004")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=product.range,
-            context=types.CodeActionContext(diagnostics=[product]),
-        )
-    )
+    actions = await quick_actions(client, uri, product)
     suppress = next(a for a in actions if a.title.startswith("Suppress PR004"))
     suppressed = apply(text, suppress.edit.changes[uri])
     assert '"PR004"' in suppressed
@@ -372,10 +378,17 @@ async def test_findings_in_another_layer(client: LanguageClient, workspace: Path
                 break
     (shown,) = on_lighting  # the root's finding and the sublayer's own are one
     assert shown.range.start.line == 4
-    for uri in (root, lighting_uri):
-        client.text_document_did_close(
-            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
-        )
+    # Closed again: back on the root, as related information.
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(lighting_uri))
+    )
+    async with asyncio.timeout(60):
+        while not [d for d in client.diagnostics.get(root, []) if d.code == "SE001"]:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert not client.diagnostics[lighting_uri]
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(root))
+    )
 
 
 async def test_a_quick_fix_edits_the_unsaved_text(client: LanguageClient, workspace: Path):
@@ -385,15 +398,39 @@ async def test_a_quick_fix_edits_the_unsaved_text(client: LanguageClient, worksp
     change(client, uri, 20, unsaved)
     camera = next(d for d in await diagnostics_of(client, uri, 20) if d.code == "CA004")
     assert unsaved.splitlines()[camera.range.start.line].strip().startswith("rel camera")
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=camera.range,
-            context=types.CodeActionContext(diagnostics=[camera]),
-        )
-    )
+    actions = await quick_actions(client, uri, camera)
     fix = next(a for a in actions if a.title.startswith("Fix CA004"))
     fixed = apply(unsaved, fix.edit.changes[uri])
     assert fixed == unsaved.replace("</World/camRig>", "</World/camRig/shotCam>", 1)
     change(client, uri, 21, path.read_text())
     await diagnostics_of(client, uri, 21)
+
+
+async def test_a_save_relints_with_the_files_on_disk(client: LanguageClient, workspace: Path):
+    """Saving lints again: a file the document references that changed on disk
+    meanwhile is read again (here the camera the settings target disappears)."""
+    cams = workspace / "cams.usda"
+    path = workspace / "saved.usda"
+    text = (
+        '#usda 1.0\ndef Xform "World" (\n    references = @./cams.usda@</rig>\n)\n{\n}\n'
+        'def RenderSettings "S"\n{\n    rel camera = </World/cam>\n}\n'
+    )
+    path.write_text(text)
+    uri = open_document(client, path, text)
+    assert "CA003" not in {d.code for d in await diagnostics_of(client, uri, 1)}
+    before = cams.stat().st_mtime
+    original = cams.read_text()
+    cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n}\n')
+    os.utime(cams, (before + 5, before + 5))
+    count = publications[uri]
+    client.text_document_did_save(
+        types.DidSaveTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+    async with asyncio.timeout(60):
+        while publications[uri] == count:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert "CA003" in {d.code for d in client.diagnostics[uri]}
+    cams.write_text(original)
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )

@@ -101,7 +101,10 @@ class Target:
         return self.prim is None and not self.path.IsPropertyPath()
 
 
+@cached
 def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
+    """What ``path`` is on the stage (once per lint: a dozen products target
+    the same few vars and cameras)."""
     if path.IsPropertyPath():
         return Target(path, None, "is a property, not a prim")
     prim = stage.GetPrimAtPath(path)
@@ -142,10 +145,18 @@ def _composed_targets(rel_and_mode: tuple[Usd.Relationship | None, bool]) -> tup
 
 
 def resolve_targets(rel: Usd.Relationship | None) -> list[Target]:
+    """The relationship's forwarded targets, resolved (a list of its own for
+    each caller)."""
+    return list(_resolved_targets(rel))
+
+
+@cached
+def _resolved_targets(rel: Usd.Relationship | None) -> tuple[Target, ...]:
+    # Several rules and the profiles resolve the same relationships: once per lint.
     if not rel:
-        return []
+        return ()
     stage = rel.GetStage()
-    return [resolve_target(stage, p) for p in forwarded_targets(rel)]
+    return tuple(resolve_target(stage, p) for p in forwarded_targets(rel))
 
 
 def describe_prim_type(prim: Usd.Prim) -> str:
@@ -221,18 +232,17 @@ def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
 
 
 @cached
-def _attribute_specs(attr: Usd.Attribute) -> tuple[Sdf.AttributeSpec, ...]:
-    """The attribute's property stack without relationship specs: a layer may
-    author the name as ``rel dataWindowNDC = </X>``, which has no type or value."""
-    return tuple(s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec))
-
-
-@cached
-def _declared_type(attr: Usd.Attribute) -> Tf.Type:
-    """The attribute's composed value type: USD takes it from the prim definition
-    for a schema attribute (whatever the specs say), else from the strongest spec.
-    A spec of this type is never mismatched, so most checks stop here."""
-    return attr.GetTypeName().type
+def _attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+    """The attribute's property stack without relationship specs (a layer may
+    author the name as ``rel dataWindowNDC = </X>``, which has no type or
+    value), and its declared type: the composed value type, which USD takes
+    from the prim definition for a schema attribute (whatever the specs say),
+    else from the strongest spec. A spec of that type is never mismatched, so
+    most checks stop there. Read together: every reader of one needs the other."""
+    specs = tuple(
+        s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec)
+    )
+    return specs, attr.GetTypeName().type
 
 
 @cached
@@ -243,16 +253,17 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     although typed C++ reads cannot (catalog, Surprises 5). Roles are ignored:
     ``color3f`` and ``float3`` store the same value type.
     """
-    return _mismatched_in(_attribute_specs(attr), attr)
+    specs, declared = _attribute_specs(attr)
+    return _mismatched_in(specs, declared, attr)
 
 
 def _mismatched_in(
-    specs: Iterable[Sdf.AttributeSpec], attr: Usd.Attribute
+    specs: Iterable[Sdf.AttributeSpec], declared: Tf.Type, attr: Usd.Attribute
 ) -> Sdf.AttributeSpec | None:
     for spec in specs:
         if spec.HasDefaultValue() or _has_time_samples(spec):
             value_type = spec.typeName.type
-            if value_type == _declared_type(attr):
+            if value_type == declared:
                 return None
             schema_type = _schema_type(attr)
             return spec if schema_type is not None and value_type != schema_type.type else None
@@ -269,8 +280,7 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     """Every spec of the attribute, strongest first, whose type differs from the
     schema's, value-holding or not (what ``usdValidation:AttributeTypeMismatch``
     reports). Roles are ignored, as in :func:`mismatched_spec`."""
-    specs = _attribute_specs(attr)
-    declared = _declared_type(attr)
+    specs, declared = _attribute_specs(attr)
     if all(s.typeName.type == declared for s in specs):
         return []
     schema_type = _schema_type(attr)
@@ -291,27 +301,33 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     (catalog, Conventions: one mistake gives one finding, SE016)."""
     if not attr or not attr.HasAuthoredValue():
         return False
-    specs = _attribute_specs(attr)  # one property stack serves both checks
-    return _mismatched_in(specs, attr) is None and not _path_value_in(specs)
-
-
-def _path_value_in(specs: Iterable[Sdf.AttributeSpec]) -> bool:
-    """usda accepts ``<...>`` as the value of an attribute of any type
-    (``uniform token sourceType = </X>``, also in time samples): an Sdf.Path that
-    no typed read of the declared type returns, so it is no value at all."""
-    found_default = found_samples = False
+    # One pass over one property stack: the first value-holding spec must have
+    # the schema's type (as _mismatched_in reads it), and neither the first
+    # default nor the first time samples may be a path: usda accepts ``<...>``
+    # as the value of an attribute of any type (``uniform token sourceType =
+    # </X>``, also in time samples), an Sdf.Path no typed read returns.
+    found_default = found_samples = typed = False
+    specs, declared = _attribute_specs(attr)
     for spec in specs:
-        if not found_default and spec.HasDefaultValue():
+        has_default = not found_default and spec.HasDefaultValue()
+        has_samples = not found_samples and _has_time_samples(spec)
+        if not (has_default or has_samples):
+            continue
+        if not typed:
+            if _mismatched_in((spec,), declared, attr) is not None:
+                return False
+            typed = True
+        if has_default:
             found_default = True
             if isinstance(spec.default, Sdf.Path):
-                return True
-        if not found_samples and _has_time_samples(spec):
+                return False
+        if has_samples:
             found_samples = True
             if any(isinstance(v, Sdf.Path) for v in spec.GetInfo("timeSamples").values()):
-                return True
+                return False
         if found_default and found_samples:
             break
-    return False
+    return True
 
 
 def fallback_value(prim: Usd.Prim, name: str) -> Any:
@@ -323,7 +339,7 @@ def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME
     At Default it is read once per lint: every rule that reads the attribute
     shares it (a crate unpacks a large array anew on each read). Treat it as
     read-only."""
-    if time.IsDefault():
+    if time is DEFAULT_TIME or time.IsDefault():
         return _authored_default(attr)
     if attr is None or not has_authored_value(attr):
         return None

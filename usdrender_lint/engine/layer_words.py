@@ -90,13 +90,38 @@ def layers_may_hold(layers: Iterable[Sdf.Layer], word: str) -> bool:
     variant selections) or one that is not a plain file may hold anything."""
     for layer in layers:
         if layer.anonymous:
-            if layer.rootPrims:
+            if layer.rootPrims and not holds_only_selections(layer):
                 return True
             continue
         path = layer_real_path(layer)
         if layer.dirty or not path or may_hold(path, (word,)):
             return True
     return False
+
+
+#: The only fields of a prim spec that holds a variant selection and nothing else.
+_SELECTION_FIELDS = frozenset(("specifier", "variantSelection"))
+
+
+def holds_only_selections(layer: Sdf.Layer) -> bool:
+    """True when every prim spec of ``layer`` is an ``over`` with no fields but
+    variant selections and no properties (what --variants authors in a session
+    layer): such a layer authors none of the WORDS, whatever it selects."""
+    pending = list(layer.rootPrims)
+    while pending:
+        spec = pending.pop()
+        if spec.properties or not _SELECTION_FIELDS.issuperset(spec.ListInfoKeys()):
+            return False
+        if spec.specifier != _over():
+            return False
+        pending.extend(spec.nameChildren)
+    return True
+
+
+def _over():
+    from pxr import Sdf  # a layer already exists: pxr is imported
+
+    return Sdf.SpecifierOver
 
 
 def without_external_arcs(path: str) -> bool:
@@ -254,4 +279,11 @@ def _lz4_block(data: bytes, pos: int, stop: int, limit: int) -> bytes | None:
     return bytes(out) if len(out) <= limit else None
 
 
-__all__ = ["WORDS", "layers_may_hold", "may_hold", "spec_count", "without_external_arcs"]
+__all__ = [
+    "WORDS",
+    "holds_only_selections",
+    "layers_may_hold",
+    "may_hold",
+    "spec_count",
+    "without_external_arcs",
+]

@@ -16,7 +16,9 @@ from pxr import Sdf, Tf, Usd
 from .. import debug
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
+from ..layers.crate import crate_structure_problem
 from ..layers.files import layer_identifier, real_path, unreadable_reason
+from ..layers.nesting import nesting_problem
 from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
@@ -246,6 +248,11 @@ class Linter:
     def _lint_file(
         self, path: str, inspect: Inspector[_T] | None, full_composition: bool = False
     ) -> Inspected[_T]:
+        # Before USD reads the file: a corrupt crate's counts cost minutes and GBs,
+        # a text layer nesting 100,000 levels overflows USD's parser.
+        problem = crate_structure_problem(path) or nesting_problem(path)
+        if problem is not None:
+            raise CorruptValue(problem)
         full = full_composition or self.full_composition
         masked = None if full else self._open_partial(path)
         if masked is not None and self._reads is not None:
@@ -286,6 +293,40 @@ class Linter:
         path, where their findings' lines are found instead of in their files."""
         return self._lint(stage, file, texts=texts)[0]
 
+    def lint_walked_stage(
+        self,
+        stage: Usd.Stage,
+        file: str | None,
+        prims: Sequence[Usd.Prim],
+        *,
+        texts: Mapping[str, str] | None = None,
+    ) -> list[Finding]:
+        """Like :meth:`lint_stage`, with no traversal: ``prims`` are the usable
+        prims the walk would keep (:meth:`walk_candidates`), in traversal order
+        (--variants knows them from the previous combination and what USD
+        recomposed since)."""
+        return self._lint(stage, file, texts=texts, prims=prims)[0]
+
+    def walk_candidates(
+        self, stage: Usd.Stage, prims: Iterable[Usd.Prim] | None = None, own_stage: bool = False
+    ) -> list[Usd.Prim]:
+        """The usable prims of ``stage`` (or of ``prims``, some of them in
+        traversal order) that the walk keeps: of a type the rules or the render
+        prim lists want or that no schema defines, or with customData
+        suppressions. On ``own_stage`` USD may find them (typed_prims.py)."""
+        wants = self._dispatch.wants
+        may_suppress = suppress.layers_may_suppress(stage.GetUsedLayers())
+        if prims is None:
+            if own_stage and not may_suppress:
+                found = typed_prims.find(stage, wants, self._dispatch.unknown_type_names)
+                if found is not None:
+                    return found
+            prims = stage.Traverse()
+        if may_suppress:
+            has = suppress.has_suppressions
+            return [p for p in prims if wants(p.GetTypeName()) or has(p)]
+        return [p for p in prims if wants(p.GetTypeName())]
+
     def lint_stage_with_fixes(
         self, stage: Usd.Stage, file: str | None = None
     ) -> list[tuple[Finding, Fix | None]]:
@@ -325,6 +366,7 @@ class Linter:
         inspect: Inspector[_T] | None = None,
         own_stage: bool = False,
         texts: Mapping[str, str] | None = None,
+        prims: Sequence[Usd.Prim] | None = None,
     ) -> tuple[list[Finding], _T | None]:
         file = file or real_path(stage.GetRootLayer())
         ctx = Context(
@@ -343,7 +385,7 @@ class Linter:
                 for layer_path, text in texts.items():
                     hold_text(layer_path, text)
             try:
-                work, suppressing = self._walk(stage, ctx, own_stage)
+                work, suppressing = self._walk(stage, ctx, own_stage, prims)
                 run = self._run
                 # A renderer rule runs only where some configuration is its renderer's.
                 present = self._decide_profiles(ctx)
@@ -412,10 +454,15 @@ class Linter:
     # -- internals ------------------------------------------------------------
 
     def _walk(
-        self, stage: Usd.Stage, ctx: Context, own_stage: bool = False
+        self,
+        stage: Usd.Stage,
+        ctx: Context,
+        own_stage: bool = False,
+        prims: Iterable[Usd.Prim] | None = None,
     ) -> tuple[list[tuple[Usd.Prim, tuple[Rule, ...]]], list[Usd.Prim]]:
-        """One traversal of usable prims: collect render prims, the prim work and
-        the prims with customData suppressions (no second traversal for those)."""
+        """One traversal of usable prims (or of ``prims``, the caller's
+        :meth:`walk_candidates`): collect render prims, the prim work and the
+        prims with customData suppressions (no second traversal for those)."""
         work = []
         suppressing = []
         unknown = self._dispatch.unknown_type_names
@@ -423,8 +470,7 @@ class Linter:
         # skipped when no layer's file holds the suppression key at all.
         may_suppress = suppress.layers_may_suppress(stage.GetUsedLayers())
         has_suppressions = suppress.has_suppressions if may_suppress else None
-        prims: Iterable[Usd.Prim] | None = None
-        if own_stage and not may_suppress:
+        if prims is None and own_stage and not may_suppress:
             # Then only the typed prims matter, and USD finds them without a Python walk.
             prims = typed_prims.find(stage, self._dispatch.wants, unknown)
         for prim in stage.Traverse() if prims is None else prims:
@@ -441,9 +487,13 @@ class Linter:
         return work, suppressing
 
     def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
+        findings = []
         try:
-            made = (self._finding(rule, diagnostic, ctx) for diagnostic in hook(*args) or ())
-            findings = [f for f in made if f is not None]
+            # A plain loop: 400 hook calls a shot on a CI gate, most yielding nothing.
+            for diagnostic in hook(*args) or ():
+                finding = self._finding(rule, diagnostic, ctx)
+                if finding is not None:
+                    findings.append(finding)
         except (FullStageRequired, UnicodeDecodeError):
             raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
         except Exception as exc:
@@ -524,9 +574,23 @@ class Linter:
                 STAGE_OPEN_FAILED_CODE,
                 STAGE_OPEN_FAILED_NAME,
                 severity,
-                line,
+                _without_position(line),
                 _error_location(path, line),
             )
+
+
+def _without_position(message: str) -> str:
+    """USD's message without its leading ``/abs/file.usda:LINE:COL:``: the
+    finding's location carries them (shown relative to where the report is
+    read), and a message must not carry the machine's absolute paths."""
+    position = position_from_error(message)
+    if position is None:
+        return message
+    file, line, column = position
+    prefix = f"{file}:{line}:" + (f"{column}:" if column is not None else "")
+    if not message.startswith(prefix):
+        return message
+    return message[len(prefix) :].strip() or message
 
 
 def _error_location(path: str, message: str) -> Location:

@@ -43,6 +43,7 @@ lints the file again, fully composed.
 
 from __future__ import annotations
 
+import os
 import re
 from collections import Counter
 from collections.abc import Callable, Collection, Iterable
@@ -51,6 +52,7 @@ from itertools import filterfalse
 
 from pxr import Ar, Sdf, Tf, Usd
 
+from ..layers.crate import crate_structure_problem
 from ..layers.files import layer_identifier, layer_real_path
 from ..model import IGNORE_KEY
 from ..paths import display_path, usd_path
@@ -208,6 +210,9 @@ def _reachable_layers(
             for asset_path in dict.fromkeys(asset_paths):
                 if "`" in asset_path:
                     raise NotProvable(f"expression variables in @{asset_path}@")
+                problem = _crate_problem(anchor, asset_path)
+                if problem is not None:
+                    raise CorruptLayer(problem)
                 # A layer that is missing is missing from the full stage too.
                 layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
                 if layer is None:
@@ -217,6 +222,17 @@ def _reachable_layers(
                     layers.append(layer)
                     queue.append(layer)
     return layers
+
+
+def _crate_problem(anchor: Sdf.Layer, asset_path: str) -> str | None:
+    """Why the crate file an arc names is corrupt, checked before USD reads
+    it (layers/crate.py), or None."""
+    try:
+        file = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
+    except Tf.ErrorException:
+        return None
+    problem = crate_structure_problem(file) if file and os.path.isfile(file) else None
+    return f"{display_path(file)}: {problem}" if problem else None
 
 
 class _Scans:

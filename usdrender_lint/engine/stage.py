@@ -3,11 +3,15 @@ ST001 findings' messages (``file:line:col`` where USD gives one)."""
 
 from __future__ import annotations
 
+import os
+import re
 from collections.abc import Iterable
 
 from pxr import Sdf, Tf, Usd
 
-from ..paths import usd_path
+from ..layers.crate import is_crate
+from ..layers.files import lfs_pointer_problem
+from ..paths import display_path, usd_path
 from ..records import record
 
 STAGE_OPEN_FAILED_CODE = "ST001"
@@ -44,7 +48,7 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
             errors: tuple[str, ...] = ()
         except Tf.ErrorException as exc:
             stage = None
-            errors = tuple(error_lines(exc, path))
+            errors = crate_unreadable(exc, path) or tuple(error_lines(exc, path))
         except Exception as exc:  # noqa: BLE001 - any failure to open is a finding
             stage = None
             errors = (f"{type(exc).__name__}: {exc}",)
@@ -52,6 +56,9 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
     if stage is None and path.lower().endswith(".usdz"):
         problem = _package_problem(path)
         errors = ((problem,) if problem else ()) + errors
+    if stage is None:
+        pointer = lfs_pointer_problem(path)
+        errors = (pointer,) if pointer else errors  # USD's own words do not say it
     if stage is None and not errors:
         errors = (f"USD could not open {path}",)
     return StageOpenResult(stage, errors)
@@ -84,7 +91,36 @@ def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
             text = _undecodable_error(path)
         for line in str(text).strip().splitlines():
             if line.strip():
-                yield line.strip()
+                # An object's address ("stage @x@ <0x55d1...>") differs from run to run.
+                yield _ADDRESS.sub("", line.strip())
+
+
+_ADDRESS = re.compile(r" ?<0x[0-9a-fA-F]+>")
+_QUOTED_LAYER = re.compile(r"@([^@]+)@")
+#: The sources of the crate reader's errors: the reader, and the LZ4 and
+#: integer decompression it reads the structural sections with.
+_CRATE_READER = ("crateFile.cpp", "fastCompression.cpp", "integerCoding.cpp")
+
+
+def crate_unreadable(exc: Tf.ErrorException, path: str) -> tuple[str, ...]:
+    """One fixed line when the crate reader (``pxr/usd/sdf/crateFile.cpp`` and
+    the decompression it uses) failed on the structure of a crate, else ().
+    What usd-core 26.11 says then differs between runs of one file (it reads
+    the sections on several threads and may read a buffer a failed
+    decompression left unset), so the finding says that the file is corrupt,
+    the same every time, and names the layer when it is not the linted file."""
+    crate = None
+    for arg in exc.args:
+        source = str(getattr(arg, "sourceFileName", "") or "")
+        if source.endswith(_CRATE_READER):
+            quoted = _QUOTED_LAYER.search(str(getattr(arg, "commentary", "") or ""))
+            crate = quoted.group(1) if quoted else path
+            break
+    if crate is None or not is_crate(crate):
+        return ()  # e.g. a text file named .usdc: USD's "bootstrap section corrupt" says it
+    if os.path.abspath(crate) == os.path.abspath(path):
+        return ("USD cannot read the structure of this crate file: the file is corrupt",)
+    return (f"USD cannot read the structure of the crate {display_path(crate)}: it is corrupt",)
 
 
 def corruption(exc: Tf.ErrorException, path: str) -> str | None:

@@ -59,9 +59,12 @@ def find(
     """The usable prims (``stage.Traverse()``'s) whose type name ``wanted``
     accepts, in traversal order; None when the caller must walk the stage
     itself: a small stage, a type name in ``unknown`` (no schema defines it)
-    present, a session layer that is not empty."""
+    present, a session layer that holds more than variant selections (the
+    query is authored beside them)."""
     session = stage.GetSessionLayer()
-    if session is None or session.rootPrims or not session.anonymous:
+    if session is None or not session.anonymous:
+        return None
+    if session.rootPrims and not layer_words.holds_only_selections(session):
         return None
     if _spec_estimate(stage) < MIN_SPECS:
         return None  # known small without asking USD (whose stats cost an import)
@@ -79,7 +82,7 @@ def find(
         return []
     paths = _evaluate(stage, session, chosen)
     prims = [stage.GetPrimAtPath(path) for path in paths]
-    return sorted(prims, key=_traversal_key(stage))
+    return sorted(prims, key=traversal_key(stage))
 
 
 def _spec_estimate(stage: Usd.Stage) -> int:
@@ -114,7 +117,7 @@ def _evaluate(stage: Usd.Stage, session: Sdf.Layer, type_names: list[str]) -> li
         del session.rootPrims[_QUERY_PRIM.name]
 
 
-def _traversal_key(stage: Usd.Stage) -> Callable[[Usd.Prim], tuple[int, ...]]:
+def traversal_key(stage: Usd.Stage) -> Callable[[Usd.Prim], tuple[int, ...]]:
     """A sort key giving depth-first order with children in namespace order."""
     positions: dict[Sdf.Path, dict[str, int]] = {}
 
@@ -131,4 +134,4 @@ def _traversal_key(stage: Usd.Stage) -> Callable[[Usd.Prim], tuple[int, ...]]:
     return key
 
 
-__all__ = ["MIN_PRIMS", "find", "type_counts"]
+__all__ = ["MIN_PRIMS", "find", "traversal_key", "type_counts"]

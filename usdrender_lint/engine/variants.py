@@ -23,18 +23,22 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import replace
+from typing import Any
 
-from pxr import Sdf, Usd
+from pxr import Sdf, Tf, Usd
 
 from ..api import Rule
+from ..layers.crate import crate_structure_problem
 from ..layers.files import unreadable_reason
+from ..layers.nesting import nesting_problem
 from ..model import FileResult, Finding
 from ..records import record
 from .linter import RENDER_SCHEMAS, Linter
 from .locate import locate
 from .stage import open_stage
+from .typed_prims import traversal_key
 
 #: Default cap on the variant combinations linted per file.
 DEFAULT_MAX_COMBINATIONS = 64
@@ -54,24 +58,43 @@ class VariantSetChoice:
         return self.choices[0]
 
 
-def render_variant_sets(stage: Usd.Stage) -> list[VariantSetChoice]:
-    """The variant sets of the usable render prims and their ancestors, by path."""
+def render_variant_sets(
+    stage: Usd.Stage, prims: Iterable[Usd.Prim] | None = None
+) -> list[VariantSetChoice]:
+    """The variant sets of the usable render prims (of ``prims`` when given,
+    else of the stage) and their ancestors, by path."""
     owners: set[Sdf.Path] = set()
-    for prim in stage.Traverse():
+    for prim in stage.Traverse() if prims is None else prims:
         if any(prim.IsA(schema) for schema in RENDER_SCHEMAS):
             while prim and not prim.IsPseudoRoot() and prim.GetPath() not in owners:
                 owners.add(prim.GetPath())
                 prim = prim.GetParent()
     found = []
     for path in sorted(owners):
-        variant_sets = stage.GetPrimAtPath(path).GetVariantSets()
-        for name in variant_sets.GetNames():
-            variant_set = variant_sets.GetVariantSet(name)
-            authored = variant_set.GetVariantSelection()
-            others = [v for v in variant_set.GetVariantNames() if v != authored]
+        prim = stage.GetPrimAtPath(path)
+        names = prim.GetVariantSets().GetNames()
+        if not names:
+            continue
+        selections = prim.GetVariantSets().GetAllVariantSelections()
+        variants = _variant_names(prim)
+        for name in names:
+            authored = selections.get(name, "")
+            others = [v for v in variants.get(name, ()) if v != authored]
             if others:
                 found.append(VariantSetChoice(path, name, (authored, *others)))
     return found
+
+
+def _variant_names(prim: Usd.Prim) -> dict[str, list[str]]:
+    """Every variant set's variants, sorted, as UsdVariantSet.GetVariantNames
+    gives them (the variants its specs in the prim's stack define), read in
+    one pass over the stack: that call walks the whole prim index for each
+    set, so a prim with 10,000 sets cost 10,000 walks."""
+    variants: dict[str, set[str]] = {}
+    for spec in prim.GetPrimStack():
+        for name, variant_set in spec.variantSets.items():
+            variants.setdefault(name, set()).update(variant_set.variants.keys())
+    return {name: sorted(found) for name, found in variants.items()}
 
 
 #: A combination: the (index of the set, variant) selections that differ
@@ -167,41 +190,127 @@ class VariantExplorer:
         """Lint ``path`` under each combination; the stage is always composed
         whole (``full_composition`` is accepted, as by Linter.lint_path). The
         result's notes say how many combinations the cap skipped."""
-        if unreadable_reason(path) is not None:
+        if unreadable_reason(path) or crate_structure_problem(path) or nesting_problem(path):
             return self.linter.lint_path(path)  # it reports what is wrong
         opened = open_stage(path)
         if opened.stage is None:
             return self.linter.lint_path(path)
         notes: list[str] = []
-        findings = self.lint_stage(opened.stage, path, notes)
+        findings = self._lint_stage(opened.stage, path, notes, own_stage=True)
         return FileResult(path, findings=tuple(findings), notes=tuple(notes))
 
     def lint_stage(
-        self, stage: Usd.Stage, file: str | None = None, notes: list[str] | None = None
+        self,
+        stage: Usd.Stage,
+        file: str | None = None,
+        notes: list[str] | None = None,
+        *,
+        texts: Mapping[str, str] | None = None,
     ) -> list[Finding]:
         """Findings under every explored combination; the session layer is
         left empty again. When the cap cut combinations, a line saying how
-        many is added to ``notes``."""
-        sets = render_variant_sets(stage)
-        if not sets:
-            return self.linter.lint_stage(stage, file)
+        many is added to ``notes``. ``texts``: as for :meth:`Linter.lint_stage`."""
+        return self._lint_stage(stage, file, notes, texts=texts)
+
+    def _lint_stage(
+        self,
+        stage: Usd.Stage,
+        file: str | None,
+        notes: list[str] | None,
+        own_stage: bool = False,
+        texts: Mapping[str, str] | None = None,
+    ) -> list[Finding]:
         seen: dict[tuple, Finding] = {}
         linted = 0
-        try:
-            for combination in combinations(sets, self.max_combinations):
-                author_selection(stage, sets, combination)
-                selection = describe(sets, combination)
-                for finding in self.linter.lint_stage(stage, file):
-                    key = (finding.code, finding.location.path, finding.message)
-                    if key not in seen:
-                        seen[key] = _annotated(stage, finding, selection)
-                linted += 1
-        finally:
-            stage.GetSessionLayer().Clear()
+        with _Walk(self.linter, stage, own_stage) as walk:
+            sets = render_variant_sets(stage, walk.prims())
+            if not sets:
+                return self.linter.lint_walked_stage(stage, file, walk.prims(), texts=texts)
+            try:
+                for combination in combinations(sets, self.max_combinations):
+                    author_selection(stage, sets, combination)
+                    selection = describe(sets, combination)
+                    prims = walk.prims()
+                    for finding in self.linter.lint_walked_stage(stage, file, prims, texts=texts):
+                        key = (finding.code, finding.location.path, finding.message)
+                        if key not in seen:
+                            seen[key] = _annotated(stage, finding, selection)
+                    linted += 1
+            finally:
+                stage.GetSessionLayer().Clear()
         total = combination_count(sets)
         if notes is not None and linted < total:
             notes.append(skipped_note(file or stage.GetRootLayer().identifier, linted, total))
         return sorted(seen.values(), key=Finding.sort_key)
+
+
+class _Walk:
+    """The prims the linter's walk keeps (:meth:`Linter.walk_candidates`),
+    kept up to date across combinations without walking the stage again: a
+    change of the session layer's selections makes USD recompose some prims
+    and their descendants (ObjectsChanged's resynced paths, which include the
+    prims that reach a changed one through an arc), and only those subtrees
+    are walked again; every other prim is composed as before."""
+
+    def __init__(self, linter: Linter, stage: Usd.Stage, own_stage: bool) -> None:
+        self._linter = linter
+        self._stage = stage
+        self._own_stage = own_stage
+        #: Where USD recomposed since ``_paths`` was walked.
+        self._changed: set[Sdf.Path] = set()
+        self._paths: list[Sdf.Path] = []
+        self._listener: Any = None
+
+    def __enter__(self) -> _Walk:
+        self._listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._note, self._stage)
+        prims = self._linter.walk_candidates(self._stage, own_stage=self._own_stage)
+        self._paths = [p.GetPath() for p in prims]
+        self._changed.clear()  # the typed-prim query's own edits
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._listener.Revoke()
+
+    def _note(self, notice: Usd.Notice.ObjectsChanged, stage: Usd.Stage) -> None:
+        self._changed.update(p.GetPrimPath() for p in notice.GetResyncedPaths())
+        self._changed.update(p.GetPrimPath() for p in notice.GetChangedInfoOnlyPaths())
+
+    def prims(self) -> list[Usd.Prim]:
+        """The walk's prims on the stage as it is composed now, in traversal order."""
+        stage = self._stage
+        roots = _outermost(self._changed)
+        if Sdf.Path.absoluteRootPath in roots:
+            return self._linter.walk_candidates(stage)
+        kept = [stage.GetPrimAtPath(p) for p in self._paths if not _under(p, roots)]
+        if not roots:
+            return kept
+        walked = [
+            prim
+            for root in roots
+            for prim in self._linter.walk_candidates(stage, _subtree(stage, root))
+        ]
+        return sorted([*kept, *walked], key=traversal_key(stage))
+
+
+def _outermost(paths: set[Sdf.Path]) -> list[Sdf.Path]:
+    """``paths`` without those under another of them."""
+    return [p for p in paths if not any(p != q and p.HasPrefix(q) for q in paths)]
+
+
+def _under(path: Sdf.Path, roots: Sequence[Sdf.Path]) -> bool:
+    return any(path.HasPrefix(root) for root in roots)
+
+
+def _subtree(stage: Usd.Stage, root: Sdf.Path) -> Iterable[Usd.Prim]:
+    """The prims of ``stage.Traverse()`` at and under ``root``: none when the
+    prim there is not one (its flags include its ancestors', as Traverse's
+    predicate reads them), or lies in an instance or a prototype."""
+    prim = stage.GetPrimAtPath(root)
+    if not prim or not Usd.PrimDefaultPredicate(prim):
+        return ()
+    if prim.IsInstanceProxy() or prim.IsInPrototype() or prim.IsPrototype():
+        return ()
+    return Usd.PrimRange(prim, Usd.PrimDefaultPredicate)
 
 
 def _annotated(stage: Usd.Stage, finding: Finding, selection: str) -> Finding:

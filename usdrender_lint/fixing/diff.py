@@ -1,10 +1,13 @@
-"""``--diff`` output: a patch that ``git apply`` and ``patch -p1`` accept.
+"""``--diff`` output: a patch that ``patch -p0`` and ``git apply -p0`` accept.
 
-One unified diff per changed text layer, named relative to the current
-directory (``a/shots/shot.usda``), with ``\\ No newline at end of file`` after a
-last line without one. Neither tool applies a path outside the current
-directory (``../``), so such a layer gets no diff: :func:`patch` returns None
-and the caller says so.
+One unified diff per changed text layer, as ruff writes them: both headers
+name the file as the user would (``--- shots/shot.usda`` / ``+++
+shots/shot.usda``), relative to the current directory when it is below it,
+else as the command line gave it (``../other/shot.usda``, an absolute path),
+with ``\\ No newline at end of file`` after a last line without one. Neither
+tool applies a name outside the current directory by itself (GNU patch calls
+it dangerous, git an unsafe path): ``patch -p0 FILE`` and ``git apply -p0
+--unsafe-paths`` do.
 """
 
 from __future__ import annotations
@@ -17,33 +20,31 @@ from ..paths import printable
 NO_NEWLINE = "\\ No newline at end of file\n"
 
 
-def patch_name(path: str, cwd: str | None = None) -> str | None:
-    """``path`` relative to the current directory with ``/`` separators, or None
-    when it is outside it."""
+def patch_name(path: str, cwd: str | None = None, given: str | None = None) -> str:
+    """``path`` relative to the current directory with ``/`` separators when it
+    is below it; else ``given`` (the name the command line gave the file)
+    when that names it, else its absolute path."""
     cwd = os.path.realpath(cwd or os.getcwd())
     real = os.path.realpath(path)
     try:
         relative = os.path.relpath(real, cwd)
     except ValueError:  # another drive (Windows)
-        return None
-    if relative == os.pardir or relative.startswith(os.pardir + os.sep):
-        return None
-    return relative.replace(os.sep, "/")
+        relative = None
+    if relative is not None and not (
+        relative == os.pardir or relative.startswith(os.pardir + os.sep)
+    ):
+        return relative.replace(os.sep, "/")
+    if given and os.path.realpath(os.path.join(cwd, given)) == real:
+        return os.path.normpath(given).replace(os.sep, "/")
+    return real.replace(os.sep, "/")
 
 
-def patch(path: str, old: str, new: str, cwd: str | None = None) -> str | None:
-    """The unified diff from ``old`` to ``new`` for the file at ``path`` (None
-    outside the current directory; empty when nothing changed)."""
-    name = patch_name(path, cwd)
-    if name is None:
-        return None
+def patch(path: str, old: str, new: str, cwd: str | None = None, given: str | None = None) -> str:
+    """The unified diff from ``old`` to ``new`` for the file at ``path`` (empty
+    when nothing changed); ``given``: the file's name on the command line."""
+    name = header_name(patch_name(path, cwd, given))
     out = []
-    lines = difflib.unified_diff(
-        _lines(old),
-        _lines(new),
-        fromfile=header_name(f"a/{name}"),
-        tofile=header_name(f"b/{name}"),
-    )
+    lines = difflib.unified_diff(_lines(old), _lines(new), fromfile=name, tofile=name)
     for line in lines:
         out.append(line)
         if not line.endswith("\n"):

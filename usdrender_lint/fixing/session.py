@@ -425,13 +425,8 @@ class StageFixer:
                 f"--fix would rewrite it with {len(fixes)} fix(es) ({listed})"
             )
             return
-        text = patch(source.disk.path, source.original_text or "", source.text)
-        if text is None:
-            self.result.notes.append(
-                f"--diff: {shown} is outside the current directory, so it is not in the "
-                f"patch ({len(fixes)} fix(es): {listed}); run --diff from a folder that holds it"
-            )
-        elif text:
+        text = patch(source.disk.path, source.original_text or "", source.text, given=self.path)
+        if text:
             self.result.diffs.append(text)
 
     def _unapply(self, layer: Sdf.Layer, reason: str) -> None:

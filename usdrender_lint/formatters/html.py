@@ -18,11 +18,13 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterable
-from html import escape
+from html import escape as _html_escape
 from typing import TYPE_CHECKING, TextIO
 
 from ..model import FileResult, Finding, Report, Severity
 from ..paths import display_path
+from ..paths import escape as _utf8
+from ..running.report_views import finding_key as _key
 from . import FormatOptions
 
 if TYPE_CHECKING:
@@ -37,7 +39,12 @@ class HtmlFormatter:
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         from ..running.report_views import gather
 
-        stream.write(render_page(report, gather(report), options))
+        page = render_page(report, gather(report), options)
+        try:
+            page.encode("utf-8")
+        except UnicodeEncodeError:  # a name not UTF-8 inside a picture: never invalid UTF-8
+            page = page.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+        stream.write(page)
 
 
 def render_page(report: Report, views: ReportViews, options: FormatOptions) -> str:
@@ -165,20 +172,20 @@ def _file_section(index: int, result: FileResult, view: FileView | None, rules: 
             f"picture{_s(count)} (what <code>usdrender-lint spec</code> draws)</summary>"
         )
         out.append('<div class="products">')
-        for product in view.products:
-            out.extend(_product_figure(product, result.findings, ids))
+        for number, product in enumerate(view.products):
+            out.extend(_product_figure(f"p{index}-{number}", product, result.findings, ids))
         out.append("</div></details>")
     out.append("</details>")
     out.append("</section>")
     return out
 
 
-def _product_figure(product, findings: Iterable[Finding], ids: dict) -> list[str]:
+def _product_figure(anchor: str, product, findings: Iterable[Finding], ids: dict) -> list[str]:
     keys = set(product.findings)
     mine = [f for f in findings if _key(f) in keys]
     label = product.product or f"{product.settings} (no products)"
     out = [
-        '<figure class="product">',
+        f'<figure class="product" id="{anchor}">',
         f'<div class="picture">{product.svg}</div>',
         f"<figcaption><h3>{escape(label)}</h3>",
     ]
@@ -227,7 +234,7 @@ def _finding(finding: Finding, anchor: str, view: FileView | None, rules: dict) 
             f'<p class="why dim">profile {escape(finding.profile)}: '
             f"{escape(finding.profile_reason or '')}</p>"
         )
-    key = _view_key(finding)
+    key = _key(finding)
     excerpt = view.excerpts.get(key) if view is not None else None
     if excerpt is not None:
         out.append(_excerpt(excerpt))
@@ -275,11 +282,9 @@ def _data(finding: Finding) -> str:
     )
 
 
-def _key(finding: Finding) -> tuple:
-    return (finding.location.file, finding.code, finding.location.path or "", finding.message)
-
-
-_view_key = _key
+def escape(text: str) -> str:
+    """``text`` for HTML: a file name that is not UTF-8 written losslessly (``\\xNN``)."""
+    return _html_escape(_utf8(text))
 
 
 def _first_name(findings: Iterable[Finding], code: str) -> str:
@@ -323,12 +328,13 @@ main { padding:12px 20px 40px; max-width:1600px; }
 .file > details > :not(summary) { margin-left:12px; margin-right:12px; }
 .products { display:grid; gap:12px; margin:10px 12px; }
 .framing > summary { cursor:pointer; font-weight:600; margin:6px 0; }
-.product { margin:0; display:grid; grid-template-columns:minmax(0,1fr) minmax(240px,340px);
+.product { margin:0; display:grid; grid-template-columns:minmax(0,1fr) 290px;
   gap:14px; border:1px solid var(--line); border-radius:6px; padding:8px; }
 .product .picture svg { width:100%; height:auto; display:block; }
 .product h3 { margin:0 0 6px; font-size:14px; font-family:ui-monospace, Menlo, monospace; }
-.beside { list-style:none; margin:0; padding:0; }
-.beside li { margin:0 0 6px; }
+.beside { list-style:none; margin:0; padding:0; overflow-wrap:anywhere; }
+.product figcaption { min-width:0; }
+.beside li { margin:0 0 6px; font-size:13px; }
 .beside a { color:inherit; text-decoration:none; }
 .beside a:hover { text-decoration:underline; }
 .findings { list-style:none; padding:0; margin:10px 12px 14px; }
@@ -343,7 +349,7 @@ main { padding:12px 20px 40px; max-width:1600px; }
 .sev.info { color:var(--info); }
 .code { font-family:ui-monospace, Menlo, monospace; }
 .name, .dim, .where { color:var(--dim); }
-.message { margin:4px 0; }
+.message { margin:4px 0; overflow-wrap:anywhere; }
 .profile { margin:4px 0; font-size:13px; }
 .why { margin:2px 0; font-size:12px; }
 .chip.prof { font-size:11.5px; }

@@ -9,6 +9,7 @@ import stat
 
 from pxr import Sdf
 
+from ..api.files import lfs_pointer_problem
 from ..paths import from_usd
 
 
@@ -76,3 +77,12 @@ def _os_reason(exc: OSError) -> str:
     if exc.errno in (errno.EACCES, errno.EPERM):
         return "permission denied"
     return (exc.strerror or str(exc)).lower()
+
+
+__all__ = [
+    "layer_identifier",
+    "layer_real_path",
+    "lfs_pointer_problem",
+    "real_path",
+    "unreadable_reason",
+]

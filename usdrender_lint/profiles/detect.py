@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import field
 from fnmatch import fnmatchcase
+from functools import cache
 from typing import Any
 
 from pxr import Sdf, Usd
@@ -83,6 +84,50 @@ class Assignment:
 #: Evidence per renderer profile found on one prim, one phrase each.
 PrimEvidence = dict[str, list[str]]
 
+#: Every renderer's namespaces and scopes at once: most render prims hold
+#: none of them, and one test of each says so before any renderer's own.
+_NAMESPACES: tuple[str, ...] = tuple(ns for p in _RENDERERS for ns in p.namespaces)
+_SCOPES: tuple[str, ...] = tuple(scope for p in _RENDERERS for scope in p.scopes)
+_PRODUCT_TYPES = any(p.product_types for p in _RENDERERS)
+
+
+@cache
+def _some_product_type(token: str) -> bool:
+    return any(p.product_type(token) for p in _RENDERERS)
+
+
+@cache
+def _some_runtime_camera(path: str) -> bool:
+    return any(p.runtime_camera(path) for p in _RENDERERS)
+
+
+@cache
+def _some_camera_type(type_name: str) -> bool:
+    return any(p.camera_type(type_name) for p in _RENDERERS)
+
+
+def _no_evidence(
+    path: str,
+    names: Sequence[str],
+    applied: Sequence[str],
+    product_type: str | None,
+    cameras: Sequence[tuple[Sdf.Path, Usd.Prim | None]],
+) -> bool:
+    """True when no renderer can find evidence on the prim (the common case),
+    decided with one test per kind of evidence for all renderers together."""
+    if applied or (product_type and _some_product_type(product_type)):
+        return False
+    if any(path.startswith(scope) or path + "/" == scope for scope in _SCOPES):
+        return False
+    if _NAMESPACES and any(name.startswith(_NAMESPACES) for name in names):
+        return False
+    for target, camera in cameras:
+        if _some_runtime_camera(str(target)):
+            return False
+        if camera is not None and _some_camera_type(camera.GetTypeName()):
+            return False
+    return True
+
 
 def _prim_evidence(prim: Usd.Prim) -> PrimEvidence:
     """What on ``prim`` points at each renderer, read in one pass over its
@@ -95,6 +140,10 @@ def _prim_evidence(prim: Usd.Prim) -> PrimEvidence:
     # The settings' and products' camera targets, read once for every renderer.
     cameras = _camera_targets(prim) if prim.IsA(schemas.RenderSettingsBase) else ()
     product_type = None
+    if _PRODUCT_TYPES and is_product:
+        product_type = str(prim.GetAttribute("productType").Get() or "")
+    if _no_evidence(path, names, applied, product_type, cameras):
+        return found
     for profile in _RENDERERS:
         phrases = []
         if any(path.startswith(scope) or path + "/" == scope for scope in profile.scopes):

@@ -4,7 +4,7 @@ A profile states what one renderer reads and requires (catalog, Revision 2,
 R2-5): the rules it switches off or judges at another severity, the prim
 types it accepts where the schema expects a Camera, the types and tokens it
 defines, and its own rule family. Every change carries the public source that
-justifies it, so ``explain`` and the README can show why.
+justifies it, so ``explain`` and the documentation site can show why.
 """
 
 from __future__ import annotations

@@ -1,24 +1,65 @@
 """Which files a run lints: the paths given, folders expanded recursively into
 USD files (sorted), each file once. A folder that cannot be listed is kept in
 the list in place of its files, so the engine reports it (``permission
-denied``) instead of the run skipping it."""
+denied``) instead of the run skipping it.
+
+Walking a folder skips, as ruff does: hidden files and folders (``.git``,
+``.venv``), what the ``exclude`` and ``extend-exclude`` settings name
+(gitignore-style patterns, relative to the configuration's folder), and what
+``.gitignore`` files ignore (those of the folders walked and of their parents
+up to the repository's root, and ``.git/info/exclude``). A path given on the
+command line is always linted, whatever its name.
+"""
 
 from __future__ import annotations
 
 import os
 from collections.abc import Iterable
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ..engine import USD_EXTENSIONS
+from ..records import record
+
+if TYPE_CHECKING:
+    from pathspec import PathSpec
+
+    from ..config import Settings
 
 
-def collect_files(paths: Iterable[str], empty: list[str] | None = None) -> list[str]:
+@record(frozen=True)
+class Exclusions:
+    """What a folder walk skips."""
+
+    patterns: tuple[str, ...] = ()
+    #: The folder ``patterns`` are relative to.
+    base: str = "."
+    respect_gitignore: bool = True
+    skip_hidden: bool = True
+
+    @classmethod
+    def of(cls, settings: Settings) -> Exclusions:
+        return cls(
+            tuple(settings.exclude) + tuple(settings.extend_exclude),
+            str(settings.base_dir),
+            settings.respect_gitignore,
+        )
+
+
+#: Nothing skipped: every USD file below a folder (the Python API's default).
+EVERYTHING = Exclusions(skip_hidden=False, respect_gitignore=False)
+
+
+def collect_files(
+    paths: Iterable[str], empty: list[str] | None = None, exclusions: Exclusions = EVERYTHING
+) -> list[str]:
     """Expand directories recursively into USD files (sorted); keep files,
     missing paths and folders that cannot be listed as given so the engine
     reports them. The folders that hold no USD file are added to ``empty``."""
     files: list[str] = []
     for path in paths:
         if os.path.isdir(path):
-            found = _walk(path)
+            found = _walk(path, exclusions)
             if not found and empty is not None:
                 empty.append(path)
             files.extend(found)
@@ -34,13 +75,101 @@ def collect_files(paths: Iterable[str], empty: list[str] | None = None) -> list[
     return unique
 
 
-def _walk(top: str) -> list[str]:
+def _walk(top: str, exclusions: Exclusions) -> list[str]:
     found: list[str] = []
+    skip = _Skip(top, exclusions)
 
     def unlisted(error: OSError) -> None:
         found.append(error.filename if isinstance(error.filename, str) else top)
 
     for folder, dirs, names in os.walk(top, onerror=unlisted, followlinks=False):
-        dirs.sort()
-        found.extend(os.path.join(folder, n) for n in names if n.lower().endswith(USD_EXTENSIONS))
+        skip.enter(folder)
+        dirs[:] = sorted(d for d in dirs if not skip(os.path.join(folder, d), d, folder=True))
+        found.extend(
+            os.path.join(folder, n)
+            for n in names
+            if n.lower().endswith(USD_EXTENSIONS) and not skip(os.path.join(folder, n), n)
+        )
     return sorted(found)
+
+
+class _Skip:
+    """Whether a path met in a walk is skipped (see the module docstring)."""
+
+    def __init__(self, top: str, exclusions: Exclusions) -> None:
+        self.exclusions = exclusions
+        self.excluded = _spec(exclusions.patterns) if exclusions.patterns else None
+        self.base = os.path.abspath(exclusions.base)
+        #: (folder, spec) of every .gitignore in force, outermost first.
+        self.ignores: list[tuple[str, PathSpec]] = []
+        self.read: set[str] = set()
+        if exclusions.respect_gitignore:
+            self._parents_of(os.path.abspath(top))
+
+    def _parents_of(self, top: str) -> None:
+        """The .gitignore files above ``top`` up to its repository's root."""
+        chain = []
+        folder = top
+        while True:
+            chain.append(folder)
+            if os.path.exists(os.path.join(folder, ".git")):
+                self._add(folder, os.path.join(folder, ".git", "info", "exclude"))
+                break
+            parent = os.path.dirname(folder)
+            if parent == folder:
+                chain = [top]  # not in a repository: only the walked folders' own
+                break
+            folder = parent
+        for folder in reversed(chain):
+            self.enter(folder)
+
+    def enter(self, folder: str) -> None:
+        if self.exclusions.respect_gitignore:
+            real = os.path.abspath(folder)
+            self._add(real, os.path.join(real, ".gitignore"))
+
+    def _add(self, folder: str, path: str) -> None:
+        if path in self.read:
+            return
+        self.read.add(path)
+        try:
+            with open(path, encoding="utf-8", errors="replace") as handle:
+                lines = handle.read(1 << 20).splitlines()
+        except OSError:
+            return
+        self.ignores.append((folder, _spec(lines)))
+
+    def __call__(self, path: str, name: str, folder: bool = False) -> bool:
+        if self.exclusions.skip_hidden and name.startswith("."):
+            return True
+        real = os.path.abspath(path)
+        suffix = "/" if folder else ""
+        if self.excluded is not None:
+            relative = _below(real, self.base)
+            if relative is not None and self.excluded.match_file(relative + suffix):
+                return True
+            if relative is None and self.excluded.match_file(name + suffix):
+                return True
+        ignored = False
+        for base, spec in self.ignores:
+            relative = _below(real, base)
+            if relative is None:
+                continue
+            result = spec.check_file(relative + suffix)
+            if result.include is not None:
+                ignored = bool(result.include)
+        return ignored
+
+
+def _below(path: str, folder: str) -> str | None:
+    """``path`` relative to ``folder`` with ``/`` separators, None when not below it."""
+    relative = os.path.relpath(path, folder)
+    if relative == os.curdir or relative.startswith(os.pardir):
+        return None
+    return Path(relative).as_posix()
+
+
+def _spec(lines: Iterable[str]) -> Any:
+    from pathspec import GitIgnoreSpec  # only for a walk that skips something
+
+    return GitIgnoreSpec.from_lines(lines)

@@ -10,16 +10,20 @@ exist, USD cannot open it, it timed out, the inspector raised
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any
 
 from ..engine import Inspector, Linter
 from ..model import FileResult, Report
+from ..paths import display_path
 from ..records import record
-from .discovery import collect_files
+from ..settings_table import DEFAULT_TIMEOUT
+from .discovery import Exclusions, collect_files
 from .outputs import OutputOnInput, refuse_inputs
 from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
-from .workers import DEFAULT_TIMEOUT, ExecutionError, default_jobs, lint_paths
+from .supervisor import Supervision
+from .workers import ExecutionError, default_jobs, lint_paths
 
 
 @record(frozen=True)
@@ -42,6 +46,11 @@ class InspectRequest:
     jobs: int | None = None
     timeout: float | None = DEFAULT_TIMEOUT
     progress: bool | None = None
+    #: How the supervisor ran this process (running/supervisor.py); None: not supervised.
+    supervision: Supervision | None = None
+    #: Patterns not inspected in a folder walked (--exclude, --extend-exclude).
+    exclude: tuple[str, ...] | None = None
+    extend_exclude: tuple[str, ...] | None = None
     #: The file the caller will write to (``spec --output``): refused when it is an input.
     output: str | None = None
 
@@ -75,8 +84,8 @@ class InspectingLinter:
         if inspected.value is not None:
             return InspectedFile(result.file, findings=result.findings, value=inspected.value)
         if result.status == "linted":  # no stage: USD cannot open it, its ST001 says why
-            why = result.findings[0].message if result.findings else "USD cannot open it"
-            return FileResult(path, status="error", error=f"{path}: {why}")
+            why = _where(result.findings[0]) if result.findings else "USD cannot open it"
+            return FileResult(path, status="error", error=f"{path}{why}")
         return result
 
 
@@ -103,10 +112,12 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             config=request.config,
             isolated=request.isolated,
             profile=request.profile,
+            exclude=request.exclude,
+            extend_exclude=request.extend_exclude,
         )
     )
     factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
-    files = collect_files(request.paths)
+    files = collect_files(request.paths, exclusions=Exclusions.of(prepared.settings))
     try:
         refuse_inputs([(request.output, "the specification")], [*files, *_config(prepared)])
     except OutputOnInput as exc:
@@ -119,12 +130,25 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             jobs=request.jobs or default_jobs(),
             timeout=request.timeout,
             progress=request.progress,
+            supervision=request.supervision,
         )
     except ExecutionError as exc:
         raise RequestError(str(exc)) from None
     report = prepared.finish(Report(tuple(results)))
     errored = any(r.status != "linted" for r in report.files)
     return Inspection(report.files, EXIT_TOOL_ERROR if errored else EXIT_OK)
+
+
+def _where(finding: Any) -> str:
+    """``:LINE:COL: message`` (the line where USD gives one), or ``: message``;
+    the position in another layer (a sublayer) with that layer's name."""
+    location = finding.location
+    if location.line is None:
+        return f": {finding.message}"
+    where = f":{location.line}" + (f":{location.column}" if location.column else "")
+    if location.layer and os.path.realpath(location.layer) != os.path.realpath(location.file):
+        where = f": {display_path(location.layer)}{where}"
+    return f"{where}: {finding.message}"
 
 
 def _config(prepared: Any) -> list[str]:

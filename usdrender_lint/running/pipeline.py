@@ -17,26 +17,18 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..api import Rule
-from ..config import (
-    ConfigError,
-    Settings,
-    build_options,
-    check_jobs,
-    check_max_variant_combinations,
-    check_timeout,
-    load_settings,
-    read_config_file,
-)
+from ..config import ConfigError, Settings, build_options, load_settings, read_config_file
 from ..engine import Linter
 from ..model import FileResult, Finding, Report, Severity
 from ..profiles import AUTO, PROFILES
 from ..profiles.detect import Profiler
 from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
-from .discovery import collect_files
+from ..settings_table import DEFAULT_TIMEOUT, request_settings
+from .discovery import Exclusions, collect_files
 from .path_ignores import apply_path_ignores
+from .supervisor import Supervision
 from .workers import (
-    DEFAULT_TIMEOUT,
     ExecutionError,
     default_jobs,
     file_error,
@@ -48,6 +40,7 @@ if TYPE_CHECKING:
     from ..engine.variants import VariantExplorer
     from ..fixing import FixOptions, FixRun
     from .result_cache import CachingLinter, ResultCache
+    from .roots import ContextPlan
 
 EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
 
@@ -104,6 +97,11 @@ class Request:
     cache_dir: str | os.PathLike[str] | None = None
     #: (K, N): lint only part K of N of the files (running/shards.py).
     shard: tuple[int, int] | None = None
+    #: How the supervisor ran this process (running/supervisor.py); None: not supervised.
+    supervision: Supervision | None = None
+    #: Patterns not linted in a folder walked (--exclude, --extend-exclude).
+    exclude: tuple[str, ...] | None = None
+    extend_exclude: tuple[str, ...] | None = None
     #: The file the caller will write the report to (--output): refused, before
     #: anything is linted, when the run reads it (running/outputs.py).
     output: str | None = None
@@ -146,14 +144,9 @@ def resolve_settings(request: Request) -> Settings:
     else:
         start = request.paths[0] if request.paths else "."
         settings = load_settings(isolated=request.isolated, start=start)
+    # Every configuration key the request can give (a flag or an API keyword) wins.
     return settings.merged(
-        select=request.select,
-        ignore=request.ignore,
-        extend_select=request.extend_select,
-        fail_on=request.fail_on,
-        variants=request.variants,
-        max_variant_combinations=request.max_variant_combinations,
-        profile=request.profile,
+        **{s.name: getattr(request, s.name) for s in request_settings() if s.config_key}
     )
 
 
@@ -165,12 +158,10 @@ def check_request(request: Request) -> None:
         named.append(os.fspath(request.config))
     if any(not os.path.isabs(path) for path in named):
         check_working_directory()
-    if request.timeout is not None:
-        check_timeout(request.timeout)
-    if request.jobs is not None:
-        check_jobs(request.jobs)
-    if request.max_variant_combinations is not None:
-        check_max_variant_combinations(request.max_variant_combinations)
+    for entry in request_settings():
+        value = getattr(request, entry.name)
+        if value is not None:
+            entry.parse(value, entry.flag or entry.name)
 
 
 def path_max() -> int:
@@ -201,10 +192,16 @@ def check_working_directory() -> None:
         )
 
 
+#: The codes the engine reports whatever the selection: a file it could not
+#: check must never pass a gate (ST001 stage-open-failed).
+UNIGNORABLE = ("ST001",)
+
+
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
     for key in ("select", "ignore", "extend_select", "unfixable"):
         check_selectors(registry, getattr(settings, key) or (), settings.where(key))
+    unignorable_notes(registry, settings)
     for glob, selectors in settings.per_path_ignores.items():
         check_selectors(registry, selectors, f"{settings.where('per_path_ignores')}.{glob}")
     try:
@@ -215,6 +212,28 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
         raise ConfigError(str(exc)) from None
     options = _options_by_code(registry, settings)
     return [rule(options.get(rule.code)) for rule in chosen]
+
+
+def unignorable_notes(registry: Registry, settings: Settings) -> list[str]:
+    """Raise a ConfigError for an ``ignore`` that names an unignorable rule
+    itself (``--ignore ST001``); one note for each wider selector that covers
+    one (``--ignore ALL``, ``--ignore ST``), which ignores the others."""
+    notes = []
+    for rule in [r for r in registry.rules if r.code in UNIGNORABLE]:
+        for token in settings.ignore:
+            if not matches_any(rule, [token]):
+                continue
+            why = (
+                f"{rule.code} ({rule.name}) is always reported: a file USD cannot open is "
+                "not linted, and a gate must not pass it"
+            )
+            if token.strip().upper() == rule.code or token.strip().lower() == rule.name:
+                raise ConfigError(
+                    f"{settings.where('ignore')}: {token!r} cannot be ignored: {why}; fix the "
+                    "file, or leave it out of the paths linted"
+                )
+            notes.append(f"note: ignore {token!r}: {why}; the other rules it names are ignored")
+    return notes
 
 
 def check_selectors(registry: Registry, selectors: Iterable[str], where: str) -> None:
@@ -382,20 +401,51 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     start; a file that cannot be linted is an error result, never an exception."""
     prepared = prepare(request, registry)
     settings = prepared.settings
-    notes: list[str] = []
+    notes = unignorable_notes(prepared.registry, settings)
     known = _load_baseline(request)
+    _check_fix_request(request, settings)
+    targets, plan = _targets(prepared, notes)
+    refuse_outputs_on_inputs(request, settings, targets)
+    fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
+    report = _lint_targets(prepared, targets, fixed, fix_failed, notes)
+    if plan is not None:
+        report = replace(report, files=plan.failed + report.files)
+        report = plan.narrow(report)
+    report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
+    notes.extend(note for result in report.files for note in result.notes)
+    report = _apply_baseline(report, known, request, notes)
+    status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
+    from .merge import configuration_digest
+
+    outcome = Outcome(
+        report,
+        settings,
+        prepared.linter.rules,
+        status,
+        notes=tuple(notes),
+        configuration=configuration_digest(settings, prepared.linter.rules, known),
+    )
+    return outcome if fixed is None else _with_fixes(outcome, fixed, request)
+
+
+def _check_fix_request(request: Request, settings: Settings) -> None:
     if settings.variants and request.fix is not None:
         raise RequestError(
             "--variants (or config 'variants') cannot be combined with --fix, --diff or --fix-to"
         )
     if request.fix is not None and request.fix.fix_to and request.fix.write is False:
         raise RequestError("use either --diff or --fix-to, not both")
+
+
+def _targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], ContextPlan | None]:
+    """The files the request names (folders walked), their shard, and with
+    config ``roots`` the plan that lints them inside the stages that use them."""
+    request, settings = prepared.request, prepared.settings
     empty: list[str] = []
-    files = collect_files(request.paths, empty)
+    files = collect_files(request.paths, empty, Exclusions.of(settings))
     notes.extend(
         f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
     )
-    # With config `roots`, the paths are linted inside the stages that use them.
     plan = None
     if settings.roots and request.use_roots:
         from .roots import plan_from_settings  # USD's dependency tools: only for roots
@@ -410,55 +460,46 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
             plan = select_plan_shard(plan, request.shard, settings.base_dir)
         else:
             files = select_shard(files, request.shard, settings.base_dir)
-    targets = plan.files if plan else files
-    refuse_outputs_on_inputs(request, settings, targets)
-    fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
-    if fixed is not None and request.fix is not None and request.fix.fix_to:
-        # What remains with the overrides.
-        report = Report(tuple(fixed.remaining) + fix_failed)
-    else:
-        # A stage whose fixing ran out of time is reported as that, not linted again.
-        failed = {result.file: result for result in fix_failed}
-        todo = [target for target in targets if target not in failed]
-        linted = iter(_lint(prepared, todo, _open_cache(prepared, notes)))
-        report = Report(tuple(failed[t] if t in failed else next(linted) for t in targets))
-    if plan is not None:
-        report = replace(report, files=plan.failed + report.files)
-        report = plan.narrow(report)
-    report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
-    notes.extend(note for result in report.files for note in result.notes)
-    report = _apply_baseline(report, known, request, notes)
-    status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
-    from .merge import configuration_digest
+    return (plan.files if plan else files), plan
 
-    configuration = configuration_digest(settings, prepared.linter.rules, known)
-    if fixed is None:
-        return Outcome(
-            report,
-            settings,
-            prepared.linter.rules,
-            status,
-            notes=tuple(notes),
-            configuration=configuration,
-        )
+
+def _lint_targets(
+    prepared: Prepared,
+    targets: Sequence[str],
+    fixed: FixRun | None,
+    fix_failed: tuple[FileResult, ...],
+    notes: list[str],
+) -> Report:
+    """The report of ``targets``: what remains with --fix-to's overrides, else
+    each file linted (after its fixes), but a stage whose fixing ran out of
+    time, which is reported as that, not linted again."""
+    fix = prepared.request.fix
+    if fixed is not None and fix is not None and fix.fix_to:
+        return Report(tuple(fixed.remaining) + fix_failed)
+    failed = {result.file: result for result in fix_failed}
+    todo = [target for target in targets if target not in failed]
+    linted = iter(_lint(prepared, todo, _open_cache(prepared, notes)))
+    return Report(tuple(failed[t] if t in failed else next(linted) for t in targets))
+
+
+def _with_fixes(outcome: Outcome, fixed: FixRun, request: Request) -> Outcome:
+    """The outcome of a run that fixed (or, for --diff, would fix)."""
     assert request.fix is not None
-    report = replace(report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
-    notes.extend(fixed.notes)
-    notes.extend(_fix_notes(report, dry_run=not request.fix.write))
+    report = replace(outcome.report, applied_fixes=fixed.applied, unapplied_fixes=fixed.unapplied)
+    notes = [*outcome.notes, *fixed.notes, *_fix_notes(report, dry_run=not request.fix.write)]
+    status = outcome.exit_status
     if fixed.errors:
         status = EXIT_TOOL_ERROR
     elif not request.fix.write and status != EXIT_TOOL_ERROR:
         # --diff answers "is a fix pending?" (as ruff does), not "are there findings?".
         status = EXIT_FINDINGS if report.applied_fixes else EXIT_OK
-    return Outcome(
-        report,
-        settings,
-        prepared.linter.rules,
-        status,
+    return replace(
+        outcome,
+        report=report,
+        exit_status=status,
         diffs=tuple(fixed.diffs),
         notes=tuple(notes),
         fix_errors=tuple(fixed.errors),
-        configuration=configuration,
     )
 
 
@@ -495,6 +536,7 @@ def _lint(
                 jobs=request.jobs or default_jobs(),
                 timeout=request.timeout,
                 progress=request.progress,
+                supervision=request.supervision,
             )
         except ExecutionError as exc:
             raise RequestError(str(exc)) from None

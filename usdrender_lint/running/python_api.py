@@ -13,6 +13,7 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from dataclasses import replace
+from typing import Any
 
 from pxr import Usd
 
@@ -21,42 +22,32 @@ from ..config import ConfigError, Settings
 from ..explain import rule_info
 from ..model import FileResult, Finding, Report
 from ..registry import RegistryError
+from ..settings_table import BY_NAME
 from .pipeline import Outcome, Request, RequestError, prepare, run
 
 ConfigLike = Settings | str | os.PathLike[str] | None
 
 
-def _tokens(values: Sequence[str] | None, key: str) -> tuple[str, ...] | None:
-    if values is None:
-        return None
-    if isinstance(values, str):
-        values = [values]
-    if not all(isinstance(v, str) for v in values):
-        raise ConfigError(f"{key}: expected rule codes, prefixes or names, got {values!r}")
-    return tuple(v.strip() for value in values for v in value.split(",") if v.strip())
-
-
-def _request(
-    paths: Sequence[str],
-    select: Sequence[str] | None,
-    ignore: Sequence[str] | None,
-    config: ConfigLike,
-    *,
-    variants: bool | None = None,
-    max_variant_combinations: int | None = None,
-) -> Request:
+def _request(paths: Sequence[str], config: ConfigLike, **overrides: object) -> Request:
+    """The pipeline Request of an API call (each override a keyword of the
+    settings table's API settings; None: not given). Rule lists are read here
+    as the table reads them; the Request's check (pipeline.check_request)
+    checks every value as a flag's."""
+    given: dict[str, Any] = {}
+    for name, value in overrides.items():
+        entry = BY_NAME[name]
+        assert entry.api, name
+        if value is not None:
+            given[name] = entry.parse(value, name) if entry.kind == "tokens" else value
     # No config file is searched for: None means the defaults, as documented.
     return Request(
         tuple(paths),
-        select=_tokens(select, "select"),
-        ignore=_tokens(ignore, "ignore"),
         config=config,
         isolated=config is None,
         jobs=1,
         timeout=None,
         progress=False,
-        variants=variants,
-        max_variant_combinations=max_variant_combinations,
+        **given,
     )
 
 
@@ -78,30 +69,36 @@ def lint_file(
     select: Sequence[str] | None = None,
     ignore: Sequence[str] | None = None,
     config: ConfigLike = None,
+    extend_select: Sequence[str] | None = None,
+    profile: str | None = None,
     variants: bool | None = None,
     max_variant_combinations: int | None = None,
 ) -> Report:
     """Lint one USD file.
 
-    ``select`` / ``ignore`` take rule codes, prefixes or names, like the
-    flags; ``config`` is a :class:`Settings`, the path of a ``pyproject.toml``
-    or ``.usdrender-lint.toml``, or None for the defaults (no file is searched
+    ``select`` / ``ignore`` / ``extend_select`` take rule codes, prefixes or
+    names, like the flags; ``profile`` is a renderer profile name or "auto";
+    ``config`` is a :class:`Settings`, the path of a ``pyproject.toml`` or
+    ``.usdrender-lint.toml``, or None for the defaults (no file is searched
     for). ``variants`` (default: the configuration's) also lints other variant
     selections of the render prims (see ``--variants``). A file that cannot be
     linted is a result with ``status == "error"``, not an exception; a bad
     configuration raises :class:`ConfigError`, a rule plugin that fails to
     load :class:`RegistryError`.
     """
-    request = _request(
-        [os.fspath(path)],
-        select,
-        ignore,
-        config,
-        variants=variants,
-        max_variant_combinations=max_variant_combinations,
-    )
     try:
-        outcome: Outcome = run(request)
+        outcome: Outcome = run(
+            _request(
+                [os.fspath(path)],
+                config,
+                select=select,
+                ignore=ignore,
+                extend_select=extend_select,
+                profile=profile,
+                variants=variants,
+                max_variant_combinations=max_variant_combinations,
+            )
+        )
     except RequestError as exc:
         _raise_as_before(exc)
         raise
@@ -114,6 +111,8 @@ def lint_stage(
     select: Sequence[str] | None = None,
     ignore: Sequence[str] | None = None,
     config: ConfigLike = None,
+    extend_select: Sequence[str] | None = None,
+    profile: str | None = None,
     file: str | None = None,
 ) -> Report:
     """Lint an open stage as it is composed now (unsaved edits included).
@@ -125,7 +124,15 @@ def lint_stage(
     """
     name = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
     try:
-        prepared = prepare(_request([name], select, ignore, config))
+        request = _request(
+            [name],
+            config,
+            select=select,
+            ignore=ignore,
+            extend_select=extend_select,
+            profile=profile,
+        )
+        prepared = prepare(request)
     except RequestError as exc:
         _raise_as_before(exc)
         raise

@@ -231,8 +231,8 @@ def _unified(sources: Iterable[Any]) -> Iterable[str]:
         yield from difflib.unified_diff(
             source.original_text.splitlines(keepends=True),
             source.text.splitlines(keepends=True),
-            fromfile=f"a/{name}",
-            tofile=f"b/{name}",
+            fromfile=name if os.path.isabs(name) else f"a/{name}",
+            tofile=name if os.path.isabs(name) else f"b/{name}",
             n=2,
         )
 

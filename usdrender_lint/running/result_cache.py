@@ -62,7 +62,7 @@ from ..engine.assets import ClipTemplate, is_search_path
 from ..model import FileResult
 from ..records import record
 from ..report_json import ReportFormatError, finding_from_dict, finding_to_dict
-from . import read_ahead
+from ..settings_table import not_in_cache_key, settings_key
 
 if TYPE_CHECKING:
     from ..engine import Linter
@@ -84,14 +84,12 @@ PRUNE_TO = 3 * MAX_BYTES // 4
 #: A result larger than this (a file with a huge number of findings) is not stored.
 MAX_ENTRY_BYTES = 4 << 20
 #: Settings that change what a report is used for, not any file's findings.
-SETTINGS_NOT_IN_KEY = frozenset({"source", "from_flags", "fail_on", "unfixable", "cache_dir"})
-#: Environment prefixes that can change what USD composes or what the rules
-#: report (plugin and resolver paths, the linter's own switches).
-ENV_PREFIXES = ("PXR_", "TF_", "USD_", "USDRENDER_LINT_")
-#: ... except these, which only say where the cache is or whether it is used.
-ENV_NOT_IN_KEY = frozenset(
-    {"USDRENDER_LINT_CACHE_DIR", "USDRENDER_LINT_NO_CACHE", "USDRENDER_LINT_DEBUG"}
-)
+SETTINGS_NOT_IN_KEY = not_in_cache_key() | {"source", "from_flags"}
+#: Environment prefixes that can change what USD composes (plugin and resolver
+#: paths, USD's own switches). None of the linter's own variables: none
+#: changes a finding (they say where the cache is, whether it is used, whether
+#: a traceback is shown), and none steers how a file is linted.
+ENV_PREFIXES = ("PXR_", "TF_", "USD_")
 #: Written into the folder so that git and backup tools leave it alone.
 _GITIGNORE = "# Created by usdrender-lint: the result cache.\n*\n"
 _CACHEDIR_TAG = (
@@ -141,22 +139,11 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
         "env": {
             name: value
             for name, value in sorted(os.environ.items())
-            if name.startswith(ENV_PREFIXES) and name not in ENV_NOT_IN_KEY
+            if name.startswith(ENV_PREFIXES)
         },
         "extra": extra,
     }
     return _digest_text(_canonical(parts))
-
-
-def settings_key(settings: Settings) -> dict[str, Any]:
-    """Every setting that can change a finding: all fields of Settings but the
-    few that cannot, so that a setting added later is in the key unless it is
-    listed in SETTINGS_NOT_IN_KEY."""
-    return {
-        f.name: getattr(settings, f.name)
-        for f in dataclasses.fields(Settings)
-        if f.name not in SETTINGS_NOT_IN_KEY
-    }
 
 
 def _canonical(value: object) -> str:
@@ -701,9 +688,6 @@ class CachingLinter:
 
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
         started = time.time_ns()
-        read_before = read_ahead.began(path)  # its layers were read from then on
-        if read_before is not None:
-            started = min(started, read_before)
         before = self.cache.state(os.path.abspath(path))
         with self.linter.recording_reads() as reads:
             result = (

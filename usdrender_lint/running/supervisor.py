@@ -13,10 +13,11 @@ process, which imports nothing more, waits for it.
   timer around that file's lint, see :func:`arm_timeout`).
 - It dies of another signal: USD crashed on the file.
 
-In the last two cases this process runs the command itself, with the
-:data:`verdict` that the engine reads: it reports the time-out without linting
-again, or lints the file in a forked child with the whole stage composed,
-the retry the one-file child always had. Nothing is supervised where a second
+In the last two cases this process runs the command itself, with a
+:class:`Supervision` saying how the child ended (the executor's input,
+workers.AfterSupervisedChild): it reports the time-out without linting
+again, or lints the file in a worker with the whole stage composed, the
+retry the pool gives any file a worker died on. Nothing is supervised where a second
 run could differ from the first: ``--fix``, ``--diff``, ``--fix-to`` and
 ``--write-baseline`` write to the user's files.
 
@@ -42,14 +43,28 @@ SUPERVISED_COMMANDS = ("check", "spec")
 WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", "--write-baseline")
 #: Seconds a stopped child has to clean up before it is killed.
 STOP_GRACE = 2.0
-#: Set to anything to run without a supervisor (as the Python API and tests do).
-NO_SUPERVISOR_ENV = "USDRENDER_LINT_NO_SUPERVISOR"
 
-#: True in the supervised child: a lone file is linted in this process.
-supervised = False
-#: In the supervisor, after its child ran out of time ("timeout") or crashed
-#: ("crash"): what the run in this process must know of the file.
-verdict: str | None = None
+
+class Supervision:
+    """How the supervisor ran this process: handed to the command (click's
+    context object), which passes it to the executor it chooses. (A plain
+    class: this module is imported before the fork, where every import is
+    paid by the command's start-up.)"""
+
+    __slots__ = ("child", "ending")
+
+    def __init__(self, child: bool = False, ending: str | None = None) -> None:
+        #: In the child: a lone file is linted in this process, under the time-out.
+        self.child = child
+        #: In the supervisor after its child ran out of time ("timeout") or
+        #: crashed ("crash"): the command runs here, knowing that of the file.
+        self.ending = ending
+
+    def __repr__(self) -> str:
+        return f"Supervision(child={self.child}, ending={self.ending!r})"
+
+
+CHILD = Supervision(child=True)
 
 _child = 0
 _stop_signal: int | None = None
@@ -62,19 +77,17 @@ def wants_supervision(argv: list[str]) -> bool:
     (which writes its document once, after every file is read), on Linux."""
     if not sys.platform.startswith("linux") or not hasattr(os, "fork"):
         return False
-    if os.environ.get(NO_SUPERVISOR_ENV):
-        return False
     # The group has no option taking a value: its first word is the command.
     if not argv or argv[0] not in SUPERVISED_COMMANDS:
         return False
     return not any(arg.split("=", 1)[0] in WRITING_OPTIONS for arg in argv)
 
 
-def supervise() -> None:
-    """Fork. In the child, return (it runs the command). Here, wait: exit with
-    the child's status, or return with :data:`verdict` set when it timed out
-    or crashed, for this process to run the command itself."""
-    global _child, supervised, verdict
+def supervise() -> Supervision:
+    """Fork. In the child, return :data:`CHILD` (it runs the command). Here,
+    wait: exit with the child's status, or return how it ended when it timed
+    out or crashed, for this process to run the command itself."""
+    global _child
     parent = os.getpid()
     # A signal during the fork waits: the child gets Ctrl-C's own, and one sent
     # to this process is passed on once the handlers below are in place.
@@ -83,11 +96,10 @@ def supervise() -> None:
     watched, held = os.pipe()
     pid = os.fork()
     if pid == 0:
-        supervised = True
         os.close(held)
         signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
         _end_with(parent, watched)
-        return
+        return CHILD
     os.close(watched)
     _child = pid
     previous = {signum: signal.signal(signum, _pass_on) for signum in STOPPING}
@@ -99,19 +111,19 @@ def supervise() -> None:
         signal.setitimer(signal.ITIMER_REAL, 0)
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+    # This process imported nothing that needs cleaning up: a plain exit.
     if _stop_signal is not None:
         if os.WIFSIGNALED(status):  # it did not get to say it
             stopped = Stopped(_stop_signal)
             sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")
-            sys.stderr.flush()
-            os._exit(stopped.exit_status)
-        os._exit(os.waitstatus_to_exitcode(status))
+            sys.exit(stopped.exit_status)
+        sys.exit(os.waitstatus_to_exitcode(status))
     if os.WIFEXITED(status):
-        os._exit(os.WEXITSTATUS(status))
+        sys.exit(os.WEXITSTATUS(status))
     died = os.WTERMSIG(status)
     if died in STOPPING:  # stopped by a signal meant for it alone
-        os._exit(128 + died)
-    verdict = "timeout" if died == signal.SIGALRM else "crash"
+        sys.exit(128 + died)
+    return Supervision(ending="timeout" if died == signal.SIGALRM else "crash")
 
 
 def arm_timeout(seconds: float | None) -> None:
@@ -181,14 +193,14 @@ def die_with_parent(parent: int) -> None:
     except (OSError, AttributeError):
         return
     if os.getppid() != parent:  # it died before the call took effect
-        os._exit(128 + signal.SIGKILL)
+        os.kill(os.getpid(), signal.SIGKILL)
 
 
 __all__ = [
+    "CHILD",
+    "Supervision",
     "arm_timeout",
     "die_with_parent",
     "supervise",
-    "supervised",
-    "verdict",
     "wants_supervision",
 ]

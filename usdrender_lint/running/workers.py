@@ -1,12 +1,24 @@
-"""How files are executed: in this process, or in a pool of worker processes
-with a per-file time limit.
+"""How files are executed: one :class:`Executor`, chosen once from the run's
+jobs, time-out and supervision (:func:`choose_executor`), lints every file.
 
-A hung or crashing USD call cannot be interrupted from inside the process that
-makes it, so a time limit needs processes that can be killed. Each worker
-builds its own :class:`~usdrender_lint.engine.Linter` once (from a picklable
-factory, e.g. the settings) and lints one file at a time; a worker that runs
-past the limit or dies is replaced, and its file is reported as an error.
-Results come back in input order, so the output never depends on ``jobs``.
+- :class:`InProcess`: ``--jobs 1 --timeout 0`` and the Python API; in the
+  supervised child (running/supervisor.py), under the pool's memory cap.
+- :class:`SupervisedChild`: the lone file of a supervised ``check`` or
+  ``spec``, linted in this process while its supervisor times it: past the
+  time-out or on a crash the supervisor runs the command again.
+- :class:`AfterSupervisedChild`: that second run, with what ended the child
+  (its own input): a time-out is the file's error result, a crash the file
+  linted again fully composed in a worker.
+- :class:`Pool`: worker processes with a per-file time limit. A hung or
+  crashing USD call cannot be interrupted from inside the process that makes
+  it, so a time limit needs processes that can be killed. Each worker builds
+  its own :class:`~usdrender_lint.engine.Linter` once (from a picklable
+  factory, e.g. the settings) and lints one file at a time; a worker that runs
+  past the limit or dies is replaced, and its file is reported as an error (a
+  crash after one more try, fully composed).
+
+A crash or a time-out of a file is a result each executor returns. Results
+come back in input order, so the output never depends on ``jobs``.
 ``multiprocessing`` and the other modules of the pool are imported only when
 a pool runs: linting in this process does not pay for them.
 """
@@ -25,9 +37,9 @@ from typing import TYPE_CHECKING, Any, Protocol
 from .. import debug
 from ..model import FileResult
 from ..records import record
-from . import read_ahead, supervisor
+from . import supervisor
 from .interrupts import check_stopped, default_signals_in_worker
-from .supervisor import die_with_parent
+from .supervisor import Supervision, die_with_parent
 
 if TYPE_CHECKING:
     import multiprocessing.context
@@ -41,7 +53,6 @@ if TYPE_CHECKING:
         | multiprocessing.context.SpawnContext
     )
 
-DEFAULT_TIMEOUT = 120.0
 #: A progress bar is worth drawing only for runs longer than this many files.
 PROGRESS_MIN_FILES = 20
 #: How long a new worker may take to import USD and build its linter.
@@ -52,8 +63,6 @@ WORKER_START_LIMIT = 120.0
 WORKER_RECYCLE_AFTER = 500
 #: The least memory a worker is allowed, however many there are.
 MIN_WORKER_MEMORY = 2 << 30
-#: How much of what a one-file child prints on stderr is kept (for its crash message).
-CHILD_STDERR_KEPT = 64 << 10
 
 
 class FileLinter(Protocol):
@@ -90,42 +99,124 @@ def lint_paths(
     jobs: int = 1,
     timeout: float | None = None,
     progress: bool | None = None,
+    supervision: Supervision | None = None,
 ) -> tuple[FileResult, ...]:
-    """Lint ``files`` and return one result per file, in input order.
-
-    With ``jobs == 1`` and no ``timeout`` the files are linted in this process
-    with ``linter`` (or one built by ``linter_factory``); otherwise in
-    ``min(jobs, len(files))`` worker processes that each call the picklable
-    ``linter_factory``. ``timeout`` (seconds, None or 0 for none) bounds each
-    file. ``progress`` None draws a bar on stderr only when it is a terminal
-    and there are many files.
+    """Lint ``files`` and return one result per file, in input order, with
+    the executor :func:`choose_executor` picks. ``linter`` (or one built by
+    ``linter_factory``) lints in this process; worker processes each call the
+    picklable ``linter_factory``. ``timeout`` (seconds, None or 0 for none)
+    bounds each file. ``progress`` None draws a bar on stderr only when it is
+    a terminal and there are many files.
     """
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs}")
-    timeout = timeout or None
+    executor = choose_executor(
+        len(files),
+        jobs=jobs,
+        timeout=timeout or None,
+        supervision=supervision,
+        linter=linter,
+        linter_factory=linter_factory,
+    )
     show = _want_progress(len(files)) if progress is None else progress
     with _progress_bar(len(files), show) as advance:
-        if jobs == 1 and timeout is None:
-            if linter is None:
-                if linter_factory is None:
-                    raise ValueError("lint_paths needs a linter or a linter_factory")
-                linter = linter_factory()
-            if supervisor.supervised:
-                _guard_supervised()
-            return tuple(_lint_in_process(linter, files, advance))
-        if len(files) == 1 and supervisor.verdict is not None:
-            return (_after_verdict(linter or _build(linter_factory), files[0], timeout),)
-        if len(files) == 1 and supervisor.supervised:
-            # The supervisor stands in for the child below (running/supervisor.py).
-            return (_lint_supervised(linter or _build(linter_factory), files[0], timeout),)
-        if len(files) == 1 and _can_fork():
-            # One file needs no pool: a forked child of this process lints it
-            # with the linter already built (issue 17, start-up).
-            return (_lint_in_child(linter or _build(linter_factory), files[0], timeout),)
-        if linter_factory is None:
-            raise ValueError("worker processes need a picklable linter_factory")
-        pool = _Pool(linter_factory, min(jobs, len(files)), timeout, advance)
-        return pool.run(files)
+        return executor.run(files, advance)
+
+
+class Executor(Protocol):
+    """Lints files, one result per file in input order; a crash or a time-out
+    of one file is that file's result."""
+
+    def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]: ...
+
+
+def choose_executor(
+    count: int,
+    *,
+    jobs: int,
+    timeout: float | None,
+    supervision: Supervision | None,
+    linter: FileLinter | None,
+    linter_factory: LinterFactory | None,
+) -> Executor:
+    """The one place that decides how ``count`` files are linted."""
+    if supervision is not None and supervision.ending is not None and count == 1:
+        return AfterSupervisedChild(supervision.ending, _factory(linter_factory), timeout)
+    child = supervision is not None and supervision.child
+    if jobs == 1 and timeout is None:
+        return InProcess(linter or _build(linter_factory), guarded=child)
+    if count == 1 and child:
+        return SupervisedChild(linter or _build(linter_factory), timeout)
+    return Pool(_factory(linter_factory), min(jobs, count), timeout)
+
+
+@record(frozen=True)
+class InProcess:
+    """Every file in this process, one after another. ``guarded``: in the
+    supervised child, whose supervisor reports a crash (and composes the whole
+    stage in its run after it) and whose memory the pool's cap bounds."""
+
+    linter: FileLinter
+    guarded: bool = False
+
+    def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
+        if self.guarded:
+            _guard_supervised()
+        results = []
+        for path in files:
+            results.append(lint_one(self.linter, path))
+            check_stopped()
+            advance()
+        return tuple(results)
+
+
+@record(frozen=True)
+class SupervisedChild:
+    """The supervised child's lone file, linted in this process: past
+    ``timeout`` the child dies of SIGALRM, which its supervisor reports
+    (:class:`AfterSupervisedChild`), as it does a crash."""
+
+    linter: FileLinter
+    timeout: float | None
+
+    def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
+        (path,) = files
+        _guard_supervised()
+        supervisor.arm_timeout(self.timeout)
+        try:
+            return (lint_one(self.linter, path),)
+        finally:
+            supervisor.arm_timeout(None)
+
+
+@record(frozen=True)
+class AfterSupervisedChild:
+    """The supervisor's run after its child did not finish the lone file:
+    ``ending`` "timeout" is the file's time-out; "crash": the file is linted
+    again in a worker with the whole stage composed (the pool's retry)."""
+
+    ending: str
+    linter_factory: LinterFactory
+    timeout: float | None
+
+    def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
+        (path,) = files
+        if self.ending == "timeout":
+            return (file_error(path, _timed_out(self.timeout)),)
+        pool = _Pool(self.linter_factory, 1, self.timeout, advance)
+        return pool.run([FullyComposed(path)])
+
+
+@record(frozen=True)
+class Pool:
+    """``size`` worker processes (see :class:`_Pool`)."""
+
+    linter_factory: LinterFactory
+    size: int
+    timeout: float | None
+
+    def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
+        return _Pool(self.linter_factory, self.size, self.timeout, advance).run(files)
 
 
 def run_bounded(
@@ -152,15 +243,6 @@ def file_error(path: str, why: str) -> FileResult:
     return FileResult(path, status="error", error=f"{path}: {why}")
 
 
-def _lint_in_process(
-    linter: FileLinter, files: Sequence[str], advance: Callable[[], None]
-) -> Iterator[FileResult]:
-    for path in files:
-        yield lint_one(linter, path)
-        check_stopped()
-        advance()
-
-
 @record(frozen=True)
 class FullyComposed:
     """A file to lint again with the whole stage composed (no fast path)."""
@@ -181,9 +263,8 @@ def lint_one(linter: FileLinter, path: str | FullyComposed) -> FileResult:
     else:
         full = False
     try:
-        with read_ahead.held(path):
-            # Only the retry passes the keyword: any linter with lint_path(path) works.
-            return linter.lint_path(path, full_composition=True) if full else linter.lint_path(path)
+        # Only the retry passes the keyword: any linter with lint_path(path) works.
+        return linter.lint_path(path, full_composition=True) if full else linter.lint_path(path)
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
         if getattr(linter, "raise_errors", False):
             raise
@@ -223,111 +304,17 @@ def _progress_bar(total: int, show: bool) -> Iterator[Callable[[], None]]:
         yield lambda: bar.advance(task)
 
 
-# -- one file in a child process ---------------------------------------------------
+# -- the supervised child ----------------------------------------------------------
 
 
-def _can_fork() -> bool:
-    # Only a process that still runs one thread forks safely (see _context).
-    return hasattr(os, "fork") and _single_threaded()
+def _factory(linter_factory: LinterFactory | None) -> LinterFactory:
+    if linter_factory is None:
+        raise ValueError("worker processes need a picklable linter_factory")
+    return linter_factory
 
 
 def _build(linter_factory: LinterFactory | None) -> FileLinter:
-    if linter_factory is None:
-        raise ValueError("lint_paths needs a linter or a linter_factory")
-    try:
-        return linter_factory()
-    except Exception as exc:  # noqa: BLE001 - said as the pool says it
-        debug.show(exc, "the linter could not be built")
-        raise ExecutionError(
-            f"a worker process could not build the linter: {type(exc).__name__}: {exc}"
-        ) from exc
-
-
-def _lint_in_child(
-    linter: FileLinter, item: str | FullyComposed, timeout: float | None
-) -> FileResult:
-    """Lint ``path`` in a forked child, which starts with this process's
-    modules and linter: no interpreter start, no import, no linter to build,
-    none of multiprocessing. The child is killed past ``timeout`` and a crash
-    costs only the file, as in the pool (after one more try, fully composed);
-    what it printed on stderr (kept in a pipe, the last CHILD_STDERR_KEPT
-    bytes) becomes part of the error."""
-    import pickle
-    import select
-
-    path = _path_of(item)
-    result_read, result_write = os.pipe()
-    err_read, err_write = os.pipe()
-    parent = os.getpid()
-    pid = os.fork()
-    if pid == 0:  # the child: lint, send the result, leave without cleaning up
-        status = 70
-        try:
-            os.close(result_read)
-            os.close(err_read)
-            default_signals_in_worker()  # the parent handles Ctrl-C
-            die_with_parent(parent)
-            _limit_memory(worker_memory_limit(1))
-            _contain_crashes()
-            os.dup2(err_write, 2)
-            _off_stdout()
-            data = pickle.dumps(lint_one(linter, item), pickle.HIGHEST_PROTOCOL)
-            with os.fdopen(result_write, "wb") as out:
-                out.write(data)
-            status = 0
-        finally:
-            os._exit(status)
-    os.close(result_write)
-    os.close(err_write)
-    deadline = time.monotonic() + timeout if timeout else None
-    result, said = bytearray(), bytearray()
-    open_ends = {result_read: result, err_read: said}
-    try:
-        while open_ends:
-            left = None if deadline is None else max(0.0, deadline - time.monotonic())
-            ready = select.select(list(open_ends), [], [], left)[0]
-            if not ready:
-                os.kill(pid, signal.SIGKILL)
-                os.waitpid(pid, 0)
-                return FileResult(path, status="error", error=f"{path}: {_timed_out(timeout)}")
-            for end in ready:
-                chunk = os.read(end, 1 << 16)
-                if not chunk:
-                    del open_ends[end]
-                    continue
-                kept = open_ends[end]
-                kept += chunk
-                if end == err_read and len(kept) > CHILD_STDERR_KEPT:
-                    del kept[: len(kept) - CHILD_STDERR_KEPT]
-        _, status = os.waitpid(pid, 0)
-    except BaseException:
-        with suppress(OSError):
-            os.kill(pid, signal.SIGKILL)
-            os.waitpid(pid, 0)
-        raise
-    finally:
-        for end in (result_read, err_read):
-            with suppress(OSError):
-                os.close(end)
-    code = os.waitstatus_to_exitcode(status)
-    if code == 0 and result:
-        return pickle.loads(result)
-    if code < 0 and not isinstance(item, FullyComposed):
-        # It died: what composing survives, the fast path's walks may not.
-        return _lint_in_child(linter, FullyComposed(path), timeout)
-    text = said.decode("utf-8", errors="replace")
-    return FileResult(path, status="error", error=f"{path}: {_crash(code, text)}")
-
-
-def _lint_supervised(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
-    """Lint ``path`` in this process, whose supervisor reports a crash or a
-    time-out (SIGALRM past ``timeout``) and runs the command again."""
-    _guard_supervised()
-    supervisor.arm_timeout(timeout)
-    try:
-        return lint_one(linter, path)
-    finally:
-        supervisor.arm_timeout(None)
+    return _factory(linter_factory)()
 
 
 def _guard_supervised() -> None:
@@ -335,22 +322,8 @@ def _guard_supervised() -> None:
     file that makes USD allocate without end fails its allocation (the pool's
     cap), and a crash is left to the supervisor, whose run after it composes
     the whole stage."""
-    limit_supervised_memory()
+    _limit_memory(worker_memory_limit(1))  # the pool's cap, for one worker
     _contain_crashes()
-
-
-def limit_supervised_memory() -> None:
-    """The supervised child's memory cap: the pool's, for one worker."""
-    _limit_memory(worker_memory_limit(1))
-
-
-def _after_verdict(linter: FileLinter, path: str, timeout: float | None) -> FileResult:
-    """The file the supervised child did not finish: a time-out is reported as
-    the one-file child reports it; after a crash the file is linted again in a
-    forked child with the whole stage composed (the child's own retry)."""
-    if supervisor.verdict == "timeout":
-        return FileResult(path, status="error", error=f"{path}: {_timed_out(timeout)}")
-    return _lint_in_child(linter, FullyComposed(path), timeout)
 
 
 def _timed_out(timeout: float | None) -> str:
@@ -375,9 +348,7 @@ def _crash(code: int | None, printed: str) -> str:
 
 
 def _single_threaded() -> bool:
-    """True when this process runs one thread (known on Linux only). A read
-    ahead, the one thread the package starts, ends first (read_ahead.py)."""
-    read_ahead.finish()
+    """True when this process runs one thread (known on Linux only)."""
     try:
         return len(os.listdir("/proc/self/task")) == 1
     except OSError:
@@ -577,14 +548,8 @@ class _Pool:
         from multiprocessing.connection import wait
 
         check_stopped()
-        now = time.monotonic()
-        deadlines = [w.task[2] for w in self._workers if w.task is not None]
-        deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
-        # No limit (--timeout 0) is an infinite deadline: wait without a timeout.
-        nearest = min(deadlines, default=float("inf"))
-        wait_for = max(0.0, nearest - now) if nearest != float("inf") else None
         handles = [w.conn for w in self._workers] + [w.process.sentinel for w in self._workers]
-        ready = set(wait(handles, timeout=wait_for))
+        ready = set(wait(handles, timeout=self._wait_for()))
         for worker in list(self._workers):
             if worker.conn in ready:
                 try:
@@ -595,6 +560,17 @@ class _Pool:
                 self._receive(worker, message, results)
             elif worker.process.sentinel in ready:
                 self._replace(worker, results, self._death_message(worker), died=True)
+        self._enforce_deadlines(results)
+
+    def _wait_for(self) -> float | None:
+        """Seconds to the nearest deadline (a file's, a starting worker's);
+        None: no limit (--timeout 0), wait without a timeout."""
+        deadlines = [w.task[2] for w in self._workers if w.task is not None]
+        deadlines += [w.started + WORKER_START_LIMIT for w in self._workers if not w.ready]
+        nearest = min(deadlines, default=float("inf"))
+        return max(0.0, nearest - time.monotonic()) if nearest != float("inf") else None
+
+    def _enforce_deadlines(self, results: list[FileResult | None]) -> None:
         now = time.monotonic()
         for worker in list(self._workers):
             if worker.task is not None and now >= worker.task[2]:

@@ -147,7 +147,14 @@ class Documents:
         else:
             self._stages[path] = stage
             self._reload_files(stage)
-            findings = prepared.linter.lint_stage(stage, path, texts=self.texts)
+            combinations = prepared.spec.variant_combinations
+            if combinations is None:
+                findings = prepared.linter.lint_stage(stage, path, texts=self.texts)
+            else:  # config `variants`: other selections too, as check lints them
+                from ..engine.variants import VariantExplorer
+
+                explorer = VariantExplorer(prepared.linter, combinations)
+                findings = explorer.lint_stage(stage, path, texts=self.texts)
             result = FileResult(path, findings=tuple(findings))
         if result.status != "linted":
             location = Location(path, None, path)
@@ -282,6 +289,8 @@ class Documents:
             return None
         if not Sdf.Path.IsValidPathString(object_path):
             return None
+        if not any(rule.code == code for rule in self.registry.rules):
+            return None  # UL000 (a rule that raised) is no rule a suppression names
         prim_path = Sdf.Path(object_path).GetPrimPath()
         prim = stage.GetPrimAtPath(prim_path)
         entries = ignore_entries(prim) if prim else None
@@ -308,8 +317,9 @@ class Documents:
 def _saved_layer(path: str, text: str) -> Sdf.Layer | None:
     """The layer of a ``.usda`` whose file holds ``text``, opened from the file.
     USD reads a file several times faster than it imports the same text into a
-    layer (``ImportFromString`` applies the content spec by spec: 12 s against
-    2.6 s for a 100k-prim document), and a document is usually opened as saved."""
+    layer (``ImportFromString`` applies the content spec by spec: 3.4 s of CPU
+    against 0.6 s for a 100k-prim document, and the stage then composes in 1.3 s
+    against 0.7 s), and a document is usually opened as saved."""
     if not path.endswith(".usda"):
         return None  # a text .usd opens with the usd format, which finds no lines
     try:

@@ -119,13 +119,15 @@ class UsdRenderLintServer(LanguageServer):
         tick = self.wanted[uri] = self.ticks
         text = self.workspace.get_text_document(uri).source
         expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
-        if expected >= SLOW:
-            if self.linting.cancel(path, tick):
-                self.window_log_message(
-                    types.LogMessageParams(
-                        types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
-                    )
+        # A slow document's running lint is cancelled at once; a quick one's
+        # only when it turns out slow (USD hangs on it, say): else it ends soon.
+        if self.linting.cancel(path, tick, running_for=0.0 if expected >= SLOW else SLOW):
+            self.window_log_message(
+                types.LogMessageParams(
+                    types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
                 )
+            )
+        if expected >= SLOW:
             await asyncio.sleep(DEBOUNCE)
             if self.wanted.get(uri) != tick:
                 return
@@ -152,11 +154,16 @@ class UsdRenderLintServer(LanguageServer):
                     asyncio.ensure_future(self.lint(from_fs_path(other) or other, dependents=False))
 
     def forget(self, uri: str) -> None:
-        """A closed document: its lint's diagnostics go, on it and elsewhere."""
+        """A closed document: its lint's diagnostics go, on it and elsewhere;
+        the open documents whose findings were shown on it are linted again
+        (they now show them as related information, with the file's text)."""
         self.wanted.pop(uri, None)
         self.findings.pop(uri, None)
         self.publish(uri, {uri: []}, None)
         self.published.pop(uri, None)
+        for source, published in list(self.published.items()):
+            if uri in published:
+                asyncio.ensure_future(self.lint(source, dependents=False))
 
     # -- diagnostics ---------------------------------------------------------------
 
@@ -296,19 +303,36 @@ class UsdRenderLintServer(LanguageServer):
                 actions.extend(await self._quick_fixes(path, diagnostic, texts))
         linted = self.findings.get(uri)
         safe = linted is not None and any(f.fix is not None and f.fix.safe for f in linted[0])
+        title = f"{NAME}: apply every safe fix"
         if safe and _wants(only, FIX_ALL, explicit=True):
             edit = await self._fix_edit(path, None, False, texts)
             if edit is not None:
-                actions.append(
-                    types.CodeAction(
-                        title=f"{NAME}: apply every safe fix",
-                        kind=FIX_ALL,
-                        edit=edit,
-                    )
-                )
+                actions.append(types.CodeAction(title=title, kind=FIX_ALL, edit=edit))
+        elif safe and only is None and self._resolves_edits():
+            # Asked for every action (a light bulb, a menu): the fix-all's edit
+            # is made only if it is chosen (codeAction/resolve).
+            data = {"uri": uri, "version": version}
+            actions.append(types.CodeAction(title=title, kind=FIX_ALL, data=data))
         if self.version_of(uri) != version:
             return []  # the text changed meanwhile: these edits are for the old one
         return actions
+
+    def _resolves_edits(self) -> bool:
+        """Whether the client resolves a code action's edit when it is chosen."""
+        document = self.client_capabilities.text_document
+        action = document.code_action if document else None
+        support = action.resolve_support if action else None
+        return support is not None and "edit" in support.properties
+
+    async def resolve_code_action(self, action: types.CodeAction) -> types.CodeAction:
+        """The edit of a fix-all offered without one (see :meth:`code_actions`)."""
+        data = action.data if isinstance(action.data, dict) else {}
+        uri = data.get("uri")
+        path = usd_path(uri) if isinstance(uri, str) else None
+        if path is None or self.version_of(str(uri)) != data.get("version"):
+            return action  # the text changed since: no edit (the client asks again)
+        action.edit = await self._fix_edit(path, None, False, self.texts())
+        return action
 
     async def _quick_fixes(
         self, path: str, diagnostic: types.Diagnostic, texts: dict[str, str]
@@ -388,7 +412,7 @@ class UsdRenderLintServer(LanguageServer):
         document = self.workspace.get_text_document(uri)
         position = params.position
         shown: list[RuleDoc] = []
-        word = _suppression_word(document.lines, document, position)
+        word = self._suppression_word(document.source, position)
         if word is not None and word.lower() in self.rule_names:
             shown.append(self.rule_names[word.lower()])
         for published in self.published.values():
@@ -404,6 +428,26 @@ class UsdRenderLintServer(LanguageServer):
                 kind=types.MarkupKind.Markdown, value="\n\n---\n\n".join(map(rule_markdown, shown))
             )
         )
+
+    def _suppression_word(self, text: str, position: types.Position) -> str | None:
+        """The quoted word under the cursor when it is an entry of a customData
+        ``usdrender_lint`` suppression (``string[] ignore = ["SE003"]``). Only
+        the lines up to the cursor's are split (a document may be 15 MB)."""
+        lines = text.split("\n", position.line + 1)[: position.line + 1]
+        if len(lines) <= position.line:
+            return None
+        line = lines[position.line]
+        column = self.workspace.position_codec.position_from_client_units(
+            [line], types.Position(0, position.character)
+        ).character
+        for match in _WORD.finditer(line):
+            if match.start() <= column <= match.end():
+                quoted = match.start() > 0 and line[match.start() - 1] in "\"'"
+                if not quoted:
+                    return None
+                above = "".join(lines[max(0, position.line - 6) :])
+                return match.group() if "usdrender_lint" in above or "ignore" in line else None
+        return None
 
     # -- configuration and files ---------------------------------------------------
 
@@ -451,23 +495,6 @@ def _contains(range_: types.Range, position: types.Position) -> bool:
     start, end = range_.start, range_.end
     after_start = (position.line, position.character) >= (start.line, start.character)
     return after_start and (position.line, position.character) <= (end.line, end.character)
-
-
-def _suppression_word(lines, document, position: types.Position) -> str | None:
-    """The quoted word under the cursor when it is an entry of a customData
-    ``usdrender_lint`` suppression (``string[] ignore = ["SE003"]``)."""
-    if position.line >= len(lines):
-        return None
-    line = lines[position.line]
-    column = document.position_from_client_units(position).character
-    for match in _WORD.finditer(line):
-        if match.start() <= column <= match.end():
-            quoted = line[match.start() - 1 : match.start()] in "\"'" and match.start() > 0
-            if not quoted:
-                return None
-            above = "".join(lines[max(0, position.line - 6) : position.line + 1])
-            return match.group() if "usdrender_lint" in above or "ignore" in line else None
-    return None
 
 
 # -- the server --------------------------------------------------------------------------
@@ -533,12 +560,20 @@ def build(linting: Linting | None = None) -> UsdRenderLintServer:
 
     @server.feature(
         types.TEXT_DOCUMENT_CODE_ACTION,
-        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix, FIX_ALL]),
+        types.CodeActionOptions(
+            code_action_kinds=[types.CodeActionKind.QuickFix, FIX_ALL], resolve_provider=True
+        ),
     )
     async def code_action(
         ls: UsdRenderLintServer, params: types.CodeActionParams
     ) -> list[types.CodeAction]:
         return await ls.code_actions(params)
+
+    @server.feature(types.CODE_ACTION_RESOLVE)
+    async def code_action_resolve(
+        ls: UsdRenderLintServer, params: types.CodeAction
+    ) -> types.CodeAction:
+        return await ls.resolve_code_action(params)
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     def hover(ls: UsdRenderLintServer, params: types.HoverParams) -> types.Hover | None:

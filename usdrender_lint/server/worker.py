@@ -128,13 +128,11 @@ class Child:
             self.process.kill()
 
     def close(self) -> None:
-        """End the child: it ends by itself when its end of the socket closes."""
+        """End the child (it holds nothing to save; a child still starting would
+        only see the closed socket once USD is imported)."""
         self.connection.close()
-        try:
-            self.process.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            self.process.kill()
-            self.process.wait()
+        self.kill()
+        self.process.wait()
 
     @property
     def alive(self) -> bool:
@@ -154,8 +152,8 @@ class Linting:
         self._state = threading.Lock()
         self._active: Child | None = None
         self._spare: Child | None = None
-        #: (path, version, child) of the call running now.
-        self._running: tuple[str, int, Child] | None = None
+        #: (path, version, child, when it started) of the call running now.
+        self._running: tuple[str, int, Child, float] | None = None
         self._closed = False
 
     def start(self) -> tuple[RuleDoc, ...]:
@@ -190,7 +188,7 @@ class Linting:
                 raise LintFailed("the server is shutting down", cancelled=True)
             child = self._child()
             with self._state:
-                self._running = (path, version, child)
+                self._running = (path, version, child, time.monotonic())
             try:
                 return child.call(method, args, texts, timeout)
             except LintFailed:
@@ -205,12 +203,15 @@ class Linting:
                 with self._state:
                     self._running = None
 
-    def cancel(self, path: str, version: int) -> bool:
+    def cancel(self, path: str, version: int, *, running_for: float = 0.0) -> bool:
         """Stop the running call if it works on ``path`` at a version older
-        than ``version``; True when one was stopped."""
+        than ``version`` and has run ``running_for`` seconds at least; True
+        when one was stopped."""
         with self._state:
             running = self._running
             if running is None or running[0] != path or running[1] >= version:
+                return False
+            if time.monotonic() - running[3] < running_for:
                 return False
             running[2].kill(cancelled=True)
             return True

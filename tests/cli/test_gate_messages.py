@@ -1,0 +1,134 @@
+"""What a gate says: it shows what fails, it refuses what it cannot do, and
+its messages carry no machine's absolute paths.
+
+- ``--fail-on info`` shows the info findings it fails on, in text and in
+  GitHub annotations (it failed with "0 findings (2 info hidden)").
+- ``--ignore ST001`` is refused with a message (a file USD cannot open is
+  never a silent pass); a wider selector (``ALL``, ``ST``) says so in a note.
+- ST001's message does not repeat the file's absolute path: the location
+  carries the file, line and column.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+
+REPO = Path(__file__).resolve().parents[2]
+INFO_ONLY = REPO / "tests" / "rules" / "ST003_render_settings_path_missing" / "fail_unset.usda"
+WIP = REPO / "examples" / "broken_shot" / "lighting_wip.usda"
+
+
+def check(*args: str):
+    return CliRunner().invoke(cli, ["check", "--isolated", *args])
+
+
+def test_fail_on_info_shows_the_info_findings_in_text() -> None:
+    result = check("--select", "ST003", "--fail-on", "info", str(INFO_ONLY))
+    assert result.exit_code == 1
+    assert "info ST003" in result.stdout
+    assert "hidden" not in result.stdout
+    assert "1 finding in 1 file" in result.stdout
+
+
+def test_fail_on_info_annotates_them_on_github() -> None:
+    result = check("--select", "ST003", "--format", "github", "--fail-on", "info", str(INFO_ONLY))
+    assert result.exit_code == 1
+    assert result.stdout.startswith("::notice file=") and "title=ST003::" in result.stdout
+
+
+def test_the_default_gate_still_hides_info() -> None:
+    result = check("--select", "ST003", str(INFO_ONLY))
+    assert result.exit_code == 0
+    assert "1 info hidden" in result.stdout
+
+
+@pytest.mark.parametrize("selector", ["ST001", "st001", "stage-open-failed"])
+def test_ignoring_st001_itself_is_refused(selector: str) -> None:
+    result = check("--ignore", selector, str(WIP))
+    assert result.exit_code == 2
+    assert result.stderr.count("\n") == 1
+    assert f"--ignore: {selector!r} cannot be ignored: ST001 (stage-open-failed)" in result.stderr
+
+
+def test_ignoring_st001_in_the_config_is_refused(tmp_path: Path) -> None:
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text('ignore = ["ST001"]\n')
+    result = CliRunner().invoke(cli, ["check", "--config", str(config), str(WIP)])
+    assert result.exit_code == 2
+    assert "'ST001' cannot be ignored" in result.stderr
+
+
+@pytest.mark.parametrize("selector", ["ALL", "ST"])
+def test_a_wider_ignore_says_st001_stays(selector: str) -> None:
+    result = check("--ignore", selector, "--format", "json", str(WIP))
+    assert result.exit_code == 1
+    codes = [f["code"] for f in json.loads(result.stdout)["files"][0]["findings"]]
+    assert codes == ["ST001"]
+    assert f"note: ignore {selector!r}: ST001 (stage-open-failed) is always reported" in (
+        result.stderr
+    )
+
+
+@pytest.mark.parametrize("output_format", ["json", "sarif", "github", "text"])
+def test_st001_does_not_repeat_the_absolute_path(output_format: str) -> None:
+    result = check("--format", output_format, str(WIP))
+    assert result.exit_code == 1
+    assert "Expected } at '' in </Lights/key>" in result.stdout
+    # The file is named once per finding (where the format names it), not in the message.
+    assert f"{WIP}:9:1: Expected" not in result.stdout
+    if output_format == "json":
+        (finding,) = json.loads(result.stdout)["files"][0]["findings"]
+        assert finding["message"] == "Expected } at '' in </Lights/key>"
+        assert (finding["line"], finding["column"]) == (9, 1)
+
+
+# -- Git LFS pointers and absolute paths in messages ------------------------------------
+
+LFS_POINTER = (
+    "version https://git-lfs.github.com/spec/v1\n"
+    "oid sha256:4d7a214614ab2935c943f9e0ff69d22eadbb8f32b1258daaa5e2ca24d17e2393\n"
+    "size 12345\n"
+)
+
+
+@pytest.mark.parametrize("suffix", [".usd", ".usda", ".usdc"])
+def test_a_git_lfs_pointer_is_named_as_such(tmp_path: Path, suffix: str) -> None:
+    pointer = tmp_path / f"shot{suffix}"
+    pointer.write_text(LFS_POINTER)
+    result = check("--format", "json", str(pointer))
+    assert result.exit_code == 1
+    (finding,) = json.loads(result.stdout)["files"][0]["findings"]
+    assert finding["code"] == "ST001"
+    assert finding["message"].startswith("this is a Git LFS pointer, not the layer")
+    assert "git lfs pull" in finding["message"]
+
+
+def test_a_sublayer_that_is_a_git_lfs_pointer_is_named_and_paths_are_relative(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "lighting.usda").write_text(LFS_POINTER)
+    (tmp_path / "shot.usda").write_text("#usda 1.0\n(\n    subLayers = [@./lighting.usda@]\n)\n")
+    monkeypatch.chdir(tmp_path)
+    for output_format in ("json", "github", "sarif", "text"):
+        result = check("--format", output_format, "shot.usda")
+        assert result.exit_code == 1
+        assert "@lighting.usda@ is a Git LFS pointer, not the layer" in result.stdout
+        # No absolute path leaks (SARIF names the base folder its URIs are relative to).
+        text = result.stdout.replace(f'"uri": "{tmp_path.as_uri()}/"', "")
+        assert str(tmp_path) not in text, output_format
+
+
+def test_relative_in_rewrites_only_paths_below_the_directory() -> None:
+    from usdrender_lint.paths import relative_in
+
+    text = "@/ci/work/shot.usda@ and </ci/work/a.usda> but not /x/ci/work/b or /ci/workshop/c"
+    assert relative_in(text, "/ci/work") == (
+        "@shot.usda@ and <a.usda> but not /x/ci/work/b or /ci/workshop/c"
+    )
+    assert relative_in(text, "/") == text

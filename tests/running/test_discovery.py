@@ -1,0 +1,119 @@
+"""Walking a folder lints the project's USD files, as ruff walks a project:
+hidden files and folders are skipped (``check .`` in a clone linted the 36
+schema files of usd-core inside ``.venv/``), so are what ``exclude`` and
+``extend-exclude`` name and what ``.gitignore`` files ignore; a path given on
+the command line is always linted."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.config import Settings
+from usdrender_lint.running.discovery import EVERYTHING, Exclusions, collect_files
+
+LAYER = "#usda 1.0\n"
+
+
+def tree(root: Path, *names: str) -> None:
+    for name in names:
+        path = root / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(LAYER if name.endswith(".usda") else "")
+
+
+def found(root: Path, exclusions: Exclusions, *paths: str) -> list[str]:
+    given = [str(root / p) for p in paths] or [str(root)]
+    return sorted(os.path.relpath(f, root) for f in collect_files(given, exclusions=exclusions))
+
+
+def default(root: Path, **changes) -> Exclusions:
+    settings = Settings(source=str(root / ".usdrender-lint.toml"), **changes)
+    return Exclusions.of(settings)
+
+
+def test_hidden_files_and_folders_are_skipped_unless_named(tmp_path: Path) -> None:
+    tree(tmp_path, "a.usda", ".venv/lib/schema.usda", ".git/x.usda", "shots/.a.usda.tmp1.usda")
+    assert found(tmp_path, default(tmp_path)) == ["a.usda"]
+    named = found(tmp_path, default(tmp_path), ".venv/lib/schema.usda", "shots/.a.usda.tmp1.usda")
+    assert named == [".venv/lib/schema.usda", "shots/.a.usda.tmp1.usda"]
+    assert found(tmp_path, default(tmp_path), ".venv") == [".venv/lib/schema.usda"]
+    assert len(found(tmp_path, EVERYTHING)) == 4  # the Python API's collect_files default
+
+
+def test_the_default_exclude_and_replacing_or_extending_it(tmp_path: Path) -> None:
+    tree(tmp_path, "a.usda", "venv/lib/v.usda", "node_modules/n.usda", "wip/w.usda", "b/wip.usda")
+    assert found(tmp_path, default(tmp_path)) == ["a.usda", "b/wip.usda", "wip/w.usda"]
+    extended = default(tmp_path, extend_exclude=("wip/",))
+    assert found(tmp_path, extended) == ["a.usda", "b/wip.usda"]
+    replaced = default(tmp_path, exclude=("wip",))
+    assert found(tmp_path, replaced) == [
+        "a.usda",
+        "b/wip.usda",
+        "node_modules/n.usda",
+        "venv/lib/v.usda",
+    ]
+    anchored = default(tmp_path, exclude=("/b/*.usda",))  # relative to the config's folder
+    assert "b/wip.usda" not in found(tmp_path, anchored)
+    assert found(tmp_path, anchored, "b/wip.usda") == ["b/wip.usda"]  # named: linted
+
+
+def test_gitignore_files_of_the_repository_are_respected(tmp_path: Path) -> None:
+    tree(
+        tmp_path,
+        ".git/HEAD",
+        "shots/a.usda",
+        "shots/wip/w.usda",
+        "build/out.usda",
+        "cache/keep.usda",
+        "cache/drop.usda",
+        "local.usda",
+    )
+    (tmp_path / ".gitignore").write_text("build/\nshots/wip/\n")
+    (tmp_path / "cache" / ".gitignore").write_text("*.usda\n!keep.usda\n")
+    (tmp_path / ".git" / "info").mkdir()
+    (tmp_path / ".git" / "info" / "exclude").write_text("local.usda\n")
+    assert found(tmp_path, default(tmp_path)) == ["cache/keep.usda", "shots/a.usda"]
+    # A folder below the root: the root's .gitignore still applies.
+    assert found(tmp_path, default(tmp_path), "shots") == ["shots/a.usda"]
+    # Named, an ignored file is linted.
+    assert found(tmp_path, default(tmp_path), "build/out.usda") == ["build/out.usda"]
+    everything = default(tmp_path, respect_gitignore=False)
+    assert len(found(tmp_path, everything)) == 6
+
+
+def test_a_gitignore_outside_a_repository_applies_to_its_folder(tmp_path: Path) -> None:
+    tree(tmp_path, "project/a.usda", "project/out/b.usda")
+    (tmp_path / "project" / ".gitignore").write_text("out/\n")
+    (tmp_path / ".gitignore").write_text("*.usda\n")  # above the walk, no repository: unread
+    assert found(tmp_path, default(tmp_path), "project") == ["project/a.usda"]
+
+
+def test_check_of_a_clone_lints_only_its_files(tmp_path: Path, monkeypatch) -> None:
+    tree(tmp_path, ".git/HEAD", ".venv/lib/usd/schema.usda", "build/x.usda")
+    (tmp_path / ".gitignore").write_text("build/\n")
+    (tmp_path / "shot.usda").write_text(LAYER)
+    (tmp_path / "pyproject.toml").write_text('[tool.usdrender-lint]\nextend-exclude = ["old"]\n')
+    tree(tmp_path, "old/o.usda")
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(cli, ["check", "--no-cache", "--format", "json", "."])
+    assert result.exit_code == 0, result.output
+    assert [f["file"] for f in json.loads(result.stdout)["files"]] == ["./shot.usda"]
+    flag = CliRunner().invoke(
+        cli, ["check", "--isolated", "--no-cache", "--format", "json", "--exclude", "shot*", "."]
+    )
+    assert sorted(f["file"] for f in json.loads(flag.stdout)["files"]) == ["./old/o.usda"]
+
+
+@pytest.mark.parametrize("key", ["exclude", "extend-exclude"])
+def test_a_bad_pattern_list_is_a_config_error(tmp_path: Path, key: str) -> None:
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text(f"{key} = 3\n")
+    result = CliRunner().invoke(cli, ["check", "--config", str(config), str(tmp_path)])
+    assert result.exit_code == 2
+    assert f"'{key}' must be a list of strings" in result.output

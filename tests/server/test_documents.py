@@ -1,0 +1,148 @@
+"""The server's linting in-process (server/documents.py): the same findings as
+the Python API on real files, text ``.usd`` documents, and config ``variants``."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from usdrender_lint import lint_file
+from usdrender_lint.server.documents import Documents
+
+VARIANT_SHOT = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "S" (
+        variants = {
+            string quality = "low"
+        }
+        prepend variantSets = "quality"
+    )
+    {
+        variantSet "quality" = {
+            "high" {
+                uniform int2 resolution = (0, 10)
+            }
+            "low" {
+                uniform int2 resolution = (640, 360)
+            }
+        }
+    }
+}
+"""
+
+
+def _keys(findings) -> set[tuple]:
+    return {(f.code, f.location.path, f.location.line, f.message) for f in findings}
+
+
+def test_real_files_get_the_findings_of_the_python_api(shared_dir: Path):
+    """Every small .usda of the shared corpus, opened as saved: the server's
+    findings are the API's (which check's are: tests/running's differential
+    test), line for line."""
+    files = sorted(
+        p for p in (shared_dir / "corpus").rglob("*.usda") if p.stat().st_size < 200_000
+    )[:60]
+    assert files
+    documents = Documents()
+    for path in files:
+        text = path.read_text(encoding="utf-8", errors="replace")
+        documents.update({str(path): text})
+        linted = documents.lint(str(path))
+        expected = _api_findings(path)
+        assert linted.error is None, path
+        assert _keys(linted.findings) == expected, path
+        documents.update({str(path): None})
+
+
+def _api_findings(path: Path) -> set[tuple]:
+    from usdrender_lint.running.pipeline import Request, prepare
+
+    prepared = prepare(Request((str(path),), jobs=1, timeout=None, progress=False))
+    report = lint_file(path, config=prepared.settings)
+    return _keys(report.findings)
+
+
+def test_a_text_usd_document_is_linted_with_its_lines(tmp_path: Path):
+    path = str(tmp_path / "shot.usd")  # never saved
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    documents = Documents()
+    documents.update({path: text})
+    (finding,) = [f for f in documents.lint(path).findings if f.code == "SE001"]
+    assert finding.location.line == 4
+
+
+def test_config_variants_lints_other_selections_like_check(tmp_path: Path):
+    (tmp_path / ".usdrender-lint.toml").write_text("variants = true\n")
+    path = tmp_path / "shot.usda"
+    path.write_text(VARIANT_SHOT)
+    documents = Documents()
+    documents.update({str(path): VARIANT_SHOT})
+    found = [f for f in documents.lint(str(path)).findings if f.code == "SE001"]
+    assert len(found) == 1
+    assert "[variant selection: /Render/S{quality=high}]" in found[0].message
+    assert found[0].location.line == 13  # the line in the variant
+    expected = lint_file(path, config=str(tmp_path / ".usdrender-lint.toml"))
+    assert {f.message for f in expected.findings if f.code == "SE001"} == {found[0].message}
+
+
+@pytest.mark.parametrize("saved", [True, False])
+def test_an_edit_is_linted_from_the_buffer(tmp_path: Path, saved: bool):
+    path = tmp_path / "shot.usda"
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    if saved:
+        path.write_text(text)
+    documents = Documents()
+    documents.update({str(path): text})
+    assert "SE001" in {f.code for f in documents.lint(str(path)).findings}
+    documents.update({str(path): text.replace("(0, 10)", "(10, 10)")})
+    assert "SE001" not in {f.code for f in documents.lint(str(path)).findings}
+    # Closed: the file (if any) is what other stages see again.
+    documents.update({str(path): None})
+    assert documents.texts == {}
+
+
+def test_per_path_ignores_apply_as_in_check(tmp_path: Path):
+    (tmp_path / ".usdrender-lint.toml").write_text(
+        '[per-path-ignores]\n"shots/*.usda" = ["SE001"]\n'
+    )
+    (tmp_path / "shots").mkdir()
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    documents = Documents()
+    ignored, kept = str(tmp_path / "shots" / "a.usda"), str(tmp_path / "b.usda")
+    documents.update({ignored: text, kept: text})
+    assert "SE001" not in {f.code for f in documents.lint(ignored).findings}
+    assert "SE001" in {f.code for f in documents.lint(kept).findings}
+
+
+def test_a_referenced_file_changed_on_disk_is_read_again(tmp_path: Path):
+    cams = tmp_path / "cams.usda"
+    cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cam"\n    {\n    }\n}\n')
+    text = (
+        '#usda 1.0\ndef Xform "World" (\n    references = @./cams.usda@</rig>\n)\n{\n}\n'
+        'def RenderSettings "S"\n{\n    rel camera = </World/cam>\n}\n'
+    )
+    path = str(tmp_path / "shot.usda")
+    documents = Documents()
+    documents.update({path: text})
+    assert "CA003" not in {f.code for f in documents.lint(path).findings}
+    before = cams.stat().st_mtime
+    cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n}\n')  # the camera is gone
+    os.utime(cams, (before + 5, before + 5))  # a later time, whatever the clock's grain
+    assert "CA003" in {f.code for f in documents.lint(path).findings}
+
+
+def test_suppress_names_only_registered_rules(tmp_path: Path):
+    path = str(tmp_path / "shot.usda")
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    documents = Documents()
+    documents.update({path: text})
+    documents.lint(path)
+    suppressed = documents.suppress(path, "SE001", "/S.resolution")
+    assert suppressed is not None and '"SE001"' in suppressed
+    documents.update({path: suppressed})
+    assert "SE001" not in {f.code for f in documents.lint(path).findings}
+    # A rule that raised (UL000) cannot be silenced in customData.
+    assert documents.suppress(path, "UL000", "/S") is None

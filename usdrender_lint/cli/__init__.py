@@ -1,0 +1,118 @@
+"""The ``usdrender-lint`` command: check, merge, spec, rules, explain,
+plugin-path, server; one module per command, every output through
+:mod:`.views` (or, for reports, the registered formatters).
+
+Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it;
+2 the tool could not do its job (bad usage or config, a plugin that fails to
+load, a path that does not exist, a file it could not lint).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Sequence
+
+import click
+
+from .. import __version__
+from ..paths import printable
+from ..running.interrupts import Stopped, stop_on_signals
+from ..running.supervisor import Supervision
+from .check import check
+from .explain import explain
+from .merge import merge
+from .output import EXIT_TOOL_ERROR, StdoutGone, error
+from .plugin_path import plugin_path
+from .rules import list_rules, rules_text
+from .server import server_command
+from .spec import spec_command
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="usdrender-lint")
+def cli() -> None:
+    """Lint OpenUSD render settings (usdRender) before the render farm does."""
+
+
+for _command in (check, merge, spec_command, list_rules, server_command, explain, plugin_path):
+    cli.add_command(_command)
+
+
+def main(argv: Sequence[str] | None = None, supervision: Supervision | None = None) -> None:
+    """Console entry point: no traceback ever reaches the user. Ctrl-C exits
+    130 and SIGTERM 143 (128 + the signal) after cleaning up; a closed or
+    broken stdout exits 2 quietly. ``supervision``: how the supervisor
+    (running/supervisor.py) ran this process, for the commands it supervises."""
+    _open_closed_standard_streams()
+    try:
+        with stop_on_signals():
+            cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True, obj=supervision)
+    except SystemExit as done:
+        # click ends a broken pipe while it printed (help, the version) with
+        # exit 1, its stdout wrapped to pacify the flush at exit: ours is 2.
+        if done.code == 1 and type(sys.stdout).__name__.endswith("PacifyFlushWrapper"):
+            sys.exit(EXIT_TOOL_ERROR)
+        raise
+    except Stopped as stopped:
+        click.echo(f"usdrender-lint: {stopped.reason}", err=True)
+        sys.exit(stopped.exit_status)
+    except StdoutGone:
+        _silence_stdout()
+        sys.exit(EXIT_TOOL_ERROR)
+    except OSError as exc:
+        if not _raised_by_echo(exc):
+            _internal_error(exc)
+        # click printing help, the version or usage: stdout is full or gone.
+        _silence_stdout()
+        if not isinstance(exc, BrokenPipeError):
+            error(f"cannot write the output: {exc.strerror or exc}")
+        sys.exit(EXIT_TOOL_ERROR)
+    except Exception as exc:
+        _internal_error(exc)
+
+
+def _raised_by_echo(exc: BaseException) -> bool:
+    """Whether ``exc`` came out of ``click.echo`` (help, version, usage)."""
+    import traceback
+
+    return any(
+        frame.name == "echo" and frame.filename.endswith(os.path.join("click", "utils.py"))
+        for frame in traceback.extract_tb(exc.__traceback__)
+    )
+
+
+def _internal_error(exc: Exception) -> None:
+    if os.environ.get("USDRENDER_LINT_DEBUG"):
+        raise exc
+    click.echo(
+        f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
+        "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
+        err=True,
+    )
+    sys.exit(EXIT_TOOL_ERROR)
+
+
+def _open_closed_standard_streams() -> None:
+    """Put /dev/null on a standard file descriptor that was closed when the
+    command started (``check >&-``): else the next file opened would get the
+    number, and whatever USD prints would land in it. Python already made
+    sys.stdout None for it, which the report's writing treats as gone."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            null = os.open(os.devnull, os.O_RDWR)
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
+
+
+def _silence_stdout() -> None:
+    """Point fd 1 at /dev/null, so that flushing stdout at exit fails no more."""
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.close(null)
+
+
+__all__ = ["cli", "main", "rules_text"]

@@ -1,0 +1,207 @@
+"""``usdrender-lint check``: lint files and report (the pipeline does the work)."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from .. import __version__
+from ..formatters import FormatOptions, load_formatter, reads_rules
+from ..paths import escape
+from ..running.interrupts import check_stopped
+from .loading import import_engine, supervision
+from .options import (
+    config_option,
+    isolated_option,
+    report_format_option,
+    report_output_option,
+    setting_options,
+    setting_values,
+    show_info_option,
+    statistics_option,
+)
+from .output import ToolError, error, note, write
+from .views import send
+
+if TYPE_CHECKING:
+    from ..api import Rule
+    from ..model import Report
+
+
+@click.command()
+# readable=False: an unreadable file is reported by the engine, and the others
+# are still linted, instead of click refusing the whole command.
+@click.argument("paths", nargs=-1, required=True, type=click.Path(readable=False))
+@report_format_option()
+@setting_options("check")
+@show_info_option
+@config_option("Read settings from this file instead of the nearest one.")
+@isolated_option
+@click.option(
+    "--no-roots",
+    is_flag=True,
+    help="Lint PATHS on their own, not inside the stage roots the config names.",
+)
+@report_output_option
+@statistics_option
+@click.option(
+    "--baseline",
+    "baseline_file",
+    type=click.Path(dir_okay=False),
+    help="Report and fail only on findings this baseline file does not record.",
+)
+@click.option(
+    "--write-baseline",
+    "write_baseline_file",
+    type=click.Path(dir_okay=False),
+    help="Record every finding in this baseline file and exit 0.",
+)
+@click.option("--fix", is_flag=True, help="Apply the safe fixes, then report what remains.")
+@click.option(
+    "--unsafe-fixes",
+    "--unsafe",  # the catalog's spelling
+    "unsafe_fixes",
+    is_flag=True,
+    help="With --fix, --diff or --fix-to: unsafe fixes too.",
+)
+@click.option(
+    "--diff", "show_diff", is_flag=True, help="Print what --fix would change; write nothing."
+)
+@click.option(
+    "--fix-to",
+    "fix_to",
+    type=click.Path(dir_okay=False),
+    help="Write the fixes as overrides into this layer instead of editing the sources.",
+)
+@click.option(
+    "--fix-drop-comments",
+    is_flag=True,
+    help="No effect: fixes always keep a layer's comments (accepted for old scripts).",
+)
+@click.option(
+    "--shard",
+    metavar="K/N",
+    callback=lambda _ctx, _param, value: _shard(value),
+    help="Lint only part K of N of the files (a CI matrix job); see 'merge'.",
+)
+def check(
+    paths: tuple[str, ...],
+    output_format: str,
+    show_info: bool,
+    config_path: str | None,
+    isolated: bool,
+    no_roots: bool,
+    output_file: str | None,
+    statistics: bool,
+    baseline_file: str | None,
+    write_baseline_file: str | None,
+    fix: bool,
+    unsafe_fixes: bool,
+    show_diff: bool,
+    fix_to: str | None,
+    fix_drop_comments: bool,  # no effect (see its help)
+    shard: tuple[int, int] | None,
+    **settings: Any,
+) -> None:
+    """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
+    import_engine()
+    check_stopped()  # a signal while USD imported its modules
+    from ..running.pipeline import Request, RequestError, run
+
+    request = Request(
+        paths,
+        config=config_path,
+        isolated=isolated,
+        use_roots=not no_roots,
+        fix=_fix_request(fix, unsafe_fixes, show_diff, fix_to),
+        baseline=baseline_file,
+        write_baseline=write_baseline_file,
+        shard=shard,
+        output=output_file,
+        supervision=supervision(),
+        **setting_values("check", settings),
+    )
+    try:
+        outcome = run(request)
+    except RequestError as exc:
+        raise ToolError(str(exc)) from None
+    options = FormatOptions(
+        # A gate that fails on info findings shows them: they are why it fails.
+        show_info=show_info or outcome.settings.fail_on == "info",
+        tool_version=__version__,
+        statistics=statistics,
+        fixing=request.fix is not None,
+        configuration=outcome.configuration,
+    )
+    if show_diff:
+        # stdout carries the diff alone; the report goes only to --output.
+        write(escape("".join(outcome.diffs)))
+        if output_file:
+            emit_report(outcome.report, output_format, outcome.rules, options, output_file)
+    else:
+        emit_report(outcome.report, output_format, outcome.rules, options, output_file)
+    for line in outcome.notes:
+        note(line)
+    for line in outcome.errors:
+        error(line)
+    sys.exit(outcome.exit_status)
+
+
+def _shard(value: str | None) -> tuple[int, int] | None:
+    if value is None:
+        return None
+    from ..running.shards import ShardError, parse_shard
+
+    try:
+        return parse_shard(value)
+    except ShardError as exc:
+        raise click.BadParameter(str(exc)) from None
+
+
+def _fix_request(fix: bool, unsafe: bool, show_diff: bool, fix_to: str | None):
+    """What fixing the flags ask for, or None when none was."""
+    from ..running.pipeline import FixRequest
+
+    if show_diff and fix_to:
+        raise ToolError("use either --diff or --fix-to, not both")
+    if not (fix or show_diff or fix_to):
+        if unsafe:
+            raise ToolError("--unsafe-fixes needs --fix, --diff or --fix-to")
+        return None
+    return FixRequest(write=not show_diff, unsafe=unsafe, fix_to=fix_to)
+
+
+def emit_report(
+    report: Report,
+    output_format: str,
+    rules: Sequence[Rule],
+    options: FormatOptions,
+    output_file: str | None,
+) -> None:
+    """Render with the registered formatter, to stdout or ``output_file``.
+    ``rules`` (the rules that ran) are described in the report only for a
+    formatter that reads them: building that costs every rule's docstring."""
+    formatter = load_formatter(output_format)
+    if reads_rules(formatter):
+        from ..explain import rule_info
+
+        report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
+    check_stopped()
+    report = _relative_messages(report)
+    send(lambda stream: formatter.render(report, stream, options), output_file, "the report")
+
+
+def _relative_messages(report: Report) -> Report:
+    """The report with the absolute paths in its messages written relative to
+    the working directory when below it, as its files are named."""
+    from ..paths import relative_in
+
+    files = []
+    for result in report.files:
+        findings = tuple(replace(f, message=relative_in(f.message)) for f in result.findings)
+        files.append(result if findings == result.findings else replace(result, findings=findings))
+    return replace(report, files=tuple(files))

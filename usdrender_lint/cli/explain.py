@@ -1,0 +1,34 @@
+"""``usdrender-lint explain``: a rule's documentation."""
+
+from __future__ import annotations
+
+from typing import TextIO
+
+import click
+
+from .loading import registry
+from .output import ToolError
+from .views import emit, view
+
+
+@view("explain", "text")
+def _text(text: str, stream: TextIO) -> None:
+    stream.write(text)
+
+
+@click.command()
+@click.argument("rule")
+def explain(rule: str) -> None:
+    """Print a rule's documentation (by code or name)."""
+    from ..model import INTERNAL_ERROR_RULE as internal
+
+    found = registry().find(rule)
+    if found is not None:
+        from ..explain import explain_text
+
+        emit("explain", "text", explain_text(found))
+    elif rule.upper() == internal.code or rule.lower() == internal.name:
+        header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
+        emit("explain", "text", f"{header}\n\n{internal.doc}\n")
+    else:
+        raise ToolError(f"no rule has the code or name {rule!r} (see 'usdrender-lint rules')")

@@ -1,0 +1,77 @@
+"""``usdrender-lint merge``: the reports of ``check --shard K/N`` jobs as one."""
+
+from __future__ import annotations
+
+import sys
+from typing import Any
+
+import click
+
+from .. import __version__
+from ..formatters import FormatOptions
+from .check import emit_report
+from .loading import import_engine
+from .options import (
+    config_option,
+    isolated_option,
+    report_format_option,
+    report_output_option,
+    setting_options,
+    setting_values,
+    show_info_option,
+    statistics_option,
+)
+from .output import ToolError, error
+
+
+@click.command()
+@click.argument("reports", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@report_format_option()
+@setting_options("merge")
+@show_info_option
+@config_option("Read settings (fail-on, the rules described) from this file.")
+@isolated_option
+@report_output_option
+@statistics_option
+def merge(
+    reports: tuple[str, ...],
+    output_format: str,
+    show_info: bool,
+    config_path: str | None,
+    isolated: bool,
+    output_file: str | None,
+    statistics: bool,
+    **settings: Any,
+) -> None:
+    """Merge JSON reports (of 'check --shard K/N' jobs) into one report.
+
+    The exit code is that of one check over all the files: 2 when a file could
+    not be linted, else 1 when a finding reaches --fail-on, else 0."""
+    import_engine()
+    from ..running.merge import MergeError, merge_reports
+    from ..running.outputs import OutputOnInput, refuse_inputs
+    from ..running.pipeline import Request, RequestError, exit_status, prepare
+
+    given = setting_values("merge", settings)
+    try:
+        inputs = [*reports, *([config_path] if config_path else [])]
+        refuse_inputs([(output_file, "the merged report")], inputs)
+    except OutputOnInput as exc:
+        raise ToolError(str(exc)) from None
+    try:
+        report, configuration = merge_reports(reports)
+        # The configuration decides fail-on and which rules a SARIF report describes.
+        prepared = prepare(Request((".",), config=config_path, isolated=isolated, **given))
+    except (MergeError, RequestError) as exc:
+        raise ToolError(str(exc)) from None
+    options = FormatOptions(
+        show_info=show_info or prepared.settings.fail_on == "info",
+        tool_version=__version__,
+        statistics=statistics,
+        fixing=bool(report.applied_fixes or report.unapplied_fixes),
+        configuration=configuration,
+    )
+    emit_report(report, output_format, prepared.linter.rules, options, output_file)
+    for line in (r.error or r.file for r in report.errored_files):
+        error(line)
+    sys.exit(exit_status(report, prepared.settings.fail_on))

@@ -1,0 +1,142 @@
+"""The commands' options. Those of a setting are made from the settings
+table (:mod:`usdrender_lint.settings_table`): its flag, help, default and the
+table's own check of a value, so a flag and a configuration key can never
+read a value differently."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import click
+
+from ..settings_table import ConfigError, Setting, flag_settings
+
+#: Flags of kind "int"/"float": a value checked by the setting's own parser.
+_NUMBERS: dict[str, click.ParamType] = {"int": click.INT, "float": click.FLOAT}
+
+
+class _Checked(click.ParamType):
+    """A number checked by the settings table's parser: a value out of range
+    is a usage error, exit 2."""
+
+    def __init__(self, base: click.ParamType, parse: Callable[[Any, str], Any]) -> None:
+        self.base = base
+        self.parse = parse
+        self.name = base.name
+
+    def convert(self, value, param, ctx):
+        number = self.base.convert(value, param, ctx)
+        try:
+            return self.parse(number, "it")
+        except ConfigError as exc:
+            self.fail(str(exc), param, ctx)
+
+
+def profile_choices() -> list[str]:
+    from ..profiles import AUTO, profile_names  # data only: no USD import
+
+    return [AUTO, *profile_names()]
+
+
+def _help(entry: Setting) -> str:
+    if entry.shown_default is None:
+        return entry.help
+    return f"{entry.help}  [default: {entry.shown_default}]."
+
+
+def setting_option(entry: Setting):
+    """The click option of one setting; its value reaches the command under
+    the setting's name (None when not given, but for off-flags)."""
+    assert entry.flag is not None and entry.kind is not None
+    common: dict[str, Any] = {"help": _help(entry), "hidden": entry.hidden}
+    if entry.envvar:
+        common["envvar"] = entry.envvar
+    kind = entry.kind
+    if kind == "tokens":
+        return click.option(entry.flag, entry.name, multiple=True, **common)
+    if kind == "choice":
+        return click.option(entry.flag, entry.name, type=click.Choice(entry.choices), **common)
+    if kind == "profile":
+        return click.option(entry.flag, entry.name, type=click.Choice(profile_choices()), **common)
+    if kind in _NUMBERS:
+        kind_type = _Checked(_NUMBERS[kind], entry.parse)
+        if entry.shown_default is None and entry.default is not None:
+            common.update(default=entry.default, show_default=True)
+        flags = (entry.flag, entry.short) if entry.short else (entry.flag,)
+        return click.option(*flags, entry.name, type=kind_type, **common)
+    if kind == "flag":
+        return click.option(entry.flag, entry.name, is_flag=True, default=None, **common)
+    if kind == "off-flag":
+        # --no-cache: the setting is on unless the flag is given.
+        return click.option(entry.flag, f"no_{entry.name}", is_flag=True, **common)
+    if kind == "folder":
+        return click.option(entry.flag, entry.name, type=click.Path(file_okay=False), **common)
+    raise AssertionError(f"unknown setting kind {kind!r}")
+
+
+def setting_options(command: str):
+    """Decorate ``command`` with the options of every setting it takes."""
+
+    def decorate(function):
+        for entry in reversed(flag_settings(command)):
+            function = setting_option(entry)(function)
+        return function
+
+    return decorate
+
+
+def setting_values(command: str, given: dict[str, Any]) -> dict[str, Any]:
+    """The values of ``command``'s setting flags, as a Request takes them:
+    repeatable rule lists joined and split at commas, None when not given."""
+    values: dict[str, Any] = {}
+    for entry in flag_settings(command):
+        if entry.kind == "off-flag":
+            values[entry.name] = not given.pop(f"no_{entry.name}")
+            continue
+        value = given.pop(entry.name)
+        values[entry.name] = split(value) if entry.kind == "tokens" else value
+    return values
+
+
+def split(values: Sequence[str]) -> tuple[str, ...] | None:
+    """``--select A,B --select C`` -> ("A", "B", "C"); None when not given."""
+    if not values:
+        return None
+    return tuple(v.strip() for value in values for v in value.split(",") if v.strip())
+
+
+# Options that are not settings (what to read and where to write), shared so
+# that the commands read and check them alike.
+show_info_option = click.option(
+    "--show-info", is_flag=True, help="Show info findings in the text report."
+)
+isolated_option = click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+report_output_option = click.option(
+    "--output",
+    "output_file",
+    type=click.Path(dir_okay=False),
+    help="Write the report to this file instead of stdout: a file is replaced atomically, "
+    "keeping its owner and mode; /dev/stdout, a pipe, a FIFO or a terminal is streamed into.",
+)
+statistics_option = click.option(
+    "--statistics", is_flag=True, help="Add counts per rule code after the report."
+)
+
+
+def config_option(help: str):
+    return click.option("--config", "config_path", type=click.Path(dir_okay=False), help=help)
+
+
+def report_format_option():
+    from ..formatters import available_formatters
+
+    names = sorted(available_formatters()) or ["text", "json"]
+    return click.option(
+        "--format",
+        "output_format",
+        default="text",
+        show_default=True,
+        type=click.Choice(names, case_sensitive=False),
+        help="Report format.",
+    )

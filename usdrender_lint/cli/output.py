@@ -1,0 +1,108 @@
+"""Where every command's output goes: stdout (its failures told apart: a
+reader that went away is a quiet exit 2, a full disk a one-line error) or a
+file written as a shell's ``>`` would, and one-line errors on stderr."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from ..paths import printable
+
+#: The pipeline's exit codes (running/pipeline.py), repeated so that --help
+#: and --version need no import of USD.
+EXIT_OK, EXIT_FINDINGS, EXIT_TOOL_ERROR = 0, 1, 2
+
+
+class ToolError(click.ClickException):
+    """A one-line error on stderr and exit 2."""
+
+    exit_code = EXIT_TOOL_ERROR
+
+    def show(self, file=None) -> None:
+        error(self.format_message())
+
+
+class StdoutGone(Exception):
+    """stdout is closed, or its reader went away (``check | head``): nobody
+    reads the report, so the run ends with exit 2 and says nothing."""
+
+
+def error(message: str) -> None:
+    click.echo(f"usdrender-lint: error: {printable(message)}", err=True)
+
+
+def note(message: str) -> None:
+    click.echo(f"usdrender-lint: {printable(message)}", err=True)
+
+
+class Stdout:
+    """sys.stdout, written to the end: the text is gathered and written with
+    :func:`~usdrender_lint.atomic.write_all` (a single ``write()`` to a pipe
+    whose reader left takes part of it and says nothing, so Python's own
+    stream could leave a report cut short with exit 0). A closed or broken
+    pipe is :class:`StdoutGone`, any other failure (a full disk) a ToolError."""
+
+    #: Bytes gathered before they are written.
+    CHUNK = 1 << 16
+
+    def __init__(self) -> None:
+        self._parts: list[str] = []
+        self._size = 0
+
+    def write(self, text: str) -> int:
+        self._parts.append(text)
+        self._size += len(text)
+        if self._size >= self.CHUNK:
+            self.flush()
+        return len(text)
+
+    def flush(self) -> None:
+        text, self._parts, self._size = "".join(self._parts), [], 0
+        self._do(text)
+
+    def isatty(self) -> bool:
+        return bool(sys.stdout is not None and sys.stdout.isatty())
+
+    @staticmethod
+    def _do(text: str) -> None:
+        from ..atomic import write_all
+
+        stream = sys.stdout
+        if stream is None:  # fd 1 was closed when Python started
+            raise StdoutGone
+        try:
+            stream.flush()
+            try:
+                fd = stream.fileno()
+            except (AttributeError, ValueError, OSError):  # not a file (a test's capture)
+                stream.write(text)
+                stream.flush()
+                return
+            write_all(fd, text.encode(stream.encoding or "utf-8", stream.errors or "strict"))
+        except BrokenPipeError:
+            raise StdoutGone from None
+        except OSError as exc:
+            raise ToolError(f"cannot write the report: {exc.strerror or exc}") from None
+
+
+def write(text: str) -> None:
+    """Write ``text`` to stdout and flush it, so that a failure is known now."""
+    stdout = Stdout()
+    stdout.write(text)
+    stdout.flush()
+
+
+def write_file(path: str | Path, text: str, what: str) -> None:
+    """Write ``text`` to ``path`` as a shell's ``>`` would, atomically where
+    that can be (atomic.write_output); a failure is one line, exit 2."""
+    from ..atomic import write_output
+
+    try:
+        write_output(path, text)
+    except BrokenPipeError:
+        raise StdoutGone from None  # a pipe the user named, whose reader left
+    except OSError as exc:
+        raise ToolError(f"{path}: cannot write {what}: {exc.strerror or exc}") from None
