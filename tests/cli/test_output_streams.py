@@ -25,10 +25,12 @@ from pathlib import Path
 import pytest
 
 from usdrender_lint import atomic
+from usdrender_lint.formatters import available_formatters
 
 REPO = Path(__file__).resolve().parents[2]
 BROKEN = str(REPO / "examples" / "broken_shot" / "shot.usda")
-FORMATS = ["json", "sarif", "text", "github"]
+#: Every registered report format (json, sarif, text, github, html, ...).
+FORMATS = sorted(available_formatters())
 
 
 def command(*args: str) -> list[str]:

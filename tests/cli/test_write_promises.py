@@ -276,3 +276,25 @@ def test_merge_never_writes_onto_a_report_it_reads(tmp_path: Path, shot: Path) -
         merged.stderr
     )
     assert first.read_text() == kept
+
+
+def test_debug_shows_the_traceback_of_a_file_that_could_not_be_linted(
+    shot: Path, monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]
+) -> None:
+    from usdrender_lint.engine import Linter
+
+    def broken(self, path, **kwargs):
+        raise RuntimeError("the engine broke on purpose")
+
+    monkeypatch.setattr(Linter, "lint_path", broken)
+    args = ["check", "--isolated", "--no-cache", "--jobs", "1", "--timeout", "0", str(shot)]
+    quiet = CliRunner().invoke(cli, args)
+    assert quiet.exit_code == 2
+    assert "internal error: RuntimeError: the engine broke on purpose" in quiet.stderr
+    assert "Traceback" not in capfd.readouterr().err
+    monkeypatch.setenv("USDRENDER_LINT_DEBUG", "1")
+    loud = CliRunner().invoke(cli, args)
+    assert loud.exit_code == 2
+    printed = capfd.readouterr().err
+    assert f"usdrender-lint: debug: {shot}: internal error" in printed
+    assert "Traceback" in printed and 'raise RuntimeError("the engine broke on purpose")' in printed

@@ -466,7 +466,15 @@ def test_pruning_removes_only_the_cache_s_own_entries(tmp_path: Path) -> None:
     for path in (*own, *foreign):
         path.write_bytes(b"x" * 1000)
         os.utime(path, (1, 1))
-    assert cache.prune(max_bytes=100, keep_bytes=0) == 4
+    older = tmp_path / "cache" / f"v{result_cache.FORMAT - 1}"
+    older.mkdir()
+    (older / f"{0:040x}.json").write_bytes(b"x" * 1000)  # an older format's: never read
+    (older / "keep.txt").write_bytes(b"x")
+    os.utime(own[0], (0, 0))  # the least recently used of this format
+    assert cache.prune(max_bytes=4_900, keep_bytes=3_500) == 2
+    assert sorted(older.iterdir()) == [older / "keep.txt"]
+    assert not own[0].exists() and all(p.exists() for p in own[1:])
+    assert cache.prune(max_bytes=100, keep_bytes=0) == 3
     assert sorted(cache.entries.iterdir()) == sorted(foreign)
     # A folder whose tag is gone is not the cache's any more: nothing is pruned.
     for path in own:

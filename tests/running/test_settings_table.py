@@ -128,3 +128,13 @@ def test_a_value_is_checked_alike_from_a_flag_a_file_and_the_api(tmp_path: Path)
     reason = "must be a whole number from 1 to 10000, got 0"
     assert reason in said.output and reason in str(from_file.value)
     assert reason in str(from_api.value)
+
+
+def test_the_api_keywords_the_table_adds_change_the_lint() -> None:
+    broken = REPO / "examples" / "broken_shot" / "shot.usda"
+    chosen = usdrender_lint.lint_file(broken, profile="karma")
+    assert chosen.findings and {f.profile for f in chosen.findings} == {"karma"}
+    only_ca = usdrender_lint.lint_file(broken, select=["CA"])
+    widened = usdrender_lint.lint_file(broken, select=["CA"], extend_select=["SE"])
+    assert {f.code[:2] for f in only_ca.findings} == {"CA"}
+    assert {f.code[:2] for f in widened.findings} >= {"CA", "SE"}

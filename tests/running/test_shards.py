@@ -353,3 +353,28 @@ def test_merge_writes_its_output_atomically_and_reads_fixes(project: Path) -> No
         json.loads(merged.stdout)["fixes"]
         == json.loads((project / "diff.json").read_text())["fixes"]
     )
+
+
+def test_the_configuration_digest_is_the_same_on_every_machine() -> None:
+    """Options printed with an object's address (a plugin's class without a
+    repr) must not make the shards of one CI run look like two runs."""
+    from usdrender_lint.config import Settings
+    from usdrender_lint.running.merge import configuration_digest
+
+    class Options:
+        pass
+
+    class Rule:
+        code = "XX001"
+
+        def __init__(self) -> None:
+            self.options = Options()
+
+    one, other = Rule(), Rule()
+    assert repr(one.options) != repr(other.options)
+    settings = Settings()
+    assert configuration_digest(settings, [one]) == configuration_digest(settings, [other])  # type: ignore[list-item]
+    assert configuration_digest(settings, [one]) != configuration_digest(
+        Settings(select=("CA",)),
+        [one],  # type: ignore[list-item]
+    )

@@ -30,7 +30,33 @@ for _, d in ipairs(vim.diagnostic.get(0)) do
     message = d.message, href = (lsp.codeDescription or {}).href,
   })
 end
-vim.fn.writefile({vim.fn.json_encode({received = received, diagnostics = found})},
+-- The quick fix of CA004, asked for as :lua vim.lsp.buf.code_action() asks
+-- (the cursor on the finding, the line's diagnostics as context) and applied.
+local fixed = nil
+for _, d in ipairs(vim.diagnostic.get(0)) do
+  local lsp = (d.user_data or {}).lsp or {}
+  if (d.code or lsp.code) == "CA004" then
+    vim.api.nvim_win_set_cursor(0, { d.lnum + 1, d.col })
+    local params = vim.lsp.util.make_range_params()
+    local line_diagnostics = vim.lsp.diagnostic.get_line_diagnostics  -- gone in newer Neovims
+    params.context = { diagnostics = line_diagnostics and line_diagnostics() or { {
+      range = { start = { line = d.lnum, character = d.col },
+                ["end"] = { line = d.end_lnum, character = d.end_col } },
+      message = d.message, severity = d.severity, source = d.source,
+      code = lsp.code, data = lsp.data,
+    } } }
+    local answers = vim.lsp.buf_request_sync(0, "textDocument/codeAction", params, 60000)
+    for _, answer in pairs(answers or {}) do
+      for _, action in ipairs(answer.result or {}) do
+        if action.title:find("^Fix CA004") then
+          vim.lsp.util.apply_workspace_edit(action.edit, "utf-16")
+          fixed = vim.api.nvim_buf_get_lines(0, d.lnum, d.lnum + 1, false)[1]
+        end
+      end
+    end
+  end
+end
+vim.fn.writefile({vim.fn.json_encode({received = received, diagnostics = found, fixed = fixed})},
   os.getenv("USDRENDER_LINT_NVIM_OUT"))
 vim.cmd("qa!")
 """
@@ -90,6 +116,8 @@ def test_neovim_shows_the_findings_of_a_broken_shot(tmp_path: Path):
     camera = next(d for d in seen["diagnostics"] if d["code"] == "CA004")
     assert camera["col"] == 8 and camera["severity"] == 1
     assert camera["href"].endswith("/reference/rules/CA004-camera-target-not-camera/")
+    # Its quick fix, applied by Neovim to the buffer: the line --fix writes.
+    assert seen["fixed"] == "        rel camera = </World/camRig/shotCam>"
 
 
 def test_the_helix_snippet_runs_the_server():

@@ -272,6 +272,12 @@ async def test_quick_fix_and_fix_all_give_the_fix_result(
     )
     (fix_all,) = actions
     assert fix_all.kind == "source.fixAll.usdrender-lint"
+    # Asked for every action, it comes without its edit, made when it is chosen.
+    offered = await quick_actions(client, uri, camera)
+    (lazy,) = [a for a in offered if a.kind == "source.fixAll.usdrender-lint"]
+    assert lazy.edit is None
+    resolved = await client.code_action_resolve_async(lazy)
+    assert resolved.edit == fix_all.edit
     copy = tmp_path / "shot.usda"
     shutil.copy(path, copy)
     subprocess.run(

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -46,7 +47,7 @@ def configuration_digest(
     parts = {
         "usd": list(Usd.GetVersion()),
         "rules": [
-            (type(rule).__module__, type(rule).__qualname__, rule.code, repr(rule.options))
+            (type(rule).__module__, type(rule).__qualname__, rule.code, _portable(rule.options))
             for rule in rules
         ],
         "settings": settings_key(settings),
@@ -54,6 +55,12 @@ def configuration_digest(
     }
     text = json.dumps(parts, sort_keys=True, default=repr, separators=(",", ":"))
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
+
+
+def _portable(value: object) -> str:
+    """``repr(value)`` without object addresses (a plugin's options class
+    without its own repr), which differ between the machines of one CI run."""
+    return re.sub(r" at 0x[0-9a-fA-F]+", "", repr(value))
 
 
 def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:

@@ -602,21 +602,9 @@ class ResultCache:
         files only), and only in a folder holding our CACHEDIR.TAG."""
         if not _is_ours(self.folder / "CACHEDIR.TAG"):
             return 0
-        try:
-            names = os.listdir(self.entries)
-        except OSError:
-            return 0
-        sized = []
-        for name in names:
-            if not ENTRY_NAME.fullmatch(name):
-                continue
-            path = self.entries / name
-            try:
-                info = path.lstat()
-            except OSError:
-                continue
-            if stat.S_ISREG(info.st_mode):
-                sized.append((info.st_mtime_ns, info.st_size, path))
+        # Entries of an older format are never read again: they go first.
+        older = [self.folder / f"v{n}" for n in range(1, FORMAT)]
+        sized = [e for f in (*older, self.entries) for e in _entry_files(f, f != self.entries)]
         total = sum(size for _, size, _ in sized)
         if total <= max_bytes:
             return 0
@@ -631,6 +619,27 @@ class ResultCache:
             total -= size
             removed += 1
         return removed
+
+
+def _entry_files(folder: Path, stale: bool) -> list[tuple[int, int, Path]]:
+    """(last use, size, path) of the entry files in ``folder``, by name and
+    regular files only; a ``stale`` folder's count as the least recently used."""
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return []
+    found = []
+    for name in names:
+        if not ENTRY_NAME.fullmatch(name):
+            continue
+        path = folder / name
+        try:
+            info = path.lstat()
+        except OSError:
+            continue
+        if stat.S_ISREG(info.st_mode):
+            found.append((-1 if stale else info.st_mtime_ns, info.st_size, path))
+    return found
 
 
 def clip_matches(folder: str, pattern: str) -> list[str]:

@@ -303,19 +303,36 @@ class UsdRenderLintServer(LanguageServer):
                 actions.extend(await self._quick_fixes(path, diagnostic, texts))
         linted = self.findings.get(uri)
         safe = linted is not None and any(f.fix is not None and f.fix.safe for f in linted[0])
+        title = f"{NAME}: apply every safe fix"
         if safe and _wants(only, FIX_ALL, explicit=True):
             edit = await self._fix_edit(path, None, False, texts)
             if edit is not None:
-                actions.append(
-                    types.CodeAction(
-                        title=f"{NAME}: apply every safe fix",
-                        kind=FIX_ALL,
-                        edit=edit,
-                    )
-                )
+                actions.append(types.CodeAction(title=title, kind=FIX_ALL, edit=edit))
+        elif safe and only is None and self._resolves_edits():
+            # Asked for every action (a light bulb, a menu): the fix-all's edit
+            # is made only if it is chosen (codeAction/resolve).
+            data = {"uri": uri, "version": version}
+            actions.append(types.CodeAction(title=title, kind=FIX_ALL, data=data))
         if self.version_of(uri) != version:
             return []  # the text changed meanwhile: these edits are for the old one
         return actions
+
+    def _resolves_edits(self) -> bool:
+        """Whether the client resolves a code action's edit when it is chosen."""
+        document = self.client_capabilities.text_document
+        action = document.code_action if document else None
+        support = action.resolve_support if action else None
+        return support is not None and "edit" in support.properties
+
+    async def resolve_code_action(self, action: types.CodeAction) -> types.CodeAction:
+        """The edit of a fix-all offered without one (see :meth:`code_actions`)."""
+        data = action.data if isinstance(action.data, dict) else {}
+        uri = data.get("uri")
+        path = usd_path(uri) if isinstance(uri, str) else None
+        if path is None or self.version_of(str(uri)) != data.get("version"):
+            return action  # the text changed since: no edit (the client asks again)
+        action.edit = await self._fix_edit(path, None, False, self.texts())
+        return action
 
     async def _quick_fixes(
         self, path: str, diagnostic: types.Diagnostic, texts: dict[str, str]
@@ -543,12 +560,20 @@ def build(linting: Linting | None = None) -> UsdRenderLintServer:
 
     @server.feature(
         types.TEXT_DOCUMENT_CODE_ACTION,
-        types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix, FIX_ALL]),
+        types.CodeActionOptions(
+            code_action_kinds=[types.CodeActionKind.QuickFix, FIX_ALL], resolve_provider=True
+        ),
     )
     async def code_action(
         ls: UsdRenderLintServer, params: types.CodeActionParams
     ) -> list[types.CodeAction]:
         return await ls.code_actions(params)
+
+    @server.feature(types.CODE_ACTION_RESOLVE)
+    async def code_action_resolve(
+        ls: UsdRenderLintServer, params: types.CodeAction
+    ) -> types.CodeAction:
+        return await ls.resolve_code_action(params)
 
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     def hover(ls: UsdRenderLintServer, params: types.HoverParams) -> types.Hover | None:
