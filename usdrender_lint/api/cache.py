@@ -38,15 +38,6 @@ class LintCache:
             answer = self._answers[key] = func(*args)
         return answer
 
-    def call_with(self, func: Callable[..., _T], first: Any, args: tuple[Hashable, ...]) -> _T:
-        """``func(first, *args)`` keyed by ``func`` and ``args`` alone (``first``
-        is the lint's Context, the same for every call)."""
-        key = (func, args)
-        answer = self._answers.get(key, _MISSING)
-        if answer is _MISSING:
-            answer = self._answers[key] = func(first, *args)
-        return answer
-
     def put(self, func: Callable[..., _T], args: tuple[Hashable, ...], answer: _T) -> None:
         """Make ``func(*args)`` answer ``answer`` for the rest of the lint: for a
         caller that knows better than ``func`` would read (a layer's unsaved
