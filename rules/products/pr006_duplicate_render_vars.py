@@ -16,6 +16,12 @@ from .._aov import checked_value, product_render_vars
 _SOURCE = ("sourceType", "sourceName", "dataType")
 
 
+def _source_key(ctx: Context, var: Usd.Prim) -> tuple[Any, ...]:
+    """The var's source (``_SOURCE``), read once per lint: a dozen products
+    share the same few vars."""
+    return tuple(checked_value(var, n, ctx) for n in _SOURCE)
+
+
 def _other_settings(ctx: Context, var: Usd.Prim) -> dict[str, Any]:
     """Every other attribute the var authors a well-typed value for (namespaced
     renderer settings such as ``arnold:filter`` or ``driver:parameters:aov:name``,
@@ -129,7 +135,7 @@ class DuplicateRenderVars(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         seen: dict[tuple, list[Usd.Prim]] = {}
         for var in product_render_vars(prim, ctx):
-            key = tuple(checked_value(var, n, ctx) for n in _SOURCE)
+            key = ctx.cached(_source_key, var)
             if None in key or not key[1]:
                 continue
             same_source = seen.setdefault(key, [])
