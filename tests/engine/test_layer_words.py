@@ -67,7 +67,9 @@ def test_a_crate_holds_every_word_usd_reads_in_it(fixture: Path, tmp_path: Path)
     source = Sdf.Layer.FindOrOpen(str(fixture))
     crate = tmp_path / (fixture.stem + ".usdc")
     assert source.Export(str(crate))
-    scan = layer_words._scan(str(crate))
+    key = layer_words._key(str(crate))
+    assert key is not None
+    scan = layer_words._scan(key)
     assert scan.kind == "crate", "usd-core's crate must decode"
     assert _words_usd_sees(Sdf.Layer.FindOrOpen(str(crate))) <= scan.words
     assert scan.specs == Sdf.CrateInfo.Open(str(crate)).GetSummaryStats().numSpecs
@@ -228,3 +230,24 @@ def test_a_session_layer_of_variant_selections_holds_no_word() -> None:
     session.Clear()
     Sdf.CreatePrimInLayer(session, "/Render").specifier = Sdf.SpecifierDef
     assert layer_words.layers_may_hold([session], "untyped")
+
+
+@pytest.mark.parametrize("held", [True, False])
+def test_a_text_layer_is_searched_for_each_word_when_first_asked(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, held: bool
+) -> None:
+    """A lint asks for two or three words: the others are never searched for,
+    and the answers are those of searching for every word at once."""
+    if not held:
+        monkeypatch.setattr(layer_words, "MAX_HELD_TEXT", 0)  # every word at the first read
+    first, second = tmp_path / "first.usda", tmp_path / "second.usda"
+    first.write_text('#usda 1.0\ndef "p" (\n    clips = {}\n    payload = @x.usda@\n)\n{\n}\n')
+    second.write_text('#usda 1.0\ndef "q" (\n    inherits = </C>\n)\n{\n}\n')
+    assert may_hold(str(first), ("clips",)) == {"clips"}
+    assert may_hold(str(second), ("usdrender_lint",)) == set()  # now second's bytes are held
+    assert may_hold(str(first), ("payload", "references")) == {"payload"}  # read again
+    assert may_hold(str(second), WORDS) == {"inheritPaths"}
+    assert may_hold(str(first), WORDS) == {"clips", "payload"}
+    assert not without_external_arcs(str(first)) and without_external_arcs(str(second))
+    key = layer_words._key(str(second))
+    assert key is not None and layer_words._scan(key).unsearched == frozenset()

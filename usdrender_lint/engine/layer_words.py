@@ -62,7 +62,13 @@ WORDS = (
 TEXT_SPELLING = {"inheritPaths": "inherits"}
 #: Answers kept per process, keyed by the file's path and version.
 _MEMO_SIZE = 256
-_memo: dict[tuple[str, int, int, int], _Scan] = {}
+_Key = tuple[str, int, int, int]
+_memo: dict[_Key, _Scan] = {}
+#: A text layer's words are searched for when first asked (each search reads
+#: the whole file; a lint asks for two or three of the ten), so the bytes of
+#: the last text layer read are kept for the next question, up to this size.
+MAX_HELD_TEXT = 16 << 20
+_held_text: tuple[_Key, bytes] | None = None
 
 
 class _Scan(NamedTuple):
@@ -72,6 +78,8 @@ class _Scan(NamedTuple):
     words: frozenset[str]
     #: Its specs: a crate's count, a text layer's estimate; None when unknown.
     specs: int | None
+    #: The WORDS a text layer's bytes were not searched for yet.
+    unsearched: frozenset[str] = frozenset()
 
 
 _UNKNOWN = _Scan("unknown", frozenset(), None)
@@ -80,8 +88,14 @@ _UNKNOWN = _Scan("unknown", frozenset(), None)
 def may_hold(path: str, words: Collection[str]) -> set[str]:
     """The ``words`` (of WORDS) the layer file at ``path`` may hold (all of
     them unless the file proves otherwise)."""
-    scan = _scan(path)
-    return set(words) if scan.kind == "unknown" else {w for w in words if w in scan.words}
+    key = _key(path)
+    scan = _UNKNOWN if key is None else _scan(key)
+    missing = scan.unsearched.intersection(words)
+    if key is not None and missing:
+        scan = _search(key, scan, missing)
+    if scan.kind == "unknown":
+        return set(words)
+    return {w for w in words if w in scan.words}
 
 
 def layers_may_hold(layers: Iterable[Sdf.Layer], word: str) -> bool:
@@ -127,7 +141,8 @@ def _over():
 def without_external_arcs(path: str) -> bool:
     """True when the layer file provably has no sublayer, reference or payload
     (a text layer with no ``@``: usda writes every asset path between them)."""
-    scan = _scan(path)
+    key = _key(path)
+    scan = _UNKNOWN if key is None else _scan(key)
     if scan.kind == "text":
         return "@" not in scan.words
     return scan.kind == "crate" and not scan.words.intersection(
@@ -138,25 +153,55 @@ def without_external_arcs(path: str) -> bool:
 def spec_count(path: str) -> int | None:
     """How many specs the layer file holds: a crate says so in its SPECS
     section; for a text layer, an estimate from its size; None otherwise."""
-    return _scan(path).specs
+    key = _key(path)
+    return None if key is None else _scan(key).specs
 
 
-def _scan(path: str) -> _Scan:
+def _key(path: str) -> _Key | None:
+    """The file's path and version (None when it cannot be read)."""
     try:
         info = os.stat(path)
     except OSError:
-        return _UNKNOWN
-    key = (path, info.st_size, info.st_mtime_ns, info.st_ino)
+        return None
+    return (path, info.st_size, info.st_mtime_ns, info.st_ino)
+
+
+def _scan(key: _Key) -> _Scan:
     answer = _memo.get(key)
     if answer is None:
-        answer = _read(path)
-        if len(_memo) >= _MEMO_SIZE:
-            _memo.clear()
-        _memo[key] = answer
+        answer = _read(key)
+        _remember(key, answer)
     return answer
 
 
-def _read(path: str) -> _Scan:
+def _remember(key: _Key, answer: _Scan) -> None:
+    if key not in _memo and len(_memo) >= _MEMO_SIZE:
+        _memo.clear()
+    _memo[key] = answer
+
+
+def _search(key: _Key, scan: _Scan, words: Collection[str], data: bytes | None = None) -> _Scan:
+    """``scan`` with ``words`` searched for in a text layer's bytes (``data``,
+    else the bytes kept of the last text layer read, else the file's)."""
+    if data is None and _held_text is not None and _held_text[0] == key:
+        data = _held_text[1]
+    if data is None:
+        try:
+            with open(key[0], "rb") as handle:
+                data = handle.read()
+        except OSError:
+            data = b""
+        if len(data) != key[1]:  # changed since it was first read: may hold anything
+            return _UNKNOWN
+    held = {w for w in words if TEXT_SPELLING.get(w, w).encode() in data}
+    answer = scan._replace(words=scan.words | held, unsearched=scan.unsearched.difference(words))
+    _remember(key, answer)
+    return answer
+
+
+def _read(key: _Key) -> _Scan:
+    global _held_text
+    path = key[0]
     try:
         with open(path, "rb") as handle:
             head = handle.read(16)
@@ -171,8 +216,11 @@ def _read(path: str) -> _Scan:
                 specs = len(data) // TEXT_BYTES_PER_SPEC
                 if b"\\" in data:  # a quoted string may spell any word with escapes
                     return _Scan("text", frozenset(WORDS) | at, specs)
-                held = (w for w in WORDS if TEXT_SPELLING.get(w, w).encode() in data)
-                return _Scan("text", frozenset(held) | at, specs)
+                scan = _Scan("text", frozenset(at), specs, frozenset(WORDS))
+                if len(data) > MAX_HELD_TEXT:
+                    return _search(key, scan, WORDS, data)  # every word now, not keep the bytes
+                _held_text = (key, data)
+                return scan
     except (OSError, struct.error, ValueError):
         pass  # unreadable, or a crate cut short: may hold anything
     return _UNKNOWN
