@@ -67,7 +67,7 @@ _memo: dict[_Key, _Scan] = {}
 #: A text layer's words are searched for when first asked (each search reads
 #: the whole file; a lint asks for two or three of the ten), so the bytes of
 #: the last text layer read are kept for the next question, up to this size.
-MAX_HELD_TEXT = 16 << 20
+MAX_HELD_TEXT = 4 << 20
 _held_text: tuple[_Key, bytes] | None = None
 
 
