@@ -188,8 +188,9 @@ def _pipes(pid: int) -> set[str]:
 
 
 def test_only_the_child_holds_the_pipe_it_watches(tmp_path: Path) -> None:
-    """The pool's workers, forked from the child, close their copy: the pipe,
-    and the SIGIO its closing sends to the child's pid, end with the child."""
+    """The pool's workers, forked from the child, close their copies: the pipe,
+    and the SIGIO its closing sends to the child's pid, end with the child, and
+    the supervisor hears the child end, not its workers."""
     temporary = tmp_path / "tmp"
     temporary.mkdir()
     process = subprocess.Popen(
@@ -203,10 +204,12 @@ def test_only_the_child_holds_the_pipe_it_watches(tmp_path: Path) -> None:
     try:
         wait_for_a_worker(process, temporary)
         standard = {os.readlink(f"/proc/{process.pid}/fd/{fd}") for fd in (0, 1, 2)}
-        watch = _pipes(process.pid) - standard  # the supervisor's write end
+        # The pipe the child watches (the supervisor holds its write end) and the
+        # one the child tells the supervisor on (the supervisor holds its read end).
+        watch = _pipes(process.pid) - standard
         [child] = [pid for pid in descendants(process.pid) if _parent(pid) == process.pid]
         workers = descendants(child)
-        assert len(watch) == 1 and watch <= _pipes(child)
+        assert len(watch) == 2 and watch <= _pipes(child)
         assert workers and not any(watch & _pipes(worker) for worker in workers)
     finally:
         process.kill()
@@ -216,3 +219,29 @@ def test_only_the_child_holds_the_pipe_it_watches(tmp_path: Path) -> None:
 def _parent(pid: int) -> int:
     fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
     return int(fields[1])
+
+
+def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The child says "started, may take N s" and "ended" over a pipe; past N s
+    the supervisor kills it (the child arms no timer of its own)."""
+    hung = subprocess.Popen(["sleep", "60"])
+    monkeypatch.setattr(supervisor, "_child", hung.pid)
+    heard, says = os.pipe()
+    os.write(says, b"S0.3\n")
+    started = time.monotonic()
+    assert supervisor._time_the_child(heard) is True
+    assert hung.wait(10) == -signal.SIGKILL
+    assert 0.3 <= time.monotonic() - started < 10
+    os.close(says)
+    # A lint that ended in time: the supervisor waits for the child's end, no kill.
+    finished = subprocess.Popen(["sleep", "60"])
+    monkeypatch.setattr(supervisor, "_child", finished.pid)
+    heard, says = os.pipe()
+    os.write(says, b"S0.3\nE\n")
+    os.close(says)
+    assert supervisor._time_the_child(heard) is False
+    assert finished.poll() is None
+    finished.kill()
+    finished.wait(10)

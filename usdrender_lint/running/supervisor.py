@@ -9,8 +9,10 @@ child runs the whole command and lints a lone file in-process, and this
 process, which imports nothing more, waits for it.
 
 - The child exits: this process exits with its status (it printed the report).
-- It dies of SIGALRM: the file ran past ``--timeout`` (the child arms the
-  timer around that file's lint, see :func:`arm_timeout`).
+- It runs past ``--timeout`` on its lone file: this process owns the timer.
+  The child says when that file's lint starts and ends over a pipe
+  (:func:`lint_started`, :func:`lint_ended`); past the time-out this process
+  kills it.
 - It dies of another signal: USD crashed on the file.
 
 In the last two cases this process runs the command itself, with a
@@ -33,8 +35,10 @@ from __future__ import annotations
 
 import fcntl
 import os
+import select
 import signal
 import sys
+import time
 
 from .interrupts import STOPPING, Stopped
 
@@ -51,25 +55,33 @@ class Supervision:
     class: this module is imported before the fork, where every import is
     paid by the command's start-up.)"""
 
-    __slots__ = ("child", "ending")
+    __slots__ = ("child", "ending", "says")
 
-    def __init__(self, child: bool = False, ending: str | None = None) -> None:
+    def __init__(
+        self, child: bool = False, ending: str | None = None, says: int | None = None
+    ) -> None:
         #: In the child: a lone file is linted in this process, under the time-out.
         self.child = child
         #: In the supervisor after its child ran out of time ("timeout") or
         #: crashed ("crash"): the command runs here, knowing that of the file.
         self.ending = ending
+        #: In the child: the pipe on which it tells the supervisor when its
+        #: lone file's lint starts and ends (None: no supervisor times it).
+        self.says = says
 
     def __repr__(self) -> str:
-        return f"Supervision(child={self.child}, ending={self.ending!r})"
+        return f"Supervision(child={self.child}, ending={self.ending!r}, says={self.says})"
 
 
+#: A child no supervisor times (tests run the command so).
 CHILD = Supervision(child=True)
 
 _child = 0
 _stop_signal: int | None = None
-#: In the supervised child: the read end of the pipe it watches (_end_with).
+#: In the supervised child: the read end of the pipe it watches (_end_with),
+#: and the write end of the one it tells its supervisor on (Supervision.says).
 _watched: int | None = None
+_says: int | None = None
 
 
 def wants_supervision(argv: list[str]) -> bool:
@@ -84,28 +96,35 @@ def wants_supervision(argv: list[str]) -> bool:
 
 
 def supervise() -> Supervision:
-    """Fork. In the child, return :data:`CHILD` (it runs the command). Here,
-    wait: exit with the child's status, or return how it ended when it timed
-    out or crashed, for this process to run the command itself."""
-    global _child
+    """Fork. In the child, return a child's :class:`Supervision` (it runs the
+    command). Here, wait and time its lone file: exit with the child's status,
+    or return how it ended when it timed out or crashed, for this process to
+    run the command itself."""
+    global _child, _says
     parent = os.getpid()
     # A signal during the fork waits: the child gets Ctrl-C's own, and one sent
     # to this process is passed on once the handlers below are in place.
     blocked = signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
     # This process holds the write end for as long as it lives (see _end_with).
     watched, held = os.pipe()
+    # The child tells this process when its lone file's lint starts and ends.
+    heard, says = os.pipe()
     pid = os.fork()
     if pid == 0:
         os.close(held)
+        os.close(heard)
+        _says = says
         signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
         _end_with(parent, watched)
-        return CHILD
+        return Supervision(child=True, says=says)
     os.close(watched)
+    os.close(says)
     _child = pid
     previous = {signum: signal.signal(signum, _pass_on) for signum in STOPPING}
     previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, _kill_child)
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
     try:
+        timed_out = _time_the_child(heard)
         status = _wait(pid)
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
@@ -118,20 +137,54 @@ def supervise() -> Supervision:
             sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")
             sys.exit(stopped.exit_status)
         sys.exit(os.waitstatus_to_exitcode(status))
+    if timed_out:
+        return Supervision(ending="timeout")
     if os.WIFEXITED(status):
         sys.exit(os.WEXITSTATUS(status))
     died = os.WTERMSIG(status)
     if died in STOPPING:  # stopped by a signal meant for it alone
         sys.exit(128 + died)
-    return Supervision(ending="timeout" if died == signal.SIGALRM else "crash")
+    return Supervision(ending="crash")
 
 
-def arm_timeout(seconds: float | None) -> None:
-    """In the supervised child, around one file's lint: past ``seconds`` (None:
-    no limit) the child dies of SIGALRM, which its supervisor reports as the
-    file's time-out. ``arm_timeout(None)`` disarms."""
-    signal.signal(signal.SIGALRM, signal.SIG_DFL)
-    signal.setitimer(signal.ITIMER_REAL, seconds or 0)
+def _time_the_child(heard: int) -> bool:
+    """Read what the child says until it ends (the pipe closes); True when its
+    lone file ran past the time-out it gave, and it was killed for it."""
+    deadline: float | None = None
+    pending = b""
+    while True:
+        left = None if deadline is None else max(0.0, deadline - time.monotonic())
+        if not select.select([heard], [], [], left)[0]:  # past the file's time-out
+            _kill_child(signal.SIGKILL, None)
+            os.close(heard)
+            return _stop_signal is None
+        said = os.read(heard, 256)
+        if not said:
+            os.close(heard)
+            return False
+        *lines, pending = (pending + said).split(b"\n")
+        for line in lines:
+            # "S<seconds>": a lint started (0: no limit); "E": it ended.
+            seconds = float(line[1:]) if line.startswith(b"S") else 0.0
+            deadline = time.monotonic() + seconds if seconds else None
+
+
+def lint_started(supervision: Supervision, seconds: float | None) -> None:
+    """In the child: the lone file's lint starts, and may take ``seconds``."""
+    _say(supervision, b"S%r\n" % float(seconds or 0))
+
+
+def lint_ended(supervision: Supervision) -> None:
+    _say(supervision, b"E\n")
+
+
+def _say(supervision: Supervision, line: bytes) -> None:
+    if supervision.says is None:
+        return
+    try:  # noqa: SIM105 - contextlib is one more import before the fork
+        os.write(supervision.says, line)
+    except OSError:
+        pass  # the supervisor is gone: the child ends with it (_end_with)
 
 
 def _wait(pid: int) -> int:
@@ -179,13 +232,16 @@ def die_with_parent(parent: int) -> None:
     must do. A parent already gone ends this process now."""
     if not sys.platform.startswith("linux"):
         return
-    global _watched
+    global _watched, _says
     if _watched is not None:
         # Forked from the supervised child: the pipe it watches must close with
         # it. Held on here, it would signal the child's pid once the child is
         # gone, a pid Linux may have given to another process by then.
         os.close(_watched)
         _watched = None
+    if _says is not None:
+        os.close(_says)  # the supervisor hears the end of the child, not of its workers
+        _says = None
     import ctypes
 
     try:
@@ -199,8 +255,9 @@ def die_with_parent(parent: int) -> None:
 __all__ = [
     "CHILD",
     "Supervision",
-    "arm_timeout",
     "die_with_parent",
+    "lint_ended",
+    "lint_started",
     "supervise",
     "wants_supervision",
 ]

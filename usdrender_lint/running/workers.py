@@ -145,8 +145,8 @@ def choose_executor(
     child = supervision is not None and supervision.child
     if jobs == 1 and timeout is None:
         return InProcess(linter or _build(linter_factory), guarded=child)
-    if count == 1 and child:
-        return SupervisedChild(linter or _build(linter_factory), timeout)
+    if count == 1 and supervision is not None and child:
+        return SupervisedChild(linter or _build(linter_factory), timeout, supervision)
     return Pool(_factory(linter_factory), min(jobs, count), timeout)
 
 
@@ -172,21 +172,23 @@ class InProcess:
 
 @record(frozen=True)
 class SupervisedChild:
-    """The supervised child's lone file, linted in this process: past
-    ``timeout`` the child dies of SIGALRM, which its supervisor reports
-    (:class:`AfterSupervisedChild`), as it does a crash."""
+    """The supervised child's lone file, linted in this process, timed by its
+    supervisor: told when the lint starts and ends, it kills the child past
+    ``timeout`` and reports that (:class:`AfterSupervisedChild`), as it does
+    a crash."""
 
     linter: FileLinter
     timeout: float | None
+    supervision: Supervision
 
     def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
         (path,) = files
         _guard_supervised()
-        supervisor.arm_timeout(self.timeout)
+        supervisor.lint_started(self.supervision, self.timeout)
         try:
             return (lint_one(self.linter, path),)
         finally:
-            supervisor.arm_timeout(None)
+            supervisor.lint_ended(self.supervision)
 
 
 @record(frozen=True)
