@@ -18,7 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import field
 from fnmatch import fnmatchcase
-from functools import cache
+from functools import lru_cache
 from typing import Any
 
 from pxr import Sdf, Usd
@@ -89,19 +89,22 @@ PrimEvidence = dict[str, list[str]]
 _NAMESPACES: tuple[str, ...] = tuple(ns for p in _RENDERERS for ns in p.namespaces)
 _SCOPES: tuple[str, ...] = tuple(scope for p in _RENDERERS for scope in p.scopes)
 _PRODUCT_TYPES = any(p.product_types for p in _RENDERERS)
+#: Answers kept per camera path, camera type and productType (bounded: a language
+#: server lints for hours).
+_NAMES_KEPT = 4096
 
 
-@cache
+@lru_cache(maxsize=_NAMES_KEPT)
 def _some_product_type(token: str) -> bool:
     return any(p.product_type(token) for p in _RENDERERS)
 
 
-@cache
+@lru_cache(maxsize=_NAMES_KEPT)
 def _some_runtime_camera(path: str) -> bool:
     return any(p.runtime_camera(path) for p in _RENDERERS)
 
 
-@cache
+@lru_cache(maxsize=_NAMES_KEPT)
 def _some_camera_type(type_name: str) -> bool:
     return any(p.camera_type(type_name) for p in _RENDERERS)
 
