@@ -194,20 +194,29 @@ def _write_camera(layer: Sdf.Layer) -> None:
     _attr(rig_cam, "focalLength", Sdf.ValueTypeNames.Float, 50.0)
 
 
-def _write_render(layer: Sdf.Layer, defects: bool) -> list[Expected]:
-    """The render prims; with ``defects``, the mistakes and their findings."""
+#: (name, sourceName, dataType) of the vars every generated shot has.
+_BASE_VARS = (("color", "Ci", "color3f"), ("alpha", "a", "float"), ("depth", "z", "float"))
+
+
+def _write_vars(layer: Sdf.Layer, specs: tuple[tuple[str, str, str], ...]) -> list[str]:
+    """Raw RenderVars under /Render/Vars, one per (name, sourceName, dataType); their paths."""
     names = Sdf.ValueTypeNames
-    _prim(layer, "/Render", "Scope")
     _prim(layer, "/Render/Vars", "Scope")
-    for name, source, data_type in (
-        ("color", "Ci", "color3f"),
-        ("alpha", "a", "float"),
-        ("depth", "z", "float"),
-    ):
+    paths = []
+    for name, source, data_type in specs:
         var = _prim(layer, f"/Render/Vars/{name}", "RenderVar")
         _attr(var, "sourceName", names.String, source, uniform=True)
         _attr(var, "dataType", names.Token, data_type, uniform=True)
         _attr(var, "sourceType", names.Token, "raw", uniform=True)
+        paths.append(var.path.pathString)
+    return paths
+
+
+def _write_render(layer: Sdf.Layer, defects: bool) -> list[Expected]:
+    """The render prims; with ``defects``, the mistakes and their findings."""
+    names = Sdf.ValueTypeNames
+    _prim(layer, "/Render", "Scope")
+    _write_vars(layer, _BASE_VARS)
     _prim(layer, "/Render/Products", "Scope")
     beauty = _prim(layer, "/Render/Products/beauty", "RenderProduct")
     _attr(beauty, "productName", names.Token, "beauty.exr")
@@ -370,21 +379,11 @@ def _gate_render(layer: Sdf.Layer, index: int) -> None:
         _attr(cam, "clippingRange", names.Float2, Gf.Vec2f(0.1, 10000.0))
         cameras.append(cam.path.pathString)
     _prim(layer, "/Render", "Scope")
-    _prim(layer, "/Render/Vars", "Scope")
-    var_paths = []
-    for name, source, data_type in (
-        ("color", "Ci", "color3f"),
-        ("alpha", "a", "float"),
-        ("depth", "z", "float"),
-        ("normal", "N", "normal3f"),
-        ("position", "P", "point3f"),
-        ("albedo", "albedo", "color3f"),
-    ):
-        var = _prim(layer, f"/Render/Vars/{name}", "RenderVar")
-        _attr(var, "sourceName", names.String, source, uniform=True)
-        _attr(var, "dataType", names.Token, data_type, uniform=True)
-        _attr(var, "sourceType", names.Token, "raw", uniform=True)
-        var_paths.append(var.path.pathString)
+    var_paths = _write_vars(
+        layer,
+        (*_BASE_VARS, ("normal", "N", "normal3f"), ("position", "P", "point3f"),
+         ("albedo", "albedo", "color3f")),
+    )  # fmt: skip
     _prim(layer, "/Render/Products", "Scope")
     products = []
     for p in range(12):
