@@ -45,6 +45,11 @@ def pages(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     corpus = REPO.parent / "shared" / "corpus" / "files"
     if corpus.is_dir():
         pages["corpus"] = _page(folder / "corpus.html", str(corpus))
+    # A checkout deep in a CI runner's folders: absolute paths with no break
+    # in them, in the file heading and in each finding's place.
+    deep = folder / ("a_long_unbroken_folder_name_" * 6) / ("and_another_one_" * 6)
+    shutil.copytree(REPO / "examples" / "broken_shot", deep)
+    pages["deep paths"] = _page(folder / "deep.html", str(deep))
     return pages
 
 
@@ -114,7 +119,7 @@ window.addEventListener('load', function () {
 </script></body>"""
 
 
-@pytest.mark.parametrize("name", ["examples", "corpus"])
+@pytest.mark.parametrize("name", ["examples", "corpus", "deep paths"])
 def test_nothing_is_wider_than_a_laptop_screen(
     name: str, pages: dict[str, Path], tmp_path: Path
 ) -> None:

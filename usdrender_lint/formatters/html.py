@@ -344,6 +344,8 @@ main { padding:12px 20px 40px; max-width:1600px; }
 .finding[data-severity=info] { border-left-color:var(--info); }
 .finding:target { background:#fff8c5; }
 .head { display:flex; gap:8px; flex-wrap:wrap; align-items:baseline; }
+/* A flex item is as wide as its longest word unless told: paths break anywhere. */
+.head > * { min-width:0; overflow-wrap:anywhere; }
 .sev { font-size:11px; text-transform:uppercase; font-weight:700; letter-spacing:.03em; }
 .sev.error { color:var(--error); } .sev.warning { color:var(--warning); }
 .sev.info { color:var(--info); }
