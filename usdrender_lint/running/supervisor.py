@@ -120,6 +120,9 @@ def supervise() -> Supervision:
         timed_out = _time_the_child(child, heard)
         status = os.waitpid(child, 0)[1]  # a signal's handler runs, then Python waits on
     finally:
+        # A signal from now on waits: the child's pid is free, and this process
+        # either exits with the status of a run that is over or runs the command.
+        signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
         signal.setitimer(signal.ITIMER_REAL, 0)
         os.close(heard)
         for signum, handler in previous.items():
@@ -133,6 +136,7 @@ def supervise() -> Supervision:
         sys.exit(stop.exit_status)
     if os.WTERMSIG(status) in STOPPING:  # a signal meant for it alone
         sys.exit(128 + os.WTERMSIG(status))
+    signal.pthread_sigmask(signal.SIG_SETMASK, blocked)  # a signal that waited stops the run
     return Supervision(ending="timeout" if timed_out else "crash")
 
 
