@@ -2,10 +2,11 @@
 
 For a command that reads the stage ``check`` lints (``spec``): the same
 configuration and rules, discovery, worker processes with their time limit,
-and per-path ignores as a check run, with each file linted by
-:meth:`Linter.run_path` with an inspector. A file the inspector cannot read (it does not
-exist, USD cannot open it, it timed out, the inspector raised
-``InspectionError``) is an error result with one line saying why.
+and per-path ignores as a check run, each file linted by
+:meth:`Linter.run_path` with the inspector (its LintRun's value). A file the
+inspector cannot read (it does not exist, USD cannot open it, it timed out,
+the inspector raised ``InspectionError``) is an error result with one line
+saying why.
 """
 
 from __future__ import annotations
