@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, authored_value, items
+from usdrender_lint.api.resolve import allowed_tokens, items, prim_values
 
 from .._corrections import set_value
 from ._messages import _fmt, _quoted
@@ -74,8 +74,9 @@ class MaterialBindingPurposesInvalid(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         name = "materialBindingPurposes"
-        attr = prim.GetAttribute(name)
-        purposes = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute(name)
+        purposes = values.authored(name)
         if purposes is None:
             return
         allowed = allowed_tokens(prim, name)

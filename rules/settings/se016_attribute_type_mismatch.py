@@ -9,7 +9,6 @@ from typing import Any
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.api.resolve import mismatched_spec, mismatched_specs
 
 from ._fixes import Apply
 from ._schema_attributes import _RENDER_PRIM_TYPES, _authored_schema_attributes
@@ -169,16 +168,18 @@ class AttributeTypeMismatch(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for attr, definition in _authored_schema_attributes(prim, ctx):
-            specs = mismatched_specs(attr)
+        values, declared = _authored_schema_attributes(prim)
+        for name, schema in declared:
+            specs = values.mismatched_specs(name)
             if not specs:
                 continue
-            schema_type = definition.GetTypeName()
+            attr = values.attribute(name)
+            schema_type = schema.type_name
             spec = specs[0]
             where = spec.layer.GetDisplayName()
             hidden = (
                 ""
-                if spec == mismatched_spec(attr)
+                if spec == values.mismatched(name)
                 else (" (a stronger well-typed opinion hides it for now)")
             )
             fix = None
