@@ -17,6 +17,27 @@ from ._purposes import _duplicates
 _ALL_PURPOSE_ALIASES = ("allPurpose", "all", "default")
 
 
+def _problems(unknown: list[str], repeated: list[str]) -> list[str]:
+    """What is wrong with the purposes: tokens not allowed, tokens repeated."""
+    problems = []
+    if unknown:
+        problems.append(f"{_quoted(unknown)} not allowed")
+    if repeated:
+        problems.append(f"{_quoted(repeated)} repeated")
+    return problems
+
+
+def _alias_fix(attr: Usd.Attribute, tokens: list[str]) -> Fix:
+    """Author the purposes with each all-purpose alias as the empty token, once each."""
+    mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in tokens]
+    fixed = Vt.TokenArray(list(dict.fromkeys(mapped)))
+    return Fix(
+        description=f"author {_fmt(fixed)}",
+        safe=True,
+        apply=set_value(attr.GetPath(), fixed),
+    )
+
+
 class MaterialBindingPurposesInvalid(Rule):
     """materialBindingPurposes names an unknown purpose, repeats one, or is empty.
 
@@ -90,23 +111,10 @@ class MaterialBindingPurposesInvalid(Rule):
             return
         tokens = items(purposes)
         unknown = [t for t in dict.fromkeys(tokens) if t not in allowed]
-        repeated = _duplicates(tokens)
-        if not unknown and not repeated:
+        problems = _problems(unknown, _duplicates(tokens))
+        if not problems:
             return
-        problems = []
-        if unknown:
-            problems.append(f"{_quoted(unknown)} not allowed")
-        if repeated:
-            problems.append(f"{_quoted(repeated)} repeated")
-        fix = None
-        if all(t in _ALL_PURPOSE_ALIASES for t in unknown):
-            mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in tokens]
-            fixed = Vt.TokenArray(list(dict.fromkeys(mapped)))
-            fix = Fix(
-                description=f"author {_fmt(fixed)}",
-                safe=True,
-                apply=set_value(attr.GetPath(), fixed),
-            )
+        fix = _alias_fix(attr, tokens) if all(t in _ALL_PURPOSE_ALIASES for t in unknown) else None
         alias_hint = (
             '; the all-purpose binding is the empty token ""'
             if any(t in _ALL_PURPOSE_ALIASES for t in unknown)

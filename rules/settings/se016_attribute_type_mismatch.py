@@ -27,6 +27,11 @@ def _convert_scalar(value: Any, like: Any) -> Any:
         if isinstance(like, str) and isinstance(value, str):
             return str(value)  # string and token hold the same text
         return _NOT_CONVERTIBLE
+    return _convert_number(value, like)
+
+
+def _convert_number(value: int | float, like: Any) -> Any:
+    """A number as the int or float type of ``like`` when no information is lost."""
     if isinstance(like, int):
         integral = math.isfinite(value) and float(value).is_integer()
         return int(value) if integral and abs(value) < 2**31 else _NOT_CONVERTIBLE
