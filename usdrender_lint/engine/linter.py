@@ -49,20 +49,6 @@ _T = TypeVar("_T")
 Inspector = Callable[[Context, Sequence[Finding]], _T]
 
 
-#: Set in a worker process (contain_crashes): there a crash costs only its file.
-_crashes_contained = False
-
-
-def contain_crashes() -> None:
-    """Say that this process is a worker whose crash costs only the file it
-    lints: the parent reports the crash and lints the file again with
-    ``full_composition``. Walking every healthy crate's specs before the rules
-    run, to find the corrupt ones that would crash a rule's read, is then left
-    to that retry (on a 300k-spec crate the walk costs a third of its open)."""
-    global _crashes_contained
-    _crashes_contained = True
-
-
 class InspectionError(Exception):
     """Raised by an inspector that cannot read what it was asked for from this
     stage: the file becomes an error result with this one-line message."""
@@ -275,12 +261,13 @@ class Linter:
             failures = tuple(self._open_failure_findings(path, opened))
             return Inspected(FileResult(path, findings=failures))
         checked = masked.checked if masked is not None else frozenset()
-        guarded = full_composition or not _crashes_contained  # the retry, or no worker
-        for layer in opened.stage.GetUsedLayers() if guarded else ():
+        for layer in opened.stage.GetUsedLayers():
             # Reading a spec USD cannot read crashes: no rule runs on such a file.
-            problem = None if layer_identifier(layer) in checked else partial.crate_problem(layer)
-            if problem is not None:
-                raise CorruptValue(problem)
+            # The retry after a crash (full_composition) walks every spec as well.
+            if layer_identifier(layer) not in checked:
+                problem = partial.crate_problem(layer, walk=full_composition)
+                if problem is not None:
+                    raise CorruptValue(problem)
         # The engine's own stage: the walk may ask USD for the typed prims (typed_prims.py).
         findings, value = self._lint(opened.stage, path, inspect=inspect, own_stage=True)
         return Inspected(FileResult(path, findings=tuple(findings)), value)

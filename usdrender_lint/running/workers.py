@@ -322,10 +322,8 @@ def _build(linter_factory: LinterFactory | None) -> FileLinter:
 def _guard_supervised() -> None:
     """What the supervised child needs before it lints in its own process: a
     file that makes USD allocate without end fails its allocation (the pool's
-    cap), and a crash is left to the supervisor, whose run after it composes
-    the whole stage."""
+    cap)."""
     _limit_memory(worker_memory_limit(1))  # the pool's cap, for one worker
-    _contain_crashes()
 
 
 def _timed_out(timeout: float | None) -> str:
@@ -398,7 +396,6 @@ def _worker_main(
     default_signals_in_worker()
     die_with_parent(os.getppid())
     _limit_memory(memory_limit)
-    _contain_crashes()
     if usd_threads is not None:
         from pxr import Work
 
@@ -691,13 +688,6 @@ def _limit_memory(limit: int | None) -> None:
     if soft == resource.RLIM_INFINITY or limit < soft:
         with suppress(ValueError, OSError):
             resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
-
-
-def _contain_crashes() -> None:
-    # A crash here costs one file, linted again with full_composition (see lint_one).
-    from ..engine.linter import contain_crashes
-
-    contain_crashes()
 
 
 def _off_stdout() -> None:
