@@ -258,9 +258,9 @@ class _Builder:
                 if not _matches(now.get(path, _absent(path)), state)
             }
             failing = {i for i, owned in enumerate(self.owned) if owned & wrong}
-            pairs = self.linter.lint_stage_with_fixes(self.stage, self.path)
+            findings = self.linter.run_stage(self.stage, self.path).findings
             # Findings the overlay leaves that --fix does not: on a fix's object, its fault.
-            extra = Counter(_finding_key(f) for f, _ in pairs) - self.fixed_findings
+            extra = Counter(_finding_key(f) for f in findings) - self.fixed_findings
             remaining = {
                 i
                 for i, a in enumerate(self.applied)
@@ -275,7 +275,7 @@ class _Builder:
                 continue
             new = (failing | remaining) - self.dropped.keys()
             if not new:
-                self.findings = [finding for finding, _ in pairs]
+                self.findings = list(findings)
                 self._report(todo)
                 return
             for i in new:
