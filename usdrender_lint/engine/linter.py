@@ -76,7 +76,7 @@ class TracedFinding:
 
 
 #: How the linted stage was composed: only what the rules read (the fast
-#: path, partial.py), all of it, or None when no stage was linted.
+#: path, partial.py), all of it, or None when no lint ran to its end.
 Composed = Literal["partial", "full"] | None
 
 
@@ -138,10 +138,14 @@ class _Trace:
         value: Any = None,
     ) -> LintRun[Any]:
         if not completed:
-            # A lint that stopped part way: what it recorded belongs to no finding.
-            self.fixes.clear()
-            self.origins.clear()
+            self.forget()  # what it recorded belongs to no finding of the result
         return LintRun(result, self.fixes, self.origins, self.reads, composed, completed, value)
+
+    def forget(self) -> None:
+        """Drop the fixes and origins of a lint that stopped part way (the
+        reads stay: they are what the lint read)."""
+        self.fixes.clear()
+        self.origins.clear()
 
 
 class _TypeDispatch:
@@ -338,9 +342,7 @@ class Linter:
         try:
             findings, value = self._lint(masked.stage, path, trace, masked=True, inspect=inspect)
         except FullStageRequired:
-            # The whole stage is linted next: nothing recorded so far stays.
-            trace.fixes.clear()
-            trace.origins.clear()
+            trace.forget()  # the whole stage is linted next
             return None
         return trace.run(FileResult(path, findings=tuple(findings)), "partial", True, value)
 
