@@ -134,7 +134,6 @@ class InProcess:
     def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
         if self.supervision is not None:
             _limit_memory(worker_memory_limit(1))
-            _contain_crashes()
         timer = self.supervision if self.timeout else None
         results = []
         for path in files:
@@ -393,7 +392,6 @@ def _worker_main(
     default_signals_in_worker()
     die_with_parent(os.getppid())
     _limit_memory(memory_limit)
-    _contain_crashes()
     if usd_threads is not None:
         from pxr import Work
 
@@ -508,13 +506,6 @@ def _limit_memory(limit: int | None) -> None:
     if limit is not None and (soft == resource.RLIM_INFINITY or limit < soft):
         with suppress(ValueError, OSError):
             resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
-
-
-def _contain_crashes() -> None:
-    # A crash here costs one file, linted again with full_composition (see lint_one).
-    from ..engine.linter import contain_crashes
-
-    contain_crashes()
 
 
 def _path_of(item: Any) -> Any:
