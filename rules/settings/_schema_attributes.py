@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pxr import Usd
 
-from usdrender_lint.api import schemas
+from usdrender_lint.api import Context, schemas
 from usdrender_lint.api.resolve import PrimValues, SchemaAttribute, prim_values
 
 #: Every render prim kind: SE016 and SE017 look at all their schema attributes.
@@ -13,11 +13,17 @@ _RENDER_PRIM_TYPES = (schemas.RenderSettingsBase, schemas.RenderVar, schemas.Ren
 
 
 def _authored_schema_attributes(
-    prim: Usd.Prim,
+    prim: Usd.Prim, ctx: Context
 ) -> tuple[PrimValues, list[tuple[str, SchemaAttribute]]]:
     """The prim's values and its authored attributes that its schema declares,
-    by name, with what the schema declares: SE016 and SE017 both walk them
-    (the names are listed once per lint, the declarations once per process)."""
+    by name, with what the schema declares: SE016 and SE017 both walk them, so
+    they are listed once per lint (the declarations once per process)."""
+    return ctx.cached(_list_authored_schema_attributes, prim)
+
+
+def _list_authored_schema_attributes(
+    ctx: Context, prim: Usd.Prim
+) -> tuple[PrimValues, list[tuple[str, SchemaAttribute]]]:
     values = prim_values(prim)
     declared = [(name, values.schema_attribute(name)) for name in values.authored_names()]
     # Custom attributes and relationships have no attribute declaration.

@@ -105,7 +105,7 @@ class TimeSamplesIgnored(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        values, declared = _authored_schema_attributes(prim)
+        values, declared = _authored_schema_attributes(prim, ctx)
         for name, schema in declared:
             attr = values.attribute(name)
             # Both findings need samples or a spline, which few attributes have:

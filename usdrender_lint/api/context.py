@@ -12,7 +12,12 @@ from pxr import Sdf, Tf, Usd
 from ..records import record
 from . import schemas
 from .cache import _MISSING, LintCache
-from .resolve import RenderConfiguration, own_configurations, settings_configurations
+from .resolve import (
+    RenderConfiguration,
+    own_configurations,
+    settings_configurations,
+    values_in,
+)
 
 _T = TypeVar("_T")
 
@@ -145,6 +150,10 @@ class Context:
         """``func(self, *args)``, computed once per lint and shared between rules.
         The key is the function and the arguments: a module-level function
         makes a key no other helper can collide with."""
+        if len(args) == 1 and type(args[0]) is Usd.Prim:
+            # Keyed by the prim handle's identity (PrimValues): hashing a
+            # Usd.Prim and comparing it on a hit are two binding calls.
+            return values_in(self.cache, args[0]).call(func, self)
         # LintCache.call without its call: some 300 a shot on a CI gate.
         answers = self.cache._answers
         key = (func, args)

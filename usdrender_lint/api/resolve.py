@@ -13,18 +13,19 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from functools import cached_property
 from itertools import islice
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from pxr import Gf, Sdf, Tf, Usd
 
 from ..records import record
 from . import schemas
-from .cache import active_cache, cached
+from .cache import _ACTIVE, LintCache, cached
 
 if TYPE_CHECKING:
     from pxr import UsdGeom
 
 DEFAULT_TIME = Usd.TimeCode.Default()
+_T = TypeVar("_T")
 
 
 def usd_text(value: object) -> str:
@@ -399,6 +400,7 @@ class PrimValues:
         "_definition",
         "_key",
         "_names",
+        "_memo",
     )
 
     def __init__(self, prim: Usd.Prim) -> None:
@@ -416,6 +418,7 @@ class PrimValues:
         self._definition: Usd.PrimDefinition | None = None
         self._key: _DefinitionKey | None = None
         self._names: tuple[str, ...] | None = None
+        self._memo: dict[Callable[..., Any], Any] = {}
 
     def attribute(self, name: str) -> Usd.Attribute:
         """``prim.GetAttribute(name)``, one handle per name."""
@@ -476,6 +479,13 @@ class PrimValues:
         specs, declared = self._attribute_specs(name)
         return _specs_of_other_types(specs, declared, lambda: self.schema_attribute(name).type_name)
 
+    def call(self, func: Callable[[Any, Usd.Prim], _T], ctx: Any) -> _T:
+        """``func(ctx, prim)``, computed once per lint (``Context.cached`` of a prim)."""
+        answer = self._memo.get(func, _UNREAD)
+        if answer is _UNREAD:
+            answer = self._memo[func] = func(ctx, self.prim)
+        return answer
+
     def authored_names(self) -> tuple[str, ...]:
         """The names of the prim's authored properties, in USD's order."""
         names = self._names
@@ -530,7 +540,11 @@ _UNREAD: Any = object()
 
 def prim_values(prim: Usd.Prim) -> PrimValues:
     """The prim's :class:`PrimValues` of the running lint (a new one outside a lint)."""
-    cache = active_cache()
+    return values_in(_ACTIVE.get(), prim)
+
+
+def values_in(cache: LintCache | None, prim: Usd.Prim) -> PrimValues:
+    """The prim's :class:`PrimValues` in a lint's cache (a new one without a cache)."""
     if cache is None:
         return PrimValues(prim)
     answers = cache._answers
