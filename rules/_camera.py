@@ -11,11 +11,11 @@ from pxr import Usd
 from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.resolve import (
     RenderConfiguration,
+    authored_rendered_times,
     fallback_value,
     format_time,
-    has_authored_value,
     is_finite,
-    rendered_times,
+    prim_values,
 )
 
 #: A check over camera values read at one time: a problem phrase, or None.
@@ -68,8 +68,8 @@ def first_failure(
     fallback (a type-mismatched opinion counts as unauthored, SE016's; a
     blocked sample reads as the fallback)."""
     readers = [_reader(prim, name, ctx) for name in names]
-    attrs = [attr for attr, _, _ in readers]
-    for time in rendered_times(attrs, ctx.time_sample_cap):
+    authored = [attr for attr, held, _ in readers if held]
+    for time in authored_rendered_times(authored, ctx.time_sample_cap):
         problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
             return time, problem
@@ -83,15 +83,11 @@ _NOT_READ: Any = object()
 
 
 def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
-    # Decided once per attribute and lint, not per time sample or rule: the
-    # opinion stack is costly and several CA rules read the same attributes.
-    return ctx.cached(_read_attribute, prim, name)
-
-
-def _read_attribute(ctx: Context, prim: Usd.Prim, name: str) -> _Reader:
-    attr = prim.GetAttribute(name)
-    authored = has_authored_value(attr)
-    return attr, authored, _NOT_READ if authored else fallback_value(prim, name)
+    # Decided once per attribute and lint (PrimValues), not per time sample or
+    # rule: the opinion stack is costly and several CA rules read the same attributes.
+    values = prim_values(prim)
+    authored = values.has_value(name)
+    return values.attribute(name), authored, _NOT_READ if authored else values.fallback(name)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from functools import cached_property
 from itertools import islice
 from typing import TYPE_CHECKING, Any
@@ -19,7 +19,7 @@ from pxr import Gf, Sdf, Tf, Usd
 
 from ..records import record
 from . import schemas
-from .cache import cached
+from .cache import active_cache, cached
 
 if TYPE_CHECKING:
     from pxr import UsdGeom
@@ -182,57 +182,47 @@ def typed_target_problem(target: Target, schema: type, expected: str) -> str | N
 # -- values -----------------------------------------------------------------
 
 
-@cached
-def _prim_definition(prim: Usd.Prim) -> Usd.PrimDefinition:
-    return prim.GetPrimDefinition()
-
-
 #: What a prim definition is built from: schema type name and applied API schemas.
 _DefinitionKey = tuple[str, tuple[str, ...]]
 
 
-@cached
-def _definition_key(prim: Usd.Prim) -> _DefinitionKey:
-    info = prim.GetPrimTypeInfo()
-    return info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas())
-
-
 @record(frozen=True)
-class _SchemaAttribute:
+class SchemaAttribute:
     """What a prim definition declares for an attribute name."""
 
     #: None when the definition has no attribute of that name.
     type_name: Sdf.ValueTypeName | None
     allowed_tokens: tuple[str, ...]
+    #: Declared ``uniform``.
+    uniform: bool = False
 
 
 #: Per (definition key, attribute name), kept for the whole process: USD
 #: composes a prim definition from its key alone, and builds its schema
 #: registry once (later plugin registrations do not change it).
-_SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], _SchemaAttribute] = {}
+_SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], SchemaAttribute] = {}
 
 
-def _schema_attribute(prim: Usd.Prim, name: str) -> _SchemaAttribute:
-    key = (_definition_key(prim), name)
-    found = _SCHEMA_ATTRIBUTES.get(key)
-    if found is None:
-        definition = _prim_definition(prim).GetAttributeDefinition(name)
-        if definition:
-            tokens = definition.GetMetadata("allowedTokens") or ()
-            found = _SchemaAttribute(definition.GetTypeName(), tuple(str(t) for t in tokens))
-        else:
-            found = _SchemaAttribute(None, ())
-        _SCHEMA_ATTRIBUTES[key] = found
-    return found
+def _declared_attribute(definition: Usd.PrimDefinition, name: str) -> SchemaAttribute:
+    attribute = definition.GetAttributeDefinition(name)
+    if not attribute:
+        return SchemaAttribute(None, ())
+    tokens = tuple(str(t) for t in attribute.GetMetadata("allowedTokens") or ())
+    uniform = attribute.GetVariability() == Sdf.VariabilityUniform
+    return SchemaAttribute(attribute.GetTypeName(), tokens, uniform)
 
 
 @cached
 def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
-    return _schema_attribute(attr.GetPrim(), attr.GetName()).type_name
+    return prim_values(attr.GetPrim()).schema_attribute(attr.GetName()).type_name
 
 
 @cached
 def _attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+    return _read_attribute_specs(attr)
+
+
+def _read_attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
     """The attribute's property stack without relationship specs (a layer may
     author the name as ``rel dataWindowNDC = </X>``, which has no type or
     value), and its declared type: the composed value type, which USD takes
@@ -281,18 +271,26 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     schema's, value-holding or not (what ``usdValidation:AttributeTypeMismatch``
     reports). Roles are ignored, as in :func:`mismatched_spec`."""
     specs, declared = _attribute_specs(attr)
+    return _specs_of_other_types(specs, declared, lambda: _schema_type(attr))
+
+
+def _specs_of_other_types(
+    specs: tuple[Sdf.AttributeSpec, ...],
+    declared: Tf.Type,
+    schema_type: Callable[[], Sdf.ValueTypeName | None],
+) -> list[Sdf.AttributeSpec]:
     if all(s.typeName.type == declared for s in specs):
         return []
-    schema_type = _schema_type(attr)
-    if schema_type is None:
+    declared_name = schema_type()  # read only when some spec differs
+    if declared_name is None:
         return []
-    return [s for s in specs if s.typeName.type != schema_type.type]
+    return [s for s in specs if s.typeName.type != declared_name.type]
 
 
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
     """The schema's ``allowedTokens`` for an attribute, read from the prim
     definition at run time; empty when the schema declares none."""
-    return _schema_attribute(prim, name).allowed_tokens
+    return prim_values(prim).schema_attribute(name).allowed_tokens
 
 
 @cached
@@ -301,13 +299,20 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     (catalog, Conventions: one mistake gives one finding, SE016)."""
     if not attr or not attr.HasAuthoredValue():
         return False
+    return _holds_well_typed_value(attr, *_attribute_specs(attr))
+
+
+def _holds_well_typed_value(
+    attr: Usd.Attribute, specs: tuple[Sdf.AttributeSpec, ...], declared: Tf.Type
+) -> bool:
+    """Whether an attribute with an authored value (``specs``, its property
+    stack, and ``declared``, its value type) holds a well-typed one."""
     # One pass over one property stack: the first value-holding spec must have
     # the schema's type (as _mismatched_in reads it), and neither the first
     # default nor the first time samples may be a path: usda accepts ``<...>``
     # as the value of an attribute of any type (``uniform token sourceType =
     # </X>``, also in time samples), an Sdf.Path no typed read returns.
     found_default = found_samples = typed = False
-    specs, declared = _attribute_specs(attr)
     for spec in specs:
         has_default = not found_default and spec.HasDefaultValue()
         has_samples = not found_samples and _has_time_samples(spec)
@@ -331,7 +336,7 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
 
 
 def fallback_value(prim: Usd.Prim, name: str) -> Any:
-    return _prim_definition(prim).GetAttributeFallbackValue(name)
+    return prim_values(prim).fallback(name)
 
 
 def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
@@ -355,11 +360,191 @@ def _authored_default(attr: Usd.Attribute | None) -> Any:
 
 def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
     """The value a consumer reads (at Default unless ``time`` says otherwise):
-    authored (well-typed) or fallback."""
+    authored (well-typed) or fallback. At Default it is read once per lint
+    (:class:`PrimValues`); treat it as read-only."""
+    if time is DEFAULT_TIME or time.IsDefault():
+        return prim_values(prim).composed(name)
     attr = prim.GetAttribute(name)
     if has_authored_value(attr):
         return attr.Get(time)
     return fallback_value(prim, name)
+
+
+class PrimValues:
+    """What the rules read of one prim, by property name, each read once per
+    lint and shared by every rule and helper: its attributes' authored and
+    composed values at Default, their type mismatches, its relationships'
+    targets. Get it with :func:`prim_values`; treat its values as read-only.
+
+    Its memo is keyed by names, not by USD objects: hashing a ``Usd.Attribute``
+    (a fresh handle at every ``GetAttribute``) and comparing it on a hit cost
+    two binding calls, more than most answers save (a CI-gate shot made 2,000
+    such calls). The answers are those of :func:`has_authored_value`,
+    :func:`authored_value`, :func:`composed_value`, :func:`mismatched_spec`,
+    :func:`forwarded_targets` and :func:`resolve_targets` (the same code).
+    """
+
+    __slots__ = (
+        "prim",
+        "_attrs",
+        "_rels",
+        "_specs",
+        "_has",
+        "_authored",
+        "_composed",
+        "_fallbacks",
+        "_mismatched",
+        "_forwarded",
+        "_targets",
+        "_definition",
+        "_key",
+        "_names",
+    )
+
+    def __init__(self, prim: Usd.Prim) -> None:
+        self.prim = prim
+        self._attrs: dict[str, Usd.Attribute] = {}
+        self._rels: dict[str, Usd.Relationship] = {}
+        self._specs: dict[str, tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]] = {}
+        self._has: dict[str, bool] = {}
+        self._authored: dict[str, Any] = {}
+        self._composed: dict[str, Any] = {}
+        self._fallbacks: dict[str, Any] = {}
+        self._mismatched: dict[str, Sdf.AttributeSpec | None] = {}
+        self._forwarded: dict[str, tuple[Sdf.Path, ...]] = {}
+        self._targets: dict[str, tuple[Target, ...]] = {}
+        self._definition: Usd.PrimDefinition | None = None
+        self._key: _DefinitionKey | None = None
+        self._names: tuple[str, ...] | None = None
+
+    def attribute(self, name: str) -> Usd.Attribute:
+        """``prim.GetAttribute(name)``, one handle per name."""
+        attr = self._attrs.get(name)
+        if attr is None:
+            attr = self._attrs[name] = self.prim.GetAttribute(name)
+        return attr
+
+    def relationship(self, name: str) -> Usd.Relationship:
+        """``prim.GetRelationship(name)``, one handle per name."""
+        rel = self._rels.get(name)
+        if rel is None:
+            rel = self._rels[name] = self.prim.GetRelationship(name)
+        return rel
+
+    def _attribute_specs(self, name: str) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+        found = self._specs.get(name)
+        if found is None:
+            found = self._specs[name] = _read_attribute_specs(self.attribute(name))
+        return found
+
+    def has_value(self, name: str) -> bool:
+        """:func:`has_authored_value` of the named attribute."""
+        found = self._has.get(name)
+        if found is None:
+            attr = self.attribute(name)
+            found = bool(attr) and attr.HasAuthoredValue()
+            if found:
+                found = _holds_well_typed_value(attr, *self._attribute_specs(name))
+            self._has[name] = found
+        return found
+
+    def authored(self, name: str) -> Any:
+        """:func:`authored_value` of the named attribute at Default."""
+        value = self._authored.get(name, _UNREAD)
+        if value is _UNREAD:
+            value = self.attribute(name).Get() if self.has_value(name) else None
+            self._authored[name] = value
+        return value
+
+    def fallback(self, name: str) -> Any:
+        """The schema's fallback for the named attribute (None when it has none)."""
+        value = self._fallbacks.get(name, _UNREAD)
+        if value is _UNREAD:
+            value = self._fallbacks[name] = self.definition.GetAttributeFallbackValue(name)
+        return value
+
+    def composed(self, name: str) -> Any:
+        """:func:`composed_value` of the named attribute at Default."""
+        value = self._composed.get(name, _UNREAD)
+        if value is _UNREAD:
+            value = self.authored(name) if self.has_value(name) else self.fallback(name)
+            self._composed[name] = value
+        return value
+
+    def mismatched_specs(self, name: str) -> list[Sdf.AttributeSpec]:
+        """:func:`mismatched_specs` of the named attribute."""
+        specs, declared = self._attribute_specs(name)
+        return _specs_of_other_types(specs, declared, lambda: self.schema_attribute(name).type_name)
+
+    def authored_names(self) -> tuple[str, ...]:
+        """The names of the prim's authored properties, in USD's order."""
+        names = self._names
+        if names is None:
+            names = self._names = tuple(self.prim.GetAuthoredPropertyNames())
+        return names
+
+    def mismatched(self, name: str) -> Sdf.AttributeSpec | None:
+        """:func:`mismatched_spec` of the named attribute."""
+        spec = self._mismatched.get(name, _UNREAD)
+        if spec is _UNREAD:
+            specs, declared = self._attribute_specs(name)
+            spec = _mismatched_in(specs, declared, self.attribute(name))
+            self._mismatched[name] = spec
+        return spec
+
+    def forwarded(self, name: str) -> tuple[Sdf.Path, ...]:
+        """:func:`forwarded_targets` of the named relationship."""
+        paths = self._forwarded.get(name)
+        if paths is None:
+            paths = self._forwarded[name] = _composed_targets((self.relationship(name), True))
+        return paths
+
+    def targets(self, name: str) -> tuple[Target, ...]:
+        """:func:`resolve_targets` of the named relationship."""
+        found = self._targets.get(name)
+        if found is None:
+            found = self._targets[name] = _resolved_targets(self.relationship(name))
+        return found
+
+    @property
+    def definition(self) -> Usd.PrimDefinition:
+        definition = self._definition
+        if definition is None:
+            definition = self._definition = self.prim.GetPrimDefinition()
+        return definition
+
+    def schema_attribute(self, name: str) -> SchemaAttribute:
+        """What the prim's definition declares for the attribute ``name``."""
+        key = self._key
+        if key is None:
+            info = self.prim.GetPrimTypeInfo()
+            key = self._key = (info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas()))
+        found = _SCHEMA_ATTRIBUTES.get((key, name))
+        if found is None:
+            found = _SCHEMA_ATTRIBUTES[(key, name)] = _declared_attribute(self.definition, name)
+        return found
+
+
+_UNREAD: Any = object()
+
+
+def prim_values(prim: Usd.Prim) -> PrimValues:
+    """The prim's :class:`PrimValues` of the running lint (a new one outside a lint)."""
+    cache = active_cache()
+    if cache is None:
+        return PrimValues(prim)
+    answers = cache._answers
+    # The engine hands every rule the same prim handles: found by identity,
+    # the entry keeping the handle alive so that its id is not reused.
+    entry = answers.get((PrimValues, (id(prim),)))
+    if entry is not None and entry[0] is prim:
+        return entry[1]
+    # Another handle of a prim seen before (a relationship target) shares its values.
+    values = answers.get((PrimValues, (prim,)))
+    if values is None:
+        values = answers[(PrimValues, (prim,))] = PrimValues(prim)
+    answers[(PrimValues, (id(prim),))] = (prim, values)
+    return values
 
 
 def items(value: Any) -> list[Any]:
@@ -427,25 +612,25 @@ def rendered_times(attrs: Iterable[Usd.Attribute], cap: int) -> list[Usd.TimeCod
     stage range is read from the attributes' stage. A type-mismatched opinion
     counts as unauthored (SE016), so its samples are not rendered times.
     """
-    attrs = [a for a in attrs if a]
-    if not attrs:
+    return authored_rendered_times([a for a in attrs if a and has_authored_value(a)], cap)
+
+
+def authored_rendered_times(attrs: Iterable[Usd.Attribute], cap: int) -> list[Usd.TimeCode]:
+    """:func:`rendered_times` of attributes already known to hold well-typed
+    authored values (:meth:`PrimValues.has_value`)."""
+    sampled = [a for a in attrs if a.GetNumTimeSamples() != 0]
+    if not sampled:
         return [DEFAULT_TIME]
-    stage = attrs[0].GetStage()
+    stage = sampled[0].GetStage()
     interval: Gf.Interval | None = None
     if stage.HasAuthoredTimeCodeRange():
         interval = Gf.Interval(stage.GetStartTimeCode(), stage.GetEndTimeCode())
     times: set[float] = set()
-    sampled = False
-    for attr in attrs:
-        if not has_authored_value(attr) or attr.GetNumTimeSamples() == 0:
-            continue
-        sampled = True
+    for attr in sampled:
         if interval is None:
             times.update(time_samples(attr, cap))
         else:
             times.update(islice(attr.GetTimeSamplesInInterval(interval), cap))
-    if not sampled:
-        return [DEFAULT_TIME]
     if interval is not None:
         times.update((interval.min, interval.max))
     return [Usd.TimeCode(t) for t in sorted(times)[:cap]]
@@ -516,32 +701,32 @@ class RenderConfiguration:
         otherwise the settings' composed value, authored or fallback (the
         product's fallback for a product rendered on its own)."""
         if self.product is not None:
-            attr = self.product.GetAttribute(name)
-            if has_authored_value(attr):
-                return EffectiveValue(attr.Get(), attr, True)
-        owner = self.owner
-        attr = owner.GetAttribute(name)
-        authored = has_authored_value(attr)
-        value = attr.Get() if authored else fallback_value(owner, name)
-        return EffectiveValue(value, attr, authored)
+            product = prim_values(self.product)
+            if product.has_value(name):
+                return EffectiveValue(product.authored(name), product.attribute(name), True)
+        owner = prim_values(self.owner)
+        return EffectiveValue(owner.composed(name), owner.attribute(name), owner.has_value(name))
 
     @cached_property
     def camera_relationship(self) -> Usd.Relationship:
         """The product's ``camera`` when it has a forwarded target (an empty
         ``rel camera = []`` cannot clear the settings camera), else the settings'."""
         if self.product is not None:
-            rel = self.product.GetRelationship("camera")  # a schema object costs ~1 us
-            if self.settings is None or forwarded_targets(rel):
-                return rel
-        return self.owner.GetRelationship("camera")
+            product = prim_values(self.product)
+            if self.settings is None or product.forwarded("camera"):
+                return product.relationship("camera")
+        return prim_values(self.owner).relationship("camera")
 
     @cached_property
     def camera_target(self) -> Target | None:
         """The first forwarded camera target, resolved; None when unset."""
-        targets = forwarded_targets(self.camera_relationship)
-        if not targets:
-            return None
-        return resolve_target(self.owner.GetStage(), targets[0])
+        if self.product is not None:
+            product = prim_values(self.product)
+            if self.settings is None or product.forwarded("camera"):
+                targets = product.targets("camera")
+                return targets[0] if targets else None
+        targets = prim_values(self.owner).targets("camera")
+        return targets[0] if targets else None
 
     @property
     def camera_prim(self) -> Usd.Prim | None:
@@ -579,7 +764,7 @@ def settings_configurations(settings_prims: Iterable[Usd.Prim]) -> list[RenderCo
     for settings in settings_prims:
         products = [
             t.prim
-            for t in resolve_targets(settings.GetRelationship("products"))
+            for t in prim_values(settings).targets("products")
             if typed_target_problem(t, schemas.RenderProduct, "a RenderProduct") is None
         ]
         if products:
@@ -593,7 +778,7 @@ def renders_on_its_own(product: Usd.Prim) -> bool:
     """True when an untargeted product authors a camera of its own (a forwarded
     target), so renderers that address products by prim path (ovrtx, Kit's
     render products) can render it alone (catalog R2-4)."""
-    return bool(forwarded_targets(product.GetRelationship("camera")))
+    return bool(prim_values(product).forwarded("camera"))
 
 
 def own_configurations(untargeted_products: Iterable[Usd.Prim]) -> list[RenderConfiguration]:

@@ -98,8 +98,9 @@ class Reads:
     fast path opened (value clips included), the layers arcs name that do not
     exist, the search paths arcs name, the files whose existence a rule checked
     and the folders clip templates match files in. ``complete`` is False when
-    that is not known: a stage could not be opened, or an asset path is
-    :class:`Unkeyable`."""
+    that is not known: an asset path is :class:`Unkeyable`, or a layer could
+    not be walked safely. (A lint that stopped part way says so itself:
+    ``LintRun.completed``.)"""
 
     #: (identifier, real path, anonymous, has unsaved edits) of each layer read.
     layers: list[tuple[str, str, bool, bool]] = field(default_factory=list)
@@ -114,6 +115,16 @@ class Reads:
     #: The stage's resolver context (its repr): what resolved the search paths.
     context: str = ""
     complete: bool = True
+
+    def merge(self, other: Reads) -> None:
+        """Add what another lint read (--variants lints a stage once per combination)."""
+        self.layers.extend(other.layers)
+        self.targets.extend(other.targets)
+        self.searches.extend(other.searches)
+        self.assets.extend(other.assets)
+        self.clip_templates.extend(other.clip_templates)
+        self.context = other.context or self.context
+        self.complete = self.complete and other.complete
 
     def add_layers(self, layers: Iterable[Sdf.Layer]) -> None:
         self.layers.extend(
