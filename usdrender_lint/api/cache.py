@@ -24,10 +24,14 @@ _MISSING: Any = object()
 class LintCache:
     """Answers of ``func(*args)``, computed once per lint."""
 
-    __slots__ = ("_answers",)
+    __slots__ = ("_answers", "by_identity")
 
     def __init__(self) -> None:
         self._answers: dict[tuple[Callable[..., Any], tuple[Hashable, ...]], Any] = {}
+        #: Answers keyed by an object's ``id``, each holding the object (so
+        #: that its id is not reused): for USD handles, whose hash is a
+        #: binding call (resolve.PrimValues).
+        self.by_identity: dict[int, tuple[Any, Any]] = {}
 
     def call(self, func: Callable[..., _T], *args: Hashable) -> _T:
         """``func(*args)``, computed on the first call with these arguments."""

@@ -540,24 +540,29 @@ _UNREAD: Any = object()
 
 def prim_values(prim: Usd.Prim) -> PrimValues:
     """The prim's :class:`PrimValues` of the running lint (a new one outside a lint)."""
-    return values_in(_ACTIVE.get(), prim)
+    cache = _ACTIVE.get()
+    if cache is not None:
+        # The engine hands every rule the same prim handles: found by identity.
+        entry = cache.by_identity.get(id(prim))
+        if entry is not None and entry[0] is prim:
+            return entry[1]
+    return values_in(cache, prim)
 
 
 def values_in(cache: LintCache | None, prim: Usd.Prim) -> PrimValues:
     """The prim's :class:`PrimValues` in a lint's cache (a new one without a cache)."""
     if cache is None:
         return PrimValues(prim)
-    answers = cache._answers
-    # The engine hands every rule the same prim handles: found by identity,
-    # the entry keeping the handle alive so that its id is not reused.
-    entry = answers.get((PrimValues, (id(prim),)))
+    entry = cache.by_identity.get(id(prim))
     if entry is not None and entry[0] is prim:
         return entry[1]
     # Another handle of a prim seen before (a relationship target) shares its values.
+    answers = cache._answers
     values = answers.get((PrimValues, (prim,)))
     if values is None:
         values = answers[(PrimValues, (prim,))] = PrimValues(prim)
-    answers[(PrimValues, (id(prim),))] = (prim, values)
+    # The entry holds the handle, so that its id is not reused during the lint.
+    cache.by_identity[id(prim)] = (prim, values)
     return values
 
 
