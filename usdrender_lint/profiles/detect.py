@@ -139,8 +139,9 @@ def _kind(prim: Usd.Prim) -> str:
 #: "Not looked at yet" (None: not a usable RenderVar).
 _UNSEEN: Any = object()
 
-#: A camera target of a settings or product prim and the typed prim there.
-Camera = tuple[Sdf.Path, Usd.Prim | None]
+#: A camera target of a settings or product prim, the typed prim there (None
+#: when there is none) and its type name ("" then).
+Camera = tuple[Sdf.Path, Usd.Prim | None, str]
 
 
 class _Facts:
@@ -174,9 +175,8 @@ class _Facts:
         if _NAMESPACES and any(name.startswith(_NAMESPACES) for name in self.names):
             return False
         return not any(
-            _some_runtime_camera(target)
-            or (camera is not None and _some_camera_type(camera.GetTypeName()))
-            for target, camera in self.cameras
+            _some_runtime_camera(target) or (type_name and _some_camera_type(type_name))
+            for target, _, type_name in self.cameras
         )
 
     def _found(self) -> PrimEvidence:
@@ -223,11 +223,11 @@ class _Facts:
 
     def _camera_phrases(self, profile: Profile) -> list[str]:
         phrases = []
-        for target, camera in self.cameras:
+        for target, camera, type_name in self.cameras:
             where = f"the camera target <{target}> of <{self.text}>"
             if profile.runtime_camera(str(target)):
                 phrases.append(f"{where}, a camera the renderer's application creates")
-            elif camera is not None and profile.camera_type(camera.GetTypeName()):
+            elif camera is not None and profile.camera_type(type_name):
                 phrases.append(f"{where}, {describe_prim_type(camera)}")
         return phrases
 
@@ -240,7 +240,7 @@ class _Scan:
         self.stage = stage
         self.layer_data = layer_data_evidence(stage)
         self._facts: dict[Usd.Prim, _Facts] = {}
-        self._cameras: dict[Sdf.Path, Usd.Prim | None] = {}
+        self._cameras: dict[Sdf.Path, Camera] = {}
         self._vars: dict[Sdf.Path, list[_Facts]] = {}
         self._var_facts: dict[Sdf.Path, _Facts | None] = {}
 
@@ -256,15 +256,17 @@ class _Scan:
         """A settings or product prim's camera targets and the typed prims there."""
         found = []
         for target in forwarded_targets(rel):
-            if target not in self._cameras:
-                self._cameras[target] = self._camera(target)
-            found.append((target, self._cameras[target]))
+            camera = self._cameras.get(target)
+            if camera is None:
+                camera = self._cameras[target] = self._camera(target)
+            found.append(camera)
         return found
 
-    def _camera(self, target: Sdf.Path) -> Usd.Prim | None:
+    def _camera(self, target: Sdf.Path) -> Camera:
         assert self.stage is not None  # a prim was read
         camera = self.stage.GetPrimAtPath(target) if target.IsPrimPath() else None
-        return camera if camera and camera.GetTypeName() else None
+        type_name = camera.GetTypeName() if camera else ""
+        return (target, camera, type_name) if type_name else (target, None, "")
 
     def vars_of(self, product: Usd.Prim, facts: _Facts) -> list[_Facts]:
         """The facts of the usable RenderVars a product's ``orderedVars`` targets."""
@@ -416,8 +418,7 @@ def assign(
     """Decide the profile of every scope. ``setting`` is a profile name or
     ``auto``; ``reason`` says where an explicit one was configured."""
     if setting != AUTO:
-        # One choice for every scope and the stage: no scope needs knowing.
-        return Assignment(stage=ProfileChoice(get_profile(setting), reason))
+        return _explicit(setting, reason)
     scan = _Scan(_stage_of(configurations, [*lone_products, *render_prims]))
     scopes = _scopes(configurations, lone_products, scan)
     assignment = Assignment()
@@ -429,6 +430,11 @@ def assign(
         # Scopes judged differently: which scopes each prim belongs to matters.
         _add_members(assignment, scopes, passes)
     return assignment
+
+
+def _explicit(setting: str, reason: str) -> Assignment:
+    # One choice for every scope and the stage: no scope needs knowing.
+    return Assignment(stage=ProfileChoice(get_profile(setting), reason))
 
 
 def _add_members(assignment: Assignment, scopes: list[_Scope], passes: Sequence[Usd.Prim]) -> None:
@@ -484,6 +490,8 @@ class Profiler:
 
     def __call__(self, ctx: Context) -> Assignment:
         setting, reason = self.choose(ctx.file)
+        if setting != AUTO:  # the stage's configurations need not even be known
+            return _explicit(setting, reason)
         return assign(
             ctx.configurations,
             ctx.untargeted_products,
