@@ -11,7 +11,7 @@ import pytest
 from pxr import Usd
 
 from usdrender_lint.engine import Linter
-from usdrender_lint.profiles import Profiler
+from usdrender_lint.profiles import Profiler, detect
 from usdrender_lint.testing import all_rules
 
 #: Two settings sharing a product, three products sharing two vars: the
@@ -111,8 +111,25 @@ def test_auto_reads_each_render_prims_properties_once(
     # A var several products target is asked its type once.
     assert counts["/Render/Color", "IsA"] == 1
     assert counts["/Render/Depth", "IsA"] == 1
-    # A relationship no layer authors is not asked for (P2's camera).
+    # A relationship no layer authors is not asked for (P2's camera), nor is
+    # a productType no layer authors (the schema's fallback says it).
     assert counts["/Render/P2", "GetRelationship"] == 1  # orderedVars only
+    assert not [key for key in counts if key[1] == "GetAttribute"]
+
+
+def test_an_authored_product_type_is_read_and_a_fallback_is_the_schemas(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    assert _product_type_of(tmp_path, 'uniform token productType = "deep"') == "deep"
+    assert _product_type_of(tmp_path, "uniform token productType") == "raster"
+    assert _product_type_of(tmp_path, "") == "raster"
+
+
+def _product_type_of(tmp_path: Path, authored: str) -> str | None:
+    path = tmp_path / "product.usda"
+    path.write_text(f'#usda 1.0\ndef RenderProduct "P"\n{{\n    {authored}\n}}\n')
+    stage = Usd.Stage.Open(str(path))
+    return detect._Scan(stage).facts(stage.GetPrimAtPath("/P")).product_type
 
 
 def test_an_explicit_profile_reads_nothing_of_the_stage(

@@ -123,6 +123,26 @@ def _some_camera_type(type_name: str) -> bool:
     return any(p.camera_type(type_name) for p in _RENDERERS)
 
 
+#: The productType fallback per prim definition (schema type and applied API
+#: schemas): a pure fact of the schemas, kept for the process.
+_FALLBACK_TYPES: dict[tuple[str, tuple[str, ...]], str] = {}
+
+
+def _product_type(
+    prim: Usd.Prim, names: list[str], info: Usd.PrimTypeInfo, applied: Sequence[str]
+) -> str:
+    """A product's productType as ``Get()`` reads it: the authored value, else
+    (no layer authors the name) its definition's fallback, without a read."""
+    if "productType" in names:
+        return str(prim.GetAttribute("productType").Get() or "")
+    key = (info.GetSchemaTypeName(), tuple(applied))
+    found = _FALLBACK_TYPES.get(key)
+    if found is None:
+        fallback = prim.GetPrimDefinition().GetAttributeFallbackValue("productType")
+        found = _FALLBACK_TYPES[key] = str(fallback or "")
+    return found
+
+
 #: What a render prim is, which decides what on it can be evidence: the
 #: settings' and products' camera targets (both are RenderSettingsBase), a
 #: product's productType.
@@ -155,10 +175,11 @@ class _Facts:
         self.path: Sdf.Path = prim.GetPath()
         self.text = str(self.path)
         self.names: list[str] = prim.GetAuthoredPropertyNames()
-        self.applied: Sequence[str] = prim.GetPrimTypeInfo().GetAppliedAPISchemas()
+        info = prim.GetPrimTypeInfo()
+        self.applied: Sequence[str] = info.GetAppliedAPISchemas()
         self.product_type: str | None = None
         if _PRODUCT_TYPES and kind is _PRODUCT:
-            self.product_type = str(prim.GetAttribute("productType").Get() or "")
+            self.product_type = _product_type(prim, self.names, info, self.applied)
         # A relationship no layer authors has no targets.
         self.cameras: Sequence[Camera] = ()
         if kind is not _OTHER and "camera" in self.names:
