@@ -47,7 +47,9 @@ class Assignment:
 
     #: Scope key (the settings' or lone product's path) -> its choice.
     scopes: dict[Sdf.Path, ProfileChoice] = field(default_factory=dict)
-    #: Prim path -> the scopes it belongs to (settings, products, vars, cameras).
+    #: Prim path -> the scopes it belongs to (settings, products, vars, cameras);
+    #: left empty when every scope is judged as the stage is (then no finding
+    #: needs to know its scopes).
     members: dict[Sdf.Path, list[Sdf.Path]] = field(default_factory=dict)
     stage: ProfileChoice = field(default_factory=lambda: ProfileChoice(GENERIC, ""))
 
