@@ -20,8 +20,8 @@ from usdrender_lint.engine import Linter
 from usdrender_lint.model import FileResult, Report
 from usdrender_lint.running import workers as execution
 from usdrender_lint.running.discovery import collect_files
-from usdrender_lint.running.progress import PROGRESS_MIN_FILES, want_progress
 from usdrender_lint.running.pipeline import LinterSpec, make_linter
+from usdrender_lint.running.progress import PROGRESS_MIN_FILES, want_progress
 from usdrender_lint.running.workers import ExecutionError, lint_paths
 
 SCOPE = '#usda 1.0\ndef Scope "{name}"\n{{\n}}\n'
