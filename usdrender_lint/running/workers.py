@@ -9,6 +9,7 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from contextlib import suppress
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -198,9 +199,9 @@ class Pool:
         context = _context()  # chosen per worker: a progress bar's thread makes forking unsafe
         parent_end, child_end = context.Pipe()
         env = {name: value for name, value in os.environ.items() if name.startswith(ENV_PREFIX)}
-        args = (child_end, self.factory, self.handle, self.failed, self._log_dir, env, self.size)
-        threads = worker_usd_threads(self.size)
-        process = context.Process(target=_worker_main, args=(*args, threads), daemon=True)
+        # A copy of the settings only: this one holds the run's processes and pipes.
+        args = (child_end, replace(self), self._log_dir, env, worker_usd_threads(self.size))
+        process = context.Process(target=_worker_main, args=args, daemon=True)
         process.start()
         child_end.close()
         starting = (_READY, None, time.monotonic() + WORKER_START_LIMIT)
@@ -297,28 +298,21 @@ class _Worker:
 
 
 def _worker_main(
-    conn: Connection,
-    factory: Callable[[], Any],
-    handle: Handler,
-    failed: OnFailure,
-    log_dir: str,
-    settings_env: dict[str, str],
-    workers: int,
-    usd_threads: int | None,
+    conn: Connection, pool: Pool, log_dir: str, settings_env: dict[str, str], threads: int | None
 ) -> None:
     """Build the linter, say so, then answer each ``(index, item)``. Its stderr is a log,
     emptied before each item: what USD prints as it aborts makes the one-line error.
     ``settings_env``: the parent's variables now (a forkserver's may be older)."""
     default_signals_in_worker()
     die_with_parent(os.getppid())
-    _contain(workers)
+    _contain(pool.size)
     for name in [n for n in os.environ if n.startswith(ENV_PREFIX)]:
         del os.environ[name]
     os.environ.update(settings_env)
-    if usd_threads is not None:
+    if threads is not None:
         from pxr import Work
 
-        Work.SetConcurrencyLimit(usd_threads)
+        Work.SetConcurrencyLimit(threads)
     debug.keep_stderr()
     # Nothing of a worker's belongs on stdout, nor may it hold the user's pipe open.
     null = os.open(os.devnull, os.O_RDWR)
@@ -330,7 +324,7 @@ def _worker_main(
     try:
         from pxr import Usd
 
-        linter = factory()
+        linter = pool.factory()
         Usd.Stage.CreateInMemory()  # USD's plugins load now, not in the first file's time
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
         debug.show(exc, "a worker could not start")
@@ -343,10 +337,10 @@ def _worker_main(
             os.ftruncate(2, 0)
             os.lseek(2, 0, os.SEEK_SET)
             try:  # the result holds only plain values; the stage dies with the handler
-                result = handle(linter, item)
+                result = pool.handle(linter, item)
             except Exception as exc:  # noqa: BLE001 - a handler's bug costs only its item
                 debug.show(exc, "internal error")
-                result = failed(_path_of(item), _internal_error(exc))
+                result = pool.failed(_path_of(item), _internal_error(exc))
             conn.send((index, result))
 
 
