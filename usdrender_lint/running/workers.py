@@ -105,7 +105,7 @@ class InProcess:
 
     def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
         if self.supervision is not None:
-            _contain(workers=1)
+            _cap_memory(workers=1)
         results = []
         for path in files:
             if self.supervision is not None and self.timeout:
@@ -305,7 +305,7 @@ def _worker_main(
     ``settings_env``: the parent's variables now (a forkserver's may be older)."""
     default_signals_in_worker()
     die_with_parent(os.getppid())
-    _contain(pool.size)
+    _cap_memory(pool.size)
     for name in [n for n in os.environ if n.startswith(ENV_PREFIX)]:
         del os.environ[name]
     os.environ.update(settings_env)
@@ -392,12 +392,9 @@ def worker_memory_limit(workers: int) -> int:
     return max(MIN_WORKER_MEMORY, int(total * 0.9) // max(workers, 1))
 
 
-def _contain(workers: int) -> None:
-    """In a worker or the supervised child: cap its memory, and leave a crash to
-    the parent, which lints the file again fully composed (no up-front walk here)."""
+def _cap_memory(workers: int) -> None:
+    """In a worker or the supervised child: at most its share (worker_memory_limit)."""
     import resource
-
-    from ..engine.linter import contain_crashes
 
     soft, hard = resource.getrlimit(resource.RLIMIT_DATA)
     limit = worker_memory_limit(workers)
@@ -405,7 +402,6 @@ def _contain(workers: int) -> None:
     if soft == resource.RLIM_INFINITY or limit < soft:
         with suppress(ValueError, OSError):
             resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
-    contain_crashes()
 
 
 def _factory(linter_factory: LinterFactory | None) -> LinterFactory:
