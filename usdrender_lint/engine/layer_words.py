@@ -231,18 +231,10 @@ def _crate_tokens(handle, head: bytes) -> tuple[set[str] | None, int | None]:
     the number of specs it declares (pxr/usd/sdf/crateFile.cpp, _ReadSpecs)."""
     if len(head) < 16 or tuple(head[8:11]) < MIN_CRATE or tuple(head[8:11]) > MAX_CRATE:
         return None, None
-    (toc,) = struct.unpack("<q", handle.read(8))
     size = os.fstat(handle.fileno()).st_size
-    if not 24 <= toc < size:
+    sections = _crate_sections(handle, size)
+    if sections is None:
         return None, None
-    handle.seek(toc)
-    (count,) = struct.unpack("<Q", handle.read(8))
-    if count > 64:
-        return None, None
-    sections = {}
-    for _ in range(count):
-        name, section_start, section_size = struct.unpack("<16sqq", handle.read(32))
-        sections[name.rstrip(b"\0")] = (section_start, section_start + section_size)
     specs = None
     if b"SPECS" in sections and 0 < sections[b"SPECS"][0] < sections[b"SPECS"][1] <= size:
         handle.seek(sections[b"SPECS"][0])
@@ -250,17 +242,40 @@ def _crate_tokens(handle, head: bytes) -> tuple[set[str] | None, int | None]:
     start, end = sections.get(b"TOKENS", (0, 0))
     if not 0 < start < end <= size:
         return None, specs
+    return _token_section(handle, start, end), specs
+
+
+def _crate_sections(handle, size: int) -> dict[bytes, tuple[int, int]] | None:
+    """The (start, end) offsets of a crate file's sections by name, read from its
+    table of contents (the handle is just past the version); None when implausible."""
+    (toc,) = struct.unpack("<q", handle.read(8))
+    if not 24 <= toc < size:
+        return None
+    handle.seek(toc)
+    (count,) = struct.unpack("<Q", handle.read(8))
+    if count > 64:
+        return None
+    sections = {}
+    for _ in range(count):
+        name, section_start, section_size = struct.unpack("<16sqq", handle.read(32))
+        sections[name.rstrip(b"\0")] = (section_start, section_start + section_size)
+    return sections
+
+
+def _token_section(handle, start: int, end: int) -> set[str] | None:
+    """The tokens of a TOKENS section: a count, sizes and the compressed
+    NUL-terminated strings; None when they cannot be read for sure."""
     handle.seek(start)
     num_tokens, raw_size, packed_size = struct.unpack("<QQQ", handle.read(24))
     if raw_size > MAX_TOKEN_BYTES or packed_size > end - start - 24 or packed_size < 1:
-        return None, specs
+        return None
     raw = _fast_decompress(handle.read(packed_size), raw_size)
     if raw is None or len(raw) != raw_size or raw.count(0) != num_tokens or raw[-1:] != b"\0":
-        return None, specs
+        return None
     try:
-        return set(raw[:-1].decode("utf-8").split("\0")), specs
+        return set(raw[:-1].decode("utf-8").split("\0"))
     except UnicodeDecodeError:
-        return None, specs
+        return None
 
 
 def _fast_decompress(data: bytes, size: int) -> bytes | None:
@@ -293,12 +308,7 @@ def _lz4_block(data: bytes, pos: int, stop: int, limit: int) -> bytes | None:
             pos += 1
             literals = token >> 4
             if literals == 15:
-                while True:
-                    extra = data[pos]
-                    pos += 1
-                    literals += extra
-                    if extra != 255:
-                        break
+                literals, pos = _lz4_more(data, pos, literals)
             out += data[pos : pos + literals]
             pos += literals
             if pos >= stop:
@@ -307,12 +317,7 @@ def _lz4_block(data: bytes, pos: int, stop: int, limit: int) -> bytes | None:
             pos += 2
             length = token & 15
             if length == 15:
-                while True:
-                    extra = data[pos]
-                    pos += 1
-                    length += extra
-                    if extra != 255:
-                        break
+                length, pos = _lz4_more(data, pos, length)
             length += 4
             begin = len(out) - offset
             if offset == 0 or begin < 0 or len(out) + length > limit:
@@ -325,6 +330,17 @@ def _lz4_block(data: bytes, pos: int, stop: int, limit: int) -> bytes | None:
     except IndexError:
         return None
     return bytes(out) if len(out) <= limit else None
+
+
+def _lz4_more(data: bytes, pos: int, length: int) -> tuple[int, int]:
+    """A length whose 4-bit field is full (15) goes on in the bytes at ``pos``:
+    each is added, until one is not 255. The length and the offset after them."""
+    while True:
+        extra = data[pos]
+        pos += 1
+        length += extra
+        if extra != 255:
+            return length, pos
 
 
 __all__ = [
