@@ -254,12 +254,12 @@ def test_many_variant_sets_cost_the_cap_not_their_combinations(
             made += 1
 
         authored.clear()
-        notes: list[str] = []
         sys.setprofile(counting)
         try:
-            findings = VariantExplorer(linter, max_combinations=5).lint_stage(stage, None, notes)
+            run = VariantExplorer(linter, max_combinations=5).run_stage(stage)
         finally:
             sys.setprofile(None)
+        findings, notes = run.findings, run.result.notes
         assert len(authored) == 5  # the cap, never the 2^count combinations
         assert any("v0=b" in f.message for f in findings)
         assert notes[0] == variants.skipped_note(str(path), 5, 2**count)

@@ -743,11 +743,12 @@ def test_unfixable_names_a_rule(tmp_path: Path) -> None:
     assert "unfixable" in result.stderr and "no-such-rule" in result.stderr
 
 
-def test_lint_stage_with_fixes_pairs_each_finding_with_its_fix(tmp_path: Path) -> None:
+def test_a_stage_lint_pairs_each_finding_with_its_fix(tmp_path: Path) -> None:
     shot = write(tmp_path / "shot.usda", SHOT)
     stage = Usd.Stage.Open(str(shot))
     linter = Linter([rule() for rule in build_registry().rules])
-    pairs = linter.lint_stage_with_fixes(stage)
+    run = linter.run_stage(stage)
+    pairs = [(finding, run.fix(finding)) for finding in run.findings]
     assert [finding for finding, _ in pairs] == linter.lint_stage(stage)
     assert pairs and any(fix for _, fix in pairs)
     for finding, fix in pairs:

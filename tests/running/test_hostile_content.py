@@ -253,9 +253,9 @@ class CountingLinter(Linter):
         super().__init__(all_rules())
         self.lints = 0
 
-    def lint_walked_stage(self, stage, file, prims, *, texts=None):
+    def run_stage(self, stage, file=None, *, texts=None, prims=None, reads=False):
         self.lints += 1
-        return super().lint_walked_stage(stage, file, prims, texts=texts)
+        return super().run_stage(stage, file, texts=texts, prims=prims, reads=reads)
 
 
 def test_ten_thousand_variant_sets_are_linted_cap_times_one_selection_each() -> None:
@@ -272,13 +272,12 @@ def test_ten_thousand_variant_sets_are_linted_cap_times_one_selection_each() -> 
     assert [str(p.path) for p in stage.GetSessionLayer().rootPrims] == ["/Render"]
     stage.GetSessionLayer().Clear()
     linter = CountingLinter()
-    notes: list[str] = []
-    VariantExplorer(linter, 64).lint_stage(stage, "shot.usda", notes)
+    notes = VariantExplorer(linter, 64).run_stage(stage, "shot.usda").result.notes
     assert linter.lints == 64  # one composition and lint per combination, not per set
-    assert notes == [
+    assert notes == (
         "shot.usda: --variants linted 64 variant combinations; about 10^4771 more were skipped "
-        "(raise --max-variant-combinations)"
-    ]
+        "(raise --max-variant-combinations)",
+    )
 
 
 def test_after_each_set_alone_come_the_other_combinations() -> None:

@@ -24,10 +24,9 @@ import usdrender_lint
 from usdrender_lint import config as config_module
 from usdrender_lint.cli import cli
 from usdrender_lint.config import Settings
-from usdrender_lint.engine import Linter
+from usdrender_lint.engine import Linter, LintRun
 from usdrender_lint.engine.assets import Reads
 from usdrender_lint.engine.variants import VariantExplorer
-from usdrender_lint.model import FileResult
 from usdrender_lint.running import result_cache
 from usdrender_lint.running.pipeline import Request, make_linter, run
 from usdrender_lint.running.result_cache import ResultCache, run_key, settings_key
@@ -73,14 +72,14 @@ class Spy:
     def __init__(self, monkeypatch: pytest.MonkeyPatch) -> None:
         self.linted: list[str] = []
         for cls in (Linter, VariantExplorer):
-            monkeypatch.setattr(cls, "lint_path", self._counting(cls.lint_path))
+            monkeypatch.setattr(cls, "run_path", self._counting(cls.run_path))
 
-    def _counting(self, original: Callable[..., FileResult]) -> Callable[..., FileResult]:
-        def lint_path(linter: object, path: str) -> FileResult:
+    def _counting(self, original: Callable[..., LintRun]) -> Callable[..., LintRun]:
+        def run_path(linter: object, path: str, **options: object) -> LintRun:
             self.linted.append(path)
-            return original(linter, path)
+            return original(linter, path, **options)
 
-        return lint_path
+        return run_path
 
 
 @pytest.fixture
@@ -428,8 +427,9 @@ def test_a_result_is_not_stored_when_a_dependency_changed_while_it_was_linted(
     linter = make_linter(Settings())
     cache = ResultCache(tmp_path / "cache", run_key(linter, Settings()))
     assert cache.prepare() is None
-    with linter.recording_reads() as reads:
-        result = linter.lint_path(str(shot))
+    run = linter.run_path(str(shot), reads=True)
+    result, reads = run.result, run.reads
+    assert reads is not None
     found = result_cache.dependencies(reads, str(shot))
     assert found is not None and [Path(p).name for p in found.files] == ["common.usda"]
     started = (tmp_path / "common.usda").stat().st_ctime_ns - 1  # changed after the lint began
@@ -637,8 +637,8 @@ def Scope "Render" (
 def test_the_stage_read_by_the_engine_is_what_the_entry_lists(tmp_path: Path) -> None:
     shot = write(tmp_path, {"shot.usda": SHOT_WITH_SUBLAYER, "common.usda": settings_layer()})
     linter = make_linter(Settings())
-    with linter.recording_reads() as reads:
-        linter.lint_path(str(shot))
+    reads = linter.run_path(str(shot), reads=True).reads
+    assert reads is not None
     stage = Usd.Stage.Open(str(shot))
     used = {layer.realPath for layer in stage.GetUsedLayers() if not layer.anonymous}
     found = result_cache.dependencies(reads, str(shot))

@@ -156,14 +156,14 @@ def test_one_lint_per_stage_state() -> None:
     def factory():
         built.append(1)
         linter = default_linter(RULES)
-        original = linter.lint_stage_traced
+        original = linter.run_stage
         calls = built
 
         def counted(stage, file=None):
             calls.append(stage)
             return original(stage, file)
 
-        linter.lint_stage_traced = counted
+        linter.run_stage = counted
         return linter
 
     made: list = []
@@ -368,7 +368,7 @@ codes = sorted({e.GetName() for e in errors})
 # The whole lint failing: each validator reports it, Validate still returns.
 def broken(self, stage, file=None):
     raise MemoryError("no more")
-adaptor.Linter.lint_stage_traced = broken
+adaptor.Linter.run_stage = broken
 SE001 = RULE_DIR + "SE001_resolution_non_positive/pass_traps.usda"
 failures = context.Validate(Usd.Stage.Open(SE001))
 

@@ -7,10 +7,10 @@ from __future__ import annotations
 
 from .linter import (
     RENDER_SCHEMAS,
-    Inspected,
     InspectionError,
     Inspector,
     Linter,
+    LintRun,
     TracedFinding,
 )
 from .locate import bounded_message, locate
@@ -27,9 +27,9 @@ __all__ = [
     "STAGE_OPEN_FAILED_CODE",
     "STAGE_OPEN_FAILED_NAME",
     "USD_EXTENSIONS",
-    "Inspected",
     "InspectionError",
     "Inspector",
+    "LintRun",
     "Linter",
     "StageOpenResult",
     "TracedFinding",

@@ -115,6 +115,16 @@ class Reads:
     context: str = ""
     complete: bool = True
 
+    def merge(self, other: Reads) -> None:
+        """Add what another lint read (--variants lints a stage once per combination)."""
+        self.layers.extend(other.layers)
+        self.targets.extend(other.targets)
+        self.searches.extend(other.searches)
+        self.assets.extend(other.assets)
+        self.clip_templates.extend(other.clip_templates)
+        self.context = other.context or self.context
+        self.complete = self.complete and other.complete
+
     def add_layers(self, layers: Iterable[Sdf.Layer]) -> None:
         self.layers.extend(
             (layer_identifier(x), layer_real_path(x), x.anonymous, x.dirty) for x in layers

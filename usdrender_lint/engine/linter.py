@@ -7,9 +7,9 @@ formatter, the configuration or the command line.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from contextlib import contextmanager
-from typing import Any, Generic, TypeVar
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import field
+from typing import Any, Generic, Literal, TypeVar
 
 from pxr import Sdf, Tf, Usd
 
@@ -45,7 +45,7 @@ from .stage import (
 _T = TypeVar("_T")
 
 #: Called with the lint's Context and its findings once the rules have run
-#: (see Linter.inspect_path).
+#: (see Linter.run_path).
 Inspector = Callable[[Context, Sequence[Finding]], _T]
 
 
@@ -89,13 +89,73 @@ class TracedFinding:
     prim_path: Sdf.Path | None
 
 
+#: How the linted stage was composed: only what the rules read (the fast
+#: path, partial.py), all of it, or None when no stage was linted.
+Composed = Literal["partial", "full"] | None
+
+
 @record(frozen=True)
-class Inspected(Generic[_T]):
-    """A file's lint result and what an inspector read from the linted stage
-    (None when no stage could be linted: the result says why)."""
+class LintRun(Generic[_T]):
+    """Everything one lint of a file or stage produced: its result (findings,
+    notes, or why it could not be linted), each finding's Fix and origin, what
+    it read when asked (``reads=True``: the result cache keys on it), how the
+    stage was composed, whether the rules ran to their end, and what an
+    inspector read from the linted stage."""
 
     result: FileResult
+    #: Each finding's Fix (the callable Finding.fix drops: findings stay free of pxr objects).
+    fixes: Mapping[Finding, Fix] = field(default_factory=dict)
+    #: The rule code and check_prim prim behind each finding a rule made.
+    origins: Mapping[Finding, tuple[str, Sdf.Path | None]] = field(default_factory=dict)
+    #: What the lint read; None when not asked for.
+    reads: Reads | None = None
+    composed: Composed = None
+    #: False when the lint stopped before its end (a file USD cannot open or read).
+    completed: bool = False
+    #: What the inspector read (None without one, or when no stage was linted).
     value: _T | None = None
+
+    @property
+    def findings(self) -> tuple[Finding, ...]:
+        return self.result.findings
+
+    def fix(self, finding: Finding) -> Fix | None:
+        return self.fixes.get(finding)
+
+    def traced(self) -> list[TracedFinding]:
+        """Each finding with its Fix and origin (an engine finding names its own code)."""
+        return [
+            TracedFinding(finding, self.fixes.get(finding), *self.origin(finding))
+            for finding in self.result.findings
+        ]
+
+    def origin(self, finding: Finding) -> tuple[str, Sdf.Path | None]:
+        return self.origins.get(finding, (finding.code, None))
+
+
+class _Trace:
+    """What one lint records beside its findings, handed down the lint's calls
+    (never kept on the Linter, which many lints share)."""
+
+    __slots__ = ("fixes", "origins", "reads")
+
+    def __init__(self, reads: bool) -> None:
+        self.fixes: dict[Finding, Fix] = {}
+        self.origins: dict[Finding, tuple[str, Sdf.Path | None]] = {}
+        self.reads = Reads() if reads else None
+
+    def run(
+        self,
+        result: FileResult,
+        composed: Composed = None,
+        completed: bool = False,
+        value: Any = None,
+    ) -> LintRun[Any]:
+        if not completed:
+            # A lint that stopped part way: what it recorded belongs to no finding.
+            self.fixes.clear()
+            self.origins.clear()
+        return LintRun(result, self.fixes, self.origins, self.reads, composed, completed, value)
 
 
 class _TypeDispatch:
@@ -180,132 +240,135 @@ class Linter:
         self._dispatch = _TypeDispatch(self.rules)
         #: Rules with a check_stage of their own (most have none: no call per file).
         self._stage_rules = tuple(r for r in self.rules if _overrides(r, "check_stage"))
-        #: While lint_stage_with_fixes runs: each finding's Fix (the callable
-        #: Finding.fix drops, since findings stay free of pxr objects).
-        self._fixes: dict[Finding, Fix] | None = None
-        #: While lint_stage_traced runs: the rule code and check_prim prim behind each finding.
-        self._origins: dict[Finding, tuple[str, Sdf.Path | None]] | None = None
-        #: While recording_reads is active: what the lints read.
-        self._reads: Reads | None = None
-
-    @contextmanager
-    def recording_reads(self) -> Iterator[Reads]:
-        """Record what the lints inside the block read (see :class:`Reads`)."""
-        previous, self._reads = self._reads, Reads()
-        try:
-            yield self._reads
-        finally:
-            self._reads = previous
 
     # -- entry points ---------------------------------------------------------
 
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
-        """Lint one file; never raises for a bad file. ``full_composition``
-        composes the whole stage for this file (no fast path)."""
-        return self.inspect_path(path, full_composition=full_composition).result
+        """Lint one file; never raises for a bad file (:meth:`run_path`'s result)."""
+        return self.run_path(path, full_composition=full_composition).result
 
-    def inspect_path(
-        self, path: str, inspect: Inspector[_T] | None = None, *, full_composition: bool = False
-    ) -> Inspected[_T]:
-        """Lint one file like :meth:`lint_path` and hand the lint's Context and
-        findings to ``inspect`` while the stage it linted (partly composed when
-        the fast path applies) is open and the lint's cache active, so that a
-        reader of the render data (``spec``) composes and resolves nothing
-        twice. Its value is None when no stage could be linted; an inspector
-        raising :class:`InspectionError` makes the file an error result."""
+    def lint_stage(
+        self, stage: Usd.Stage, file: str | None = None, *, texts: Mapping[str, str] | None = None
+    ) -> list[Finding]:
+        """The findings of an open stage (:meth:`run_stage`'s)."""
+        return list(self.run_stage(stage, file, texts=texts).findings)
+
+    def run_path(
+        self,
+        path: str,
+        *,
+        full_composition: bool = False,
+        reads: bool = False,
+        inspect: Inspector[_T] | None = None,
+    ) -> LintRun[_T]:
+        """Lint one file; never raises for a bad file. ``full_composition``
+        composes the whole stage for this file (no fast path); ``reads``
+        records what the lint read (:class:`Reads`). ``inspect`` is handed
+        the lint's Context and findings while the stage it linted (partly
+        composed when the fast path applies) is open and the lint's cache
+        active, so that a reader of the render data (``spec``) composes and
+        resolves nothing twice; an inspector raising :class:`InspectionError`
+        makes the file an error result."""
+        trace = _Trace(reads)
         problem = unreadable_reason(path)
         if problem is not None:
-            return Inspected(FileResult(path, status="error", error=f"{path}: {problem}"))
+            return trace.run(FileResult(path, status="error", error=f"{path}: {problem}"))
         try:
-            return self._lint_file(path, inspect, full_composition)
+            return self._lint_file(path, trace, inspect, full_composition)
         except InspectionError as exc:
-            return Inspected(FileResult(path, status="error", error=f"{path}: {exc}"))
-        except UnicodeDecodeError as exc:
-            # A corrupt crate can hold names that are not UTF-8: USD composes
-            # them, but every Python read of them raises.
-            byte = exc.object[exc.start : exc.start + 1].hex()
-            message = (
-                f"the file holds a name or string that is not valid UTF-8 (byte 0x{byte}); "
-                "USD reads it, but nothing in it can be checked: the file is probably corrupt"
-            )
-        except CorruptValue as exc:
-            message = str(exc)
-        except Tf.ErrorException as exc:
-            # Outside a rule (the walk, suppressions, locating a finding).
-            found = corruption(exc, path)
-            if found is None:
-                raise
-            message = found
-        if self._reads is not None:
-            self._reads.complete = False  # the lint stopped part way
+            return trace.run(FileResult(path, status="error", error=f"{path}: {exc}"))
+        except (UnicodeDecodeError, CorruptValue, Tf.ErrorException) as exc:
+            message = _corrupt_file_message(exc, path)
         location = Location(path, None, os.path.abspath(path), None)
         severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
         finding = Finding(
             STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, severity, message, location
         )
-        return Inspected(FileResult(path, findings=(finding,)))
+        return trace.run(FileResult(path, findings=(finding,)))
+
+    def run_stage(
+        self,
+        stage: Usd.Stage,
+        file: str | None = None,
+        *,
+        texts: Mapping[str, str] | None = None,
+        prims: Sequence[Usd.Prim] | None = None,
+        reads: bool = False,
+    ) -> LintRun[Any]:
+        """Lint an open stage; ``file`` names it in findings (default: root
+        layer). ``texts``: the text of layers with unsaved edits (an
+        editor's), by real path, where their findings' lines are found
+        instead of in their files. ``prims``: the usable prims the walk would
+        keep (:meth:`walk_candidates`), in traversal order, so that there is
+        no traversal (--variants knows them from the previous combination and
+        what USD recomposed since). ``reads``: as for :meth:`run_path`."""
+        trace = _Trace(reads)
+        findings, _ = self._lint(stage, file, trace, texts=texts, prims=prims)
+        name = file or real_path(stage.GetRootLayer())
+        return trace.run(FileResult(name, findings=tuple(findings)), "full", completed=True)
 
     def _lint_file(
-        self, path: str, inspect: Inspector[_T] | None, full_composition: bool = False
-    ) -> Inspected[_T]:
+        self, path: str, trace: _Trace, inspect: Inspector[_T] | None, full_composition: bool
+    ) -> LintRun[_T]:
         # Before USD reads the file: a corrupt crate's counts cost minutes and GBs,
         # a text layer nesting 100,000 levels overflows USD's parser.
         problem = crate_structure_problem(path) or nesting_problem(path)
         if problem is not None:
             raise CorruptValue(problem)
-        full = full_composition or self.full_composition
-        masked = None if full else self._open_partial(path)
-        if masked is not None and self._reads is not None:
-            # What the fast path read decided how the stage is composed.
-            self._reads.add_layers(masked.layers)
-            for anchor, asset_path in masked.missing:
-                self._reads.add_target(anchor, asset_path)
-        if masked is not None and masked.corrupt is not None:
-            raise CorruptValue(masked.corrupt)
-        if masked is not None and masked.stage is not None:
-            try:
-                findings, value = self._lint(masked.stage, path, masked=True, inspect=inspect)
-                return Inspected(FileResult(path, findings=tuple(findings)), value)
-            except FullStageRequired:
-                pass  # a rule reads the whole scene: compose all of it below
+        masked = None if full_composition or self.full_composition else self._open_partial(path)
+        if masked is not None:
+            run = self._lint_masked(path, masked, trace, inspect)
+            if run is not None:
+                return run
         opened = open_stage(path)
         if opened.stage is None:
-            if self._reads is not None:
-                self._reads.complete = False
-            failures = tuple(self._open_failure_findings(path, opened))
-            return Inspected(FileResult(path, findings=failures))
+            return trace.run(
+                FileResult(path, findings=tuple(self._open_failure_findings(path, opened)))
+            )
         checked = masked.checked if masked is not None else frozenset()
+        self._refuse_corrupt_crates(opened.stage, checked, full_composition)
+        # The engine's own stage: the walk may ask USD for the typed prims (typed_prims.py).
+        findings, value = self._lint(opened.stage, path, trace, inspect=inspect, own_stage=True)
+        return trace.run(FileResult(path, findings=tuple(findings)), "full", True, value)
+
+    def _lint_masked(
+        self,
+        path: str,
+        masked: partial.PartialStage,
+        trace: _Trace,
+        inspect: Inspector[_T] | None,
+    ) -> LintRun[_T] | None:
+        """The lint of the fast path's stage; None when the whole stage must
+        be composed (there is none, or a rule reads the whole scene)."""
+        if trace.reads is not None:
+            # What the fast path read decided how the stage is composed.
+            trace.reads.add_layers(masked.layers)
+            for anchor, asset_path in masked.missing:
+                trace.reads.add_target(anchor, asset_path)
+        if masked.corrupt is not None:
+            raise CorruptValue(masked.corrupt)
+        if masked.stage is None:
+            return None
+        try:
+            findings, value = self._lint(masked.stage, path, trace, masked=True, inspect=inspect)
+        except FullStageRequired:
+            # The whole stage is linted next: nothing recorded so far stays.
+            trace.fixes.clear()
+            trace.origins.clear()
+            return None
+        return trace.run(FileResult(path, findings=tuple(findings)), "partial", True, value)
+
+    def _refuse_corrupt_crates(
+        self, stage: Usd.Stage, checked: frozenset[str], full_composition: bool
+    ) -> None:
+        """Raise CorruptValue for a used crate layer holding a spec USD cannot
+        read (reading it crashes: no rule runs on such a file). ``checked``:
+        the layers the fast path already checked."""
         guarded = full_composition or not _crashes_contained  # the retry, or no worker
-        for layer in opened.stage.GetUsedLayers() if guarded else ():
-            # Reading a spec USD cannot read crashes: no rule runs on such a file.
+        for layer in stage.GetUsedLayers() if guarded else ():
             problem = None if layer_identifier(layer) in checked else partial.crate_problem(layer)
             if problem is not None:
                 raise CorruptValue(problem)
-        # The engine's own stage: the walk may ask USD for the typed prims (typed_prims.py).
-        findings, value = self._lint(opened.stage, path, inspect=inspect, own_stage=True)
-        return Inspected(FileResult(path, findings=tuple(findings)), value)
-
-    def lint_stage(
-        self, stage: Usd.Stage, file: str | None = None, *, texts: Mapping[str, str] | None = None
-    ) -> list[Finding]:
-        """Lint an open stage; ``file`` names it in findings (default: root layer).
-        ``texts``: the text of layers with unsaved edits (an editor's), by real
-        path, where their findings' lines are found instead of in their files."""
-        return self._lint(stage, file, texts=texts)[0]
-
-    def lint_walked_stage(
-        self,
-        stage: Usd.Stage,
-        file: str | None,
-        prims: Sequence[Usd.Prim],
-        *,
-        texts: Mapping[str, str] | None = None,
-    ) -> list[Finding]:
-        """Like :meth:`lint_stage`, with no traversal: ``prims`` are the usable
-        prims the walk would keep (:meth:`walk_candidates`), in traversal order
-        (--variants knows them from the previous combination and what USD
-        recomposed since)."""
-        return self._lint(stage, file, texts=texts, prims=prims)[0]
 
     def walk_candidates(
         self, stage: Usd.Stage, prims: Iterable[Usd.Prim] | None = None, own_stage: bool = False
@@ -327,29 +390,6 @@ class Linter:
             return [p for p in prims if wants(p.GetTypeName()) or has(p)]
         return [p for p in prims if wants(p.GetTypeName())]
 
-    def lint_stage_with_fixes(
-        self, stage: Usd.Stage, file: str | None = None
-    ) -> list[tuple[Finding, Fix | None]]:
-        """Like :meth:`lint_stage`, each finding paired with the rule's Fix (for the fixer)."""
-        self._fixes = {}
-        try:
-            findings = self._lint(stage, file)[0]
-            return [(finding, self._fixes.get(finding)) for finding in findings]
-        finally:
-            self._fixes = None
-
-    def lint_stage_traced(self, stage: Usd.Stage, file: str | None = None) -> list[TracedFinding]:
-        """Like :meth:`lint_stage_with_fixes`, each finding also naming the rule
-        and the prim (for ``check_prim``) that produced it (UsdValidation adaptor)."""
-        self._origins = {}
-        try:
-            return [
-                TracedFinding(finding, fix, *self._origins.get(finding, (finding.code, None)))
-                for finding, fix in self.lint_stage_with_fixes(stage, file)
-            ]
-        finally:
-            self._origins = None
-
     def _open_partial(self, path: str) -> partial.PartialStage | None:
         try:
             return partial.open_partial(path, self._dispatch.wants)
@@ -362,6 +402,7 @@ class Linter:
         self,
         stage: Usd.Stage,
         file: str | None,
+        trace: _Trace,
         masked: bool = False,
         inspect: Inspector[_T] | None = None,
         own_stage: bool = False,
@@ -391,19 +432,19 @@ class Linter:
                 present = self._decide_profiles(ctx)
                 for rule in self._stage_rules:
                     if rule.profile is None or rule.profile in present:
-                        findings.extend(run(rule, ctx, rule.check_stage, ctx))
+                        findings.extend(run(rule, ctx, trace, rule.check_stage, ctx))
                 for prim, rules in work:
                     for rule in rules:
                         if rule.profile is None or rule.profile in present:
-                            findings.extend(run(rule, ctx, rule.check_prim, prim, ctx))
-                findings = self._apply_data_suppressions(ctx, findings, suppressing)
+                            findings.extend(run(rule, ctx, trace, rule.check_prim, prim, ctx))
+                findings = self._apply_data_suppressions(ctx, trace, findings, suppressing)
                 findings = sorted(set(findings), key=Finding.sort_key)
                 if inspect is not None:
                     value = inspect(ctx, findings)
             finally:
                 trap.Clear()
-        if self._reads is not None:
-            self._record(stage, ctx, masked)
+        if trace.reads is not None:
+            _record(trace.reads, stage, ctx, masked)
         return findings, value
 
     def _decide_profiles(self, ctx: Context) -> set[str]:
@@ -422,24 +463,8 @@ class Linter:
                 raise CorruptValue(corrupt) from exc
             raise
 
-    def _record(self, stage: Usd.Stage, ctx: Context, masked: bool) -> None:
-        reads = self._reads
-        assert reads is not None
-        used = stage.GetUsedLayers(includeClipLayers=True)
-        reads.add_layers(used)
-        reads.context = repr(stage.GetPathResolverContext())
-        for anchor, value in ctx.asset_dependencies:
-            reads.add_asset(anchor, value)
-        # A stage composed without errors resolved every arc it composed; with
-        # errors, its layers' arcs are listed to find the assets that are missing.
-        # (The fast path lists the arcs of every layer it reaches: PartialStage.missing.)
-        if not masked and ctx.composition_errors:
-            reads.add_arc_targets(used)
-        if layer_words.layers_may_hold(used, "clips"):
-            reads.add_clips(stage)
-
     def _apply_data_suppressions(
-        self, ctx: Context, findings: list[Finding], suppressing: list[Usd.Prim]
+        self, ctx: Context, trace: _Trace, findings: list[Finding], suppressing: list[Usd.Prim]
     ) -> list[Finding]:
         """Drop findings silenced in customData; report unused suppressions."""
         kept, unused = suppress.apply_data_suppressions(
@@ -447,7 +472,7 @@ class Linter:
         )
         for rule in self.rules:
             if rule.code == suppress.UNUSED_SUPPRESSION_CODE:
-                made = (self._finding(rule, diagnostic, ctx) for diagnostic in unused)
+                made = (self._finding(rule, diagnostic, ctx, trace) for diagnostic in unused)
                 kept.extend(f for f in made if f is not None)
         return kept
 
@@ -486,22 +511,22 @@ class Linter:
                 ctx.unknown_type_prims.append(prim)
         return work, suppressing
 
-    def _run(self, rule: Rule, ctx: Context, hook, *args) -> list[Finding]:
+    def _run(self, rule: Rule, ctx: Context, trace: _Trace, hook, *args) -> list[Finding]:
         findings = []
         try:
             # A plain loop: 400 hook calls a shot on a CI gate, most yielding nothing.
             for diagnostic in hook(*args) or ():
-                finding = self._finding(rule, diagnostic, ctx)
+                finding = self._finding(rule, diagnostic, ctx, trace)
                 if finding is not None:
                     findings.append(finding)
         except (FullStageRequired, UnicodeDecodeError):
             raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
         except Exception as exc:
             findings = [self._rule_error(rule, ctx, exc, args[0])]
-        if self._origins is not None:
+        if findings:  # recorded always: a finding is rare next to a hook call
             prim = args[0].GetPath() if isinstance(args[0], Usd.Prim) else None
             for finding in findings:
-                self._origins.setdefault(finding, (rule.code, prim))
+                trace.origins.setdefault(finding, (rule.code, prim))
         return findings
 
     def _rule_error(
@@ -538,7 +563,9 @@ class Linter:
     def _severity(self, code: str, default: Severity) -> Severity:
         return self.severities.get(code, default)
 
-    def _finding(self, rule: Rule, diagnostic: Diagnostic, ctx: Context) -> Finding | None:
+    def _finding(
+        self, rule: Rule, diagnostic: Diagnostic, ctx: Context, trace: _Trace
+    ) -> Finding | None:
         """The finding of a diagnostic, judged under its configuration's
         profile (None when that profile switches the rule off there)."""
         severity, profile, reason = rule.severity, None, None
@@ -559,8 +586,8 @@ class Linter:
             profile=profile,
             profile_reason=reason,
         )
-        if self._fixes is not None and diagnostic.fix is not None:
-            self._fixes.setdefault(finding, diagnostic.fix)
+        if diagnostic.fix is not None:
+            trace.fixes.setdefault(finding, diagnostic.fix)
         return finding
 
     def _open_failure_findings(self, path: str, opened: StageOpenResult) -> Iterable[Finding]:
@@ -577,6 +604,42 @@ class Linter:
                 _without_position(line),
                 _error_location(path, line),
             )
+
+
+def _record(reads: Reads, stage: Usd.Stage, ctx: Context, masked: bool) -> None:
+    """What the lint of ``stage`` read, into ``reads``."""
+    used = stage.GetUsedLayers(includeClipLayers=True)
+    reads.add_layers(used)
+    reads.context = repr(stage.GetPathResolverContext())
+    for anchor, value in ctx.asset_dependencies:
+        reads.add_asset(anchor, value)
+    # A stage composed without errors resolved every arc it composed; with
+    # errors, its layers' arcs are listed to find the assets that are missing.
+    # (The fast path lists the arcs of every layer it reaches: PartialStage.missing.)
+    if not masked and ctx.composition_errors:
+        reads.add_arc_targets(used)
+    if layer_words.layers_may_hold(used, "clips"):
+        reads.add_clips(stage)
+
+
+def _corrupt_file_message(exc: Exception, path: str) -> str:
+    """Why ``path`` cannot be checked, for an exception that shows it is
+    corrupt; re-raises any other."""
+    if isinstance(exc, UnicodeDecodeError):
+        # A corrupt crate can hold names that are not UTF-8: USD composes
+        # them, but every Python read of them raises.
+        byte = exc.object[exc.start : exc.start + 1].hex()
+        return (
+            f"the file holds a name or string that is not valid UTF-8 (byte 0x{byte}); "
+            "USD reads it, but nothing in it can be checked: the file is probably corrupt"
+        )
+    if isinstance(exc, CorruptValue):
+        return str(exc)
+    # A Tf.ErrorException outside a rule (the walk, suppressions, locating a finding).
+    found = corruption(exc, path) if isinstance(exc, Tf.ErrorException) else None
+    if found is None:
+        raise exc
+    return found
 
 
 def _without_position(message: str) -> str:

@@ -29,13 +29,14 @@ from typing import Any
 
 from pxr import Sdf, Tf, Usd
 
-from ..api import Rule
+from ..api import Fix
 from ..layers.crate import crate_structure_problem
-from ..layers.files import unreadable_reason
+from ..layers.files import real_path, unreadable_reason
 from ..layers.nesting import nesting_problem
 from ..model import FileResult, Finding
 from ..records import record
-from .linter import RENDER_SCHEMAS, Linter
+from .assets import Reads
+from .linter import RENDER_SCHEMAS, Linter, LintRun
 from .locate import locate
 from .stage import open_stage
 from .typed_prims import traversal_key
@@ -175,73 +176,82 @@ class VariantExplorer:
         self.max_combinations = max_combinations
 
     @property
-    def rules(self) -> tuple[Rule, ...]:
-        return self.linter.rules
-
-    @property
     def raise_errors(self) -> bool:
         return self.linter.raise_errors
 
-    def recording_reads(self):
-        """The wrapped linter's :meth:`Linter.recording_reads` (every combination's reads)."""
-        return self.linter.recording_reads()
-
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
+        """Lint ``path`` under each combination (:meth:`run_path`'s result)."""
+        return self.run_path(path, full_composition=full_composition).result
+
+    def run_path(
+        self, path: str, *, full_composition: bool = False, reads: bool = False
+    ) -> LintRun[Any]:
         """Lint ``path`` under each combination; the stage is always composed
-        whole (``full_composition`` is accepted, as by Linter.lint_path). The
-        result's notes say how many combinations the cap skipped."""
+        whole (``full_composition`` is accepted, as by Linter.run_path). The
+        result's notes say how many combinations the cap skipped; ``reads``
+        records what every combination's lint read."""
         if unreadable_reason(path) or crate_structure_problem(path) or nesting_problem(path):
-            return self.linter.lint_path(path)  # it reports what is wrong
+            return self.linter.run_path(path, reads=reads)  # it reports what is wrong
         opened = open_stage(path)
         if opened.stage is None:
-            return self.linter.lint_path(path)
-        notes: list[str] = []
-        findings = self._lint_stage(opened.stage, path, notes, own_stage=True)
-        return FileResult(path, findings=tuple(findings), notes=tuple(notes))
+            return self.linter.run_path(path, reads=reads)
+        return self._run_stage(opened.stage, path, own_stage=True, reads=reads)
 
     def lint_stage(
-        self,
-        stage: Usd.Stage,
-        file: str | None = None,
-        notes: list[str] | None = None,
-        *,
-        texts: Mapping[str, str] | None = None,
+        self, stage: Usd.Stage, file: str | None = None, *, texts: Mapping[str, str] | None = None
     ) -> list[Finding]:
-        """Findings under every explored combination; the session layer is
-        left empty again. When the cap cut combinations, a line saying how
-        many is added to ``notes``. ``texts``: as for :meth:`Linter.lint_stage`."""
-        return self._lint_stage(stage, file, notes, texts=texts)
+        """The findings of :meth:`run_stage`."""
+        return list(self.run_stage(stage, file, texts=texts).findings)
 
-    def _lint_stage(
+    def run_stage(
+        self, stage: Usd.Stage, file: str | None = None, *, texts: Mapping[str, str] | None = None
+    ) -> LintRun[Any]:
+        """Findings under every explored combination; the session layer is
+        left empty again. When the cap cut combinations, the result has a
+        note saying how many. ``texts``: as for :meth:`Linter.run_stage`."""
+        return self._run_stage(stage, file, texts=texts)
+
+    def _run_stage(
         self,
         stage: Usd.Stage,
         file: str | None,
-        notes: list[str] | None,
         own_stage: bool = False,
         texts: Mapping[str, str] | None = None,
-    ) -> list[Finding]:
+        reads: bool = False,
+    ) -> LintRun[Any]:
         seen: dict[tuple, Finding] = {}
+        fixes: dict[Finding, Fix] = {}
+        origins: dict[Finding, tuple[str, Sdf.Path | None]] = {}
+        recorded = Reads() if reads else None
         linted = 0
+        lint = self.linter.run_stage
         with _Walk(self.linter, stage, own_stage) as walk:
             sets = render_variant_sets(stage, walk.prims())
             if not sets:
-                return self.linter.lint_walked_stage(stage, file, walk.prims(), texts=texts)
+                return lint(stage, file, texts=texts, prims=walk.prims(), reads=reads)
             try:
                 for combination in combinations(sets, self.max_combinations):
                     author_selection(stage, sets, combination)
                     selection = describe(sets, combination)
-                    prims = walk.prims()
-                    for finding in self.linter.lint_walked_stage(stage, file, prims, texts=texts):
+                    run = lint(stage, file, texts=texts, prims=walk.prims(), reads=reads)
+                    for finding in run.findings:
                         key = (finding.code, finding.location.path, finding.message)
                         if key not in seen:
-                            seen[key] = _annotated(stage, finding, selection)
+                            shown = seen[key] = _annotated(stage, finding, selection)
+                            origins[shown] = run.origin(finding)
+                            if finding in run.fixes:
+                                fixes[shown] = run.fixes[finding]
+                    if recorded is not None and run.reads is not None:
+                        recorded.merge(run.reads)
                     linted += 1
             finally:
                 stage.GetSessionLayer().Clear()
         total = combination_count(sets)
-        if notes is not None and linted < total:
-            notes.append(skipped_note(file or stage.GetRootLayer().identifier, linted, total))
-        return sorted(seen.values(), key=Finding.sort_key)
+        name = file or stage.GetRootLayer().identifier
+        notes = (skipped_note(name, linted, total),) if linted < total else ()
+        findings = tuple(sorted(seen.values(), key=Finding.sort_key))
+        result = FileResult(file or real_path(stage.GetRootLayer()), findings=findings, notes=notes)
+        return LintRun(result, fixes, origins, recorded, "full", completed=True)
 
 
 class _Walk:

@@ -264,22 +264,22 @@ class _Builder:
                 if not _matches(now.get(path, _absent(path)), state)
             }
             failing = {i for i, owned in enumerate(self.owned) if owned & wrong}
-            pairs = self.linter.lint_stage_with_fixes(self.stage, self.path)
-            remaining = self._still_found([finding for finding, _ in pairs])
+            findings = self.linter.run_stage(self.stage, self.path).findings
+            remaining = self._still_found(findings)
             blockable = self._blockable(todo, remaining)
             if blockable and not failing - self.dropped.keys():
                 self.blocked |= blockable
                 continue
             new = (failing | remaining) - self.dropped.keys()
             if not new:
-                self.findings = [finding for finding, _ in pairs]
+                self.findings = list(findings)
                 self._report(todo)
                 return
             for i in new:
                 self.dropped[i] = self._reason(i, wrong)
         raise FixError("--fix-to: the overrides did not settle")  # pragma: no cover
 
-    def _still_found(self, findings: list[Finding]) -> set[int]:
+    def _still_found(self, findings: Sequence[Finding]) -> set[int]:
         """The kept fixes whose finding the overlay leaves and --fix does not: on a
         fix's object, its fault."""
         extra = Counter(_finding_key(f) for f in findings) - self.fixed_findings

@@ -28,7 +28,7 @@ from pxr import Sdf, Tf, Usd
 
 from .. import debug
 from ..api import Fix
-from ..engine import Linter, open_stage
+from ..engine import Linter, LintRun, open_stage
 from ..layers.files import layer_identifier, layer_real_path
 from ..layers.writing import ChangedOnDisk, save_layer, save_text
 from ..model import AppliedFix, FileResult, Finding
@@ -189,23 +189,24 @@ class StageFixer:
         """Fix until no fix is left to try: a round tries the fixes of objects
         that do not overlap together (one commit, one lint to check them all);
         a round that fails, and each fix of it, goes one fix at a time."""
-        pairs = self.linter.lint_stage_with_fixes(self.stage, self.path)
+        run = self.linter.run_stage(self.stage, self.path)
         tried: set[tuple] = set()
         alone: set[tuple] = set()  # fixes that must be tried one at a time
         budget = None
         while True:
+            pairs = [(f, run.fix(f)) for f in run.findings]
             todo = [(f, x) for f, x in pairs if self._wanted(f, x) and _fix_key(f, x) not in tried]
             if budget is None:
                 budget = max(MIN_ATTEMPTS, MAX_ATTEMPTS_PER_FIX * len(todo))
             if not todo or budget <= 0:
-                return [finding for finding, _ in pairs]
+                return list(run.findings)
             batch = self._round(todo, alone)
             if len(batch) > 1:
                 after = self._together(batch)
                 if after is not None:
                     tried.update(_fix_key(f, x) for f, x, _ in batch)
                     budget -= len(batch)
-                    pairs = after
+                    run = after
                     continue
                 alone.update(_fix_key(f, x) for f, x, _ in batch)
             finding, fix, _ = batch[0]
@@ -213,9 +214,9 @@ class StageFixer:
             budget -= 1
             after = self._one(finding, fix)
             if after is not None:
-                pairs = after
+                run = after
 
-    def _one(self, finding: Finding, fix: Fix) -> list | None:
+    def _one(self, finding: Finding, fix: Fix) -> LintRun[None] | None:
         """Try one fix on its own and record its outcome; the lint after it, or
         None when it was not applied."""
         try:
@@ -246,7 +247,7 @@ class StageFixer:
                 break
         return batch
 
-    def _together(self, batch) -> list | None:
+    def _together(self, batch) -> LintRun[None] | None:
         """Apply ``batch`` and check it as one; the lint after it, or None when
         anything failed (then everything is undone)."""
         assert self.stage is not None and self.sources is not None
@@ -264,7 +265,7 @@ class StageFixer:
             if self.sources.commit(touched) is not None:
                 self.sources.back_to(checkpoint, touched)
                 return None
-            after = self.linter.lint_stage_with_fixes(self.stage, self.path)
+            after = self.linter.run_stage(self.stage, self.path)
         except Exception:  # noqa: BLE001 - tried again one at a time, where it is reported
             self.sources.back_to(checkpoint, touched)
             return None
@@ -305,7 +306,7 @@ class StageFixer:
             )
         return layer, self.sources.problem(layer)
 
-    def _alone(self, finding: Finding, fix: Fix) -> tuple[str | None, list | None]:
+    def _alone(self, finding: Finding, fix: Fix) -> tuple[str | None, LintRun[None] | None]:
         """Apply one fix and check it. Returns why it was not applied (None: it
         was) and, when it was, the lint of the stage after it."""
         assert self.stage is not None and self.sources is not None
@@ -320,7 +321,7 @@ class StageFixer:
             if failure is not None:
                 self.sources.back_to(checkpoint, touched)
                 return failure, None
-            after = self.linter.lint_stage_with_fixes(self.stage, self.path)
+            after = self.linter.run_stage(self.stage, self.path)
         except BaseException:
             self.sources.back_to(checkpoint, touched)
             raise
@@ -455,14 +456,15 @@ def _outcome(finding: Finding, fix: Fix, layer: str | None, reason: str | None) 
     )
 
 
-def _remains(finding: Finding, fix: Fix, pairs: list[tuple[Finding, Fix | None]]) -> bool:
+def _remains(finding: Finding, fix: Fix, after: LintRun[None]) -> bool:
     """Whether the lint after a fix still reports its finding: the same code on
     the same object with the same message, or the same fix offered again."""
-    for other, offered in pairs:
+    for other in after.findings:
         if other.code != finding.code or other.location.path != finding.location.path:
             continue
         if other.message == finding.message:
             return True
+        offered = after.fix(other)
         if offered is not None and offered.description == fix.description:
             return True
     return False

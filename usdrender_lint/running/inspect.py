@@ -2,10 +2,11 @@
 
 For a command that reads the stage ``check`` lints (``spec``): the same
 configuration and rules, discovery, worker processes with their time limit,
-and per-path ignores as a check run, with each file linted by
-:meth:`Linter.inspect_path`. A file the inspector cannot read (it does not
-exist, USD cannot open it, it timed out, the inspector raised
-``InspectionError``) is an error result with one line saying why.
+and per-path ignores as a check run, each file linted by
+:meth:`Linter.run_path` with the inspector (its LintRun's value). A file the
+inspector cannot read (it does not exist, USD cannot open it, it timed out,
+the inspector raised ``InspectionError``) is an error result with one line
+saying why.
 """
 
 from __future__ import annotations
@@ -79,10 +80,10 @@ class InspectingLinter:
         return self.linter.raise_errors
 
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
-        inspected = self.linter.inspect_path(path, self.inspect, full_composition=full_composition)
-        result = inspected.result
-        if inspected.value is not None:
-            return InspectedFile(result.file, findings=result.findings, value=inspected.value)
+        run = self.linter.run_path(path, full_composition=full_composition, inspect=self.inspect)
+        result = run.result
+        if run.value is not None:
+            return InspectedFile(result.file, findings=result.findings, value=run.value)
         if result.status == "linted":  # no stage: USD cannot open it, its ST001 says why
             why = _where(result.findings[0]) if result.findings else "USD cannot open it"
             return FileResult(path, status="error", error=f"{path}{why}")

@@ -67,6 +67,7 @@ from ..settings_table import not_in_cache_key, settings_key
 if TYPE_CHECKING:
     from ..engine import Linter
     from ..engine.assets import Reads
+    from ..engine.variants import VariantExplorer
 
 #: The default folder, at the project root (the config file's folder, else the
 #: working directory).
@@ -712,35 +713,27 @@ def _write(temporary: Path, data: bytes) -> None:
 
 class CachingLinter:
     """A linter (or variant explorer) whose results are stored in a cache as
-    they are linted; it has ``lint_path`` like the linter it wraps."""
+    they are linted, keyed on what each lint read (its LintRun's reads)."""
 
-    def __init__(self, linter: Any, cache: ResultCache) -> None:
+    def __init__(self, linter: Linter | VariantExplorer, cache: ResultCache) -> None:
         self.linter = linter
         self.cache = cache
 
     @property
-    def rules(self) -> Sequence[Any]:
-        return self.linter.rules
-
-    @property
     def raise_errors(self) -> bool:
-        return bool(getattr(self.linter, "raise_errors", False))
+        return self.linter.raise_errors
 
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
         started = time.time_ns()
         before = self.cache.state(os.path.abspath(path))
-        with self.linter.recording_reads() as reads:
-            result = (
-                self.linter.lint_path(path, full_composition=True)
-                if full_composition
-                else self.linter.lint_path(path)
-            )
+        run = self.linter.run_path(path, full_composition=full_composition, reads=True)
         try:
-            self.cache.store(path, result, reads, started, before)
+            if run.completed and run.reads is not None:
+                self.cache.store(path, run.result, run.reads, started, before)
         except Exception:  # noqa: BLE001 - a cache problem never costs a result
             if self.raise_errors:
                 raise
-        return result
+        return run.result
 
 
 __all__ = [

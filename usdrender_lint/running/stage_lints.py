@@ -52,7 +52,8 @@ class StageLints:
                 linter = self._linter_for(stage)
                 # The edit that invalidates comes from anywhere: USD tells us.
                 listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._forget, stage)
-                cached = _StageLint(linter.lint_stage_traced(stage, stage_file(stage)), listener)
+                traced = linter.run_stage(stage, stage_file(stage)).traced()
+                cached = _StageLint(traced, listener)
                 self._lints[stage] = cached
                 while len(self._lints) > MAX_CACHED_STAGES:
                     self._drop(next(iter(self._lints)))

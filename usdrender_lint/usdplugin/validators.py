@@ -3,10 +3,11 @@
 A validator does not run its rule alone: the rules share a per-stage Context
 (render configurations, memoised helpers) and the engine's customData
 suppressions, so the first validator called on a stage lints it once with
-every registered rule (:meth:`Linter.lint_stage_traced`), and each validator
-reports the findings its rule produced: a prim validator those of
-``check_prim`` on that prim, a stage validator those of ``check_stage`` and
-the engine's own (UL001). The cached lint is dropped when the stage changes.
+every registered rule (:meth:`Linter.run_stage`: its LintRun traces each
+finding to its rule and prim), and each validator reports the findings its
+rule produced: a prim validator those of ``check_prim`` on that prim, a stage
+validator those of ``check_stage`` and the engine's own (UL001). The cached
+lint is dropped when the stage changes.
 
 usd-core 26.11 turns an exception raised by a Python validator into an error
 that makes the whole ``ValidationContext.Validate`` call raise and lose every
