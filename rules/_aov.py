@@ -8,7 +8,7 @@ from typing import Any, Literal
 from pxr import Usd
 
 from usdrender_lint.api import Context, schemas
-from usdrender_lint.api.resolve import Target, composed_value, mismatched_spec, resolve_targets
+from usdrender_lint.api.resolve import Target, prim_values
 
 #: How a renderer names a RenderVar's channel (catalog, Ambiguous semantics 7):
 #: the schema says the prim name; hdPrman uses ``sourceName`` for non-LPE vars.
@@ -19,11 +19,7 @@ def ordered_var_targets(product: Usd.Prim, ctx: Context) -> tuple[Target, ...]:
     """The product's forwarded ``orderedVars`` targets, resolved once per lint:
     PR005 checks each and :func:`product_render_vars` keeps the usable vars."""
 
-    return ctx.cached(_ordered_var_targets, product)
-
-
-def _ordered_var_targets(ctx: Context, product: Usd.Prim) -> tuple[Target, ...]:
-    return tuple(resolve_targets(product.GetRelationship("orderedVars")))
+    return prim_values(product).targets("orderedVars")
 
 
 def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]:
@@ -46,14 +42,8 @@ def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
     not add a second one for the same mistake. Read once per lint: most VA
     rules and several PR rules read the same few RenderVar attributes."""
 
-    # Keyed by the prim handle: it hashes faster than GetPath() builds a path.
-    return ctx.cached(_checked_value, prim, name)
-
-
-def _checked_value(ctx: Context, prim: Usd.Prim, name: str) -> Any:
-    if mismatched_spec(prim.GetAttribute(name)) is not None:
-        return None
-    return composed_value(prim, name)
+    values = prim_values(prim)
+    return None if values.mismatched(name) is not None else values.composed(name)
 
 
 def channel_name(var: Usd.Prim, naming: AovNaming, ctx: Context) -> str:

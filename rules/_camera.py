@@ -13,8 +13,8 @@ from usdrender_lint.api.resolve import (
     RenderConfiguration,
     fallback_value,
     format_time,
-    has_authored_value,
     is_finite,
+    prim_values,
     rendered_times,
 )
 
@@ -83,15 +83,11 @@ _NOT_READ: Any = object()
 
 
 def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
-    # Decided once per attribute and lint, not per time sample or rule: the
-    # opinion stack is costly and several CA rules read the same attributes.
-    return ctx.cached(_read_attribute, prim, name)
-
-
-def _read_attribute(ctx: Context, prim: Usd.Prim, name: str) -> _Reader:
-    attr = prim.GetAttribute(name)
-    authored = has_authored_value(attr)
-    return attr, authored, _NOT_READ if authored else fallback_value(prim, name)
+    # Decided once per attribute and lint (PrimValues), not per time sample or
+    # rule: the opinion stack is costly and several CA rules read the same attributes.
+    values = prim_values(prim)
+    authored = values.has_value(name)
+    return values.attribute(name), authored, _NOT_READ if authored else values.fallback(name)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:

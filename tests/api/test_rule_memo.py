@@ -8,7 +8,6 @@ from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context
 from usdrender_lint.engine import Linter
-from usdrender_lint.rules import _aov, _camera
 from usdrender_lint.rules.stage._settings_path import settings_path_opinion
 from usdrender_lint.testing import all_rules
 
@@ -54,18 +53,25 @@ def stage() -> Usd.Stage:
     return Usd.Stage.Open(layer)
 
 
+def _record_attribute_calls(monkeypatch, method: str) -> list[str]:
+    """Patch ``Usd.Attribute.<method>`` to record the attribute path of each call."""
+    calls: list[str] = []
+    original = getattr(Usd.Attribute, method)
+
+    def recording(attr, *args):
+        calls.append(str(attr.GetPath()))
+        return original(attr, *args)
+
+    monkeypatch.setattr(Usd.Attribute, method, recording)
+    return calls
+
+
 def test_a_render_var_value_is_read_once_per_lint(stage, monkeypatch) -> None:
-    reads: list[tuple[str, str]] = []
-    composed = _aov.composed_value
-
-    def counting(prim, name, *args):
-        reads.append((str(prim.GetPath()), name))
-        return composed(prim, name, *args)
-
-    monkeypatch.setattr(_aov, "composed_value", counting)
+    reads = _record_attribute_calls(monkeypatch, "Get")
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
-    assert reads.count(("/Render/color", "sourceName")) == 1
-    assert reads.count(("/Render/color", "sourceType")) == 1
+    # PR006, VA001, VA002, VA003, VA008 and the profiles read them.
+    assert reads.count("/Render/color.sourceName") == 1
+    assert reads.count("/Render/color.sourceType") == 0  # unauthored: its fallback
 
 
 def test_a_changed_stage_is_read_again(stage) -> None:
@@ -79,21 +85,8 @@ def test_a_changed_stage_is_read_again(stage) -> None:
     assert ("PR006", "/Render/beauty.orderedVars") not in _codes(linter, stage)
 
 
-def _record_paths(monkeypatch, module, name: str) -> list[str]:
-    """Patch ``module.name`` to record the path of its first argument on each call."""
-    calls: list[str] = []
-    original = getattr(module, name)
-
-    def recording(first, *args):
-        calls.append(str(first.GetPath()))
-        return original(first, *args)
-
-    monkeypatch.setattr(module, name, recording)
-    return calls
-
-
 def test_a_camera_attribute_is_read_once_per_lint(stage, monkeypatch) -> None:
-    reads = _record_paths(monkeypatch, _camera, "has_authored_value")
+    reads = _record_attribute_calls(monkeypatch, "HasAuthoredValue")
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert reads.count("/cam.projection") == 1  # CA005 twice, CA009
     assert reads.count("/cam.horizontalAperture") == 1  # CA005, CA006
@@ -201,9 +194,16 @@ def test_a_changed_settings_path_is_read_again(stage) -> None:
 
 
 def test_ordered_vars_targets_are_resolved_once_per_lint(stage, monkeypatch) -> None:
-    resolved = _record_paths(monkeypatch, _aov, "resolve_targets")
+    resolved: list[str] = []
+    forwarded_targets = Usd.Relationship.GetForwardedTargets
+
+    def recording(rel):
+        resolved.append(str(rel.GetPath()))
+        return forwarded_targets(rel)
+
+    monkeypatch.setattr(Usd.Relationship, "GetForwardedTargets", recording)
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
-    assert resolved.count("/Render/beauty.orderedVars") == 1  # PR005 and the AOV helper
+    assert resolved.count("/Render/beauty.orderedVars") == 1  # PR005, PR006, VA008, profiles
 
 
 def test_a_changed_ordered_vars_target_is_resolved_again(stage) -> None:

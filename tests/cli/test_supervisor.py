@@ -221,27 +221,28 @@ def _parent(pid: int) -> int:
     return int(fields[1])
 
 
-def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
+def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> None:
     """The child says "started, may take N s" and "ended" over a pipe; past N s
     the supervisor kills it (the child arms no timer of its own)."""
     hung = subprocess.Popen(["sleep", "60"])
-    monkeypatch.setattr(supervisor, "_child", hung.pid)
     heard, says = os.pipe()
-    os.write(says, b"S0.3\n")
+    supervision = supervisor.Supervision(child=True, says=says)
+    supervision.lint_started(0.3)
     started = time.monotonic()
-    assert supervisor._time_the_child(heard) is True
+    assert supervisor._time_the_child(hung.pid, heard) is True
     assert hung.wait(10) == -signal.SIGKILL
     assert 0.3 <= time.monotonic() - started < 10
     os.close(says)
+    os.close(heard)
     # A lint that ended in time: the supervisor waits for the child's end, no kill.
     finished = subprocess.Popen(["sleep", "60"])
-    monkeypatch.setattr(supervisor, "_child", finished.pid)
     heard, says = os.pipe()
-    os.write(says, b"S0.3\nE\n")
+    supervision = supervisor.Supervision(child=True, says=says)
+    supervision.lint_started(0.3)
+    supervision.lint_ended()
     os.close(says)
-    assert supervisor._time_the_child(heard) is False
+    assert supervisor._time_the_child(finished.pid, heard) is False
     assert finished.poll() is None
     finished.kill()
     finished.wait(10)
+    os.close(heard)

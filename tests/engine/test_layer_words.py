@@ -13,6 +13,7 @@ from pxr import Sdf, Tf, Vt
 
 from usdrender_lint.engine import Linter, layer_words, suppress
 from usdrender_lint.engine.layer_words import WORDS, may_hold, without_external_arcs
+from usdrender_lint.layers.crate import lz4_block
 from usdrender_lint.testing import all_rules
 
 
@@ -160,9 +161,9 @@ def test_an_edited_file_is_read_again(tmp_path: Path) -> None:
 def test_lz4_matches_that_overlap_what_they_write_repeat_their_period() -> None:
     # Literal "ab", then a match of length 6 at offset 2: "ababab" follows.
     block = bytes([0x22]) + b"ab" + struct.pack("<H", 2) + bytes([0x10]) + b"!"
-    assert layer_words._lz4_block(block, 0, len(block), 64) == b"abababab!"
-    assert layer_words._lz4_block(block, 0, len(block), 4) is None  # past the declared size
-    assert layer_words._lz4_block(bytes([0x20]) + b"ab" + b"\x00\x00", 0, 5, 64) is None
+    assert lz4_block(block, 0, len(block), 64) == b"abababab!"
+    assert lz4_block(block, 0, len(block), 4) is None  # past the declared size
+    assert lz4_block(bytes([0x20]) + b"ab" + b"\x00\x00", 0, 5, 64) is None
 
 
 SUPPRESSED = """#usda 1.0

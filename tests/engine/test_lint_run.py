@@ -11,6 +11,7 @@ from pxr import Sdf, Usd
 
 from usdrender_lint.engine import Linter
 from usdrender_lint.engine.variants import VariantExplorer
+from usdrender_lint.running import result_cache
 from usdrender_lint.testing import all_rules
 
 RULES = Path(__file__).parents[1] / "rules"
@@ -188,3 +189,32 @@ def test_the_variant_explorer_gives_one_value_for_every_combination(tmp_path: Pa
     se003 = [f for f in run.findings if f.code == "SE003"]
     assert se003 and "[variant selection: /Render{quality=high}]" in se003[0].message
     assert run.fix(se003[0]) is not None  # the annotated finding keeps its Fix
+
+
+def test_one_run_answers_the_check_the_cache_and_the_fixer_on_corpus_files(
+    shared_dir: Path,
+) -> None:
+    files = sorted((shared_dir / "corpus" / "files").rglob("*.usd*"))
+    render = [p for p in files if p.suffix != ".usdz" and b"Render" in p.read_bytes()]
+    assert len(render) > 20, len(render)
+    linter = Linter(all_rules())
+    fixed = 0
+    for path in render:
+        run = linter.run_path(str(path), reads=True)
+        assert run.result == linter.lint_path(str(path)), path  # what check reports
+        for finding in run.findings:  # what the fixer applies: the Fix each FixInfo names
+            fix = run.fix(finding)
+            assert (fix is None) == (finding.fix is None), (path, finding)
+            if fix is not None and finding.fix is not None:
+                assert (fix.description, fix.safe) == (finding.fix.description, finding.fix.safe)
+                fixed += 1
+        if not run.completed:
+            continue
+        # What the cache keys the result on covers every layer the stage uses.
+        assert run.reads is not None
+        found = result_cache.dependencies(run.reads, str(path))
+        if found is not None:
+            stage = Usd.Stage.Open(str(path))
+            used = {x.realPath for x in stage.GetUsedLayers() if not x.anonymous and x.realPath}
+            assert used <= {str(path), *found.files}, path
+    assert fixed > 10, fixed

@@ -84,8 +84,8 @@ def _shot_crate(folder: Path) -> bytes:
 def test_corrupt_crates_in_one_run_are_st001_and_the_others_are_linted(
     tmp_path: Path, full: bool, where: list[str]
 ) -> None:
-    """In workers the crate walk before the rules is left to the retry after a
-    crash (engine.linter.contain_crashes): the same report either way."""
+    """In-process and in workers alike, without a crash: the spec types are
+    read from the crate's bytes before any rule reads a property stack."""
     data = _shot_crate(tmp_path)
     if Usd.GetVersion() != (0, 26, 11):
         pytest.skip("another usd-core writes another crate layout; the bytes are elsewhere")
@@ -148,27 +148,66 @@ def test_an_unexpected_engine_failure_is_one_line() -> None:
     )
 
 
-@pytest.mark.parametrize("contained", [False, True], ids=["own-process", "worker"])
-def test_a_worker_leaves_the_crate_walk_to_the_retry(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, contained: bool
+@pytest.mark.parametrize("retry", [False, True], ids=["first-lint", "retry"])
+def test_only_the_retry_after_a_crash_walks_a_crates_specs(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, retry: bool
 ) -> None:
-    """Where a crash costs only the file (a worker), a healthy crate is not
-    walked before the rules; the retry after a crash (full_composition) walks it."""
+    """On every path a crate's spec types are read from its bytes before the
+    rules run (layers/crate.py); walking every spec through Sdf costs about
+    as much as opening the layer, and is left to the retry after a crash
+    (full_composition), which may meet what the types do not show."""
     from usdrender_lint.engine import linter as engine_linter
     from usdrender_lint.engine import partial
     from usdrender_lint.registry import build_registry
 
     walked: list[str] = []
-    real = partial.crate_problem
-    monkeypatch.setattr(engine_linter, "_crashes_contained", contained)
+    real = partial._Specs.check
     monkeypatch.setattr(
-        partial, "crate_problem", lambda layer: walked.append(layer.identifier) or real(layer)
+        partial._Specs,
+        "check",
+        lambda specs, layer: walked.append(layer.identifier) or real(specs, layer),
     )
     path = tmp_path / "shot.usdc"
     path.write_bytes(_shot_crate(tmp_path))
     linter = engine_linter.Linter([rule() for rule in build_registry().rules])
-    linter.lint_path(str(path))
-    assert bool(walked) is not contained
-    walked.clear()
-    linter.lint_path(str(path), full_composition=True)
-    assert walked
+    assert linter.lint_path(str(path), full_composition=retry).status == "linted"
+    assert bool(walked) is retry
+
+
+CORRUPT = 2985  # of FLIPS: a spec of no valid type
+
+
+@pytest.mark.parametrize("how", ["supervised", "python-api", "in-process-retry"])
+def test_a_spec_of_no_valid_type_is_st001_on_every_path(tmp_path: Path, how: str) -> None:
+    """The lone file of a supervised command, the Python API (linting in the
+    caller's process) and the pool's retry fully composed: the same finding,
+    no crash (in-process and the pool: the test above)."""
+    data = bytearray(_shot_crate(tmp_path))
+    if Usd.GetVersion() != (0, 26, 11) or len(data) != SHOT_CRATE_SIZE:
+        pytest.skip("another usd-core writes another crate layout; the bytes are elsewhere")
+    data[CORRUPT] ^= 0xFF
+    name = f"flip{CORRUPT}.usdc"
+    (tmp_path / name).write_bytes(data)
+    if how == "supervised":
+        result = lint(tmp_path, "--format", "json", name)
+        assert (result.returncode, result.stderr) == (1, "")
+        findings = json.loads(result.stdout)["files"][0]["findings"]
+        found = [(f["code"], f["message"]) for f in findings]
+    else:
+        script = (
+            "import sys, usdrender_lint\n"
+            "print(usdrender_lint.lint_file(sys.argv[1]).files[0].findings[0].message)"
+            if how == "python-api"
+            else "import sys\n"
+            "from usdrender_lint.engine import Linter\n"
+            "from usdrender_lint.testing import all_rules\n"
+            "result = Linter(all_rules()).lint_path(sys.argv[1], full_composition=True)\n"
+            "print(result.findings[0].message)"
+        )
+        ran = subprocess.run(
+            [sys.executable, "-c", script, name],
+            capture_output=True, text=True, cwd=tmp_path, timeout=300,
+        )  # fmt: skip
+        assert (ran.returncode, ran.stderr) == (0, "")
+        found = [("ST001", ran.stdout.strip())]
+    assert found == [("ST001", FLIPS[CORRUPT])]

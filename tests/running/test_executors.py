@@ -23,7 +23,7 @@ FACTORY = LinterSpec(Settings())
     [
         (3, 1, None, None, workers.InProcess),  # --jobs 1 --timeout 0, the Python API
         (1, 1, None, CHILD, workers.InProcess),
-        (1, 4, 60.0, CHILD, workers.SupervisedChild),  # the lone file of a check
+        (1, 4, 60.0, CHILD, workers.InProcess),  # the lone file of a check: timed by the supervisor
         (2, 4, 60.0, CHILD, workers.Pool),  # more files: a pool, even in the child
         (1, 4, 60.0, None, workers.Pool),  # not supervised: a worker bounds the file
         (5, 2, None, None, workers.Pool),
@@ -42,11 +42,12 @@ def test_the_executor_is_chosen_once_from_the_run(count, jobs, timeout, supervis
     )
     assert type(chosen) is kind
     if isinstance(chosen, workers.InProcess):
-        assert chosen.guarded == (supervision is CHILD)
+        assert chosen.supervision is (CHILD if supervision is CHILD else None)
+        assert chosen.timeout == timeout
 
 
 def test_after_a_time_out_the_file_is_its_error_without_a_second_lint() -> None:
-    executor = workers.AfterSupervisedChild("timeout", FACTORY, 3.0)
+    executor = workers.AfterSupervisedChild("timeout", workers.Pool(FACTORY, 1, 3.0))
     [result] = executor.run(["/no/such/shot.usda"], lambda: None)
     assert result.status == "error"
     assert (

@@ -19,7 +19,7 @@ from pxr import Gf, Sdf, Tf, Usd
 
 from ..records import record
 from . import schemas
-from .cache import cached
+from .cache import active_cache, cached
 
 if TYPE_CHECKING:
     from pxr import UsdGeom
@@ -182,19 +182,8 @@ def typed_target_problem(target: Target, schema: type, expected: str) -> str | N
 # -- values -----------------------------------------------------------------
 
 
-@cached
-def _prim_definition(prim: Usd.Prim) -> Usd.PrimDefinition:
-    return prim.GetPrimDefinition()
-
-
 #: What a prim definition is built from: schema type name and applied API schemas.
 _DefinitionKey = tuple[str, tuple[str, ...]]
-
-
-@cached
-def _definition_key(prim: Usd.Prim) -> _DefinitionKey:
-    info = prim.GetPrimTypeInfo()
-    return info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas())
 
 
 @record(frozen=True)
@@ -212,23 +201,17 @@ class _SchemaAttribute:
 _SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], _SchemaAttribute] = {}
 
 
-def _schema_attribute(prim: Usd.Prim, name: str) -> _SchemaAttribute:
-    key = (_definition_key(prim), name)
-    found = _SCHEMA_ATTRIBUTES.get(key)
-    if found is None:
-        definition = _prim_definition(prim).GetAttributeDefinition(name)
-        if definition:
-            tokens = definition.GetMetadata("allowedTokens") or ()
-            found = _SchemaAttribute(definition.GetTypeName(), tuple(str(t) for t in tokens))
-        else:
-            found = _SchemaAttribute(None, ())
-        _SCHEMA_ATTRIBUTES[key] = found
-    return found
+def _declared_attribute(definition: Usd.PrimDefinition, name: str) -> _SchemaAttribute:
+    attribute = definition.GetAttributeDefinition(name)
+    if not attribute:
+        return _SchemaAttribute(None, ())
+    tokens = attribute.GetMetadata("allowedTokens") or ()
+    return _SchemaAttribute(attribute.GetTypeName(), tuple(str(t) for t in tokens))
 
 
 @cached
 def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
-    return _schema_attribute(attr.GetPrim(), attr.GetName()).type_name
+    return prim_values(attr.GetPrim()).schema_attribute(attr.GetName()).type_name
 
 
 @cached
@@ -292,7 +275,7 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
     """The schema's ``allowedTokens`` for an attribute, read from the prim
     definition at run time; empty when the schema declares none."""
-    return _schema_attribute(prim, name).allowed_tokens
+    return prim_values(prim).schema_attribute(name).allowed_tokens
 
 
 @cached
@@ -331,7 +314,7 @@ def _path_in_samples(spec: Sdf.AttributeSpec) -> bool:
 
 
 def fallback_value(prim: Usd.Prim, name: str) -> Any:
-    return _prim_definition(prim).GetAttributeFallbackValue(name)
+    return prim_values(prim).fallback(name)
 
 
 def authored_value(attr: Usd.Attribute | None, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
@@ -355,11 +338,163 @@ def _authored_default(attr: Usd.Attribute | None) -> Any:
 
 def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME) -> Any:
     """The value a consumer reads (at Default unless ``time`` says otherwise):
-    authored (well-typed) or fallback."""
+    authored (well-typed) or fallback. At Default it is read once per lint
+    (:class:`PrimValues`); treat it as read-only."""
+    if time is DEFAULT_TIME or time.IsDefault():
+        return prim_values(prim).composed(name)
     attr = prim.GetAttribute(name)
     if has_authored_value(attr):
         return attr.Get(time)
     return fallback_value(prim, name)
+
+
+class PrimValues:
+    """What the rules read of one prim, by property name, each read once per
+    lint and shared by every rule and helper: its attributes' authored and
+    composed values at Default, their type mismatches, its relationships'
+    targets. Get it with :func:`prim_values`; treat its values as read-only.
+
+    Its memo is keyed by names, not by USD objects: hashing a ``Usd.Attribute``
+    (a fresh handle at every ``GetAttribute``) and comparing it on a hit cost
+    two binding calls, more than most answers save (a CI-gate shot made 2,000
+    such calls). The answers are those of :func:`has_authored_value`,
+    :func:`authored_value`, :func:`composed_value`, :func:`mismatched_spec`,
+    :func:`forwarded_targets` and :func:`resolve_targets` (the same code).
+    """
+
+    __slots__ = (
+        "prim",
+        "_attrs",
+        "_rels",
+        "_has",
+        "_authored",
+        "_composed",
+        "_fallbacks",
+        "_mismatched",
+        "_forwarded",
+        "_targets",
+        "_definition",
+        "_key",
+    )
+
+    def __init__(self, prim: Usd.Prim) -> None:
+        self.prim = prim
+        self._attrs: dict[str, Usd.Attribute] = {}
+        self._rels: dict[str, Usd.Relationship] = {}
+        self._has: dict[str, bool] = {}
+        self._authored: dict[str, Any] = {}
+        self._composed: dict[str, Any] = {}
+        self._fallbacks: dict[str, Any] = {}
+        self._mismatched: dict[str, Sdf.AttributeSpec | None] = {}
+        self._forwarded: dict[str, tuple[Sdf.Path, ...]] = {}
+        self._targets: dict[str, tuple[Target, ...]] = {}
+        self._definition: Usd.PrimDefinition | None = None
+        self._key: _DefinitionKey | None = None
+
+    def attribute(self, name: str) -> Usd.Attribute:
+        """``prim.GetAttribute(name)``, one handle per name."""
+        attr = self._attrs.get(name)
+        if attr is None:
+            attr = self._attrs[name] = self.prim.GetAttribute(name)
+        return attr
+
+    def relationship(self, name: str) -> Usd.Relationship:
+        """``prim.GetRelationship(name)``, one handle per name."""
+        rel = self._rels.get(name)
+        if rel is None:
+            rel = self._rels[name] = self.prim.GetRelationship(name)
+        return rel
+
+    def has_value(self, name: str) -> bool:
+        """:func:`has_authored_value` of the named attribute."""
+        found = self._has.get(name)
+        if found is None:
+            found = self._has[name] = has_authored_value(self.attribute(name))
+        return found
+
+    def authored(self, name: str) -> Any:
+        """:func:`authored_value` of the named attribute at Default."""
+        value = self._authored.get(name, _UNREAD)
+        if value is _UNREAD:
+            value = self.attribute(name).Get() if self.has_value(name) else None
+            self._authored[name] = value
+        return value
+
+    def fallback(self, name: str) -> Any:
+        """The schema's fallback for the named attribute (None when it has none)."""
+        value = self._fallbacks.get(name, _UNREAD)
+        if value is _UNREAD:
+            value = self._fallbacks[name] = self.definition.GetAttributeFallbackValue(name)
+        return value
+
+    def composed(self, name: str) -> Any:
+        """:func:`composed_value` of the named attribute at Default."""
+        value = self._composed.get(name, _UNREAD)
+        if value is _UNREAD:
+            value = self.authored(name) if self.has_value(name) else self.fallback(name)
+            self._composed[name] = value
+        return value
+
+    def mismatched(self, name: str) -> Sdf.AttributeSpec | None:
+        """:func:`mismatched_spec` of the named attribute."""
+        spec = self._mismatched.get(name, _UNREAD)
+        if spec is _UNREAD:
+            spec = self._mismatched[name] = mismatched_spec(self.attribute(name))
+        return spec
+
+    def forwarded(self, name: str) -> tuple[Sdf.Path, ...]:
+        """:func:`forwarded_targets` of the named relationship."""
+        paths = self._forwarded.get(name)
+        if paths is None:
+            paths = self._forwarded[name] = _composed_targets((self.relationship(name), True))
+        return paths
+
+    def targets(self, name: str) -> tuple[Target, ...]:
+        """:func:`resolve_targets` of the named relationship."""
+        found = self._targets.get(name)
+        if found is None:
+            found = self._targets[name] = _resolved_targets(self.relationship(name))
+        return found
+
+    @property
+    def definition(self) -> Usd.PrimDefinition:
+        definition = self._definition
+        if definition is None:
+            definition = self._definition = self.prim.GetPrimDefinition()
+        return definition
+
+    def schema_attribute(self, name: str) -> _SchemaAttribute:
+        """What the prim's definition declares for the attribute ``name``."""
+        key = self._key
+        if key is None:
+            info = self.prim.GetPrimTypeInfo()
+            key = self._key = (info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas()))
+        found = _SCHEMA_ATTRIBUTES.get((key, name))
+        if found is None:
+            found = _SCHEMA_ATTRIBUTES[(key, name)] = _declared_attribute(self.definition, name)
+        return found
+
+
+_UNREAD: Any = object()
+
+
+def prim_values(prim: Usd.Prim) -> PrimValues:
+    """The prim's :class:`PrimValues` of the running lint (a new one outside a lint)."""
+    cache = active_cache()
+    if cache is None:
+        return PrimValues(prim)
+    answers = cache._answers
+    # The engine hands every rule the same prim handles: found by identity,
+    # the entry keeping the handle alive so that its id is not reused.
+    entry = answers.get((PrimValues, (id(prim),)))
+    if entry is not None and entry[0] is prim:
+        return entry[1]
+    # Another handle of a prim seen before (a relationship target) shares its values.
+    values = answers.get((PrimValues, (prim,)))
+    if values is None:
+        values = answers[(PrimValues, (prim,))] = PrimValues(prim)
+    answers[(PrimValues, (id(prim),))] = (prim, values)
+    return values
 
 
 def items(value: Any) -> list[Any]:
@@ -516,32 +651,32 @@ class RenderConfiguration:
         otherwise the settings' composed value, authored or fallback (the
         product's fallback for a product rendered on its own)."""
         if self.product is not None:
-            attr = self.product.GetAttribute(name)
-            if has_authored_value(attr):
-                return EffectiveValue(attr.Get(), attr, True)
-        owner = self.owner
-        attr = owner.GetAttribute(name)
-        authored = has_authored_value(attr)
-        value = attr.Get() if authored else fallback_value(owner, name)
-        return EffectiveValue(value, attr, authored)
+            product = prim_values(self.product)
+            if product.has_value(name):
+                return EffectiveValue(product.authored(name), product.attribute(name), True)
+        owner = prim_values(self.owner)
+        return EffectiveValue(owner.composed(name), owner.attribute(name), owner.has_value(name))
 
     @cached_property
     def camera_relationship(self) -> Usd.Relationship:
         """The product's ``camera`` when it has a forwarded target (an empty
         ``rel camera = []`` cannot clear the settings camera), else the settings'."""
         if self.product is not None:
-            rel = self.product.GetRelationship("camera")  # a schema object costs ~1 us
-            if self.settings is None or forwarded_targets(rel):
-                return rel
-        return self.owner.GetRelationship("camera")
+            product = prim_values(self.product)
+            if self.settings is None or product.forwarded("camera"):
+                return product.relationship("camera")
+        return prim_values(self.owner).relationship("camera")
 
     @cached_property
     def camera_target(self) -> Target | None:
         """The first forwarded camera target, resolved; None when unset."""
-        targets = forwarded_targets(self.camera_relationship)
-        if not targets:
-            return None
-        return resolve_target(self.owner.GetStage(), targets[0])
+        if self.product is not None:
+            product = prim_values(self.product)
+            if self.settings is None or product.forwarded("camera"):
+                targets = product.targets("camera")
+                return targets[0] if targets else None
+        targets = prim_values(self.owner).targets("camera")
+        return targets[0] if targets else None
 
     @property
     def camera_prim(self) -> Usd.Prim | None:
@@ -579,7 +714,7 @@ def settings_configurations(settings_prims: Iterable[Usd.Prim]) -> list[RenderCo
     for settings in settings_prims:
         products = [
             t.prim
-            for t in resolve_targets(settings.GetRelationship("products"))
+            for t in prim_values(settings).targets("products")
             if typed_target_problem(t, schemas.RenderProduct, "a RenderProduct") is None
         ]
         if products:
@@ -593,7 +728,7 @@ def renders_on_its_own(product: Usd.Prim) -> bool:
     """True when an untargeted product authors a camera of its own (a forwarded
     target), so renderers that address products by prim path (ovrtx, Kit's
     render products) can render it alone (catalog R2-4)."""
-    return bool(forwarded_targets(product.GetRelationship("camera")))
+    return bool(prim_values(product).forwarded("camera"))
 
 
 def own_configurations(untargeted_products: Iterable[Usd.Prim]) -> list[RenderConfiguration]:

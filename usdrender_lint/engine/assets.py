@@ -98,8 +98,9 @@ class Reads:
     fast path opened (value clips included), the layers arcs name that do not
     exist, the search paths arcs name, the files whose existence a rule checked
     and the folders clip templates match files in. ``complete`` is False when
-    that is not known: a stage could not be opened, or an asset path is
-    :class:`Unkeyable`."""
+    that is not known: an asset path is :class:`Unkeyable`, or a layer could
+    not be walked safely. (A lint that stopped part way says so itself:
+    ``LintRun.completed``.)"""
 
     #: (identifier, real path, anonymous, has unsaved edits) of each layer read.
     layers: list[tuple[str, str, bool, bool]] = field(default_factory=list)

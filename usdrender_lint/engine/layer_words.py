@@ -28,6 +28,7 @@ import struct
 from collections.abc import Collection, Iterable
 from typing import TYPE_CHECKING, NamedTuple
 
+from ..layers.crate import crate_sections, fast_decompress
 from ..layers.files import layer_real_path
 
 if TYPE_CHECKING:
@@ -226,121 +227,41 @@ def _read(key: _Key) -> _Scan:
     return _UNKNOWN
 
 
-def _crate_tokens(handle, head: bytes) -> tuple[set[str] | None, int | None]:
+def _crate_tokens(handle, head: bytes) -> tuple[set[str] | None, int | None]:  # noqa: ANN001
     """Every token of a crate file (None when it cannot be read for sure) and
     the number of specs it declares (pxr/usd/sdf/crateFile.cpp, _ReadSpecs)."""
-    if len(head) < 16 or tuple(head[8:11]) < MIN_CRATE or tuple(head[8:11]) > MAX_CRATE:
+    if len(head) < 16 or not MIN_CRATE <= tuple(head[8:11]) <= MAX_CRATE:
         return None, None
-    size = os.fstat(handle.fileno()).st_size
-    sections = _crate_sections(handle, size)
+    sections = crate_sections(handle, head + handle.read(8))
     if sections is None:
         return None, None
-    specs = None
-    if b"SPECS" in sections and 0 < sections[b"SPECS"][0] < sections[b"SPECS"][1] <= size:
-        handle.seek(sections[b"SPECS"][0])
-        (specs,) = struct.unpack("<Q", handle.read(8))
-    start, end = sections.get(b"TOKENS", (0, 0))
-    if not 0 < start < end <= size:
-        return None, specs
-    return _token_section(handle, start, end), specs
+    specs = _spec_count(handle, *sections.get("SPECS", (0, 0)))
+    return _tokens(handle, *sections.get("TOKENS", (0, 0))), specs
 
 
-def _crate_sections(handle, size: int) -> dict[bytes, tuple[int, int]] | None:
-    """The (start, end) offsets of a crate file's sections by name, read from its
-    table of contents (the handle is just past the version); None when implausible."""
-    (toc,) = struct.unpack("<q", handle.read(8))
-    if not 24 <= toc < size:
+def _spec_count(handle, start: int, end: int) -> int | None:  # noqa: ANN001
+    if not 0 < start < end:
         return None
-    handle.seek(toc)
-    (count,) = struct.unpack("<Q", handle.read(8))
-    if count > 64:
+    handle.seek(start)
+    return struct.unpack("<Q", handle.read(8))[0]
+
+
+def _tokens(handle, start: int, end: int) -> set[str] | None:  # noqa: ANN001
+    """The tokens of a TOKENS section: a count, the size of their NUL-ended
+    names and of those compressed, then the compressed names."""
+    if not 0 < start < end:
         return None
-    sections = {}
-    for _ in range(count):
-        name, section_start, section_size = struct.unpack("<16sqq", handle.read(32))
-        sections[name.rstrip(b"\0")] = (section_start, section_start + section_size)
-    return sections
-
-
-def _token_section(handle, start: int, end: int) -> set[str] | None:
-    """The tokens of a TOKENS section: a count, sizes and the compressed
-    NUL-terminated strings; None when they cannot be read for sure."""
     handle.seek(start)
     num_tokens, raw_size, packed_size = struct.unpack("<QQQ", handle.read(24))
     if raw_size > MAX_TOKEN_BYTES or packed_size > end - start - 24 or packed_size < 1:
         return None
-    raw = _fast_decompress(handle.read(packed_size), raw_size)
+    raw = fast_decompress(handle.read(packed_size), raw_size)
     if raw is None or len(raw) != raw_size or raw.count(0) != num_tokens or raw[-1:] != b"\0":
         return None
     try:
         return set(raw[:-1].decode("utf-8").split("\0"))
     except UnicodeDecodeError:
         return None
-
-
-def _fast_decompress(data: bytes, size: int) -> bytes | None:
-    """TfFastCompression: a chunk count byte (0: one LZ4 block follows), else
-    that many chunks, each an int32 size and an LZ4 block."""
-    if data[0] == 0:
-        return _lz4_block(data, 1, len(data), size)
-    out = bytearray()
-    pos = 1
-    for _ in range(data[0]):
-        if pos + 4 > len(data):
-            return None
-        (chunk,) = struct.unpack_from("<i", data, pos)
-        pos += 4
-        block = _lz4_block(data, pos, pos + chunk, size - len(out))
-        if block is None:
-            return None
-        out += block
-        pos += chunk
-    return bytes(out)
-
-
-def _lz4_block(data: bytes, pos: int, stop: int, limit: int) -> bytes | None:
-    """Decode one LZ4 block (the public block format: sequences of a token,
-    literals and a back-reference) of at most ``limit`` bytes."""
-    out = bytearray()
-    try:
-        while pos < stop:
-            token = data[pos]
-            pos += 1
-            literals = token >> 4
-            if literals == 15:
-                literals, pos = _lz4_more(data, pos, literals)
-            out += data[pos : pos + literals]
-            pos += literals
-            if pos >= stop:
-                break  # the last sequence has literals only
-            offset = data[pos] | (data[pos + 1] << 8)
-            pos += 2
-            length = token & 15
-            if length == 15:
-                length, pos = _lz4_more(data, pos, length)
-            length += 4
-            begin = len(out) - offset
-            if offset == 0 or begin < 0 or len(out) + length > limit:
-                return None
-            if offset >= length:
-                out += out[begin : begin + length]
-            else:  # the match overlaps what it writes: repeat the period
-                period = out[begin:]
-                out += (period * (length // offset + 1))[:length]
-    except IndexError:
-        return None
-    return bytes(out) if len(out) <= limit else None
-
-
-def _lz4_more(data: bytes, pos: int, length: int) -> tuple[int, int]:
-    """A length whose 4-bit field is full (15) goes on in the bytes at ``pos``:
-    each is added, until one is not 255. The length and the offset after them."""
-    while True:
-        extra = data[pos]
-        pos += 1
-        length += extra
-        if extra != 255:
-            return length, pos
 
 
 __all__ = [

@@ -49,20 +49,6 @@ _T = TypeVar("_T")
 Inspector = Callable[[Context, Sequence[Finding]], _T]
 
 
-#: Set in a worker process (contain_crashes): there a crash costs only its file.
-_crashes_contained = False
-
-
-def contain_crashes() -> None:
-    """Say that this process is a worker whose crash costs only the file it
-    lints: the parent reports the crash and lints the file again with
-    ``full_composition``. Walking every healthy crate's specs before the rules
-    run, to find the corrupt ones that would crash a rule's read, is then left
-    to that retry (on a 300k-spec crate the walk costs a third of its open)."""
-    global _crashes_contained
-    _crashes_contained = True
-
-
 class InspectionError(Exception):
     """Raised by an inspector that cannot read what it was asked for from this
     stage: the file becomes an error result with this one-line message."""
@@ -90,7 +76,7 @@ class TracedFinding:
 
 
 #: How the linted stage was composed: only what the rules read (the fast
-#: path, partial.py), all of it, or None when no stage was linted.
+#: path, partial.py), all of it, or None when no lint ran to its end.
 Composed = Literal["partial", "full"] | None
 
 
@@ -152,10 +138,14 @@ class _Trace:
         value: Any = None,
     ) -> LintRun[Any]:
         if not completed:
-            # A lint that stopped part way: what it recorded belongs to no finding.
-            self.fixes.clear()
-            self.origins.clear()
+            self.forget()  # what it recorded belongs to no finding of the result
         return LintRun(result, self.fixes, self.origins, self.reads, composed, completed, value)
+
+    def forget(self) -> None:
+        """Drop the fixes and origins of a lint that stopped part way (the
+        reads stay: they are what the lint read)."""
+        self.fixes.clear()
+        self.origins.clear()
 
 
 class _TypeDispatch:
@@ -352,9 +342,7 @@ class Linter:
         try:
             findings, value = self._lint(masked.stage, path, trace, masked=True, inspect=inspect)
         except FullStageRequired:
-            # The whole stage is linted next: nothing recorded so far stays.
-            trace.fixes.clear()
-            trace.origins.clear()
+            trace.forget()  # the whole stage is linted next
             return None
         return trace.run(FileResult(path, findings=tuple(findings)), "partial", True, value)
 
@@ -363,12 +351,13 @@ class Linter:
     ) -> None:
         """Raise CorruptValue for a used crate layer holding a spec USD cannot
         read (reading it crashes: no rule runs on such a file). ``checked``:
-        the layers the fast path already checked."""
-        guarded = full_composition or not _crashes_contained  # the retry, or no worker
-        for layer in stage.GetUsedLayers() if guarded else ():
-            problem = None if layer_identifier(layer) in checked else partial.crate_problem(layer)
-            if problem is not None:
-                raise CorruptValue(problem)
+        the layers the fast path already walked. The retry after a crash
+        (``full_composition``) walks every spec as well (partial.crate_problem)."""
+        for layer in stage.GetUsedLayers():
+            if layer_identifier(layer) not in checked:
+                problem = partial.crate_problem(layer, walk=full_composition)
+                if problem is not None:
+                    raise CorruptValue(problem)
 
     def walk_candidates(
         self, stage: Usd.Stage, prims: Iterable[Usd.Prim] | None = None, own_stage: bool = False

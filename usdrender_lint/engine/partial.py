@@ -52,7 +52,7 @@ from itertools import filterfalse
 
 from pxr import Ar, Sdf, Tf, Usd
 
-from ..layers.crate import crate_structure_problem
+from ..layers.crate import crate_spec_problem, crate_structure_problem
 from ..layers.files import layer_identifier, layer_real_path
 from ..model import IGNORE_KEY
 from ..paths import display_path, usd_path
@@ -328,11 +328,23 @@ def unsafe_to_walk(layer: Sdf.Layer) -> str | None:
     return None
 
 
-def crate_problem(layer: Sdf.Layer) -> str | None:
+def crate_problem(layer: Sdf.Layer, *, walk: bool = False) -> str | None:
     """Why the crate ``layer``'s specs cannot be read safely (the file is
-    corrupt), or None; None for any other layer, and for a crate naming a
-    variant "" (walking it cannot be done safely; composing it can)."""
+    corrupt), or None; None for any other layer. Its file's bytes say whether
+    a spec's type is invalid (layers/crate.py: the crash a rule's read met);
+    ``walk`` also walks every spec through Sdf, which finds whatever else USD
+    cannot read in them but costs about as much as opening the layer (the
+    retry after a crash; a crate inside a package, whose bytes are not read
+    here). A crate naming a variant "" is not walked (walking it cannot be
+    done safely; composing it can)."""
     if layer.anonymous or layer.GetFileFormat().formatId != "usdc":
+        return None
+    file = layer_real_path(layer)
+    plain = bool(file) and os.path.isfile(file)
+    why = crate_spec_problem(file) if plain else None
+    if why is not None:
+        return _specs_message(layer, why)
+    if plain and not walk:
         return None
     with Tf.DiagnosticTrap() as trap:
         try:
@@ -354,6 +366,10 @@ def _unreadable_specs(layer: Sdf.Layer, exc: Tf.ErrorException) -> str:
     # USD's "Invalid spec type N" quotes memory it did not initialise: no N.
     why = next((c.strip() for c in commentary if c.strip()), "an unknown error")
     why = "a spec of no valid type" if why.startswith("Invalid spec type") else why
+    return _specs_message(layer, why)
+
+
+def _specs_message(layer: Sdf.Layer, why: str) -> str:
     name = display_path(layer_real_path(layer) or layer_identifier(layer))
     return f"USD cannot read the specs of {name} ({why}); the file is corrupt"
 

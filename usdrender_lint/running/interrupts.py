@@ -1,16 +1,13 @@
 """Ctrl-C and SIGTERM: stop the run cleanly, with the shell's exit status.
 
-The handlers raise :class:`Stopped` (a BaseException, so no ``except
-Exception`` swallows it and click does not turn it into "Aborted!") wherever
-the main process is: the worker pool's ``finally`` then kills the workers and
-removes its temporary folder, an atomic write removes its temporary file, and
-no partial report is left behind. Only the first signal raises: the next ones
-are ignored, so a second Ctrl-C cannot cut the clean-up short. A hung USD call
-in this process (``--jobs 1 --timeout 0``) cannot be interrupted: Python runs
-the handler only when the call returns. USD's C++ may swallow the exception
-(a signal while it imports a module prints a warning and goes on), so the
-signal is also remembered and :func:`check_stopped` raises it again at the
-run's next step.
+The handlers raise :class:`Stopped` (a BaseException: no ``except Exception``
+swallows it, and click does not turn it into "Aborted!") wherever the main process
+is: the worker pool's ``finally`` then ends the workers and removes its folder, an
+atomic write its temporary file, and no partial report is left. Only the first
+signal raises; the next are ignored, so that a second Ctrl-C cannot cut the
+clean-up short. Python runs a handler only once a hung USD call returns, and
+USD's C++ may swallow the exception (while it imports a module), so the signal is
+also remembered and :func:`check_stopped` raises it again at the run's next step.
 """
 
 from __future__ import annotations
@@ -19,7 +16,7 @@ import signal  # and nothing else: the command installs the handlers before its 
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
-    from types import FrameType, TracebackType
+    from types import FrameType
 
 #: The signals that stop a run, and what the one line on stderr says.
 STOPPING = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
@@ -60,8 +57,8 @@ def check_stopped() -> None:
 
 
 def install() -> None:
-    """From now on, SIGINT and SIGTERM raise :class:`Stopped` (the command's
-    first step, before its imports)."""
+    """From now on, SIGINT and SIGTERM raise :class:`Stopped` (the command's first
+    step, before its imports)."""
     if _received is None:
         for signum in STOPPING:
             signal.signal(signum, _stop)
@@ -74,12 +71,7 @@ class stop_on_signals:  # noqa: N801 - used as a context manager, like contextli
         self._previous = {signum: signal.getsignal(signum) for signum in STOPPING}
         install()
 
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        trace: TracebackType | None,
-    ) -> None:
+    def __exit__(self, kind: type[BaseException] | None, *rest: object) -> None:
         for signum, handler in self._previous.items():
             signal.signal(signum, handler)
         if kind is None:
@@ -87,22 +79,18 @@ class stop_on_signals:  # noqa: N801 - used as a context manager, like contextli
 
 
 class deferred:  # noqa: N801 - a context manager
-    """While the block runs, SIGINT and SIGTERM wait (blocked, not lost) and
-    arrive when it ends: for USD's module imports, whose C++ catches the
-    exception a handler raises inside them and prints a warning instead."""
+    """While the block runs, SIGINT and SIGTERM wait (blocked, not lost): for USD's
+    module imports, whose C++ catches the exception a handler raises in them."""
 
     def __enter__(self) -> None:
-        self._blocked = hasattr(signal, "pthread_sigmask")
-        if self._blocked:
-            self._previous = signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
+        self._previous = signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
 
     def __exit__(self, *exc_info: object) -> None:
-        if self._blocked:
-            signal.pthread_sigmask(signal.SIG_SETMASK, self._previous)
+        signal.pthread_sigmask(signal.SIG_SETMASK, self._previous)
 
 
 def default_signals_in_worker() -> None:
-    """In a worker process: Ctrl-C is the parent's to handle (the terminal
-    sends it to the whole process group), SIGTERM ends the worker at once."""
+    """In a worker process: Ctrl-C is the parent's to handle (the terminal sends
+    it to the whole process group); SIGTERM ends the worker at once."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

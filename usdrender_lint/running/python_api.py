@@ -20,7 +20,7 @@ from pxr import Usd
 from ..api import Rule
 from ..config import ConfigError, Settings
 from ..explain import rule_info
-from ..model import FileResult, Finding, Report
+from ..model import Finding, Report
 from ..registry import RegistryError
 from ..settings_table import BY_NAME
 from .pipeline import Outcome, Request, RequestError, prepare, run
@@ -138,8 +138,7 @@ def lint_stage(
         raise
     # Variants are not explored: that authors selections into the stage's
     # session layer, and this stage is the caller's.
-    findings = tuple(prepared.linter.lint_stage(stage, name))
-    report = prepared.finish(Report((FileResult(name, findings=findings),)))
+    report = prepared.finish(Report((prepared.linter.run_stage(stage, name).result,)))
     return _with_rules(report, prepared.linter.rules)
 
 

@@ -35,7 +35,7 @@ from ..engine.stage import (
     position_from_error,
 )
 from ..layers.files import layer_real_path
-from ..model import IGNORE_KEY, FileResult, Finding, Location, Report, Severity
+from ..model import IGNORE_KEY, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry
 from ..running.pipeline import Prepared, Request, RequestError, prepare
@@ -149,13 +149,12 @@ class Documents:
             self._reload_files(stage)
             combinations = prepared.spec.variant_combinations
             if combinations is None:
-                findings = prepared.linter.lint_stage(stage, path, texts=self.texts)
+                result = prepared.linter.run_stage(stage, path, texts=self.texts).result
             else:  # config `variants`: other selections too, as check lints them
                 from ..engine.variants import VariantExplorer
 
                 explorer = VariantExplorer(prepared.linter, combinations)
-                findings = explorer.lint_stage(stage, path, texts=self.texts)
-            result = FileResult(path, findings=tuple(findings))
+                result = explorer.run_stage(stage, path, texts=self.texts).result
         if result.status != "linted":
             location = Location(path, None, path)
             message = result.error or "the document could not be linted"
