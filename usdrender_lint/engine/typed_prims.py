@@ -64,10 +64,13 @@ def find(
     session = stage.GetSessionLayer()
     if not _may_query(stage, session):
         return None
-    names = _type_names(stage, unknown)
+    names = _type_names(stage)
     if names is None:
         return None
     chosen = [name for name in names if wanted(name)]
+    # Only now: asking ``wanted`` about a name no schema defines is what adds it to ``unknown``.
+    if not set(unknown).isdisjoint(names):
+        return None
     if not chosen:
         return []
     paths = _evaluate(stage, session, chosen)
@@ -86,19 +89,15 @@ def _may_query(stage: Usd.Stage, session: Sdf.Layer | None) -> bool:
     return _spec_estimate(stage) >= MIN_SPECS
 
 
-def _type_names(stage: Usd.Stage, unknown: Iterable[str]) -> list[str] | None:
+def _type_names(stage: Usd.Stage) -> list[str] | None:
     """The type names of a large stage's prims; None for a small stage, or one
-    whose type names the query cannot tell apart (``untyped``, ``unknown``)."""
+    where a prim typed ``untyped`` would be counted with the typeless ones."""
     counts, total = type_counts(stage)
     if total < MIN_PRIMS:
         return None
     if layer_words.layers_may_hold(stage.GetUsedLayers(), _UNTYPED):
-        return None  # a prim typed "untyped" is counted with the typeless ones
-    names = [name for name in counts if name != _UNTYPED]
-    unknown = set(unknown)
-    if any(name in unknown for name in names):
         return None
-    return names
+    return [name for name in counts if name != _UNTYPED]
 
 
 def _spec_estimate(stage: Usd.Stage) -> int:
