@@ -312,7 +312,7 @@ def _holds_well_typed_value(
     # first time samples may be a path: usda accepts ``<...>`` as the value of an
     # attribute of any type (``uniform token sourceType = </X>``, also in time
     # samples), an Sdf.Path no typed read returns.
-    default_at = _first_index(specs, lambda spec: spec.HasDefaultValue())
+    default_at = _first_index(specs, Sdf.PropertySpec.HasDefaultValue)
     samples_at = _first_index(specs, _has_time_samples)
     first = min(default_at, samples_at)
     if first == len(specs):
@@ -328,7 +328,10 @@ def _first_index(
     specs: tuple[Sdf.AttributeSpec, ...], holds: Callable[[Sdf.AttributeSpec], bool]
 ) -> int:
     """The index of the first spec that ``holds``; ``len(specs)`` when none does."""
-    return next((i for i, spec in enumerate(specs) if holds(spec)), len(specs))
+    for index, spec in enumerate(specs):
+        if holds(spec):
+            return index
+    return len(specs)
 
 
 def _path_in_samples(spec: Sdf.AttributeSpec) -> bool:
