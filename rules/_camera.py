@@ -11,11 +11,11 @@ from pxr import Usd
 from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.resolve import (
     RenderConfiguration,
+    authored_rendered_times,
     fallback_value,
     format_time,
     is_finite,
     prim_values,
-    rendered_times,
 )
 
 #: A check over camera values read at one time: a problem phrase, or None.
@@ -68,8 +68,8 @@ def first_failure(
     fallback (a type-mismatched opinion counts as unauthored, SE016's; a
     blocked sample reads as the fallback)."""
     readers = [_reader(prim, name, ctx) for name in names]
-    attrs = [attr for attr, _, _ in readers]
-    for time in rendered_times(attrs, ctx.time_sample_cap):
+    authored = [attr for attr, held, _ in readers if held]
+    for time in authored_rendered_times(authored, ctx.time_sample_cap):
         problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
             return time, problem

@@ -74,44 +74,67 @@ def entry_points(group: str) -> Sequence[EntryPointLike]:
 def _single_registrant(group: str) -> list[SimpleEntryPoint] | None:
     """The group's entry points when exactly one visible distribution declares
     them all in a form read here exactly as importlib.metadata reads it; else None."""
-    from importlib.machinery import PathFinder
-
-    for finder in sys.meta_path:
-        if getattr(finder, "find_distributions", None) is not None and finder is not PathFinder:
-            return None
+    if _other_finders():
+        return None
     seen: set[str] = set()  # importlib.metadata keeps the first distribution of a name
     registrants: list[list[SimpleEntryPoint]] = []
     for entry in sys.path:
         if not isinstance(entry, str) or entry.lower().endswith(".egg"):
             return None
-        root = entry or "."
-        try:
-            children = os.listdir(root)
-        except OSError:
-            if os.path.isfile(root):
-                return None  # a zip: importlib.metadata reads inside it
-            continue
-        here: set[str] = set()
-        for child in children:
-            if not child.lower().endswith(_DIST_SUFFIXES):
-                continue
-            stem, ext = os.path.splitext(child)
-            name = _normalize(stem.partition("-")[0])
-            if ext not in _DIST_SUFFIXES or not name or name in here:
-                return None  # named from its metadata, or an ambiguous order
-            here.add(name)
+        distributions = _distributions_in(entry or ".")
+        if distributions is None:
+            return None
+        for name, folder in distributions:
             if name in seen:
                 continue
-            path = os.path.join(root, child, "entry_points.txt")
-            if os.path.isfile(path):
-                with open(path, encoding="utf-8") as handle:
-                    entries = _parse(handle.read(), group)
-                if entries is None:
-                    return None
-                if entries:
-                    registrants.append(entries)
-        seen |= here
+            entries = _declared(folder, group)
+            if entries is None:
+                return None
+            if entries:
+                registrants.append(entries)
+        seen.update(name for name, _ in distributions)
     return registrants[0] if len(registrants) == 1 else None
+
+
+def _other_finders() -> bool:
+    """Whether a finder besides the path finder may find distributions elsewhere."""
+    from importlib.machinery import PathFinder
+
+    return any(
+        getattr(finder, "find_distributions", None) is not None and finder is not PathFinder
+        for finder in sys.meta_path
+    )
+
+
+def _distributions_in(root: str) -> list[tuple[str, str]] | None:
+    """The (normalized name, metadata folder) of each distribution in a folder of
+    ``sys.path``; None when importlib.metadata would name or order them otherwise."""
+    try:
+        children = os.listdir(root)
+    except OSError:
+        return None if os.path.isfile(root) else []  # a zip: importlib.metadata reads inside it
+    found: list[tuple[str, str]] = []
+    names: set[str] = set()
+    for child in children:
+        if not child.lower().endswith(_DIST_SUFFIXES):
+            continue
+        stem, ext = os.path.splitext(child)
+        name = _normalize(stem.partition("-")[0])
+        if ext not in _DIST_SUFFIXES or not name or name in names:
+            return None  # named from its metadata, or an ambiguous order
+        names.add(name)
+        found.append((name, os.path.join(root, child)))
+    return found
+
+
+def _declared(folder: str, group: str) -> list[SimpleEntryPoint] | None:
+    """The group's entry points a distribution declares; None when they are not
+    in a form read here exactly as importlib.metadata reads it."""
+    path = os.path.join(folder, "entry_points.txt")
+    if not os.path.isfile(path):
+        return []
+    with open(path, encoding="utf-8") as handle:
+        return _parse(handle.read(), group)
 
 
 def _normalize(name: str) -> str:

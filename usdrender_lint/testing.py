@@ -242,14 +242,25 @@ def check_fixture(
         return
     expected = [e for e in expectations(path) if e.code == code]
     assert expected, f"{path.name}: a fail fixture must declare '# expect: {code} <path> ...'"
+    _check_expected(path, code, found, expected)
+
+
+def _check_count(path: Path, code: str, found: Sequence[Finding], expectation: Expectation) -> None:
+    matching = [f for f in found if expectation.matches(f)]
+    at_path = [f for f in found if (f.location.path or "") == expectation.path]
+    assert len(matching) == (expectation.count or 1), (
+        f"{path.name}:{expectation.line}: expected {expectation}, "
+        f"got {len(matching)} matching; {code} findings at <{expectation.path}>: "
+        f"{_describe(at_path)}"
+    )
+
+
+def _check_expected(
+    path: Path, code: str, found: Sequence[Finding], expected: Sequence[Expectation]
+) -> None:
+    """Each expect line matches its count of findings, and each finding one line."""
     for expectation in expected:
-        matching = [f for f in found if expectation.matches(f)]
-        at_path = [f for f in found if (f.location.path or "") == expectation.path]
-        assert len(matching) == (expectation.count or 1), (
-            f"{path.name}:{expectation.line}: expected {expectation}, "
-            f"got {len(matching)} matching; {code} findings at <{expectation.path}>: "
-            f"{_describe(at_path)}"
-        )
+        _check_count(path, code, found, expectation)
     unexpected = [f for f in found if not any(e.matches(f) for e in expected)]
     assert not unexpected, f"{path.name}: unexpected {code} findings: {_describe(unexpected)}"
     claimed = sum(e.count or 1 for e in expected)

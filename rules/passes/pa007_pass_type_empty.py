@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value, has_authored_value
+from usdrender_lint.api.resolve import prim_values
 
 from ._default_value import _value_lost_elsewhere
 
@@ -72,14 +72,15 @@ class PassTypeEmpty(Rule):
     prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("passType")
+        values = prim_values(prim)
+        attr = values.attribute("passType")
         if _value_lost_elsewhere(attr):
             return
-        if authored_value(attr):
+        if values.authored("passType"):
             return
-        state = "is the empty token" if has_authored_value(attr) else "is not set"
+        state = "is the empty token" if values.has_value("passType") else "is not set"
         yield Diagnostic(
             message=f"passType of RenderPass {prim.GetPath()} {state}; author the pipeline's pass "
             'type (e.g. "prman", "nuke") so job submission can dispatch the pass',
-            at=attr if has_authored_value(attr) else prim,
+            at=attr if values.has_value("passType") else prim,
         )

@@ -11,14 +11,13 @@ from usdrender_lint.api.resolve import (
     composed_value,
     format_time,
     joint_evaluation_times,
-    mismatched_spec,
+    prim_values,
 )
 
 
 def _product_name(product: Usd.Prim, time: Usd.TimeCode) -> str:
     """productName at ``time``: authored, else the fallback; "" when mistyped."""
-    attr = product.GetAttribute("productName")
-    if mismatched_spec(attr) is not None:
+    if prim_values(product).mismatched("productName") is not None:
         return ""
     return composed_value(product, "productName", time) or ""
 
@@ -99,22 +98,23 @@ class ProductNameDuplicate(Rule):
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         reported: set[tuple[Sdf.Path, Sdf.Path]] = set()
         # The configurations already pair each settings with its usable products, in order.
-        products_of: dict[Sdf.Path, list[Usd.Prim]] = {}
+        products_of: dict[int, list[Usd.Prim]] = {}
         for config in ctx.configurations:
             if config.settings is None:
                 continue  # a product rendered on its own has no sibling products
-            products = products_of.setdefault(config.settings.GetPath(), [])
+            # Keyed by the handle: the configurations hold prims_of's own settings handles.
+            products = products_of.setdefault(id(config.settings), [])
             if config.product is not None:
                 products.append(config.product)
         for settings in ctx.prims_of(schemas.RenderSettings):
-            products = products_of[settings.GetPath()]
-            attrs = [p.GetAttribute("productName") for p in products]
+            products = products_of[id(settings)]
+            attrs = [prim_values(p).attribute("productName") for p in products]
             for time in joint_evaluation_times(attrs, ctx.time_sample_cap):
                 owners: dict[str, Usd.Prim] = {}
                 for product in products:
                     name = _product_name(product, time)
                     first = owners.setdefault(name, product)
-                    if not name or first == product:
+                    if not name or first is product or first == product:
                         continue
                     # Paths are built only for a duplicate.
                     pair = (first.GetPath(), product.GetPath())

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, authored_value
+from usdrender_lint.api.resolve import allowed_tokens, prim_values
 
 from .._corrections import set_value, unique_case_match
 
@@ -80,8 +80,9 @@ class ProductTypeNotAllowed(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("productType")
-        value = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute("productType")
+        value = values.authored("productType")
         allowed = allowed_tokens(prim, "productType")
         if value is None or value in allowed or _renderer_product_type(prim):
             return

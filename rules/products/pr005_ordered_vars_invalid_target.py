@@ -7,7 +7,7 @@ from collections.abc import Callable, Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_targets, describe_prim_type
+from usdrender_lint.api.resolve import authored_targets, describe_prim_type, prim_values
 
 from .._aov import ordered_var_targets
 
@@ -93,8 +93,8 @@ class OrderedVarsInvalidTarget(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = prim.GetRelationship("orderedVars")
-        authored = set(authored_targets(rel))
+        rel = prim_values(prim).relationship("orderedVars")
+        authored = None  # the relationship's own targets, read for a bad target only
         for target in ordered_var_targets(prim, ctx):
             if target.prim is None:
                 reason = target.problem
@@ -107,6 +107,8 @@ class OrderedVarsInvalidTarget(Rule):
             else:
                 continue
             fix = None
+            if authored is None:
+                authored = set(authored_targets(rel))
             if target.path in authored:
                 fix = Fix(
                     description=f"remove <{target.path}> from orderedVars",

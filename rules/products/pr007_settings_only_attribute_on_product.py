@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
+from usdrender_lint.api.resolve import prim_values
 
 #: RenderSettings-only properties: UsdRenderComputeSpec never reads them on a product.
 SETTINGS_ONLY_PROPERTIES = (
@@ -85,10 +86,11 @@ class SettingsOnlyAttributeOnProduct(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        authored = prim_values(prim).authored_names()  # one call, not three a name
         for name in SETTINGS_ONLY_PROPERTIES:
-            prop = prim.GetProperty(name)
-            if not prop or not prop.IsAuthored():
+            if name not in authored:
                 continue
+            prop = prim.GetProperty(name)
             yield Diagnostic(
                 message=f"{name} is a RenderSettings property: on RenderProduct {prim.GetPath()} "
                 "it is "

@@ -5,27 +5,20 @@ from __future__ import annotations
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, schemas
+from usdrender_lint.api import schemas
+from usdrender_lint.api.resolve import PrimValues, SchemaAttribute, prim_values
 
 #: Every render prim kind: SE016 and SE017 look at all their schema attributes.
 _RENDER_PRIM_TYPES = (schemas.RenderSettingsBase, schemas.RenderVar, schemas.RenderPass)
 
 
 def _authored_schema_attributes(
-    prim: Usd.Prim, ctx: Context
-) -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
-    """The prim's authored attributes that its schema declares, with their
-    definitions: SE016 and SE017 both walk them, so they are listed once per lint."""
-    return ctx.cached(_list_authored_schema_attributes, prim)
-
-
-def _list_authored_schema_attributes(
-    ctx: Context, prim: Usd.Prim
-) -> tuple[tuple[Usd.Attribute, Usd.PrimDefinition.Attribute], ...]:
-    attribute_definition = prim.GetPrimDefinition().GetAttributeDefinition
-    found = []
-    for attr in prim.GetAuthoredAttributes():
-        definition = attribute_definition(attr.GetName())
-        if definition:  # custom attributes have none
-            found.append((attr, definition))
-    return tuple(found)
+    prim: Usd.Prim,
+) -> tuple[PrimValues, list[tuple[str, SchemaAttribute]]]:
+    """The prim's values and its authored attributes that its schema declares,
+    by name, with what the schema declares: SE016 and SE017 both walk them
+    (the names are listed once per lint, the declarations once per process)."""
+    values = prim_values(prim)
+    declared = [(name, values.schema_attribute(name)) for name in values.authored_names()]
+    # Custom attributes and relationships have no attribute declaration.
+    return values, [(name, schema) for name, schema in declared if schema.type_name is not None]

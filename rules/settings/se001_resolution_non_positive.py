@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, record, schemas
-from usdrender_lint.api.resolve import authored_value, composed_value, has_authored_value, items
+from usdrender_lint.api.resolve import composed_value, items, prim_values
 
 from ._messages import _fmt
 
@@ -76,9 +76,10 @@ class ResolutionNonPositive(Rule):
     prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("resolution")
+        values = prim_values(prim)
+        attr = values.attribute("resolution")
         is_settings = prim.IsA(schemas.RenderSettings)
-        value = composed_value(prim, "resolution") if is_settings else authored_value(attr)
+        value = composed_value(prim, "resolution") if is_settings else values.authored("resolution")
         if value is None:
             return
         if min(items(value)) <= 0:
@@ -88,7 +89,7 @@ class ResolutionNonPositive(Rule):
                 "such as (1920, 1080)",
                 at=attr,
             )
-        elif is_settings and self.options.require_authored and not has_authored_value(attr):
+        elif is_settings and self.options.require_authored and not values.has_value("resolution"):
             yield Diagnostic(
                 message=f"resolution is not authored on {prim.GetPath()}, so renderers use the "
                 "fallback "

@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import prim_values
 
 from ._messages import _fmt
 
@@ -66,8 +66,9 @@ class PixelAspectRatioInvalid(Rule):
     prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("pixelAspectRatio")
-        ratio = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute("pixelAspectRatio")
+        ratio = values.authored("pixelAspectRatio")
         if ratio is None or (math.isfinite(ratio) and ratio > 0):
             return
         yield Diagnostic(

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, authored_value
+from usdrender_lint.api.resolve import allowed_tokens, prim_values
 
 from .._corrections import set_value
 
@@ -70,8 +70,9 @@ class AspectRatioConformPolicyInvalid(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         name = "aspectRatioConformPolicy"
-        attr = prim.GetAttribute(name)
-        policy = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute(name)
+        policy = values.authored(name)
         allowed = allowed_tokens(prim, name)
         if policy is None or not allowed or policy in allowed:
             return

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import has_authored_value
+from usdrender_lint.api.resolve import prim_values
 
 from ._fixes import Apply
 
@@ -85,8 +85,9 @@ class InstantaneousShutterDeprecated(Rule):
     prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("instantaneousShutter")
-        if not has_authored_value(attr):
+        values = prim_values(prim)
+        attr = values.attribute("instantaneousShutter")
+        if not values.has_value("instantaneousShutter"):
             return
         value = bool(attr.Get())
         fix = None
@@ -96,7 +97,7 @@ class InstantaneousShutterDeprecated(Rule):
                 safe=True,
                 apply=_replace_instantaneous_shutter(prim.GetPath(), False),
             )
-        elif not has_authored_value(prim.GetAttribute("disableMotionBlur")):
+        elif not values.has_value("disableMotionBlur"):
             fix = Fix(
                 description="replace with disableMotionBlur = true (same result only when the "
                 "camera's "

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import prim_values
 
 
 class InstantaneousShutterConflict(Rule):
@@ -64,14 +64,16 @@ class InstantaneousShutterConflict(Rule):
     prim_types = (schemas.RenderSettingsBase,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        shutter = prim.GetAttribute("instantaneousShutter")
-        disable = prim.GetAttribute("disableMotionBlur")
-        if authored_value(shutter) is True and authored_value(disable) is False:
+        values = prim_values(prim)
+        if (
+            values.authored("instantaneousShutter") is True
+            and values.authored("disableMotionBlur") is False
+        ):
             yield Diagnostic(
                 message="instantaneousShutter = true asks for no motion blur but "
                 "disableMotionBlur = "
                 "false asks for it; OpenUSD ignores instantaneousShutter, so this renders WITH "
                 "motion blur: remove instantaneousShutter and set disableMotionBlur to the "
                 "intended value",
-                at=shutter,
+                at=values.attribute("instantaneousShutter"),
             )

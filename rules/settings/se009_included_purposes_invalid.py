@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value, items
+from usdrender_lint.api.resolve import items, prim_values
 
 from .._corrections import set_value
 from ._messages import _fmt, _quoted
@@ -76,8 +76,9 @@ class IncludedPurposesInvalid(Rule):
     prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("includedPurposes")
-        purposes = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute("includedPurposes")
+        purposes = values.authored("includedPurposes")
         if purposes is None:
             return
         # Any list of more than four entries repeats or misnames one, so a long

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import prim_values
 
 from .._corrections import set_value
 from ._messages import _fmt
@@ -68,8 +68,9 @@ class IncludedPurposesMissingDefault(Rule):
     prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("includedPurposes")
-        purposes = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute("includedPurposes")
+        purposes = values.authored("includedPurposes")
         if purposes is None or "default" in purposes:
             return
         fixed = Vt.TokenArray(["default", *purposes])

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, authored_value, items
+from usdrender_lint.api.resolve import allowed_tokens, items, prim_values
 
 from .._corrections import set_value
 from ._messages import _fmt, _quoted
@@ -15,6 +15,27 @@ from ._purposes import _duplicates
 
 #: Names people use for the all-purpose binding, whose token is the empty string.
 _ALL_PURPOSE_ALIASES = ("allPurpose", "all", "default")
+
+
+def _problems(unknown: list[str], repeated: list[str]) -> list[str]:
+    """What is wrong with the purposes: tokens not allowed, tokens repeated."""
+    problems = []
+    if unknown:
+        problems.append(f"{_quoted(unknown)} not allowed")
+    if repeated:
+        problems.append(f"{_quoted(repeated)} repeated")
+    return problems
+
+
+def _alias_fix(attr: Usd.Attribute, tokens: list[str]) -> Fix:
+    """Author the purposes with each all-purpose alias as the empty token, once each."""
+    mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in tokens]
+    fixed = Vt.TokenArray(list(dict.fromkeys(mapped)))
+    return Fix(
+        description=f"author {_fmt(fixed)}",
+        safe=True,
+        apply=set_value(attr.GetPath(), fixed),
+    )
 
 
 class MaterialBindingPurposesInvalid(Rule):
@@ -74,8 +95,9 @@ class MaterialBindingPurposesInvalid(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         name = "materialBindingPurposes"
-        attr = prim.GetAttribute(name)
-        purposes = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute(name)
+        purposes = values.authored(name)
         if purposes is None:
             return
         allowed = allowed_tokens(prim, name)
@@ -89,23 +111,10 @@ class MaterialBindingPurposesInvalid(Rule):
             return
         tokens = items(purposes)
         unknown = [t for t in dict.fromkeys(tokens) if t not in allowed]
-        repeated = _duplicates(tokens)
-        if not unknown and not repeated:
+        problems = _problems(unknown, _duplicates(tokens))
+        if not problems:
             return
-        problems = []
-        if unknown:
-            problems.append(f"{_quoted(unknown)} not allowed")
-        if repeated:
-            problems.append(f"{_quoted(repeated)} repeated")
-        fix = None
-        if all(t in _ALL_PURPOSE_ALIASES for t in unknown):
-            mapped = ["" if t in _ALL_PURPOSE_ALIASES else t for t in tokens]
-            fixed = Vt.TokenArray(list(dict.fromkeys(mapped)))
-            fix = Fix(
-                description=f"author {_fmt(fixed)}",
-                safe=True,
-                apply=set_value(attr.GetPath(), fixed),
-            )
+        fix = _alias_fix(attr, tokens) if all(t in _ALL_PURPOSE_ALIASES for t in unknown) else None
         alias_hint = (
             '; the all-purpose binding is the empty token ""'
             if any(t in _ALL_PURPOSE_ALIASES for t in unknown)

@@ -9,7 +9,6 @@ from typing import Any
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.api.resolve import mismatched_spec, mismatched_specs
 
 from ._fixes import Apply
 from ._schema_attributes import _RENDER_PRIM_TYPES, _authored_schema_attributes
@@ -28,6 +27,11 @@ def _convert_scalar(value: Any, like: Any) -> Any:
         if isinstance(like, str) and isinstance(value, str):
             return str(value)  # string and token hold the same text
         return _NOT_CONVERTIBLE
+    return _convert_number(value, like)
+
+
+def _convert_number(value: int | float, like: Any) -> Any:
+    """A number as the int or float type of ``like`` when no information is lost."""
     if isinstance(like, int):
         integral = math.isfinite(value) and float(value).is_integer()
         return int(value) if integral and abs(value) < 2**31 else _NOT_CONVERTIBLE
@@ -169,16 +173,18 @@ class AttributeTypeMismatch(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for attr, definition in _authored_schema_attributes(prim, ctx):
-            specs = mismatched_specs(attr)
+        values, declared = _authored_schema_attributes(prim)
+        for name, schema in declared:
+            specs = values.mismatched_specs(name)
             if not specs:
                 continue
-            schema_type = definition.GetTypeName()
+            attr = values.attribute(name)
+            schema_type = schema.type_name
             spec = specs[0]
             where = spec.layer.GetDisplayName()
             hidden = (
                 ""
-                if spec == mismatched_spec(attr)
+                if spec == values.mismatched(name)
                 else (" (a stronger well-typed opinion hides it for now)")
             )
             fix = None

@@ -8,7 +8,7 @@ from typing import Any
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import DEFAULT_TIME, mismatched_spec, time_samples
+from usdrender_lint.api.resolve import DEFAULT_TIME, time_samples
 
 from ._fixes import Apply
 from ._messages import _fmt
@@ -105,18 +105,20 @@ class TimeSamplesIgnored(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for attr, definition in _authored_schema_attributes(prim, ctx):
+        values, declared = _authored_schema_attributes(prim)
+        for name, schema in declared:
+            attr = values.attribute(name)
             # Both findings need samples or a spline, which few attributes have:
             # the value's source says so in one call (the count and HasSpline()
             # are two), and that comes before the dearer type check.
             if attr.GetResolveInfo().GetSource() not in _VARYING_SOURCES:
                 continue
             count = attr.GetNumTimeSamples()
-            if (not count and not attr.HasSpline()) or mismatched_spec(attr) is not None:
+            if (not count and not attr.HasSpline()) or values.mismatched(name) is not None:
                 continue  # nothing to report, or SE016's finding
-            if definition.GetVariability() == Sdf.VariabilityUniform:
+            if schema.uniform:
                 yield from self._uniform(attr, count, ctx)
-            elif attr.GetName() == "productName" and prim.IsA(schemas.RenderProduct):
+            elif name == "productName" and prim.IsA(schemas.RenderProduct):
                 yield from self._product_name(attr, count)
 
     def _uniform(self, attr: Usd.Attribute, count: int, ctx: Context) -> Iterator[Diagnostic]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import forwarded_targets, renders_on_its_own
+from usdrender_lint.api.resolve import prim_values, renders_on_its_own
 
 
 class UnreferencedRenderPrim(Rule):
@@ -89,7 +89,7 @@ class UnreferencedRenderPrim(Rule):
         targeted = {
             path
             for product in ctx.prims_of(schemas.RenderProduct)
-            for path in forwarded_targets(product.GetRelationship("orderedVars"))
+            for path in prim_values(product).forwarded("orderedVars")
         }
         for var in ctx.prims_of(schemas.RenderVar):
             if var.GetPath() not in targeted:

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, authored_value
+from usdrender_lint.api.resolve import allowed_tokens, prim_values
 
 from .._corrections import unique_case_match
 from ._case_fix import _case_fix
@@ -74,8 +74,9 @@ class SourceTypeNotAllowed(Rule):
     prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("sourceType")
-        value = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute("sourceType")
+        value = values.authored("sourceType")
         if value is None:
             return
         allowed = allowed_tokens(prim, "sourceType")  # a schema lookup, only for a value

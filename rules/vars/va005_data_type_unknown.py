@@ -8,7 +8,7 @@ from functools import cache
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import prim_values
 
 from .._corrections import unique_case_match
 from ._case_fix import _case_fix
@@ -84,8 +84,9 @@ class DataTypeUnknown(Rule):
     prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("dataType")
-        value = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute("dataType")
+        value = values.authored("dataType")
         if value is None or Sdf.ValueTypeNames.Find(value):
             return
         correction = unique_case_match(value, _value_type_names())

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import prim_values
 
 from .._corrections import set_value
 
@@ -97,8 +97,9 @@ class DataTypeNotPixelType(Rule):
     prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("dataType")
-        value = authored_value(attr)
+        values = prim_values(prim)
+        attr = values.attribute("dataType")
+        value = values.authored("dataType")
         type_name = Sdf.ValueTypeNames.Find(value) if value else None
         if not type_name:
             return

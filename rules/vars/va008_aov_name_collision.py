@@ -127,6 +127,8 @@ class AovNameCollision(Rule):
             for var in render_vars:
                 channel = channel_name(var, naming, ctx)
                 first = owners.setdefault(channel, var)
+                if first is var:
+                    continue  # the first var of its channel (paths are built for a collision)
                 pair = (first.GetPath(), var.GetPath())
                 if first.GetPath() == var.GetPath() or pair in reported:
                     continue

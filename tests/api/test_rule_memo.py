@@ -101,13 +101,13 @@ def test_a_changed_camera_is_read_again(stage) -> None:
 
 def test_render_prim_attributes_are_listed_once_for_se016_and_se017(stage, monkeypatch) -> None:
     listed: list[str] = []
-    authored_attributes = Usd.Prim.GetAuthoredAttributes
+    authored_names = Usd.Prim.GetAuthoredPropertyNames
 
     def counting(prim):
         listed.append(str(prim.GetPath()))
-        return authored_attributes(prim)
+        return authored_names(prim)
 
-    monkeypatch.setattr(Usd.Prim, "GetAuthoredAttributes", counting)
+    monkeypatch.setattr(Usd.Prim, "GetAuthoredPropertyNames", counting)
     rules = [r for r in all_rules() if r.code in ("SE016", "SE017")]
     Linter(rules, raise_errors=True).lint_stage(stage)
     assert sorted(listed) == sorted(set(listed))

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from functools import cached_property
 from itertools import islice
 from typing import TYPE_CHECKING, Any
@@ -187,26 +187,29 @@ _DefinitionKey = tuple[str, tuple[str, ...]]
 
 
 @record(frozen=True)
-class _SchemaAttribute:
+class SchemaAttribute:
     """What a prim definition declares for an attribute name."""
 
     #: None when the definition has no attribute of that name.
     type_name: Sdf.ValueTypeName | None
     allowed_tokens: tuple[str, ...]
+    #: Declared ``uniform``.
+    uniform: bool = False
 
 
 #: Per (definition key, attribute name), kept for the whole process: USD
 #: composes a prim definition from its key alone, and builds its schema
 #: registry once (later plugin registrations do not change it).
-_SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], _SchemaAttribute] = {}
+_SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], SchemaAttribute] = {}
 
 
-def _declared_attribute(definition: Usd.PrimDefinition, name: str) -> _SchemaAttribute:
+def _declared_attribute(definition: Usd.PrimDefinition, name: str) -> SchemaAttribute:
     attribute = definition.GetAttributeDefinition(name)
     if not attribute:
-        return _SchemaAttribute(None, ())
-    tokens = attribute.GetMetadata("allowedTokens") or ()
-    return _SchemaAttribute(attribute.GetTypeName(), tuple(str(t) for t in tokens))
+        return SchemaAttribute(None, ())
+    tokens = tuple(str(t) for t in attribute.GetMetadata("allowedTokens") or ())
+    uniform = attribute.GetVariability() == Sdf.VariabilityUniform
+    return SchemaAttribute(attribute.GetTypeName(), tokens, uniform)
 
 
 @cached
@@ -216,6 +219,10 @@ def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
 
 @cached
 def _attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+    return _read_attribute_specs(attr)
+
+
+def _read_attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
     """The attribute's property stack without relationship specs (a layer may
     author the name as ``rel dataWindowNDC = </X>``, which has no type or
     value), and its declared type: the composed value type, which USD takes
@@ -264,12 +271,20 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     schema's, value-holding or not (what ``usdValidation:AttributeTypeMismatch``
     reports). Roles are ignored, as in :func:`mismatched_spec`."""
     specs, declared = _attribute_specs(attr)
+    return _specs_of_other_types(specs, declared, lambda: _schema_type(attr))
+
+
+def _specs_of_other_types(
+    specs: tuple[Sdf.AttributeSpec, ...],
+    declared: Tf.Type,
+    schema_type: Callable[[], Sdf.ValueTypeName | None],
+) -> list[Sdf.AttributeSpec]:
     if all(s.typeName.type == declared for s in specs):
         return []
-    schema_type = _schema_type(attr)
-    if schema_type is None:
+    declared_name = schema_type()  # read only when some spec differs
+    if declared_name is None:
         return []
-    return [s for s in specs if s.typeName.type != schema_type.type]
+    return [s for s in specs if s.typeName.type != declared_name.type]
 
 
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
@@ -284,13 +299,20 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     (catalog, Conventions: one mistake gives one finding, SE016)."""
     if not attr or not attr.HasAuthoredValue():
         return False
+    return _holds_well_typed_value(attr, *_attribute_specs(attr))
+
+
+def _holds_well_typed_value(
+    attr: Usd.Attribute, specs: tuple[Sdf.AttributeSpec, ...], declared: Tf.Type
+) -> bool:
+    """Whether an attribute with an authored value (``specs``, its property
+    stack, and ``declared``, its value type) holds a well-typed one."""
     # One pass over one property stack: the first value-holding spec must have
     # the schema's type (as _mismatched_in reads it), and neither the first
     # default nor the first time samples may be a path: usda accepts ``<...>``
     # as the value of an attribute of any type (``uniform token sourceType =
     # </X>``, also in time samples), an Sdf.Path no typed read returns.
     found_default = found_samples = typed = False
-    specs, declared = _attribute_specs(attr)
     for spec in specs:
         has_default = not found_default and spec.HasDefaultValue()
         has_samples = not found_samples and _has_time_samples(spec)
@@ -366,6 +388,7 @@ class PrimValues:
         "prim",
         "_attrs",
         "_rels",
+        "_specs",
         "_has",
         "_authored",
         "_composed",
@@ -375,12 +398,14 @@ class PrimValues:
         "_targets",
         "_definition",
         "_key",
+        "_names",
     )
 
     def __init__(self, prim: Usd.Prim) -> None:
         self.prim = prim
         self._attrs: dict[str, Usd.Attribute] = {}
         self._rels: dict[str, Usd.Relationship] = {}
+        self._specs: dict[str, tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]] = {}
         self._has: dict[str, bool] = {}
         self._authored: dict[str, Any] = {}
         self._composed: dict[str, Any] = {}
@@ -390,6 +415,7 @@ class PrimValues:
         self._targets: dict[str, tuple[Target, ...]] = {}
         self._definition: Usd.PrimDefinition | None = None
         self._key: _DefinitionKey | None = None
+        self._names: tuple[str, ...] | None = None
 
     def attribute(self, name: str) -> Usd.Attribute:
         """``prim.GetAttribute(name)``, one handle per name."""
@@ -405,11 +431,21 @@ class PrimValues:
             rel = self._rels[name] = self.prim.GetRelationship(name)
         return rel
 
+    def _attribute_specs(self, name: str) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+        found = self._specs.get(name)
+        if found is None:
+            found = self._specs[name] = _read_attribute_specs(self.attribute(name))
+        return found
+
     def has_value(self, name: str) -> bool:
         """:func:`has_authored_value` of the named attribute."""
         found = self._has.get(name)
         if found is None:
-            found = self._has[name] = has_authored_value(self.attribute(name))
+            attr = self.attribute(name)
+            found = bool(attr) and attr.HasAuthoredValue()
+            if found:
+                found = _holds_well_typed_value(attr, *self._attribute_specs(name))
+            self._has[name] = found
         return found
 
     def authored(self, name: str) -> Any:
@@ -435,11 +471,25 @@ class PrimValues:
             self._composed[name] = value
         return value
 
+    def mismatched_specs(self, name: str) -> list[Sdf.AttributeSpec]:
+        """:func:`mismatched_specs` of the named attribute."""
+        specs, declared = self._attribute_specs(name)
+        return _specs_of_other_types(specs, declared, lambda: self.schema_attribute(name).type_name)
+
+    def authored_names(self) -> tuple[str, ...]:
+        """The names of the prim's authored properties, in USD's order."""
+        names = self._names
+        if names is None:
+            names = self._names = tuple(self.prim.GetAuthoredPropertyNames())
+        return names
+
     def mismatched(self, name: str) -> Sdf.AttributeSpec | None:
         """:func:`mismatched_spec` of the named attribute."""
         spec = self._mismatched.get(name, _UNREAD)
         if spec is _UNREAD:
-            spec = self._mismatched[name] = mismatched_spec(self.attribute(name))
+            specs, declared = self._attribute_specs(name)
+            spec = _mismatched_in(specs, declared, self.attribute(name))
+            self._mismatched[name] = spec
         return spec
 
     def forwarded(self, name: str) -> tuple[Sdf.Path, ...]:
@@ -463,7 +513,7 @@ class PrimValues:
             definition = self._definition = self.prim.GetPrimDefinition()
         return definition
 
-    def schema_attribute(self, name: str) -> _SchemaAttribute:
+    def schema_attribute(self, name: str) -> SchemaAttribute:
         """What the prim's definition declares for the attribute ``name``."""
         key = self._key
         if key is None:
@@ -562,25 +612,25 @@ def rendered_times(attrs: Iterable[Usd.Attribute], cap: int) -> list[Usd.TimeCod
     stage range is read from the attributes' stage. A type-mismatched opinion
     counts as unauthored (SE016), so its samples are not rendered times.
     """
-    attrs = [a for a in attrs if a]
-    if not attrs:
+    return authored_rendered_times([a for a in attrs if a and has_authored_value(a)], cap)
+
+
+def authored_rendered_times(attrs: Iterable[Usd.Attribute], cap: int) -> list[Usd.TimeCode]:
+    """:func:`rendered_times` of attributes already known to hold well-typed
+    authored values (:meth:`PrimValues.has_value`)."""
+    sampled = [a for a in attrs if a.GetNumTimeSamples() != 0]
+    if not sampled:
         return [DEFAULT_TIME]
-    stage = attrs[0].GetStage()
+    stage = sampled[0].GetStage()
     interval: Gf.Interval | None = None
     if stage.HasAuthoredTimeCodeRange():
         interval = Gf.Interval(stage.GetStartTimeCode(), stage.GetEndTimeCode())
     times: set[float] = set()
-    sampled = False
-    for attr in attrs:
-        if not has_authored_value(attr) or attr.GetNumTimeSamples() == 0:
-            continue
-        sampled = True
+    for attr in sampled:
         if interval is None:
             times.update(time_samples(attr, cap))
         else:
             times.update(islice(attr.GetTimeSamplesInInterval(interval), cap))
-    if not sampled:
-        return [DEFAULT_TIME]
     if interval is not None:
         times.update((interval.min, interval.max))
     return [Usd.TimeCode(t) for t in sorted(times)[:cap]]

@@ -115,22 +115,7 @@ class _OverlayLayer:
     def open(cls, path: str) -> _OverlayLayer:
         """The --fix-to layer: opened when it exists, else created in memory."""
         target = Path(path)
-        if target.is_dir():
-            raise FixError(f"--fix-to {path}: is a directory")
-        if target.exists() and not target.is_file():  # /dev/null, a FIFO: no layer to keep
-            raise FixError(f"--fix-to {path}: not a regular file; name a .usda, .usdc or .usd file")
-        suffix = target.suffix.lstrip(".")
-        # Sdf raises for an empty extension (a name without one).
-        file_format = Sdf.FileFormat.FindByExtension(suffix) if suffix else None
-        if file_format is None or file_format.IsPackage():
-            raise FixError(f"--fix-to {path}: the layer must be a .usda, .usdc or .usd file")
-        folder = target.parent if str(target.parent) else Path(".")
-        if not folder.is_dir():
-            raise FixError(f"--fix-to {path}: the folder {folder} does not exist")
-        if not os.access(folder, os.W_OK | os.X_OK) or (
-            target.exists() and not os.access(target, os.W_OK)
-        ):
-            raise FixError(f"--fix-to {path}: not writable")
+        file_format = _writable_layer_format(path, target)
         if not target.exists():
             layer = Sdf.Layer.New(file_format, usd_path(str(target.resolve())))
             return cls(path, layer, None, _snapshot(layer), layer.ExportToString())
@@ -163,6 +148,27 @@ class _OverlayLayer:
             except CannotEdit as exc:
                 raise OSError(f"the overrides cannot be written as a text edit: {exc}") from None
             save_text(self.disk, text)
+
+
+def _writable_layer_format(path: str, target: Path) -> Sdf.FileFormat:
+    """The file format of the --fix-to layer ``path``; FixError when it cannot be one."""
+    if target.is_dir():
+        raise FixError(f"--fix-to {path}: is a directory")
+    if target.exists() and not target.is_file():  # /dev/null, a FIFO: no layer to keep
+        raise FixError(f"--fix-to {path}: not a regular file; name a .usda, .usdc or .usd file")
+    suffix = target.suffix.lstrip(".")
+    # Sdf raises for an empty extension (a name without one).
+    file_format = Sdf.FileFormat.FindByExtension(suffix) if suffix else None
+    if file_format is None or file_format.IsPackage():
+        raise FixError(f"--fix-to {path}: the layer must be a .usda, .usdc or .usd file")
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise FixError(f"--fix-to {path}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK) or (
+        target.exists() and not os.access(target, os.W_OK)
+    ):
+        raise FixError(f"--fix-to {path}: not writable")
+    return file_format
 
 
 # -- building the overrides ----------------------------------------------------------------
@@ -259,17 +265,8 @@ class _Builder:
             }
             failing = {i for i, owned in enumerate(self.owned) if owned & wrong}
             findings = self.linter.run_stage(self.stage, self.path).findings
-            # Findings the overlay leaves that --fix does not: on a fix's object, its fault.
-            extra = Counter(_finding_key(f) for f in findings) - self.fixed_findings
-            remaining = {
-                i
-                for i, a in enumerate(self.applied)
-                if i not in self.dropped
-                and any(key[:2] == _finding_key(a.finding)[:2] for key in extra)
-            }
-            # A rule that wants no authored opinion (not even the fallback): a block.
-            unauthored = {p for p, s in todo.items() if s.key[0] == "attr" and not s.key[-1]}
-            blockable = {p for i in remaining for p in self.owned[i] & unauthored} - self.blocked
+            remaining = self._still_found(findings)
+            blockable = self._blockable(todo, remaining)
             if blockable and not failing - self.dropped.keys():
                 self.blocked |= blockable
                 continue
@@ -281,6 +278,23 @@ class _Builder:
             for i in new:
                 self.dropped[i] = self._reason(i, wrong)
         raise FixError("--fix-to: the overrides did not settle")  # pragma: no cover
+
+    def _still_found(self, findings: Sequence[Finding]) -> set[int]:
+        """The kept fixes whose finding the overlay leaves and --fix does not: on a
+        fix's object, its fault."""
+        extra = Counter(_finding_key(f) for f in findings) - self.fixed_findings
+        return {
+            i
+            for i, a in enumerate(self.applied)
+            if i not in self.dropped
+            and any(key[:2] == _finding_key(a.finding)[:2] for key in extra)
+        }
+
+    def _blockable(self, todo: dict[Sdf.Path, _State], remaining: set[int]) -> set[Sdf.Path]:
+        """Attributes of ``remaining`` fixes left without an authored value, not yet
+        blocked: a rule that wants no authored opinion (not even the fallback)."""
+        unauthored = {p for p, s in todo.items() if s.key[0] == "attr" and not s.key[-1]}
+        return {p for i in remaining for p in self.owned[i] & unauthored} - self.blocked
 
     def _reason(self, index: int, wrong: set[Sdf.Path]) -> str:
         bad = sorted(self.owned[index] & wrong)
@@ -547,62 +561,86 @@ def _author_all(
 
 def _author(stage: Usd.Stage, path: Sdf.Path, state: _State, block: bool) -> None:
     """Make the composed ``path`` match ``state`` by authoring in the edit target."""
-    kind = state.key[0]
     if not path.IsPropertyPath():
-        prim = stage.GetPrimAtPath(path)
-        if kind == "absent":
-            if prim and prim.IsActive():
-                prim.SetActive(False)
-            return
-        _, type_name, defined, schemas, _, _ = state.key
-        leaves, _ = state.payload
-        if not prim or (not prim.IsDefined() and defined):
-            prim = stage.DefinePrim(path, type_name)
-        if not prim.IsActive():
-            prim.SetActive(True)
-        if prim.GetTypeName() != type_name:
-            prim.SetTypeName(type_name)
-        current = prim.GetAppliedSchemas()
-        for name in schemas:
-            if name not in current:
-                prim.AddAppliedSchema(name)
-        for name in current:
-            if name not in schemas:
-                prim.RemoveAppliedSchema(name)
-        now = dict(_leaves(prim.GetCustomData()))
-        for name, value in leaves.items():
-            if name not in now or repr(now[name]) != repr(value):
-                prim.SetCustomDataByKey(name, value)
+        _author_prim(stage, path, state)
         return
     prim = stage.GetPrimAtPath(path.GetPrimPath())
     if not prim:
         return  # its prim cannot be brought back: the caller's check reports it
-    attr = prim.GetAttribute(path.name)
-    rel = prim.GetRelationship(path.name)
+    kind = state.key[0]
     if kind == "rel":
-        rel = rel or prim.CreateRelationship(path.name)
+        rel = prim.GetRelationship(path.name) or prim.CreateRelationship(path.name)
         rel.SetTargets(list(state.payload))
     elif kind == "attr":
-        type_name, custom, default, samples, authored, sources = state.payload
-        if attr and list(attr.GetConnections()) != list(sources):
-            attr.SetConnections(list(sources))  # explicit: weaker connections hidden
-        elif sources and not attr:
-            attr = prim.CreateAttribute(path.name, type_name, custom)
-            attr.SetConnections(list(sources))
-        if not authored and not (attr and attr.HasAuthoredValue()):
-            return  # no opinion here either: the same fallback shows
-        attr = attr or prim.CreateAttribute(path.name, type_name, custom)
-        attr.Clear()
-        if not authored and (block or default is None):
-            attr.Block()  # no opinion at all: weaker ones hidden, the fallback shows
-        elif default is not None:
-            attr.Set(default)  # the value, or the fallback a removal leaves
-        for time, value in samples:
-            attr.Set(value, time)
-    elif attr and (attr.HasAuthoredValue() or attr.HasAuthoredConnections()):
+        _author_attribute(prim, path.name, state, block)
+    else:
+        _author_no_value(prim, path.name)
+
+
+def _author_prim(stage: Usd.Stage, path: Sdf.Path, state: _State) -> None:
+    prim = stage.GetPrimAtPath(path)
+    if state.key[0] == "absent":
+        if prim and prim.IsActive():
+            prim.SetActive(False)
+        return
+    _, type_name, defined, schemas, _, _ = state.key
+    leaves, _ = state.payload
+    if not prim or (not prim.IsDefined() and defined):
+        prim = stage.DefinePrim(path, type_name)
+    if not prim.IsActive():
+        prim.SetActive(True)
+    if prim.GetTypeName() != type_name:
+        prim.SetTypeName(type_name)
+    _author_schemas(prim, schemas)
+    _author_custom_data(prim, leaves)
+
+
+def _author_schemas(prim: Usd.Prim, schemas: tuple[str, ...]) -> None:
+    current = prim.GetAppliedSchemas()
+    for name in schemas:
+        if name not in current:
+            prim.AddAppliedSchema(name)
+    for name in current:
+        if name not in schemas:
+            prim.RemoveAppliedSchema(name)
+
+
+def _author_custom_data(prim: Usd.Prim, leaves: dict[str, object]) -> None:
+    now = dict(_leaves(prim.GetCustomData()))
+    for name, value in leaves.items():
+        if name not in now or repr(now[name]) != repr(value):
+            prim.SetCustomDataByKey(name, value)
+
+
+def _author_attribute(prim: Usd.Prim, name: str, state: _State, block: bool) -> None:
+    type_name, custom, default, samples, authored, sources = state.payload
+    attr = prim.GetAttribute(name)
+    if attr and list(attr.GetConnections()) != list(sources):
+        attr.SetConnections(list(sources))  # explicit: weaker connections hidden
+    elif sources and not attr:
+        attr = prim.CreateAttribute(name, type_name, custom)
+        attr.SetConnections(list(sources))
+    if not authored and not (attr and attr.HasAuthoredValue()):
+        return  # no opinion here either: the same fallback shows
+    attr = attr or prim.CreateAttribute(name, type_name, custom)
+    attr.Clear()
+    if not authored and (block or default is None):
+        attr.Block()  # no opinion at all: weaker ones hidden, the fallback shows
+    elif default is not None:
+        attr.Set(default)  # the value, or the fallback a removal leaves
+    for time, value in samples:
+        attr.Set(value, time)
+
+
+def _author_no_value(prim: Usd.Prim, name: str) -> None:
+    """The fix removed the property's every opinion: hide the weaker ones."""
+    attr = prim.GetAttribute(name)
+    if attr and (attr.HasAuthoredValue() or attr.HasAuthoredConnections()):
         if attr.HasAuthoredValue():
             attr.Block()  # the fix removed every value: block the weaker ones
         if attr.HasAuthoredConnections():
             attr.SetConnections([])  # an explicit empty list hides the weaker ones
-    elif rel and rel.HasAuthoredTargets():
+        return
+    rel = prim.GetRelationship(name)
+    if rel and rel.HasAuthoredTargets():
         rel.SetTargets([])  # an explicit empty list hides the weaker targets

@@ -212,14 +212,20 @@ class StageFixer:
             finding, fix, _ = batch[0]
             tried.add(_fix_key(finding, fix))
             budget -= 1
-            try:
-                reason, after = self._alone(finding, fix)
-            except Exception as exc:  # noqa: BLE001 - one fix must not cost the others
-                debug.show(exc, f"internal error while fixing {finding.code}")
-                reason, after = f"internal error while fixing: {type(exc).__name__}: {exc}", None
+            after = self._one(finding, fix)
             if after is not None:
                 run = after
-            self.outcomes.append(_outcome(finding, fix, self._shown_layer(finding, fix), reason))
+
+    def _one(self, finding: Finding, fix: Fix) -> LintRun[None] | None:
+        """Try one fix on its own and record its outcome; the lint after it, or
+        None when it was not applied."""
+        try:
+            reason, after = self._alone(finding, fix)
+        except Exception as exc:  # noqa: BLE001 - one fix must not cost the others
+            debug.show(exc, f"internal error while fixing {finding.code}")
+            reason, after = f"internal error while fixing: {type(exc).__name__}: {exc}", None
+        self.outcomes.append(_outcome(finding, fix, self._shown_layer(finding, fix), reason))
+        return after
 
     def _round(self, todo, alone: set[tuple]) -> list[tuple[Finding, Fix, Sdf.Layer | None]]:
         """The fixes to try together: the first fix, and the later ones that edit

@@ -240,11 +240,24 @@ class _Editor:
         new = {s.key: s for s in ns}
         for n in ns:
             o = old.get(n.key)
-            if o is None or self.same(o, n):
-                continue
-            self.statement(self.find(by_key, n.key)[-1], o, n, context)
-        # Where removed statements' lines were: a new statement of the same kind
-        # takes the place (a replaced line, not a line removed and one added).
+            if o is not None and not self.same(o, n):
+                self.statement(self.find(by_key, n.key)[-1], o, n, context)
+        freed = self.remove_gone(os_, new, by_key, context)
+        added = [n for n in ns if n.key not in old]
+        if added:
+            kept = [s for s in ts if s.key in old and s.key in new]
+            _Placer(self, context, ts, kept, by_key, ns, freed, t_span, opener).place(added)
+
+    def remove_gone(
+        self,
+        os_: list[Statement],
+        new: dict[tuple[str, ...], Statement],
+        by_key: dict,
+        context: str,
+    ) -> list[_Freed]:
+        """Delete the statements the new text no longer has; returns where removed
+        statements' lines were: a new statement of the same kind takes the place
+        (a replaced line, not a line removed and one added)."""
         freed: list[_Freed] = []
         for o in os_:
             if o.key in new:
@@ -256,10 +269,7 @@ class _Editor:
                     freed.append(slot)
             if o.kind == "prim":
                 self.removed[o.key[1]].append((found[-1], o))
-        added = [n for n in ns if n.key not in old]
-        if added:
-            kept = [s for s in ts if s.key in old and s.key in new]
-            _Placer(self, context, ts, kept, by_key, ns, freed, t_span, opener).place(added)
+        return freed
 
     def find(self, by_key: dict, key: tuple[str, ...]) -> list[Statement]:
         found = by_key.get(key)
@@ -340,27 +350,38 @@ class _Editor:
             return
         matcher = difflib.SequenceMatcher(None, old, new, autojunk=False)
         for op, i1, i2, j1, j2 in matcher.get_opcodes():
-            joined = ", ".join(new[j1:j2])
-            if op == "equal":
-                continue
-            if op == "replace" and i2 - i1 == j2 - j1:
-                for i, j in zip(range(i1, i2), range(j1, j2), strict=True):
-                    self.replace(*ts[i], new[j])
-            elif op == "replace":
-                self.replace(ts[i1][0], ts[i2 - 1][1], joined)
+            if op == "replace":
+                self.replace_elements(ts, range(i1, i2), new[j1:j2])
             elif op == "delete":
-                if i2 < len(ts):
-                    self.replace(ts[i1][0], ts[i2][0], "")
-                elif i1 > 0:
-                    self.replace(ts[i1 - 1][1], ts[i2 - 1][1], "")
-                else:
-                    self.replace(ts[0][0], ts[-1][1], "")
-            elif i1 < len(ts):  # insert
-                self.replace(ts[i1][0], ts[i1][0], joined + ", ")
-            elif ts:
-                self.replace(ts[-1][1], ts[-1][1], ", " + joined)
-            else:
-                self.replace(t_span[0] + 1, t_span[1] - 1, joined)
+                self.delete_elements(ts, i1, i2)
+            elif op == "insert":
+                self.insert_elements(ts, t_span, i1, ", ".join(new[j1:j2]))
+
+    def replace_elements(self, ts: list[tuple[int, int]], indices: range, after: list[str]) -> None:
+        if len(indices) == len(after):
+            for i, text in zip(indices, after, strict=True):
+                self.replace(*ts[i], text)
+        else:
+            self.replace(ts[indices[0]][0], ts[indices[-1]][1], ", ".join(after))
+
+    def delete_elements(self, ts: list[tuple[int, int]], i1: int, i2: int) -> None:
+        """Remove elements ``i1:i2`` with the separator that joins them to the rest."""
+        if i2 < len(ts):
+            self.replace(ts[i1][0], ts[i2][0], "")
+        elif i1 > 0:
+            self.replace(ts[i1 - 1][1], ts[i2 - 1][1], "")
+        else:
+            self.replace(ts[0][0], ts[-1][1], "")
+
+    def insert_elements(
+        self, ts: list[tuple[int, int]], t_span: tuple[int, int], i1: int, joined: str
+    ) -> None:
+        if i1 < len(ts):
+            self.replace(ts[i1][0], ts[i1][0], joined + ", ")
+        elif ts:
+            self.replace(ts[-1][1], ts[-1][1], ", " + joined)
+        else:
+            self.replace(t_span[0] + 1, t_span[1] - 1, joined)
 
     def meta(self, t: Statement, o: Statement, n: Statement) -> None:
         before = t.value[1] if t.value else t.head_end

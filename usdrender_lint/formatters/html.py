@@ -17,11 +17,11 @@ files are not on disk is shown with its findings only, and says so.
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from html import escape as _html_escape
 from typing import TYPE_CHECKING, TextIO
 
-from ..model import FileResult, Finding, Report, Severity
+from ..model import FileResult, Finding, FixInfo, Report, RuleInfo, Severity
 from ..paths import display_path
 from ..paths import escape as _utf8
 from ..running.report_views import finding_key as _key
@@ -51,8 +51,6 @@ def render_page(report: Report, views: ReportViews, options: FormatOptions) -> s
     counts = report.by_severity()
     rules = {rule.code: rule for rule in report.rules}
     findings = report.findings
-    codes = Counter(f.code for f in findings)
-    profiles = Counter(f.profile or "none" for f in findings)
     safe, unsafe = report.fixable()
     files_with = sum(1 for r in report.files if r.findings)
     out: list[str] = [
@@ -83,6 +81,32 @@ def render_page(report: Report, views: ReportViews, options: FormatOptions) -> s
         + (f", {unsafe} more unsafe" if unsafe else "")
         + "</span>",
         "</div>",
+    ]
+    out += _filters(findings, rules)
+    out.append("</header>")
+    out.append("<main>")
+    for note in views.notes:
+        out.append(f'<p class="note">{escape(note)}</p>')
+    if not report.files:
+        out.append('<p class="note">No USD files were linted.</p>')
+    for index, result in enumerate(report.files):
+        out.extend(_file_section(index, result, views.files.get(result.file), rules))
+    out.append("</main>")
+    out.append(
+        '<footer class="dim">Filters live in the address (<code>#severity=error&amp;code=SE003'
+        "</code>). Pictures: the framing <code>usdrender-lint spec</code> draws.</footer>"
+    )
+    out.append(f"<script>{_JS}</script>")
+    out.append("</body>")
+    out.append("</html>")
+    return "\n".join(out) + "\n"
+
+
+def _filters(findings: Sequence[Finding], rules: dict) -> list[str]:
+    """The filter form: severities, the codes and profiles found, clean files."""
+    codes = Counter(f.code for f in findings)
+    profiles = Counter(f.profile or "none" for f in findings)
+    out = [
         '<form class="filters" id="filters" aria-label="Filters">',
         "<fieldset><legend>Severity</legend>",
     ]
@@ -108,26 +132,33 @@ def render_page(report: Report, views: ReportViews, options: FormatOptions) -> s
     )
     out.append('<output id="shown" aria-live="polite"></output>')
     out.append("</form>")
-    out.append("</header>")
-    out.append("<main>")
-    for note in views.notes:
-        out.append(f'<p class="note">{escape(note)}</p>')
-    if not report.files:
-        out.append('<p class="note">No USD files were linted.</p>')
-    for index, result in enumerate(report.files):
-        out.extend(_file_section(index, result, views.files.get(result.file), rules))
-    out.append("</main>")
-    out.append(
-        '<footer class="dim">Filters live in the address (<code>#severity=error&amp;code=SE003'
-        "</code>). Pictures: the framing <code>usdrender-lint spec</code> draws.</footer>"
-    )
-    out.append(f"<script>{_JS}</script>")
-    out.append("</body>")
-    out.append("</html>")
-    return "\n".join(out) + "\n"
+    return out
 
 
 def _file_section(index: int, result: FileResult, view: FileView | None, rules: dict) -> list[str]:
+    ids = {_key(finding): f"f{index}-{number}" for number, finding in enumerate(result.findings)}
+    out = _file_head(index, result)
+    if result.error:
+        out.append(f'<p class="note error-text">{escape(result.error)}</p>')
+    for note in result.notes:
+        out.append(f'<p class="note">{escape(note)}</p>')
+    if view is not None:
+        out += _view_notes(result, view)
+    if result.findings:
+        out.append('<ol class="findings">')
+        for finding in result.findings:
+            out.extend(_finding(finding, ids[_key(finding)], view, rules))
+        out.append("</ol>")
+    if view is not None and view.products:
+        out += _framing(index, result, view, ids)
+    out.append("</details>")
+    out.append("</section>")
+    return out
+
+
+def _file_head(index: int, result: FileResult) -> list[str]:
+    """The section's opening: the file's path, its counts by severity, and
+    whether it was linted (a file with findings or not linted starts open)."""
     shown = display_path(result.file)
     sev = Counter(f.severity.value for f in result.findings)
     badges = "".join(
@@ -136,47 +167,45 @@ def _file_section(index: int, result: FileResult, view: FileView | None, rules: 
         if sev[s.value]
     )
     status = "" if result.status == "linted" else '<span class="chip error">not linted</span>'
-    out = [
+    worth_opening = bool(result.findings) or result.status != "linted"
+    return [
         f'<section class="file" id="file-{index}" data-findings="{len(result.findings)}">',
-        f"<details{' open' if result.findings or result.status != 'linted' else ''}>",
+        f"<details{' open' if worth_opening else ''}>",
         f'<summary><span class="path">{escape(shown)}</span> {badges}{status}'
-        + ("" if result.findings or result.status != "linted" else '<span class="ok">clean</span>')
+        + ("" if worth_opening else '<span class="ok">clean</span>')
         + "</summary>",
     ]
-    if result.error:
-        out.append(f'<p class="note error-text">{escape(result.error)}</p>')
-    for note in result.notes:
-        out.append(f'<p class="note">{escape(note)}</p>')
-    ids = {}
-    for number, finding in enumerate(result.findings):
-        ids[_key(finding)] = f"f{index}-{number}"
-    if view is not None:
-        if view.spec_error and result.status == "linted" and result.findings:
-            codes = {f.code for f in result.findings}
-            if "ST001" not in codes:
-                out.append(f'<p class="note">No framing picture: {escape(view.spec_error)}</p>')
-        for settings_path, (profile, reason) in view.profiles.items():
-            out.append(
-                f'<p class="profile">RenderSettings <code>{escape(settings_path)}</code>: '
-                f'profile <b>{escape(profile)}</b> <span class="dim">({escape(reason)})</span></p>'
-            )
-    if result.findings:
-        out.append('<ol class="findings">')
-        for finding in result.findings:
-            out.extend(_finding(finding, ids[_key(finding)], view, rules))
-        out.append("</ol>")
-    if view is not None and view.products:
-        count = len(view.products)
+
+
+def _view_notes(result: FileResult, view: FileView) -> list[str]:
+    """Why a file with findings has no picture, and each RenderSettings' profile."""
+    out = []
+    # ST001 (the stage does not open) says why already.
+    if (
+        view.spec_error
+        and result.status == "linted"
+        and result.findings
+        and all(f.code != "ST001" for f in result.findings)
+    ):
+        out.append(f'<p class="note">No framing picture: {escape(view.spec_error)}</p>')
+    for settings_path, (profile, reason) in view.profiles.items():
         out.append(
-            f'<details class="framing" open><summary>Framing: {count} '
-            f"picture{_s(count)} (what <code>usdrender-lint spec</code> draws)</summary>"
+            f'<p class="profile">RenderSettings <code>{escape(settings_path)}</code>: '
+            f'profile <b>{escape(profile)}</b> <span class="dim">({escape(reason)})</span></p>'
         )
-        out.append('<div class="products">')
-        for number, product in enumerate(view.products):
-            out.extend(_product_figure(f"p{index}-{number}", product, result.findings, ids))
-        out.append("</div></details>")
-    out.append("</details>")
-    out.append("</section>")
+    return out
+
+
+def _framing(index: int, result: FileResult, view: FileView, ids: dict) -> list[str]:
+    count = len(view.products)
+    out = [
+        f'<details class="framing" open><summary>Framing: {count} '
+        f"picture{_s(count)} (what <code>usdrender-lint spec</code> draws)</summary>",
+        '<div class="products">',
+    ]
+    for number, product in enumerate(view.products):
+        out.extend(_product_figure(f"p{index}-{number}", product, result.findings, ids))
+    out.append("</div></details>")
     return out
 
 
@@ -205,14 +234,34 @@ def _product_figure(anchor: str, product, findings: Iterable[Finding], ids: dict
 
 
 def _finding(finding: Finding, anchor: str, view: FileView | None, rules: dict) -> list[str]:
+    out = [f'<li class="finding" id="{anchor}" {_data(finding)}>']
+    out += _finding_head(finding, rules.get(finding.code))
+    out.append(f'<p class="message">{escape(finding.message)}</p>')
+    stated = set(view.profiles.values()) if view is not None else set()
+    if finding.profile and (finding.profile, finding.profile_reason) not in stated:
+        # Not said on the file's RenderSettings line above: say it here.
+        out.append(
+            f'<p class="why dim">profile {escape(finding.profile)}: '
+            f"{escape(finding.profile_reason or '')}</p>"
+        )
+    key = _key(finding)
+    excerpt = view.excerpts.get(key) if view is not None else None
+    if excerpt is not None:
+        out.append(_excerpt(excerpt))
+    if finding.fix is not None:
+        out += _fix(finding.fix, view.diffs.get(key) if view is not None else None)
+    out.append("</li>")
+    return out
+
+
+def _finding_head(finding: Finding, rule: RuleInfo | None) -> list[str]:
+    """Severity, code (the rule's summary on hover), name, where, and profile."""
     loc = finding.location
     where = display_path(loc.layer or loc.file)
     if loc.line is not None:
         where += f":{loc.line}"
-    rule = rules.get(finding.code)
     summary = f' title="{escape(rule.summary)}"' if rule is not None and rule.summary else ""
     out = [
-        f'<li class="finding" id="{anchor}" {_data(finding)}>',
         '<div class="head">',
         f'<span class="sev {finding.severity.value}">{finding.severity.value}</span>',
         f'<b class="code"{summary}>{escape(finding.code)}</b>',
@@ -226,27 +275,15 @@ def _finding(finding: Finding, anchor: str, view: FileView | None, rules: dict) 
             f'<span class="chip prof" title="{escape(finding.profile_reason or "")}">'
             f"profile {escape(finding.profile)}</span>"
         )
-    out += ["</div>", f'<p class="message">{escape(finding.message)}</p>']
-    stated = set(view.profiles.values()) if view is not None else set()
-    if finding.profile and (finding.profile, finding.profile_reason) not in stated:
-        # Not said on the file's RenderSettings line above: say it here.
-        out.append(
-            f'<p class="why dim">profile {escape(finding.profile)}: '
-            f"{escape(finding.profile_reason or '')}</p>"
-        )
-    key = _key(finding)
-    excerpt = view.excerpts.get(key) if view is not None else None
-    if excerpt is not None:
-        out.append(_excerpt(excerpt))
-    if finding.fix is not None:
-        kind = "fix" if finding.fix.safe else "unsafe fix (--unsafe-fixes)"
-        out.append(
-            f'<p class="fix"><span class="tag">{kind}</span> {escape(finding.fix.description)}</p>'
-        )
-        diff = view.diffs.get(key) if view is not None else None
-        if diff:
-            out.append(_diff(diff))
-    out.append("</li>")
+    out.append("</div>")
+    return out
+
+
+def _fix(fix: FixInfo, diff: str | None) -> list[str]:
+    kind = "fix" if fix.safe else "unsafe fix (--unsafe-fixes)"
+    out = [f'<p class="fix"><span class="tag">{kind}</span> {escape(fix.description)}</p>']
+    if diff:
+        out.append(_diff(diff))
     return out
 
 

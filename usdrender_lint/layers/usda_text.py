@@ -256,45 +256,45 @@ class _Layer:
                     return
                 continue
             start = pos
-            records = False  # whether this statement may declare a property
             name: str | None = None
-            if char in "([":
-                pos = _skip_brackets(text, pos + 1)
-            elif char == '"' or char == "'":
-                string = _STRING_AT.match(text, pos)
-                if string:
-                    pos = string.end()
-                    if top_kind == "variantset":
-                        pending = ("variant", top_path + _unquote(string.group()) + "}")
-                else:
-                    pos += 1
-            elif char.isascii() and (char.isalpha() or char == "_"):
-                word_at = _WORD_AT.match(text, pos)
-                assert word_at is not None  # char starts a word
-                word = word_at.group()
-                pos += len(word)
-                if top_kind in _SPEC_FRAMES and word in _PRIM_SPECIFIERS:
-                    quoted = _prim_name(text, pos)
-                    if quoted is not None:
-                        prim = _prim_path(top_path, _unquote(quoted.group()))
-                        self.lines.setdefault(prim, self.line(start))
-                        pending = ("prim", prim)
-                        pos = quoted.end()
-                elif top_kind in _SPEC_FRAMES and word == "variantSet":
-                    string = _STRING_AT.match(text, _gap_at(text, pos).end())
-                    if string:
-                        pending = ("variantset", top_path + "{" + _unquote(string.group()) + "=")
-                else:
-                    records = top_kind in _SPEC_FRAMES and bool(top_path)
-                    rest = [] if word in _PROPERTY_QUALIFIERS else [word]
-            else:  # an asset path, a <path>, a lone "@", "<" or "/", or a stray ")" or "]"
-                atom = _ATOM_AT.match(text, pos)
-                pos = atom.end() if atom else pos + 1
-            if records:
-                pos, name = _property_name(text, pos, rest)
+            if char.isascii() and (char.isalpha() or char == "_"):
+                pos, name, opened = self._word_statement(start, top_kind, top_path)
+            else:
+                pos, opened = _skip_token(text, pos, top_kind, top_path)
+            if opened is not None:
+                pending = opened
             pos = _statement_end(text, pos)
             if name is not None and (pos >= end or text[pos] != "}"):
                 self.lines.setdefault(top_path + "." + name, self.line(start))
+
+    def _word_statement(
+        self, start: int, top_kind: str, top_path: str
+    ) -> tuple[int, str | None, tuple[str, str] | None]:
+        """Read the head of a statement that starts with a word: a prim (its line is
+        recorded), a variant set, or a property. Returns where the head ends, the
+        property's name, and the frame the next "{" opens."""
+        text = self.text
+        word_at = _WORD_AT.match(text, start)
+        assert word_at is not None  # the statement starts with a word
+        word = word_at.group()
+        pos = start + len(word)
+        in_spec = top_kind in _SPEC_FRAMES
+        if in_spec and word in _PRIM_SPECIFIERS:
+            quoted = _prim_name(text, pos)
+            if quoted is None:
+                return pos, None, None
+            prim = _prim_path(top_path, _unquote(quoted.group()))
+            self.lines.setdefault(prim, self.line(start))
+            return quoted.end(), None, ("prim", prim)
+        if in_spec and word == "variantSet":
+            string = _STRING_AT.match(text, _gap_at(text, pos).end())
+            if string is None:
+                return pos, None, None
+            return pos, None, ("variantset", top_path + "{" + _unquote(string.group()) + "=")
+        if not (in_spec and top_path):
+            return pos, None, None
+        pos, name = _property_name(text, pos, [] if word in _PROPERTY_QUALIFIERS else [word])
+        return pos, name, None
 
     def _brace(
         self,
@@ -319,6 +319,27 @@ class _Layer:
             self.bodies.setdefault(pending[1], []).append((pending[0], pos, end))
         # else a value or dictionary block: nothing to find inside
         return end, None
+
+
+def _skip_token(
+    text: str, pos: int, top_kind: str, top_path: str
+) -> tuple[int, tuple[str, str] | None]:
+    """Skip the first token of a statement that does not start with a word (a bracket
+    group, a string, an asset path, a <path>, a lone "@", "<" or "/", or a stray ")"
+    or "]"). Returns the offset after it and, for a variant's name in a variant set,
+    the frame the next "{" opens."""
+    char = text[pos]
+    if char in "([":
+        return _skip_brackets(text, pos + 1), None
+    if char == '"' or char == "'":
+        string = _STRING_AT.match(text, pos)
+        if string is None:
+            return pos + 1, None
+        if top_kind == "variantset":
+            return string.end(), ("variant", top_path + _unquote(string.group()) + "}")
+        return string.end(), None
+    atom = _ATOM_AT.match(text, pos)
+    return (atom.end() if atom else pos + 1), None
 
 
 def _skip_brackets(text: str, pos: int) -> int:
@@ -561,14 +582,48 @@ def _body_statement(text: str, pos: int, end: int) -> Statement:
     names = [_word(text, w) for w in words]
     first = names[0] if names else ""
     if first in _PRIM_SPECIFIERS and len(words) >= 2:
-        meta = _group_after(text, pos, end, "(")
-        body = _group_after(text, meta[1] if meta else pos, end, "{")
-        stop = body[1] if body else meta[1] if meta else pos
+        meta, body, stop = _meta_and_body(text, pos, end)
         return Statement("prim", ("prim", names[-1]), start, stop, tuple(words), None, meta, body)
     if first == "variantSet" and len(words) == 2 and pos < end and text[pos] == "=":
         block = _group_after(text, pos + 1, end, "{")
-        stop = block[1] if block else pos + 1
-        return Statement("variantSet", ("variantSet", names[1]), start, stop, tuple(words), block)
+        return _variant_set(start, pos, tuple(words), names[1], block)
+    value, meta, pos = _value_and_meta(text, pos, end)
+    stop = meta[1] if meta else value[1] if value else words[-1][1] if words else pos
+    key = _property_key(names)
+    if key is None:
+        if stop <= start:
+            stop = _token_end(text, start)
+        key = ("other", text[start:stop])
+    return Statement(key[0], key, start, stop, tuple(words), value, meta)
+
+
+def _variant_set(
+    start: int,
+    equals: int,
+    words: tuple[tuple[int, int], ...],
+    name: str,
+    block: tuple[int, int] | None,
+) -> Statement:
+    """``variantSet "name" = { ... }``; without its block it ends after the ``=``."""
+    stop = block[1] if block else equals + 1
+    return Statement("variantSet", ("variantSet", name), start, stop, words, block)
+
+
+def _meta_and_body(
+    text: str, pos: int, end: int
+) -> tuple[tuple[int, int] | None, tuple[int, int] | None, int]:
+    """The ``( )`` metadata and ``{ }`` body after a prim's or variant's name, and
+    where the statement ends."""
+    meta = _group_after(text, pos, end, "(")
+    body = _group_after(text, meta[1] if meta else pos, end, "{")
+    return meta, body, body[1] if body else meta[1] if meta else pos
+
+
+def _value_and_meta(
+    text: str, pos: int, end: int
+) -> tuple[tuple[int, int] | None, tuple[int, int] | None, int]:
+    """The ``= value`` and ``( )`` metadata after a statement's head, and where
+    the head or the value ends."""
     value = None
     if pos < end and text[pos] == "=":
         pos = _past(_INLINE_GAP, text, pos + 1)
@@ -579,18 +634,20 @@ def _body_statement(text: str, pos: int, end: int) -> Statement:
     after = _past(_INLINE_GAP, text, pos)
     if after < end and text[after] == "(":
         meta = (after, _token_end(text, after))
-    stop = meta[1] if meta else value[1] if value else words[-1][1] if words else pos
+    return value, meta, pos
+
+
+def _property_key(names: list[str]) -> tuple[str, ...] | None:
+    """The key of a statement that is not a prim or variant set: a reorder, a
+    property (by name, list operation and suffix), or None (something else)."""
+    first = names[0] if names else ""
     if first == "reorder" and len(names) == 2 and names[1] in ("nameChildren", "properties"):
-        return Statement("reorder", ("reorder", names[1]), start, stop, tuple(words), value, meta)
+        return ("reorder", names[1])
     qualifiers = [n for n in names if n in _PROPERTY_QUALIFIERS]
-    if len(words) >= 2 and len(qualifiers) < len(names):
+    if len(names) >= 2 and len(qualifiers) < len(names):
         name, _, suffix = names[-1].partition(".")
-        op = first if first in _LIST_OPS else ""
-        key = ("property", name, op, suffix)
-        return Statement("property", key, start, stop, tuple(words), value, meta)
-    if stop <= start:
-        stop = _token_end(text, start)
-    return Statement("other", ("other", text[start:stop]), start, stop, tuple(words), value, meta)
+        return ("property", name, first if first in _LIST_OPS else "", suffix)
+    return None
 
 
 def _entry_statement(text: str, pos: int, end: int, closer: str) -> Statement:
@@ -618,9 +675,7 @@ def _entry_statement(text: str, pos: int, end: int, closer: str) -> Statement:
 def _variant_statement(text: str, pos: int, end: int) -> Statement:
     start = pos
     name_end = _token_end(text, pos)
-    meta = _group_after(text, name_end, end, "(")
-    body = _group_after(text, meta[1] if meta else name_end, end, "{")
-    stop = body[1] if body else meta[1] if meta else name_end
+    meta, body, stop = _meta_and_body(text, name_end, end)
     name = _unquote(text[start:name_end])
     return Statement(
         "variant", ("variant", name), start, stop, ((start, name_end),), None, meta, body

@@ -26,6 +26,7 @@ from pxr import Sdf, Usd
 from ..api import Context, schemas
 from ..api.resolve import (
     RenderConfiguration,
+    Target,
     describe_prim_type,
     forwarded_targets,
     resolve_targets,
@@ -53,6 +54,8 @@ class Assignment:
     def choices_for(self, path: Sdf.Path | None) -> tuple[ProfileChoice, ...]:
         """The choices a finding at ``path`` is judged under (the stage's when
         the path belongs to no scope)."""
+        if not self.members:  # every scope is judged as the stage is
+            return (self.stage,)
         if path is not None and path != Sdf.Path.emptyPath:
             keys = self.members.get(path.GetPrimPath())
             if keys:
@@ -67,6 +70,8 @@ class Assignment:
     ) -> tuple[ProfileChoice, Severity] | None:
         """The verdict on a finding of ``code`` anchored at ``at`` (a USD
         object, a path or None): see :func:`.model.judge`."""
+        if not self.members:
+            return judge(code, severity, rule_profile, (self.stage,))
         path = at.GetPath() if isinstance(at, Usd.Object) else at
         return judge(code, severity, rule_profile, self.choices_for(path))
 
@@ -93,6 +98,14 @@ _PRODUCT_TYPES = any(p.product_types for p in _RENDERERS)
 #: server lints for hours).
 _NAMES_KEPT = 4096
 
+#: The auto choice of render prims that hold no renderer's evidence (the common
+#: case), made once: a choice is frozen.
+_NO_EVIDENCE = ProfileChoice(
+    GENERIC,
+    "auto: no renderer's properties, API schemas, scopes, camera targets or layer "
+    "data on these render prims",
+)
+
 
 @lru_cache(maxsize=_NAMES_KEPT)
 def _some_product_type(token: str) -> bool:
@@ -100,8 +113,9 @@ def _some_product_type(token: str) -> bool:
 
 
 @lru_cache(maxsize=_NAMES_KEPT)
-def _some_runtime_camera(path: str) -> bool:
-    return any(p.runtime_camera(path) for p in _RENDERERS)
+def _some_runtime_camera(path: Sdf.Path) -> bool:
+    # Keyed by the path: hashing one is cheaper than spelling it.
+    return any(p.runtime_camera(str(path)) for p in _RENDERERS)
 
 
 @lru_cache(maxsize=_NAMES_KEPT)
@@ -109,81 +123,202 @@ def _some_camera_type(type_name: str) -> bool:
     return any(p.camera_type(type_name) for p in _RENDERERS)
 
 
-def _no_evidence(
-    path: str,
-    names: Sequence[str],
-    applied: Sequence[str],
-    product_type: str | None,
-    cameras: Sequence[tuple[Sdf.Path, Usd.Prim | None]],
-) -> bool:
-    """True when no renderer can find evidence on the prim (the common case),
-    decided with one test per kind of evidence for all renderers together."""
-    if applied or (product_type and _some_product_type(product_type)):
-        return False
-    if any(path.startswith(scope) or path + "/" == scope for scope in _SCOPES):
-        return False
-    if _NAMESPACES and any(name.startswith(_NAMESPACES) for name in names):
-        return False
-    for target, camera in cameras:
-        if _some_runtime_camera(str(target)):
-            return False
-        if camera is not None and _some_camera_type(camera.GetTypeName()):
-            return False
-    return True
+#: What a render prim is, which decides what on it can be evidence: the
+#: settings' and products' camera targets (both are RenderSettingsBase), a
+#: product's productType.
+_SETTINGS, _PRODUCT, _OTHER = "settings", "product", "other"
 
 
-def _prim_evidence(prim: Usd.Prim) -> PrimEvidence:
-    """What on ``prim`` points at each renderer, read in one pass over its
-    properties and API schemas (every renderer's namespaces at once)."""
-    found: PrimEvidence = {}
-    path = str(prim.GetPath())
-    names = prim.GetAuthoredPropertyNames()
-    applied = prim.GetPrimTypeInfo().GetAppliedAPISchemas()
-    is_product = prim.IsA(schemas.RenderProduct)
-    # The settings' and products' camera targets, read once for every renderer.
-    cameras = _camera_targets(prim) if prim.IsA(schemas.RenderSettingsBase) else ()
-    product_type = None
-    if _PRODUCT_TYPES and is_product:
-        product_type = str(prim.GetAttribute("productType").Get() or "")
-    if _no_evidence(path, names, applied, product_type, cameras):
+def _kind(prim: Usd.Prim) -> str:
+    """The kind of a render prim the caller knows nothing of."""
+    if prim.IsA(schemas.RenderProduct):
+        return _PRODUCT
+    return _SETTINGS if prim.IsA(schemas.RenderSettingsBase) else _OTHER
+
+
+#: "Not looked at yet" (None: not a usable RenderVar).
+_UNSEEN: Any = object()
+
+#: A camera target of a settings or product prim and the typed prim there.
+Camera = tuple[Sdf.Path, Usd.Prim | None]
+
+
+class _Facts:
+    """What one render prim holds that can point at a renderer, read once per
+    lint: its path, authored property names, applied API schemas, productType
+    and camera targets. ``evidence`` is the phrases per renderer."""
+
+    __slots__ = ("path", "text", "names", "applied", "product_type", "cameras", "evidence")
+
+    def __init__(self, prim: Usd.Prim, kind: str, scan: _Scan) -> None:
+        self.path: Sdf.Path = prim.GetPath()
+        self.text = str(self.path)
+        self.names: list[str] = prim.GetAuthoredPropertyNames()
+        self.applied: Sequence[str] = prim.GetPrimTypeInfo().GetAppliedAPISchemas()
+        self.product_type: str | None = None
+        if _PRODUCT_TYPES and kind is _PRODUCT:
+            self.product_type = str(prim.GetAttribute("productType").Get() or "")
+        # A relationship no layer authors has no targets.
+        self.cameras: Sequence[Camera] = ()
+        if kind is not _OTHER and "camera" in self.names:
+            self.cameras = scan.cameras(prim.GetRelationship("camera"))
+        self.evidence: PrimEvidence = {} if self._none() else self._found()
+
+    def _none(self) -> bool:
+        """True when no renderer can find evidence here (the common case),
+        decided with one test per kind of evidence for all renderers together."""
+        if self.applied or (self.product_type and _some_product_type(self.product_type)):
+            return False
+        if self.text.startswith(_SCOPES) or any(self.text + "/" == s for s in _SCOPES):
+            return False
+        if _NAMESPACES and any(name.startswith(_NAMESPACES) for name in self.names):
+            return False
+        return not any(
+            _some_runtime_camera(target)
+            or (camera is not None and _some_camera_type(camera.GetTypeName()))
+            for target, camera in self.cameras
+        )
+
+    def _found(self) -> PrimEvidence:
+        found: PrimEvidence = {}
+        for profile in _RENDERERS:
+            phrases = [
+                *self._scope_phrases(profile),
+                *self._property_phrases(profile),
+                *self._schema_phrases(profile),
+                *self._product_type_phrases(profile),
+                *self._camera_phrases(profile),
+            ]
+            if phrases:
+                found[profile.name] = phrases
         return found
-    for profile in _RENDERERS:
-        phrases = []
+
+    def _scope_phrases(self, profile: Profile) -> list[str]:
+        path = self.text
         if any(path.startswith(scope) or path + "/" == scope for scope in profile.scopes):
-            phrases.append(f"the prim <{path}> in {profile.scopes[0].rstrip('/')}")
-        if profile.namespaces:
-            phrases.extend(
-                f"the property <{path}.{name}>"
-                for name in names
-                if name.startswith(profile.namespaces)
-            )
-        for schema in applied:
-            if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas):
-                phrases.append(f"the API schema {schema} on <{path}>")
-        if profile.product_types and is_product:
-            if product_type is None:
-                product_type = str(prim.GetAttribute("productType").Get() or "")
-            if product_type and profile.product_type(product_type):
-                phrases.append(f"productType {product_type!r} of <{path}>")
-        for target, camera in cameras:
-            where = f"the camera target <{target}> of <{path}>"
+            return [f"the prim <{path}> in {profile.scopes[0].rstrip('/')}"]
+        return []
+
+    def _property_phrases(self, profile: Profile) -> list[str]:
+        if not profile.namespaces:
+            return []
+        return [
+            f"the property <{self.text}.{name}>"
+            for name in self.names
+            if name.startswith(profile.namespaces)
+        ]
+
+    def _schema_phrases(self, profile: Profile) -> list[str]:
+        return [
+            f"the API schema {schema} on <{self.text}>"
+            for schema in self.applied
+            if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas)
+        ]
+
+    def _product_type_phrases(self, profile: Profile) -> list[str]:
+        token = self.product_type
+        if token and profile.product_types and profile.product_type(token):
+            return [f"productType {token!r} of <{self.text}>"]
+        return []
+
+    def _camera_phrases(self, profile: Profile) -> list[str]:
+        phrases = []
+        for target, camera in self.cameras:
+            where = f"the camera target <{target}> of <{self.text}>"
             if profile.runtime_camera(str(target)):
                 phrases.append(f"{where}, a camera the renderer's application creates")
             elif camera is not None and profile.camera_type(camera.GetTypeName()):
                 phrases.append(f"{where}, {describe_prim_type(camera)}")
-        if phrases:
-            found[profile.name] = phrases
-    return found
+        return phrases
 
 
-def _camera_targets(prim: Usd.Prim) -> list[tuple[Sdf.Path, Usd.Prim | None]]:
-    """A settings or product prim's camera targets and the typed prims there."""
-    stage = prim.GetStage()
-    found: list[tuple[Sdf.Path, Usd.Prim | None]] = []
-    for target in forwarded_targets(prim.GetRelationship("camera")):
-        camera = stage.GetPrimAtPath(target) if target.IsPrimPath() else None
-        found.append((target, camera if camera and camera.GetTypeName() else None))
-    return found
+class _Scan:
+    """The evidence of one lint's render prims, each read once however many
+    scopes share it (vars, cameras), and the root layer's."""
+
+    def __init__(self, stage: Usd.Stage | None) -> None:
+        self.stage = stage
+        self.layer_data = layer_data_evidence(stage)
+        self._facts: dict[Usd.Prim, _Facts] = {}
+        self._cameras: dict[Sdf.Path, Usd.Prim | None] = {}
+        self._vars: dict[Sdf.Path, list[_Facts]] = {}
+        self._var_facts: dict[Sdf.Path, _Facts | None] = {}
+
+    def facts(self, prim: Usd.Prim, kind: str | None = None) -> _Facts:
+        """``prim``'s facts; ``kind`` (_SETTINGS, _PRODUCT, _OTHER) when the
+        caller knows what the prim is."""
+        found = self._facts.get(prim)
+        if found is None:
+            found = self._facts[prim] = _Facts(prim, kind or _kind(prim), self)
+        return found
+
+    def cameras(self, rel: Usd.Relationship) -> list[Camera]:
+        """A settings or product prim's camera targets and the typed prims there."""
+        found = []
+        for target in forwarded_targets(rel):
+            if target not in self._cameras:
+                self._cameras[target] = self._camera(target)
+            found.append((target, self._cameras[target]))
+        return found
+
+    def _camera(self, target: Sdf.Path) -> Usd.Prim | None:
+        assert self.stage is not None  # a prim was read
+        camera = self.stage.GetPrimAtPath(target) if target.IsPrimPath() else None
+        return camera if camera and camera.GetTypeName() else None
+
+    def vars_of(self, product: Usd.Prim, facts: _Facts) -> list[_Facts]:
+        """The facts of the usable RenderVars a product's ``orderedVars`` targets."""
+        found = self._vars.get(facts.path)
+        if found is None:
+            found = self._vars[facts.path] = self._read_vars(product, facts)
+        return found
+
+    def _read_vars(self, product: Usd.Prim, facts: _Facts) -> list[_Facts]:
+        if "orderedVars" not in facts.names:
+            return []
+        found = []
+        for target in resolve_targets(product.GetRelationship("orderedVars")):
+            # Products share their vars: each target is looked at once.
+            var = self._var_facts.get(target.path, _UNSEEN)
+            if var is _UNSEEN:
+                var = self._var_facts[target.path] = self._var(target)
+            if var is not None:
+                found.append(var)
+        return found
+
+    def _var(self, target: Target) -> _Facts | None:
+        prim = target.prim
+        if not target.ok or prim is None or not prim.IsA(schemas.RenderVar):
+            return None
+        return self.facts(prim, _OTHER)
+
+    def infer(self, members: Iterable[_Facts]) -> ProfileChoice:
+        """The ``auto`` choice for the render prims of one scope."""
+        found = [f.evidence for f in members if f.evidence]
+        if not found and not self.layer_data:
+            return _NO_EVIDENCE
+        hits: dict[str, list[str]] = {}
+        for evidence in [*found, self.layer_data]:
+            for name, phrases in evidence.items():
+                hits.setdefault(name, []).extend(phrases)
+        # Reported in the renderers' order, as each renderer's own evidence is.
+        return _choice({p.name: hits[p.name] for p in _RENDERERS if p.name in hits})
+
+
+def _choice(hits: dict[str, list[str]]) -> ProfileChoice:
+    """The choice the evidence per renderer makes: one renderer's picks it."""
+    if len(hits) == 1:
+        name, evidence = next(iter(hits.items()))
+        more = f" and {len(evidence) - 1} more" if len(evidence) > 1 else ""
+        return ProfileChoice(PROFILES[name], f"auto: {evidence[0]}{more}")
+    if not hits:
+        return _NO_EVIDENCE
+    counts = ", ".join(f"{name}: {len(e)}" for name, e in hits.items())
+    return ProfileChoice(
+        GENERIC,
+        f"auto: evidence of several renderers ({counts}), so the schema alone; "
+        "pin one with profile = NAME or --profile",
+    )
 
 
 def layer_data_evidence(stage: Usd.Stage | None) -> PrimEvidence:
@@ -192,14 +327,7 @@ def layer_data_evidence(stage: Usd.Stage | None) -> PrimEvidence:
     application writes, per renderer."""
     if stage is None:
         return {}
-    keys: list[str] = []
-    pending: list[tuple[str, dict]] = [("", dict(stage.GetRootLayer().customLayerData))]
-    while pending:
-        prefix, data = pending.pop()
-        for key, value in data.items():
-            keys.append(prefix + key)
-            if isinstance(value, dict):
-                pending.append((f"{prefix}{key}:", value))
+    keys = _layer_data_keys(dict(stage.GetRootLayer().customLayerData))
     found: PrimEvidence = {}
     for profile in _RENDERERS:
         phrases = [
@@ -210,54 +338,54 @@ def layer_data_evidence(stage: Usd.Stage | None) -> PrimEvidence:
     return found
 
 
-def infer(
-    prims: Sequence[Usd.Prim],
-    memo: dict[Sdf.Path, PrimEvidence] | None = None,
-    layer_data: PrimEvidence | None = None,
-) -> ProfileChoice:
-    """The ``auto`` choice for the render prims of one scope. ``memo`` keeps
-    each prim's evidence across the scopes that share it (vars, products);
-    ``layer_data`` is the stage's customLayerData evidence (default: read from
-    the prims' stage)."""
-    memo = {} if memo is None else memo
-    if layer_data is None:
-        layer_data = layer_data_evidence(prims[0].GetStage() if prims else None)
-    hits: dict[str, list[str]] = {}
-    for prim in prims:
-        key = prim.GetPath()
-        found = memo.get(key)
-        if found is None:
-            found = memo[key] = _prim_evidence(prim)
-        for name, phrases in found.items():
-            hits.setdefault(name, []).extend(phrases)
-    for name, phrases in layer_data.items():
-        hits.setdefault(name, []).extend(phrases)
-    # Reported in the renderers' order, as each renderer's own evidence is.
-    hits = {p.name: hits[p.name] for p in _RENDERERS if p.name in hits}
-    if len(hits) == 1:
-        name, evidence = next(iter(hits.items()))
-        more = f" and {len(evidence) - 1} more" if len(evidence) > 1 else ""
-        return ProfileChoice(PROFILES[name], f"auto: {evidence[0]}{more}")
-    if not hits:
-        return ProfileChoice(
-            GENERIC,
-            "auto: no renderer's properties, API schemas, scopes, camera targets or layer "
-            "data on these render prims",
-        )
-    counts = ", ".join(f"{name}: {len(e)}" for name, e in hits.items())
-    return ProfileChoice(
-        GENERIC,
-        f"auto: evidence of several renderers ({counts}), so the schema alone; "
-        "pin one with profile = NAME or --profile",
-    )
+def _layer_data_keys(data: dict) -> list[str]:
+    keys: list[str] = []
+    pending: list[tuple[str, dict]] = [("", data)]
+    while pending:
+        prefix, data = pending.pop()
+        for key, value in data.items():
+            keys.append(prefix + key)
+            if isinstance(value, dict):
+                pending.append((f"{prefix}{key}:", value))
+    return keys
 
 
-def _vars_of(product: Usd.Prim) -> list[Usd.Prim]:
-    return [
-        t.prim
-        for t in resolve_targets(product.GetRelationship("orderedVars"))
-        if t.ok and t.prim is not None and t.prim.IsA(schemas.RenderVar)
-    ]
+#: One scope: its key (its settings' or lone product's path), its prims (with
+#: a var once per product targeting it), the prims whose camera targets belong
+#: to it, and its settings (None for a lone product).
+_Scope = tuple[Sdf.Path, list[_Facts], list[Usd.Prim], Usd.Prim | None]
+
+
+def _scopes(
+    configurations: Sequence[RenderConfiguration], lone_products: Sequence[Usd.Prim], scan: _Scan
+) -> list[_Scope]:
+    """Every scope: each RenderSettings with its products and their vars, then
+    each product no settings targets with its vars (R2-4)."""
+    grouped: dict[Sdf.Path, tuple[_Facts, Usd.Prim, list[Usd.Prim]]] = {}
+    last: Usd.Prim | None = None
+    products: list[Usd.Prim] = []
+    for config in configurations:
+        if config.settings is None:  # products on their own: below (R2-4)
+            continue
+        # A settings prim's configurations come one after another: read it once.
+        if config.settings is not last:
+            last = config.settings
+            facts = scan.facts(last, _SETTINGS)
+            products = grouped.setdefault(facts.path, (facts, last, []))[2]
+        if config.product is not None:
+            products.append(config.product)
+    scopes = [_scope(*group, scan) for group in grouped.values()]
+    for product in lone_products:
+        facts = scan.facts(product, _PRODUCT)
+        scopes.append((facts.path, [facts, *scan.vars_of(product, facts)], [product], None))
+    return scopes
+
+
+def _scope(facts: _Facts, settings: Usd.Prim, products: list[Usd.Prim], scan: _Scan) -> _Scope:
+    found = [scan.facts(p, _PRODUCT) for p in products]
+    members = [facts, *found]
+    members.extend(v for p, f in zip(products, found, strict=True) for v in scan.vars_of(p, f))
+    return facts.path, members, [settings, *products], settings
 
 
 def _camera_paths(prims: Iterable[Usd.Prim]) -> list[Sdf.Path]:
@@ -287,36 +415,34 @@ def assign(
 ) -> Assignment:
     """Decide the profile of every scope. ``setting`` is a profile name or
     ``auto``; ``reason`` says where an explicit one was configured."""
+    if setting != AUTO:
+        # One choice for every scope and the stage: no scope needs knowing.
+        return Assignment(stage=ProfileChoice(get_profile(setting), reason))
+    scan = _Scan(_stage_of(configurations, [*lone_products, *render_prims]))
+    scopes = _scopes(configurations, lone_products, scan)
     assignment = Assignment()
-    memo: dict[Sdf.Path, PrimEvidence] = {}
-    explicit = None if setting == AUTO else ProfileChoice(get_profile(setting), reason)
-    prims = [*lone_products, *render_prims]
-    layer_data = {} if explicit else layer_data_evidence(_stage_of(configurations, prims))
-    by_settings: dict[Sdf.Path, list[RenderConfiguration]] = {}
-    for config in configurations:
-        if config.settings is not None:  # products on their own: below (R2-4)
-            by_settings.setdefault(config.settings.GetPath(), []).append(config)
-    for key, configs in by_settings.items():
-        settings = configs[0].settings
-        assert settings is not None
-        products = [c.product for c in configs if c.product is not None]
-        prims = [settings, *products, *(v for p in products for v in _vars_of(p))]
-        assignment.scopes[key] = explicit or infer(prims, memo, layer_data)
-        assignment._add(key, prims)
-        assignment._add(key, _camera_paths([settings, *products]))
-        assignment._add(key, _connected(settings))
-    for product in lone_products:
-        key = product.GetPath()
-        prims = [product, *_vars_of(product)]
-        assignment.scopes[key] = explicit or infer(prims, memo, layer_data)
-        assignment._add(key, prims)
-        assignment._add(key, _camera_paths([product]))
+    for key, members, _, _ in scopes:
+        assignment.scopes[key] = scan.infer(members)
+    assignment.stage = _stage_choice(assignment, render_prims, scan)
+    stage = assignment.stage
+    if any(c is not stage and c != stage for c in assignment.scopes.values()):
+        # Scopes judged differently: which scopes each prim belongs to matters.
+        _add_members(assignment, scopes, passes)
+    return assignment
+
+
+def _add_members(assignment: Assignment, scopes: list[_Scope], passes: Sequence[Usd.Prim]) -> None:
+    """Say which scopes each render prim belongs to: its settings, products and
+    vars, their cameras, what the settings connect to, the passes rendering it."""
+    for key, members, targeting, settings in scopes:
+        assignment._add(key, [f.path for f in members])
+        assignment._add(key, _camera_paths(targeting))
+        if settings is not None:
+            assignment._add(key, _connected(settings))
     for render_pass in passes:
         for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
             if path in assignment.scopes:
                 assignment._add(path, [render_pass])
-    assignment.stage = explicit or _stage_choice(assignment, render_prims, memo, layer_data)
-    return assignment
 
 
 def _stage_of(
@@ -328,10 +454,7 @@ def _stage_of(
 
 
 def _stage_choice(
-    assignment: Assignment,
-    render_prims: Sequence[Usd.Prim],
-    memo: dict[Sdf.Path, PrimEvidence],
-    layer_data: PrimEvidence,
+    assignment: Assignment, render_prims: Sequence[Usd.Prim], scan: _Scan
 ) -> ProfileChoice:
     choices = list(dict.fromkeys(assignment.scopes.values()))
     names = {c.name for c in choices}
@@ -339,7 +462,7 @@ def _stage_choice(
         return choices[0]
     if not names:
         # No configuration (only vars or passes): the render prims' own evidence.
-        return infer(render_prims, memo, layer_data)
+        return scan.infer([scan.facts(p) for p in render_prims])
     return ProfileChoice(
         GENERIC,
         "auto: the stage's configurations use several profiles "

@@ -194,13 +194,8 @@ class _Reader:
                 camera = replace(camera, shutter=(0.0, 0.0))
 
         outputs = _Outputs()
-        owners = [str(config.owner.GetPath())]  # the settings
         if product is not None:
             outputs = self._outputs(product, camera.time, sources)
-            owners.append(str(product.GetPath()))
-            owners.extend(v.path for v in outputs.vars)
-        if target is not None:
-            owners.append(str(target.path))
         return ProductSpec(
             path=str(product.GetPath()) if product is not None else None,
             name=outputs.name,
@@ -225,7 +220,7 @@ class _Reader:
             vars=outputs.vars,
             namespaced_settings=outputs.namespaced_settings,
             sources=sources,
-            owners=tuple(dict.fromkeys(owners)),
+            owners=_owners(config, outputs),
             compute_spec=self._compute_spec_view(config, camera, outputs),
         )
 
@@ -408,6 +403,18 @@ def _read_camera(
 ) -> tuple[_Camera, dict[str, Source]]:
     # Once per camera and conform inputs: the products of a settings share both.
     return reader.camera(prim, resolution, pixel_aspect, policy)
+
+
+def _owners(config: RenderConfiguration, outputs: _Outputs) -> tuple[str, ...]:
+    """The prims whose values the product's spec shows: the settings, the product
+    and its vars, the camera."""
+    owners = [str(config.owner.GetPath())]
+    if config.product is not None:
+        owners.append(str(config.product.GetPath()))
+        owners.extend(v.path for v in outputs.vars)
+    if config.camera_target is not None:
+        owners.append(str(config.camera_target.path))
+    return tuple(dict.fromkeys(owners))
 
 
 def _camera_problem(config: RenderConfiguration) -> str | None:

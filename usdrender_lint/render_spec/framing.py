@@ -72,21 +72,26 @@ def apply_aspect_ratio_policy(
     if policy == ADJUST_PIXEL_ASPECT:
         adjusted = f32(aperture_aspect / resolution_aspect)
         return Conformed(size, adjusted, "pixelAspectRatio" if adjusted != pixel_aspect else None)
-    if policy == ADJUST_HEIGHT:
-        adjust = "height"
-    elif policy == ADJUST_WIDTH:
-        adjust = "width"
-    elif policy == EXPAND:
-        adjust = "height" if aperture_aspect > image_aspect else "width"
-    elif policy == CROP:
-        adjust = "width" if aperture_aspect > image_aspect else "height"
-    else:
+    adjust = _adjusted_side(policy, wider=aperture_aspect > image_aspect)
+    if adjust is None:
         return Conformed(size, pixel_aspect, None, f"{policy!r} is not a conform policy")
     if adjust == "width":
         conformed = (f32(size[1] * image_aspect), size[1])
     else:
         conformed = (size[0], f32(size[0] / image_aspect))
     return Conformed(conformed, pixel_aspect, adjust if conformed != size else None)
+
+
+def _adjusted_side(policy: str, *, wider: bool) -> str | None:
+    """The side of the aperture ``policy`` changes (``wider``: the aperture is
+    wider than the image); None for a token that is no such policy. Expanding
+    grows the aperture to hold the image, cropping shrinks it to fit inside."""
+    return {
+        ADJUST_HEIGHT: "height",
+        ADJUST_WIDTH: "width",
+        EXPAND: "height" if wider else "width",
+        CROP: "width" if wider else "height",
+    }.get(policy)
 
 
 def aperture_rectangle(size: Pair, offset: Pair) -> Window:

@@ -67,45 +67,60 @@ class Picture:
 
 
 def picture(product: dict[str, Any]) -> Picture:
-    aperture = product["aperture"]
-    camera = None
-    image: Rect | None = None
-    if aperture is not None and _finite(aperture["conformed"], aperture["offset"]):
-        (w, h), (x, y) = aperture["conformed"], aperture["offset"]
-        image = _drawable(Rect(x - w / 2, y - h / 2, x + w / 2, y + h / 2))
-        if image is not None and _finite(aperture["camera"]):
-            cw, ch = aperture["camera"]
-            camera = _drawable(Rect(x - cw / 2, y - ch / 2, x + cw / 2, y + ch / 2))
+    image, camera = _apertures(product["aperture"])
     if image is None:
         # No camera, or an aperture that cannot be drawn: a zero aperture, or
         # an offset so large that the aperture vanishes beside it in floats.
-        width, height = product["resolution"]
-        aspect = (width / height) * (product["pixelAspectRatio"] or 1) if height > 0 else 1
-        aspect = aspect if 0.05 < aspect < 20 else 1
-        image = Rect(-aspect / 2, -0.5, aspect / 2, 0.5)
+        image = _image_of_resolution(product["resolution"], product["pixelAspectRatio"])
     ndc = product["dataWindowNDC"]
     window = product["dataWindow"]
-    data = None
-    overscan = cropped = False
-    if _finite(ndc) and window is not None and window["width"] and window["height"]:
-        xmin, ymin, xmax, ymax = ndc
-        overscan = xmin < 0 or ymin < 0 or xmax > 1 or ymax > 1
-        cropped = xmin > 0 or ymin > 0 or xmax < 1 or ymax < 1
-        margin = Rect(
-            image.left - MAX_OVERSCAN * image.width,
-            image.bottom - MAX_OVERSCAN * image.height,
-            image.right + MAX_OVERSCAN * image.width,
-            image.top + MAX_OVERSCAN * image.height,
-        )
-        data = Rect(
-            image.left + xmin * image.width,
-            image.bottom + ymin * image.height,
-            image.left + xmax * image.width,
-            image.bottom + ymax * image.height,
-        ).clamp(margin)
-        if data.width <= 0 or data.height <= 0:
-            data = None  # far outside the image: not drawn (SE004 reports it)
-    return Picture(image, camera, data, overscan, cropped)
+    if not (_finite(ndc) and window is not None and window["width"] and window["height"]):
+        return Picture(image, camera, None, False, False)
+    xmin, ymin, xmax, ymax = ndc
+    overscan = xmin < 0 or ymin < 0 or xmax > 1 or ymax > 1
+    cropped = xmin > 0 or ymin > 0 or xmax < 1 or ymax < 1
+    return Picture(image, camera, _data_window(image, ndc), overscan, cropped)
+
+
+def _apertures(aperture: dict[str, Any] | None) -> tuple[Rect | None, Rect | None]:
+    """The image (the conformed aperture) and the camera's aperture, each None
+    when it cannot be drawn (the camera's also without an image)."""
+    if aperture is None or not _finite(aperture["conformed"], aperture["offset"]):
+        return None, None
+    (w, h), (x, y) = aperture["conformed"], aperture["offset"]
+    image = _drawable(Rect(x - w / 2, y - h / 2, x + w / 2, y + h / 2))
+    if image is None or not _finite(aperture["camera"]):
+        return image, None
+    cw, ch = aperture["camera"]
+    return image, _drawable(Rect(x - cw / 2, y - ch / 2, x + cw / 2, y + ch / 2))
+
+
+def _image_of_resolution(resolution: list[int], pixel_aspect: float | None) -> Rect:
+    """An image of unit height with the image's aspect (1 when it is absurd)."""
+    width, height = resolution
+    aspect = (width / height) * (pixel_aspect or 1) if height > 0 else 1
+    aspect = aspect if 0.05 < aspect < 20 else 1
+    return Rect(-aspect / 2, -0.5, aspect / 2, 0.5)
+
+
+def _data_window(image: Rect, ndc: list[float]) -> Rect | None:
+    """The data window placed on the image, overscan drawn up to MAX_OVERSCAN."""
+    xmin, ymin, xmax, ymax = ndc
+    margin = Rect(
+        image.left - MAX_OVERSCAN * image.width,
+        image.bottom - MAX_OVERSCAN * image.height,
+        image.right + MAX_OVERSCAN * image.width,
+        image.top + MAX_OVERSCAN * image.height,
+    )
+    data = Rect(
+        image.left + xmin * image.width,
+        image.bottom + ymin * image.height,
+        image.left + xmax * image.width,
+        image.bottom + ymax * image.height,
+    ).clamp(margin)
+    if data.width <= 0 or data.height <= 0:
+        return None  # far outside the image: not drawn (SE004 reports it)
+    return data
 
 
 def _drawable(rect: Rect) -> Rect | None:

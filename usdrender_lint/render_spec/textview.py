@@ -4,8 +4,9 @@ flagged in red with the finding codes (an empty data window, a missing camera)."
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from .picture import Picture, Rect, picture
@@ -93,33 +94,10 @@ def product_lines(product: dict[str, Any]) -> Iterator[Line]:
 
 
 def value_lines(product: dict[str, Any]) -> Iterator[Line]:
-    flags = product["flags"]
-
-    def row(label: str, text: str, field: str | None = None, note: str = "") -> Line:
-        flagged = flags.get(field or label, [])
-        line: Line = [(f"{label:<15}", "dim"), (text, FLAG if flagged else None)]
-        if flagged:
-            line.append((f"  [{'; '.join(flagged)}]", FLAG))
-        if note:
-            line.append((f"  {note}", "dim"))
-        return line
-
+    row = functools.partial(_row, product["flags"])
     sources = product["sources"]
-    yield row(
-        "camera",
-        product["camera"] or "none",
-        note=_source(sources.get("camera")),
-    )
-    times = product["renderedTimes"]
-    if not times:
-        rendered = "no camera"
-    elif times == ["default"]:
-        rendered = "camera not animated"
-    else:
-        rendered = "rendered times " + ", ".join(_time(t) for t in times[:6])
-        if len(times) > 6:
-            rendered += f", … ({len(times)})"
-    yield row("time", _time(product["time"]), note=rendered)
+    yield row("camera", product["camera"] or "none", note=_source(sources.get("camera")))
+    yield row("time", _time(product["time"]), note=_rendered_times(product["renderedTimes"]))
     width, height = product["resolution"]
     yield row("resolution", f"{width} x {height}", note=_source(sources.get("resolution")))
     yield row(
@@ -128,37 +106,8 @@ def value_lines(product: dict[str, Any]) -> Iterator[Line]:
         "pixelAspectRatio",
         _source(sources.get("pixelAspectRatio")),
     )
-    aperture = product["aperture"]
-    policy = product["aspectRatioConformPolicy"]
-    if aperture is None:
-        yield row("conform", policy, "aspectRatioConformPolicy", "no camera aperture to conform")
-    else:
-        changed = aperture["adjusted"]
-        what = f"adjusts the {changed}" if changed in ("width", "height") else None
-        if changed == "pixelAspectRatio":
-            what = "adjusts the pixel aspect ratio"
-        what = what or aperture["notConformed"] or "nothing to adjust"
-        yield row("conform", policy, "aspectRatioConformPolicy", what)
-        yield row(
-            "aperture",
-            f"{_pair(aperture['camera'])} → {_pair(aperture['conformed'])}",
-            note=f"offset {_pair(aperture['offset'], ', ')}",
-        )
-        window = product["screenWindow"]
-        yield row("screen window", " ".join(_num(c, 4) for c in window), note=product["projection"])
-    ndc = product["dataWindowNDC"]
-    pixels = product["dataWindow"]
-    ndc_text = "(" + ", ".join(_num(c) for c in ndc) + ")"
-    if pixels is None:
-        yield row("data window", ndc_text, "dataWindow", "no pixels at this resolution")
-    else:
-        (x0, x1), (y0, y1) = pixels["x"], pixels["y"]
-        yield row(
-            "data window",
-            f"x {x0}..{x1}, y {y0}..{y1}  ({pixels['width']} x {pixels['height']})",
-            "dataWindow",
-        )
-        yield row("", f"NDC {ndc_text}", "dataWindowNDC", _source(sources.get("dataWindowNDC")))
+    yield from _conform_lines(product, row)
+    yield from _data_window_lines(product, row)
     shutter = product["shutter"]
     blur = "off" if product["disableMotionBlur"] else "on"
     if shutter is not None:
@@ -172,14 +121,91 @@ def value_lines(product: dict[str, Any]) -> Iterator[Line]:
         )
     if product["path"] is not None and not product["vars"]:
         yield row("vars", "none")
+    yield from _compute_spec_lines(product)
+    if product["findings"]:
+        yield row("findings", ", ".join(product["findings"]))
+
+
+#: ``_row`` with the product's flags bound: (label, text, field, note) -> a line.
+_Row = Callable[..., Line]
+
+
+def _row(
+    flags: dict[str, list[str]], label: str, text: str, field: str | None = None, note: str = ""
+) -> Line:
+    """A labelled value, in the flag colour with the flags' reasons when ``field``
+    (by default the label) is flagged, then a dim ``note``."""
+    flagged = flags.get(field or label, [])
+    line: Line = [(f"{label:<15}", "dim"), (text, FLAG if flagged else None)]
+    if flagged:
+        line.append((f"  [{'; '.join(flagged)}]", FLAG))
+    if note:
+        line.append((f"  {note}", "dim"))
+    return line
+
+
+def _rendered_times(times: list) -> str:
+    if not times:
+        return "no camera"
+    if times == ["default"]:
+        return "camera not animated"
+    rendered = "rendered times " + ", ".join(_time(t) for t in times[:6])
+    if len(times) > 6:
+        rendered += f", … ({len(times)})"
+    return rendered
+
+
+def _conform_lines(product: dict[str, Any], row: _Row) -> Iterator[Line]:
+    """The conform policy and what it does to the camera's aperture."""
+    aperture = product["aperture"]
+    policy = product["aspectRatioConformPolicy"]
+    if aperture is None:
+        yield row("conform", policy, "aspectRatioConformPolicy", "no camera aperture to conform")
+        return
+    yield row("conform", policy, "aspectRatioConformPolicy", _adjusted(aperture))
+    yield row(
+        "aperture",
+        f"{_pair(aperture['camera'])} → {_pair(aperture['conformed'])}",
+        note=f"offset {_pair(aperture['offset'], ', ')}",
+    )
+    window = product["screenWindow"]
+    yield row("screen window", " ".join(_num(c, 4) for c in window), note=product["projection"])
+
+
+def _adjusted(aperture: dict[str, Any]) -> str:
+    changed = aperture["adjusted"]
+    if changed in ("width", "height"):
+        return f"adjusts the {changed}"
+    if changed == "pixelAspectRatio":
+        return "adjusts the pixel aspect ratio"
+    return aperture["notConformed"] or "nothing to adjust"
+
+
+def _data_window_lines(product: dict[str, Any], row: _Row) -> Iterator[Line]:
+    ndc = product["dataWindowNDC"]
+    pixels = product["dataWindow"]
+    ndc_text = "(" + ", ".join(_num(c) for c in ndc) + ")"
+    if pixels is None:
+        yield row("data window", ndc_text, "dataWindow", "no pixels at this resolution")
+        return
+    (x0, x1), (y0, y1) = pixels["x"], pixels["y"]
+    yield row(
+        "data window",
+        f"x {x0}..{x1}, y {y0}..{y1}  ({pixels['width']} x {pixels['height']})",
+        "dataWindow",
+    )
+    sources = product["sources"]
+    yield row("", f"NDC {ndc_text}", "dataWindowNDC", _source(sources.get("dataWindowNDC")))
+
+
+def _compute_spec_lines(product: dict[str, Any]) -> Iterator[Line]:
+    """Where UsdRenderComputeSpec would give another answer."""
     compute = product["usdRenderComputeSpec"]
     if not compute["included"] and product["path"] is not None:
         yield [(f"{'ComputeSpec':<15}", "dim"), (compute["reason"], "yellow")]
     elif compute["differs"]:
         differs = "; ".join(f"{k} {_value(v)}" for k, v in compute["differs"].items())
         yield [(f"{'ComputeSpec':<15}", "dim"), (f"reads Default: {differs}", "yellow")]
-    if product["findings"]:
-        yield row("findings", ", ".join(product["findings"]))
 
 
 # -- the drawing --------------------------------------------------------------------
@@ -195,17 +221,33 @@ def draw(pic: Picture, problems: Sequence[str] = ()) -> list[Line]:
     blank: tuple[str, str | None] = (" ", None)
     grid = [[blank] * columns for _ in range(rows)]
     cells = _Cells(box, columns, rows)
+    image = cells.span(pic.image)
     if pic.data is not None:
-        image = cells.span(pic.image)
-        c0, r0, c1, r1 = cells.span(pic.data)
-        for r in range(r0, r1 + 1):
-            for c in range(c0, c1 + 1):
-                inside = image[0] <= c <= image[2] and image[1] <= r <= image[3]
-                grid[r][c] = ("░", "green") if inside else ("▒", "yellow")
+        _fill_data_window(grid, image, cells.span(pic.data))
     if pic.camera is not None:
         _outline(grid, cells.span(pic.camera), {"h": "·", "v": "·", "corner": "·"}, "cyan")
-    image = cells.span(pic.image)
     _outline(grid, image, _BOX, FLAG if problems else "bold")
+    _write_problems(grid, image, problems)
+    lines: list[Line] = [_merge(r) for r in grid]
+    lines.extend([(text[:columns].ljust(columns), "dim")] for text in LEGEND)
+    return lines
+
+
+def _fill_data_window(
+    grid: list[Line], image: tuple[int, int, int, int], data: tuple[int, int, int, int]
+) -> None:
+    """The data window's cells: green inside the image, yellow outside (overscan)."""
+    c0, r0, c1, r1 = data
+    for r in range(r0, r1 + 1):
+        for c in range(c0, c1 + 1):
+            inside = image[0] <= c <= image[2] and image[1] <= r <= image[3]
+            grid[r][c] = ("░", "green") if inside else ("▒", "yellow")
+
+
+def _write_problems(
+    grid: list[Line], image: tuple[int, int, int, int], problems: Sequence[str]
+) -> None:
+    """``problems`` centred inside the image's outline, as many as fit."""
     inner = max(1, image[2] - image[0] - 1)
     first = (image[1] + image[3] - len(problems) + 1) // 2
     for row, problem in enumerate(problems, start=max(image[1] + 1, first)):
@@ -215,9 +257,6 @@ def draw(pic: Picture, problems: Sequence[str] = ()) -> list[Line]:
         start = image[0] + 1 + (inner - len(text)) // 2
         for offset, char in enumerate(text):
             grid[row][start + offset] = (char, FLAG)
-    lines: list[Line] = [_merge(r) for r in grid]
-    lines.extend([(text[:columns].ljust(columns), "dim")] for text in LEGEND)
-    return lines
 
 
 _BOX = {"h": "─", "v": "│", "tl": "┌", "tr": "┐", "bl": "└", "br": "┘"}

@@ -52,7 +52,7 @@ import stat
 import sys
 import tempfile
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -251,6 +251,31 @@ class _Files:
         return os.path.realpath(joined) if is_link else joined
 
 
+def _cached_result(data: dict, file: str) -> FileResult | None:
+    """The result an entry holds; None when it is malformed or another file's."""
+    findings, notes = data["findings"], data["notes"]
+    if not isinstance(findings, list) or not isinstance(notes, list):
+        return None
+    if not all(isinstance(note, str) for note in notes):
+        return None
+    result = FileResult(
+        file, findings=tuple(finding_from_dict(f) for f in findings), notes=tuple(notes)
+    )
+    if any(f.location.file != file for f in result.findings):
+        return None  # another file's findings
+    return result
+
+
+def _entry_bytes(document: dict[str, object]) -> bytes | None:
+    """An entry as stored; None when it cannot be (too large, or a name that
+    is not UTF-8, which could not be read back)."""
+    try:
+        data = json.dumps(document, ensure_ascii=False, separators=(",", ":")).encode()
+    except UnicodeEncodeError:
+        return None
+    return data if len(data) <= MAX_ENTRY_BYTES else None
+
+
 # -- dependencies --------------------------------------------------------------------
 
 
@@ -273,11 +298,39 @@ def dependencies(reads: Reads, root: str | None = None) -> Dependencies | None:
     what the lint read; None when that cannot be known exactly."""
     if not reads.complete:
         return None
+    layers = _layer_files(reads.layers, root)
+    targets = _files_of(reads.targets)
+    assets = _files_of(i for i in reads.assets if not is_search_path(i))
+    if layers is None or targets is None or assets is None:
+        return None
+    files, folders, found = layers
+    searches = {*reads.searches, *found}
+    # Sdf anchors a search path next to the layer naming it when that file
+    # exists: next to any layer read, the file must stay as it was.
+    files.update(os.path.join(folder, search) for search in searches for folder in folders)
+    files |= targets
+    searches.update(i for i in reads.assets if is_search_path(i))
+    if root is not None:
+        files.discard(os.path.abspath(root))
+    return Dependencies(
+        files=tuple(sorted(files)),
+        assets=tuple(sorted(assets - files)),
+        searches=tuple(sorted(searches)),
+        clip_templates=tuple(reads.clip_templates),
+        context=reads.context,
+    )
+
+
+def _layer_files(
+    layers: Iterable[tuple[str, str, bool, bool]], root: str | None
+) -> tuple[set[str], set[str], set[str]] | None:
+    """The files of the layers read, the folders they are in, and the search
+    paths among their names; None when a layer is not a file as linted."""
     files: set[str] = set()
-    searches: set[str] = set(reads.searches)
     folders: set[str] = set()
+    searches: set[str] = set()
     root_identifiers = {root, os.path.normpath(root), os.path.abspath(root)} if root else set()
-    for identifier, real_path, anonymous, dirty in reads.layers:
+    for identifier, real_path, anonymous, dirty in layers:
         if anonymous:
             continue  # the engine's session layer, or one a file format makes from a file
         if dirty:
@@ -293,33 +346,18 @@ def dependencies(reads: Reads, root: str | None = None) -> Dependencies | None:
         files.add(path)
         if real_path and os.path.isabs(real_path):
             folders.add(os.path.dirname(real_path))
-    for search in searches:
-        # Sdf anchors a search path next to the layer naming it when that file
-        # exists: next to any layer read, the file must stay as it was.
-        files.update(os.path.join(folder, search) for folder in folders)
-    for identifier in reads.targets:
+    return files, folders, searches
+
+
+def _files_of(identifiers: Iterable[str]) -> set[str] | None:
+    """The files behind ``identifiers``; None when one is not a plain file path."""
+    files = set()
+    for identifier in identifiers:
         path = _file_of(identifier)
         if path is None:
             return None
         files.add(path)
-    assets: set[str] = set()
-    for identifier in reads.assets:
-        if is_search_path(identifier):
-            searches.add(identifier)
-            continue
-        path = _file_of(identifier)
-        if path is None:
-            return None
-        assets.add(path)
-    if root is not None:
-        files.discard(os.path.abspath(root))
-    return Dependencies(
-        files=tuple(sorted(files)),
-        assets=tuple(sorted(assets - files)),
-        searches=tuple(sorted(searches)),
-        clip_templates=tuple(reads.clip_templates),
-        context=reads.context,
-    )
+    return files
 
 
 def _outer(identifier: str) -> str:
@@ -499,37 +537,33 @@ class ResultCache:
         return result
 
     def _valid(self, data: Any, file: str) -> FileResult | None:
+        if not self._names(data, file) or not self._unchanged(data, file):
+            return None
+        return _cached_result(data, file)
+
+    def _names(self, data: Any, file: str) -> bool:
+        """Whether ``data`` is an entry of this format and run key for ``file``."""
         if not isinstance(data, dict) or data.get("usdrender_lint_cache") != FORMAT:
-            return None
+            return False
         if data.get("key") != self.key or data.get("file") != file:
-            return None
+            return False
         deps = data["deps"]
         # The entry is for this file: its first dependency is the file itself.
-        if not isinstance(deps, list) or not deps or deps[0][0] != os.path.abspath(file):
-            return None
-        for named, real, state in deps:
+        return isinstance(deps, list) and bool(deps) and deps[0][0] == os.path.abspath(file)
+
+    def _unchanged(self, data: dict, file: str) -> bool:
+        """Whether everything the entry's result depends on is as it was."""
+        for named, real, state in data["deps"]:
             if not isinstance(named, str) or self._files.real(named) != real:
-                return None
+                return False
             if self._files.state(named, existence_only=state == PRESENT) != state:
-                return None
+                return False
         for folder, pattern, matched in data["clips"]:
             if clip_matches(folder, pattern) != matched:
-                return None
+                return False
         searches = data["searches"]
         context, found = _resolver_state(file, [search for search, _ in searches])
-        if context != data["context"] or found != [where for _, where in searches]:
-            return None
-        findings, notes = data["findings"], data["notes"]
-        if not isinstance(findings, list) or not isinstance(notes, list):
-            return None
-        if not all(isinstance(note, str) for note in notes):
-            return None
-        result = FileResult(
-            file, findings=tuple(finding_from_dict(f) for f in findings), notes=tuple(notes)
-        )
-        if any(f.location.file != file for f in result.findings):
-            return None  # another file's findings
-        return result
+        return context == data["context"] and found == [where for _, where in searches]
 
     # -- store ---------------------------------------------------------------------
 
@@ -554,18 +588,9 @@ class ResultCache:
         found = dependencies(reads, file)
         if found is None:
             return False
-        root = os.path.abspath(file)
-        after = self._files.state(root)
-        if after is None or (digest_before is not None and after != digest_before):
-            return False  # the file changed while it was linted
-        deps: list[list[str | None]] = [[root, self._files.real(root), after]]
-        for path in found.files:
-            deps.append([path, self._files.real(path), self._files.state(path)])
-        for path in found.assets:
-            deps.append([path, self._files.real(path), self._files.state(path, True)])
-        # After the digests: a change after the lint began and before a digest shows here.
-        if any(_changed_since(path, started_ns) for path in (root, *found.files, *found.assets)):
-            return False  # changed or replaced while it was linted: which version was read?
+        deps = self._dependency_states(file, found, started_ns, digest_before)
+        if deps is None:
+            return False
         context, where = _resolver_state(file, found.searches)
         if found.context and found.context != context:
             return False  # opened in another resolver context than a lookup would see
@@ -580,12 +605,8 @@ class ResultCache:
             "findings": [finding_to_dict(f, layer_path=str) for f in result.findings],
             "notes": list(result.notes),
         }
-        try:
-            # A name that is not UTF-8 cannot be read back: such a result is not stored.
-            data = json.dumps(document, ensure_ascii=False, separators=(",", ":")).encode()
-        except UnicodeEncodeError:
-            return False
-        if len(data) > MAX_ENTRY_BYTES:
+        data = _entry_bytes(document)
+        if data is None:
             return False
         try:
             replace_atomically(self._entry_path(file), lambda tmp: _write(tmp, data))
@@ -593,6 +614,25 @@ class ResultCache:
             return False
         self.stored += 1
         return True
+
+    def _dependency_states(
+        self, file: str, found: Dependencies, started_ns: int, digest_before: str | None
+    ) -> list[list[str | None]] | None:
+        """Each file the result depends on with its real path and digest (an
+        asset: whether it exists); None when one changed while it was linted."""
+        root = os.path.abspath(file)
+        after = self._files.state(root)
+        if after is None or (digest_before is not None and after != digest_before):
+            return None  # the file changed while it was linted
+        deps: list[list[str | None]] = [[root, self._files.real(root), after]]
+        for path in found.files:
+            deps.append([path, self._files.real(path), self._files.state(path)])
+        for path in found.assets:
+            deps.append([path, self._files.real(path), self._files.state(path, True)])
+        # After the digests: a change after the lint began and before a digest shows here.
+        if any(_changed_since(path, started_ns) for path in (root, *found.files, *found.assets)):
+            return None  # changed or replaced while it was linted: which version was read?
+        return deps
 
     # -- size ----------------------------------------------------------------------
 

@@ -117,20 +117,8 @@ class UsdRenderLintServer(LanguageServer):
             return
         self.ticks += 1
         tick = self.wanted[uri] = self.ticks
-        text = self.workspace.get_text_document(uri).source
-        expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
-        # A slow document's running lint is cancelled at once; a quick one's
-        # only when it turns out slow (USD hangs on it, say): else it ends soon.
-        if self.linting.cancel(path, tick, running_for=0.0 if expected >= SLOW else SLOW):
-            self.window_log_message(
-                types.LogMessageParams(
-                    types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
-                )
-            )
-        if expected >= SLOW:
-            await asyncio.sleep(DEBOUNCE)
-            if self.wanted.get(uri) != tick:
-                return
+        if not await self._make_way(uri, path, tick):
+            return
         loop = asyncio.get_running_loop()
         texts = self.texts()
         version = self.version_of(uri)
@@ -148,10 +136,32 @@ class UsdRenderLintServer(LanguageServer):
         self.findings[uri] = (linted.findings, texts)
         self.publish(uri, self.diagnostics(uri, path, linted, texts), version)
         if dependents:
-            name = os.path.basename(path)
-            for other, text in texts.items():
-                if other != path and name in text:
-                    asyncio.ensure_future(self.lint(from_fs_path(other) or other, dependents=False))
+            self._lint_dependents(path, texts)
+
+    async def _make_way(self, uri: str, path: str, tick: int) -> bool:
+        """Cancel the document's running lint where it pays, and wait out a burst of
+        edits on a slow one; False when a newer lint was asked for meanwhile."""
+        text = self.workspace.get_text_document(uri).source
+        expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
+        # A slow document's running lint is cancelled at once; a quick one's
+        # only when it turns out slow (USD hangs on it, say): else it ends soon.
+        if self.linting.cancel(path, tick, running_for=0.0 if expected >= SLOW else SLOW):
+            self.window_log_message(
+                types.LogMessageParams(
+                    types.MessageType.Log, f"{NAME}: a newer edit cancelled the lint of {path}"
+                )
+            )
+        if expected >= SLOW:
+            await asyncio.sleep(DEBOUNCE)
+            return self.wanted.get(uri) == tick
+        return True
+
+    def _lint_dependents(self, path: str, texts: dict[str, str]) -> None:
+        """Lint again the other open documents that name ``path``'s file."""
+        name = os.path.basename(path)
+        for other, text in texts.items():
+            if other != path and name in text:
+                asyncio.ensure_future(self.lint(from_fs_path(other) or other, dependents=False))
 
     def forget(self, uri: str) -> None:
         """A closed document: its lint's diagnostics go, on it and elsewhere;
@@ -290,32 +300,43 @@ class UsdRenderLintServer(LanguageServer):
         if path is None or uri not in self.workspace.text_documents:
             return []
         only = params.context.only
-        wanted = [
-            d
-            for d in params.context.diagnostics
-            if d.source == NAME and isinstance(d.data, dict) and d.data.get("key")
-        ]
         texts = self.texts()
         version = self.version_of(uri)
         actions: list[types.CodeAction] = []
         if _wants(only, types.CodeActionKind.QuickFix):
-            for diagnostic in wanted:
-                actions.extend(await self._quick_fixes(path, diagnostic, texts))
-        linted = self.findings.get(uri)
-        safe = linted is not None and any(f.fix is not None and f.fix.safe for f in linted[0])
-        title = f"{NAME}: apply every safe fix"
-        if safe and _wants(only, FIX_ALL, explicit=True):
-            edit = await self._fix_edit(path, None, False, texts)
-            if edit is not None:
-                actions.append(types.CodeAction(title=title, kind=FIX_ALL, edit=edit))
-        elif safe and only is None and self._resolves_edits():
-            # Asked for every action (a light bulb, a menu): the fix-all's edit
-            # is made only if it is chosen (codeAction/resolve).
-            data = {"uri": uri, "version": version}
-            actions.append(types.CodeAction(title=title, kind=FIX_ALL, data=data))
+            for diagnostic in params.context.diagnostics:
+                if _ours(diagnostic):
+                    actions.extend(await self._quick_fixes(path, diagnostic, texts))
+        fix_all = await self._fix_all(uri, path, only, version, texts)
+        if fix_all is not None:
+            actions.append(fix_all)
         if self.version_of(uri) != version:
             return []  # the text changed meanwhile: these edits are for the old one
         return actions
+
+    async def _fix_all(
+        self,
+        uri: str,
+        path: str,
+        only: Sequence[str] | None,
+        version: int | None,
+        texts: dict[str, str],
+    ) -> types.CodeAction | None:
+        """The action that applies every safe fix, when the document's last lint
+        found one."""
+        linted = self.findings.get(uri)
+        if linted is None or not any(f.fix is not None and f.fix.safe for f in linted[0]):
+            return None
+        title = f"{NAME}: apply every safe fix"
+        if _wants(only, FIX_ALL, explicit=True):
+            edit = await self._fix_edit(path, None, False, texts)
+            return None if edit is None else types.CodeAction(title=title, kind=FIX_ALL, edit=edit)
+        if only is None and self._resolves_edits():
+            # Asked for every action (a light bulb, a menu): the fix-all's edit
+            # is made only if it is chosen (codeAction/resolve).
+            data = {"uri": uri, "version": version}
+            return types.CodeAction(title=title, kind=FIX_ALL, data=data)
+        return None
 
     def _resolves_edits(self) -> bool:
         """Whether the client resolves a code action's edit when it is chosen."""
@@ -481,6 +502,15 @@ def usd_path(uri: str) -> str | None:
     if path is None or not path.lower().endswith(USD_TEXT_SUFFIXES):
         return None
     return os.path.abspath(path)
+
+
+def _ours(diagnostic: types.Diagnostic) -> bool:
+    """Whether a diagnostic is one this server published (with its finding's key)."""
+    return (
+        diagnostic.source == NAME
+        and isinstance(diagnostic.data, dict)
+        and bool(diagnostic.data.get("key"))
+    )
 
 
 def _wants(only: Sequence[str] | None, kind: str, *, explicit: bool = False) -> bool:
