@@ -16,7 +16,7 @@ from usdrender_lint.testing import all_rules
 
 #: Two settings sharing a product, three products sharing two vars: the
 #: evidence (karma:) is on a shared var, so both settings are karma's.
-SHARED = """#usda 1.0
+SHARING = """#usda 1.0
 def Scope "Render"
 {
     def RenderSettings "A"
@@ -80,9 +80,9 @@ def _count_reads(monkeypatch: pytest.MonkeyPatch, counts: Counter) -> None:
 
 
 def _decide(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, setting: str) -> tuple[Counter, set]:
-    """Lint SHARED, counting the reads its profiler makes; the profiles of its findings."""
+    """Lint SHARING, counting the reads its profiler makes; the profiles of its findings."""
     path = tmp_path / "shot.usda"
-    path.write_text(SHARED, encoding="utf-8")
+    path.write_text(SHARING, encoding="utf-8")
     counts: Counter = Counter()
     profiler = Profiler(lambda file: (setting, "test"))
 
