@@ -57,6 +57,8 @@ def test_no_module_global_or_environment_variable_steers_it(
     # How the supervisor ran a process is a value handed to the command
     # (Supervision), not a module global or an environment variable.
     assert not hasattr(supervisor, "supervised") and not hasattr(supervisor, "verdict")
+    # Nor does the supervisor keep its child's pid, a stop signal or pipes in globals.
+    assert not {"_child", "_stop_signal", "_watched", "_says"} & set(vars(supervisor))
     monkeypatch.setenv("USDRENDER_LINT_NO_SUPERVISOR", "1")
     assert wants_supervision(["check", "shot.usda"])
 
