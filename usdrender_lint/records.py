@@ -59,11 +59,18 @@ def _init(self: object, *args: Any, **kwargs: Any) -> None:
     if not kwargs and layout.all_positional and len(args) == len(layout.positional):
         # The common call (a Target, a Finding built by position): every field given.
         self.__dict__.update(zip(layout.positional, args, strict=True))
-        post_init = getattr(self, "__post_init__", None)
-        if post_init is not None:
-            post_init()
-        return
-    name = type(self).__qualname__
+    else:
+        _fill(self, layout, _arguments(type(self).__qualname__, layout, args, kwargs))
+    post_init = getattr(self, "__post_init__", None)
+    if post_init is not None:
+        post_init()
+
+
+def _arguments(
+    name: str, layout: _Layout, args: tuple[Any, ...], kwargs: dict[str, Any]
+) -> dict[str, Any]:
+    """The fields an __init__ call gives, by name; TypeError as dataclass's
+    __init__ raises it for too many, unknown or repeated arguments."""
     if len(args) > len(layout.positional):
         raise TypeError(
             f"{name}.__init__() takes {len(layout.positional) + 1} positional arguments "
@@ -76,7 +83,13 @@ def _init(self: object, *args: Any, **kwargs: Any) -> None:
         if key in values:
             raise TypeError(f"{name}.__init__() got multiple values for argument {key!r}")
         values[key] = value
-    state = self.__dict__  # as object.__setattr__, which a frozen dataclass's __init__ uses
+    return values
+
+
+def _fill(record: object, layout: _Layout, values: dict[str, Any]) -> None:
+    """Set every field: the value given, else its default; TypeError for a
+    required one not given."""
+    state = record.__dict__  # as object.__setattr__, which a frozen dataclass's __init__ uses
     for key, default, factory in layout.fields:
         if key in values:
             state[key] = values[key]
@@ -85,10 +98,9 @@ def _init(self: object, *args: Any, **kwargs: Any) -> None:
         elif factory is not MISSING:
             state[key] = factory()
         elif key in layout.keyword:
-            raise TypeError(f"{name}.__init__() missing required argument: {key!r}")
-    post_init = getattr(self, "__post_init__", None)
-    if post_init is not None:
-        post_init()
+            raise TypeError(
+                f"{type(record).__qualname__}.__init__() missing required argument: {key!r}"
+            )
 
 
 def _repr(self: object) -> str:

@@ -57,6 +57,8 @@ def test_no_module_global_or_environment_variable_steers_it(
     # How the supervisor ran a process is a value handed to the command
     # (Supervision), not a module global or an environment variable.
     assert not hasattr(supervisor, "supervised") and not hasattr(supervisor, "verdict")
+    # Nor does the supervisor keep its child's pid, a stop signal or pipes in globals.
+    assert not {"_child", "_stop_signal", "_watched", "_says"} & set(vars(supervisor))
     monkeypatch.setenv("USDRENDER_LINT_NO_SUPERVISOR", "1")
     assert wants_supervision(["check", "shot.usda"])
 
@@ -226,8 +228,7 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     the supervisor kills it (the child arms no timer of its own)."""
     hung = subprocess.Popen(["sleep", "60"])
     heard, says = os.pipe()
-    supervision = supervisor.Supervision(child=True, says=says)
-    supervision.lint_started(0.3)
+    supervisor.Supervision(child=True, says=says)._say(0.3)  # as timed() does, then hangs
     started = time.monotonic()
     assert supervisor._time_the_child(hung.pid, heard) is True
     assert hung.wait(10) == -signal.SIGKILL
@@ -237,9 +238,7 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     # A lint that ended in time: the supervisor waits for the child's end, no kill.
     finished = subprocess.Popen(["sleep", "60"])
     heard, says = os.pipe()
-    supervision = supervisor.Supervision(child=True, says=says)
-    supervision.lint_started(0.3)
-    supervision.lint_ended()
+    assert supervisor.Supervision(child=True, says=says).timed(0.3, len, "done") == 4
     os.close(says)
     assert supervisor._time_the_child(finished.pid, heard) is False
     assert finished.poll() is None

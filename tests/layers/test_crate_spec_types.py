@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 from cli_support import settings_crate
-from hypothesis import given
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pxr import Gf, Sdf, Usd, UsdGeom, Vt
 
@@ -182,3 +182,24 @@ def test_what_is_not_a_readable_crate_has_no_spec_problem(tmp_path: Path) -> Non
     undecodable = tmp_path / "undecodable.usdc"
     undecodable.write_bytes(with_types_table(path.read_bytes(), b"\x00\xf0"))
     assert crate_spec_problem(undecodable) is None
+
+
+@pytest.fixture(scope="module")
+def settings_bytes(tmp_path_factory: pytest.TempPathFactory) -> bytes:
+    return settings_crate(tmp_path_factory.mktemp("crate") / "settings.usdc")
+
+
+@settings(
+    max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(st.lists(st.tuples(st.integers(0, 1 << 16), st.integers(0, 255)), min_size=1, max_size=4))
+def test_any_flipped_bytes_get_an_answer(
+    settings_bytes: bytes, tmp_path_factory: pytest.TempPathFactory, flips: list[tuple[int, int]]
+) -> None:
+    """Whatever a crate's bytes say, the check answers (None or why) and never raises."""
+    data = bytearray(settings_bytes)
+    for offset, value in flips:
+        data[offset % len(data)] = value
+    path = tmp_path_factory.mktemp("flipped") / "flipped.usdc"
+    path.write_bytes(bytes(data))
+    assert crate_spec_problem(path) in (None, "a spec of no valid type")

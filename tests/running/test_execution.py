@@ -21,6 +21,7 @@ from usdrender_lint.model import FileResult, Report
 from usdrender_lint.running import workers as execution
 from usdrender_lint.running.discovery import collect_files
 from usdrender_lint.running.pipeline import LinterSpec, make_linter
+from usdrender_lint.running.progress import PROGRESS_MIN_FILES, want_progress
 from usdrender_lint.running.workers import ExecutionError, lint_paths
 
 SCOPE = '#usda 1.0\ndef Scope "{name}"\n{{\n}}\n'
@@ -277,10 +278,12 @@ def test_no_stage_outlives_its_file(tmp_path: Path) -> None:
 
 def test_progress_only_on_a_terminal_and_for_many_files(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr("sys.stderr", io.StringIO())
-    assert not execution._want_progress(500)
+    assert not want_progress(500)
+    assert want_progress(3, asked=True)  # --progress
     monkeypatch.setattr("sys.stderr.isatty", lambda: True)
-    assert execution._want_progress(execution.PROGRESS_MIN_FILES + 1)
-    assert not execution._want_progress(execution.PROGRESS_MIN_FILES)
+    assert want_progress(PROGRESS_MIN_FILES + 1)
+    assert not want_progress(PROGRESS_MIN_FILES)
+    assert not want_progress(500, asked=False)  # --no-progress
 
 
 def test_progress_bar_draws_on_stderr_only(

@@ -308,32 +308,35 @@ def _holds_well_typed_value(
 ) -> bool:
     """Whether an attribute with an authored value (``specs``, its property
     stack, and ``declared``, its value type) holds a well-typed one."""
-    # One pass over one property stack: the first value-holding spec must have
-    # the schema's type (as _mismatched_in reads it), and neither the first
-    # default nor the first time samples may be a path: usda accepts ``<...>``
-    # as the value of an attribute of any type (``uniform token sourceType =
-    # </X>``, also in time samples), an Sdf.Path no typed read returns.
-    found_default = found_samples = typed = False
-    for spec in specs:
-        has_default = not found_default and spec.HasDefaultValue()
-        has_samples = not found_samples and _has_time_samples(spec)
-        if not (has_default or has_samples):
-            continue
-        if not typed:
-            if _mismatched_in((spec,), declared, attr) is not None:
-                return False
-            typed = True
-        if has_default:
-            found_default = True
-            if isinstance(spec.default, Sdf.Path):
-                return False
-        if has_samples:
-            found_samples = True
-            if any(isinstance(v, Sdf.Path) for v in spec.GetInfo("timeSamples").values()):
-                return False
-        if found_default and found_samples:
-            break
-    return True
+    # The first value-holding spec of the property stack must have the schema's
+    # type (as _mismatched_in reads it), and neither the first default nor the
+    # first time samples may be a path: usda accepts ``<...>`` as the value of an
+    # attribute of any type (``uniform token sourceType = </X>``, also in time
+    # samples), an Sdf.Path no typed read returns.
+    default_at = _first_index(specs, Sdf.PropertySpec.HasDefaultValue)
+    samples_at = _first_index(specs, _has_time_samples)
+    first = min(default_at, samples_at)
+    if first == len(specs):
+        return True  # no spec holds a value
+    if _mismatched_in((specs[first],), declared, attr) is not None:
+        return False
+    if default_at < len(specs) and isinstance(specs[default_at].default, Sdf.Path):
+        return False
+    return samples_at == len(specs) or not _path_in_samples(specs[samples_at])
+
+
+def _first_index(
+    specs: tuple[Sdf.AttributeSpec, ...], holds: Callable[[Sdf.AttributeSpec], bool]
+) -> int:
+    """The index of the first spec that ``holds``; ``len(specs)`` when none does."""
+    for index, spec in enumerate(specs):
+        if holds(spec):
+            return index
+    return len(specs)
+
+
+def _path_in_samples(spec: Sdf.AttributeSpec) -> bool:
+    return any(isinstance(v, Sdf.Path) for v in spec.GetInfo("timeSamples").values())
 
 
 def fallback_value(prim: Usd.Prim, name: str) -> Any:

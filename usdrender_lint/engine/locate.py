@@ -43,22 +43,31 @@ def locate(
         return Location(file, None, real_path(root), None)
     if isinstance(at, Sdf.Path):
         return Location(file, str(at), real_path(layer) if layer else None, None)
+    spec, chosen = _strongest_spec(at, layer)
+    line = _line_of(spec, chosen) if spec is not None and chosen is not None else None
+    return Location(file, str(at.GetPath()), real_path(chosen) if chosen else None, line)
+
+
+def _strongest_spec(
+    at: Usd.Object, layer: Sdf.Layer | None
+) -> tuple[Sdf.Spec | None, Sdf.Layer | None]:
+    """The strongest spec behind ``at`` (in ``layer`` when it has one there) and
+    the layer a finding names: ``layer`` when given, else that spec's."""
     specs = _spec_stack(at)
     if layer is not None:
         specs = [s for s in specs if s.layer == layer] or specs
-        spec = next(iter(specs), None)
-        chosen = layer
-    else:
-        spec = next(iter(specs), None)
-        chosen = spec.layer if spec is not None else None
-    line = None
-    if spec is not None and chosen is not None and _is_text_file(chosen):
-        from ..layers import (
-            usda_text,  # its regular expressions cost start-up: only findings need it
-        )
+        return next(iter(specs), None), layer
+    spec = next(iter(specs), None)
+    return spec, spec.layer if spec is not None else None
 
-        line = usda_text.line_of(real_path(chosen), str(spec.path))
-    return Location(file, str(at.GetPath()), real_path(chosen) if chosen else None, line)
+
+def _line_of(spec: Sdf.Spec, layer: Sdf.Layer) -> int | None:
+    """The line that opens ``spec`` in ``layer``'s text, when it is a text file."""
+    if not _is_text_file(layer):
+        return None
+    from ..layers import usda_text  # its regular expressions cost start-up: only findings need it
+
+    return usda_text.line_of(real_path(layer), str(spec.path))
 
 
 def _is_text_file(layer: Sdf.Layer) -> bool:

@@ -142,50 +142,71 @@ def open_partial(path: str, wants_type: Callable[[str], bool]) -> PartialStage:
         # Decided from the file's bytes, before USD reads the layer (or walks its
         # specs for GetCompositionAssetDependencies): the full open reads it once.
         return PartialStage(None, [], "every layer is in the root layer stack")
-    layers: list[Sdf.Layer] = []
-    missing: list[tuple[Sdf.Layer, str]] = []
-    stage = None
-    specs = _Specs()
-    scans = _Scans(specs, wants_type)
+    opening = _Opening(wants_type)
     with Tf.DiagnosticTrap() as trap:
         try:
-            root = Sdf.Layer.FindOrOpen(usd_path(path))
-            if root is None:
-                raise NotProvable("USD cannot open the layer")
-            layers = [root]
-            specs.check(root)
-            # The common small file: one layer, no arcs to others. Checked
-            # before building any stage, which costs more than the check.
-            if FLAT_STAGES_COMPOSE_FULLY and not root.GetCompositionAssetDependencies():
-                raise NotProvable("every layer is in the root layer stack")
-            stage = Usd.Stage.OpenMasked(
-                usd_path(path), Usd.StagePopulationMask(), Usd.Stage.LoadAll
-            )
-            root_stack = stage.GetLayerStack(includeSessionLayers=True)
-            if FLAT_STAGES_COMPOSE_FULLY and not any(
-                layer_words.layers_may_hold(root_stack, word) for word in _EXTERNAL_ARC_WORDS
-            ):
-                # Sublayers only: known before any layer's specs are scanned.
-                raise NotProvable("every layer is in the root layer stack")
-            layers = _reachable_layers(stage, missing, scans)
-            if trap.HasErrors():
-                raise NotProvable("an error was posted while reading the layers")
-            if FLAT_STAGES_COMPOSE_FULLY and len(layers) == len(root_stack):
-                raise NotProvable("every layer is in the root layer stack")
-            mask = _initial_mask(stage, layers, scans)
-            stage.SetPopulationMask(mask)
-            _expand(stage)
-            if trap.HasErrors():
-                raise NotProvable("an error was posted while composing")
+            opening.compose(path, trap)
         except (NotProvable, Tf.ErrorException) as exc:
             reason = str(exc).strip() or type(exc).__name__
-            corrupt = reason if isinstance(exc, CorruptLayer) else None
-            return PartialStage(
-                None, layers, reason, missing, held=stage, corrupt=corrupt, checked=specs.walked()
-            )
+            return opening.result(reason, reason if isinstance(exc, CorruptLayer) else None)
         finally:
             trap.Clear()
-    return PartialStage(stage, layers, missing=missing, checked=specs.walked())
+    return opening.result()
+
+
+class _Opening:
+    """One fast-path open: what it has read so far, kept when it gives up."""
+
+    def __init__(self, wants_type: Callable[[str], bool]) -> None:
+        self.layers: list[Sdf.Layer] = []
+        self.missing: list[tuple[Sdf.Layer, str]] = []
+        self.stage: Usd.Stage | None = None
+        self.specs = _Specs()
+        self.scans = _Scans(self.specs, wants_type)
+
+    def compose(self, path: str, trap: Tf.DiagnosticTrap) -> None:
+        """Open the stage masked to what the rules read; raises NotProvable."""
+        root = Sdf.Layer.FindOrOpen(usd_path(path))
+        if root is None:
+            raise NotProvable("USD cannot open the layer")
+        self.layers = [root]
+        self.specs.check(root)
+        # The common small file: one layer, no arcs to others. Checked
+        # before building any stage, which costs more than the check.
+        if FLAT_STAGES_COMPOSE_FULLY and not root.GetCompositionAssetDependencies():
+            raise NotProvable("every layer is in the root layer stack")
+        stage = Usd.Stage.OpenMasked(usd_path(path), Usd.StagePopulationMask(), Usd.Stage.LoadAll)
+        self.stage = stage
+        root_stack = stage.GetLayerStack(includeSessionLayers=True)
+        if FLAT_STAGES_COMPOSE_FULLY and not any(
+            layer_words.layers_may_hold(root_stack, word) for word in _EXTERNAL_ARC_WORDS
+        ):
+            # Sublayers only: known before any layer's specs are scanned.
+            raise NotProvable("every layer is in the root layer stack")
+        self.layers = _reachable_layers(stage, self.missing, self.scans)
+        if trap.HasErrors():
+            raise NotProvable("an error was posted while reading the layers")
+        if FLAT_STAGES_COMPOSE_FULLY and len(self.layers) == len(root_stack):
+            raise NotProvable("every layer is in the root layer stack")
+        stage.SetPopulationMask(_initial_mask(stage, self.layers, self.scans))
+        _expand(stage)
+        if trap.HasErrors():
+            raise NotProvable("an error was posted while composing")
+
+    def result(self, reason: str | None = None, corrupt: str | None = None) -> PartialStage:
+        """The masked stage, or (with the ``reason`` it gave up) none."""
+        checked = self.specs.walked()
+        if reason is None:
+            return PartialStage(self.stage, self.layers, missing=self.missing, checked=checked)
+        return PartialStage(
+            None,
+            self.layers,
+            reason,
+            self.missing,
+            held=self.stage,
+            corrupt=corrupt,
+            checked=checked,
+        )
 
 
 # -- layers ---------------------------------------------------------------------------
@@ -425,16 +446,7 @@ def _scan(layer: Sdf.Layer, wants_type: Callable[[str], bool], paths: list[Sdf.P
     """Record the layer's wanted specs and arcs (of ``paths``)."""
     scan = _LayerScan(specs=len(paths))
     get_spec = layer.GetPrimAtPath
-    # A layer whose file holds none of these words has no arc, relocates or
-    # suppression on any spec: its specs' fields need no listing (layer_words.py).
-    words = (
-        set(_KEYED_WORDS)
-        if layer.anonymous or layer.dirty or not layer_real_path(layer)
-        else layer_words.may_hold(layer_real_path(layer), _KEYED_WORDS)
-    )
-    if IGNORE_DICTIONARY in words:
-        words.add("customData")
-    asked = tuple(key for key in _SPEC_KEYS if key in words)
+    asked = _asked_keys(layer)
     list_keys = len(asked) > _MAX_HAS_INFO
     wanted: dict[str, bool] = {}
     # Most paths are properties: skipped by one C-level loop over them.
@@ -451,18 +463,37 @@ def _scan(layer: Sdf.Layer, wants_type: Callable[[str], bool], paths: list[Sdf.P
                 want = wanted[type_name] = wants_type(type_name)
             if want:
                 scan.wanted.add(path.StripAllVariantSelections())
-        if not asked:
-            continue
-        keys = spec.ListInfoKeys() if list_keys else [k for k in asked if spec.HasInfo(k)]
-        if not keys:
-            continue
-        if "customData" in keys and IGNORE_DICTIONARY in spec.customData:
-            scan.wanted.add(path.StripAllVariantSelections())
-        if "relocates" in keys:
-            raise NotProvable(f"relocates on {path} in {layer_identifier(layer)}")
-        if not _ARC_KEYS.isdisjoint(keys):
-            _record_arcs(spec, scan, keys)
+        if asked:
+            keys = spec.ListInfoKeys() if list_keys else [k for k in asked if spec.HasInfo(k)]
+            if keys:
+                _scan_fields(layer, spec, scan, keys)
     return scan
+
+
+def _asked_keys(layer: Sdf.Layer) -> tuple[str, ...]:
+    """The prim fields (of _SPEC_KEYS) the layer's specs may hold. A layer
+    whose file holds none of these words has no arc, relocates or suppression
+    on any spec: its specs' fields need no listing (layer_words.py)."""
+    words = (
+        set(_KEYED_WORDS)
+        if layer.anonymous or layer.dirty or not layer_real_path(layer)
+        else layer_words.may_hold(layer_real_path(layer), _KEYED_WORDS)
+    )
+    if IGNORE_DICTIONARY in words:
+        words.add("customData")
+    return tuple(key for key in _SPEC_KEYS if key in words)
+
+
+def _scan_fields(
+    layer: Sdf.Layer, spec: Sdf.PrimSpec, scan: _LayerScan, keys: Collection[str]
+) -> None:
+    """Record what the prim spec's fields ``keys`` (those it holds) decide."""
+    if "customData" in keys and IGNORE_DICTIONARY in spec.customData:
+        scan.wanted.add(spec.path.StripAllVariantSelections())
+    if "relocates" in keys:
+        raise NotProvable(f"relocates on {spec.path} in {layer_identifier(layer)}")
+    if not _ARC_KEYS.isdisjoint(keys):
+        _record_arcs(spec, scan, keys)
 
 
 def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan, keys: Collection[str]) -> None:

@@ -62,27 +62,42 @@ def find(
     present, a session layer that holds more than variant selections (the
     query is authored beside them)."""
     session = stage.GetSessionLayer()
-    if session is None or not session.anonymous:
+    if not _may_query(stage, session):
         return None
-    if session.rootPrims and not layer_words.holds_only_selections(session):
+    names = _type_names(stage)
+    if names is None:
         return None
-    if _spec_estimate(stage) < MIN_SPECS:
-        return None  # known small without asking USD (whose stats cost an import)
-    counts, total = type_counts(stage)
-    if total < MIN_PRIMS:
-        return None
-    names = [name for name in counts if name != _UNTYPED]
-    if layer_words.layers_may_hold(stage.GetUsedLayers(), _UNTYPED):
-        return None  # a prim typed "untyped" is counted with the typeless ones
     chosen = [name for name in names if wanted(name)]
-    unknown = set(unknown)
-    if any(name in unknown for name in names):
+    # Only now: asking ``wanted`` about a name no schema defines is what adds it to ``unknown``.
+    if not set(unknown).isdisjoint(names):
         return None
     if not chosen:
         return []
     paths = _evaluate(stage, session, chosen)
     prims = [stage.GetPrimAtPath(path) for path in paths]
     return sorted(prims, key=traversal_key(stage))
+
+
+def _may_query(stage: Usd.Stage, session: Sdf.Layer | None) -> bool:
+    """Whether the query can be authored in the session layer (an anonymous one
+    that holds variant selections at most) and the stage may be large."""
+    if session is None or not session.anonymous:
+        return False
+    if session.rootPrims and not layer_words.holds_only_selections(session):
+        return False
+    # Known small without asking USD (whose stats cost an import).
+    return _spec_estimate(stage) >= MIN_SPECS
+
+
+def _type_names(stage: Usd.Stage) -> list[str] | None:
+    """The type names of a large stage's prims; None for a small stage, or one
+    where a prim typed ``untyped`` would be counted with the typeless ones."""
+    counts, total = type_counts(stage)
+    if total < MIN_PRIMS:
+        return None
+    if layer_words.layers_may_hold(stage.GetUsedLayers(), _UNTYPED):
+        return None
+    return [name for name in counts if name != _UNTYPED]
 
 
 def _spec_estimate(stage: Usd.Stage) -> int:

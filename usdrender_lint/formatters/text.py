@@ -94,17 +94,9 @@ def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
     line = loc.line if loc.layer and layer_file(loc.layer) else None
     column = loc.column if line else None
     where = file + (f":{line}" if line else "") + (f":{column}" if column else "") + ":"
-    message = printable(finding.message)
-    matched = _POSITION.match(message)
-    if matched and line and int(matched.group(1)) == line:
-        message = message[matched.end() :]
-    head: list[Segment] = [(finding.severity.value, _STYLE[finding.severity])]
-    tail: list[Segment] = [(message, None)]
-    if loc.path:  # the prim path may wrap, as the message does
-        head.append((finding.code, "bold"))
-        tail.insert(0, (printable(loc.path) + ":", None))
-    else:
-        head.append((finding.code + ":", "bold"))
+    message = _without_position(printable(finding.message), line)
+    label = (finding.severity.value, _STYLE[finding.severity])
+    head, tail = _labelled(label, finding.code, loc.path, message)
     if finding.fix is not None:
         kind = "fix" if finding.fix.safe else "unsafe fix"
         tail.append((f"[{kind}: {printable(finding.fix.description)}]", "dim"))
@@ -115,6 +107,29 @@ def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
         tail.append((f"(stage {linted})", "dim"))
     key = (file, line or 0, column or 0, finding.code, linted, message)
     return Entry(key, where, tuple(head), tuple(tail))
+
+
+def _without_position(message: str, line: int | None) -> str:
+    """The message without a leading position that repeats the entry's line."""
+    matched = _POSITION.match(message)
+    if matched and line and int(matched.group(1)) == line:
+        return message[matched.end() :]
+    return message
+
+
+def _labelled(
+    label: Segment, code: str, path: str | None, message: str
+) -> tuple[list[Segment], list[Segment]]:
+    """An entry's head (``label`` and the code) and its message, which the prim
+    path starts (it may wrap, as the message does)."""
+    head: list[Segment] = [label]
+    tail: list[Segment] = [(message, None)]
+    if path:
+        head.append((code, "bold"))
+        tail.insert(0, (printable(path) + ":", None))
+    else:
+        head.append((code + ":", "bold"))
+    return head, tail
 
 
 def error_entry(result: FileResult) -> Entry:
@@ -129,13 +144,7 @@ def error_entry(result: FileResult) -> Entry:
 
 def fix_entry(fix: AppliedFix) -> Entry:
     file = _file_of(fix.layer, fix.file)
-    head: list[Segment] = [("fixed", "green")]
-    tail: list[Segment] = [(printable(fix.description), None)]
-    if fix.path:
-        head.append((fix.code, "bold"))
-        tail.insert(0, (printable(fix.path) + ":", None))
-    else:
-        head.append((fix.code + ":", "bold"))
+    head, tail = _labelled(("fixed", "green"), fix.code, fix.path, printable(fix.description))
     return Entry((file, fix.code), file + ":", tuple(head), tuple(tail))
 
 

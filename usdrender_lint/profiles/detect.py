@@ -47,7 +47,9 @@ class Assignment:
 
     #: Scope key (the settings' or lone product's path) -> its choice.
     scopes: dict[Sdf.Path, ProfileChoice] = field(default_factory=dict)
-    #: Prim path -> the scopes it belongs to (settings, products, vars, cameras).
+    #: Prim path -> the scopes it belongs to (settings, products, vars, cameras);
+    #: left empty when every scope is judged as the stage is (then no finding
+    #: needs to know its scopes).
     members: dict[Sdf.Path, list[Sdf.Path]] = field(default_factory=dict)
     stage: ProfileChoice = field(default_factory=lambda: ProfileChoice(GENERIC, ""))
 
@@ -123,6 +125,26 @@ def _some_camera_type(type_name: str) -> bool:
     return any(p.camera_type(type_name) for p in _RENDERERS)
 
 
+#: The productType fallback per prim definition (schema type and applied API
+#: schemas): a pure fact of the schemas, kept for the process.
+_FALLBACK_TYPES: dict[tuple[str, tuple[str, ...]], str] = {}
+
+
+def _product_type(
+    prim: Usd.Prim, names: list[str], info: Usd.PrimTypeInfo, applied: Sequence[str]
+) -> str:
+    """A product's productType as ``Get()`` reads it: the authored value, else
+    (no layer authors the name) its definition's fallback, without a read."""
+    if "productType" in names:
+        return str(prim.GetAttribute("productType").Get() or "")
+    key = (info.GetSchemaTypeName(), tuple(applied))
+    found = _FALLBACK_TYPES.get(key)
+    if found is None:
+        fallback = prim.GetPrimDefinition().GetAttributeFallbackValue("productType")
+        found = _FALLBACK_TYPES[key] = str(fallback or "")
+    return found
+
+
 #: What a render prim is, which decides what on it can be evidence: the
 #: settings' and products' camera targets (both are RenderSettingsBase), a
 #: product's productType.
@@ -139,8 +161,9 @@ def _kind(prim: Usd.Prim) -> str:
 #: "Not looked at yet" (None: not a usable RenderVar).
 _UNSEEN: Any = object()
 
-#: A camera target of a settings or product prim and the typed prim there.
-Camera = tuple[Sdf.Path, Usd.Prim | None]
+#: A camera target of a settings or product prim, the typed prim there (None
+#: when there is none) and its type name ("" then).
+Camera = tuple[Sdf.Path, Usd.Prim | None, str]
 
 
 class _Facts:
@@ -154,10 +177,11 @@ class _Facts:
         self.path: Sdf.Path = prim.GetPath()
         self.text = str(self.path)
         self.names: list[str] = prim.GetAuthoredPropertyNames()
-        self.applied: Sequence[str] = prim.GetPrimTypeInfo().GetAppliedAPISchemas()
+        info = prim.GetPrimTypeInfo()
+        self.applied: Sequence[str] = info.GetAppliedAPISchemas()
         self.product_type: str | None = None
         if _PRODUCT_TYPES and kind is _PRODUCT:
-            self.product_type = str(prim.GetAttribute("productType").Get() or "")
+            self.product_type = _product_type(prim, self.names, info, self.applied)
         # A relationship no layer authors has no targets.
         self.cameras: Sequence[Camera] = ()
         if kind is not _OTHER and "camera" in self.names:
@@ -174,9 +198,8 @@ class _Facts:
         if _NAMESPACES and any(name.startswith(_NAMESPACES) for name in self.names):
             return False
         return not any(
-            _some_runtime_camera(target)
-            or (camera is not None and _some_camera_type(camera.GetTypeName()))
-            for target, camera in self.cameras
+            _some_runtime_camera(target) or (type_name and _some_camera_type(type_name))
+            for target, _, type_name in self.cameras
         )
 
     def _found(self) -> PrimEvidence:
@@ -223,11 +246,11 @@ class _Facts:
 
     def _camera_phrases(self, profile: Profile) -> list[str]:
         phrases = []
-        for target, camera in self.cameras:
+        for target, camera, type_name in self.cameras:
             where = f"the camera target <{target}> of <{self.text}>"
             if profile.runtime_camera(str(target)):
                 phrases.append(f"{where}, a camera the renderer's application creates")
-            elif camera is not None and profile.camera_type(camera.GetTypeName()):
+            elif camera is not None and profile.camera_type(type_name):
                 phrases.append(f"{where}, {describe_prim_type(camera)}")
         return phrases
 
@@ -240,7 +263,7 @@ class _Scan:
         self.stage = stage
         self.layer_data = layer_data_evidence(stage)
         self._facts: dict[Usd.Prim, _Facts] = {}
-        self._cameras: dict[Sdf.Path, Usd.Prim | None] = {}
+        self._cameras: dict[Sdf.Path, Camera] = {}
         self._vars: dict[Sdf.Path, list[_Facts]] = {}
         self._var_facts: dict[Sdf.Path, _Facts | None] = {}
 
@@ -256,15 +279,17 @@ class _Scan:
         """A settings or product prim's camera targets and the typed prims there."""
         found = []
         for target in forwarded_targets(rel):
-            if target not in self._cameras:
-                self._cameras[target] = self._camera(target)
-            found.append((target, self._cameras[target]))
+            camera = self._cameras.get(target)
+            if camera is None:
+                camera = self._cameras[target] = self._camera(target)
+            found.append(camera)
         return found
 
-    def _camera(self, target: Sdf.Path) -> Usd.Prim | None:
+    def _camera(self, target: Sdf.Path) -> Camera:
         assert self.stage is not None  # a prim was read
         camera = self.stage.GetPrimAtPath(target) if target.IsPrimPath() else None
-        return camera if camera and camera.GetTypeName() else None
+        type_name = camera.GetTypeName() if camera else ""
+        return (target, camera, type_name) if type_name else (target, None, "")
 
     def vars_of(self, product: Usd.Prim, facts: _Facts) -> list[_Facts]:
         """The facts of the usable RenderVars a product's ``orderedVars`` targets."""
@@ -416,8 +441,7 @@ def assign(
     """Decide the profile of every scope. ``setting`` is a profile name or
     ``auto``; ``reason`` says where an explicit one was configured."""
     if setting != AUTO:
-        # One choice for every scope and the stage: no scope needs knowing.
-        return Assignment(stage=ProfileChoice(get_profile(setting), reason))
+        return _explicit(setting, reason)
     scan = _Scan(_stage_of(configurations, [*lone_products, *render_prims]))
     scopes = _scopes(configurations, lone_products, scan)
     assignment = Assignment()
@@ -429,6 +453,11 @@ def assign(
         # Scopes judged differently: which scopes each prim belongs to matters.
         _add_members(assignment, scopes, passes)
     return assignment
+
+
+def _explicit(setting: str, reason: str) -> Assignment:
+    # One choice for every scope and the stage: no scope needs knowing.
+    return Assignment(stage=ProfileChoice(get_profile(setting), reason))
 
 
 def _add_members(assignment: Assignment, scopes: list[_Scope], passes: Sequence[Usd.Prim]) -> None:
@@ -484,6 +513,8 @@ class Profiler:
 
     def __call__(self, ctx: Context) -> Assignment:
         setting, reason = self.choose(ctx.file)
+        if setting != AUTO:  # the stage's configurations need not even be known
+            return _explicit(setting, reason)
         return assign(
             ctx.configurations,
             ctx.untargeted_products,

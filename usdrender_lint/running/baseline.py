@@ -14,6 +14,7 @@ import json
 import os
 from collections import Counter
 from pathlib import Path, PurePath
+from typing import Any
 
 from ..atomic import named_descriptor, write_output
 from ..model import Finding, Report
@@ -61,8 +62,28 @@ def write_baseline(report: Report, path: str | Path) -> int:
 def load_baseline(path: str | Path) -> Counter[Fingerprint]:
     """The fingerprint counts a baseline file records."""
     path = Path(path)
+    document = _read_baseline(path)
+    if not isinstance(document, dict) or "usdrender_lint_baseline" not in document:
+        raise BaselineError(f"{path}: not a usdrender-lint baseline file")
+    if document["usdrender_lint_baseline"] != BASELINE_SCHEMA:
+        raise BaselineError(
+            f"{path}: unsupported baseline version {document['usdrender_lint_baseline']!r} "
+            f"(expected {BASELINE_SCHEMA})"
+        )
+    entries = document.get("findings")
+    if not isinstance(entries, list):
+        raise BaselineError(f"{path}: 'findings' must be a list")
+    counts: Counter[Fingerprint] = Counter()
+    for index, entry in enumerate(entries):
+        key, count = _entry(path, index, entry)
+        counts[key] += count
+    return counts
+
+
+def _read_baseline(path: Path) -> Any:
+    """The baseline file's JSON document; BaselineError when it cannot be read."""
     try:
-        document = json.loads(path.read_text(encoding="utf-8"))
+        return json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise BaselineError(
             f"{path}: baseline file not found (create it with --write-baseline)"
@@ -73,28 +94,19 @@ def load_baseline(path: str | Path) -> Counter[Fingerprint]:
         raise BaselineError(f"{path}: not a baseline file (invalid JSON: {exc})") from None
     except RecursionError:
         raise BaselineError(f"{path}: not a baseline file (JSON nested too deeply)") from None
-    if not isinstance(document, dict) or "usdrender_lint_baseline" not in document:
-        raise BaselineError(f"{path}: not a usdrender-lint baseline file")
-    if document["usdrender_lint_baseline"] != BASELINE_SCHEMA:
-        raise BaselineError(
-            f"{path}: unsupported baseline version {document['usdrender_lint_baseline']!r} "
-            f"(expected {BASELINE_SCHEMA})"
-        )
-    counts: Counter[Fingerprint] = Counter()
-    entries = document.get("findings")
-    if not isinstance(entries, list):
-        raise BaselineError(f"{path}: 'findings' must be a list")
-    for index, entry in enumerate(entries):
-        try:
-            key = (entry["file"], entry["code"], entry["path"])
-            count = entry["count"]
-        except (TypeError, KeyError) as exc:
-            raise BaselineError(f"{path}: findings[{index}] lacks {exc}") from None
-        valid = all(isinstance(part, str) for part in key)
-        if not valid or not isinstance(count, int) or isinstance(count, bool) or count < 1:
-            raise BaselineError(f"{path}: findings[{index}] is malformed: {entry!r}")
-        counts[key] += count
-    return counts
+
+
+def _entry(path: Path, index: int, entry: Any) -> tuple[Fingerprint, int]:
+    """One recorded fingerprint and its count; BaselineError when malformed."""
+    try:
+        key = (entry["file"], entry["code"], entry["path"])
+        count = entry["count"]
+    except (TypeError, KeyError) as exc:
+        raise BaselineError(f"{path}: findings[{index}] lacks {exc}") from None
+    valid = all(isinstance(part, str) for part in key)
+    if not valid or not isinstance(count, int) or isinstance(count, bool) or count < 1:
+        raise BaselineError(f"{path}: findings[{index}] is malformed: {entry!r}")
+    return key, count
 
 
 def new_findings(report: Report, known: Counter[Fingerprint], base_dir: Path) -> tuple[Report, int]:

@@ -1,13 +1,9 @@
-"""Ctrl-C and SIGTERM: stop the run cleanly, with the shell's exit status.
-
-The handlers raise :class:`Stopped` (a BaseException: no ``except Exception``
-swallows it, and click does not turn it into "Aborted!") wherever the main process
-is: the worker pool's ``finally`` then ends the workers and removes its folder, an
-atomic write its temporary file, and no partial report is left. Only the first
-signal raises; the next are ignored, so that a second Ctrl-C cannot cut the
-clean-up short. Python runs a handler only once a hung USD call returns, and
-USD's C++ may swallow the exception (while it imports a module), so the signal is
-also remembered and :func:`check_stopped` raises it again at the run's next step.
+"""Ctrl-C and SIGTERM stop the run cleanly, with the shell's exit status: the handler
+raises :class:`Stopped` (a BaseException, which neither ``except Exception`` nor click
+swallows) wherever the process is, so that the pool's ``finally`` ends its workers and
+an atomic write removes its temporary file. Later signals are ignored (a second Ctrl-C
+cannot cut the clean-up short). USD's C++ may swallow the exception, and Python runs
+the handler only once a USD call returns: :func:`check_stopped` raises it again.
 """
 
 from __future__ import annotations
@@ -18,7 +14,6 @@ TYPE_CHECKING = False
 if TYPE_CHECKING:
     from types import FrameType
 
-#: The signals that stop a run, and what the one line on stderr says.
 STOPPING = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
 
 
@@ -38,7 +33,6 @@ class Stopped(BaseException):
         return STOPPING.get(signal.Signals(self.signum), f"stopped by signal {self.signum}")
 
 
-#: The signal that stopped the run, once one has.
 _received: int | None = None
 
 
@@ -57,8 +51,7 @@ def check_stopped() -> None:
 
 
 def install() -> None:
-    """From now on, SIGINT and SIGTERM raise :class:`Stopped` (the command's first
-    step, before its imports)."""
+    """From now on SIGINT and SIGTERM raise :class:`Stopped` (before the imports)."""
     if _received is None:
         for signum in STOPPING:
             signal.signal(signum, _stop)
@@ -79,8 +72,7 @@ class stop_on_signals:  # noqa: N801 - used as a context manager, like contextli
 
 
 class deferred:  # noqa: N801 - a context manager
-    """While the block runs, SIGINT and SIGTERM wait (blocked, not lost): for USD's
-    module imports, whose C++ catches the exception a handler raises in them."""
+    """SIGINT and SIGTERM wait (blocked) until the block ends: USD's imports catch it."""
 
     def __enter__(self) -> None:
         self._previous = signal.pthread_sigmask(signal.SIG_BLOCK, set(STOPPING))
@@ -90,7 +82,7 @@ class deferred:  # noqa: N801 - a context manager
 
 
 def default_signals_in_worker() -> None:
-    """In a worker process: Ctrl-C is the parent's to handle (the terminal sends
-    it to the whole process group); SIGTERM ends the worker at once."""
+    """Ctrl-C is the parent's to handle (it reaches the process group); SIGTERM ends
+    a worker at once."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)

@@ -30,10 +30,9 @@ from .path_ignores import apply_path_ignores
 from .supervisor import Supervision
 from .workers import (
     ExecutionError,
+    Pool,
     default_jobs,
-    file_error,
     lint_paths,
-    run_bounded,
 )
 
 if TYPE_CHECKING:
@@ -612,14 +611,8 @@ def _run_fixes(prepared: Prepared, files: Sequence[str]) -> tuple[FixRun, tuple[
             raise RequestError(str(exc)) from None
         return run, ()
     # One worker, so that stages sharing a layer are still fixed one after another.
-    results = run_bounded(
-        files,
-        factory=_Fixing(replace(prepared.request, config=prepared.settings, isolated=False)),
-        handle=_fix_in_worker,
-        failed=file_error,
-        jobs=1,
-        timeout=prepared.request.timeout,
-    )
+    fixing = _Fixing(replace(prepared.request, config=prepared.settings, isolated=False))
+    results = Pool(fixing, 1, prepared.request.timeout, handle=_fix_in_worker).run(files)
     refused = [r for r in results if isinstance(r, _FixRefused)]
     if refused:
         raise RequestError(refused[0].reason)

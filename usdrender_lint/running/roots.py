@@ -23,7 +23,7 @@ from ..layers.files import unreadable_reason
 from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
 from ..paths import display_path
 from ..records import record
-from .workers import file_error, run_bounded
+from .workers import Pool, file_error
 
 #: Tool problems are never filtered away: a root that cannot be opened or a rule
 #: that raised means the changed files were not checked.
@@ -167,14 +167,8 @@ def plan_in_context(
     its own (and its own lint is bounded too)."""
     questions = [("readable", path) for path in changed] + [("uses", root) for root in roots]
     if timeout:
-        answers = run_bounded(
-            questions,
-            factory=_nothing,
-            handle=_answer,
-            failed=_unanswered,
-            jobs=jobs,
-            timeout=timeout,
-        )
+        pool = Pool(_nothing, jobs, timeout, handle=_answer, failed=_unanswered)
+        answers = list(pool.run(questions))
     else:
         answers = [_answer(None, question) for question in questions]
     readable = answers[: len(changed)]

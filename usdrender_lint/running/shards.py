@@ -92,13 +92,7 @@ def select_plan_shard(plan: ContextPlan, shard: tuple[int, int], root: Path) -> 
     from dataclasses import replace
 
     k, n = shard
-    roots = list(plan.roots)
-    groups = _groups(roots, [plan.roots[r] for r in roots])
-    units: list[list[str]] = [[roots[i] for i in group] for group in groups]
-    units += [[path] for path in plan.alone]
-    chosen = set(partition(units, n, root, k))
-    kept_roots = {r for i in chosen if i < len(groups) for r in units[i]}
-    kept_alone = {units[i][0] for i in chosen if i >= len(groups)}
+    kept_roots, kept_alone = _shard_members(plan, k, n, root)
     return replace(
         plan,
         roots={r: changed for r, changed in plan.roots.items() if r in kept_roots},
@@ -106,6 +100,19 @@ def select_plan_shard(plan: ContextPlan, shard: tuple[int, int], root: Path) -> 
         # Roots whose layers could not be found are reported once, by the first shard.
         failed=plan.failed if k == 1 else (),
     )
+
+
+def _shard_members(plan: ContextPlan, k: int, n: int, root: Path) -> tuple[set[str], set[str]]:
+    """The roots and the lone files shard ``K`` of ``N`` lints: the roots that
+    share a changed file are one unit, each lone file another."""
+    roots = list(plan.roots)
+    groups = _groups(roots, [plan.roots[r] for r in roots])
+    units: list[list[str]] = [[roots[i] for i in group] for group in groups]
+    units += [[path] for path in plan.alone]
+    chosen = set(partition(units, n, root, k))
+    kept_roots = {r for i in chosen if i < len(groups) for r in units[i]}
+    kept_alone = {units[i][0] for i in chosen if i >= len(groups)}
+    return kept_roots, kept_alone
 
 
 def _groups(roots: Sequence[str], changed: Sequence[frozenset[str]]) -> list[list[int]]:
