@@ -19,6 +19,7 @@ import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 from click.testing import CliRunner
@@ -296,16 +297,16 @@ def test_a_render_pass_file_name_deleted_or_created(tmp_path: Path, exists_first
 def _during_the_lint(monkeypatch: pytest.MonkeyPatch, change: Callable[[], None]) -> None:
     """Run ``change`` once, right after the engine has linted a file (before the
     result is stored)."""
-    original = Linter.lint_path
+    original = Linter.run_path
     pending = [change]
 
-    def lint_path(linter: Linter, path: str, **options: bool):  # type: ignore[no-untyped-def]
-        result = original(linter, path, **options)
+    def run_path(linter: Linter, path: str, **options: Any):  # type: ignore[no-untyped-def]
+        run = original(linter, path, **options)
         while pending:
             pending.pop()()
-        return result
+        return run
 
-    monkeypatch.setattr(Linter, "lint_path", lint_path)
+    monkeypatch.setattr(Linter, "run_path", run_path)
 
 
 def _same_size_same_times(path: Path, text: str) -> None:
