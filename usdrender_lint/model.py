@@ -14,6 +14,15 @@ from inspect import cleandoc
 from .records import record
 
 
+class CorruptValue(Exception):
+    """USD found a corrupt value in a layer while a rule read it (the file's
+    problem, reported as ST001)."""
+
+
+#: A property named "" (no layer parser writes one; a corrupt crate can hold it).
+NAMELESS_PROPERTY = "the file holds a property with no name; the file is corrupt"
+
+
 class Severity(enum.Enum):
     """How bad a finding is; ordered info < warning < error."""
 

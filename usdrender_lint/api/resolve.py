@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from pxr import Gf, Sdf, Tf, Usd
 
+from ..model import NAMELESS_PROPERTY, CorruptValue
 from ..records import record
 from . import schemas
 from .cache import _ACTIVE, LintCache, cached
@@ -374,6 +375,16 @@ def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME)
     return fallback_value(prim, name)
 
 
+def authored_property_names(prim: Usd.Prim) -> list[str]:
+    """``prim.GetAuthoredPropertyNames()``, raising CorruptValue (ST001) for a
+    property named "": the name list does not check it, while every property
+    object USD makes of it fails a verification (UsdStage::_GetDefiningSpecType)."""
+    names = prim.GetAuthoredPropertyNames()
+    if "" in names:
+        raise CorruptValue(NAMELESS_PROPERTY)
+    return names
+
+
 class PrimValues:
     """What the rules read of one prim, by property name, each read once per
     lint and shared by every rule and helper: its attributes' authored and
@@ -493,7 +504,7 @@ class PrimValues:
         """The names of the prim's authored properties, in USD's order."""
         names = self._names
         if names is None:
-            names = self._names = tuple(self.prim.GetAuthoredPropertyNames())
+            names = self._names = tuple(authored_property_names(self.prim))
         return names
 
     def mismatched(self, name: str) -> Sdf.AttributeSpec | None:

@@ -22,6 +22,7 @@ from ..layers.nesting import nesting_problem
 from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
+    CorruptValue,
     FileResult,
     Finding,
     FixInfo,
@@ -35,7 +36,6 @@ from .locate import bounded_message, locate
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
-    CorruptValue,
     StageOpenResult,
     corruption,
     open_stage,
@@ -508,7 +508,7 @@ class Linter:
                 finding = self._finding(rule, diagnostic, ctx, trace)
                 if finding is not None:
                     findings.append(finding)
-        except (FullStageRequired, UnicodeDecodeError):
+        except (FullStageRequired, UnicodeDecodeError, CorruptValue):
             raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
         except Exception as exc:
             findings = [self._rule_error(rule, ctx, exc, args[0])]

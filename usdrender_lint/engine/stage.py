@@ -11,17 +11,13 @@ from pxr import Sdf, Tf, Usd
 
 from ..layers.crate import is_crate
 from ..layers.files import lfs_pointer_problem
+from ..model import NAMELESS_PROPERTY
 from ..paths import display_path, usd_path
 from ..records import record
 
 STAGE_OPEN_FAILED_CODE = "ST001"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
 USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
-
-
-class CorruptValue(Exception):
-    """USD found a corrupt value in a layer while a rule read it (the file's
-    problem, reported as ST001)."""
 
 
 @record(frozen=True)
@@ -137,7 +133,7 @@ def corruption(exc: Tf.ErrorException, path: str) -> str | None:
         if source.endswith("crateFile.cpp"):
             return f"USD cannot read a value of the file: {commentary.strip()}; the file is corrupt"
         if "propName.IsEmpty()" in commentary:
-            return "the file holds a property with no name; the file is corrupt"
+            return NAMELESS_PROPERTY
     return None
 
 

@@ -27,6 +27,7 @@ from ..api import Context, schemas
 from ..api.resolve import (
     RenderConfiguration,
     Target,
+    authored_property_names,
     describe_prim_type,
     forwarded_targets,
     resolve_targets,
@@ -176,7 +177,7 @@ class _Facts:
     def __init__(self, prim: Usd.Prim, kind: str, scan: _Scan) -> None:
         self.path: Sdf.Path = prim.GetPath()
         self.text = str(self.path)
-        self.names: list[str] = prim.GetAuthoredPropertyNames()
+        self.names: list[str] = authored_property_names(prim)
         info = prim.GetPrimTypeInfo()
         self.applied: Sequence[str] = info.GetAppliedAPISchemas()
         self.product_type: str | None = None
