@@ -10,7 +10,12 @@ from typing import Any, Protocol, TypeVar
 from pxr import Sdf, Tf, Usd
 
 from usdrender_lint.api import Context, schemas
-from usdrender_lint.api.resolve import resolve_targets, typed_target_problem, unusable_reason
+from usdrender_lint.api.resolve import (
+    prim_values,
+    resolve_targets,
+    typed_target_problem,
+    unusable_reason,
+)
 
 #: The CollectionAPI instances the RenderPass schema applies (schema.usda).
 PASS_COLLECTIONS = ("renderVisibility", "cameraVisibility", "prune", "matte")
@@ -109,7 +114,7 @@ def _authored_pass_collections(ctx: Context, prim: Usd.Prim) -> tuple[Usd.Collec
     # GetAuthoredPropertiesInNamespace, "collection:<name>" alone is not in it.
     authored = {
         parts[1]
-        for parts in (name.split(":", 2) for name in prim.GetAuthoredPropertyNames())
+        for parts in (name.split(":", 2) for name in prim_values(prim).authored_names())
         if len(parts) == 3 and parts[0] == "collection"
     }
     return tuple(Usd.CollectionAPI(prim, name) for name in PASS_COLLECTIONS if name in authored)

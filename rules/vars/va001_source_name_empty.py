@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
+from usdrender_lint.api.resolve import prim_values
 
 from .._aov import checked_value
 
@@ -78,7 +79,8 @@ class SourceNameEmpty(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if checked_value(prim, "sourceName", ctx) != "":
             return
-        if any(ctx.profile_accepts(prim, "var_output", n) for n in prim.GetAuthoredPropertyNames()):
+        names = prim_values(prim).authored_names()
+        if any(ctx.profile_accepts(prim, "var_output", n) for n in names):
             return  # the renderer reads the var's output from its own settings (R2-5)
         attr = prim.GetAttribute("sourceName")
         what = (
