@@ -8,8 +8,9 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-from pxr import Usd
+from pxr import Sdf, Usd
 
+from usdrender_lint.api.resolve import prim_values
 from usdrender_lint.engine import Linter
 from usdrender_lint.profiles import Profiler, detect
 from usdrender_lint.testing import all_rules
@@ -173,3 +174,20 @@ def test_an_explicit_profile_reads_nothing_of_the_stage(
     counts, profiles = _decide(tmp_path, monkeypatch, "arnold")
     assert profiles == {"arnold"}
     assert not counts
+
+
+def test_prim_values_give_the_definition_key_the_profiles_read() -> None:
+    """The applied API schemas auto reads as evidence come from the prim's
+    PrimValues, which the rules' schema lookups share: the authored ones,
+    known to USD or not."""
+    stage = Usd.Stage.CreateInMemory()
+    stage.GetRootLayer().ImportFromString(
+        '#usda 1.0\ndef RenderSettings "S" (\n'
+        '    prepend apiSchemas = ["KarmaRendererSettingsAPI", "CollectionAPI:x"]\n)\n{\n}\n'
+    )
+    values = prim_values(stage.GetPrimAtPath("/S"))
+    assert values.definition_key() == (
+        "RenderSettings",
+        ("KarmaRendererSettingsAPI", "CollectionAPI:x"),
+    )
+    assert values.schema_attribute("resolution").type_name == Sdf.ValueTypeNames.Int2
