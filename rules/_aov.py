@@ -33,7 +33,7 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
 def _product_render_vars(ctx: Context, product: Usd.Prim) -> tuple[Usd.Prim, ...]:
     targets = ordered_var_targets(product, ctx)
     prims = (t.usable_prim for t in targets)
-    return tuple(p for p in prims if p is not None and p.IsA(schemas.RenderVar))
+    return tuple(p for p in prims if p is not None and prim_values(p).is_a(schemas.RenderVar))
 
 
 def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:

@@ -68,7 +68,7 @@ def first_failure(
     fallback (a type-mismatched opinion counts as unauthored, SE016's; a
     blocked sample reads as the fallback)."""
     readers = [_reader(prim, name, ctx) for name in names]
-    authored = [attr for attr, held, _ in readers if held]
+    authored = [attr for attr, _ in readers if attr is not None]
     for time in authored_rendered_times(authored, ctx.time_sample_cap):
         problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
@@ -76,9 +76,10 @@ def first_failure(
     return None
 
 
-#: An attribute, whether it holds a well-typed authored value, and its fallback
-#: (read when first needed for an authored one: only a blocked sample needs it).
-_Reader = tuple[Usd.Attribute, bool, Any]
+#: The attribute when it holds a well-typed authored value (else None: no
+#: handle is needed), and its fallback (read when first needed for an authored
+#: one: only a blocked sample needs it).
+_Reader = tuple[Usd.Attribute | None, Any]
 _NOT_READ: Any = object()
 
 
@@ -86,13 +87,16 @@ def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
     # Decided once per attribute and lint (PrimValues), not per time sample or
     # rule: the opinion stack is costly and several CA rules read the same attributes.
     values = prim_values(prim)
-    authored = values.has_value(name)
-    return values.attribute(name), authored, _NOT_READ if authored else values.fallback(name)
+    if values.has_value(name):
+        return values.attribute(name), _NOT_READ
+    return None, values.fallback(name)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:
-    attr, authored, fallback = reader
-    value = attr.Get(time) if authored else None
+    attr, fallback = reader
+    if attr is None:
+        return fallback
+    value = attr.Get(time)
     if value is not None:
         return value
     # A blocked time sample (`1: None`) leaves typed C++ reads with the fallback.

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import RenderConfiguration
+from usdrender_lint.api.resolve import RenderConfiguration, prim_values
 
 from .._camera import runtime_camera_held
 
@@ -106,7 +106,11 @@ class CameraTargetMissing(Rule):
                 if runtime_camera_held(ctx, config):
                     continue  # the renderer's application creates it at run time (R2-5)
                 reason = target.problem
-            elif target.prim is not None and target.prim.IsA(schemas.Camera) and not target.ok:
+            elif (
+                target.prim is not None
+                and not target.ok
+                and prim_values(target.prim).is_a(schemas.Camera)
+            ):
                 if runtime_camera_held(ctx, config):
                     continue  # an `over Camera` composing onto the application's camera
                 reason = f"is a Camera but {target.problem}"

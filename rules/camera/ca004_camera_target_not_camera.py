@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import describe_prim_type, is_usable
+from usdrender_lint.api.resolve import describe_prim_type, is_usable, prim_values
 
 from .._camera import runtime_camera_held
 
@@ -124,7 +124,7 @@ class CameraTargetNotCamera(Rule):
                 owner = ctx.stage.GetPrimAtPath(target.path.GetPrimPath())
                 if owner and owner.IsA(schemas.Camera) and is_usable(owner):
                     suggestion = owner
-            elif target.prim is not None and not target.prim.IsA(schemas.Camera):
+            elif target.prim is not None and not prim_values(target.prim).is_a(schemas.Camera):
                 # (prim is None only when missing or a property path: both handled above)
                 if runtime_camera_held(ctx, config):
                     continue  # a typeless `over` on the application's session camera (R2-5)

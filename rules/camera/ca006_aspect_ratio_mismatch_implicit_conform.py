@@ -8,7 +8,7 @@ from functools import partial
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.api.resolve import RenderConfiguration, has_authored_value
+from usdrender_lint.api.resolve import RenderConfiguration, prim_values
 
 from .._camera import at_time, config_owners, first_failure, positive_finite
 
@@ -194,6 +194,5 @@ class AspectRatioMismatchImplicitConform(Rule):
     @staticmethod
     def _has_explicit_policy(config: RenderConfiguration) -> bool:
         return any(
-            has_authored_value(p.GetAttribute("aspectRatioConformPolicy"))
-            for p in config_owners(config)
+            prim_values(p).has_value("aspectRatioConformPolicy") for p in config_owners(config)
         )

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pxr import Sdf, Usd
 
-from usdrender_lint.api.resolve import DEFAULT_TIME, mismatched_spec
+from usdrender_lint.api.resolve import DEFAULT_TIME, PrimValues
 
 
 def _authored_layer(attr: Usd.Attribute) -> Sdf.Layer | None:
@@ -17,11 +17,14 @@ def _authored_layer(attr: Usd.Attribute) -> Sdf.Layer | None:
     return None
 
 
-def _value_lost_elsewhere(attr: Usd.Attribute) -> bool:
-    """The Default-time value is lost to a mistake another rule reports: a
-    mistyped opinion (SE016) or time samples with no default on a uniform
-    attribute (SE017). Rules that read the value stay silent then, so one
-    mistake gives one finding."""
-    if mismatched_spec(attr) is not None:
+def _value_lost_elsewhere(values: PrimValues, name: str) -> bool:
+    """The Default-time value of the attribute ``name`` is lost to a mistake
+    another rule reports: a mistyped opinion (SE016) or time samples with no
+    default on a uniform attribute (SE017). Rules that read the value stay
+    silent then, so one mistake gives one finding."""
+    if values.mismatched(name) is not None:
         return True
+    if not values.may_be_authored(name):
+        return False  # no spec and no value clip: no samples
+    attr = values.attribute(name)
     return attr.GetNumTimeSamples() > 0 and _authored_layer(attr) is None

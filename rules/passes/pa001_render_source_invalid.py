@@ -9,9 +9,8 @@ from pxr import Sdf, Usd
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import (
     authored_targets,
-    authored_value,
     is_usable,
-    resolve_targets,
+    prim_values,
     typed_target_problem,
 )
 
@@ -113,14 +112,14 @@ class RenderSourceInvalid(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         # Read by name: a schema object costs ~1.2 us a pass and is not needed.
-        file_attr = prim.GetAttribute("fileName")
-        if _value_lost_elsewhere(file_attr):
+        values = prim_values(prim)
+        if _value_lost_elsewhere(values, "fileName"):
             return  # A fileName was meant; SE016 or SE017 reports how it is lost.
-        file_name = authored_value(file_attr)
+        file_name = values.authored("fileName")
         if file_name is not None and file_name.authoredPath:
             return
-        rel = prim.GetRelationship("renderSource")
-        targets = resolve_targets(rel)
+        rel = values.relationship("renderSource")
+        targets = values.targets("renderSource")
         if not targets:
             yield Diagnostic(
                 message=f"RenderPass {prim.GetPath()} has neither a fileName nor a renderSource "

@@ -8,7 +8,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import prim_values
 
 from ._default_value import _authored_layer
 
@@ -107,10 +107,11 @@ class FileNameUnresolvable(Rule):
     prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("fileName")
-        value = authored_value(attr)
+        values = prim_values(prim)
+        value = values.authored("fileName")
         if not isinstance(value, Sdf.AssetPath) or not value.authoredPath:
             return
+        attr = values.attribute("fileName")
         layer = _authored_layer(attr)
         ctx.depends_on_asset(value, layer)  # the finding comes and goes with the file
         if value.resolvedPath:

@@ -73,8 +73,7 @@ class PassTypeEmpty(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        attr = values.attribute("passType")
-        if _value_lost_elsewhere(attr):
+        if _value_lost_elsewhere(values, "passType"):
             return
         if values.authored("passType"):
             return
@@ -82,5 +81,5 @@ class PassTypeEmpty(Rule):
         yield Diagnostic(
             message=f"passType of RenderPass {prim.GetPath()} {state}; author the pipeline's pass "
             'type (e.g. "prman", "nuke") so job submission can dispatch the pass',
-            at=attr if values.has_value("passType") else prim,
+            at=values.attribute("passType") if values.has_value("passType") else prim,
         )

@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
+from usdrender_lint.api.resolve import prim_values
 
 from .._aov import checked_value
 from .._corrections import set_value
@@ -94,7 +95,7 @@ class ProductNameEmpty(Rule):
         name_template: str = ""
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("productName")
+        attr = prim_values(prim).attribute("productName")
         if attr.GetNumTimeSamples():
             return
         if checked_value(prim, "productName", ctx) != "":

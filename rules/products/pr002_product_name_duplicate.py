@@ -126,5 +126,5 @@ class ProductNameDuplicate(Rule):
                         f"{format_time(time)}, like {first.GetPath()}: both are products of "
                         f"{settings.GetPath()} and write the same output; give each product "
                         "its own productName",
-                        at=product.GetAttribute("productName"),
+                        at=prim_values(product).attribute("productName"),
                     )

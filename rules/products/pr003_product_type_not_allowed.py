@@ -81,11 +81,13 @@ class ProductTypeNotAllowed(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        attr = values.attribute("productType")
         value = values.authored("productType")
-        allowed = allowed_tokens(prim, "productType")
-        if value is None or value in allowed or _renderer_product_type(prim):
+        if value is None:
             return
+        allowed = allowed_tokens(prim, "productType")
+        if value in allowed or _renderer_product_type(prim):
+            return
+        attr = values.attribute("productType")
         if ctx.profile_accepts(attr, "product_type", value):
             return  # a product type the renderer itself writes (R2-5)
         renderer_types = ctx.accepted_names(attr, "product_types")

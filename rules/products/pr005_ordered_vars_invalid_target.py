@@ -98,7 +98,7 @@ class OrderedVarsInvalidTarget(Rule):
         for target in ordered_var_targets(prim, ctx):
             if target.prim is None:
                 reason = target.problem
-            elif not target.prim.IsA(schemas.RenderVar):
+            elif not prim_values(target.prim).is_a(schemas.RenderVar):
                 reason = f"is {describe_prim_type(target.prim)}, not a RenderVar"
                 if target.problem:
                     reason += f", and {target.problem}"

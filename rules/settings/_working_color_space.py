@@ -6,14 +6,14 @@ from __future__ import annotations
 from pxr import Usd
 
 from usdrender_lint.api import Context
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import prim_values
 
 
 def _rendering_color_space(prim: Usd.Prim) -> tuple[Usd.Attribute, str] | None:
     """The authored, non-empty renderingColorSpace (an empty token means unset)."""
-    attr = prim.GetAttribute("renderingColorSpace")
-    name = authored_value(attr)
-    return (attr, str(name)) if name else None
+    values = prim_values(prim)
+    name = values.authored("renderingColorSpace")
+    return (values.attribute("renderingColorSpace"), str(name)) if name else None
 
 
 def _color_space_cache(ctx: Context) -> Usd.ColorSpaceCache:

@@ -77,8 +77,7 @@ class ResolutionNonPositive(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        attr = values.attribute("resolution")
-        is_settings = prim.IsA(schemas.RenderSettings)
+        is_settings = values.is_a(schemas.RenderSettings)
         value = composed_value(prim, "resolution") if is_settings else values.authored("resolution")
         if value is None:
             return
@@ -87,7 +86,7 @@ class ResolutionNonPositive(Rule):
                 message=f"resolution {_fmt(value)} has a component <= 0; author a positive pixel "
                 "size "
                 "such as (1920, 1080)",
-                at=attr,
+                at=values.attribute("resolution"),
             )
         elif is_settings and self.options.require_authored and not values.has_value("resolution"):
             yield Diagnostic(

@@ -67,7 +67,6 @@ class PixelAspectRatioInvalid(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        attr = values.attribute("pixelAspectRatio")
         ratio = values.authored("pixelAspectRatio")
         if ratio is None or (math.isfinite(ratio) and ratio > 0):
             return
@@ -75,5 +74,5 @@ class PixelAspectRatioInvalid(Rule):
             message=f"pixelAspectRatio is {_fmt(float(ratio))}; it must be a finite number > 0 "
             "(width/height of one pixel): author e.g. 1 for square pixels or 2 for a 2x "
             "anamorphic squeeze, or delete the opinion to get the fallback 1",
-            at=attr,
+            at=values.attribute("pixelAspectRatio"),
         )

@@ -71,11 +71,13 @@ class AspectRatioConformPolicyInvalid(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         name = "aspectRatioConformPolicy"
         values = prim_values(prim)
-        attr = values.attribute(name)
         policy = values.authored(name)
-        allowed = allowed_tokens(prim, name)
-        if policy is None or not allowed or policy in allowed:
+        if policy is None:
             return
+        allowed = allowed_tokens(prim, name)
+        if not allowed or policy in allowed:
+            return
+        attr = values.attribute(name)
         same_letters = [t for t in allowed if t.lower() == str(policy).lower()]
         fix = None
         if len(same_letters) == 1:

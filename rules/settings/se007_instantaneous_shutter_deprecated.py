@@ -86,9 +86,9 @@ class InstantaneousShutterDeprecated(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        attr = values.attribute("instantaneousShutter")
         if not values.has_value("instantaneousShutter"):
             return
+        attr = values.attribute("instantaneousShutter")
         value = bool(attr.Get())
         fix = None
         if not value:

@@ -77,10 +77,10 @@ class IncludedPurposesInvalid(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        attr = values.attribute("includedPurposes")
         purposes = values.authored("includedPurposes")
         if purposes is None:
             return
+        attr = values.attribute("includedPurposes")
         # Any list of more than four entries repeats or misnames one, so a long
         # list is judged by its start; it gets no fix (that would need it all).
         whole = len(purposes) <= CHECKED_ENTRIES

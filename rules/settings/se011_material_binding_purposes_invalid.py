@@ -96,10 +96,10 @@ class MaterialBindingPurposesInvalid(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         name = "materialBindingPurposes"
         values = prim_values(prim)
-        attr = values.attribute(name)
         purposes = values.authored(name)
         if purposes is None:
             return
+        attr = values.attribute(name)
         allowed = allowed_tokens(prim, name)
         if not purposes:
             yield Diagnostic(

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import has_authored_value, mismatched_spec
+from usdrender_lint.api.resolve import prim_values
 
 from .._aov import checked_value
 from .._corrections import set_value
@@ -93,9 +93,10 @@ class ScalarSourceDefaultColor3f(Rule):
     prim_types = (schemas.RenderVar,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim.GetAttribute("dataType")
-        if has_authored_value(attr) or mismatched_spec(attr) is not None:
+        values = prim_values(prim)
+        if values.has_value("dataType") or values.mismatched("dataType") is not None:
             return
+        attr = values.attribute("dataType")
         candidates = (prim.GetName(), checked_value(prim, "sourceName", ctx) or "")
         matched = [n for n in candidates if n.lower() in SCALAR_QUANTITY_TYPES]
         if not matched:

@@ -211,3 +211,72 @@ def test_a_changed_ordered_vars_target_is_resolved_again(stage) -> None:
     assert ("PR005", "/Render/beauty.orderedVars") not in _codes(linter, stage)
     stage.GetPrimAtPath("/Render/alpha").SetActive(False)
     assert ("PR005", "/Render/beauty.orderedVars") in _codes(linter, stage)
+
+
+def _file_stage(folder, text: str, name: str = "shot.usda") -> Usd.Stage:
+    path = folder / name
+    path.write_text(text)
+    return Usd.Stage.Open(str(path))
+
+
+def test_an_unauthored_attribute_is_answered_from_the_prim_property_names(
+    tmp_path, monkeypatch
+) -> None:
+    # A file layer without value clips: a name no layer lists holds no value,
+    # so no attribute handle or HasAuthoredValue is asked for it.
+    stage = _file_stage(tmp_path, SHOT)
+    asked = _record_attribute_calls(monkeypatch, "HasAuthoredValue")
+    handles: list[str] = []
+    get_attribute = Usd.Prim.GetAttribute
+
+    def recording(prim, name):
+        handles.append(f"{prim.GetPath()}.{name}")
+        return get_attribute(prim, name)
+
+    monkeypatch.setattr(Usd.Prim, "GetAttribute", recording)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    # CA005, CA008, CA009 read these camera attributes; SE001, SE002, SE006... the products'.
+    for unauthored in ("/cam.projection", "/cam.shutter:open", "/Render/beauty.resolution"):
+        assert unauthored not in asked
+        assert unauthored not in handles
+    assert asked.count("/Render/color.sourceName") == 1  # authored: asked once
+
+
+CLIPPED_SHOT = """#usda 1.0
+def Camera "cam" (
+    clips = {
+        dictionary default = {
+            asset[] assetPaths = [@./clip.usda@]
+            asset manifestAssetPath = @./manifest.usda@
+            string primPath = "/cam"
+            double2[] active = [(1, 0)]
+            double2[] times = [(1, 1), (2, 2)]
+        }
+    }
+)
+{
+}
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        rel camera = </cam>
+        rel products = </Render/beauty>
+    }
+    def RenderProduct "beauty"
+    {
+        token productName = "beauty.exr"
+    }
+}
+"""
+
+
+def test_a_value_only_value_clips_give_is_authored(tmp_path) -> None:
+    # No layer of the stage has a spec of focalLength: only the clip gives it
+    # a value, so the prim's property names cannot decide.
+    clip = '#usda 1.0\nover "cam"\n{\n    float focalLength.timeSamples = {1: -5, 2: -5}\n}\n'
+    (tmp_path / "clip.usda").write_text(clip)
+    (tmp_path / "manifest.usda").write_text('#usda 1.0\nover "cam"\n{\n    float focalLength\n}\n')
+    stage = _file_stage(tmp_path, CLIPPED_SHOT)
+    assert "focalLength" not in stage.GetPrimAtPath("/cam").GetAuthoredPropertyNames()
+    assert ("CA005", "/cam.focalLength") in _codes(Linter(all_rules(), raise_errors=True), stage)

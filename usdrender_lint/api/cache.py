@@ -24,14 +24,19 @@ _MISSING: Any = object()
 class LintCache:
     """Answers of ``func(*args)``, computed once per lint."""
 
-    __slots__ = ("_answers", "by_identity")
+    __slots__ = ("_answers", "by_identity", "without_clips")
 
-    def __init__(self) -> None:
+    def __init__(self, without_clips: bool = False) -> None:
         self._answers: dict[tuple[Callable[..., Any], tuple[Hashable, ...]], Any] = {}
         #: Answers keyed by an object's ``id``, each holding the object (so
         #: that its id is not reused): for USD handles, whose hash is a
         #: binding call (resolve.PrimValues).
         self.by_identity: dict[int, tuple[Any, Any]] = {}
+        #: True when no layer of the linted stage can author value clips (the
+        #: engine knows from the layers' words). Then an attribute holds an
+        #: authored value only if its prim's authored property names list it:
+        #: a clip gives values to attributes that no layer's spec names.
+        self.without_clips = without_clips
 
     def call(self, func: Callable[..., _T], *args: Hashable) -> _T:
         """``func(*args)``, computed on the first call with these arguments."""

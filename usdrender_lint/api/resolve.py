@@ -176,7 +176,7 @@ def typed_target_problem(target: Target, schema: type, expected: str) -> str | N
     prim = target.usable_prim
     if prim is None:
         return target.problem
-    if not prim.IsA(schema):
+    if not prim_values(prim).is_a(schema):
         return f"is {describe_prim_type(prim)}, not {expected}"
     return None
 
@@ -231,10 +231,11 @@ def _read_attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec,
     from the prim definition for a schema attribute (whatever the specs say),
     else from the strongest spec. A spec of that type is never mismatched, so
     most checks stop there. Read together: every reader of one needs the other."""
-    specs = tuple(
-        s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec)
-    )
-    return specs, attr.GetTypeName().type
+    return _attribute_stack(attr), attr.GetTypeName().type
+
+
+def _attribute_stack(attr: Usd.Attribute) -> tuple[Sdf.AttributeSpec, ...]:
+    return tuple(s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec))
 
 
 @cached
@@ -246,19 +247,21 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     ``color3f`` and ``float3`` store the same value type.
     """
     specs, declared = _attribute_specs(attr)
-    return _mismatched_in(specs, declared, attr)
+    return _mismatched_in(specs, declared, lambda: _schema_type(attr))
 
 
 def _mismatched_in(
-    specs: Iterable[Sdf.AttributeSpec], declared: Tf.Type, attr: Usd.Attribute
+    specs: Iterable[Sdf.AttributeSpec],
+    declared: Tf.Type,
+    schema_type: Callable[[], Sdf.ValueTypeName | None],
 ) -> Sdf.AttributeSpec | None:
     for spec in specs:
         if spec.HasDefaultValue() or _has_time_samples(spec):
             value_type = spec.typeName.type
             if value_type == declared:
                 return None
-            schema_type = _schema_type(attr)
-            return spec if schema_type is not None and value_type != schema_type.type else None
+            declared_name = schema_type()  # read only when the types differ
+            return spec if declared_name is not None and value_type != declared_name.type else None
     return None
 
 
@@ -301,14 +304,17 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     (catalog, Conventions: one mistake gives one finding, SE016)."""
     if not attr or not attr.HasAuthoredValue():
         return False
-    return _holds_well_typed_value(attr, *_attribute_specs(attr))
+    return _holds_well_typed_value(lambda: _schema_type(attr), *_attribute_specs(attr))
 
 
 def _holds_well_typed_value(
-    attr: Usd.Attribute, specs: tuple[Sdf.AttributeSpec, ...], declared: Tf.Type
+    schema_type: Callable[[], Sdf.ValueTypeName | None],
+    specs: tuple[Sdf.AttributeSpec, ...],
+    declared: Tf.Type,
 ) -> bool:
     """Whether an attribute with an authored value (``specs``, its property
-    stack, and ``declared``, its value type) holds a well-typed one."""
+    stack, ``declared``, its value type, and ``schema_type``, what its
+    schema declares) holds a well-typed one."""
     # The first value-holding spec of the property stack must have the schema's
     # type (as _mismatched_in reads it), and neither the first default nor the
     # first time samples may be a path: usda accepts ``<...>`` as the value of an
@@ -319,7 +325,7 @@ def _holds_well_typed_value(
     first = min(default_at, samples_at)
     if first == len(specs):
         return True  # no spec holds a value
-    if _mismatched_in((specs[first],), declared, attr) is not None:
+    if _mismatched_in((specs[first],), declared, schema_type) is not None:
         return False
     if default_at < len(specs) and isinstance(specs[default_at].default, Sdf.Path):
         return False
@@ -414,10 +420,13 @@ class PrimValues:
         "_definition",
         "_key",
         "_names",
+        "_names_decide",
+        "_listed",
+        "_kinds",
         "_memo",
     )
 
-    def __init__(self, prim: Usd.Prim) -> None:
+    def __init__(self, prim: Usd.Prim, without_clips: bool = False) -> None:
         self.prim = prim
         self._attrs: dict[str, Usd.Attribute] = {}
         self._rels: dict[str, Usd.Relationship] = {}
@@ -432,6 +441,13 @@ class PrimValues:
         self._definition: Usd.PrimDefinition | None = None
         self._key: _DefinitionKey | None = None
         self._names: tuple[str, ...] | None = None
+        #: Whether an attribute that the authored property names do not list
+        #: holds no authored value (a stage without value clips:
+        #: LintCache.without_clips); ``_listed`` is those names, once asked.
+        self._names_decide = without_clips
+        self._listed: frozenset[str] | None = None
+        #: IsA answers by the schema's id (hashing a Tf.Type is a binding call).
+        self._kinds: dict[int, tuple[Any, bool]] = {}
         self._memo: dict[Callable[..., Any], Any] = {}
 
     def attribute(self, name: str) -> Usd.Attribute:
@@ -440,6 +456,15 @@ class PrimValues:
         if attr is None:
             attr = self._attrs[name] = self.prim.GetAttribute(name)
         return attr
+
+    def is_a(self, schema: Tf.Type | type) -> bool:
+        """``prim.IsA(schema)``, asked once per schema: rules test the same
+        relationship targets (vars, cameras) for every product."""
+        entry = self._kinds.get(id(schema))
+        if entry is None or entry[0] is not schema:
+            # The entry holds the schema, so that its id is not reused.
+            entry = self._kinds[id(schema)] = (schema, self.prim.IsA(schema))
+        return entry[1]
 
     def relationship(self, name: str) -> Usd.Relationship:
         """``prim.GetRelationship(name)``, one handle per name."""
@@ -451,17 +476,34 @@ class PrimValues:
     def _attribute_specs(self, name: str) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
         found = self._specs.get(name)
         if found is None:
-            found = self._specs[name] = _read_attribute_specs(self.attribute(name))
+            # A schema attribute's composed type is the definition's (whatever
+            # the specs say): known without asking the attribute.
+            declared = self.schema_attribute(name).type_name
+            if declared is None:
+                found = _read_attribute_specs(self.attribute(name))
+            elif name not in self._listed_names():
+                # The Default property stack holds the prim's own specs only
+                # (never value clips), and no layer has one of this name.
+                found = ((), declared.type)
+            else:
+                found = (_attribute_stack(self.attribute(name)), declared.type)
+            self._specs[name] = found
         return found
 
     def has_value(self, name: str) -> bool:
         """:func:`has_authored_value` of the named attribute."""
         found = self._has.get(name)
         if found is None:
-            attr = self.attribute(name)
-            found = bool(attr) and attr.HasAuthoredValue()
-            if found:
-                found = _holds_well_typed_value(attr, *self._attribute_specs(name))
+            if not self.may_be_authored(name):
+                found = False  # no handle and no HasAuthoredValue needed
+            else:
+                attr = self.attribute(name)
+                found = bool(attr) and attr.HasAuthoredValue()
+                if found:
+                    found = _holds_well_typed_value(
+                        lambda: self.schema_attribute(name).type_name,
+                        *self._attribute_specs(name),
+                    )
             self._has[name] = found
         return found
 
@@ -501,18 +543,38 @@ class PrimValues:
         return answer
 
     def authored_names(self) -> tuple[str, ...]:
-        """The names of the prim's authored properties, in USD's order."""
+        """The names of the prim's authored properties, in USD's order
+        (CorruptValue for a property named "", as :func:`authored_property_names`)."""
+        names = self._authored_names()
+        if "" in names:
+            authored_property_names(self.prim)  # raises CorruptValue
+        return names
+
+    def may_be_authored(self, name: str) -> bool:
+        """False when the named property provably has no opinion at all: no
+        layer's spec names it and the stage has no value clips (which give
+        values to attributes no spec names)."""
+        return not self._names_decide or name in self._listed_names()
+
+    def _authored_names(self) -> tuple[str, ...]:
+        # Listed once, unchecked: has_value only looks names up in it.
         names = self._names
         if names is None:
-            names = self._names = tuple(authored_property_names(self.prim))
+            names = self._names = tuple(self.prim.GetAuthoredPropertyNames())
         return names
+
+    def _listed_names(self) -> frozenset[str]:
+        listed = self._listed
+        if listed is None:
+            listed = self._listed = frozenset(self._authored_names())
+        return listed
 
     def mismatched(self, name: str) -> Sdf.AttributeSpec | None:
         """:func:`mismatched_spec` of the named attribute."""
         spec = self._mismatched.get(name, _UNREAD)
         if spec is _UNREAD:
             specs, declared = self._attribute_specs(name)
-            spec = _mismatched_in(specs, declared, self.attribute(name))
+            spec = _mismatched_in(specs, declared, lambda: self.schema_attribute(name).type_name)
             self._mismatched[name] = spec
         return spec
 
@@ -537,12 +599,21 @@ class PrimValues:
             definition = self._definition = self.prim.GetPrimDefinition()
         return definition
 
-    def schema_attribute(self, name: str) -> SchemaAttribute:
-        """What the prim's definition declares for the attribute ``name``."""
+    def definition_key(self) -> tuple[str, tuple[str, ...]]:
+        """What the prim's definition is built from: its schema type name and
+        the API schemas applied to it (``Usd.PrimTypeInfo``: the authored
+        ones, not those the type's definition includes)."""
         key = self._key
         if key is None:
             info = self.prim.GetPrimTypeInfo()
             key = self._key = (info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas()))
+        return key
+
+    def schema_attribute(self, name: str) -> SchemaAttribute:
+        """What the prim's definition declares for the attribute ``name``."""
+        key = self._key
+        if key is None:
+            key = self.definition_key()
         found = _SCHEMA_ATTRIBUTES.get((key, name))
         if found is None:
             found = _SCHEMA_ATTRIBUTES[(key, name)] = _declared_attribute(self.definition, name)
@@ -574,7 +645,7 @@ def values_in(cache: LintCache | None, prim: Usd.Prim) -> PrimValues:
     answers = cache._answers
     values = answers.get((PrimValues, (prim,)))
     if values is None:
-        values = answers[(PrimValues, (prim,))] = PrimValues(prim)
+        values = answers[(PrimValues, (prim,))] = PrimValues(prim, cache.without_clips)
     # The entry holds the handle, so that its id is not reused during the lint.
     cache.by_identity[id(prim)] = (prim, values)
     return values
@@ -761,12 +832,12 @@ class RenderConfiguration:
         targets = prim_values(self.owner).targets("camera")
         return targets[0] if targets else None
 
-    @property
+    @cached_property
     def camera_prim(self) -> Usd.Prim | None:
         """The effective camera's prim when it is a usable Camera."""
         target = self.camera_target
         prim = target.usable_prim if target is not None else None
-        if prim is None or not prim.IsA(schemas.Camera):
+        if prim is None or not prim_values(prim).is_a(schemas.Camera):
             return None
         return prim
 

@@ -405,6 +405,9 @@ class Linter:
             time_sample_cap=self.time_sample_cap,
             partial=masked,
         )
+        # Without value clips, a prim's authored property names say which of
+        # its attributes can hold a value (resolve.PrimValues.has_value).
+        ctx.cache.without_clips = not layer_words.layers_may_hold(stage.GetUsedLayers(), "clips")
         findings: list[Finding] = []
         value = None
         # Nothing edits the stage while rules run, so the helpers may cache.

@@ -532,7 +532,13 @@ def _contains(range_: types.Range, position: types.Position) -> bool:
 
 def build(linting: Linting | None = None) -> UsdRenderLintServer:
     server = UsdRenderLintServer(linting)
+    _serve_lifecycle(server)
+    _serve_documents(server)
+    _serve_actions(server)
+    return server
 
+
+def _serve_lifecycle(server: UsdRenderLintServer) -> None:
     @server.feature(types.INITIALIZE)
     def initialize(ls: UsdRenderLintServer, params: types.InitializeParams) -> None:
         options = params.initialization_options
@@ -560,6 +566,12 @@ def build(linting: Linting | None = None) -> UsdRenderLintServer:
         for uri in list(ls.workspace.text_documents):
             asyncio.ensure_future(ls.lint(uri))
 
+    @server.feature(types.SHUTDOWN)
+    def shutdown(ls: UsdRenderLintServer, params: Any) -> None:
+        ls.close()
+
+
+def _serve_documents(server: UsdRenderLintServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
     async def did_open(ls: UsdRenderLintServer, params: types.DidOpenTextDocumentParams) -> None:
         if ls.ready.is_set():
@@ -588,6 +600,8 @@ def build(linting: Linting | None = None) -> UsdRenderLintServer:
     async def watched(ls: UsdRenderLintServer, params: types.DidChangeWatchedFilesParams) -> None:
         await ls.files_changed([to_fs_path(change.uri) or "" for change in params.changes])
 
+
+def _serve_actions(server: UsdRenderLintServer) -> None:
     @server.feature(
         types.TEXT_DOCUMENT_CODE_ACTION,
         types.CodeActionOptions(
@@ -608,12 +622,6 @@ def build(linting: Linting | None = None) -> UsdRenderLintServer:
     @server.feature(types.TEXT_DOCUMENT_HOVER)
     def hover(ls: UsdRenderLintServer, params: types.HoverParams) -> types.Hover | None:
         return ls.hover(params)
-
-    @server.feature(types.SHUTDOWN)
-    def shutdown(ls: UsdRenderLintServer, params: Any) -> None:
-        ls.close()
-
-    return server
 
 
 def watch_client(server: UsdRenderLintServer) -> None:
