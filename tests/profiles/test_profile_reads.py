@@ -8,8 +8,9 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-from pxr import Usd
+from pxr import Sdf, Usd
 
+from usdrender_lint.api.resolve import prim_values
 from usdrender_lint.engine import Linter
 from usdrender_lint.profiles import Profiler, detect
 from usdrender_lint.testing import all_rules
@@ -68,12 +69,15 @@ _READS = (*_PROPERTY_READS, "GetRelationship", "GetAttribute", "IsA")
 
 
 def _count_reads(monkeypatch: pytest.MonkeyPatch, counts: Counter) -> None:
-    """Count each read of ``_READS`` per prim path and method."""
+    """Count each read of ``_READS`` per prim path and method (and per
+    property name, as ``(path, method, name)``)."""
     for name in _READS:
         real = getattr(Usd.Prim, name)
 
         def spy(prim, *args, _real=real, _name=name):
             counts[str(prim.GetPath()), _name] += 1
+            if args and isinstance(args[0], str):
+                counts[str(prim.GetPath()), _name, args[0]] += 1
             return _real(prim, *args)
 
         monkeypatch.setattr(Usd.Prim, name, spy)
@@ -103,9 +107,7 @@ def test_auto_reads_each_render_prims_properties_once(
     counts, profiles = _decide(tmp_path, monkeypatch, "auto")
     assert profiles == {"karma"}
     render_prims = {f"/Render/{name}" for name in ("A", "B", "P1", "P2", "P3", "Color", "Depth")}
-    listed = Counter(
-        path for (path, name), n in counts.items() if name in _PROPERTY_READS for _ in range(n)
-    )
+    listed = _listed(counts)
     # One listing of its properties per render prim, however many scopes share it.
     assert listed == Counter({path: 1 for path in render_prims})
     # A var several products target is asked its type once.
@@ -115,6 +117,40 @@ def test_auto_reads_each_render_prims_properties_once(
     # a productType no layer authors (the schema's fallback says it).
     assert counts["/Render/P2", "GetRelationship"] == 1  # orderedVars only
     assert not [key for key in counts if key[1] == "GetAttribute"]
+
+
+def _listed(counts: Counter) -> Counter:
+    """How often each prim's properties were listed."""
+    return Counter(
+        key[0] for key, n in counts.items() if key[1] in _PROPERTY_READS for _ in range(n)
+    )
+
+
+def test_the_profiles_and_the_rules_share_their_reads(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Deciding the profiles reads the render prims through the lint's
+    PrimValues, which the rules read after: a whole lint in ``auto`` lists
+    no prim's names and asks for no property more often than a lint under
+    the profile it infers, which decides nothing."""
+    path = tmp_path / "shot.usda"
+    path.write_text(SHARING, encoding="utf-8")
+    reads = {}
+    for setting in ("auto", "karma"):
+        counts: Counter = Counter()
+        linter = Linter(
+            all_rules(), raise_errors=True, profiler=Profiler(lambda f, s=setting: (s, ""))
+        )
+        with monkeypatch.context() as patch:
+            _count_reads(patch, counts)
+            result = linter.lint_path(str(path))
+        assert result.status == "linted", result.error
+        assert {f.profile for f in result.findings} == {"karma"}
+        reads[setting] = {k: n for k, n in counts.items() if k[1] != "IsA"}
+    assert reads["auto"] == reads["karma"]
+    # Each render prim's names are listed once in the whole lint.
+    listed = _listed(Counter(reads["auto"]))
+    assert set(listed.values()) == {1}, listed
 
 
 def test_an_authored_product_type_is_read_and_a_fallback_is_the_schemas(
@@ -138,3 +174,20 @@ def test_an_explicit_profile_reads_nothing_of_the_stage(
     counts, profiles = _decide(tmp_path, monkeypatch, "arnold")
     assert profiles == {"arnold"}
     assert not counts
+
+
+def test_prim_values_give_the_definition_key_the_profiles_read() -> None:
+    """The applied API schemas auto reads as evidence come from the prim's
+    PrimValues, which the rules' schema lookups share: the authored ones,
+    known to USD or not."""
+    stage = Usd.Stage.CreateInMemory()
+    stage.GetRootLayer().ImportFromString(
+        '#usda 1.0\ndef RenderSettings "S" (\n'
+        '    prepend apiSchemas = ["KarmaRendererSettingsAPI", "CollectionAPI:x"]\n)\n{\n}\n'
+    )
+    values = prim_values(stage.GetPrimAtPath("/S"))
+    assert values.definition_key() == (
+        "RenderSettings",
+        ("KarmaRendererSettingsAPI", "CollectionAPI:x"),
+    )
+    assert values.schema_attribute("resolution").type_name == Sdf.ValueTypeNames.Int2

@@ -619,12 +619,21 @@ class PrimValues:
             definition = self._definition = self.prim.GetPrimDefinition()
         return definition
 
-    def schema_attribute(self, name: str) -> SchemaAttribute:
-        """What the prim's definition declares for the attribute ``name``."""
+    def definition_key(self) -> tuple[str, tuple[str, ...]]:
+        """What the prim's definition is built from: its schema type name and
+        the API schemas applied to it (``Usd.PrimTypeInfo``: the authored
+        ones, not those the type's definition includes)."""
         key = self._key
         if key is None:
             info = self.prim.GetPrimTypeInfo()
             key = self._key = (info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas()))
+        return key
+
+    def schema_attribute(self, name: str) -> SchemaAttribute:
+        """What the prim's definition declares for the attribute ``name``."""
+        key = self._key
+        if key is None:
+            key = self.definition_key()
         found = _SCHEMA_ATTRIBUTES.get((key, name))
         if found is None:
             found = _SCHEMA_ATTRIBUTES[(key, name)] = _declared_attribute(self.definition, name)

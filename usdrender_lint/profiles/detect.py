@@ -25,12 +25,11 @@ from pxr import Sdf, Usd
 
 from ..api import Context, schemas
 from ..api.resolve import (
+    PrimValues,
     RenderConfiguration,
     Target,
-    authored_property_names,
     describe_prim_type,
-    forwarded_targets,
-    resolve_targets,
+    prim_values,
 )
 from ..model import Severity
 from ..records import record
@@ -132,18 +131,22 @@ _FALLBACK_TYPES: dict[tuple[str, tuple[str, ...]], str] = {}
 
 
 def _product_type(
-    prim: Usd.Prim, names: list[str], info: Usd.PrimTypeInfo, applied: Sequence[str]
+    values: PrimValues, names: Sequence[str], info: Usd.PrimTypeInfo, applied: Sequence[str]
 ) -> str:
     """A product's productType as ``Get()`` reads it: the authored value, else
     (no layer authors the name) its definition's fallback, without a read."""
-    if "productType" in names:
-        return str(prim.GetAttribute("productType").Get() or "")
-    key = (info.GetSchemaTypeName(), tuple(applied))
-    found = _FALLBACK_TYPES.get(key)
-    if found is None:
-        fallback = prim.GetPrimDefinition().GetAttributeFallbackValue("productType")
-        found = _FALLBACK_TYPES[key] = str(fallback or "")
-    return found
+    if "productType" not in names:
+        key = (info.GetSchemaTypeName(), tuple(applied))
+        found = _FALLBACK_TYPES.get(key)
+        if found is None:
+            fallback = values.definition.GetAttributeFallbackValue("productType")
+            found = _FALLBACK_TYPES[key] = str(fallback or "")
+        return found
+    # A well-typed value is the one the rules read (PR003); any other opinion
+    # (a mismatched type, a block) is what Get() returns of it.
+    if values.has_value("productType"):
+        return str(values.authored("productType") or "")
+    return str(values.attribute("productType").Get() or "")
 
 
 #: What a render prim is, which decides what on it can be evidence: the
@@ -167,6 +170,13 @@ _UNSEEN: Any = object()
 Camera = tuple[Sdf.Path, Usd.Prim | None, str]
 
 
+def _camera(target: Target) -> Camera:
+    """A camera target and the typed prim there (the resolution the rules share)."""
+    camera = target.prim if target.path.IsPrimPath() else None
+    type_name = camera.GetTypeName() if camera else ""
+    return (target.path, camera, type_name) if type_name else (target.path, None, "")
+
+
 class _Facts:
     """What one render prim holds that can point at a renderer, read once per
     lint: its path, authored property names, applied API schemas, productType
@@ -174,19 +184,21 @@ class _Facts:
 
     __slots__ = ("path", "text", "names", "applied", "product_type", "cameras", "evidence")
 
-    def __init__(self, prim: Usd.Prim, kind: str, scan: _Scan) -> None:
+    def __init__(self, values: PrimValues, kind: str, scan: _Scan) -> None:
+        prim = values.prim
         self.path: Sdf.Path = prim.GetPath()
         self.text = str(self.path)
-        self.names: list[str] = authored_property_names(prim)
+        # Listed once per lint, for the rules as well (PrimValues).
+        self.names: Sequence[str] = values.authored_names()
         info = prim.GetPrimTypeInfo()
         self.applied: Sequence[str] = info.GetAppliedAPISchemas()
         self.product_type: str | None = None
         if _PRODUCT_TYPES and kind is _PRODUCT:
-            self.product_type = _product_type(prim, self.names, info, self.applied)
+            self.product_type = _product_type(values, self.names, info, self.applied)
         # A relationship no layer authors has no targets.
         self.cameras: Sequence[Camera] = ()
         if kind is not _OTHER and "camera" in self.names:
-            self.cameras = scan.cameras(prim.GetRelationship("camera"))
+            self.cameras = scan.cameras(values)
         self.evidence: PrimEvidence = {} if self._none() else self._found()
 
     def _none(self) -> bool:
@@ -258,52 +270,54 @@ class _Facts:
 
 class _Scan:
     """The evidence of one lint's render prims, each read once however many
-    scopes share it (vars, cameras), and the root layer's."""
+    scopes share it (vars, cameras), and the root layer's. The prims are read
+    through their PrimValues, which the rules read after: one listing of a
+    prim's names and one resolution of a relationship serve both."""
 
     def __init__(self, stage: Usd.Stage | None) -> None:
         self.stage = stage
         self.layer_data = layer_data_evidence(stage)
-        self._facts: dict[Usd.Prim, _Facts] = {}
+        # Keyed by the PrimValues (found by the handle's identity): hashing a
+        # Usd.Prim is a binding call.
+        self._facts: dict[PrimValues, _Facts] = {}
         self._cameras: dict[Sdf.Path, Camera] = {}
-        self._vars: dict[Sdf.Path, list[_Facts]] = {}
+        self._vars: dict[PrimValues, list[_Facts]] = {}
         self._var_facts: dict[Sdf.Path, _Facts | None] = {}
 
     def facts(self, prim: Usd.Prim, kind: str | None = None) -> _Facts:
         """``prim``'s facts; ``kind`` (_SETTINGS, _PRODUCT, _OTHER) when the
         caller knows what the prim is."""
-        found = self._facts.get(prim)
+        return self.facts_of(prim_values(prim), kind)
+
+    def facts_of(self, values: PrimValues, kind: str | None = None) -> _Facts:
+        found = self._facts.get(values)
         if found is None:
-            found = self._facts[prim] = _Facts(prim, kind or _kind(prim), self)
+            found = self._facts[values] = _Facts(values, kind or _kind(values.prim), self)
         return found
 
-    def cameras(self, rel: Usd.Relationship) -> list[Camera]:
+    def cameras(self, values: PrimValues) -> list[Camera]:
         """A settings or product prim's camera targets and the typed prims there."""
         found = []
-        for target in forwarded_targets(rel):
-            camera = self._cameras.get(target)
+        for target in values.targets("camera"):
+            camera = self._cameras.get(target.path)
             if camera is None:
-                camera = self._cameras[target] = self._camera(target)
+                camera = self._cameras[target.path] = _camera(target)
             found.append(camera)
         return found
 
-    def _camera(self, target: Sdf.Path) -> Camera:
-        assert self.stage is not None  # a prim was read
-        camera = self.stage.GetPrimAtPath(target) if target.IsPrimPath() else None
-        type_name = camera.GetTypeName() if camera else ""
-        return (target, camera, type_name) if type_name else (target, None, "")
-
     def vars_of(self, product: Usd.Prim, facts: _Facts) -> list[_Facts]:
         """The facts of the usable RenderVars a product's ``orderedVars`` targets."""
-        found = self._vars.get(facts.path)
+        values = prim_values(product)
+        found = self._vars.get(values)
         if found is None:
-            found = self._vars[facts.path] = self._read_vars(product, facts)
+            found = self._vars[values] = self._read_vars(values, facts)
         return found
 
-    def _read_vars(self, product: Usd.Prim, facts: _Facts) -> list[_Facts]:
+    def _read_vars(self, product: PrimValues, facts: _Facts) -> list[_Facts]:
         if "orderedVars" not in facts.names:
             return []
         found = []
-        for target in resolve_targets(product.GetRelationship("orderedVars")):
+        for target in product.targets("orderedVars"):
             # Products share their vars: each target is looked at once.
             var = self._var_facts.get(target.path, _UNSEEN)
             if var is _UNSEEN:
@@ -417,7 +431,7 @@ def _scope(facts: _Facts, settings: Usd.Prim, products: list[Usd.Prim], scan: _S
 def _camera_paths(prims: Iterable[Usd.Prim]) -> list[Sdf.Path]:
     found: list[Sdf.Path] = []
     for prim in prims:
-        for path in forwarded_targets(prim.GetRelationship("camera")):
+        for path in prim_values(prim).forwarded("camera"):
             found.append(path.GetPrimPath())
     return found
 
@@ -470,7 +484,7 @@ def _add_members(assignment: Assignment, scopes: list[_Scope], passes: Sequence[
         if settings is not None:
             assignment._add(key, _connected(settings))
     for render_pass in passes:
-        for path in forwarded_targets(render_pass.GetRelationship("renderSource")):
+        for path in prim_values(render_pass).forwarded("renderSource"):
             if path in assignment.scopes:
                 assignment._add(path, [render_pass])
 
