@@ -138,7 +138,7 @@ from usdrender_lint.__main__ import main
 seen = []
 command = cli.main
 def watched(argv=None, supervision=None):
-    seen.append(supervision is not None and supervision.child)
+    seen.append(supervision is not None and supervision.ending is None)
     command(argv, supervision)
 cli.main = watched
 try:

@@ -228,7 +228,7 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     the supervisor kills it (the child arms no timer of its own)."""
     hung = subprocess.Popen(["sleep", "60"])
     heard, says = os.pipe()
-    supervisor.Supervision(child=True, says=says)._say(0.3)  # as timed() does, then hangs
+    supervisor.Supervision(says=says)._say(0.3)  # as timed() does, then hangs
     started = time.monotonic()
     assert supervisor._time_the_child(hung.pid, heard) is True
     assert hung.wait(10) == -signal.SIGKILL
@@ -238,7 +238,7 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     # A lint that ended in time: the supervisor waits for the child's end, no kill.
     finished = subprocess.Popen(["sleep", "60"])
     heard, says = os.pipe()
-    assert supervisor.Supervision(child=True, says=says).timed(0.3, len, "done") == 4
+    assert supervisor.Supervision(says=says).timed(0.3, len, "done") == 4
     os.close(says)
     assert supervisor._time_the_child(finished.pid, heard) is False
     assert finished.poll() is None

@@ -138,7 +138,7 @@ def test_an_unexpected_engine_failure_is_one_line() -> None:
     class Failing:
         raise_errors = False
 
-        def lint_path(self, path: str) -> None:
+        def lint_path(self, path: str, *, full_composition: bool = False) -> None:
             raise RuntimeError("\n\tError in 'Somewhere' at line 1 : 'what'\n")
 
     result = lint_one(Failing(), "shot.usda")

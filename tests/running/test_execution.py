@@ -66,30 +66,6 @@ def trap_linter() -> Linter:
     return Linter([TrapRule()])
 
 
-class EnvironmentRule(Rule):
-    """Test-only rule: reports the USDRENDER_LINT_TEST_MARK its linter saw.
-
-    ## What it does
-    Reports each Scope with the mark read when the rule was built.
-    """
-
-    code = "TX903"
-    name = "test-environment"
-    severity = Severity.INFO
-    prim_types = (UsdGeom.Scope,)
-
-    def __init__(self, options=None) -> None:
-        super().__init__(options)
-        self.mark = os.environ.get("USDRENDER_LINT_TEST_MARK", "unset")
-
-    def check_prim(self, prim, ctx):
-        yield Diagnostic(message=f"mark {self.mark}", at=prim)
-
-
-def environment_linter() -> Linter:
-    return Linter([EnvironmentRule()])
-
-
 class ProcessRule(Rule):
     """Test-only rule: reports the id of the process that lints.
 
@@ -221,20 +197,6 @@ def test_what_a_dying_worker_prints_becomes_the_one_line_error(
     assert "FATAL" not in captured.err and "terminated" not in captured.err
 
 
-def test_workers_see_the_linter_environment_of_now(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """Workers fork from a long-lived server; the USDRENDER_LINT_* variables
-    (e.g. --full-composition's) must be the parent's current ones."""
-    files = [_write(tmp_path, "a.usda", SCOPE.format(name="A"))]
-    monkeypatch.delenv("USDRENDER_LINT_TEST_MARK", raising=False)
-    first = lint_paths(files, linter_factory=environment_linter, jobs=1, timeout=60)
-    monkeypatch.setenv("USDRENDER_LINT_TEST_MARK", "later")
-    second = lint_paths(files, linter_factory=environment_linter, jobs=1, timeout=60)
-    assert [f.message for f in first[0].findings] == ["mark unset"]
-    assert [f.message for f in second[0].findings] == ["mark later"]
-
-
 def test_long_runs_recycle_workers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(execution, "WORKER_RECYCLE_AFTER", 2)
     files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(5)]
@@ -257,10 +219,10 @@ def test_in_process_an_engine_failure_on_one_file_does_not_stop_the_others(
     linter = trap_linter()
     real = linter.lint_path
 
-    def flaky(path: str) -> FileResult:
+    def flaky(path: str, *, full_composition: bool = False) -> FileResult:
         if path == files[1]:
             raise MemoryError("out of memory")
-        return real(path)
+        return real(path, full_composition=full_composition)
 
     monkeypatch.setattr(linter, "lint_path", flaky)
     results = lint_paths(files, linter=linter)

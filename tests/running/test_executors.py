@@ -11,11 +11,12 @@ from usdrender_lint.engine import Linter
 from usdrender_lint.running import workers
 from usdrender_lint.running.pipeline import LinterSpec
 from usdrender_lint.running.result_cache import run_key
-from usdrender_lint.running.supervisor import CHILD, Supervision
+from usdrender_lint.running.supervisor import Supervision
 from usdrender_lint.testing import all_rules
 
 LINTER = Linter(all_rules())
 FACTORY = LinterSpec(Settings())
+CHILD = Supervision()  # a child no supervisor times (as tests run the command)
 
 
 @pytest.mark.parametrize(

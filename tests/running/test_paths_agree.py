@@ -109,7 +109,7 @@ for index, path in enumerate(files):
             report = os.open(f"{out}/{index}.json", os.O_WRONLY | os.O_CREAT, 0o644)
             os.dup2(report, 1)
             cli.main(["check", "--isolated", "--no-cache", "--format", "json", "--show-info",
-                      "--fail-on", "never", path], supervision=supervisor.CHILD)
+                      "--fail-on", "never", path], supervision=supervisor.Supervision())
         except SystemExit as done:
             code = done.code if isinstance(done.code, int) else 3
         finally:

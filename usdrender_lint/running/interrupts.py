@@ -10,33 +10,22 @@ from __future__ import annotations
 
 import signal  # and nothing else: the command installs the handlers before its imports
 
-TYPE_CHECKING = False
-if TYPE_CHECKING:
-    from types import FrameType
-
 STOPPING = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
 
 
 class Stopped(BaseException):
-    """The run was stopped by a signal; exit with ``128 + signal``."""
+    """The run was stopped by SIGINT or SIGTERM: say ``reason``, exit ``128 + signal``."""
 
     def __init__(self, signum: int) -> None:
         super().__init__(signum)
-        self.signum = signum
-
-    @property
-    def exit_status(self) -> int:
-        return 128 + self.signum
-
-    @property
-    def reason(self) -> str:
-        return STOPPING.get(signal.Signals(self.signum), f"stopped by signal {self.signum}")
+        self.exit_status = 128 + signum
+        self.reason = STOPPING[signal.Signals(signum)]
 
 
 _received: int | None = None
 
 
-def _stop(signum: int, frame: FrameType | None) -> None:
+def _stop(signum: int, frame: object) -> None:
     global _received
     _received = signum
     for stopping in STOPPING:
@@ -79,10 +68,3 @@ class deferred:  # noqa: N801 - a context manager
 
     def __exit__(self, *exc_info: object) -> None:
         signal.pthread_sigmask(signal.SIG_SETMASK, self._previous)
-
-
-def default_signals_in_worker() -> None:
-    """Ctrl-C is the parent's to handle (it reaches the process group); SIGTERM ends
-    a worker at once."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)

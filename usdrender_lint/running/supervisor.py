@@ -27,15 +27,13 @@ STOP_GRACE = 2.0  # seconds a stopped child has to clean up before it is killed
 
 
 class Supervision:
-    """How the supervisor ran this process, for choose_executor (a plain class: every
-    import before the fork costs start-up)."""
+    """How the supervisor ran this process, for choose_executor; ``ending`` is None in
+    the child, which lints a lone file in-process (a plain class: every import before
+    the fork costs start-up)."""
 
-    __slots__ = ("child", "ending", "says")
+    __slots__ = ("ending", "says")
 
-    def __init__(
-        self, child: bool = False, ending: str | None = None, says: int | None = None
-    ) -> None:
-        self.child = child  # in the child: a lone file is linted in-process
+    def __init__(self, ending: str | None = None, says: int | None = None) -> None:
         self.ending = ending  # in the supervisor: the child's "timeout" or "crash"
         self.says = says  # in the child: the pipe to its supervisor (None: untimed)
 
@@ -52,10 +50,7 @@ class Supervision:
             try:  # noqa: SIM105 - contextlib is one more import before the fork
                 os.write(self.says, b"%r\n" % seconds)
             except OSError:
-                pass  # the supervisor is gone: the child ends with it (_end_with)
-
-
-CHILD = Supervision(child=True)  # a child no supervisor times (as tests run the command)
+                pass  # the supervisor is gone: the child ends with it (SIGIO)
 
 
 def wants_supervision(argv: list[str]) -> bool:
@@ -87,8 +82,14 @@ def supervise() -> Supervision:
 
         os.register_at_fork(after_in_child=close_in_workers)
         signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-        _end_with(parent, watched)
-        return Supervision(child=True, says=says)
+        # End with this process, even by SIGKILL: the last write end of a pipe closing
+        # sends its O_ASYNC reader's owner a SIGIO (fs/pipe.c), which ends it (prctl
+        # needs ctypes, 1% of a one-file check's start-up).
+        fcntl.fcntl(watched, fcntl.F_SETOWN, os.getpid())
+        fcntl.fcntl(watched, fcntl.F_SETFL, fcntl.fcntl(watched, fcntl.F_GETFL) | os.O_ASYNC)
+        if os.getppid() != parent:  # it died before the owner was set
+            os._exit(128 + signal.SIGKILL)
+        return Supervision(says=says)
     os.close(watched)
     os.close(says)
     stopped: list[int] = []
@@ -102,26 +103,22 @@ def supervise() -> Supervision:
     previous = {signum: signal.signal(signum, pass_on) for signum in STOPPING}
     previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, lambda *_: _kill(child))
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-    try:
-        timed_out = _time_the_child(child, heard)
-        status = os.waitpid(child, 0)[1]  # a signal's handler runs, then Python waits on
-    finally:
-        # A signal from now on waits: the child's pid is free, and this process exits
-        # with the status of a finished run, or runs the command (then it stops it).
-        signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        os.close(heard)
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
+    timed_out = _time_the_child(child, heard)
+    status = os.waitpid(child, 0)[1]  # a signal's handler runs, then Python waits on
+    # A signal from now on waits: the child's pid is free, and this process exits
+    # with the status of a finished run, or runs the command (then it stops it).
+    signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
+    signal.setitimer(signal.ITIMER_REAL, 0)
+    os.close(heard)
+    for signum, handler in previous.items():
+        signal.signal(signum, handler)
     # This process imported nothing that needs cleaning up: a plain exit.
     if os.WIFEXITED(status):
         sys.exit(os.WEXITSTATUS(status))
-    if stopped:  # it did not get to say it
-        stop = Stopped(stopped[0])
+    if stopped or os.WTERMSIG(status) in STOPPING:  # it did not get to say it
+        stop = Stopped(stopped[0] if stopped else os.WTERMSIG(status))
         sys.stderr.write(f"usdrender-lint: {stop.reason}\n")
         sys.exit(stop.exit_status)
-    if os.WTERMSIG(status) in STOPPING:  # a signal meant for it alone
-        sys.exit(128 + os.WTERMSIG(status))
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
     return Supervision(ending="timeout" if timed_out else "crash")
 
@@ -146,13 +143,3 @@ def _kill(pid: int, signum: int = signal.SIGKILL) -> None:
         os.kill(pid, signum)
     except ProcessLookupError:
         pass  # it has just ended
-
-
-def _end_with(parent: int, watched: int) -> None:
-    """End this child with its supervisor, even by SIGKILL: the last write end of a
-    pipe closing sends its O_ASYNC reader's owner a SIGIO (fs/pipe.c), which ends it
-    (prctl needs ctypes, 1% of a one-file check's start-up)."""
-    fcntl.fcntl(watched, fcntl.F_SETOWN, os.getpid())
-    fcntl.fcntl(watched, fcntl.F_SETFL, fcntl.fcntl(watched, fcntl.F_GETFL) | os.O_ASYNC)
-    if os.getppid() != parent:  # it died before the owner was set
-        os._exit(128 + signal.SIGKILL)

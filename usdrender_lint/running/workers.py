@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import os
 import signal
-import sys
 import time
 from collections.abc import Callable, Sequence
 from contextlib import suppress
@@ -16,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from .. import debug
 from ..model import FileResult
 from ..records import record
-from .interrupts import check_stopped, default_signals_in_worker
+from .interrupts import check_stopped
 from .progress import progress_bar, want_progress
 from .supervisor import Supervision
 
@@ -24,12 +23,10 @@ if TYPE_CHECKING:
     from multiprocessing.connection import Connection
     from multiprocessing.process import BaseProcess
 
-WORKER_START_LIMIT = 120.0  # seconds a new worker may take to build its linter
 #: usd-core's bindings keep a small wrapper for every layer a stage handed out
 #: (about 1 MiB per 1,000 files): a fresh worker replaces one after this many.
 WORKER_RECYCLE_AFTER = 500
 MIN_WORKER_MEMORY = 2 << 30  # however many workers share the machine
-ENV_PREFIX = "USDRENDER_LINT_"  # the variables handed to every worker
 _READY, _FAILED = -1, -2  # what a worker sends for an index once ready, or failing to start
 _NEVER = float("inf")
 
@@ -41,8 +38,6 @@ class FileLinter(Protocol):
 
 
 LinterFactory = Callable[[], FileLinter]
-Handler = Callable[[Any, Any], Any]  # (what the factory built, item) -> picklable result
-OnFailure = Callable[[Any, str], Any]  # (item, why its worker timed out or died) -> result
 
 
 class ExecutionError(Exception):
@@ -69,8 +64,6 @@ def lint_paths(
 ) -> tuple[FileResult, ...]:
     """One result per file, in input order: with ``linter`` (else one the picklable
     ``linter_factory`` builds, as workers do), each within ``timeout`` s (0: none)."""
-    if jobs < 1:
-        raise ValueError(f"jobs must be at least 1, got {jobs}")
     count = len(files)
     executor = choose_executor(count, jobs, timeout or None, supervision, linter, linter_factory)
     with progress_bar(count, want_progress(count, progress)) as advance:
@@ -86,7 +79,7 @@ def choose_executor(
     linter_factory: LinterFactory | None,
 ) -> Executor:
     """The one place that decides how ``count`` files are linted."""
-    child = supervision if supervision is not None and supervision.child else None
+    child = supervision if supervision is not None and supervision.ending is None else None
     if supervision is not None and supervision.ending is not None and count == 1:
         return AfterSupervisedChild(supervision.ending, Pool(_factory(linter_factory), 1, timeout))
     if (jobs == 1 and timeout is None) or (child is not None and count == 1):
@@ -146,10 +139,7 @@ def lint_one(linter: FileLinter, item: str | FullyComposed) -> FileResult:
     """``linter.lint_path``; an engine failure is the file's error, not the run's."""
     path = _path_of(item)
     try:
-        # Only the retry passes the keyword: any linter with lint_path(path) works.
-        if isinstance(item, FullyComposed):
-            return linter.lint_path(path, full_composition=True)
-        return linter.lint_path(path)
+        return linter.lint_path(path, full_composition=isinstance(item, FullyComposed))
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
         if getattr(linter, "raise_errors", False):
             raise
@@ -160,16 +150,16 @@ def lint_one(linter: FileLinter, item: str | FullyComposed) -> FileResult:
 @record
 class Pool:
     """``size`` processes (a hung USD call cannot be stopped from inside), each with
-    its ``factory()``, answering one item at a time with ``handle`` (all picklable).
-    A worker past ``timeout`` or dead is replaced, its item's result ``failed(item,
-    why)``; but a file it died on is first linted again fully composed (what
-    composing survives, the fast path's walks of the layers may not)."""
+    its ``factory()``, answering one item at a time with ``handle(built, item)`` (all
+    picklable). A worker past ``timeout`` or dead is replaced, its item's result
+    ``failed(item, why)``; but a file it died on is first linted again fully composed
+    (what composing survives, the fast path's walks of the layers may not)."""
 
     factory: Callable[[], Any]
     size: int
     timeout: float | None
-    handle: Handler = lint_one
-    failed: OnFailure = file_error
+    handle: Callable[[Any, Any], Any] = lint_one
+    failed: Callable[[Any, str], Any] = file_error
 
     def run(self, items: Sequence[Any], advance: Callable[[], None] = lambda: None) -> tuple:
         import shutil
@@ -184,10 +174,10 @@ class Pool:
                 self._workers.append(self._start())
             while self._remaining:
                 for worker in self._workers:
-                    if worker.task is None and self._pending:
-                        index, item = self._pending.pop()
-                        worker.task = (index, item, time.monotonic() + (self.timeout or _NEVER))
-                        worker.conn.send((index, item))
+                    if worker.index is None and self._pending:
+                        worker.index, worker.item = self._pending.pop()
+                        worker.deadline = time.monotonic() + (self.timeout or _NEVER)
+                        worker.conn.send((worker.index, worker.item))
                 self._step()
         finally:
             for worker in self._workers:
@@ -198,14 +188,12 @@ class Pool:
     def _start(self) -> _Worker:
         context = _context()  # chosen per worker: a progress bar's thread makes forking unsafe
         parent_end, child_end = context.Pipe()
-        env = {name: value for name, value in os.environ.items() if name.startswith(ENV_PREFIX)}
         # A copy of the settings only: this one holds the run's processes and pipes.
-        args = (child_end, replace(self), self._log_dir, env, worker_usd_threads(self.size))
+        args = (child_end, replace(self), self._log_dir, worker_usd_threads(self.size))
         process = context.Process(target=_worker_main, args=args, daemon=True)
         process.start()
         child_end.close()
-        starting = (_READY, None, time.monotonic() + WORKER_START_LIMIT)
-        return _Worker(process, parent_end, self._log_dir, starting)
+        return _Worker(process, parent_end, self._log_dir)
 
     def _step(self) -> None:
         from multiprocessing.connection import wait
@@ -234,16 +222,14 @@ class Pool:
         if index != _READY:
             self._done(index, result)
             worker.linted += 1
-        worker.task = None
+        worker.index, worker.deadline = None, _NEVER
         if worker.linted >= WORKER_RECYCLE_AFTER and self._pending:
             self._replace(worker)
 
     def _lose(self, worker: _Worker, why: str, crashed: bool = False) -> None:
-        index, item, _ = worker.task or (None, None, None)
-        if index == _READY and crashed:
+        index, item = worker.index, worker.item
+        if index == _READY:  # it crashed: a starting worker has no deadline to miss
             raise ExecutionError(f"a worker process died while starting: {why}")
-        if index == _READY:
-            raise ExecutionError(f"a worker process did not start within {WORKER_START_LIMIT:g} s")
         if index is not None and crashed and self.handle is lint_one and isinstance(item, str):
             self._pending.append((index, FullyComposed(item)))
         elif index is not None:
@@ -267,13 +253,12 @@ class _Worker:
     process: BaseProcess
     conn: Connection
     log_dir: str
-    #: (index, item, deadline) of the item it handles, if any (index _READY: starting).
-    task: tuple[int, Any, float] | None
+    #: The index of the item it handles (_READY while it starts, None when idle), the
+    #: item and its deadline.
+    index: int | None = _READY
+    item: Any = None
+    deadline: float = _NEVER
     linted: int = 0
-
-    @property
-    def deadline(self) -> float:
-        return _NEVER if self.task is None else self.task[2]
 
     def death(self) -> str:
         self.process.join(5)
@@ -284,46 +269,36 @@ class _Worker:
                 how = f"signal {signal.Signals(-code).name}"
             except ValueError:
                 how = f"signal {-code}"
-        try:
+        said = ""
+        with suppress(OSError, UnicodeDecodeError):
             said = _last_words(Path(self.log_dir, f"worker-{self.process.pid}.log").read_text())
-        except (OSError, UnicodeDecodeError):
-            said = ""
         return f"the linter process crashed while reading it ({how}{': ' + said if said else ''})"
 
     def stop(self) -> None:
-        if self.process.is_alive():
-            self.process.kill()  # idle or not: a worker holds nothing to clean up
+        self.process.kill()  # idle or not: a worker holds nothing to clean up (dead: a no-op)
         self.process.join(5)
         self.conn.close()
 
 
-def _worker_main(
-    conn: Connection, pool: Pool, log_dir: str, settings_env: dict[str, str], threads: int | None
-) -> None:
+def _worker_main(conn: Connection, pool: Pool, log_dir: str, threads: int | None) -> None:
     """Build the linter, say so, then answer each ``(index, item)``. Its stderr is a log,
-    emptied before each item: what USD prints as it aborts makes the one-line error.
-    ``settings_env``: the parent's variables now (a forkserver's may be older)."""
-    default_signals_in_worker()
+    emptied before each item: what USD prints as it aborts makes the one-line error."""
+    # Ctrl-C is the parent's to handle (it reaches the process group); SIGTERM ends it.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     die_with_parent(os.getppid())
     _cap_memory(pool.size)
-    for name in [n for n in os.environ if n.startswith(ENV_PREFIX)]:
-        del os.environ[name]
-    os.environ.update(settings_env)
-    if threads is not None:
-        from pxr import Work
-
-        Work.SetConcurrencyLimit(threads)
     debug.keep_stderr()
     # Nothing of a worker's belongs on stdout, nor may it hold the user's pipe open.
-    null = os.open(os.devnull, os.O_RDWR)
-    log = os.open(f"{log_dir}/worker-{os.getpid()}.log", os.O_WRONLY | os.O_CREAT | os.O_TRUNC)
-    for fd, target in ((0, null), (1, null), (2, log)):
-        os.dup2(target, fd)
-    os.close(null)
-    os.close(log)
+    for fd, path in ((0, os.devnull), (1, os.devnull), (2, f"{log_dir}/worker-{os.getpid()}.log")):
+        opened = os.open(path, os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND)
+        os.dup2(opened, fd)
+        os.close(opened)
     try:
-        from pxr import Usd
+        from pxr import Usd, Work
 
+        if threads is not None:
+            Work.SetConcurrencyLimit(threads)
         linter = pool.factory()
         Usd.Stage.CreateInMemory()  # USD's plugins load now, not in the first file's time
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
@@ -334,8 +309,7 @@ def _worker_main(
     with suppress(EOFError, OSError):  # the parent is gone
         while True:
             index, item = conn.recv()
-            os.ftruncate(2, 0)
-            os.lseek(2, 0, os.SEEK_SET)
+            os.ftruncate(2, 0)  # appending: the next line is the first
             try:  # the result holds only plain values; the stage dies with the handler
                 result = pool.handle(linter, item)
             except Exception as exc:  # noqa: BLE001 - a handler's bug costs only its item
@@ -347,14 +321,11 @@ def _worker_main(
 def _context() -> Any:
     import multiprocessing
 
-    try:
-        alone = len(os.listdir("/proc/self/task")) == 1
-    except OSError:  # not Linux: its threads are not known
-        alone = False
     # One thread (USD starts its pool at its first stage) forks safely, and the
     # workers start with USD imported (issue 6); else a forkserver that imported it.
-    if alone:
-        return multiprocessing.get_context("fork")
+    with suppress(OSError):  # not Linux: its threads are not known
+        if len(os.listdir("/proc/self/task")) == 1:
+            return multiprocessing.get_context("fork")
     context = multiprocessing.get_context("forkserver")
     context.set_forkserver_preload(["usdrender_lint.engine"])
     return context
@@ -362,11 +333,9 @@ def _context() -> Any:
 
 def die_with_parent(parent: int) -> None:
     """Have Linux kill this process when its ``parent`` dies, even of SIGKILL."""
-    if not sys.platform.startswith("linux"):
-        return
     import ctypes
 
-    with suppress(OSError, AttributeError):
+    with suppress(OSError, AttributeError):  # AttributeError: no prctl, not Linux
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
     if os.getppid() != parent:  # it died before the call took effect
         os.kill(os.getpid(), signal.SIGKILL)
@@ -397,8 +366,7 @@ def _cap_memory(workers: int) -> None:
     import resource
 
     soft, hard = resource.getrlimit(resource.RLIMIT_DATA)
-    limit = worker_memory_limit(workers)
-    limit = limit if hard == resource.RLIM_INFINITY else min(limit, hard)
+    limit = worker_memory_limit(workers)  # set only below the soft limit: below the hard one
     if soft == resource.RLIM_INFINITY or limit < soft:
         with suppress(ValueError, OSError):
             resource.setrlimit(resource.RLIMIT_DATA, (limit, hard))
