@@ -13,6 +13,17 @@ SHARED = Path(os.environ.get("USDRENDER_LINT_SHARED", REPO.parent / "shared"))
 SHARED_MISSING = "../shared is not present (only on developer machines and in CI)"
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _no_result_cache_in_session_fixtures() -> Iterator[None]:
+    """The module and session fixtures (which run before any function-scoped
+    one) lint without a cache too: else a report they make (the HTML pages of
+    the corpus) stores entries in the checkout, which a later run, or the other
+    xdist worker, reads back instead of linting."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("USDRENDER_LINT_NO_CACHE", "1")
+        yield
+
+
 @pytest.fixture(autouse=True)
 def _no_result_cache(monkeypatch: pytest.MonkeyPatch) -> None:
     """Tests lint with a fresh engine every time (tests/running/test_result_cache.py

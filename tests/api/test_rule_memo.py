@@ -7,6 +7,8 @@ import pytest
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context
+from usdrender_lint.api.cache import lint_cache
+from usdrender_lint.api.resolve import prim_values
 from usdrender_lint.engine import Linter
 from usdrender_lint.rules.stage._settings_path import settings_path_opinion
 from usdrender_lint.testing import all_rules
@@ -280,3 +282,96 @@ def test_a_value_only_value_clips_give_is_authored(tmp_path) -> None:
     stage = _file_stage(tmp_path, CLIPPED_SHOT)
     assert "focalLength" not in stage.GetPrimAtPath("/cam").GetAuthoredPropertyNames()
     assert ("CA005", "/cam.focalLength") in _codes(Linter(all_rules(), raise_errors=True), stage)
+
+
+def test_each_opinion_of_an_attribute_is_read_once_per_lint(stage, monkeypatch) -> None:
+    read: list[str] = []
+    has_default = Sdf.PropertySpec.HasDefaultValue
+
+    def recording(spec):
+        read.append(str(spec.path))
+        return has_default(spec)
+
+    monkeypatch.setattr(Sdf.PropertySpec, "HasDefaultValue", recording)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    # SE016 (its type), PR006, VA001... (well-typed?), VA007 (mismatched?) read it.
+    assert read.count("/Render/color.sourceName") == 1
+
+
+def test_a_prim_type_is_asked_once_per_lint(stage, monkeypatch) -> None:
+    asked: list[str] = []
+    is_a = Usd.Prim.IsA
+
+    def recording(prim, schema):
+        asked.append(str(prim.GetPath()))
+        return is_a(prim, schema)
+
+    monkeypatch.setattr(Usd.Prim, "IsA", recording)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert asked.count("/cam") == 1  # CA003, CA004 and every camera rule's configuration
+    assert asked.count("/Render/color") == 1  # PR005, PR006's vars
+
+
+def test_a_relationship_no_layer_lists_has_no_targets_without_a_handle(monkeypatch) -> None:
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    layer.ImportFromString(SHOT)
+    stage = Usd.Stage.Open(layer)
+    product = stage.GetPrimAtPath("/Render/beauty")
+    handles: list[str] = []
+    get_relationship = Usd.Prim.GetRelationship
+
+    def recording(prim, name):
+        handles.append(name)
+        return get_relationship(prim, name)
+
+    monkeypatch.setattr(Usd.Prim, "GetRelationship", recording)
+    with lint_cache():  # relationships have no value clips: whatever the stage holds
+        values = prim_values(product)
+        assert values.targets("camera") == () and values.forwarded("camera") == ()
+        assert [t.path for t in values.targets("orderedVars")] == [
+            Sdf.Path("/Render/color"),
+            Sdf.Path("/Render/alpha"),
+        ]
+    assert handles == ["orderedVars"]
+
+
+LENS_SHOT = SHOT.replace(
+    'def Camera "cam"\n{\n}',
+    'def Camera "cam"\n{\n    float focalLength = 35\n    float horizontalAperture = 36\n}',
+)
+
+
+def test_an_attribute_without_samples_is_not_asked_for_them(tmp_path, monkeypatch) -> None:
+    # Its opinions (read once for SE016) hold no samples and the stage has
+    # no value clips: SE017 asks no value source, the camera rules no count.
+    stage = _file_stage(tmp_path, LENS_SHOT)
+    sources = _record_attribute_calls(monkeypatch, "GetResolveInfo")
+    counts = _record_attribute_calls(monkeypatch, "GetNumTimeSamples")
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert "/Render/color.sourceName" not in sources
+    assert "/cam.focalLength" not in counts and "/cam.horizontalAperture" not in counts
+
+
+def test_a_time_sampled_attribute_is_still_asked(tmp_path, monkeypatch) -> None:
+    sampled = LENS_SHOT.replace(
+        "float focalLength = 35", "float focalLength.timeSamples = {1: 35, 2: 50}"
+    )
+    stage = _file_stage(tmp_path, sampled)
+    counts = _record_attribute_calls(monkeypatch, "GetNumTimeSamples")
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert "/cam.focalLength" in counts
+
+
+def test_a_schema_fallback_is_read_once_per_definition(stage, monkeypatch) -> None:
+    # Two settings leave resolution to the fallback (SE001 reads it for each).
+    stage.DefinePrim("/Render/Settings2", "RenderSettings")
+    read: list[str] = []
+    fallback = Usd.PrimDefinition.GetAttributeFallbackValue
+
+    def recording(definition, name):
+        read.append(name)
+        return fallback(definition, name)
+
+    monkeypatch.setattr(Usd.PrimDefinition, "GetAttributeFallbackValue", recording)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert read.count("resolution") == 1

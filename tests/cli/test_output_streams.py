@@ -234,13 +234,15 @@ def test_a_file_whose_owner_cannot_be_kept_is_written_in_place(
         ("/dev/stderr", 2),
         ("/dev/fd/7", 7),
         ("/proc/self/fd/5", 5),
-        (f"/proc/{os.getpid()}/fd/4", 4),
+        # This process's own number, filled in when the test runs: the test's
+        # name stays the same in every xdist worker, which collect apart.
+        ("/proc/{pid}/fd/4", 4),
         ("/proc/1/fd/4", None),  # another process's: a file like any
         ("/tmp/report.json", None),
     ],
 )
 def test_named_descriptors(path: str, expected: int | None) -> None:
-    assert atomic.named_descriptor(path) == expected
+    assert atomic.named_descriptor(path.format(pid=os.getpid())) == expected
 
 
 def test_a_link_to_dev_stdout_names_stdout(tmp_path: Path) -> None:

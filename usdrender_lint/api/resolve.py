@@ -131,7 +131,10 @@ def _targets(rel: Usd.Relationship | None, forwarded: bool) -> list[Sdf.Path]:
 
 @cached
 def _composed_targets(rel_and_mode: tuple[Usd.Relationship | None, bool]) -> tuple[Sdf.Path, ...]:
-    rel, forwarded = rel_and_mode
+    return _read_targets(*rel_and_mode)
+
+
+def _read_targets(rel: Usd.Relationship | None, forwarded: bool) -> tuple[Sdf.Path, ...]:
     if not rel:
         return ()
     try:
@@ -197,6 +200,8 @@ class SchemaAttribute:
     allowed_tokens: tuple[str, ...]
     #: Declared ``uniform``.
     uniform: bool = False
+    #: ``type_name.type``, kept with it (reading it is a binding call).
+    value_type: Tf.Type | None = None
 
 
 #: Per (definition key, attribute name), kept for the whole process: USD
@@ -211,7 +216,8 @@ def _declared_attribute(definition: Usd.PrimDefinition, name: str) -> SchemaAttr
         return SchemaAttribute(None, ())
     tokens = tuple(str(t) for t in attribute.GetMetadata("allowedTokens") or ())
     uniform = attribute.GetVariability() == Sdf.VariabilityUniform
-    return SchemaAttribute(attribute.GetTypeName(), tokens, uniform)
+    type_name = attribute.GetTypeName()
+    return SchemaAttribute(type_name, tokens, uniform, type_name.type)
 
 
 @cached
@@ -219,23 +225,42 @@ def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
     return prim_values(attr.GetPrim()).schema_attribute(attr.GetName()).type_name
 
 
+#: One spec of an attribute's property stack and what the checks read of it,
+#: each read once: whether it holds a default value and time samples, and its
+#: value type.
+_Opinion = tuple[Sdf.AttributeSpec, bool, bool, Tf.Type]
+#: An attribute's opinions, strongest first, its declared value type, and
+#: whether every opinion has that type (then none is mismatched: most
+#: attributes, and every check stops there).
+_Stack = tuple[tuple[_Opinion, ...], Tf.Type, bool]
+
+
 @cached
-def _attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+def _attribute_specs(attr: Usd.Attribute) -> _Stack:
     return _read_attribute_specs(attr)
 
 
-def _read_attribute_specs(attr: Usd.Attribute) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+def _read_attribute_specs(attr: Usd.Attribute) -> _Stack:
     """The attribute's property stack without relationship specs (a layer may
     author the name as ``rel dataWindowNDC = </X>``, which has no type or
     value), and its declared type: the composed value type, which USD takes
     from the prim definition for a schema attribute (whatever the specs say),
     else from the strongest spec. A spec of that type is never mismatched, so
     most checks stop there. Read together: every reader of one needs the other."""
-    return _attribute_stack(attr), attr.GetTypeName().type
+    return _attribute_stack(attr, attr.GetTypeName().type)
 
 
-def _attribute_stack(attr: Usd.Attribute) -> tuple[Sdf.AttributeSpec, ...]:
-    return tuple(s for s in attr.GetPropertyStack(DEFAULT_TIME) if isinstance(s, Sdf.AttributeSpec))
+def _attribute_stack(attr: Usd.Attribute, declared: Tf.Type) -> _Stack:
+    # Every check reads the same few facts of each spec: once, here.
+    opinions = []
+    well_typed = True
+    for spec in attr.GetPropertyStack(DEFAULT_TIME):
+        if isinstance(spec, Sdf.AttributeSpec):
+            value_type = spec.typeName.type
+            if well_typed and value_type != declared:
+                well_typed = False
+            opinions.append((spec, spec.HasDefaultValue(), _has_time_samples(spec), value_type))
+    return tuple(opinions), declared, well_typed
 
 
 @cached
@@ -246,18 +271,17 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
     although typed C++ reads cannot (catalog, Surprises 5). Roles are ignored:
     ``color3f`` and ``float3`` store the same value type.
     """
-    specs, declared = _attribute_specs(attr)
-    return _mismatched_in(specs, declared, lambda: _schema_type(attr))
+    return _mismatched_in(_attribute_specs(attr), lambda: _schema_type(attr))
 
 
 def _mismatched_in(
-    specs: Iterable[Sdf.AttributeSpec],
-    declared: Tf.Type,
-    schema_type: Callable[[], Sdf.ValueTypeName | None],
+    stack: _Stack, schema_type: Callable[[], Sdf.ValueTypeName | None]
 ) -> Sdf.AttributeSpec | None:
-    for spec in specs:
-        if spec.HasDefaultValue() or _has_time_samples(spec):
-            value_type = spec.typeName.type
+    opinions, declared, well_typed = stack
+    if well_typed:
+        return None
+    for spec, has_default, has_samples, value_type in opinions:
+        if has_default or has_samples:
             if value_type == declared:
                 return None
             declared_name = schema_type()  # read only when the types differ
@@ -275,21 +299,20 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
     """Every spec of the attribute, strongest first, whose type differs from the
     schema's, value-holding or not (what ``usdValidation:AttributeTypeMismatch``
     reports). Roles are ignored, as in :func:`mismatched_spec`."""
-    specs, declared = _attribute_specs(attr)
-    return _specs_of_other_types(specs, declared, lambda: _schema_type(attr))
+    return _specs_of_other_types(_attribute_specs(attr), lambda: _schema_type(attr))
 
 
 def _specs_of_other_types(
-    specs: tuple[Sdf.AttributeSpec, ...],
-    declared: Tf.Type,
-    schema_type: Callable[[], Sdf.ValueTypeName | None],
+    stack: _Stack, schema_type: Callable[[], Sdf.ValueTypeName | None]
 ) -> list[Sdf.AttributeSpec]:
-    if all(s.typeName.type == declared for s in specs):
+    opinions, _, well_typed = stack
+    if well_typed:
         return []
     declared_name = schema_type()  # read only when some spec differs
     if declared_name is None:
         return []
-    return [s for s in specs if s.typeName.type != declared_name.type]
+    schema_value_type = declared_name.type
+    return [o[0] for o in opinions if o[3] != schema_value_type]
 
 
 def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
@@ -304,42 +327,35 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
     (catalog, Conventions: one mistake gives one finding, SE016)."""
     if not attr or not attr.HasAuthoredValue():
         return False
-    return _holds_well_typed_value(lambda: _schema_type(attr), *_attribute_specs(attr))
+    return _holds_well_typed_value(_attribute_specs(attr), lambda: _schema_type(attr))
 
 
 def _holds_well_typed_value(
-    schema_type: Callable[[], Sdf.ValueTypeName | None],
-    specs: tuple[Sdf.AttributeSpec, ...],
-    declared: Tf.Type,
+    stack: _Stack, schema_type: Callable[[], Sdf.ValueTypeName | None]
 ) -> bool:
-    """Whether an attribute with an authored value (``specs``, its property
-    stack, ``declared``, its value type, and ``schema_type``, what its
-    schema declares) holds a well-typed one."""
+    """Whether an attribute with an authored value (``stack``, its opinions,
+    and ``schema_type``, what its schema declares) holds a well-typed one."""
     # The first value-holding spec of the property stack must have the schema's
     # type (as _mismatched_in reads it), and neither the first default nor the
     # first time samples may be a path: usda accepts ``<...>`` as the value of an
     # attribute of any type (``uniform token sourceType = </X>``, also in time
     # samples), an Sdf.Path no typed read returns.
-    default_at = _first_index(specs, Sdf.PropertySpec.HasDefaultValue)
-    samples_at = _first_index(specs, _has_time_samples)
+    opinions, declared, well_typed = stack
+    count = default_at = samples_at = len(opinions)
+    for index, (_, has_default, has_samples, _) in enumerate(opinions):
+        if has_default and default_at == count:
+            default_at = index
+        if has_samples and samples_at == count:
+            samples_at = index
     first = min(default_at, samples_at)
-    if first == len(specs):
+    if first == count:
         return True  # no spec holds a value
-    if _mismatched_in((specs[first],), declared, schema_type) is not None:
+    single = ((opinions[first],), declared, False)
+    if not well_typed and _mismatched_in(single, schema_type) is not None:
         return False
-    if default_at < len(specs) and isinstance(specs[default_at].default, Sdf.Path):
+    if default_at < count and isinstance(opinions[default_at][0].default, Sdf.Path):
         return False
-    return samples_at == len(specs) or not _path_in_samples(specs[samples_at])
-
-
-def _first_index(
-    specs: tuple[Sdf.AttributeSpec, ...], holds: Callable[[Sdf.AttributeSpec], bool]
-) -> int:
-    """The index of the first spec that ``holds``; ``len(specs)`` when none does."""
-    for index, spec in enumerate(specs):
-        if holds(spec):
-            return index
-    return len(specs)
+    return samples_at == count or not _path_in_samples(opinions[samples_at][0])
 
 
 def _path_in_samples(spec: Sdf.AttributeSpec) -> bool:
@@ -384,11 +400,9 @@ def composed_value(prim: Usd.Prim, name: str, time: Usd.TimeCode = DEFAULT_TIME)
 def authored_property_names(prim: Usd.Prim) -> list[str]:
     """``prim.GetAuthoredPropertyNames()``, raising CorruptValue (ST001) for a
     property named "": the name list does not check it, while every property
-    object USD makes of it fails a verification (UsdStage::_GetDefiningSpecType)."""
-    names = prim.GetAuthoredPropertyNames()
-    if "" in names:
-        raise CorruptValue(NAMELESS_PROPERTY)
-    return names
+    object USD makes of it fails a verification (UsdStage::_GetDefiningSpecType).
+    Listed once per lint (:meth:`PrimValues.authored_names`)."""
+    return list(prim_values(prim).authored_names())
 
 
 class PrimValues:
@@ -414,6 +428,7 @@ class PrimValues:
         "_authored",
         "_composed",
         "_fallbacks",
+        "_varying",
         "_mismatched",
         "_forwarded",
         "_targets",
@@ -430,11 +445,12 @@ class PrimValues:
         self.prim = prim
         self._attrs: dict[str, Usd.Attribute] = {}
         self._rels: dict[str, Usd.Relationship] = {}
-        self._specs: dict[str, tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]] = {}
+        self._specs: dict[str, _Stack] = {}
         self._has: dict[str, bool] = {}
         self._authored: dict[str, Any] = {}
         self._composed: dict[str, Any] = {}
         self._fallbacks: dict[str, Any] = {}
+        self._varying: dict[str, bool] = {}
         self._mismatched: dict[str, Sdf.AttributeSpec | None] = {}
         self._forwarded: dict[str, tuple[Sdf.Path, ...]] = {}
         self._targets: dict[str, tuple[Target, ...]] = {}
@@ -448,6 +464,7 @@ class PrimValues:
         self._listed: frozenset[str] | None = None
         #: IsA answers by the schema's id (hashing a Tf.Type is a binding call).
         self._kinds: dict[int, tuple[Any, bool]] = {}
+        #: ``Context.cached`` answers of this prim, by function.
         self._memo: dict[Callable[..., Any], Any] = {}
 
     def attribute(self, name: str) -> Usd.Attribute:
@@ -473,20 +490,20 @@ class PrimValues:
             rel = self._rels[name] = self.prim.GetRelationship(name)
         return rel
 
-    def _attribute_specs(self, name: str) -> tuple[tuple[Sdf.AttributeSpec, ...], Tf.Type]:
+    def _attribute_specs(self, name: str) -> _Stack:
         found = self._specs.get(name)
         if found is None:
             # A schema attribute's composed type is the definition's (whatever
             # the specs say): known without asking the attribute.
-            declared = self.schema_attribute(name).type_name
+            declared = self.schema_attribute(name).value_type
             if declared is None:
                 found = _read_attribute_specs(self.attribute(name))
             elif name not in self._listed_names():
                 # The Default property stack holds the prim's own specs only
                 # (never value clips), and no layer has one of this name.
-                found = ((), declared.type)
+                found = ((), declared, True)
             else:
-                found = (_attribute_stack(self.attribute(name)), declared.type)
+                found = _attribute_stack(self.attribute(name), declared)
             self._specs[name] = found
         return found
 
@@ -501,8 +518,8 @@ class PrimValues:
                 found = bool(attr) and attr.HasAuthoredValue()
                 if found:
                     found = _holds_well_typed_value(
+                        self._attribute_specs(name),
                         lambda: self.schema_attribute(name).type_name,
-                        *self._attribute_specs(name),
                     )
             self._has[name] = found
         return found
@@ -519,7 +536,7 @@ class PrimValues:
         """The schema's fallback for the named attribute (None when it has none)."""
         value = self._fallbacks.get(name, _UNREAD)
         if value is _UNREAD:
-            value = self._fallbacks[name] = self.definition.GetAttributeFallbackValue(name)
+            value = self._fallbacks[name] = _definition_fallback(self, name)
         return value
 
     def composed(self, name: str) -> Any:
@@ -532,23 +549,31 @@ class PrimValues:
 
     def mismatched_specs(self, name: str) -> list[Sdf.AttributeSpec]:
         """:func:`mismatched_specs` of the named attribute."""
-        specs, declared = self._attribute_specs(name)
-        return _specs_of_other_types(specs, declared, lambda: self.schema_attribute(name).type_name)
-
-    def call(self, func: Callable[[Any, Usd.Prim], _T], ctx: Any) -> _T:
-        """``func(ctx, prim)``, computed once per lint (``Context.cached`` of a prim)."""
-        answer = self._memo.get(func, _UNREAD)
-        if answer is _UNREAD:
-            answer = self._memo[func] = func(ctx, self.prim)
-        return answer
+        return _specs_of_other_types(
+            self._attribute_specs(name), lambda: self.schema_attribute(name).type_name
+        )
 
     def authored_names(self) -> tuple[str, ...]:
         """The names of the prim's authored properties, in USD's order
-        (CorruptValue for a property named "", as :func:`authored_property_names`)."""
+        (:func:`authored_property_names`)."""
         names = self._authored_names()
         if "" in names:
-            authored_property_names(self.prim)  # raises CorruptValue
+            raise CorruptValue(NAMELESS_PROPERTY)
         return names
+
+    def may_vary(self, name: str) -> bool:
+        """False when the named attribute provably has neither time samples
+        nor a spline: the stage has no value clips and no opinion holds
+        either (then ``GetNumTimeSamples()`` is 0 and its value's source is
+        no varying one, known without asking the attribute)."""
+        found = self._varying.get(name)
+        if found is None:
+            found = not self._names_decide or any(
+                has_samples or spec.HasInfo("spline")
+                for spec, _, has_samples, _ in self._attribute_specs(name)[0]
+            )
+            self._varying[name] = found
+        return found
 
     def may_be_authored(self, name: str) -> bool:
         """False when the named property provably has no opinion at all: no
@@ -573,8 +598,9 @@ class PrimValues:
         """:func:`mismatched_spec` of the named attribute."""
         spec = self._mismatched.get(name, _UNREAD)
         if spec is _UNREAD:
-            specs, declared = self._attribute_specs(name)
-            spec = _mismatched_in(specs, declared, lambda: self.schema_attribute(name).type_name)
+            spec = _mismatched_in(
+                self._attribute_specs(name), lambda: self.schema_attribute(name).type_name
+            )
             self._mismatched[name] = spec
         return spec
 
@@ -582,14 +608,24 @@ class PrimValues:
         """:func:`forwarded_targets` of the named relationship."""
         paths = self._forwarded.get(name)
         if paths is None:
-            paths = self._forwarded[name] = _composed_targets((self.relationship(name), True))
+            if name not in self._listed_names():
+                paths = ()  # no layer authors it (value clips hold no targets)
+            else:
+                # Shared with readers of the handle (the profiles).
+                paths = _composed_targets((self.relationship(name), True))
+            self._forwarded[name] = paths
         return paths
 
     def targets(self, name: str) -> tuple[Target, ...]:
         """:func:`resolve_targets` of the named relationship."""
         found = self._targets.get(name)
         if found is None:
-            found = self._targets[name] = _resolved_targets(self.relationship(name))
+            if name not in self._listed_names():
+                found = ()  # no layer authors it (value clips hold no targets)
+            else:
+                # Shared with readers of the handle (the profiles).
+                found = _resolved_targets(self.relationship(name))
+            self._targets[name] = found
         return found
 
     @property
@@ -621,6 +657,19 @@ class PrimValues:
 
 
 _UNREAD: Any = object()
+
+
+def _definition_fallback(values: PrimValues, name: str) -> Any:
+    """The fallback of ``name`` in the definition of ``values``' prim, read
+    once per lint and definition (a dozen products share theirs)."""
+    cache = _ACTIVE.get()
+    if cache is None:
+        return values.definition.GetAttributeFallbackValue(name)
+    key = (_definition_fallback, (values.definition_key(), name))
+    value = cache._answers.get(key, _UNREAD)
+    if value is _UNREAD:
+        value = cache._answers[key] = values.definition.GetAttributeFallbackValue(name)
+    return value
 
 
 def prim_values(prim: Usd.Prim) -> PrimValues:
