@@ -50,5 +50,11 @@ def channel_name(var: Usd.Prim, naming: AovNaming, ctx: Context) -> str:
     """The channel name a renderer gives the var under ``naming``: the prim
     name, or (hdPrman) the prim name for LPE vars and ``sourceName`` otherwise."""
     if naming == "sourceName" and checked_value(var, "sourceType", ctx) != "lpe":
-        return checked_value(var, "sourceName", ctx) or var.GetName()
-    return var.GetName()
+        return checked_value(var, "sourceName", ctx) or ctx.cached(_prim_name, var)
+    return ctx.cached(_prim_name, var)
+
+
+def _prim_name(ctx: Context, prim: Usd.Prim) -> str:
+    """The prim's name, asked once per lint: VA008 names each var's channel
+    for every product that targets it."""
+    return prim.GetName()

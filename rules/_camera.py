@@ -10,6 +10,7 @@ from pxr import Usd
 
 from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.resolve import (
+    PrimValues,
     RenderConfiguration,
     authored_rendered_times,
     fallback_value,
@@ -67,9 +68,16 @@ def first_failure(
     Values are composed: well-typed authored opinions, else the schema
     fallback (a type-mismatched opinion counts as unauthored, SE016's; a
     blocked sample reads as the fallback)."""
-    readers = [_reader(prim, name, ctx) for name in names]
-    authored = [attr for attr, _ in readers if attr is not None]
-    for time in authored_rendered_times(authored, ctx.time_sample_cap):
+    names = tuple(names)
+    values = prim_values(prim)
+    readers = [_reader(values, name) for name in names]
+    # An attribute that provably has no time samples adds no rendered time.
+    sampled = [
+        attr
+        for (attr, _), name in zip(readers, names, strict=True)
+        if attr is not None and values.may_vary(name)
+    ]
+    for time in authored_rendered_times(sampled, ctx.time_sample_cap):
         problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
             return time, problem
@@ -83,10 +91,9 @@ _Reader = tuple[Usd.Attribute | None, Any]
 _NOT_READ: Any = object()
 
 
-def _reader(prim: Usd.Prim, name: str, ctx: Context) -> _Reader:
+def _reader(values: PrimValues, name: str) -> _Reader:
     # Decided once per attribute and lint (PrimValues), not per time sample or
     # rule: the opinion stack is costly and several CA rules read the same attributes.
-    values = prim_values(prim)
     if values.has_value(name):
         return values.attribute(name), _NOT_READ
     return None, values.fallback(name)

@@ -104,6 +104,25 @@ def descendants(pid: int) -> set[int]:
     return found
 
 
+def blocked_on_a_fifo(pid: int) -> bool:
+    """Whether a thread of a process below ``pid`` waits in ``open()`` for a
+    FIFO's writer (Linux's ``wait_for_partner``): the lint of a
+    :func:`hanging_stage` has reached its sublayer, however loaded the machine."""
+    for child in descendants(pid):
+        try:
+            tasks = os.listdir(f"/proc/{child}/task")
+        except OSError:
+            continue
+        for task in tasks:
+            try:
+                waits_in = Path(f"/proc/{child}/task/{task}/wchan").read_text()
+            except OSError:
+                continue
+            if waits_in in ("wait_for_partner", "fifo_open"):
+                return True
+    return False
+
+
 def is_running(pid: int) -> bool:
     try:
         status = Path(f"/proc/{pid}/status").read_text()
@@ -115,14 +134,14 @@ def is_running(pid: int) -> bool:
 def wait_for_a_worker(
     process: subprocess.Popen, temporary: Path, pool: bool = True, limit: float = 60
 ) -> None:
-    """Until a worker is linting (for a pool, once it has made its temporary
-    folder; one file is linted by a forked child, without one)."""
+    """Until a worker is linting the :func:`hanging_stage` and blocked on its
+    FIFO (for a pool, once it has made its temporary folder too; one file is
+    linted by a forked child, without one)."""
     deadline = time.monotonic() + limit
     while time.monotonic() < deadline:
         assert process.poll() is None, process.communicate()
         started = any(temporary.glob("usdrender-lint-*/worker-*.log")) or not pool
-        if started and descendants(process.pid):
-            time.sleep(0.5)  # the worker has its file; the parent waits on it
+        if started and blocked_on_a_fifo(process.pid):
             return
         time.sleep(0.05)
     raise AssertionError("no worker started")

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.api.resolve import forwarded_targets
+from usdrender_lint.api.resolve import prim_values
 
 from .._camera import config_owners
 
@@ -102,9 +102,12 @@ class CameraMultipleTargets(Rule):
         seen: set[Sdf.Path] = set()
         for config in ctx.configurations:
             for owner in config_owners(config):
-                rel = owner.GetRelationship("camera")
-                targets = forwarded_targets(rel)
-                if len(targets) < 2 or rel.GetPath() in seen:
+                values = prim_values(owner)
+                targets = values.forwarded("camera")
+                if len(targets) < 2:
+                    continue
+                rel = values.relationship("camera")
+                if rel.GetPath() in seen:
                     continue
                 seen.add(rel.GetPath())
                 listed = ", ".join(f"<{t}>" for t in targets)

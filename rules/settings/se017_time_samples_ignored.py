@@ -107,10 +107,13 @@ class TimeSamplesIgnored(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values, declared = _authored_schema_attributes(prim, ctx)
         for name, schema in declared:
-            attr = values.attribute(name)
             # Both findings need samples or a spline, which few attributes have:
-            # the value's source says so in one call (the count and HasSpline()
-            # are two), and that comes before the dearer type check.
+            # the opinions already read say so for most (may_vary), else the
+            # value's source in one call (the count and HasSpline() are two),
+            # before the dearer type check.
+            if not values.may_vary(name):
+                continue
+            attr = values.attribute(name)
             if attr.GetResolveInfo().GetSource() not in _VARYING_SOURCES:
                 continue
             count = attr.GetNumTimeSamples()

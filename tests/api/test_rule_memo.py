@@ -333,3 +333,45 @@ def test_a_relationship_no_layer_lists_has_no_targets_without_a_handle(monkeypat
             Sdf.Path("/Render/alpha"),
         ]
     assert handles == ["orderedVars"]
+
+
+LENS_SHOT = SHOT.replace(
+    'def Camera "cam"\n{\n}',
+    'def Camera "cam"\n{\n    float focalLength = 35\n    float horizontalAperture = 36\n}',
+)
+
+
+def test_an_attribute_without_samples_is_not_asked_for_them(tmp_path, monkeypatch) -> None:
+    # Its opinions (read once for SE016) hold no samples and the stage has
+    # no value clips: SE017 asks no value source, the camera rules no count.
+    stage = _file_stage(tmp_path, LENS_SHOT)
+    sources = _record_attribute_calls(monkeypatch, "GetResolveInfo")
+    counts = _record_attribute_calls(monkeypatch, "GetNumTimeSamples")
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert "/Render/color.sourceName" not in sources
+    assert "/cam.focalLength" not in counts and "/cam.horizontalAperture" not in counts
+
+
+def test_a_time_sampled_attribute_is_still_asked(tmp_path, monkeypatch) -> None:
+    sampled = LENS_SHOT.replace(
+        "float focalLength = 35", "float focalLength.timeSamples = {1: 35, 2: 50}"
+    )
+    stage = _file_stage(tmp_path, sampled)
+    counts = _record_attribute_calls(monkeypatch, "GetNumTimeSamples")
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert "/cam.focalLength" in counts
+
+
+def test_a_schema_fallback_is_read_once_per_definition(stage, monkeypatch) -> None:
+    # Two settings leave resolution to the fallback (SE001 reads it for each).
+    stage.DefinePrim("/Render/Settings2", "RenderSettings")
+    read: list[str] = []
+    fallback = Usd.PrimDefinition.GetAttributeFallbackValue
+
+    def recording(definition, name):
+        read.append(name)
+        return fallback(definition, name)
+
+    monkeypatch.setattr(Usd.PrimDefinition, "GetAttributeFallbackValue", recording)
+    Linter(all_rules(), raise_errors=True).lint_stage(stage)
+    assert read.count("resolution") == 1

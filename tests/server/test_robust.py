@@ -14,10 +14,12 @@ from pathlib import Path
 
 import pytest
 import pytest_lsp
-from cli_support import descendants, hanging_stage
+from cli_support import blocked_on_a_fifo, descendants, hanging_stage
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig, LanguageClient
 from test_protocol import change, diagnostics_of, make_client, open_document, published_versions
+
+from usdrender_lint.server.protocol import SLOW
 
 in_server_loop = pytest.mark.asyncio(loop_scope="module")
 
@@ -51,11 +53,23 @@ def hanging_document(folder: Path) -> tuple[Path, str]:
     return path, path.read_text()
 
 
+async def its_lint_hangs(client: LanguageClient) -> None:
+    """Until the server's child waits on the FIFO (a fixed pause is too short
+    on a loaded machine, and the lint's 2 s time-out must not have passed)."""
+    server = client._server
+    assert server is not None
+    async with asyncio.timeout(60):
+        while not blocked_on_a_fifo(server.pid):
+            await asyncio.sleep(0.01)
+
+
 @in_server_loop
 async def test_a_newer_edit_cancels_the_running_lint(client: LanguageClient, tmp_path: Path):
     path, text = hanging_document(tmp_path)
     uri = open_document(client, path, text)
-    await asyncio.sleep(0.6)  # its lint runs (and waits on the FIFO) now
+    await its_lint_hangs(client)
+    # A newer edit cancels a quick document's lint once it has run SLOW seconds.
+    await asyncio.sleep(SLOW + 0.05)
     started = time.perf_counter()
     hover = await client.text_document_hover_async(
         types.HoverParams(types.TextDocumentIdentifier(uri), types.Position(1, 5))
@@ -98,7 +112,7 @@ async def test_a_document_that_crashes_usd_costs_that_document(
 ):
     path, text = hanging_document(tmp_path)
     uri = open_document(client, path, text)
-    await asyncio.sleep(0.6)
+    await its_lint_hangs(client)
     # As USD would crash on it: the child that lints it dies of a signal.
     server = client._server
     assert server is not None

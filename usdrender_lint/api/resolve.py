@@ -428,6 +428,7 @@ class PrimValues:
         "_authored",
         "_composed",
         "_fallbacks",
+        "_varying",
         "_mismatched",
         "_forwarded",
         "_targets",
@@ -449,6 +450,7 @@ class PrimValues:
         self._authored: dict[str, Any] = {}
         self._composed: dict[str, Any] = {}
         self._fallbacks: dict[str, Any] = {}
+        self._varying: dict[str, bool] = {}
         self._mismatched: dict[str, Sdf.AttributeSpec | None] = {}
         self._forwarded: dict[str, tuple[Sdf.Path, ...]] = {}
         self._targets: dict[str, tuple[Target, ...]] = {}
@@ -534,7 +536,7 @@ class PrimValues:
         """The schema's fallback for the named attribute (None when it has none)."""
         value = self._fallbacks.get(name, _UNREAD)
         if value is _UNREAD:
-            value = self._fallbacks[name] = self.definition.GetAttributeFallbackValue(name)
+            value = self._fallbacks[name] = _definition_fallback(self, name)
         return value
 
     def composed(self, name: str) -> Any:
@@ -558,6 +560,20 @@ class PrimValues:
         if "" in names:
             raise CorruptValue(NAMELESS_PROPERTY)
         return names
+
+    def may_vary(self, name: str) -> bool:
+        """False when the named attribute provably has neither time samples
+        nor a spline: the stage has no value clips and no opinion holds
+        either (then ``GetNumTimeSamples()`` is 0 and its value's source is
+        no varying one, known without asking the attribute)."""
+        found = self._varying.get(name)
+        if found is None:
+            found = not self._names_decide or any(
+                has_samples or spec.HasInfo("spline")
+                for spec, _, has_samples, _ in self._attribute_specs(name)[0]
+            )
+            self._varying[name] = found
+        return found
 
     def may_be_authored(self, name: str) -> bool:
         """False when the named property provably has no opinion at all: no
@@ -641,6 +657,19 @@ class PrimValues:
 
 
 _UNREAD: Any = object()
+
+
+def _definition_fallback(values: PrimValues, name: str) -> Any:
+    """The fallback of ``name`` in the definition of ``values``' prim, read
+    once per lint and definition (a dozen products share theirs)."""
+    cache = _ACTIVE.get()
+    if cache is None:
+        return values.definition.GetAttributeFallbackValue(name)
+    key = (_definition_fallback, (values.definition_key(), name))
+    value = cache._answers.get(key, _UNREAD)
+    if value is _UNREAD:
+        value = cache._answers[key] = values.definition.GetAttributeFallbackValue(name)
+    return value
 
 
 def prim_values(prim: Usd.Prim) -> PrimValues:
