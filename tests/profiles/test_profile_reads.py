@@ -165,7 +165,8 @@ def _product_type_of(tmp_path: Path, authored: str) -> str | None:
     path = tmp_path / "product.usda"
     path.write_text(f'#usda 1.0\ndef RenderProduct "P"\n{{\n    {authored}\n}}\n')
     stage = Usd.Stage.Open(str(path))
-    return detect._Scan(stage).facts(stage.GetPrimAtPath("/P")).product_type
+    values = prim_values(stage.GetPrimAtPath("/P"))
+    return detect._Scan(stage).reads(values, detect._PRODUCT)[2]
 
 
 def test_an_explicit_profile_reads_nothing_of_the_stage(

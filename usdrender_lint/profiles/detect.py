@@ -19,6 +19,7 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import field
 from fnmatch import fnmatchcase
 from functools import lru_cache
+from itertools import repeat
 from typing import Any
 
 from pxr import Sdf, Usd
@@ -96,6 +97,21 @@ PrimEvidence = dict[str, list[str]]
 _NAMESPACES: tuple[str, ...] = tuple(ns for p in _RENDERERS for ns in p.namespaces)
 _SCOPES: tuple[str, ...] = tuple(scope for p in _RENDERERS for scope in p.scopes)
 _PRODUCT_TYPES = any(p.product_types for p in _RENDERERS)
+
+
+def _scope_root(scope: str) -> Sdf.Path:
+    """The prim at or under which every prim whose path text starts with
+    ``scope`` lies (or ``scope`` with its last "/"): its last "/" ends a prim
+    path; the absolute root when that is no absolute prim path."""
+    head = scope[: scope.rfind("/")]
+    if head.startswith("/") and Sdf.Path.IsValidPathString(head):
+        path = Sdf.Path(head)
+        if path.IsAbsoluteRootOrPrimPath():
+            return path
+    return Sdf.Path.absoluteRootPath
+
+
+_SCOPE_ROOTS: tuple[Sdf.Path, ...] = tuple(dict.fromkeys(_scope_root(s) for s in _SCOPES))
 #: Answers kept per camera path, camera type and productType (bounded: a language
 #: server lints for hours).
 _NAMES_KEPT = 4096
@@ -130,13 +146,11 @@ def _some_camera_type(type_name: str) -> bool:
 _FALLBACK_TYPES: dict[tuple[str, tuple[str, ...]], str] = {}
 
 
-def _product_type(
-    values: PrimValues, names: Sequence[str], info: Usd.PrimTypeInfo, applied: Sequence[str]
-) -> str:
+def _product_type(values: PrimValues, names: Sequence[str]) -> str:
     """A product's productType as ``Get()`` reads it: the authored value, else
     (no layer authors the name) its definition's fallback, without a read."""
     if "productType" not in names:
-        key = (info.GetSchemaTypeName(), tuple(applied))
+        key = values.definition_key()
         found = _FALLBACK_TYPES.get(key)
         if found is None:
             fallback = values.definition.GetAttributeFallbackValue("productType")
@@ -170,6 +184,13 @@ _UNSEEN: Any = object()
 Camera = tuple[Sdf.Path, Usd.Prim | None, str]
 
 
+def _usable_var(target: Target) -> PrimValues | None:
+    prim = target.prim
+    if not target.ok or prim is None or not prim.IsA(schemas.RenderVar):
+        return None
+    return prim_values(prim)
+
+
 def _camera(target: Target) -> Camera:
     """A camera target and the typed prim there (the resolution the rules share)."""
     camera = target.prim if target.path.IsPrimPath() else None
@@ -178,94 +199,89 @@ def _camera(target: Target) -> Camera:
 
 
 class _Facts:
-    """What one render prim holds that can point at a renderer, read once per
-    lint: its path, authored property names, applied API schemas, productType
-    and camera targets. ``evidence`` is the phrases per renderer."""
+    """A render prim of a scope: its PrimValues, the evidence on it (phrases
+    per renderer) and, for a product, its usable RenderVars (None until asked)."""
 
-    __slots__ = ("path", "text", "names", "applied", "product_type", "cameras", "evidence")
+    __slots__ = ("values", "kind", "_path", "vars", "evidence")
 
     def __init__(self, values: PrimValues, kind: str, scan: _Scan) -> None:
-        prim = values.prim
-        self.path: Sdf.Path = prim.GetPath()
-        self.text = str(self.path)
-        # Listed once per lint, for the rules as well (PrimValues).
-        self.names: Sequence[str] = values.authored_names()
-        info = prim.GetPrimTypeInfo()
-        self.applied: Sequence[str] = info.GetAppliedAPISchemas()
-        self.product_type: str | None = None
-        if _PRODUCT_TYPES and kind is _PRODUCT:
-            self.product_type = _product_type(values, self.names, info, self.applied)
-        # A relationship no layer authors has no targets.
-        self.cameras: Sequence[Camera] = ()
-        if kind is not _OTHER and "camera" in self.names:
-            self.cameras = scan.cameras(values)
-        self.evidence: PrimEvidence = {} if self._none() else self._found()
+        self.values = values
+        self.kind = kind
+        self._path: Sdf.Path | None = None
+        self.vars: list[_Facts] | None = None
+        self.evidence: PrimEvidence = {} if scan.plain(values, kind) else self._found(scan)
 
-    def _none(self) -> bool:
-        """True when no renderer can find evidence here (the common case),
-        decided with one test per kind of evidence for all renderers together."""
-        if self.applied or (self.product_type and _some_product_type(self.product_type)):
-            return False
-        if self.text.startswith(_SCOPES) or any(self.text + "/" == s for s in _SCOPES):
-            return False
-        if _NAMESPACES and any(name.startswith(_NAMESPACES) for name in self.names):
-            return False
-        return not any(
-            _some_runtime_camera(target) or (type_name and _some_camera_type(type_name))
-            for target, _, type_name in self.cameras
-        )
+    @property
+    def path(self) -> Sdf.Path:
+        path = self._path
+        if path is None:
+            path = self._path = self.values.prim.GetPath()
+        return path
 
-    def _found(self) -> PrimEvidence:
+    @property
+    def text(self) -> str:
+        return str(self.path)
+
+    def _found(self, scan: _Scan) -> PrimEvidence:
+        names, applied, product_type, cameras = scan.reads(self.values, self.kind)
+        text = self.text
         found: PrimEvidence = {}
         for profile in _RENDERERS:
             phrases = [
-                *self._scope_phrases(profile),
-                *self._property_phrases(profile),
-                *self._schema_phrases(profile),
-                *self._product_type_phrases(profile),
-                *self._camera_phrases(profile),
+                *_scope_phrases(profile, text),
+                *_property_phrases(profile, text, names),
+                *_schema_phrases(profile, text, applied),
+                *_product_type_phrases(profile, text, product_type),
+                *_camera_phrases(profile, text, cameras),
             ]
             if phrases:
                 found[profile.name] = phrases
         return found
 
-    def _scope_phrases(self, profile: Profile) -> list[str]:
-        path = self.text
-        if any(path.startswith(scope) or path + "/" == scope for scope in profile.scopes):
-            return [f"the prim <{path}> in {profile.scopes[0].rstrip('/')}"]
+
+def _scope_phrases(profile: Profile, path: str) -> list[str]:
+    if any(path.startswith(scope) or path + "/" == scope for scope in profile.scopes):
+        return [f"the prim <{path}> in {profile.scopes[0].rstrip('/')}"]
+    return []
+
+
+def _property_phrases(profile: Profile, path: str, names: Sequence[str]) -> list[str]:
+    if not profile.namespaces:
         return []
+    return [
+        f"the property <{path}.{name}>" for name in names if name.startswith(profile.namespaces)
+    ]
 
-    def _property_phrases(self, profile: Profile) -> list[str]:
-        if not profile.namespaces:
-            return []
-        return [
-            f"the property <{self.text}.{name}>"
-            for name in self.names
-            if name.startswith(profile.namespaces)
-        ]
 
-    def _schema_phrases(self, profile: Profile) -> list[str]:
-        return [
-            f"the API schema {schema} on <{self.text}>"
-            for schema in self.applied
-            if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas)
-        ]
+def _schema_phrases(profile: Profile, path: str, applied: Sequence[str]) -> list[str]:
+    return [
+        f"the API schema {schema} on <{path}>"
+        for schema in applied
+        if any(fnmatchcase(schema, pattern) for pattern in profile.api_schemas)
+    ]
 
-    def _product_type_phrases(self, profile: Profile) -> list[str]:
-        token = self.product_type
-        if token and profile.product_types and profile.product_type(token):
-            return [f"productType {token!r} of <{self.text}>"]
-        return []
 
-    def _camera_phrases(self, profile: Profile) -> list[str]:
-        phrases = []
-        for target, camera, type_name in self.cameras:
-            where = f"the camera target <{target}> of <{self.text}>"
-            if profile.runtime_camera(str(target)):
-                phrases.append(f"{where}, a camera the renderer's application creates")
-            elif camera is not None and profile.camera_type(type_name):
-                phrases.append(f"{where}, {describe_prim_type(camera)}")
-        return phrases
+def _product_type_phrases(profile: Profile, path: str, token: str | None) -> list[str]:
+    if token and profile.product_types and profile.product_type(token):
+        return [f"productType {token!r} of <{path}>"]
+    return []
+
+
+def _camera_phrases(profile: Profile, path: str, cameras: Sequence[Camera]) -> list[str]:
+    phrases = []
+    for target, camera, type_name in cameras:
+        where = f"the camera target <{target}> of <{path}>"
+        if profile.runtime_camera(str(target)):
+            phrases.append(f"{where}, a camera the renderer's application creates")
+        elif camera is not None and profile.camera_type(type_name):
+            phrases.append(f"{where}, {describe_prim_type(camera)}")
+    return phrases
+
+
+#: What a render prim holds that can point at a renderer: its authored
+#: property names, applied API schemas, productType (a product's; None for
+#: others) and camera targets (a settings' or product's).
+_Reads = tuple[Sequence[str], Sequence[str], str | None, Sequence[Camera]]
 
 
 class _Scan:
@@ -280,19 +296,59 @@ class _Scan:
         # Keyed by the PrimValues (found by the handle's identity): hashing a
         # Usd.Prim is a binding call.
         self._facts: dict[PrimValues, _Facts] = {}
+        self._plain: dict[PrimValues, bool] = {}
         self._cameras: dict[Sdf.Path, Camera] = {}
-        self._vars: dict[PrimValues, list[_Facts]] = {}
-        self._var_facts: dict[Sdf.Path, _Facts | None] = {}
+        self._vars: dict[Sdf.Path, PrimValues | None] = {}
+        self._scopes_present: bool | None = None
 
     def facts(self, prim: Usd.Prim, kind: str | None = None) -> _Facts:
         """``prim``'s facts; ``kind`` (_SETTINGS, _PRODUCT, _OTHER) when the
         caller knows what the prim is."""
-        return self.facts_of(prim_values(prim), kind)
+        return self.facts_of(prim_values(prim), kind or _kind(prim))
 
-    def facts_of(self, values: PrimValues, kind: str | None = None) -> _Facts:
-        found = self._facts.get(values)
+    def reads(self, values: PrimValues, kind: str) -> _Reads:
+        """What the prim holds that can be evidence (all of it read, in this
+        order, whether or not some is)."""
+        names = values.authored_names()  # listed once per lint, for the rules as well
+        applied = values.definition_key()[1]
+        product_type = _product_type(values, names) if _PRODUCT_TYPES and kind is _PRODUCT else None
+        # A relationship no layer authors has no targets.
+        has_camera = kind is not _OTHER and "camera" in names
+        return names, applied, product_type, self.cameras(values) if has_camera else ()
+
+    def plain(self, values: PrimValues, kind: str) -> bool:
+        """True when no renderer can find evidence on the prim (the common
+        case), decided with one test per kind of evidence for all renderers
+        together."""
+        found = self._plain.get(values)
         if found is None:
-            found = self._facts[values] = _Facts(values, kind or _kind(values.prim), self)
+            found = self._plain[values] = self._holds_none(values, kind)
+        return found
+
+    def _holds_none(self, values: PrimValues, kind: str) -> bool:
+        names, applied, product_type, cameras = self.reads(values, kind)
+        if applied or (product_type and _some_product_type(product_type)):
+            return False
+        if self.scopes_present():
+            text = str(values.prim.GetPath())
+            if text.startswith(_SCOPES) or any(text + "/" == s for s in _SCOPES):
+                return False
+        if _NAMESPACES and any(map(str.startswith, names, repeat(_NAMESPACES))):
+            return False
+        for target, _, type_name in cameras:
+            if _some_runtime_camera(target) or (type_name and _some_camera_type(type_name)):
+                return False
+        return True
+
+    def scopes_present(self) -> bool:
+        """Whether a prim may lie in a renderer's scope: the prim each scope
+        lies under exists (a prim's ancestors always do), asked once per lint
+        in place of spelling every render prim's path."""
+        found = self._scopes_present
+        if found is None:
+            stage = self.stage
+            found = stage is None or any(stage.GetPrimAtPath(root) for root in _SCOPE_ROOTS)
+            self._scopes_present = found
         return found
 
     def cameras(self, values: PrimValues) -> list[Camera]:
@@ -305,32 +361,33 @@ class _Scan:
             found.append(camera)
         return found
 
-    def vars_of(self, product: Usd.Prim, facts: _Facts) -> list[_Facts]:
-        """The facts of the usable RenderVars a product's ``orderedVars`` targets."""
-        values = prim_values(product)
-        found = self._vars.get(values)
-        if found is None:
-            found = self._vars[values] = self._read_vars(values, facts)
-        return found
-
-    def _read_vars(self, product: PrimValues, facts: _Facts) -> list[_Facts]:
-        if "orderedVars" not in facts.names:
+    def var_values(self, product: PrimValues) -> list[PrimValues]:
+        """The usable RenderVars a product's ``orderedVars`` targets, in order."""
+        if "orderedVars" not in product.authored_names():
             return []
         found = []
         for target in product.targets("orderedVars"):
             # Products share their vars: each target is looked at once.
-            var = self._var_facts.get(target.path, _UNSEEN)
+            var = self._vars.get(target.path, _UNSEEN)
             if var is _UNSEEN:
-                var = self._var_facts[target.path] = self._var(target)
+                var = self._vars[target.path] = _usable_var(target)
             if var is not None:
                 found.append(var)
         return found
 
-    def _var(self, target: Target) -> _Facts | None:
-        prim = target.prim
-        if not target.ok or prim is None or not prim.IsA(schemas.RenderVar):
-            return None
-        return self.facts(prim, _OTHER)
+    def vars_of(self, product: _Facts) -> list[_Facts]:
+        """The facts of the usable RenderVars a product's ``orderedVars`` targets."""
+        found = product.vars
+        if found is None:
+            facts = self.facts_of
+            found = product.vars = [facts(v, _OTHER) for v in self.var_values(product.values)]
+        return found
+
+    def facts_of(self, values: PrimValues, kind: str) -> _Facts:
+        found = self._facts.get(values)
+        if found is None:
+            found = self._facts[values] = _Facts(values, kind, self)
+        return found
 
     def infer(self, members: Iterable[_Facts]) -> ProfileChoice:
         """The ``auto`` choice for the render prims of one scope."""
@@ -395,36 +452,74 @@ def _layer_data_keys(data: dict) -> list[str]:
 #: to it, and its settings (None for a lone product).
 _Scope = tuple[Sdf.Path, list[_Facts], list[Usd.Prim], Usd.Prim | None]
 
+#: A RenderSettings of the configurations and its products, in order.
+_Group = tuple[Usd.Prim, list[Usd.Prim]]
 
-def _scopes(
-    configurations: Sequence[RenderConfiguration], lone_products: Sequence[Usd.Prim], scan: _Scan
-) -> list[_Scope]:
+
+def _grouped(
+    configurations: Sequence[RenderConfiguration],
+) -> list[tuple[Usd.Prim, list[Usd.Prim]]]:
+    """Each RenderSettings of the configurations with its products, in order
+    (products on their own, R2-4, are not here)."""
+    groups: list[_Group] = []
+    last: Usd.Prim | None = None
+    for config in configurations:
+        settings = config.settings
+        if settings is None:
+            continue
+        # A settings prim's configurations come one after another.
+        if settings is not last:
+            last = settings
+            groups.append((settings, []))
+        if config.product is not None:
+            groups[-1][1].append(config.product)
+    return groups
+
+
+def _plain_scopes(groups: list[_Group], lone_products: Sequence[Usd.Prim], scan: _Scan) -> bool:
+    """True when no prim of any scope holds evidence (the common case): then
+    every scope is judged as the stage is, and none needs building. The prims
+    are read in the order :func:`_scopes` reads them."""
+    plain = scan.plain
+    if not all(plain(prim_values(settings), _SETTINGS) for settings, _ in groups):
+        return False
+    for _, products in groups:
+        if not _plain_products(products, scan):
+            return False
+    return all(_plain_products([p], scan) for p in lone_products)
+
+
+def _plain_products(products: Sequence[Usd.Prim], scan: _Scan) -> bool:
+    plain = scan.plain
+    found = [prim_values(p) for p in products]
+    if not all(plain(values, _PRODUCT) for values in found):
+        return False
+    for values in found:
+        for var in scan.var_values(values):
+            if not plain(var, _OTHER):
+                return False
+    return True
+
+
+def _scopes(groups: list[_Group], lone_products: Sequence[Usd.Prim], scan: _Scan) -> list[_Scope]:
     """Every scope: each RenderSettings with its products and their vars, then
     each product no settings targets with its vars (R2-4)."""
-    grouped: dict[Sdf.Path, tuple[_Facts, Usd.Prim, list[Usd.Prim]]] = {}
-    last: Usd.Prim | None = None
-    products: list[Usd.Prim] = []
-    for config in configurations:
-        if config.settings is None:  # products on their own: below (R2-4)
-            continue
-        # A settings prim's configurations come one after another: read it once.
-        if config.settings is not last:
-            last = config.settings
-            facts = scan.facts(last, _SETTINGS)
-            products = grouped.setdefault(facts.path, (facts, last, []))[2]
-        if config.product is not None:
-            products.append(config.product)
-    scopes = [_scope(*group, scan) for group in grouped.values()]
+    grouped: dict[_Facts, tuple[Usd.Prim, list[Usd.Prim]]] = {}
+    for settings, products in groups:
+        facts = scan.facts(settings, _SETTINGS)
+        # A settings prim listed twice (not one after another) is one scope.
+        grouped.setdefault(facts, (settings, []))[1].extend(products)
+    scopes = [_scope(facts, *group, scan) for facts, group in grouped.items()]
     for product in lone_products:
         facts = scan.facts(product, _PRODUCT)
-        scopes.append((facts.path, [facts, *scan.vars_of(product, facts)], [product], None))
+        scopes.append((facts.path, [facts, *scan.vars_of(facts)], [product], None))
     return scopes
 
 
 def _scope(facts: _Facts, settings: Usd.Prim, products: list[Usd.Prim], scan: _Scan) -> _Scope:
     found = [scan.facts(p, _PRODUCT) for p in products]
     members = [facts, *found]
-    members.extend(v for p, f in zip(products, found, strict=True) for v in scan.vars_of(p, f))
+    members.extend(v for f in found for v in scan.vars_of(f))
     return facts.path, members, [settings, *products], settings
 
 
@@ -458,7 +553,15 @@ def assign(
     if setting != AUTO:
         return _explicit(setting, reason)
     scan = _Scan(_stage_of(configurations, [*lone_products, *render_prims]))
-    scopes = _scopes(configurations, lone_products, scan)
+    groups = _grouped(configurations)
+    if groups or lone_products:
+        plain = _plain_scopes(groups, lone_products, scan)
+    else:  # no scope: the stage is judged by its render prims
+        plain = all(scan.plain(prim_values(p), _kind(p)) for p in render_prims)
+    if plain:
+        # Every scope and the stage judged alike, by the root layer's data alone.
+        return Assignment(stage=scan.infer(()))
+    scopes = _scopes(groups, lone_products, scan)
     assignment = Assignment()
     for key, members, _, _ in scopes:
         assignment.scopes[key] = scan.infer(members)

@@ -253,8 +253,7 @@ class _Worker:
     process: BaseProcess
     conn: Connection
     log_dir: str
-    #: The index of the item it handles (_READY while it starts, None when idle), the
-    #: item and its deadline.
+    #: Its item's index (_READY while it starts, None when idle), the item, its deadline.
     index: int | None = _READY
     item: Any = None
     deadline: float = _NEVER
