@@ -9,6 +9,7 @@ the handler only once a USD call returns: :func:`check_stopped` raises it again.
 from __future__ import annotations
 
 import signal  # and nothing else: the command installs the handlers before its imports
+import sys
 
 STOPPING = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
 
@@ -44,6 +45,14 @@ def install() -> None:
     if _received is None:
         for signum in STOPPING:
             signal.signal(signum, _stop)
+        sys.unraisablehook = _quiet_when_stopped
+
+
+def _quiet_when_stopped(unraisable: sys.UnraisableHookArgs, say=sys.unraisablehook) -> None:
+    # A signal in an import can land in importlib's weakref callback, where Python
+    # prints it instead of raising it: check_stopped raises it later, without a traceback.
+    if not isinstance(unraisable.exc_value, Stopped):
+        say(unraisable)
 
 
 class stop_on_signals:  # noqa: N801 - used as a context manager, like contextlib's

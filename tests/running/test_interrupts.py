@@ -1,0 +1,45 @@
+"""A signal that lands where Python cannot raise (a weakref callback, as importlib's
+module locks use during an import) prints no traceback; the run still stops."""
+
+import subprocess
+import sys
+
+SIGNAL_IN_A_CALLBACK = """
+import os, signal, sys, weakref
+from usdrender_lint.running import interrupts
+interrupts.install()
+class Held: pass
+held = Held()
+ref = weakref.ref(held, lambda _: os.kill(os.getpid(), signal.SIGINT))
+del held  # the callback runs here: the handler's Stopped cannot propagate from it
+try:
+    interrupts.check_stopped()
+except interrupts.Stopped as stopped:
+    sys.stderr.write(f"usdrender-lint: {stopped.reason}\\n")
+    sys.exit(stopped.exit_status)
+"""
+
+OTHER_UNRAISABLE = """
+import weakref
+from usdrender_lint.running import interrupts
+interrupts.install()
+class Held: pass
+held = Held()
+ref = weakref.ref(held, lambda _: 1 / 0)
+del held
+"""
+
+
+def _run(code: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+
+
+def test_a_signal_in_a_weakref_callback_stops_the_run_without_a_traceback() -> None:
+    done = _run(SIGNAL_IN_A_CALLBACK)
+    assert done.returncode == 130
+    assert done.stderr == "usdrender-lint: interrupted\n"
+
+
+def test_other_unraisable_errors_are_still_shown() -> None:
+    done = _run(OTHER_UNRAISABLE)
+    assert "ZeroDivisionError" in done.stderr
