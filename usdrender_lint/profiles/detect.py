@@ -141,21 +141,11 @@ def _some_camera_type(type_name: str) -> bool:
     return any(p.camera_type(type_name) for p in _RENDERERS)
 
 
-#: The productType fallback per prim definition (schema type and applied API
-#: schemas): a pure fact of the schemas, kept for the process.
-_FALLBACK_TYPES: dict[tuple[str, tuple[str, ...]], str] = {}
-
-
 def _product_type(values: PrimValues, names: Sequence[str]) -> str:
     """A product's productType as ``Get()`` reads it: the authored value, else
     (no layer authors the name) its definition's fallback, without a read."""
     if "productType" not in names:
-        key = values.definition_key()
-        found = _FALLBACK_TYPES.get(key)
-        if found is None:
-            fallback = values.definition.GetAttributeFallbackValue("productType")
-            found = _FALLBACK_TYPES[key] = str(fallback or "")
-        return found
+        return str(values.fallback("productType") or "")  # read once per definition
     # A well-typed value is the one the rules read (PR003); any other opinion
     # (a mismatched type, a block) is what Get() returns of it.
     if values.has_value("productType"):
@@ -186,9 +176,10 @@ Camera = tuple[Sdf.Path, Usd.Prim | None, str]
 
 def _usable_var(target: Target) -> PrimValues | None:
     prim = target.prim
-    if not target.ok or prim is None or not prim.IsA(schemas.RenderVar):
+    if not target.ok or prim is None:
         return None
-    return prim_values(prim)
+    values = prim_values(prim)
+    return values if values.is_a(schemas.RenderVar) else None
 
 
 def _camera(target: Target) -> Camera:
