@@ -262,3 +262,50 @@ def test_the_declared_type_shortcut_keeps_schema_and_custom_answers(stage) -> No
             assert resolve.mismatched_spec(extra) is None  # no schema type to differ from
             assert resolve.mismatched_specs(extra) == []
             assert resolve.has_authored_value(extra)
+
+
+#: (prim type, attribute, the weak sublayer's opinion, the strong layer's):
+#: PrimValues reads an authored default of the strongest spec as the value,
+#: without HasAuthoredValue or Get; a block, an array, an asset, a time code or
+#: a path expression must still give USD's answers.
+_OPINIONS = [
+    ("RenderSettings", "resolution", "", "uniform int2 resolution = (2, 3)"),
+    ("RenderSettings", "resolution", "uniform int2 resolution = (2, 3)", "uniform int2 resolution = None"),
+    ("RenderSettings", "resolution", "uniform int2 resolution = (2, 3)", "uniform int2 resolution = AnimationBlock"),
+    ("RenderSettings", "resolution", "uniform int2 resolution.timeSamples = {1: (2, 3)}", "uniform int2 resolution = None"),
+    ("RenderSettings", "resolution", "", "uniform int2 resolution.timeSamples = {1: None}"),
+    ("RenderSettings", "resolution", "uniform int2 resolution = (2, 3)", "uniform int2 resolution.timeSamples = {}"),
+    ("RenderSettings", "resolution", "", "uniform int2 resolution = (5, 5)\n    uniform int2 resolution.timeSamples = {1: (7, 7)}"),
+    ("RenderSettings", "resolution", "uniform int2 resolution = (2, 3)", "uniform float2 resolution = (4, 5)"),
+    ("RenderSettings", "pixelAspectRatio", "", "uniform float pixelAspectRatio = 3\n    uniform float pixelAspectRatio.spline = {1: 1, 10: 2}"),
+    ("RenderSettings", "aspectRatioConformPolicy", "", "uniform token aspectRatioConformPolicy = </X>"),
+    ("RenderSettings", "includedPurposes", 'uniform token[] includedPurposes = ["render"]', 'uniform token[] includedPurposes = ["default"]'),
+    ("RenderSettings", "extra", "", "custom int extra = 4"),
+    ("RenderPass", "fileName", "", "uniform asset fileName = @{weak}@"),  # Get resolves it
+    ("RenderPass", "collection:renderVisibility:membershipExpression", "", "uniform pathExpression collection:renderVisibility:membershipExpression = \"/P/geo\""),
+    ("SpatialAudio", "startTime", "uniform timecode startTime = 10", ""),
+]
+
+
+@pytest.mark.parametrize(("prim_type", "name", "weak", "strong"), _OPINIONS)
+def test_the_strongest_default_answers_as_usd_does(prim_type, name, weak, strong) -> None:
+    weak_layer = Sdf.Layer.CreateAnonymous(".usda")
+    weak_layer.ImportFromString(f'#usda 1.0\nover "P"\n{{\n    {weak}\n}}\n')
+    strong = strong.replace("{weak}", weak_layer.identifier)
+    strong_layer = Sdf.Layer.CreateAnonymous(".usda")
+    strong_layer.ImportFromString(
+        f"#usda 1.0\n(\n    subLayers = [@{weak_layer.identifier}@ (offset = 5)]\n)\n"
+        f'def {prim_type} "P"\n{{\n    {strong}\n}}\n'
+        f'def {prim_type} "Q" (references = </P>)\n{{\n}}\n'
+    )
+    stage = Usd.Stage.Open(strong_layer)
+    for path in ("/P", "/Q"):
+        prim = stage.GetPrimAtPath(path)
+        attr = prim.GetAttribute(name)
+        expected = resolve.has_authored_value(attr)  # HasAuthoredValue and the specs
+        for without_clips in (True, False):
+            values = resolve.PrimValues(prim, without_clips)
+            assert values.has_value(name) == expected
+            assert values.authored(name) == (attr.Get() if expected else None)
+            values = resolve.PrimValues(prim, without_clips)
+            assert values.authored(name) == (attr.Get() if expected else None)  # unasked

@@ -228,6 +228,7 @@ def test_an_unauthored_attribute_is_answered_from_the_prim_property_names(
     # so no attribute handle or HasAuthoredValue is asked for it.
     stage = _file_stage(tmp_path, SHOT)
     asked = _record_attribute_calls(monkeypatch, "HasAuthoredValue")
+    reads = _record_attribute_calls(monkeypatch, "Get")
     handles: list[str] = []
     get_attribute = Usd.Prim.GetAttribute
 
@@ -241,7 +242,11 @@ def test_an_unauthored_attribute_is_answered_from_the_prim_property_names(
     for unauthored in ("/cam.projection", "/cam.shutter:open", "/Render/beauty.resolution"):
         assert unauthored not in asked
         assert unauthored not in handles
-    assert asked.count("/Render/color.sourceName") == 1  # authored: asked once
+    # Authored: its strongest spec's default is the value (no block, a string),
+    # read once from the spec, without HasAuthoredValue or Get.
+    assert handles.count("/Render/color.sourceName") == 1
+    assert "/Render/color.sourceName" not in asked
+    assert "/Render/color.sourceName" not in reads
 
 
 CLIPPED_SHOT = """#usda 1.0

@@ -202,6 +202,11 @@ class SchemaAttribute:
     uniform: bool = False
     #: ``type_name.type``, kept with it (reading it is a binding call).
     value_type: Tf.Type | None = None
+    #: A spec's default of this type is the value ``Get()`` returns at Default
+    #: when that spec is the strongest opinion: not an array (an array edit
+    #: composes with weaker opinions), an asset (``Get`` resolves it), a time
+    #: code (layer offsets apply) or a path expression (mapped across arcs).
+    plain: bool = False
 
 
 #: Per (definition key, attribute name), kept for the whole process: USD
@@ -217,7 +222,12 @@ def _declared_attribute(definition: Usd.PrimDefinition, name: str) -> SchemaAttr
     tokens = tuple(str(t) for t in attribute.GetMetadata("allowedTokens") or ())
     uniform = attribute.GetVariability() == Sdf.VariabilityUniform
     type_name = attribute.GetTypeName()
-    return SchemaAttribute(type_name, tokens, uniform, type_name.type)
+    plain = not type_name.isArray and str(type_name) not in _COMPOSED_SCALARS
+    return SchemaAttribute(type_name, tokens, uniform, type_name.type, plain)
+
+
+#: Scalar value types whose composed value is not a spec's default as authored.
+_COMPOSED_SCALARS = frozenset(("asset", "timecode", "pathExpression", "opaque", "group"))
 
 
 @cached
@@ -331,10 +341,14 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
 
 
 def _holds_well_typed_value(
-    stack: _Stack, schema_type: Callable[[], Sdf.ValueTypeName | None]
+    stack: _Stack,
+    schema_type: Callable[[], Sdf.ValueTypeName | None],
+    first_default: Any = None,
 ) -> bool:
     """Whether an attribute with an authored value (``stack``, its opinions,
-    and ``schema_type``, what its schema declares) holds a well-typed one."""
+    and ``schema_type``, what its schema declares) holds a well-typed one.
+    ``first_default``: the strongest opinion's default when the caller has
+    read it (else None)."""
     # The first value-holding spec of the property stack must have the schema's
     # type (as _mismatched_in reads it), and neither the first default nor the
     # first time samples may be a path: usda accepts ``<...>`` as the value of an
@@ -353,8 +367,11 @@ def _holds_well_typed_value(
     single = ((opinions[first],), declared, False)
     if not well_typed and _mismatched_in(single, schema_type) is not None:
         return False
-    if default_at < count and isinstance(opinions[default_at][0].default, Sdf.Path):
-        return False
+    if default_at < count:
+        if first_default is None or default_at != 0:
+            first_default = opinions[default_at][0].default
+        if isinstance(first_default, Sdf.Path):
+            return False
     return samples_at == count or not _path_in_samples(opinions[samples_at][0])
 
 
@@ -515,20 +532,44 @@ class PrimValues:
                 found = False  # no handle and no HasAuthoredValue needed
             else:
                 attr = self.attribute(name)
-                found = bool(attr) and attr.HasAuthoredValue()
-                if found:
-                    found = _holds_well_typed_value(
-                        self._attribute_specs(name),
-                        lambda: self.schema_attribute(name).type_name,
-                    )
+                found = bool(attr) and self._holds_value(name, attr)
             self._has[name] = found
         return found
+
+    def _holds_value(self, name: str, attr: Usd.Attribute) -> bool:
+        stack = self._attribute_specs(name)
+        opinions = stack[0]
+        default = None
+        if self._names_decide and opinions and opinions[0][1]:
+            # Without value clips the strongest spec that holds a value decides
+            # (UsdResolveInfo reads the stack strongest first): a default that
+            # is no block is an authored value, known without HasAuthoredValue.
+            default = opinions[0][0].default
+            if isinstance(default, _BLOCKS):
+                default = None
+        if default is None and not attr.HasAuthoredValue():
+            return False
+        if not _holds_well_typed_value(
+            stack, lambda: self.schema_attribute(name).type_name, default
+        ):
+            return False
+        if default is not None and self.schema_attribute(name).plain:
+            # At Default, Get() returns the strongest default (time samples and
+            # splines do not count there): the value is already read.
+            self._authored[name] = default
+        return True
 
     def authored(self, name: str) -> Any:
         """:func:`authored_value` of the named attribute at Default."""
         value = self._authored.get(name, _UNREAD)
         if value is _UNREAD:
-            value = self.attribute(name).Get() if self.has_value(name) else None
+            if not self.has_value(name):
+                value = None
+            else:
+                # has_value may have read it (the strongest spec's default).
+                value = self._authored.get(name, _UNREAD)
+                if value is _UNREAD:
+                    value = self.attribute(name).Get()
             self._authored[name] = value
         return value
 
@@ -657,6 +698,9 @@ class PrimValues:
 
 
 _UNREAD: Any = object()
+#: Defaults that hold no value: a value block, and an animation block (which
+#: leaves the default to weaker opinions and blocks their samples).
+_BLOCKS = (Sdf.ValueBlock, Sdf.AnimationBlock)
 
 
 def _definition_fallback(values: PrimValues, name: str) -> Any:
