@@ -12,7 +12,6 @@ from pxr import Sdf, Tf, Usd
 from usdrender_lint.api import Context, schemas
 from usdrender_lint.api.resolve import (
     prim_values,
-    resolve_targets,
     typed_target_problem,
     unusable_reason,
 )
@@ -49,10 +48,9 @@ def input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
 def _input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
     graph: dict[Sdf.Path, list[Sdf.Path]] = {}
     for prim in ctx.prims_of(schemas.RenderPass):
-        rel = prim.GetRelationship("inputPasses")
         graph[prim.GetPath()] = [
             t.path
-            for t in resolve_targets(rel)
+            for t in prim_values(prim).targets("inputPasses")
             if typed_target_problem(t, schemas.RenderPass, "a RenderPass") is None
         ]
     return graph

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import forwarded_targets
+from usdrender_lint.api.resolve import prim_values
 
 
 class ProductMissingRenderVars(Rule):
@@ -86,9 +86,10 @@ class ProductMissingRenderVars(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = prim.GetRelationship("orderedVars")
-        if forwarded_targets(rel):
+        values = prim_values(prim)
+        if values.forwarded("orderedVars"):
             return
+        rel = values.relationship("orderedVars")
         state = "is empty" if rel and rel.HasAuthoredTargets() else "is not authored"
         yield Diagnostic(
             message=f"RenderProduct {prim.GetPath()} has no RenderVars: orderedVars {state}; "

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import resolve_targets, typed_target_problem
+from usdrender_lint.api.resolve import prim_values, typed_target_problem
 
 
 class ProductsTargetInvalid(Rule):
@@ -84,8 +84,8 @@ class ProductsTargetInvalid(Rule):
     prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = prim.GetRelationship("products")
-        for target in resolve_targets(rel):
+        values = prim_values(prim)
+        for target in values.targets("products"):
             problem = typed_target_problem(target, schemas.RenderProduct, "a RenderProduct")
             if problem is None:
                 continue
@@ -93,5 +93,5 @@ class ProductsTargetInvalid(Rule):
                 message=f"products target {target.path} {problem}, so that output is never "
                 "rendered; "
                 "target a defined, active RenderProduct prim",
-                at=rel,
+                at=values.relationship("products"),
             )

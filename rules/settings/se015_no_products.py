@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import forwarded_targets
+from usdrender_lint.api.resolve import prim_values
 
 
 class NoProducts(Rule):
@@ -65,9 +65,10 @@ class NoProducts(Rule):
     prim_types = (schemas.RenderSettings,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = prim.GetRelationship("products")
-        if forwarded_targets(rel):
+        values = prim_values(prim)
+        if values.forwarded("products"):
             return
+        rel = values.relationship("products")
         authored = bool(rel) and rel.HasAuthoredTargets()
         state = "is empty" if authored else "is not authored"
         yield Diagnostic(

@@ -652,8 +652,11 @@ class PrimValues:
             if name not in self._listed_names():
                 paths = ()  # no layer authors it (value clips hold no targets)
             else:
-                # Shared with readers of the handle (the profiles).
-                paths = _composed_targets((self.relationship(name), True))
+                # Read here, not through the handle-keyed cache of
+                # forwarded_targets: hashing a relationship handle (and
+                # comparing it on a hit) are binding calls, and every reader of
+                # a render prim's targets (rules, profiles) comes through here.
+                paths = _read_targets(self.relationship(name), True)
             self._forwarded[name] = paths
         return paths
 
@@ -664,8 +667,8 @@ class PrimValues:
             if name not in self._listed_names():
                 found = ()  # no layer authors it (value clips hold no targets)
             else:
-                # Shared with readers of the handle (the profiles).
-                found = _resolved_targets(self.relationship(name))
+                stage = self.prim.GetStage()
+                found = tuple(resolve_target(stage, p) for p in self.forwarded(name))
             self._targets[name] = found
         return found
 
