@@ -95,8 +95,10 @@ class ProductNameEmpty(Rule):
         name_template: str = ""
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        attr = prim_values(prim).attribute("productName")
-        if attr.GetNumTimeSamples():
+        values = prim_values(prim)
+        attr = values.attribute("productName")
+        # may_vary: no samples are asked of an attribute that provably has none.
+        if values.may_vary("productName") and attr.GetNumTimeSamples():
             return
         if checked_value(prim, "productName", ctx) != "":
             return

@@ -108,7 +108,12 @@ class ProductNameDuplicate(Rule):
                 products.append(config.product)
         for settings in ctx.prims_of(schemas.RenderSettings):
             products = products_of[id(settings)]
-            attrs = [prim_values(p).attribute("productName") for p in products]
+            # Only an attribute that may have time samples adds evaluation times.
+            attrs = [
+                values.attribute("productName")
+                for values in map(prim_values, products)
+                if values.may_vary("productName")
+            ]
             for time in joint_evaluation_times(attrs, ctx.time_sample_cap):
                 owners: dict[str, Usd.Prim] = {}
                 for product in products:

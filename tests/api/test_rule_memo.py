@@ -229,6 +229,8 @@ def test_an_unauthored_attribute_is_answered_from_the_prim_property_names(
     stage = _file_stage(tmp_path, SHOT)
     asked = _record_attribute_calls(monkeypatch, "HasAuthoredValue")
     reads = _record_attribute_calls(monkeypatch, "Get")
+    sampled = _record_attribute_calls(monkeypatch, "GetTimeSamples")
+    counted = _record_attribute_calls(monkeypatch, "GetNumTimeSamples")
     handles: list[str] = []
     get_attribute = Usd.Prim.GetAttribute
 
@@ -247,6 +249,8 @@ def test_an_unauthored_attribute_is_answered_from_the_prim_property_names(
     assert handles.count("/Render/color.sourceName") == 1
     assert "/Render/color.sourceName" not in asked
     assert "/Render/color.sourceName" not in reads
+    # PR001 and PR002 ask no samples of a productName that provably has none.
+    assert "/Render/beauty.productName" not in sampled + counted
 
 
 CLIPPED_SHOT = """#usda 1.0
