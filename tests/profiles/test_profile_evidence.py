@@ -15,8 +15,10 @@ from pathlib import Path
 import pytest
 from pxr import Sdf, Usd
 
+from usdrender_lint.api.cache import lint_cache
+from usdrender_lint.api.resolve import prim_values
 from usdrender_lint.engine import Linter
-from usdrender_lint.profiles import GENERIC, PROFILES, Profiler
+from usdrender_lint.profiles import GENERIC, PROFILES, Profiler, detect
 from usdrender_lint.profiles.detect import Assignment
 from usdrender_lint.profiles.model import Profile
 from usdrender_lint.testing import all_rules
@@ -194,3 +196,71 @@ def test_without_evidence_every_scope_is_the_stages(tmp_path: Path) -> None:
     assignment = _assignment(tmp_path, _usda(BASE))
     assert assignment.stage.name == "generic"
     assert assignment.stage.reason.startswith("auto: no renderer's")
+
+
+def test_every_namespace_ends_with_a_colon() -> None:
+    """The quick test looks for a ":" in a prim's names before matching
+    every renderer's namespaces (detect._Scan.plain)."""
+    for profile in PROFILES.values():
+        for namespace in profile.namespaces:
+            assert namespace.endswith(":"), (profile.name, namespace)
+
+
+def _with(where: str, *lines: str, head: str | None = None) -> str:
+    prims = dict(BASE)
+    old_head, properties = prims[where]
+    prims[where] = (head or old_head, [*properties, *lines])
+    return _usda(prims)
+
+
+#: Stages whose prims share what the quick test remembers per lint: a camera
+#: target of both the settings and a product, a product that authors no
+#: productType (its definition's answer) before one that does, vars that
+#: several products target.
+SHARED = [
+    _usda(
+        {
+            **BASE,
+            "/Cam": ('def OmniLidar "Cam"', []),
+            "/Render/P": ('def RenderProduct "P"', ["rel camera = </Cam>"]),
+        }
+    ),
+    _usda(
+        {
+            **BASE,
+            "/Render/S": (
+                'def RenderSettings "S"',
+                ["rel camera = </Cam>", "rel products = [</Render/P>, </Render/Q>]"],
+            ),
+            "/Render/Q": (
+                'def RenderProduct "Q"',
+                ['uniform token productType = "arnold"', "rel orderedVars = </Render/V>"],
+            ),
+            "/Render/W": ('def RenderVar "W"', ["int karma:evidence = 1"]),
+            "/Render/R": (
+                'def RenderProduct "R"',
+                ["rel orderedVars = [</Render/V>, </Render/W>]"],
+            ),
+        }
+    ),
+    _with("/Render/V", "int arnold:evidence = 1"),
+    _with("/Render/P", "rel camera = </OmniverseKit_Persp>"),
+]
+
+
+@pytest.mark.parametrize("usda", [_usda(BASE), *SHARED, *(p.values[1] for p in CASES)])
+def test_the_quick_test_agrees_with_the_full_scan(usda: str) -> None:
+    """``plain`` (one test per kind of evidence, answers shared between prims)
+    says a prim holds no evidence exactly when the full scan of each renderer
+    finds none on it, whatever prims were asked before it."""
+    stage = Usd.Stage.CreateInMemory()
+    stage.GetRootLayer().ImportFromString(usda)
+    with lint_cache():
+        prims = list(stage.Traverse())
+        quick, full = detect._Scan(stage), detect._Scan(stage)
+        full.plain = lambda values, kind: False  # type: ignore[method-assign]  # scan them all
+        plain = [quick.plain(prim_values(p), detect._kind(p)) for p in prims]
+        found = [full.facts(p).evidence for p in prims]
+    assert plain == [not f for f in found]
+    # Every case but the plain one and the layer's data holds evidence on a prim.
+    assert not all(plain) or usda == _usda(BASE) or "customLayerData" in usda

@@ -79,6 +79,8 @@ class Assignment:
         return judge(code, severity, rule_profile, self.choices_for(path))
 
     def present(self) -> set[str]:
+        if not self.scopes:
+            return {self.stage.name}
         return {c.name for c in self.scopes.values()} | {self.stage.name}
 
     def _add(self, key: Sdf.Path, prims: Iterable[Usd.Prim | Sdf.Path]) -> None:
@@ -165,9 +167,6 @@ def _kind(prim: Usd.Prim) -> str:
         return _PRODUCT
     return _SETTINGS if prim.IsA(schemas.RenderSettingsBase) else _OTHER
 
-
-#: "Not looked at yet" (None: not a usable RenderVar).
-_UNSEEN: Any = object()
 
 #: A camera target of a settings or product prim, the typed prim there (None
 #: when there is none) and its type name ("" then).
@@ -288,8 +287,12 @@ class _Scan:
         # Usd.Prim is a binding call.
         self._facts: dict[PrimValues, _Facts] = {}
         self._plain: dict[PrimValues, bool] = {}
-        self._cameras: dict[Sdf.Path, Camera] = {}
-        self._vars: dict[Sdf.Path, PrimValues | None] = {}
+        self._fallback_plain: dict[tuple[str, tuple[str, ...]], bool] = {}
+        # Keyed by a Target's id (a lint resolves each path to one Target,
+        # which the entry holds so that its id is not reused): hashing its
+        # path is a binding call. A camera's entry says whether it is plain.
+        self._cameras: dict[int, tuple[Target, Camera, bool]] = {}
+        self._vars: dict[int, tuple[Target, PrimValues | None]] = {}
         self._scopes_present: bool | None = None
 
     def facts(self, prim: Usd.Prim, kind: str | None = None) -> _Facts:
@@ -310,26 +313,55 @@ class _Scan:
     def plain(self, values: PrimValues, kind: str) -> bool:
         """True when no renderer can find evidence on the prim (the common
         case), decided with one test per kind of evidence for all renderers
-        together."""
+        together. What :meth:`reads` reads, in its order, each tested as soon
+        as it is read: a prim that holds evidence is read again in full
+        (_Facts._found)."""
         found = self._plain.get(values)
-        if found is None:
-            found = self._plain[values] = self._holds_none(values, kind)
-        return found
-
-    def _holds_none(self, values: PrimValues, kind: str) -> bool:
-        names, applied, product_type, cameras = self.reads(values, kind)
-        if applied or (product_type and _some_product_type(product_type)):
+        if found is not None:
+            return found
+        found = self._plain[values] = False
+        names = values.authored_names()
+        key = values.definition_key()
+        if key[1]:  # an applied API schema
             return False
-        if self.scopes_present():
+        if _PRODUCT_TYPES and kind is _PRODUCT and not self._plain_product_type(values, names, key):
+            return False
+        if kind is not _OTHER and "camera" in names:
+            cameras = self._cameras
+            for target in values.targets("camera"):
+                entry = cameras.get(id(target))
+                if entry is None or entry[0] is not target:
+                    entry = self._camera(target)
+                if not entry[2]:
+                    return False
+        # Every namespace ends with ":", which few render prims' names hold:
+        # one test of them all together says so first.
+        if ":" in "".join(names) and any(map(str.startswith, names, repeat(_NAMESPACES))):
+            return False
+        present = self._scopes_present
+        if present is None:
+            present = self.scopes_present()
+        if present:
             text = str(values.prim.GetPath())
             if text.startswith(_SCOPES) or any(text + "/" == s for s in _SCOPES):
                 return False
-        if _NAMESPACES and any(map(str.startswith, names, repeat(_NAMESPACES))):
-            return False
-        for target, _, type_name in cameras:
-            if _some_runtime_camera(target) or (type_name and _some_camera_type(type_name)):
-                return False
-        return True
+        found = self._plain[values] = True
+        return found
+
+    def _plain_product_type(
+        self, values: PrimValues, names: Sequence[str], key: tuple[str, tuple[str, ...]]
+    ) -> bool:
+        """Whether a product's productType is no renderer's; for one that no
+        layer authors, one answer per definition (``key``: products share the
+        schema's fallback)."""
+        if "productType" in names:
+            token = _product_type(values, names)
+            return not (token and _some_product_type(token))
+        found = self._fallback_plain.get(key)
+        if found is None:
+            token = _product_type(values, names)
+            found = self._fallback_plain[key] = not (token and _some_product_type(token))
+        return found
 
     def scopes_present(self) -> bool:
         """Whether a prim may lie in a renderer's scope: the prim each scope
@@ -345,26 +377,54 @@ class _Scan:
     def cameras(self, values: PrimValues) -> list[Camera]:
         """A settings or product prim's camera targets and the typed prims there."""
         found = []
+        cameras = self._cameras
         for target in values.targets("camera"):
-            camera = self._cameras.get(target.path)
-            if camera is None:
-                camera = self._cameras[target.path] = _camera(target)
-            found.append(camera)
+            entry = cameras.get(id(target))
+            if entry is None or entry[0] is not target:
+                entry = self._camera(target)
+            found.append(entry[1])
         return found
+
+    def _camera(self, target: Target) -> tuple[Target, Camera, bool]:
+        """A camera target's entry: the target, its Camera, and whether it is
+        no renderer's evidence (each target looked at once: settings and
+        products share their cameras)."""
+        camera = _camera(target)
+        _, _, type_name = camera
+        plain = not (
+            _some_runtime_camera(target.path) or (type_name and _some_camera_type(type_name))
+        )
+        entry = self._cameras[id(target)] = (target, camera, plain)
+        return entry
 
     def var_values(self, product: PrimValues) -> list[PrimValues]:
         """The usable RenderVars a product's ``orderedVars`` targets, in order."""
-        if "orderedVars" not in product.authored_names():
-            return []
         found = []
+        known = self._vars
+        # A relationship no layer authors has no targets (PrimValues.targets).
         for target in product.targets("orderedVars"):
             # Products share their vars: each target is looked at once.
-            var = self._vars.get(target.path, _UNSEEN)
-            if var is _UNSEEN:
-                var = self._vars[target.path] = _usable_var(target)
-            if var is not None:
-                found.append(var)
+            entry = known.get(id(target))
+            if entry is None or entry[0] is not target:
+                entry = known[id(target)] = (target, _usable_var(target))
+            if entry[1] is not None:
+                found.append(entry[1])
         return found
+
+    def plain_vars(self, product: PrimValues) -> bool:
+        """True when no usable RenderVar a product's ``orderedVars`` targets
+        holds evidence (:meth:`var_values` and :meth:`plain` of each, without
+        a list: products share their vars, most of them already looked at)."""
+        known = self._vars
+        plain = self._plain
+        for target in product.targets("orderedVars"):
+            entry = known.get(id(target))
+            if entry is None or entry[0] is not target:
+                entry = known[id(target)] = (target, _usable_var(target))
+            var = entry[1]
+            if var is not None and not (plain.get(var) or self.plain(var, _OTHER)):
+                return False
+        return True
 
     def vars_of(self, product: _Facts) -> list[_Facts]:
         """The facts of the usable RenderVars a product's ``orderedVars`` targets."""
@@ -413,9 +473,10 @@ def layer_data_evidence(stage: Usd.Stage | None) -> PrimEvidence:
     """The keys of the root layer's customLayerData (nested dictionaries'
     keys joined with ":", ``cameraSettings:boundCamera``) that a renderer's
     application writes, per renderer."""
-    if stage is None:
+    data = stage.GetRootLayer().customLayerData if stage is not None else None
+    if not data:  # most layers hold none
         return {}
-    keys = _layer_data_keys(dict(stage.GetRootLayer().customLayerData))
+    keys = _layer_data_keys(dict(data))
     found: PrimEvidence = {}
     for profile in _RENDERERS:
         phrases = [
@@ -472,24 +533,22 @@ def _plain_scopes(groups: list[_Group], lone_products: Sequence[Usd.Prim], scan:
     every scope is judged as the stage is, and none needs building. The prims
     are read in the order :func:`_scopes` reads them."""
     plain = scan.plain
-    if not all(plain(prim_values(settings), _SETTINGS) for settings, _ in groups):
-        return False
+    for settings, _ in groups:
+        if not plain(prim_values(settings), _SETTINGS):
+            return False
     for _, products in groups:
         if not _plain_products(products, scan):
             return False
-    return all(_plain_products([p], scan) for p in lone_products)
+    return all(_plain_products((p,), scan) for p in lone_products)
 
 
 def _plain_products(products: Sequence[Usd.Prim], scan: _Scan) -> bool:
     plain = scan.plain
     found = [prim_values(p) for p in products]
-    if not all(plain(values, _PRODUCT) for values in found):
-        return False
     for values in found:
-        for var in scan.var_values(values):
-            if not plain(var, _OTHER):
-                return False
-    return True
+        if not plain(values, _PRODUCT):
+            return False
+    return all(scan.plain_vars(values) for values in found)
 
 
 def _scopes(groups: list[_Group], lone_products: Sequence[Usd.Prim], scan: _Scan) -> list[_Scope]:
@@ -538,12 +597,17 @@ def assign(
     setting: str = AUTO,
     reason: str = "",
     render_prims: Sequence[Usd.Prim] = (),
+    stage: Usd.Stage | None = None,
 ) -> Assignment:
     """Decide the profile of every scope. ``setting`` is a profile name or
-    ``auto``; ``reason`` says where an explicit one was configured."""
+    ``auto``; ``reason`` says where an explicit one was configured;
+    ``render_prims`` judge the stage when it has no scope; ``stage`` is theirs
+    (by default the stage of the configurations or prims)."""
     if setting != AUTO:
         return _explicit(setting, reason)
-    scan = _Scan(_stage_of(configurations, [*lone_products, *render_prims]))
+    if stage is None:
+        stage = _stage_of(configurations, [*lone_products, *render_prims])
+    scan = _Scan(stage)
     groups = _grouped(configurations)
     if groups or lone_products:
         plain = _plain_scopes(groups, lone_products, scan)
@@ -551,7 +615,7 @@ def assign(
         plain = all(scan.plain(prim_values(p), _kind(p)) for p in render_prims)
     if plain:
         # Every scope and the stage judged alike, by the root layer's data alone.
-        return Assignment(stage=scan.infer(()))
+        return Assignment({}, {}, scan.infer(()))  # every field by position: no defaults
     scopes = _scopes(groups, lone_products, scan)
     assignment = Assignment()
     for key, members, _, _ in scopes:
@@ -624,11 +688,16 @@ class Profiler:
         setting, reason = self.choose(ctx.file)
         if setting != AUTO:  # the stage's configurations need not even be known
             return _explicit(setting, reason)
+        configurations = ctx.configurations
+        lone_products = ctx.untargeted_products
+        # The render prims judge the stage only when it has no scope.
+        scopeless = not configurations and not lone_products
         return assign(
-            ctx.configurations,
-            ctx.untargeted_products,
+            configurations,
+            lone_products,
             ctx.prims_of(schemas.RenderPass),
             setting,
             reason,
-            [p for prims in ctx.render_prims.values() for p in prims],
+            [p for prims in ctx.render_prims.values() for p in prims] if scopeless else (),
+            ctx.stage,
         )
