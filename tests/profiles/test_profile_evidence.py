@@ -217,7 +217,7 @@ def _with(where: str, *lines: str, head: str | None = None) -> str:
 #: target of both the settings and a product, a product that authors no
 #: productType (its definition's answer) before one that does, vars that
 #: several products target.
-SHARED = [
+SHARING_PRIMS = [
     _usda(
         {
             **BASE,
@@ -248,7 +248,7 @@ SHARED = [
 ]
 
 
-@pytest.mark.parametrize("usda", [_usda(BASE), *SHARED, *(p.values[1] for p in CASES)])
+@pytest.mark.parametrize("usda", [_usda(BASE), *SHARING_PRIMS, *(p.values[1] for p in CASES)])
 def test_the_quick_test_agrees_with_the_full_scan(usda: str) -> None:
     """``plain`` (one test per kind of evidence, answers shared between prims)
     says a prim holds no evidence exactly when the full scan of each renderer
