@@ -17,8 +17,9 @@ import pytest
 from cli_support import command, settings_crate
 from pxr import Gf, Usd, UsdGeom, Vt
 
+from usdrender_lint.engine.linter import unsafe_to_open
 from usdrender_lint.layers.crate import crate_structure_problem
-from usdrender_lint.layers.nesting import MAX_DEPTH, nesting_depth
+from usdrender_lint.layers.nesting import MAX_DEPTH, nesting_depth, nesting_problem
 
 CLEAN = '#usda 1.0\ndef Scope "Render"\n{\n}\n'
 
@@ -275,3 +276,28 @@ def test_a_text_layer_nested_too_deeply_is_st001_and_the_others_are_linted(
         assert finding["code"] == "ST001"
         assert finding["message"].startswith(f"the file nests {levels:,} levels deep")
         assert files["shots/clean.usda"]["status"] == "linted"
+
+
+@pytest.mark.parametrize("cookie", ["#usda 1.0\n", "#usda\n"])
+def test_the_nesting_check_reads_a_text_layer_once_and_refuses_it(
+    tmp_path: Path, cookie: str
+) -> None:
+    """The engine hands the nesting check the bytes it reads for the layer's
+    words (engine.linter.unsafe_to_open); a file USD's text format reads
+    that the word scan does not (no space after the cookie) is still checked."""
+    deep = tmp_path / "deep.usda"
+    deep.write_text(cookie + _deep_prims(20_000).removeprefix("#usda 1.0\n"))
+    problem = unsafe_to_open(str(deep))
+    assert problem is not None and "20,000 levels deep" in problem
+    assert nesting_problem(deep, deep.read_bytes()) == problem == nesting_problem(deep)
+    (tmp_path / "clean.usda").write_text(CLEAN)
+    assert unsafe_to_open(str(tmp_path / "clean.usda")) is None
+
+
+def test_the_pre_open_check_still_reads_a_crate_s_structure(tmp_path: Path) -> None:
+    data = _crate(tmp_path)
+    start, _ = _sections(data)["TOKENS"]
+    data[start : start + 8] = struct.pack("<Q", 1 << 40)
+    (tmp_path / "bad.usdc").write_bytes(data)
+    problem = unsafe_to_open(str(tmp_path / "bad.usdc"))
+    assert problem is not None and "TOKENS section states" in problem

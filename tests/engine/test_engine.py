@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from pxr import Usd, UsdRender
+from pxr import Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
 from usdrender_lint.engine import Linter
@@ -283,3 +283,31 @@ def test_the_cache_is_dropped_with_the_lint() -> None:
     linter.lint_stage(stage)
     assert len(caches) == 2 and caches[0] is not caches[1]
     assert all(len(cache) >= 1 for cache in caches)
+
+
+class HalfwayExploder(Rule):
+    """Reports a prim, then raises.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST004"
+    name = "halfway-exploder"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        yield Diagnostic(message="before the error", at=prim)
+        raise ValueError("boom")
+
+
+def test_a_rule_raising_part_way_loses_its_findings_on_that_prim_only(shot: Path) -> None:
+    run = Linter([HalfwayExploder(), ResolutionReporter()]).run_path(str(shot))
+    codes = [f.code for f in run.findings]
+    assert codes.count(INTERNAL_ERROR_CODE) == 1 and "TST004" not in codes
+    assert "TST003" in codes  # the next rule on the same prim still ran
+    internal = next(f for f in run.findings if f.code == INTERNAL_ERROR_CODE)
+    assert run.origin(internal) == ("TST004", Sdf.Path("/Render/Settings"))
+    reported = next(f for f in run.findings if f.code == "TST003")
+    assert run.origin(reported) == ("TST003", Sdf.Path("/Render/Settings"))

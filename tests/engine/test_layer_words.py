@@ -252,3 +252,32 @@ def test_a_text_layer_is_searched_for_each_word_when_first_asked(
     assert not without_external_arcs(str(first)) and without_external_arcs(str(second))
     key = layer_words._key(str(second))
     assert key is not None and layer_words._scan(key).unsearched == frozenset()
+
+
+def test_a_text_layer_s_bytes_are_read_once_for_every_question(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The engine reads a text layer's bytes before USD does (the nesting
+    check): the words are then answered from those bytes, not a second read."""
+    path = tmp_path / "shot.usda"
+    text = b'#usda 1.0\ndef "p" (\n    clips = {}\n    payload = @x.usda@\n)\n{\n}\n'
+    path.write_bytes(text)
+    assert layer_words.text_bytes(str(path)) == text
+
+    def no_second_read(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the file was read again")
+
+    monkeypatch.setattr(layer_words, "open", no_second_read, raising=False)
+    assert layer_words.text_bytes(str(path)) == text
+    assert may_hold(str(path), WORDS) == {"clips", "payload"}
+    assert not without_external_arcs(str(path))
+
+
+def test_only_a_text_layer_s_bytes_are_read_whole(tmp_path: Path) -> None:
+    layer = Sdf.Layer.CreateNew(str(tmp_path / "plain.usdc"))
+    Sdf.CreatePrimInLayer(layer, "/World").specifier = Sdf.SpecifierDef
+    layer.Save()
+    assert layer_words.text_bytes(str(tmp_path / "plain.usdc")) is None
+    (tmp_path / "other.usda").write_bytes(b"#sdf 1.4.32\n")
+    assert layer_words.text_bytes(str(tmp_path / "other.usda")) is None
+    assert layer_words.text_bytes(str(tmp_path / "missing.usda")) is None

@@ -200,8 +200,35 @@ def _search(key: _Key, scan: _Scan, words: Collection[str], data: bytes | None =
     return answer
 
 
-def _read(key: _Key) -> _Scan:
+def text_bytes(path: str) -> bytes | None:
+    """The bytes of the text layer (``#usda``) at ``path``, or None for any
+    other file or one that cannot be read. Read once per file version: the
+    engine checks them before USD reads the file (layers/nesting.py), and
+    :func:`may_hold` answers from the same bytes (no second read)."""
     global _held_text
+    key = _key(path)
+    if key is None:
+        return None
+    if _held_text is not None and _held_text[0] == key:
+        return _held_text[1]
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(len(USDA_MAGIC))
+            if head != USDA_MAGIC:
+                return None  # a crate is never read whole here
+            data = head + handle.read()
+    except OSError:
+        return None
+    if len(data) != key[1]:
+        return None  # changed since it was looked at: read as any other file
+    if key not in _memo:
+        _remember(key, _text_scan(key, data))
+    elif len(data) <= MAX_HELD_TEXT:
+        _held_text = (key, data)  # scanned in an earlier lint: its unsearched words
+    return data
+
+
+def _read(key: _Key) -> _Scan:
     path = key[0]
     try:
         with open(path, "rb") as handle:
@@ -212,19 +239,25 @@ def _read(key: _Key) -> _Scan:
                     return _UNKNOWN
                 return _Scan("crate", frozenset(w for w in WORDS if w in tokens), specs)
             if head.startswith(USDA_MAGIC):
-                data = head + handle.read()
-                at = {"@"} if b"@" in data else set()
-                specs = len(data) // TEXT_BYTES_PER_SPEC
-                if b"\\" in data:  # a quoted string may spell any word with escapes
-                    return _Scan("text", frozenset(WORDS) | at, specs)
-                scan = _Scan("text", frozenset(at), specs, frozenset(WORDS))
-                if len(data) > MAX_HELD_TEXT:
-                    return _search(key, scan, WORDS, data)  # every word now, not keep the bytes
-                _held_text = (key, data)
-                return scan
+                return _text_scan(key, head + handle.read())
     except (OSError, struct.error, ValueError):
         pass  # unreadable, or a crate cut short: may hold anything
     return _UNKNOWN
+
+
+def _text_scan(key: _Key, data: bytes) -> _Scan:
+    """The scan of a text layer's bytes ``data``; they are kept for the words
+    asked next when not too large."""
+    global _held_text
+    at = {"@"} if b"@" in data else set()
+    specs = len(data) // TEXT_BYTES_PER_SPEC
+    if b"\\" in data:  # a quoted string may spell any word with escapes
+        return _Scan("text", frozenset(WORDS) | at, specs)
+    scan = _Scan("text", frozenset(at), specs, frozenset(WORDS))
+    if len(data) > MAX_HELD_TEXT:
+        return _search(key, scan, WORDS, data)  # every word now, not keep the bytes
+    _held_text = (key, data)
+    return scan
 
 
 def _crate_tokens(handle, head: bytes) -> tuple[set[str] | None, int | None]:  # noqa: ANN001
@@ -270,5 +303,6 @@ __all__ = [
     "layers_may_hold",
     "may_hold",
     "spec_count",
+    "text_bytes",
     "without_external_arcs",
 ]

@@ -300,9 +300,7 @@ class Linter:
     def _lint_file(
         self, path: str, trace: _Trace, inspect: Inspector[_T] | None, full_composition: bool
     ) -> LintRun[_T]:
-        # Before USD reads the file: a corrupt crate's counts cost minutes and GBs,
-        # a text layer nesting 100,000 levels overflows USD's parser.
-        problem = crate_structure_problem(path) or nesting_problem(path)
+        problem = unsafe_to_open(path)
         if problem is not None:
             raise CorruptValue(problem)
         masked = None if full_composition or self.full_composition else self._open_partial(path)
@@ -374,10 +372,11 @@ class Linter:
                 if found is not None:
                     return found
             prims = stage.Traverse()
+        type_name_of = Usd.Prim.GetTypeName  # unbound: see _walk
         if may_suppress:
             has = suppress.has_suppressions
-            return [p for p in prims if wants(p.GetTypeName()) or has(p)]
-        return [p for p in prims if wants(p.GetTypeName())]
+            return [p for p in prims if wants(type_name_of(p)) or has(p)]
+        return [p for p in prims if wants(type_name_of(p))]
 
     def _open_partial(self, path: str) -> partial.PartialStage | None:
         try:
@@ -422,13 +421,9 @@ class Linter:
                 run = self._run
                 # A renderer rule runs only where some configuration is its renderer's.
                 present = self._decide_profiles(ctx)
-                for rule in self._stage_rules:
-                    if rule.profile is None or rule.profile in present:
-                        findings.extend(run(rule, ctx, trace, rule.check_stage, ctx))
+                run(self._stage_rules, None, ctx, trace, present, findings)
                 for prim, rules in work:
-                    for rule in rules:
-                        if rule.profile is None or rule.profile in present:
-                            findings.extend(run(rule, ctx, trace, rule.check_prim, prim, ctx))
+                    run(rules, prim, ctx, trace, present, findings)
                 findings = self._apply_data_suppressions(ctx, trace, findings, suppressing)
                 findings = sorted(set(findings), key=Finding.sort_key)
                 if inspect is not None:
@@ -490,11 +485,15 @@ class Linter:
         if prims is None and own_stage and not may_suppress:
             # Then only the typed prims matter, and USD finds them without a Python walk.
             prims = typed_prims.find(stage, self._dispatch.wants, unknown)
+        # Unbound: a method read from a prim passes Usd.Object.__getattribute__'s
+        # validity check, which costs more than the call (the walk's prims are valid).
+        type_name_of = Usd.Prim.GetTypeName
+        lookup = self._dispatch.lookup
         for prim in stage.Traverse() if prims is None else prims:
             if has_suppressions is not None and has_suppressions(prim):
                 suppressing.append(prim)
-            type_name = prim.GetTypeName()
-            rules, kinds = self._dispatch.lookup(type_name)
+            type_name = type_name_of(prim)
+            rules, kinds = lookup(type_name)
             for kind in kinds:
                 ctx.render_prims.setdefault(kind, []).append(prim)
             if rules:
@@ -503,23 +502,38 @@ class Linter:
                 ctx.unknown_type_prims.append(prim)
         return work, suppressing
 
-    def _run(self, rule: Rule, ctx: Context, trace: _Trace, hook, *args) -> list[Finding]:
-        findings = []
-        try:
-            # A plain loop: 400 hook calls a shot on a CI gate, most yielding nothing.
-            for diagnostic in hook(*args) or ():
-                finding = self._finding(rule, diagnostic, ctx, trace)
-                if finding is not None:
-                    findings.append(finding)
-        except (FullStageRequired, UnicodeDecodeError, CorruptValue):
-            raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
-        except Exception as exc:
-            findings = [self._rule_error(rule, ctx, exc, args[0])]
-        if findings:  # recorded always: a finding is rare next to a hook call
-            prim = args[0].GetPath() if isinstance(args[0], Usd.Prim) else None
-            for finding in findings:
-                trace.origins.setdefault(finding, (rule.code, prim))
-        return findings
+    def _run(
+        self,
+        rules: Sequence[Rule],
+        prim: Usd.Prim | None,
+        ctx: Context,
+        trace: _Trace,
+        present: set[str],
+        findings: list[Finding],
+    ) -> None:
+        """Run the ``rules`` whose profile is ``present`` (or that have none) on
+        ``prim`` (``check_prim``), or on the stage for None (``check_stage``),
+        adding their findings to ``findings``. One call per prim, not per
+        hook: a CI gate shot makes about 460 hook calls, most yielding nothing."""
+        for rule in rules:
+            if rule.profile is not None and rule.profile not in present:
+                continue
+            start = len(findings)
+            try:
+                made = rule.check_stage(ctx) if prim is None else rule.check_prim(prim, ctx)
+                for diagnostic in made or ():
+                    finding = self._finding(rule, diagnostic, ctx, trace)
+                    if finding is not None:
+                        findings.append(finding)
+            except (FullStageRequired, UnicodeDecodeError, CorruptValue):
+                raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
+            except Exception as exc:
+                del findings[start:]  # the hook's other findings are lost
+                findings.append(self._rule_error(rule, ctx, exc, ctx if prim is None else prim))
+            if len(findings) > start:  # a finding is rare next to a hook call
+                origin = (rule.code, None if prim is None else prim.GetPath())
+                for finding in findings[start:]:
+                    trace.origins.setdefault(finding, origin)
 
     def _rule_error(
         self, rule: Rule, ctx: Context, exc: Exception, target: Usd.Prim | Context
@@ -596,6 +610,17 @@ class Linter:
                 _without_position(line),
                 _error_location(path, line),
             )
+
+
+def unsafe_to_open(path: str) -> str | None:
+    """Why USD must not read the file at ``path`` (one line), or None: a
+    corrupt crate's counts cost minutes and GBs, a text layer nesting 100,000
+    levels overflows USD's parser. A text layer's bytes are read once for
+    this and for the questions layer_words answers later in the lint."""
+    text = layer_words.text_bytes(path)
+    if text is not None:
+        return nesting_problem(path, text)
+    return crate_structure_problem(path) or nesting_problem(path)
 
 
 def _record(reads: Reads, stage: Usd.Stage, ctx: Context, masked: bool) -> None:

@@ -30,13 +30,11 @@ from typing import Any
 from pxr import Sdf, Tf, Usd
 
 from ..api import Fix
-from ..layers.crate import crate_structure_problem
 from ..layers.files import real_path, unreadable_reason
-from ..layers.nesting import nesting_problem
 from ..model import FileResult, Finding
 from ..records import record
 from .assets import Reads
-from .linter import RENDER_SCHEMAS, Linter, LintRun
+from .linter import RENDER_SCHEMAS, Linter, LintRun, unsafe_to_open
 from .locate import locate
 from .stage import open_stage
 from .typed_prims import traversal_key
@@ -190,7 +188,7 @@ class VariantExplorer:
         whole (``full_composition`` is accepted, as by Linter.run_path). The
         result's notes say how many combinations the cap skipped; ``reads``
         records what every combination's lint read."""
-        if unreadable_reason(path) or crate_structure_problem(path) or nesting_problem(path):
+        if unreadable_reason(path) or unsafe_to_open(path):
             return self.linter.run_path(path, reads=reads)  # it reports what is wrong
         opened = open_stage(path)
         if opened.stage is None:

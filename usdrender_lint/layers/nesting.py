@@ -23,23 +23,31 @@ _NOT_STRUCTURE = re.compile(
     rb'"""[\s\S]*?"""|\'\'\'[\s\S]*?\'\'\'|"(?:[^"\\\n]|\\.)*"|\'(?:[^\'\\\n]|\\.)*\''
     rb"|#[^\n]*|@@@[\s\S]*?@@@|@[^@\n]*@|<[^<>\n]*>"
 )
-_OPENERS = b"{(["
+#: How USD's text format starts (SdfTextFileFormat's cookie).
+_TEXT_MAGIC = b"#usda"
+_NOT_OPENERS = bytes(b for b in range(256) if b not in b"{([")
 _NOT_BRACKETS = bytes(b for b in range(256) if b not in b"{}()[]")
 _AS_PARENTHESES = bytes.maketrans(b"{[}]", b"(())")
 
 
-def nesting_problem(path: str | os.PathLike[str]) -> str | None:
+def nesting_problem(path: str | os.PathLike[str], data: bytes | None = None) -> str | None:
     """Why the text layer at ``path`` nests too deeply for USD to parse (one
     line), or None: a file that is not a text layer, cannot be read, or nests
-    less than MAX_DEPTH levels."""
-    try:
-        with open(path, "rb") as handle:
-            if handle.read(5) != b"#usda":
-                return None
-            data = handle.read()
-    except OSError:
-        return None  # USD reports what it cannot read
-    depth = nesting_depth(data)
+    less than MAX_DEPTH levels. ``data``: the file's bytes, when the caller
+    has read them already."""
+    if data is None:
+        try:
+            with open(path, "rb") as handle:
+                data = handle.read(len(_TEXT_MAGIC))
+                if data != _TEXT_MAGIC:
+                    return None  # not a text layer: not read further
+                data += handle.read()
+        except OSError:
+            return None  # USD reports what it cannot read
+    if not data.startswith(_TEXT_MAGIC):
+        return None
+    # Without the cookie: the rest of its line is read as structure.
+    depth = nesting_depth(data[len(_TEXT_MAGIC) :])
     if depth < MAX_DEPTH:
         return None
     return (
@@ -52,7 +60,8 @@ def nesting_problem(path: str | os.PathLike[str]) -> str | None:
 def nesting_depth(data: bytes) -> int:
     """The deepest nesting of braces, brackets and parentheses outside strings,
     comments and paths; exact from MAX_DEPTH up, else a number below it."""
-    if sum(data.count(bytes([opener])) for opener in _OPENERS) < MAX_DEPTH:
+    # One pass over the bytes (three counts cost twice as much).
+    if len(data) < MAX_DEPTH or len(data.translate(None, _NOT_OPENERS)) < MAX_DEPTH:
         return 0  # too few openers to nest that deep (every small file)
     brackets = _NOT_STRUCTURE.sub(b"", data).translate(_AS_PARENTHESES, _NOT_BRACKETS)
     # Removing the innermost pairs lowers the depth by one at most, and what is
