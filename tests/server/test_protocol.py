@@ -44,6 +44,8 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
 published_versions: dict[str, int | None] = {}
 #: How many times diagnostics were published for each URI.
 publications: dict[str, int] = {}
+#: Every publication, in order: (URI, its diagnostics).
+history: list[tuple[str, list[types.Diagnostic]]] = []
 
 
 def make_client() -> LanguageClient:
@@ -54,6 +56,7 @@ def make_client() -> LanguageClient:
         client.diagnostics[params.uri] = params.diagnostics
         published_versions[params.uri] = params.version
         publications[params.uri] = publications.get(params.uri, 0) + 1
+        history.append((params.uri, list(params.diagnostics)))
 
     def register(client: LanguageClient, params: types.RegistrationParams) -> None:
         return None
@@ -378,14 +381,19 @@ async def test_findings_in_another_layer(client: LanguageClient, workspace: Path
                 break
     (shown,) = on_lighting  # the root's finding and the sublayer's own are one
     assert shown.range.start.line == 4
-    # Closed again: back on the root, as related information.
+    # Closed again: back on the root, as related information; on the closed
+    # document, only an empty publication, before any other (whatever order
+    # the root's lint publishes its URIs in).
+    closed_at = len(history)
     client.text_document_did_close(
         types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(lighting_uri))
     )
     async with asyncio.timeout(60):
         while not [d for d in client.diagnostics.get(root, []) if d.code == "SE001"]:
             await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-    assert not client.diagnostics[lighting_uri]
+    after_close = history[closed_at:]
+    assert after_close[0] == (lighting_uri, [])
+    assert [found for uri, found in after_close if uri == lighting_uri] == [[]]
     client.text_document_did_close(
         types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(root))
     )

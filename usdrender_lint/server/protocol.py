@@ -169,11 +169,19 @@ class UsdRenderLintServer(LanguageServer):
         (they now show them as related information, with the file's text)."""
         self.wanted.pop(uri, None)
         self.findings.pop(uri, None)
-        self.publish(uri, {uri: []}, None)
-        self.published.pop(uri, None)
-        for source, published in list(self.published.items()):
-            if uri in published:
-                asyncio.ensure_future(self.lint(source, dependents=False))
+        own = self.published.pop(uri, {})
+        # Cleared at once, whatever other documents' lints found on it: the
+        # editor no longer shows it, and their next lints show no finding on it.
+        shown_there = [
+            source for source, found in self.published.items() if found.pop(uri, None) is not None
+        ]
+        self.text_document_publish_diagnostics(
+            types.PublishDiagnosticsParams(uri=uri, diagnostics=[], version=None)
+        )
+        for target in set(own) - {uri}:
+            self._publish_merged(target, self.version_of(target))
+        for source in shown_there:
+            asyncio.ensure_future(self.lint(source, dependents=False))
 
     # -- diagnostics ---------------------------------------------------------------
 
@@ -268,29 +276,36 @@ class UsdRenderLintServer(LanguageServer):
     ) -> None:
         """Publish what the lint of ``source`` found on each URI, beside what
         the lints of other documents found there."""
+        # A lint that began while another document was open publishes nothing
+        # on it once it is closed.
+        found = {
+            target: diagnostics
+            for target, diagnostics in found.items()
+            if target == source or target in self.workspace.text_documents
+        }
         before = self.published.get(source, {})
         self.published[source] = found
         for target in set(before) | set(found):
-            merged: list[types.Diagnostic] = []
-            seen: set[tuple] = set()
-            for published in self.published.values():
-                for diagnostic in published.get(target, ()):
-                    key = (
-                        diagnostic.range.start.line,
-                        diagnostic.range.start.character,
-                        diagnostic.code,
-                        diagnostic.message,
-                    )
-                    if key not in seen:
-                        seen.add(key)
-                        merged.append(diagnostic)
-            self.text_document_publish_diagnostics(
-                types.PublishDiagnosticsParams(
-                    uri=target,
-                    diagnostics=merged,
-                    version=version if target == source else self.version_of(target),
+            self._publish_merged(target, version if target == source else self.version_of(target))
+
+    def _publish_merged(self, target: str, version: int | None) -> None:
+        """Publish on ``target`` what every document's lint found there."""
+        merged: list[types.Diagnostic] = []
+        seen: set[tuple] = set()
+        for published in self.published.values():
+            for diagnostic in published.get(target, ()):
+                key = (
+                    diagnostic.range.start.line,
+                    diagnostic.range.start.character,
+                    diagnostic.code,
+                    diagnostic.message,
                 )
-            )
+                if key not in seen:
+                    seen.add(key)
+                    merged.append(diagnostic)
+        self.text_document_publish_diagnostics(
+            types.PublishDiagnosticsParams(uri=target, diagnostics=merged, version=version)
+        )
 
     # -- code actions --------------------------------------------------------------
 
