@@ -184,6 +184,21 @@ def test_what_is_not_a_readable_crate_has_no_spec_problem(tmp_path: Path) -> Non
     assert crate_spec_problem(undecodable) is None
 
 
+@pytest.mark.parametrize("size", [1 << 20, (1 << 63) - 1, (1 << 64) - 1])
+def test_a_table_size_past_the_section_is_no_spec_problem(
+    settings_bytes: bytes, tmp_path: Path, size: int
+) -> None:
+    """The paths table's stated size sends the read past the section (past
+    what an index can hold, at the largest): USD fails to open the file and
+    says so; the check answers None and does not raise."""
+    start, _ = _sections(settings_bytes)["SPECS"]
+    corrupt = bytearray(settings_bytes)
+    corrupt[start + 8 : start + 16] = struct.pack("<Q", size)
+    path = tmp_path / "huge_table.usdc"
+    path.write_bytes(bytes(corrupt))
+    assert crate_spec_problem(path) is None
+
+
 @pytest.fixture(scope="module")
 def settings_bytes(tmp_path_factory: pytest.TempPathFactory) -> bytes:
     return settings_crate(tmp_path_factory.mktemp("crate") / "settings.usdc")

@@ -193,6 +193,8 @@ def _spec_types(specs: bytes) -> tuple[int, int] | None:
     pos = 8
     for _ in range(2):  # the paths and field sets: read while USD opens the layer
         pos += 8 + struct.unpack_from("<Q", specs, pos)[0]
+        if pos > len(specs):  # a size past the section (too large for an index, even)
+            return None
     if not count:
         return None
     (packed,) = struct.unpack_from("<Q", specs, pos)
