@@ -4,9 +4,12 @@ included), and a fix applied where the fixer would apply it."""
 
 from __future__ import annotations
 
+from typing import Any
+
+import pytest
 from pxr import Sdf, Usd
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, resolve
 from usdrender_lint.engine import RENDER_SCHEMAS
 
 #: A stage with one RenderSettings, </Render/Settings>, and no metadata.
@@ -98,3 +101,14 @@ def settings_layer(attributes: str) -> str:
 
 def attribute_value(stage: Usd.Stage, name: str, path: str = "/S"):
     return stage.GetPrimAtPath(path).GetAttribute(name).Get()
+
+
+def patch_usd(monkeypatch: pytest.MonkeyPatch, owner: type, method: str, replacement: Any) -> None:
+    """Replace a USD method on its class and wherever resolve holds it unbound
+    (its module constants skip Usd.Object's attribute lookup), so a spy sees
+    every call."""
+    original = getattr(owner, method)
+    monkeypatch.setattr(owner, method, replacement)
+    for name, held in vars(resolve).items():
+        if held is original:
+            monkeypatch.setattr(resolve, name, replacement)

@@ -313,3 +313,19 @@ def test_the_strongest_default_answers_as_usd_does(prim_type, name, weak, strong
             assert values.authored(name) == (attr.Get() if expected else None)
             values = resolve.PrimValues(prim, without_clips)
             assert values.authored(name) == (attr.Get() if expected else None)  # unasked
+
+
+def test_an_expired_or_null_prim_raises_instead_of_reaching_usd_unbound() -> None:
+    # resolve calls USD's methods unbound (skipping Usd.Object's validity
+    # check): on an expired prim that call would crash the process, so the
+    # entry points check validity first and raise as a bound call would.
+    stage = Usd.Stage.CreateInMemory()
+    stage.GetRootLayer().ImportFromString(SHOT)
+    expired = stage.GetPrimAtPath("/Render/Settings")
+    stage.RemovePrim("/Render/Settings")
+    for prim in (expired, Usd.Prim()):
+        assert not resolve.is_usable(prim)
+        with pytest.raises(RuntimeError, match="not a valid prim"):
+            resolve.unusable_reason(prim)
+        with pytest.raises(RuntimeError, match="not a valid prim"):
+            resolve.PrimValues(prim)

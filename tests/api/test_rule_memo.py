@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 from pxr import Sdf, Usd
+from rule_support import patch_usd
 
 from usdrender_lint.api import Context
 from usdrender_lint.api.cache import lint_cache
@@ -64,7 +65,7 @@ def _record_attribute_calls(monkeypatch, method: str) -> list[str]:
         calls.append(str(attr.GetPath()))
         return original(attr, *args)
 
-    monkeypatch.setattr(Usd.Attribute, method, recording)
+    patch_usd(monkeypatch, Usd.Attribute, method, recording)
     return calls
 
 
@@ -109,7 +110,7 @@ def test_render_prim_attributes_are_listed_once_for_se016_and_se017(stage, monke
         listed.append(str(prim.GetPath()))
         return authored_names(prim)
 
-    monkeypatch.setattr(Usd.Prim, "GetAuthoredPropertyNames", counting)
+    patch_usd(monkeypatch, Usd.Prim, "GetAuthoredPropertyNames", counting)
     rules = [r for r in all_rules() if r.code in ("SE016", "SE017")]
     Linter(rules, raise_errors=True).lint_stage(stage)
     assert sorted(listed) == sorted(set(listed))
@@ -140,7 +141,7 @@ def _record_validated(monkeypatch) -> list[str]:
         validated.append(collection.GetName())
         return validate(collection)
 
-    monkeypatch.setattr(Usd.CollectionAPI, "Validate", counting)
+    patch_usd(monkeypatch, Usd.CollectionAPI, "Validate", counting)
     return validated
 
 
@@ -203,7 +204,7 @@ def test_ordered_vars_targets_are_resolved_once_per_lint(stage, monkeypatch) -> 
         resolved.append(str(rel.GetPath()))
         return forwarded_targets(rel)
 
-    monkeypatch.setattr(Usd.Relationship, "GetForwardedTargets", recording)
+    patch_usd(monkeypatch, Usd.Relationship, "GetForwardedTargets", recording)
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert resolved.count("/Render/beauty.orderedVars") == 1  # PR005, PR006, VA008, profiles
 
@@ -238,7 +239,7 @@ def test_an_unauthored_attribute_is_answered_from_the_prim_property_names(
         handles.append(f"{prim.GetPath()}.{name}")
         return get_attribute(prim, name)
 
-    monkeypatch.setattr(Usd.Prim, "GetAttribute", recording)
+    patch_usd(monkeypatch, Usd.Prim, "GetAttribute", recording)
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     # CA005, CA008, CA009 read these camera attributes; SE001, SE002, SE006... the products'.
     for unauthored in ("/cam.projection", "/cam.shutter:open", "/Render/beauty.resolution"):
@@ -315,7 +316,7 @@ def test_a_prim_type_is_asked_once_per_lint(stage, monkeypatch) -> None:
         asked.append(str(prim.GetPath()))
         return is_a(prim, schema)
 
-    monkeypatch.setattr(Usd.Prim, "IsA", recording)
+    patch_usd(monkeypatch, Usd.Prim, "IsA", recording)
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert asked.count("/cam") == 1  # CA003, CA004 and every camera rule's configuration
     assert asked.count("/Render/color") == 1  # PR005, PR006's vars
@@ -333,7 +334,7 @@ def test_a_relationship_no_layer_lists_has_no_targets_without_a_handle(monkeypat
         handles.append(name)
         return get_relationship(prim, name)
 
-    monkeypatch.setattr(Usd.Prim, "GetRelationship", recording)
+    patch_usd(monkeypatch, Usd.Prim, "GetRelationship", recording)
     with lint_cache():  # relationships have no value clips: whatever the stage holds
         values = prim_values(product)
         assert values.targets("camera") == () and values.forwarded("camera") == ()
@@ -381,6 +382,6 @@ def test_a_schema_fallback_is_read_once_per_definition(stage, monkeypatch) -> No
         read.append(name)
         return fallback(definition, name)
 
-    monkeypatch.setattr(Usd.PrimDefinition, "GetAttributeFallbackValue", recording)
+    patch_usd(monkeypatch, Usd.PrimDefinition, "GetAttributeFallbackValue", recording)
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert read.count("resolution") == 1

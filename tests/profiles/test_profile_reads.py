@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from pxr import Sdf, Usd
+from rule_support import patch_usd
 
 from usdrender_lint.api.resolve import prim_values
 from usdrender_lint.engine import Linter
@@ -80,7 +81,7 @@ def _count_reads(monkeypatch: pytest.MonkeyPatch, counts: Counter) -> None:
                 counts[str(prim.GetPath()), _name, args[0]] += 1
             return _real(prim, *args)
 
-        monkeypatch.setattr(Usd.Prim, name, spy)
+        patch_usd(monkeypatch, Usd.Prim, name, spy)
 
 
 def _decide(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, setting: str) -> tuple[Counter, set]:

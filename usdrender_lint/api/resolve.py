@@ -28,6 +28,21 @@ if TYPE_CHECKING:
 DEFAULT_TIME = Usd.TimeCode.Default()
 _T = TypeVar("_T")
 
+# USD's methods called unbound, on objects known valid (checked with bool(), or
+# a property of a prim so checked): the bound form goes through
+# Usd.Object.__getattribute__, whose validity check costs several times the
+# call (2 us against 0.3 us for IsActive); on an expired prim the unbound
+# call would not raise but crash.
+_is_active = Usd.Prim.IsActive
+_is_defined = Usd.Prim.IsDefined
+_is_abstract = Usd.Prim.IsAbstract
+_prim_attribute = Usd.Prim.GetAttribute
+_prim_relationship = Usd.Prim.GetRelationship
+_prim_is_a = Usd.Prim.IsA
+_property_stack = Usd.Property.GetPropertyStack
+_has_authored_value = Usd.Attribute.HasAuthoredValue
+_get = Usd.Attribute.Get
+
 
 def usd_text(value: object) -> str:
     """``str(value)`` for a USD object whose text may name a file that is not
@@ -46,21 +61,23 @@ def usd_text(value: object) -> str:
 
 def is_usable(prim: Usd.Prim) -> bool:
     """Active, defined, not abstract: what ``stage.Traverse()`` visits."""
-    return bool(prim) and prim.IsActive() and prim.IsDefined() and not prim.IsAbstract()
+    return bool(prim) and _is_active(prim) and _is_defined(prim) and not _is_abstract(prim)
 
 
 def unusable_reason(prim: Usd.Prim) -> str | None:
     """Why a prim that exists is not usable, or None when it is usable."""
-    if not prim.IsActive():
+    if not prim:
+        raise RuntimeError(f"not a valid prim: {prim!r}")
+    if not _is_active(prim):
         return "is inactive"
-    if not prim.IsDefined():
+    if not _is_defined(prim):
         hiding = hiding_over(prim)
         if hiding is None or hiding == prim.GetPath():
             return "is only an 'over' (never defined)"
         # Its own spec is a def, but an ancestor is only an over: Usd
         # composes it as undefined, so traversal never reaches it.
         return f"is under <{hiding}>, which is only an 'over' (never defined)"
-    if prim.IsAbstract():
+    if _is_abstract(prim):
         return "is abstract (a 'class')"
     return None
 
@@ -138,7 +155,9 @@ def _read_targets(rel: Usd.Relationship | None, forwarded: bool) -> tuple[Sdf.Pa
     if not rel:
         return ()
     try:
-        return tuple(rel.GetForwardedTargets() if forwarded else rel.GetTargets())
+        if forwarded:
+            return tuple(Usd.Relationship.GetForwardedTargets(rel))
+        return tuple(Usd.Relationship.GetTargets(rel))
     except Tf.ErrorException as exc:
         # An opinion authors the name as an attribute (`string camera = "/Cam"`):
         # Pcp composes no targets from it ("... is not a relationship"), so no
@@ -264,7 +283,7 @@ def _attribute_stack(attr: Usd.Attribute, declared: Tf.Type) -> _Stack:
     # Every check reads the same few facts of each spec: once, here.
     opinions = []
     well_typed = True
-    for spec in attr.GetPropertyStack(DEFAULT_TIME):
+    for spec in _property_stack(attr, DEFAULT_TIME):
         if isinstance(spec, Sdf.AttributeSpec):
             value_type = spec.typeName.type
             if well_typed and value_type != declared:
@@ -335,7 +354,7 @@ def allowed_tokens(prim: Usd.Prim, name: str) -> tuple[str, ...]:
 def has_authored_value(attr: Usd.Attribute | None) -> bool:
     """Authored and well-typed: type-mismatched opinions count as unauthored
     (catalog, Conventions: one mistake gives one finding, SE016)."""
-    if not attr or not attr.HasAuthoredValue():
+    if not attr or not _has_authored_value(attr):
         return False
     return _holds_well_typed_value(_attribute_specs(attr), lambda: _schema_type(attr))
 
@@ -459,6 +478,8 @@ class PrimValues:
     )
 
     def __init__(self, prim: Usd.Prim, without_clips: bool = False) -> None:
+        if not prim:  # its methods call USD unbound: on a valid prim only
+            raise RuntimeError(f"not a valid prim: {prim!r}")
         self.prim = prim
         self._attrs: dict[str, Usd.Attribute] = {}
         self._rels: dict[str, Usd.Relationship] = {}
@@ -488,7 +509,7 @@ class PrimValues:
         """``prim.GetAttribute(name)``, one handle per name."""
         attr = self._attrs.get(name)
         if attr is None:
-            attr = self._attrs[name] = self.prim.GetAttribute(name)
+            attr = self._attrs[name] = _prim_attribute(self.prim, name)
         return attr
 
     def is_a(self, schema: Tf.Type | type) -> bool:
@@ -497,14 +518,14 @@ class PrimValues:
         entry = self._kinds.get(id(schema))
         if entry is None or entry[0] is not schema:
             # The entry holds the schema, so that its id is not reused.
-            entry = self._kinds[id(schema)] = (schema, self.prim.IsA(schema))
+            entry = self._kinds[id(schema)] = (schema, _prim_is_a(self.prim, schema))
         return entry[1]
 
     def relationship(self, name: str) -> Usd.Relationship:
         """``prim.GetRelationship(name)``, one handle per name."""
         rel = self._rels.get(name)
         if rel is None:
-            rel = self._rels[name] = self.prim.GetRelationship(name)
+            rel = self._rels[name] = _prim_relationship(self.prim, name)
         return rel
 
     def _attribute_specs(self, name: str) -> _Stack:
@@ -547,7 +568,7 @@ class PrimValues:
             default = opinions[0][0].default
             if isinstance(default, _BLOCKS):
                 default = None
-        if default is None and not attr.HasAuthoredValue():
+        if default is None and not _has_authored_value(attr):
             return False
         if not _holds_well_typed_value(
             stack, lambda: self.schema_attribute(name).type_name, default
@@ -569,7 +590,7 @@ class PrimValues:
                 # has_value may have read it (the strongest spec's default).
                 value = self._authored.get(name, _UNREAD)
                 if value is _UNREAD:
-                    value = self.attribute(name).Get()
+                    value = _get(self.attribute(name))
             self._authored[name] = value
         return value
 
@@ -626,7 +647,7 @@ class PrimValues:
         # Listed once, unchecked: has_value only looks names up in it.
         names = self._names
         if names is None:
-            names = self._names = tuple(self.prim.GetAuthoredPropertyNames())
+            names = self._names = tuple(Usd.Prim.GetAuthoredPropertyNames(self.prim))
         return names
 
     def _listed_names(self) -> frozenset[str]:
@@ -667,7 +688,7 @@ class PrimValues:
             if name not in self._listed_names():
                 found = ()  # no layer authors it (value clips hold no targets)
             else:
-                stage = self.prim.GetStage()
+                stage = Usd.Prim.GetStage(self.prim)
                 found = tuple(resolve_target(stage, p) for p in self.forwarded(name))
             self._targets[name] = found
         return found
@@ -676,7 +697,7 @@ class PrimValues:
     def definition(self) -> Usd.PrimDefinition:
         definition = self._definition
         if definition is None:
-            definition = self._definition = self.prim.GetPrimDefinition()
+            definition = self._definition = Usd.Prim.GetPrimDefinition(self.prim)
         return definition
 
     def definition_key(self) -> tuple[str, tuple[str, ...]]:
@@ -685,7 +706,7 @@ class PrimValues:
         ones, not those the type's definition includes)."""
         key = self._key
         if key is None:
-            info = self.prim.GetPrimTypeInfo()
+            info = Usd.Prim.GetPrimTypeInfo(self.prim)
             key = self._key = (info.GetSchemaTypeName(), tuple(info.GetAppliedAPISchemas()))
         return key
 
