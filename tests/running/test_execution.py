@@ -86,28 +86,6 @@ def process_linter() -> Linter:
     return Linter([ProcessRule()])
 
 
-class ThreadsRule(Rule):
-    """Test-only rule: reports the USD thread limit of the process that lints.
-
-    ## What it does
-    Reports each Scope with ``Work.GetConcurrencyLimit()``.
-    """
-
-    code = "TX905"
-    name = "test-usd-threads"
-    severity = Severity.INFO
-    prim_types = (UsdGeom.Scope,)
-
-    def check_prim(self, prim, ctx):
-        from pxr import Work
-
-        yield Diagnostic(message=f"threads {Work.GetConcurrencyLimit()}", at=prim)
-
-
-def threads_linter() -> Linter:
-    return Linter([ThreadsRule()])
-
-
 def broken_factory() -> Linter:
     raise RuntimeError("plugin acme failed to import")
 
@@ -301,17 +279,3 @@ def test_workers_without_a_time_limit(mixed_files: list[str]) -> None:
     two = runner.invoke(cli, [*base, "--jobs", "2", "--timeout", "0", *mixed_files])
     assert two.exit_code == one.exit_code == 2
     assert two.stdout == one.stdout
-
-
-def test_several_workers_share_the_cores_among_their_usd_threads(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    monkeypatch.delenv("PXR_WORK_THREAD_LIMIT", raising=False)
-    monkeypatch.setattr(execution, "default_jobs", lambda: 2)
-    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(2)]
-    results = lint_paths(files, linter_factory=threads_linter, jobs=2, timeout=60)
-    # One thread each (USD's default is one per core).
-    assert [r.findings[0].message for r in results] == ["threads 1", "threads 1"]
-    assert execution.worker_usd_threads(1) is None  # one worker keeps USD's default
-    monkeypatch.setenv("PXR_WORK_THREAD_LIMIT", "3")
-    assert execution.worker_usd_threads(2) is None  # the user's setting wins

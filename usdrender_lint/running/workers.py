@@ -189,7 +189,7 @@ class Pool:
         context = _context()  # chosen per worker: a progress bar's thread makes forking unsafe
         parent_end, child_end = context.Pipe()
         # A copy of the settings only: this one holds the run's processes and pipes.
-        args = (child_end, replace(self), self._log_dir, worker_usd_threads(self.size))
+        args = (child_end, replace(self), self._log_dir)
         process = context.Process(target=_worker_main, args=args, daemon=True)
         process.start()
         child_end.close()
@@ -279,7 +279,7 @@ class _Worker:
         self.conn.close()
 
 
-def _worker_main(conn: Connection, pool: Pool, log_dir: str, threads: int | None) -> None:
+def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
     """Build the linter, say so, then answer each ``(index, item)``. Its stderr is a log,
     emptied before each item: what USD prints as it aborts makes the one-line error."""
     # Ctrl-C is the parent's to handle (it reaches the process group); SIGTERM ends it.
@@ -294,10 +294,8 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str, threads: int | None
         os.dup2(opened, fd)
         os.close(opened)
     try:
-        from pxr import Usd, Work
+        from pxr import Usd
 
-        if threads is not None:
-            Work.SetConcurrencyLimit(threads)
         linter = pool.factory()
         Usd.Stage.CreateInMemory()  # USD's plugins load now, not in the first file's time
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
@@ -338,14 +336,6 @@ def die_with_parent(parent: int) -> None:
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
     if os.getppid() != parent:  # it died before the call took effect
         os.kill(os.getpid(), signal.SIGKILL)
-
-
-def worker_usd_threads(workers: int) -> int | None:
-    """Each worker's share of the cores for USD's threads, not one per core in each
-    (500 small shots, --jobs 2 on 2 cores: 1.95 s -> 1.91 s); None: USD's default."""
-    if workers < 2 or os.environ.get("PXR_WORK_THREAD_LIMIT"):
-        return None
-    return max(1, default_jobs() // workers)
 
 
 def worker_memory_limit(workers: int) -> int:
