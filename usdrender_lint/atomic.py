@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import hashlib
 import os
 import re
 import select
@@ -186,6 +185,10 @@ def temporary_prefix(name: str, suffix: str) -> str:
     room = NAME_MAX - len(os.fsencode(suffix)) - 8 - 1
     if len(os.fsencode(prefix)) <= room:
         return prefix
+    # Imported only here: writing stdout (write_all) is every run's, and
+    # hashlib's start-up (OpenSSL) is not.
+    import hashlib
+
     digest = hashlib.sha256(os.fsencode(name)).hexdigest()[:12]
     cut = os.fsdecode(os.fsencode(name)[: room - len(digest) - 3])
     return f".{cut}~{digest}."

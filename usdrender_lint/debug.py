@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 import sys
-import traceback
 
 ENV = "USDRENDER_LINT_DEBUG"
 
@@ -33,6 +32,10 @@ def show(exc: BaseException, what: str) -> None:
     """With the variable set, print ``exc``'s traceback, saying what it cost."""
     if not enabled():
         return
+    # Imported only to print one: traceback imports textwrap, and a run
+    # without the variable (or without an error) needs neither.
+    import traceback
+
     from .atomic import write_all
 
     text = f"usdrender-lint: debug: {what}\n" + "".join(traceback.format_exception(exc))

@@ -33,6 +33,12 @@ NEVER_NEEDED = (
     "usdrender_lint.running.roots",
     "usdrender_lint.engine.variants",
     "usdrender_lint.running.baseline",
+    # The configuration digest (running/merge.py) is for the JSON report only;
+    # writing stdout (atomic.write_all) needs no hash either.
+    "usdrender_lint.running.merge",
+    "hashlib",
+    # Printed only for USDRENDER_LINT_DEBUG (debug.show).
+    "traceback",
     # The schema classes' bindings: rules name schemas as Tf.Type (api.schemas).
     "pxr.UsdRender",
     "pxr.UsdGeom",

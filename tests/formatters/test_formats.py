@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import json
 from pathlib import Path
 
@@ -223,3 +224,39 @@ def test_statistics_json_is_an_added_field(in_repo) -> None:
     assert document["statistics"] == [
         {"code": "SE003", "name": "data-window-malformed", "severity": "error", "count": count}
     ]
+
+
+# -- what a formatter is handed ------------------------------------------------------
+
+
+def test_the_configuration_digest_is_computed_only_for_a_formatter_that_reads_it(
+    monkeypatch, capsys
+) -> None:
+    """A formatter that says nothing is handed the digest; one that says
+    ``reads_configuration = False`` is not, and it is not computed for it."""
+    # The module, not the click command of its name that usdrender_lint.cli exports.
+    command = importlib.import_module("usdrender_lint.cli.check")
+
+    handed: list[str | None] = []
+
+    class Reads:
+        reads_rules = False
+
+        def render(self, report, stream, options) -> None:
+            handed.append(options.configuration)
+
+    class Skips(Reads):
+        reads_configuration = False
+
+    asked: list[str] = []
+
+    def digest() -> str:
+        asked.append("digest")
+        return "abc"
+
+    for formatter in (Reads(), Skips()):
+        monkeypatch.setattr(command, "load_formatter", lambda _name, f=formatter: f)
+        command.emit_report(Report(()), "any", (), FormatOptions(), None, digest)
+    assert handed == ["abc", None]
+    assert asked == ["digest"]
+    capsys.readouterr()

@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 import click
 
 from .. import __version__
-from ..formatters import FormatOptions, load_formatter, reads_rules
+from ..formatters import FormatOptions, load_formatter, reads_configuration, reads_rules
 from ..paths import escape
 from ..running.interrupts import check_stopped
 from .loading import import_engine, supervision
@@ -135,15 +135,15 @@ def check(
         tool_version=__version__,
         statistics=statistics,
         fixing=request.fix is not None,
-        configuration=outcome.configuration,
     )
+    report, rules = outcome.report, outcome.rules
     if show_diff:
         # stdout carries the diff alone; the report goes only to --output.
         write(escape("".join(outcome.diffs)))
         if output_file:
-            emit_report(outcome.report, output_format, outcome.rules, options, output_file)
+            emit_report(report, output_format, rules, options, output_file, outcome.configuration)
     else:
-        emit_report(outcome.report, output_format, outcome.rules, options, output_file)
+        emit_report(report, output_format, rules, options, output_file, outcome.configuration)
     for line in outcome.notes:
         note(line)
     for line in outcome.errors:
@@ -181,15 +181,20 @@ def emit_report(
     rules: Sequence[Rule],
     options: FormatOptions,
     output_file: str | None,
+    configuration: Callable[[], str] | None = None,
 ) -> None:
     """Render with the registered formatter, to stdout or ``output_file``.
     ``rules`` (the rules that ran) are described in the report only for a
-    formatter that reads them: building that costs every rule's docstring."""
+    formatter that reads them: building that costs every rule's docstring.
+    ``configuration`` computes the run's digest, also only for a formatter
+    that reads it (into ``options.configuration``)."""
     formatter = load_formatter(output_format)
     if reads_rules(formatter):
         from ..explain import rule_info
 
         report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
+    if configuration is not None and reads_configuration(formatter):
+        options = replace(options, configuration=configuration())
     check_stopped()
     report = _relative_messages(report)
     send(lambda stream: formatter.render(report, stream, options), output_file, "the report")

@@ -39,6 +39,13 @@ def reads_rules(formatter: Formatter) -> bool:
     return bool(getattr(formatter, "reads_rules", True))
 
 
+def reads_configuration(formatter: Formatter) -> bool:
+    """Whether ``formatter`` reads ``FormatOptions.configuration`` (the run's
+    digest, which costs hashlib and json to compute): as for the rules, one
+    that never does says so with ``reads_configuration = False``."""
+    return bool(getattr(formatter, "reads_configuration", True))
+
+
 def available_formatters() -> Mapping[str, EntryPointLike]:
     return {ep.name: ep for ep in entry_points(ENTRY_POINT_GROUP)}
 

@@ -54,8 +54,10 @@ def annotation(finding: Finding) -> str:
 
 
 class GithubFormatter:
-    #: It never reads Report.rules, so the command does not build them.
+    #: It never reads Report.rules nor the configuration digest, so the
+    #: command does not build them.
     reads_rules = False
+    reads_configuration = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         for result in report.files:

@@ -36,6 +36,9 @@ SEVERITIES = (Severity.ERROR, Severity.WARNING, Severity.INFO)
 class HtmlFormatter:
     """The report as one HTML page (see the module docstring)."""
 
+    #: It never reads the configuration digest, so the command does not compute it.
+    reads_configuration = False
+
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         from ..running.report_views import gather
 

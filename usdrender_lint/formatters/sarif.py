@@ -141,5 +141,8 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
 
 
 class SarifFormatter:
+    #: It never reads the configuration digest, so the command does not compute it.
+    reads_configuration = False
+
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         stream.write(json_text(report_to_sarif(report, options, Path.cwd().resolve())))

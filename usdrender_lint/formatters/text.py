@@ -194,8 +194,10 @@ def _merged(line: list[Segment]) -> list[Segment]:
 
 
 class TextFormatter:
-    #: It never reads Report.rules, so the command does not build them.
+    #: It never reads Report.rules nor the configuration digest, so the
+    #: command does not build them.
     reads_rules = False
+    reads_configuration = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         entries, summary = self._entries(report, options)

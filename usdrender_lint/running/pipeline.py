@@ -121,8 +121,16 @@ class Outcome:
     notes: tuple[str, ...] = ()
     #: Layers fixing could not write, one line each (the run exits 2).
     fix_errors: tuple[str, ...] = ()
-    #: The run's configuration digest, which merge compares (running/merge.py).
-    configuration: str | None = None
+    #: The baseline's finding counts the run read (None: no baseline).
+    baseline: Counter | None = None
+
+    def configuration(self) -> str:
+        """The run's configuration digest, which merge compares (running/merge.py).
+        Computed when asked for: only a report that records it needs it, and
+        its hashing and JSON imports cost more than a small file's lint."""
+        from .merge import configuration_digest
+
+        return configuration_digest(self.settings, self.rules, self.baseline)
 
     @property
     def errors(self) -> tuple[str, ...]:
@@ -414,15 +422,8 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     notes.extend(note for result in report.files for note in result.notes)
     report = _apply_baseline(report, known, request, notes)
     status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
-    from .merge import configuration_digest
-
     outcome = Outcome(
-        report,
-        settings,
-        prepared.linter.rules,
-        status,
-        notes=tuple(notes),
-        configuration=configuration_digest(settings, prepared.linter.rules, known),
+        report, settings, prepared.linter.rules, status, notes=tuple(notes), baseline=known
     )
     return outcome if fixed is None else _with_fixes(outcome, fixed, request)
 
