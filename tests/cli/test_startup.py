@@ -247,3 +247,23 @@ def test_version_and_help_do_not_import_usd(flag: str) -> None:
     )
     assert proc.stderr.split() == ["False"]
     assert "usdrender-lint" in proc.stdout
+
+
+def test_format_names_are_looked_up_when_click_needs_them(monkeypatch) -> None:
+    """Not when a command is defined: each lookup reads every distribution's
+    entry points, and check would pay for merge's --format too."""
+    from usdrender_lint import formatters
+    from usdrender_lint.cli.options import FormatChoice
+
+    lookups: list[str] = []
+
+    def available() -> dict[str, str]:
+        lookups.append("looked up")
+        return {"text": "t", "json": "j"}
+
+    monkeypatch.setattr(formatters, "available_formatters", available)
+    choice = FormatChoice()
+    assert lookups == []
+    assert choice.convert("JSON", None, None) == "json"
+    assert choice.choices == ("json", "text")
+    assert lookups == ["looked up"]

@@ -128,15 +128,32 @@ def config_option(help: str):
     return click.option("--config", "config_path", type=click.Path(dir_okay=False), help=help)
 
 
-def report_format_option():
-    from ..formatters import available_formatters
+class FormatChoice(click.Choice):
+    """The registered formatters' names, looked up the first time click needs
+    them (to convert --format or its default, or to print help), not when a
+    command is defined: each lookup reads every installed distribution's entry
+    points, and a ``check`` should not pay for ``merge``'s option too."""
 
-    names = sorted(available_formatters()) or ["text", "json"]
+    def __init__(self) -> None:
+        # Not click.Choice's __init__, which takes the names now.
+        self.case_sensitive = False
+        self._names: tuple[str, ...] | None = None
+
+    @property
+    def choices(self) -> tuple[str, ...]:  # type: ignore[override]
+        if self._names is None:
+            from ..formatters import available_formatters
+
+            self._names = tuple(sorted(available_formatters()) or ["text", "json"])
+        return self._names
+
+
+def report_format_option():
     return click.option(
         "--format",
         "output_format",
         default="text",
         show_default=True,
-        type=click.Choice(names, case_sensitive=False),
+        type=FormatChoice(),
         help="Report format.",
     )
