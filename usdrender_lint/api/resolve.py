@@ -39,6 +39,10 @@ _is_abstract = Usd.Prim.IsAbstract
 _prim_attribute = Usd.Prim.GetAttribute
 _prim_relationship = Usd.Prim.GetRelationship
 _prim_is_a = Usd.Prim.IsA
+# A prim's own questions about a property, where ``bool(handle)`` would pass
+# the handle to Usd.Object's method (a base-class conversion, ~1,400 instructions).
+_has_attribute = Usd.Prim.HasAttribute
+_has_relationship = Usd.Prim.HasRelationship
 _property_stack = Usd.Property.GetPropertyStack
 _has_authored_value = Usd.Attribute.HasAuthoredValue
 _get = Usd.Attribute.Get
@@ -68,6 +72,10 @@ def unusable_reason(prim: Usd.Prim) -> str | None:
     """Why a prim that exists is not usable, or None when it is usable."""
     if not prim:
         raise RuntimeError(f"not a valid prim: {prim!r}")
+    return _unusable_reason(prim)
+
+
+def _unusable_reason(prim: Usd.Prim) -> str | None:
     if not _is_active(prim):
         return "is inactive"
     if not _is_defined(prim):
@@ -129,7 +137,7 @@ def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
     prim = stage.GetPrimAtPath(path)
     if not prim:
         return Target(path, None, "does not exist on the composed stage")
-    return Target(path, prim, unusable_reason(prim))
+    return Target(path, prim, _unusable_reason(prim))  # valid: checked above
 
 
 def forwarded_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
@@ -154,6 +162,10 @@ def _composed_targets(rel_and_mode: tuple[Usd.Relationship | None, bool]) -> tup
 def _read_targets(rel: Usd.Relationship | None, forwarded: bool) -> tuple[Sdf.Path, ...]:
     if not rel:
         return ()
+    return _read_valid_targets(rel, forwarded)
+
+
+def _read_valid_targets(rel: Usd.Relationship, forwarded: bool) -> tuple[Sdf.Path, ...]:
     try:
         if forwarded:
             return tuple(Usd.Relationship.GetForwardedTargets(rel))
@@ -552,8 +564,9 @@ class PrimValues:
             if not self.may_be_authored(name):
                 found = False  # no handle and no HasAuthoredValue needed
             else:
-                attr = self.attribute(name)
-                found = bool(attr) and self._holds_value(name, attr)
+                found = _has_attribute(self.prim, name) and self._holds_value(
+                    name, self.attribute(name)
+                )
             self._has[name] = found
         return found
 
@@ -677,7 +690,8 @@ class PrimValues:
                 # forwarded_targets: hashing a relationship handle (and
                 # comparing it on a hit) are binding calls, and every reader of
                 # a render prim's targets (rules, profiles) comes through here.
-                paths = _read_targets(self.relationship(name), True)
+                has = _has_relationship(self.prim, name)
+                paths = _read_valid_targets(self.relationship(name), True) if has else ()
             self._forwarded[name] = paths
         return paths
 
