@@ -356,6 +356,25 @@ async def test_a_configuration_change_relints(client: LanguageClient, workspace:
 LIGHTING = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
 
 
+async def _lints_settled(
+    client: LanguageClient, seen: list, start: int, sublayer: str, root: str
+) -> None:
+    """Wait until no lint is running: the sublayer's own lint has published
+    (its ST003 lies on its own root layer, never on the root's) and then the
+    root's, which that lint sets off as a dependent, on both documents."""
+    async with asyncio.timeout(60):
+        while True:
+            own = [
+                i
+                for i, (uri, found) in enumerate(seen[start:], start)
+                if uri == sublayer and any(d.code == "ST003" for d in found)
+            ]
+            # The root's lint publishes on both documents, one notification each.
+            if own and {root, sublayer} <= {uri for uri, _ in seen[own[0] + 1 :]}:
+                return
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+
+
 async def test_findings_in_another_layer(client: LanguageClient, workspace: Path):
     """A finding in a sublayer: related information on the document while the
     sublayer is not open; on the sublayer's own URI, at its unsaved line, once it is."""
@@ -371,6 +390,7 @@ async def test_findings_in_another_layer(client: LanguageClient, workspace: Path
     assert str(lighting) in related.message
 
     unsaved = "#usda 1.0\n# a comment the file does not have\n" + LIGHTING.split("\n", 1)[1]
+    opened_at = len(history)
     lighting_uri = open_document(client, lighting, unsaved)
     async with asyncio.timeout(60):
         while True:
@@ -381,6 +401,7 @@ async def test_findings_in_another_layer(client: LanguageClient, workspace: Path
                 break
     (shown,) = on_lighting  # the root's finding and the sublayer's own are one
     assert shown.range.start.line == 4
+    await _lints_settled(client, history, opened_at, lighting_uri, root)
     # Closed again: back on the root, as related information; on the closed
     # document, only an empty publication, before any other (whatever order
     # the root's lint publishes its URIs in).
