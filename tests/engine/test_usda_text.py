@@ -10,6 +10,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from pxr import Sdf
+from pytest import MonkeyPatch
 
 from usdrender_lint.api.cache import lint_cache
 from usdrender_lint.layers import usda_text
@@ -337,15 +338,41 @@ def test_damaged_hostile_text_matches_the_reference() -> None:
                 chars[i] = rng.choice(structural)
         text = "".join(chars)
         index = _hostile_lines(text)  # a full read: always the reference's lines
-        layer = usda_text._Layer(text)
         asked = list(index)[::-1] + ["/World.nothing", "/World{look=a}cam.x"]
-        found = {spec_path: layer.lookup(spec_path) for spec_path in asked}
         if _sdf_accepts(text):
             # Lazy reads too, on what Sdf reads (on broken text a block may end
-            # inside a statement, which only a full read follows).
-            assert found == {spec_path: index.get(spec_path) for spec_path in asked}, text
+            # inside a statement, which only a full read follows), tokenizing the
+            # blocks they skip or skipping them over the skeleton (braces and atoms).
+            expected = {spec_path: index.get(spec_path) for spec_path in asked}
+            for read_by_sdf in (False, True):
+                layer = usda_text._Layer(text, read_by_sdf=read_by_sdf)
+                found = {spec_path: layer.lookup(spec_path) for spec_path in asked}
+                assert found == expected, (read_by_sdf, text)
             valid += 1
     assert valid > 20, valid
+
+
+def test_a_layer_sdf_read_skips_blocks_over_its_skeleton(monkeypatch: MonkeyPatch) -> None:
+    # Brackets holding braces (metadata dictionaries), braces in strings, comments,
+    # asset paths and <paths> in the skipped blocks: the skeleton keeps what their
+    # patterns read, so the lines are the reference's without tokenizing the blocks.
+    text = HOSTILE.replace("</World{look=a}cam.focalLength>", "</World/over>")
+    expected = _hostile_lines(text)
+
+    def tokenized(text: str, pos: int) -> int:
+        raise AssertionError("a block of a layer Sdf read was tokenized")
+
+    with monkeypatch.context() as patched:
+        patched.setattr(usda_text, "_skip_block", tokenized)
+        for spec_path, line in expected.items():
+            layer = usda_text._Layer(text, read_by_sdf=True)
+            assert layer.lookup(spec_path) == line, spec_path
+        assert layer._skeleton
+    # A character of more than one byte would shift the skeleton's offsets: tokenized.
+    wide = text.replace("# nor this", "# ni ceci é")
+    layer = usda_text._Layer(wide, read_by_sdf=True)
+    assert [layer.lookup(p) for p in expected] == list(_hostile_lines(wide).values())
+    assert layer._skeleton == b""
 
 
 def _sdf_accepts(text: str) -> bool:

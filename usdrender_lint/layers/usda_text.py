@@ -95,6 +95,9 @@ def _match_at(pattern: str) -> _MatchAt:
 class _Skippers:
     """The patterns that match nested groups and blocks whole."""
 
+    #: In a skeleton, up to an unmatched brace.
+    skeleton_flat: Callable[[bytes, int], re.Match[bytes]]
+
     #: Up to an unmatched brace or bracket.
     flat: _MatchAt
     #: Up to an unmatched bracket.
@@ -111,12 +114,30 @@ def _skippers() -> _Skippers:
     # and most files have no finding to place.
     group = _bracket_group(_DEPTH)
     statement_run = f"[^{_STATEMENT_STOP}A-Za-z_]*+"
+    skeleton_flat = re.compile(_skeleton_flat(_DEPTH), re.DOTALL).match
     return _Skippers(
+        skeleton_flat=cast(Callable[[bytes, int], re.Match[bytes]], skeleton_flat),
         flat=_match_at(_flat(group, _DEPTH)),
         in_brackets=_match_at(_runs(_IN_BRACKETS_STOP, f"{group}|{_ATOMS}")),
         statement_rest=_match_at(_runs(_STATEMENT_STOP, f"{group}|{_ATOMS}")),
         to_word=_match_at(f"{statement_run}(?:(?:{group}|{_ATOMS}){statement_run})*+"),
     )
+
+
+#: What a block of a layer Sdf has read is skipped by: its braces balance outside
+#: atoms everywhere (inside brackets too: a dictionary in metadata), so brackets
+#: and words need no reading. The skip runs over the layer's *skeleton*, its bytes
+#: with every byte that no atom or brace pattern reads by name made "x": sre
+#: matches a run of one literal some ten times faster than a run of a class.
+_SKELETON_KEPT = b"{}\"'@<>#/*\\\n"
+_SKELETON = bytes(byte if byte in _SKELETON_KEPT else ord("x") for byte in range(256))
+
+
+def _skeleton_flat(depth: int) -> bytes:
+    """Skeleton bytes that leave brace depth unchanged: runs, atoms, whole blocks."""
+    run = rb"x*+(?:[\n>*\\]x*+)*+"
+    block = b"" if depth == 0 else rb"|\{" + _skeleton_flat(depth - 1) + rb"\}"
+    return rb"(?>" + run + rb"(?:(?:" + _ATOMS.encode() + block + rb")" + run + rb")*+)"
 
 
 _INERT_GROUP = rf"\({_INERT}*\)"
@@ -168,6 +189,9 @@ class _Layer:
     """The lines found so far in one layer's text and the blocks not read yet."""
 
     text: str
+    #: True for the text of a layer Sdf has read (a stage's): its blocks are skipped
+    #: over its skeleton. Other text (any the tests make) is tokenized throughout.
+    read_by_sdf: bool = False
     lines: dict[str, int] = field(default_factory=dict)
     #: Frame path -> (kind, offsets after its "{" and "}") of each block that opens it.
     bodies: dict[str, list[tuple[str, int, int]]] = field(default_factory=dict)
@@ -177,6 +201,8 @@ class _Layer:
     complete: bool = False
     _line_at: tuple[int, int] = (0, 1)
     _newlines: int = -1
+    #: The skeleton of an ASCII text Sdf has read (b"" for others), made on the first skip.
+    _skeleton: bytes | None = None
 
     def line(self, offset: int) -> int:
         # Counted from the last line asked for: lookups ask for nearby offsets.
@@ -314,11 +340,34 @@ class _Layer:
         if eager and pending is not None:
             stack.append(pending)
             return pos, None
-        end = _skip_block(text, pos)
+        end = self._skip_block(pos)
         if pending is not None:
             self.bodies.setdefault(pending[1], []).append((pending[0], pos, end))
         # else a value or dictionary block: nothing to find inside
         return end, None
+
+    def _skip_block(self, pos: int) -> int:
+        """The offset after the brace that closes the one just before ``pos``."""
+        skeleton = self._skeleton
+        if skeleton is None:
+            text = self.text
+            # A skeleton's offsets are the text's only where each character is one byte.
+            usable = self.read_by_sdf and text.isascii()
+            skeleton = self._skeleton = text.encode("ascii").translate(_SKELETON) if usable else b""
+        if not skeleton:
+            return _skip_block(self.text, pos)
+        depth = 1
+        end = len(skeleton)
+        flat = _skippers().skeleton_flat
+        while True:
+            pos = flat(skeleton, pos).end()
+            if pos >= end:
+                return end
+            # Runs and atoms match all else: a brace stopped it.
+            depth += 1 if skeleton[pos] == 0x7B else -1  # 0x7B: "{"
+            pos += 1
+            if depth == 0:
+                return pos
 
 
 def _skip_token(
@@ -436,7 +485,7 @@ def _read_layer(layer_path: str) -> _Layer:
             text = handle.read()
     except OSError:
         text = ""
-    return _Layer(text)
+    return _Layer(text, read_by_sdf=True)
 
 
 def line_of(layer_path: str, spec_path: str) -> int | None:
@@ -453,7 +502,7 @@ def hold_text(layer_path: str, text: str) -> None:
     (an editor's unsaved text of it) instead of in its file."""
     cache = active_cache()
     if cache is not None:
-        cache.put(_read_layer, (layer_path,), _Layer(text))
+        cache.put(_read_layer, (layer_path,), _Layer(text, read_by_sdf=True))
 
 
 def comment_lines(text: str) -> list[int]:
