@@ -17,6 +17,7 @@ from usdrender_lint.api.resolve import (
     format_time,
     is_finite,
     prim_values,
+    values_in,
 )
 
 #: A check over camera values read at one time: a problem phrase, or None.
@@ -39,12 +40,14 @@ def effective_cameras(ctx: Context) -> list[CameraUse]:
 
 
 def _effective_cameras(ctx: Context) -> list[CameraUse]:
-    uses: dict[str, tuple[Usd.Prim, list[RenderConfiguration]]] = {}
+    # Keyed by the camera's PrimValues (one per prim in a lint, whichever handle
+    # asks), which the entry's prim keeps alive: its id is not reused.
+    uses: dict[int, tuple[Usd.Prim, list[RenderConfiguration]]] = {}
     for config in ctx.configurations:
         prim = config.camera_prim
         if prim is None:
             continue
-        uses.setdefault(str(prim.GetPath()), (prim, []))[1].append(config)
+        uses.setdefault(id(values_in(ctx.cache, prim)), (prim, []))[1].append(config)
     return [CameraUse(prim, tuple(configs)) for prim, configs in uses.values()]
 
 

@@ -7,6 +7,7 @@ from collections.abc import Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
+from usdrender_lint.api.resolve import prim_values
 
 from ._render_prims import RENDER_SCHEMAS, RENDER_SCOPE, is_render_type
 
@@ -83,7 +84,7 @@ class RenderPrimOutsideRenderScope(Rule):
     prim_types = RENDER_SCHEMAS
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        path = prim.GetPath()
+        path = prim_values(prim).path
         if path.HasPrefix(RENDER_SCOPE):
             return
         destination = RENDER_SCOPE.AppendChild(prim.GetName())

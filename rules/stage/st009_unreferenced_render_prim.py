@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import prim_values, renders_on_its_own
+from usdrender_lint.api.resolve import prim_values, renders_on_its_own, values_in
 
 
 class UnreferencedRenderPrim(Rule):
@@ -86,13 +86,16 @@ class UnreferencedRenderPrim(Rule):
                 f"{effect}; add it to a RenderSettings' products or remove it",
                 at=product,
             )
+        # By the targets' PrimValues (one per prim in a lint, whichever handle
+        # asks): no path is hashed or compared, each a call into USD.
         targeted = {
-            path
+            id(values_in(ctx.cache, target.prim))
             for product in ctx.prims_of(schemas.RenderProduct)
-            for path in prim_values(product).forwarded("orderedVars")
+            for target in prim_values(product).targets("orderedVars")
+            if target.prim is not None
         }
         for var in ctx.prims_of(schemas.RenderVar):
-            if var.GetPath() not in targeted:
+            if id(values_in(ctx.cache, var)) not in targeted:
                 yield Diagnostic(
                     message=f"RenderVar <{var.GetPath()}> is in no RenderProduct's orderedVars, so "
                     "no product outputs it; add it to a product's orderedVars or remove it",

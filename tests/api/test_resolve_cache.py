@@ -12,7 +12,7 @@ import pytest
 from pxr import Gf, Sdf, Usd, UsdRender
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, resolve
-from usdrender_lint.api.cache import active_cache, lint_cache
+from usdrender_lint.api.cache import LintCache, active_cache, lint_cache
 from usdrender_lint.engine import Linter
 from usdrender_lint.model import INTERNAL_ERROR_CODE
 from usdrender_lint.testing import all_rules
@@ -329,3 +329,18 @@ def test_an_expired_or_null_prim_raises_instead_of_reaching_usd_unbound() -> Non
             resolve.unusable_reason(prim)
         with pytest.raises(RuntimeError, match="not a valid prim"):
             resolve.PrimValues(prim)
+
+
+def test_handles_of_one_prim_share_its_values_and_its_path_is_asked_once() -> None:
+    stage = Usd.Stage.CreateInMemory()
+    stage.GetRootLayer().ImportFromString(SHOT)
+    cache = LintCache()
+    first = stage.GetPrimAtPath("/Render/Settings")
+    again = stage.GetPrimAtPath("/Render/Settings")  # another handle, equal
+    other = stage.GetPrimAtPath("/Render")
+    values = resolve.values_in(cache, first)
+    assert resolve.values_in(cache, again) is values
+    assert resolve.values_in(cache, first) is values
+    assert resolve.values_in(cache, other) is not values
+    assert values.path == first.GetPath()
+    assert values.path is values.path  # asked of USD once: each GetPath() is a new object

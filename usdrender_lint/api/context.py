@@ -94,10 +94,16 @@ class Context:
     @cached_property
     def untargeted_products(self) -> list[Usd.Prim]:
         """Usable RenderProducts that no usable RenderSettings' ``products`` targets."""
+        # A prim's PrimValues is one per lint, whichever handle asks: compared by
+        # identity, no path is asked of a handle, hashed or compared.
+        cache = self.cache
         targeted = {
-            c.product.GetPath() for c in self._settings_configurations if c.product is not None
+            id(values_in(cache, c.product))
+            for c in self._settings_configurations
+            if c.product is not None
         }
-        return [p for p in self.prims_of(schemas.RenderProduct) if p.GetPath() not in targeted]
+        products = self.prims_of(schemas.RenderProduct)
+        return [p for p in products if id(values_in(cache, p)) not in targeted]
 
     @cached_property
     def _settings_configurations(self) -> list[RenderConfiguration]:

@@ -39,6 +39,7 @@ _is_abstract = Usd.Prim.IsAbstract
 _prim_attribute = Usd.Prim.GetAttribute
 _prim_relationship = Usd.Prim.GetRelationship
 _prim_is_a = Usd.Prim.IsA
+_object_path = Usd.Object.GetPath
 # A prim's own questions about a property, where ``bool(handle)`` would pass
 # the handle to Usd.Object's method (a base-class conversion, ~1,400 instructions).
 _has_attribute = Usd.Prim.HasAttribute
@@ -487,6 +488,7 @@ class PrimValues:
         "_listed",
         "_kinds",
         "_memo",
+        "_path",
     )
 
     def __init__(self, prim: Usd.Prim, without_clips: bool = False) -> None:
@@ -516,6 +518,16 @@ class PrimValues:
         self._kinds: dict[int, tuple[Any, bool]] = {}
         #: ``Context.cached`` answers of this prim, by function.
         self._memo: dict[Callable[..., Any], Any] = {}
+        self._path: Sdf.Path | None = None
+
+    @property
+    def path(self) -> Sdf.Path:
+        """``prim.GetPath()``, asked once: the method is Usd.Object's, so every
+        call converts the prim handle to it (~2 us, twice the call itself)."""
+        path = self._path
+        if path is None:
+            path = self._path = _object_path(self.prim)
+        return path
 
     def attribute(self, name: str) -> Usd.Attribute:
         """``prim.GetAttribute(name)``, one handle per name."""
