@@ -7,6 +7,7 @@ from __future__ import annotations
 import contextlib
 import threading
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from pxr import Gf, Sdf, Usd, UsdRender
@@ -307,11 +308,16 @@ def test_the_strongest_default_answers_as_usd_does(prim_type, name, weak, strong
         prim = stage.GetPrimAtPath(path)
         attr = prim.GetAttribute(name)
         expected = resolve.has_authored_value(attr)  # HasAuthoredValue and the specs
-        for without_clips in (True, False):
-            values = resolve.PrimValues(prim, without_clips)
+        # Without time samples or a spline in any layer (the engine knows from their
+        # words) no spec is asked for them, with the same answers.
+        varying = any(w in weak + strong for w in (".timeSamples", ".spline"))
+        for without_clips, without_varying in ((True, not varying), (True, False), (False, False)):
+            values = resolve.PrimValues(prim, without_clips, without_varying)
             assert values.has_value(name) == expected
             assert values.authored(name) == (attr.Get() if expected else None)
-            values = resolve.PrimValues(prim, without_clips)
+            # "may": False only where USD finds no time samples at all.
+            assert values.may_vary(name) or attr.GetNumTimeSamples() == 0
+            values = resolve.PrimValues(prim, without_clips, without_varying)
             assert values.authored(name) == (attr.Get() if expected else None)  # unasked
 
 
@@ -344,3 +350,25 @@ def test_handles_of_one_prim_share_its_values_and_its_path_is_asked_once() -> No
     assert resolve.values_in(cache, other) is not values
     assert values.path == first.GetPath()
     assert values.path is values.path  # asked of USD once: each GetPath() is a new object
+
+
+def test_a_stage_without_time_samples_or_splines_asks_no_spec_for_them(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    asked: list[str] = []
+    has_info = Sdf.Spec.HasInfo
+
+    def counting(spec: Sdf.Spec, key: str) -> bool:
+        asked.append(key)
+        return has_info(spec, key)
+
+    monkeypatch.setattr(Sdf.Spec, "HasInfo", counting)
+    still = tmp_path / "still.usda"
+    still.write_text(SHOT)
+    findings = Linter(all_rules()).lint_path(str(still)).findings
+    assert not {"timeSamples", "spline"} & set(asked)
+    moving = tmp_path / "moving.usda"
+    moving.write_text(SHOT.replace("{", "{\n    float unrelated.timeSamples = {1: 2}", 1))
+    Linter(all_rules()).lint_path(str(moving))
+    assert "timeSamples" in asked  # a layer that may hold them: every spec is asked
+    assert findings == Linter(all_rules()).lint_path(str(still)).findings

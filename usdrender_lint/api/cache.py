@@ -24,9 +24,9 @@ _MISSING: Any = object()
 class LintCache:
     """Answers of ``func(*args)``, computed once per lint."""
 
-    __slots__ = ("_answers", "by_identity", "without_clips")
+    __slots__ = ("_answers", "by_identity", "without_clips", "without_varying")
 
-    def __init__(self, without_clips: bool = False) -> None:
+    def __init__(self, without_clips: bool = False, without_varying: bool = False) -> None:
         self._answers: dict[tuple[Callable[..., Any], tuple[Hashable, ...]], Any] = {}
         #: Answers keyed by an object's ``id``, each holding the object (so
         #: that its id is not reused): for USD handles, whose hash is a
@@ -37,6 +37,10 @@ class LintCache:
         #: authored value only if its prim's authored property names list it:
         #: a clip gives values to attributes that no layer's spec names.
         self.without_clips = without_clips
+        #: True when no layer of the linted stage can author time samples or a
+        #: spline (neither field's word is in any): then no spec holds either,
+        #: known without asking each spec.
+        self.without_varying = without_varying
 
     def call(self, func: Callable[..., _T], *args: Hashable) -> _T:
         """``func(*args)``, computed on the first call with these arguments."""

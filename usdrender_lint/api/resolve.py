@@ -292,7 +292,8 @@ def _read_attribute_specs(attr: Usd.Attribute) -> _Stack:
     return _attribute_stack(attr, attr.GetTypeName().type)
 
 
-def _attribute_stack(attr: Usd.Attribute, declared: Tf.Type) -> _Stack:
+def _attribute_stack(attr: Usd.Attribute, declared: Tf.Type, samples: bool = True) -> _Stack:
+    """``samples``: False when no layer can hold time samples (LintCache.without_varying)."""
     # Every check reads the same few facts of each spec: once, here.
     opinions = []
     well_typed = True
@@ -301,7 +302,8 @@ def _attribute_stack(attr: Usd.Attribute, declared: Tf.Type) -> _Stack:
             value_type = spec.typeName.type
             if well_typed and value_type != declared:
                 well_typed = False
-            opinions.append((spec, spec.HasDefaultValue(), _has_time_samples(spec), value_type))
+            has_samples = samples and _has_time_samples(spec)
+            opinions.append((spec, spec.HasDefaultValue(), has_samples, value_type))
     return tuple(opinions), declared, well_typed
 
 
@@ -485,13 +487,16 @@ class PrimValues:
         "_key",
         "_names",
         "_names_decide",
+        "_without_varying",
         "_listed",
         "_kinds",
         "_memo",
         "_path",
     )
 
-    def __init__(self, prim: Usd.Prim, without_clips: bool = False) -> None:
+    def __init__(
+        self, prim: Usd.Prim, without_clips: bool = False, without_varying: bool = False
+    ) -> None:
         if not prim:  # its methods call USD unbound: on a valid prim only
             raise RuntimeError(f"not a valid prim: {prim!r}")
         self.prim = prim
@@ -513,6 +518,8 @@ class PrimValues:
         #: holds no authored value (a stage without value clips:
         #: LintCache.without_clips); ``_listed`` is those names, once asked.
         self._names_decide = without_clips
+        #: No spec of the stage holds time samples or a spline (LintCache.without_varying).
+        self._without_varying = without_varying
         self._listed: frozenset[str] | None = None
         #: IsA answers by the schema's id (hashing a Tf.Type is a binding call).
         self._kinds: dict[int, tuple[Any, bool]] = {}
@@ -565,7 +572,7 @@ class PrimValues:
                 # (never value clips), and no layer has one of this name.
                 found = ((), declared, True)
             else:
-                found = _attribute_stack(self.attribute(name), declared)
+                found = _attribute_stack(self.attribute(name), declared, not self._without_varying)
             self._specs[name] = found
         return found
 
@@ -655,9 +662,12 @@ class PrimValues:
         no varying one, known without asking the attribute)."""
         found = self._varying.get(name)
         if found is None:
-            found = not self._names_decide or any(
-                has_samples or spec.HasInfo("spline")
-                for spec, _, has_samples, _ in self._attribute_specs(name)[0]
+            found = not self._names_decide or (
+                not self._without_varying
+                and any(
+                    has_samples or spec.HasInfo("spline")
+                    for spec, _, has_samples, _ in self._attribute_specs(name)[0]
+                )
             )
             self._varying[name] = found
         return found
@@ -788,7 +798,9 @@ def values_in(cache: LintCache | None, prim: Usd.Prim) -> PrimValues:
     answers = cache._answers
     values = answers.get((PrimValues, (prim,)))
     if values is None:
-        values = answers[(PrimValues, (prim,))] = PrimValues(prim, cache.without_clips)
+        values = answers[(PrimValues, (prim,))] = PrimValues(
+            prim, cache.without_clips, cache.without_varying
+        )
     # The entry holds the handle, so that its id is not reused during the lint.
     cache.by_identity[id(prim)] = (prim, values)
     return values

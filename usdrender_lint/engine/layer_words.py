@@ -58,6 +58,9 @@ WORDS = (
     "untyped",
     # A crate's field for a prim's variant sets (partial.py checks their names).
     "variantSetChildren",
+    # Fields of varying values (resolve.PrimValues asks no spec for them without).
+    "timeSamples",
+    "spline",
 )
 #: Fields usda spells with another keyword (``inherits = </Class>``).
 TEXT_SPELLING = {"inheritPaths": "inherits"}

@@ -406,7 +406,12 @@ class Linter:
         )
         # Without value clips, a prim's authored property names say which of
         # its attributes can hold a value (resolve.PrimValues.has_value).
-        ctx.cache.without_clips = not layer_words.layers_may_hold(stage.GetUsedLayers(), "clips")
+        used = stage.GetUsedLayers()
+        ctx.cache.without_clips = not layer_words.layers_may_hold(used, "clips")
+        # Without either field anywhere, no spec is asked for its time samples or spline.
+        ctx.cache.without_varying = not any(
+            layer_words.layers_may_hold(used, word) for word in ("timeSamples", "spline")
+        )
         findings: list[Finding] = []
         value = None
         # Nothing edits the stage while rules run, so the helpers may cache.
