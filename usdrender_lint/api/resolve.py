@@ -794,13 +794,13 @@ def values_in(cache: LintCache | None, prim: Usd.Prim) -> PrimValues:
     entry = cache.by_identity.get(id(prim))
     if entry is not None and entry[0] is prim:
         return entry[1]
-    # Another handle of a prim seen before (a relationship target) shares its values.
-    answers = cache._answers
-    values = answers.get((PrimValues, (prim,)))
-    if values is None:
-        values = answers[(PrimValues, (prim,))] = PrimValues(
-            prim, cache.without_clips, cache.without_varying
-        )
+    # Another handle of a prim seen before (a relationship target) shares its
+    # values, held in a list so that a new prim's handle is hashed once, not
+    # twice (get, then set): hashing a prim handle is a call into USD.
+    held = cache._answers.setdefault((PrimValues, (prim,)), [])
+    if not held:
+        held.append(PrimValues(prim, cache.without_clips, cache.without_varying))
+    values = held[0]
     # The entry holds the handle, so that its id is not reused during the lint.
     cache.by_identity[id(prim)] = (prim, values)
     return values
