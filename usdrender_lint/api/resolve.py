@@ -282,14 +282,15 @@ def _attribute_specs(attr: Usd.Attribute) -> _Stack:
     return _read_attribute_specs(attr)
 
 
-def _read_attribute_specs(attr: Usd.Attribute) -> _Stack:
+def _read_attribute_specs(attr: Usd.Attribute, samples: bool = True) -> _Stack:
     """The attribute's property stack without relationship specs (a layer may
     author the name as ``rel dataWindowNDC = </X>``, which has no type or
     value), and its declared type: the composed value type, which USD takes
     from the prim definition for a schema attribute (whatever the specs say),
     else from the strongest spec. A spec of that type is never mismatched, so
-    most checks stop there. Read together: every reader of one needs the other."""
-    return _attribute_stack(attr, attr.GetTypeName().type)
+    most checks stop there. Read together: every reader of one needs the other.
+    ``samples``: as for :func:`_attribute_stack`."""
+    return _attribute_stack(attr, attr.GetTypeName().type, samples)
 
 
 def _attribute_stack(attr: Usd.Attribute, declared: Tf.Type, samples: bool = True) -> _Stack:
@@ -566,7 +567,7 @@ class PrimValues:
             # the specs say): known without asking the attribute.
             declared = self.schema_attribute(name).value_type
             if declared is None:
-                found = _read_attribute_specs(self.attribute(name))
+                found = _read_attribute_specs(self.attribute(name), not self._without_varying)
             elif name not in self._listed_names():
                 # The Default property stack holds the prim's own specs only
                 # (never value clips), and no layer has one of this name.
