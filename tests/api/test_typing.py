@@ -10,6 +10,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.heavy(seconds=15)
+
 ROOT = Path(__file__).resolve().parents[2]
 
 

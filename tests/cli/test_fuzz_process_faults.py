@@ -36,9 +36,12 @@ _EXAMPLES_ENV = os.environ.get("USDRENDER_LINT_FUZZ_EXAMPLES")
 EXAMPLES = max(8, int(_EXAMPLES_ENV or 0) // 10)
 STOPPED = {"SIGINT": (130, "interrupted"), "SIGTERM": (143, "terminated")}
 
-pytestmark = pytest.mark.skipif(
-    not sys.platform.startswith("linux"), reason="signals, FIFOs and pipes as on Linux"
-)
+pytestmark = [
+    pytest.mark.skipif(
+        not sys.platform.startswith("linux"), reason="signals, FIFOs and pipes as on Linux"
+    ),
+    pytest.mark.heavy(seconds=28),
+]
 
 
 def _wait_for_the_handlers(pid: int) -> None:

@@ -21,6 +21,8 @@ import pytest
 
 from usdrender_lint import __version__
 
+pytestmark = pytest.mark.heavy(seconds=46)
+
 pytest.importorskip("pre_commit")
 yaml = pytest.importorskip("yaml")  # PyYAML comes with pre-commit
 

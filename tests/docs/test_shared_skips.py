@@ -8,6 +8,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
+pytestmark = pytest.mark.heavy(seconds=11)
+
 REPO = Path(__file__).resolve().parents[2]
 
 

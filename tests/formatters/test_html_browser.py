@@ -16,10 +16,13 @@ from pathlib import Path
 import pytest
 from html_support import chromium, dump_dom, png_ink, screenshot, strict_problems
 
-pytestmark = pytest.mark.skipif(
-    chromium() is None,
-    reason="Chromium is not installed (apt-get install chromium): the browser tests skip",
-)
+pytestmark = [
+    pytest.mark.skipif(
+        chromium() is None,
+        reason="Chromium is not installed (apt-get install chromium): the browser tests skip",
+    ),
+    pytest.mark.heavy(seconds=50),
+]
 
 REPO = Path(__file__).parents[2]
 BIN = Path(sys.executable).parent / "usdrender-lint"

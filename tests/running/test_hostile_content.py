@@ -25,6 +25,8 @@ from usdrender_lint.engine.variants import (
 )
 from usdrender_lint.testing import all_rules
 
+pytestmark = pytest.mark.heavy(seconds=22)
+
 REPO = Path(__file__).resolve().parents[2]
 CONTROL = """#usda 1.0
 def Scope "Render"
