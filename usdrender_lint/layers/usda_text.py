@@ -23,7 +23,7 @@ import functools
 import re
 from collections.abc import Callable
 from dataclasses import field
-from typing import cast
+from typing import TypeVar, cast
 
 from ..api.cache import active_cache
 from ..records import record
@@ -83,6 +83,8 @@ def _compile(pattern: str) -> re.Pattern[str]:
 
 #: ``Pattern.match`` of a pattern that matches at every offset (possibly nothing).
 _MatchAt = Callable[[str, int], re.Match[str]]
+#: The text, or a layer's skeleton (its bytes).
+_Subject = TypeVar("_Subject", str, bytes)
 
 
 def _match_at(pattern: str) -> _MatchAt:
@@ -356,18 +358,7 @@ class _Layer:
             skeleton = self._skeleton = text.encode("ascii").translate(_SKELETON) if usable else b""
         if not skeleton:
             return _skip_block(self.text, pos)
-        depth = 1
-        end = len(skeleton)
-        flat = _skippers().skeleton_flat
-        while True:
-            pos = flat(skeleton, pos).end()
-            if pos >= end:
-                return end
-            # Runs and atoms match all else: a brace stopped it.
-            depth += 1 if skeleton[pos] == 0x7B else -1  # 0x7B: "{"
-            pos += 1
-            if depth == 0:
-                return pos
+        return _after_closing(skeleton, pos, _skippers().skeleton_flat, b"{")
 
 
 def _skip_token(
@@ -393,14 +384,26 @@ def _skip_token(
 
 def _skip_brackets(text: str, pos: int) -> int:
     """The offset after the bracket that closes the one just before ``pos``."""
+    return _after_closing(text, pos, _skippers().in_brackets, "([")
+
+
+def _after_closing(
+    subject: _Subject,
+    pos: int,
+    run: Callable[[_Subject, int], re.Match[_Subject]],
+    openers: _Subject,
+) -> int:
+    """The offset after the closer of the opener just before ``pos`` (or the end).
+    ``run`` matches the runs and atoms up to the next opener or closer; a character
+    in ``openers`` (a byte of a skeleton: ``in`` bytes tests its number) opens a
+    level, any other it stops at closes one."""
     depth = 1
-    end = len(text)
-    in_brackets = _skippers().in_brackets
+    end = len(subject)
     while True:
-        pos = in_brackets(text, pos).end()
+        pos = run(subject, pos).end()
         if pos >= end:
             return end
-        depth += 1 if text[pos] in "([" else -1
+        depth += 1 if subject[pos] in openers else -1
         pos += 1
         if depth == 0:
             return pos
