@@ -18,13 +18,15 @@ def _authored_schema_attributes(
     """The prim's values and its authored attributes that its schema declares,
     by name, with what the schema declares: SE016 and SE017 both walk them, so
     they are listed once per lint (the declarations once per process)."""
-    return ctx.cached(_list_authored_schema_attributes, prim)
+    return prim_values(prim), ctx.cached(_list_authored_schema_attributes, prim)
 
 
 def _list_authored_schema_attributes(
     ctx: Context, prim: Usd.Prim
-) -> tuple[PrimValues, list[tuple[str, SchemaAttribute]]]:
+) -> list[tuple[str, SchemaAttribute]]:
+    # Not the PrimValues: the answer is kept in its memo, and an answer holding
+    # it would make it a reference cycle, left to the garbage collector.
     values = prim_values(prim)
     declared = [(name, values.schema_attribute(name)) for name in values.authored_names()]
     # Custom attributes and relationships have no attribute declaration.
-    return values, [(name, schema) for name, schema in declared if schema.type_name is not None]
+    return [(name, schema) for name, schema in declared if schema.type_name is not None]

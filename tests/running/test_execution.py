@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import os
+import select
 import signal
 import time
 from pathlib import Path
@@ -86,6 +87,37 @@ def process_linter() -> Linter:
     return Linter([ProcessRule()])
 
 
+class PeekRule(Rule):
+    """Test-only rule: says whether the next file already waits in the worker's pipe.
+
+    ## What it does
+    On a Scope named Peek, waits up to 10 s for the worker's connection to the
+    parent (its one socket) to hold something to read, and reports whether it did.
+    """
+
+    code = "TX905"
+    name = "test-peek"
+    severity = Severity.INFO
+    prim_types = (UsdGeom.Scope,)
+
+    def check_prim(self, prim, ctx):
+        if prim.GetName() == "Peek":
+            fds = [fd for fd in map(int, os.listdir("/proc/self/fd")) if _is_socket(fd)]
+            ready, _, _ = select.select(fds, [], [], 10)
+            yield Diagnostic(message=f"next file waiting: {bool(ready)}", at=prim)
+
+
+def _is_socket(fd: int) -> bool:
+    try:
+        return os.readlink(f"/proc/self/fd/{fd}").startswith("socket:")
+    except OSError:  # the listing's own descriptor, closed since
+        return False
+
+
+def peek_linter() -> Linter:
+    return Linter([PeekRule()])
+
+
 def broken_factory() -> Linter:
     raise RuntimeError("plugin acme failed to import")
 
@@ -123,7 +155,11 @@ def test_workers_give_the_in_process_results_in_input_order(mixed_files: list[st
     assert [f.code for f in pooled.files[2].findings] == ["ST001"]
 
 
-def test_a_file_past_the_time_limit_is_an_error_and_the_rest_are_linted(tmp_path: Path) -> None:
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_file_past_the_time_limit_is_an_error_and_the_rest_are_linted(
+    tmp_path: Path, jobs: int
+) -> None:
+    # With one worker, file 3 waits in its pipe behind the hung file 2 (IN_FLIGHT).
     files = [
         _write(tmp_path, "1.usda", SCOPE.format(name="One")),
         _write(tmp_path, "2.usda", SCOPE.format(name="Hang")),
@@ -131,7 +167,7 @@ def test_a_file_past_the_time_limit_is_an_error_and_the_rest_are_linted(tmp_path
         _write(tmp_path, "4.usda", SCOPE.format(name="Four")),
     ]
     started = time.monotonic()
-    results = lint_paths(files, linter_factory=trap_linter, jobs=2, timeout=2.5)
+    results = lint_paths(files, linter_factory=trap_linter, jobs=jobs, timeout=2.5)
     assert time.monotonic() - started < 30
     assert [r.status for r in results] == ["linted", "error", "linted", "linted"]
     assert (
@@ -141,21 +177,31 @@ def test_a_file_past_the_time_limit_is_an_error_and_the_rest_are_linted(tmp_path
     assert [f.message for f in results[3].findings] == ["scope Four"]
 
 
-def test_a_worker_that_crashes_costs_only_its_file(tmp_path: Path) -> None:
-    files = [
-        _write(tmp_path, "1.usda", SCOPE.format(name="Crash")),
-        _write(tmp_path, "2.usda", SCOPE.format(name="Two")),
-        _write(tmp_path, "3.usda", SCOPE.format(name="Three")),
-    ]
+@pytest.mark.parametrize("crash_at", [0, 1])
+def test_a_worker_that_crashes_costs_only_its_file(tmp_path: Path, crash_at: int) -> None:
+    # The file after the crashing one waits in the worker's pipe (IN_FLIGHT): it
+    # is linted by the next worker, not lost with this one.
+    names = ["One", "Two", "Three"]
+    names[crash_at] = "Crash"
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=name)) for n, name in enumerate(names)]
     results = lint_paths(files, linter_factory=trap_linter, jobs=1, timeout=60)
-    assert results[0].status == "error"
-    assert results[0].error == (
-        f"{files[0]}: the linter process crashed while reading it (signal SIGSEGV)"
+    assert results[crash_at].status == "error"
+    assert results[crash_at].error == (
+        f"{files[crash_at]}: the linter process crashed while reading it (signal SIGSEGV)"
     )
-    assert [[f.message for f in r.findings] for r in results[1:]] == [
-        ["scope Two"],
-        ["scope Three"],
+    assert [[f.message for f in r.findings] for r in results if r.status == "linted"] == [
+        [f"scope {name}"] for name in names if name != "Crash"
     ]
+
+
+def test_a_worker_holds_the_next_file_while_it_lints_one(tmp_path: Path) -> None:
+    """So that it never waits for the parent between files (workers.IN_FLIGHT)."""
+    files = [
+        _write(tmp_path, "1.usda", SCOPE.format(name="Peek")),
+        _write(tmp_path, "2.usda", SCOPE.format(name="Two")),
+    ]
+    results = lint_paths(files, linter_factory=peek_linter, jobs=1, timeout=60)
+    assert [f.message for f in results[0].findings] == ["next file waiting: True"]
 
 
 def test_what_a_dying_worker_prints_becomes_the_one_line_error(

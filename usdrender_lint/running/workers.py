@@ -6,9 +6,10 @@ from __future__ import annotations
 import os
 import signal
 import time
+from collections import deque
 from collections.abc import Callable, Sequence
 from contextlib import suppress
-from dataclasses import replace
+from dataclasses import field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -23,6 +24,10 @@ if TYPE_CHECKING:
     from multiprocessing.connection import Connection
     from multiprocessing.process import BaseProcess
 
+#: Items a worker holds at once: the one it lints and the next, waiting in its pipe,
+#: so that it never idles for the parent's round trip between files (about 0.8 ms a
+#: file on a CI gate; benchmarks/run.py --only gate).
+IN_FLIGHT = 2
 #: usd-core's bindings keep a small wrapper for every layer a stage handed out
 #: (about 1 MiB per 1,000 files): a fresh worker replaces one after this many.
 WORKER_RECYCLE_AFTER = 500
@@ -151,8 +156,9 @@ def lint_one(linter: FileLinter, item: str | FullyComposed) -> FileResult:
 class Pool:
     """``size`` processes (a hung USD call cannot be stopped from inside), each with
     its ``factory()``, answering one item at a time with ``handle(built, item)`` (all
-    picklable). A worker past ``timeout`` or dead is replaced, its item's result
-    ``failed(item, why)``; but a file it died on is first linted again fully composed
+    picklable), the next already sent (IN_FLIGHT). A worker past ``timeout`` or dead
+    is replaced, its item's result ``failed(item, why)`` and the item it had not
+    started sent again; but a file it died on is first linted again fully composed
     (what composing survives, the fast path's walks of the layers may not)."""
 
     factory: Callable[[], Any]
@@ -174,16 +180,27 @@ class Pool:
                 self._workers.append(self._start())
             while self._remaining:
                 for worker in self._workers:
-                    if worker.index is None and self._pending:
-                        worker.index, worker.item = self._pending.pop()
-                        worker.deadline = time.monotonic() + (self.timeout or _NEVER)
-                        worker.conn.send((worker.index, worker.item))
+                    self._feed(worker)
                 self._step()
         finally:
             for worker in self._workers:
                 worker.stop()
             shutil.rmtree(self._log_dir, ignore_errors=True)
         return tuple(self._results)
+
+    def _feed(self, worker: _Worker) -> None:
+        """Send a started worker items until it holds IN_FLIGHT (none past its recycling)."""
+        while (
+            not worker.starting
+            and self._pending
+            and len(worker.queue) < IN_FLIGHT
+            and worker.linted + len(worker.queue) < WORKER_RECYCLE_AFTER
+        ):
+            index, item = self._pending.pop()
+            if not worker.queue:  # it starts this one now
+                worker.deadline = time.monotonic() + (self.timeout or _NEVER)
+            worker.queue.append((index, item))
+            worker.conn.send((index, item))
 
     def _start(self) -> _Worker:
         context = _context()  # chosen per worker: a progress bar's thread makes forking unsafe
@@ -219,21 +236,27 @@ class Pool:
     def _receive(self, worker: _Worker, index: int, result: Any) -> None:
         if index == _FAILED:
             raise ExecutionError(f"a worker process could not build the linter: {result}")
-        if index != _READY:
-            self._done(index, result)
-            worker.linted += 1
-        worker.index, worker.deadline = None, _NEVER
+        if index == _READY:
+            worker.starting = False
+            return
+        worker.queue.popleft()  # answered in the order sent
+        self._done(index, result)
+        worker.linted += 1
+        # The next item already waits in its pipe: the worker started it as it answered.
+        worker.deadline = time.monotonic() + (self.timeout or _NEVER) if worker.queue else _NEVER
         if worker.linted >= WORKER_RECYCLE_AFTER and self._pending:
             self._replace(worker)
 
     def _lose(self, worker: _Worker, why: str, crashed: bool = False) -> None:
-        index, item = worker.index, worker.item
-        if index == _READY:  # it crashed: a starting worker has no deadline to miss
+        if worker.starting:  # it crashed: a starting worker has no deadline to miss
             raise ExecutionError(f"a worker process died while starting: {why}")
-        if index is not None and crashed and self.handle is lint_one and isinstance(item, str):
-            self._pending.append((index, FullyComposed(item)))
-        elif index is not None:
-            self._done(index, self.failed(_path_of(item), why))
+        if worker.queue:
+            index, item = worker.queue.popleft()  # the one it was linting
+            self._pending.extend(reversed(worker.queue))  # never started: in input order
+            if crashed and self.handle is lint_one and isinstance(item, str):
+                self._pending.append((index, FullyComposed(item)))
+            else:
+                self._done(index, self.failed(_path_of(item), why))
         self._replace(worker)
 
     def _replace(self, worker: _Worker) -> None:
@@ -253,9 +276,11 @@ class _Worker:
     process: BaseProcess
     conn: Connection
     log_dir: str
-    #: Its item's index (_READY while it starts, None when idle), the item, its deadline.
-    index: int | None = _READY
-    item: Any = None
+    #: Until it says it is ready, it is sent nothing.
+    starting: bool = True
+    #: The ``(index, item)`` sent and not answered, oldest (the one it lints) first,
+    #: and that one's deadline.
+    queue: deque[tuple[int, Any]] = field(default_factory=deque)
     deadline: float = _NEVER
     linted: int = 0
 
