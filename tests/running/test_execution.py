@@ -325,3 +325,50 @@ def test_workers_without_a_time_limit(mixed_files: list[str]) -> None:
     two = runner.invoke(cli, [*base, "--jobs", "2", "--timeout", "0", *mixed_files])
     assert two.exit_code == one.exit_code == 2
     assert two.stdout == one.stdout
+
+
+def _nothing_to_build() -> None:
+    return None
+
+
+def _usd_threads(built: None, item: str) -> int:
+    from pxr import Work
+
+    return Work.GetConcurrencyLimit()
+
+
+@pytest.mark.parametrize("size", [1, 2, 3])
+def test_workers_share_the_cores_for_usd_threads(
+    size: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each of N workers lets USD use its share of the cores (at least one)."""
+    from pxr import Work
+
+    monkeypatch.delenv("PXR_WORK_THREAD_LIMIT", raising=False)
+    own = Work.GetConcurrencyLimit()
+    pool = execution.Pool(_nothing_to_build, size, None, handle=_usd_threads)
+    threads = pool.run([f"item {n}" for n in range(size)])
+    share = max(1, Work.GetPhysicalConcurrencyLimit() // size)
+    assert set(threads) == {own if size == 1 else min(own, share)}
+
+
+@pytest.mark.parametrize("user_limit", [None, "0"])
+def test_a_usd_thread_limit_the_user_set_stands(user_limit: str | None) -> None:
+    """With PXR_WORK_THREAD_LIMIT set (0: every core), a worker keeps USD's limit.
+    In a process of its own: a forkserver's workers have the server's environment."""
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in os.environ.items() if k != "PXR_WORK_THREAD_LIMIT"}
+    if user_limit is not None:
+        env["PXR_WORK_THREAD_LIMIT"] = user_limit
+    code = (
+        "from pxr import Work; from usdrender_lint.running.workers import share_cores; "
+        "before = Work.GetConcurrencyLimit(); share_cores(2); "
+        "print(before, Work.GetConcurrencyLimit(), Work.GetPhysicalConcurrencyLimit())"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    before, after, cores = map(int, done.stdout.split())
+    assert after == (before if user_limit is not None else min(before, max(1, cores // 2)))

@@ -312,6 +312,7 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     die_with_parent(os.getppid())
     _cap_memory(pool.size)
+    share_cores(pool.size)
     debug.keep_stderr()
     # Nothing of a worker's belongs on stdout, nor may it hold the user's pipe open.
     for fd, path in ((0, os.devnull), (1, os.devnull), (2, f"{log_dir}/worker-{os.getpid()}.log")):
@@ -373,6 +374,21 @@ def worker_memory_limit(workers: int) -> int:
             if text.isdigit() and int(text) < 1 << 60:  # "max" or a huge number: no limit
                 total = min(total, int(text))
     return max(MIN_WORKER_MEMORY, int(total * 0.9) // max(workers, 1))
+
+
+def share_cores(workers: int) -> None:
+    """Give a worker of ``workers`` its share of the cores for USD's threads, at
+    least one. USD opens a stage on every core; with a worker per core, a worker's
+    second thread only competes with the other workers (on 2 cores, ``--jobs 2``
+    over 200 CI-gate shots: 2.75 s against 2.94 s, user time 7% less). A limit
+    the user set (``PXR_WORK_THREAD_LIMIT``) stands."""
+    if workers < 2 or "PXR_WORK_THREAD_LIMIT" in os.environ:
+        return
+    from pxr import Work
+
+    share = max(1, Work.GetPhysicalConcurrencyLimit() // workers)
+    if share < Work.GetConcurrencyLimit():
+        Work.SetConcurrencyLimit(share)
 
 
 def _cap_memory(workers: int) -> None:
