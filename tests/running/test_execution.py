@@ -41,8 +41,10 @@ class TrapRule(Rule):
     """Test-only rule: misbehaves on Scopes with special names.
 
     ## What it does
-    Crashes the process on a Scope named Crash, hangs on one named Hang and
-    otherwise reports every Scope.
+    Crashes the process on a Scope named Crash, hangs on one named Hang, on one
+    named Peek waits up to 10 s for the worker's connection to the parent (its one
+    socket) to hold the next file and says whether it did, and otherwise reports
+    every Scope.
     """
 
     code = "TX901"
@@ -60,6 +62,11 @@ class TrapRule(Rule):
             os.write(2, b"\n---- python3.11 terminated ----\n")
             os.write(2, b"python3.11 crashed. FATAL ERROR: Dereferenced an invalid spec\n")
             os.abort()
+        if prim.GetName() == "Peek":
+            fds = [fd for fd in map(int, os.listdir("/proc/self/fd")) if _is_socket(fd)]
+            ready, _, _ = select.select(fds, [], [], 10)
+            yield Diagnostic(message=f"next file waiting: {bool(ready)}", at=prim)
+            return
         yield Diagnostic(message=f"scope {prim.GetName()}", at=prim)
 
 
@@ -87,35 +94,11 @@ def process_linter() -> Linter:
     return Linter([ProcessRule()])
 
 
-class PeekRule(Rule):
-    """Test-only rule: says whether the next file already waits in the worker's pipe.
-
-    ## What it does
-    On a Scope named Peek, waits up to 10 s for the worker's connection to the
-    parent (its one socket) to hold something to read, and reports whether it did.
-    """
-
-    code = "TX905"
-    name = "test-peek"
-    severity = Severity.INFO
-    prim_types = (UsdGeom.Scope,)
-
-    def check_prim(self, prim, ctx):
-        if prim.GetName() == "Peek":
-            fds = [fd for fd in map(int, os.listdir("/proc/self/fd")) if _is_socket(fd)]
-            ready, _, _ = select.select(fds, [], [], 10)
-            yield Diagnostic(message=f"next file waiting: {bool(ready)}", at=prim)
-
-
 def _is_socket(fd: int) -> bool:
     try:
         return os.readlink(f"/proc/self/fd/{fd}").startswith("socket:")
     except OSError:  # the listing's own descriptor, closed since
         return False
-
-
-def peek_linter() -> Linter:
-    return Linter([PeekRule()])
 
 
 def broken_factory() -> Linter:
@@ -200,7 +183,7 @@ def test_a_worker_holds_the_next_file_while_it_lints_one(tmp_path: Path) -> None
         _write(tmp_path, "1.usda", SCOPE.format(name="Peek")),
         _write(tmp_path, "2.usda", SCOPE.format(name="Two")),
     ]
-    results = lint_paths(files, linter_factory=peek_linter, jobs=1, timeout=60)
+    results = lint_paths(files, linter_factory=trap_linter, jobs=1, timeout=60)
     assert [f.message for f in results[0].findings] == ["next file waiting: True"]
 
 
