@@ -442,16 +442,22 @@ def test_the_lint_cache_holds_each_layer_index_once(tmp_path: Path) -> None:
         assert len(cache) == 1
 
 
-def test_the_skipping_patterns_are_compiled_on_the_first_lookup_not_at_import() -> None:
-    # They take milliseconds to compile; a check with no finding to place never needs them.
+def test_the_skipping_patterns_are_compiled_on_first_use_not_at_import() -> None:
+    # Each takes milliseconds to compile; a check with no finding to place never needs
+    # them, and placing one in a layer Sdf read needs all but the text-walking ``flat``.
+    shot = Path(__file__).resolve().parents[2] / "examples" / "framing_shot" / "shot.usda"
     code = (
         "from usdrender_lint.layers import usda_text as u\n"
-        "print(u._skippers.cache_info().currsize)\n"
+        "print(sorted(vars(u._SKIPPERS)))\n"
         "u.index_usda('def \"A\" {\\n}\\n')\n"
-        "print(u._skippers.cache_info().currsize)\n"
+        "print(sorted(vars(u._SKIPPERS)))\n"
+        f"u.line_of({str(shot)!r}, '/Render/FilmSettings.camera')\n"
+        "print(sorted(vars(u._SKIPPERS)))\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.split() == ["0", "1"]
+    at_import, after_text, after_line = out.stdout.splitlines()
+    assert (at_import, after_text) == ("[]", "['statement_rest']")
+    assert "'skeleton_flat'" in after_line and "'flat'" not in after_line
 
 
 def test_a_number_with_an_exponent_closes_its_array() -> None:
