@@ -8,7 +8,9 @@ import os
 import select
 import signal
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TypeVar
 
 import pytest
 from click.testing import CliRunner
@@ -25,6 +27,7 @@ from usdrender_lint.running.pipeline import LinterSpec, make_linter
 from usdrender_lint.running.progress import PROGRESS_MIN_FILES, want_progress
 from usdrender_lint.running.workers import ExecutionError, lint_paths
 
+_T = TypeVar("_T")
 SCOPE = '#usda 1.0\ndef Scope "{name}"\n{{\n}}\n'
 SETTINGS = """#usda 1.0
 def Scope "Render"
@@ -103,6 +106,21 @@ def _is_socket(fd: int) -> bool:
 
 def broken_factory() -> Linter:
     raise RuntimeError("plugin acme failed to import")
+
+
+def _within(seconds: int, call: Callable[[], _T]) -> _T:
+    """``call()``, failing the test (TimeoutError) when it takes longer than ``seconds``."""
+
+    def expire(signum: int, frame: object) -> None:
+        raise TimeoutError(f"no answer within {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.alarm(seconds)
+    try:
+        return call()
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def _write(folder: Path, name: str, text: str) -> str:
@@ -211,6 +229,22 @@ def test_long_runs_recycle_workers(tmp_path: Path, monkeypatch: pytest.MonkeyPat
     pids = [r.findings[0].message for r in results]
     assert pids[0] == pids[1] != pids[2] == pids[3] != pids[4]
     assert str(os.getpid()) not in " ".join(pids)
+
+
+@pytest.mark.parametrize("crash_at", [1, 2])
+def test_a_crash_around_a_recycling_loses_no_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, crash_at: int
+) -> None:
+    # With a worker recycled every 2 files, the crash lands on its last file (1) or on
+    # the next worker's first (2); the file queued behind it goes to the next worker.
+    monkeypatch.setattr(execution, "WORKER_RECYCLE_AFTER", 2)
+    names = [f"S{n}" for n in range(5)]
+    names[crash_at] = "Crash"
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=name)) for n, name in enumerate(names)]
+    # A file lost from the pool would leave it waiting for an answer forever.
+    results = _within(60, lambda: lint_paths(files, linter_factory=trap_linter, jobs=1, timeout=60))
+    said = [r.findings[0].message if r.status == "linted" else r.status for r in results]
+    assert said == ["error" if name == "Crash" else f"scope {name}" for name in names]
 
 
 def test_a_worker_that_cannot_build_its_linter_stops_the_run(tmp_path: Path) -> None:
