@@ -24,8 +24,7 @@ def _authored_schema_attributes(
 def _list_authored_schema_attributes(
     ctx: Context, prim: Usd.Prim
 ) -> list[tuple[str, SchemaAttribute]]:
-    # Not the PrimValues: the answer is kept in its memo, and an answer holding
-    # it would make it a reference cycle, left to the garbage collector.
+    # Not the PrimValues: the answer is kept in its memo (the caller has it by identity).
     values = prim_values(prim)
     declared = [(name, values.schema_attribute(name)) for name in values.authored_names()]
     # Custom attributes and relationships have no attribute declaration.

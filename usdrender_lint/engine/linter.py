@@ -16,6 +16,7 @@ from pxr import Sdf, Tf, Usd
 from .. import debug
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
+from ..api.resolve import forget_prim_answers
 from ..layers.crate import crate_structure_problem
 from ..layers.files import layer_identifier, real_path, unreadable_reason
 from ..layers.nesting import nesting_problem
@@ -435,6 +436,7 @@ class Linter:
                     value = inspect(ctx, findings)
             finally:
                 trap.Clear()
+                forget_prim_answers(ctx.cache)  # no reference cycle outlives the lint
         if trace.reads is not None:
             _record(trace.reads, stage, ctx, masked)
         return findings, value
