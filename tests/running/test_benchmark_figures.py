@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from bench_support import load_script
 
 run = load_script("run")
@@ -23,3 +25,24 @@ def test_a_paired_ratio_is_the_median_of_each_rounds_ratio() -> None:
     check = _series("check", [1.2, 2.4, 40.0])
     assert round(run.paired(check, bare), 6) == 1.2
     assert "paired 1.20x" in run.row(check, bare)
+
+
+def test_the_gate_in_instructions_is_what_one_more_shot_costs(tmp_path, monkeypatch) -> None:
+    def ensure(folder, *how):
+        folder.mkdir()
+        for i in range(int(how[-1])):
+            (folder / f"gate_{i:04d}.usda").write_text("#usda 1.0\n")
+        return folder
+
+    def instructions(argv, env=None):
+        assert env is not None and env["PYTHONHASHSEED"] == "0"
+        if "--timeout" in argv:  # the lint of a folder: 300M to start, 40M a shot
+            return 300_000_000 + 40_000_000 * len(list(Path(argv[-1]).glob("gate_*.usda")))
+        # The floor over the files: 200M to start, 25M a shot.
+        return 200_000_000 + 25_000_000 * sum(arg.endswith(".usda") for arg in argv)
+
+    monkeypatch.setattr(run, "ensure", ensure)
+    monkeypatch.setattr(run, "instructions", instructions)
+    # Start-up cancels out (22 shots less 2): 40M against 25M a shot.
+    assert run.gate_instructions(tmp_path) == {"gate_shot_instructions": 40 / 25}
+    assert run._goal("gate_shot_instructions") == ("<=", 2.0)
