@@ -2,8 +2,8 @@
 
 These tests need the PyPI package ``omniverse-asset-validator`` and this
 project installed with its entry points (``pip install '.[omniverse]'``):
-.ci/run makes that environment of its own (.venv-av) and runs this folder
-there; elsewhere they skip. Every comparison is with what ``check`` reports
+.ci/run makes that environment of its own (.venv-av, from the built wheel)
+and runs this folder there; elsewhere they skip. Every comparison is with what ``check`` reports
 on the same file, run once as a command over all the files.
 """
 
