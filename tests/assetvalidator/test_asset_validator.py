@@ -2,8 +2,9 @@
 
 These tests need the PyPI package ``omniverse-asset-validator`` and this
 project installed with its entry points (``pip install '.[omniverse]'``):
-.ci/run makes that environment of its own (.venv-av, from the built wheel)
-and runs this folder there; elsewhere they skip. Every comparison is with what ``check`` reports
+.ci/run makes that environment of its own (.venv-extras, from the built wheel,
+with examples/acme-plugin beside it, whose rules are registered too) and runs
+this folder there; elsewhere they skip. Every comparison is with what ``check`` reports
 on the same file, run once as a command over all the files.
 """
 
