@@ -27,21 +27,28 @@ def test_a_paired_ratio_is_the_median_of_each_rounds_ratio() -> None:
     assert "paired 1.20x" in run.row(check, bare)
 
 
-def test_the_gate_in_instructions_is_what_one_more_shot_costs(tmp_path, monkeypatch) -> None:
-    def ensure(folder, *how):
-        folder.mkdir()
-        for i in range(int(how[-1])):
-            (folder / f"gate_{i:04d}.usda").write_text("#usda 1.0\n")
-        return folder
+def _empty_shots(folder: Path, *how: str) -> Path:
+    """In place of run.ensure: ``how[-1]`` (the --count) empty gate shots."""
+    folder.mkdir()
+    for i in range(int(how[-1])):
+        (folder / f"gate_{i:04d}.usda").write_text("#usda 1.0\n")
+    return folder
 
+
+def _gate_count(argv: list[str]) -> int:
+    """In place of valgrind's count of a gate process."""
+    if "--timeout" in argv:  # the lint of a folder: 300M to start, 40M a shot
+        return 300_000_000 + 40_000_000 * len(list(Path(argv[-1]).glob("gate_*.usda")))
+    # The floor over the files: 200M to start, 25M a shot.
+    return 200_000_000 + 25_000_000 * sum(arg.endswith(".usda") for arg in argv)
+
+
+def test_the_gate_in_instructions_is_what_one_more_shot_costs(tmp_path, monkeypatch) -> None:
     def instructions(argv, env=None):
         assert env is not None and env["PYTHONHASHSEED"] == "0"
-        if "--timeout" in argv:  # the lint of a folder: 300M to start, 40M a shot
-            return 300_000_000 + 40_000_000 * len(list(Path(argv[-1]).glob("gate_*.usda")))
-        # The floor over the files: 200M to start, 25M a shot.
-        return 200_000_000 + 25_000_000 * sum(arg.endswith(".usda") for arg in argv)
+        return _gate_count(argv)
 
-    monkeypatch.setattr(run, "ensure", ensure)
+    monkeypatch.setattr(run, "ensure", _empty_shots)
     monkeypatch.setattr(run, "instructions", instructions)
     # Start-up cancels out (22 shots less 2): 40M against 25M a shot.
     assert run.gate_instructions(tmp_path) == {"gate_shot_instructions": 40 / 25}
@@ -51,23 +58,13 @@ def test_the_gate_in_instructions_is_what_one_more_shot_costs(tmp_path, monkeypa
 def test_each_gate_count_is_the_median_of_its_runs(tmp_path, monkeypatch) -> None:
     # One run in three of each process is 9M off (valgrind's counts of the same
     # process move): the medians leave the figure as if no run were.
-    def ensure(folder, *how):
-        folder.mkdir()
-        for i in range(int(how[-1])):
-            (folder / f"gate_{i:04d}.usda").write_text("#usda 1.0\n")
-        return folder
-
     runs: dict[tuple[str, ...], int] = {}
 
     def instructions(argv, env=None):
         runs[tuple(argv)] = runs.get(tuple(argv), 0) + 1
-        noise = 9_000_000 if runs[tuple(argv)] % 3 == 2 else 0
-        if "--timeout" in argv:
-            shots = len(list(Path(argv[-1]).glob("gate_*.usda")))
-            return 300_000_000 + 40_000_000 * shots + noise
-        return 200_000_000 + 25_000_000 * sum(arg.endswith(".usda") for arg in argv) + noise
+        return _gate_count(argv) + (9_000_000 if runs[tuple(argv)] % 3 == 2 else 0)
 
-    monkeypatch.setattr(run, "ensure", ensure)
+    monkeypatch.setattr(run, "ensure", _empty_shots)
     monkeypatch.setattr(run, "instructions", instructions)
     assert run.gate_instructions(tmp_path) == {"gate_shot_instructions": 40 / 25}
     # Each of the four processes counted GATE_COUNTS times (the lint of 2 shots once more,
