@@ -56,13 +56,17 @@ def test_the_gate_in_instructions_is_what_one_more_shot_costs(tmp_path, monkeypa
 
 
 def test_each_gate_count_is_the_median_of_its_runs(tmp_path, monkeypatch) -> None:
-    # One run in three of each process is 9M off (valgrind's counts of the same
-    # process move): the medians leave the figure as if no run were.
+    # valgrind's counts of the same process move: the first count of the lint of 22
+    # shots is 9M high, the second of the floor over them 9M low. The medians leave
+    # the figure as if neither were (a first count, a max or a min would not).
     runs: dict[tuple[str, ...], int] = {}
+    off = {(True, 1): 9_000_000, (False, 2): -9_000_000}
 
     def instructions(argv, env=None):
         runs[tuple(argv)] = runs.get(tuple(argv), 0) + 1
-        return _gate_count(argv) + (9_000_000 if runs[tuple(argv)] % 3 == 2 else 0)
+        over_22 = "gate_22" in Path(argv[-1]).parts  # the lint's folder, the floor's last shot
+        moved = off.get(("--timeout" in argv, runs[tuple(argv)]), 0) if over_22 else 0
+        return _gate_count(argv) + moved
 
     monkeypatch.setattr(run, "ensure", _empty_shots)
     monkeypatch.setattr(run, "instructions", instructions)
