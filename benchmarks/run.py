@@ -596,8 +596,7 @@ def gate_instructions(work: Path) -> dict[str, float]:
     floor_shot = (counted[22][1] - counted[2][1]) / 20
     print(
         f"\nCI gate, instructions a shot (valgrind, 22 shots less 2, medians of {GATE_COUNTS}): "
-        f"check --jobs 1 "
-        f"{lint_shot / 1e6:.2f}M, open+traverse {floor_shot / 1e6:.2f}M = "
+        f"check --jobs 1 {lint_shot / 1e6:.2f}M, open+traverse {floor_shot / 1e6:.2f}M = "
         f"{lint_shot / floor_shot:.3f}x"
     )
     return {"gate_shot_instructions": lint_shot / floor_shot}
