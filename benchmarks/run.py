@@ -526,11 +526,14 @@ OPEN_TRAVERSE_ALL = (
 )
 
 
-def gate(work: Path, count: int, rounds: int) -> dict[str, float]:
+def gate(
+    work: Path, count: int, rounds: int, runs: dict[int, tuple[float, float]]
+) -> dict[str, float]:
     """Issue 27: the CI gate, ``count`` shots of ~200 scene prims, each with 4
     RenderSettings, 12 products, 6 vars, 4 passes and 3 cameras. The floor is
     one Python process that opens and traverses the same files (for ``--jobs
-    2``: two such processes at once, each over half of them)."""
+    2``: two such processes at once, each over half of them). ``runs`` gets the
+    medians of ``--jobs 1`` and of the floor, in seconds, for :func:`beyond_start_up`."""
     folder = ensure(work / f"gate_{count}", "gate", "--count", str(count))
     files = sorted(str(p) for p in folder.glob("gate_*.usda"))
     half = len(files) // 2
@@ -557,6 +560,7 @@ def gate(work: Path, count: int, rounds: int) -> dict[str, float]:
             f" (paired {paired(lint, floor):.2f}x; CPU time {lint.cpu() / floor.cpu():.2f}x,"
             " the figure load moves least)"
         )
+    runs[count] = (jobs1.median(), floor1.median())
     speedup = jobs1.median() / jobs2.median()
     # What two processes gain on this machine for the bare opens: the bound the lint meets too.
     print(
@@ -572,6 +576,18 @@ def gate(work: Path, count: int, rounds: int) -> dict[str, float]:
         f"gate_{count}_speedup": speedup,
         f"gate_{count}_rss": jobs2.rss_mb() / one.rss_mb(),
     }
+
+
+def beyond_start_up(runs: dict[int, tuple[float, float]]) -> tuple[float, float, float, float]:
+    """What one more gate shot costs ``check --jobs 1`` and the floor in wall time
+    (seconds), from the fewest and the most shots run (``gate``'s ``runs``), and
+    what each costs with no shot at all (start-up): ``(lint, floor, lint_fixed,
+    floor_fixed)``. The more shots, the nearer the whole runs' ratio comes to the
+    ratio of the first two."""
+    few, most = min(runs), max(runs)
+    lint = (runs[most][0] - runs[few][0]) / (most - few)
+    floor = (runs[most][1] - runs[few][1]) / (most - few)
+    return lint, floor, runs[few][0] - few * lint, runs[few][1] - few * floor
 
 
 def gate_instructions(work: Path) -> dict[str, float]:
@@ -777,8 +793,16 @@ def main(argv: list[str] | None = None) -> int:
     if "many" in cases:
         figures.update(many_files(work, args.files, args.rounds))
     if "gate" in cases:
+        runs: dict[int, tuple[float, float]] = {}
         for count in (int(c) for c in args.gate_shots.split(",") if c.strip()):
-            figures.update(gate(work, count, args.rounds))
+            figures.update(gate(work, count, args.rounds, runs))
+        if len(runs) > 1:
+            lint, floor, lint_fixed, floor_fixed = beyond_start_up(runs)
+            print(
+                f"\nCI gate beyond start-up ({min(runs)} to {max(runs)} shots): --jobs 1 "
+                f"{lint * 1000:.2f} ms a shot, floor {floor * 1000:.2f} ms = {lint / floor:.2f}x;"
+                f" start-up {lint_fixed:.2f} s against {floor_fixed:.2f} s"
+            )
         if args.instructions:
             figures.update(gate_instructions(work))
     if "variants" in cases:

@@ -74,3 +74,18 @@ def test_each_gate_count_is_the_median_of_its_runs(tmp_path, monkeypatch) -> Non
     # Each of the four processes counted GATE_COUNTS times (the lint of 2 shots once more,
     # the run that writes the bytecode).
     assert sorted(runs.values()) == [run.GATE_COUNTS] * 3 + [run.GATE_COUNTS + 1]
+
+
+def test_beyond_start_up_is_what_one_more_shot_costs_from_the_fewest_and_most_shots() -> None:
+    # --jobs 1: 0.2 s to start, 5 ms a shot; the floor 0.1 s and 2 ms. A middle run
+    # that a slow spell made dearer is not read.
+    runs = {
+        200: (0.2 + 200 * 0.005, 0.1 + 200 * 0.002),
+        500: (9.0, 9.0),
+        1000: (0.2 + 1000 * 0.005, 0.1 + 1000 * 0.002),
+    }
+    lint, floor, lint_fixed, floor_fixed = run.beyond_start_up(runs)
+    assert (round(lint, 9), round(floor, 9)) == (0.005, 0.002)
+    assert (round(lint_fixed, 9), round(floor_fixed, 9)) == (0.2, 0.1)
+    # The whole runs' ratios (2.33x, 2.43x) approach the per-shot one (2.5x).
+    assert runs[200][0] / runs[200][1] < runs[1000][0] / runs[1000][1] < lint / floor
