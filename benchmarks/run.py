@@ -526,14 +526,12 @@ OPEN_TRAVERSE_ALL = (
 )
 
 
-def gate(
-    work: Path, count: int, rounds: int, runs: dict[int, tuple[float, float]]
-) -> dict[str, float]:
+def gate(work: Path, count: int, rounds: int) -> tuple[dict[str, float], tuple[float, float]]:
     """Issue 27: the CI gate, ``count`` shots of ~200 scene prims, each with 4
     RenderSettings, 12 products, 6 vars, 4 passes and 3 cameras. The floor is
     one Python process that opens and traverses the same files (for ``--jobs
-    2``: two such processes at once, each over half of them). ``runs`` gets the
-    medians of ``--jobs 1`` and of the floor, in seconds, for :func:`beyond_start_up`."""
+    2``: two such processes at once, each over half of them). Returns the figures
+    and the medians of ``--jobs 1`` and of the floor in seconds (:func:`beyond_start_up`)."""
     folder = ensure(work / f"gate_{count}", "gate", "--count", str(count))
     files = sorted(str(p) for p in folder.glob("gate_*.usda"))
     half = len(files) // 2
@@ -560,7 +558,6 @@ def gate(
             f" (paired {paired(lint, floor):.2f}x; CPU time {lint.cpu() / floor.cpu():.2f}x,"
             " the figure load moves least)"
         )
-    runs[count] = (jobs1.median(), floor1.median())
     speedup = jobs1.median() / jobs2.median()
     # What two processes gain on this machine for the bare opens: the bound the lint meets too.
     print(
@@ -575,12 +572,12 @@ def gate(
         f"gate_{count}_jobs1": jobs1.median() / floor1.median(),
         f"gate_{count}_speedup": speedup,
         f"gate_{count}_rss": jobs2.rss_mb() / one.rss_mb(),
-    }
+    }, (jobs1.median(), floor1.median())
 
 
 def beyond_start_up(runs: dict[int, tuple[float, float]]) -> tuple[float, float, float, float]:
     """What one more gate shot costs ``check --jobs 1`` and the floor in wall time
-    (seconds), from the fewest and the most shots run (``gate``'s ``runs``), and
+    (seconds), from the fewest and the most shots run (``gate``'s medians), and
     what each costs with no shot at all (start-up): ``(lint, floor, lint_fixed,
     floor_fixed)``. The more shots, the nearer the whole runs' ratio comes to the
     ratio of the first two."""
@@ -795,7 +792,8 @@ def main(argv: list[str] | None = None) -> int:
     if "gate" in cases:
         runs: dict[int, tuple[float, float]] = {}
         for count in (int(c) for c in args.gate_shots.split(",") if c.strip()):
-            figures.update(gate(work, count, args.rounds, runs))
+            found, runs[count] = gate(work, count, args.rounds)
+            figures.update(found)
         if len(runs) > 1:
             lint, floor, lint_fixed, floor_fixed = beyond_start_up(runs)
             print(
