@@ -222,6 +222,33 @@ def test_what_a_dying_worker_prints_becomes_the_one_line_error(
     assert "FATAL" not in captured.err and "terminated" not in captured.err
 
 
+def test_every_worker_is_killed_before_any_is_joined(
+    mixed_files: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """At the end of a run the workers exit side by side, not one after another."""
+    from multiprocessing.process import BaseProcess
+
+    events: list[tuple[str, int | None]] = []
+    kill, join = BaseProcess.kill, BaseProcess.join
+
+    def recorded_kill(process: BaseProcess) -> None:
+        events.append(("kill", process.pid))
+        kill(process)
+
+    def recorded_join(process: BaseProcess, timeout: float | None = None) -> None:
+        events.append(("join", process.pid))
+        join(process, timeout)
+
+    monkeypatch.setattr(BaseProcess, "kill", recorded_kill)
+    monkeypatch.setattr(BaseProcess, "join", recorded_join)
+    results = lint_paths(mixed_files, linter_factory=LinterSpec(Settings()), jobs=2, timeout=60)
+    assert len(results) == len(mixed_files)
+    first_join = next(i for i, (what, _) in enumerate(events) if what == "join")
+    killed = {pid for what, pid in events[:first_join] if what == "kill"}
+    assert len(killed) == 2
+    assert killed == {pid for what, pid in events if what == "join"}
+
+
 def test_long_runs_recycle_workers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(execution, "WORKER_RECYCLE_AFTER", 2)
     files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(5)]

@@ -183,6 +183,9 @@ class Pool:
                     self._feed(worker)
                 self._step()
         finally:
+            # Every worker is killed before any is joined: they exit side by side.
+            for worker in self._workers:
+                worker.kill()
             for worker in self._workers:
                 worker.stop()
             shutil.rmtree(self._log_dir, ignore_errors=True)
@@ -302,8 +305,11 @@ class _Worker:
             said = _last_words(Path(self.log_dir, f"worker-{self.process.pid}.log").read_text())
         return f"the linter process crashed while reading it ({how}{': ' + said if said else ''})"
 
-    def stop(self) -> None:
+    def kill(self) -> None:
         self.process.kill()  # idle or not: a worker holds nothing to clean up (dead: a no-op)
+
+    def stop(self) -> None:
+        self.kill()
         self.process.join(5)
         self.conn.close()
 
