@@ -89,3 +89,47 @@ def test_beyond_start_up_is_what_one_more_shot_costs_from_the_fewest_and_most_sh
     assert (round(lint_fixed, 9), round(floor_fixed, 9)) == (0.2, 0.1)
     # The whole runs' ratios (2.33x, 2.43x) approach the per-shot one (2.5x).
     assert runs[200][0] / runs[200][1] < runs[1000][0] / runs[1000][1] < lint / floor
+
+
+def test_a_gate_run_that_a_slow_spell_distorted_says_so_and_meets_no_goal(
+    tmp_path, monkeypatch, capsys
+) -> None:
+    # The floor's one process took 2.5 s where its two took 1.0 s: faster than two
+    # processes can make it on two CPUs, so the one-process rounds were slowed and
+    # --jobs 1 against them (1.2x) would meet its goal falsely.
+    seconds = {
+        "open+traverse 200 shots, 1 process": 2.5,
+        "open+traverse 200 shots, 2 processes": 1.0,
+        "check --jobs 1 200 shots": 3.0,
+        "check --jobs 2 200 shots": 1.8,
+        "check --jobs 1, 1 shot": 0.2,
+    }
+
+    def measure(series, rounds):
+        for s in series:
+            s.samples = [run.Sample(seconds[s.label], 1024, seconds[s.label])] * rounds
+
+    monkeypatch.setattr(run, "ensure", _empty_shots)
+    monkeypatch.setattr(run, "measure", measure)
+    monkeypatch.setattr(run.os, "cpu_count", lambda: 2)
+    figures, medians = run.gate(tmp_path, 200, 3)
+    assert figures == {
+        "gate_200_jobs1_disturbed": 3.0 / 2.5,
+        "gate_200_speedup": 3.0 / 1.8,
+        "gate_200_rss": 1.0,
+    }
+    assert medians == (3.0, 2.5)
+    assert "disturbed: the floor: 2.50x as fast with two processes" in capsys.readouterr().out
+    assert run._goal("gate_200_jobs1_disturbed") is None
+    assert run.verdict(figures) is False  # the speed-up's own goal (>= 1.7) still judges
+    assert "gate_200_jobs1_disturbed     1.20\n" in capsys.readouterr().out
+
+
+def test_what_two_processes_cannot_do_marks_a_run_disturbed() -> None:
+    speedups = {"the floor": 1.9, "the lint": 2.2}
+    assert list(run.impossible_speedups(speedups, cpus=2)) == ["the lint"]
+    assert list(run.impossible_speedups(speedups, cpus=1)) == ["the floor", "the lint"]
+    assert list(run.impossible_speedups(speedups, cpus=8)) == ["the lint"]
+    assert run.negative_start_ups({"the lint": 0.2, "the floor": -0.21}) == [
+        "the floor: a start-up of -0.21 s: a slow spell hit its run of the most shots"
+    ]
