@@ -123,6 +123,15 @@ def test_a_gate_run_that_a_slow_spell_distorted_says_so_and_meets_no_goal(
     assert run._goal("gate_200_jobs1_disturbed") is None
     assert run.verdict(figures) is False  # the speed-up's own goal (>= 1.7) still judges
     assert "gate_200_jobs1_disturbed     1.20\n" in capsys.readouterr().out
+    # The lint's own one-process rounds slowed: both figures that read them meet no goal.
+    seconds.update({"open+traverse 200 shots, 1 process": 1.5, "check --jobs 1 200 shots": 4.0})
+    (tmp_path / "again").mkdir()
+    figures, _ = run.gate(tmp_path / "again", 200, 3)
+    assert sorted(figures) == [
+        "gate_200_jobs1_disturbed",
+        "gate_200_rss",
+        "gate_200_speedup_disturbed",
+    ]
 
 
 def test_what_two_processes_cannot_do_marks_a_run_disturbed() -> None:
