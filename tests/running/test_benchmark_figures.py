@@ -134,6 +134,51 @@ def test_a_gate_run_that_a_slow_spell_distorted_says_so_and_meets_no_goal(
     ]
 
 
+def test_a_gate_case_whose_rounds_a_slow_spell_spread_meets_no_goal(
+    tmp_path, monkeypatch, capsys
+) -> None:
+    # The eleventh session's third run: the floor's one process took 0.56 s in two
+    # rounds and 0.69 s in three, so --jobs 1 against its median (1.25 / 0.69 = 1.81x)
+    # met its goal by the spell alone, while two processes stayed within what they give.
+    rounds = {
+        "open+traverse 200 shots, 1 process": [0.56, 0.69, 0.56, 0.69, 0.69],
+        "open+traverse 200 shots, 2 processes": [0.40] * 5,
+        "check --jobs 1 200 shots": [1.25] * 5,
+        "check --jobs 2 200 shots": [0.70] * 5,
+        "check --jobs 1, 1 shot": [0.2] * 5,
+    }
+
+    def measure(series, count):
+        for s in series:
+            s.samples = [run.Sample(seconds, 1024, seconds) for seconds in rounds[s.label]]
+
+    monkeypatch.setattr(run, "ensure", _empty_shots)
+    monkeypatch.setattr(run, "measure", measure)
+    monkeypatch.setattr(run.os, "cpu_count", lambda: 2)
+    figures, _ = run.gate(tmp_path, 200, 5)
+    assert sorted(figures) == ["gate_200_jobs1_disturbed", "gate_200_rss", "gate_200_speedup"]
+    assert figures["gate_200_jobs1_disturbed"] == 1.25 / 0.69
+    out = capsys.readouterr().out
+    assert "disturbed: the floor: its median round took 1.23x its fastest (more than 1.10x)" in out
+    # The floor steady, the lint's two processes slowed: the speed-up alone meets no goal.
+    rounds["open+traverse 200 shots, 1 process"] = [0.56] * 5
+    rounds["check --jobs 2 200 shots"] = [0.70, 0.80, 0.80, 0.70, 0.80]
+    (tmp_path / "again").mkdir()
+    figures, _ = run.gate(tmp_path / "again", 200, 5)
+    assert sorted(figures) == ["gate_200_jobs1", "gate_200_rss", "gate_200_speedup_disturbed"]
+    assert "the lint's two processes: its median round took 1.14x" in capsys.readouterr().out
+
+
+def test_rounds_within_the_spread_limit_are_not_a_slow_spell() -> None:
+    def series(*seconds: float) -> run.Series:
+        return run.Series("case", [], samples=[run.Sample(s, 1024, s) for s in seconds])
+
+    steady = series(1.00, 1.05, 1.08, 1.09, 1.10)  # the median 1.08x the fastest
+    slowed = series(1.00, 1.00, 1.12, 1.12, 1.12)
+    assert run.slow_spells({"steady": steady, "slowed": slowed}).keys() == {"slowed"}
+    assert run.slow_spells({"steady": steady}, limit=1.05).keys() == {"steady"}
+
+
 def test_what_two_processes_cannot_do_marks_a_run_disturbed() -> None:
     speedups = {"the floor": 1.9, "the lint": 2.2}
     assert list(run.impossible_speedups(speedups, cpus=2)) == ["the lint"]
