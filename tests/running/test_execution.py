@@ -381,6 +381,20 @@ def _usd_threads(built: None, item: str) -> int:
     return Work.GetConcurrencyLimit()
 
 
+def _slow_pid(built: None, item: str) -> int:
+    time.sleep(1.0)  # long past the second worker's start
+    return os.getpid()
+
+
+def test_as_many_files_as_workers_go_one_to_each() -> None:
+    """A worker is sent a next file only while more wait than there are other
+    workers: two files on two workers were both held by the first one ready, and
+    ran one after the other."""
+    pool = execution.Pool(_nothing_to_build, 2, None, handle=_slow_pid)
+    first, second = pool.run(["one", "two"])
+    assert first != second
+
+
 @pytest.mark.parametrize("size", [1, 2, 3])
 def test_workers_share_the_cores_for_usd_threads(
     size: int, monkeypatch: pytest.MonkeyPatch

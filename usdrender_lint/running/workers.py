@@ -26,7 +26,8 @@ if TYPE_CHECKING:
 
 #: Items a worker holds at once: the one it lints and the next, waiting in its pipe,
 #: so that it never idles for the parent's round trip between files (about 0.8 ms a
-#: file on a CI gate; benchmarks/run.py --only gate).
+#: file on a CI gate; benchmarks/run.py --only gate). Only while more items wait than
+#: there are other workers (Pool._feed): the last ones go to whichever worker is free.
 IN_FLIGHT = 2
 #: usd-core's bindings keep a small wrapper for every layer a stage handed out
 #: (about 1 MiB per 1,000 files): a fresh worker replaces one after this many.
@@ -192,12 +193,16 @@ class Pool:
         return tuple(self._results)
 
     def _feed(self, worker: _Worker) -> None:
-        """Send a started worker items until it holds IN_FLIGHT (none past its recycling)."""
+        """Send a started worker items until it holds IN_FLIGHT (none past its
+        recycling). A worker is sent a next item only while more wait than there are
+        other workers: a worker still starting or about to finish takes it otherwise
+        (two files on two workers held by one ran 1.36x slower than on one worker)."""
         while (
             not worker.starting
             and self._pending
             and len(worker.queue) < IN_FLIGHT
             and worker.linted + len(worker.queue) < WORKER_RECYCLE_AFTER
+            and (not worker.queue or len(self._pending) >= len(self._workers))
         ):
             index, item = self._pending.pop()
             if not worker.queue:  # it starts this one now
