@@ -117,3 +117,60 @@ def test_a_bad_pattern_list_is_a_config_error(tmp_path: Path, key: str) -> None:
     result = CliRunner().invoke(cli, ["check", "--config", str(config), str(tmp_path)])
     assert result.exit_code == 2
     assert f"'{key}' must be a list of strings" in result.output
+
+
+# Bare names (the default exclude, git's own comment-only info/exclude) are
+# matched without importing pathspec; the answers must be pathspec's.
+_LINE_SETS = [
+    ["node_modules", "site-packages", "venv", "__pypackages__"],
+    ["# only comments", "", "#venv"],
+    ["build", "out.usda", "a.b.c", "-dash_"],
+]
+_PATHS = [
+    "venv", "venv/", "a/venv", "a/venv/", "a/venv/b.usda", "venvs/x.usda", "a/myvenv/x.usda",
+    "node_modules/p/x.usda", "x/site-packages/", "build", "build/", "a/build/b/c.usda",
+    "out.usda", "a/out.usda", "out.usda.bak", "a.b.c/x", "abbc/x", "-dash_/y.usda", "#venv/x",
+    "Venv/x.usda", "shot.usda",
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("lines", _LINE_SETS)
+def test_bare_names_match_as_pathspec_matches_them(lines: list[str]) -> None:
+    from pathspec import GitIgnoreSpec
+
+    from usdrender_lint.running import discovery
+
+    ours = discovery._spec(lines)
+    assert isinstance(ours, discovery._Names)
+    theirs = GitIgnoreSpec.from_lines(lines)
+    for path in _PATHS:
+        assert ours.match_file(path) == theirs.match_file(path), path
+        assert ours.check_file(path).include == theirs.check_file(path).include, path
+
+
+@pytest.mark.parametrize(
+    "line", ["*.usda", "build/", "/build", "!keep", "a\\ b", "venv ", " venv", "[ab]", "..", "."]
+)
+def test_any_other_line_is_pathspec_s(line: str) -> None:
+    from pathspec import GitIgnoreSpec
+
+    from usdrender_lint.running import discovery
+
+    assert isinstance(discovery._spec(["venv", line]), GitIgnoreSpec)
+
+
+def test_a_walk_with_the_default_exclude_does_not_import_pathspec(tmp_path: Path) -> None:
+    import subprocess
+    import sys
+
+    tree(tmp_path, "a/shot.usda", "venv/lib.usda", "b/site-packages/c.usda")
+    code = (
+        "import sys\n"
+        "from usdrender_lint.config import Settings\n"
+        "from usdrender_lint.running.discovery import Exclusions, collect_files\n"
+        f"settings = Settings(source={str(tmp_path / '.usdrender-lint.toml')!r})\n"
+        f"print(len(collect_files([{str(tmp_path)!r}], exclusions=Exclusions.of(settings))))\n"
+        "print('pathspec' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["1", "False"]
