@@ -16,7 +16,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from ..engine import USD_EXTENSIONS
 from ..records import record
@@ -101,7 +101,7 @@ class _Skip:
         self.excluded = _spec(exclusions.patterns) if exclusions.patterns else None
         self.base = os.path.abspath(exclusions.base)
         #: (folder, spec) of every .gitignore in force, outermost first.
-        self.ignores: list[tuple[str, PathSpec]] = []
+        self.ignores: list[tuple[str, PathSpec | _Names]] = []
         self.read: set[str] = set()
         if exclusions.respect_gitignore:
             self._parents_of(os.path.abspath(top))
@@ -169,7 +169,7 @@ def _below(path: str, folder: str) -> str | None:
     return Path(relative).as_posix()
 
 
-def _spec(lines: Iterable[str]) -> Any:
+def _spec(lines: Iterable[str]) -> PathSpec | _Names:
     """A gitignore matcher of ``lines`` (``match_file``, ``check_file``)."""
     lines = list(lines)
     names = _plain_names(lines)
