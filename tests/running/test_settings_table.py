@@ -79,6 +79,19 @@ def test_every_flag_is_an_option_of_its_commands() -> None:
             assert entry.flag in flags, (command, entry.flag)
 
 
+def test_a_flag_no_configuration_sets_is_off_not_none_when_not_given() -> None:
+    # None means "the configuration decides"; with no configuration key the
+    # flag's value is its default, as the Request's bool annotation says.
+    for command in ("check", "spec"):
+        params = {p.name: p for p in cli.commands[command].params}
+        for entry in flag_settings(command):
+            if entry.kind != "flag":
+                continue
+            expected = None if entry.config_key else entry.default
+            assert params[entry.name].default is expected, (command, entry.name)
+    assert any(e.kind == "flag" and not e.config_key for e in flag_settings("check"))
+
+
 def test_every_request_setting_is_a_request_field() -> None:
     fields = {f.name for f in dataclasses.fields(Request)}
     assert {s.name for s in request_settings()} <= fields

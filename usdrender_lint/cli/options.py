@@ -47,7 +47,8 @@ def _help(entry: Setting) -> str:
 
 def setting_option(entry: Setting):
     """The click option of one setting; its value reaches the command under
-    the setting's name (None when not given, but for off-flags)."""
+    the setting's name (None when not given, but for off-flags and for flags
+    no configuration sets)."""
     assert entry.flag is not None and entry.kind is not None
     common: dict[str, Any] = {"help": _help(entry), "hidden": entry.hidden}
     if entry.envvar:
@@ -66,7 +67,10 @@ def setting_option(entry: Setting):
         flags = (entry.flag, entry.short) if entry.short else (entry.flag,)
         return click.option(*flags, entry.name, type=kind_type, **common)
     if kind == "flag":
-        return click.option(entry.flag, entry.name, is_flag=True, default=None, **common)
+        # Not given: None lets the configuration decide; a flag no configuration
+        # sets (--full-composition) is simply off.
+        default = None if entry.config_key else entry.default
+        return click.option(entry.flag, entry.name, is_flag=True, default=default, **common)
     if kind == "off-flag":
         # --no-cache: the setting is on unless the flag is given.
         return click.option(entry.flag, f"no_{entry.name}", is_flag=True, **common)
