@@ -92,7 +92,8 @@ def setting_options(command: str):
 
 def setting_values(command: str, given: dict[str, Any]) -> dict[str, Any]:
     """The values of ``command``'s setting flags, as a Request takes them:
-    repeatable rule lists joined and split at commas, None when not given."""
+    repeatable rule lists joined and split at commas; not given, what
+    setting_option made of it (mostly None: the configuration decides)."""
     values: dict[str, Any] = {}
     for entry in flag_settings(command):
         if entry.kind == "off-flag":
