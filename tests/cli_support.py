@@ -168,15 +168,19 @@ print(json.dumps([any(seen), {expression}]), file=sys.stderr)
 """
 
 
-def after_a_supervised_command(expression: str, *args: str) -> tuple[bool, object, str]:
+def after_a_supervised_command(
+    expression: str, *args: str, stdin: str | None = None
+) -> tuple[bool, object, str]:
     """(supervised, the value of ``expression``, stdout) as the supervised
-    child that ran ``usdrender-lint ARGS`` sees them once the command is done
-    (else as the process that ran it)."""
+    child that ran ``usdrender-lint ARGS`` (``stdin`` on its standard input) sees
+    them once the command is done (else as the process that ran it)."""
     proc = subprocess.run(
         [sys.executable, "-c", _AFTER_THE_COMMAND.format(expression=expression), *args],
         capture_output=True,
         text=True,
         timeout=120,
+        input=stdin,
+        stdin=subprocess.DEVNULL if stdin is None else None,
     )
     said = [json.loads(line) for line in proc.stderr.splitlines() if line.startswith("[")]
     supervised, value = next((entry for entry in said if entry[0]), said[-1])

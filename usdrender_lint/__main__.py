@@ -17,7 +17,7 @@ def main() -> None:
     try:
         if supervisor.wants_supervision(sys.argv[1:]):
             # The child, or this process after the child's crash or time-out.
-            supervision = supervisor.supervise()
+            supervision = supervisor.supervise(supervisor.reads_standard_input(sys.argv[1:]))
         from .cli import main as command
     except interrupts.Stopped as stopped:
         sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")

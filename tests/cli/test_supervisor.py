@@ -166,14 +166,20 @@ def test_a_signal_to_the_supervisor_ends_a_child_stuck_in_usd(
     assert not is_running(child)
 
 
-@pytest.mark.parametrize("options", [(), ("--jobs", "1", "--timeout", "0")])
+@pytest.mark.parametrize(
+    "options", [(), ("--jobs", "1", "--timeout", "0"), ("-",)], ids=["file", "in-process", "stdin"]
+)
 def test_the_supervised_child_lints_under_a_memory_cap(options: tuple[str, ...]) -> None:
     """A corrupt crate can make USD allocate until the machine runs out: in the
     child, under the cap the pool's workers have, the allocation fails for that
-    file instead (tests/cli/test_hostile.py has the crate)."""
+    file instead (tests/cli/test_hostile.py has the crate). ``check -`` lints
+    standard input's text in the child too."""
+    stdin = BROKEN.read_text() if "-" in options else None
+    paths = () if stdin is not None else (str(BROKEN),)
     supervised, capped, stdout = after_a_supervised_command(
         "resource.getrlimit(resource.RLIMIT_DATA)[0] != resource.RLIM_INFINITY",
-        *("check", "--isolated", *options, str(BROKEN)),
+        *("check", "--isolated", *options, *paths),
+        stdin=stdin,
     )
     assert "findings in 1 file" in stdout  # it did lint
     assert (supervised, capped) == (True, True)

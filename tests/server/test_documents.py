@@ -1,4 +1,4 @@
-"""The server's linting in-process (server/documents.py): the same findings as
+"""The server's linting in-process (running/documents.py): the same findings as
 the Python API on real files, text ``.usd`` documents, and config ``variants``."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from usdrender_lint import lint_file
-from usdrender_lint.server.documents import Documents
+from usdrender_lint.running.documents import Documents
 
 VARIANT_SHOT = """#usda 1.0
 def Scope "Render"

@@ -30,6 +30,7 @@ from .views import send
 if TYPE_CHECKING:
     from ..api import Rule
     from ..model import Report
+    from ..running.standard_input import StandardInput
 
 
 @click.command()
@@ -83,6 +84,12 @@ if TYPE_CHECKING:
     help="No effect: fixes always keep a layer's comments (accepted for old scripts).",
 )
 @click.option(
+    "--stdin-filename",
+    metavar="PATH",
+    help="With '-' (a text layer on standard input): the path it stands for, which "
+    "resolves its relative asset paths, finds its configuration and names it in the report.",
+)
+@click.option(
     "--shard",
     metavar="K/N",
     callback=lambda _ctx, _param, value: _shard(value),
@@ -105,6 +112,7 @@ def check(
     fix_to: str | None,
     fix_drop_comments: bool,  # no effect (see its help)
     shard: tuple[int, int] | None,
+    stdin_filename: str | None,
     **settings: Any,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
@@ -112,8 +120,10 @@ def check(
     check_stopped()  # a signal while USD imported its modules
     from ..running.pipeline import Request, RequestError, run
 
+    stdin = _standard_input(paths, stdin_filename)
     request = Request(
-        paths,
+        paths if stdin is None else (stdin.name,),
+        stdin=stdin,
         config=config_path,
         isolated=isolated,
         use_roots=not no_roots,
@@ -149,6 +159,32 @@ def check(
     for line in outcome.errors:
         error(line)
     sys.exit(outcome.exit_status)
+
+
+def _standard_input(paths: tuple[str, ...], name: str | None) -> StandardInput | None:
+    """``check -``: the text on standard input (read by the supervisor before its
+    fork, when it supervises), as the layer ``name`` stands for."""
+    from ..running.standard_input import STDIN, StandardInputError, decode
+
+    if STDIN not in paths:
+        if name is not None:
+            raise ToolError("--stdin-filename names the layer read from standard input: add '-'")
+        return None
+    if len(paths) > 1:
+        raise ToolError("'-' (a layer on standard input) is linted alone: give no other paths")
+    given = supervision()
+    data = given.stdin if given is not None else None
+    if data is None:
+        if sys.stdin is None or sys.stdin.isatty():
+            raise ToolError(
+                "'-' reads a text layer from standard input, which is a terminal: pipe one in "
+                "(usdrender-lint check - < shot.usda)"
+            )
+        data = sys.stdin.buffer.read()
+    try:
+        return decode(data, name or STDIN)
+    except StandardInputError as exc:
+        raise ToolError(f"{name or STDIN}: {exc}") from None
 
 
 def _shard(value: str | None) -> tuple[int, int] | None:

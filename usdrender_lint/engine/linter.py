@@ -41,6 +41,7 @@ from .stage import (
     corruption,
     open_stage,
     position_from_error,
+    without_position,
 )
 
 _T = TypeVar("_T")
@@ -614,7 +615,7 @@ class Linter:
                 STAGE_OPEN_FAILED_CODE,
                 STAGE_OPEN_FAILED_NAME,
                 severity,
-                _without_position(line),
+                without_position(line),
                 _error_location(path, line),
             )
 
@@ -664,20 +665,6 @@ def _corrupt_file_message(exc: Exception, path: str) -> str:
     if found is None:
         raise exc
     return found
-
-
-def _without_position(message: str) -> str:
-    """USD's message without its leading ``/abs/file.usda:LINE:COL:``: the
-    finding's location carries them (shown relative to where the report is
-    read), and a message must not carry the machine's absolute paths."""
-    position = position_from_error(message)
-    if position is None:
-        return message
-    file, line, column = position
-    prefix = f"{file}:{line}:" + (f"{column}:" if column is not None else "")
-    if not message.startswith(prefix):
-        return message
-    return message[len(prefix) :].strip() or message
 
 
 def _error_location(path: str, message: str) -> Location:

@@ -169,3 +169,17 @@ def position_from_error(text: str) -> tuple[str, int, int | None] | None:
                 int(third) if third.isdigit() else None,
             )
     return None
+
+
+def without_position(message: str) -> str:
+    """USD's message without its leading ``/abs/file.usda:LINE:COL:``: the
+    finding's location carries them (shown relative to where the report is
+    read), and a message must not carry the machine's absolute paths."""
+    position = position_from_error(message)
+    if position is None:
+        return message
+    file, line, column = position
+    prefix = f"{file}:{line}:" + (f"{column}:" if column is not None else "")
+    if not message.startswith(prefix):
+        return message
+    return message[len(prefix) :].strip() or message

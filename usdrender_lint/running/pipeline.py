@@ -14,7 +14,7 @@ from collections import Counter
 from collections.abc import Iterable, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from ..api import Rule
 from ..config import ConfigError, Settings, build_options, load_settings, read_config_file
@@ -58,6 +58,18 @@ class FixRequest:
     unsafe: bool = False
     #: Write every fix as an override into this layer (--fix-to).
     fix_to: str | None = None
+
+
+class TextLayer(Protocol):
+    """``check -``: a layer's text linted in place of a file; the pipeline does the
+    rest as for a file (running/standard_input.py, above the pipeline, lints it)."""
+
+    @property
+    def name(self) -> str:
+        """The path the text stands for, as given: its name in the report."""
+        ...
+
+    def lint(self, prepared: Prepared) -> FileResult: ...
 
 
 @record(frozen=True)
@@ -104,6 +116,9 @@ class Request:
     #: The file the caller will write the report to (--output): refused, before
     #: anything is linted, when the run reads it (running/outputs.py).
     output: str | None = None
+    #: ``check -``: the one layer linted, a text read from standard input; its name
+    #: is ``paths``' one entry.
+    stdin: TextLayer | None = None
 
 
 @record(frozen=True)
@@ -435,12 +450,19 @@ def _check_fix_request(request: Request, settings: Settings) -> None:
         )
     if request.fix is not None and request.fix.fix_to and request.fix.write is False:
         raise RequestError("use either --diff or --fix-to, not both")
+    if request.stdin is not None and (request.fix is not None or request.shard is not None):
+        raise RequestError(
+            "'-' (a layer on standard input) cannot be combined with --fix, --diff, --fix-to or "
+            "--shard: give the file's path"
+        )
 
 
 def _targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], ContextPlan | None]:
     """The files the request names (folders walked), their shard, and with
     config ``roots`` the plan that lints them inside the stages that use them."""
     request, settings = prepared.request, prepared.settings
+    if request.stdin is not None:
+        return [request.stdin.name], None  # a text, linted as its own stage
     empty: list[str] = []
     files = collect_files(request.paths, empty, Exclusions.of(settings))
     notes.extend(
@@ -473,7 +495,10 @@ def _lint_targets(
     """The report of ``targets``: what remains with --fix-to's overrides, else
     each file linted (after its fixes), but a stage whose fixing ran out of
     time, which is reported as that, not linted again."""
-    fix = prepared.request.fix
+    request = prepared.request
+    if request.stdin is not None:  # in-process, never cached: it is no file
+        return Report((request.stdin.lint(prepared),))
+    fix = request.fix
     if fixed is not None and fix is not None and fix.fix_to:
         return Report(tuple(fixed.remaining) + fix_failed)
     failed = {result.file: result for result in fix_failed}

@@ -29,13 +29,17 @@ STOP_GRACE = 2.0  # seconds a stopped child has to clean up before it is killed
 class Supervision:
     """How the supervisor ran this process, for choose_executor; ``ending`` is None in
     the child, which lints a lone file in-process (a plain class: every import before
-    the fork costs start-up)."""
+    the fork costs start-up). ``stdin``: standard input's bytes for ``check -``, read
+    before the fork, so that the supervisor still holds them after the child's end."""
 
-    __slots__ = ("ending", "says")
+    __slots__ = ("ending", "says", "stdin")
 
-    def __init__(self, ending: str | None = None, says: int | None = None) -> None:
+    def __init__(
+        self, ending: str | None = None, says: int | None = None, stdin: bytes | None = None
+    ) -> None:
         self.ending = ending  # in the supervisor: the child's "timeout" or "crash"
         self.says = says  # in the child: the pipe to its supervisor (None: untimed)
+        self.stdin = stdin
 
     def timed(self, seconds: float, lint: Any, *args: Any) -> Any:
         """In the child: ``lint(*args)``, killed by the supervisor past ``seconds``."""
@@ -60,9 +64,27 @@ def wants_supervision(argv: list[str]) -> bool:
     return not any(arg.split("=", 1)[0] in WRITING_OPTIONS for arg in argv)
 
 
-def supervise() -> Supervision:
+def reads_standard_input(argv: list[str]) -> bool:
+    """``check -`` (a layer's text on standard input), when it is not a terminal
+    (the command says so, with no wait for a text that will not come)."""
+    return argv[:1] == ["check"] and "-" in argv[1:] and not os.isatty(0)
+
+
+def _read_all(fd: int) -> bytes:
+    chunks = []
+    try:
+        while chunk := os.read(fd, 1 << 20):
+            chunks.append(chunk)
+    except OSError:
+        pass  # closed or unreadable: the text ends there
+    return b"".join(chunks)
+
+
+def supervise(stdin: bool = False) -> Supervision:
     """Fork: the child returns (and runs the command); this process exits with its
-    status, or returns how it ended when it timed out or crashed."""
+    status, or returns how it ended when it timed out or crashed. ``stdin``: read
+    standard input first (reads_standard_input), for both."""
+    data = _read_all(0) if stdin else None
     parent = os.getpid()
     # A signal during the fork waits: the child gets Ctrl-C's own; one sent here alone
     # is passed on once the handlers below are in place.
@@ -89,7 +111,7 @@ def supervise() -> Supervision:
         fcntl.fcntl(watched, fcntl.F_SETFL, fcntl.fcntl(watched, fcntl.F_GETFL) | os.O_ASYNC)
         if os.getppid() != parent:  # it died before the owner was set
             os._exit(128 + signal.SIGKILL)
-        return Supervision(says=says)
+        return Supervision(says=says, stdin=data)
     os.close(watched)
     os.close(says)
     stopped: list[int] = []
@@ -120,7 +142,7 @@ def supervise() -> Supervision:
         sys.stderr.write(f"usdrender-lint: {stop.reason}\n")
         sys.exit(stop.exit_status)
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-    return Supervision(ending="timeout" if timed_out else "crash")
+    return Supervision(ending="timeout" if timed_out else "crash", stdin=data)
 
 
 def _time_the_child(child: int, heard: int) -> bool:

@@ -104,7 +104,7 @@ class InProcess:
 
     def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
         if self.supervision is not None:
-            _cap_memory(workers=1)
+            cap_memory(workers=1)
         results = []
         for path in files:
             if self.supervision is not None and self.timeout:
@@ -126,7 +126,7 @@ class AfterSupervisedChild:
 
     def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
         if self.ending == "timeout":
-            return tuple(file_error(path, _timed_out(self.pool.timeout)) for path in files)
+            return tuple(file_error(path, timed_out(self.pool.timeout)) for path in files)
         return self.pool.run([FullyComposed(path) for path in files], advance)
 
 
@@ -150,7 +150,7 @@ def lint_one(linter: FileLinter, item: str | FullyComposed) -> FileResult:
         if getattr(linter, "raise_errors", False):
             raise
         debug.show(exc, f"{path}: internal error")
-        return file_error(path, _internal_error(exc))
+        return file_error(path, internal_error(exc))
 
 
 @record
@@ -243,7 +243,7 @@ class Pool:
             elif worker.process.sentinel in ready:
                 self._lose(worker, worker.death(), crashed=True)
             elif time.monotonic() >= worker.deadline:
-                self._lose(worker, _timed_out(self.timeout))
+                self._lose(worker, timed_out(self.timeout))
 
     def _receive(self, worker: _Worker, index: int, result: Any) -> None:
         if index == _FAILED:
@@ -308,7 +308,7 @@ class _Worker:
         said = ""
         with suppress(OSError, UnicodeDecodeError):
             said = _last_words(Path(self.log_dir, f"worker-{self.process.pid}.log").read_text())
-        return f"the linter process crashed while reading it ({how}{': ' + said if said else ''})"
+        return f"{CRASHED} ({how}{': ' + said if said else ''})"
 
     def kill(self) -> None:
         self.process.kill()  # idle or not: a worker holds nothing to clean up (dead: a no-op)
@@ -326,7 +326,7 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     die_with_parent(os.getppid())
-    _cap_memory(pool.size)
+    cap_memory(pool.size)
     share_cores(pool.size)
     debug.keep_stderr()
     # Nothing of a worker's belongs on stdout, nor may it hold the user's pipe open.
@@ -352,7 +352,7 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
                 result = pool.handle(linter, item)
             except Exception as exc:  # noqa: BLE001 - a handler's bug costs only its item
                 debug.show(exc, "internal error")
-                result = pool.failed(_path_of(item), _internal_error(exc))
+                result = pool.failed(_path_of(item), internal_error(exc))
             conn.send((index, result))
 
 
@@ -407,7 +407,7 @@ def share_cores(workers: int) -> None:
         Work.SetConcurrencyLimit(share)
 
 
-def _cap_memory(workers: int) -> None:
+def cap_memory(workers: int) -> None:
     """In a worker or the supervised child: at most its share (worker_memory_limit)."""
     import resource
 
@@ -428,11 +428,15 @@ def _path_of(item: Any) -> Any:
     return item.path if isinstance(item, FullyComposed) else item
 
 
-def _timed_out(timeout: float | None) -> str:
+#: Why a file has no result when the process linting it died.
+CRASHED = "the linter process crashed while reading it"
+
+
+def timed_out(timeout: float | None) -> str:
     return f"timed out after {timeout:g} s (raise --timeout, or 0 for no limit)"
 
 
-def _internal_error(exc: Exception) -> str:
+def internal_error(exc: Exception) -> str:
     # USD's errors span lines; the report gives each file one line.
     return f"internal error: {type(exc).__name__}: {' '.join(str(exc).split())}"
 

@@ -27,7 +27,7 @@ from pygls.workspace.position_codec import ServerTextPosition
 
 from .. import __version__
 from ..model import Finding, Severity
-from .documents import Linted, finding_key
+from ..running.documents import Linted, finding_key
 from .ranges import Edit, Span, spec_line, statement_span, text_edits
 from .worker import LintFailed, Linting, RuleDoc
 

@@ -264,7 +264,7 @@ def _watch_parent(parent: int) -> None:
 
 def serve(connection: Connection) -> None:
     """Answer the server's calls until it closes the connection."""
-    from .documents import Documents
+    from ..running.documents import Documents
 
     threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
     try:

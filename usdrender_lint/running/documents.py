@@ -14,8 +14,10 @@ A lint goes through the pipeline's own pieces: the configuration found from the
 document's folder (:func:`~usdrender_lint.running.pipeline.prepare`, as
 ``check`` finds it), the linter it builds, and the report's per-path ignores
 (``Prepared.finish``). Fixes go through the fixer ``--fix`` uses, editing the
-buffers' text instead of the files. Nothing here knows the protocol; the
-worker process (``worker.py``) serves it, and the benchmark drives it in-process.
+buffers' text instead of the files. Nothing here knows the protocol: the language
+server's worker process (``server/worker.py``) serves it, ``check -`` lints
+standard input's text with it (``standard_input.py``), and the benchmark drives it
+in-process.
 """
 
 from __future__ import annotations
@@ -33,12 +35,13 @@ from ..engine.stage import (
     error_lines,
     open_stage,
     position_from_error,
+    without_position,
 )
 from ..layers.files import layer_real_path
 from ..model import IGNORE_KEY, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry
-from ..running.pipeline import Prepared, Request, RequestError, prepare
+from .pipeline import Prepared, Request, RequestError, prepare
 
 _USDA = Sdf.FileFormat.FindById("usda")
 
@@ -76,10 +79,13 @@ def _stamp(path: str | None) -> int | None:
 
 
 class Documents:
-    """The open documents (by absolute path) and their layers."""
+    """The open documents (by absolute path) and their layers. ``prepared``: the
+    one preparation every document is linted with (``check -``), instead of each
+    folder's own configuration."""
 
-    def __init__(self, registry: Registry | None = None) -> None:
-        self._registry = registry
+    def __init__(self, registry: Registry | None = None, prepared: Prepared | None = None) -> None:
+        self._registry = prepared.registry if prepared is not None else registry
+        self._prepared = prepared
         self.texts: dict[str, str] = {}
         self._layers: dict[str, Sdf.Layer] = {}
         #: The text each layer holds now (a fix or a reload makes it stale).
@@ -193,6 +199,8 @@ class Documents:
         """The pipeline's preparation of a check of ``path``: its configuration
         (searched from its folder), rules and linter; read again when the
         configuration file changed."""
+        if self._prepared is not None:
+            return self._prepared
         folder = os.path.dirname(path)
         config = self._configs.get(folder)
         if config is not None and _stamp(config.source) != config.stamp:
@@ -339,10 +347,11 @@ def _saved_layer(path: str, text: str) -> Sdf.Layer | None:
 def _parse_error(exc: Tf.ErrorException, path: str) -> tuple[str, int | None, int | None]:
     """USD's parse error of a document's text: the message naming the file,
     and its line and column. A layer imported from a string has no file name
-    in USD's message (``:3:3: Expected ...``): the document's path is put there."""
+    in USD's message (``:3:3: Expected ...``): the document's path is put there,
+    to be read as ``check`` reads a file's (the message without it)."""
     lines = [f"{path}{line}" if line.startswith(":") else line for line in error_lines(exc, path)]
     for line in lines:
         position = position_from_error(line)
         if position is not None:
-            return line, position[1], position[2]
+            return without_position(line), position[1], position[2]
     return (lines[0] if lines else f"USD cannot read {path}"), None, None

@@ -1,0 +1,299 @@
+"""``check -``: a text layer on standard input gets the answer its file gets.
+
+Every real ``.usda`` of the shared corpus and every fourth fixture goes through
+the pipeline twice more than as a file: named as its own file (the language
+server's "opened as saved" path) and named as a file beside it that does not
+exist (the text imported into a layer of that name, as an edited buffer), and
+the findings must be the file's, but for its name. The command itself, under
+its supervisor, is compared byte for byte with ``check FILE``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pty
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from cli_support import command, descendants, hanging_stage, is_running
+from conftest import REPO
+
+from usdrender_lint.model import Report
+from usdrender_lint.running.pipeline import Request, RequestError, run
+from usdrender_lint.running.standard_input import (
+    StandardInput,
+    StandardInputError,
+    decode,
+    lint_standard_input,
+)
+from usdrender_lint.running.supervisor import Supervision, reads_standard_input
+
+pytestmark = pytest.mark.heavy(seconds=15)
+
+EXAMPLES = sorted((REPO / "examples").rglob("*.usda"))
+FIXTURES = sorted((REPO / "tests" / "rules").rglob("*.usda"))[::4]
+
+
+def _answers(report: Report, name: str | None = None, as_name: str = "") -> list[tuple]:
+    """The report's findings, with ``name`` (a path and its file name) read as
+    ``as_name``'s, and each file's status and error."""
+    out = []
+    for finding in report.findings:
+        text = repr((finding.code, finding.location.path, finding.location.line, finding.message))
+        text += repr((finding.severity, finding.profile, finding.location.column))
+        if name is not None:
+            text = text.replace(name, as_name).replace(Path(name).name, Path(as_name).name)
+        out.append(text)
+    return sorted(out) + [repr((f.status, f.error)) for f in report.files]
+
+
+def _lint(path: Path, stdin: StandardInput | None = None) -> Report:
+    name = stdin.name if stdin is not None else str(path)
+    request = Request((name,), isolated=True, jobs=1, timeout=None, progress=False, stdin=stdin)
+    return run(request).report
+
+
+def _check_as_texts(files: list[Path]) -> int:
+    compared = 0
+    for path in files:
+        data = path.read_bytes()
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError:
+            continue  # not a text layer standard input can hold
+        expected = _answers(_lint(path))
+        assert _answers(_lint(path, StandardInput(text, str(path)))) == expected, path
+        beside = str(path.with_name(f"{path.stem}_buffer{path.suffix}"))
+        assert not os.path.exists(beside)
+        as_buffer = _lint(path, StandardInput(text, beside))
+        assert _answers(as_buffer, beside, str(path)) == expected, path
+        compared += 1
+    return compared
+
+
+def test_every_fixture_and_example_as_a_text_gets_its_files_findings() -> None:
+    assert _check_as_texts(EXAMPLES + FIXTURES) > 50
+
+
+def test_every_real_text_layer_gets_its_files_findings(shared_dir: Path) -> None:
+    files = sorted(
+        p for p in (shared_dir / "corpus").rglob("*.usda") if p.stat().st_size < 1_000_000
+    )
+    assert _check_as_texts(files) > 100
+
+
+def _command(*args: str, stdin: bytes | int = b"", cwd: Path = REPO) -> subprocess.CompletedProcess:
+    feed = {"input": stdin} if isinstance(stdin, bytes) else {"stdin": stdin}
+    done = subprocess.run(
+        command("check", "--isolated", "--no-cache", *args),
+        capture_output=True,
+        timeout=120,
+        check=False,
+        cwd=cwd,
+        **feed,  # type: ignore[call-overload]
+    )
+    assert b"Traceback" not in done.stdout + done.stderr, done.stderr
+    return done
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.parent.name + "/" + p.name)
+def test_the_supervised_command_reports_a_text_as_its_file(path: Path) -> None:
+    name = str(path.relative_to(REPO))
+    as_file = _command("--format", "json", name)
+    as_text = _command("--format", "json", "-", "--stdin-filename", name, stdin=path.read_bytes())
+    assert (as_text.returncode, as_text.stdout, as_text.stderr) == (
+        as_file.returncode,
+        as_file.stdout,
+        as_file.stderr,
+    )
+
+
+def test_a_text_with_no_name_is_reported_as_standard_input() -> None:
+    shot = REPO / "examples" / "broken_shot" / "shot.usda"
+    done = _command("-", stdin=shot.read_bytes())
+    assert done.returncode == 1
+    assert done.stdout.startswith(b"-:32: error CA004 /Render/PrimarySettings.camera")
+    broken = REPO / "examples" / "broken_shot" / "lighting_wip.usda"
+    report = json.loads(_command("--format", "json", "-", stdin=broken.read_bytes()).stdout)
+    [entry] = report["files"]
+    [finding] = entry["findings"]
+    assert (entry["file"], finding["file"], finding["layer"]) == ("-", "-", "-")
+    assert (finding["code"], finding["line"], finding["message"]) == (
+        "ST001",
+        9,
+        "Expected } at '' in </Lights/key>",
+    )
+
+
+def test_an_empty_standard_input_is_a_layer_usd_cannot_read() -> None:
+    with open(os.devnull, "rb") as nothing:
+        done = _command("-", stdin=nothing.fileno())
+    assert done.returncode == 1
+    assert b"error ST001" in done.stdout
+
+
+def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
+    tmp_path: Path,
+) -> None:
+    shot = tmp_path / "shots" / "a"
+    shot.mkdir(parents=True)
+    (shot / "cam.usda").write_text('#usda 1.0\ndef Camera "Cam"\n{\n}\n')
+    text = (
+        b'#usda 1.0\ndef "World" (\n    references = @./cam.usda@</Cam>\n)\n{\n}\n'
+        b'def RenderSettings "S"\n{\n    rel camera = </World>\n'
+        b"    uniform bool instantaneousShutter = true\n}\n"
+    )
+    elsewhere = subprocess.run(
+        command("check", "--no-cache", "--format", "json", "-", "--stdin-filename", "x.usda"),
+        input=text,
+        capture_output=True,
+        cwd=tmp_path,
+        timeout=120,
+        check=False,
+    )
+    [entry] = json.loads(elsewhere.stdout)["files"]
+    codes = {f["code"] for f in entry["findings"]}
+    assert {"SE007", "CA004"} <= codes  # ./cam.usda is not beside x.usda: no Camera
+    (tmp_path / "shots" / ".usdrender-lint.toml").write_text('ignore = ["SE007"]\n')
+    beside = subprocess.run(
+        command("check", "--no-cache", "--format", "json", "-", "--stdin-filename", "a/s.usda"),
+        input=text,
+        capture_output=True,
+        cwd=tmp_path / "shots",
+        timeout=120,
+        check=False,
+    )
+    [entry] = json.loads(beside.stdout)["files"]
+    assert entry["file"] == "a/s.usda"
+    assert not {f["code"] for f in entry["findings"]} & {"SE007", "CA004"}
+    assert sorted(p.name for p in shot.iterdir()) == ["cam.usda"]  # nothing written
+
+
+@pytest.mark.parametrize(
+    ("args", "data", "says"),
+    [
+        (("-",), b"PXR-USDC\x00\x00", "-: standard input holds a binary crate (.usdc)"),
+        (("-",), b"PK\x03\x04rest", "-: standard input holds a package (.usdz)"),
+        (("-", "--stdin-filename", "s.usda"), b"#usda 1.0\n\xff\n", "s.usda: standard input "),
+        (("-", "examples/clean_shot/shot.usda"), b"#usda 1.0\n", "is linted alone"),
+        (("--stdin-filename", "s.usda", "examples"), b"", "add '-'"),
+        (("--fix", "-"), b"#usda 1.0\n", "cannot be combined with --fix"),
+        (("--shard", "1/2", "-"), b"#usda 1.0\n", "cannot be combined with --fix"),
+    ],
+)
+def test_what_cannot_be_linted_from_standard_input_says_why(
+    args: tuple[str, ...], data: bytes, says: str
+) -> None:
+    done = _command(*args, stdin=data)
+    assert done.returncode == 2
+    [line] = done.stderr.decode().splitlines()
+    assert line.startswith("usdrender-lint: error: ") and says in line, line
+    assert done.stdout == b""
+
+
+def test_a_terminal_on_standard_input_is_refused_at_once() -> None:
+    leader, follower = pty.openpty()
+    try:
+        done = _command("-", stdin=follower)
+    finally:
+        os.close(leader)
+        os.close(follower)
+    assert done.returncode == 2
+    assert b"standard input, which is a terminal" in done.stderr
+
+
+def test_decode_reads_utf8_text_and_refuses_the_rest() -> None:
+    text = "#usda 1.0\n# é\n"
+    assert decode(text.encode(), "s.usda") == StandardInput(text, "s.usda")
+    with pytest.raises(StandardInputError, match="byte 0xe9 at offset 12"):
+        decode("#usda 1.0\n# é\n".encode("latin-1"))
+
+
+def test_only_a_check_of_dash_reads_standard_input_before_the_fork() -> None:
+    assert reads_standard_input(["check", "-"]) is not os.isatty(0)
+    assert not reads_standard_input(["check", "shot.usda"])
+    assert not reads_standard_input(["spec", "-"])
+
+
+def _prepared():
+    from usdrender_lint.running.pipeline import prepare
+
+    return prepare(Request(("-",), isolated=True, jobs=1, timeout=None, progress=False))
+
+
+@pytest.mark.parametrize(
+    ("ending", "why"),
+    [
+        ("timeout", "-: timed out after 3 s (raise --timeout, or 0 for no limit)"),
+        ("crash", "-: the linter process crashed while reading it"),
+    ],
+)
+def test_after_the_child_ends_on_it_the_supervisor_reports_that(ending: str, why: str) -> None:
+    given = StandardInput("#usda 1.0\n")
+    result = lint_standard_input(_prepared(), given, Supervision(ending=ending), 3)
+    assert (result.file, result.status, result.error) == ("-", "error", why)
+
+
+def test_fixes_and_shards_are_refused_by_the_pipeline_too() -> None:
+    from usdrender_lint.running.pipeline import FixRequest
+
+    given = StandardInput("#usda 1.0\n")
+    for request in (
+        Request(("-",), isolated=True, stdin=given, fix=FixRequest()),
+        Request(("-",), isolated=True, stdin=given, shard=(1, 2)),
+    ):
+        with pytest.raises(RequestError, match="standard input"):
+            run(request)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the supervisor is Linux's")
+@pytest.mark.parametrize("crash", [False, True], ids=["time-out", "crash"])
+def test_a_text_that_hangs_usd_ends_as_its_error(tmp_path: Path, crash: bool) -> None:
+    """The supervisor read the text before its fork: its child's time-out or
+    crash is the text's error, and nothing waits on standard input again."""
+    stage = hanging_stage(tmp_path)
+    args = ("check", "--isolated", "--no-cache", "--format", "json", "--timeout", "4", "-")
+    with stage.open("rb") as text:
+        process = subprocess.Popen(
+            [*command(*args), "--stdin-filename", str(tmp_path / "buffer.usda")],
+            stdin=text,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
+    if crash:
+        deadline = time.monotonic() + 60
+        while not descendants(process.pid) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        [child] = descendants(process.pid)
+        time.sleep(1.0)  # in USD, blocked on the FIFO
+        os.kill(child, signal.SIGSEGV)
+    stdout, stderr = process.communicate(timeout=60)
+    [entry] = json.loads(stdout)["files"]
+    why = "the linter process crashed while reading it" if crash else "timed out after 4 s"
+    assert entry["status"] == "error" and why in entry["error"], entry
+    assert process.returncode == 2
+    assert stderr.decode().startswith(f"usdrender-lint: error: {tmp_path / 'buffer.usda'}: ")
+    if crash:
+        assert not is_running(child)
+
+
+def test_an_engine_failure_is_the_texts_error_not_the_runs(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from usdrender_lint.running.documents import Documents
+
+    def fails(self: Documents, path: str) -> None:
+        raise RuntimeError("boom\nsecond line")
+
+    monkeypatch.setattr(Documents, "lint", fails)
+    result = lint_standard_input(_prepared(), StandardInput("#usda 1.0\n", "s.usda"))
+    assert (result.file, result.status, result.error) == (
+        "s.usda",
+        "error",
+        "s.usda: internal error: RuntimeError: boom second line",
+    )

@@ -1,0 +1,119 @@
+"""``check -``: one text layer read from standard input, linted as the file it stands for.
+
+The text becomes the layer of its path (``--stdin-filename``, else ``-`` in the
+working directory), as the language server lints an editor's unsaved buffer
+(documents.py): its relative asset paths resolve from that folder, the
+configuration is the one found from it, and nothing is written. The report names
+it as given. A crate or a ``.usdz`` cannot be held as text: they are refused, as
+is text that is not UTF-8, each with one line naming the cause.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+from .. import debug
+from ..model import FileResult, Finding
+from ..records import record
+from .pipeline import Prepared
+from .workers import CRASHED, cap_memory, file_error, internal_error, timed_out
+
+if TYPE_CHECKING:
+    from .supervisor import Supervision
+
+#: The path that names standard input on the command line, and in the report
+#: when ``--stdin-filename`` is not given.
+STDIN = "-"
+
+#: The layer that stands for a text with no name, in the working directory.
+_UNNAMED = "-.usda"
+
+#: How a layer that is not text begins (USD's crate, and a zip: ``.usdz``).
+_BINARY = {b"PXR-USDC": "a binary crate (.usdc)", b"PK\x03\x04": "a package (.usdz)"}
+
+
+class StandardInputError(Exception):
+    """Standard input cannot be linted at all (a terminal, a binary layer, not UTF-8)."""
+
+
+@record(frozen=True)
+class StandardInput:
+    """The text read from standard input, and the path it stands for as given."""
+
+    text: str
+    name: str = STDIN
+
+    @property
+    def path(self) -> str:
+        """The layer's identifier: the name, absolute (USD resolves from it); for
+        a text no name was given, one with the extension USD's messages need to
+        show a line (``-.usda:3:1: ...``)."""
+        return os.path.abspath(_UNNAMED if self.name == STDIN else self.name)
+
+    def lint(self, prepared: Prepared) -> FileResult:
+        """The pipeline's lint of the text (pipeline.TextLayer)."""
+        request = prepared.request
+        return lint_standard_input(prepared, self, request.supervision, request.timeout)
+
+
+def decode(data: bytes, name: str = STDIN) -> StandardInput:
+    """Standard input's bytes as a text layer; StandardInputError says why not."""
+    for magic, what in _BINARY.items():
+        if data.startswith(magic):
+            raise StandardInputError(
+                f"standard input holds {what}; only a text layer (.usda) can be read from it: "
+                "give the file's path instead"
+            )
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        byte = data[exc.start : exc.start + 1].hex()
+        raise StandardInputError(
+            f"standard input is not UTF-8 text (byte 0x{byte} at offset {exc.start}); "
+            "a text layer (.usda) is UTF-8"
+        ) from None
+    return StandardInput(text, name)
+
+
+def lint_standard_input(
+    prepared: Prepared,
+    given: StandardInput,
+    supervision: Supervision | None = None,
+    timeout: float | None = None,
+) -> FileResult:
+    """The result of ``given``'s text; in the supervised child under its timer, and
+    in the supervisor after the child timed out or crashed on it, that ending."""
+    if supervision is None:
+        return _lint(prepared, given)
+    if supervision.ending is not None:
+        why = timed_out(timeout) if supervision.ending == "timeout" else CRASHED
+        return file_error(given.name, why)
+    cap_memory(workers=1)  # as the child caps itself for a lone file (workers.InProcess)
+    return supervision.timed(timeout, _lint, prepared, given) if timeout else _lint(prepared, given)
+
+
+def _lint(prepared: Prepared, given: StandardInput) -> FileResult:
+    """As ``workers.lint_one`` lints a file: an engine failure is the text's error."""
+    from .documents import Documents
+
+    try:
+        documents = Documents(prepared=prepared)
+        documents.update({given.path: given.text})
+        linted = documents.lint(given.path)
+    except Exception as exc:  # noqa: BLE001 - reported as the text's one line, as a file's
+        debug.show(exc, f"{given.name}: internal error")
+        return file_error(given.name, internal_error(exc))
+    return FileResult(given.name, findings=tuple(_named(f, given) for f in linted.findings))
+
+
+def _named(finding: Finding, given: StandardInput) -> Finding:
+    """The finding as the report names the text: by the name given, as ``check``
+    names a file by its path as given (a text with no name: ``-`` for its layer too)."""
+    location = finding.location
+    if location.file == given.path:
+        location = replace(location, file=given.name)
+    if given.name == STDIN and location.layer == given.path:
+        location = replace(location, layer=STDIN)
+    return replace(finding, location=location) if location is not finding.location else finding
