@@ -297,3 +297,20 @@ def test_an_engine_failure_is_the_texts_error_not_the_runs(
         "error",
         "s.usda: internal error: RuntimeError: boom second line",
     )
+
+
+def test_a_text_nesting_too_deep_for_usd_is_refused_as_its_file_is(tmp_path: Path) -> None:
+    """USD's parser overflows its stack on such a text (the child died of it):
+    the nesting bound the file gets applies to the text before USD reads it."""
+    deep = tmp_path / "deep.usda"
+    deep.write_text("#usda 1.0\n" + 'def "A" {\n' * 12_000 + "}\n" * 12_000)
+    as_file = _command("--format", "json", "deep.usda", cwd=tmp_path)
+    for name in ("deep.usda", "buffer.usda"):  # opened as saved, and imported
+        as_text = _command(
+            "--format", "json", "-", "--stdin-filename", name, stdin=deep.read_bytes(), cwd=tmp_path
+        )
+        assert as_text.returncode == as_file.returncode == 1
+        expected = as_file.stdout.replace(b"deep.usda", name.encode())
+        assert as_text.stdout == expected
+    [finding] = json.loads(as_file.stdout)["files"][0]["findings"]
+    assert finding["code"] == "ST001" and "nests 12,000 levels deep" in finding["message"]

@@ -146,3 +146,17 @@ def test_suppress_names_only_registered_rules(tmp_path: Path):
     assert "SE001" not in {f.code for f in documents.lint(path).findings}
     # A rule that raised (UL000) cannot be silenced in customData.
     assert documents.suppress(path, "UL000", "/S") is None
+
+
+def test_a_document_nesting_too_deep_for_usd_is_one_finding_then_linted_again(tmp_path: Path):
+    """USD's parser overflows its stack on such a text: it is never handed to
+    USD (nor the file holding it), and the next text is linted as usual."""
+    path = tmp_path / "deep.usda"
+    deep = "#usda 1.0\n" + 'def "A" {\n' * 12_000 + "}\n" * 12_000
+    path.write_text(deep)  # as saved: the file would be opened instead of the text
+    documents = Documents()
+    documents.update({str(path): deep})
+    [finding] = documents.lint(str(path)).findings
+    assert finding.code == "ST001" and "nests 12,000 levels deep" in finding.message
+    documents.update({str(path): '#usda 1.0\ndef RenderSettings "S"\n{\n}\n'})
+    assert "ST001" not in {f.code for f in documents.lint(str(path)).findings}

@@ -38,6 +38,7 @@ from ..engine.stage import (
     without_position,
 )
 from ..layers.files import layer_real_path
+from ..layers.nesting import nesting_problem
 from ..model import IGNORE_KEY, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry
@@ -219,6 +220,12 @@ class Documents:
         that use it from what changed)."""
         for path, text in self.texts.items():
             if self._imported.get(path) is text:
+                continue
+            # USD's parser overflows on such nesting, reading the file as the text.
+            too_deep = nesting_problem(path, text.encode("utf-8", "surrogatepass"))
+            if too_deep is not None:
+                self._parse_errors[path] = (too_deep, None, None)  # its layer keeps the last
+                self._imported[path] = text
                 continue
             layer = self._layers.get(path)
             if layer is None:
