@@ -24,18 +24,23 @@ from cli_support import command, descendants, hanging_stage, is_running
 from conftest import REPO
 
 from usdrender_lint.model import Report
-from usdrender_lint.running.pipeline import Request, RequestError, run
+from usdrender_lint.running.pipeline import FixRequest, Request, RequestError, run
 from usdrender_lint.running.standard_input import (
     StandardInput,
     StandardInputError,
     decode,
     lint_standard_input,
 )
-from usdrender_lint.running.supervisor import Supervision, reads_standard_input
+from usdrender_lint.running.supervisor import (
+    Supervision,
+    reads_standard_input,
+    wants_supervision,
+)
 
 pytestmark = pytest.mark.heavy(seconds=15)
 
 EXAMPLES = sorted((REPO / "examples").rglob("*.usda"))
+FILES = set((REPO / "tests" / "rules").rglob("*.usda"))
 FIXTURES = sorted((REPO / "tests" / "rules").rglob("*.usda"))[::4]
 
 
@@ -182,8 +187,8 @@ def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
         (("-", "--stdin-filename", "s.usda"), b"#usda 1.0\n\xff\n", "s.usda: standard input "),
         (("-", "examples/clean_shot/shot.usda"), b"#usda 1.0\n", "is linted alone"),
         (("--stdin-filename", "s.usda", "examples"), b"", "add '-'"),
-        (("--fix", "-"), b"#usda 1.0\n", "cannot be combined with --fix"),
-        (("--shard", "1/2", "-"), b"#usda 1.0\n", "cannot be combined with --fix"),
+        (("--fix-to", "o.usda", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to"),
+        (("--shard", "1/2", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to or --shard"),
     ],
 )
 def test_what_cannot_be_linted_from_standard_input_says_why(
@@ -239,12 +244,10 @@ def test_after_the_child_ends_on_it_the_supervisor_reports_that(ending: str, why
     assert (result.file, result.status, result.error) == ("-", "error", why)
 
 
-def test_fixes_and_shards_are_refused_by_the_pipeline_too() -> None:
-    from usdrender_lint.running.pipeline import FixRequest
-
+def test_fix_to_and_shards_are_refused_by_the_pipeline_too() -> None:
     given = StandardInput("#usda 1.0\n")
     for request in (
-        Request(("-",), isolated=True, stdin=given, fix=FixRequest()),
+        Request(("-",), isolated=True, stdin=given, fix=FixRequest(fix_to="o.usda")),
         Request(("-",), isolated=True, stdin=given, shard=(1, 2)),
     ):
         with pytest.raises(RequestError, match="standard input"):
@@ -314,3 +317,120 @@ def test_a_text_nesting_too_deep_for_usd_is_refused_as_its_file_is(tmp_path: Pat
         assert as_text.stdout == expected
     [finding] = json.loads(as_file.stdout)["files"][0]["findings"]
     assert finding["code"] == "ST001" and "nests 12,000 levels deep" in finding["message"]
+
+
+# -- fixing the text: its output is what --fix writes into the file ------------------
+
+
+def _fixed_as_file(folder: Path, name: str, fix: FixRequest) -> tuple[str, set[str]] | None:
+    """The text ``check --fix`` leaves in ``folder/name`` (a copy), and the files
+    it changed; None when a fix edits another file (the text cannot get it)."""
+    before = {p.name: p.read_bytes() for p in folder.iterdir() if p.is_file()}
+    run(Request((str(folder / name),), isolated=True, jobs=1, timeout=None, fix=fix))
+    changed = {p.name for p in folder.iterdir() if p.is_file() and before[p.name] != p.read_bytes()}
+    if changed - {name}:
+        return None
+    return (folder / name).read_text(encoding="utf-8"), changed
+
+
+@pytest.mark.parametrize("unsafe", [False, True], ids=["safe", "unsafe"])
+def test_fixing_a_text_gives_what_fixing_its_file_writes(tmp_path: Path, unsafe: bool) -> None:
+    """Every failing fixture with a fix, and the examples: --fix - prints what
+    --fix writes into a copy of the file (fixtures whose fix edits another of
+    their files are left out: a text's fixes write no file)."""
+    fixed = (REPO / "tests" / "rules").rglob("*.fixed.usda")
+    fixtures = sorted({p.with_name(p.name.replace(".fixed", "")) for p in fixed} & FILES)
+    compared = 0
+    for index, path in enumerate([*EXAMPLES, *fixtures]):
+        copy = tmp_path / str(index)
+        copy.mkdir()
+        for sibling in path.parent.iterdir():
+            if sibling.is_file() and sibling.suffix.startswith(".usd"):
+                (copy / sibling.name).write_bytes(sibling.read_bytes())
+        text = path.read_text(encoding="utf-8")
+        name = str(copy / path.name)
+        fix = FixRequest(unsafe=unsafe)
+        given = StandardInput(text, name)
+        outcome = run(Request((name,), isolated=True, jobs=1, timeout=None, fix=fix, stdin=given))
+        assert (copy / path.name).read_text(encoding="utf-8") == text  # nothing written
+        expected = _fixed_as_file(copy, path.name, fix)
+        if expected is None:
+            continue
+        assert outcome.text == expected[0], path
+        assert (outcome.text != text) == bool(expected[1]) == bool(outcome.report.applied_fixes)
+        compared += 1
+    assert compared > 40
+
+
+def test_the_diff_of_a_text_is_the_diff_of_its_file() -> None:
+    patches = b""
+    for path in EXAMPLES:
+        name = str(path.relative_to(REPO))
+        as_file = _command("--diff", name)
+        as_text = _command("--diff", "-", "--stdin-filename", name, stdin=path.read_bytes())
+        assert (as_text.returncode, as_text.stdout, as_text.stderr) == (
+            as_file.returncode,
+            as_file.stdout,
+            as_file.stderr,
+        )
+        patches += as_text.stdout
+    assert b"+        rel camera = </World/camRig/shotCam>" in patches
+
+
+def test_the_fixed_text_is_the_output_and_the_report_goes_to_output(tmp_path: Path) -> None:
+    shot = REPO / "examples" / "broken_shot" / "shot.usda"
+    text = shot.read_text(encoding="utf-8").replace("# CA004:", "# CA004 (é):")
+    report = tmp_path / "report.json"
+    done = subprocess.run(
+        command("check", "--isolated", "--fix", "-", "--output", str(report), "--format", "json"),
+        input=text.encode(),
+        capture_output=True,
+        timeout=120,
+        check=False,
+        env={**os.environ, "PYTHONIOENCODING": "latin-1"},  # the text stays UTF-8
+    )
+    assert done.returncode == 1  # errors remain
+    fixed = done.stdout.decode("utf-8")
+    assert "rel camera = </World/camRig/shotCam>" in fixed and "# CA004 (é):" in fixed
+    unfixed = fixed.replace("</World/camRig/shotCam>", "</World/camRig>")
+    assert unfixed.replace("bool disableMotionBlur", "bool instantaneousShutter") == text
+    [entry] = json.loads(report.read_text())["files"]
+    assert {f["code"] for f in entry["findings"]} == {"CA003", "SE003", "PR004"}
+
+
+def test_a_fix_of_a_file_the_text_composes_is_not_applied(tmp_path: Path) -> None:
+    sub = tmp_path / "sub.usda"
+    sub.write_text(
+        '#usda 1.0\nover "Render"\n{\n    over "S"\n    {\n'
+        "        uniform bool instantaneousShutter = 1\n    }\n}\n"
+    )
+    text = (
+        b'#usda 1.0\n(\n    subLayers = [@./sub.usda@]\n)\ndef Scope "Render"\n{\n'
+        b'    def RenderSettings "S"\n    {\n    }\n}\n'
+    )
+    before = sub.read_bytes()
+    done = _command("--fix", "-", "--stdin-filename", "top.usda", stdin=text, cwd=tmp_path)
+    assert sub.read_bytes() == before
+    assert b"1 fix not applied (SE007): sub.usda is a file, and fixes of standard input's" in (
+        done.stderr
+    )
+    assert done.stdout == text.replace(
+        b"[@./sub.usda@]\n", b'[@./sub.usda@]\n    renderSettingsPrimPath = "/Render/S"\n'
+    )
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sub.usda"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "supervised"),
+    [
+        (["check", "--fix", "-"], True),
+        (["check", "--diff", "--unsafe-fixes", "-"], True),
+        (["check", "--fix-to", "o.usda", "-"], False),
+        (["check", "--write-baseline", "b.json", "-"], False),
+        (["check", "--fix", "shot.usda"], False),
+    ],
+)
+def test_fixing_a_text_is_supervised_as_it_writes_no_file(
+    argv: list[str], supervised: bool
+) -> None:
+    assert wants_supervision(argv) is (supervised and sys.platform.startswith("linux"))

@@ -147,9 +147,13 @@ def check(
         fixing=request.fix is not None,
     )
     report, rules = outcome.report, outcome.rules
-    if show_diff:
-        # stdout carries the diff alone; the report goes only to --output.
-        write(escape("".join(outcome.diffs)))
+    if show_diff or outcome.text is not None:
+        # stdout carries the diff, or the fixed text of check --fix -, alone; the
+        # report goes only to --output.
+        if outcome.text is not None:
+            write(outcome.text, encoding="utf-8")  # a text layer's own encoding
+        else:
+            write(escape("".join(outcome.diffs)))
         if output_file:
             emit_report(report, output_format, rules, options, output_file, outcome.configuration)
     else:

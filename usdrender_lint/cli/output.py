@@ -48,9 +48,11 @@ class Stdout:
     #: Bytes gathered before they are written.
     CHUNK = 1 << 16
 
-    def __init__(self) -> None:
+    def __init__(self, encoding: str | None = None) -> None:
         self._parts: list[str] = []
         self._size = 0
+        #: None: the stream's (the locale's); a layer's text is UTF-8 whatever it is.
+        self._encoding = encoding
 
     def write(self, text: str) -> int:
         self._parts.append(text)
@@ -66,8 +68,7 @@ class Stdout:
     def isatty(self) -> bool:
         return bool(sys.stdout is not None and sys.stdout.isatty())
 
-    @staticmethod
-    def _do(text: str) -> None:
+    def _do(self, text: str) -> None:
         from ..atomic import write_all
 
         stream = sys.stdout
@@ -81,16 +82,21 @@ class Stdout:
                 stream.write(text)
                 stream.flush()
                 return
-            write_all(fd, text.encode(stream.encoding or "utf-8", stream.errors or "strict"))
+            if self._encoding is not None:
+                data = text.encode(self._encoding)
+            else:
+                data = text.encode(stream.encoding or "utf-8", stream.errors or "strict")
+            write_all(fd, data)
         except BrokenPipeError:
             raise StdoutGone from None
         except OSError as exc:
             raise ToolError(f"cannot write the report: {exc.strerror or exc}") from None
 
 
-def write(text: str) -> None:
-    """Write ``text`` to stdout and flush it, so that a failure is known now."""
-    stdout = Stdout()
+def write(text: str, encoding: str | None = None) -> None:
+    """Write ``text`` to stdout and flush it, so that a failure is known now;
+    ``encoding``: instead of the stream's."""
+    stdout = Stdout(encoding)
     stdout.write(text)
     stdout.flush()
 

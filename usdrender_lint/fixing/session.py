@@ -58,6 +58,9 @@ class FixOptions:
     #: The text of layers as an editor holds them, unsaved, by real path (the
     #: language server): fixes edit that text instead of the file's.
     texts: Mapping[str, str] | None = None
+    #: With ``texts``: fixes edit those texts only; a fix of any other layer (a
+    #: file the text composes) is not applied (``check -`` writes no file).
+    texts_only: bool = False
     #: With ``write`` False: show the edit even where --fix may not write the
     #: file (read-only, hard links); the HTML report's diffs. --diff itself
     #: previews --fix, refusals included.
@@ -162,6 +165,7 @@ class StageFixer:
                     self.stage,
                     in_memory=self.in_memory,
                     texts=self.options.texts,
+                    texts_only=self.options.texts_only,
                     writing=self.options.write or not self.options.any_file,
                 )
                 self.findings = self._attempts()

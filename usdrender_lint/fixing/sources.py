@@ -63,12 +63,15 @@ class Sources:
         *,
         in_memory: bool = False,
         texts: Mapping[str, str] | None = None,
+        texts_only: bool = False,
         writing: bool = True,
     ) -> None:
         self.stage = stage
         self.in_memory = in_memory
         #: Layers' unsaved text in an editor, by real path: edited instead of the file.
         self.texts = texts or {}
+        #: Only those texts may change (FixOptions.texts_only).
+        self.texts_only = texts_only
         #: False for --diff: a read-only file may still be shown as a patch.
         self.writing = writing
         self.known: dict[str, LayerSource] = {}
@@ -83,6 +86,10 @@ class Sources:
         if unsaved is not None:
             # The editor's buffer: its text is what fixes edit, and nothing is written.
             return LayerSource(layer, None, exported, unsaved, None, unsaved)
+        if self.texts_only:
+            shown = display_path(layer_real_path(layer) or layer.identifier)
+            why = f"{shown} is a file, and fixes of standard input's text write no file"
+            return LayerSource(layer, None, exported, None, why)
         problem = write_problem(layer, self.writing)
         disk = None
         text = None

@@ -26,6 +26,7 @@ import os
 import time
 from collections.abc import Callable
 from contextlib import suppress
+from typing import TYPE_CHECKING
 
 from pxr import Sdf, Tf, Usd, Vt
 
@@ -43,6 +44,9 @@ from ..model import IGNORE_KEY, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry
 from .pipeline import Prepared, Request, RequestError, prepare
+
+if TYPE_CHECKING:
+    from ..fixing import FixRun
 
 _USDA = Sdf.FileFormat.FindById("usda")
 
@@ -257,20 +261,29 @@ class Documents:
         apply to the document's stage (``unsafe``: ``--unsafe-fixes`` too), by
         real path; only the fix of the finding ``target`` when given. Only the
         layers that change (a document's buffer, or a file of its layer stack)."""
-        from ..fixing import FixOptions
+        return self.fix(path, target, unsafe)[1]
+
+    def fix(
+        self, path: str, target: FindingKey | None, unsafe: bool, *, texts_only: bool = False
+    ) -> tuple[FixRun, dict[str, tuple[str, str]]]:
+        """:meth:`fixes`, with what the fixer did (each fix applied or not, and
+        why); ``texts_only``: only the documents' texts change (``check -``)."""
+        from ..fixing import FixOptions, FixRun
         from ..fixing.session import StageFixer
 
         prepared = self._prepare(path)
         self._sync()
         if path in self._parse_errors:
-            return {}
+            return FixRun(), {}
         keep: Callable[[Finding], bool] = prepared.is_reported
         if target is not None:
 
             def keep(finding: Finding) -> bool:
                 return finding_key(finding) == target and prepared.is_reported(finding)
 
-        options = FixOptions(unsafe=unsafe, write=False, texts=dict(self.texts))
+        options = FixOptions(
+            unsafe=unsafe, write=False, texts=dict(self.texts), texts_only=texts_only
+        )
         fixer = StageFixer(prepared.linter, path, options, keep)
         dirty = {p: layer.dirty for p, layer in self._layers.items()}
         try:
@@ -287,7 +300,7 @@ class Documents:
         for source in fixer.sources or ():
             if source.changed and source.text is not None and source.original_text is not None:
                 changed[layer_real_path(source.layer)] = (source.original_text, source.text)
-        return changed
+        return fixer.result, changed
 
     def suppress(self, path: str, code: str, object_path: str) -> str | None:
         """The document's text with ``code`` added to the customData suppression

@@ -69,7 +69,14 @@ class TextLayer(Protocol):
         """The path the text stands for, as given: its name in the report."""
         ...
 
+    @property
+    def text(self) -> str: ...
+
     def lint(self, prepared: Prepared) -> FileResult: ...
+
+    def fix(self, prepared: Prepared) -> tuple[FixRun, TextLayer]:
+        """The request's fixes of the text: what was done, and the text left."""
+        ...
 
 
 @record(frozen=True)
@@ -138,6 +145,8 @@ class Outcome:
     fix_errors: tuple[str, ...] = ()
     #: The baseline's finding counts the run read (None: no baseline).
     baseline: Counter | None = None
+    #: ``check --fix -``: the fixed text, the command's output (nothing is written).
+    text: str | None = None
 
     def configuration(self) -> str:
         """The run's configuration digest, which merge compares (running/merge.py).
@@ -428,8 +437,14 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     _check_fix_request(request, settings)
     targets, plan = _targets(prepared, notes)
     refuse_outputs_on_inputs(request, settings, targets)
-    fixed, fix_failed = _run_fixes(prepared, targets) if request.fix is not None else (None, ())
-    report = _lint_targets(prepared, targets, fixed, fix_failed, notes)
+    stdin = request.stdin
+    fixed: FixRun | None = None
+    fix_failed: tuple[FileResult, ...] = ()
+    if request.fix is not None and stdin is not None:
+        fixed, stdin = stdin.fix(prepared)  # nothing is written: the text is the output
+    elif request.fix is not None:
+        fixed, fix_failed = _run_fixes(prepared, targets)
+    report = _lint_targets(prepared, stdin, targets, fixed, fix_failed, notes)
     if plan is not None:
         report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
@@ -440,7 +455,12 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     outcome = Outcome(
         report, settings, prepared.linter.rules, status, notes=tuple(notes), baseline=known
     )
-    return outcome if fixed is None else _with_fixes(outcome, fixed, request)
+    if fixed is None:
+        return outcome
+    outcome = _with_fixes(outcome, fixed, request)
+    if stdin is not None and request.fix is not None and request.fix.write:
+        outcome = replace(outcome, text=stdin.text)
+    return outcome
 
 
 def _check_fix_request(request: Request, settings: Settings) -> None:
@@ -450,10 +470,11 @@ def _check_fix_request(request: Request, settings: Settings) -> None:
         )
     if request.fix is not None and request.fix.fix_to and request.fix.write is False:
         raise RequestError("use either --diff or --fix-to, not both")
-    if request.stdin is not None and (request.fix is not None or request.shard is not None):
+    fix_to = request.fix is not None and request.fix.fix_to
+    if request.stdin is not None and (fix_to or request.shard is not None):
         raise RequestError(
-            "'-' (a layer on standard input) cannot be combined with --fix, --diff, --fix-to or "
-            "--shard: give the file's path"
+            "'-' (a layer on standard input) cannot be combined with --fix-to or --shard: give "
+            "the file's path"
         )
 
 
@@ -487,6 +508,7 @@ def _targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], Conte
 
 def _lint_targets(
     prepared: Prepared,
+    stdin: TextLayer | None,
     targets: Sequence[str],
     fixed: FixRun | None,
     fix_failed: tuple[FileResult, ...],
@@ -494,11 +516,11 @@ def _lint_targets(
 ) -> Report:
     """The report of ``targets``: what remains with --fix-to's overrides, else
     each file linted (after its fixes), but a stage whose fixing ran out of
-    time, which is reported as that, not linted again."""
-    request = prepared.request
-    if request.stdin is not None:  # in-process, never cached: it is no file
-        return Report((request.stdin.lint(prepared),))
-    fix = request.fix
+    time, which is reported as that, not linted again. ``stdin``: the text to
+    lint instead (``check -``), as its fixes left it."""
+    if stdin is not None:  # in-process, never cached: it is no file
+        return Report((stdin.lint(prepared),))
+    fix = prepared.request.fix
     if fixed is not None and fix is not None and fix.fix_to:
         return Report(tuple(fixed.remaining) + fix_failed)
     failed = {result.file: result for result in fix_failed}

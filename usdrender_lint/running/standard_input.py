@@ -5,7 +5,9 @@ working directory), as the language server lints an editor's unsaved buffer
 (documents.py): its relative asset paths resolve from that folder, the
 configuration is the one found from it, and nothing is written. The report names
 it as given. A crate or a ``.usdz`` cannot be held as text: they are refused, as
-is text that is not UTF-8, each with one line naming the cause.
+is text that is not UTF-8, each with one line naming the cause. ``--fix`` and
+``--diff`` edit the text alone (a fix of a file it composes is not applied): the
+fixed text, or its patch, is the command's output.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from .pipeline import Prepared
 from .workers import CRASHED, cap_memory, file_error, internal_error, timed_out
 
 if TYPE_CHECKING:
+    from ..fixing import FixRun
     from .supervisor import Supervision
 
 #: The path that names standard input on the command line, and in the report
@@ -56,6 +59,22 @@ class StandardInput:
         """The pipeline's lint of the text (pipeline.TextLayer)."""
         request = prepared.request
         return lint_standard_input(prepared, self, request.supervision, request.timeout)
+
+    def fix(self, prepared: Prepared) -> tuple[FixRun, StandardInput]:
+        """The request's fixes of the text (pipeline.TextLayer): what the fixer
+        did, and the text they leave (with --diff, its patch in the run's diffs);
+        after the supervised child ended on it, none (its lint says how it ended)."""
+        from ..fixing import FixRun
+
+        supervision, timeout = prepared.request.supervision, prepared.request.timeout
+        if supervision is None:
+            return _fix(prepared, self)
+        if supervision.ending is not None:
+            return FixRun(), self
+        cap_memory(workers=1)
+        if timeout:
+            return supervision.timed(timeout, _fix, prepared, self)
+        return _fix(prepared, self)
 
 
 def decode(data: bytes, name: str = STDIN) -> StandardInput:
@@ -106,6 +125,26 @@ def _lint(prepared: Prepared, given: StandardInput) -> FileResult:
         debug.show(exc, f"{given.name}: internal error")
         return file_error(given.name, internal_error(exc))
     return FileResult(given.name, findings=tuple(_named(f, given) for f in linted.findings))
+
+
+def _fix(prepared: Prepared, given: StandardInput) -> tuple[FixRun, StandardInput]:
+    from ..fixing import FixRun
+    from ..fixing.diff import patch
+    from .documents import Documents
+
+    wanted = prepared.request.fix
+    assert wanted is not None
+    try:
+        documents = Documents(prepared=prepared)
+        documents.update({given.path: given.text})
+        run, changed = documents.fix(given.path, None, wanted.unsafe, texts_only=True)
+    except Exception as exc:  # noqa: BLE001 - reported as the text's one line, as a file's
+        debug.show(exc, f"{given.name}: internal error")
+        return FixRun(errors=[f"{given.name}: fixing failed: {internal_error(exc)}"]), given
+    fixed = replace(given, text=changed.get(given.path, (given.text, given.text))[1])
+    if not wanted.write and fixed.text != given.text:
+        run.diffs.append(patch(given.name, given.text, fixed.text))
+    return run, fixed
 
 
 def _named(finding: Finding, given: StandardInput) -> Finding:

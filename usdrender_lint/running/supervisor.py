@@ -23,6 +23,8 @@ if TYPE_CHECKING:
 
 SUPERVISED_COMMANDS = ("check", "spec")
 WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", "--write-baseline")
+#: What fixes standard input's text (``check --fix -``) writes: stdout alone.
+STDOUT_FIXES = ("--fix", "--unsafe-fixes", "--unsafe", "--diff")
 STOP_GRACE = 2.0  # seconds a stopped child has to clean up before it is killed
 
 
@@ -58,10 +60,14 @@ class Supervision:
 
 
 def wants_supervision(argv: list[str]) -> bool:
-    """A ``check`` that writes nothing but its report, or a ``spec``, on Linux."""
+    """A ``check`` that writes nothing but its report (``check --fix -``: and the
+    fixed text, to stdout), or a ``spec``, on Linux."""
     if not sys.platform.startswith("linux") or not argv or argv[0] not in SUPERVISED_COMMANDS:
         return False  # the group has no option taking a value: its first word is the command
-    return not any(arg.split("=", 1)[0] in WRITING_OPTIONS for arg in argv)
+    writing = {arg.split("=", 1)[0] for arg in argv} & set(WRITING_OPTIONS)
+    if "-" in argv[1:]:  # standard_input.STDIN: its fixes write nothing but stdout
+        writing -= set(STDOUT_FIXES)
+    return not writing
 
 
 def reads_standard_input(argv: list[str]) -> bool:
