@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import os
 import pty
+import random
 import signal
 import subprocess
 import sys
@@ -434,3 +435,43 @@ def test_fixing_a_text_is_supervised_as_it_writes_no_file(
     argv: list[str], supervised: bool
 ) -> None:
     assert wants_supervision(argv) is (supervised and sys.platform.startswith("linux"))
+
+
+#: What seeded mutations insert: the characters and words of USD's grammar.
+_TOKENS = ("{", "}", "(", ")", "[", "]", '"', "@", "<", ">", "=", "\n", "def ", "rel ", "-", "é")
+
+
+def _mutated(text: str, rng: random.Random) -> str:
+    for _ in range(rng.randint(1, 4)):
+        at = rng.randrange(len(text))
+        roll = rng.random()
+        if roll < 0.4:
+            text = text[:at] + text[at + rng.randint(1, 20) :]
+        elif roll < 0.8:
+            text = text[:at] + rng.choice(_TOKENS) + text[at:]
+        else:
+            start = rng.randrange(len(text))
+            text = text[:at] + text[start : start + rng.randint(1, 40)] + text[at:]
+    return text
+
+
+def test_broken_texts_get_the_answer_their_files_get(tmp_path: Path) -> None:
+    """Seeded mutations of the examples and fixtures (most of them texts USD
+    cannot parse): as an unsaved buffer each gets its file's findings, every
+    error line of USD's placed as the file's are. A text whose header is not
+    ``#usda`` is left out: USD's format check refuses the file with "is not a
+    valid usda layer" before its parser runs, which the text meets instead."""
+    rng = random.Random(27)
+    sources = [p.read_text() for p in [*EXAMPLES, *FIXTURES[::3]]]
+    compared = 0
+    for _ in range(120):
+        text = _mutated(rng.choice(sources), rng)
+        if not text.startswith("#usda 1.0\n"):
+            continue
+        path = tmp_path / "shot.usda"
+        path.write_text(text, encoding="utf-8")
+        buffer = str(tmp_path / "buffer.usda")
+        expected = _answers(_lint(path))
+        assert _answers(_lint(path, StandardInput(text, buffer)), buffer, str(path)) == expected
+        compared += 1
+    assert compared > 80

@@ -607,17 +607,7 @@ class Linter:
     def _open_failure_findings(self, path: str, opened: StageOpenResult) -> Iterable[Finding]:
         # Not selectable away: a file that cannot be opened is never a silent pass.
         severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
-        lines = list(opened.errors)
-        specific = [line for line in lines if not line.startswith("Failed to open layer")]
-        # USD follows the real cause with a generic "Failed to open layer @f@": say it once.
-        for line in specific or lines:
-            yield Finding(
-                STAGE_OPEN_FAILED_CODE,
-                STAGE_OPEN_FAILED_NAME,
-                severity,
-                without_position(line),
-                _error_location(path, line),
-            )
+        return open_failure_findings(path, opened.errors, severity)
 
 
 def unsafe_to_open(path: str) -> str | None:
@@ -665,6 +655,26 @@ def _corrupt_file_message(exc: Exception, path: str) -> str:
     if found is None:
         raise exc
     return found
+
+
+def open_failure_findings(path: str, errors: Sequence[str], severity: Severity) -> list[Finding]:
+    """The ST001 findings of USD's error lines about a layer of ``path`` it cannot
+    read (a file's open, an editor's text), each placed where the line says."""
+    # USD follows the real cause with a generic "Failed to open layer @f@": say it once.
+    chosen = [line for line in errors if not line.startswith("Failed to open layer")] or errors
+    # Its parser also says some errors twice, once with ``file:line:col:`` in front.
+    placed = {without_position(line) for line in chosen if position_from_error(line)}
+    return [
+        Finding(
+            STAGE_OPEN_FAILED_CODE,
+            STAGE_OPEN_FAILED_NAME,
+            severity,
+            without_position(line),
+            _error_location(path, line),
+        )
+        for line in chosen
+        if line not in placed
+    ]
 
 
 def _error_location(path: str, message: str) -> Location:

@@ -30,13 +30,12 @@ from typing import TYPE_CHECKING
 
 from pxr import Sdf, Tf, Usd, Vt
 
+from ..engine.linter import open_failure_findings
 from ..engine.stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
     error_lines,
     open_stage,
-    position_from_error,
-    without_position,
 )
 from ..layers.files import layer_real_path
 from ..layers.nesting import nesting_problem
@@ -96,7 +95,7 @@ class Documents:
         #: The text each layer holds now (a fix or a reload makes it stale).
         self._imported: dict[str, str] = {}
         #: USD's parse error of a document's text (its layer keeps the last good text).
-        self._parse_errors: dict[str, tuple[str, int | None, int | None]] = {}
+        self._parse_errors: dict[str, tuple[str, ...]] = {}
         self._stages: dict[str, Usd.Stage] = {}
         self._configs: dict[str, _Config] = {}
 
@@ -143,7 +142,8 @@ class Documents:
         self._sync()
         parse_error = self._parse_errors.get(path)
         if parse_error is not None:
-            findings: tuple[Finding, ...] = (self._parse_finding(prepared, path, parse_error),)
+            severity = prepared.linter.severities.get(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
+            findings = tuple(open_failure_findings(path, parse_error, severity))
         else:
             findings = self._lint_stage(prepared, path)
         return Linted(findings, seconds=time.perf_counter() - started)
@@ -187,19 +187,6 @@ class Documents:
                     layer.Reload()
                 trap.Clear()
 
-    def _parse_finding(
-        self, prepared: Prepared, path: str, error: tuple[str, int | None, int | None]
-    ) -> Finding:
-        message, line, column = error
-        severity = prepared.linter.severities.get(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
-        return Finding(
-            STAGE_OPEN_FAILED_CODE,
-            STAGE_OPEN_FAILED_NAME,
-            severity,
-            message,
-            Location(path, None, path, line, column),
-        )
-
     def _prepare(self, path: str) -> Prepared:
         """The pipeline's preparation of a check of ``path``: its configuration
         (searched from its folder), rules and linter; read again when the
@@ -228,7 +215,7 @@ class Documents:
             # USD's parser overflows on such nesting, reading the file as the text.
             too_deep = nesting_problem(path, text.encode("utf-8", "surrogatepass"))
             if too_deep is not None:
-                self._parse_errors[path] = (too_deep, None, None)  # its layer keeps the last
+                self._parse_errors[path] = (too_deep,)  # its layer keeps the last text
                 self._imported[path] = text
                 continue
             layer = self._layers.get(path)
@@ -364,14 +351,10 @@ def _saved_layer(path: str, text: str) -> Sdf.Layer | None:
     return layer
 
 
-def _parse_error(exc: Tf.ErrorException, path: str) -> tuple[str, int | None, int | None]:
-    """USD's parse error of a document's text: the message naming the file,
-    and its line and column. A layer imported from a string has no file name
-    in USD's message (``:3:3: Expected ...``): the document's path is put there,
-    to be read as ``check`` reads a file's (the message without it)."""
+def _parse_error(exc: Tf.ErrorException, path: str) -> tuple[str, ...]:
+    """USD's error lines about a document's text, as it gives them about a file
+    (engine.linter.open_failure_findings reads both): a layer imported from a
+    string has no file name in USD's message (``:3:3: Expected ...``), so the
+    document's path is put there."""
     lines = [f"{path}{line}" if line.startswith(":") else line for line in error_lines(exc, path)]
-    for line in lines:
-        position = position_from_error(line)
-        if position is not None:
-            return without_position(line), position[1], position[2]
-    return (lines[0] if lines else f"USD cannot read {path}"), None, None
+    return tuple(lines) or (f"USD cannot read {path}",)
