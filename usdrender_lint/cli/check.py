@@ -61,7 +61,11 @@ if TYPE_CHECKING:
     type=click.Path(dir_okay=False),
     help="Record every finding in this baseline file and exit 0.",
 )
-@click.option("--fix", is_flag=True, help="Apply the safe fixes, then report what remains.")
+@click.option(
+    "--fix",
+    is_flag=True,
+    help="Apply the safe fixes, then report what remains (with '-': print the fixed text).",
+)
 @click.option(
     "--unsafe-fixes",
     "--unsafe",  # the catalog's spelling
@@ -115,7 +119,8 @@ def check(
     stdin_filename: str | None,
     **settings: Any,
 ) -> None:
-    """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz)."""
+    """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz);
+    '-' lints one text layer read from standard input (see --stdin-filename)."""
     import_engine()
     check_stopped()  # a signal while USD imported its modules
     from ..running.pipeline import Request, RequestError, run
