@@ -94,7 +94,8 @@ class Documents:
         self._layers: dict[str, Sdf.Layer] = {}
         #: The text each layer holds now (a fix or a reload makes it stale).
         self._imported: dict[str, str] = {}
-        #: USD's parse error of a document's text (its layer keeps the last good text).
+        #: USD's error lines about a document's text it cannot read (its layer keeps
+        #: the last good text).
         self._parse_errors: dict[str, tuple[str, ...]] = {}
         self._stages: dict[str, Usd.Stage] = {}
         self._configs: dict[str, _Config] = {}
