@@ -33,6 +33,9 @@ NEVER_NEEDED = (
     "usdrender_lint.running.roots",
     "usdrender_lint.engine.variants",
     "usdrender_lint.running.baseline",
+    # check - (a text on standard input) and the documents it lints through.
+    "usdrender_lint.running.standard_input",
+    "usdrender_lint.running.documents",
     # The configuration digest (running/merge.py) is for the JSON report only;
     # writing stdout (atomic.write_all) needs no hash either.
     "usdrender_lint.running.merge",

@@ -173,12 +173,12 @@ def check(
 def _standard_input(paths: tuple[str, ...], name: str | None) -> StandardInput | None:
     """``check -``: the text on standard input (read by the supervisor before its
     fork, when it supervises), as the layer ``name`` stands for."""
-    from ..running.standard_input import STDIN, StandardInputError, decode
-
-    if STDIN not in paths:
+    if "-" not in paths:  # standard_input.STDIN, not imported by a check of files
         if name is not None:
             raise ToolError("--stdin-filename names the layer read from standard input: add '-'")
         return None
+    from ..running.standard_input import STDIN, StandardInputError, decode
+
     if len(paths) > 1:
         raise ToolError("'-' (a layer on standard input) is linted alone: give no other paths")
     given = supervision()
