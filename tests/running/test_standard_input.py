@@ -154,25 +154,15 @@ def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
         b'def RenderSettings "S"\n{\n    rel camera = </World>\n'
         b"    uniform bool instantaneousShutter = true\n}\n"
     )
-    elsewhere = subprocess.run(
-        command("check", "--no-cache", "--format", "json", "-", "--stdin-filename", "x.usda"),
-        input=text,
-        capture_output=True,
-        cwd=tmp_path,
-        timeout=120,
-        check=False,
+    elsewhere = _command_in(
+        tmp_path, "--format", "json", "-", "--stdin-filename", "x.usda", stdin=text
     )
     [entry] = json.loads(elsewhere.stdout)["files"]
     codes = {f["code"] for f in entry["findings"]}
     assert {"SE007", "CA004"} <= codes  # ./cam.usda is not beside x.usda: no Camera
     (tmp_path / "shots" / ".usdrender-lint.toml").write_text('ignore = ["SE007"]\n')
-    beside = subprocess.run(
-        command("check", "--no-cache", "--format", "json", "-", "--stdin-filename", "a/s.usda"),
-        input=text,
-        capture_output=True,
-        cwd=tmp_path / "shots",
-        timeout=120,
-        check=False,
+    beside = _command_in(
+        tmp_path / "shots", "--format", "json", "-", "--stdin-filename", "a/s.usda", stdin=text
     )
     [entry] = json.loads(beside.stdout)["files"]
     assert entry["file"] == "a/s.usda"
@@ -475,3 +465,38 @@ def test_broken_texts_get_the_answer_their_files_get(tmp_path: Path) -> None:
         assert _answers(_lint(path, StandardInput(text, buffer)), buffer, str(path)) == expected
         compared += 1
     assert compared > 80
+
+
+def test_a_configurations_roots_do_not_apply_to_a_text(tmp_path: Path) -> None:
+    """With ``roots`` a changed layer is linted inside the shots that use it; a
+    text is linted as a stage of its own (as the language server lints it)."""
+    (tmp_path / "shots").mkdir()
+    (tmp_path / "shots" / "shot.usda").write_text(
+        '#usda 1.0\n(\n    subLayers = [@../light.usda@]\n)\ndef Camera "Cam"\n{\n}\n'
+    )
+    (tmp_path / "pyproject.toml").write_text('[tool.usdrender-lint]\nroots = ["shots/*.usda"]\n')
+    light = b'#usda 1.0\ndef RenderSettings "S"\n{\n    rel camera = </Cam>\n}\n'
+    (tmp_path / "light.usda").write_bytes(light)
+    as_file = json.loads(_command_in(tmp_path, "--format", "json", "light.usda").stdout)["files"]
+    as_text = _command_in(
+        tmp_path, "--format", "json", "-", "--stdin-filename", "light.usda", stdin=light
+    )
+    [entry] = json.loads(as_text.stdout)["files"]
+    assert entry["file"] == "light.usda"
+    # Alone, </Cam> is missing (the shot defines it); inside its root it is there.
+    assert "CA003" in {f["code"] for f in entry["findings"]}
+    assert "CA003" not in {f["code"] for e in as_file for f in e["findings"]}
+
+
+def _command_in(folder: Path, *args: str, stdin: bytes = b"") -> subprocess.CompletedProcess:
+    """The command with the configuration of ``folder`` (not --isolated)."""
+    done = subprocess.run(
+        command("check", "--no-cache", *args),
+        input=stdin,
+        capture_output=True,
+        timeout=120,
+        check=False,
+        cwd=folder,
+    )
+    assert b"Traceback" not in done.stdout + done.stderr, done.stderr
+    return done
