@@ -180,6 +180,7 @@ def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
         (("--stdin-filename", "s.usda", "examples"), b"", "add '-'"),
         (("--fix-to", "o.usda", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to"),
         (("--shard", "1/2", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to or --shard"),
+        (("--format", "html", "-"), b"#usda 1.0\n", "cannot be combined with --format html"),
     ],
 )
 def test_what_cannot_be_linted_from_standard_input_says_why(
