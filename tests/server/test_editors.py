@@ -1,6 +1,7 @@
 """A real editor drives the server: headless Neovim (Debian's package) with
 the configuration docs/guides/editors.md gives, opening the broken example
-shot; and the other editors' snippets of that page say what the server is."""
+shot, and filtering it through `check --fix -`; and the other editors'
+snippets of that page say what the server is."""
 
 from __future__ import annotations
 
@@ -118,6 +119,29 @@ def test_neovim_shows_the_findings_of_a_broken_shot(tmp_path: Path):
     assert camera["href"].endswith("/reference/rules/CA004-camera-target-not-camera/")
     # Its quick fix, applied by Neovim to the buffer: the line --fix writes.
     assert seen["fixed"] == "        rel camera = </World/camRig/shotCam>"
+
+
+def test_neovim_filters_a_buffer_through_check_fix_stdin(tmp_path: Path):
+    """The guide's `check --fix -` as an editor runs it (a Neovim filter over the
+    whole buffer): the buffer becomes what `check --fix` writes into the file,
+    and the file itself is not touched."""
+    nvim = shutil.which("nvim")
+    if nvim is None:
+        pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
+    shot, expected = tmp_path / "shot.usda", tmp_path / "expected.usda"
+    shutil.copy(BROKEN_SHOT, shot)
+    shutil.copy(BROKEN_SHOT, expected)
+    lint = [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--no-cache"]
+    subprocess.run([*lint, "--fix", str(expected)], capture_output=True, timeout=120, check=False)
+    command = " ".join([*lint, "--fix", "-", "--stdin-filename", "%"])
+    subprocess.run(
+        [nvim, "--headless", "-u", "NONE", "-c", f"silent %!{command}", "-c",
+         f"w! {tmp_path / 'buffer.usda'}", "-c", "qa!", str(shot)],
+        capture_output=True, timeout=120, check=False, cwd=tmp_path,
+    )  # fmt: skip
+    assert (tmp_path / "buffer.usda").read_bytes() == expected.read_bytes()
+    assert expected.read_bytes() != BROKEN_SHOT.read_bytes()  # there were fixes
+    assert shot.read_bytes() == BROKEN_SHOT.read_bytes()
 
 
 def test_the_helix_snippet_runs_the_server():
