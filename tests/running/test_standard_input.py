@@ -322,7 +322,7 @@ def _fixed_as_file(folder: Path, name: str, fix: FixRequest) -> tuple[str, set[s
     changed = {p.name for p in folder.iterdir() if p.is_file() and before[p.name] != p.read_bytes()}
     if changed - {name}:
         return None
-    return (folder / name).read_text(encoding="utf-8"), changed
+    return (folder / name).read_bytes().decode("utf-8"), changed  # line endings as written
 
 
 @pytest.mark.parametrize("unsafe", [False, True], ids=["safe", "unsafe"])
@@ -501,3 +501,18 @@ def _command_in(folder: Path, *args: str, stdin: bytes = b"") -> subprocess.Comp
     )
     assert b"Traceback" not in done.stdout + done.stderr, done.stderr
     return done
+
+
+def test_a_text_with_windows_line_endings_is_fixed_as_its_file(tmp_path: Path) -> None:
+    """A Windows editor's buffer (CRLF): the fixed text keeps its line endings,
+    as --fix keeps the file's."""
+    text = (REPO / "examples" / "broken_shot" / "shot.usda").read_text().replace("\n", "\r\n")
+    (tmp_path / "shot.usda").write_bytes(text.encode())
+    name = str(tmp_path / "shot.usda")
+    fixed = run(
+        Request((name,), isolated=True, jobs=1, timeout=None, fix=FixRequest(),
+                stdin=StandardInput(text, name))
+    ).text  # fmt: skip
+    expected = _fixed_as_file(tmp_path, "shot.usda", FixRequest())
+    assert expected is not None and fixed == expected[0] != text
+    assert fixed is not None and fixed.count("\r\n") == fixed.count("\n")
