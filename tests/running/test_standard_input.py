@@ -93,10 +93,14 @@ def test_every_real_text_layer_gets_its_files_findings(shared_dir: Path) -> None
     assert _check_as_texts(files) > 100
 
 
-def _command(*args: str, stdin: bytes | int = b"", cwd: Path = REPO) -> subprocess.CompletedProcess:
+def _command(
+    *args: str, stdin: bytes | int = b"", cwd: Path = REPO, isolated: bool = True
+) -> subprocess.CompletedProcess:
+    """``check ARGS`` run from ``cwd``; ``isolated`` False: with the configuration
+    found from there."""
     feed = {"input": stdin} if isinstance(stdin, bytes) else {"stdin": stdin}
     done = subprocess.run(
-        command("check", "--isolated", "--no-cache", *args),
+        command("check", *(["--isolated"] if isolated else []), "--no-cache", *args),
         capture_output=True,
         timeout=120,
         check=False,
@@ -154,15 +158,29 @@ def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
         b'def RenderSettings "S"\n{\n    rel camera = </World>\n'
         b"    uniform bool instantaneousShutter = true\n}\n"
     )
-    elsewhere = _command_in(
-        tmp_path, "--format", "json", "-", "--stdin-filename", "x.usda", stdin=text
+    elsewhere = _command(
+        "--format",
+        "json",
+        "-",
+        "--stdin-filename",
+        "x.usda",
+        stdin=text,
+        cwd=tmp_path,
+        isolated=False,
     )
     [entry] = json.loads(elsewhere.stdout)["files"]
     codes = {f["code"] for f in entry["findings"]}
     assert {"SE007", "CA004"} <= codes  # ./cam.usda is not beside x.usda: no Camera
     (tmp_path / "shots" / ".usdrender-lint.toml").write_text('ignore = ["SE007"]\n')
-    beside = _command_in(
-        tmp_path / "shots", "--format", "json", "-", "--stdin-filename", "a/s.usda", stdin=text
+    beside = _command(
+        "--format",
+        "json",
+        "-",
+        "--stdin-filename",
+        "a/s.usda",
+        stdin=text,
+        cwd=tmp_path / "shots",
+        isolated=False,
     )
     [entry] = json.loads(beside.stdout)["files"]
     assert entry["file"] == "a/s.usda"
@@ -478,29 +496,24 @@ def test_a_configurations_roots_do_not_apply_to_a_text(tmp_path: Path) -> None:
     (tmp_path / "pyproject.toml").write_text('[tool.usdrender-lint]\nroots = ["shots/*.usda"]\n')
     light = b'#usda 1.0\ndef RenderSettings "S"\n{\n    rel camera = </Cam>\n}\n'
     (tmp_path / "light.usda").write_bytes(light)
-    as_file = json.loads(_command_in(tmp_path, "--format", "json", "light.usda").stdout)["files"]
-    as_text = _command_in(
-        tmp_path, "--format", "json", "-", "--stdin-filename", "light.usda", stdin=light
+    as_file = json.loads(
+        _command("--format", "json", "light.usda", cwd=tmp_path, isolated=False).stdout
+    )["files"]
+    as_text = _command(
+        "--format",
+        "json",
+        "-",
+        "--stdin-filename",
+        "light.usda",
+        stdin=light,
+        cwd=tmp_path,
+        isolated=False,
     )
     [entry] = json.loads(as_text.stdout)["files"]
     assert entry["file"] == "light.usda"
     # Alone, </Cam> is missing (the shot defines it); inside its root it is there.
     assert "CA003" in {f["code"] for f in entry["findings"]}
     assert "CA003" not in {f["code"] for e in as_file for f in e["findings"]}
-
-
-def _command_in(folder: Path, *args: str, stdin: bytes = b"") -> subprocess.CompletedProcess:
-    """The command with the configuration of ``folder`` (not --isolated)."""
-    done = subprocess.run(
-        command("check", "--no-cache", *args),
-        input=stdin,
-        capture_output=True,
-        timeout=120,
-        check=False,
-        cwd=folder,
-    )
-    assert b"Traceback" not in done.stdout + done.stderr, done.stderr
-    return done
 
 
 def test_a_text_with_windows_line_endings_is_fixed_as_its_file(tmp_path: Path) -> None:
