@@ -71,6 +71,8 @@ class Settings:
     extend_exclude: tuple[str, ...] = ()
     #: Skip what .gitignore files ignore when a folder is walked.
     respect_gitignore: bool = True
+    #: Skip a path given too where a folder walk would skip it.
+    force_exclude: bool = False
     #: Where the result cache lives (relative to the config file's folder);
     #: None: ``.usdrender_lint_cache`` there (running/result_cache.py).
     cache_dir: str | None = None

@@ -72,6 +72,9 @@ class Setting:
     changes_findings: bool = True
     choices: tuple[str, ...] = ()
     hidden: bool = False
+    #: A "flag" that also has its ``--no-`` form (to undo what a configuration
+    #: or a hook's arguments turned on).
+    negatable: bool = False
 
 
 # -- parsers --------------------------------------------------------------------------
@@ -347,6 +350,19 @@ SETTINGS: tuple[Setting, ...] = (
         default=True,
         config_key="respect-gitignore",
         changes_findings=False,
+    ),
+    Setting(
+        "force_exclude",
+        "Skip a path given too where a folder walk would skip it (hidden, exclude, "
+        ".gitignore): a pre-commit hook names every staged file.",
+        _bool,
+        kind="flag",
+        default=False,
+        config_key="force-exclude",
+        flag="--force-exclude",
+        commands=("check", "spec"),
+        changes_findings=False,
+        negatable=True,
     ),
     Setting(
         "cache_dir",

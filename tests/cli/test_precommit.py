@@ -201,8 +201,8 @@ def test_the_manifest_and_the_sample_config_are_valid() -> None:
 def test_the_hooks_match_every_usd_extension_and_nothing_else() -> None:
     hooks = yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text())
     assert [(h["id"], h["entry"], h["language"]) for h in hooks] == [
-        (HOOK_ID, "usdrender-lint check", "python"),
-        (FIX_HOOK_ID, "usdrender-lint check --fix", "python"),
+        (HOOK_ID, "usdrender-lint check --force-exclude", "python"),
+        (FIX_HOOK_ID, "usdrender-lint check --force-exclude --fix", "python"),
     ]
     assert hooks[0]["files"] == hooks[1]["files"]
     pattern = re.compile(hooks[0]["files"])  # pre-commit matches with re.search
@@ -255,6 +255,28 @@ def test_a_changed_lighting_layer_is_linted_in_its_shot_by_the_hook(
     )
     run = _run_sample_config(target, hook_repo, pre_commit_home)
     assert run.returncode == 0, run.stdout + run.stderr
+
+
+def test_the_hooks_leave_out_what_the_configuration_excludes(
+    tmp_path: Path, hook_repo: Path, pre_commit_home: Path
+) -> None:
+    """pre-commit names every staged file; the configuration's exclusions hold
+    all the same (--force-exclude), for the fixing hook too."""
+    target = _target_repo(
+        tmp_path / "assets",
+        {".usdrender-lint.toml": 'extend-exclude = ["reference/"]\n'},
+        {"shots/clean.usda": CLEAN, "reference/broken.usda": BROKEN, "reference/fix.usda": FIXABLE},
+    )
+    run = _run_sample_config(target, hook_repo, pre_commit_home)
+    assert run.returncode == 0, run.stdout + run.stderr
+    fixing = _run_sample_config(target, hook_repo, pre_commit_home, FIX_HOOK_ID)
+    assert fixing.returncode == 0, fixing.stdout + fixing.stderr
+    assert (target / "reference" / "fix.usda").read_text(encoding="utf-8") == FIXABLE
+    # Without the exclusion the same commit fails: the hook did lint what it was given.
+    (target / ".usdrender-lint.toml").write_text("")
+    _git(target, "add", "-A")  # pre-commit stashes what is not staged
+    again = _run_sample_config(target, hook_repo, pre_commit_home)
+    assert again.returncode == 1 and "SE003" in again.stdout, again.stdout + again.stderr
 
 
 def test_the_fix_hook_fixes_the_staged_layer_and_then_passes(

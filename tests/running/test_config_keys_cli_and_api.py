@@ -95,7 +95,10 @@ def _api(path: Path, config: Path) -> set[tuple]:
 
 
 #: Compared with, to show a key changes something (default: no configuration).
-BASELINES = {"max-variant-combinations": "variants = true"}
+BASELINES = {
+    "max-variant-combinations": "variants = true",
+    "force-exclude": 'extend-exclude = ["lighting.usda"]',
+}
 #: key -> (TOML of the key, file linted, what the key must change)
 KEYS = {
     "select": ('select = ["SE003"]', "lighting.usda", "codes"),
@@ -121,6 +124,10 @@ KEYS = {
     "exclude": ('exclude = ["lighting.usda"]', "lighting.usda", "none"),
     "extend-exclude": ('extend-exclude = ["lighting.usda"]', "lighting.usda", "none"),
     "respect-gitignore": ("respect-gitignore = false", "lighting.usda", "none"),
+    # a file given that the walk would skip is not linted (tests/running/test_force_exclude.py)
+    "force-exclude": (
+        'extend-exclude = ["lighting.usda"]\nforce-exclude = true', "lighting.usda", "codes"
+    ),
 }  # fmt: skip
 
 

@@ -45,6 +45,7 @@ SAMPLES: dict[str, tuple[str, Any]] = {
     "exclude": ('["build"]', ("build",)),
     "extend-exclude": ('["wip/*.usda"]', ("wip/*.usda",)),
     "respect-gitignore": ("false", False),
+    "force-exclude": ("true", True),
 }
 
 _CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - {"source", "from_flags"}

@@ -70,7 +70,8 @@ def setting_option(entry: Setting):
         # Not given: None lets the configuration decide; a flag no configuration
         # sets (--full-composition) is simply off.
         default = None if entry.config_key else entry.default
-        return click.option(entry.flag, entry.name, is_flag=True, default=default, **common)
+        flag = f"{entry.flag}/--no-{entry.flag[2:]}" if entry.negatable else entry.flag
+        return click.option(flag, entry.name, is_flag=True, default=default, **common)
     if kind == "off-flag":
         # --no-cache: the setting is on unless the flag is given.
         return click.option(entry.flag, f"no_{entry.name}", is_flag=True, **common)

@@ -8,7 +8,10 @@ Walking a folder skips, as ruff does: hidden files and folders (``.git``,
 (gitignore-style patterns, relative to the configuration's folder), and what
 ``.gitignore`` files ignore (those of the folders walked and of their parents
 up to the repository's root, and ``.git/info/exclude``). A path given on the
-command line is always linted, whatever its name.
+command line is linted whatever its name, unless ``force-exclude`` is set (as
+ruff's ``--force-exclude``): then a path given below the configuration's folder
+is skipped where a walk from that folder would skip it, so a pre-commit hook,
+which names every staged file, lints what ``check .`` lints.
 """
 
 from __future__ import annotations
@@ -36,6 +39,8 @@ class Exclusions:
     base: str = "."
     respect_gitignore: bool = True
     skip_hidden: bool = True
+    #: Skip a path given too where a walk from ``base`` would (force-exclude).
+    force: bool = False
 
     @classmethod
     def of(cls, settings: Settings) -> Exclusions:
@@ -43,6 +48,7 @@ class Exclusions:
             tuple(settings.exclude) + tuple(settings.extend_exclude),
             str(settings.base_dir),
             settings.respect_gitignore,
+            force=settings.force_exclude,
         )
 
 
@@ -55,9 +61,13 @@ def collect_files(
 ) -> list[str]:
     """Expand directories recursively into USD files (sorted); keep files,
     missing paths and folders that cannot be listed as given so the engine
-    reports them. The folders that hold no USD file are added to ``empty``."""
+    reports them. The folders that hold no USD file are added to ``empty``.
+    With ``exclusions.force``, a path given that a walk would skip is left out."""
     files: list[str] = []
+    given = _Given(exclusions) if exclusions.force else None
     for path in paths:
+        if given is not None and given.skipped(path):
+            continue
         if os.path.isdir(path):
             found = _walk(path, exclusions)
             if not found and empty is not None:
@@ -103,11 +113,14 @@ class _Skip:
         #: (folder, spec) of every .gitignore in force, outermost first.
         self.ignores: list[tuple[str, PathSpec | _Names]] = []
         self.read: set[str] = set()
-        if exclusions.respect_gitignore:
+        self.enter_chain(top)
+
+    def enter_chain(self, top: str) -> None:
+        """The .gitignore files of ``top`` and above it up to its repository's root."""
+        if self.exclusions.respect_gitignore:
             self._parents_of(os.path.abspath(top))
 
     def _parents_of(self, top: str) -> None:
-        """The .gitignore files above ``top`` up to its repository's root."""
         chain = []
         folder = top
         while True:
@@ -138,6 +151,8 @@ class _Skip:
         except OSError:
             return
         self.ignores.append((folder, _spec(lines)))
+        # Outermost first, whatever order the folders were met in (a deeper file wins).
+        self.ignores.sort(key=lambda item: item[0].count(os.sep))
 
     def __call__(self, path: str, name: str, folder: bool = False) -> bool:
         if self.exclusions.skip_hidden and name.startswith("."):
@@ -159,6 +174,44 @@ class _Skip:
             if result.include is not None:
                 ignored = bool(result.include)
         return ignored
+
+
+def force_excluded(path: str, exclusions: Exclusions) -> bool:
+    """Whether ``path``, given by name, is left out under ``exclusions.force``
+    (``check -``'s ``--stdin-filename``)."""
+    return exclusions.force and _Given(exclusions).skipped(path)
+
+
+class _Given:
+    """force-exclude: whether a path given is skipped as a walk from the
+    configuration's folder would skip it there. One walk's state serves every
+    path (each .gitignore applies only below its own folder), so a pre-commit
+    hook's thousand staged files read each .gitignore once."""
+
+    def __init__(self, exclusions: Exclusions) -> None:
+        self.base = os.path.abspath(exclusions.base)
+        self.skip: _Skip | None = None
+        self.exclusions = exclusions
+
+    def skipped(self, path: str) -> bool:
+        real = os.path.abspath(path)
+        relative = _below(real, self.base)
+        if relative is None:  # the configuration's folder or outside it: not for its patterns
+            return False
+        parent = os.path.dirname(real)
+        if self.skip is None:
+            self.skip = _Skip(parent, self.exclusions)
+        else:
+            self.skip.enter_chain(parent)
+        folder = self.base
+        parts = relative.split("/")
+        self.skip.enter(folder)
+        for part in parts[:-1]:
+            folder = os.path.join(folder, part)
+            if self.skip(folder, part, folder=True):
+                return True
+            self.skip.enter(folder)  # as the walk reads each folder's .gitignore it goes into
+        return self.skip(real, parts[-1], folder=os.path.isdir(real))
 
 
 def _below(path: str, folder: str) -> str | None:

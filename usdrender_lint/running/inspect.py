@@ -52,6 +52,8 @@ class InspectRequest:
     #: Patterns not inspected in a folder walked (--exclude, --extend-exclude).
     exclude: tuple[str, ...] | None = None
     extend_exclude: tuple[str, ...] | None = None
+    #: Skip a path given too where a walk would (--force-exclude); None: the config's.
+    force_exclude: bool | None = None
     #: The file the caller will write to (``spec --output``): refused when it is an input.
     output: str | None = None
 
@@ -115,6 +117,7 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             profile=request.profile,
             exclude=request.exclude,
             extend_exclude=request.extend_exclude,
+            force_exclude=request.force_exclude,
         )
     )
     factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)

@@ -25,7 +25,7 @@ from ..profiles.detect import Profiler
 from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from ..settings_table import DEFAULT_TIMEOUT, request_settings
-from .discovery import Exclusions, collect_files
+from .discovery import Exclusions, collect_files, force_excluded
 from .path_ignores import apply_path_ignores
 from .supervisor import Supervision
 from .workers import (
@@ -120,6 +120,8 @@ class Request:
     #: Patterns not linted in a folder walked (--exclude, --extend-exclude).
     exclude: tuple[str, ...] | None = None
     extend_exclude: tuple[str, ...] | None = None
+    #: Skip a path given too where a walk would (--force-exclude); None: the config's.
+    force_exclude: bool | None = None
     #: The file the caller will write the report to (--output): refused, before
     #: anything is linted, when the run reads it (running/outputs.py).
     output: str | None = None
@@ -437,12 +439,13 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     _check_fix_request(request, settings)
     targets, plan = _targets(prepared, notes)
     refuse_outputs_on_inputs(request, settings, targets)
-    stdin = request.stdin
+    # A text whose name force-exclude leaves out is neither linted nor fixed.
+    stdin = request.stdin if targets else None
     fixed: FixRun | None = None
     fix_failed: tuple[FileResult, ...] = ()
     if request.fix is not None and stdin is not None:
         fixed, stdin = stdin.fix(prepared)  # nothing is written: the text is the output
-    elif request.fix is not None:
+    elif request.fix is not None and request.stdin is None:
         fixed, fix_failed = _run_fixes(prepared, targets)
     report = _lint_targets(prepared, stdin, targets, fixed, fix_failed, notes)
     if plan is not None:
@@ -455,11 +458,11 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     outcome = Outcome(
         report, settings, prepared.linter.rules, status, notes=tuple(notes), baseline=known
     )
-    if fixed is None:
-        return outcome
-    outcome = _with_fixes(outcome, fixed, request)
-    if stdin is not None and request.fix is not None and request.fix.write:
-        outcome = replace(outcome, text=stdin.text)
+    if fixed is not None:
+        outcome = _with_fixes(outcome, fixed, request)
+    if request.stdin is not None and request.fix is not None and request.fix.write:
+        # The fixed text; one force-exclude left out, as it came.
+        outcome = replace(outcome, text=(stdin or request.stdin).text)
     return outcome
 
 
@@ -482,10 +485,12 @@ def _targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], Conte
     """The files the request names (folders walked), their shard, and with
     config ``roots`` the plan that lints them inside the stages that use them."""
     request, settings = prepared.request, prepared.settings
-    if request.stdin is not None:
-        return [request.stdin.name], None  # a text, linted as its own stage
+    exclusions = Exclusions.of(settings)
+    if request.stdin is not None:  # a text, linted as its own stage
+        name = request.stdin.name
+        return ([] if force_excluded(name, exclusions) else [name]), None
     empty: list[str] = []
-    files = collect_files(request.paths, empty, Exclusions.of(settings))
+    files = collect_files(request.paths, empty, exclusions)
     notes.extend(
         f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
     )
@@ -520,6 +525,8 @@ def _lint_targets(
     lint instead (``check -``), as its fixes left it."""
     if stdin is not None:  # in-process, never cached: it is no file
         return Report((stdin.lint(prepared),))
+    if not targets:  # nothing to lint: no cache to open
+        return Report(())
     fix = prepared.request.fix
     if fixed is not None and fix is not None and fix.fix_to:
         return Report(tuple(fixed.remaining) + fix_failed)
