@@ -160,3 +160,23 @@ def test_a_document_nesting_too_deep_for_usd_is_one_finding_then_linted_again(tm
     assert finding.code == "ST001" and "nests 12,000 levels deep" in finding.message
     documents.update({str(path): '#usda 1.0\ndef RenderSettings "S"\n{\n}\n'})
     assert "ST001" not in {f.code for f in documents.lint(str(path)).findings}
+
+
+def test_config_force_exclude_leaves_a_skipped_document_alone(tmp_path: Path):
+    """With ``force-exclude``, a document ``check .`` would skip gets no finding
+    and no fix, as ``check --force-exclude -`` of its text."""
+    (tmp_path / ".usdrender-lint.toml").write_text(
+        'extend-exclude = ["reference/"]\nforce-exclude = true\n'
+    )
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    skipped, kept = str(tmp_path / "reference" / "a.usda"), str(tmp_path / "shots" / "a.usda")
+    documents = Documents()
+    documents.update({skipped: text, kept: text})
+    assert documents.lint(skipped).findings == ()
+    run, changed = documents.fix(skipped, None, unsafe=True)
+    assert (run.outcomes, changed) == ([], {})
+    assert "SE001" in {f.code for f in documents.lint(kept).findings}
+    assert documents.fix(kept, None, unsafe=True)[1]  # the same text, kept: fixed
+    (tmp_path / ".usdrender-lint.toml").write_text('extend-exclude = ["reference/"]\n')
+    documents.forget_configuration()
+    assert "SE001" in {f.code for f in documents.lint(skipped).findings}

@@ -353,6 +353,34 @@ async def test_a_configuration_change_relints(client: LanguageClient, workspace:
     config.unlink()
 
 
+async def test_config_force_exclude_leaves_a_skipped_document_alone(
+    client: LanguageClient, workspace: Path
+):
+    """A project whose configuration excludes reference/ with force-exclude: a
+    layer opened there gets no diagnostics and no fix, one in shots/ its findings."""
+    project = workspace / "forced"
+    for folder in ("reference", "shots"):
+        (project / folder).mkdir(parents=True)
+        shutil.copy(BROKEN_SHOT, project / folder / "shot.usda")
+    (project / ".usdrender-lint.toml").write_text(
+        'extend-exclude = ["reference/"]\nforce-exclude = true\n'
+    )
+    skipped = open_document(client, project / "reference" / "shot.usda")
+    kept = open_document(client, project / "shots" / "shot.usda")
+    assert await diagnostics_of(client, skipped, 1) == []
+    assert {d.code for d in await diagnostics_of(client, kept, 1)} >= {"CA004", "SE003"}
+    fix_all = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(skipped),
+            range=types.Range(types.Position(0, 0), types.Position(0, 0)),
+            context=types.CodeActionContext(
+                diagnostics=[], only=[types.CodeActionKind.SourceFixAll]
+            ),
+        )
+    )
+    assert not fix_all
+
+
 LIGHTING = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
 
 

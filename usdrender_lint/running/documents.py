@@ -42,6 +42,7 @@ from ..layers.nesting import nesting_problem
 from ..model import IGNORE_KEY, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry
+from .discovery import Exclusions, force_excluded
 from .pipeline import Prepared, Request, RequestError, prepare
 
 if TYPE_CHECKING:
@@ -140,6 +141,8 @@ class Documents:
             prepared = self._prepare(path)
         except RequestError as exc:
             return Linted(error=str(exc))
+        if _excluded(prepared, path):
+            return Linted(seconds=time.perf_counter() - started)
         self._sync()
         parse_error = self._parse_errors.get(path)
         if parse_error is not None:
@@ -260,6 +263,8 @@ class Documents:
         from ..fixing.session import StageFixer
 
         prepared = self._prepare(path)
+        if _excluded(prepared, path):
+            return FixRun(), {}
         self._sync()
         if path in self._parse_errors:
             return FixRun(), {}
@@ -327,6 +332,12 @@ class Documents:
             return edit_text(text, before, after)
         except CannotEdit:
             return None
+
+
+def _excluded(prepared: Prepared, path: str) -> bool:
+    """Config ``force-exclude``: a document ``check .`` would skip is neither
+    linted nor fixed (the same as ``check --force-exclude -`` of its text)."""
+    return force_excluded(path, Exclusions.of(prepared.settings))
 
 
 def _saved_layer(path: str, text: str) -> Sdf.Layer | None:
