@@ -80,6 +80,8 @@ class Settings:
     source: str | None = None
     #: Settings given as command-line flags (they win over the file).
     from_flags: frozenset[str] = frozenset()
+    #: Settings the file sets (``check --show-settings`` says where each came from).
+    from_file: frozenset[str] = frozenset()
 
     def merged(self, **overrides: Any) -> Settings:
         """These settings with the non-None overrides applied (command-line flags)."""
@@ -109,7 +111,7 @@ def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Set
         if entry is None:
             raise ConfigError(f"{source}: unknown key '{prefix + key}'")
         parsed[entry.name] = entry.parse(value, f"{source}: '{prefix + key}'")
-    return Settings(**parsed)
+    return Settings(**parsed, from_file=frozenset(parsed) - {"source"})
 
 
 #: A config file larger than this is refused, not read (``--config /dev/zero``

@@ -322,7 +322,7 @@ SETTINGS: tuple[Setting, ...] = (
     Setting(
         "exclude",
         "Gitignore-style patterns of files and folders not linted when a folder is walked "
-        "(a path given is always linted); replaces the default list",
+        "(a path given is linted unless --force-exclude); replaces the default list",
         _strings,
         kind="tokens",
         default=DEFAULT_EXCLUDE,

@@ -48,7 +48,7 @@ SAMPLES: dict[str, tuple[str, Any]] = {
     "force-exclude": ("true", True),
 }
 
-_CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - {"source", "from_flags"}
+_CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - {"source", "from_flags", "from_file"}
 
 
 def test_every_settings_field_is_a_table_setting_with_its_default() -> None:

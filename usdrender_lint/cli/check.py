@@ -30,6 +30,7 @@ from .views import send
 if TYPE_CHECKING:
     from ..api import Rule
     from ..model import Report
+    from ..running.pipeline import Request
     from ..running.standard_input import StandardInput
 
 
@@ -99,6 +100,17 @@ if TYPE_CHECKING:
     callback=lambda _ctx, _param, value: _shard(value),
     help="Lint only part K of N of the files (a CI matrix job); see 'merge'.",
 )
+@click.option(
+    "--show-files",
+    is_flag=True,
+    help="Print the files a check would lint, one a line, and exit 0: nothing is linted.",
+)
+@click.option(
+    "--show-settings",
+    is_flag=True,
+    help="Print the settings a check would lint with (as a configuration file's TOML, "
+    "each key's origin in a comment) and the rules that run, and exit 0.",
+)
 def check(
     paths: tuple[str, ...],
     output_format: str,
@@ -117,6 +129,8 @@ def check(
     fix_drop_comments: bool,  # no effect (see its help)
     shard: tuple[int, int] | None,
     stdin_filename: str | None,
+    show_files: bool,
+    show_settings: bool,
     **settings: Any,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz);
@@ -146,6 +160,8 @@ def check(
         supervision=supervision(),
         **setting_values("check", settings),
     )
+    if show_files or show_settings:
+        _show(request, show_files, show_settings)
     try:
         outcome = run(request)
     except RequestError as exc:
@@ -174,6 +190,24 @@ def check(
     for line in outcome.errors:
         error(line)
     sys.exit(outcome.exit_status)
+
+
+def _show(request: Request, files: bool, settings: bool) -> None:
+    """--show-files, --show-settings: print what a check would do, then exit 0."""
+    from ..running.pipeline import RequestError
+    from ..running.show import planned_files, settings_text
+
+    try:
+        if settings:
+            write(escape(settings_text(request)))
+        if files:
+            planned, notes = planned_files(request)
+            write("".join(escape(path) + "\n" for path in planned))
+            for line in notes:
+                note(line)
+    except RequestError as exc:
+        raise ToolError(str(exc)) from None
+    sys.exit(0)
 
 
 def _standard_input(paths: tuple[str, ...], name: str | None) -> StandardInput | None:

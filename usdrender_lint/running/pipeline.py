@@ -437,7 +437,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     notes = unignorable_notes(prepared.registry, settings)
     known = _load_baseline(request)
     _check_fix_request(request, settings)
-    targets, plan = _targets(prepared, notes)
+    targets, plan = plan_targets(prepared, notes)
     refuse_outputs_on_inputs(request, settings, targets)
     # A text whose name force-exclude leaves out is neither linted nor fixed.
     stdin = request.stdin if targets else None
@@ -481,7 +481,7 @@ def _check_fix_request(request: Request, settings: Settings) -> None:
         )
 
 
-def _targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], ContextPlan | None]:
+def plan_targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], ContextPlan | None]:
     """The files the request names (folders walked), their shard, and with
     config ``roots`` the plan that lints them inside the stages that use them."""
     request, settings = prepared.request, prepared.settings

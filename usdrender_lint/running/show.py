@@ -1,0 +1,102 @@
+"""``check --show-files`` and ``--show-settings``: what a check would lint and
+with which settings, without linting (as ruff's options of those names).
+
+The settings are printed as the TOML of a ``.usdrender-lint.toml``: every
+configuration key with the value in force and, in a comment, where it came
+from (the default, the file, a flag). Read back as a configuration, the text
+gives the same settings (``tests/running/test_show.py``).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping, Sequence
+from enum import Enum
+from typing import Any
+
+from ..config import Settings
+from ..settings_table import SETTINGS
+from .pipeline import Prepared, Request, plan_targets, prepare
+
+
+def planned_files(request: Request) -> tuple[list[str], list[str]]:
+    """The files ``request`` would lint (folders walked, exclusions, roots,
+    its shard) and the run's notes about them. Raises RequestError as a run."""
+    prepared = prepare(request)
+    notes: list[str] = []
+    targets, _plan = plan_targets(prepared, notes)
+    return list(targets), notes
+
+
+def settings_text(request: Request) -> str:
+    """The settings ``request`` would lint with, as a configuration file's TOML."""
+    prepared = prepare(request)
+    return settings_toml(prepared)
+
+
+def settings_toml(prepared: Prepared) -> str:
+    settings = prepared.settings
+    source = settings.source or "none (the defaults)"
+    codes = sorted(type(rule).code for rule in prepared.linter.rules)
+    lines = [
+        f"# configuration file: {source}",
+        f"# rules selected: {len(codes)} ({', '.join(codes)})",
+    ]
+    tables: list[str] = []
+    for entry in SETTINGS:
+        if entry.config_key is None:
+            continue
+        value = getattr(settings, entry.name)
+        origin = _origin(settings, entry.name)
+        if value is None:  # TOML has no null: the key stays out, as in a file
+            meaning = entry.shown_default or entry.help
+            lines.append(f"# {entry.config_key} is not set ({origin}): {meaning}")
+        elif isinstance(value, Mapping):
+            tables.extend(_table(entry.config_key, value, origin))
+        else:
+            lines.append(f"{entry.config_key} = {_value(value)}  # {origin}")
+    return "\n".join(lines + tables) + "\n"
+
+
+def _origin(settings: Settings, name: str) -> str:
+    if name in settings.from_flags:
+        return "flag " + "--" + name.replace("_", "-")
+    if name in settings.from_file:
+        return "file"
+    return "default"
+
+
+def _table(key: str, value: Mapping[str, Any], origin: str) -> list[str]:
+    lines = ["", f"[{key}]  # {origin}"]
+    nested = []
+    for name, item in value.items():
+        if isinstance(item, Mapping):  # rule options: a table per rule
+            nested.append(f"\n[{key}.{_key(name)}]")
+            nested.extend(f"{_key(k)} = {_value(v)}" for k, v in item.items())
+        else:
+            lines.append(f"{_key(name)} = {_value(item)}")
+    return lines + nested
+
+
+def _key(name: str) -> str:
+    bare = name.replace("-", "").replace("_", "").isalnum() and name.isascii()
+    return name if bare else _string(name)
+
+
+def _string(text: str) -> str:
+    # JSON's escapes (\", \\, \n, \uXXXX) are TOML's basic-string escapes too.
+    return json.dumps(text, ensure_ascii=False)
+
+
+def _value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, Enum):
+        return _string(str(value.value))
+    if isinstance(value, str):
+        return _string(value)
+    if isinstance(value, int | float):
+        return repr(value)
+    if isinstance(value, Sequence):
+        return "[" + ", ".join(_value(item) for item in value) + "]"
+    raise TypeError(f"no TOML form for {value!r}")
