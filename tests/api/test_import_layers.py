@@ -40,7 +40,10 @@ ALLOWED: dict[str, set[str]] = {
     # formatters.html reads the linted files' render specification through
     # running.report_views (which computes it with render_spec): above the
     # other formatters, a layering the HTML report's owner may want to revisit.
-    "formatters": {"records", "model", "paths", "entrypoints", "report_json", "running"},
+    # formatters.full reads a layer's lines and a statement's columns from layers.
+    "formatters": {
+        "records", "model", "paths", "entrypoints", "layers", "report_json", "running",
+    },
     "fixing": {"records", "api", "debug", "engine", "layers", "model", "paths"},
     "profiles": {"records", "api", "model", "registry"},
     "render_spec": {"records", "api", "engine", "model", "paths", "profiles"},

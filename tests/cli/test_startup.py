@@ -168,7 +168,17 @@ def test_a_plugin_in_the_group_is_found_through_importlib_metadata(
     monkeypatch.syspath_prepend(str(tmp_path))
     assert entrypoints._single_registrant("usdrender_lint.formatters") is None
     assert available_formatters()["acme"].value == "json:dumps"
-    assert set(available_formatters()) == {"acme", "github", "html", "json", "sarif", "text"}
+    assert set(available_formatters()) == {
+        "acme",
+        "full",
+        "github",
+        "gitlab",
+        "html",
+        "json",
+        "junit",
+        "sarif",
+        "text",
+    }
 
 
 def test_a_shadowing_distribution_hides_ours_as_in_importlib_metadata(
@@ -194,7 +204,16 @@ def test_a_malformed_file_anywhere_fails_as_in_importlib_metadata(
 
 def test_nothing_is_cached_between_lookups(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.syspath_prepend(str(tmp_path))
-    assert set(available_formatters()) == {"github", "html", "json", "sarif", "text"}
+    assert set(available_formatters()) == {
+        "full",
+        "github",
+        "gitlab",
+        "html",
+        "json",
+        "junit",
+        "sarif",
+        "text",
+    }
     _dist(tmp_path, "late-1.dist-info", "[usdrender_lint.formatters]\nlate = json:dumps\n")
     assert "late" in available_formatters()
 

@@ -48,7 +48,9 @@ SAMPLES: dict[str, tuple[str, Any]] = {
     "force-exclude": ("true", True),
 }
 
-_CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - {"source", "from_flags", "from_file"}
+#: Settings' fields that say where values came from, not values.
+_ORIGINS = {"source", "from_flags", "from_file"}
+_CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - _ORIGINS
 
 
 def test_every_settings_field_is_a_table_setting_with_its_default() -> None:

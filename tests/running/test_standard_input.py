@@ -199,6 +199,7 @@ def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
         (("--fix-to", "o.usda", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to"),
         (("--shard", "1/2", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to or --shard"),
         (("--format", "html", "-"), b"#usda 1.0\n", "cannot be combined with --format html"),
+        (("--format", "full", "-"), b"#usda 1.0\n", "cannot be combined with --format full"),
     ],
 )
 def test_what_cannot_be_linted_from_standard_input_says_why(

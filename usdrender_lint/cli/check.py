@@ -140,11 +140,11 @@ def check(
     from ..running.pipeline import Request, RequestError, run
 
     stdin = _standard_input(paths, stdin_filename)
-    if stdin is not None and output_format == "html":
-        # Its source lines, fix diffs and pictures are read from the files on disk.
+    if stdin is not None and output_format in ("html", "full"):
+        # Their source lines (and html's fix diffs and pictures) are read from the files on disk.
         raise ToolError(
-            "'-' (a layer on standard input) cannot be combined with --format html, which reads "
-            "the linted files from disk: save the text and give its path"
+            f"'-' (a layer on standard input) cannot be combined with --format {output_format}, "
+            "which reads the linted files from disk: save the text and give its path"
         )
     request = Request(
         paths if stdin is None else (stdin.name,),

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import TextIO
 
 from ..model import AppliedFix, FileResult, Finding, Report, Severity
@@ -42,6 +42,8 @@ class Entry:
     location: str
     head: tuple[Segment, ...]
     message: tuple[Segment, ...]
+    #: Lines shown under it (``--format full``: the source line).
+    below: tuple[tuple[Segment, ...], ...] = ()
 
 
 def _plural(count: int, word: str, plural: str | None = None) -> str:
@@ -88,7 +90,13 @@ def write_lines(lines: Iterable[Line], stream: TextIO) -> None:
         console.print(Text.assemble(*((text, style or "") for text, style in _merged(line))))
 
 
-def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
+#: What a report shows under a finding's line (``--format full``: its source).
+Below = Callable[[Finding], tuple[tuple[Segment, ...], ...]]
+
+
+def finding_entry(
+    finding: Finding, show_profile: bool = False, below: Below | None = None
+) -> Entry:
     loc = finding.location
     file = _file_of(loc.layer, loc.file)
     line = loc.line if loc.layer and layer_file(loc.layer) else None
@@ -106,7 +114,7 @@ def finding_entry(finding: Finding, show_profile: bool = False) -> Entry:
     if linted != file:
         tail.append((f"(stage {linted})", "dim"))
     key = (file, line or 0, column or 0, finding.code, linted, message)
-    return Entry(key, where, tuple(head), tuple(tail))
+    return Entry(key, where, tuple(head), tuple(tail), below(finding) if below else ())
 
 
 def _without_position(message: str, line: int | None) -> str:
@@ -200,9 +208,12 @@ class TextFormatter:
     reads_configuration = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        entries, summary = self._entries(report, options)
         width = _terminal_width(stream)
-        lines = [line for entry in entries for line in wrap(entry, width)]
+        entries, summary = self._entries(report, options, self.below(width))
+        lines: list[Line] = []
+        for entry in entries:
+            lines += wrap(entry, width)
+            lines += [list(line) for line in entry.below]
         for text in summary:
             if width:
                 import textwrap  # only for a terminal: its import compiles patterns
@@ -213,13 +224,19 @@ class TextFormatter:
             lines.extend([(part, None)] for part in parts)
         write_lines(lines, stream)
 
-    def _entries(self, report: Report, options: FormatOptions) -> tuple[list[Entry], list[str]]:
+    def below(self, width: int | None) -> Below | None:
+        """What to show under each finding's line (the full format's source)."""
+        return None
+
+    def _entries(
+        self, report: Report, options: FormatOptions, below: Below | None = None
+    ) -> tuple[list[Entry], list[str]]:
         shown = [
             finding
             for finding in report.findings
             if options.show_info or finding.severity != Severity.INFO
         ]
-        entries = [finding_entry(finding, options.show_info) for finding in shown]
+        entries = [finding_entry(finding, options.show_info, below) for finding in shown]
         entries += [error_entry(result) for result in report.errored_files]
         entries.sort(key=lambda entry: entry.sort_key)
         fixes = sorted((fix_entry(fix) for fix in report.applied_fixes), key=lambda e: e.sort_key)

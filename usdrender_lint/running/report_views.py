@@ -19,6 +19,7 @@ from dataclasses import field
 from functools import partial
 from typing import Any
 
+from ..layers.source_lines import read_lines
 from ..model import Finding, Report
 from ..paths import display_path
 from ..records import record
@@ -27,8 +28,6 @@ from ..records import record
 CONTEXT_LINES = 3
 #: Fixes shown as diffs per report at most (each costs two lints of its stage).
 MAX_DIFFS = 200
-#: Text layers larger than this are not read for excerpts.
-MAX_SOURCE_BYTES = 20 * 1024 * 1024
 
 
 def finding_key(finding: Finding) -> tuple[str, str, str, str]:
@@ -102,16 +101,7 @@ _TEXTS: dict[str, list[str] | None] = {}
 
 def _lines(path: str) -> list[str] | None:
     if path not in _TEXTS:
-        lines = None
-        try:
-            if os.path.getsize(path) <= MAX_SOURCE_BYTES:
-                with open(path, "rb") as handle:
-                    data = handle.read()
-                if not data.startswith(b"PXR-USDC"):
-                    lines = data.decode("utf-8").splitlines()
-        except (OSError, UnicodeDecodeError):
-            lines = None
-        _TEXTS[path] = lines
+        _TEXTS[path] = read_lines(path)
     return _TEXTS[path]
 
 

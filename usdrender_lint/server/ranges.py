@@ -7,6 +7,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterator
 
+from ..layers.source_lines import statement_columns
 from ..records import record
 
 
@@ -30,18 +31,7 @@ def statement_span(text: str, line: int | None, column: int | None = None) -> Sp
     (1-based) on when given. The first line when ``line`` is None."""
     lines = text.split("\n")
     index = min(max((line or 1) - 1, 0), max(len(lines) - 1, 0))
-    content = lines[index] if lines else ""
-    end = len(content.rstrip())
-    trimmed = content[:end]
-    while trimmed.endswith(("(", "{")) and trimmed[:-1].strip():
-        trimmed = trimmed[:-1].rstrip()
-    end = len(trimmed)
-    start = len(content) - len(content.lstrip())
-    if column is not None:
-        start = min(max(column - 1, 0), len(content))
-        end = max(end, start)
-    if end == start:  # an empty line, or an error at its end: one character at least
-        end = min(start + 1, len(content)) if start < len(content) else start
+    start, end = statement_columns(lines[index] if lines else "", column)
     return Span((index, start), (index, end))
 
 

@@ -1,0 +1,125 @@
+"""GitLab Code Quality report, for ``artifacts: reports: codequality:``.
+
+A JSON array of issues, each with ``description``, ``check_name``,
+``fingerprint``, ``severity`` (``info``, ``minor``, ``major``, ``critical`` or
+``blocker``), ``location.path`` (relative to the repository root) and
+``location.lines.begin``: the subset of the Code Climate issue GitLab reads
+(https://docs.gitlab.com/ci/testing/code_quality/, "Code Quality report
+format"; Code Climate's issue:
+https://github.com/codeclimate/platform/blob/master/spec/analyzers/SPEC.md#issues).
+
+- The path is the layer holding the offending opinion (else the linted file),
+  relative to the working directory, so run from the repository root; the
+  line is that layer's when known, else 1 (GitLab wants a line; a whole-file
+  finding sits at the file's start).
+- The fingerprint is a SHA-256 of the rule code, the linted file and the layer
+  (both relative), the prim or property path and the message, with the
+  occurrence index of an identical finding: GitLab shows findings with the
+  same fingerprint as one, and compares a merge request's with its target
+  branch's by it. The line is left out, so an edit above a finding does not
+  make it new.
+- Info findings only with --show-info, as in the text and GitHub reports. A file
+  that could not be linted is a ``blocker`` issue under ST001, the code
+  ``usdrender-lint`` gives a file no rule could check (running/documents.py).
+- --statistics adds nothing: the document is the array of issues and nothing
+  else.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from typing import Any, TextIO
+
+from ..model import FileResult, Finding, Report, Severity
+from ..paths import display_path, layer_file, printable, relative_in
+from . import FormatOptions, json_text
+
+#: GitLab lists the five severities and orders findings by them; Code Climate
+#: calls them the issue's "potential impact"; neither says more. An error fails
+#: the gate by default (--fail-on error): critical. A warning does not: minor,
+#: leaving major between them. Blocker, the top, is for a file no rule checked,
+#: whose findings are unknown.
+SEVERITY = {Severity.ERROR: "critical", Severity.WARNING: "minor", Severity.INFO: "info"}
+NOT_LINTED_SEVERITY = "blocker"
+#: engine.stage.STAGE_OPEN_FAILED_CODE, not imported: that module loads pxr.
+NOT_LINTED_CODE = "ST001"
+
+
+def fingerprint(*parts: str, occurrence: int = 0) -> str:
+    """A SHA-256 hex digest of ``parts`` and the occurrence index. A lone
+    surrogate (a byte of a name that is not UTF-8) is hashed as its code
+    point: the same on every run, and never an error."""
+    key = "\0".join((*parts, str(occurrence)))
+    return hashlib.sha256(key.encode("utf-8", "surrogatepass")).hexdigest()
+
+
+class Occurrences:
+    """How many times each key came before: two identical findings (the same
+    key) get different fingerprints by it, and the same ones on every run."""
+
+    def __init__(self) -> None:
+        self._seen: dict[tuple[str, ...], int] = {}
+
+    def __call__(self, key: tuple[str, ...]) -> int:
+        count = self._seen.get(key, 0)
+        self._seen[key] = count + 1
+        return count
+
+
+def _issue(finding: Finding, occurrences: Occurrences) -> dict[str, Any]:
+    loc = finding.location
+    layer = layer_file(loc.layer)
+    path = display_path(str(layer or loc.file))
+    stage = display_path(loc.file)
+    where = f"{loc.path}: " if loc.path else ""
+    # The layer may be a sublayer of several stages: say which one.
+    seen_from = f" (stage {stage})" if path != stage else ""
+    description = f"{finding.code} {where}{finding.message} [{finding.name}]{seen_from}"
+    key = (finding.code, stage, path, loc.path or "", finding.message)
+    line = loc.line if layer is not None and loc.line else 1
+    return {
+        # Code Climate wants one line: controls (newlines too) are escaped.
+        "description": printable(description),
+        "check_name": finding.code,
+        "fingerprint": fingerprint(*key, occurrence=occurrences(key)),
+        "severity": SEVERITY[finding.severity],
+        "location": {"path": path, "lines": {"begin": line}},
+    }
+
+
+def _not_linted(result: FileResult, occurrences: Occurrences) -> dict[str, Any]:
+    path = display_path(result.file)
+    # Relative as the findings' messages are (check.emit_report), for the fingerprint.
+    reason = relative_in(result.error or f"{result.file}: could not be linted")
+    key = (NOT_LINTED_CODE, path, reason)
+    return {
+        "description": printable(f"{NOT_LINTED_CODE} could not be linted: {reason}"),
+        "check_name": NOT_LINTED_CODE,
+        "fingerprint": fingerprint(*key, occurrence=occurrences(key)),
+        "severity": NOT_LINTED_SEVERITY,
+        "location": {"path": path, "lines": {"begin": 1}},
+    }
+
+
+def report_to_gitlab(report: Report, options: FormatOptions) -> list[dict[str, Any]]:
+    occurrences = Occurrences()
+    issues: list[dict[str, Any]] = []
+    for result in report.files:
+        if result.status != "linted":
+            issues.append(_not_linted(result, occurrences))
+        issues.extend(
+            _issue(finding, occurrences)
+            for finding in result.findings
+            if options.show_info or finding.severity != Severity.INFO
+        )
+    return issues
+
+
+class GitlabFormatter:
+    #: It never reads Report.rules nor the configuration digest, so the
+    #: command does not build them.
+    reads_rules = False
+    reads_configuration = False
+
+    def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
+        stream.write(json_text(report_to_gitlab(report, options)))
