@@ -23,6 +23,7 @@ from .model import Severity
 from .records import record
 from .settings_table import (
     BY_CONFIG_KEY,
+    BY_NAME,
     DEFAULT_EXCLUDE,
     FAIL_ON_CHOICES,
     MAX_JOBS,
@@ -76,12 +77,18 @@ class Settings:
     #: Where the result cache lives (relative to the config file's folder);
     #: None: ``.usdrender_lint_cache`` there (running/result_cache.py).
     cache_dir: str | None = None
+    #: The configuration file the file starts from (its absolute path), whose
+    #: settings are folded into these.
+    extend: str | None = None
     #: The file the settings were read from, if any.
     source: str | None = None
     #: Settings given as command-line flags (they win over the file).
     from_flags: frozenset[str] = frozenset()
-    #: Settings the file sets (``check --show-settings`` says where each came from).
-    from_file: frozenset[str] = frozenset()
+    #: Settings a file sets, each with that file (the nearest that sets it, when
+    #: one extends another): errors and ``check --show-settings`` name it.
+    from_file: Mapping[str, str] = field(default_factory=dict)
+    #: Every configuration file read: ``source``, then the files it extends.
+    sources: tuple[str, ...] = ()
 
     def merged(self, **overrides: Any) -> Settings:
         """These settings with the non-None overrides applied (command-line flags)."""
@@ -92,7 +99,7 @@ class Settings:
         """Where a setting came from, for error messages: the flag or file and key."""
         if key in self.from_flags:
             return "--" + key.replace("_", "-")
-        return f"{self.source or 'config'}: {key.replace('_', '-')}"
+        return f"{self.from_file.get(key, self.source) or 'config'}: {key.replace('_', '-')}"
 
     @property
     def base_dir(self) -> Path:
@@ -101,17 +108,69 @@ class Settings:
         return Path(self.source).resolve().parent if self.source else Path.cwd()
 
 
-def _parse_table(table: Mapping[str, Any], source: str, prefix: str = "") -> Settings:
+def _parse_table(
+    table: Mapping[str, Any], source: str, prefix: str = "", chain: tuple[str, ...] = ()
+) -> Settings:
     """Settings from the config table (each key as the settings table reads
     it); ``prefix`` qualifies key names in errors (``tool.usdrender-lint.`` in
-    a pyproject)."""
-    parsed: dict[str, Any] = {"source": source}
+    a pyproject). ``chain``: the files that extend this one, for cycles."""
+    parsed: dict[str, Any] = {}
     for key, value in table.items():
         entry = BY_CONFIG_KEY.get(key)
         if entry is None:
             raise ConfigError(f"{source}: unknown key '{prefix + key}'")
         parsed[entry.name] = entry.parse(value, f"{source}: '{prefix + key}'")
-    return Settings(**parsed, from_file=frozenset(parsed) - {"source"})
+    if "extend" in parsed:
+        return _extending(parsed, source, prefix, chain)
+    return Settings(
+        **parsed, source=source, from_file=dict.fromkeys(parsed, source), sources=(source,)
+    )
+
+
+def _extending(
+    parsed: dict[str, Any], source: str, prefix: str, chain: tuple[str, ...]
+) -> Settings:
+    """The settings of ``source``, which extends another file: that file's,
+    with each key ``source`` sets replacing, merging or adding to its value as
+    the settings table says (``Setting.extended``)."""
+    target = Path(os.path.expanduser(parsed["extend"]))
+    target = Path(os.path.abspath(Path(source).parent / target))
+    here = (*chain, os.path.realpath(source))
+    if os.path.realpath(target) in here:
+        cycle = " -> ".join([*chain, source, str(target)])
+        raise ConfigError(f"{source}: '{prefix}extend' makes a cycle: {cycle}")
+    if not os.path.lexists(target):
+        raise ConfigError(f"{source}: '{prefix}extend': no such file: {target}")
+    base = read_config_file(target, chain=here)
+    values: dict[str, Any] = {}
+    for name, value in parsed.items():
+        how = BY_NAME[name].extended
+        inherited = getattr(base, name)
+        if how == "merged":
+            value = _merged(inherited, value, deep=name == "rule_options")
+        elif how == "added" and not (name == "extend_select" and "select" in parsed):
+            value = (*inherited, *value)
+        values[name] = value
+    if "select" in parsed and "extend_select" not in parsed:
+        values["extend_select"] = ()  # a selection of its own starts the selection over
+    values["extend"] = str(target)
+    return dataclasses.replace(
+        base,
+        **values,
+        source=source,
+        from_file={**base.from_file, **dict.fromkeys(parsed, source)},
+        sources=(source, *base.sources),
+    )
+
+
+def _merged(base: Mapping[str, Any], own: Mapping[str, Any], deep: bool) -> dict[str, Any]:
+    """``base`` with ``own``'s entries; ``deep``: two tables of one key merge too."""
+    merged = dict(base)
+    for key, value in own.items():
+        if deep and isinstance(merged.get(key), Mapping):
+            value = {**merged[key], **value}
+        merged[key] = value
+    return merged
 
 
 #: A config file larger than this is refused, not read (``--config /dev/zero``
@@ -185,18 +244,19 @@ def _position(text: str) -> tuple[int, int]:
     return text.count("\n") + 1, len(text) - (text.rfind("\n") + 1) + 1
 
 
-def read_config_file(path: str | os.PathLike[str]) -> Settings:
-    """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``."""
+def read_config_file(path: str | os.PathLike[str], chain: tuple[str, ...] = ()) -> Settings:
+    """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``
+    (any other name is read as the latter). ``chain``: the files extending it."""
     path = Path(path)
     data = _load_toml(path)
     if path.name != "pyproject.toml":
-        return _parse_table(data, str(path))
+        return _parse_table(data, str(path), chain=chain)
     tool = data.get("tool", {})
     if not isinstance(tool, dict) or TOOL_TABLE not in tool:
         raise ConfigError(f"{path}: no [tool.{TOOL_TABLE}] table")
     if not isinstance(tool[TOOL_TABLE], dict):
         raise ConfigError(f"{path}: 'tool.{TOOL_TABLE}' must be a table")
-    return _parse_table(tool[TOOL_TABLE], str(path), prefix=f"tool.{TOOL_TABLE}.")
+    return _parse_table(tool[TOOL_TABLE], str(path), prefix=f"tool.{TOOL_TABLE}.", chain=chain)
 
 
 def find_config_file(start: str | Path) -> Path | None:

@@ -75,6 +75,10 @@ class Setting:
     #: A "flag" that also has its ``--no-`` form (to undo what a configuration
     #: or a hook's arguments turned on).
     negatable: bool = False
+    #: How a file that ``extend``s another combines its value with that file's:
+    #: "replaced"; "merged" (a table, entry by entry; a rule's options option by
+    #: option); "added" (a list: the extended file's entries, then its own).
+    extended: str = "replaced"
 
 
 # -- parsers --------------------------------------------------------------------------
@@ -183,6 +187,12 @@ def _glob_profiles(value: Any, where: str) -> dict[str, str]:
     return {glob: _profile(name, _key(where, glob)) for glob, name in table.items()}
 
 
+def _file(value: Any, where: str) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise ConfigError(f"{where} must be the path of a configuration file, got {value!r}")
+    return value
+
+
 def _folder(value: Any, where: str) -> str:
     if not isinstance(value, str) or not value.strip():
         raise ConfigError(f"{where} must be a folder path, got {value!r}")
@@ -192,6 +202,14 @@ def _folder(value: Any, where: str) -> str:
 # -- the table ------------------------------------------------------------------------
 
 SETTINGS: tuple[Setting, ...] = (
+    Setting(
+        "extend",
+        "Another configuration file whose settings this one starts from (relative to this "
+        "file's folder; ~ expands): a show's settings on top of a studio's.",
+        _file,
+        config_key="extend",
+        changes_findings=False,
+    ),
     Setting(
         "select",
         "Rules to run: codes, prefixes (CA) or names.",
@@ -220,6 +238,7 @@ SETTINGS: tuple[Setting, ...] = (
         config_key="extend-select",
         flag="--extend-select",
         api=True,
+        extended="added",
     ),
     Setting(
         "fail_on",
@@ -241,6 +260,7 @@ SETTINGS: tuple[Setting, ...] = (
         default={},
         config_key="severity",
         api=False,
+        extended="merged",
     ),
     Setting(
         "per_path_ignores",
@@ -248,6 +268,7 @@ SETTINGS: tuple[Setting, ...] = (
         _glob_tokens,
         default={},
         config_key="per-path-ignores",
+        extended="merged",
     ),
     Setting(
         "rule_options",
@@ -255,6 +276,7 @@ SETTINGS: tuple[Setting, ...] = (
         _rule_tables,
         default={},
         config_key="rules",
+        extended="merged",
     ),
     Setting(
         "roots",
@@ -317,6 +339,7 @@ SETTINGS: tuple[Setting, ...] = (
         _glob_profiles,
         default={},
         config_key="per-path-profiles",
+        extended="merged",
     ),
     # Which files a folder yields (running/discovery.py): never what is found in a file.
     Setting(
@@ -342,6 +365,7 @@ SETTINGS: tuple[Setting, ...] = (
         flag="--extend-exclude",
         commands=("check", "spec"),
         changes_findings=False,
+        extended="added",
     ),
     Setting(
         "respect_gitignore",

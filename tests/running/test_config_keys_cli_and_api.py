@@ -124,6 +124,8 @@ KEYS = {
     "exclude": ('exclude = ["lighting.usda"]', "lighting.usda", "none"),
     "extend-exclude": ('extend-exclude = ["lighting.usda"]', "lighting.usda", "none"),
     "respect-gitignore": ("respect-gitignore = false", "lighting.usda", "none"),
+    # the extended file's select (tests/running/test_config_extend.py)
+    "extend": ('extend = "base.toml"', "lighting.usda", "codes"),
     # a file given that the walk would skip is not linted (tests/running/test_force_exclude.py)
     "force-exclude": (
         'extend-exclude = ["lighting.usda"]\nforce-exclude = true', "lighting.usda", "codes"
@@ -138,6 +140,7 @@ def test_a_config_key_gives_the_same_findings_through_the_cli_and_the_api(
     toml, name, changes = KEYS[key]
     config = shot / ".usdrender-lint.toml"
     config.write_text(toml + "\n")
+    (shot / "base.toml").write_text('select = ["SE003"]\n')  # what ``extend`` names
     baseline_config = shot / "defaults.toml"
     baseline_config.write_text(BASELINES.get(key, "") + "\n")
     path = shot / name

@@ -46,10 +46,12 @@ SAMPLES: dict[str, tuple[str, Any]] = {
     "extend-exclude": ('["wip/*.usda"]', ("wip/*.usda",)),
     "respect-gitignore": ("false", False),
     "force-exclude": ("true", True),
+    # (the test writes an empty base.toml beside the file; tests/running/test_config_extend.py)
+    "extend": ('"base.toml"', None),
 }
 
 #: Settings' fields that say where values came from, not values.
-_ORIGINS = {"source", "from_flags", "from_file"}
+_ORIGINS = {"source", "from_flags", "from_file", "sources"}
 _CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - _ORIGINS
 
 
@@ -66,6 +68,7 @@ def test_every_config_key_is_read(entry, tmp_path: Path) -> None:
     text, expected = SAMPLES[entry.config_key]
     path = tmp_path / ".usdrender-lint.toml"
     path.write_text(f"{entry.config_key} = {text}\n")
+    (tmp_path / "base.toml").write_text("")
     value = getattr(read_config_file(path), entry.name)
     if expected is not None:
         assert value == expected

@@ -71,14 +71,18 @@ class Linted:
 @record
 class _Config:
     prepared: Prepared
-    #: The configuration file and its modification time when read (None: defaults).
-    source: str | None
-    stamp: int | None
+    #: The modification times of the configuration files read (those it extends
+    #: too) when they were read; empty: the defaults.
+    stamps: tuple[tuple[str, int | None], ...]
 
 
-def _stamp(path: str | None) -> int | None:
+def _stamps(files: tuple[str, ...]) -> tuple[tuple[str, int | None], ...]:
+    return tuple((path, _stamp(path)) for path in files)
+
+
+def _stamp(path: str) -> int | None:
     try:
-        return os.stat(path).st_mtime_ns if path else None
+        return os.stat(path).st_mtime_ns
     except OSError:
         return None
 
@@ -194,18 +198,17 @@ class Documents:
     def _prepare(self, path: str) -> Prepared:
         """The pipeline's preparation of a check of ``path``: its configuration
         (searched from its folder), rules and linter; read again when the
-        configuration file changed."""
+        configuration file (or one it extends) changed."""
         if self._prepared is not None:
             return self._prepared
         folder = os.path.dirname(path)
         config = self._configs.get(folder)
-        if config is not None and _stamp(config.source) != config.stamp:
-            config = None
+        if config is not None and _stamps(tuple(f for f, _ in config.stamps)) != config.stamps:
+            config = None  # a file changed: the one found, or one it extends
         if config is None:
             request = Request((path,), jobs=1, timeout=None, progress=False)
             prepared = prepare(request, self.registry)
-            source = prepared.settings.source
-            config = self._configs[folder] = _Config(prepared, source, _stamp(source))
+            config = self._configs[folder] = _Config(prepared, _stamps(prepared.settings.sources))
         return config.prepared
 
     # -- layers -------------------------------------------------------------------------

@@ -40,12 +40,13 @@ def settings_toml(prepared: Prepared) -> str:
     codes = sorted(type(rule).code for rule in prepared.linter.rules)
     lines = [
         f"# configuration file: {source}",
+        *(f"# which extends: {file}" for file in settings.sources[1:]),
         f"# rules selected: {len(codes)} ({', '.join(codes)})",
     ]
     tables: list[str] = []
     for entry in SETTINGS:
-        if entry.config_key is None:
-            continue
+        if entry.config_key is None or entry.name == "extend":
+            continue  # what it extends is folded into the values below
         value = getattr(settings, entry.name)
         origin = _origin(settings, entry.name)
         if value is None:  # TOML has no null: the key stays out, as in a file
@@ -62,7 +63,8 @@ def _origin(settings: Settings, name: str) -> str:
     if name in settings.from_flags:
         return "flag " + "--" + name.replace("_", "-")
     if name in settings.from_file:
-        return "file"
+        file = settings.from_file[name]
+        return "file" if file == settings.source else f"file {file}"
     return "default"
 
 

@@ -1,0 +1,188 @@
+"""``extend``: a configuration file that starts from another's settings (a
+show's on top of a studio's). Each key it sets replaces the extended value;
+tables merge entry by entry; ``extend-select`` and ``extend-exclude`` add.
+A chain of files gives the findings of the one flat file ``--show-settings``
+prints for it."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.config import ConfigError, load_settings, read_config_file
+from usdrender_lint.running.documents import Documents
+
+REPO = Path(__file__).resolve().parents[2]
+BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
+
+STUDIO = """\
+select = ["CA", "SE", "PR"]
+extend-select = ["ST"]
+fail-on = "warning"
+extend-exclude = ["reference/"]
+time-sample-cap = 50
+
+[severity]
+SE003 = "warning"
+CA003 = "info"
+
+[per-path-ignores]
+"*_wip.usda" = ["ALL"]
+
+[rules.resolution-non-positive]
+require-authored = true
+"""
+
+SHOW = """\
+extend = "../studio/studio.toml"
+ignore = ["CA009"]
+extend-exclude = ["old/"]
+time-sample-cap = 12
+
+[severity]
+CA003 = "error"
+
+[rules.resolution-non-positive]
+"""
+
+
+@pytest.fixture
+def show(tmp_path: Path) -> Path:
+    (tmp_path / "studio").mkdir()
+    (tmp_path / "studio" / "studio.toml").write_text(STUDIO)
+    root = tmp_path / "show"
+    (root / "shots").mkdir(parents=True)
+    shutil.copy(BROKEN, root / "shots" / "shot.usda")
+    (root / ".usdrender-lint.toml").write_text(SHOW)
+    return root
+
+
+def test_each_key_replaces_merges_or_adds(show: Path) -> None:
+    settings = read_config_file(show / ".usdrender-lint.toml")
+    studio = str(show.parent / "studio" / "studio.toml")
+    assert settings.select == ("CA", "SE", "PR")  # the studio's, not set here
+    assert settings.extend_select == ("ST",)
+    assert settings.ignore == ("CA009",)
+    assert settings.time_sample_cap == 12  # replaced
+    assert settings.extend_exclude == ("reference/", "old/")  # added
+    assert {k: v.value for k, v in settings.severity.items()} == {
+        "SE003": "warning",
+        "CA003": "error",  # merged: this file's entry wins
+    }
+    assert settings.per_path_ignores == {"*_wip.usda": ("ALL",)}
+    assert settings.rule_options == {"resolution-non-positive": {"require-authored": True}}
+    assert settings.source == str(show / ".usdrender-lint.toml")
+    assert settings.sources == (settings.source, studio)
+    assert settings.extend == studio
+    assert settings.from_file["fail_on"] == studio
+    assert settings.from_file["ignore"] == settings.source
+    # Relative globs stay the found file's: its folder is the base.
+    assert settings.base_dir == show
+
+
+def test_a_select_of_its_own_starts_the_selection_over(show: Path) -> None:
+    (show / ".usdrender-lint.toml").write_text('select = ["SE003"]\n' + SHOW)
+    settings = read_config_file(show / ".usdrender-lint.toml")
+    assert (settings.select, settings.extend_select) == (("SE003",), ())
+
+
+def test_a_chain_gives_the_findings_of_its_flat_settings(show: Path, tmp_path: Path) -> None:
+    """Three files deep (a pyproject.toml in the middle, ~ in a path): the
+    findings are those of the single file --show-settings prints for it."""
+    home = tmp_path / "home"
+    home.mkdir()
+    (tmp_path / "studio" / "studio.toml").write_text('extend = "~/base.toml"\n' + STUDIO)
+    (home / "base.toml").write_text('profile = "karma"\n[severity]\nPR004 = "info"\n')
+    (show / ".usdrender-lint.toml").unlink()
+    (show / "pyproject.toml").write_text(
+        "[tool.usdrender-lint]\n" + SHOW.replace("[severity]", "[tool.usdrender-lint.severity]")
+    )
+    os.environ["HOME"] = str(home)  # restored by the fixture below
+    runner = CliRunner()
+    previous = os.getcwd()
+    os.chdir(show)
+    try:
+        shown = runner.invoke(cli, ["check", "--show-settings", "."])
+        assert shown.exit_code == 0, shown.output
+        assert f"# which extends: {home / 'base.toml'}" in shown.stdout
+        assert 'profile = "karma"  # file ' + str(home / "base.toml") in shown.stdout
+        flat = tmp_path / "flat.toml"
+        flat.write_text(shown.stdout)
+        args = ["check", "--no-cache", "--format", "json", "--show-info", "."]
+        chained = runner.invoke(cli, args)
+        flattened = runner.invoke(cli, [*args[:-1], "--config", str(flat), "."])
+    finally:
+        os.chdir(previous)
+    assert chained.exit_code == flattened.exit_code == 1
+    found = json.loads(chained.stdout)["files"]
+    # The same findings; a profile's reason names the file that set it.
+    reasons = {f.pop("profile_reason") for entry in found for f in entry["findings"]}
+    assert reasons == {f"{home / 'base.toml'}: profile = karma"}
+    flat_found = json.loads(flattened.stdout)["files"]
+    for entry in flat_found:
+        for finding in entry["findings"]:
+            assert finding.pop("profile_reason") == f"{flat}: profile = karma"
+    assert found == flat_found
+    codes = {f["code"]: f["severity"] for entry in found for f in entry["findings"]}
+    assert codes["PR004"] == "info" and codes["SE003"] == "warning"
+
+
+@pytest.fixture(autouse=True)
+def _home():
+    saved = os.environ.get("HOME")
+    yield
+    if saved is None:
+        os.environ.pop("HOME", None)
+    else:
+        os.environ["HOME"] = saved
+
+
+@pytest.mark.parametrize(
+    ("studio", "says"),
+    [
+        (None, "'extend': no such file: "),
+        ('extend = "../show/.usdrender-lint.toml"\n', "'extend' makes a cycle: "),
+        ("fail-on = 3\n", "studio.toml: 'fail-on' must be one of"),
+        ("extend = 3\n", "studio.toml: 'extend' must be the path of a configuration file"),
+        ("[", "studio.toml:1:2: invalid TOML"),
+    ],
+    ids=["missing", "cycle", "bad-value", "bad-extend", "bad-toml"],
+)
+def test_an_error_names_the_file_that_holds_it(show: Path, studio: str | None, says: str) -> None:
+    target = show.parent / "studio" / "studio.toml"
+    if studio is None:
+        target.unlink()
+    else:
+        target.write_text(studio)
+    with pytest.raises(ConfigError) as raised:
+        load_settings(start=str(show / "shots"))
+    assert says in str(raised.value)
+    result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
+    assert result.exit_code == 2
+    assert says in result.stderr and len(result.stderr.splitlines()) == 1
+
+
+def test_a_bad_rule_in_the_extended_file_is_named_there(show: Path) -> None:
+    (show.parent / "studio" / "studio.toml").write_text('select = ["XX999"]\n')
+    result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
+    assert result.exit_code == 2
+    assert "studio.toml: select" in result.stderr, result.stderr
+
+
+def test_the_server_reads_the_settings_again_when_the_extended_file_changes(show: Path) -> None:
+    shot = show / "shots" / "shot.usda"
+    documents = Documents()
+    documents.update({str(shot): shot.read_text()})
+    before = {f.code: f.severity.value for f in documents.lint(str(shot)).findings}
+    assert before["SE003"] == "warning"
+    studio = show.parent / "studio" / "studio.toml"
+    studio.write_text(STUDIO.replace('SE003 = "warning"', 'SE003 = "info"'))
+    os.utime(studio, ns=(1, 1))  # a new modification time, whatever the clock's resolution
+    after = {f.code: f.severity.value for f in documents.lint(str(shot)).findings}
+    assert after["SE003"] == "info"
