@@ -271,16 +271,24 @@ def find_config_file(start: str | Path) -> Path | None:
     except OSError:  # inside a folder without search permission: the file reports it
         here = here.parent
     for folder in (here, *here.parents):
-        # A config file's name taken by something that is not a regular file (a
-        # dangling link, a loop, a FIFO, a folder) is an error, not a file to skip
-        # in favour of a parent folder's config.
-        dedicated = folder / CONFIG_FILE_NAMES[0]
-        if os.path.lexists(dedicated):
-            _read_config_bytes(dedicated)
-            return dedicated
-        pyproject = folder / "pyproject.toml"
-        if os.path.lexists(pyproject) and _has_tool_table(pyproject):
-            return pyproject
+        found = config_file_in(folder)
+        if found is not None:
+            return found
+    return None
+
+
+def config_file_in(folder: Path) -> Path | None:
+    """The config file of ``folder`` itself (see :func:`find_config_file`)."""
+    # A config file's name taken by something that is not a regular file (a
+    # dangling link, a loop, a FIFO, a folder) is an error, not a file to skip
+    # in favour of a parent folder's config.
+    dedicated = folder / CONFIG_FILE_NAMES[0]
+    if os.path.lexists(dedicated):
+        _read_config_bytes(dedicated)
+        return dedicated
+    pyproject = folder / "pyproject.toml"
+    if os.path.lexists(pyproject) and _has_tool_table(pyproject):
+        return pyproject
     return None
 
 

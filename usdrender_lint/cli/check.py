@@ -168,7 +168,7 @@ def check(
         raise ToolError(str(exc)) from None
     options = FormatOptions(
         # A gate that fails on info findings shows them: they are why it fails.
-        show_info=show_info or outcome.settings.fail_on == "info",
+        show_info=show_info or outcome.fails_on_info,
         tool_version=__version__,
         statistics=statistics,
         fixing=request.fix is not None,

@@ -57,6 +57,14 @@ def configuration_digest(
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
 
 
+def digest_of_parts(digests: Sequence[str]) -> str:
+    """The digest of a run split by configuration (running/hierarchy.py): its
+    parts', as a set. Every shard of a split run has every part (some with
+    no file), so the shards of one run agree."""
+    text = ",".join(sorted(set(digests)))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]
+
+
 def _portable(value: object) -> str:
     """``repr(value)`` without object addresses (a plugin's options class
     without its own repr), which differ between the machines of one CI run."""

@@ -26,6 +26,7 @@ from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from ..settings_table import DEFAULT_TIMEOUT, request_settings
 from .discovery import Exclusions, collect_files, force_excluded
+from .hierarchy import configuration_groups, given_files
 from .path_ignores import apply_path_ignores
 from .supervisor import Supervision
 from .workers import (
@@ -149,14 +150,23 @@ class Outcome:
     baseline: Counter | None = None
     #: ``check --fix -``: the fixed text, the command's output (nothing is written).
     text: str | None = None
+    #: A run split by configuration (running/hierarchy.py): each one's outcome.
+    parts: tuple[Outcome, ...] = ()
 
     def configuration(self) -> str:
         """The run's configuration digest, which merge compares (running/merge.py).
         Computed when asked for: only a report that records it needs it, and
         its hashing and JSON imports cost more than a small file's lint."""
-        from .merge import configuration_digest
+        from .merge import configuration_digest, digest_of_parts
 
+        if self.parts:
+            return digest_of_parts([part.configuration() for part in self.parts])
         return configuration_digest(self.settings, self.rules, self.baseline)
+
+    @property
+    def fails_on_info(self) -> bool:
+        """Whether an info finding fails the run (then the text report shows them)."""
+        return any(o.settings.fail_on == "info" for o in self.parts or (self,))
 
     @property
     def errors(self) -> tuple[str, ...]:
@@ -431,13 +441,91 @@ def prepare(request: Request, registry: Registry | None = None) -> Prepared:
 
 def run(request: Request, registry: Registry | None = None) -> Outcome:
     """Carry out a check request. Raises :class:`RequestError` when it cannot
-    start; a file that cannot be linted is an error result, never an exception."""
+    start; a file that cannot be linted is an error result, never an exception.
+    Files whose nearest configuration is not the one found from the first path
+    are linted with theirs (running/hierarchy.py)."""
     prepared = prepare(request, registry)
-    settings = prepared.settings
-    notes = unignorable_notes(prepared.registry, settings)
+    notes: list[str] = []
+    files = collect_targets(prepared, notes)
+    parts = configuration_parts(prepared, files)
+    if parts is None:
+        return _run_files(prepared, files, notes)
+    outcomes = [_run_files(part, found, []) for part, found in parts]
+    return _joined(prepared, outcomes, files, notes)
+
+
+def configuration_parts(
+    prepared: Prepared, files: Sequence[str]
+) -> list[tuple[Prepared, list[str]]] | None:
+    """The run split by configuration (running/hierarchy.py): each nearest
+    configuration's preparation and files; None when every file has the
+    run's. The files a walk found that a part's own exclusions skip are left
+    out, as a walk reading each folder's configuration would leave them."""
+    request = prepared.request
+    if request.config is not None or request.isolated or request.stdin is not None:
+        return None
+    try:
+        groups = configuration_groups(files, prepared.settings.source)
+    except ConfigError as exc:
+        raise RequestError(str(exc)) from exc
+    if groups is None:
+        return None
+    given = given_files(request.paths)
+    parts = []
+    for group in groups:
+        # --write-baseline records the joined report, once.
+        own = replace(request, config=group.config, isolated=group.config is None)
+        part = prepare(replace(own, write_baseline=None), prepared.registry)
+        skipped = replace(Exclusions.of(part.settings), force=True)
+        kept = [
+            f for f in group.files if os.path.normpath(f) in given or not force_excluded(f, skipped)
+        ]
+        parts.append((part, kept))
+    return parts
+
+
+def _joined(
+    prepared: Prepared, outcomes: Sequence[Outcome], files: Sequence[str], notes: list[str]
+) -> Outcome:
+    """One outcome of a split run's parts: the files in the order they came,
+    every note once, the worst exit status."""
+    request = prepared.request
+    rules = {type(rule).code: rule for outcome in outcomes for rule in outcome.rules}
+    place = {os.path.normpath(file): index for index, file in enumerate(files)}
+    results = [result for outcome in outcomes for result in outcome.report.files]
+    results.sort(key=lambda result: place.get(os.path.normpath(result.file), len(place)))
+    report = Report(
+        tuple(results),
+        applied_fixes=tuple(f for o in outcomes for f in o.report.applied_fixes),
+        unapplied_fixes=tuple(f for o in outcomes for f in o.report.unapplied_fixes),
+        unfixable=frozenset().union(*(o.report.unfixable for o in outcomes)),
+    )
+    notes += [note for outcome in outcomes for note in outcome.notes]
+    report = _apply_baseline(report, None, request, notes)  # --write-baseline: all of it
+    statuses = {outcome.exit_status for outcome in outcomes}
+    status = EXIT_TOOL_ERROR if EXIT_TOOL_ERROR in statuses else max(statuses, default=EXIT_OK)
+    if request.write_baseline:
+        status = exit_status(report, "never", baseline_written=True)
+    return Outcome(
+        report,
+        prepared.settings,
+        tuple(rules.values()),
+        status,
+        diffs=tuple(diff for outcome in outcomes for diff in outcome.diffs),
+        notes=tuple(dict.fromkeys(notes)),
+        fix_errors=tuple(error for outcome in outcomes for error in outcome.fix_errors),
+        baseline=outcomes[0].baseline if outcomes else None,
+        parts=tuple(outcomes),
+    )
+
+
+def _run_files(prepared: Prepared, files: Sequence[str], notes: list[str]) -> Outcome:
+    """The run of ``files`` (collected) with one configuration."""
+    request, settings = prepared.request, prepared.settings
+    notes[:0] = unignorable_notes(prepared.registry, settings)
     known = _load_baseline(request)
     _check_fix_request(request, settings)
-    targets, plan = plan_targets(prepared, notes)
+    targets, plan = plan_targets(prepared, files)
     refuse_outputs_on_inputs(request, settings, targets)
     # A text whose name force-exclude leaves out is neither linted nor fixed.
     stdin = request.stdin if targets else None
@@ -481,19 +569,30 @@ def _check_fix_request(request: Request, settings: Settings) -> None:
         )
 
 
-def plan_targets(prepared: Prepared, notes: list[str]) -> tuple[Sequence[str], ContextPlan | None]:
-    """The files the request names (folders walked), their shard, and with
-    config ``roots`` the plan that lints them inside the stages that use them."""
-    request, settings = prepared.request, prepared.settings
-    exclusions = Exclusions.of(settings)
+def collect_targets(prepared: Prepared, notes: list[str]) -> list[str]:
+    """The files the request names, folders walked (a note for each folder
+    with none)."""
+    request = prepared.request
+    exclusions = Exclusions.of(prepared.settings)
     if request.stdin is not None:  # a text, linted as its own stage
         name = request.stdin.name
-        return ([] if force_excluded(name, exclusions) else [name]), None
+        return [] if force_excluded(name, exclusions) else [name]
     empty: list[str] = []
     files = collect_files(request.paths, empty, exclusions)
     notes.extend(
         f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
     )
+    return files
+
+
+def plan_targets(
+    prepared: Prepared, files: Sequence[str]
+) -> tuple[Sequence[str], ContextPlan | None]:
+    """The files of the run (collect_targets), their shard, and with config
+    ``roots`` the plan that lints them inside the stages that use them."""
+    request, settings = prepared.request, prepared.settings
+    if request.stdin is not None:
+        return files, None
     plan = None
     if settings.roots and request.use_roots:
         from .roots import plan_from_settings  # USD's dependency tools: only for roots

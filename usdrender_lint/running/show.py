@@ -16,16 +16,28 @@ from typing import Any
 
 from ..config import Settings
 from ..settings_table import SETTINGS
-from .pipeline import Prepared, Request, plan_targets, prepare
+from .pipeline import (
+    Prepared,
+    Request,
+    collect_targets,
+    configuration_parts,
+    plan_targets,
+    prepare,
+)
 
 
 def planned_files(request: Request) -> tuple[list[str], list[str]]:
-    """The files ``request`` would lint (folders walked, exclusions, roots,
-    its shard) and the run's notes about them. Raises RequestError as a run."""
+    """The files ``request`` would lint (folders walked, exclusions, each
+    file's configuration, roots, its shard) and the run's notes about them.
+    Raises RequestError as a run does."""
     prepared = prepare(request)
     notes: list[str] = []
-    targets, _plan = plan_targets(prepared, notes)
-    return list(targets), notes
+    files = collect_targets(prepared, notes)
+    planned: list[str] = []
+    for part, found in configuration_parts(prepared, files) or [(prepared, files)]:
+        targets, _plan = plan_targets(part, found)
+        planned += targets
+    return planned, notes
 
 
 def settings_text(request: Request) -> str:

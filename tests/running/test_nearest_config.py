@@ -1,0 +1,201 @@
+"""Each file is linted with its nearest configuration (running/hierarchy.py):
+a check of a tree whose shows keep their own settings gives each file what a
+check of that show gives it, what the language server gives it and what the
+Python API gives it with that configuration, on real shots."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+import usdrender_lint
+from usdrender_lint.cli import cli
+from usdrender_lint.running.documents import Documents
+
+REPO = Path(__file__).resolve().parents[2]
+BROKEN = REPO / "examples" / "broken_shot"
+CLEAN = REPO / "examples" / "clean_shot" / "shot.usda"
+FIXTURES = REPO / "tests" / "rules"
+
+#: Three configurations and none: the root's, a show's (a dedicated file), a
+#: show's pyproject.toml (excluding its wip/), and a folder with none above it.
+ROOT = 'profile = "generic"\nfail-on = "warning"\n'
+SHOW_A = 'ignore = ["CA"]\nunfixable = ["SE007"]\n'
+SHOW_B = (
+    '[tool.usdrender-lint]\nextend-exclude = ["wip/"]\nprofile = "karma"\n'
+    '[tool.usdrender-lint.severity]\nSE003 = "info"\n'
+)
+
+
+def _tree(root: Path) -> None:
+    for show in ("a", "b"):
+        shutil.copytree(BROKEN, root / "shows" / show / "shots" / "010")
+    shutil.copytree(BROKEN, root / "shows" / "b" / "wip")
+    shutil.copy(CLEAN, root / "shows" / "c_clean.usda")
+    for fixture in sorted((FIXTURES / "SE003_data_window_malformed").glob("fail_*.usda"))[:3]:
+        shutil.copy(fixture, root / "shows" / "a" / fixture.name)
+    (root / ".usdrender-lint.toml").write_text(ROOT)
+    (root / "shows" / "a" / ".usdrender-lint.toml").write_text(SHOW_A)
+    (root / "shows" / "b" / "pyproject.toml").write_text(SHOW_B)
+
+
+@pytest.fixture
+def tree(tmp_path: Path) -> Path:
+    root = tmp_path / "repo"
+    _tree(root)
+    return root
+
+
+def _check(cwd: Path, *args: str) -> tuple[int, dict]:
+    previous = os.getcwd()
+    os.chdir(cwd)
+    try:
+        result = CliRunner().invoke(
+            cli, ["check", "--no-cache", "--jobs", "1", "--format", "json", *args]
+        )
+    finally:
+        os.chdir(previous)
+    assert result.exit_code in (0, 1), result.output
+    return result.exit_code, json.loads(result.stdout)
+
+
+def _by_file(document: dict, root: Path) -> dict[str, list[tuple]]:
+    return {
+        str((root / entry["file"]).resolve()): sorted(
+            (f["code"], f["severity"], f["path"], f["line"], f["message"], f["profile"])
+            for f in entry["findings"]
+        )
+        for entry in document["files"]
+    }
+
+
+def test_each_file_gets_what_its_own_configuration_gives_it(tree: Path) -> None:
+    status, whole = _check(tree, ".")
+    found = _by_file(whole, tree)
+    assert not any("/wip/" in name for name in found)  # show b's exclusion holds in the walk
+    assert len(found) == 2 + 3 + 2 + 1  # a: a shot of 2 layers and 3 fixtures, b: a shot, c
+    # The same as a check of each show alone (its configuration found from it) ...
+    for show in ("a", "b"):
+        _, alone = _check(tree, f"shows/{show}")
+        for name, findings in _by_file(alone, tree).items():
+            assert found[name] == findings, name
+
+    # ... and as the language server and the Python API with that configuration
+    # (which name files absolutely where check names them from the working directory).
+    def keys(findings) -> list[tuple]:
+        return sorted(
+            (
+                f.code,
+                f.severity.value,
+                f.location.path,
+                f.location.line,
+                f.message.replace(f"{tree}/", ""),
+                f.profile,
+            )
+            for f in findings
+        )
+
+    documents = Documents()
+    for name, findings in found.items():
+        path = Path(name)
+        documents.update({name: path.read_text(encoding="utf-8")})
+        served = keys(documents.lint(name).findings)
+        # Closed: an open document's layer is what USD gives this process for the file.
+        documents.update({name: None})
+        assert served == findings, name
+        nearest = next(
+            c
+            for folder in path.parents
+            for c in (folder / ".usdrender-lint.toml", folder / "pyproject.toml")
+            if c.is_file()
+        )
+        assert keys(usdrender_lint.lint_file(path, config=nearest).findings) == findings, name
+    codes = {name.split("/shows/")[1]: {f[0]: f[1] for f in fs} for name, fs in found.items()}
+    assert "CA004" not in codes["a/shots/010/shot.usda"]  # show a ignores CA
+    assert codes["b/shots/010/shot.usda"]["SE003"] == "info"  # show b's severity
+    assert codes["b/shots/010/shot.usda"]["CA004"] == "error"
+    # The worst part decides the exit: the root's fail-on warning.
+    assert status == 1
+
+
+def test_config_and_isolated_give_every_file_one_configuration(tree: Path) -> None:
+    _, forced = _check(tree, "--config", str(tree / ".usdrender-lint.toml"), ".")
+    _, isolated = _check(tree, "--isolated", ".")
+    for document in (forced, isolated):
+        names = [entry["file"] for entry in document["files"]]
+        assert any("/wip/" in name for name in names)  # show b's exclusion does not apply
+        codes = {f["code"] for e in document["files"] if "/a/" in e["file"] for f in e["findings"]}
+        assert "CA004" in codes
+
+
+def test_the_files_shown_are_the_files_reported(tree: Path) -> None:
+    previous = os.getcwd()
+    os.chdir(tree)
+    try:
+        shown = CliRunner().invoke(cli, ["check", "--show-files", "."])
+    finally:
+        os.chdir(previous)
+    _, whole = _check(tree, ".")
+    assert shown.stdout.splitlines() == [entry["file"] for entry in whole["files"]]
+
+
+def test_shards_of_a_split_run_merge_into_the_whole(tree: Path, tmp_path: Path) -> None:
+    reports = []
+    for k in (1, 2, 3):
+        _, shard = _check(tree, "--shard", f"{k}/3", ".")
+        path = tmp_path / f"shard{k}.json"
+        path.write_text(json.dumps(shard))
+        reports.append(str(path))
+    merged = CliRunner().invoke(cli, ["merge", "--format", "json", *reports])
+    assert merged.exit_code == 1, merged.output
+    _, whole = _check(tree, ".")
+    assert _by_file(json.loads(merged.stdout), tree) == _by_file(whole, tree)
+    assert json.loads(merged.stdout)["configuration"] == whole["configuration"]
+
+
+def test_fix_and_baselines_take_each_files_configuration(tree: Path, tmp_path: Path) -> None:
+    baseline = tmp_path / "baseline.json"
+    previous = os.getcwd()
+    os.chdir(tree)
+    try:
+        runner = CliRunner()
+        written = runner.invoke(
+            cli, ["check", "--no-cache", "--write-baseline", str(baseline), "."]
+        )
+        assert written.exit_code == 0, written.output
+        assert written.stderr.count("recorded") == 1
+        again = runner.invoke(cli, ["check", "--no-cache", "--baseline", str(baseline), "."])
+        assert again.exit_code == 0 and "0 findings" in again.stdout, again.output
+        fixed = runner.invoke(cli, ["check", "--no-cache", "--fix", "shows"])
+    finally:
+        os.chdir(previous)
+    assert fixed.exit_code == 1, fixed.output
+    shot = "shots/010/shot.usda"
+    a = (tree / "shows" / "a" / shot).read_text()
+    b = (tree / "shows" / "b" / shot).read_text()
+    # SE007's fix is unfixable in show a only; CA004's is ignored there.
+    assert "instantaneousShutter" in a and "instantaneousShutter" not in b
+    assert "</World/camRig>" in a and "</World/camRig/shotCam>" in b
+    assert (tree / "shows" / "b" / "wip" / "shot.usda").read_text() == (
+        BROKEN / "shot.usda"
+    ).read_text()  # excluded by show b: not fixed
+
+
+def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> None:
+    (tree / "shows" / "b" / "pyproject.toml").write_text("[tool.usdrender-lint]\nselct = 1\n")
+    previous = os.getcwd()
+    os.chdir(tree)
+    try:
+        result = CliRunner().invoke(cli, ["check", "--no-cache", "."])
+    finally:
+        os.chdir(previous)
+    assert result.exit_code == 2
+    assert result.stderr.splitlines() == [
+        f"usdrender-lint: error: {tree / 'shows' / 'b' / 'pyproject.toml'}: unknown key "
+        "'tool.usdrender-lint.selct'"
+    ]
