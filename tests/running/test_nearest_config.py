@@ -199,3 +199,24 @@ def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> No
         f"usdrender-lint: error: {tree / 'shows' / 'b' / 'pyproject.toml'}: unknown key "
         "'tool.usdrender-lint.selct'"
     ]
+
+
+def test_spec_gives_each_file_the_findings_of_its_configuration(tree: Path) -> None:
+    def spec(*paths: str) -> dict[str, list]:
+        previous = os.getcwd()
+        os.chdir(tree)
+        try:
+            result = CliRunner().invoke(cli, ["spec", "--jobs", "1", "--format", "json", *paths])
+        finally:
+            os.chdir(previous)
+        assert result.exit_code in (0, 2), result.output  # 2: the broken lighting_wip.usda
+        return {
+            str((tree / entry["file"]).resolve()): entry["findings"]
+            for entry in json.loads(result.stdout)["files"]
+        }
+
+    whole = spec(".")
+    alone = {**spec("shows/a"), **spec("shows/b"), **spec("shows/c_clean.usda")}
+    assert whole == alone
+    shot = str(tree / "shows" / "a" / "shots" / "010" / "shot.usda")
+    assert not any("CA004" in json.dumps(finding) for finding in whole[shot])

@@ -22,7 +22,16 @@ from ..records import record
 from ..settings_table import DEFAULT_TIMEOUT
 from .discovery import Exclusions, collect_files
 from .outputs import OutputOnInput, refuse_inputs
-from .pipeline import EXIT_OK, EXIT_TOOL_ERROR, LinterSpec, Request, RequestError, prepare
+from .pipeline import (
+    EXIT_OK,
+    EXIT_TOOL_ERROR,
+    LinterSpec,
+    Prepared,
+    Request,
+    RequestError,
+    configuration_parts,
+    prepare,
+)
 from .supervisor import Supervision
 from .workers import ExecutionError, default_jobs, lint_paths
 
@@ -120,12 +129,27 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             force_exclude=request.force_exclude,
         )
     )
-    factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
     files = collect_files(request.paths, exclusions=Exclusions.of(prepared.settings))
+    # Each file with its nearest configuration, as check lints it (running/hierarchy.py).
+    parts = configuration_parts(prepared, files) or [(prepared, files)]
+    configs = [part.settings.source for part, _ in parts if part.settings.source]
     try:
-        refuse_inputs([(request.output, "the specification")], [*files, *_config(prepared)])
+        refuse_inputs([(request.output, "the specification")], [*files, *configs])
     except OutputOnInput as exc:
         raise RequestError(str(exc)) from None
+    results: list[FileResult] = []
+    for part, found in parts:
+        results += _inspected(request, part, found, inspect)
+    place = {file: index for index, file in enumerate(files)}
+    results.sort(key=lambda result: place.get(result.file, len(place)))
+    errored = any(r.status != "linted" for r in results)
+    return Inspection(tuple(results), EXIT_TOOL_ERROR if errored else EXIT_OK)
+
+
+def _inspected(
+    request: InspectRequest, prepared: Prepared, files: Sequence[str], inspect: Inspector[Any]
+) -> tuple[FileResult, ...]:
+    factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
     try:
         results: Sequence[FileResult] = lint_paths(
             files,
@@ -138,9 +162,7 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
         )
     except ExecutionError as exc:
         raise RequestError(str(exc)) from None
-    report = prepared.finish(Report(tuple(results)))
-    errored = any(r.status != "linted" for r in report.files)
-    return Inspection(report.files, EXIT_TOOL_ERROR if errored else EXIT_OK)
+    return prepared.finish(Report(tuple(results))).files
 
 
 def _where(finding: Any) -> str:
@@ -153,7 +175,3 @@ def _where(finding: Any) -> str:
     if location.layer and os.path.realpath(location.layer) != os.path.realpath(location.file):
         where = f": {display_path(location.layer)}{where}"
     return f"{where}: {finding.message}"
-
-
-def _config(prepared: Any) -> list[str]:
-    return [prepared.settings.source] if prepared.settings.source else []
