@@ -35,8 +35,13 @@ class _Nearest:
 
     def __init__(self) -> None:
         self._of: dict[Path, str | None] = {}
+        #: By the folder as named: the files of one folder resolve it once.
+        self._named: dict[str, str | None] = {}
 
     def of_file(self, file: str) -> str | None:
+        named = os.path.dirname(file)
+        if named in self._named and not os.path.islink(file):
+            return self._named[named]
         # As find_config_file starts from a file: its resolved folder.
         here = Path(file).resolve()
         try:
@@ -44,7 +49,10 @@ class _Nearest:
                 here = here.parent
         except OSError:
             here = here.parent
-        return self._of_folder(here)
+        nearest = self._of_folder(here)
+        if not os.path.islink(file) and not os.path.isdir(file):
+            self._named[named] = nearest
+        return nearest
 
     def _of_folder(self, folder: Path) -> str | None:
         below: list[Path] = []
