@@ -220,3 +220,16 @@ def test_spec_gives_each_file_the_findings_of_its_configuration(tree: Path) -> N
     assert whole == alone
     shot = str(tree / "shows" / "a" / "shots" / "010" / "shot.usda")
     assert not any("CA004" in json.dumps(finding) for finding in whole[shot])
+
+
+def test_a_linked_file_takes_the_configuration_of_its_target(tree: Path) -> None:
+    """As the configuration is found for one file (find_config_file resolves it),
+    among files of its folder that share their lookup."""
+    target = tree / "shows" / "b" / "shots" / "010" / "shot.usda"
+    (tree / "shows" / "a" / "linked.usda").symlink_to(target)
+    _, whole = _check(tree, "shows")
+    found = {entry["file"]: entry["findings"] for entry in whole["files"]}
+    linked = {f["code"]: f["severity"] for f in found["shows/a/linked.usda"]}
+    assert linked["SE003"] == "info" and "CA004" in linked  # show b's settings
+    own = {f["code"] for f in found["shows/a/shots/010/shot.usda"]}
+    assert "CA004" not in own
