@@ -62,6 +62,10 @@ print(__import__("json").dumps(sorted(sys.modules)), file=sys.stderr)
 """
 
 
+#: The formats this package registers (pyproject.toml's entry points).
+OUR_FORMATS = {"full", "github", "gitlab", "html", "json", "junit", "sarif", "text"}
+
+
 def _modules_after(*args: str) -> set[str]:
     proc = subprocess.run(
         [sys.executable, "-c", IMPORTED_BY_CHECK, "check", *args, str(PASS_FILE)],
@@ -168,17 +172,7 @@ def test_a_plugin_in_the_group_is_found_through_importlib_metadata(
     monkeypatch.syspath_prepend(str(tmp_path))
     assert entrypoints._single_registrant("usdrender_lint.formatters") is None
     assert available_formatters()["acme"].value == "json:dumps"
-    assert set(available_formatters()) == {
-        "acme",
-        "full",
-        "github",
-        "gitlab",
-        "html",
-        "json",
-        "junit",
-        "sarif",
-        "text",
-    }
+    assert set(available_formatters()) == {"acme", *OUR_FORMATS}
 
 
 def test_a_shadowing_distribution_hides_ours_as_in_importlib_metadata(
@@ -204,16 +198,7 @@ def test_a_malformed_file_anywhere_fails_as_in_importlib_metadata(
 
 def test_nothing_is_cached_between_lookups(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.syspath_prepend(str(tmp_path))
-    assert set(available_formatters()) == {
-        "full",
-        "github",
-        "gitlab",
-        "html",
-        "json",
-        "junit",
-        "sarif",
-        "text",
-    }
+    assert set(available_formatters()) == OUR_FORMATS
     _dist(tmp_path, "late-1.dist-info", "[usdrender_lint.formatters]\nlate = json:dumps\n")
     assert "late" in available_formatters()
 

@@ -11,7 +11,7 @@ import shutil
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
+from click.testing import CliRunner, Result
 
 import usdrender_lint
 from usdrender_lint.cli import cli
@@ -51,15 +51,18 @@ def tree(tmp_path: Path) -> Path:
     return root
 
 
-def _check(cwd: Path, *args: str) -> tuple[int, dict]:
+def _invoke(cwd: Path, *args: str) -> Result:
+    """The command line run in ``cwd``."""
     previous = os.getcwd()
     os.chdir(cwd)
     try:
-        result = CliRunner().invoke(
-            cli, ["check", "--no-cache", "--jobs", "1", "--format", "json", *args]
-        )
+        return CliRunner().invoke(cli, list(args))
     finally:
         os.chdir(previous)
+
+
+def _check(cwd: Path, *args: str) -> tuple[int, dict]:
+    result = _invoke(cwd, "check", "--no-cache", "--jobs", "1", "--format", "json", *args)
     assert result.exit_code in (0, 1), result.output
     return result.exit_code, json.loads(result.stdout)
 
@@ -134,12 +137,7 @@ def test_config_and_isolated_give_every_file_one_configuration(tree: Path) -> No
 
 
 def test_the_files_shown_are_the_files_reported(tree: Path) -> None:
-    previous = os.getcwd()
-    os.chdir(tree)
-    try:
-        shown = CliRunner().invoke(cli, ["check", "--show-files", "."])
-    finally:
-        os.chdir(previous)
+    shown = _invoke(tree, "check", "--show-files", ".")
     _, whole = _check(tree, ".")
     assert shown.stdout.splitlines() == [entry["file"] for entry in whole["files"]]
 
@@ -160,20 +158,12 @@ def test_shards_of_a_split_run_merge_into_the_whole(tree: Path, tmp_path: Path) 
 
 def test_fix_and_baselines_take_each_files_configuration(tree: Path, tmp_path: Path) -> None:
     baseline = tmp_path / "baseline.json"
-    previous = os.getcwd()
-    os.chdir(tree)
-    try:
-        runner = CliRunner()
-        written = runner.invoke(
-            cli, ["check", "--no-cache", "--write-baseline", str(baseline), "."]
-        )
-        assert written.exit_code == 0, written.output
-        assert written.stderr.count("recorded") == 1
-        again = runner.invoke(cli, ["check", "--no-cache", "--baseline", str(baseline), "."])
-        assert again.exit_code == 0 and "0 findings" in again.stdout, again.output
-        fixed = runner.invoke(cli, ["check", "--no-cache", "--fix", "shows"])
-    finally:
-        os.chdir(previous)
+    written = _invoke(tree, "check", "--no-cache", "--write-baseline", str(baseline), ".")
+    assert written.exit_code == 0, written.output
+    assert written.stderr.count("recorded") == 1
+    again = _invoke(tree, "check", "--no-cache", "--baseline", str(baseline), ".")
+    assert again.exit_code == 0 and "0 findings" in again.stdout, again.output
+    fixed = _invoke(tree, "check", "--no-cache", "--fix", "shows")
     assert fixed.exit_code == 1, fixed.output
     shot = "shots/010/shot.usda"
     a = (tree / "shows" / "a" / shot).read_text()
@@ -188,12 +178,7 @@ def test_fix_and_baselines_take_each_files_configuration(tree: Path, tmp_path: P
 
 def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> None:
     (tree / "shows" / "b" / "pyproject.toml").write_text("[tool.usdrender-lint]\nselct = 1\n")
-    previous = os.getcwd()
-    os.chdir(tree)
-    try:
-        result = CliRunner().invoke(cli, ["check", "--no-cache", "."])
-    finally:
-        os.chdir(previous)
+    result = _invoke(tree, "check", "--no-cache", ".")
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [
         f"usdrender-lint: error: {tree / 'shows' / 'b' / 'pyproject.toml'}: unknown key "
@@ -203,12 +188,7 @@ def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> No
 
 def test_spec_gives_each_file_the_findings_of_its_configuration(tree: Path) -> None:
     def spec(*paths: str) -> dict[str, list]:
-        previous = os.getcwd()
-        os.chdir(tree)
-        try:
-            result = CliRunner().invoke(cli, ["spec", "--jobs", "1", "--format", "json", *paths])
-        finally:
-            os.chdir(previous)
+        result = _invoke(tree, "spec", "--jobs", "1", "--format", "json", *paths)
         assert result.exit_code in (0, 2), result.output  # 2: the broken lighting_wip.usda
         return {
             str((tree / entry["file"]).resolve()): entry["findings"]

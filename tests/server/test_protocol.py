@@ -131,6 +131,20 @@ async def quick_actions(
     return list(actions or [])
 
 
+async def fix_all_actions(client: LanguageClient, uri: str) -> list[types.CodeAction]:
+    """The source.fixAll actions of a document, as an editor asks on save."""
+    actions = await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri),
+            range=types.Range(types.Position(0, 0), types.Position(0, 0)),
+            context=types.CodeActionContext(
+                diagnostics=[], only=[types.CodeActionKind.SourceFixAll]
+            ),
+        )
+    )
+    return list(actions or [])
+
+
 def apply(text: str, edits: list[types.TextEdit]) -> str:
     return apply_edits(
         text,
@@ -264,16 +278,7 @@ async def test_quick_fix_and_fix_all_give_the_fix_result(
     assert "unsafe" in unsafe.title and not unsafe.is_preferred
 
     # Fix all: exactly what check --fix writes.
-    actions = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(uri),
-            range=types.Range(types.Position(0, 0), types.Position(0, 0)),
-            context=types.CodeActionContext(
-                diagnostics=[], only=[types.CodeActionKind.SourceFixAll]
-            ),
-        )
-    )
-    (fix_all,) = actions
+    (fix_all,) = await fix_all_actions(client, uri)
     assert fix_all.kind == "source.fixAll.usdrender-lint"
     # Asked for every action, it comes without its edit, made when it is chosen.
     offered = await quick_actions(client, uri, camera)
@@ -369,16 +374,7 @@ async def test_config_force_exclude_leaves_a_skipped_document_alone(
     kept = open_document(client, project / "shots" / "shot.usda")
     assert await diagnostics_of(client, skipped, 1) == []
     assert {d.code for d in await diagnostics_of(client, kept, 1)} >= {"CA004", "SE003"}
-    fix_all = await client.text_document_code_action_async(
-        types.CodeActionParams(
-            text_document=types.TextDocumentIdentifier(skipped),
-            range=types.Range(types.Position(0, 0), types.Position(0, 0)),
-            context=types.CodeActionContext(
-                diagnostics=[], only=[types.CodeActionKind.SourceFixAll]
-            ),
-        )
-    )
-    assert not fix_all
+    assert not await fix_all_actions(client, skipped)
 
 
 LIGHTING = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
