@@ -17,7 +17,7 @@ which names every staged file, lints what ``check .`` lints.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -180,6 +180,12 @@ def force_excluded(path: str, exclusions: Exclusions) -> bool:
     """Whether ``path``, given by name, is left out under ``exclusions.force``
     (``check -``'s ``--stdin-filename``)."""
     return exclusions.force and _Given(exclusions).skipped(path)
+
+
+def walk_skips(exclusions: Exclusions) -> Callable[[str], bool]:
+    """Whether a walk from ``exclusions.base`` would skip a path: one test for
+    many paths, each .gitignore read once."""
+    return _Given(exclusions).skipped
 
 
 class _Given:

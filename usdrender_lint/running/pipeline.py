@@ -25,7 +25,7 @@ from ..profiles.detect import Profiler
 from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from ..settings_table import DEFAULT_TIMEOUT, request_settings
-from .discovery import Exclusions, collect_files, force_excluded
+from .discovery import Exclusions, collect_files, force_excluded, walk_skips
 from .hierarchy import configuration_groups, given_files
 from .path_ignores import apply_path_ignores
 from .supervisor import Supervision
@@ -476,10 +476,8 @@ def configuration_parts(
         # --write-baseline records the joined report, once.
         own = replace(request, config=group.config, isolated=group.config is None)
         part = prepare(replace(own, write_baseline=None), prepared.registry)
-        skipped = replace(Exclusions.of(part.settings), force=True)
-        kept = [
-            f for f in group.files if os.path.normpath(f) in given or not force_excluded(f, skipped)
-        ]
+        skipped = walk_skips(Exclusions.of(part.settings))
+        kept = [f for f in group.files if os.path.normpath(f) in given or not skipped(f)]
         parts.append((part, kept))
     return parts
 
