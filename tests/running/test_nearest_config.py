@@ -213,3 +213,21 @@ def test_a_linked_file_takes_the_configuration_of_its_target(tree: Path) -> None
     assert linked["SE003"] == "info" and "CA004" in linked  # show b's settings
     own = {f["code"] for f in found["shows/a/shots/010/shot.usda"]}
     assert "CA004" not in own
+
+
+def test_a_split_run_reads_each_parts_cache_as_it_wrote_it(
+    tree: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each part keeps its result cache at its configuration's folder; a run
+    again answers from it, the same as without the cache."""
+    monkeypatch.delenv("USDRENDER_LINT_NO_CACHE", raising=False)
+
+    def report(*args: str) -> dict:
+        result = _invoke(tree, "check", "--jobs", "1", "--format", "json", *args, ".")
+        assert result.exit_code == 1, result.output
+        return json.loads(result.stdout)
+
+    cold = report()
+    for folder in (tree, tree / "shows" / "a", tree / "shows" / "b"):
+        assert list((folder / ".usdrender_lint_cache").rglob("*.json")), folder
+    assert report() == cold == report("--no-cache")
