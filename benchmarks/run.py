@@ -659,6 +659,43 @@ def beyond_start_up(runs: dict[int, tuple[float, float]]) -> tuple[float, float,
     return lint, floor, runs[few][0] - few * lint, runs[few][1] - few * floor
 
 
+def configurations(work: Path, count: int, folders: int, rounds: int) -> dict[str, float]:
+    """Each file with its nearest configuration (running/hierarchy.py): ``count``
+    gate shots spread over ``folders`` folders that each keep a configuration,
+    against the same tree with one configuration at its root. Each
+    configuration's files are a run of their own (its own workers)."""
+    source = ensure(work / f"gate_{count}", "gate", "--count", str(count))
+    shots = sorted(source.glob("gate_*.usda"))
+    trees = {}
+    for kind in ("one", "each"):
+        tree = work / f"configs_{count}_{folders}" / kind
+        if not (tree / ".complete").exists():
+            shutil.rmtree(tree, ignore_errors=True)
+            for index, shot in enumerate(shots):
+                folder = tree / f"show{index % folders:02d}"
+                folder.mkdir(parents=True, exist_ok=True)
+                os.link(shot, folder / shot.name)
+            config = 'fail-on = "warning"\n'
+            (tree / ".usdrender-lint.toml").write_text(config)
+            if kind == "each":
+                for folder in tree.glob("show*"):
+                    (folder / ".usdrender-lint.toml").write_text(config)
+            (tree / ".complete").write_text("ok\n")
+        trees[kind] = tree
+    nearest = [*LINT, "check", "--no-cache", "--jobs", "2", "."]
+    one = Series(f"check --jobs 2, {count} shots, 1 configuration", nearest, cwd=trees["one"])
+    each = Series(
+        f"check --jobs 2, {count} shots, {folders} configurations", nearest, cwd=trees["each"]
+    )
+    measure([one, each], rounds)
+    print(f"\nConfigurations: {count} gate shots in {folders} folders, {rounds} rounds")
+    print(row(one))
+    print(row(each, one))
+    cost = (each.median() - one.median()) / (folders - 1)
+    print(f"  each configuration past the first: {cost * 1000:.0f} ms")
+    return {"configs_cost_ms": cost * 1000}
+
+
 def gate_instructions(work: Path) -> dict[str, float]:
     """Issue 27 in a figure load cannot move: the instructions one more gate shot
     costs the lint and the floor, counted by valgrind over 22 shots and over 2 (so
@@ -805,6 +842,7 @@ CASES = (
     "shards",
     "many",
     "gate",
+    "configs",
     "variants",
     "hostile",
 )
@@ -879,6 +917,8 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"  disturbed: {why}")
         if args.instructions:
             figures.update(gate_instructions(work))
+    if "configs" in cases:
+        figures.update(configurations(work, 200, 20, args.rounds))
     if "variants" in cases:
         for prims in sizes:
             figures.update(variants(work, prims, args.big_rounds))
