@@ -231,3 +231,16 @@ def test_a_split_run_reads_each_parts_cache_as_it_wrote_it(
     for folder in (tree, tree / "shows" / "a", tree / "shows" / "b"):
         assert list((folder / ".usdrender_lint_cache").rglob("*.json")), folder
     assert report() == cold == report("--no-cache")
+
+
+def test_a_shows_force_exclude_holds_for_the_files_given_there(tree: Path) -> None:
+    """pre-commit names every staged file: a show whose configuration sets
+    force-exclude keeps its excluded files out, whatever the root's says."""
+    forced = SHOW_B.replace("]\n", "]\nforce-exclude = true\n", 1)
+    (tree / "shows" / "b" / "pyproject.toml").write_text(forced)
+    staged = ["shows/b/wip/shot.usda", "shows/b/shots/010/shot.usda", "shows/a/shots/010/shot.usda"]
+    _, report = _check(tree, *staged)
+    assert [entry["file"] for entry in report["files"]] == staged[1:]
+    (tree / "shows" / "b" / "pyproject.toml").write_text(SHOW_B)
+    _, report = _check(tree, *staged)
+    assert [entry["file"] for entry in report["files"]] == staged

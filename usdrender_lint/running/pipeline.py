@@ -460,7 +460,8 @@ def configuration_parts(
     """The run split by configuration (running/hierarchy.py): each nearest
     configuration's preparation and files; None when every file has the
     run's. The files a walk found that a part's own exclusions skip are left
-    out, as a walk reading each folder's configuration would leave them."""
+    out, as a walk reading each folder's configuration would leave them, and
+    so are the files given that they skip when it sets force-exclude."""
     request = prepared.request
     if request.config is not None or request.isolated or request.stdin is not None:
         return None
@@ -477,7 +478,12 @@ def configuration_parts(
         own = replace(request, config=group.config, isolated=group.config is None)
         part = prepare(replace(own, write_baseline=None), prepared.registry)
         skipped = walk_skips(Exclusions.of(part.settings))
-        kept = [f for f in group.files if os.path.normpath(f) in given or not skipped(f)]
+        judged = part.settings.force_exclude
+        kept = [
+            f
+            for f in group.files
+            if not ((judged or os.path.normpath(f) not in given) and skipped(f))
+        ]
         parts.append((part, kept))
     return parts
 
