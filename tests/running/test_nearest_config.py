@@ -245,3 +245,15 @@ def test_a_shows_force_exclude_holds_for_the_files_given_there(tree: Path) -> No
     (tree / "shows" / "b" / "pyproject.toml").write_text(SHOW_B)
     _, report = _check(tree, *staged)
     assert [entry["file"] for entry in report["files"]] == staged
+
+
+def test_one_set_of_workers_lints_every_configurations_files_alike(tree: Path) -> None:
+    """A split run lints its parts' files together (each with its own linter):
+    in this process, in one worker or in two, the report is the same."""
+    _, pooled = _check(tree, ".")
+    _, in_process = _check(tree, "--timeout", "0", ".")
+    _, two = _check(tree, "--jobs", "2", ".")
+    assert pooled == in_process == two
+    codes = {os.path.normpath(e["file"]): {f["code"] for f in e["findings"]} for e in two["files"]}
+    assert "CA004" not in codes["shows/a/shots/010/shot.usda"]
+    assert "CA004" in codes["shows/b/shots/010/shot.usda"]

@@ -4,11 +4,11 @@ document. A check of ``shows/`` whose shows each keep a ``.usdrender-lint.toml``
 lints every show's shots with that show's settings.
 
 A run whose files all have the configuration found from its first path (nearly
-every run) is one run, as before. Otherwise the pipeline lints each
-configuration's files as a run of their own and joins the outcomes. Only a
-check that searches for its configuration is split: ``--config`` and
-``--isolated`` give every file one configuration, and a text on standard input
-is one file.
+every run) is one run, as before. Otherwise the pipeline splits it into a part
+per configuration: one set of workers lints every part's files, each with its
+part's linter, and the parts' outcomes are joined. Only a check that searches
+for its configuration is split: ``--config`` and ``--isolated`` give every file
+one configuration, and a text on standard input is one file.
 """
 
 from __future__ import annotations

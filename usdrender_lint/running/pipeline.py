@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
@@ -386,6 +386,32 @@ class LinterSpec:
         return CachingLinter(wrapped, self.cache)
 
 
+@record(frozen=True)
+class LintersByFile:
+    """A picklable recipe for linting the files of several configurations in one
+    set of workers: each worker builds a configuration's linter from its spec the
+    first time one of its files comes."""
+
+    specs: tuple[LinterSpec, ...]
+    #: Each file's index into ``specs``.
+    part_of: Mapping[str, int]
+
+    def __call__(self) -> _LintersOfFiles:
+        return _LintersOfFiles(self)
+
+
+class _LintersOfFiles:
+    def __init__(self, recipe: LintersByFile) -> None:
+        self.recipe = recipe
+        self.built: dict[int, Linter | VariantExplorer | CachingLinter] = {}
+
+    def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
+        index = self.recipe.part_of[path]
+        if index not in self.built:
+            self.built[index] = self.recipe.specs[index]()
+        return self.built[index].lint_path(path, full_composition=full_composition)
+
+
 @record
 class Prepared:
     """The request turned into what runs: settings, registry, linter."""
@@ -450,8 +476,54 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     parts = configuration_parts(prepared, files)
     if parts is None:
         return _run_files(prepared, files, notes)
-    outcomes = [_run_files(part, found, []) for part, found in parts]
+    ahead = _lint_parts_together(parts)
+    outcomes = [_run_files(part, found, [], ahead) for part, found in parts]
     return _joined(prepared, outcomes, files, notes)
+
+
+def _lint_parts_together(parts: Sequence[tuple[Prepared, list[str]]]) -> dict[str, FileResult]:
+    """The files of a split run's parts linted by one set of workers, each file
+    with its own configuration's linter (workers of their own cost about 40 ms
+    a configuration: benchmarks/run.py --only configs); the results each
+    part's run then reports. Empty where a part lints otherwise: fixing first,
+    or inside the stages its ``roots`` name."""
+    request = parts[0][0].request
+    roots = any(part.settings.roots and request.use_roots for part, _ in parts)
+    if request.fix is not None or roots:
+        return {}
+    results: dict[str, FileResult] = {}
+    specs: list[LinterSpec] = []
+    part_of: dict[str, int] = {}
+    caches = []
+    for index, (part, found) in enumerate(parts):
+        targets, _plan = plan_targets(part, found)
+        cache = _open_cache(part, [])  # its notes come with the part's own run
+        caches.append(cache)
+        specs.append(replace(part.spec, cache=cache))
+        for path in targets:
+            hit = cache.lookup(path) if cache is not None else None
+            if hit is not None:
+                results[path] = hit
+            else:
+                part_of[path] = index
+    if part_of:
+        factory = LintersByFile(tuple(specs), part_of)
+        try:
+            linted = lint_paths(
+                list(part_of),
+                linter_factory=factory,
+                jobs=request.jobs or default_jobs(),
+                timeout=request.timeout,
+                progress=request.progress,
+                supervision=request.supervision,
+            )
+        except ExecutionError as exc:
+            raise RequestError(str(exc)) from None
+        results.update(zip(part_of, linted, strict=True))
+    for cache in caches:
+        if cache is not None and cache.stored:
+            cache.prune()
+    return results
 
 
 def configuration_parts(
@@ -522,8 +594,14 @@ def _joined(
     )
 
 
-def _run_files(prepared: Prepared, files: Sequence[str], notes: list[str]) -> Outcome:
-    """The run of ``files`` (collected) with one configuration."""
+def _run_files(
+    prepared: Prepared,
+    files: Sequence[str],
+    notes: list[str],
+    ahead: Mapping[str, FileResult] | None = None,
+) -> Outcome:
+    """The run of ``files`` (collected) with one configuration; ``ahead``: the
+    results of files already linted (_lint_parts_together)."""
     request, settings = prepared.request, prepared.settings
     notes[:0] = unignorable_notes(prepared.registry, settings)
     known = _load_baseline(request)
@@ -538,7 +616,7 @@ def _run_files(prepared: Prepared, files: Sequence[str], notes: list[str]) -> Ou
         fixed, stdin = stdin.fix(prepared)  # nothing is written: the text is the output
     elif request.fix is not None and request.stdin is None:
         fixed, fix_failed = _run_fixes(prepared, targets)
-    report = _lint_targets(prepared, stdin, targets, fixed, fix_failed, notes)
+    report = _lint_targets(prepared, stdin, targets, fixed, fix_failed, notes, ahead or {})
     if plan is not None:
         report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
@@ -620,6 +698,7 @@ def _lint_targets(
     fixed: FixRun | None,
     fix_failed: tuple[FileResult, ...],
     notes: list[str],
+    ahead: Mapping[str, FileResult],
 ) -> Report:
     """The report of ``targets``: what remains with --fix-to's overrides, else
     each file linted (after its fixes), but a stage whose fixing ran out of
@@ -634,7 +713,10 @@ def _lint_targets(
         return Report(tuple(fixed.remaining) + fix_failed)
     failed = {result.file: result for result in fix_failed}
     todo = [target for target in targets if target not in failed]
-    linted = iter(_lint(prepared, todo, _open_cache(prepared, notes)))
+    if all(target in ahead for target in todo):
+        linted = iter([ahead[target] for target in todo])
+    else:
+        linted = iter(_lint(prepared, todo, _open_cache(prepared, notes)))
     return Report(tuple(failed[t] if t in failed else next(linted) for t in targets))
 
 
