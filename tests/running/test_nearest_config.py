@@ -257,3 +257,17 @@ def test_one_set_of_workers_lints_every_configurations_files_alike(tree: Path) -
     codes = {os.path.normpath(e["file"]): {f["code"] for f in e["findings"]} for e in two["files"]}
     assert "CA004" not in codes["shows/a/shots/010/shot.usda"]
     assert "CA004" in codes["shows/b/shots/010/shot.usda"]
+
+
+def test_a_parts_cache_it_cannot_write_is_said_once(
+    tree: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("USDRENDER_LINT_NO_CACHE", raising=False)
+    assert _invoke(tree, "check", "--jobs", "1", ".").exit_code == 1  # the caches made
+    entries = next((tree / "shows" / "a" / ".usdrender_lint_cache").glob("v*"))
+    shutil.rmtree(entries)
+    entries.write_text("a file where the entries go\n")  # unwritable, even for root
+    result = _invoke(tree, "check", "--jobs", "1", ".")
+    assert result.exit_code == 1, result.output
+    said = [line for line in result.stderr.splitlines() if "not cached" in line]
+    assert len(said) == 1 and "shows/a/.usdrender_lint_cache" in said[0], result.stderr

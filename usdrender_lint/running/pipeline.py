@@ -476,12 +476,14 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     parts = configuration_parts(prepared, files)
     if parts is None:
         return _run_files(prepared, files, notes)
-    ahead = _lint_parts_together(parts)
+    ahead = _lint_parts_together(parts, notes)
     outcomes = [_run_files(part, found, [], ahead) for part, found in parts]
     return _joined(prepared, outcomes, files, notes)
 
 
-def _lint_parts_together(parts: Sequence[tuple[Prepared, list[str]]]) -> dict[str, FileResult]:
+def _lint_parts_together(
+    parts: Sequence[tuple[Prepared, list[str]]], notes: list[str]
+) -> dict[str, FileResult]:
     """The files of a split run's parts linted by one set of workers, each file
     with its own configuration's linter (workers of their own cost about 40 ms
     a configuration: benchmarks/run.py --only configs); the results each
@@ -497,7 +499,7 @@ def _lint_parts_together(parts: Sequence[tuple[Prepared, list[str]]]) -> dict[st
     caches = []
     for index, (part, found) in enumerate(parts):
         targets, _plan = plan_targets(part, found)
-        cache = _open_cache(part, [])  # its notes come with the part's own run
+        cache = _open_cache(part, notes)
         caches.append(cache)
         specs.append(replace(part.spec, cache=cache))
         for path in targets:
