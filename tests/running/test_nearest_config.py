@@ -271,3 +271,11 @@ def test_a_parts_cache_it_cannot_write_is_said_once(
     assert result.exit_code == 1, result.output
     said = [line for line in result.stderr.splitlines() if "not cached" in line]
     assert len(said) == 1 and "shows/a/.usdrender_lint_cache" in said[0], result.stderr
+
+
+def test_an_output_onto_a_linted_file_is_refused_before_any_lint(tree: Path) -> None:
+    target = tree / "shows" / "b" / "shots" / "010" / "shot.usda"
+    before = target.read_bytes()
+    result = _invoke(tree, "check", "--no-cache", "--output", str(target), ".")
+    assert result.exit_code == 2
+    assert target.read_bytes() == before

@@ -499,6 +499,7 @@ def _lint_parts_together(
     caches = []
     for index, (part, found) in enumerate(parts):
         targets, _plan = plan_targets(part, found)
+        refuse_outputs_on_inputs(part.request, part.settings, targets)  # before any lint
         cache = _open_cache(part, notes)
         caches.append(cache)
         specs.append(replace(part.spec, cache=cache))
