@@ -30,10 +30,10 @@ from .pipeline import (
     Request,
     RequestError,
     configuration_parts,
+    lint_as_asked,
     prepare,
 )
 from .supervisor import Supervision
-from .workers import ExecutionError, default_jobs, lint_paths
 
 
 @record(frozen=True)
@@ -150,19 +150,9 @@ def _inspected(
     request: InspectRequest, prepared: Prepared, files: Sequence[str], inspect: Inspector[Any]
 ) -> tuple[FileResult, ...]:
     factory = InspectingLinterFactory(LinterSpec(prepared.settings), inspect)
-    try:
-        results: Sequence[FileResult] = lint_paths(
-            files,
-            linter=InspectingLinter(prepared.linter, inspect),
-            linter_factory=factory,
-            jobs=request.jobs or default_jobs(),
-            timeout=request.timeout,
-            progress=request.progress,
-            supervision=request.supervision,
-        )
-    except ExecutionError as exc:
-        raise RequestError(str(exc)) from None
-    return prepared.finish(Report(tuple(results))).files
+    linter = InspectingLinter(prepared.linter, inspect)
+    results = lint_as_asked(request, files, factory, linter)
+    return prepared.finish(Report(results)).files
 
 
 def _where(finding: Any) -> str:

@@ -31,6 +31,8 @@ from .path_ignores import apply_path_ignores
 from .supervisor import Supervision
 from .workers import (
     ExecutionError,
+    FileLinter,
+    LinterFactory,
     Pool,
     default_jobs,
     lint_paths,
@@ -493,40 +495,12 @@ def _lint_parts_together(
     roots = any(part.settings.roots and request.use_roots for part, _ in parts)
     if request.fix is not None or roots:
         return {}
-    results: dict[str, FileResult] = {}
-    specs: list[LinterSpec] = []
-    part_of: dict[str, int] = {}
-    caches = []
-    for index, (part, found) in enumerate(parts):
+    jobs = []
+    for part, found in parts:
         targets, _plan = plan_targets(part, found)
         refuse_outputs_on_inputs(part.request, part.settings, targets)  # before any lint
-        cache = _open_cache(part, notes)
-        caches.append(cache)
-        specs.append(replace(part.spec, cache=cache))
-        for path in targets:
-            hit = cache.lookup(path) if cache is not None else None
-            if hit is not None:
-                results[path] = hit
-            else:
-                part_of[path] = index
-    if part_of:
-        factory = LintersByFile(tuple(specs), part_of)
-        try:
-            linted = lint_paths(
-                list(part_of),
-                linter_factory=factory,
-                jobs=request.jobs or default_jobs(),
-                timeout=request.timeout,
-                progress=request.progress,
-                supervision=request.supervision,
-            )
-        except ExecutionError as exc:
-            raise RequestError(str(exc)) from None
-        results.update(zip(part_of, linted, strict=True))
-    for cache in caches:
-        if cache is not None and cache.stored:
-            cache.prune()
-    return results
+        jobs.append((part, targets, _open_cache(part, notes)))
+    return _lint_together(request, jobs)
 
 
 def configuration_parts(
@@ -763,29 +737,73 @@ def _lint(
 ) -> tuple[FileResult, ...]:
     """Lint ``files`` (in input order); with a cache, only those whose stored
     result is stale, and store what is linted."""
-    request = prepared.request
-    cached = [cache.lookup(path) for path in files] if cache is not None else [None] * len(files)
-    todo = [path for path, hit in zip(files, cached, strict=True) if hit is None]
-    spec = replace(prepared.spec, cache=cache)
-    linted: Iterable[FileResult] = ()
+    results = _lint_together(prepared.request, [(prepared, files, cache)])
+    return tuple(results[path] for path in files)
+
+
+def _lint_together(
+    execution: Execution, jobs: Sequence[tuple[Prepared, Sequence[str], ResultCache | None]]
+) -> dict[str, FileResult]:
+    """Each job's files linted with its linter, all in one set of workers; with
+    a job's cache, only those whose stored result is stale (the workers store
+    what they lint)."""
+    results: dict[str, FileResult] = {}
+    todo: dict[str, int] = {}  # each file to lint, with its job
+    for index, (_prepared, files, cache) in enumerate(jobs):
+        for path in files:
+            hit = cache.lookup(path) if cache is not None else None
+            if hit is not None:
+                results[path] = hit
+            else:
+                todo[path] = index
+    specs = tuple(replace(prepared.spec, cache=cache) for prepared, _files, cache in jobs)
     if todo:
-        try:
-            linted = lint_paths(
-                todo,
-                linter=spec.wrap(prepared.linter),
-                linter_factory=spec,
-                jobs=request.jobs or default_jobs(),
-                timeout=request.timeout,
-                progress=request.progress,
-                supervision=request.supervision,
+        if len(specs) == 1:  # in this process, the linter already built serves
+            linted = lint_as_asked(
+                execution, list(todo), specs[0], specs[0].wrap(jobs[0][0].linter)
             )
-        except ExecutionError as exc:
-            raise RequestError(str(exc)) from None
-    fresh = iter(linted)
-    results = tuple(hit if hit is not None else next(fresh) for hit in cached)
-    if cache is not None and cache.stored:
-        cache.prune()
+        else:
+            linted = lint_as_asked(execution, list(todo), LintersByFile(specs, todo))
+        results.update(zip(todo, linted, strict=True))
+    for _prepared, _files, cache in jobs:
+        if cache is not None and cache.stored:
+            cache.prune()
     return results
+
+
+class Execution(Protocol):
+    """How a request has its files linted (a check's Request, spec's InspectRequest)."""
+
+    @property
+    def jobs(self) -> int | None: ...
+    @property
+    def timeout(self) -> float | None: ...
+    @property
+    def progress(self) -> bool | None: ...
+    @property
+    def supervision(self) -> Supervision | None: ...
+
+
+def lint_as_asked(
+    execution: Execution,
+    files: Sequence[str],
+    linter_factory: LinterFactory,
+    linter: FileLinter | None = None,
+) -> tuple[FileResult, ...]:
+    """``lint_paths`` with the request's workers, time limit, progress bar and
+    supervisor; workers that cannot start are the run's RequestError."""
+    try:
+        return lint_paths(
+            files,
+            linter=linter,
+            linter_factory=linter_factory,
+            jobs=execution.jobs or default_jobs(),
+            timeout=execution.timeout,
+            progress=execution.progress,
+            supervision=execution.supervision,
+        )
+    except ExecutionError as exc:
+        raise RequestError(str(exc)) from None
 
 
 def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
