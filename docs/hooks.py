@@ -19,6 +19,7 @@ import dataclasses
 import enum
 import html
 import inspect
+import json
 import re
 import sys
 import types
@@ -421,7 +422,8 @@ def _config_markdown() -> str:
                 "what a lint reports, and so is part of the result cache's key. How files are "
                 "found and which wins is in the [configuration guide]"
                 "(../guides/configuration.md); rule options are on each "
-                "[rule's page](rules/index.md).",
+                "[rule's page](rules/index.md). The keys' [JSON Schema](../config-schema.json), "
+                "made from the same declarations, lets an editor complete and check them.",
                 _table(("key", "type", "default", "changes findings", "what it does"), rows),
             ]
         )
@@ -574,11 +576,22 @@ def on_config(config: Any) -> Any:
     return config
 
 
+#: The configuration's JSON Schema, beside the report's and spec's.
+CONFIG_SCHEMA = "config-schema.json"
+
+
+def config_schema_text() -> str:
+    from usdrender_lint.config import json_schema
+
+    return json.dumps(json_schema(), indent=2) + "\n"
+
+
 def on_files(files: Any, config: Any) -> Any:
     from mkdocs.structure.files import File
 
     for path, text in reference_pages().items():
         files.append(File.generated(config, path, content=text))
+    files.append(File.generated(config, CONFIG_SCHEMA, content=config_schema_text()))
     return files
 
 

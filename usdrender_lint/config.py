@@ -29,6 +29,7 @@ from .settings_table import (
     MAX_JOBS,
     MAX_TIMEOUT,
     MAX_VARIANT_COMBINATIONS,
+    SETTINGS,
     ConfigError,
 )
 
@@ -400,3 +401,59 @@ __all__ = [
     "load_settings",
     "read_config_file",
 ]
+
+
+# -- the configuration's JSON Schema ----------------------------------------------------
+
+
+def json_schema() -> dict[str, Any]:
+    """A JSON Schema of a ``.usdrender-lint.toml`` (the table
+    ``[tool.usdrender-lint]`` of a ``pyproject.toml`` holds the same), derived
+    from the settings table and the types of the Settings each key fills, as
+    ruff derives its schema from its options: editors that read one (taplo,
+    VS Code's Even Better TOML) complete and check the keys with it. Draft 4,
+    the one taplo supports ("All features from the Draft 4 specification are
+    supported": https://taplo.tamasfe.dev/configuration/developing-schemas.html).
+    What a type cannot say (which rule codes exist, a profile's name, a
+    number's range) is checked when the file is read."""
+    hints = typing.get_type_hints(Settings)
+    properties: dict[str, Any] = {}
+    for entry in SETTINGS:
+        if not entry.config_key:
+            continue
+        schema = _schema_of(hints[entry.name])
+        if entry.choices:
+            schema = {"enum": list(entry.choices)}
+        schema["description"] = entry.help
+        if entry.default is not None and not isinstance(entry.default, Mapping):
+            default = entry.default
+            schema["default"] = list(default) if isinstance(default, tuple) else default
+        properties[entry.config_key] = schema
+    return {
+        "$schema": "http://json-schema.org/draft-04/schema#",
+        "title": "usdrender-lint configuration",
+        "type": "object",
+        "properties": properties,
+        "additionalProperties": False,
+    }
+
+
+def _schema_of(hint: Any) -> dict[str, Any]:
+    origin, args = typing.get_origin(hint), typing.get_args(hint)
+    if origin in (typing.Union, types.UnionType):
+        return _schema_of(next(arg for arg in args if arg is not type(None)))
+    if origin is tuple:
+        # A list of strings; a single string is read as a list of one.
+        return {"anyOf": [{"type": "array", "items": _schema_of(args[0])}, {"type": "string"}]}
+    if origin is not None and issubclass(origin, Mapping):
+        return {"type": "object", "additionalProperties": _schema_of(args[1])}
+    if isinstance(hint, type) and issubclass(hint, Severity):
+        # The names, for completion; any case and spaces around, as Severity.parse reads them.
+        levels = [member.value for member in Severity]
+        spelled = "|".join("".join(f"[{c}{c.upper()}]" for c in name) for name in levels)
+        pattern = rf"^\s*({spelled})\s*$"
+        return {"anyOf": [{"enum": levels}, {"type": "string", "pattern": pattern}]}
+    if hint is Any:
+        return {}
+    types_of = {str: "string", bool: "boolean", int: "integer", float: "number"}
+    return {"type": types_of[hint]}
