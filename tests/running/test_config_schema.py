@@ -5,7 +5,11 @@ the reader rejects."""
 
 from __future__ import annotations
 
+import json
 import re
+import shutil
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -89,3 +93,45 @@ def test_a_severity_in_any_case_is_read_and_valid(tmp_path: Path) -> None:
     text = '[severity]\nSE003 = " Warning "\n'
     assert _reads(tmp_path, text) and _valid(tomllib.loads(text))
     assert not _valid(tomllib.loads('[severity]\nSE003 = "warn"\n'))
+
+
+def _taplo() -> str:
+    found = shutil.which("taplo") or shutil.which("taplo", path=str(Path(sys.executable).parent))
+    if found is None:
+        pytest.skip("taplo is not installed (pip install taplo; the test extra has it)")
+    return found
+
+
+def test_taplo_checks_a_file_with_the_schema_as_an_editor_does(tmp_path: Path) -> None:
+    """taplo (the TOML toolkit of Even Better TOML) reads the schema a file names
+    in its #:schema directive: the guide's file passes, and each wrong key or
+    value is an error at its line."""
+    (tmp_path / "config-schema.json").write_text(json.dumps(SCHEMA), encoding="utf-8")
+    good = tmp_path / ".usdrender-lint.toml"
+    good.write_text(
+        '#:schema ./config-schema.json\nselect = ["ALL"]\nfail-on = "warning"\n'
+        '[severity]\nSE015 = "Info"\n[rules.resolution-non-positive]\nrequire-authored = true\n'
+    )
+    bad = tmp_path / "bad.toml"
+    bad.write_text(
+        '#:schema ./config-schema.json\nfail-on = "sometimes"\nselct = []\n'
+        'variants = "yes"\n[severity]\nSE015 = "loud"\n'
+    )
+    assert _reads(tmp_path, good.read_text())
+    checked = subprocess.run(
+        [_taplo(), "check", "--no-auto-config", "--colors", "never", str(good)],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+    )
+    assert checked.returncode == 0, checked.stderr
+    refused = subprocess.run(
+        [_taplo(), "check", "--no-auto-config", "--colors", "never", str(bad)],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+    )
+    assert refused.returncode != 0
+    for line in (2, 4, 6):
+        assert f"bad.toml:{line}:" in refused.stderr, refused.stderr
+    assert "selct" in refused.stderr
