@@ -9,6 +9,7 @@ test would cost more than the tests).
 from __future__ import annotations
 
 import asyncio
+import fnmatch
 import os
 import shutil
 import subprocess
@@ -44,6 +45,8 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
 published_versions: dict[str, int | None] = {}
 #: How many times diagnostics were published for each URI.
 publications: dict[str, int] = {}
+#: Every capability the server registered with the client.
+registrations: list[types.Registration] = []
 #: Every publication, in order: (URI, its diagnostics).
 history: list[tuple[str, list[types.Diagnostic]]] = []
 
@@ -59,7 +62,7 @@ def make_client() -> LanguageClient:
         history.append((params.uri, list(params.diagnostics)))
 
     def register(client: LanguageClient, params: types.RegistrationParams) -> None:
-        return None
+        registrations.extend(params.registrations)
 
     client = LanguageClient(converter_factory=default_converter)
     features = {
@@ -375,6 +378,42 @@ async def test_config_force_exclude_leaves_a_skipped_document_alone(
     assert await diagnostics_of(client, skipped, 1) == []
     assert {d.code for d in await diagnostics_of(client, kept, 1)} >= {"CA004", "SE003"}
     assert not await fix_all_actions(client, skipped)
+
+
+async def test_a_change_to_an_extended_configuration_relints(
+    client: LanguageClient, workspace: Path
+):
+    """A configuration may extend a file of any name (a studio's): the server
+    watches every TOML file, and a change to that one re-lints the documents."""
+    project = workspace / "extending"
+    project.mkdir()
+    shutil.copy(BROKEN_SHOT, project / "shot.usda")
+    studio = workspace / "studio.toml"
+    studio.write_text('[severity]\nSE007 = "warning"\n')
+    (project / ".usdrender-lint.toml").write_text('extend = "../studio.toml"\n')
+    uri = open_document(client, project / "shot.usda")
+    found = {d.code: d for d in await diagnostics_of(client, uri, 1)}
+    assert found["SE007"].severity == types.DiagnosticSeverity.Warning
+    # The client is asked to report a change to any TOML file, studio.toml's too.
+    globs = [  # the options arrive as the JSON the server sent
+        watcher["globPattern"]
+        for registration in registrations
+        if registration.method == types.WORKSPACE_DID_CHANGE_WATCHED_FILES
+        for watcher in registration.register_options["watchers"]
+    ]
+    assert any(fnmatch.fnmatch("studio.toml", glob.removeprefix("**/")) for glob in globs), globs
+    studio.write_text('[severity]\nSE007 = "info"\n')
+    client.workspace_did_change_watched_files(
+        types.DidChangeWatchedFilesParams(
+            [types.FileEvent(uri=studio.as_uri(), type=types.FileChangeType.Changed)]
+        )
+    )
+    async with asyncio.timeout(60):
+        while True:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+            found = {d.code: d for d in client.diagnostics[uri]}
+            if found["SE007"].severity == types.DiagnosticSeverity.Information:
+                break
 
 
 LIGHTING = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'

@@ -34,8 +34,9 @@ from .worker import LintFailed, Linting, RuleDoc
 NAME = "usdrender-lint"
 #: source.fixAll for this server: the safe fixes of the document, as --fix applies them.
 FIX_ALL = f"{types.CodeActionKind.SourceFixAll.value}.{NAME}"
-#: Files whose change means the configuration may have changed.
-CONFIG_FILES = (".usdrender-lint.toml", "pyproject.toml")
+#: Files whose change means the configuration may have changed: any TOML file,
+#: since a configuration may ``extend`` a file of any name.
+CONFIG_SUFFIX = ".toml"
 USD_TEXT_SUFFIXES = (".usda", ".usd")
 #: A lint that took longer than this is "slow": the next edit waits DEBOUNCE
 #: seconds before linting, and cancels a running lint of the document.
@@ -491,7 +492,7 @@ class UsdRenderLintServer(LanguageServer):
         """Files changed on disk: a configuration file makes every open
         document be linted with the configuration read again; a layer, with
         the layer read again (its lint reloads changed files)."""
-        if any(os.path.basename(p) in CONFIG_FILES for p in paths):
+        if any(p.endswith(CONFIG_SUFFIX) for p in paths):
             await self._call("forget_configuration", "", (), self.texts())
         for uri in list(self.workspace.text_documents):
             if usd_path(uri) is not None:
@@ -567,7 +568,7 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
         capabilities = ls.client_capabilities.workspace
         watched = capabilities.did_change_watched_files if capabilities else None
         if watched is not None and watched.dynamic_registration:
-            patterns = [f"**/{name}" for name in CONFIG_FILES] + ["**/*.usd*"]
+            patterns = [f"**/*{CONFIG_SUFFIX}", "**/*.usd*"]
             options = types.DidChangeWatchedFilesRegistrationOptions(
                 watchers=[types.FileSystemWatcher(glob_pattern=p) for p in patterns]
             )
@@ -602,7 +603,7 @@ def _serve_documents(server: UsdRenderLintServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
     async def did_save(ls: UsdRenderLintServer, params: types.DidSaveTextDocumentParams) -> None:
         path = to_fs_path(params.text_document.uri) or ""
-        if os.path.basename(path) in CONFIG_FILES:
+        if path.endswith(CONFIG_SUFFIX):
             await ls.files_changed([path])
         elif ls.ready.is_set():
             await ls.lint(params.text_document.uri)
