@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -279,3 +280,15 @@ def test_an_output_onto_a_linted_file_is_refused_before_any_lint(tree: Path) -> 
     result = _invoke(tree, "check", "--no-cache", "--output", str(target), ".")
     assert result.exit_code == 2
     assert target.read_bytes() == before
+
+
+def test_show_settings_names_the_configurations_of_other_files(tree: Path) -> None:
+    shown = _invoke(tree, "check", "--show-settings", ".")
+    assert shown.exit_code == 0, shown.output
+    assert f"# configuration file: {tree / '.usdrender-lint.toml'}" in shown.stdout
+    assert "# These files have a configuration of their own" in shown.stdout
+    for config in ("a/.usdrender-lint.toml", "b/pyproject.toml"):
+        assert f"#   {tree / 'shows' / config}: " in shown.stdout
+    assert tomllib.loads(shown.stdout)["fail-on"] == "warning"  # still a configuration
+    alone = _invoke(tree, "check", "--show-settings", "shows/a")
+    assert "of their own" not in alone.stdout

@@ -41,9 +41,23 @@ def planned_files(request: Request) -> tuple[list[str], list[str]]:
 
 
 def settings_text(request: Request) -> str:
-    """The settings ``request`` would lint with, as a configuration file's TOML."""
+    """The settings ``request`` would lint with, as a configuration file's TOML;
+    when some of its files have a nearer configuration, a comment says which
+    (``--show-settings`` of one of them shows its settings)."""
     prepared = prepare(request)
-    return settings_toml(prepared)
+    text = settings_toml(prepared)
+    parts = configuration_parts(prepared, collect_targets(prepared, []))
+    others = [
+        (part.settings.source or "none (the defaults)", found)
+        for part, found in parts or ()
+        if part.settings.source != prepared.settings.source and found
+    ]
+    if others:
+        lines = ["", "# These files have a configuration of their own, not the one above:"]
+        for source, found in others:
+            lines.append(f"#   {source}: {len(found)} file(s), e.g. {found[0]}")
+        text += "\n".join(lines) + "\n"
+    return text
 
 
 def settings_toml(prepared: Prepared) -> str:
