@@ -14,6 +14,7 @@ import os
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -132,6 +133,26 @@ async def quick_actions(
         )
     )
     return list(actions or [])
+
+
+async def file_changed_until(
+    client: LanguageClient,
+    path: Path,
+    kind: types.FileChangeType,
+    uri: str,
+    settled: Callable[[dict[str, types.Diagnostic]], bool],
+) -> dict[str, types.Diagnostic]:
+    """Tell the server ``path`` changed on disk, as the editor's file watcher
+    does; the diagnostics of ``uri``, by code, once ``settled`` says they are."""
+    client.workspace_did_change_watched_files(
+        types.DidChangeWatchedFilesParams([types.FileEvent(uri=path.as_uri(), type=kind)])
+    )
+    async with asyncio.timeout(60):
+        while True:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+            found = {d.code: d for d in client.diagnostics[uri]}
+            if settled(found):
+                return found
 
 
 async def fix_all_actions(client: LanguageClient, uri: str) -> list[types.CodeAction]:
@@ -346,17 +367,9 @@ async def test_a_configuration_change_relints(client: LanguageClient, workspace:
     uri = (workspace / "shot.usda").as_uri()
     config = workspace / ".usdrender-lint.toml"
     config.write_text('ignore = ["PR004"]\n[severity]\nSE007 = "info"\n')
-    client.workspace_did_change_watched_files(
-        types.DidChangeWatchedFilesParams(
-            [types.FileEvent(uri=config.as_uri(), type=types.FileChangeType.Created)]
-        )
+    found = await file_changed_until(
+        client, config, types.FileChangeType.Created, uri, lambda found: "PR004" not in found
     )
-    async with asyncio.timeout(60):
-        while True:
-            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-            found = {d.code: d for d in client.diagnostics[uri]}
-            if "PR004" not in found:
-                break
     assert found["SE007"].severity == types.DiagnosticSeverity.Information
     config.unlink()
 
@@ -403,17 +416,13 @@ async def test_a_change_to_an_extended_configuration_relints(
     ]
     assert any(fnmatch.fnmatch("studio.toml", glob.removeprefix("**/")) for glob in globs), globs
     studio.write_text('[severity]\nSE007 = "info"\n')
-    client.workspace_did_change_watched_files(
-        types.DidChangeWatchedFilesParams(
-            [types.FileEvent(uri=studio.as_uri(), type=types.FileChangeType.Changed)]
-        )
+    await file_changed_until(
+        client,
+        studio,
+        types.FileChangeType.Changed,
+        uri,
+        lambda found: found["SE007"].severity == types.DiagnosticSeverity.Information,
     )
-    async with asyncio.timeout(60):
-        while True:
-            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-            found = {d.code: d for d in client.diagnostics[uri]}
-            if found["SE007"].severity == types.DiagnosticSeverity.Information:
-                break
 
 
 LIGHTING = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
