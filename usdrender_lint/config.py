@@ -265,17 +265,24 @@ def find_config_file(start: str | Path) -> Path | None:
     counts only when it has a ``[tool.usdrender-lint]`` table; one that cannot
     be read or is not TOML stops the search (ConfigError): it may hold the
     table, and the run must not silently fall back to the defaults."""
+    here = search_start(start)
+    for folder in (here, *here.parents):
+        found = config_file_in(folder)
+        if found is not None:
+            return found
+    return None
+
+
+def search_start(start: str | Path) -> Path:
+    """The folder the search for ``start``'s configuration begins in: its own
+    resolved folder (a linked file's target's)."""
     here = Path(start).resolve()
     try:
         if here.is_file():
             here = here.parent
     except OSError:  # inside a folder without search permission: the file reports it
         here = here.parent
-    for folder in (here, *here.parents):
-        found = config_file_in(folder)
-        if found is not None:
-            return found
-    return None
+    return here
 
 
 def config_file_in(folder: Path) -> Path | None:

@@ -17,7 +17,7 @@ import os
 from collections.abc import Sequence
 from pathlib import Path
 
-from ..config import config_file_in
+from ..config import config_file_in, search_start
 from ..records import record
 
 
@@ -40,17 +40,11 @@ class _Nearest:
 
     def of_file(self, file: str) -> str | None:
         named = os.path.dirname(file)
-        if named in self._named and not os.path.islink(file):
+        linked = os.path.islink(file)  # its target's folder, not its own
+        if named in self._named and not linked:
             return self._named[named]
-        # As find_config_file starts from a file: its resolved folder.
-        here = Path(file).resolve()
-        try:
-            if not here.is_dir():
-                here = here.parent
-        except OSError:
-            here = here.parent
-        nearest = self._of_folder(here)
-        if not os.path.islink(file) and not os.path.isdir(file):
+        nearest = self._of_folder(search_start(file))
+        if not linked and not os.path.isdir(file):
             self._named[named] = nearest
         return nearest
 
