@@ -130,3 +130,81 @@ def test_a_file_name_that_is_not_utf8_gives_a_valid_page(tmp_path: Path) -> None
     page = run.stdout.decode("utf-8")  # strict: valid UTF-8
     assert '<span class="path">sh\\xffot.usda</span>' in page
     assert page.count('class="finding"') == 5
+
+
+def _profiles_shown(page: str) -> set[str]:
+    return set(
+        re.findall(r'class="profile">RenderSettings <code>[^<]*</code>: profile <b>(\w+)</b>', page)
+    )
+
+
+@pytest.fixture
+def configured_show(tmp_path: Path) -> Path:
+    """A show whose own configuration sets a profile and ignores the fixable CA004."""
+    show = tmp_path / "show"
+    show.mkdir()
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", show / "shot.usda")
+    (show / ".usdrender-lint.toml").write_text('profile = "karma"\nignore = ["CA004"]\n')
+    (tmp_path / "other.toml").write_text('profile = "arnold"\n')
+    return show
+
+
+CA004_DIFF = '<span class="d-add">+        rel camera = &lt;/World/camRig/shotCam&gt;</span>'
+
+
+def test_the_pictures_and_diffs_read_the_files_with_the_runs_configuration(
+    configured_show: Path,
+) -> None:
+    """The page's profiles and fix diffs come from the configuration that linted
+    the files: the nearest one, or --config, --isolated and the flags when given."""
+    nearest = _run("check", "--format", "html", "show", cwd=configured_show.parent).stdout
+    assert _profiles_shown(nearest) == {"karma"}
+    assert 'data-code="CA004"' not in nearest
+    isolated = _run("check", "--isolated", "--format", "html", "show", cwd=configured_show.parent)
+    assert _profiles_shown(isolated.stdout) == {"generic"}
+    assert 'data-code="CA004"' in isolated.stdout and CA004_DIFF in isolated.stdout
+    other = _run(
+        "check", "--config", "other.toml", "--format", "html", "show", cwd=configured_show.parent
+    )
+    assert _profiles_shown(other.stdout) == {"arnold"}
+    assert CA004_DIFF in other.stdout
+    flag = _run(
+        "check", "--profile", "renderman", "--format", "html", "show", cwd=configured_show.parent
+    )
+    assert _profiles_shown(flag.stdout) == {"renderman"}
+    assert 'data-code="CA004"' not in flag.stdout
+
+
+def test_merge_html_reads_the_files_with_the_configuration_asked_for(configured_show: Path) -> None:
+    cwd = configured_show.parent
+    shard = cwd / "shard.json"
+    shard.write_text(_run("check", "--isolated", "--format", "json", "show", cwd=cwd).stdout)
+    isolated = _run("merge", "--isolated", "--format", "html", str(shard), cwd=cwd).stdout
+    assert _profiles_shown(isolated) == {"generic"}
+    assert CA004_DIFF in isolated
+    other = _run("merge", "--config", "other.toml", "--format", "html", str(shard), cwd=cwd).stdout
+    assert _profiles_shown(other) == {"arnold"}
+    # Without either, each file's nearest configuration, as check would lint it.
+    assert _profiles_shown(_run("merge", "--format", "html", str(shard), cwd=cwd).stdout) == {
+        "karma"
+    }
+
+
+def test_a_split_runs_page_shows_each_file_under_its_own_configuration(
+    configured_show: Path,
+) -> None:
+    second = configured_show.parent / "second"
+    second.mkdir()
+    shutil.copy(configured_show / "shot.usda", second / "shot.usda")
+    (second / ".usdrender-lint.toml").write_text('profile = "arnold"\n')
+    page = _run("check", "--format", "html", ".", cwd=configured_show.parent).stdout
+    sections = page.split('<section class="file"')[1:]
+    assert len(sections) == 2
+    shown = {
+        re.search(r'<span class="path">(\w+)/shot.usda</span>', section)[1]: _profiles_shown(
+            section
+        )
+        for section in sections
+    }
+    assert shown == {"second": {"arnold"}, "show": {"karma"}}
+    assert page.count(CA004_DIFF) == 1  # the show ignores CA004; the second folder does not

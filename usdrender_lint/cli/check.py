@@ -172,6 +172,7 @@ def check(
         tool_version=__version__,
         statistics=statistics,
         fixing=request.fix is not None,
+        settings_of=outcome.settings_by_file().get,
     )
     report, rules = outcome.report, outcome.rules
     if show_diff or outcome.text is not None:

@@ -70,6 +70,9 @@ def merge(
         statistics=statistics,
         fixing=bool(report.applied_fixes or report.unapplied_fixes),
         configuration=configuration,
+        # The HTML report reads the files again: with the configuration asked for, or
+        # each file's nearest.
+        settings_of=(lambda _file: prepared.settings) if config_path or isolated else None,
     )
     emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for line in (r.error or r.file for r in report.errored_files):

@@ -42,7 +42,7 @@ class HtmlFormatter:
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
         from ..running.report_views import gather
 
-        page = render_page(report, gather(report), options)
+        page = render_page(report, gather(report, options.settings_of), options)
         try:
             page.encode("utf-8")
         except UnicodeEncodeError:  # a name not UTF-8 inside a picture: never invalid UTF-8

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..engine import Inspector, Linter
 from ..model import FileResult, Report
@@ -35,6 +35,9 @@ from .pipeline import (
 )
 from .supervisor import Supervision
 
+if TYPE_CHECKING:
+    from ..config import Settings
+
 
 @record(frozen=True)
 class InspectedFile(FileResult):
@@ -48,8 +51,9 @@ class InspectRequest:
     """What an inspection run needs, as the user asked for it."""
 
     paths: tuple[str, ...]
-    #: A config file path, or None to search from the first path.
-    config: str | None = None
+    #: A config file path or the settings themselves, or None to search from the
+    #: first path (and give each file its nearest configuration).
+    config: Settings | str | None = None
     isolated: bool = False
     #: The renderer profile: "auto" or a name; None: the configuration's.
     profile: str | None = None

@@ -155,6 +155,10 @@ class Outcome:
     #: A run split by configuration (running/hierarchy.py): each one's outcome.
     parts: tuple[Outcome, ...] = ()
 
+    def settings_by_file(self) -> dict[str, Settings]:
+        """The configuration each file of the report was linted with."""
+        return {r.file: o.settings for o in self.parts or (self,) for r in o.report.files}
+
     def configuration(self) -> str:
         """The run's configuration digest, which merge compares (running/merge.py).
         Computed when asked for: only a report that records it needs it, and

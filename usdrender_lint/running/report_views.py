@@ -14,15 +14,21 @@ from __future__ import annotations
 
 import difflib
 import os
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import field
 from functools import partial
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..layers.source_lines import read_lines
 from ..model import Finding, Report
 from ..paths import display_path
 from ..records import record
+
+if TYPE_CHECKING:
+    from ..config import Settings
+
+#: The configuration a file was linted with; None: its nearest (formatters.FormatOptions).
+SettingsOf = Callable[[str], "Settings | None"]
 
 #: Lines of source shown before and after a finding's line.
 CONTEXT_LINES = 3
@@ -74,8 +80,9 @@ class ReportViews:
     notes: list[str] = field(default_factory=list)
 
 
-def gather(report: Report) -> ReportViews:
-    """Read what the report's files show beside the findings. Never raises."""
+def gather(report: Report, settings_of: SettingsOf | None = None) -> ReportViews:
+    """Read what the report's files show beside the findings, each file read
+    with the configuration that linted it (``settings_of``). Never raises."""
     views = ReportViews({r.file: FileView(r.file) for r in report.files})
     present = [r.file for r in report.files if r.status == "linted" and os.path.isfile(r.file)]
     missing = [r.file for r in report.files if r.status == "linted" and r.file not in present]
@@ -91,8 +98,8 @@ def gather(report: Report) -> ReportViews:
             if excerpt is not None:
                 view.excerpts[finding_key(finding)] = excerpt
     if present:
-        _specs(report, present, views)
-        _diffs(report, present, views)
+        _specs(report, present, views, settings_of)
+        _diffs(report, present, views, settings_of)
     return views
 
 
@@ -118,22 +125,38 @@ def _excerpt(finding: Finding) -> Excerpt | None:
     return Excerpt(display_path(layer), first, tuple(lines[first - 1 : last]), loc.line)
 
 
-def _specs(report: Report, files: Sequence[str], views: ReportViews) -> None:
+def _by_settings(
+    files: Iterable[str], settings_of: SettingsOf | None
+) -> list[tuple[Settings | None, list[str]]]:
+    """The files grouped by the configuration that linted them, in order."""
+    groups: dict[int, tuple[Settings | None, list[str]]] = {}
+    for file in files:
+        settings = settings_of(file) if settings_of else None
+        groups.setdefault(id(settings), (settings, []))[1].append(file)
+    return list(groups.values())
+
+
+def _specs(
+    report: Report, files: Sequence[str], views: ReportViews, settings_of: SettingsOf | None
+) -> None:
     """The framing pictures: ``spec``'s computation and SVG, per product."""
+    results: list[Any] = []
     try:
         from ..render_spec.compute import SpecOptions, compute_file_spec
         from ..render_spec.svg import product_svg
         from .inspect import InspectedFile, InspectRequest, inspect_files
 
-        inspection = inspect_files(
-            InspectRequest(tuple(files), jobs=1, progress=False),
-            partial(compute_file_spec, options=SpecOptions()),
-        )
+        for settings, group in _by_settings(files, settings_of):
+            inspection = inspect_files(
+                InspectRequest(tuple(group), config=settings, jobs=1, progress=False),
+                partial(compute_file_spec, options=SpecOptions()),
+            )
+            results += inspection.results
     except Exception as exc:  # noqa: BLE001 - the report is shown without pictures
         views.notes.append(f"framing pictures not drawn: {type(exc).__name__}: {exc}")
         return
     reported = {r.file: r for r in report.files}
-    for result in inspection.results:
+    for result in results:
         view = views.files.get(result.file)
         if view is None:
             continue
@@ -171,7 +194,9 @@ def _file_products(view: FileView, result: Any, spec: Any, product_svg: Any) -> 
             )
 
 
-def _diffs(report: Report, files: Sequence[str], views: ReportViews) -> None:
+def _diffs(
+    report: Report, files: Sequence[str], views: ReportViews, settings_of: SettingsOf | None
+) -> None:
     """Each fixable finding's fix as a unified diff of the text layers it edits
     (``--fix``'s verified edit, computed in memory, nothing written)."""
     wanted = [(r.file, f) for r in report.files if r.file in files for f in r.findings if f.fix]
@@ -189,14 +214,17 @@ def _diffs(report: Report, files: Sequence[str], views: ReportViews) -> None:
         from ..fixing.single import same_finding
         from .pipeline import Request, prepare
 
-        linters: dict[str, Any] = {}
+        linters: dict[object, Any] = {}
         stages: dict[str, Any] = {}
         for file, finding in wanted:
-            folder = os.path.dirname(os.path.abspath(file))
-            if folder not in linters:
-                linters[folder] = prepare(Request((file,), jobs=1, progress=False)).linter
+            settings = settings_of(file) if settings_of else None
+            # A file's nearest configuration is the same for every file of its folder.
+            key = id(settings) if settings else os.path.dirname(os.path.abspath(file))
+            if key not in linters:
+                request = Request((file,), config=settings, jobs=1, progress=False)
+                linters[key] = prepare(request).linter
             fixer = StageFixer(
-                linters[folder],
+                linters[key],
                 file,
                 FixOptions(unsafe=True, write=False, any_file=True),
                 partial(same_finding, finding),
