@@ -5,13 +5,14 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import TYPE_CHECKING, Any
+from functools import partial
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import click
 
 from .. import __version__
 from ..formatters import FormatOptions, load_formatter, reads_configuration, reads_rules
-from ..paths import escape
+from ..paths import display_path, escape
 from ..running.interrupts import check_stopped
 from .loading import import_engine, supervision
 from .options import (
@@ -30,7 +31,7 @@ from .views import send
 if TYPE_CHECKING:
     from ..api import Rule
     from ..model import Report
-    from ..running.pipeline import Request
+    from ..running.pipeline import Outcome, Request
     from ..running.standard_input import StandardInput
 
 
@@ -101,6 +102,12 @@ if TYPE_CHECKING:
     help="Lint only part K of N of the files (a CI matrix job); see 'merge'.",
 )
 @click.option(
+    "--watch",
+    is_flag=True,
+    help="Check again whenever a layer, configuration or .gitignore below PATHS changes, "
+    "until Ctrl-C (the [watch] extra).",
+)
+@click.option(
     "--show-files",
     is_flag=True,
     help="Print the files a check would lint, one a line, and exit 0: nothing is linted.",
@@ -129,6 +136,7 @@ def check(
     fix_drop_comments: bool,  # no effect (see its help)
     shard: tuple[int, int] | None,
     stdin_filename: str | None,
+    watch: bool,
     show_files: bool,
     show_settings: bool,
     **settings: Any,
@@ -137,7 +145,7 @@ def check(
     '-' lints one text layer read from standard input (see --stdin-filename)."""
     import_engine()
     check_stopped()  # a signal while USD imported its modules
-    from ..running.pipeline import Request, RequestError, run
+    from ..running.pipeline import Request
 
     stdin = _standard_input(paths, stdin_filename)
     if stdin is not None and output_format in ("html", "full"):
@@ -162,6 +170,18 @@ def check(
     )
     if show_files or show_settings:
         _show(request, show_files, show_settings)
+    check_once = partial(_check_once, request, output_format, show_info, statistics, show_diff)
+    if watch:
+        _watch(request, check_once)
+    sys.exit(check_once().exit_status)
+
+
+def _check_once(
+    request: Request, output_format: str, show_info: bool, statistics: bool, show_diff: bool
+) -> Outcome:
+    """One check: lint, write the report and the notes; the outcome."""
+    from ..running.pipeline import RequestError, run
+
     try:
         outcome = run(request)
     except RequestError as exc:
@@ -175,6 +195,7 @@ def check(
         settings_of=outcome.settings_by_file().get,
     )
     report, rules = outcome.report, outcome.rules
+    output_file = request.output
     if show_diff or outcome.text is not None:
         # stdout carries the diff, or the fixed text of check --fix -, alone; the
         # report goes only to --output.
@@ -190,7 +211,57 @@ def check(
         note(line)
     for line in outcome.errors:
         error(line)
-    sys.exit(outcome.exit_status)
+    return outcome
+
+
+def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
+    """--watch: check, then check again after each relevant change, until a
+    signal stops the command (exit 130 for Ctrl-C). A round that cannot run
+    (a configuration saved half-written) says why in one line and waits."""
+    import time
+
+    from ..config import find_config_file
+    from ..running.watching import Watcher, WatchUnavailable
+
+    _refuse_watch(request)
+    try:
+        watcher = Watcher(request.paths)
+    except WatchUnavailable as exc:
+        raise ToolError(str(exc)) from None
+    polled = {p for p in (request.config, request.baseline) if isinstance(p, str)}
+    changed: list[str] = []
+    while True:
+        if sys.stdout.isatty() and request.output is None:
+            click.clear()
+        if changed:
+            shown = ", ".join(display_path(p) for p in changed[:3])
+            more = f" and {len(changed) - 3} more" if len(changed) > 3 else ""
+            note(f"{time.strftime('%H:%M:%S')} changed: {shown}{more}")
+        try:
+            outcome = check_once()
+            polled |= {s for o in outcome.parts or (outcome,) for s in o.settings.sources}
+        except ToolError as exc:
+            exc.show()
+        if not request.isolated and request.config is None:
+            nearest = find_config_file(request.paths[0])
+            polled |= {str(nearest)} if nearest else set()
+        watcher.poll(polled)
+        note(f"{time.strftime('%H:%M:%S')} watching for changes (Ctrl-C stops)")
+        changed = watcher.wait()
+
+
+def _refuse_watch(request: Request) -> None:
+    """A watched check writes nothing but its report: fixes would write the files
+    it watches, and a baseline is written once."""
+    for flag, given in (
+        ("'-' (standard input)", request.stdin is not None),
+        ("--fix, --diff or --fix-to", request.fix is not None),
+        ("--write-baseline", request.write_baseline is not None),
+    ):
+        if given:
+            raise ToolError(
+                f"--watch cannot be combined with {flag}: it writes nothing but its report"
+            )
 
 
 def _show(request: Request, files: bool, settings: bool) -> None:

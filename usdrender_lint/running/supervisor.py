@@ -61,9 +61,11 @@ class Supervision:
 
 def wants_supervision(argv: list[str]) -> bool:
     """A ``check`` that writes nothing but its report (``check --fix -``: and the
-    fixed text, to stdout), or a ``spec``, on Linux."""
+    fixed text, to stdout), or a ``spec``, on Linux; not ``check --watch``."""
     if not sys.platform.startswith("linux") or not argv or argv[0] not in SUPERVISED_COMMANDS:
         return False  # the group has no option taking a value: its first word is the command
+    if "--watch" in argv:
+        return False  # it runs until stopped: each round's workers time their files
     writing = {arg.split("=", 1)[0] for arg in argv} & set(WRITING_OPTIONS)
     if "-" in argv[1:]:  # standard_input.STDIN: its fixes write nothing but stdout
         writing -= set(STDOUT_FIXES)

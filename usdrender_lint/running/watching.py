@@ -1,0 +1,116 @@
+"""``check --watch``: wait for a change that can change the report.
+
+The paths given are watched (recursively) through the operating system's file
+events (``watchfiles``, the ``[watch]`` extra): a layer the walk would lint, a
+configuration file (``.toml``) or a ``.gitignore`` changing, appearing or going.
+The configuration files in effect and the baseline may lie outside those paths
+(a show's ``pyproject.toml`` above the shots): their stamps are compared once a
+second instead, since an editor's save replaces a file, which a watch on the
+file itself would lose. Events that come while a round lints are kept for the
+next wait, so no save is missed.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Iterator, Sequence
+from typing import Any
+
+from ..engine import USD_EXTENSIONS
+from .interrupts import check_stopped
+
+#: Package name and the one-line error when the extra is missing.
+MISSING = "--watch needs the watchfiles package (the [watch] extra): pip install watchfiles"
+#: Milliseconds between looks at the polled files (and the longest wait for a signal).
+POLL_MS = 1000
+#: What else, besides layers, changes a report.
+CONFIG_SUFFIX = ".toml"
+GITIGNORE = ".gitignore"
+
+
+class WatchUnavailable(Exception):
+    """The ``[watch]`` extra is not installed."""
+
+
+def relevant(path: str, root: str) -> bool:
+    """Whether a change to ``path`` (below the watched ``root``) can change a
+    report: a layer, a configuration file, a ``.gitignore`` or a folder moved in,
+    outside the hidden folders the walk skips (``.git``, the result cache's)."""
+    inside = os.path.relpath(path, root).split(os.sep) if path != root else []
+    if any(part.startswith(".") for part in inside[:-1]):
+        return False
+    name = os.path.basename(path)
+    if os.path.isdir(path):
+        return not name.startswith(".")
+    return (
+        name.lower().endswith(USD_EXTENSIONS) or name.endswith(CONFIG_SUFFIX) or name == GITIGNORE
+    )
+
+
+def _stamp(path: str) -> tuple[int, int, int] | None:
+    try:
+        status = os.stat(path)
+    except OSError:
+        return None
+    return (status.st_ino, status.st_size, status.st_mtime_ns)
+
+
+class Watcher:
+    """Waits, round after round, for a relevant change below ``paths`` or to one
+    of the polled ``files``. Created once: what changes during a round is seen
+    by the next :meth:`wait`."""
+
+    def __init__(self, paths: Sequence[str]) -> None:
+        try:
+            import watchfiles
+        except ImportError as exc:
+            raise WatchUnavailable(MISSING) from exc
+        self.paths = [os.path.abspath(p) for p in paths if os.path.exists(p)]
+        self._polled: dict[str, tuple[int, int, int] | None] = {}
+        self._events: Iterator[set[Any]] | None = None
+        if self.paths:
+            self._events = watchfiles.watch(
+                *self.paths,
+                watch_filter=lambda _change, path: relevant(path, self._root_of(path)),
+                rust_timeout=POLL_MS,
+                yield_on_timeout=True,
+                # A signal raises the command's own Stopped (running/interrupts.py).
+                raise_interrupt=True,
+            )
+
+    def _root_of(self, path: str) -> str:
+        """The watched path ``path`` is below (the longest, when they nest)."""
+        below = [p for p in self.paths if path == p or path.startswith(p.rstrip(os.sep) + os.sep)]
+        return max(below, key=len, default=os.path.dirname(path))
+
+    def poll(self, files: Iterable[str]) -> None:
+        """Also watch ``files`` (outside the paths, say), from their state now."""
+        wanted = {os.path.abspath(f) for f in files}
+        self._polled = {f: self._polled.get(f, _stamp(f)) for f in wanted}
+
+    def wait(self) -> list[str]:
+        """Block until something relevant changed; the paths that did, sorted."""
+        import time
+
+        while True:
+            if self._events is not None:
+                try:
+                    changed = {path for _change, path in next(self._events)}
+                except KeyboardInterrupt:
+                    # watchfiles turns any signal into KeyboardInterrupt: the command's
+                    # own Stopped says which (exit 130 or 143).
+                    check_stopped()
+                    raise
+            else:  # nothing to watch but the polled files
+                time.sleep(POLL_MS / 1000)
+                changed = set()
+            for path, stamp in self._polled.items():
+                now = _stamp(path)
+                if now != stamp:
+                    self._polled[path] = now
+                    changed.add(path)
+            if changed:
+                return sorted(changed)
+
+
+__all__ = ["MISSING", "WatchUnavailable", "Watcher", "relevant"]
