@@ -249,3 +249,16 @@ def test_a_folder_moved_in_matters_and_a_hidden_one_does_not(tmp_path: Path) -> 
     (tmp_path / ".cache").mkdir()
     assert relevant(str(tmp_path / "seq"), str(tmp_path))
     assert not relevant(str(tmp_path / ".cache"), str(tmp_path))
+
+
+def test_a_save_right_after_the_watch_starts_is_seen(tmp_path: Path) -> None:
+    """What changes during the first round (before the first wait) starts the next."""
+    from usdrender_lint.running.watching import Watcher
+
+    watcher = Watcher([str(tmp_path)])
+    save(tmp_path / "shot.usda", CLEAN.read_text())  # at once, as a round would run
+    seen: list[list[str]] = []
+    waiting = threading.Thread(target=lambda: seen.append(watcher.wait()), daemon=True)
+    waiting.start()
+    waiting.join(timeout=WAIT)
+    assert seen == [[str(tmp_path / "shot.usda")]]

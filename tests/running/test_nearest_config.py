@@ -292,3 +292,36 @@ def test_show_settings_names_the_configurations_of_other_files(tree: Path) -> No
     assert tomllib.loads(shown.stdout)["fail-on"] == "warning"  # still a configuration
     alone = _invoke(tree, "check", "--show-settings", "shows/a")
     assert "of their own" not in alone.stdout
+
+
+def test_below_a_configured_folder_only_its_own_exclusions_hold(tree: Path) -> None:
+    """As ruff walks: what the walk meets below a folder with a configuration of its
+    own is judged by that one's exclusions, not the run's; the folder itself by its
+    parent's. So a root pattern neither skips a show's file that a check of the show
+    lints, nor keeps a folder of its own from being skipped by name."""
+    (tree / ".usdrender-lint.toml").write_text(
+        ROOT + 'extend-exclude = ["*_wip.usda", "legacy/"]\n'
+    )
+    (tree / "shows" / "legacy").mkdir()
+    for folder in ("shows/a", "shows/b/shots", "shows/legacy", "."):
+        shutil.copy(CLEAN, tree / folder / "lookdev_wip.usda")
+    (tree / "shows" / "legacy" / ".usdrender-lint.toml").write_text('profile = "karma"\n')
+    _, whole = _check(tree, ".")
+    names = [os.path.normpath(entry["file"]) for entry in whole["files"]]
+    assert "shows/a/lookdev_wip.usda" in names  # show a's own configuration excludes nothing
+    assert "shows/b/shots/lookdev_wip.usda" in names
+    assert "lookdev_wip.usda" not in names  # the root's own pattern, in its own folder
+    assert not any(name.startswith("shows/legacy/") for name in names)  # judged by the root's
+    assert not any("/wip/" in name for name in names)  # show b's own exclusion still holds
+    for show in ("shows/a", "shows/b"):
+        _, alone = _check(tree, show)
+        below = str((tree / show).resolve()) + os.sep
+        mine = {k: v for k, v in _by_file(whole, tree).items() if k.startswith(below)}
+        assert mine == _by_file(alone, tree)
+    shown = _invoke(tree, "check", "--show-files", ".").stdout.splitlines()
+    assert [os.path.normpath(name) for name in shown] == names
+    spec = _invoke(tree, "spec", "--jobs", "1", "--format", "json", ".")
+    assert [os.path.normpath(e["file"]) for e in json.loads(spec.stdout)["files"]] == names
+    # One configuration for the run: its patterns hold everywhere.
+    _, forced = _check(tree, "--config", str(tree / ".usdrender-lint.toml"), ".")
+    assert not any(entry["file"].endswith("_wip.usda") for entry in forced["files"])

@@ -4,15 +4,12 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, Any, Protocol, TextIO
+from typing import Any, Protocol, TextIO
 
 from ..entrypoints import EntryPointLike, entry_points
 from ..model import Finding, Report
 from ..paths import escape
 from ..records import record
-
-if TYPE_CHECKING:
-    from ..config import Settings
 
 ENTRY_POINT_GROUP = "usdrender_lint.formatters"
 
@@ -28,10 +25,10 @@ class FormatOptions:
     fixing: bool = False
     #: The run's configuration digest (running/merge.py), for the JSON report.
     configuration: str | None = None
-    #: The configuration each file was linted with, for a formatter that reads the
-    #: files again (html's pictures and fix diffs); None for a file, or no function:
-    #: the file's nearest configuration.
-    settings_of: Callable[[str], Settings | None] | None = None
+    #: The configuration (config.Settings) each file was linted with, for a formatter
+    #: that reads the files again (html's pictures and fix diffs); None for a file,
+    #: or no function: the file's nearest configuration.
+    settings_of: Callable[[str], Any] | None = None
 
 
 class Formatter(Protocol):

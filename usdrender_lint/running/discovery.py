@@ -56,20 +56,31 @@ class Exclusions:
 EVERYTHING = Exclusions(skip_hidden=False, respect_gitignore=False)
 
 
+#: The exclusions of the configuration a folder keeps, where it keeps one other than
+#: the run's (None: the folder's parent's hold in it).
+FolderExclusions = Callable[[str], "Exclusions | None"]
+
+
 def collect_files(
-    paths: Iterable[str], empty: list[str] | None = None, exclusions: Exclusions = EVERYTHING
+    paths: Iterable[str],
+    empty: list[str] | None = None,
+    exclusions: Exclusions = EVERYTHING,
+    nested: FolderExclusions | None = None,
 ) -> list[str]:
     """Expand directories recursively into USD files (sorted); keep files,
     missing paths and folders that cannot be listed as given so the engine
     reports them. The folders that hold no USD file are added to ``empty``.
-    With ``exclusions.force``, a path given that a walk would skip is left out."""
+    With ``exclusions.force``, a path given that a walk would skip is left out.
+    ``nested``: below a folder with a configuration of its own, that one's
+    exclusions judge what the walk meets, as ruff walks (the folder itself is
+    judged by its parent's)."""
     files: list[str] = []
     given = _Given(exclusions) if exclusions.force else None
     for path in paths:
         if given is not None and given.skipped(path):
             continue
         if os.path.isdir(path):
-            found = _walk(path, exclusions)
+            found = _walk(path, exclusions, nested)
             if not found and empty is not None:
                 empty.append(path)
             files.extend(found)
@@ -85,16 +96,22 @@ def collect_files(
     return unique
 
 
-def _walk(top: str, exclusions: Exclusions) -> list[str]:
+def _walk(top: str, exclusions: Exclusions, nested: FolderExclusions | None) -> list[str]:
     found: list[str] = []
-    skip = _Skip(top, exclusions)
+    #: What judges the entries of each folder still to be walked.
+    skips = {top: _Skip(top, exclusions)}
 
     def unlisted(error: OSError) -> None:
         found.append(error.filename if isinstance(error.filename, str) else top)
 
     for folder, dirs, names in os.walk(top, onerror=unlisted, followlinks=False):
+        skip = skips.pop(folder)
+        own = nested(folder) if nested is not None else None
+        if own is not None:
+            skip = _Skip(folder, own)
         skip.enter(folder)
         dirs[:] = sorted(d for d in dirs if not skip(os.path.join(folder, d), d, folder=True))
+        skips.update((os.path.join(folder, d), skip) for d in dirs)
         found.extend(
             os.path.join(folder, n)
             for n in names

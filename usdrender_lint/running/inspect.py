@@ -30,6 +30,7 @@ from .pipeline import (
     Request,
     RequestError,
     configuration_parts,
+    folder_exclusions,
     lint_as_asked,
     prepare,
 )
@@ -133,7 +134,8 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
             force_exclude=request.force_exclude,
         )
     )
-    files = collect_files(request.paths, exclusions=Exclusions.of(prepared.settings))
+    exclusions = Exclusions.of(prepared.settings)
+    files = collect_files(request.paths, exclusions=exclusions, nested=folder_exclusions(prepared))
     # Each file with its nearest configuration, as check lints it (running/hierarchy.py).
     parts = configuration_parts(prepared, files) or [(prepared, files)]
     configs = [part.settings.source for part, _ in parts if part.settings.source]

@@ -17,7 +17,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Protocol
 
 from ..api import Rule
-from ..config import ConfigError, Settings, build_options, load_settings, read_config_file
+from ..config import (
+    ConfigError,
+    Settings,
+    build_options,
+    config_file_in,
+    load_settings,
+    read_config_file,
+)
 from ..engine import Linter
 from ..model import FileResult, Finding, Report, Severity
 from ..profiles import AUTO, PROFILES
@@ -25,7 +32,7 @@ from ..profiles.detect import Profiler
 from ..records import record
 from ..registry import Registry, SelectionError, build_registry, matches_any, select_rules
 from ..settings_table import DEFAULT_TIMEOUT, request_settings
-from .discovery import Exclusions, collect_files, force_excluded, walk_skips
+from .discovery import Exclusions, FolderExclusions, collect_files, force_excluded, walk_skips
 from .hierarchy import configuration_groups, given_files
 from .path_ignores import apply_path_ignores
 from .supervisor import Supervision
@@ -640,11 +647,33 @@ def collect_targets(prepared: Prepared, notes: list[str]) -> list[str]:
         name = request.stdin.name
         return [] if force_excluded(name, exclusions) else [name]
     empty: list[str] = []
-    files = collect_files(request.paths, empty, exclusions)
+    files = collect_files(request.paths, empty, exclusions, folder_exclusions(prepared))
     notes.extend(
         f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
     )
     return files
+
+
+def folder_exclusions(prepared: Prepared) -> FolderExclusions | None:
+    """For a walk: the exclusions of each folder's own configuration, where it is
+    not the run's (the flags applied to it, as configuration_parts prepares it);
+    None when the run has one configuration (--config, --isolated, a text)."""
+    request = prepared.request
+    if request.config is not None or request.isolated or request.stdin is not None:
+        return None
+    run_config = prepared.settings.source and os.path.realpath(prepared.settings.source)
+
+    def of_folder(folder: str) -> Exclusions | None:
+        try:
+            # Named as running/hierarchy.py names it (its errors too): resolved.
+            found = config_file_in(Path(folder).resolve())
+            if found is None or str(found) == run_config:
+                return None
+            return Exclusions.of(resolve_settings(replace(request, config=str(found))))
+        except ConfigError as exc:
+            raise RequestError(str(exc)) from exc
+
+    return of_folder
 
 
 def plan_targets(

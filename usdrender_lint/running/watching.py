@@ -21,8 +21,11 @@ from .interrupts import check_stopped
 
 #: Package name and the one-line error when the extra is missing.
 MISSING = "--watch needs the watchfiles package (the [watch] extra): pip install watchfiles"
-#: Milliseconds between looks at the polled files (and the longest wait for a signal).
-POLL_MS = 1000
+#: Seconds between looks at the polled files.
+POLL_SECONDS = 1.0
+#: Milliseconds the file events are waited for at a time: the watch starts (and
+#: the first round waits) that long, and a signal is heard within it.
+EVENT_WAIT_MS = 100
 #: What else, besides layers, changes a report.
 CONFIG_SUFFIX = ".toml"
 GITIGNORE = ".gitignore"
@@ -72,11 +75,14 @@ class Watcher:
             self._events = watchfiles.watch(
                 *self.paths,
                 watch_filter=lambda _change, path: relevant(path, self._root_of(path)),
-                rust_timeout=POLL_MS,
+                rust_timeout=EVENT_WAIT_MS,
                 yield_on_timeout=True,
                 # A signal raises the command's own Stopped (running/interrupts.py).
                 raise_interrupt=True,
             )
+            # The generator starts watching at its first step: take it now, so that
+            # a save during the first round is seen (what it yields came before).
+            self._next_events()
 
     def _root_of(self, path: str) -> str:
         """The watched path ``path`` is below (the longest, when they nest)."""
@@ -92,25 +98,36 @@ class Watcher:
         """Block until something relevant changed; the paths that did, sorted."""
         import time
 
-        while True:
+        changed: set[str] = set()
+        polled_at = time.monotonic()
+        while not changed:
             if self._events is not None:
-                try:
-                    changed = {path for _change, path in next(self._events)}
-                except KeyboardInterrupt:
-                    # watchfiles turns any signal into KeyboardInterrupt: the command's
-                    # own Stopped says which (exit 130 or 143).
-                    check_stopped()
-                    raise
+                changed = self._next_events()
             else:  # nothing to watch but the polled files
-                time.sleep(POLL_MS / 1000)
-                changed = set()
-            for path, stamp in self._polled.items():
-                now = _stamp(path)
-                if now != stamp:
-                    self._polled[path] = now
-                    changed.add(path)
-            if changed:
-                return sorted(changed)
+                time.sleep(POLL_SECONDS)
+            if time.monotonic() - polled_at >= POLL_SECONDS or changed:
+                polled_at = time.monotonic()
+                changed |= self._polled_changes()
+        return sorted(changed)
+
+    def _next_events(self) -> set[str]:
+        assert self._events is not None
+        try:
+            return {path for _change, path in next(self._events)}
+        except KeyboardInterrupt:
+            # watchfiles turns any signal into KeyboardInterrupt: the command's own
+            # Stopped says which (exit 130 or 143).
+            check_stopped()
+            raise
+
+    def _polled_changes(self) -> set[str]:
+        changed = set()
+        for path, stamp in self._polled.items():
+            now = _stamp(path)
+            if now != stamp:
+                self._polled[path] = now
+                changed.add(path)
+        return changed
 
 
 __all__ = ["MISSING", "WatchUnavailable", "Watcher", "relevant"]
