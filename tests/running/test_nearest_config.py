@@ -304,7 +304,7 @@ def test_below_a_configured_folder_only_its_own_exclusions_hold(tree: Path) -> N
     )
     (tree / "shows" / "legacy").mkdir()
     for folder in ("shows/a", "shows/b/shots", "shows/legacy", "."):
-        shutil.copy(CLEAN, tree / folder / "lookdev_wip.usda")
+        shutil.copy(BROKEN / "shot.usda", tree / folder / "lookdev_wip.usda")
     (tree / "shows" / "legacy" / ".usdrender-lint.toml").write_text('profile = "karma"\n')
     _, whole = _check(tree, ".")
     names = [os.path.normpath(entry["file"]) for entry in whole["files"]]
@@ -325,3 +325,21 @@ def test_below_a_configured_folder_only_its_own_exclusions_hold(tree: Path) -> N
     # One configuration for the run: its patterns hold everywhere.
     _, forced = _check(tree, "--config", str(tree / ".usdrender-lint.toml"), ".")
     assert not any(entry["file"].endswith("_wip.usda") for entry in forced["files"])
+    # Each file named, as a pre-commit hook names them, with force-exclude: the same files.
+    given = [name for name in names if name.endswith(".usda")]
+    given += ["lookdev_wip.usda", "shows/legacy/lookdev_wip.usda", "shows/b/wip/shot.usda"]
+    for order in (given, given[::-1]):  # whichever path comes first (its configuration)
+        _, named = _check(tree, "--force-exclude", *order)
+        kept = [os.path.normpath(entry["file"]) for entry in named["files"]]
+        assert sorted(kept) == sorted(name for name in names if name.endswith(".usda"))
+    # The editor leaves alone what the walk skips, and lints what it lints.
+    (tree / "shows" / "legacy" / ".usdrender-lint.toml").write_text(
+        'profile = "karma"\nforce-exclude = true\n'
+    )
+    (tree / "shows" / "a" / ".usdrender-lint.toml").write_text(SHOW_A + "force-exclude = true\n")
+    documents = Documents()
+    for show, linted in (("legacy", False), ("a", True)):
+        name = str(tree / "shows" / show / "lookdev_wip.usda")
+        documents.update({name: Path(name).read_text(encoding="utf-8")})
+        assert bool(documents.lint(name).findings) is linted
+        documents.update({name: None})

@@ -56,8 +56,8 @@ class Exclusions:
 EVERYTHING = Exclusions(skip_hidden=False, respect_gitignore=False)
 
 
-#: The exclusions of the configuration a folder keeps, where it keeps one other than
-#: the run's (None: the folder's parent's hold in it).
+#: The exclusions of the configuration a folder keeps (None: it keeps none, and its
+#: parent's hold in it).
 FolderExclusions = Callable[[str], "Exclusions | None"]
 
 
@@ -75,7 +75,7 @@ def collect_files(
     exclusions judge what the walk meets, as ruff walks (the folder itself is
     judged by its parent's)."""
     files: list[str] = []
-    given = _Given(exclusions) if exclusions.force else None
+    given = _Given(exclusions, nested) if exclusions.force else None
     for path in paths:
         if given is not None and given.skipped(path):
             continue
@@ -107,7 +107,7 @@ def _walk(top: str, exclusions: Exclusions, nested: FolderExclusions | None) -> 
     for folder, dirs, names in os.walk(top, onerror=unlisted, followlinks=False):
         skip = skips.pop(folder)
         own = nested(folder) if nested is not None else None
-        if own is not None:
+        if own is not None and own != skip.exclusions:
             skip = _Skip(folder, own)
         skip.enter(folder)
         dirs[:] = sorted(d for d in dirs if not skip(os.path.join(folder, d), d, folder=True))
@@ -193,48 +193,75 @@ class _Skip:
         return ignored
 
 
-def force_excluded(path: str, exclusions: Exclusions) -> bool:
+def force_excluded(
+    path: str, exclusions: Exclusions, nested: FolderExclusions | None = None
+) -> bool:
     """Whether ``path``, given by name, is left out under ``exclusions.force``
-    (``check -``'s ``--stdin-filename``)."""
-    return exclusions.force and _Given(exclusions).skipped(path)
+    (``check -``'s ``--stdin-filename``, an editor's document)."""
+    return exclusions.force and _Given(exclusions, nested).skipped(path)
 
 
-def walk_skips(exclusions: Exclusions) -> Callable[[str], bool]:
-    """Whether a walk from ``exclusions.base`` would skip a path: one test for
-    many paths, each .gitignore read once."""
-    return _Given(exclusions).skipped
+def walk_skips(
+    exclusions: Exclusions, nested: FolderExclusions | None = None
+) -> Callable[[str], bool]:
+    """Whether a walk would skip a path (see :class:`_Given`): one test for many
+    paths, each .gitignore read once."""
+    return _Given(exclusions, nested).skipped
 
 
 class _Given:
-    """force-exclude: whether a path given is skipped as a walk from the
-    configuration's folder would skip it there. One walk's state serves every
-    path (each .gitignore applies only below its own folder), so a pre-commit
-    hook's thousand staged files read each .gitignore once."""
+    """Whether a path given is skipped where a walk would skip it (force-exclude):
+    a walk from the outermost folder above it that keeps a configuration, each
+    folder's own configuration judging what is in it (``nested``, as ruff judges
+    a path's ancestors), so the answer does not depend on which path came first;
+    without ``nested`` (one configuration for the run), a walk from the
+    configuration's folder. One walk's state serves every path (each .gitignore
+    applies only below its own folder), so a pre-commit hook's thousand staged
+    files read each .gitignore once."""
 
-    def __init__(self, exclusions: Exclusions) -> None:
+    def __init__(self, exclusions: Exclusions, nested: FolderExclusions | None = None) -> None:
         self.base = os.path.abspath(exclusions.base)
-        self.skip: _Skip | None = None
         self.exclusions = exclusions
+        self.nested = nested
+        self._skips: dict[str, _Skip] = {}
+        #: The outermost folder at or above each folder asked about that keeps a configuration.
+        self._outermost: dict[str, str | None] = {}
 
     def skipped(self, path: str) -> bool:
         real = os.path.abspath(path)
-        relative = _below(real, self.base)
+        top = self._outermost_above(os.path.dirname(real)) or self.base
+        relative = _below(real, top)
         if relative is None:  # the configuration's folder or outside it: not for its patterns
             return False
-        parent = os.path.dirname(real)
-        if self.skip is None:
-            self.skip = _Skip(parent, self.exclusions)
-        else:
-            self.skip.enter_chain(parent)
-        folder = self.base
+        folder = top
+        skip = self._skip_in(folder)
+        skip.enter(folder)
         parts = relative.split("/")
-        self.skip.enter(folder)
         for part in parts[:-1]:
             folder = os.path.join(folder, part)
-            if self.skip(folder, part, folder=True):
+            if skip(folder, part, folder=True):
                 return True
-            self.skip.enter(folder)  # as the walk reads each folder's .gitignore it goes into
-        return self.skip(real, parts[-1], folder=os.path.isdir(real))
+            if self.nested is not None and self.nested(folder) is not None:
+                skip = self._skip_in(folder)  # the folder's own configuration judges in it
+            skip.enter(folder)  # as the walk reads each folder's .gitignore it goes into
+        return skip(real, parts[-1], folder=os.path.isdir(real))
+
+    def _skip_in(self, folder: str) -> _Skip:
+        """What judges the entries of ``folder`` (a configured folder, or the top)."""
+        if folder not in self._skips:
+            own = self.nested(folder) if self.nested is not None else None
+            self._skips[folder] = _Skip(folder, own or self.exclusions)
+        return self._skips[folder]
+
+    def _outermost_above(self, folder: str) -> str | None:
+        if self.nested is None:
+            return None
+        if folder not in self._outermost:
+            parent = os.path.dirname(folder)
+            above = None if parent == folder else self._outermost_above(parent)
+            mine = folder if self.nested(folder) is not None else None
+            self._outermost[folder] = above or mine
+        return self._outermost[folder]
 
 
 def _below(path: str, folder: str) -> str | None:

@@ -43,7 +43,7 @@ from ..model import IGNORE_KEY, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry
 from .discovery import Exclusions, force_excluded
-from .pipeline import Prepared, Request, RequestError, prepare
+from .pipeline import Prepared, Request, RequestError, folder_exclusions, prepare
 
 if TYPE_CHECKING:
     from ..fixing import FixRun
@@ -143,9 +143,10 @@ class Documents:
         started = time.perf_counter()
         try:
             prepared = self._prepare(path)
+            excluded = _excluded(prepared, path)  # reads the configurations above it too
         except RequestError as exc:
             return Linted(error=str(exc))
-        if _excluded(prepared, path):
+        if excluded:
             return Linted(seconds=time.perf_counter() - started)
         self._sync()
         parse_error = self._parse_errors.get(path)
@@ -340,7 +341,7 @@ class Documents:
 def _excluded(prepared: Prepared, path: str) -> bool:
     """Config ``force-exclude``: a document ``check .`` would skip is neither
     linted nor fixed (the same as ``check --force-exclude -`` of its text)."""
-    return force_excluded(path, Exclusions.of(prepared.settings))
+    return force_excluded(path, Exclusions.of(prepared.settings), folder_exclusions(prepared))
 
 
 def _saved_layer(path: str, text: str) -> Sdf.Layer | None:

@@ -532,17 +532,21 @@ def configuration_parts(
     if groups is None:
         return None
     given = given_files(request.paths)
+    # A path given: skipped where a walk from the outermost configured folder would.
+    given_skipped = walk_skips(Exclusions.of(prepared.settings), folder_exclusions(prepared))
     parts = []
     for group in groups:
         # --write-baseline records the joined report, once.
         own = replace(request, config=group.config, isolated=group.config is None)
         part = prepare(replace(own, write_baseline=None), prepared.registry)
-        skipped = walk_skips(Exclusions.of(part.settings))
+        walked_skipped = walk_skips(Exclusions.of(part.settings))
         judged = part.settings.force_exclude
         kept = [
             f
             for f in group.files
-            if not ((judged or os.path.normpath(f) not in given) and skipped(f))
+            if not (
+                (judged and given_skipped(f)) if os.path.normpath(f) in given else walked_skipped(f)
+            )
         ]
         parts.append((part, kept))
     return parts
@@ -645,7 +649,7 @@ def collect_targets(prepared: Prepared, notes: list[str]) -> list[str]:
     exclusions = Exclusions.of(prepared.settings)
     if request.stdin is not None:  # a text, linted as its own stage
         name = request.stdin.name
-        return [] if force_excluded(name, exclusions) else [name]
+        return [] if force_excluded(name, exclusions, folder_exclusions(prepared)) else [name]
     empty: list[str] = []
     files = collect_files(request.paths, empty, exclusions, folder_exclusions(prepared))
     notes.extend(
@@ -655,23 +659,30 @@ def collect_targets(prepared: Prepared, notes: list[str]) -> list[str]:
 
 
 def folder_exclusions(prepared: Prepared) -> FolderExclusions | None:
-    """For a walk: the exclusions of each folder's own configuration, where it is
-    not the run's (the flags applied to it, as configuration_parts prepares it);
-    None when the run has one configuration (--config, --isolated, a text)."""
+    """The exclusions of the configuration each folder keeps (the flags applied,
+    as configuration_parts prepares it), for a walk and for force-exclude; None
+    when the run has one configuration (--config, --isolated)."""
     request = prepared.request
-    if request.config is not None or request.isolated or request.stdin is not None:
+    if request.config is not None or request.isolated:
         return None
     run_config = prepared.settings.source and os.path.realpath(prepared.settings.source)
+    known: dict[str, Exclusions | None] = {}
 
     def of_folder(folder: str) -> Exclusions | None:
+        if folder in known:  # force-exclude asks again for each path given below it
+            return known[folder]
         try:
             # Named as running/hierarchy.py names it (its errors too): resolved.
             found = config_file_in(Path(folder).resolve())
-            if found is None or str(found) == run_config:
-                return None
-            return Exclusions.of(resolve_settings(replace(request, config=str(found))))
+            own = None
+            if found is not None and str(found) == run_config:
+                own = Exclusions.of(prepared.settings)
+            elif found is not None:
+                own = Exclusions.of(resolve_settings(replace(request, config=str(found))))
         except ConfigError as exc:
             raise RequestError(str(exc)) from exc
+        known[folder] = own
+        return own
 
     return of_folder
 
