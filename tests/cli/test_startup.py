@@ -42,6 +42,9 @@ NEVER_NEEDED = (
     "hashlib",
     # Printed only for USDRENDER_LINT_DEBUG (debug.show).
     "traceback",
+    # check --watch alone.
+    "watchfiles",
+    "usdrender_lint.running.watching",
     # The schema classes' bindings: rules name schemas as Tf.Type (api.schemas).
     "pxr.UsdRender",
     "pxr.UsdGeom",
