@@ -468,23 +468,39 @@ def _mutated(text: str, rng: random.Random) -> str:
 def test_broken_texts_get_the_answer_their_files_get(tmp_path: Path) -> None:
     """Seeded mutations of the examples and fixtures (most of them texts USD
     cannot parse): as an unsaved buffer each gets its file's findings, every
-    error line of USD's placed as the file's are. A text whose header is not
-    ``#usda`` is left out: USD's format check refuses the file with "is not a
-    valid usda layer" before its parser runs, which the text meets instead."""
+    error line of USD's placed as the file's are, a header USD's format check
+    refuses included."""
     rng = random.Random(27)
     sources = [p.read_text() for p in [*EXAMPLES, *FIXTURES[::3]]]
     compared = 0
     for _ in range(120):
         text = _mutated(rng.choice(sources), rng)
-        if not text.startswith("#usda 1.0\n"):
-            continue
         path = tmp_path / "shot.usda"
         path.write_text(text, encoding="utf-8")
         buffer = str(tmp_path / "buffer.usda")
         expected = _answers(_lint(path))
         assert _answers(_lint(path, StandardInput(text, buffer)), buffer, str(path)) == expected
         compared += 1
-    assert compared > 80
+    assert compared == 120
+
+
+@pytest.mark.parametrize("suffix", [".usda", ".usd"])
+@pytest.mark.parametrize(
+    "head",
+    ["", "def Xform", " #usda 1.0", "#sdf 1.4.32", "\ufeff#usda 1.0", "#usd", "#usda", "#usda 9.9"],
+)
+def test_a_text_whose_header_usd_refuses_gets_its_files_answer(
+    tmp_path: Path, head: str, suffix: str
+) -> None:
+    """USD refuses a file that does not start with ``#usda`` before parsing it,
+    where ImportFromString parsed any text (or accepted it: a leading space)."""
+    text = f'{head}\ndef Scope "Render" {{}}\n' if head else ""
+    path = tmp_path / f"shot{suffix}"
+    path.write_text(text, encoding="utf-8")
+    buffer = str(tmp_path / f"buffer{suffix}")
+    expected = _answers(_lint(path))
+    assert any("ST001" in answer for answer in expected)
+    assert _answers(_lint(path, StandardInput(text, buffer)), buffer, str(path)) == expected
 
 
 def test_a_configurations_roots_do_not_apply_to_a_text(tmp_path: Path) -> None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import asyncio
 import fnmatch
+import json
 import os
 import shutil
 import subprocess
@@ -273,6 +274,37 @@ async def test_a_parse_error_is_one_diagnostic_at_usds_line(
     assert error.code == "ST001"
     assert error.range.start.line == 3  # USD says line 4
     assert "Expected" in error.message
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+
+
+async def test_a_text_without_the_usda_header_gets_the_files_diagnostic(
+    client: LanguageClient, workspace: Path
+):
+    """USD refuses such a file before parsing it; the editor says what check says."""
+    path = workspace / "headless.usda"
+    text = 'def Scope "Render"\n{\n}\n'
+    uri = open_document(client, path, text)
+    (error,) = await diagnostics_of(client, uri, 1)
+    assert error.code == "ST001"
+    assert error.message.endswith("headless.usda> is not a valid usda layer")
+    path.write_text(text)
+    checked = subprocess.run(
+        [
+            str(Path(sys.executable).parent / "usdrender-lint"),
+            "check",
+            "--format",
+            "json",
+            str(path),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    (finding,) = json.loads(checked.stdout)["files"][0]["findings"]
+    assert (finding["code"], finding["line"]) == ("ST001", None)
+    assert error.message.endswith(finding["message"].rsplit("/", 1)[-1])
     client.text_document_did_close(
         types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
     )

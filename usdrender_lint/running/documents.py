@@ -221,9 +221,12 @@ class Documents:
             if self._imported.get(path) is text:
                 continue
             # USD's parser overflows on such nesting, reading the file as the text.
-            too_deep = nesting_problem(path, text.encode("utf-8", "surrogatepass"))
-            if too_deep is not None:
-                self._parse_errors[path] = (too_deep,)  # its layer keeps the last text
+            refused = _refused_text(path, text)
+            if refused is None:
+                too_deep = nesting_problem(path, text.encode("utf-8", "surrogatepass"))
+                refused = (too_deep,) if too_deep is not None else None
+            if refused is not None:
+                self._parse_errors[path] = refused  # its layer keeps the last text
                 self._imported[path] = text
                 continue
             layer = self._layers.get(path)
@@ -365,6 +368,32 @@ def _saved_layer(path: str, text: str) -> Sdf.Layer | None:
             layer = None  # the import below reports USD's error
         trap.Clear()
     return layer
+
+
+#: The bytes a text layer starts with; USD refuses a file without them before its
+#: parser runs (``SdfUsdaFileFormat::_ReadFromAsset``, pxr/usd/sdf/usdaFileFormat.cpp),
+#: where ``ImportFromString`` parses any text, or accepts one.
+USDA_COOKIE = "#usda"
+#: Why the same function refuses a file that starts with a byte-order mark.
+USDA_BOM = (
+    "Asset starts with UTF-8 BOM which is not supported, please convert the file to UTF-8 "
+    "without the BOM."
+)
+
+
+def _refused_text(path: str, text: str) -> tuple[str, ...] | None:
+    """USD's error lines about the file ``path`` holding ``text`` when its format
+    check refuses the file (no ``#usda`` first), as ``check`` of the file gets
+    them; None when the text goes to the parser."""
+    if text.startswith(USDA_COOKIE):
+        return None
+    failed = f"Failed to open layer @{path}@"  # UsdStage::Open, pxr/usd/usd/stage.cpp
+    if not path.lower().endswith(".usda"):
+        return (failed,)  # .usd: neither the crate nor the text format reads it
+    why = f"<{path}> is not a valid usda layer"
+    if text.startswith("\ufeff"):
+        why += f": {USDA_BOM}"
+    return (why, failed)
 
 
 def _parse_error(exc: Tf.ErrorException, path: str) -> tuple[str, ...]:
