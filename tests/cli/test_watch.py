@@ -166,23 +166,30 @@ def test_a_configuration_above_the_watched_folder_is_watched_too(show: Path) -> 
     assert "Traceback" not in err
 
 
-@pytest.mark.parametrize(
-    ("args", "named"),
-    [
-        (("--fix",), "--fix, --diff or --fix-to"),
-        (("--diff",), "--fix, --diff or --fix-to"),
-        (("--write-baseline", "b.json"), "--write-baseline"),
-    ],
-)
-def test_what_a_watched_check_refuses(show: Path, args: tuple[str, ...], named: str) -> None:
-    run = subprocess.run(
-        [str(BIN), "check", "--watch", *args, "show"],
-        cwd=show.parent,
+def _finished(cwd: Path, *command: str) -> subprocess.CompletedProcess:
+    """A command that must end by itself, its standard input a layer's text."""
+    return subprocess.run(
+        list(command),
+        cwd=cwd,
+        input=CLEAN.read_text(),
         capture_output=True,
         text=True,
         check=False,
         timeout=WAIT,
     )
+
+
+@pytest.mark.parametrize(
+    ("args", "named"),
+    [
+        (("--fix", "show"), "--fix, --diff or --fix-to"),
+        (("--diff", "show"), "--fix, --diff or --fix-to"),
+        (("--write-baseline", "b.json", "show"), "--write-baseline"),
+        (("-",), "'-' (standard input)"),
+    ],
+)
+def test_what_a_watched_check_refuses(show: Path, args: tuple[str, ...], named: str) -> None:
+    run = _finished(show.parent, str(BIN), "check", "--watch", *args)
     assert run.returncode == 2
     assert run.stderr.strip().splitlines() == [
         f"usdrender-lint: error: --watch cannot be combined with {named}: "
@@ -191,33 +198,13 @@ def test_what_a_watched_check_refuses(show: Path, args: tuple[str, ...], named: 
     assert (show / "shot.usda").read_text() == CLEAN.read_text()
 
 
-def test_standard_input_is_refused(show: Path) -> None:
-    run = subprocess.run(
-        [str(BIN), "check", "--watch", "-"],
-        input=CLEAN.read_text(),
-        capture_output=True,
-        text=True,
-        check=False,
-        timeout=WAIT,
-    )
-    assert run.returncode == 2
-    assert "--watch cannot be combined with '-' (standard input)" in run.stderr
-
-
 def test_without_the_extra_it_says_what_to_install(show: Path) -> None:
     code = (
         "import sys; sys.modules['watchfiles'] = None\n"
         "from usdrender_lint.cli import main\n"
         "main(['check', '--watch', 'show'])\n"
     )
-    run = subprocess.run(
-        [sys.executable, "-c", code],
-        cwd=show.parent,
-        capture_output=True,
-        text=True,
-        check=False,
-        timeout=WAIT,
-    )
+    run = _finished(show.parent, sys.executable, "-c", code)
     assert run.returncode == 2
     assert run.stderr.strip() == (
         "usdrender-lint: error: --watch needs the watchfiles package (the [watch] extra): "
