@@ -159,10 +159,14 @@ def test_a_configuration_above_the_watched_folder_is_watched_too(show: Path) -> 
         watched.next_round()
         save(project, '[tool.usdrender-lint]\nignore = ["CA004"]\n')
         assert "pyproject.toml" in "".join(watched.next_round())
+        save(project, "[tool.usdrender-lint\n")  # half-written: one line, and it goes on
+        assert "usdrender-lint: error: " in "".join(watched.next_round())
+        save(project, "[tool.usdrender-lint]\n")
+        watched.next_round()
     finally:
         status, out, err = watched.stop(signal.SIGTERM)
     assert status == 143, err
-    assert out.count("1 finding in 1 file") == 1 and out.count("0 findings in 1 file") == 1
+    assert out.count("1 finding in 1 file") == 2 and out.count("0 findings in 1 file") == 1
     assert "Traceback" not in err
 
 

@@ -220,7 +220,6 @@ def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
     (a configuration saved half-written) says why in one line and waits."""
     import time
 
-    from ..config import find_config_file
     from ..running.watching import Watcher, WatchUnavailable
 
     _refuse_watch(request)
@@ -242,12 +241,24 @@ def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
             polled |= {s for o in outcome.parts or (outcome,) for s in o.settings.sources}
         except ToolError as exc:
             exc.show()
-        if not request.isolated and request.config is None:
-            nearest = find_config_file(request.paths[0])
-            polled |= {str(nearest)} if nearest else set()
+        polled |= _nearest_configuration(request)
         watcher.poll(polled)
         note(f"{time.strftime('%H:%M:%S')} watching for changes (Ctrl-C stops)")
         changed = watcher.wait()
+
+
+def _nearest_configuration(request: Request) -> set[str]:
+    """The configuration file a search from the first path finds, for --watch to
+    poll even when a round could not read it (a half-written save)."""
+    from ..config import ConfigError, find_config_file
+
+    if request.isolated or request.config is not None:
+        return set()
+    try:
+        nearest = find_config_file(request.paths[0])
+    except ConfigError:
+        return set()  # the round said why
+    return {str(nearest)} if nearest else set()
 
 
 def _refuse_watch(request: Request) -> None:
