@@ -143,6 +143,20 @@ def _extending(
     if not os.path.lexists(target):
         raise ConfigError(f"{source}: '{prefix}extend': no such file: {target}")
     base = read_config_file(target, chain=here)
+    values = _layered(base, parsed)
+    values["extend"] = str(target)
+    return dataclasses.replace(
+        base,
+        **values,
+        source=source,
+        from_file={**base.from_file, **dict.fromkeys(parsed, source)},
+        sources=(source, *base.sources),
+    )
+
+
+def _layered(base: Settings, parsed: Mapping[str, Any]) -> dict[str, Any]:
+    """The values of ``parsed`` laid over ``base``: each key replacing, merging
+    or adding to ``base``'s as the settings table says (``Setting.extended``)."""
     values: dict[str, Any] = {}
     for name, value in parsed.items():
         how = BY_NAME[name].extended
@@ -154,14 +168,47 @@ def _extending(
         values[name] = value
     if "select" in parsed and "extend_select" not in parsed:
         values["extend_select"] = ()  # a selection of its own starts the selection over
-    values["extend"] = str(target)
-    return dataclasses.replace(
-        base,
-        **values,
-        source=source,
-        from_file={**base.from_file, **dict.fromkeys(parsed, source)},
-        sources=(source, *base.sources),
-    )
+    return values
+
+
+#: How an inline override is named where a file would be (errors, --show-settings).
+INLINE_PREFIX = "--config '"
+
+
+def is_inline(value: str) -> bool:
+    """Whether a ``--config`` value is an inline ``KEY = VALUE`` (as ruff reads
+    it), not a file: it holds ``=`` and names no existing file."""
+    return "=" in value and not os.path.lexists(value)
+
+
+def with_inline(settings: Settings, overrides: Sequence[str]) -> Settings:
+    """``settings`` with each ``--config 'KEY = VALUE'`` (TOML) laid over them, in
+    order, as a file that extends them would be: ``severity.SE003 = "info"``
+    changes that entry, ``extend-select`` adds. Errors name the override."""
+    if not overrides:
+        return settings
+    import tomllib  # only when there is an override to read
+
+    for text in overrides:
+        where = f"{INLINE_PREFIX}{text}'"
+        try:
+            table = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise ConfigError(f"{where}: neither a file nor TOML 'KEY = VALUE': {exc}") from None
+        parsed: dict[str, Any] = {}
+        for key, value in table.items():
+            entry = BY_CONFIG_KEY.get(key)
+            if entry is None:
+                raise ConfigError(f"{where}: unknown key '{key}'")
+            if entry.name == "extend":
+                raise ConfigError(f"{where}: 'extend' names a file: give it as --config FILE")
+            parsed[entry.name] = entry.parse(value, f"{where}: '{key}'")
+        settings = dataclasses.replace(
+            settings,
+            **_layered(settings, parsed),
+            from_file={**settings.from_file, **dict.fromkeys(parsed, where)},
+        )
+    return settings
 
 
 def _merged(base: Mapping[str, Any], own: Mapping[str, Any], deep: bool) -> dict[str, Any]:

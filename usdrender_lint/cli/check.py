@@ -122,7 +122,7 @@ def check(
     paths: tuple[str, ...],
     output_format: str,
     show_info: bool,
-    config_path: str | None,
+    config: tuple[str | None, tuple[str, ...]],
     isolated: bool,
     no_roots: bool,
     output_file: str | None,
@@ -157,7 +157,8 @@ def check(
     request = Request(
         paths if stdin is None else (stdin.name,),
         stdin=stdin,
-        config=config_path,
+        config=config[0],
+        config_overrides=config[1],
         isolated=isolated,
         use_roots=not no_roots,
         fix=_fix_request(fix, unsafe_fixes, show_diff, fix_to),

@@ -37,7 +37,7 @@ def merge(
     reports: tuple[str, ...],
     output_format: str,
     show_info: bool,
-    config_path: str | None,
+    config: tuple[str | None, tuple[str, ...]],
     isolated: bool,
     output_file: str | None,
     statistics: bool,
@@ -53,6 +53,7 @@ def merge(
     from ..running.pipeline import Request, RequestError, exit_status, prepare
 
     given = setting_values("merge", settings)
+    config_path, overrides = config
     try:
         inputs = [*reports, *([config_path] if config_path else [])]
         refuse_inputs([(output_file, "the merged report")], inputs)
@@ -61,7 +62,10 @@ def merge(
     try:
         report, configuration = merge_reports(reports)
         # The configuration decides fail-on and which rules a SARIF report describes.
-        prepared = prepare(Request((".",), config=config_path, isolated=isolated, **given))
+        request = Request(
+            (".",), config=config_path, config_overrides=overrides, isolated=isolated, **given
+        )
+        prepared = prepare(request)
     except (MergeError, RequestError) as exc:
         raise ToolError(str(exc)) from None
     options = FormatOptions(
@@ -72,7 +76,9 @@ def merge(
         configuration=configuration,
         # The HTML report reads the files again: with the configuration asked for, or
         # each file's nearest.
-        settings_of=(lambda _file: prepared.settings) if config_path or isolated else None,
+        settings_of=(lambda _file: prepared.settings)
+        if config_path or overrides or isolated
+        else None,
     )
     emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for line in (r.error or r.file for r in report.errored_files):

@@ -131,7 +131,26 @@ statistics_option = click.option(
 
 
 def config_option(help: str):
-    return click.option("--config", "config_path", type=click.Path(dir_okay=False), help=help)
+    """``--config FILE`` and, as ruff's, ``--config 'KEY = VALUE'`` (repeatable): the
+    command gets (the file or None, the inline settings in order)."""
+    return click.option(
+        "--config",
+        "config",
+        type=click.Path(dir_okay=False),
+        multiple=True,
+        callback=lambda _ctx, _param, values: _file_and_inline(values),
+        help=help + " Or a setting, as TOML: --config 'severity.SE003 = \"info\"' "
+        "(repeatable; over the file's, under the flags).",
+    )
+
+
+def _file_and_inline(values: tuple[str, ...]) -> tuple[str | None, tuple[str, ...]]:
+    from ..config import is_inline
+
+    files = [value for value in values if not is_inline(value)]
+    if len(files) > 1:
+        raise click.BadParameter(f"one configuration file, not {len(files)}: {', '.join(files)}")
+    return (files[0] if files else None), tuple(v for v in values if is_inline(v))
 
 
 class FormatChoice(click.Choice):

@@ -73,7 +73,7 @@ def spec_command(
     time_option: tuple[float | None, bool],
     output_format: str,
     output: str | None,
-    config_path: str | None,
+    config: tuple[str | None, tuple[str, ...]],
     isolated: bool,
     **settings: Any,
 ) -> None:
@@ -98,7 +98,8 @@ def spec_command(
     options = SpecOptions(time=time, default_time=default_time, settings=settings_path)
     request = InspectRequest(
         paths,
-        config=config_path,
+        config=config[0],
+        config_overrides=config[1],
         isolated=isolated,
         output=output if output_format != "svg" else None,
         supervision=supervision(),

@@ -55,6 +55,8 @@ class InspectRequest:
     #: A config file path or the settings themselves, or None to search from the
     #: first path (and give each file its nearest configuration).
     config: Settings | str | None = None
+    #: Inline settings (``--config 'KEY = VALUE'``), as for check.
+    config_overrides: tuple[str, ...] = ()
     isolated: bool = False
     #: The renderer profile: "auto" or a name; None: the configuration's.
     profile: str | None = None
@@ -127,6 +129,7 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
         Request(
             request.paths,
             config=request.config,
+            config_overrides=request.config_overrides,
             isolated=request.isolated,
             profile=request.profile,
             exclude=request.exclude,

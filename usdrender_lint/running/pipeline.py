@@ -24,6 +24,7 @@ from ..config import (
     config_file_in,
     load_settings,
     read_config_file,
+    with_inline,
 )
 from ..engine import Linter
 from ..model import FileResult, Finding, Report, Severity
@@ -101,6 +102,9 @@ class Request:
     fail_on: str | None = None
     #: A Settings object, a config file path, or None to search from the first path.
     config: Settings | str | os.PathLike[str] | None = None
+    #: Inline settings (``--config 'KEY = VALUE'``), laid over the configuration in
+    #: order, under the flags.
+    config_overrides: tuple[str, ...] = ()
     #: Ignore every configuration file (the defaults and the flags only).
     isolated: bool = False
     #: Lint the paths on their own even when the config sets ``roots``.
@@ -200,6 +204,7 @@ def resolve_settings(request: Request) -> Settings:
     else:
         start = request.paths[0] if request.paths else "."
         settings = load_settings(isolated=request.isolated, start=start)
+    settings = with_inline(settings, request.config_overrides)
     # Every configuration key the request can give (a flag or an API keyword) wins.
     return settings.merged(
         **{s.name: getattr(request, s.name) for s in request_settings() if s.config_key}

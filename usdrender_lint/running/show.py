@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 from enum import Enum
 from typing import Any
 
-from ..config import Settings
+from ..config import INLINE_PREFIX, Settings
 from ..settings_table import SETTINGS
 from .pipeline import (
     Prepared,
@@ -90,6 +90,8 @@ def _origin(settings: Settings, name: str) -> str:
         return "flag " + "--" + name.replace("_", "-")
     if name in settings.from_file:
         file = settings.from_file[name]
+        if file.startswith(INLINE_PREFIX):
+            return file  # an inline --config 'KEY = VALUE'
         return "file" if file == settings.source else f"file {file}"
     return "default"
 
