@@ -181,20 +181,20 @@ def is_inline(value: str) -> bool:
     return "=" in value and not os.path.lexists(value)
 
 
-def with_inline(settings: Settings, overrides: Sequence[str]) -> Settings:
-    """``settings`` with each ``--config 'KEY = VALUE'`` (TOML) laid over them, in
-    order, as a file that extends them would be: ``severity.SE003 = "info"``
-    changes that entry, ``extend-select`` adds. Errors name the override."""
-    if not overrides:
-        return settings
-    import tomllib  # only when there is an override to read
+#: How the language server's ``configuration`` table is named (errors).
+EDITOR_SETTINGS = "the editor's configuration"
 
-    for text in overrides:
-        where = f"{INLINE_PREFIX}{text}'"
-        try:
-            table = tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            raise ConfigError(f"{where}: neither a file nor TOML 'KEY = VALUE': {exc}") from None
+
+def with_inline(settings: Settings, overrides: Sequence[str | Mapping[str, Any]]) -> Settings:
+    """``settings`` with each ``--config 'KEY = VALUE'`` (TOML) or table (the
+    editor's) laid over them, in order, as a file that extends them would be:
+    ``severity.SE003 = "info"`` changes that entry, ``extend-select`` adds.
+    Errors name the override."""
+    for given in overrides:
+        if isinstance(given, Mapping):
+            where, table = EDITOR_SETTINGS, given
+        else:
+            where, table = f"{INLINE_PREFIX}{given}'", _inline_table(given)
         parsed: dict[str, Any] = {}
         for key, value in table.items():
             entry = BY_CONFIG_KEY.get(key)
@@ -209,6 +209,16 @@ def with_inline(settings: Settings, overrides: Sequence[str]) -> Settings:
             from_file={**settings.from_file, **dict.fromkeys(parsed, where)},
         )
     return settings
+
+
+def _inline_table(text: str) -> dict[str, Any]:
+    import tomllib  # only when there is an override to read
+
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        where = f"{INLINE_PREFIX}{text}'"
+        raise ConfigError(f"{where}: neither a file nor TOML 'KEY = VALUE': {exc}") from None
 
 
 def _merged(base: Mapping[str, Any], own: Mapping[str, Any], deep: bool) -> dict[str, Any]:

@@ -24,9 +24,9 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from contextlib import suppress
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from pxr import Sdf, Tf, Usd, Vt
 
@@ -92,9 +92,17 @@ class Documents:
     one preparation every document is linted with (``check -``), instead of each
     folder's own configuration."""
 
-    def __init__(self, registry: Registry | None = None, prepared: Prepared | None = None) -> None:
+    def __init__(
+        self,
+        registry: Registry | None = None,
+        prepared: Prepared | None = None,
+        configuration: str | Mapping[str, Any] | None = None,
+    ) -> None:
         self._registry = prepared.registry if prepared is not None else registry
         self._prepared = prepared
+        #: The editor's ``configuration``: a file every document is linted with, or
+        #: settings laid over each one's nearest (as ``--config`` gives either).
+        self._configuration = configuration
         self.texts: dict[str, str] = {}
         self._layers: dict[str, Sdf.Layer] = {}
         #: The text each layer holds now (a fix or a reload makes it stale).
@@ -207,7 +215,15 @@ class Documents:
         if config is not None and _stamps(tuple(f for f, _ in config.stamps)) != config.stamps:
             config = None  # a file changed: the one found, or one it extends
         if config is None:
-            request = Request((path,), jobs=1, timeout=None, progress=False)
+            given = self._configuration
+            request = Request(
+                (path,),
+                config=given if isinstance(given, str) else None,
+                config_overrides=(given,) if isinstance(given, Mapping) else (),
+                jobs=1,
+                timeout=None,
+                progress=False,
+            )
             prepared = prepare(request, self.registry)
             config = self._configs[folder] = _Config(prepared, _stamps(prepared.settings.sources))
         return config.prepared

@@ -14,7 +14,7 @@ from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from ..api import Rule
 from ..config import (
@@ -102,9 +102,9 @@ class Request:
     fail_on: str | None = None
     #: A Settings object, a config file path, or None to search from the first path.
     config: Settings | str | os.PathLike[str] | None = None
-    #: Inline settings (``--config 'KEY = VALUE'``), laid over the configuration in
-    #: order, under the flags.
-    config_overrides: tuple[str, ...] = ()
+    #: Inline settings (``--config 'KEY = VALUE'``, or the editor's table), laid over
+    #: the configuration in order, under the flags.
+    config_overrides: tuple[str | Mapping[str, Any], ...] = ()
     #: Ignore every configuration file (the defaults and the flags only).
     isolated: bool = False
     #: Lint the paths on their own even when the config sets ``roots``.

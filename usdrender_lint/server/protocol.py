@@ -558,9 +558,17 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
     @server.feature(types.INITIALIZE)
     def initialize(ls: UsdRenderLintServer, params: types.InitializeParams) -> None:
         options = params.initialization_options
-        timeout = options.get("timeout") if isinstance(options, dict) else None
+        options = options if isinstance(options, dict) else {}
+        timeout = options.get("timeout")
         if isinstance(timeout, int | float) and timeout > 0:
             ls.timeout = float(timeout)
+        # A configuration file for every document, or settings over each one's nearest
+        # (as --config FILE and --config 'KEY = VALUE'); a bad table is each lint's error.
+        configuration = options.get("configuration")
+        if isinstance(configuration, str) and configuration:
+            ls.linting.configuration = os.path.expanduser(configuration)
+        elif isinstance(configuration, dict):
+            ls.linting.configuration = configuration
 
     @server.feature(types.INITIALIZED)
     async def initialized(ls: UsdRenderLintServer, params: types.InitializedParams) -> None:

@@ -61,13 +61,14 @@ class RuleDoc:
 class Child:
     """One worker process and the documents' texts it holds."""
 
-    def __init__(self) -> None:
+    def __init__(self, configuration: str | dict[str, Any] | None = None) -> None:
+        import json
         import socket
 
         ours, theirs = socket.socketpair()
         self.process = subprocess.Popen(
             # Not ``-m``: the child's classes must pickle under this module's name.
-            [sys.executable, "-c", _CHILD, str(theirs.fileno())],
+            [sys.executable, "-c", _CHILD, str(theirs.fileno()), json.dumps(configuration)],
             pass_fds=[theirs.fileno()],
             stdin=subprocess.DEVNULL,
             stdout=sys.stderr.fileno(),
@@ -148,6 +149,8 @@ class Linting:
     """
 
     def __init__(self) -> None:
+        #: The editor's ``configuration`` (initializationOptions), for the children.
+        self.configuration: str | dict[str, Any] | None = None
         self._lock = threading.Lock()
         self._state = threading.Lock()
         self._active: Child | None = None
@@ -166,12 +169,12 @@ class Linting:
             if self._active is None or not self._active.alive:
                 if self._active is not None:
                     self._active.close()
-                self._active, self._spare = self._spare or Child(), None
+                self._active, self._spare = self._spare or Child(self.configuration), None
                 if not self._active.alive:  # the spare died too (killed from outside)
                     self._active.close()
-                    self._active = Child()
+                    self._active = Child(self.configuration)
             if self._spare is None:
-                self._spare = Child()
+                self._spare = Child(self.configuration)
             return self._active
 
     def call(
@@ -262,13 +265,13 @@ def _watch_parent(parent: int) -> None:
             os._exit(0)
 
 
-def serve(connection: Connection) -> None:
+def serve(connection: Connection, configuration: str | dict[str, Any] | None = None) -> None:
     """Answer the server's calls until it closes the connection."""
     from ..running.documents import Documents
 
     threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
     try:
-        documents = Documents()
+        documents = Documents(configuration=configuration)
         connection.send(("ok", _rule_docs(documents.registry)))
     except Exception as exc:  # noqa: BLE001 - said to the server, which reports it
         connection.send(("error", f"the linter cannot start: {type(exc).__name__}: {exc}"))
@@ -287,8 +290,11 @@ def serve(connection: Connection) -> None:
 
 
 def main() -> None:
+    import json
+
     connection = Connection(int(sys.argv[1]))
+    configuration = json.loads(sys.argv[2]) if len(sys.argv) > 2 else None
     # The protocol is on the server's standard output; this process's stray
     # output (USD's, a rule's print) goes to standard error.
     os.dup2(2, 1)
-    serve(connection)
+    serve(connection, configuration)
