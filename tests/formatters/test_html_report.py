@@ -184,10 +184,13 @@ def test_merge_html_reads_the_files_with_the_configuration_asked_for(configured_
     assert CA004_DIFF in isolated
     other = _run("merge", "--config", "other.toml", "--format", "html", str(shard), cwd=cwd).stdout
     assert _profiles_shown(other) == {"arnold"}
-    # Without either, each file's nearest configuration, as check would lint it.
-    assert _profiles_shown(_run("merge", "--format", "html", str(shard), cwd=cwd).stdout) == {
-        "karma"
-    }
+    # Without either, each file's nearest configuration, as check would lint it, with
+    # the inline settings given laid over it.
+    nearest = _run("merge", "--format", "html", str(shard), cwd=cwd).stdout
+    assert _profiles_shown(nearest) == {"karma"}
+    inline = ("--config", 'severity.SE003 = "info"')
+    page = _run("merge", *inline, "--format", "html", str(shard), cwd=cwd).stdout
+    assert _profiles_shown(page) == {"karma"}
 
 
 def test_a_split_runs_page_shows_each_file_under_its_own_configuration(

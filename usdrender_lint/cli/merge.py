@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import sys
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -22,6 +22,10 @@ from .options import (
     statistics_option,
 )
 from .output import ToolError, error
+
+if TYPE_CHECKING:
+    from ..config import Settings
+    from ..running.report_views import SettingsOf
 
 
 @click.command()
@@ -74,13 +78,23 @@ def merge(
         statistics=statistics,
         fixing=bool(report.applied_fixes or report.unapplied_fixes),
         configuration=configuration,
-        # The HTML report reads the files again: with the configuration asked for, or
-        # each file's nearest.
-        settings_of=(lambda _file: prepared.settings)
-        if config_path or overrides or isolated
-        else None,
+        settings_of=_settings_of(prepared.settings, config_path, overrides, isolated),
     )
     emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for line in (r.error or r.file for r in report.errored_files):
         error(line)
     sys.exit(exit_status(report, prepared.settings.fail_on))
+
+
+def _settings_of(
+    settings: Settings, config_path: str | None, overrides: tuple[str, ...], isolated: bool
+) -> SettingsOf | None:
+    """What the HTML report reads the files again with: the configuration asked
+    for, else each file's nearest (with the inline settings given)."""
+    if config_path or isolated:
+        return lambda _file: settings
+    if overrides:
+        from ..running.report_views import nearest_with
+
+        return nearest_with(overrides)
+    return None

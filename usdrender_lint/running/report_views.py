@@ -125,6 +125,23 @@ def _excerpt(finding: Finding) -> Excerpt | None:
     return Excerpt(display_path(layer), first, tuple(lines[first - 1 : last]), loc.line)
 
 
+def nearest_with(overrides: Sequence[str]) -> SettingsOf:
+    """Each file's nearest configuration with inline settings laid over it (``merge
+    --config 'KEY = VALUE'``), as the check those settings were given to read it;
+    each folder's read once."""
+    from .pipeline import Request, prepare
+
+    known: dict[str, Settings] = {}
+
+    def settings_of(file: str) -> Settings:
+        folder = os.path.dirname(os.path.abspath(file))
+        if folder not in known:
+            known[folder] = prepare(Request((file,), config_overrides=tuple(overrides))).settings
+        return known[folder]
+
+    return settings_of
+
+
 def _by_settings(
     files: Iterable[str], settings_of: SettingsOf | None
 ) -> list[tuple[Settings | None, list[str]]]:
@@ -255,4 +272,12 @@ def _unified(sources: Iterable[Any]) -> Iterable[str]:
         )
 
 
-__all__ = ["CONTEXT_LINES", "Excerpt", "FileView", "ProductView", "ReportViews", "gather"]
+__all__ = [
+    "CONTEXT_LINES",
+    "Excerpt",
+    "FileView",
+    "ProductView",
+    "ReportViews",
+    "gather",
+    "nearest_with",
+]
