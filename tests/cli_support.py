@@ -190,3 +190,18 @@ def after_a_supervised_command(
 def unsupervised(*args: str) -> list[str]:
     """The command run by ``usdrender_lint.cli.main`` itself: no supervisor."""
     return [sys.executable, "-c", "import sys; from usdrender_lint.cli import main; main()", *args]
+
+
+def invoke_in(cwd: Path, *args: str):
+    """The command line run in this process (click's runner) with ``cwd`` as the
+    working directory; click's Result."""
+    from click.testing import CliRunner
+
+    from usdrender_lint.cli import cli
+
+    previous = os.getcwd()
+    os.chdir(cwd)
+    try:
+        return CliRunner().invoke(cli, list(args))
+    finally:
+        os.chdir(previous)

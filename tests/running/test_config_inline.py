@@ -5,14 +5,12 @@ entry, ``extend-select`` adds), under the flags, for every file of the run."""
 from __future__ import annotations
 
 import json
-import os
 import shutil
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner, Result
+from cli_support import invoke_in
 
-from usdrender_lint.cli import cli
 from usdrender_lint.config import ConfigError, Settings, with_inline
 
 REPO = Path(__file__).resolve().parents[2]
@@ -21,18 +19,9 @@ BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
 FILE = 'fail-on = "warning"\n[severity]\nSE003 = "warning"\n'
 
 
-def _invoke(cwd: Path, *args: str) -> Result:
-    previous = os.getcwd()
-    os.chdir(cwd)
-    try:
-        return CliRunner().invoke(cli, list(args))
-    finally:
-        os.chdir(previous)
-
-
 def _findings(cwd: Path, *args: str) -> tuple[int, dict[tuple[str, str], str]]:
     """Exit code, and (file name, code) -> severity of each finding."""
-    result = _invoke(cwd, "check", "--jobs", "1", "--format", "json", *args)
+    result = invoke_in(cwd, "check", "--jobs", "1", "--format", "json", *args)
     assert result.exit_code in (0, 1), result.output
     files = json.loads(result.stdout)["files"]
     return result.exit_code, {
@@ -102,19 +91,19 @@ def test_the_cache_never_serves_an_answer_of_other_inline_settings(
 
 
 def test_spec_and_merge_take_it_too(show: Path) -> None:
-    spec = _invoke(show, "spec", "--format", "json", "--config", 'profile = "karma"', "a")
+    spec = invoke_in(show, "spec", "--format", "json", "--config", 'profile = "karma"', "a")
     profiles = {s["profile"] for f in json.loads(spec.stdout)["files"] for s in f["settings"]}
     assert profiles == {"karma"}
-    shard = _invoke(show, "check", "--no-cache", "--format", "json", "a").stdout
+    shard = invoke_in(show, "check", "--no-cache", "--format", "json", "a").stdout
     (show / "shard.json").write_text(shard)
-    merged = _invoke(show, "merge", "shard.json", "--config", 'fail-on = "never"')
+    merged = invoke_in(show, "merge", "shard.json", "--config", 'fail-on = "never"')
     assert merged.exit_code == 0
-    assert _invoke(show, "merge", "shard.json").exit_code == 1
+    assert invoke_in(show, "merge", "shard.json").exit_code == 1
 
 
 def test_show_settings_names_it_and_reads_back_as_the_same_settings(show: Path) -> None:
     given = ("--config", 'severity.CA004 = "info"', "--config", 'extend-select = ["UL001"]')
-    shown = _invoke(show, "check", "--show-settings", *given, "a").stdout
+    shown = invoke_in(show, "check", "--show-settings", *given, "a").stdout
     assert "[severity]  # --config 'severity.CA004 = \"info\"'" in shown
     (show / "flat.toml").write_text(shown)
     assert _findings(show, "--no-cache", "--config", "flat.toml", "a") == _findings(
@@ -133,7 +122,7 @@ def test_show_settings_names_it_and_reads_back_as_the_same_settings(show: Path) 
     ],
 )
 def test_a_bad_setting_is_one_line_naming_it(show: Path, text: str, error: str) -> None:
-    result = _invoke(show, "check", "--config", text, "a")
+    result = invoke_in(show, "check", "--config", text, "a")
     assert result.exit_code == 2
     (line,) = result.stderr.splitlines()
     assert line.startswith(f"usdrender-lint: error: {error}"), line
@@ -143,7 +132,7 @@ def test_a_bad_setting_is_one_line_naming_it(show: Path, text: str, error: str) 
 
 def test_one_file_at_most(show: Path) -> None:
     (show / "x.toml").write_text("")
-    result = _invoke(show, "check", "--config", "x.toml", "--config", ".usdrender-lint.toml", "a")
+    result = invoke_in(show, "check", "--config", "x.toml", "--config", ".usdrender-lint.toml", "a")
     assert result.exit_code == 2
     assert "one configuration file, not 2" in result.output
     # A file whose name holds '=' is a file.

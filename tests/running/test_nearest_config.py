@@ -12,7 +12,8 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner, Result
+from cli_support import invoke_in
+from click.testing import CliRunner
 
 import usdrender_lint
 from usdrender_lint.cli import cli
@@ -52,18 +53,8 @@ def tree(tmp_path: Path) -> Path:
     return root
 
 
-def _invoke(cwd: Path, *args: str) -> Result:
-    """The command line run in ``cwd``."""
-    previous = os.getcwd()
-    os.chdir(cwd)
-    try:
-        return CliRunner().invoke(cli, list(args))
-    finally:
-        os.chdir(previous)
-
-
 def _check(cwd: Path, *args: str) -> tuple[int, dict]:
-    result = _invoke(cwd, "check", "--no-cache", "--jobs", "1", "--format", "json", *args)
+    result = invoke_in(cwd, "check", "--no-cache", "--jobs", "1", "--format", "json", *args)
     assert result.exit_code in (0, 1), result.output
     return result.exit_code, json.loads(result.stdout)
 
@@ -138,7 +129,7 @@ def test_config_and_isolated_give_every_file_one_configuration(tree: Path) -> No
 
 
 def test_the_files_shown_are_the_files_reported(tree: Path) -> None:
-    shown = _invoke(tree, "check", "--show-files", ".")
+    shown = invoke_in(tree, "check", "--show-files", ".")
     _, whole = _check(tree, ".")
     assert shown.stdout.splitlines() == [entry["file"] for entry in whole["files"]]
 
@@ -159,12 +150,12 @@ def test_shards_of_a_split_run_merge_into_the_whole(tree: Path, tmp_path: Path) 
 
 def test_fix_and_baselines_take_each_files_configuration(tree: Path, tmp_path: Path) -> None:
     baseline = tmp_path / "baseline.json"
-    written = _invoke(tree, "check", "--no-cache", "--write-baseline", str(baseline), ".")
+    written = invoke_in(tree, "check", "--no-cache", "--write-baseline", str(baseline), ".")
     assert written.exit_code == 0, written.output
     assert written.stderr.count("recorded") == 1
-    again = _invoke(tree, "check", "--no-cache", "--baseline", str(baseline), ".")
+    again = invoke_in(tree, "check", "--no-cache", "--baseline", str(baseline), ".")
     assert again.exit_code == 0 and "0 findings" in again.stdout, again.output
-    fixed = _invoke(tree, "check", "--no-cache", "--fix", "shows")
+    fixed = invoke_in(tree, "check", "--no-cache", "--fix", "shows")
     assert fixed.exit_code == 1, fixed.output
     shot = "shots/010/shot.usda"
     a = (tree / "shows" / "a" / shot).read_text()
@@ -179,7 +170,7 @@ def test_fix_and_baselines_take_each_files_configuration(tree: Path, tmp_path: P
 
 def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> None:
     (tree / "shows" / "b" / "pyproject.toml").write_text("[tool.usdrender-lint]\nselct = 1\n")
-    result = _invoke(tree, "check", "--no-cache", ".")
+    result = invoke_in(tree, "check", "--no-cache", ".")
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [
         f"usdrender-lint: error: {tree / 'shows' / 'b' / 'pyproject.toml'}: unknown key "
@@ -189,7 +180,7 @@ def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> No
 
 def test_spec_gives_each_file_the_findings_of_its_configuration(tree: Path) -> None:
     def spec(*paths: str) -> dict[str, list]:
-        result = _invoke(tree, "spec", "--jobs", "1", "--format", "json", *paths)
+        result = invoke_in(tree, "spec", "--jobs", "1", "--format", "json", *paths)
         assert result.exit_code in (0, 2), result.output  # 2: the broken lighting_wip.usda
         return {
             str((tree / entry["file"]).resolve()): entry["findings"]
@@ -224,7 +215,7 @@ def test_a_split_run_reads_each_parts_cache_as_it_wrote_it(
     monkeypatch.delenv("USDRENDER_LINT_NO_CACHE", raising=False)
 
     def report(*args: str) -> dict:
-        result = _invoke(tree, "check", "--jobs", "1", "--format", "json", *args, ".")
+        result = invoke_in(tree, "check", "--jobs", "1", "--format", "json", *args, ".")
         assert result.exit_code == 1, result.output
         return json.loads(result.stdout)
 
@@ -264,11 +255,11 @@ def test_a_parts_cache_it_cannot_write_is_said_once(
     tree: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.delenv("USDRENDER_LINT_NO_CACHE", raising=False)
-    assert _invoke(tree, "check", "--jobs", "1", ".").exit_code == 1  # the caches made
+    assert invoke_in(tree, "check", "--jobs", "1", ".").exit_code == 1  # the caches made
     entries = next((tree / "shows" / "a" / ".usdrender_lint_cache").glob("v*"))
     shutil.rmtree(entries)
     entries.write_text("a file where the entries go\n")  # unwritable, even for root
-    result = _invoke(tree, "check", "--jobs", "1", ".")
+    result = invoke_in(tree, "check", "--jobs", "1", ".")
     assert result.exit_code == 1, result.output
     said = [line for line in result.stderr.splitlines() if "not cached" in line]
     assert len(said) == 1 and "shows/a/.usdrender_lint_cache" in said[0], result.stderr
@@ -277,20 +268,20 @@ def test_a_parts_cache_it_cannot_write_is_said_once(
 def test_an_output_onto_a_linted_file_is_refused_before_any_lint(tree: Path) -> None:
     target = tree / "shows" / "b" / "shots" / "010" / "shot.usda"
     before = target.read_bytes()
-    result = _invoke(tree, "check", "--no-cache", "--output", str(target), ".")
+    result = invoke_in(tree, "check", "--no-cache", "--output", str(target), ".")
     assert result.exit_code == 2
     assert target.read_bytes() == before
 
 
 def test_show_settings_names_the_configurations_of_other_files(tree: Path) -> None:
-    shown = _invoke(tree, "check", "--show-settings", ".")
+    shown = invoke_in(tree, "check", "--show-settings", ".")
     assert shown.exit_code == 0, shown.output
     assert f"# configuration file: {tree / '.usdrender-lint.toml'}" in shown.stdout
     assert "# These files have a configuration of their own" in shown.stdout
     for config in ("a/.usdrender-lint.toml", "b/pyproject.toml"):
         assert f"#   {tree / 'shows' / config}: " in shown.stdout
     assert tomllib.loads(shown.stdout)["fail-on"] == "warning"  # still a configuration
-    alone = _invoke(tree, "check", "--show-settings", "shows/a")
+    alone = invoke_in(tree, "check", "--show-settings", "shows/a")
     assert "of their own" not in alone.stdout
 
 
@@ -318,9 +309,9 @@ def test_below_a_configured_folder_only_its_own_exclusions_hold(tree: Path) -> N
         below = str((tree / show).resolve()) + os.sep
         mine = {k: v for k, v in _by_file(whole, tree).items() if k.startswith(below)}
         assert mine == _by_file(alone, tree)
-    shown = _invoke(tree, "check", "--show-files", ".").stdout.splitlines()
+    shown = invoke_in(tree, "check", "--show-files", ".").stdout.splitlines()
     assert [os.path.normpath(name) for name in shown] == names
-    spec = _invoke(tree, "spec", "--jobs", "1", "--format", "json", ".")
+    spec = invoke_in(tree, "spec", "--jobs", "1", "--format", "json", ".")
     assert [os.path.normpath(e["file"]) for e in json.loads(spec.stdout)["files"]] == names
     # One configuration for the run: its patterns hold everywhere.
     _, forced = _check(tree, "--config", str(tree / ".usdrender-lint.toml"), ".")

@@ -5,7 +5,6 @@ names; the settings, read back as a configuration, are the same settings."""
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import subprocess
 import sys
@@ -13,9 +12,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
-
-from usdrender_lint.cli import cli
+from cli_support import invoke_in
 
 REPO = Path(__file__).resolve().parents[2]
 BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
@@ -53,12 +50,7 @@ require-authored = true
 
 
 def _invoke(cwd: Path, *args: str) -> tuple[int, str, str]:
-    previous = os.getcwd()
-    os.chdir(cwd)
-    try:
-        result = CliRunner().invoke(cli, ["check", *args])
-    finally:
-        os.chdir(previous)
+    result = invoke_in(cwd, "check", *args)
     return result.exit_code, result.stdout, result.stderr
 
 
