@@ -19,7 +19,7 @@ from typing import Any
 from ..engine import USD_EXTENSIONS
 from .interrupts import check_stopped
 
-#: Package name and the one-line error when the extra is missing.
+#: The one-line error when the extra is missing.
 MISSING = "--watch needs the watchfiles package (the [watch] extra): pip install watchfiles"
 #: Seconds between looks at the polled files.
 POLL_SECONDS = 1.0
