@@ -5,6 +5,7 @@ gives the file. A server per way (its children start with the configuration)."""
 
 from __future__ import annotations
 
+import asyncio
 import json
 import shutil
 import subprocess
@@ -15,7 +16,7 @@ import pytest
 import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import LanguageClient, client_capabilities
-from test_protocol import BROKEN_SHOT, SERVER, diagnostics_of, open_document
+from test_protocol import BROKEN_SHOT, SERVER, diagnostics_of, history, open_document
 
 pytestmark = pytest.mark.asyncio(loop_scope="module")
 
@@ -74,10 +75,26 @@ SEVERITY = {
 }
 
 
+def _severities(found: list[types.Diagnostic]) -> dict[str, str]:
+    return {str(d.code): SEVERITY[d.severity] for d in found if d.severity is not None}
+
+
 async def _served(client: LanguageClient, workspace: Path) -> dict[str, str]:
     uri = open_document(client, workspace / "show" / "shot.usda")
-    found = await diagnostics_of(client, uri, 1)
-    return {str(d.code): SEVERITY[d.severity] for d in found if d.severity is not None}
+    return _severities(await diagnostics_of(client, uri, 1))
+
+
+def history_of(uri: str) -> list[list[types.Diagnostic]]:
+    """Every publication of ``uri``'s diagnostics, by any server of the session."""
+    return [found for published, found in history if published == uri]
+
+
+async def _published_after(client: LanguageClient, uri: str, count: int) -> dict[str, str]:
+    """The diagnostics of ``uri``'s next publication after its ``count`` first."""
+    async with asyncio.timeout(60):
+        while len(history_of(uri)) <= count:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    return _severities(history_of(uri)[count])
 
 
 def _checked(workspace: Path, *args: str) -> dict[str, str]:
@@ -115,3 +132,27 @@ async def test_a_bad_table_is_the_documents_one_error(
     uri = open_document(with_bad_table, workspace / "show" / "shot.usda")
     (error,) = await diagnostics_of(with_bad_table, uri, 1)
     assert error.message == "the editor's configuration: unknown key 'selct'"
+
+
+async def test_a_settings_change_relints_with_the_new_configuration(
+    with_bad_table: LanguageClient, workspace: Path
+) -> None:
+    """workspace/didChangeConfiguration, ours under our name as Neovim sends them:
+    the open documents are linted again with the new configuration."""
+    uri = (workspace / "show" / "shot.usda").as_uri()
+    before = len(history_of(uri))
+    with_bad_table.workspace_did_change_configuration(
+        types.DidChangeConfigurationParams(settings={"usdrender-lint": {"configuration": TABLE}})
+    )
+    served = await _published_after(with_bad_table, uri, before)
+    given = ("--config", 'severity.CA004 = "warning"', "--config", 'extend-select = ["UL001"]')
+    assert served == _checked(workspace, *given)
+    # Settings of other tools, or the same configuration again, change nothing.
+    with_bad_table.workspace_did_change_configuration(
+        types.DidChangeConfigurationParams(settings={"other-tool": {"x": 1}})
+    )
+    with_bad_table.workspace_did_change_configuration(
+        types.DidChangeConfigurationParams(settings={"configuration": TABLE})
+    )
+    await asyncio.sleep(2)
+    assert len(history_of(uri)) == before + 1

@@ -79,6 +79,22 @@ class UsdRenderLintServer(LanguageServer):
         #: Seconds a lint may take (initializationOptions ``timeout``).
         self.timeout = TIMEOUT
 
+    def settings_changed(self, settings: Any) -> None:
+        """The editor's settings changed (ours under our name, as Neovim's
+        ``settings`` and VS Code's hold them, or alone): a new ``configuration``
+        re-lints every open document with it."""
+        settings = settings if isinstance(settings, dict) else {}
+        ours = settings.get(NAME, settings)
+        if not isinstance(ours, dict) or "configuration" not in ours:
+            return
+        configuration = editor_configuration(ours)
+        if configuration == self.linting.configuration:
+            return
+        self.linting.reconfigure(configuration)
+        if self.ready.is_set():
+            for uri in list(self.workspace.text_documents):
+                asyncio.ensure_future(self.lint(uri))
+
     # -- documents -----------------------------------------------------------------
 
     def texts(self) -> dict[str, str]:
@@ -562,13 +578,8 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
         timeout = options.get("timeout")
         if isinstance(timeout, int | float) and timeout > 0:
             ls.timeout = float(timeout)
-        # A configuration file for every document, or settings over each one's nearest
-        # (as --config FILE and --config 'KEY = VALUE'); a bad table is each lint's error.
-        configuration = options.get("configuration")
-        if isinstance(configuration, str) and configuration:
-            ls.linting.configuration = os.path.expanduser(configuration)
-        elif isinstance(configuration, dict):
-            ls.linting.configuration = configuration
+        if "configuration" in options:
+            ls.linting.configuration = editor_configuration(options)
 
     @server.feature(types.INITIALIZED)
     async def initialized(ls: UsdRenderLintServer, params: types.InitializedParams) -> None:
@@ -623,6 +634,23 @@ def _serve_documents(server: UsdRenderLintServer) -> None:
     @server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
     async def watched(ls: UsdRenderLintServer, params: types.DidChangeWatchedFilesParams) -> None:
         await ls.files_changed([to_fs_path(change.uri) or "" for change in params.changes])
+
+    @server.feature(types.WORKSPACE_DID_CHANGE_CONFIGURATION)
+    async def settings_changed(
+        ls: UsdRenderLintServer, params: types.DidChangeConfigurationParams
+    ) -> None:
+        ls.settings_changed(params.settings)
+
+
+def editor_configuration(options: dict[str, Any]) -> str | dict[str, Any] | None:
+    """The editor's ``configuration`` option: a configuration file's path (``~``
+    expands), which every document is linted with, or a table of settings laid
+    over each one's nearest (as --config FILE and --config 'KEY = VALUE'); a bad
+    table is each lint's one error. Anything else: none."""
+    configuration = options.get("configuration")
+    if isinstance(configuration, str) and configuration:
+        return os.path.expanduser(configuration)
+    return configuration if isinstance(configuration, dict) else None
 
 
 def _serve_actions(server: UsdRenderLintServer) -> None:

@@ -219,6 +219,20 @@ class Linting:
             running[2].kill(cancelled=True)
             return True
 
+    def reconfigure(self, configuration: str | dict[str, Any] | None) -> None:
+        """Lint with the editor's new ``configuration`` from now on: the children,
+        which read it as they start, are replaced (a call running in one ends
+        cancelled, and the next call starts a new one)."""
+        with self._state:
+            self.configuration = configuration
+            children = [c for c in (self._active, self._spare) if c is not None]
+            self._active = self._spare = None
+            running = self._running
+        if running is not None:
+            running[2].kill(cancelled=True)
+        for child in children:
+            child.close()
+
     def close(self) -> None:
         with self._state:
             self._closed = True
