@@ -170,11 +170,19 @@ class Report:
     unapplied_fixes: tuple[AppliedFix, ...] = field(default=())
     #: Rule codes whose fixes --fix never applies (config ``unfixable``).
     unfixable: frozenset[str] = frozenset()
+    #: A run split by configuration: (file, its own ``unfixable``) of each file.
+    unfixable_by_file: tuple[tuple[str, frozenset[str]], ...] = ()
 
     def fixable(self) -> tuple[int, int]:
         """Findings a ``--fix`` would fix, and how many more ``--unsafe-fixes``
         would: those whose fix is safe, and unsafe (``unfixable`` rules aside)."""
-        fixes = [f.fix for f in self.findings if f.fix is not None and f.code not in self.unfixable]
+        by_file = dict(self.unfixable_by_file)
+        fixes = [
+            f.fix
+            for result in self.files
+            for f in result.findings
+            if f.fix is not None and f.code not in by_file.get(result.file, self.unfixable)
+        ]
         safe = sum(1 for fix in fixes if fix.safe)
         return safe, len(fixes) - safe
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import tomllib
 from pathlib import Path
@@ -334,3 +335,19 @@ def test_below_a_configured_folder_only_its_own_exclusions_hold(tree: Path) -> N
         documents.update({name: Path(name).read_text(encoding="utf-8")})
         assert bool(documents.lint(name).findings) is linted
         documents.update({name: None})
+
+
+def test_the_fixable_counts_are_each_files_own_configurations(tree: Path) -> None:
+    """Show a marks SE007 unfixable and show b does not: the split run counts each
+    file's fixes as its own show's run counts them."""
+
+    def counts(*paths: str) -> tuple[int, int]:
+        result = invoke_in(tree, "check", "--no-cache", "--jobs", "1", *paths)
+        summary = result.stdout.strip().splitlines()[-1]
+        safe = re.search(r"(\d+) fixable with --fix", summary)
+        unsafe = re.search(r"(\d+) more with --unsafe-fixes", summary)
+        return (int(safe[1]) if safe else 0, int(unsafe[1]) if unsafe else 0)
+
+    alone = [counts(path) for path in ("shows/a", "shows/b", "shows/c_clean.usda")]
+    assert alone[0] != alone[1]  # the two shows count SE007 differently
+    assert counts(".") == tuple(map(sum, zip(*alone, strict=True)))

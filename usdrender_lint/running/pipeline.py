@@ -572,6 +572,9 @@ def _joined(
         applied_fixes=tuple(f for o in outcomes for f in o.report.applied_fixes),
         unapplied_fixes=tuple(f for o in outcomes for f in o.report.unapplied_fixes),
         unfixable=frozenset().union(*(o.report.unfixable for o in outcomes)),
+        unfixable_by_file=tuple(
+            (r.file, o.report.unfixable) for o in outcomes for r in o.report.files
+        ),
     )
     notes += [note for outcome in outcomes for note in outcome.notes]
     report = _apply_baseline(report, None, request, notes)  # --write-baseline: all of it
