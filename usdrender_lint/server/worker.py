@@ -225,17 +225,16 @@ class Linting:
         cancelled, and the next call starts a new one)."""
         with self._state:
             self.configuration = configuration
-            children = [c for c in (self._active, self._spare) if c is not None]
-            self._active = self._spare = None
-            running = self._running
-        if running is not None:
-            running[2].kill(cancelled=True)
-        for child in children:
-            child.close()
+        self._end_children()
 
     def close(self) -> None:
         with self._state:
             self._closed = True
+        self._end_children()
+
+    def _end_children(self) -> None:
+        """End both children, the call running in one cancelled."""
+        with self._state:
             children = [c for c in (self._active, self._spare) if c is not None]
             self._active = self._spare = None
             running = self._running
