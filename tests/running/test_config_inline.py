@@ -119,6 +119,11 @@ def test_show_settings_names_it_and_reads_back_as_the_same_settings(show: Path) 
         ('extend = "../x.toml"', "--config 'extend = \"../x.toml\"': 'extend' names a file"),
         ("severity.CA004 = 3", "--config 'severity.CA004 = 3': 'severity.CA004' must be one of"),
         ('fail-on = "sometimes"', "--config 'fail-on = \"sometimes\"': 'fail-on'"),
+        (
+            'severity.NOPE = "error"',
+            "--config 'severity.NOPE = \"error\"': severity.NOPE: no rule has this code",
+        ),
+        ("rules.XX999.opt = 1", "--config 'rules.XX999.opt = 1': rules.XX999: no rule has"),
     ],
 )
 def test_a_bad_setting_is_one_line_naming_it(show: Path, text: str, error: str) -> None:
@@ -126,8 +131,9 @@ def test_a_bad_setting_is_one_line_naming_it(show: Path, text: str, error: str) 
     assert result.exit_code == 2
     (line,) = result.stderr.splitlines()
     assert line.startswith(f"usdrender-lint: error: {error}"), line
-    with pytest.raises(ConfigError):
-        with_inline(Settings(), [text])
+    if "no rule" not in error:  # the registry, not the reader, knows the rules
+        with pytest.raises(ConfigError):
+            with_inline(Settings(), [text])
 
 
 def test_one_file_at_most(show: Path) -> None:

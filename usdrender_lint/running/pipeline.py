@@ -304,11 +304,17 @@ def check_selectors(registry: Registry, selectors: Iterable[str], where: str) ->
             raise ConfigError(f"{where}: {token!r} matches no rule code, code prefix or rule name")
 
 
+def _origin(settings: Settings, name: str) -> str:
+    """What set a table setting, for its entries' errors: the file (the nearest of
+    a chain that sets it) or ``--config 'KEY = VALUE'``."""
+    return settings.from_file.get(name, settings.source) or "config"
+
+
 def _options_by_code(registry: Registry, settings: Settings) -> dict[str, object]:
     built = {}
     for key, values in settings.rule_options.items():
         rule = registry.find(key)
-        where = f"{settings.source or 'config'}: rules.{key}"
+        where = f"{_origin(settings, 'rule_options')}: rules.{key}"
         if rule is None:
             raise ConfigError(f"{where}: no rule has this code or name")
         built[rule.code] = build_options(rule.Options, values, where)
@@ -321,7 +327,7 @@ def severity_overrides(registry: Registry, settings: Settings) -> dict[str, Seve
         rule = registry.find(key)
         if rule is None:
             raise ConfigError(
-                f"{settings.source or 'config'}: severity.{key}: no rule has this code or name"
+                f"{_origin(settings, 'severity')}: severity.{key}: no rule has this code or name"
             )
         overrides[rule.code] = severity
     return overrides
