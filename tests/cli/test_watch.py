@@ -202,6 +202,14 @@ def test_what_a_watched_check_refuses(show: Path, args: tuple[str, ...], named: 
     assert (show / "shot.usda").read_text() == CLEAN.read_text()
 
 
+def test_a_path_that_does_not_exist_is_nothing_to_watch(show: Path) -> None:
+    run = _finished(show.parent, str(BIN), "check", "--watch", "nowhere")
+    assert run.returncode == 2
+    assert run.stderr.strip().splitlines() == [
+        "usdrender-lint: error: --watch: nothing to watch: nowhere: no such file or folder"
+    ]
+
+
 def test_without_the_extra_it_says_what_to_install(show: Path) -> None:
     code = (
         "import sys; sys.modules['watchfiles'] = None\n"

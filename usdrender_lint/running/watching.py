@@ -32,7 +32,7 @@ GITIGNORE = ".gitignore"
 
 
 class WatchUnavailable(Exception):
-    """The ``[watch]`` extra is not installed."""
+    """The ``[watch]`` extra is not installed, or no path given exists."""
 
 
 def relevant(path: str, root: str) -> bool:
@@ -69,20 +69,21 @@ class Watcher:
         except ImportError as exc:
             raise WatchUnavailable(MISSING) from exc
         self.paths = [os.path.abspath(p) for p in paths if os.path.exists(p)]
+        if not self.paths:
+            missing = ", ".join(paths)
+            raise WatchUnavailable(f"--watch: nothing to watch: {missing}: no such file or folder")
         self._polled: dict[str, tuple[int, int, int] | None] = {}
-        self._events: Iterator[set[Any]] | None = None
-        if self.paths:
-            self._events = watchfiles.watch(
-                *self.paths,
-                watch_filter=lambda _change, path: relevant(path, self._root_of(path)),
-                rust_timeout=EVENT_WAIT_MS,
-                yield_on_timeout=True,
-                # A signal raises the command's own Stopped (running/interrupts.py).
-                raise_interrupt=True,
-            )
-            # The generator starts watching at its first step: take it now, so that
-            # a save during the first round is seen (what it yields came before).
-            self._next_events()
+        self._events: Iterator[set[Any]] = watchfiles.watch(
+            *self.paths,
+            watch_filter=lambda _change, path: relevant(path, self._root_of(path)),
+            rust_timeout=EVENT_WAIT_MS,
+            yield_on_timeout=True,
+            # A signal raises the command's own Stopped (running/interrupts.py).
+            raise_interrupt=True,
+        )
+        # The generator starts watching at its first step: take it now, so that a
+        # save during the first round is seen (what it yields came before).
+        self._next_events()
 
     def _root_of(self, path: str) -> str:
         """The watched path ``path`` is below (the longest, when they nest)."""
@@ -101,17 +102,13 @@ class Watcher:
         changed: set[str] = set()
         polled_at = time.monotonic()
         while not changed:
-            if self._events is not None:
-                changed = self._next_events()
-            else:  # nothing to watch but the polled files
-                time.sleep(POLL_SECONDS)
+            changed = self._next_events()
             if time.monotonic() - polled_at >= POLL_SECONDS or changed:
                 polled_at = time.monotonic()
                 changed |= self._polled_changes()
         return sorted(changed)
 
     def _next_events(self) -> set[str]:
-        assert self._events is not None
         try:
             return {path for _change, path in next(self._events)}
         except KeyboardInterrupt:
