@@ -351,3 +351,17 @@ def test_the_fixable_counts_are_each_files_own_configurations(tree: Path) -> Non
     alone = [counts(path) for path in ("shows/a", "shows/b", "shows/c_clean.usda")]
     assert alone[0] != alone[1]  # the two shows count SE007 differently
     assert counts(".") == tuple(map(sum, zip(*alone, strict=True)))
+
+
+def test_a_folder_walked_below_a_show_is_judged_by_that_shows_configuration(tree: Path) -> None:
+    """Whichever path comes first: a folder given below show b is walked with show
+    b's exclusions, not those of the first path's configuration."""
+    (tree / "shows" / "a" / ".usdrender-lint.toml").write_text(
+        SHOW_A + 'extend-exclude = ["*_wip.usda"]\n'
+    )
+    for show in ("a", "b"):
+        (tree / "shows" / show / "seq").mkdir()
+        shutil.copy(BROKEN / "shot.usda", tree / "shows" / show / "seq" / "x_wip.usda")
+    for order in (["shows/a/seq", "shows/b/seq"], ["shows/b/seq", "shows/a/seq"]):
+        shown = invoke_in(tree, "check", "--show-files", *order).stdout.splitlines()
+        assert shown == ["shows/b/seq/x_wip.usda"]

@@ -98,8 +98,9 @@ def collect_files(
 
 def _walk(top: str, exclusions: Exclusions, nested: FolderExclusions | None) -> list[str]:
     found: list[str] = []
-    #: What judges the entries of each folder still to be walked.
-    skips = {top: _Skip(top, exclusions)}
+    #: What judges the entries of each folder still to be walked: at the top, the
+    #: nearest configuration at or above it.
+    skips = {top: _Skip(top, _nearest(top, nested) or exclusions)}
 
     def unlisted(error: OSError) -> None:
         found.append(error.filename if isinstance(error.filename, str) else top)
@@ -118,6 +119,20 @@ def _walk(top: str, exclusions: Exclusions, nested: FolderExclusions | None) -> 
             if n.lower().endswith(USD_EXTENSIONS) and not skip(os.path.join(folder, n), n)
         )
     return sorted(found)
+
+
+def _nearest(top: str, nested: FolderExclusions | None) -> Exclusions | None:
+    """The exclusions of the nearest folder at or above ``top`` that keeps a
+    configuration (None: none does, or the run has one configuration)."""
+    if nested is None:
+        return None
+    folder = os.path.abspath(top)
+    while (own := nested(folder)) is None:
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return None
+        folder = parent
+    return own
 
 
 class _Skip:
