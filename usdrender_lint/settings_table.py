@@ -397,6 +397,7 @@ SETTINGS: tuple[Setting, ...] = (
         flag="--cache-dir",
         shown_default=".usdrender_lint_cache at the project root",
         envvar="USDRENDER_LINT_CACHE_DIR",
+        commands=("check", "clean"),
         changes_findings=False,
     ),
     # Run options: how files are linted, never what is found.

@@ -1,5 +1,5 @@
 """The ``usdrender-lint`` command: check, merge, spec, rules, explain,
-plugin-path, server; one module per command, every output through
+plugin-path, server, clean; one module per command, every output through
 :mod:`.views` (or, for reports, the registered formatters).
 
 Exit codes: 0 nothing at or above ``--fail-on``; 1 findings at or above it;
@@ -20,6 +20,7 @@ from ..paths import printable
 from ..running.interrupts import Stopped, stop_on_signals
 from ..running.supervisor import Supervision
 from .check import check
+from .clean import clean
 from .explain import explain
 from .merge import merge
 from .output import EXIT_TOOL_ERROR, StdoutGone, error
@@ -35,7 +36,16 @@ def cli() -> None:
     """Lint OpenUSD render settings (usdRender) before the render farm does."""
 
 
-for _command in (check, merge, spec_command, list_rules, server_command, explain, plugin_path):
+for _command in (
+    check,
+    merge,
+    spec_command,
+    list_rules,
+    server_command,
+    explain,
+    plugin_path,
+    clean,
+):
     cli.add_command(_command)
 
 

@@ -870,9 +870,9 @@ def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
     request = prepared.request
     if not request.cache:
         return None
-    from .result_cache import ForeignFolder, ResultCache, default_cache_dir, run_key
+    from .result_cache import ForeignFolder, ResultCache, cache_folder, run_key
 
-    folder = Path(request.cache_dir) if request.cache_dir else default_cache_dir(prepared.settings)
+    folder = cache_folder(prepared.settings, request.cache_dir)
     key = run_key(
         prepared.linter,
         prepared.settings,

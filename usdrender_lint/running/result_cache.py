@@ -99,9 +99,12 @@ _CACHEDIR_TAG = (
 )
 
 
-def default_cache_dir(settings: Settings) -> Path:
-    """``cache-dir`` from the configuration (relative to its file's folder),
-    else ``.usdrender_lint_cache`` at the project root."""
+def cache_folder(settings: Settings, given: str | os.PathLike[str] | None = None) -> Path:
+    """The cache's folder: ``given`` (``--cache-dir``, relative to the working
+    directory), else ``cache-dir`` from the configuration (relative to its
+    file's folder), else ``.usdrender_lint_cache`` at the project root."""
+    if given:
+        return Path(given)
     if settings.cache_dir:
         return settings.base_dir / settings.cache_dir
     return settings.base_dir / CACHE_DIR_NAME
@@ -662,6 +665,100 @@ class ResultCache:
         return removed
 
 
+#: The cache's own files besides its entries: the temporary file of an entry
+#: write that was interrupted (atomic.temporary_prefix), the write probe, and
+#: the tag's temporary file.
+_OWN_TEMPORARY = re.compile(
+    r"\.[0-9a-f]{40}\.json\.[A-Za-z0-9_]{8}\.tmp|\.probe-[0-9]+|\.CACHEDIR\.TAG\..+"
+)
+#: The entries folders of every format (older ones, and a newer version's).
+_ENTRIES_FOLDER = re.compile(r"v[0-9]+")
+
+
+@record(frozen=True)
+class Cleared:
+    """What :func:`clear` removed from a cache folder, and what it left."""
+
+    folder: Path
+    entries: int
+    size: int
+    #: Names in the folder that are not the cache's (so the folder stays).
+    kept: tuple[str, ...]
+
+
+def is_cache_folder(folder: Path) -> bool:
+    """Whether ``folder`` holds the cache's CACHEDIR.TAG."""
+    return _is_ours(folder / "CACHEDIR.TAG")
+
+
+def clear(folder: Path) -> Cleared:
+    """Remove the cache in ``folder`` (``usdrender-lint clean``): its entries of
+    every format, interrupted writes, its ``.gitignore`` and tag, then each
+    folder left empty. Only the cache's own files, by name, as pruning does:
+    another file stays, and so does the folder holding it (a linked folder
+    stays too). Raises :class:`ForeignFolder` for a folder without our tag."""
+    if not is_cache_folder(folder):
+        raise ForeignFolder(
+            f"{folder} is not a usdrender-lint cache folder (no CACHEDIR.TAG of ours)"
+        )
+    entries = size = 0
+    kept: list[str] = []
+    for item in _listing(folder):
+        if item.is_dir(follow_symlinks=False) and _ENTRIES_FOLDER.fullmatch(item.name):
+            for _, bytes_, path in _entry_files(Path(item.path), True):
+                with contextlib.suppress(OSError):
+                    path.unlink()
+                    entries += 1
+                    size += bytes_
+            _remove_own(Path(item.path), kept, prefix=f"{item.name}/")
+        elif _OWN_TEMPORARY.fullmatch(item.name) or _our_gitignore(item):
+            _unlink(Path(item.path), kept, item.name)
+        elif item.name != "CACHEDIR.TAG":
+            kept.append(item.name)
+    # The tag last: a folder cleared halfway is still recognised as the cache's.
+    if not kept:
+        _unlink(folder / "CACHEDIR.TAG", kept, "CACHEDIR.TAG")
+    if not kept and not folder.is_symlink():
+        with contextlib.suppress(OSError):
+            folder.rmdir()
+    return Cleared(folder, entries, size, tuple(sorted(kept)))
+
+
+def _our_gitignore(item: os.DirEntry[str]) -> bool:
+    return item.name == ".gitignore" and read_bounded(item.path, 4096) == _GITIGNORE.encode()
+
+
+def _listing(folder: Path) -> list[os.DirEntry[str]]:
+    try:
+        with os.scandir(folder) as found:
+            return list(found)
+    except OSError:
+        return []
+
+
+def _remove_own(entries: Path, kept: list[str], prefix: str) -> None:
+    """An entries folder: its interrupted writes, then the folder once empty."""
+    for item in _listing(entries):
+        if not ENTRY_NAME.fullmatch(item.name) and _OWN_TEMPORARY.fullmatch(item.name):
+            _unlink(Path(item.path), kept, prefix + item.name)
+        else:  # an entry that could not be removed, or another file
+            kept.append(prefix + item.name)
+    if not any(k.startswith(prefix) for k in kept):
+        try:
+            entries.rmdir()
+        except OSError:
+            kept.append(prefix)
+
+
+def _unlink(path: Path, kept: list[str], name: str) -> None:
+    try:
+        path.unlink()
+    except FileNotFoundError:
+        pass
+    except OSError:
+        kept.append(name)
+
+
 def _entry_files(folder: Path, stale: bool) -> list[tuple[int, int, Path]]:
     """(last use, size, path) of the entry files in ``folder``, by name and
     regular files only; a ``stale`` folder's count as the least recently used."""
@@ -742,7 +839,10 @@ __all__ = [
     "Dependencies",
     "ForeignFolder",
     "ResultCache",
-    "default_cache_dir",
+    "Cleared",
+    "cache_folder",
+    "clear",
+    "is_cache_folder",
     "dependencies",
     "read_bounded",
     "run_key",
