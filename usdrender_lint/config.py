@@ -185,14 +185,18 @@ def is_inline(value: str) -> bool:
 EDITOR_SETTINGS = "the editor's configuration"
 
 
-def with_inline(settings: Settings, overrides: Sequence[str | Mapping[str, Any]]) -> Settings:
+def with_inline(
+    settings: Settings,
+    overrides: Sequence[str | Mapping[str, Any]],
+    table_name: str = EDITOR_SETTINGS,
+) -> Settings:
     """``settings`` with each ``--config 'KEY = VALUE'`` (TOML) or table (the
-    editor's) laid over them, in order, as a file that extends them would be:
-    ``severity.SE003 = "info"`` changes that entry, ``extend-select`` adds.
-    Errors name the override."""
+    editor's, the Python API's) laid over them, in order, as a file that
+    extends them would be: ``severity.SE003 = "info"`` changes that entry,
+    ``extend-select`` adds. Errors name the override (a table: ``table_name``)."""
     for given in overrides:
         if isinstance(given, Mapping):
-            where, table = EDITOR_SETTINGS, given
+            where, table = table_name, given
         else:
             where, table = f"{INLINE_PREFIX}{given}'", _inline_table(given)
         parsed: dict[str, Any] = {}

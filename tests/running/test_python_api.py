@@ -72,6 +72,32 @@ def test_config_file_and_settings(tmp_path: Path) -> None:
     )
 
 
+def test_a_config_table_lints_as_the_same_table_in_a_file(tmp_path: Path) -> None:
+    table = {
+        "ignore": ["SE003"],
+        "severity": {"SE015": "warning"},
+        "per-path-ignores": {"*.usda": ["PR"]},
+    }
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text(
+        'ignore = ["SE003"]\n[per-path-ignores]\n"*.usda" = ["PR"]\n[severity]\nSE015 = "warning"\n'
+    )
+    from_table = usdrender_lint.lint_file(FAIL, config=table)
+    assert from_table.findings == usdrender_lint.lint_file(FAIL, config=config).findings
+    assert "SE003" not in {f.code for f in from_table.findings}
+    assert next(f for f in from_table.findings if f.code == "SE015").severity is Severity.WARNING
+    stage = Usd.Stage.Open(str(FAIL))
+    assert usdrender_lint.lint_stage(stage, config=table).findings == from_table.findings
+    # The keywords win over the table, as flags over a file.
+    assert "SE003" in {
+        f.code for f in usdrender_lint.lint_file(FAIL, config=table, ignore=[]).findings
+    }
+    with pytest.raises(ConfigError, match="^config: unknown key 'nope'$"):
+        usdrender_lint.lint_file(FAIL, config={"nope": 1})
+    with pytest.raises(ConfigError, match="^config: 'fail-on'"):
+        usdrender_lint.lint_stage(stage, config={"fail-on": 3})
+
+
 def test_bad_configuration_raises_config_error(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="matches no rule"):
         usdrender_lint.lint_file(FAIL, select=["NOPE"])

@@ -11,21 +11,23 @@ dependencies (click, rich), and nothing writes to the stage or its files.
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
 from pxr import Usd
 
 from ..api import Rule
-from ..config import ConfigError, Settings
+from ..config import ConfigError, Settings, with_inline
 from ..explain import rule_info
 from ..model import Finding, Report
 from ..registry import RegistryError
 from ..settings_table import BY_NAME
 from .pipeline import Outcome, Request, RequestError, prepare, run
 
-ConfigLike = Settings | str | os.PathLike[str] | None
+ConfigLike = Settings | Mapping[str, Any] | str | os.PathLike[str] | None
+#: How a ``config`` table is named in its errors.
+CONFIG_TABLE = "config"
 
 
 def _request(paths: Sequence[str], config: ConfigLike, **overrides: object) -> Request:
@@ -39,6 +41,9 @@ def _request(paths: Sequence[str], config: ConfigLike, **overrides: object) -> R
         assert entry.api, name
         if value is not None:
             given[name] = entry.parse(value, name) if entry.kind == "tokens" else value
+    if isinstance(config, Mapping):
+        # A table of configuration keys, as [tool.usdrender-lint] holds them.
+        config = with_inline(Settings(), [config], table_name=CONFIG_TABLE)
     # No config file is searched for: None means the defaults, as documented.
     return Request(
         tuple(paths),
@@ -78,9 +83,11 @@ def lint_file(
 
     ``select`` / ``ignore`` / ``extend_select`` take rule codes, prefixes or
     names, like the flags; ``profile`` is a renderer profile name or "auto";
-    ``config`` is a :class:`Settings`, the path of a ``pyproject.toml`` or
-    ``.usdrender-lint.toml``, or None for the defaults (no file is searched
-    for). ``variants`` (default: the configuration's) also lints other variant
+    ``config`` is a :class:`Settings`, a table of configuration keys as
+    ``[tool.usdrender-lint]`` holds them (``{"severity": {"SE003": "info"}}``;
+    relative paths in it are read from the working directory), the path of a
+    ``pyproject.toml`` or ``.usdrender-lint.toml``, or None for the defaults
+    (no file is searched for). ``variants`` (default: the configuration's) also lints other variant
     selections of the render prims (see ``--variants``). A file that cannot be
     linted is a result with ``status == "error"``, not an exception; a bad
     configuration raises :class:`ConfigError`, a rule plugin that fails to
