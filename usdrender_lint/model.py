@@ -173,15 +173,18 @@ class Report:
     #: A run split by configuration: (file, its own ``unfixable``) of each file.
     unfixable_by_file: tuple[tuple[str, frozenset[str]], ...] = ()
 
-    def fixable(self) -> tuple[int, int]:
+    def fixable(self, severity: Severity | None = None) -> tuple[int, int]:
         """Findings a ``--fix`` would fix, and how many more ``--unsafe-fixes``
-        would: those whose fix is safe, and unsafe (``unfixable`` rules aside)."""
+        would: those whose fix is safe, and unsafe (``unfixable`` rules aside);
+        of one ``severity`` only, when given."""
         by_file = dict(self.unfixable_by_file)
         fixes = [
             f.fix
             for result in self.files
             for f in result.findings
-            if f.fix is not None and f.code not in by_file.get(result.file, self.unfixable)
+            if f.fix is not None
+            and f.code not in by_file.get(result.file, self.unfixable)
+            and severity in (None, f.severity)
         ]
         safe = sum(1 for fix in fixes if fix.safe)
         return safe, len(fixes) - safe

@@ -73,3 +73,23 @@ def test_no_color_on_a_terminal(monkeypatch) -> None:
     TextFormatter().render(REPORT, stream, FormatOptions())
     # Not even bold or dim (https://no-color.org).
     assert "\x1b[" not in stream.getvalue() and "CA004" in stream.getvalue()
+
+
+def test_the_fixable_count_says_how_many_are_hidden_info_findings() -> None:
+    import dataclasses
+
+    (shot, gone) = REPORT.files
+    info = dataclasses.replace(shot.findings[1], fix=FixInfo("author it", True))
+    unsafe_info = dataclasses.replace(info, code="ST004", fix=FixInfo("guess", False))
+    report = Report((dataclasses.replace(shot, findings=(shot.findings[0], info, unsafe_info)),))
+    hidden, shown = io.StringIO(), io.StringIO()
+    TextFormatter().render(report, hidden, FormatOptions())
+    TextFormatter().render(report, shown, FormatOptions(show_info=True))
+    assert hidden.getvalue().splitlines()[-1] == (
+        "1 finding in 1 file: 1 error, 0 warnings (2 info hidden; --show-info shows them); "
+        "2 fixable with --fix, 1 of them hidden info (1 more with --unsafe-fixes)."
+    )
+    assert shown.getvalue().splitlines()[-1] == (
+        "3 findings in 1 file: 1 error, 0 warnings, 2 info; "
+        "2 fixable with --fix (1 more with --unsafe-fixes)."
+    )

@@ -262,7 +262,9 @@ class TextFormatter:
         if errors:
             text += f"; {_plural(errors, 'file')} could not be linted"
         if not options.fixing:
-            text += "".join(_fixable(*report.fixable()))
+            # --fix fixes hidden info findings too: the count says how many it holds.
+            hidden_fixable = report.fixable(Severity.INFO)[0] if hidden else 0
+            text += "".join(_fixable(*report.fixable(), hidden_fixable))
         if report.applied_fixes:
             text += f"; {_plural(len(report.applied_fixes), 'fix', 'fixes')} applied"
         if report.unapplied_fixes:
@@ -270,9 +272,11 @@ class TextFormatter:
         return text + "."
 
 
-def _fixable(safe: int, unsafe: int) -> Iterable[str]:
+def _fixable(safe: int, unsafe: int, hidden: int = 0) -> Iterable[str]:
     if safe:
         yield f"; {safe} fixable with --fix"
+    if hidden:
+        yield f", {hidden} of them hidden info"
     if unsafe:
         yield (
             f" ({unsafe} more with --unsafe-fixes)"
