@@ -32,6 +32,21 @@ def _no_result_cache(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("USDRENDER_LINT_NO_CACHE", "1")
 
 
+@pytest.fixture(autouse=True)
+def _lint_start_on_the_precise_clock(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A test writes a layer and lints it in the same process microseconds later,
+    inside the clock tick the result cache takes as the lint's start
+    (result_cache.lint_start_ns), which counts such a layer as changed during the
+    lint and stores nothing: a user's files are older than the command's
+    start-up. Tests start on the precise clock; the coarse one is tested in
+    tests/running/test_cache_changes_while_linting.py."""
+    import time
+
+    from usdrender_lint.running import result_cache
+
+    monkeypatch.setattr(result_cache, "lint_start_ns", time.time_ns)
+
+
 @pytest.fixture
 def shared_dir() -> Path:
     if not SHARED.is_dir():

@@ -382,6 +382,20 @@ def profile_chooser(settings: Settings):
     return choose
 
 
+def profile_choice_key(settings: Settings) -> list[object]:
+    """What :func:`profile_chooser`'s answers depend on besides the settings'
+    values (which the result cache's key holds): whether --profile was given
+    (it wins over per-path-profiles), the files that set the profile settings
+    (each finding's profile reason names them), and the folder the
+    per-path-profiles globs are read from."""
+    return [
+        "profile" in settings.from_flags,
+        settings.where("profile"),
+        settings.where("per_path_profiles"),
+        str(settings.base_dir) if settings.per_path_profiles else None,
+    ]
+
+
 @record(frozen=True)
 class LinterSpec:
     """A picklable recipe for the linter: worker processes build theirs from it,
@@ -877,6 +891,7 @@ def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
         prepared.linter,
         prepared.settings,
         variant_combinations=prepared.spec.variant_combinations,
+        profile_choice=profile_choice_key(prepared.settings),
     )
     cache = ResultCache(folder, key)
     try:

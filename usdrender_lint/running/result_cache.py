@@ -61,7 +61,7 @@ from ..config import Settings
 from ..engine.assets import ClipTemplate, is_search_path
 from ..model import FileResult
 from ..records import record
-from ..report_json import ReportFormatError, finding_from_dict, finding_to_dict
+from ..report_json import finding_from_dict, finding_to_dict
 from ..settings_table import not_in_cache_key, settings_key
 
 if TYPE_CHECKING:
@@ -145,9 +145,37 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
             for name, value in sorted(os.environ.items())
             if name.startswith(ENV_PREFIXES)
         },
+        "plugins": _plugin_signature(),
         "extra": extra,
     }
     return _digest_text(_canonical(parts))
+
+
+def _plugin_signature() -> list[object]:
+    """The USD plugins registered besides usd-core's own (whose version is in
+    the key), with the (size, mtime) of the files that define each: a schema
+    or resolver plugin installed, removed or edited under an unchanged
+    ``PXR_PLUGINPATH_NAME`` changes what USD composes and which types exist."""
+    import pxr
+    from pxr import Plug
+
+    own = os.path.dirname(os.path.abspath(pxr.__file__)) + os.sep
+    signature: list[object] = []
+    for plugin in Plug.Registry().GetAllPlugins():
+        resources, path = plugin.resourcePath, plugin.path
+        if os.path.abspath(resources).startswith(own):
+            continue
+        files = {path, os.path.join(resources, "plugInfo.json")}
+        files.add(os.path.join(resources, "generatedSchema.usda"))
+        stamps = []
+        for name in sorted(files):
+            try:
+                info = os.stat(name)
+            except OSError:
+                continue
+            stamps.append((name, info.st_size, info.st_mtime_ns))
+        signature.append((plugin.name, path, resources, stamps))
+    return sorted(signature, key=repr)
 
 
 def _canonical(value: object) -> str:
@@ -291,6 +319,9 @@ class Dependencies:
 
     files: tuple[str, ...]
     assets: tuple[str, ...] = ()
+    #: The files of ``files`` that are layers the lint read (the others are
+    #: where a layer could be found, and may be absent).
+    layers: frozenset[str] = frozenset()
     searches: tuple[str, ...] = ()
     clip_templates: tuple[ClipTemplate, ...] = ()
     context: str = ""
@@ -307,6 +338,7 @@ def dependencies(reads: Reads, root: str | None = None) -> Dependencies | None:
     if layers is None or targets is None or assets is None:
         return None
     files, folders, found = layers
+    read = frozenset(files)
     searches = {*reads.searches, *found}
     # Sdf anchors a search path next to the layer naming it when that file
     # exists: next to any layer read, the file must stay as it was.
@@ -318,6 +350,7 @@ def dependencies(reads: Reads, root: str | None = None) -> Dependencies | None:
     return Dependencies(
         files=tuple(sorted(files)),
         assets=tuple(sorted(assets - files)),
+        layers=read,
         searches=tuple(sorted(searches)),
         clip_templates=tuple(reads.clip_templates),
         context=reads.context,
@@ -530,8 +563,10 @@ class ResultCache:
             return None
         try:
             result = self._valid(json.loads(data), file)
-        except (ValueError, TypeError, KeyError, ReportFormatError, RecursionError):
-            result = None  # corrupt (a deeply nested one included): linted and stored again
+        except Exception:  # noqa: BLE001 - a cache problem never costs a result
+            # Corrupt (a deeply nested one included), or what it names cannot be
+            # looked at now: linted and stored again.
+            result = None
         if result is None:
             return None
         self.hits += 1
@@ -562,8 +597,8 @@ class ResultCache:
             if self._files.state(named, existence_only=state == PRESENT) != state:
                 return False
         for folder, pattern, matched in data["clips"]:
-            if clip_matches(folder, pattern) != matched:
-                return False
+            if not _TEMPLATE_PATTERN.fullmatch(pattern) or clip_matches(folder, pattern) != matched:
+                return False  # a pattern no template makes (assets.clip_template) is not run
         searches = data["searches"]
         context, found = _resolver_state(file, [search for search, _ in searches])
         return context == data["context"] and found == [where for _, where in searches]
@@ -597,6 +632,8 @@ class ResultCache:
         context, where = _resolver_state(file, found.searches)
         if found.context and found.context != context:
             return False  # opened in another resolver context than a lookup would see
+        if any(_changed_since(path, started_ns) for path in where if path):
+            return False  # found now, made while it was linted: the lint may have found another
         document = {
             "usdrender_lint_cache": FORMAT,
             "key": self.key,
@@ -630,8 +667,12 @@ class ResultCache:
         deps: list[list[str | None]] = [[root, self._files.real(root), after]]
         for path in found.files:
             deps.append([path, self._files.real(path), self._files.state(path)])
+            if deps[-1][2] is None and path in found.layers:
+                return None  # a layer the lint read is gone: removed while it was linted
         for path in found.assets:
             deps.append([path, self._files.real(path), self._files.state(path, True)])
+            if deps[-1][2] is None and _removed_since(path, started_ns):
+                return None  # a rule may have found it before it was removed
         # After the digests: a change after the lint began and before a digest shows here.
         if any(_changed_since(path, started_ns) for path in (root, *found.files, *found.assets)):
             return None  # changed or replaced while it was linted: which version was read?
@@ -780,6 +821,12 @@ def _entry_files(folder: Path, stale: bool) -> list[tuple[int, int, Path]]:
     return found
 
 
+#: The patterns assets.clip_template makes: a name's dot-separated parts, each
+#: ``-?[0-9]+`` (a ``#`` group) or escaped text, so matching is linear in a name.
+_TEMPLATE_PART = r"(?:-\?\[0-9\]\+|(?:\\.|[^\\.^$*+?{}\[\]|()])+)"
+_TEMPLATE_PATTERN = re.compile(rf"{_TEMPLATE_PART}(?:\\\.{_TEMPLATE_PART})*")
+
+
 def clip_matches(folder: str, pattern: str) -> list[str]:
     """The names in ``folder`` a clip template's pattern matches, sorted."""
     try:
@@ -792,14 +839,38 @@ def clip_matches(folder: str, pattern: str) -> list[str]:
 def _changed_since(path: str, started_ns: int) -> bool:
     """True when ``path`` (the file, or the link naming it) changed after
     ``started_ns``. The change time, which no copy keeping times (``cp -p``,
-    ``rsync -t``) or ``touch`` can set back, and which a rename sets."""
+    ``rsync -t``) or ``touch`` can set back, and which a rename sets. An
+    absent path has not (its absence is what the entry records)."""
     try:
         changed = max(os.stat(path).st_ctime_ns, os.lstat(path).st_ctime_ns)
-    except FileNotFoundError:
-        return False  # absent: its absence is what the entry records
+    except (FileNotFoundError, NotADirectoryError):
+        return False
     except OSError:
         return True
-    return changed > started_ns
+    # At: the same tick as the start may be after it.
+    return changed >= started_ns
+
+
+def _removed_since(path: str, started_ns: int) -> bool:
+    """Whether an absent ``path`` may have existed after ``started_ns``: its
+    nearest existing folder changed since (a file removed changes its folder)."""
+    folder = os.path.dirname(path)
+    while folder != os.path.dirname(folder) and not os.path.isdir(folder):
+        folder = os.path.dirname(folder)
+    return _changed_since(folder, started_ns)
+
+
+def lint_start_ns() -> int:
+    """The time a lint begins, on the clock the kernel stamps change times
+    with (Linux: the coarse real-time clock, up to a tick behind
+    ``time.time_ns()``, so that an edit just after the start could otherwise
+    seem to come before it). A change time at or after it is a change during
+    the lint (:func:`_changed_since`)."""
+    return time.clock_gettime_ns(COARSE_CLOCK) if COARSE_CLOCK is not None else time.time_ns()
+
+
+#: Linux's CLOCK_REALTIME_COARSE (5), which Python names from 3.13 on.
+COARSE_CLOCK = getattr(time, "CLOCK_REALTIME_COARSE", 5 if sys.platform == "linux" else None)
 
 
 def _write(temporary: Path, data: bytes) -> None:
@@ -821,7 +892,7 @@ class CachingLinter:
         return self.linter.raise_errors
 
     def lint_path(self, path: str, *, full_composition: bool = False) -> FileResult:
-        started = time.time_ns()
+        started = lint_start_ns()
         before = self.cache.state(os.path.abspath(path))
         run = self.linter.run_path(path, full_composition=full_composition, reads=True)
         try:
