@@ -92,6 +92,8 @@ def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
 
 
 _ADDRESS = re.compile(r" ?<0x[0-9a-fA-F]+>")
+#: The sources of the usda parser's errors (pxr/usd/sdf).
+_TEXT_PARSER = ("textParserHelpers.h", "textFileFormat.cpp", "textFileFormatParser.cpp")
 _QUOTED_LAYER = re.compile(r"@([^@]+)@")
 #: The sources of the crate reader's errors: the reader, and the LZ4 and
 #: integer decompression it reads the structural sections with.
@@ -132,6 +134,11 @@ def corruption(exc: Tf.ErrorException, path: str) -> str | None:
             return next(iter(error_lines(exc, path)), commentary)
         if source.endswith("crateFile.cpp"):
             return f"USD cannot read a value of the file: {commentary.strip()}; the file is corrupt"
+        if source.endswith(_TEXT_PARSER):
+            # A layer USD opens only when a value is read (a value clip's, its
+            # manifest) does not parse: the stage cannot be read in full.
+            line = next(iter(error_lines(exc, path)), commentary.strip())
+            return f"a layer USD reads for a value does not parse: {line}"
         if "propName.IsEmpty()" in commentary:
             return NAMELESS_PROPERTY
     return None

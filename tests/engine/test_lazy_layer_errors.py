@@ -1,0 +1,63 @@
+"""A layer USD opens only when a value is read (a value clip's manifest) that
+does not parse is the file's problem (ST001, as a corrupt crate value is), not
+an internal error of whichever rule read a value first; every path says so."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from cli_support import invoke_in
+
+import usdrender_lint
+
+SHOT = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings" (
+        clips = {
+            dictionary default = {
+                asset[] assetPaths = [@./clip.usda@]
+                asset manifestAssetPath = @./manifest.usda@
+                double2[] active = [(0, 0)]
+                double2[] times = [(0, 0)]
+                string primPath = "/Render/Settings"
+            }
+        }
+    )
+    {
+    }
+}
+"""
+CLIP = '#usda 1.0\ndef Scope "Render"\n{\n    def RenderSettings "Settings"\n    {\n    }\n}\n'
+#: The usda parser wants a new line between a prim's braces and its properties.
+BROKEN_MANIFEST = '#usda 1.0\ndef Scope "Render" { def RenderSettings "Settings" { float x } }\n'
+
+
+def _shot(folder: Path) -> Path:
+    (folder / "shot.usda").write_text(SHOT)
+    (folder / "clip.usda").write_text(CLIP)
+    (folder / "manifest.usda").write_text(BROKEN_MANIFEST)
+    return folder / "shot.usda"
+
+
+def test_a_clip_manifest_that_does_not_parse_is_st001_on_every_path(tmp_path: Path) -> None:
+    shot = _shot(tmp_path)
+    expected = [
+        (
+            "ST001",
+            "a layer USD reads for a value does not parse: manifest.usda:2:54: Expected } at "
+            "'float x } }' in </Render/Settings>",
+        )
+    ]
+    api = usdrender_lint.lint_file(shot)
+    assert [(f.code, f.message.replace(f"{tmp_path}/", "")) for f in api.findings] == expected
+    for options in (["--jobs", "1", "--timeout", "0"], ["--jobs", "2"], ["--full-composition"]):
+        result = invoke_in(
+            tmp_path, "check", "--isolated", "--format", "json", *options, "shot.usda", "clip.usda"
+        )
+        assert result.exit_code == 1, result.output
+        document = json.loads(result.stdout)
+        (entry,) = [e for e in document["files"] if e["file"] == "shot.usda"]
+        found = [(f["code"], f["message"]) for f in entry["findings"]]
+        assert found == expected, options
