@@ -33,7 +33,9 @@ from .settings_table import (
     ConfigError,
 )
 
-CONFIG_FILE_NAMES = (".usdrender-lint.toml", "pyproject.toml")
+#: The names a folder's configuration file may have, the first found winning
+#: (as ruff reads ``.ruff.toml``, ``ruff.toml``, then ``pyproject.toml``).
+CONFIG_FILE_NAMES = (".usdrender-lint.toml", "usdrender-lint.toml", "pyproject.toml")
 TOOL_TABLE = "usdrender-lint"
 
 
@@ -351,10 +353,11 @@ def config_file_in(folder: Path) -> Path | None:
     # A config file's name taken by something that is not a regular file (a
     # dangling link, a loop, a FIFO, a folder) is an error, not a file to skip
     # in favour of a parent folder's config.
-    dedicated = folder / CONFIG_FILE_NAMES[0]
-    if os.path.lexists(dedicated):
-        _read_config_bytes(dedicated)
-        return dedicated
+    for name in CONFIG_FILE_NAMES[:-1]:
+        dedicated = folder / name
+        if os.path.lexists(dedicated):
+            _read_config_bytes(dedicated)
+            return dedicated
     pyproject = folder / "pyproject.toml"
     if os.path.lexists(pyproject) and _has_tool_table(pyproject):
         return pyproject

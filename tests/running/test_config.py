@@ -170,6 +170,20 @@ def test_dedicated_file_wins_and_pyproject_without_table_is_skipped(project) -> 
     assert set(findings(check(project))) == {"CA001"}
 
 
+def test_a_plain_usdrender_lint_toml_is_read_between_the_dotted_one_and_pyproject(
+    project,
+) -> None:
+    shots = project / "shots"
+    _write(shots, '[tool.usdrender-lint]\nselect = ["SE003"]\n', "pyproject.toml")
+    _write(shots, 'select = ["CA001"]\n', "usdrender-lint.toml")
+    assert set(findings(check(project))) == {"CA001"}
+    _write(shots, 'select = ["CA001", "SE003"]\n')
+    assert set(findings(check(project))) == {"CA001", "SE003"}
+    (shots / ".usdrender-lint.toml").unlink()
+    (shots / "usdrender-lint.toml").unlink()
+    assert set(findings(check(project))) == {"SE003"}
+
+
 def test_config_flag_and_isolated(project, tmp_path_factory) -> None:
     _write(project, 'select = ["SE003"]\n')
     elsewhere = _write(tmp_path_factory.mktemp("cfg"), 'select = ["CA001"]\n')
