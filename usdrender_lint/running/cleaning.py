@@ -43,23 +43,21 @@ def clean(
     :class:`~.result_cache.ForeignFolder`; a ConfigError is the configuration's."""
     notes: list[str] = []
     cleared: list[Cleared] = []
-    seen: set[Path] = set()
+    seen: set[str] = set()
     missing = tuple(p for p in paths if not os.path.lexists(p))
     paths = [p for p in paths if p not in missing]
     for folder, named in _candidates(paths, cache_dir, config, config_overrides, isolated, notes):
-        key = folder.resolve()
+        key = os.path.realpath(folder)
         if key in seen or not os.path.lexists(folder):
             continue
         seen.add(key)
-        if not is_cache_folder(folder):
-            # An empty folder is no cache yet (a check would take it over).
-            if named and _holds_anything(folder):
+        if is_cache_folder(folder):
+            cleared.append(clear(folder))
+        elif _holds_anything(folder):  # an empty folder is no cache yet
+            if named:
                 clear(folder)  # raises ForeignFolder, as check refuses such a folder
-            if _holds_anything(folder):
-                shown = display_path(str(folder))
-                notes.append(f"{shown} is not a usdrender-lint cache folder; left alone")
-            continue
-        cleared.append(clear(folder))
+            shown = display_path(str(folder))
+            notes.append(f"{shown} is not a usdrender-lint cache folder; left alone")
     return Cleaning(tuple(cleared), tuple(notes), missing)
 
 
