@@ -192,9 +192,9 @@ def unsupervised(*args: str) -> list[str]:
     return [sys.executable, "-c", "import sys; from usdrender_lint.cli import main; main()", *args]
 
 
-def invoke_in(cwd: Path, *args: str):
+def invoke_in(cwd: Path, *args: str, input: str | None = None):
     """The command line run in this process (click's runner) with ``cwd`` as the
-    working directory; click's Result."""
+    working directory (and ``input`` on standard input); click's Result."""
     from click.testing import CliRunner
 
     from usdrender_lint.cli import cli
@@ -202,6 +202,6 @@ def invoke_in(cwd: Path, *args: str):
     previous = os.getcwd()
     os.chdir(cwd)
     try:
-        return CliRunner().invoke(cli, list(args))
+        return CliRunner().invoke(cli, list(args), input=input)
     finally:
         os.chdir(previous)

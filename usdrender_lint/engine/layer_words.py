@@ -154,6 +154,12 @@ def without_external_arcs(path: str) -> bool:
     )
 
 
+def is_text_file(path: str) -> bool:
+    """Whether the file at ``path`` is a text layer (it begins ``#usda``)."""
+    key = _key(path)
+    return key is not None and _scan(key).kind == "text"
+
+
 def spec_count(path: str) -> int | None:
     """How many specs the layer file holds: a crate says so in its SPECS
     section; for a text layer, an estimate from its size; None otherwise."""

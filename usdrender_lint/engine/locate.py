@@ -10,6 +10,7 @@ from pxr import Sdf, Usd
 from ..api.text import MAX_MESSAGE_CHARS
 from ..layers.files import real_path
 from ..model import Location
+from . import layer_words
 
 
 def bounded_message(message: str) -> str:
@@ -74,8 +75,9 @@ def _is_text_file(layer: Sdf.Layer) -> bool:
     # A layer with unsaved edits may have no file yet: its lint may hold its text
     # (usda_text.hold_text); otherwise no line is found.
     path = real_path(layer)
-    return (
-        bool(path)
-        and layer.GetFileFormat().formatId == "usda"
-        and (layer.dirty or os.path.isfile(path))
-    )
+    if not path:
+        return False
+    format_id = layer.GetFileFormat().formatId
+    if format_id == "usd":  # .usd is text or a crate: its first bytes say which
+        return os.path.isfile(path) and layer_words.is_text_file(path)
+    return format_id == "usda" and (layer.dirty or os.path.isfile(path))
