@@ -131,7 +131,7 @@ def test_names_with_controls_and_quotes_survive_the_patch(
     names are quoted as git quotes them."""
     if shutil.which(tool[0]) is None:
         pytest.skip(f"{tool[0]} is not installed")
-    names = ["x\ny.usda", "e\x1b[31m.usda", 'q"\\.usda']
+    names = ["x\ny.usda", "e\x1b[31m.usda", 'q"\\.usda', "my shot é.usda"]
     try:
         for name in names:
             (tmp_path / name).write_text(SHOT, encoding="utf-8")
@@ -144,6 +144,8 @@ def test_names_with_controls_and_quotes_survive_the_patch(
     assert '--- "x\\ny.usda"\n+++ "x\\ny.usda"\n' in result.stdout
     assert '--- "e\\033[31m.usda"\n' in result.stdout
     assert '--- "q\\"\\\\.usda"\n' in result.stdout
+    # GNU patch ends an unquoted name at a space.
+    assert '--- "my shot \\303\\251.usda"\n' in result.stdout
     (tmp_path / "fixes.patch").write_text(result.stdout, encoding="utf-8")
     if tool[0] == "git":
         subprocess.run(["git", "init", "-q", "."], cwd=tmp_path, check=True)

@@ -59,14 +59,15 @@ _C_ESCAPES = {7: "\\a", 8: "\\b", 9: "\\t", 10: "\\n", 11: "\\v", 12: "\\f", 13:
 def header_name(name: str) -> str:
     """``name`` as a patch header carries it: as it is, or, when it holds a
     control character (paths.printable), a quote, a backslash or bytes that
-    are not UTF-8 (which would break the header or forge lines), quoted as git
-    quotes it: ``"a/x\\ny"``, other bytes than ASCII as octal escapes."""
+    are not UTF-8 (which would break the header or forge lines), or a space
+    (GNU patch ends an unquoted name there), quoted as git quotes it:
+    ``"a/x\\ny"``, other bytes than ASCII as octal escapes."""
     raw = os.fsencode(name)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError:
         text = None
-    if text is not None and printable(text, limit=None) == text and not set('"\\') & set(text):
+    if text is not None and printable(text, limit=None) == text and not set('"\\ ') & set(text):
         return name
     out = []
     for byte in raw:
