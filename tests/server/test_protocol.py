@@ -567,3 +567,34 @@ async def test_a_save_relints_with_the_files_on_disk(client: LanguageClient, wor
     client.text_document_did_close(
         types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
     )
+
+
+async def test_a_document_whose_uri_the_client_encodes_gets_its_diagnostics(
+    client: LanguageClient, workspace: Path
+):
+    """VS Code sends ``file:///my%20shot%20%C3%A9.usda`` for a name with a space
+    or a letter outside ASCII; pygls keeps its documents under the URI decoded.
+    The diagnostics go on the URI the client sent: on the document, and on
+    another open layer (a sublayer so named) that holds a finding."""
+    plain = open_document(client, workspace / "shot.usda")
+    expected = sorted((d.code, d.range.start.line) for d in await diagnostics_of(client, plain, 1))
+    named = workspace / "my shot é.usda"
+    shutil.copy(workspace / "shot.usda", named)
+    uri = open_document(client, named)
+    assert "%20" in uri and "%C3%A9" in uri
+    found = await diagnostics_of(client, uri, 1)
+    assert sorted((d.code, d.range.start.line) for d in found) == expected
+    lighting = workspace / "light é.usda"
+    lighting.write_text(LIGHTING)
+    lighting_uri = open_document(client, lighting)
+    assert "SE001" in {d.code for d in await diagnostics_of(client, lighting_uri, 1)}
+    root = open_document(
+        client, workspace / "root é.usda", "#usda 1.0\n(\n    subLayers = [@./light é.usda@]\n)\n"
+    )
+    await diagnostics_of(client, root, 1)
+    assert "SE001" in {d.code for d in client.diagnostics[lighting_uri]}
+    assert not [d for d in client.diagnostics[root] if d.code == "SE001"]
+    for opened in (plain, uri, lighting_uri, root):
+        client.text_document_did_close(
+            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(opened))
+        )

@@ -19,10 +19,12 @@ import time
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
+from urllib.parse import unquote
 
 from lsprotocol import types
 from pygls.lsp.server import LanguageServer
 from pygls.uris import from_fs_path, to_fs_path
+from pygls.workspace import TextDocument
 from pygls.workspace.position_codec import ServerTextPosition
 
 from .. import __version__
@@ -92,22 +94,40 @@ class UsdRenderLintServer(LanguageServer):
             return
         self.linting.reconfigure(configuration)
         if self.ready.is_set():
-            for uri in list(self.workspace.text_documents):
+            for uri in self.open_uris():
                 asyncio.ensure_future(self.lint(uri))
 
     # -- documents -----------------------------------------------------------------
 
+    def open_uris(self) -> list[str]:
+        """The URIs of the open documents, as the client names them."""
+        return [document.uri for document in list(self.workspace.text_documents.values())]
+
+    def open_document(self, uri: str) -> TextDocument | None:
+        """The open document the client names ``uri``, or None. pygls keys its
+        documents by the URI decoded, where a client may send it encoded
+        (VS Code: ``file:///my%20shot%20%C3%A9.usda``)."""
+        return self.workspace.text_documents.get(unquote(uri))
+
+    def uri_of(self, path: str) -> str:
+        """The URI to publish on for the file ``path``: the client's own for an
+        open document, else the file's."""
+        for uri in self.open_uris():
+            if usd_path(uri) == path:
+                return uri
+        return from_fs_path(path) or path
+
     def texts(self) -> dict[str, str]:
         """The text of every open USD document, by path."""
         found = {}
-        for uri, document in list(self.workspace.text_documents.items()):
-            path = usd_path(uri)
+        for document in list(self.workspace.text_documents.values()):
+            path = usd_path(document.uri)
             if path is not None:
                 found[path] = document.source
         return found
 
     def version_of(self, uri: str) -> int | None:
-        document = self.workspace.text_documents.get(uri)
+        document = self.open_document(uri)
         return document.version if document is not None else None
 
     async def start_linting(self) -> None:
@@ -130,7 +150,7 @@ class UsdRenderLintServer(LanguageServer):
         of it is asked for meanwhile; then (``dependents``) the other open
         documents that name its file (a sublayer or reference of theirs)."""
         path = usd_path(uri)
-        if path is None or uri not in self.workspace.text_documents:
+        if path is None or self.open_document(uri) is None:
             return
         self.ticks += 1
         tick = self.wanted[uri] = self.ticks
@@ -147,7 +167,7 @@ class UsdRenderLintServer(LanguageServer):
             if failed.cancelled:
                 return
             linted = Linted(error=failed.reason)
-        if self.wanted.get(uri) != tick or uri not in self.workspace.text_documents:
+        if self.wanted.get(uri) != tick or self.open_document(uri) is None:
             return
         self.seconds[path] = linted.seconds
         self.findings[uri] = (linted.findings, texts)
@@ -158,7 +178,8 @@ class UsdRenderLintServer(LanguageServer):
     async def _make_way(self, uri: str, path: str, tick: int) -> bool:
         """Cancel the document's running lint where it pays, and wait out a burst of
         edits on a slow one; False when a newer lint was asked for meanwhile."""
-        text = self.workspace.get_text_document(uri).source
+        document = self.open_document(uri)
+        text = document.source if document is not None else ""
         expected = self.seconds.get(path, SLOW * 2 if len(text) > LARGE_TEXT else 0.0)
         # A slow document's running lint is cancelled at once; a quick one's
         # only when it turns out slow (USD hangs on it, say): else it ends soon.
@@ -178,7 +199,7 @@ class UsdRenderLintServer(LanguageServer):
         name = os.path.basename(path)
         for other, text in texts.items():
             if other != path and name in text:
-                asyncio.ensure_future(self.lint(from_fs_path(other) or other, dependents=False))
+                asyncio.ensure_future(self.lint(self.uri_of(other), dependents=False))
 
     def forget(self, uri: str) -> None:
         """A closed document: its lint's diagnostics go, on it and elsewhere;
@@ -224,7 +245,7 @@ class UsdRenderLintServer(LanguageServer):
         for finding in linted.findings:
             layer = finding.location.layer or path
             if layer == path or layer in texts:
-                target = uri if layer == path else from_fs_path(layer) or uri
+                target = uri if layer == path else self.uri_of(layer)
                 target_text = texts[layer]
                 span = statement_span(target_text, finding.location.line, finding.location.column)
                 found.setdefault(target, []).append(
@@ -298,7 +319,7 @@ class UsdRenderLintServer(LanguageServer):
         found = {
             target: diagnostics
             for target, diagnostics in found.items()
-            if target == source or target in self.workspace.text_documents
+            if target == source or self.open_document(target) is not None
         }
         before = self.published.get(source, {})
         self.published[source] = found
@@ -329,7 +350,7 @@ class UsdRenderLintServer(LanguageServer):
     async def code_actions(self, params: types.CodeActionParams) -> list[types.CodeAction]:
         uri = params.text_document.uri
         path = usd_path(uri)
-        if path is None or uri not in self.workspace.text_documents:
+        if path is None or self.open_document(uri) is None:
             return []
         only = params.context.only
         texts = self.texts()
@@ -450,7 +471,7 @@ class UsdRenderLintServer(LanguageServer):
     def workspace_edit(self, changed: dict[str, tuple[str, str]]) -> types.WorkspaceEdit:
         changes = {}
         for path, (before, after) in changed.items():
-            changes[from_fs_path(path) or path] = [
+            changes[self.uri_of(path)] = [
                 types.TextEdit(range=self.range(before, edit.span), new_text=edit.text)
                 for edit in text_edits(before, after)
             ]
@@ -460,9 +481,9 @@ class UsdRenderLintServer(LanguageServer):
 
     def hover(self, params: types.HoverParams) -> types.Hover | None:
         uri = params.text_document.uri
-        if uri not in self.workspace.text_documents or not self.rules:
+        document = self.open_document(uri)
+        if document is None or not self.rules:
             return None
-        document = self.workspace.get_text_document(uri)
         position = params.position
         shown: list[RuleDoc] = []
         word = self._suppression_word(document.source, position)
@@ -510,7 +531,7 @@ class UsdRenderLintServer(LanguageServer):
         the layer read again (its lint reloads changed files)."""
         if any(p.endswith(CONFIG_SUFFIX) for p in paths):
             await self._call("forget_configuration", "", (), self.texts())
-        for uri in list(self.workspace.text_documents):
+        for uri in self.open_uris():
             if usd_path(uri) is not None:
                 asyncio.ensure_future(self.lint(uri))
 
@@ -598,7 +619,7 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
             )
             ls.client_register_capability(types.RegistrationParams([registration]))
         await ls.start_linting()
-        for uri in list(ls.workspace.text_documents):
+        for uri in ls.open_uris():
             asyncio.ensure_future(ls.lint(uri))
 
     @server.feature(types.SHUTDOWN)
