@@ -11,7 +11,7 @@ from .. import __version__
 from ..paths import printable
 from .loading import import_engine, supervision
 from .options import config_option, isolated_option, setting_options, setting_values
-from .output import ToolError, error, write, write_file
+from .output import ToolError, error, note, write, write_file
 from .views import emit, format_option, view
 
 
@@ -115,6 +115,8 @@ def spec_command(
         _write_pictures(document, output or ".", [result.file for result, _ in files])
     else:
         emit("spec", output_format, document, output, "the specification")
+    for line in inspection.notes:
+        note(line)
     for line in inspection.errors:
         error(line)
     sys.exit(inspection.exit_status)

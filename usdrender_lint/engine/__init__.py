@@ -14,6 +14,7 @@ from .linter import (
     TracedFinding,
 )
 from .locate import bounded_message, locate
+from .plugins import plugin_notes, plugin_problems, register_plugins, reported_by_worker
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
@@ -36,4 +37,8 @@ __all__ = [
     "bounded_message",
     "locate",
     "open_stage",
+    "plugin_notes",
+    "plugin_problems",
+    "register_plugins",
+    "reported_by_worker",
 ]

@@ -34,6 +34,7 @@ from ..records import record
 from . import layer_words, partial, suppress, typed_prims
 from .assets import Reads
 from .locate import bounded_message, locate
+from .plugins import register_plugins
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
@@ -302,6 +303,7 @@ class Linter:
     def _lint_file(
         self, path: str, trace: _Trace, inspect: Inspector[_T] | None, full_composition: bool
     ) -> LintRun[_T]:
+        register_plugins()  # not in the first file's open: engine/plugins.py
         problem = unsafe_to_open(path)
         if problem is not None:
             raise CorruptValue(problem)

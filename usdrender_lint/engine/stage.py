@@ -14,6 +14,7 @@ from ..layers.files import lfs_pointer_problem
 from ..model import NAMELESS_PROPERTY
 from ..paths import display_path, usd_path
 from ..records import record
+from .plugins import register_plugins
 
 STAGE_OPEN_FAILED_CODE = "ST001"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
@@ -34,6 +35,7 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
     usd-core turns every Tf error posted during ``Open`` into an exception and
     the stage handle is lost (catalog, ST001); its lines carry ``file:line:col``.
     """
+    register_plugins()  # its problems are the run's, not this file's ST001
     with Tf.DiagnosticTrap() as trap:
         try:
             if session_layer is None:

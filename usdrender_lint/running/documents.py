@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 from pxr import Sdf, Tf, Usd, Vt
 
+from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
 from ..engine.stage import (
     STAGE_OPEN_FAILED_CODE,
@@ -47,8 +48,6 @@ from .pipeline import Prepared, Request, RequestError, folder_exclusions, prepar
 
 if TYPE_CHECKING:
     from ..fixing import FixRun
-
-_USDA = Sdf.FileFormat.FindById("usda")
 
 #: (code, object path, message): how a quick fix names the finding it fixes.
 FindingKey = tuple[str, str | None, str]
@@ -98,6 +97,7 @@ class Documents:
         prepared: Prepared | None = None,
         configuration: str | Mapping[str, Any] | None = None,
     ) -> None:
+        register_plugins()  # before a document's first USD call (engine/plugins.py)
         self._registry = prepared.registry if prepared is not None else registry
         self._prepared = prepared
         #: The editor's ``configuration``: a file every document is linted with, or
@@ -256,7 +256,8 @@ class Documents:
                     self._parse_errors.pop(path, None)
                     self._imported[path] = text
                     continue
-                layer = self._layers[path] = layer or Sdf.Layer.New(_USDA, path)
+                usda = Sdf.FileFormat.FindById("usda")
+                layer = self._layers[path] = layer or Sdf.Layer.New(usda, path)
             with Tf.DiagnosticTrap() as trap:
                 try:
                     layer.ImportFromString(text)

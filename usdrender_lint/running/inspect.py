@@ -15,7 +15,7 @@ import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ..engine import Inspector, Linter
+from ..engine import Inspector, Linter, plugin_notes
 from ..model import FileResult, Report
 from ..paths import display_path
 from ..records import record
@@ -80,6 +80,8 @@ class Inspection:
     #: "error") for each that could not be.
     results: tuple[FileResult, ...]
     exit_status: int
+    #: Lines for the user beside the results (USD's plugin registration problems).
+    notes: tuple[str, ...] = ()
 
     @property
     def errors(self) -> tuple[str, ...]:
@@ -152,7 +154,8 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
     place = {file: index for index, file in enumerate(files)}
     results.sort(key=lambda result: place.get(result.file, len(place)))
     errored = any(r.status != "linted" for r in results)
-    return Inspection(tuple(results), EXIT_TOOL_ERROR if errored else EXIT_OK)
+    status = EXIT_TOOL_ERROR if errored else EXIT_OK
+    return Inspection(tuple(results), status, notes=tuple(plugin_notes()))
 
 
 def _inspected(

@@ -26,7 +26,7 @@ from ..config import (
     read_config_file,
     with_inline,
 )
-from ..engine import Linter
+from ..engine import Linter, plugin_notes
 from ..model import FileResult, Finding, Report, Severity
 from ..profiles import AUTO, PROFILES
 from ..profiles.detect import Profiler
@@ -513,10 +513,13 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     files = collect_targets(prepared, notes)
     parts = configuration_parts(prepared, files)
     if parts is None:
-        return _run_files(prepared, files, notes)
-    ahead = _lint_parts_together(parts, notes)
-    outcomes = [_run_files(part, found, [], ahead) for part, found in parts]
-    return _joined(prepared, outcomes, files, notes)
+        outcome = _run_files(prepared, files, notes)
+    else:
+        ahead = _lint_parts_together(parts, notes)
+        outcomes = [_run_files(part, found, [], ahead) for part, found in parts]
+        outcome = _joined(prepared, outcomes, files, notes)
+    # The environment's problems (engine/plugins.py), known once the files are linted.
+    return replace(outcome, notes=(*plugin_notes(), *outcome.notes))
 
 
 def _lint_parts_together(

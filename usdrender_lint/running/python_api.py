@@ -11,6 +11,7 @@ dependencies (click, rich), and nothing writes to the stage or its files.
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
@@ -19,6 +20,7 @@ from pxr import Usd
 
 from ..api import Rule
 from ..config import ConfigError, Settings, with_inline
+from ..engine import plugin_problems
 from ..explain import rule_info
 from ..model import Finding, Report
 from ..registry import RegistryError
@@ -109,6 +111,7 @@ def lint_file(
     except RequestError as exc:
         _raise_as_before(exc)
         raise
+    _warn_plugin_problems()
     return _with_rules(outcome.report, outcome.rules)
 
 
@@ -147,6 +150,13 @@ def lint_stage(
     # session layer, and this stage is the caller's.
     report = prepared.finish(Report((prepared.linter.run_stage(stage, name).result,)))
     return _with_rules(report, prepared.linter.rules)
+
+
+def _warn_plugin_problems() -> None:
+    """USD's plugin registration problems (the command line's notes) as a
+    RuntimeWarning each: Python shows one once, a caller may make it an error."""
+    for problem in plugin_problems():
+        warnings.warn(f"USD plugin registration: {problem}", RuntimeWarning, stacklevel=3)
 
 
 __all__ = [

@@ -415,6 +415,9 @@ def _resolver_state(root: str, searches: Sequence[str]) -> tuple[str, list[str]]
     what the resolver finds for each search path in it."""
     from pxr import Ar
 
+    from ..engine import register_plugins
+
+    register_plugins()  # a warm run's first USD call: engine/plugins.py
     resolver = Ar.GetResolver()
     context = resolver.CreateDefaultContextForAsset(os.path.abspath(root))
     if not searches:

@@ -18,7 +18,7 @@ from dataclasses import field, replace
 from pxr import Ar, Sdf, Tf, UsdUtils
 
 from ..config import Settings
-from ..engine import STAGE_OPEN_FAILED_CODE
+from ..engine import STAGE_OPEN_FAILED_CODE, register_plugins
 from ..layers.files import unreadable_reason
 from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
 from ..paths import display_path
@@ -55,6 +55,7 @@ def find_roots(patterns: Sequence[str], base_dir: str) -> list[str]:
 def dependencies(root: str) -> frozenset[str]:
     """Keys of every file ``root`` depends on, itself included: its layer stack,
     references, payloads (in every variant), clips and other assets."""
+    register_plugins()  # before USD's first call here: engine/plugins.py
     with Tf.DiagnosticTrap() as trap:
         try:
             layers, assets, _unresolved = UsdUtils.ComputeAllDependencies(root)
@@ -92,6 +93,7 @@ def _walk_layers(root: str) -> Iterable[str]:
 def _readable(path: str) -> bool:
     if unreadable_reason(path) is not None:
         return False  # never hand USD a FIFO: reading it blocks forever
+    register_plugins()
     with Tf.DiagnosticTrap() as trap:
         try:
             return Sdf.Layer.FindOrOpen(path) is not None

@@ -248,7 +248,10 @@ class Pool:
     def _receive(self, worker: _Worker, index: int, result: Any) -> None:
         if index == _FAILED:
             raise ExecutionError(f"a worker process could not build the linter: {result}")
-        if index == _READY:
+        if index == _READY:  # with its USD plugin registration problems
+            from ..engine import reported_by_worker
+
+            reported_by_worker(result)
             worker.starting = False
             return
         worker.queue.popleft()  # answered in the order sent
@@ -337,13 +340,16 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
     try:
         from pxr import Usd
 
+        from ..engine import register_plugins
+
+        problems = register_plugins()  # before any other USD call: engine/plugins.py
         linter = pool.factory()
         Usd.Stage.CreateInMemory()  # USD's plugins load now, not in the first file's time
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
         debug.show(exc, "a worker could not start")
         conn.send((_FAILED, f"{type(exc).__name__}: {exc}"))
         return
-    conn.send((_READY, None))
+    conn.send((_READY, problems))
     with suppress(EOFError, OSError):  # the parent is gone
         while True:
             index, item = conn.recv()

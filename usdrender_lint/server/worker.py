@@ -280,11 +280,15 @@ def _watch_parent(parent: int) -> None:
 
 def serve(connection: Connection, configuration: str | dict[str, Any] | None = None) -> None:
     """Answer the server's calls until it closes the connection."""
+    from ..engine import plugin_notes
     from ..running.documents import Documents
 
     threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
     try:
         documents = Documents(configuration=configuration)
+        # Standard error is the editor's log of the server.
+        for line in plugin_notes():
+            print(f"usdrender-lint: {line}", file=sys.stderr, flush=True)
         connection.send(("ok", _rule_docs(documents.registry)))
     except Exception as exc:  # noqa: BLE001 - said to the server, which reports it
         connection.send(("error", f"the linter cannot start: {type(exc).__name__}: {exc}"))
