@@ -11,13 +11,15 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import subprocess
+import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 from cli_support import invoke_in
-from pxr import Ar, Plug, Tf
+from pxr import Ar, Tf
 
 from usdrender_lint.engine import Linter, LintRun
 from usdrender_lint.running import result_cache
@@ -121,31 +123,40 @@ def test_the_configuration_s_file_and_folder_are_in_the_key(
     )
 
 
-def test_a_usd_plugin_registered_or_edited_changes_the_key(tmp_path: Path) -> None:
+def test_a_usd_plugin_installed_or_edited_changes_the_key(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    plugins = tmp_path / "plugins"
+    plugins.mkdir()
+    monkeypatch.setenv("PXR_PLUGINPATH_NAME", f"{tmp_path / 'elsewhere'}{os.pathsep}{plugins}/*/")
     request = Request(("x.usda",), isolated=True)
     settings = resolve_settings(request)
     linter = make_linter(settings)
     before = run_key(linter, settings)
-    plugin = tmp_path / "studio"
-    plugin.mkdir()
-    info = {
-        "Plugins": [
-            {
-                "Name": "usdrenderLintTestEmpty",
-                "Type": "resource",
-                "Root": ".",
-                "ResourcePath": ".",
-                "LibraryPath": "",
-                "Info": {},
-            }
-        ]
-    }
-    (plugin / "plugInfo.json").write_text(json.dumps(info))
-    Plug.Registry().RegisterPlugins(str(plugin))  # declares no type: nothing else sees it
-    registered = run_key(linter, settings)
-    assert registered != before
-    (plugin / "plugInfo.json").write_text(json.dumps(info, indent=1))
-    assert run_key(linter, settings) not in (before, registered)
+    (plugins / "studio").mkdir()
+    info = plugins / "studio" / "plugInfo.json"
+    info.write_text('{"Plugins": []}\n')
+    installed = run_key(linter, settings)
+    assert installed != before
+    info.write_text('{"Plugins": [ ]}\n')
+    assert run_key(linter, settings) not in (before, installed)
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="Linux's /proc")
+def test_the_key_starts_no_usd_thread(tmp_path: Path) -> None:
+    """Asking USD's plugin registry starts its threads, and a process with more
+    than one thread forks no workers (a forkserver costs 0.2 s): the key reads
+    the plugin folders from the file system."""
+    script = (
+        "import os\n"
+        "from usdrender_lint.running.pipeline import Request, make_linter, resolve_settings\n"
+        "from usdrender_lint.running.result_cache import run_key\n"
+        "settings = resolve_settings(Request(('x.usda',), isolated=True))\n"
+        "run_key(make_linter(settings), settings)\n"
+        "print(len(os.listdir('/proc/self/task')))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.stdout == "1\n", done.stderr
 
 
 class _Meddling:

@@ -151,31 +151,37 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
     return _digest_text(_canonical(parts))
 
 
-def _plugin_signature() -> list[object]:
-    """The USD plugins registered besides usd-core's own (whose version is in
-    the key), with the (size, mtime) of the files that define each: a schema
-    or resolver plugin installed, removed or edited under an unchanged
-    ``PXR_PLUGINPATH_NAME`` changes what USD composes and which types exist."""
-    import pxr
-    from pxr import Plug
+def _plugin_signature() -> list[tuple[str, int, int]]:
+    """(path, size, mtime) of every file below the folders ``PXR_PLUGINPATH_NAME``
+    names (an entry names a folder, a ``plugInfo.json`` or a glob of either, as
+    USD reads it): a schema or resolver plugin installed, removed or edited
+    there changes what USD composes and which types exist. Read from the
+    file system, not USD's plugin registry: a process that asks the registry
+    starts USD's threads, and one that forks its workers must not have any
+    (running/workers.py). At most MAX_PLUGIN_FILES files are listed."""
+    import glob
 
-    own = os.path.dirname(os.path.abspath(pxr.__file__)) + os.sep
-    signature: list[object] = []
-    for plugin in Plug.Registry().GetAllPlugins():
-        resources, path = plugin.resourcePath, plugin.path
-        if os.path.abspath(resources).startswith(own):
-            continue
-        files = {path, os.path.join(resources, "plugInfo.json")}
-        files.add(os.path.join(resources, "generatedSchema.usda"))
-        stamps = []
-        for name in sorted(files):
-            try:
-                info = os.stat(name)
-            except OSError:
-                continue
-            stamps.append((name, info.st_size, info.st_mtime_ns))
-        signature.append((plugin.name, path, resources, stamps))
-    return sorted(signature, key=repr)
+    folders: set[str] = set()
+    for entry in os.environ.get("PXR_PLUGINPATH_NAME", "").split(os.pathsep):
+        for found in glob.glob(os.path.expanduser(entry), recursive=True) if entry else ():
+            folders.add(found if os.path.isdir(found) else os.path.dirname(found))
+    signature: list[tuple[str, int, int]] = []
+    for folder in sorted(folders):
+        for root, dirs, names in os.walk(folder):
+            dirs.sort()
+            for name in sorted(names):
+                try:
+                    info = os.stat(os.path.join(root, name))
+                except OSError:
+                    continue
+                signature.append((os.path.join(root, name), info.st_size, info.st_mtime_ns))
+                if len(signature) >= MAX_PLUGIN_FILES:
+                    return signature
+    return signature
+
+
+#: The most plugin files the run key lists (a plugin folder holds a few dozen).
+MAX_PLUGIN_FILES = 10_000
 
 
 def _canonical(value: object) -> str:
