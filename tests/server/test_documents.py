@@ -180,3 +180,28 @@ def test_config_force_exclude_leaves_a_skipped_document_alone(tmp_path: Path):
     (tmp_path / ".usdrender-lint.toml").write_text('extend-exclude = ["reference/"]\n')
     documents.forget_configuration()
     assert "SE001" in {f.code for f in documents.lint(skipped).findings}
+
+
+@pytest.mark.parametrize(
+    "arc",
+    [
+        "(\n    subLayers = [@./broken.usda@]\n)\n",
+        '\ndef RenderSettings "W" (\n    references = @./broken.usda@</A>\n)\n{\n}\n',
+    ],
+    ids=["sublayer", "reference"],
+)
+def test_an_open_document_usd_cannot_parse_does_not_hide_its_users_errors(tmp_path: Path, arc: str):
+    """The wrapper's ST002 (the layer it names does not parse) whether or not that
+    layer is open too, as check says it."""
+    broken = tmp_path / "broken.usda"
+    broken.write_text('#usda 1.0\ndef Scope "A" {\n    int x = \n}\n')
+    wrapper = tmp_path / "wrapper.usda"
+    wrapper.write_text("#usda 1.0\n" + arc)
+    expected = sorted((f.code, f.message) for f in lint_file(wrapper).findings)
+    assert "ST002" in {code for code, _ in expected}
+    documents = Documents()
+    documents.update({str(wrapper): wrapper.read_text(), str(broken): broken.read_text()})
+    assert [f.code for f in documents.lint(str(broken)).findings] == ["ST001"]
+    for _ in range(2):  # and after the broken document's own lint
+        found = sorted((f.code, f.message) for f in documents.lint(str(wrapper)).findings)
+        assert found == expected

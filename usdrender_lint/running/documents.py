@@ -246,6 +246,7 @@ class Documents:
                 self._imported[path] = text
                 continue
             layer = self._layers.get(path)
+            made = False
             if layer is None:
                 # Find gives a weak handle: FindOrOpen holds a layer already open (a
                 # stage of another document opened it from its file) for good.
@@ -256,6 +257,7 @@ class Documents:
                     self._parse_errors.pop(path, None)
                     self._imported[path] = text
                     continue
+                made = layer is None
                 usda = Sdf.FileFormat.FindById("usda")
                 layer = self._layers[path] = layer or Sdf.Layer.New(usda, path)
             with Tf.DiagnosticTrap() as trap:
@@ -264,6 +266,11 @@ class Documents:
                     self._parse_errors.pop(path, None)
                 except Tf.ErrorException as exc:
                     self._parse_errors[path] = _parse_error(exc, path)
+                    if made:
+                        # An empty layer of the file's name would stand in for the
+                        # file in the other documents' stages, which then compose
+                        # nothing where check fails to read it: let it go.
+                        del self._layers[path]
                 trap.Clear()
             self._imported[path] = text
 
