@@ -140,6 +140,20 @@ def test_a_second_run_reuses_every_result_and_reports_the_same(tmp_path: Path, s
     assert second == first
 
 
+def test_with_usdrender_lint_debug_every_file_is_linted(
+    tmp_path: Path, spy: Spy, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A stored result holds no traceback: debugging an internal error lints anew."""
+    shot = write(tmp_path, {"shot.usda": SHOT_WITH_SUBLAYER, "common.usda": settings_layer()})
+    first = check(shot)
+    monkeypatch.setenv("USDRENDER_LINT_DEBUG", "1")
+    assert check(shot) == first
+    assert spy.linted == [str(shot), str(shot)]
+    monkeypatch.delenv("USDRENDER_LINT_DEBUG")
+    check(shot)
+    assert len(spy.linted) == 2  # and the cache serves it again without
+
+
 def test_the_command_line_report_is_identical_from_the_cache(tmp_path: Path) -> None:
     shutil.copytree(Path(__file__).parents[2] / "examples", tmp_path / "examples")
     args = ["check", "--isolated", "--format", "json", "--jobs", "2", "examples"]
