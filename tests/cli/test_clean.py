@@ -191,3 +191,50 @@ def test_clean_writes_nothing_where_there_is_no_cache(tmp_path: Path) -> None:
         "",
     )
     assert sorted(os.walk(tmp_path)) == before
+
+
+def test_a_linked_cache_folder_below_the_paths_is_not_followed(tmp_path: Path) -> None:
+    project, shared = tmp_path / "project", tmp_path / "shared-cache"
+    _project(project, "sub")
+    _checked(project, ".", "--cache-dir", str(shared))
+    (project / "sub" / CACHE_DIR_NAME).symlink_to(shared)
+    result = invoke_in(project, "clean")
+    assert result.exit_code == 0, result.output
+    assert result.stdout == "No result cache to remove.\n"
+    assert len(_entries(shared)) == 2 and (shared / "CACHEDIR.TAG").is_file()
+
+
+def test_only_the_cache_s_own_temporary_files_go(tmp_path: Path) -> None:
+    _project(tmp_path)
+    _checked(tmp_path, ".")
+    cache = tmp_path / CACHE_DIR_NAME
+    (cache / ".CACHEDIR.TAG.bak").write_text("mine\n")  # a user's, whatever its name
+    (cache / ".CACHEDIR.TAG.ab_12xyz.tmp").write_text("interrupted\n")  # the tag's own
+    result = invoke_in(tmp_path, "clean")
+    assert result.exit_code == 0, result.output
+    assert sorted(p.name for p in cache.iterdir()) == [".CACHEDIR.TAG.bak", "CACHEDIR.TAG"]
+
+
+def test_a_cache_file_that_cannot_be_removed_is_an_error_not_a_user_s_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _project(tmp_path)
+    _checked(tmp_path, ".")
+    cache = tmp_path / CACHE_DIR_NAME
+    (entry,) = _entries(cache)
+    unlink = Path.unlink
+
+    def refusing(path: Path, missing_ok: bool = False) -> None:
+        if path.name == entry:
+            raise PermissionError(1, "Operation not permitted")
+        unlink(path, missing_ok)
+
+    monkeypatch.setattr(Path, "unlink", refusing)
+    result = invoke_in(tmp_path, "clean")
+    assert result.exit_code == 2
+    assert "other file" not in result.stdout
+    assert result.stderr == (
+        f"usdrender-lint: error: {CACHE_DIR_NAME}: cannot remove {ENTRIES_DIR}/{entry}: "
+        "Operation not permitted\n"
+    )
+    assert (cache / "CACHEDIR.TAG").is_file()  # still the cache's, for the next clean

@@ -23,7 +23,9 @@ def _text(cleaning: Cleaning, stream: TextIO) -> None:
     for done in cleaning.cleared:
         what = f"{done.entries} {'entry' if done.entries == 1 else 'entries'}, {_size(done.size)}"
         folder = printable(display_path(str(done.folder)))
-        if done.kept:
+        if done.failed:
+            stream.write(f"Cleared {folder} ({what}) in part: see the errors below\n")
+        elif done.kept:
             shown = ", ".join(printable(name) for name in done.kept[:3])
             shown += ", ..." if len(done.kept) > 3 else ""
             stream.write(
@@ -74,5 +76,8 @@ def clean(
         note(line)
     for path in cleaning.missing:
         error(f"{path}: no such file or folder")
-    if cleaning.missing:
+    failed = [(done.folder, why) for done in cleaning.cleared for why in done.failed]
+    for folder, why in failed:
+        error(f"{display_path(str(folder))}: cannot remove {why}")
+    if cleaning.missing or failed:
         sys.exit(EXIT_TOOL_ERROR)

@@ -91,7 +91,8 @@ def _below(
         here = Path(folder)
         if CACHE_DIR_NAME in subfolders:
             subfolders.remove(CACHE_DIR_NAME)  # never walked into
-            yield here / CACHE_DIR_NAME, False
+            if not os.path.islink(here / CACHE_DIR_NAME):  # links are not followed
+                yield here / CACHE_DIR_NAME, False
         if overrides is None:
             continue
         try:

@@ -718,11 +718,11 @@ class ResultCache:
         return removed
 
 
-#: The cache's own files besides its entries: the temporary file of an entry
-#: write that was interrupted (atomic.temporary_prefix), the write probe, and
-#: the tag's temporary file.
+#: The cache's own files besides its entries: the temporary file of an
+#: interrupted write (an entry's, the tag's: atomic.temporary_prefix, mkstemp's
+#: eight characters, ``.tmp``) and the write probe.
 _OWN_TEMPORARY = re.compile(
-    r"\.[0-9a-f]{40}\.json\.[A-Za-z0-9_]{8}\.tmp|\.probe-[0-9]+|\.CACHEDIR\.TAG\..+"
+    r"\.(?:[0-9a-f]{40}\.json|CACHEDIR\.TAG)\.[A-Za-z0-9_]{8}\.tmp|\.probe-[0-9]+"
 )
 #: The entries folders of every format (older ones, and a newer version's).
 _ENTRIES_FOLDER = re.compile(r"v[0-9]+")
@@ -737,11 +737,40 @@ class Cleared:
     size: int
     #: Names in the folder that are not the cache's (so the folder stays).
     kept: tuple[str, ...]
+    #: The cache's own files that could not be removed, each with why.
+    failed: tuple[str, ...] = ()
 
 
 def is_cache_folder(folder: Path) -> bool:
     """Whether ``folder`` holds the cache's CACHEDIR.TAG."""
     return _is_ours(folder / "CACHEDIR.TAG")
+
+
+class _Clearing:
+    """One :func:`clear`: what it removed, kept and failed to remove."""
+
+    def __init__(self) -> None:
+        self.entries = self.size = 0
+        self.kept: list[str] = []
+        self.failed: list[str] = []
+
+    def remove(self, path: Path, name: str, size: int = -1) -> None:
+        try:
+            path.unlink()
+        except FileNotFoundError:
+            return
+        except OSError as exc:
+            self.failed.append(f"{name}: {exc.strerror or exc}")
+            return
+        if size >= 0:
+            self.entries += 1
+            self.size += size
+
+    def remove_folder(self, path: Path, name: str) -> None:
+        try:
+            path.rmdir()
+        except OSError as exc:
+            self.failed.append(f"{name}: {exc.strerror or exc}")
 
 
 def clear(folder: Path) -> Cleared:
@@ -754,27 +783,39 @@ def clear(folder: Path) -> Cleared:
         raise ForeignFolder(
             f"{folder} is not a usdrender-lint cache folder (no CACHEDIR.TAG of ours)"
         )
-    entries = size = 0
-    kept: list[str] = []
+    done = _Clearing()
     for item in _listing(folder):
         if item.is_dir(follow_symlinks=False) and _ENTRIES_FOLDER.fullmatch(item.name):
-            for _, bytes_, path in _entry_files(Path(item.path), True):
-                with contextlib.suppress(OSError):
-                    path.unlink()
-                    entries += 1
-                    size += bytes_
-            _remove_own(Path(item.path), kept, prefix=f"{item.name}/")
+            _clear_entries(Path(item.path), f"{item.name}/", done)
         elif _OWN_TEMPORARY.fullmatch(item.name) or _our_gitignore(item):
-            _unlink(Path(item.path), kept, item.name)
+            done.remove(Path(item.path), item.name)
         elif item.name != "CACHEDIR.TAG":
-            kept.append(item.name)
+            done.kept.append(item.name)
     # The tag last: a folder cleared halfway is still recognised as the cache's.
-    if not kept:
-        _unlink(folder / "CACHEDIR.TAG", kept, "CACHEDIR.TAG")
-    if not kept and not folder.is_symlink():
-        with contextlib.suppress(OSError):
-            folder.rmdir()
-    return Cleared(folder, entries, size, tuple(sorted(kept)))
+    if not done.kept and not done.failed:
+        done.remove(folder / "CACHEDIR.TAG", "CACHEDIR.TAG")
+        if not done.failed and not folder.is_symlink():
+            done.remove_folder(folder, str(folder))
+    return Cleared(folder, done.entries, done.size, tuple(sorted(done.kept)), tuple(done.failed))
+
+
+def _clear_entries(entries: Path, prefix: str, done: _Clearing) -> None:
+    """An entries folder: its entries and interrupted writes, then the folder
+    once empty (another file in it is kept, with the folder)."""
+    for _, size, path in _entry_files(entries, True):
+        done.remove(path, prefix + path.name, size)
+    others = False
+    for item in _listing(entries):
+        if ENTRY_NAME.fullmatch(item.name):
+            others = True  # not a regular file: not removed, as pruning does
+            done.kept.append(prefix + item.name)
+        elif _OWN_TEMPORARY.fullmatch(item.name):
+            done.remove(Path(item.path), prefix + item.name)
+        else:
+            others = True
+            done.kept.append(prefix + item.name)
+    if not others and not any(f.startswith(prefix) for f in done.failed):
+        done.remove_folder(entries, prefix)
 
 
 def _our_gitignore(item: os.DirEntry[str]) -> bool:
@@ -787,29 +828,6 @@ def _listing(folder: Path) -> list[os.DirEntry[str]]:
             return list(found)
     except OSError:
         return []
-
-
-def _remove_own(entries: Path, kept: list[str], prefix: str) -> None:
-    """An entries folder: its interrupted writes, then the folder once empty."""
-    for item in _listing(entries):
-        if not ENTRY_NAME.fullmatch(item.name) and _OWN_TEMPORARY.fullmatch(item.name):
-            _unlink(Path(item.path), kept, prefix + item.name)
-        else:  # an entry that could not be removed, or another file
-            kept.append(prefix + item.name)
-    if not any(k.startswith(prefix) for k in kept):
-        try:
-            entries.rmdir()
-        except OSError:
-            kept.append(prefix)
-
-
-def _unlink(path: Path, kept: list[str], name: str) -> None:
-    try:
-        path.unlink()
-    except FileNotFoundError:
-        pass
-    except OSError:
-        kept.append(name)
 
 
 def _entry_files(folder: Path, stale: bool) -> list[tuple[int, int, Path]]:
