@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -407,3 +408,79 @@ def test_the_benchmark_s_variant_shot_has_64_combinations_and_their_defects(
     assert result.notes == ()
     selected = {f.code for f in result.findings if "[variant selection:" in f.message}
     assert {"SE002", "SE003"} <= selected
+
+
+TWO_PLACES = """#usda 1.0
+def Scope "Render" (
+    prepend variantSets = ["q"]
+    variants = {
+        string q = "%s"
+    }
+)
+{
+    def RenderSettings "S" (
+        customData = {
+            dictionary usdrender_lint = {
+                string[] ignore = %s
+            }
+        }
+    )
+    {
+        uniform int2 resolution = (1920, 1080)
+    }
+    variantSet "q" = {
+        "good" {
+        }
+        "bad1" {
+            over "S" {
+                uniform float pixelAspectRatio = 0
+            }
+        }
+        "bad2" {
+            over "S" {
+                uniform float pixelAspectRatio = 0
+            }
+        }
+    }
+}
+"""
+
+
+def test_the_same_problem_in_two_variants_is_two_findings(tmp_path: Path) -> None:
+    """One finding per place: the problem authored in variant bad1 (line 24)
+    and in bad2 (line 29) is two findings, as a check of each selection says."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(TWO_PLACES % ("good", "[]"))
+    found = usdrender_lint.lint_file(shot, variants=True, select=["SE002"]).findings
+    assert sorted(f.location.line for f in found) == [24, 29]
+    for variant, line in (("bad1", 24), ("bad2", 29)):
+        shot.write_text(TWO_PLACES % (variant, "[]"))
+        (plain,) = usdrender_lint.lint_file(shot, select=["SE002"]).findings
+        assert plain.location.line == line
+
+
+def test_a_suppression_one_combination_uses_is_not_unused(tmp_path: Path) -> None:
+    shot = tmp_path / "shot.usda"
+    shot.write_text(TWO_PLACES % ("bad1", '["SE002"]'))
+    codes = {f.code for f in usdrender_lint.lint_file(shot, variants=True).findings}
+    assert "SE002" not in codes and "UL001" not in codes
+    # Unused under every selection, it is reported (once).
+    shot.write_text(TWO_PLACES % ("good", '["SE001"]'))
+    found = usdrender_lint.lint_file(shot, variants=True).findings
+    assert [f.code for f in found].count("UL001") == 1
+
+
+def test_recomposing_for_a_selection_writes_nothing_on_stderr(tmp_path: Path) -> None:
+    """USD's warnings when a selection's recomposition meets a missing reference
+    are the lint's findings (ST002), not lines on stderr."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(
+        TWO_PLACES.replace('"S" (\n', '"S" (\n        references = @./missing.usda@\n')
+        % ("good", "[]")
+    )
+    # In its own process: USD writes its warnings to the file descriptor, not sys.stderr.
+    command = [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--no-cache"]
+    result = subprocess.run([*command, "--variants", str(shot)], capture_output=True, text=True)
+    assert result.returncode == 1, result.stderr
+    assert "ST002" in result.stdout
+    assert result.stderr == ""

@@ -37,6 +37,7 @@ from .assets import Reads
 from .linter import RENDER_SCHEMAS, Linter, LintRun, unsafe_to_open
 from .locate import locate
 from .stage import open_stage
+from .suppress import UNUSED_SUPPRESSION_CODE
 from .typed_prims import traversal_key
 
 #: Default cap on the variant combinations linted per file.
@@ -143,11 +144,22 @@ def author_selection(
 ) -> None:
     """Author ``combination`` in the stage's session layer, replacing the last one."""
     session = stage.GetSessionLayer()
-    with Sdf.ChangeBlock():
-        session.Clear()
-        for index, variant in combination:
-            spec = Sdf.CreatePrimInLayer(session, sets[index].prim_path)
-            spec.variantSelections[sets[index].name] = variant
+    # The recomposition reports its errors (a missing reference under this
+    # selection) as USD warnings: the lint reports them as findings, not stderr.
+    with Tf.DiagnosticTrap() as trap:
+        with Sdf.ChangeBlock():
+            session.Clear()
+            for index, variant in combination:
+                spec = Sdf.CreatePrimInLayer(session, sets[index].prim_path)
+                spec.variantSelections[sets[index].name] = variant
+        trap.Clear()  # before the trap ends, which posts what it still holds
+
+
+def _clear_selections(stage: Usd.Stage) -> None:
+    """The session layer emptied again (its recomposition's warnings trapped)."""
+    with Tf.DiagnosticTrap() as trap:
+        stage.GetSessionLayer().Clear()
+        trap.Clear()
 
 
 def skipped_note(path: str, linted: int, total: int) -> str:
@@ -218,6 +230,8 @@ class VariantExplorer:
         reads: bool = False,
     ) -> LintRun[Any]:
         seen: dict[tuple, Finding] = {}
+        #: How many combinations found each unused suppression.
+        unused: dict[tuple, int] = {}
         fixes: dict[Finding, Fix] = {}
         origins: dict[Finding, tuple[str, Sdf.Path | None]] = {}
         recorded = Reads() if reads else None
@@ -233,9 +247,15 @@ class VariantExplorer:
                     selection = describe(sets, combination)
                     run = lint(stage, file, texts=texts, prims=walk.prims(), reads=reads)
                     for finding in run.findings:
-                        key = (finding.code, finding.location.path, finding.message)
+                        shown = _annotated(stage, finding, selection)
+                        # One finding per place: the same problem authored in two
+                        # variants (two lines, two layers) is two findings.
+                        at = shown.location
+                        key = (finding.code, at.path, finding.message, at.layer, at.line, at.column)
+                        if finding.code == UNUSED_SUPPRESSION_CODE:
+                            unused[key] = unused.get(key, 0) + 1
                         if key not in seen:
-                            shown = seen[key] = _annotated(stage, finding, selection)
+                            seen[key] = shown
                             origins[shown] = run.origin(finding)
                             if finding in run.fixes:
                                 fixes[shown] = run.fixes[finding]
@@ -243,7 +263,11 @@ class VariantExplorer:
                         recorded.merge(run.reads)
                     linted += 1
             finally:
-                stage.GetSessionLayer().Clear()
+                _clear_selections(stage)
+        # A suppression is unused only when no combination used it.
+        for key, count in unused.items():
+            if count < linted:
+                del seen[key]
         total = combination_count(sets)
         name = file or stage.GetRootLayer().identifier
         notes = (skipped_note(name, linted, total),) if linted < total else ()
