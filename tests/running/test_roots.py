@@ -330,3 +330,52 @@ def test_a_real_shot_from_the_corpus(shared_dir: Path) -> None:
         == expected
         >= in_root
     )
+
+
+LAYOUT_SHOT = """#usda 1.0
+(
+    renderSettingsPrimPath = "/Render/S"
+    subLayers = [@../../seq/lighting.usda@]
+)
+over "Render"
+{
+    over "S"
+    {
+        uniform bool instantaneousShutter = false
+    }
+}
+"""
+LIGHTING_LAYER = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "S"
+    {
+        uniform token aspectRatioConformPolicy = "expandaperture"
+        uniform int2 resolution = (1920, 1080)
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("timeout", ["0", "60"], ids=["in-process", "in-a-worker"])
+def test_fix_with_roots_fixes_only_what_it_reports(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, timeout: str
+) -> None:
+    """A pre-commit fix of a changed layer: its own findings are fixed, the shot
+    that uses it (not given) is not touched, whatever it holds."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / ".usdrender-lint.toml").write_text('roots = ["shots/*/shot.usda"]\n')
+    shot = _write(tmp_path / "shots/010/shot.usda", LAYOUT_SHOT)
+    lighting = _write(tmp_path / "seq/lighting.usda", LIGHTING_LAYER)
+    args = ["check", "--no-cache", "--timeout", timeout, "--select", "SE006,SE007"]
+    before = CliRunner().invoke(cli, [*args, "--format", "json", "seq/lighting.usda"])
+    reported = json.loads(before.stdout)["files"][0]["findings"]
+    assert [(f["code"], f["layer"]) for f in reported] == [("SE006", "seq/lighting.usda")]
+    result = CliRunner().invoke(cli, [*args, "--fix", "seq/lighting.usda"])
+    assert result.exit_code == 0, result.output
+    assert "1 fix applied" in result.stdout
+    assert shot.read_text() == LAYOUT_SHOT
+    assert '"expandAperture"' in lighting.read_text()
+    # The shot's own finding, which the check of the layer did not report, stays.
+    alone = CliRunner().invoke(cli, [*args, "--format", "json", "shots/010/shot.usda"])
+    assert "SE007" in {f["code"] for f in json.loads(alone.stdout)["files"][0]["findings"]}

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 from collections import Counter
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
@@ -638,7 +638,7 @@ def _run_files(
     if request.fix is not None and stdin is not None:
         fixed, stdin = stdin.fix(prepared)  # nothing is written: the text is the output
     elif request.fix is not None and request.stdin is None:
-        fixed, fix_failed = _run_fixes(prepared, targets)
+        fixed, fix_failed = _run_fixes(prepared, targets, plan)
     report = _lint_targets(prepared, stdin, targets, fixed, fix_failed, notes, ahead or {})
     if plan is not None:
         report = replace(report, files=plan.failed + report.files)
@@ -928,26 +928,33 @@ def fails(report: Report, fail_on: str) -> bool:
 # -- fixing ---------------------------------------------------------------------------
 
 
-def _run_fixes(prepared: Prepared, files: Sequence[str]) -> tuple[FixRun, tuple[FileResult, ...]]:
+def _run_fixes(
+    prepared: Prepared, files: Sequence[str], plan: ContextPlan | None = None
+) -> tuple[FixRun, tuple[FileResult, ...]]:
     """Apply (or, for --diff, compute) the fixes on every stage, one stage after
     another, and say which stages could not be fixed (error results). With a
     time limit each stage is fixed in a worker process that is killed when it
     runs past it (a FIFO in a layer stack blocks USD forever); without one, in
-    this process."""
+    this process. With ``plan`` (``roots``), only the findings the report keeps
+    are fixed: those authored in the layers given."""
     from ..fixing import FixError, FixRun, fix_files
 
     wanted = prepared.request.fix
     assert wanted is not None
     if wanted.fix_to and len(files) != 1:
-        raise RequestError(f"--fix-to writes the overrides of one stage; got {len(files)} files")
+        why = f"got {len(files)} files"
+        if plan is not None and plan.roots:
+            why = f"the layers given are linted in {len(files)} stages (roots): give --no-roots"
+        raise RequestError(f"--fix-to writes the overrides of one stage; {why}")
     if not prepared.request.timeout:
         try:
-            run = fix_files(prepared.linter, files, _fix_options(wanted), keep=prepared.is_reported)
+            options = _fix_options(wanted)
+            run = fix_files(prepared.linter, files, options, keep=_fix_keep(prepared, plan))
         except FixError as exc:
             raise RequestError(str(exc)) from None
         return run, ()
     # One worker, so that stages sharing a layer are still fixed one after another.
-    fixing = _Fixing(replace(prepared.request, config=prepared.settings, isolated=False))
+    fixing = _Fixing(replace(prepared.request, config=prepared.settings, isolated=False), plan)
     results = Pool(fixing, 1, prepared.request.timeout, handle=_fix_in_worker).run(files)
     refused = [r for r in results if isinstance(r, _FixRefused)]
     if refused:
@@ -967,12 +974,14 @@ def _fix_options(wanted: FixRequest) -> FixOptions:
 
 @record(frozen=True)
 class _Fixing:
-    """A worker's fixer, built from the request (picklable)."""
+    """A worker's fixer, built from the request (picklable), with the run's
+    roots plan."""
 
     request: Request
+    plan: ContextPlan | None = None
 
-    def __call__(self) -> Prepared:
-        return prepare(self.request)
+    def __call__(self) -> tuple[Prepared, ContextPlan | None]:
+        return prepare(self.request), self.plan
 
 
 @record(frozen=True)
@@ -982,15 +991,24 @@ class _FixRefused:
     reason: str
 
 
-def _fix_in_worker(prepared: Prepared, path: str) -> object:
+def _fix_in_worker(state: tuple[Prepared, ContextPlan | None], path: str) -> object:
     from ..fixing import FixError, fix_files
 
+    prepared, plan = state
     assert prepared.request.fix is not None
     options = _fix_options(prepared.request.fix)
     try:
-        return fix_files(prepared.linter, [path], options, keep=prepared.is_reported)
+        return fix_files(prepared.linter, [path], options, keep=_fix_keep(prepared, plan))
     except FixError as exc:
         return _FixRefused(str(exc))
+
+
+def _fix_keep(prepared: Prepared, plan: ContextPlan | None) -> Callable[[Finding], bool]:
+    """The findings to fix: those the report keeps (with ``roots``, those
+    authored in the layers given, as ContextPlan.narrow keeps them)."""
+    if plan is None:
+        return prepared.is_reported
+    return lambda finding: prepared.is_reported(finding) and plan.keeps(finding)
 
 
 def _fix_notes(report: Report, dry_run: bool) -> list[str]:

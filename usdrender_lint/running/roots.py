@@ -118,6 +118,12 @@ class ContextPlan:
     def files(self) -> list[str]:
         return [*self.roots, *self.alone]
 
+    def keeps(self, finding: Finding) -> bool:
+        """Whether :meth:`narrow` keeps ``finding`` of a file's lint (by where it
+        is authored): what is fixed is what is reported."""
+        changed = self.roots.get(finding.location.file)
+        return changed is None or _is_in(finding, changed)
+
     def narrow(self, report: Report) -> Report:
         """Keep, for each root, the findings authored in the changed files it
         uses; a finding several roots share is reported once (first root)."""
