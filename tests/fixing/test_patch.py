@@ -154,3 +154,28 @@ def test_names_with_controls_and_quotes_survive_the_patch(
     for name in names:
         patched = (tmp_path / name).read_text(encoding="utf-8")
         assert patched == SHOT.replace('"cropaperture"', '"cropAperture"'), name
+
+
+@pytest.mark.parametrize("timeout", ["0", "120"], ids=["in-process", "in-workers"])
+def test_two_stages_sharing_a_layer_show_its_fix_once(
+    tmp_path: Path, monkeypatch, timeout: str
+) -> None:
+    """--diff previews --fix: --fix writes the shared layer after the first
+    stage and the second finds nothing left, so the patch holds it once."""
+    (tmp_path / "seq").mkdir()
+    (tmp_path / "seq" / "lighting.usda").write_text(SHOT + "\n", encoding="utf-8")
+    for shot in ("010", "020"):
+        (tmp_path / shot).mkdir()
+        (tmp_path / shot / "shot.usda").write_text(
+            "#usda 1.0\n(\n    subLayers = [@../seq/lighting.usda@]\n)\n", encoding="utf-8"
+        )
+    monkeypatch.chdir(tmp_path)
+    result = diff("--timeout", timeout, "010/shot.usda", "020/shot.usda")
+    assert result.exit_code == 1
+    assert result.stdout.count("--- seq/lighting.usda\n") == 1
+    assert "1 fix would be applied" in result.stderr
+    (tmp_path / "fixes.patch").write_text(result.stdout, encoding="utf-8")
+    if shutil.which("patch") is not None:
+        subprocess.run(["patch", "-p0", "-s", "-i", "fixes.patch"], cwd=tmp_path, check=True)
+        fixed = (tmp_path / "seq" / "lighting.usda").read_text(encoding="utf-8")
+        assert fixed == SHOT.replace('"cropaperture"', '"cropAperture"') + "\n"

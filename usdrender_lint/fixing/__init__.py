@@ -37,7 +37,10 @@ def fix_files(
         fixer = StageFixer(linter, path, options, keep)
         fixer.run()
         run.extend(fixer.result)
+    if not options.write:
+        run.once_per_layer()
     return run
+
 
 
 __all__ = ["FixError", "FixOptions", "FixRun", "fix_files"]

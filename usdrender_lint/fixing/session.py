@@ -96,6 +96,21 @@ class FixRun:
         self.errors.extend(other.errors)
         self.remaining.extend(other.remaining)
 
+    def once_per_layer(self) -> None:
+        """--diff of several stages: stages sharing a layer each start from its
+        file (nothing is written between them), so each shows the same fix of
+        it, where --fix writes it after the first and the next finds nothing
+        left to fix. One patch and one fix per edit, as --fix applies them."""
+        self.diffs[:] = list(dict.fromkeys(self.diffs))
+        seen: set[tuple] = set()
+        kept = []
+        for outcome in self.outcomes:
+            same = (outcome.code, outcome.path, outcome.layer, outcome.description)
+            if not outcome.applied or same not in seen:
+                seen.add(same)
+                kept.append(outcome)
+        self.outcomes[:] = kept
+
 
 @record
 class Applied:

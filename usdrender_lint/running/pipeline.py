@@ -963,6 +963,8 @@ def _run_fixes(
     for result in results:
         if isinstance(result, FixRun):
             run.extend(result)
+    if not wanted.write:
+        run.once_per_layer()
     return run, tuple(r for r in results if isinstance(r, FileResult))
 
 
