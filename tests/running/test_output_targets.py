@@ -110,3 +110,29 @@ def test_a_baseline_written_through_a_link_is_read_back_through_it(tmp_path: Pat
     assert check("--write-baseline", link).exit_code == 0
     again = CliRunner().invoke(cli, ["check", "--isolated", "--baseline", str(link), BROKEN])
     assert again.exit_code == 0, again.output  # every finding is known
+
+
+@pytest.mark.parametrize(
+    ("first", "second", "named"),
+    [
+        (["--output", "same.json"], ["--write-baseline", "same.json"], "the report"),
+        (["--output", "./new.usda"], ["--fix-to", "new.usda"], "the report (as ./new.usda)"),
+        (["--write-baseline", "b.json"], ["--output", "sub/../b.json"], "the report (as sub/"),
+    ],
+    ids=["report-and-baseline", "report-and-fix-to", "one-file-two-names"],
+)
+def test_two_outputs_naming_one_file_are_refused_before_anything_is_written(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, first: list[str], second: list[str], named: str
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "shot.usda").write_text(
+        '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 1)\n}\n'
+    )
+    before = sorted(p.name for p in tmp_path.iterdir())
+    args = ["check", "--isolated", "--no-cache", *first, *second, "shot.usda"]
+    result = CliRunner().invoke(cli, args)
+    assert result.exit_code == 2
+    (line,) = result.stderr.splitlines()
+    assert f"is named for both {named}" in line
+    assert sorted(p.name for p in tmp_path.iterdir()) == before

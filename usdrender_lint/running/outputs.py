@@ -42,6 +42,24 @@ def refuse_inputs(outputs: Iterable[tuple[str | None, str]], inputs: Iterable[st
             )
 
 
+def refuse_one_file_twice(outputs: Iterable[tuple[str | None, str]]) -> None:
+    """Raise OutputOnInput when two outputs (``(path, what)``) name one file:
+    the second write would silently replace the first."""
+    named: dict[str, tuple[str, str]] = {}
+    for path, what in outputs:
+        if not path:
+            continue
+        key = os.path.realpath(path)
+        if key in named:
+            first, first_what = named[key]
+            same = "" if first == path else f" (as {first})"
+            raise OutputOnInput(
+                f"{path}: is named for both {first_what}{same} and {what}; "
+                "choose a file for each"
+            )
+        named[key] = (path, what)
+
+
 def _identity(path: str) -> tuple[int, int] | None:
     """(device, inode) of the regular file at ``path`` (links followed), or None."""
     try:

@@ -797,11 +797,13 @@ def refuse_outputs_on_inputs(request: Request, settings: Settings, targets: Sequ
     """Raise RequestError when the report or the baseline would be written
     onto a file this run reads: a linted file, a layer, the configuration or
     the baseline read."""
-    from .outputs import OutputOnInput, refuse_inputs
+    from .outputs import OutputOnInput, refuse_inputs, refuse_one_file_twice
 
     outputs = [(request.output, "the report"), (request.write_baseline, "the baseline")]
     inputs = [*targets, *(p for p in (settings.source, request.baseline) if p)]
+    fix_to = request.fix.fix_to if request.fix is not None else None
     try:
+        refuse_one_file_twice([*outputs, (fix_to, "the --fix-to overrides")])
         refuse_inputs(outputs, inputs)
     except OutputOnInput as exc:
         raise RequestError(str(exc)) from None
