@@ -4,7 +4,9 @@ its roots, and the merged JSON reports are the report of one unsharded run."""
 
 from __future__ import annotations
 
+import hashlib
 import json
+import os
 import random
 import shutil
 from pathlib import Path
@@ -13,7 +15,14 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
-from usdrender_lint.running.shards import ShardError, assign, parse_shard, partition, select_shard
+from usdrender_lint.running.shards import (
+    ShardError,
+    assign,
+    parse_shard,
+    partition,
+    select_shard,
+    shard_key,
+)
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -379,4 +388,50 @@ def test_the_configuration_digest_is_the_same_on_every_machine() -> None:
     assert configuration_digest(settings, [one]) != configuration_digest(
         Settings(select=("CA",)),
         [one],  # type: ignore[list-item]
+    )
+
+
+# -- names that are not UTF-8 -----------------------------------------------------------
+
+#: A name that is not UTF-8, a name with a backslash, and a plain one.
+NAMES = (b"bad\xff\xfe.usda", b"back\\slash.usda", b"plain.usda")
+
+
+@pytest.fixture
+def odd_names(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    root = tmp_path / "odd"
+    (root / "h").mkdir(parents=True)
+    (root / "pyproject.toml").write_text("[tool.usdrender-lint]\n")
+    for i, name in enumerate(NAMES):
+        try:
+            with open(os.path.join(os.fsencode(root / "h"), name), "wb") as stream:
+                stream.write(_shot(i, bad=True).encode())
+        except (OSError, UnicodeError):
+            pytest.skip("this file system keeps only UTF-8 names")
+    (root / "h" / "broken.usda").write_text("#usda 1.0\ndef {\n")
+    monkeypatch.chdir(root)
+    return root
+
+
+def test_a_name_that_is_not_utf8_lands_in_one_shard(odd_names: Path) -> None:
+    """check --shard crashed (UnicodeEncodeError) hashing such a name."""
+    everything = _files(_check("--format", "json", "h")[1])
+    assert len(everything) == 4
+    for count in (2, 3):
+        shards = []
+        for k in range(1, count + 1):
+            status, out = _check("--format", "json", "--shard", f"{k}/{count}", "h")
+            assert status == 1, out
+            shards.append(_files(out))
+            listed = CliRunner().invoke(
+                cli, ["check", "--show-files", "--shard", f"{k}/{count}", "h"]
+            )
+            assert listed.exit_code == 0 and sorted(listed.stdout.splitlines()) == sorted(
+                shards[-1]
+            )
+        assert sorted(f for shard in shards for f in shard) == sorted(everything)
+    # The key is the hash of the name's bytes on disk, the same on every machine.
+    assert (
+        shard_key(os.fsdecode(b"h/bad\xff\xfe.usda"), odd_names)
+        == hashlib.sha256(b"h/bad\xff\xfe.usda").hexdigest()
     )

@@ -44,9 +44,16 @@ def parse_shard(text: str) -> tuple[int, int]:
 
 def shard_key(path: str, root: Path) -> str:
     """The hash a file is ordered by: of its path relative to ``root``, with
-    ``/`` separators (the same on every machine and checkout location)."""
+    ``/`` separators (the same on every machine and checkout location). A name
+    that is not UTF-8 is hashed as the bytes it has on disk (Python holds each
+    undecodable byte as a surrogate escape, which plain UTF-8 cannot encode)."""
     relative = PurePath(os.path.relpath(os.path.abspath(path), os.path.abspath(root)))
-    return hashlib.sha256(relative.as_posix().encode("utf-8")).hexdigest()
+    text = relative.as_posix()
+    try:
+        raw = text.encode("utf-8", "surrogateescape")
+    except UnicodeEncodeError:  # a lone surrogate no byte stands for (a Windows name)
+        raw = text.encode("utf-8", "surrogatepass")
+    return hashlib.sha256(raw).hexdigest()
 
 
 def assign(units: Sequence[Sequence[str]], count: int, root: Path) -> list[int]:
