@@ -66,14 +66,17 @@ def report_to_dict(
     with_fixes: bool = False,
     statistics: list[dict[str, object]] | None = None,
     configuration: str | None = None,
+    shard: tuple[int, int] | None = None,
 ) -> dict[str, Any]:
     """The report's document; ``statistics`` (--statistics) and ``fixes`` only
-    when asked for or fixes were made, so the default document stays as documented."""
+    when asked for or fixes were made, so the default document stays as documented.
+    ``shard``: the ``(K, N)`` of ``check --shard K/N``, which merge checks."""
     document: dict[str, Any] = {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": tool_name, "version": tool_version},
         # What merge compares (running/merge.py); written by check and merge.
         **({"configuration": configuration} if configuration else {}),
+        **({"shard": {"index": shard[0], "count": shard[1]}} if shard else {}),
         "files": [
             {
                 "file": result.file,
@@ -162,6 +165,25 @@ def result_from_dict(data: Mapping[str, Any], where: str = "file") -> FileResult
         _field(data, "error", _OPTIONAL_STR, where),
         tuple(finding_from_dict(f, f"{where}.findings[{i}]") for i, f in enumerate(findings)),
     )
+
+
+def shard_from_dict(document: Mapping[str, Any]) -> tuple[int, int] | None:
+    """The ``(K, N)`` a report of ``check --shard K/N`` records; None for a
+    report of a whole run."""
+    shard = document.get("shard")
+    if shard is None:
+        return None
+    if isinstance(shard, Mapping):
+        index, count = shard.get("index"), shard.get("count")
+        if (
+            isinstance(index, int)
+            and isinstance(count, int)
+            and not isinstance(index, bool)
+            and not isinstance(count, bool)
+            and 1 <= index <= count
+        ):
+            return index, count
+    raise ReportFormatError("'shard' is not {index: K, count: N} with 1 <= K <= N")
 
 
 def _fix_from_dict(data: Mapping[str, Any], where: str) -> AppliedFix:

@@ -61,3 +61,13 @@ def test_the_schema_requires_what_a_finding_carries() -> None:
     }
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(bad, SCHEMA)
+
+
+def test_a_shard_report_matches_the_schema(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(REPO)
+    document = _report("--shard", "2/3", "examples/")
+    jsonschema.validate(document, SCHEMA)
+    assert document["shard"] == {"index": 2, "count": 3}
+    for bad in ({"index": 0, "count": 3}, {"index": 1}, "2/3"):
+        with pytest.raises(jsonschema.ValidationError):
+            jsonschema.validate({**document, "shard": bad}, SCHEMA)

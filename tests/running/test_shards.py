@@ -266,8 +266,8 @@ def test_merge_refuses_reports_that_disagree_about_a_file(project: Path) -> None
     """Both reports hold a file with different findings: the first was kept,
     silently. Reports that agree about a file merge (a shard given twice)."""
     reports = _sharded_reports(2)
-    twice = CliRunner().invoke(cli, ["merge", "--format", "json", reports[0], reports[0]])
-    once = CliRunner().invoke(cli, ["merge", "--format", "json", reports[0]])
+    twice = CliRunner().invoke(cli, ["merge", "--format", "json", reports[0], *reports])
+    once = CliRunner().invoke(cli, ["merge", "--format", "json", *reports])
     assert twice.exit_code == once.exit_code == 1 and twice.stdout == once.stdout
     document = json.loads(Path(reports[0]).read_text())
     entry = next(e for e in document["files"] if e["findings"])
@@ -389,6 +389,87 @@ def test_the_configuration_digest_is_the_same_on_every_machine() -> None:
         Settings(select=("CA",)),
         [one],  # type: ignore[list-item]
     )
+
+
+# -- a shard report records its shard, and merge needs every shard -------------------------
+
+
+def _merge(*args: str):
+    return CliRunner().invoke(cli, ["merge", *args])
+
+
+def test_a_shard_report_records_its_shard(project: Path) -> None:
+    reports = _sharded_reports(3)
+    shards = [json.loads(Path(name).read_text())["shard"] for name in reports]
+    assert shards == [{"index": k, "count": 3} for k in (1, 2, 3)]
+    assert "shard" not in json.loads(_check("--format", "json", "shots")[1])
+    assert "shard" not in json.loads(_merge("--format", "json", *reports).stdout)
+
+
+def _one_line_refusal(result, *parts: str) -> None:
+    assert result.exit_code == 2 and result.stdout == ""
+    assert result.stderr.startswith("usdrender-lint: error: ") and result.stderr.count("\n") == 1
+    for part in parts:
+        assert part in result.stderr, result.stderr
+
+
+def test_merge_refuses_a_missing_shard(project: Path) -> None:
+    """A shard job that failed or was cancelled left no report: merging the
+    others passed, gating on part of the files."""
+    reports = _sharded_reports(3)
+    for given, missing in (
+        ([reports[1]], "2 of 3 shards missing (1/3, 3/3)"),
+        ([reports[0], reports[2]], "1 of 3 shards missing (2/3)"),
+    ):
+        _one_line_refusal(_merge(*given), missing, "every shard 1/3 to 3/3")
+    # An unsharded report does not stand in for a missing shard.
+    _check("--format", "json", "--output", "whole.json", "shots")
+    _one_line_refusal(_merge("whole.json", reports[0]), "missing (2/3, 3/3)")
+
+
+def test_merge_refuses_shards_of_different_counts(project: Path) -> None:
+    halves = _sharded_reports(2)
+    Path(halves[0]).rename("half-1.json")
+    thirds = _sharded_reports(3)
+    _one_line_refusal(
+        _merge("half-1.json", *thirds),
+        "half-1.json is shard 1/2 and report-1.json is shard 1/3",
+        "same --shard count",
+    )
+
+
+def test_merge_refuses_two_different_reports_of_one_shard(project: Path) -> None:
+    """Two reports of shard 1/2 that agree about the files both hold but not
+    about which files there are (a shard run on another checkout)."""
+    reports = _sharded_reports(2)
+    document = json.loads(Path(reports[0]).read_text())
+    document["files"] = document["files"][1:]
+    Path("fewer.json").write_text(json.dumps(document))
+    _one_line_refusal(
+        _merge(reports[0], "fewer.json", reports[1]),
+        "report-1.json and fewer.json are both shard 1/2",
+    )
+
+
+def test_merge_reads_a_shard_given_twice_once(project: Path) -> None:
+    reports = _sharded_reports(2)
+    once = _merge("--format", "json", *reports)
+    twice = _merge("--format", "json", *reports, *reversed(reports))
+    assert once.exit_code == twice.exit_code == 1 and once.stdout == twice.stdout
+    # With whole-run reports besides, as before shards were recorded.
+    _check("--format", "json", "--output", "whole.json", "shots")
+    alongside = _merge("--format", "json", "whole.json", *reports)
+    assert (alongside.exit_code, alongside.stdout) == (1, once.stdout)
+    assert (_merge("--format", "json", "whole.json").stdout) == once.stdout
+
+
+@pytest.mark.parametrize("shard", ["1/2", {"index": 3, "count": 2}, {"index": True, "count": 1}])
+def test_merge_refuses_a_shard_it_cannot_read(project: Path, shard: object) -> None:
+    reports = _sharded_reports(2)
+    document = json.loads(Path(reports[0]).read_text())
+    document["shard"] = shard
+    Path("odd.json").write_text(json.dumps(document))
+    _one_line_refusal(_merge("odd.json", reports[1]), "odd.json: 'shard' is not")
 
 
 # -- names that are not UTF-8 -----------------------------------------------------------

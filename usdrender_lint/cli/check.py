@@ -193,6 +193,7 @@ def _check_once(
         tool_version=__version__,
         statistics=statistics,
         fixing=request.fix is not None,
+        shard=request.shard,
         settings_of=outcome.settings_by_file().get,
     )
     report, rules = outcome.report, outcome.rules

@@ -25,6 +25,8 @@ class FormatOptions:
     fixing: bool = False
     #: The run's configuration digest (running/merge.py), for the JSON report.
     configuration: str | None = None
+    #: The (K, N) of check --shard K/N, recorded in the JSON report for merge.
+    shard: tuple[int, int] | None = None
     #: The configuration (config.Settings) each file was linted with, for a formatter
     #: that reads the files again (html's pictures and fix diffs); None for a file,
     #: or no function: the file's nearest configuration.

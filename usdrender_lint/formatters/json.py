@@ -18,6 +18,7 @@ def report_to_dict(report: Report, options: FormatOptions) -> dict[str, Any]:
         with_fixes=options.fixing,
         statistics=statistics(report) if options.statistics else None,
         configuration=options.configuration,
+        shard=options.shard,
     )
 
 

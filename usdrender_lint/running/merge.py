@@ -10,6 +10,14 @@ when they disagree, the merge is refused, naming the file and the two reports,
 since no rule can tell which one is right. The files are ordered by path, so
 the merged report does not depend on which shard linted what or on the order
 the reports are given in; fixes are kept in report order.
+
+The reports of ``check --shard K/N`` record K and N, and must be the whole
+run: exactly the shards 1 to N of one N. A missing shard (a job that failed
+or was cancelled), shards of different counts, or two reports of one shard
+that differ are refused, since the merge would otherwise gate on part of the
+files. A shard given twice with the same content is read once. Reports of
+whole runs (no ``--shard``) merge as they are, with each other and with a
+complete set of shards.
 """
 
 from __future__ import annotations
@@ -21,7 +29,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from ..model import AppliedFix, FileResult, Report
-from ..report_json import ReportFormatError, read_document, report_from_dict
+from ..report_json import ReportFormatError, read_document, report_from_dict, shard_from_dict
 
 if TYPE_CHECKING:
     from collections import Counter
@@ -80,6 +88,7 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
     applied: list[AppliedFix] = []
     unapplied: list[AppliedFix] = []
     first: tuple[str, str | None, str | None] | None = None
+    shards: dict[tuple[int, int], tuple[str, Report]] = {}
     for path in paths:
         try:
             document = read_document(path)
@@ -87,6 +96,7 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
             raise MergeError(str(exc)) from None
         try:
             report = report_from_dict(document)
+            shard = shard_from_dict(document)
         except ReportFormatError as exc:
             raise MergeError(f"{path}: {exc}") from None
         identity = (path, _version(document), _configuration(document))
@@ -100,8 +110,18 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
                     f"{held[1]} and {path} disagree about {result.file} "
                     f"({_summary(held[0])} vs {_summary(result)}): not parts of one run"
                 )
+        if shard is not None:
+            twin = shards.setdefault(shard, (path, report))
+            if twin[1] != report:
+                raise MergeError(
+                    f"{twin[0]} and {path} are both shard {shard[0]}/{shard[1]} but hold "
+                    "different files or fixes: not parts of one run"
+                )
+            if twin[0] != path:
+                continue  # the same shard again: its files are held, its fixes too
         applied.extend(report.applied_fixes)
         unapplied.extend(report.unapplied_fixes)
+    _whole_run({shard: path for shard, (path, _report) in shards.items()})
     merged = Report(
         tuple(files[name][0] for name in sorted(files)),
         applied_fixes=tuple(applied),
@@ -134,6 +154,39 @@ def _same_run(
         raise MergeError(
             f"{first[0]} and {other[0]} were made with different configurations "
             "(rules, options, settings or baseline): lint every part with the same ones"
+        )
+
+
+def _whole_run(shards: Mapping[tuple[int, int], str]) -> None:
+    """Refuse shards that are not exactly 1/N to N/N of one N (the report of
+    each shard given: its path)."""
+    if not shards:
+        return
+    counts = sorted({count for _index, count in shards})
+    if len(counts) > 1:
+        one, other = (
+            min((shard, path) for shard, path in shards.items() if shard[1] == count)
+            for count in counts[:2]
+        )
+        raise MergeError(
+            f"{one[1]} is shard {one[0][0]}/{one[0][1]} and {other[1]} is shard "
+            f"{other[0][0]}/{other[0][1]}: the shards of one run have one N; "
+            "lint every part with the same --shard count"
+        )
+    count = counts[0]
+    absent = count - len(shards)
+    if absent:
+        named: list[str] = []
+        index = 1
+        while len(named) < 3 and index <= count:  # the first few (N may be huge)
+            if (index, count) not in shards:
+                named.append(f"{index}/{count}")
+            index += 1
+        more = ", ..." if absent > len(named) else ""
+        raise MergeError(
+            f"{absent:,} of {count:,} shard{'s' if count != 1 else ''} missing "
+            f"({', '.join(named)}{more}): merge needs the report of every shard "
+            f"1/{count} to {count}/{count}, or it would gate on part of the files"
         )
 
 
