@@ -5,12 +5,13 @@ with it; ``merge``, baselines and the result cache read with it."""
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
 from .model import AppliedFix, FileResult, Finding, FixInfo, Location, Report, Severity
-from .paths import display_path
+from .paths import display_path, escape
 
 SCHEMA_VERSION = 1
 FILE_STATUSES = ("linted", "error")
@@ -203,9 +204,13 @@ def _fix_from_dict(data: Mapping[str, Any], where: str) -> AppliedFix:
 
 def report_from_dict(document: Any) -> Report:
     """The :class:`Report` a ``--format json`` document describes (its rules,
-    statistics and summary are derived data and not read back)."""
+    statistics and summary are derived data and not read back). Names that
+    are not UTF-8, which the document holds escaped (:func:`restored`), are
+    read back as Python names them, so a report read back renders as the
+    report that was written."""
     if not isinstance(document, Mapping):
         raise ReportFormatError("not a JSON object")
+    document = _restored_strings(document)
     version = document.get("schema_version")
     if version != SCHEMA_VERSION:
         raise ReportFormatError(
@@ -219,6 +224,52 @@ def report_from_dict(document: Any) -> Report:
         applied_fixes=tuple(f for f in fixes if f.applied),
         unapplied_fixes=tuple(f for f in fixes if not f.applied),
     )
+
+
+#: The escapes :func:`~usdrender_lint.paths.escape` writes: a doubled backslash
+#: and ``\\xNN`` for a byte that is not UTF-8; any other backslash is no escape.
+_ESCAPES = re.compile(r"\\(?:(\\)|x([0-9a-f]{2}))?")
+
+
+def restored(text: str) -> str:
+    """The name a JSON report's string stands for: the inverse of
+    :func:`~usdrender_lint.paths.escape`, which writes a name that is not
+    UTF-8 in an escaped form. A string is read as escaped only when escaping
+    what it stands for gives it back, so the reading follows ``escape`` and a
+    name that is UTF-8 and was written as it is stays as it is. While
+    ``escape`` leaves a UTF-8 name as it is, one case stays ambiguous: a UTF-8
+    name that spells an escape (``a\\xff``: a backslash, then ``xff``) is read
+    as the name that is not UTF-8."""
+    if "\\" not in text:
+        return text
+    raw = bytearray()
+    end = 0
+    try:
+        for match in _ESCAPES.finditer(text):
+            raw += text[end : match.start()].encode("utf-8")
+            if match.group(1):
+                raw += b"\\"
+            elif match.group(2):
+                raw.append(int(match.group(2), 16))
+            else:
+                return text
+            end = match.end()
+        raw += text[end:].encode("utf-8")
+    except UnicodeEncodeError:  # a lone surrogate: not a text escape() wrote
+        return text
+    name = bytes(raw).decode("utf-8", "surrogateescape")
+    return name if name != text and escape(name) == text else text
+
+
+def _restored_strings(value: Any) -> Any:
+    """``value`` (a JSON document) with every string, keys included, :func:`restored`."""
+    if isinstance(value, str):
+        return restored(value)
+    if isinstance(value, dict):
+        return {_restored_strings(k): _restored_strings(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_restored_strings(item) for item in value]
+    return value
 
 
 def read_document(path: str | Path) -> Any:

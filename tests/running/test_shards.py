@@ -516,3 +516,43 @@ def test_a_name_that_is_not_utf8_lands_in_one_shard(odd_names: Path) -> None:
         shard_key(os.fsdecode(b"h/bad\xff\xfe.usda"), odd_names)
         == hashlib.sha256(b"h/bad\xff\xfe.usda").hexdigest()
     )
+
+
+@pytest.mark.parametrize(
+    "fmt", ["json", "sarif", "text", "full", "github", "gitlab", "junit", "html"]
+)
+def test_merge_names_files_that_are_not_utf8_as_check_does(odd_names: Path, fmt: str) -> None:
+    """The JSON report holds such a name escaped (``bad\\xff\\xfe.usda``):
+    merge read the escape as the name, so its SARIF URI, GitLab fingerprint
+    and every other format named another file than check."""
+    code, whole = _check("--show-info", "--format", fmt, "h")
+    assert "bad" in whole
+    _check("--format", "json", "--output", "whole.json", "h")
+    for k in (1, 2):
+        _check("--format", "json", "--output", f"part-{k}.json", "--shard", f"{k}/2", "h")
+    for reports in (["whole.json"], ["part-2.json", "part-1.json"]):
+        merged = _merge("--show-info", "--format", fmt, *reports)
+        assert (merged.exit_code, merged.stdout) == (code, whole), reports
+
+
+def test_the_report_reader_inverts_escape(monkeypatch: pytest.MonkeyPatch) -> None:
+    """restored() reads a string as escaped only when escape() gives it back:
+    it follows escape() rather than a copy of its rules, so it stays its inverse
+    if escape() doubles the backslash in every name, not only in names that
+    are not UTF-8."""
+    from usdrender_lint import report_json
+    from usdrender_lint.paths import escape
+
+    names = ["bad\udcff\udcfe.usda", "a\\b.usda", "x\udcff\\y", "plain.usda", "é\\\\.usda"]
+    for name in names:
+        assert report_json.restored(escape(name)) == name, name
+    for text in ("a\\q", "a\\x4", "a\\xFF", "lone\udcff", "a\\\\b"):
+        assert report_json.restored(text) == text, text
+
+    def every_backslash_doubled(text: str) -> str:
+        raw = text.encode("utf-8", "surrogateescape").replace(b"\\", b"\\\\")
+        return raw.decode("utf-8", "backslashreplace")
+
+    monkeypatch.setattr(report_json, "escape", every_backslash_doubled)
+    for name in [*names, "a\\xff.usda"]:
+        assert report_json.restored(every_backslash_doubled(name)) == name, name
