@@ -42,5 +42,4 @@ def fix_files(
     return run
 
 
-
 __all__ = ["FixError", "FixOptions", "FixRun", "fix_files"]

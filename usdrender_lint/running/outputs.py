@@ -54,8 +54,7 @@ def refuse_one_file_twice(outputs: Iterable[tuple[str | None, str]]) -> None:
             first, first_what = named[key]
             same = "" if first == path else f" (as {first})"
             raise OutputOnInput(
-                f"{path}: is named for both {first_what}{same} and {what}; "
-                "choose a file for each"
+                f"{path}: is named for both {first_what}{same} and {what}; choose a file for each"
             )
         named[key] = (path, what)
 
