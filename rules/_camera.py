@@ -146,23 +146,3 @@ def _usable_cameras(ctx: Context, most: int) -> list[Usd.Prim]:
             if len(cameras) == most:
                 break
     return cameras
-
-
-def runtime_camera_held(ctx: Context, config: RenderConfiguration) -> bool:
-    """Whether the configuration's camera is one the renderer's application
-    creates at run time (a profile's ``runtime_cameras``, e.g. Kit's session
-    cameras) and the stage holds nothing at its path but ``over``s that
-    compose onto that camera: no prim at all, or a prim no layer defines,
-    typeless or a Camera, active and not abstract. A ``def`` (of any type), a
-    typed ``over`` of another type or a deactivated one is not accepted."""
-    target = config.camera_target
-    if target is None or target.path.IsPropertyPath():
-        return False
-    if not ctx.profile_accepts(config.camera_relationship, "runtime_camera", str(target.path)):
-        return False
-    prim = target.prim
-    if prim is None:
-        return True
-    if prim.HasDefiningSpecifier() or not prim.IsActive() or prim.IsAbstract():
-        return False
-    return not prim.GetTypeName() or prim.IsA(schemas.Camera)

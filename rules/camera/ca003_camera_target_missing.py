@@ -7,8 +7,6 @@ from collections.abc import Iterator
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import RenderConfiguration, prim_values
 
-from .._camera import runtime_camera_held
-
 
 def _camera_rel_label(config: RenderConfiguration) -> str:
     return str(config.camera_relationship.GetPath())
@@ -103,7 +101,7 @@ class CameraTargetMissing(Rule):
             if target is None:
                 continue
             if target.is_missing:
-                if runtime_camera_held(ctx, config):
+                if ctx.runtime_camera(config) is not None:
                     continue  # the renderer's application creates it at run time (R2-5)
                 reason = target.problem
             elif (
@@ -111,7 +109,7 @@ class CameraTargetMissing(Rule):
                 and not target.ok
                 and prim_values(target.prim).is_a(schemas.Camera)
             ):
-                if runtime_camera_held(ctx, config):
+                if ctx.runtime_camera(config) is not None:
                     continue  # an `over Camera` composing onto the application's camera
                 reason = f"is a Camera but {target.problem}"
             else:

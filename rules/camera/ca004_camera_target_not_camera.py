@@ -9,8 +9,6 @@ from pxr import Sdf, Usd
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import describe_prim_type, is_usable, prim_values
 
-from .._camera import runtime_camera_held
-
 
 def _single_camera_descendant(prim: Usd.Prim) -> Usd.Prim | None:
     cameras = [
@@ -126,7 +124,7 @@ class CameraTargetNotCamera(Rule):
                     suggestion = owner
             elif target.prim is not None and not prim_values(target.prim).is_a(schemas.Camera):
                 # (prim is None only when missing or a property path: both handled above)
-                if runtime_camera_held(ctx, config):
+                if ctx.runtime_camera(config) is not None:
                     continue  # a typeless `over` on the application's session camera (R2-5)
                 if ctx.profile_accepts(rel, "camera_type", target.prim.GetTypeName()):
                     continue  # a renderer's own sensor type (R2-5)

@@ -144,6 +144,32 @@ class Context:
             found = found or (choice, accepted)
         return found
 
+    def runtime_camera(self, config: RenderConfiguration) -> tuple[Any, Any] | None:
+        """When the configuration's camera is one the renderer's application
+        creates at run time (a profile's ``runtime_cameras``, e.g. Kit's session
+        cameras) and the stage holds nothing at its path but ``over``s that
+        compose onto that camera (no prim at all, or a prim no layer defines,
+        typeless or a Camera, active and not abstract): the profile choice and
+        what it accepts (:meth:`profile_accepts`). Else None: a ``def`` (of any
+        type), a typed ``over`` of another type or a deactivated one is judged
+        as the schema says. CA003, CA004 and ``spec`` all ask this."""
+        target = config.camera_target
+        if target is None or target.path.IsPropertyPath():
+            return None
+        accepted = self.profile_accepts(
+            config.camera_relationship, "runtime_camera", str(target.path)
+        )
+        if accepted is None:
+            return None
+        prim = target.prim
+        if prim is None:
+            return accepted
+        if prim.HasDefiningSpecifier() or not prim.IsActive() or prim.IsAbstract():
+            return None
+        if prim.GetTypeName() and not prim.IsA(schemas.Camera):
+            return None
+        return accepted
+
     def accepted_names(self, at: Usd.Object | Sdf.Path | None, field_name: str) -> list[str]:
         """Every name the profiles at ``at`` accept in ``field_name`` (e.g.
         "camera_types"), for messages that say what else would do."""

@@ -178,13 +178,22 @@ class _Reader:
         disable_blur = bool(values["disableMotionBlur"])
 
         target = config.camera_target
-        camera_problem = _camera_problem(config)
+        # Judged as CA003 and CA004 judge it: a camera the profile's
+        # application creates at run time is no problem, and has no values here.
+        runtime = self.ctx.runtime_camera(config)
+        at_run_time = None if runtime is None else (runtime[0].name, runtime[1].why)
+        camera_problem = None if runtime is not None else _camera_problem(config)
         if target is not None:
             rel = config.camera_relationship
             own = product is not None and rel.GetPrim() == product
             sources["camera"] = self._source(rel, "product" if own else "settings")
         camera = _Camera(None, self.time, (), None, None, None)
-        if target is not None and target.prim is not None and camera_problem is None:
+        if (
+            target is not None
+            and target.prim is not None
+            and camera_problem is None
+            and runtime is None
+        ):
             camera, camera_sources = self.ctx.cached(
                 _read_camera, self, target.prim, resolution, pixel_aspect, policy
             )
@@ -202,6 +211,7 @@ class _Reader:
             type=outputs.type,
             camera=str(target.path) if target is not None else None,
             camera_problem=camera_problem,
+            camera_at_run_time=at_run_time,
             time=camera.time,
             rendered_times=camera.rendered_times,
             resolution=resolution,
@@ -221,7 +231,7 @@ class _Reader:
             namespaced_settings=outputs.namespaced_settings,
             sources=sources,
             owners=_owners(config, outputs),
-            compute_spec=self._compute_spec_view(config, camera, outputs),
+            compute_spec=self._compute_spec_view(config, camera, outputs, at_run_time),
         )
 
     def _settings_base(
@@ -289,7 +299,11 @@ class _Reader:
         )
 
     def _compute_spec_view(
-        self, config: RenderConfiguration, camera: _Camera, outputs: _Outputs
+        self,
+        config: RenderConfiguration,
+        camera: _Camera,
+        outputs: _Outputs,
+        at_run_time: tuple[str, str] | None,
     ) -> ComputeSpecView:
         if config.product is None:
             return ComputeSpecView(
@@ -299,7 +313,13 @@ class _Reader:
         # spec.cpp: UsdGeomCamera(stage->GetPrimAtPath(camPath)), else "Could not find camera".
         if target is None or target.prim is None or not target.prim.IsA(UsdGeom.Camera):
             where = f"<{target.path}>" if target is not None else "<>"
-            return ComputeSpecView(False, f"drops the product: could not find camera {where}")
+            reason = f"drops the product: could not find camera {where}"
+            if at_run_time is not None:
+                reason += (
+                    f" on the stage as saved (under the {at_run_time[0]} profile the "
+                    "application creates it at run time)"
+                )
+            return ComputeSpecView(False, reason)
         differs: dict[str, Any] = {}
         now, then = camera.framing, camera.framing_at_default
         if now is not None and then is not None:

@@ -73,6 +73,10 @@ class ProductSpec:
     camera: str | None
     #: Why there is no usable camera, else None.
     camera_problem: str | None
+    #: When the camera is one the renderer's application creates at run time
+    #: (a profile's runtime camera, judged as CA003 and CA004 judge it): the
+    #: profile and why; its values are not in the file. Else None.
+    camera_at_run_time: tuple[str, str] | None
     #: The time the camera (and productName) were read at.
     time: Time
     #: The camera's rendered times (catalog R2-1).

@@ -96,6 +96,11 @@ def _product(product: ProductSpec, index: FindingIndex) -> dict[str, Any]:
         "type": product.type,
         "camera": product.camera,
         "cameraProblem": product.camera_problem,
+        "cameraAtRunTime": (
+            None
+            if product.camera_at_run_time is None
+            else {"profile": product.camera_at_run_time[0], "why": product.camera_at_run_time[1]}
+        ),
         "time": _time(product.time),
         "renderedTimes": [_time(t) for t in product.rendered_times],
         "resolution": list(product.resolution),

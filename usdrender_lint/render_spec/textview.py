@@ -96,8 +96,15 @@ def product_lines(product: dict[str, Any]) -> Iterator[Line]:
 def value_lines(product: dict[str, Any]) -> Iterator[Line]:
     row = functools.partial(_row, product["flags"])
     sources = product["sources"]
-    yield row("camera", product["camera"] or "none", note=_source(sources.get("camera")))
-    yield row("time", _time(product["time"]), note=_rendered_times(product["renderedTimes"]))
+    runtime = product["cameraAtRunTime"]
+    camera = product["camera"] or "none"
+    if runtime is not None:
+        camera += f"  (created at run time: {runtime['profile']} profile)"
+    yield row("camera", camera, note=_source(sources.get("camera")))
+    times = _rendered_times(product["renderedTimes"])
+    if runtime is not None:
+        times = "the camera's values are the application's, not in the file"
+    yield row("time", _time(product["time"]), note=times)
     width, height = product["resolution"]
     yield row("resolution", f"{width} x {height}", note=_source(sources.get("resolution")))
     yield row(
@@ -160,7 +167,10 @@ def _conform_lines(product: dict[str, Any], row: _Row) -> Iterator[Line]:
     aperture = product["aperture"]
     policy = product["aspectRatioConformPolicy"]
     if aperture is None:
-        yield row("conform", policy, "aspectRatioConformPolicy", "no camera aperture to conform")
+        note = "no camera aperture to conform"
+        if product["cameraAtRunTime"] is not None:
+            note = "conforms the run-time camera's aperture"
+        yield row("conform", policy, "aspectRatioConformPolicy", note)
         return
     yield row("conform", policy, "aspectRatioConformPolicy", _adjusted(aperture))
     yield row(
