@@ -11,14 +11,16 @@ from pathlib import Path
 
 def layer_file(identifier: str | None) -> Path | None:
     """The file on disk behind a layer identifier: a layer inside a ``.usdz``
-    (``pkg.usdz[inner.usda]``) is the package; anonymous layers have none."""
+    (``pkg.usdz[inner.usda]``) is the package; anonymous layers have none.
+    Absolute, with symbolic links not followed: every format names the file
+    as the JSON report does (:func:`display_path`), as the user named it."""
     if not identifier or identifier.startswith("anon:"):
         return None
     if identifier.endswith("]") and "[" in identifier:
         identifier = identifier[: identifier.index("[")]
     try:
-        return Path(identifier).resolve()
-    except (OSError, RuntimeError):  # a symlink loop, a working directory too long to name
+        return Path(os.path.abspath(identifier))
+    except OSError:  # the working directory is gone, or too long to name
         return Path(identifier)
 
 
