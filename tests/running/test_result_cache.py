@@ -703,3 +703,17 @@ def Scope "Render"
     assert spy.linted == [str(shot)], "the second run must not lint again"
     assert first.notes == second.notes
     assert any("more were skipped (raise --max-variant-combinations)" in n for n in first.notes)
+
+
+def test_a_project_under_a_folder_whose_name_is_not_utf8_is_cached_silently(
+    tmp_path: Path, spy: Spy, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """USD's bindings cannot name its resolver context's search path: the key
+    is read from the bytes, with nothing printed."""
+    folder = tmp_path / os.fsdecode(b"p\xffroj")
+    shot = write(folder, {"shot.usda": SHOT_WITH_SUBLAYER, "common.usda": settings_layer()})
+    first = check(shot)
+    assert ("SE003", "/Render/Settings.dataWindowNDC") in codes(first)
+    assert capfd.readouterr().err == ""
+    assert check(shot) == first
+    assert spy.linted == [str(shot)], "the second run must not lint again"

@@ -18,7 +18,7 @@ from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
 from ..api.resolve import forget_prim_answers
 from ..layers.crate import crate_structure_problem
-from ..layers.files import layer_identifier, real_path, unreadable_reason
+from ..layers.files import layer_identifier, real_path, resolver_context_key, unreadable_reason
 from ..layers.nesting import nesting_problem
 from ..model import (
     INTERNAL_ERROR_CODE,
@@ -627,7 +627,7 @@ def _record(reads: Reads, stage: Usd.Stage, ctx: Context, masked: bool) -> None:
     """What the lint of ``stage`` read, into ``reads``."""
     used = stage.GetUsedLayers(includeClipLayers=True)
     reads.add_layers(used)
-    reads.context = repr(stage.GetPathResolverContext())
+    reads.context = resolver_context_key(stage.GetPathResolverContext())
     for anchor, value in ctx.asset_dependencies:
         reads.add_asset(anchor, value)
     # A stage composed without errors resolved every arc it composed; with

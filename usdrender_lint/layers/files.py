@@ -7,7 +7,7 @@ import errno
 import os
 import stat
 
-from pxr import Sdf
+from pxr import Ar, Sdf
 
 from ..api.files import lfs_pointer_problem
 from ..paths import from_usd
@@ -28,6 +28,17 @@ def layer_identifier(layer: Sdf.Layer) -> str:
         return layer.identifier
     except UnicodeDecodeError as exc:
         return _undecoded(exc)
+
+
+def resolver_context_key(context: Ar.ResolverContext) -> str:
+    """What the result cache keys a resolver context by: its repr, or, when a
+    path in it is not UTF-8, its debug string as Python names such bytes (the
+    repr's conversion would print an error on stderr and name the path None)."""
+    try:
+        context.GetDebugString()
+    except UnicodeDecodeError as exc:
+        return f"Ar.ResolverContext debug string: {_undecoded(exc)}"
+    return repr(context)
 
 
 def _undecoded(exc: UnicodeDecodeError) -> str:

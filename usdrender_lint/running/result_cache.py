@@ -61,6 +61,7 @@ from ..atomic import replace_atomically, write_text_atomic
 from ..config import Settings
 from ..engine.assets import ClipTemplate, is_search_path
 from ..model import FileResult
+from ..paths import usd_path
 from ..records import record
 from ..report_json import finding_from_dict, finding_to_dict
 from ..settings_table import not_in_cache_key, settings_key
@@ -305,12 +306,12 @@ def _cached_result(data: dict, file: str) -> FileResult | None:
 
 
 def _entry_bytes(document: dict[str, object]) -> bytes | None:
-    """An entry as stored; None when it cannot be (too large, or a name that
-    is not UTF-8, which could not be read back)."""
+    """An entry as stored; None when it is too large. A name that is not UTF-8
+    is stored as JSON's ``\\udcXX`` escapes, which read back as the same name."""
     try:
         data = json.dumps(document, ensure_ascii=False, separators=(",", ":")).encode()
     except UnicodeEncodeError:
-        return None
+        data = json.dumps(document, separators=(",", ":")).encode()
     return data if len(data) <= MAX_ENTRY_BYTES else None
 
 
@@ -423,14 +424,16 @@ def _resolver_state(root: str, searches: Sequence[str]) -> tuple[str, list[str]]
     from pxr import Ar
 
     from ..engine import register_plugins
+    from ..layers.files import resolver_context_key
 
     register_plugins()  # a warm run's first USD call: engine/plugins.py
     resolver = Ar.GetResolver()
-    context = resolver.CreateDefaultContextForAsset(os.path.abspath(root))
+    context = resolver.CreateDefaultContextForAsset(usd_path(os.path.abspath(root)))
+    key = resolver_context_key(context)
     if not searches:
-        return repr(context), []
+        return key, []
     with Ar.ResolverContextBinder(context):
-        return repr(context), [str(resolver.Resolve(search)) for search in searches]
+        return key, [str(resolver.Resolve(search)) for search in searches]
 
 
 # -- reading an entry ------------------------------------------------------------------
