@@ -15,8 +15,7 @@ from usdrender_lint.cli import cli
 
 REPO = Path(__file__).parents[2]
 SHOT = REPO / "examples" / "broken_shot"
-#: Not html: its fix diffs name the file behind a link (its headings do not).
-FORMATS = ("text", "full", "github", "gitlab", "junit", "sarif", "json")
+FORMATS = ("text", "full", "github", "gitlab", "junit", "sarif", "json", "html")
 
 
 @pytest.fixture

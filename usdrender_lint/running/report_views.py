@@ -259,10 +259,15 @@ def _diffs(
 
 
 def _unified(sources: Iterable[Any]) -> Iterable[str]:
+    from ..layers.files import layer_identifier
+    from ..paths import layer_file
+
     for source in sources:
         if not source.changed or source.text is None or source.original_text is None:
             continue
-        name = display_path(source.disk.path) if source.disk else "layer"
+        # The layer as the user named it (its identifier), not the file behind a link.
+        named = layer_file(layer_identifier(source.layer))
+        name = display_path(str(named or source.disk.path)) if source.disk else "layer"
         yield from difflib.unified_diff(
             source.original_text.splitlines(keepends=True),
             source.text.splitlines(keepends=True),
