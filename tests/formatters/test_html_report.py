@@ -211,3 +211,32 @@ def test_a_split_runs_page_shows_each_file_under_its_own_configuration(
     }
     assert shown == {"second": {"arnold"}, "show": {"karma"}}
     assert page.count(CA004_DIFF) == 1  # the show ignores CA004; the second folder does not
+
+
+#: SE012 quotes the token: an ESC that would colour a terminal.
+ESCAPING = r"""#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        token renderingColorSpace = "lin\x1b[31m\x7f"
+    }
+}
+"""
+
+
+def test_names_and_messages_show_their_controls_escaped(tmp_path: Path) -> None:
+    """As the text report prints them: a bidirectional control or a newline in
+    a file name (headings, labels, pictures) and an ESC in a message."""
+    name = "sh\u202eot\nx.usda"
+    shutil.copy(REPO / "examples" / "framing_shot" / "shot.usda", tmp_path / name)
+    (tmp_path / "colour.usda").write_text(ESCAPING)
+    run = _run("check", "--isolated", "--format", "html", ".", cwd=tmp_path)
+    assert run.returncode == 0, run.stderr  # SE012 is a warning
+    page = run.stdout
+    assert strict_problems(page) == ([], [])
+    assert not re.search("[\x00-\x08\x0b-\x1f\x7f-\x9f\u202a-\u202e\u2066-\u2069]", page)
+    assert '<span class="path">sh\\u202eot\\nx.usda</span>' in page
+    assert 'aria-label="sh\\u202eot\\nx.usda"' in page
+    assert "lin\\x1b[31m\\x7f" in page
+    assert page.count('<figure class="product"') >= 1

@@ -22,8 +22,7 @@ from html import escape as _html_escape
 from typing import TYPE_CHECKING, TextIO
 
 from ..model import FileResult, Finding, FixInfo, Report, RuleInfo, Severity
-from ..paths import display_path
-from ..paths import escape as _utf8
+from ..paths import display_path, printable
 from ..running.report_views import finding_key as _key
 from . import FormatOptions
 
@@ -295,7 +294,7 @@ def _excerpt(excerpt: Excerpt) -> str:
     for offset, text in enumerate(excerpt.lines):
         number = excerpt.first + offset
         mark = ' class="hit"' if number == excerpt.line else ""
-        rows.append(f"<span{mark}><i>{number}</i>{escape(text) or ' '}</span>")
+        rows.append(f"<span{mark}><i>{number}</i>{_code(text) or ' '}</span>")
     return f'<pre class="source" aria-label="{escape(excerpt.layer)}">' + "".join(rows) + "</pre>"
 
 
@@ -311,7 +310,7 @@ def _diff(diff: str) -> str:
             kind = "d-add"
         elif line.startswith("-"):
             kind = "d-del"
-        rows.append(f'<span class="{kind}">{escape(line) or " "}</span>')
+        rows.append(f'<span class="{kind}">{_code(line) or " "}</span>')
     return '<pre class="diff">' + "".join(rows) + "</pre>"
 
 
@@ -323,8 +322,16 @@ def _data(finding: Finding) -> str:
 
 
 def escape(text: str) -> str:
-    """``text`` for HTML: a file name that is not UTF-8 written losslessly (``\\xNN``)."""
-    return _html_escape(_utf8(text))
+    """``text`` (a name, a message) for HTML, as the text report prints it:
+    a name escaped losslessly (``\\xNN``, ``\\\\``) and control and
+    bidirectional characters escaped (``\\x1b``, ``\\n``, ``\\u202e``), but whole."""
+    return _html_escape(printable(text, limit=None))
+
+
+def _code(line: str) -> str:
+    """A line of a layer or a diff for HTML: its controls (tabs kept) escaped
+    as :func:`escape` does, its backslashes as they are."""
+    return _html_escape(printable(line, keep="\t", limit=None, backslashes=False))
 
 
 def _first_name(findings: Iterable[Finding], code: str) -> str:

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..layers.source_lines import read_lines
 from ..model import Finding, Report
-from ..paths import display_path
+from ..paths import display_path, printable
 from ..records import record
 
 if TYPE_CHECKING:
@@ -188,10 +188,12 @@ def _specs(
 
 
 def _file_products(view: FileView, result: Any, spec: Any, product_svg: Any) -> None:
+    from ..formatters import escaped
     from ..render_spec.document import FindingIndex, file_document, product_findings
 
     findings = result.findings
-    document = file_document(result, spec)
+    # Names and values printed as spec --format svg prints them: controls escaped.
+    document = escaped(file_document(result, spec), partial(printable, limit=None))
     for settings, settings_doc in zip(spec.settings, document["settings"], strict=True):
         view.profiles[settings.path] = (settings.profile, settings.profile_reason)
         siblings = [p.path for p in settings.products if p.path]
