@@ -323,15 +323,15 @@ def _data(finding: Finding) -> str:
 
 def escape(text: str) -> str:
     """``text`` (a name, a message) for HTML, as the text report prints it:
-    a name escaped losslessly (``\\xNN``, ``\\\\``) and control and
-    bidirectional characters escaped (``\\x1b``, ``\\n``, ``\\u202e``), but whole."""
+    control and bidirectional characters escaped (``\\x1b``, ``\\n``,
+    ``\\u202e``), but whole."""
     return _html_escape(printable(text, limit=None))
 
 
 def _code(line: str) -> str:
     """A line of a layer or a diff for HTML: its controls (tabs kept) escaped
-    as :func:`escape` does, its backslashes as they are."""
-    return _html_escape(printable(line, keep="\t", limit=None, backslashes=False))
+    as :func:`escape` does."""
+    return _html_escape(printable(line, keep="\t", limit=None))
 
 
 def _first_name(findings: Iterable[Finding], code: str) -> str:
