@@ -84,6 +84,9 @@ def report_to_dict(
                 "status": result.status,
                 "error": result.error,
                 "findings": [finding_to_dict(f) for f in result.findings],
+                # Lines for the user beside its findings (--variants' skipped
+                # combinations): what merge prints again, as check did.
+                **({"notes": list(result.notes)} if result.notes else {}),
             }
             for result in report.files
         ],
@@ -160,11 +163,15 @@ def result_from_dict(data: Mapping[str, Any], where: str = "file") -> FileResult
     if status not in FILE_STATUSES:
         raise ReportFormatError(f"{where}: unknown status {status!r}")
     findings = _field(data, "findings", list, where)
+    notes = data.get("notes", [])
+    if not isinstance(notes, list) or not all(isinstance(n, str) for n in notes):
+        raise ReportFormatError(f"{where}: 'notes' is not a list of strings")
     return FileResult(
         _field(data, "file", str, where),
         status,
         _field(data, "error", _OPTIONAL_STR, where),
         tuple(finding_from_dict(f, f"{where}.findings[{i}]") for i, f in enumerate(findings)),
+        tuple(notes),
     )
 
 

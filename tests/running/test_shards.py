@@ -556,3 +556,50 @@ def test_the_report_reader_inverts_escape(monkeypatch: pytest.MonkeyPatch) -> No
     monkeypatch.setattr(report_json, "escape", every_backslash_doubled)
     for name in [*names, "a\\xff.usda"]:
         assert report_json.restored(every_backslash_doubled(name)) == name, name
+
+
+VARIANT_SHOT = """#usda 1.0
+def Scope "Render" (
+    prepend variantSets = ["q"]
+    variants = {
+        string q = "a"
+    }
+)
+{
+    def RenderSettings "S"
+    {
+    }
+    variantSet "q" = {
+        "a" {
+        }
+        "b" {
+        }
+        "c" {
+        }
+    }
+}
+"""
+
+
+def test_a_files_notes_survive_the_json_report_and_merge(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """--variants' note of the combinations its cap skipped: check says it on
+    stderr, the JSON report keeps it, and merge says it again."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "shot.usda").write_text(VARIANT_SHOT)
+    args = ["check", "--isolated", "--no-cache", "--variants", "--max-variant-combinations", "2"]
+    whole = CliRunner().invoke(cli, [*args, "shot.usda"])
+    (said,) = [line for line in whole.stderr.splitlines() if "skipped" in line]
+    reports = []
+    for k in (1, 2):
+        report = tmp_path / f"r{k}.json"
+        CliRunner().invoke(
+            cli,
+            [*args, "--shard", f"{k}/2", "--format", "json", "--output", str(report), "shot.usda"],
+        )
+        reports.append(str(report))
+    (entry,) = [e for r in reports for e in json.loads(Path(r).read_text())["files"]]
+    assert entry["notes"] == [said.removeprefix("usdrender-lint: ")]
+    merged = CliRunner().invoke(cli, ["merge", "--isolated", *reports])
+    assert said in merged.stderr.splitlines()

@@ -21,7 +21,7 @@ from .options import (
     show_info_option,
     statistics_option,
 )
-from .output import ToolError, error
+from .output import ToolError, error, note
 
 if TYPE_CHECKING:
     from ..config import Settings
@@ -81,6 +81,8 @@ def merge(
         settings_of=_settings_of(prepared.settings, config_path, overrides, isolated),
     )
     emit_report(report, output_format, prepared.linter.rules, options, output_file)
+    for line in (line for r in report.files for line in r.notes):
+        note(line)  # as check said them (a file's skipped variant combinations)
     for line in (r.error or r.file for r in report.errored_files):
         error(line)
     sys.exit(exit_status(report, prepared.settings.fail_on))
