@@ -546,3 +546,20 @@ def test_a_text_with_windows_line_endings_is_fixed_as_its_file(tmp_path: Path) -
     expected = _fixed_as_file(tmp_path, "shot.usda", FixRequest())
     assert expected is not None and fixed == expected[0] != text
     assert fixed is not None and fixed.count("\r\n") == fixed.count("\n")
+
+
+@pytest.mark.parametrize("text", ["hello\n", "", "\ufeff#usda 1.0\n"])
+def test_an_unnamed_text_s_messages_name_it_as_the_report_does(text: str) -> None:
+    """USD names the layer an unnamed text stands in for (``-.usda``), a name
+    the user never gave: the messages say ``-``, as the report's file does."""
+    done = subprocess.run(
+        [*command(), "check", "--isolated", "--format", "json", "-"],
+        input=text,
+        capture_output=True,
+        text=True,
+    )
+    (entry,) = json.loads(done.stdout)["files"]
+    assert entry["file"] == "-"
+    messages = [f["message"] for f in entry["findings"]]
+    assert messages and all("-.usda" not in m for m in messages)
+    assert any(m.startswith("<-> is not a valid usda layer") for m in messages)

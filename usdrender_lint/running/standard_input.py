@@ -13,6 +13,7 @@ fixed text, or its patch, is the command's output.
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -32,6 +33,8 @@ STDIN = "-"
 
 #: The layer that stands for a text with no name, in the working directory.
 _UNNAMED = "-.usda"
+#: The name in a message, not inside a longer one.
+_PLACEHOLDER = re.compile(r"(?<![\w.-])-\.usda(?![\w.])")
 
 #: How a layer that is not text begins (USD's crate, and a zip: ``.usdz``).
 _BINARY = {b"PXR-USDC": "a binary crate (.usdc)", b"PK\x03\x04": "a package (.usdz)"}
@@ -153,6 +156,10 @@ def _named(finding: Finding, given: StandardInput) -> Finding:
     location = finding.location
     if location.file == given.path:
         location = replace(location, file=given.name)
-    if given.name == STDIN and location.layer == given.path:
+    if given.name != STDIN:
+        return replace(finding, location=location) if location is not finding.location else finding
+    if location.layer == given.path:
         location = replace(location, layer=STDIN)
-    return replace(finding, location=location) if location is not finding.location else finding
+    # USD's messages name the layer the text stands in for: not a name of the user's.
+    message = _PLACEHOLDER.sub(STDIN, finding.message.replace(given.path, STDIN))
+    return replace(finding, location=location, message=message)
