@@ -47,3 +47,17 @@ def test_completion_offers_commands_and_option_values() -> None:
         COMP_CWORD="3",
     )
     assert {"plain,auto", "plain,karma"} <= set(profiles.splitlines())
+
+
+def test_completion_run_by_hand_is_one_line_and_exit_2() -> None:
+    env = {k: v for k, v in os.environ.items() if k != "COMP_WORDS"}
+    done = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint"],
+        env={**env, "_USDRENDER_LINT_COMPLETE": "bash_complete"},
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 2
+    (line,) = done.stderr.splitlines()
+    assert line.startswith("usdrender-lint: error: _USDRENDER_LINT_COMPLETE is for the shell")
+    assert "internal error" not in done.stderr

@@ -55,6 +55,7 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
     broken stdout exits 2 quietly. ``supervision``: how the supervisor
     (running/supervisor.py) ran this process, for the commands it supervises."""
     _open_closed_standard_streams()
+    _refuse_completion_without_its_shell()
     try:
         with stop_on_signals():
             cli.main(args=argv, prog_name="usdrender-lint", standalone_mode=True, obj=supervision)
@@ -80,6 +81,22 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
         sys.exit(EXIT_TOOL_ERROR)
     except Exception as exc:
         _internal_error(exc)
+
+
+#: The variable the shell completion scripts set (click's ``_{PROG}_COMPLETE``).
+COMPLETE_ENV = "_USDRENDER_LINT_COMPLETE"
+
+
+def _refuse_completion_without_its_shell() -> None:
+    """Completion (``bash_complete``, ``zsh_complete``, ``fish_complete``) is asked
+    by the script a shell sources, which sets ``COMP_WORDS``; run by hand without
+    it, click fails on the missing variable: one line instead."""
+    if os.environ.get(COMPLETE_ENV, "").endswith("_complete") and "COMP_WORDS" not in os.environ:
+        error(
+            f"{COMPLETE_ENV} is for the shell's completion script, which sets COMP_WORDS; "
+            f'install it with eval "$({COMPLETE_ENV}=bash_source usdrender-lint)" (or zsh, fish)'
+        )
+        sys.exit(EXIT_TOOL_ERROR)
 
 
 def _raised_by_echo(exc: BaseException) -> bool:
