@@ -221,3 +221,13 @@ def test_usd_warnings_never_reach_stderr(tmp_path: Path) -> None:
         check=False,
     )
     assert "Warning" not in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_a_bad_value_from_an_environment_variable_names_the_variable(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "a-file").write_text("")
+    monkeypatch.setenv("USDRENDER_LINT_CACHE_DIR", str(tmp_path / "a-file"))
+    result = CliRunner().invoke(cli, ["check", "--isolated", str(tmp_path)])
+    assert result.exit_code == 2
+    assert "(env var: 'USDRENDER_LINT_CACHE_DIR')" in result.stderr

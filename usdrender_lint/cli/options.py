@@ -52,7 +52,8 @@ def setting_option(entry: Setting):
     assert entry.flag is not None and entry.kind is not None
     common: dict[str, Any] = {"help": _help(entry), "hidden": entry.hidden}
     if entry.envvar:
-        common["envvar"] = entry.envvar
+        # Shown in --help, and named in an error about its value.
+        common.update(envvar=entry.envvar, show_envvar=True)
     kind = entry.kind
     if kind == "tokens":
         return click.option(entry.flag, entry.name, multiple=True, **common)
