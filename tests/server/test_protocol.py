@@ -598,3 +598,35 @@ async def test_a_document_whose_uri_the_client_encodes_gets_its_diagnostics(
         client.text_document_did_close(
             types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(opened))
         )
+
+
+@pytest.mark.parametrize("separator", ["\x0c", "\u2028"], ids=["form-feed", "line-separator"])
+async def test_a_comment_holding_a_character_python_splits_lines_at_keeps_ranges_and_fixes(
+    client: LanguageClient, workspace: Path, tmp_path: Path, separator: str
+):
+    """Editors end lines at line feeds only: a form feed or U+2028 in a comment
+    (which str.splitlines splits at) moved every range after it and turned the
+    fix into a broken edit."""
+    text = (
+        f'#usda 1.0\n# page break:{separator}\ndef Scope "Render"\n{{\n'
+        '    def RenderSettings "rs"\n    {\n        uniform bool instantaneousShutter = 1\n'
+        "    }\n}\n"
+    )
+    path = workspace / f"separator-{ord(separator):x}.usda"
+    path.write_text(text)
+    uri = open_document(client, path)
+    found = {d.code: d for d in await diagnostics_of(client, uri, 1)}
+    shutter = found["SE007"].range
+    assert (shutter.start.line, shutter.start.character) == (6, 8)
+    assert shutter.end == types.Position(6, len("        uniform bool instantaneousShutter = 1"))
+    (fix_all,) = await fix_all_actions(client, uri)
+    copy = tmp_path / path.name
+    copy.write_text(text)
+    subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--no-cache", "--fix", str(copy)],
+        capture_output=True,
+    )
+    assert apply(text, fix_all.edit.changes[uri]) == copy.read_text() != text
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )

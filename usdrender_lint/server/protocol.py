@@ -30,7 +30,7 @@ from pygls.workspace.position_codec import ServerTextPosition
 from .. import __version__
 from ..model import Finding, Severity
 from ..running.documents import Linted, finding_key
-from .ranges import Edit, Span, spec_line, statement_span, text_edits
+from .ranges import Edit, Span, lines_of, spec_line, statement_span, text_edits
 from .worker import LintFailed, Linting, RuleDoc
 
 NAME = "usdrender-lint"
@@ -301,7 +301,7 @@ class UsdRenderLintServer(LanguageServer):
         )
 
     def range(self, text: str, span: Span) -> types.Range:
-        lines = text.splitlines(keepends=True) or [""]
+        lines = lines_of(text)
         codec = self.workspace.position_codec
 
         def position(at: tuple[int, int]) -> types.Position:

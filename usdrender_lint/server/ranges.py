@@ -59,6 +59,14 @@ def _position(text: str, offset: int, starts: list[int]) -> tuple[int, int]:
     return (line, offset - starts[line])
 
 
+def lines_of(text: str) -> list[str]:
+    """The text's lines as the spans here count them, each with its end: split
+    at ``\n`` only (``str.splitlines`` also splits at a form feed, U+2028, ...,
+    which a layer's comment may hold and no editor ends a line at)."""
+    parts = text.split("\n")
+    return [part + "\n" for part in parts[:-1]] + [parts[-1]]
+
+
 def _line_starts(text: str) -> list[int]:
     starts = [0]
     starts.extend(i + 1 for i, char in enumerate(text) if char == "\n")
