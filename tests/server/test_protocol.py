@@ -630,3 +630,53 @@ async def test_a_comment_holding_a_character_python_splits_lines_at_keeps_ranges
     client.text_document_did_close(
         types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
     )
+
+
+async def _until(client: LanguageClient, uri: str, done) -> list[types.Diagnostic]:
+    async with asyncio.timeout(60):
+        while not done(client.diagnostics.get(uri, [])):
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    return list(client.diagnostics.get(uri, []))
+
+
+PURPOSES = (
+    'over "Render"\n{\n    over "rs"\n    {\n'
+    "        uniform token[] materialBindingPurposes = %s\n    }\n}\n"
+)
+
+
+async def test_an_edit_two_sublayers_down_and_a_close_relint_the_shot(
+    client: LanguageClient, workspace: Path
+):
+    """The shot's stage composes c.usda through b.usda, which is not open: an
+    edit to c re-lints the shot (whose text never names c), and closing c with
+    unsaved edits re-lints it with c's file again."""
+    folder = workspace / "chain"
+    folder.mkdir()
+    (folder / "b.usda").write_text("#usda 1.0\n(\n    subLayers = [@./c.usda@]\n)\n")
+    bad = "#usda 1.0\n" + PURPOSES % '["full", "bogus"]'
+    (folder / "c.usda").write_text(bad)
+    shot = open_document(
+        client,
+        folder / "a.usda",
+        '#usda 1.0\n(\n    subLayers = [@./b.usda@]\n)\ndef Scope "Render"\n{\n'
+        '    def RenderSettings "rs"\n    {\n    }\n}\n',
+    )
+    await diagnostics_of(client, shot, 1)
+    layer = open_document(client, folder / "c.usda")
+    has_se011 = lambda found: any(d.code == "SE011" for d in found)  # noqa: E731
+    await _until(client, layer, has_se011)
+    change(client, layer, 2, "#usda 1.0\n" + PURPOSES % '["full", "preview"]')
+    await _until(client, layer, lambda found: not has_se011(found))
+    # Edited again, then closed unsaved: the shot composes the file, which has SE011.
+    change(client, layer, 3, "#usda 1.0\n" + PURPOSES % '["full", ""]')
+    await _until(client, layer, lambda found: not has_se011(found))
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(layer))
+    )
+    found = await _until(client, shot, has_se011)
+    (se011,) = [d for d in found if d.code == "SE011"]
+    assert "bogus" in se011.message
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(shot))
+    )

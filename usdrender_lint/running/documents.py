@@ -65,6 +65,9 @@ class Linted:
     findings: tuple[Finding, ...] = ()
     error: str | None = None
     seconds: float = 0.0
+    #: The files of the layers its stage composed (an edit to any of them, open
+    #: or closed, can change its findings).
+    layers: frozenset[str] = frozenset()
 
 
 @record
@@ -163,7 +166,13 @@ class Documents:
             findings = tuple(open_failure_findings(path, parse_error, severity))
         else:
             findings = self._lint_stage(prepared, path)
-        return Linted(findings, seconds=time.perf_counter() - started)
+        return Linted(findings, seconds=time.perf_counter() - started, layers=self._layers_of(path))
+
+    def _layers_of(self, path: str) -> frozenset[str]:
+        stage = self._stages.get(path)
+        if stage is None:
+            return frozenset()
+        return frozenset(filter(None, map(layer_real_path, stage.GetUsedLayers())))
 
     def _lint_stage(self, prepared: Prepared, path: str) -> tuple[Finding, ...]:
         stage = self._stages.get(path)

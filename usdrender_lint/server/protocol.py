@@ -75,6 +75,8 @@ class UsdRenderLintServer(LanguageServer):
         self.seconds: dict[str, float] = {}
         #: The findings of each document's last lint, and the text they were made from.
         self.findings: dict[str, tuple[tuple[Finding, ...], dict[str, str]]] = {}
+        #: The files each open document's stage composed at its last lint, by path.
+        self.layers: dict[str, frozenset[str]] = {}
         #: What each linted document (the source) publishes on each document URI.
         self.published: dict[str, dict[str, list[types.Diagnostic]]] = {}
         self.ready = threading.Event()
@@ -170,6 +172,7 @@ class UsdRenderLintServer(LanguageServer):
         if self.wanted.get(uri) != tick or self.open_document(uri) is None:
             return
         self.seconds[path] = linted.seconds
+        self.layers[path] = linted.layers
         self.findings[uri] = (linted.findings, texts)
         self.publish(uri, self.diagnostics(uri, path, linted, texts), version)
         if dependents:
@@ -195,11 +198,19 @@ class UsdRenderLintServer(LanguageServer):
         return True
 
     def _lint_dependents(self, path: str, texts: dict[str, str]) -> None:
-        """Lint again the other open documents that name ``path``'s file."""
+        """Lint again the other open documents whose stage composed ``path``'s
+        file at their last lint (through any chain of sublayers and
+        references), or that name it (it may be new to them)."""
+        for other in self._dependents(path, texts):
+            asyncio.ensure_future(self.lint(self.uri_of(other), dependents=False))
+
+    def _dependents(self, path: str, texts: dict[str, str]) -> list[str]:
         name = os.path.basename(path)
-        for other, text in texts.items():
-            if other != path and name in text:
-                asyncio.ensure_future(self.lint(self.uri_of(other), dependents=False))
+        return [
+            other
+            for other, text in texts.items()
+            if other != path and (name in text or path in self.layers.get(other, ()))
+        ]
 
     def forget(self, uri: str) -> None:
         """A closed document: its lint's diagnostics go, on it and elsewhere;
@@ -207,6 +218,9 @@ class UsdRenderLintServer(LanguageServer):
         (they now show them as related information, with the file's text)."""
         self.wanted.pop(uri, None)
         self.findings.pop(uri, None)
+        path = usd_path(uri)
+        if path is not None:
+            self.layers.pop(path, None)
         own = self.published.pop(uri, {})
         # Cleared at once, whatever other documents' lints found on it: the
         # editor no longer shows it, and their next lints show no finding on it.
@@ -218,7 +232,11 @@ class UsdRenderLintServer(LanguageServer):
         )
         for target in set(own) - {uri}:
             self._publish_merged(target, self.version_of(target))
-        for source in shown_there:
+        # Its file is what their stages compose now, not the unsaved text.
+        relint = set(shown_there)
+        if path is not None:
+            relint.update(self.uri_of(other) for other in self._dependents(path, self.texts()))
+        for source in sorted(relint):
             asyncio.ensure_future(self.lint(source, dependents=False))
 
     # -- diagnostics ---------------------------------------------------------------
