@@ -680,3 +680,35 @@ async def test_an_edit_two_sublayers_down_and_a_close_relint_the_shot(
     client.text_document_did_close(
         types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(shot))
     )
+
+
+async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
+    client: LanguageClient, workspace: Path
+):
+    """The shot's SE007 moves to the open sublayer that authors it; its quick fix
+    is the shot's (the layer's own stage, with no RenderSettings, has none)."""
+    folder = workspace / "moved"
+    folder.mkdir()
+    layer_text = (
+        '#usda 1.0\nover "Render"\n{\n    over "rs"\n    {\n'
+        "        uniform bool instantaneousShutter = 1\n    }\n}\n"
+    )
+    (folder / "layer.usda").write_text(layer_text)
+    shot = open_document(
+        client,
+        folder / "shot.usda",
+        '#usda 1.0\n(\n    subLayers = [@./layer.usda@]\n)\ndef Scope "Render"\n{\n'
+        '    def RenderSettings "rs"\n    {\n    }\n}\n',
+    )
+    await diagnostics_of(client, shot, 1)
+    layer = open_document(client, folder / "layer.usda")
+    found = await _until(client, layer, lambda ds: any(d.code == "SE007" for d in ds))
+    (shutter,) = [d for d in found if d.code == "SE007"]
+    actions = await quick_actions(client, layer, shutter)
+    (fix,) = [a for a in actions if a.title.startswith("Fix SE007")]
+    fixed = apply(layer_text, fix.edit.changes[layer])
+    assert "uniform bool disableMotionBlur = 1" in fixed
+    for uri in (layer, shot):
+        client.text_document_did_close(
+            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+        )

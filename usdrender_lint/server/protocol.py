@@ -377,13 +377,24 @@ class UsdRenderLintServer(LanguageServer):
         if _wants(only, types.CodeActionKind.QuickFix):
             for diagnostic in params.context.diagnostics:
                 if _ours(diagnostic):
-                    actions.extend(await self._quick_fixes(path, diagnostic, texts))
+                    source = self._linted_by(uri, diagnostic) or path
+                    actions.extend(await self._quick_fixes(source, diagnostic, texts))
         fix_all = await self._fix_all(uri, path, only, version, texts)
         if fix_all is not None:
             actions.append(fix_all)
         if self.version_of(uri) != version:
             return []  # the text changed meanwhile: these edits are for the old one
         return actions
+
+    def _linted_by(self, uri: str, diagnostic: types.Diagnostic) -> str | None:
+        """The path of the open document whose lint found ``diagnostic``, shown
+        on ``uri``: a shot's finding in an open sublayer is shown on the layer,
+        whose own stage may not have it to fix."""
+        key = _key_of(diagnostic)
+        for source in (uri, *self.published):
+            if any(_key_of(d) == key for d in self.published.get(source, {}).get(uri, ())):
+                return usd_path(source)
+        return None
 
     async def _fix_all(
         self,
@@ -573,6 +584,13 @@ def usd_path(uri: str) -> str | None:
     if path is None or not path.lower().endswith(USD_TEXT_SUFFIXES):
         return None
     return os.path.abspath(path)
+
+
+def _key_of(diagnostic: types.Diagnostic) -> tuple[Any, ...] | None:
+    """The finding key a diagnostic of this server carries (a list once sent)."""
+    data = diagnostic.data if isinstance(diagnostic.data, dict) else {}
+    key = data.get("key")
+    return tuple(key) if isinstance(key, (list, tuple)) else None
 
 
 def _ours(diagnostic: types.Diagnostic) -> bool:
