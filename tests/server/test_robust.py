@@ -171,3 +171,12 @@ def test_shutdown_and_exit_end_the_server_with_status_0():
     )
     assert server.returncode == 0
     assert b'"id": 2' in server.stdout and b'"result": null' in server.stdout
+
+
+def test_the_editor_s_timeout_reads_as_check_s() -> None:
+    from usdrender_lint.server.protocol import editor_timeout
+
+    assert editor_timeout({"timeout": 0}, 120.0) is None  # no limit, as --timeout 0
+    assert editor_timeout({"timeout": 30}, 120.0) == 30.0
+    for ignored in ({}, {"timeout": -1}, {"timeout": "5"}, {"timeout": True}):
+        assert editor_timeout(ignored, 120.0) == 120.0

@@ -80,8 +80,8 @@ class UsdRenderLintServer(LanguageServer):
         #: What each linted document (the source) publishes on each document URI.
         self.published: dict[str, dict[str, list[types.Diagnostic]]] = {}
         self.ready = threading.Event()
-        #: Seconds a lint may take (initializationOptions ``timeout``).
-        self.timeout = TIMEOUT
+        #: Seconds a lint may take (initializationOptions ``timeout``); None: no limit.
+        self.timeout: float | None = TIMEOUT
 
     def settings_changed(self, settings: Any) -> None:
         """The editor's settings changed (ours under our name, as Neovim's
@@ -627,14 +627,21 @@ def build(linting: Linting | None = None) -> UsdRenderLintServer:
     return server
 
 
+def editor_timeout(options: dict[str, Any], default: float | None) -> float | None:
+    """initializationOptions ``timeout``, read as ``check --timeout``: seconds,
+    0 for no limit; anything else leaves ``default``."""
+    timeout = options.get("timeout")
+    if isinstance(timeout, bool) or not isinstance(timeout, int | float) or timeout < 0:
+        return default
+    return float(timeout) if timeout > 0 else None
+
+
 def _serve_lifecycle(server: UsdRenderLintServer) -> None:
     @server.feature(types.INITIALIZE)
     def initialize(ls: UsdRenderLintServer, params: types.InitializeParams) -> None:
         options = params.initialization_options
         options = options if isinstance(options, dict) else {}
-        timeout = options.get("timeout")
-        if isinstance(timeout, int | float) and timeout > 0:
-            ls.timeout = float(timeout)
+        ls.timeout = editor_timeout(options, ls.timeout)
         if "configuration" in options:
             ls.linting.configuration = editor_configuration(options)
 
