@@ -645,6 +645,14 @@ PURPOSES = (
 )
 
 
+def _shot_over(sublayer: str) -> str:
+    """A shot with RenderSettings /Render/rs over ``sublayer``."""
+    return (
+        f'#usda 1.0\n(\n    subLayers = [@./{sublayer}@]\n)\ndef Scope "Render"\n{{\n'
+        '    def RenderSettings "rs"\n    {\n    }\n}\n'
+    )
+
+
 async def test_an_edit_two_sublayers_down_and_a_close_relint_the_shot(
     client: LanguageClient, workspace: Path
 ):
@@ -659,8 +667,7 @@ async def test_an_edit_two_sublayers_down_and_a_close_relint_the_shot(
     shot = open_document(
         client,
         folder / "a.usda",
-        '#usda 1.0\n(\n    subLayers = [@./b.usda@]\n)\ndef Scope "Render"\n{\n'
-        '    def RenderSettings "rs"\n    {\n    }\n}\n',
+        _shot_over("b.usda"),
     )
     await diagnostics_of(client, shot, 1)
     layer = open_document(client, folder / "c.usda")
@@ -697,8 +704,7 @@ async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
     shot = open_document(
         client,
         folder / "shot.usda",
-        '#usda 1.0\n(\n    subLayers = [@./layer.usda@]\n)\ndef Scope "Render"\n{\n'
-        '    def RenderSettings "rs"\n    {\n    }\n}\n',
+        _shot_over("layer.usda"),
     )
     await diagnostics_of(client, shot, 1)
     layer = open_document(client, folder / "layer.usda")
