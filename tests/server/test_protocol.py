@@ -113,6 +113,13 @@ def open_document(client: LanguageClient, path: Path, text: str | None = None) -
     return uri
 
 
+def close_documents(client: LanguageClient, *uris: str) -> None:
+    for uri in uris:
+        client.text_document_did_close(
+            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+        )
+
+
 def change(client: LanguageClient, uri: str, version: int, text: str) -> None:
     client.text_document_did_change(
         types.DidChangeTextDocumentParams(
@@ -594,10 +601,7 @@ async def test_a_document_whose_uri_the_client_encodes_gets_its_diagnostics(
     await diagnostics_of(client, root, 1)
     assert "SE001" in {d.code for d in client.diagnostics[lighting_uri]}
     assert not [d for d in client.diagnostics[root] if d.code == "SE001"]
-    for opened in (plain, uri, lighting_uri, root):
-        client.text_document_did_close(
-            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(opened))
-        )
+    close_documents(client, plain, uri, lighting_uri, root)
 
 
 @pytest.mark.parametrize("separator", ["\x0c", "\u2028"], ids=["form-feed", "line-separator"])
@@ -627,9 +631,7 @@ async def test_a_comment_holding_a_character_python_splits_lines_at_keeps_ranges
         capture_output=True,
     )
     assert apply(text, fix_all.edit.changes[uri]) == copy.read_text() != text
-    client.text_document_did_close(
-        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
-    )
+    close_documents(client, uri)
 
 
 async def _until(client: LanguageClient, uri: str, done) -> list[types.Diagnostic]:
@@ -664,11 +666,7 @@ async def test_an_edit_two_sublayers_down_and_a_close_relint_the_shot(
     (folder / "b.usda").write_text("#usda 1.0\n(\n    subLayers = [@./c.usda@]\n)\n")
     bad = "#usda 1.0\n" + PURPOSES % '["full", "bogus"]'
     (folder / "c.usda").write_text(bad)
-    shot = open_document(
-        client,
-        folder / "a.usda",
-        _shot_over("b.usda"),
-    )
+    shot = open_document(client, folder / "a.usda", _shot_over("b.usda"))
     await diagnostics_of(client, shot, 1)
     layer = open_document(client, folder / "c.usda")
     has_se011 = lambda found: any(d.code == "SE011" for d in found)  # noqa: E731
@@ -678,15 +676,11 @@ async def test_an_edit_two_sublayers_down_and_a_close_relint_the_shot(
     # Edited again, then closed unsaved: the shot composes the file, which has SE011.
     change(client, layer, 3, "#usda 1.0\n" + PURPOSES % '["full", ""]')
     await _until(client, layer, lambda found: not has_se011(found))
-    client.text_document_did_close(
-        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(layer))
-    )
+    close_documents(client, layer)
     found = await _until(client, shot, has_se011)
     (se011,) = [d for d in found if d.code == "SE011"]
     assert "bogus" in se011.message
-    client.text_document_did_close(
-        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(shot))
-    )
+    close_documents(client, shot)
 
 
 async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
@@ -701,11 +695,7 @@ async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
         "        uniform bool instantaneousShutter = 1\n    }\n}\n"
     )
     (folder / "layer.usda").write_text(layer_text)
-    shot = open_document(
-        client,
-        folder / "shot.usda",
-        _shot_over("layer.usda"),
-    )
+    shot = open_document(client, folder / "shot.usda", _shot_over("layer.usda"))
     await diagnostics_of(client, shot, 1)
     layer = open_document(client, folder / "layer.usda")
     found = await _until(client, layer, lambda ds: any(d.code == "SE007" for d in ds))
@@ -714,7 +704,4 @@ async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
     (fix,) = [a for a in actions if a.title.startswith("Fix SE007")]
     fixed = apply(layer_text, fix.edit.changes[layer])
     assert "uniform bool disableMotionBlur = 1" in fixed
-    for uri in (layer, shot):
-        client.text_document_did_close(
-            types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
-        )
+    close_documents(client, layer, shot)
