@@ -939,16 +939,16 @@ class CachingLinter:
 
 __all__ = [
     "CACHE_DIR_NAME",
-    "CachingLinter",
-    "Dependencies",
-    "ForeignFolder",
-    "ResultCache",
-    "Cleared",
     "cache_folder",
+    "CachingLinter",
     "clear",
-    "is_cache_folder",
+    "Cleared",
+    "Dependencies",
     "dependencies",
+    "ForeignFolder",
+    "is_cache_folder",
     "read_bounded",
+    "ResultCache",
     "run_key",
     "settings_key",
 ]
