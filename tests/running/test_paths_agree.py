@@ -3,7 +3,9 @@ fixture of the suite gets the same answer on every path it can be linted by.
 
 The paths: the result cache cold and warm, ``--no-cache --jobs 2`` (the pool),
 ``--jobs 1 --timeout 0`` (in-process), a lone file (the supervised child's
-path) and the same file among others, the Python API's ``lint_file``, and the
+path) and the same file among others, its text on standard input (``check -
+--stdin-filename``, every text layer), three ``--shard K/3`` runs joined by
+``merge``, the Python API's ``lint_file``, and the
 UsdValidation plugin (as far as its errors map: code, site path, layer,
 message and severity, against ``check --profile generic``, since validators
 know no renderer profiles). A file that one path lints and another cannot is a
@@ -33,7 +35,7 @@ from usdrender_lint.formatters import FormatOptions
 from usdrender_lint.formatters.json import report_to_dict
 from usdrender_lint.usdplugin import plugin_dir
 
-pytestmark = pytest.mark.heavy(seconds=70)
+pytestmark = pytest.mark.heavy(seconds=85)
 
 USD_SUFFIXES = {".usd", ".usda", ".usdc", ".usdz"}
 #: What a finding is, for the comparison.
@@ -95,13 +97,15 @@ def _check(*args: str, env: dict[str, str] | None = None, files: list[str] = TAR
 
 #: The supervised child's path, one forked child per file: the command runs as
 #: it does in the child ``supervisor.supervise`` leaves (a lone file linted in
-#: that process), minus the interpreter's start-up.
+#: that process), minus the interpreter's start-up. With ``stdin``, as an
+#: editor's hook runs it: the file's text on standard input (``check -
+#: --stdin-filename``).
 _LONE = """
 import os, sys
 from usdrender_lint import cli, lint_file
 from usdrender_lint.running import supervisor
 
-out, files = sys.argv[1], sys.argv[2:]
+out, how, files = sys.argv[1], sys.argv[2], sys.argv[3:]
 lint_file(files[0])  # USD, the engine, the rules and their first-use costs: once, here
 for index, path in enumerate(files):
     child = os.fork()
@@ -110,8 +114,12 @@ for index, path in enumerate(files):
         try:
             report = os.open(f"{out}/{index}.json", os.O_WRONLY | os.O_CREAT, 0o644)
             os.dup2(report, 1)
+            named = [path]
+            if how == "stdin":
+                os.dup2(os.open(path, os.O_RDONLY), 0)
+                named = ["-", "--stdin-filename", path]
             cli.main(["check", "--isolated", "--no-cache", "--format", "json", "--show-info",
-                      "--fail-on", "never", path], supervision=supervisor.Supervision())
+                      "--fail-on", "never", *named], supervision=supervisor.Supervision())
         except SystemExit as done:
             code = done.code if isinstance(done.code, int) else 3
         finally:
@@ -123,9 +131,10 @@ for index, path in enumerate(files):
 """
 
 
-def _lone(folder: Path, files: list[str]) -> dict:
+def _forked(how: str, folder: Path, files: list[str]) -> dict:
+    """``_LONE`` over ``files``, each named (``how`` "file") or on standard input ("stdin")."""
     done = subprocess.run(
-        [sys.executable, "-c", _LONE, str(folder), *files],
+        [sys.executable, "-c", _LONE, str(folder), how, *files],
         capture_output=True,
         env=_env(),
         timeout=600,
@@ -136,6 +145,12 @@ def _lone(folder: Path, files: list[str]) -> dict:
     for index in range(len(files)):
         found += json.loads((folder / f"{index}.json").read_text())["files"]
     return {"files": found}
+
+
+def _is_text(path: str) -> bool:
+    """What ``check -`` takes: a layer held as text (not a crate, not a package)."""
+    with open(path, "rb") as file:
+        return file.read(8) not in (b"PXR-USDC",) and not path.lower().endswith(".usdz")
 
 
 def _api() -> dict:
@@ -270,9 +285,38 @@ def test_a_lone_file_gets_its_answer_among_others(
     of CPU: the whole command but the interpreter's start-up)."""
     fixtures = [t for t in TARGETS if "/corpus/files/" not in t]
     files = [t for t in TARGETS if "/corpus/files/" in t] + fixtures[::8]
-    alone = _answers(_lone(tmp_path, files))
+    alone = _answers(_forked("file", tmp_path, files))
     assert set(alone) == set(files)
     assert _differences({f: reference[f] for f in files}, alone) == []
+
+
+def test_a_text_on_standard_input(reference: dict[str, tuple], tmp_path: Path) -> None:
+    """Every real text layer, and every fourth fixture that is text."""
+    fixtures = [t for t in TARGETS if "/corpus/files/" not in t]
+    files = [t for t in TARGETS if "/corpus/files/" in t] + fixtures[::4]
+    files = [f for f in files if _is_text(f)]
+    assert len(files) > 100
+    piped = _answers(_forked("stdin", tmp_path, files))
+    assert set(piped) == set(files)
+    assert _differences({f: reference[f] for f in files}, piped) == []
+
+
+def test_shards_joined_by_merge(reference: dict[str, tuple], tmp_path: Path) -> None:
+    reports = []
+    for index in (1, 2, 3):
+        report = tmp_path / f"shard{index}.json"
+        report.write_text(json.dumps(_check("--no-cache", "--shard", f"{index}/3")))
+        reports.append(str(report))
+    merged = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "merge", "--format", "json", "--show-info"]
+        + ["--fail-on", "never", *reports],
+        capture_output=True,
+        env=_env(),
+        timeout=600,
+        cwd=ELSEWHERE,
+    )
+    assert merged.returncode in (0, 2), merged.stderr[-3000:]
+    assert _differences(reference, _answers(json.loads(merged.stdout))) == []
 
 
 def test_the_installed_command_on_a_lone_file(reference: dict[str, tuple]) -> None:
