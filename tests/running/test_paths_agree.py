@@ -319,6 +319,24 @@ def test_shards_joined_by_merge(reference: dict[str, tuple], tmp_path: Path) -> 
     assert _differences(reference, _answers(json.loads(merged.stdout))) == []
 
 
+def test_variants_only_add_to_the_answer(reference: dict[str, tuple]) -> None:
+    """``--variants`` lints the authored selection too: every finding of the
+    plain check is among its findings (but UL001, an unused suppression, which
+    another combination may use), and every file has the same status."""
+    varied = _answers(_check("--no-cache", "--variants"))
+    assert set(varied) == set(reference)
+    lost = []
+    for file, (status, error, findings) in reference.items():
+        if varied[file][:2] != (status, error):
+            lost.append(f"{file}: {varied[file][:2]} against {(status, error)}")
+            continue
+        missing = [f for f in set(findings) - set(varied[file][2]) if f[0] != repr("UL001")]
+        if missing:
+            lost.append(f"{file}: only without --variants {sorted(missing)[:3]}")
+    assert lost == []
+    assert any(varied[f] != reference[f] for f in reference), "no file has variants to lint"
+
+
 def test_the_installed_command_on_a_lone_file(reference: dict[str, tuple]) -> None:
     """The real supervisor, its child and the interpreter's start-up, on a few
     files (the harness above covers every file)."""
