@@ -2,7 +2,8 @@
 findings ``check`` gives it: each file opened alone in the editor, as saved,
 its diagnostics (every finding on the document; one in a layer that is not open
 is shown there too, with the layer as related information) against ``check
---no-cache --show-info`` of the same files.
+--no-cache --show-info`` of the same files; and its Fix All makes the text
+``check --fix`` writes (each layer whose fixes are all its own).
 
 The differential test of the other paths is tests/running/test_paths_agree.py.
 """
@@ -10,6 +11,8 @@ The differential test of the other paths is tests/running/test_paths_agree.py.
 from __future__ import annotations
 
 import json
+import os
+import shutil
 import subprocess
 import sys
 from collections import Counter
@@ -20,9 +23,16 @@ import pytest_lsp
 from conftest import SHARED
 from lsprotocol import types
 from pytest_lsp import LanguageClient, client_capabilities
-from test_protocol import SERVER, close_documents, diagnostics_of, open_document
+from test_protocol import (
+    SERVER,
+    apply,
+    close_documents,
+    diagnostics_of,
+    fix_all_actions,
+    open_document,
+)
 
-pytestmark = [pytest.mark.asyncio(loop_scope="module"), pytest.mark.heavy(seconds=15)]
+pytestmark = [pytest.mark.asyncio(loop_scope="module"), pytest.mark.heavy(seconds=30)]
 
 CORPUS = SHARED / "corpus" / "files"
 #: What a finding is, for the comparison (what a diagnostic carries of it).
@@ -110,4 +120,47 @@ async def test_every_real_text_layer_gets_check_s_findings_in_the_editor(
         expected = checked[str(path)]
         if got != expected:
             differing.append(f"{path}: only check {expected - got}; only here {got - expected}")
+    assert differing == []
+
+
+def _fixed_by_check(root: Path) -> dict[str, str]:
+    """``check --fix`` of a copy of the corpus at ``root``: the text of each
+    layer whose fixes are all its own, by its path in the corpus."""
+    shutil.copytree(CORPUS, root)
+    for folder, _, files in os.walk(root):
+        for name in files:
+            os.chmod(os.path.join(folder, name), 0o644)  # the corpus is read-only
+    done = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--no-cache", "--fix"]
+        + ["--fail-on", "never", "--format", "json", "."],
+        capture_output=True,
+        timeout=600,
+        cwd=root,
+    )
+    assert done.returncode in (0, 2), done.stderr[-3000:]
+    layers: dict[str, set[str | None]] = {}
+    for fix in json.loads(done.stdout)["fixes"]:
+        layer = os.path.normpath(fix["layer"]) if fix["layer"] else None
+        layers.setdefault(os.path.normpath(fix["file"]), set()).add(layer)
+    own = [file for file, touched in layers.items() if touched == {file}]
+    return {str(CORPUS / file): (root / file).read_text() for file in own}
+
+
+async def test_fix_all_makes_the_text_check_fix_writes(
+    client: LanguageClient, workspace: Path, tmp_path: Path
+) -> None:
+    fixed = _fixed_by_check(tmp_path / "files")
+    assert len(fixed) > 50
+    differing = []
+    for path in LAYERS:
+        uri = open_document(client, path)
+        await diagnostics_of(client, uri, 1)
+        actions = await fix_all_actions(client, uri)
+        close_documents(client, uri)
+        text = path.read_text()
+        if str(path) not in fixed:
+            continue  # no fix, or one in another layer: Fix All edits this document alone
+        edited = apply(text, actions[0].edit.changes[uri]) if actions else text
+        if edited != fixed[str(path)]:
+            differing.append(str(path))
     assert differing == []
