@@ -116,9 +116,14 @@ def test_a_broken_stdout_is_a_quiet_exit_2(args: tuple[str, ...]) -> None:
     assert (result.returncode, result.stderr) == (2, "")
 
 
-def test_a_closed_stdout_is_a_quiet_exit_2() -> None:
+@pytest.mark.parametrize(
+    "args",
+    # click prints help and the version itself: they exited 0, printing nothing.
+    [("check", "--isolated", str(BROKEN)), ("--version",), ("--help",), ("check", "--help")],
+)
+def test_a_closed_stdout_is_a_quiet_exit_2(args: tuple[str, ...]) -> None:
     result = subprocess.run(
-        command("check", "--isolated", str(BROKEN)),
+        command(*args),
         stderr=subprocess.PIPE,
         text=True,
         timeout=120,

@@ -3,9 +3,14 @@ without pygls ``usdrender-lint server`` says what to install."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
+import tomllib
 
+from conftest import REPO
+
+from usdrender_lint.server import MISSING, NO_STDOUT
 from usdrender_lint.server.ranges import apply_edits, statement_span, text_edits
 
 
@@ -33,9 +38,28 @@ def test_without_the_extra_the_server_says_what_to_install():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert out.returncode == 2
     assert out.stderr.strip() == (
-        "usdrender-lint: the language server needs the [server] extra: "
-        "pip install 'usdrender-lint[server]'"
+        "usdrender-lint: error: the language server needs its [server] extra: "
+        "pip install 'pygls>=2.0' 'lsprotocol>=2025.0.0'"
     )
+
+
+def test_the_packages_named_are_the_extra_s() -> None:
+    """What the message says to install is what pyproject.toml's extra requires."""
+    extra = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
+    wanted = extra["optional-dependencies"]["server"]
+    assert MISSING.endswith(" ".join(f"'{requirement}'" for requirement in wanted))
+
+
+def test_a_closed_stdout_is_one_line_and_exit_2() -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        stdin=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        timeout=60,
+        preexec_fn=lambda: os.close(1),  # noqa: PLW1509 - the child only closes a descriptor
+    )
+    assert (out.returncode, out.stderr) == (2, NO_STDOUT + "\n")
 
 
 def test_text_edits_are_minimal_and_give_the_new_text():

@@ -9,6 +9,8 @@ load, a path that does not exist, a file it could not lint).
 
 from __future__ import annotations
 
+import errno
+import io
 import os
 import sys
 from collections.abc import Sequence
@@ -123,8 +125,10 @@ def _internal_error(exc: Exception) -> None:
 def _open_closed_standard_streams() -> None:
     """Put /dev/null on a standard file descriptor that was closed when the
     command started (``check >&-``): else the next file opened would get the
-    number, and whatever USD prints would land in it. Python already made
-    sys.stdout None for it, which the report's writing treats as gone."""
+    number, and whatever USD prints would land in it. Python made sys.stdout
+    None for it, which click's printing (help, the version) takes for a stream
+    to skip, exiting 0 with nothing said: a stdout that is gone instead, as a
+    pipe nobody reads."""
     for fd in (0, 1, 2):
         try:
             os.fstat(fd)
@@ -133,6 +137,16 @@ def _open_closed_standard_streams() -> None:
             if null != fd:
                 os.dup2(null, fd)
                 os.close(null)
+    if sys.stdout is None:
+        sys.stdout = _ClosedStdout()
+
+
+class _ClosedStdout(io.TextIOBase):
+    """The stdout of a command started with it closed: every write fails as a
+    pipe's whose reader left (the report's writing ends quietly with exit 2)."""
+
+    def write(self, text: str) -> int:
+        raise BrokenPipeError(errno.EPIPE, os.strerror(errno.EPIPE))
 
 
 def _silence_stdout() -> None:

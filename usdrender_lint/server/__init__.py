@@ -9,10 +9,14 @@ from __future__ import annotations
 
 import sys
 
+#: What to install: the extra's packages (usdrender-lint is on no package index,
+#: so ``pip install 'usdrender-lint[server]'`` would ask one for it).
 MISSING = (
-    "usdrender-lint: the language server needs the [server] extra: "
-    "pip install 'usdrender-lint[server]'"
+    "usdrender-lint: error: the language server needs its [server] extra: "
+    "pip install 'pygls>=2.0' 'lsprotocol>=2025.0.0'"
 )
+#: The protocol's messages go to standard output.
+NO_STDOUT = "usdrender-lint: error: standard output is closed: the language server speaks over it"
 
 
 def main() -> None:
@@ -24,5 +28,8 @@ def main() -> None:
         if exc.name not in ("pygls", "lsprotocol") and not str(exc.name).startswith("pygls."):
             raise
         sys.stderr.write(f"{MISSING}\n")
+        sys.exit(2)
+    if getattr(sys.stdout, "buffer", None) is None:  # started with it closed (cli.main)
+        sys.stderr.write(f"{NO_STDOUT}\n")
         sys.exit(2)
     serve()
