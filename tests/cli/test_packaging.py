@@ -49,3 +49,47 @@ def test_the_cache_key_covers_the_rules_and_not_the_tests() -> None:
     assert str(REPO / "rules" / "_aov.py") in files  # a helper no rule class names
     assert not [f for f in files if f.startswith(str(REPO / "tests"))]
     assert not [f for f in files if f.startswith(str(REPO / "benchmarks"))]
+
+
+_PLUGIN_RULE = '''
+from usdrender_lint.api import Rule, Severity
+
+
+class StudioRule(Rule):
+    """A studio's rule."""
+
+    code = "STU001"
+    name = "studio-rule"
+    severity = Severity.WARNING
+'''
+
+
+def test_the_cache_key_covers_a_plugin_rule_s_package_and_not_its_site(
+    tmp_path: Path, monkeypatch
+) -> None:
+    """A helper module beside a plugin's rule (what its messages or checks
+    import) is its code as much: edited, the key changes. A rule in a module
+    at the top of site-packages brings in no other file of that folder."""
+    import importlib
+    import sys
+
+    from usdrender_lint.engine import Linter
+    from usdrender_lint.running.result_cache import _code_signature
+
+    site = tmp_path / "site"
+    (site / "studio_rules").mkdir(parents=True)
+    (site / "studio_rules" / "__init__.py").write_text(_PLUGIN_RULE)
+    (site / "studio_rules" / "words.py").write_text('MESSAGE = "one"\n')
+    (site / "lone_rules.py").write_text(_PLUGIN_RULE.replace("STU001", "STU002"))
+    (site / "unrelated.py").write_text("")
+    monkeypatch.syspath_prepend(str(site))
+    packaged = importlib.import_module("studio_rules").StudioRule
+    lone = importlib.import_module("lone_rules").StudioRule
+    try:
+        files = {path for path, _, _ in _code_signature(Linter([packaged(), lone()]))}
+    finally:
+        sys.modules.pop("studio_rules", None)
+        sys.modules.pop("lone_rules", None)
+    assert str(site / "studio_rules" / "words.py") in files
+    assert str(site / "lone_rules.py") in files
+    assert str(site / "unrelated.py") not in files

@@ -205,14 +205,23 @@ def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
     module: an edited rule or engine (a source checkout, a plugin under
     development) changes the key even when the version does not."""
     files: set[str] = set()
-    for folder in sys.modules["usdrender_lint"].__path__:
-        for root, dirs, names in os.walk(folder, followlinks=True):  # a checkout links rules/
-            dirs[:] = [d for d in dirs if not d.startswith((".", "__pycache__"))]
-            files.update(os.path.join(root, n) for n in names if n.endswith((".py", ".json")))
+    own = list(sys.modules["usdrender_lint"].__path__)
+    for folder in own:
+        files.update(_source_files(folder))
+    packages: set[str] = set()
     for rule in (*linter.rules, *(linter.known_rules or ())):
         module = sys.modules.get(rule.__module__)
         if getattr(module, "__file__", None):
             files.add(module.__file__)  # type: ignore[union-attr, arg-type]
+        # The rule's package: a module beside it that it imports (a plugin's
+        # helpers) is its code too. A top-level module has none (its folder is
+        # site-packages).
+        packages.add(rule.__module__ if hasattr(module, "__path__") else "")
+        packages.add(rule.__module__.rpartition(".")[0])
+    for package in sorted(packages - {""}):
+        for folder in getattr(sys.modules.get(package), "__path__", ()):
+            if not any(_is_below(folder, mine) for mine in own):
+                files.update(_source_files(folder))
     signature = []
     for path in sorted(files):
         try:
@@ -221,6 +230,23 @@ def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
             continue
         signature.append((path, info.st_size, info.st_mtime_ns))
     return signature
+
+
+def _source_files(folder: str) -> list[str]:
+    """The Python (and JSON) files below a package's folder, at most
+    MAX_PLUGIN_FILES."""
+    found: list[str] = []
+    for root, dirs, names in os.walk(folder, followlinks=True):  # a checkout links rules/
+        dirs[:] = sorted(d for d in dirs if not d.startswith((".", "__pycache__")))
+        found += (os.path.join(root, n) for n in sorted(names) if n.endswith((".py", ".json")))
+        if len(found) >= MAX_PLUGIN_FILES:
+            return found[:MAX_PLUGIN_FILES]
+    return found
+
+
+def _is_below(path: str, folder: str) -> bool:
+    path, folder = os.path.abspath(path), os.path.abspath(folder)
+    return os.path.commonpath([path, folder]) == folder
 
 
 # -- digests -----------------------------------------------------------------------
