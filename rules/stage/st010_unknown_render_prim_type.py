@@ -49,7 +49,8 @@ class UnknownRenderPrimType(Rule):
     (`RenderSettings`, `RenderProduct`, `RenderVar`, `RenderPass`) by edit
     distance. Under a renderer profile, the types that renderer's own
     schemas define are not reported (`renderman`: `Pxr*`, hdPrman's usdRiPxr
-    schemas; `omniverse`: the omni_sensors types such as `OmniLidar`).
+    schemas; `arnold`: `Arnold*`, arnold-usd's schemas such as
+    `ArnoldNodeGraph`; `omniverse`: the omni_sensors types such as `OmniLidar`).
 
     ## Why is this bad?
     USD composes an unknown type as a typeless prim, so `def RenderSetting` or

@@ -459,3 +459,36 @@ def Xform "Rig"
     )
     unloaded = _lint(tmp_path, root.replace("prepend payload = @sensor.usda@</Sensor>", ""))
     assert {f.profile for f in unloaded} == {"generic"}
+
+
+ARNOLD_IMAGER_STAGE = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Shot"
+    {
+        int arnold:global:AA_samples = 4
+        string arnold:global:imager = "/Render/Imagers/Denoise"
+        rel products = </Render/Beauty>
+    }
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
+    }
+    def Scope "Imagers"
+    {
+        def ArnoldNodeGraph "Denoise"
+        {
+        }
+    }
+}
+"""
+
+
+def test_arnold_accepts_its_own_prim_types(tmp_path: Path) -> None:
+    # arnold-usd registers ArnoldNodeGraph (imagers, AOV shaders under /Render)
+    # and its other Arnold* types; they are unknown only where it is not installed.
+    auto = _lint(tmp_path, ARNOLD_IMAGER_STAGE)
+    assert {f.profile for f in auto} == {"arnold"}
+    assert "ST010" not in {f.code for f in auto}
+    generic = _lint(tmp_path, ARNOLD_IMAGER_STAGE, ("generic", "test"))
+    assert ("ST010", "/Render/Imagers/Denoise", "generic") in _pairs(generic)

@@ -11,6 +11,10 @@ RENDER_PASS_CPP = "arnold-usd libs/render_delegate/render_pass.cpp (_CreateFilte
 READ_OPTIONS_CPP = (
     "arnold-usd libs/translator/reader/read_options.cpp (UsdArnoldReadRenderSettings::Read)"
 )
+#: arnold-usd's schema generator: every typed schema it registers is named
+#: Arnold<NodeEntry> (schemaName = 'Arnold{}'.format(makeCamelCase(entryName))),
+#: besides class ArnoldNodeGraph "ArnoldNodeGraph".
+SCHEMA_GENERATOR = "arnold-usd schemas/createSchemaFile.py"
 
 ARNOLD = Profile(
     name="arnold",
@@ -19,6 +23,17 @@ ARNOLD = Profile(
     family="AR",
     namespaces=("arnold:",),
     api_schemas=("Arnold*",),
+    prim_types=(
+        Accepted(
+            name="Arnold*",
+            why="arnold-usd registers its own typed schemas, all named Arnold* "
+            "(ArnoldNodeGraph for the imagers, AOV shaders, background and atmosphere the "
+            "settings name, ArnoldOptions, ...); they are unknown types only where arnold-usd "
+            "is not installed",
+            source=f"{SCHEMA_GENERATOR}; {READ_OPTIONS_CPP}: "
+            "ngPrim.GetTypeName() == _tokens->ArnoldNodeGraph",
+        ),
+    ),
     product_types=(
         Accepted(
             name="arnold",
