@@ -220,6 +220,7 @@ def _profile_markdown(profile: Any, rules: list[type]) -> str:
         ("property namespaces", profile.namespaces),
         ("applied API schemas", profile.api_schemas),
         ("scopes", profile.scopes),
+        ("a product's productType", [a.name for a in profile.product_types]),
         ("camera targets of these types", [a.name for a in profile.camera_types]),
         ("camera targets the application creates", [a.name for a in profile.runtime_cameras]),
         ("the root layer's customLayerData keys", [a.name for a in profile.layer_data]),

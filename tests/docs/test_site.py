@@ -95,6 +95,25 @@ def test_every_profile_has_its_page_with_every_change(generated: dict[str, str])
             assert source.split()[0] in page
 
 
+def test_every_profile_page_lists_all_the_evidence_auto_reads(generated: dict[str, str]) -> None:
+    # What detect reads as evidence (tests/profiles/test_profile_evidence.py,
+    # PRIM_EVIDENCE and LAYER_EVIDENCE), each under "When auto picks it".
+    for profile in PROFILES.values():
+        page = generated[f"reference/profiles/{profile.name}.md"]
+        section = page.split("## When `auto` picks it", 1)[1].split("\n## ", 1)[0]
+        names = [
+            *profile.namespaces,
+            *profile.api_schemas,
+            *profile.scopes,
+            *(a.name for a in profile.product_types),
+            *(a.name for a in profile.camera_types),
+            *(a.name for a in profile.runtime_cameras),
+            *(a.name for a in profile.layer_data),
+        ]
+        for name in names:
+            assert f"`{name}`" in section, (profile.name, name)
+
+
 def test_the_configuration_reference_lists_every_key_the_parser_accepts(
     generated: dict[str, str], tmp_path: Path
 ) -> None:
