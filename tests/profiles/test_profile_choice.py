@@ -492,3 +492,19 @@ def test_arnold_accepts_its_own_prim_types(tmp_path: Path) -> None:
     assert "ST010" not in {f.code for f in auto}
     generic = _lint(tmp_path, ARNOLD_IMAGER_STAGE, ("generic", "test"))
     assert ("ST010", "/Render/Imagers/Denoise", "generic") in _pairs(generic)
+
+
+def test_explain_says_which_names_a_profile_accepts_for_a_rule() -> None:
+    # A profile that accepts its renderer's names leaves the rule's severity
+    # alone but reports fewer things; explain (and the rule's page) says so.
+    runner = CliRunner()
+    st010 = runner.invoke(cli, ["explain", "ST010"]).output
+    assert "- renderman: warning, as by default; accepts `Pxr*`" in st010
+    assert "- omniverse: warning, as by default; accepts `OmniSensor`, `OmniLidar`" in st010
+    assert "- generic: warning, as by default\n" in st010
+    pr003 = runner.invoke(cli, ["explain", "PR003"]).output
+    assert "- arnold: warning, as by default; accepts `arnold`, `deep`" in pr003
+    ca003 = runner.invoke(cli, ["explain", "CA003"]).output
+    assert "- omniverse: error, as by default; accepts `/OmniverseKit_Persp`" in ca003
+    va001 = runner.invoke(cli, ["explain", "VA001"]).output
+    assert "- moonray: error, as by default; accepts `parameters:moonray:result`" in va001

@@ -8,18 +8,13 @@ from pathlib import Path
 
 from usdrender_lint.engine import Linter
 from usdrender_lint.profiles import PROFILES, Profiler
+from usdrender_lint.profiles.effective import ACCEPTED_BY_RULE
 from usdrender_lint.running.discovery import collect_files
 from usdrender_lint.testing import all_rules
 
 #: The generic rules a profile may drop a finding of: its rule changes and the
 #: rules that read its accepted cameras, types, product types and var outputs.
-PROFILE_AWARE = {c.code for p in PROFILES.values() for c in p.changes} | {
-    "CA003",
-    "CA004",
-    "ST010",
-    "PR003",
-    "VA001",
-}
+PROFILE_AWARE = {c.code for p in PROFILES.values() for c in p.changes} | set(ACCEPTED_BY_RULE)
 
 
 def test_auto_keeps_every_generic_finding_its_renderer_acts_on(shared_dir: Path) -> None:

@@ -47,6 +47,28 @@ def effective_rules(rules: Sequence[type[Rule]], profile: Profile | None) -> lis
     return [effective(rule, profile) for rule in rules]
 
 
+#: The generic rules that leave alone what a profile accepts (R2-5), and the
+#: Profile fields they read: the severity stays, the rule reports fewer things.
+ACCEPTED_BY_RULE: dict[str, tuple[str, ...]] = {
+    "CA003": ("runtime_cameras",),
+    "CA004": ("camera_types", "runtime_cameras"),
+    "PR003": ("product_types",),
+    "ST010": ("prim_types",),
+    "VA001": ("var_outputs",),
+}
+
+
+def _accepts(rule: type[Rule], profile: Profile) -> str:
+    """ "; accepts `A`, `B` (sources)" for what the profile accepts that the
+    rule would report, "" for nothing."""
+    accepted = [a for field in ACCEPTED_BY_RULE.get(rule.code, ()) for a in getattr(profile, field)]
+    if not accepted:
+        return ""
+    names = ", ".join(f"`{a.name}`" for a in accepted)
+    sources = "; ".join(dict.fromkeys(a.source for a in accepted))
+    return f"; accepts {names} ({sources})"
+
+
 def profile_treatment(rule: type[Rule]) -> list[str]:
     """One line per profile: how it treats ``rule`` and why."""
     lines = []
@@ -55,7 +77,7 @@ def profile_treatment(rule: type[Rule]) -> list[str]:
         if row.severity is None:
             lines.append(f"{profile.name}: off ({row.why})")
         elif row.why:
-            lines.append(f"{profile.name}: {row.severity} ({row.why})")
+            lines.append(f"{profile.name}: {row.severity} ({row.why}){_accepts(rule, profile)}")
         else:
-            lines.append(f"{profile.name}: {row.severity}, as by default")
+            lines.append(f"{profile.name}: {row.severity}, as by default{_accepts(rule, profile)}")
     return lines
