@@ -11,6 +11,11 @@ from usdrender_lint.api.resolve import authored_value
 
 from ._husk import NOT_WRITTEN
 
+#: The frame variable in both of Houdini's spellings: $F (also $F4, $FF) and the
+#: protected ${F} (${F4}) that lets a letter follow it (Houdini docs, Expressions
+#: in file names, https://www.sidefx.com/docs/houdini/render/expressions.html).
+FRAME_VARIABLES = ("$F", "${F")
+
 
 def _frame_range(stage: Usd.Stage) -> tuple[float, float] | None:
     """The authored [start, end] of the root layer when it spans frames."""
@@ -27,7 +32,8 @@ class FrameTokenMissing(Rule):
     ## What it does
     Under the `karma` profile, on a stage whose root layer authors a
     `startTimeCode` before its `endTimeCode`, reports a RenderProduct whose
-    `productName` has no time samples and contains no `$F` frame variable.
+    `productName` has no time samples and contains no `$F` frame variable
+    (nor its protected form `${F}`).
 
     ## Why is this bad?
     *"Include $F in the file name to insert the frame number. This is required
@@ -103,7 +109,7 @@ class FrameTokenMissing(Rule):
         if attr.GetNumTimeSamples():
             return
         name = authored_value(attr)
-        if not name or "$F" in str(name) or str(name) in NOT_WRITTEN:
+        if not name or any(v in str(name) for v in FRAME_VARIABLES) or str(name) in NOT_WRITTEN:
             return  # empty: PR001's; no file at all: KA001's
         yield Diagnostic(
             message=f"productName {str(name)!r} of {prim.GetPath()} has no $F and no value per "
