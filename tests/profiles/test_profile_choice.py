@@ -508,3 +508,33 @@ def test_explain_says_which_names_a_profile_accepts_for_a_rule() -> None:
     assert "- omniverse: error, as by default; accepts `/OmniverseKit_Persp`" in ca003
     va001 = runner.invoke(cli, ["explain", "VA001"]).output
     assert "- moonray: error, as by default; accepts `parameters:moonray:result`" in va001
+
+
+def test_a_configured_severity_does_not_bring_back_a_rule_a_profile_switches_off(
+    tmp_path: Path,
+) -> None:
+    # PR001 is off under omniverse; severity.PR001 changes its severity where
+    # it runs, not whether it runs. The guide says so.
+    path = tmp_path / "shot.usda"
+    path.write_text(KIT_STAGE, encoding="utf-8")
+    out = (
+        CliRunner()
+        .invoke(
+            cli,
+            [
+                "check",
+                "--isolated",
+                "--no-cache",
+                "--format",
+                "json",
+                "--config",
+                'severity.PR001 = "warning"',
+                str(path),
+            ],
+        )
+        .output
+    )
+    codes = {f["code"] for f in json.loads(out)["files"][0]["findings"]}
+    assert "PR001" not in codes
+    guide = (Path(__file__).parents[2] / "docs" / "guides" / "profiles.md").read_text()
+    assert "does not bring back a rule the profile switches off" in " ".join(guide.split())
