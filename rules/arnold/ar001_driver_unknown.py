@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from pxr import Usd
+from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
 from usdrender_lint.api.resolve import authored_value
@@ -25,7 +25,8 @@ class DriverUnknown(Rule):
     Under the `arnold` profile, reports a RenderProduct whose authored
     `arnold:driver` is not one of Arnold's output drivers (`driver_exr`,
     `driver_deepexr`, `driver_tiff`, `driver_jpeg`, `driver_png`, plus the
-    option `extra-drivers` for a studio's driver plugins).
+    option `extra-drivers` for a studio's driver plugins), or names one as
+    another type than `string` (e.g. `token arnold:driver = "driver_exr"`).
 
     ## Why is this bad?
     arnold-usd creates the product's driver from the node type `arnold:driver`
@@ -34,7 +35,10 @@ class DriverUnknown(Rule):
     `libs/render_delegate/render_delegate.cpp`); the USD procedural's
     `ReadDriverFromRenderProduct` gets no node and skips the product too
     (`libs/translator/reader/read_options.cpp`). Either way its image is never
-    written.
+    written. The procedural reads the attribute only as a string
+    (`driverAttr.Get<std::string>(&driverTypeName, ...)` in
+    `ReadDriverFromRenderProduct`): a `token` names no driver there, so kick
+    skips the product though husk's delegate accepts both types.
 
     ## Example
     ```usda
@@ -93,6 +97,16 @@ class DriverUnknown(Rule):
             return
         known = (*ARNOLD_DRIVERS, *self.options.extra_drivers)
         if str(value) in known:
+            if attr.GetTypeName() != Sdf.ValueTypeNames.String:
+                # The USD procedural reads it with driverAttr.Get<std::string>, which
+                # fails on any other type: no driver, and the product is skipped.
+                yield Diagnostic(
+                    message=f"arnold:driver of {prim.GetPath()} is a {attr.GetTypeName()}, not "
+                    "a string: arnold-usd's USD procedural (kick) reads only a string and skips "
+                    "the product, writing no image; author it as string arnold:driver = "
+                    f"{str(value)!r}",
+                    at=attr,
+                )
             return
         near = [d for d in known if edit_distance(str(value), d) == 1]
         fix = None
