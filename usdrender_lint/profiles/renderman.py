@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from .model import Accepted, Profile
 
-#: hdPrman's render settings prim (OpenUSD).
-RENDER_SETTINGS_CPP = "OpenUSD third_party/renderman-26/plugin/hdPrman/renderSettings.cpp"
 USD_RI_PXR = "OpenUSD third_party/renderman-26/plugin/usdRiPxr/schema.usda"
 
 RENDERMAN = Profile(
