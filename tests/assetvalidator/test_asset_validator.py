@@ -196,6 +196,15 @@ def _cli_issues(document: dict) -> set[tuple]:
     return {_cli_issue(r, i) for r in document.get("rules", []) for i in r.get("issues", [])}
 
 
+def test_the_plugins_load_without_an_error(tmp_path: Path) -> None:
+    # The plugin manager orders plugins by their distributions' requirements:
+    # one that required itself logged "Circular dependency detected" as an ERROR.
+    clean = REPO / "examples" / "clean_shot" / "shot.usda"
+    _, output = _cli_run(clean, tmp_path / "clean.json")
+    assert "Calling 'usdrender_lint.assetvalidator:plugin.on_startup()'" in output
+    assert [line for line in output.splitlines() if line.startswith("ERROR:")] == []
+
+
 def test_command_line_findings_are_checks_file_by_file(tmp_path: Path) -> None:
     files = _usd_files(EXAMPLES)
     expected = _check(files)

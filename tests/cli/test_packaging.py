@@ -4,6 +4,7 @@ a subpackage left out installs nowhere, and only a plain install would show it."
 from __future__ import annotations
 
 import os
+import re
 import tomllib
 from pathlib import Path
 
@@ -93,3 +94,20 @@ def test_the_cache_key_covers_a_plugin_rule_s_package_and_not_its_site(
     assert str(site / "studio_rules" / "words.py") in files
     assert str(site / "lone_rules.py") in files
     assert str(site / "unrelated.py") not in files
+
+
+def test_no_requirement_names_the_package_itself() -> None:
+    # NVIDIA's Asset Validator orders its plugins by every Requires-Dist of their
+    # distributions (extras' included): a self-reference such as
+    # "usdrender-lint[server,watch]" is a cycle it logs as an ERROR on every start.
+    project = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
+    requirements = [*project["dependencies"]]
+    for extra in project["optional-dependencies"].values():
+        requirements += extra
+    names = {
+        re.split(r"[\s\[<>=!~;]", r, maxsplit=1)[0].lower().replace("_", "-") for r in requirements
+    }
+    assert project["name"] not in names
+    # So the test extra lists the server's and the watch's requirements itself.
+    extras = project["optional-dependencies"]
+    assert set(extras["server"] + extras["watch"]) <= set(extras["test"])
