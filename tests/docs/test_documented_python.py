@@ -3,8 +3,11 @@
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
+import subprocess
+import sys
 import types
 from pathlib import Path
 
@@ -45,3 +48,39 @@ def test_the_render_farm_preflight_example_stops_a_broken_shot(shot: Path) -> No
     with pytest.raises(SystemExit) as stopped:
         exec(compile(preflight, "render-farm.md", "exec"), {})  # noqa: S102 - our own guide
     assert "CA004 /Render/PrimarySettings.camera" in str(stopped.value)
+
+
+def _run_with_the_usd_plugin(code: str, cwd: Path) -> str:
+    """``code`` in a process whose USD finds the UsdValidation plugin (USD reads
+    PXR_PLUGINPATH_NAME once, when its plugin registry starts)."""
+    from usdrender_lint.usdplugin import plugin_dir
+
+    env = dict(os.environ, PXR_PLUGINPATH_NAME=str(plugin_dir()))
+    done = subprocess.run(
+        [sys.executable, "-c", code], cwd=cwd, env=env, capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    return done.stdout
+
+
+def test_the_usdvalidation_example_prints_each_errors_prim_or_property(shot: Path) -> None:
+    (validate,) = _blocks("usdvalidation.md")
+    printed = _run_with_the_usd_plugin(validate, shot.parent).splitlines()
+    assert any(line.startswith("CA004 /Render/PrimarySettings.camera ") for line in printed)
+    assert any(line.startswith("PR004 /Render/Products/utility ") for line in printed)
+
+
+def test_the_usdvalidation_fixer_example_makes_the_edit_the_guide_shows(shot: Path) -> None:
+    fix = _blocks("asset-validator.md")[1]
+    before = shot.read_text(encoding="utf-8")
+    _run_with_the_usd_plugin(fix, shot.parent)
+    changed = [
+        (old, new)
+        for old, new in zip(
+            before.splitlines(), shot.read_text(encoding="utf-8").splitlines(), strict=True
+        )
+        if old != new
+    ]
+    assert changed == [
+        ("        rel camera = </World/camRig>", "        rel camera = </World/camRig/shotCam>")
+    ]
