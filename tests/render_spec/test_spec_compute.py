@@ -316,6 +316,9 @@ def test_samples_only_without_a_range_read_the_first_rendered_time(tmp_path: Pat
     assert product["renderedTimes"] == [175.0, 176.0]
     assert product["aperture"]["camera"] == [36.0, 20.25]
     assert product["name"] == "p.0101.exr"
+    # What --help states as the default (it said Default, which the camera is not read at).
+    help_text = " ".join(CliRunner().invoke(cli, ["spec", "--help"]).stdout.split())
+    assert "else each camera's first rendered time]" in help_text
 
 
 def test_time_default_reads_default_values(tmp_path: Path) -> None:

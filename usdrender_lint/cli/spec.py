@@ -56,7 +56,8 @@ def _time_option(
     "time_option",
     callback=_time_option,
     help="Time to read the camera and productName at: a number or 'default'  "
-    "[default: the stage's startTimeCode when authored, else Default].",
+    "[default: the stage's startTimeCode when authored, else each camera's first "
+    "rendered time].",
 )
 # svg is no stream view: one file per product into the --output folder.
 @format_option("spec", "svg")
