@@ -71,3 +71,44 @@ def test_a_shard_report_matches_the_schema(monkeypatch: pytest.MonkeyPatch) -> N
     for bad in ({"index": 0, "count": 3}, {"index": 1}, "2/3"):
         with pytest.raises(jsonschema.ValidationError):
             jsonschema.validate({**document, "shard": bad}, SCHEMA)
+
+
+def _json_example(page: str) -> dict:
+    text = (REPO / "docs" / "reference" / page).read_text(encoding="utf-8")
+    return json.loads(text.split("```json\n", 1)[1].split("```", 1)[0])
+
+
+def test_the_json_reference_example_is_what_check_prints(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(REPO)
+    shown = _json_example("json-report.md")
+    printed = _report("--no-cache", "--select", "CA004", "examples/broken_shot/shot.usda")
+    jsonschema.validate(shown, SCHEMA)
+    # The digest changes with every rule: the page shows one of the same form.
+    assert len(shown.pop("configuration")) == len(printed.pop("configuration")) == 32
+    assert shown == printed
+
+
+def _shown_in(shown: object, printed: object) -> bool:
+    """Whether an abridged example says only what ``printed`` holds: its keys
+    (but "...") with the same values, each item of a list among the printed ones."""
+    if isinstance(shown, dict):
+        return isinstance(printed, dict) and all(
+            key in printed and _shown_in(value, printed[key])
+            for key, value in shown.items()
+            if key != "..."
+        )
+    if isinstance(shown, list) and any(isinstance(item, dict) for item in shown):
+        return isinstance(printed, list) and all(
+            any(_shown_in(item, candidate) for candidate in printed) for item in shown
+        )
+    return shown == printed
+
+
+def test_the_spec_json_reference_example_is_what_spec_prints(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.chdir(REPO)
+    run = CliRunner().invoke(
+        cli, ["spec", "--format", "json", "--jobs", "1", "examples/framing_shot/shot.usda"]
+    )
+    assert _shown_in(_json_example("spec-json.md"), json.loads(run.stdout))
