@@ -435,6 +435,12 @@ def _config_markdown() -> str:
 # -- command line -------------------------------------------------------------------
 
 
+def _literal(text: str) -> str:
+    """Plain text (click's help) as Markdown that shows it as written: the
+    default "__pypackages__" is no bold "pypackages"."""
+    return re.sub(r"([\\`*_\[\]])", r"\\\1", html.escape(text, quote=False))
+
+
 def _cli_markdown() -> str:
     import click
 
@@ -455,7 +461,7 @@ def _cli_markdown() -> str:
         ctx = click.Context(command, info_name=name, parent=group_ctx)
         usage = " ".join(command.collect_usage_pieces(ctx))
         parts.append(f"## {name}\n\n```text\nusdrender-lint {name} {usage}\n```")
-        parts.append(inspect.cleandoc(command.help or ""))
+        parts.append(_literal(inspect.cleandoc(command.help or "")))
         rows = []
         for param in command.get_params(ctx):
             record = param.get_help_record(ctx)
@@ -464,7 +470,7 @@ def _cli_markdown() -> str:
             flags, help_text = record
             # HTML, so that the pipes between choices do not split the table's cells.
             flags = html.escape(flags).replace("|", "&#124;")
-            rows.append((f"<code>{flags}</code>", help_text))
+            rows.append((f"<code>{flags}</code>", _literal(help_text)))
         parts.append(_table(("option", "meaning"), rows))
     return "\n\n".join(parts) + "\n"
 

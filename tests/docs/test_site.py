@@ -153,6 +153,28 @@ def test_the_cli_reference_lists_every_command_and_option(generated: dict[str, s
                     assert flag in page, (name, flag)
 
 
+def test_the_cli_reference_shows_each_help_text_as_click_prints_it(
+    generated: dict[str, str],
+) -> None:
+    # Rendered as the site renders it: Markdown took "__pypackages__" for bold.
+    markdown = pytest.importorskip("markdown")
+    import html
+
+    import click
+
+    from usdrender_lint.cli import cli
+
+    rendered = markdown.markdown(generated["reference/cli.md"], extensions=["tables"])
+    shown = " ".join(html.unescape(re.sub(r"<[^>]+>", " ", rendered)).split())
+    group = click.Context(cli, info_name="usdrender-lint")
+    for name, command in cli.commands.items():
+        ctx = click.Context(command, info_name=name, parent=group)
+        for param in command.get_params(ctx):
+            record = param.get_help_record(ctx)
+            if record is not None and not isinstance(param, click.Argument):
+                assert " ".join(record[1].split()) in shown, (name, record[0])
+
+
 def _slug(heading: str) -> str:
     """Python-Markdown's toc slug: lower case, no punctuation, spaces to '-'."""
     text = re.sub(r"<[^>]+>|`", "", heading)
