@@ -54,6 +54,13 @@ def _table(header: tuple[str, ...], rows: list[tuple[object, ...]]) -> str:
     return "\n".join(lines)
 
 
+def _literal(text: str) -> str:
+    """Plain text (click's help, a profile's description) as Markdown that
+    shows it as written: "__pypackages__" is no bold "pypackages", and
+    "moonray:sceneVariable:*" keeps its star."""
+    return re.sub(r"([\\`*_\[\]])", r"\\\1", html.escape(text, quote=False))
+
+
 _URL = re.compile(r"(?<!\])\((https?://[^\s()]+)\)")
 #: "Title (URL)" inside a longer text: the title runs back to a sentence break.
 _TITLED_URL = re.compile(r"([^;:()]*?[^\s;:()])\s+\((https?://[^\s()]+)\)")
@@ -215,7 +222,7 @@ def _profile_markdown(profile: Any, rules: list[type]) -> str:
         rule = by_code.get(code)
         return f"[{code}]({_rel(rel, rule_page(rule))})" if rule else code
 
-    parts = [GENERATED_NOTE, f"# The {profile.name} profile", profile.description]
+    parts = [GENERATED_NOTE, f"# The {profile.name} profile", _literal(profile.description)]
     evidence = [
         ("property namespaces", profile.namespaces),
         ("applied API schemas", profile.api_schemas),
@@ -291,7 +298,7 @@ def _profiles_index(profiles: list[Any]) -> str:
     rows = [
         (
             f"[{p.name}]({_rel(PROFILES_INDEX, profile_page(p.name))})",
-            p.description,
+            _literal(p.description),
             len(p.changes),
             p.family or "-",
         )
@@ -433,12 +440,6 @@ def _config_markdown() -> str:
 
 
 # -- command line -------------------------------------------------------------------
-
-
-def _literal(text: str) -> str:
-    """Plain text (click's help) as Markdown that shows it as written: the
-    default "__pypackages__" is no bold "pypackages"."""
-    return re.sub(r"([\\`*_\[\]])", r"\\\1", html.escape(text, quote=False))
 
 
 def _cli_markdown() -> str:

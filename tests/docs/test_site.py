@@ -175,6 +175,18 @@ def test_the_cli_reference_shows_each_help_text_as_click_prints_it(
                 assert " ".join(record[1].split()) in shown, (name, record[0])
 
 
+def test_a_profile_page_shows_its_description_as_written(generated: dict[str, str]) -> None:
+    # moonray's "(moonray:sceneVariable:*) ... (parameters:moonray:*)" lost both stars.
+    markdown = pytest.importorskip("markdown")
+    import html
+
+    for profile in PROFILES.values():
+        for page in (hooks.profile_page(profile.name), hooks.PROFILES_INDEX):
+            rendered = markdown.markdown(generated[page], extensions=["tables"])
+            shown = " ".join(html.unescape(re.sub(r"<[^>]+>", " ", rendered)).split())
+            assert " ".join(profile.description.split()) in shown, (page, profile.name)
+
+
 def _slug(heading: str) -> str:
     """Python-Markdown's toc slug: lower case, no punctuation, spaces to '-'."""
     text = re.sub(r"<[^>]+>|`", "", heading)
