@@ -52,6 +52,16 @@ def test_the_first_command_prints_what_the_readme_shows(monkeypatch: pytest.Monk
         assert any(all(p.strip(" ]") in out for p in parts) for out in printed), line
 
 
+def test_the_install_sections_name_every_dependency() -> None:
+    import tomllib
+
+    project = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    names = [re.split(r"[\s\[<>=!~;]", r, maxsplit=1)[0] for r in project["dependencies"]]
+    for page in (README, REPO / "docs" / "getting-started.md"):
+        install = page.read_text(encoding="utf-8").split("## Install", 1)[1].split("\n\n")[1]
+        assert [n for n in names if f"`{n}`" not in install] == [], page.name
+
+
 def test_the_readme_links_reach_files_of_the_repository() -> None:
     targets = re.findall(r"\]\(([^)#\s]+)\)", _readme())
     local = [t for t in targets if not re.match(r"[a-z]+:", t)]
