@@ -103,6 +103,20 @@ def _rule(code: str, name: str, **attrs) -> type[Rule]:
     )
 
 
+def test_the_guide_names_every_keyword_and_schema_type_declared() -> None:
+    guide = " ".join((REPO / "docs" / "guides" / "usdvalidation.md").read_text().split())
+    validators = plug_info(RULES)["Plugins"][0]["Info"]["Validators"]
+    declared = [v for name, v in validators.items() if name != "keywords"]
+    schema_types = {t for v in declared for t in v.get("schemaTypes", [])}
+    assert [t for t in sorted(schema_types) if f"`{t}`" not in guide] == []
+    shapes = {
+        keyword.replace(rule.code, "<code>").replace(rule.code.rstrip("0123456789"), "<family>")
+        for rule in RULES
+        for keyword in validators[validator_name(rule).partition(":")[2]]["keywords"]
+    }
+    assert [s for s in sorted(shapes) if f"`{s}`" not in guide] == []
+
+
 def test_two_rules_with_one_validator_name_are_refused() -> None:
     # Kebab parts may start with a digit, so "a-1b" and "a1b" both give "A1b".
     with pytest.raises(DeclarationError, match="ZZ001 and ZZ002"):
