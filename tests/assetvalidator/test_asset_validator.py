@@ -205,6 +205,20 @@ def test_the_plugins_load_without_an_error(tmp_path: Path) -> None:
     assert [line for line in output.splitlines() if line.startswith("ERROR:")] == []
 
 
+def test_the_guides_command_line_prints_what_the_guide_shows() -> None:
+    guide = (REPO / "docs" / "guides" / "asset-validator.md").read_text(encoding="utf-8")
+    block = guide.split("```console\n$ ", 1)[1].split("```", 1)[0].splitlines()
+    run = subprocess.run(
+        [str(BIN / block[0].split()[0]), *block[0].split()[1:]],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        check=False,
+    )
+    printed = (run.stdout + run.stderr).splitlines()
+    assert [line for line in block[1:] if line != "..." and line not in printed] == []
+
+
 def test_command_line_findings_are_checks_file_by_file(tmp_path: Path) -> None:
     files = _usd_files(EXAMPLES)
     expected = _check(files)
