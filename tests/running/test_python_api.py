@@ -99,8 +99,15 @@ def test_a_config_table_lints_as_the_same_table_in_a_file(tmp_path: Path) -> Non
 
 
 def test_bad_configuration_raises_config_error(tmp_path: Path) -> None:
-    with pytest.raises(ConfigError, match="matches no rule"):
+    # A value passed is named by its keyword, not by the command line's flag.
+    with pytest.raises(ConfigError, match="^argument select: 'NOPE' matches no rule"):
         usdrender_lint.lint_file(FAIL, select=["NOPE"])
+    with pytest.raises(ConfigError, match="^argument extend_select: 'NOPE' matches no rule"):
+        usdrender_lint.lint_stage(Usd.Stage.Open(str(FAIL)), extend_select=["NOPE"])
+    with pytest.raises(ConfigError, match="^argument profile: unknown profile 'x'"):
+        usdrender_lint.lint_file(FAIL, profile="x")
+    with pytest.raises(ConfigError, match="^argument max_variant_combinations must be"):
+        usdrender_lint.lint_file(FAIL, variants=True, max_variant_combinations=0)
     broken = tmp_path / ".usdrender-lint.toml"
     broken.write_text("fail-on = 3\n")
     with pytest.raises(ConfigError, match="fail-on"):

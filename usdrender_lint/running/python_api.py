@@ -62,12 +62,24 @@ def _with_rules(outcome_report: Report, rules: Sequence[Rule]) -> Report:
     return replace(outcome_report, rules=tuple(rule_info(type(rule)) for rule in rules))
 
 
+#: The API's keywords by the flag the pipeline's messages name them with.
+_ARGUMENTS = {
+    "--" + name.replace("_", "-"): name
+    for name in ("select", "ignore", "extend_select", "profile", "max_variant_combinations")
+}
+
+
 def _raise_as_before(exc: RequestError) -> None:
-    """The API's documented exceptions: ConfigError, or RegistryError for a plugin."""
+    """The API's documented exceptions: ConfigError, or RegistryError for a plugin.
+    A message about a value passed names the keyword, not the command line's flag."""
     cause = exc.__cause__
-    if isinstance(cause, (ConfigError, RegistryError)):
+    if isinstance(cause, RegistryError):
         raise cause from None
-    raise ConfigError(str(exc)) from None
+    message = str(cause if isinstance(cause, ConfigError) else exc)
+    flag = message.split(":", 1)[0].split(" ", 1)[0]
+    if flag in _ARGUMENTS:
+        message = f"argument {_ARGUMENTS[flag]}{message[len(flag) :]}"
+    raise ConfigError(message) from None
 
 
 def lint_file(
