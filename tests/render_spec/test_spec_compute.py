@@ -337,6 +337,26 @@ def test_time_default_reads_default_values(tmp_path: Path) -> None:
     assert product["usdRenderComputeSpec"]["differs"] == {}
 
 
+def test_a_nan_read_at_both_times_is_no_difference(tmp_path: Path) -> None:
+    # A NaN pixel aspect ratio gives a NaN conformed aperture at every time:
+    # UsdRenderComputeSpec gives the same values, so nothing differs.
+    body = """
+def RenderSettings "settings"
+{
+    rel camera = </cam>
+    rel products = </p>
+    uniform int2 resolution = (100, 100)
+    uniform float pixelAspectRatio = nan
+}
+def RenderProduct "p"
+{
+}
+"""
+    product = only_product(spec(layer(tmp_path, CAMERA + body)))
+    assert product["aperture"]["conformed"] == [None, 24.0]
+    assert product["usdRenderComputeSpec"]["differs"] == {}
+
+
 def test_a_settings_with_no_products(tmp_path: Path) -> None:
     path = layer(
         tmp_path,

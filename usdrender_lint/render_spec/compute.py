@@ -323,11 +323,12 @@ class _Reader:
         differs: dict[str, Any] = {}
         now, then = camera.framing, camera.framing_at_default
         if now is not None and then is not None:
-            if then.aperture != now.aperture:
+            if not _same(then.aperture, now.aperture):
                 differs["aperture.camera"] = list(then.aperture)
-            if then.conformed.aperture != now.conformed.aperture:
+            if not _same(then.conformed.aperture, now.conformed.aperture):
                 differs["aperture.conformed"] = list(then.conformed.aperture)
-            if then.conformed.pixel_aspect_ratio != now.conformed.pixel_aspect_ratio:
+            ratios = then.conformed.pixel_aspect_ratio, now.conformed.pixel_aspect_ratio
+            if not _same(ratios[:1], ratios[1:]):
                 differs["pixelAspectRatio"] = then.conformed.pixel_aspect_ratio
         if outputs.name_at_default != outputs.name:
             differs["name"] = outputs.name_at_default
@@ -456,6 +457,12 @@ def _camera_reader(camera: Usd.Prim, time: Usd.TimeCode) -> Callable[[str], Any]
         return fallback_value(camera, name) if value is None else value
 
     return read
+
+
+def _same(a: Sequence[float], b: Sequence[float]) -> bool:
+    """Equal values, a NaN equal to a NaN: the same NaN read at two times is
+    no difference (``nan != nan`` would report one)."""
+    return all(x == y or (math.isnan(x) and math.isnan(y)) for x, y in zip(a, b, strict=True))
 
 
 def _strings(value: Any) -> tuple[str, ...]:
