@@ -205,3 +205,25 @@ def test_the_guides_text_view_is_current(monkeypatch: pytest.MonkeyPatch) -> Non
     monkeypatch.chdir(REPO)
     printed = run("examples/framing_shot/shot.usda").stdout.splitlines()
     assert [line for line in shown if line not in printed] == []
+
+
+def test_the_legend_of_a_tall_picture_is_whole(tmp_path: Path) -> None:
+    # A square image draws narrower than the legend; the legend stays whole
+    # and the values stay in one column.
+    path = tmp_path / "square.usda"
+    path.write_text(
+        "#usda 1.0\n"
+        'def Camera "cam"\n{\n    float horizontalAperture = 24\n'
+        "    float verticalAperture = 24\n}\n"
+        'def RenderSettings "settings"\n{\n    rel camera = </cam>\n'
+        "    rel products = </p>\n    uniform int2 resolution = (100, 100)\n}\n"
+        'def RenderProduct "p"\n{\n}\n'
+    )
+    result = run(str(path))
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert any(line.startswith("  ─ image   · camera aperture ") for line in lines)
+    value_columns = {line.index("camera ") for line in lines if "camera         /cam" in line}
+    assert value_columns == {
+        line.index("time ") for line in lines if "time           Default" in line
+    }

@@ -238,8 +238,12 @@ def draw(pic: Picture, problems: Sequence[str] = ()) -> list[Line]:
         _outline(grid, cells.span(pic.camera), {"h": "·", "v": "·", "corner": "·"}, "cyan")
     _outline(grid, image, _BOX, FLAG if problems else "bold")
     _write_problems(grid, image, problems)
-    lines: list[Line] = [_merge(r) for r in grid]
-    lines.extend([(text[:columns].ljust(columns), "dim")] for text in LEGEND)
+    # A tall picture is narrower: pad it, so that the legend stays whole and
+    # the values of every product start in one column.
+    width = max(COLUMNS, *(len(text) for text in LEGEND))
+    pad: Line = [(" " * (width - columns), None)] if width > columns else []
+    lines: list[Line] = [_merge(r) + pad for r in grid]
+    lines.extend([(text.ljust(width), "dim")] for text in LEGEND)
     return lines
 
 
