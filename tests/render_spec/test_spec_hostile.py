@@ -189,3 +189,29 @@ def test_control_characters_in_values_are_escaped_in_the_views(tmp_path: Path) -
     )
     product = json.loads(document.stdout)["files"][0]["settings"][0]["products"][0]
     assert product["name"] == "p\x1b]0;pwned\x07.exr"  # JSON keeps the value whole
+
+
+def test_an_infinite_value_is_not_shown_as_nan(tmp_path: Path) -> None:
+    # The JSON document holds NaN and infinities as null; the views said "nan"
+    # for an authored inf, and "no pixels at this resolution" for 100 x 100.
+    (tmp_path / "shot.usda").write_text(
+        "#usda 1.0\n"
+        'def Camera "cam"\n{\n    float horizontalAperture = 36\n'
+        "    float verticalAperture = 24\n}\n"
+        'def RenderSettings "settings"\n{\n    rel camera = </cam>\n    rel products = </p>\n'
+        "    uniform int2 resolution = (100, 100)\n    uniform float pixelAspectRatio = inf\n"
+        "    uniform float4 dataWindowNDC = (-inf, 0, 1, 1)\n}\n"
+        'def RenderProduct "p"\n{\n}\n'
+    )
+    out = tmp_path / "pictures"
+    runner = CliRunner()
+    text = runner.invoke(cli, ["spec", "--isolated", "-j", "1", str(tmp_path / "shot.usda")])
+    assert text.exit_code == 0, text.output
+    assert "nan" not in text.stdout
+    assert "pixel aspect   not finite  [SE002]" in text.stdout
+    assert "(not finite, 0, 1, 1)  a bound is not finite" in text.stdout
+    args = ["spec", "--isolated", "-j", "1", "--format", "svg", "--output", str(out)]
+    svg = runner.invoke(cli, [*args, str(tmp_path / "shot.usda")])
+    assert svg.exit_code == 0, svg.output
+    (picture,) = out.iterdir()
+    assert "nan" not in picture.read_text()

@@ -15,7 +15,7 @@ from html import escape
 from typing import Any
 
 from .picture import Picture, Rect, picture
-from .textview import FLAG, Line, value_lines
+from .textview import FLAG, NOT_FINITE, Line, value_lines
 
 MIN_WIDTH = 900
 DRAWING = 440  # the drawing's width, in pixels
@@ -182,7 +182,7 @@ def _legend(pic: Picture, product: dict[str, Any]) -> list[tuple[str, str]]:
 
 
 def _pair(values: list[Any]) -> str:
-    return " x ".join(f"{v:.6g}" if v is not None else "nan" for v in values)
+    return " x ".join(f"{v:.6g}" if v is not None else NOT_FINITE for v in values)
 
 
 def _lines(lines: list[Line], x: float, y: float) -> Iterator[str]:

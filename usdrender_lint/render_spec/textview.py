@@ -196,7 +196,11 @@ def _data_window_lines(product: dict[str, Any], row: _Row) -> Iterator[Line]:
     pixels = product["dataWindow"]
     ndc_text = "(" + ", ".join(_num(c) for c in ndc) + ")"
     if pixels is None:
-        yield row("data window", ndc_text, "dataWindow", "no pixels at this resolution")
+        width, height = product["resolution"]
+        why = (
+            "no pixels at this resolution" if width <= 0 or height <= 0 else "a bound is not finite"
+        )
+        yield row("data window", ndc_text, "dataWindow", why)
         return
     (x0, x1), (y0, y1) = pixels["x"], pixels["y"]
     yield row(
@@ -328,9 +332,13 @@ def _time(time: Any) -> str:
     return "Default" if time == "default" else _num(time)
 
 
+#: How a number the document holds as null (NaN or infinite) is shown.
+NOT_FINITE = "not finite"
+
+
 def _num(value: Any, digits: int = 6) -> str:
-    if value is None:
-        return "nan"
+    if value is None:  # the JSON document's null: NaN and infinities alike
+        return NOT_FINITE
     if isinstance(value, float) and not math.isfinite(value):
         return str(value)
     return f"{value:.{digits}g}"
