@@ -122,8 +122,9 @@ _OPTIONAL_STR = (str, type(None))
 
 def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Finding:
     """The :class:`Finding` a :func:`finding_to_dict` record describes."""
+    name = _field(data, "severity", str, where)  # its error names the place already
     try:
-        severity = Severity.parse(_field(data, "severity", str, where))
+        severity = Severity.parse(name)
     except ValueError as exc:
         raise ReportFormatError(f"{where}: {exc}") from None
     fix = data.get("fix")

@@ -603,3 +603,17 @@ def test_a_files_notes_survive_the_json_report_and_merge(
     assert entry["notes"] == [said.removeprefix("usdrender-lint: ")]
     merged = CliRunner().invoke(cli, ["merge", "--isolated", *reports])
     assert said in merged.stderr.splitlines()
+
+
+def test_a_finding_without_a_severity_is_named_once(project: Path) -> None:
+    (report,) = _sharded_reports(1)
+    document = json.loads(Path(report).read_text())
+    entry = next(f for f in document["files"] if f["findings"])
+    del entry["findings"][0]["severity"]
+    Path("edited.json").write_text(json.dumps(document))
+    index = document["files"].index(entry)
+    _one_line_refusal(
+        _merge("edited.json"),
+        f"usdrender-lint: error: edited.json: files[{index}].findings[0]: "
+        "'severity' is missing or not a str\n",
+    )
