@@ -321,6 +321,26 @@ def test_samples_only_without_a_range_read_the_first_rendered_time(tmp_path: Pat
     assert "else each camera's first rendered time]" in help_text
 
 
+def test_a_sampled_product_name_under_a_still_camera_is_its_first_sample(tmp_path: Path) -> None:
+    # No startTimeCode and no animated camera input: the product's time is
+    # Default, at which productName has no value; its first sample is read, and
+    # the reference page says so.
+    body = SAMPLED.replace(
+        """    float horizontalAperture.timeSamples = {
+        101: 36,
+        102: 40,
+    }""",
+        "    float horizontalAperture = 36",
+    )
+    product = only_product(spec(layer(tmp_path, body)))
+    assert (product["time"], product["renderedTimes"]) == ("default", ["default"])
+    assert product["name"] == "p.0101.exr"
+    assert product["usdRenderComputeSpec"]["differs"] == {"name": ""}
+    page = (REPO / "docs" / "reference" / "spec-json.md").read_text(encoding="utf-8")
+    (row,) = [line for line in page.splitlines() if line.startswith("| `products[].name` |")]
+    assert "has time samples, at its first sample" in row
+
+
 def test_time_default_reads_default_values(tmp_path: Path) -> None:
     body = SAMPLED.replace("float verticalAperture = 20.25", "float verticalAperture = 20.25\n")
     body = body.replace(
