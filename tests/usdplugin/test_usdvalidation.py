@@ -161,6 +161,29 @@ def test_plugin_path_write_and_check(tmp_path: Path) -> None:
     assert fresh.exit_code == 0
 
 
+@pytest.mark.parametrize(
+    "content, why",
+    [
+        (None, "has no plugInfo.json"),
+        ("{not json", "plugInfo.json is not JSON declaring the plugin's validators"),
+        ('{"Plugins": []}', "plugInfo.json is not JSON declaring the plugin's validators"),
+    ],
+    ids=["missing", "not-json", "no-validators"],
+)
+def test_plugin_path_check_says_why_a_folder_is_out_of_date(
+    tmp_path: Path, content: str | None, why: str
+) -> None:
+    # Not "does not declare 73 registered rule(s) (AR001, ...)": the file is the problem.
+    target = tmp_path / "plugin"
+    target.mkdir()
+    if content is not None:
+        (target / "plugInfo.json").write_text(content)
+    result = CliRunner().invoke(cli, ["plugin-path", "--check", "--dir", str(target)])
+    assert result.exit_code == 1
+    assert why in result.stderr and "does not declare" not in result.stderr
+    assert result.stderr.count("\n") == 1
+
+
 # -- the per-stage lint the validators share ---------------------------------------
 
 

@@ -36,7 +36,14 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
     """Print the UsdValidation plugin directory (for PXR_PLUGINPATH_NAME)."""
     from pathlib import Path
 
-    from ..usdplugin import DeclarationError, plugin_dir, undeclared_rules, write_plug_info
+    from ..usdplugin import (
+        PLUG_INFO,
+        DeclarationError,
+        declared_validators,
+        plugin_dir,
+        undeclared_rules,
+        write_plug_info,
+    )
 
     rules = registry().rules
     folder = Path(directory).resolve() if directory else plugin_dir()
@@ -48,10 +55,19 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
     stale = undeclared_rules(rules, folder)
     emit("plugin-path", "text", folder)
     if stale:
+        # Say why: a missing or unreadable file is not a list of stale rules.
+        if not (folder / PLUG_INFO).is_file():
+            why = f"{folder} has no {PLUG_INFO}"
+        elif declared_validators(folder) is None:
+            why = f"{folder}/{PLUG_INFO} is not JSON declaring the plugin's validators"
+        else:
+            why = (
+                f"{folder}/{PLUG_INFO} does not declare {len(stale)} registered "
+                f"rule(s) as they are now ({', '.join(stale)})"
+            )
         note(
-            f"{folder}/plugInfo.json does not declare {len(stale)} registered "
-            f"rule(s) as they are now ({', '.join(stale)}); run 'usdrender-lint plugin-path "
-            "--write --dir DIR' and point PXR_PLUGINPATH_NAME at DIR"
+            f"{why}; run 'usdrender-lint plugin-path --write --dir DIR' and point "
+            "PXR_PLUGINPATH_NAME at DIR"
         )
         if check_only:
             sys.exit(EXIT_FINDINGS)

@@ -109,19 +109,23 @@ def shipped_plug_info(directory: Path | None = None) -> str | None:
         return None
 
 
+def declared_validators(directory: Path | None = None) -> dict[str, Any] | None:
+    """The validators the plugInfo.json in ``directory`` declares; None when
+    there is no such file, or it is not JSON declaring a plugin's validators."""
+    text = shipped_plug_info(directory)
+    try:
+        declared = json.loads(text)["Plugins"][0]["Info"]["Validators"] if text else None
+    except (ValueError, KeyError, IndexError, TypeError):
+        return None
+    return declared if isinstance(declared, dict) else None
+
+
 def undeclared_rules(rules: Sequence[type[Rule]], directory: Path | None = None) -> list[str]:
     """Codes of registered rules whose validator the plugInfo.json in
     ``directory`` lacks or declares differently (empty: it is up to date)."""
-    text = shipped_plug_info(directory)
-    try:
-        declared = json.loads(text)["Plugins"][0]["Info"]["Validators"] if text else {}
-    except (ValueError, KeyError, IndexError, TypeError):
-        declared = {}
+    declared = declared_validators(directory) or {}
     return [
-        rule.code
-        for rule in rules
-        if not isinstance(declared, dict)
-        or declared.get(validator_key(rule)) != validator_entry(rule)
+        rule.code for rule in rules if declared.get(validator_key(rule)) != validator_entry(rule)
     ]
 
 
@@ -140,6 +144,7 @@ __all__ = [
     "KEYWORD",
     "PLUGIN_NAME",
     "DeclarationError",
+    "declared_validators",
     "plug_info",
     "plugin_dir",
     "render_plug_info",
