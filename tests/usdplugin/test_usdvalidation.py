@@ -184,6 +184,16 @@ def test_plugin_path_check_says_why_a_folder_is_out_of_date(
     assert result.stderr.count("\n") == 1
 
 
+def test_plugin_path_write_error_is_one_plain_line(tmp_path: Path) -> None:
+    (tmp_path / "file").write_text("")
+    target = tmp_path / "file" / "plugin"  # below a file: cannot be created
+    result = CliRunner().invoke(cli, ["plugin-path", "--write", "--dir", str(target)])
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"usdrender-lint: error: {target}: cannot write plugInfo.json: Not a directory\n"
+    )
+
+
 # -- the per-stage lint the validators share ---------------------------------------
 
 

@@ -51,7 +51,9 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
         try:
             write_plug_info(rules, folder)
         except (OSError, DeclarationError) as exc:
-            raise ToolError(f"{folder}: cannot write plugInfo.json: {exc}") from None
+            # The OS's words, as every other write error: the path is named already.
+            why = (exc.strerror or exc) if isinstance(exc, OSError) else exc
+            raise ToolError(f"{folder}: cannot write plugInfo.json: {why}") from None
     stale = undeclared_rules(rules, folder)
     emit("plugin-path", "text", folder)
     if stale:
