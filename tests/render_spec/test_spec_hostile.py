@@ -215,3 +215,24 @@ def test_an_infinite_value_is_not_shown_as_nan(tmp_path: Path) -> None:
     assert svg.exit_code == 0, svg.output
     (picture,) = out.iterdir()
     assert "nan" not in picture.read_text()
+
+
+def test_a_data_window_with_an_infinite_bound_is_null_as_documented(tmp_path: Path) -> None:
+    (tmp_path / "shot.usda").write_text(
+        "#usda 1.0\n"
+        'def RenderSettings "settings"\n{\n    rel products = </p>\n'
+        "    uniform int2 resolution = (100, 100)\n"
+        "    uniform float4 dataWindowNDC = (0, 0, inf, 1)\n}\n"
+        'def RenderProduct "p"\n{\n}\n'
+    )
+    args = ["spec", "--isolated", "-j", "1", "--format", "json", str(tmp_path / "shot.usda")]
+    result = CliRunner().invoke(cli, args)
+    assert result.exit_code == 0, result.output
+    (product,) = json.loads(result.stdout)["files"][0]["settings"][0]["products"]
+    assert product["dataWindowNDC"] == [0.0, 0.0, None, 1.0]
+    assert product["dataWindow"] is None
+    page = (Path(__file__).resolve().parents[2] / "docs/reference/spec-json.md").read_text()
+    (row,) = [line for line in page.splitlines() if line.startswith("| `products[].dataWindow` |")]
+    assert row.endswith(
+        "null when the resolution has no pixels or a bound of `dataWindowNDC` is not finite |"
+    )
