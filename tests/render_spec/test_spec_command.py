@@ -103,6 +103,14 @@ def test_a_bad_time_is_a_usage_error(time: str) -> None:
     assert "--time" in result.stderr and "Traceback" not in result.stderr
 
 
+def test_standard_input_is_refused_in_one_line() -> None:
+    result = CliRunner().invoke(cli, ["spec", "-"], input="#usda 1.0\n")
+    assert result.exit_code == 2
+    assert result.stderr == (
+        "usdrender-lint: error: spec reads files, not standard input ('-'): save the layer first\n"
+    )
+
+
 def test_svg_needs_a_folder(tmp_path: Path) -> None:
     result = run("--format", "svg", str(CLEAN))
     assert result.exit_code == 2

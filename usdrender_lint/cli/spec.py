@@ -88,6 +88,8 @@ def spec_command(
     output_format = output_format.lower()
     if output_format == "svg" and output is None:
         raise ToolError("--format svg writes one file per product: give --output DIR")
+    if "-" in paths:  # standard_input.STDIN: check's, not read here ("./-" names a file)
+        raise ToolError("spec reads files, not standard input ('-'): save the layer first")
     import_engine()
     from functools import partial
 
