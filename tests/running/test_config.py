@@ -130,6 +130,29 @@ def test_per_path_ignores_only_match_their_files(project) -> None:
     assert "SE003" in findings(check(project))
 
 
+@pytest.mark.parametrize(
+    "glob", ["{project}/shots/shot.usda", "{project}/shots/*.usda", "../shots/*.usda"]
+)
+def test_per_path_ignores_take_absolute_and_parent_globs(project, glob) -> None:
+    # The config sits in a subfolder: its globs name the shot from there.
+    (project / "cfg").mkdir()
+    pattern = glob.format(project=project.as_posix())
+    _write(project / "cfg", f'[per-path-ignores]\n"{pattern}" = ["SE003"]\n')
+    found = findings(check(project, "--config", str(project / "cfg" / ".usdrender-lint.toml")))
+    assert "SE003" not in found and found
+
+
+def test_per_path_ignores_glob_of_a_hidden_folder_names_it(project) -> None:
+    (project / "shots" / ".wip").mkdir()
+    (project / "shots" / ".wip" / "shot.usda").write_text(SHOT, encoding="utf-8")
+    _write(project / "shots", '[per-path-ignores]\n".wip/*.usda" = ["SE003"]\n"wip/*" = ["CA"]\n')
+    result = CliRunner().invoke(
+        cli, ["check", "--format", "json", "--no-cache", str(project / "shots" / ".wip")]
+    )
+    found = findings(result)
+    assert "SE003" not in found and "CA001" in found
+
+
 def test_rule_options(project) -> None:
     assert "SE001" not in findings(check(project))
     _write(project, "[rules.resolution-non-positive]\nrequire-authored = true\n")

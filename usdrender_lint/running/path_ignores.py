@@ -6,6 +6,8 @@ from __future__ import annotations
 import dataclasses
 import fnmatch
 import os
+import posixpath
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path, PurePosixPath
 
@@ -18,7 +20,9 @@ def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
     """Glob match of a file against a pattern relative to ``base_dir``.
 
     ``**/`` also matches no folder; a pattern without ``/`` matches the file
-    name in any folder (as in ruff's per-file-ignores).
+    name in any folder (as in ruff's per-file-ignores); an absolute pattern, or
+    one that climbs out of ``base_dir`` (``../assets/*.usda``), matches the
+    files it names.
     """
     absolute = Path(os.path.abspath(path))
     try:
@@ -28,7 +32,15 @@ def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
     candidates = {pattern, pattern.replace("**/", "")}
     if "/" not in pattern:
         return any(fnmatch.fnmatchcase(relative.name, p) for p in candidates)
-    return any(fnmatch.fnmatchcase(str(relative), p.lstrip("./")) for p in candidates)
+    if any(fnmatch.fnmatchcase(str(relative), re.sub(r"^(\./)+", "", p)) for p in candidates):
+        return True
+    # The path a pattern names from base_dir: an absolute one or a '../' one
+    # never matches the relative path above.
+    base = base_dir.as_posix()
+    return any(
+        fnmatch.fnmatchcase(absolute.as_posix(), posixpath.normpath(posixpath.join(base, p)))
+        for p in candidates
+    )
 
 
 def apply_path_ignores(
