@@ -118,6 +118,23 @@ def test_paths_are_relative_to_the_baseline_folder(shot, tmp_path) -> None:
     assert result.exit_code == 0, result.output
 
 
+def test_a_run_split_by_configuration_counts_every_known_finding(tmp_path) -> None:
+    # Two shows with configurations of their own: the run is split in two parts.
+    for show in ("a", "b"):
+        (tmp_path / show).mkdir()
+        (tmp_path / show / "shot.usda").write_text(SHOT, encoding="utf-8")
+        (tmp_path / show / ".usdrender-lint.toml").write_text('select = ["SE003"]\n')
+    baseline = tmp_path / "baseline.json"
+    base = ["check", "--jobs", "1", "--timeout", "0", "--no-cache"]
+    runner = CliRunner()
+    runner.invoke(cli, [*base, "--write-baseline", str(baseline), str(tmp_path)])
+    result = runner.invoke(cli, [*base, "--baseline", str(baseline), str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert result.stderr.splitlines() == [
+        f"usdrender-lint: 2 findings recorded in {baseline} not shown"
+    ]
+
+
 def _finding(message: str, path: str = "/Render/S.dataWindowNDC", line: int = 3) -> Finding:
     return Finding(
         "SE003",

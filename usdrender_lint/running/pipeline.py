@@ -161,6 +161,8 @@ class Outcome:
     fix_errors: tuple[str, ...] = ()
     #: The baseline's finding counts the run read (None: no baseline).
     baseline: Counter | None = None
+    #: How many findings the baseline hid (the note that says so is in ``notes``).
+    baseline_dropped: int = 0
     #: ``check --fix -``: the fixed text, the command's output (nothing is written).
     text: str | None = None
     #: A run split by configuration (running/hierarchy.py): each one's outcome.
@@ -599,8 +601,16 @@ def _joined(
             (r.file, o.report.unfixable) for o in outcomes for r in o.report.files
         ),
     )
-    notes += [note for outcome in outcomes for note in outcome.notes]
-    report = _apply_baseline(report, None, request, notes)  # --write-baseline: all of it
+    # Each part's note counts its own known findings: one note says the total.
+    dropped = sum(outcome.baseline_dropped for outcome in outcomes)
+    notes += [
+        note
+        for outcome in outcomes
+        for note in outcome.notes
+        if note not in _baseline_note(request, outcome.baseline_dropped)
+    ]
+    report, _ = _apply_baseline(report, None, request, notes)  # --write-baseline: all of it
+    notes.extend(_baseline_note(request, dropped))
     status = max((outcome.exit_status for outcome in outcomes), default=EXIT_OK)  # 2 > 1 > 0
     if request.write_baseline:
         status = exit_status(report, "never", baseline_written=True)
@@ -613,6 +623,7 @@ def _joined(
         notes=tuple(dict.fromkeys(notes)),
         fix_errors=tuple(error for outcome in outcomes for error in outcome.fix_errors),
         baseline=outcomes[0].baseline if outcomes else None,
+        baseline_dropped=dropped,
         parts=tuple(outcomes),
     )
 
@@ -645,10 +656,17 @@ def _run_files(
         report = plan.narrow(report)
     report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
     notes.extend(note for result in report.files for note in result.notes)
-    report = _apply_baseline(report, known, request, notes)
+    report, dropped = _apply_baseline(report, known, request, notes)
+    notes.extend(_baseline_note(request, dropped))
     status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
     outcome = Outcome(
-        report, settings, prepared.linter.rules, status, notes=tuple(notes), baseline=known
+        report,
+        settings,
+        prepared.linter.rules,
+        status,
+        notes=tuple(notes),
+        baseline=known,
+        baseline_dropped=dropped,
     )
     if fixed is not None:
         outcome = _with_fixes(outcome, fixed, request)
@@ -1050,8 +1068,9 @@ def _load_baseline(request: Request) -> Counter | None:
 
 def _apply_baseline(
     report: Report, known: Counter | None, request: Request, notes: list[str]
-) -> Report:
-    """Keep only new findings (baseline) or record them all (write_baseline)."""
+) -> tuple[Report, int]:
+    """Keep only new findings (baseline), and how many the baseline hid; or
+    record them all (write_baseline)."""
     if request.write_baseline:
         from .baseline import BaselineError, write_baseline
 
@@ -1064,10 +1083,15 @@ def _apply_baseline(
         from .baseline import new_findings
 
         base_dir = Path(request.baseline).resolve().parent
-        report, dropped = new_findings(report, known, base_dir)
-        if dropped:
-            notes.append(f"{_count(dropped, 'finding')} recorded in {request.baseline} not shown")
-    return report
+        return new_findings(report, known, base_dir)
+    return report, 0
+
+
+def _baseline_note(request: Request, dropped: int) -> list[str]:
+    """The line that says how many known findings the report leaves out."""
+    if not dropped:
+        return []
+    return [f"{_count(dropped, 'finding')} recorded in {request.baseline} not shown"]
 
 
 def _count(count: int, one: str, many: str | None = None) -> str:
