@@ -170,6 +170,25 @@ def test_a_configuration_above_the_watched_folder_is_watched_too(show: Path) -> 
     assert "Traceback" not in err
 
 
+def test_a_configuration_saved_nearer_than_the_one_in_effect_is_seen(show: Path) -> None:
+    """A show's configuration saved between the watched folder and the project's:
+    it is the one a fresh check reads from then on."""
+    seq = show / "seq"
+    seq.mkdir()
+    shot = show / "shot.usda"
+    (seq / "shot.usda").write_text(shot.read_text().replace(GOOD_CAMERA, BAD_CAMERA))
+    (show.parent / "pyproject.toml").write_text("[tool.usdrender-lint]\n")
+    watched = Watched(show.parent, str(seq))
+    try:
+        watched.next_round()
+        save(show / ".usdrender-lint.toml", 'ignore = ["CA004"]\n')
+        assert ".usdrender-lint.toml" in "".join(watched.next_round())
+    finally:
+        status, out, err = watched.stop()
+    assert status == 130, err
+    assert out.count("1 finding in 1 file") == 1 and out.count("0 findings in 1 file") == 1
+
+
 def _finished(cwd: Path, *command: str) -> subprocess.CompletedProcess:
     """A command that must end by itself, its standard input a layer's text."""
     return subprocess.run(

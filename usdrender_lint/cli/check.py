@@ -250,17 +250,26 @@ def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
 
 
 def _nearest_configuration(request: Request) -> set[str]:
-    """The configuration file a search from the first path finds, for --watch to
-    poll even when a round could not read it (a half-written save)."""
-    from ..config import ConfigError, find_config_file
+    """The files a search from each path given finds its configuration among,
+    for --watch to poll: every configuration file name in each folder from the
+    path's up to the one that holds its configuration (all of them without one),
+    so that a configuration saved half-written, or a new one saved nearer than
+    the one in effect, starts a round."""
+    from ..config import CONFIG_FILE_NAMES, ConfigError, config_file_in, search_start
 
     if request.isolated or request.config is not None:
         return set()
-    try:
-        nearest = find_config_file(request.paths[0])
-    except ConfigError:
-        return set()  # the round said why
-    return {str(nearest)} if nearest else set()
+    polled: set[str] = set()
+    for path in request.paths:
+        here = search_start(path)
+        for folder in (here, *here.parents):
+            polled.update(str(folder / name) for name in CONFIG_FILE_NAMES)
+            try:
+                if config_file_in(folder) is not None:
+                    break
+            except ConfigError:
+                break  # the round said why
+    return polled
 
 
 def _refuse_watch(request: Request) -> None:
