@@ -177,6 +177,10 @@ def test_a_second_identical_finding_is_new(tmp_path) -> None:
             '[{"file": "a", "code": "SE003", "path": "", "count": 0}]}',
             "findings[0] is malformed",
         ),
+        ('{"usdrender_lint_baseline": 1, "findings": ["x"]}', "findings[0] is malformed: 'x'"),
+        ('{"usdrender_lint_baseline": 1, "findings": [[1]]}', "findings[0] is malformed: [1]"),
+        ('{"usdrender_lint_baseline": true, "findings": []}', "unsupported baseline version True"),
+        ('{"usdrender_lint_baseline": 1.0, "findings": []}', "unsupported baseline version 1.0"),
     ],
 )
 def test_missing_or_corrupt_baseline_is_exit_2(shot, tmp_path, content, expected) -> None:

@@ -65,7 +65,9 @@ def load_baseline(path: str | Path) -> Counter[Fingerprint]:
     document = _read_baseline(path)
     if not isinstance(document, dict) or "usdrender_lint_baseline" not in document:
         raise BaselineError(f"{path}: not a usdrender-lint baseline file")
-    if document["usdrender_lint_baseline"] != BASELINE_SCHEMA:
+    version = document["usdrender_lint_baseline"]
+    # true and 1.0 equal 1 in Python, but no version of the tool writes them.
+    if type(version) is not int or version != BASELINE_SCHEMA:
         raise BaselineError(
             f"{path}: unsupported baseline version {document['usdrender_lint_baseline']!r} "
             f"(expected {BASELINE_SCHEMA})"
@@ -98,10 +100,12 @@ def _read_baseline(path: Path) -> Any:
 
 def _entry(path: Path, index: int, entry: Any) -> tuple[Fingerprint, int]:
     """One recorded fingerprint and its count; BaselineError when malformed."""
+    if not isinstance(entry, dict):
+        raise BaselineError(f"{path}: findings[{index}] is malformed: {entry!r}")
     try:
         key = (entry["file"], entry["code"], entry["path"])
         count = entry["count"]
-    except (TypeError, KeyError) as exc:
+    except KeyError as exc:
         raise BaselineError(f"{path}: findings[{index}] lacks {exc}") from None
     valid = all(isinstance(part, str) for part in key)
     if not valid or not isinstance(count, int) or isinstance(count, bool) or count < 1:
