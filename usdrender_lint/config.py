@@ -94,9 +94,13 @@ class Settings:
     sources: tuple[str, ...] = ()
 
     def merged(self, **overrides: Any) -> Settings:
-        """These settings with the non-None overrides applied (command-line flags)."""
+        """These settings with the non-None overrides applied (command-line flags),
+        as a file that extends them would lay them over: ``--extend-select`` and
+        ``--extend-exclude`` add to the configured lists (as ruff's do), and
+        ``--select`` starts the selection over."""
         given = {k: v for k, v in overrides.items() if v is not None}
-        return dataclasses.replace(self, **given, from_flags=self.from_flags | set(given))
+        values = _layered(self, given)
+        return dataclasses.replace(self, **values, from_flags=self.from_flags | set(given))
 
     def where(self, key: str) -> str:
         """Where a setting came from, for error messages: the flag or file and key."""

@@ -178,6 +178,21 @@ def test_flags_win_over_the_file(project) -> None:
     assert result.exit_code == 1
 
 
+def test_extend_flags_add_to_the_files_lists(project) -> None:
+    """As ruff's: a rule or pattern added on the command line keeps the file's."""
+    _write(project, 'select = ["PR"]\nextend-select = ["SE003"]\n')
+    assert set(findings(check(project, "--extend-select", "CA001"))) == {"PR004", "SE003", "CA001"}
+    # --select starts the selection over, the file's extend-select with it.
+    assert set(findings(check(project, "--select", "CA001"))) == {"CA001"}
+    (project / "old").mkdir()
+    (project / "old" / "shot.usda").write_text(SHOT, encoding="utf-8")
+    _write(project, 'extend-exclude = ["old/"]\n')
+    shown = CliRunner().invoke(
+        cli, ["check", "--show-files", "--extend-exclude", "tmp/", str(project)]
+    )
+    assert shown.stdout.splitlines() == [str(project / "shots" / "shot.usda")]
+
+
 def test_pyproject_table_is_found_from_the_linted_file(project) -> None:
     _write(
         project,

@@ -19,7 +19,7 @@ from usdrender_lint.config import ConfigError, Settings, read_config_file
 from usdrender_lint.running.inspect import InspectRequest
 from usdrender_lint.running.pipeline import Request, resolve_settings
 from usdrender_lint.running.result_cache import settings_key
-from usdrender_lint.settings_table import SETTINGS, flag_settings, request_settings
+from usdrender_lint.settings_table import BY_NAME, SETTINGS, flag_settings, request_settings
 
 REPO = Path(__file__).resolve().parents[2]
 CLEAN = REPO / "examples" / "clean_shot" / "shot.usda"
@@ -105,7 +105,7 @@ def test_every_request_setting_is_a_request_field() -> None:
     assert {s.name for s in flag_settings("spec")} <= inspect_fields
 
 
-def test_every_config_setting_a_request_gives_wins_over_the_file(tmp_path: Path) -> None:
+def test_every_config_setting_a_request_gives_wins_over_or_adds_to_the_file(tmp_path: Path) -> None:
     path = tmp_path / ".usdrender-lint.toml"
     given = {}
     lines = []
@@ -116,6 +116,10 @@ def test_every_config_setting_a_request_gives_wins_over_the_file(tmp_path: Path)
     path.write_text("\n".join(lines) + "\n")
     settings = resolve_settings(Request((str(CLEAN),), config=str(path), **given))
     for name, value in given.items():
+        entry = BY_NAME[name]
+        if entry.extended == "added" and name != "extend_select":  # --select started it over
+            # As ruff's --extend-exclude: added to the file's list.
+            value = (*SAMPLES[entry.config_key][1], *value)
         assert getattr(settings, name) == value, name
 
 
