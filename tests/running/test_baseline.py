@@ -118,6 +118,17 @@ def test_paths_are_relative_to_the_baseline_folder(shot, tmp_path) -> None:
     assert result.exit_code == 0, result.output
 
 
+def test_files_named_through_a_linked_folder_match_the_baseline(shot, tmp_path) -> None:
+    link = tmp_path / "link"
+    link.symlink_to(tmp_path, target_is_directory=True)
+    baseline = tmp_path / "baseline.json"
+    check("--write-baseline", str(baseline), str(shot))
+    result = check("--baseline", str(link / "baseline.json"), str(link / "shots"))
+    assert result.exit_code == 0, result.output
+    check("--write-baseline", str(link / "baseline.json"), str(link / "shots"))
+    assert json.loads(baseline.read_text())["findings"][0]["file"] == "shots/shot.usda"
+
+
 def test_a_run_split_by_configuration_counts_every_known_finding(tmp_path) -> None:
     # Two shows with configurations of their own: the run is split in two parts.
     for show in ("a", "b"):

@@ -29,8 +29,10 @@ class BaselineError(Exception):
 
 
 def fingerprint(finding: Finding, base_dir: Path) -> Fingerprint:
-    """(file relative to ``base_dir`` with ``/`` separators, code, path)."""
-    file = os.path.relpath(os.path.abspath(finding.location.file), os.path.abspath(base_dir))
+    """(file relative to ``base_dir`` with ``/`` separators, code, path).
+    ``base_dir`` is resolved, so the file is too: a file named through a linked
+    folder (``$PWD`` below a link) has the fingerprint ``.`` gives it."""
+    file = os.path.relpath(os.path.realpath(finding.location.file), os.path.abspath(base_dir))
     return (PurePath(file).as_posix(), finding.code, finding.location.path or "")
 
 
