@@ -142,6 +142,13 @@ def test_per_path_ignores_take_absolute_and_parent_globs(project, glob) -> None:
     assert "SE003" not in found and found
 
 
+def test_per_path_ignores_hold_for_a_file_named_through_a_linked_folder(project) -> None:
+    _write(project, '[per-path-ignores]\n"shots/*.usda" = ["SE003"]\n')
+    link = project.parent / f"{project.name}-link"
+    link.symlink_to(project, target_is_directory=True)
+    assert "SE003" not in findings(check(link))
+
+
 def test_per_path_ignores_glob_of_a_hidden_folder_names_it(project) -> None:
     (project / "shots" / ".wip").mkdir()
     (project / "shots" / ".wip" / "shot.usda").write_text(SHOT, encoding="utf-8")

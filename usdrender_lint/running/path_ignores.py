@@ -22,9 +22,15 @@ def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
     ``**/`` also matches no folder; a pattern without ``/`` matches the file
     name in any folder (as in ruff's per-file-ignores); an absolute pattern, or
     one that climbs out of ``base_dir`` (``../assets/*.usda``), matches the
-    files it names.
+    files it names. ``base_dir`` is resolved (the config file's folder), so a
+    file named through a linked folder matches by its resolved path too.
     """
-    absolute = Path(os.path.abspath(path))
+    absolute = os.path.abspath(path)
+    resolved = os.path.realpath(absolute)
+    return any(_matches(pattern, Path(p), base_dir) for p in dict.fromkeys((absolute, resolved)))
+
+
+def _matches(pattern: str, absolute: Path, base_dir: Path) -> bool:
     try:
         relative = PurePosixPath(absolute.relative_to(base_dir).as_posix())
     except ValueError:
