@@ -111,8 +111,10 @@ class Settings:
     @property
     def base_dir(self) -> Path:
         """The folder relative globs (per-path-ignores) are read from: the
-        config file's folder, else the working directory."""
-        return Path(self.source).resolve().parent if self.source else Path.cwd()
+        config file's folder, else the working directory. The folder the file
+        was found in, resolved: a show's ``.usdrender-lint.toml`` that links to a
+        studio-wide file reads its globs, roots and cache-dir from the show."""
+        return Path(self.source).parent.resolve() if self.source else Path.cwd()
 
 
 def _parse_table(

@@ -149,6 +149,23 @@ def test_per_path_ignores_hold_for_a_file_named_through_a_linked_folder(project)
     assert "SE003" not in findings(check(link))
 
 
+def test_a_linked_config_file_reads_its_globs_from_the_folder_it_is_found_in(
+    project, monkeypatch
+) -> None:
+    """A show's configuration that links to a studio-wide file: its globs,
+    patterns and cache are the show's, not the studio folder's."""
+    studio = project.parent / f"{project.name}-studio"
+    studio.mkdir()
+    _write(studio, '[per-path-ignores]\n"shots/*.usda" = ["SE003"]\n', "std.toml")
+    (project / ".usdrender-lint.toml").symlink_to(studio / "std.toml")
+    monkeypatch.delenv("USDRENDER_LINT_NO_CACHE")
+    args = ["check", "--format", "json", "--jobs", "1", str(project / "shots")]
+    result = CliRunner().invoke(cli, args)
+    assert "SE003" not in findings(result)
+    assert (project / ".usdrender_lint_cache").is_dir()
+    assert not (studio / ".usdrender_lint_cache").exists()
+
+
 def test_per_path_ignores_glob_of_a_hidden_folder_names_it(project) -> None:
     (project / "shots" / ".wip").mkdir()
     (project / "shots" / ".wip" / "shot.usda").write_text(SHOT, encoding="utf-8")
