@@ -170,6 +170,23 @@ def test_a_configuration_above_the_watched_folder_is_watched_too(show: Path) -> 
     assert "Traceback" not in err
 
 
+def test_a_file_given_is_seen_save_after_save(show: Path) -> None:
+    """An editor's save replaces the file, which ends a watch on the file itself."""
+    shot = show / "shot.usda"
+    good = shot.read_text()
+    watched = Watched(show, "shot.usda")
+    try:
+        watched.next_round()
+        save(shot, good.replace(GOOD_CAMERA, BAD_CAMERA))
+        watched.next_round()
+        save(shot, good)
+        watched.next_round()
+    finally:
+        status, out, err = watched.stop()
+    assert status == 130, err
+    assert out.count("0 findings in 1 file") == 2 and out.count("1 finding in 1 file") == 1
+
+
 def test_a_configuration_saved_nearer_than_the_one_in_effect_is_seen(show: Path) -> None:
     """A show's configuration saved between the watched folder and the project's:
     it is the one a fresh check reads from then on."""

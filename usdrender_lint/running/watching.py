@@ -6,8 +6,8 @@ configuration file (``.toml``) or a ``.gitignore`` changing, appearing or going.
 The configuration files in effect and the baseline may lie outside those paths
 (a show's ``pyproject.toml`` above the shots): their stamps are compared once a
 second instead, since an editor's save replaces a file, which a watch on the
-file itself would lose. Events that come while a round lints are kept for the
-next wait, so no save is missed.
+file itself would lose; so are those of the files given. Events that come while
+a round lints are kept for the next wait, so no save is missed.
 """
 
 from __future__ import annotations
@@ -72,7 +72,10 @@ class Watcher:
         if not self.paths:
             missing = ", ".join(paths)
             raise WatchUnavailable(f"--watch: nothing to watch: {missing}: no such file or folder")
-        self._polled: dict[str, tuple[int, int, int] | None] = {}
+        # A file given is polled too: an editor's save replaces it, which ends
+        # the operating system's watch on the file (the next save went unseen).
+        self._files = {p for p in self.paths if not os.path.isdir(p)}
+        self._polled: dict[str, tuple[int, int, int] | None] = {f: _stamp(f) for f in self._files}
         self._events: Iterator[set[Any]] = watchfiles.watch(
             *self.paths,
             watch_filter=lambda _change, path: relevant(path, self._root_of(path)),
@@ -92,7 +95,7 @@ class Watcher:
 
     def poll(self, files: Iterable[str]) -> None:
         """Also watch ``files`` (outside the paths, say), from their state now."""
-        wanted = {os.path.abspath(f) for f in files}
+        wanted = {os.path.abspath(f) for f in files} | self._files
         self._polled = {f: self._polled.get(f, _stamp(f)) for f in wanted}
 
     def wait(self) -> list[str]:
