@@ -129,6 +129,17 @@ def test_files_named_through_a_linked_folder_match_the_baseline(shot, tmp_path) 
     assert json.loads(baseline.read_text())["findings"][0]["file"] == "shots/shot.usda"
 
 
+def test_a_shard_does_not_write_a_baseline(shot, tmp_path) -> None:
+    """A part's findings alone would make every other part's new."""
+    baseline = tmp_path / "baseline.json"
+    result = check("--shard", "1/2", "--write-baseline", str(baseline), str(shot))
+    assert result.exit_code == 2 and not baseline.exists()
+    assert result.stderr == (
+        "usdrender-lint: error: --write-baseline records every finding of a check: "
+        "run it without --shard\n"
+    )
+
+
 def test_a_run_split_by_configuration_counts_every_known_finding(tmp_path) -> None:
     # Two shows with configurations of their own: the run is split in two parts.
     for show in ("a", "b"):

@@ -216,6 +216,11 @@ def resolve_settings(request: Request) -> Settings:
 def check_request(request: Request) -> None:
     """Raise a ConfigError for an option value out of range, or for relative
     paths that cannot be reached from the working directory."""
+    if request.write_baseline and request.shard is not None:
+        # A part's findings alone: every other part's would read as new.
+        raise ConfigError(
+            "--write-baseline records every finding of a check: run it without --shard"
+        )
     named = [*request.paths]
     if isinstance(request.config, str | os.PathLike):
         named.append(os.fspath(request.config))
