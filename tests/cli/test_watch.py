@@ -206,6 +206,23 @@ def test_a_configuration_saved_nearer_than_the_one_in_effect_is_seen(show: Path)
     assert out.count("1 finding in 1 file") == 1 and out.count("0 findings in 1 file") == 1
 
 
+def test_the_repository_gitignore_above_the_watched_folder_is_seen(show: Path) -> None:
+    """A walk reads the .gitignore files up to the repository's root."""
+    (show.parent / ".git").mkdir()
+    seq = show / "seq"
+    seq.mkdir()
+    shutil.copy(show / "shot.usda", seq / "shot.usda")
+    watched = Watched(show.parent, str(show))
+    try:
+        watched.next_round()
+        save(show.parent / ".gitignore", "seq/\n")
+        assert ".gitignore" in "".join(watched.next_round())
+    finally:
+        status, out, err = watched.stop()
+    assert status == 130, err
+    assert out.count("0 findings in 2 files") == 1 and out.count("0 findings in 1 file") == 1
+
+
 def _finished(cwd: Path, *command: str) -> subprocess.CompletedProcess:
     """A command that must end by itself, its standard input a layer's text."""
     return subprocess.run(

@@ -243,7 +243,7 @@ def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
             polled |= {s for o in outcome.parts or (outcome,) for s in o.settings.sources}
         except ToolError as exc:
             exc.show()
-        polled |= _nearest_configuration(request)
+        polled |= _nearest_configuration(request) | _gitignores_above(request)
         watcher.poll(polled)
         note(f"{time.strftime('%H:%M:%S')} watching for changes (Ctrl-C stops)")
         changed = watcher.wait()
@@ -269,6 +269,29 @@ def _nearest_configuration(request: Request) -> set[str]:
                     break
             except ConfigError:
                 break  # the round said why
+    return polled
+
+
+def _gitignores_above(request: Request) -> set[str]:
+    """The ignore files above the paths given that a walk reads (those of their
+    parents up to the repository's root), for --watch to poll: the events are
+    heard below the paths only."""
+    import os
+
+    from ..running.watching import GITIGNORE
+
+    polled: set[str] = set()
+    for path in request.paths:
+        chain = []
+        folder = os.path.abspath(path if os.path.isdir(path) else os.path.dirname(path) or ".")
+        while True:
+            chain.append(os.path.join(folder, GITIGNORE))
+            if os.path.exists(os.path.join(folder, ".git")):
+                polled.update([*chain, os.path.join(folder, ".git", "info", "exclude")])
+                break
+            if os.path.dirname(folder) == folder:
+                break  # not in a repository: only the walked folders' own count
+            folder = os.path.dirname(folder)
     return polled
 
 
