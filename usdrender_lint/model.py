@@ -7,6 +7,7 @@ never need a USD stage to exist.
 from __future__ import annotations
 
 import enum
+import re
 from collections import Counter
 from dataclasses import field
 from inspect import cleandoc
@@ -94,6 +95,13 @@ class Finding:
     profile: str | None = None
     profile_reason: str | None = None
 
+    @property
+    def variant_selection(self) -> str:
+        """The variant selections ``--variants`` saw it under, when not the
+        authored ones (engine/variants.py notes them in the message); else ''."""
+        match = _VARIANT_SELECTION.search(self.message)
+        return match.group(1) if match else ""
+
     def sort_key(self) -> tuple:
         return (
             self.location.file,
@@ -101,6 +109,12 @@ class Finding:
             self.code,
             self.message,
         )
+
+
+#: The note ``--variants`` adds to the message of a finding seen only under
+#: other variant selections than the authored ones.
+VARIANT_SELECTION_NOTE = " [variant selection: {}]"
+_VARIANT_SELECTION = re.compile(r" \[variant selection: (.*)\]\Z", re.DOTALL)
 
 
 @record(frozen=True)

@@ -140,6 +140,53 @@ def test_a_shard_does_not_write_a_baseline(shot, tmp_path) -> None:
     )
 
 
+#: Two variants of one set, each with its own inverted data window (SE003): the
+#: authored one's is seen without --variants, the other's only with it.
+SHOT_WITH_VARIANTS = """#usda 1.0
+def Scope "Render" (
+    variants = {
+        string quality = "preview"
+    }
+    prepend variantSets = "quality"
+)
+{
+    def RenderSettings "Settings"
+    {
+    }
+    variantSet "quality" = {
+        "final" {
+            over "Settings"
+            {
+                uniform float4 dataWindowNDC = (0.8, 0, 0.2, 1)
+            }
+        }
+        "preview" {
+            over "Settings"
+            {
+                uniform float4 dataWindowNDC = (0.9, 0, 0.1, 1)
+            }
+        }
+    }
+}
+"""
+
+
+def test_variants_keep_the_authored_selections_finding_known(shot, tmp_path) -> None:
+    """Was: the other selection's finding (first in the report) took the
+    authored one's place in the baseline, which then read as new."""
+    shot.write_text(SHOT_WITH_VARIANTS, encoding="utf-8")
+    baseline = tmp_path / "baseline.json"
+    check("--write-baseline", str(baseline), str(shot))
+    result = check("--variants", "--format", "json", "--baseline", str(baseline), str(shot))
+    messages = [
+        f["message"] for file in json.loads(result.stdout)["files"] for f in file["findings"]
+    ]
+    assert len(messages) == 1 and "[variant selection: /Render{quality=final}]" in messages[0]
+    check("--variants", "--write-baseline", str(baseline), str(shot))
+    assert check("--variants", "--baseline", str(baseline), str(shot)).exit_code == 0
+    assert check("--baseline", str(baseline), str(shot)).exit_code == 0
+
+
 def test_a_run_split_by_configuration_counts_every_known_finding(tmp_path) -> None:
     # Two shows with configurations of their own: the run is split in two parts.
     for show in ("a", "b"):
@@ -171,7 +218,12 @@ def test_fingerprint_ignores_line_and_message() -> None:
     assert fingerprint(_finding("a", line=3), Path("/p")) == fingerprint(
         _finding("b", line=90), Path("/p")
     )
-    assert fingerprint(_finding("a"), Path("/p")) == ("a.usda", "SE003", "/Render/S.dataWindowNDC")
+    assert fingerprint(_finding("a"), Path("/p")) == (
+        "a.usda",
+        "SE003",
+        "/Render/S.dataWindowNDC",
+        "",
+    )
 
 
 def test_a_second_identical_finding_is_new(tmp_path) -> None:
@@ -182,7 +234,8 @@ def test_a_second_identical_finding_is_new(tmp_path) -> None:
     assert dropped == 1
     assert [f.message for f in kept.findings] == ["y"]
     relative = os.path.relpath("/p/a.usda", tmp_path)
-    assert load_baseline(baseline) == Counter({(relative, "SE003", "/Render/S.dataWindowNDC"): 1})
+    key = (relative, "SE003", "/Render/S.dataWindowNDC", "")
+    assert load_baseline(baseline) == Counter({key: 1})
 
 
 @pytest.mark.parametrize(

@@ -31,7 +31,7 @@ from pxr import Sdf, Tf, Usd
 
 from ..api import Fix
 from ..layers.files import real_path, unreadable_reason
-from ..model import FileResult, Finding
+from ..model import VARIANT_SELECTION_NOTE, FileResult, Finding
 from ..records import record
 from .assets import Reads
 from .linter import RENDER_SCHEMAS, Linter, LintRun, unsafe_to_open
@@ -358,7 +358,9 @@ def _annotated(stage: Usd.Stage, finding: Finding, selection: str) -> Finding:
         if specs:
             location = locate(stage, location.file, prim, specs[0].layer)
     return replace(
-        finding, message=f"{finding.message} [variant selection: {selection}]", location=location
+        finding,
+        message=finding.message + VARIANT_SELECTION_NOTE.format(selection),
+        location=location,
     )
 
 

@@ -1,7 +1,10 @@
 """Baselines: accept today's findings, fail only on new ones.
 
 A fingerprint is the linted file relative to the baseline file's folder, the
-rule code and the prim or property path; never a line number or a message
+rule code, the prim or property path and, for a finding --variants saw only
+under other variant selections, those selections (so that the finding of the
+authored selections stays known when --variants is added, and the one of
+another selection is new); never a line number or a message
 (values in messages change when the data does), so it survives edits that
 move lines or reformat a layer. A count per fingerprint makes a second
 identical finding new.
@@ -21,7 +24,7 @@ from ..model import Finding, Report
 
 BASELINE_SCHEMA = 1
 
-Fingerprint = tuple[str, str, str]
+Fingerprint = tuple[str, str, str, str]
 
 
 class BaselineError(Exception):
@@ -29,11 +32,17 @@ class BaselineError(Exception):
 
 
 def fingerprint(finding: Finding, base_dir: Path) -> Fingerprint:
-    """(file relative to ``base_dir`` with ``/`` separators, code, path).
+    """(file relative to ``base_dir`` with ``/`` separators, code, path,
+    variant selection or '').
     ``base_dir`` is resolved, so the file is too: a file named through a linked
     folder (``$PWD`` below a link) has the fingerprint ``.`` gives it."""
     file = os.path.relpath(os.path.realpath(finding.location.file), os.path.abspath(base_dir))
-    return (PurePath(file).as_posix(), finding.code, finding.location.path or "")
+    return (
+        PurePath(file).as_posix(),
+        finding.code,
+        finding.location.path or "",
+        finding.variant_selection,
+    )
 
 
 def _counts(report: Report, base_dir: Path) -> Counter[Fingerprint]:
@@ -50,8 +59,14 @@ def write_baseline(report: Report, path: str | Path) -> int:
     else:
         counts = _counts(report, Path(os.path.realpath(path)).parent)
     entries = [
-        {"file": file, "code": code, "path": prim_path, "count": count}
-        for (file, code, prim_path), count in sorted(counts.items())
+        {
+            "file": file,
+            "code": code,
+            "path": prim_path,
+            **({"variant_selection": selection} if selection else {}),
+            "count": count,
+        }
+        for (file, code, prim_path, selection), count in sorted(counts.items())
     ]
     document = {"usdrender_lint_baseline": BASELINE_SCHEMA, "findings": entries}
     try:
@@ -105,7 +120,8 @@ def _entry(path: Path, index: int, entry: Any) -> tuple[Fingerprint, int]:
     if not isinstance(entry, dict):
         raise BaselineError(f"{path}: findings[{index}] is malformed: {entry!r}")
     try:
-        key = (entry["file"], entry["code"], entry["path"])
+        # (no variant_selection: a finding of the authored selections)
+        key = (entry["file"], entry["code"], entry["path"], entry.get("variant_selection", ""))
         count = entry["count"]
     except KeyError as exc:
         raise BaselineError(f"{path}: findings[{index}] lacks {exc}") from None
