@@ -365,3 +365,14 @@ def test_a_folder_walked_below_a_show_is_judged_by_that_shows_configuration(tree
     for order in (["shows/a/seq", "shows/b/seq"], ["shows/b/seq", "shows/a/seq"]):
         shown = invoke_in(tree, "check", "--show-files", *order).stdout.splitlines()
         assert shown == ["shows/b/seq/x_wip.usda"]
+
+
+def test_the_counting_notes_of_a_split_run_are_its_totals(tmp_path: Path) -> None:
+    """Each show's part had said its own count, and equal counts were merged
+    into one: --diff said 2 fixes would be applied where 4 would."""
+    for show in ("a", "b"):
+        shutil.copytree(BROKEN, tmp_path / show)
+        (tmp_path / show / ".usdrender-lint.toml").write_text('select = ["CA004", "SE007"]\n')
+    result = invoke_in(tmp_path, "check", "--no-cache", "--jobs", "1", "--diff", ".")
+    assert result.exit_code == 1, result.output
+    assert result.stderr.splitlines() == ["usdrender-lint: --diff: 4 fixes would be applied"]

@@ -606,16 +606,17 @@ def _joined(
             (r.file, o.report.unfixable) for o in outcomes for r in o.report.files
         ),
     )
-    # Each part's note counts its own known findings: one note says the total.
+    # A part's notes that count (known findings, fixes) count its own: the
+    # joined run says the totals instead.
     dropped = sum(outcome.baseline_dropped for outcome in outcomes)
-    notes += [
+    counted = {
         note
         for outcome in outcomes
-        for note in outcome.notes
-        if note not in _baseline_note(request, outcome.baseline_dropped)
-    ]
+        for note in _counted_notes(request, outcome.report, outcome.baseline_dropped)
+    }
+    notes += [note for outcome in outcomes for note in outcome.notes if note not in counted]
     report, _ = _apply_baseline(report, None, request, notes)  # --write-baseline: all of it
-    notes.extend(_baseline_note(request, dropped))
+    notes.extend(_counted_notes(request, report, dropped))
     status = max((outcome.exit_status for outcome in outcomes), default=EXIT_OK)  # 2 > 1 > 0
     if request.write_baseline:
         status = exit_status(report, "never", baseline_written=True)
@@ -1036,6 +1037,15 @@ def _fix_keep(prepared: Prepared, plan: ContextPlan | None) -> Callable[[Finding
     if plan is None:
         return prepared.is_reported
     return lambda finding: prepared.is_reported(finding) and plan.keeps(finding)
+
+
+def _counted_notes(request: Request, report: Report, dropped: int) -> list[str]:
+    """The notes of a run that count what it did: the known findings the
+    baseline hid, the fixes not applied and those --diff would apply."""
+    notes = _baseline_note(request, dropped)
+    if request.fix is not None:
+        notes += _fix_notes(report, dry_run=not request.fix.write)
+    return notes
 
 
 def _fix_notes(report: Report, dry_run: bool) -> list[str]:
