@@ -12,7 +12,12 @@ from click.testing import CliRunner
 from usdrender_lint.cli import cli
 from usdrender_lint.formatters import FormatOptions
 from usdrender_lint.formatters.github import GithubFormatter, escape_data, escape_property
-from usdrender_lint.formatters.sarif import artifact_location, report_to_sarif
+from usdrender_lint.formatters.sarif import (
+    DESCRIPTION_LIMIT,
+    artifact_location,
+    description,
+    report_to_sarif,
+)
 from usdrender_lint.model import FileResult, Finding, Location, Report, RuleInfo, Severity
 
 REPO = Path(__file__).parents[2]
@@ -66,6 +71,18 @@ def test_sarif_rules_carry_their_help_text(in_repo) -> None:
     assert all(rule["help"]["text"] for rule in rules.values())
     assert se003["defaultConfiguration"]["level"] == "error"
     assert rules["UL001"]["defaultConfiguration"]["level"] == "note"
+
+
+def test_sarif_rule_descriptions_fit_code_scanning(in_repo) -> None:
+    # GitHub code scanning takes at most 1024 characters in a rule's short and
+    # full description; the documentation in full is its help.
+    rules = _sarif(str(INVERTED))["runs"][0]["tool"]["driver"]["rules"]
+    assert len(rules) > 20
+    for rule in rules:
+        for key in ("shortDescription", "fullDescription"):
+            assert 0 < len(rule[key]["text"]) <= DESCRIPTION_LIMIT, (rule["id"], key)
+    assert description("word " * 300) == ("word " * 204).rstrip() + "…"
+    assert len(description("x" * 2000)) == DESCRIPTION_LIMIT
 
 
 def test_sarif_result_locations(in_repo) -> None:

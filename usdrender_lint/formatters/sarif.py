@@ -24,6 +24,10 @@ SARIF_SCHEMA = (
 )
 SRCROOT = "SRCROOT"
 _LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+#: GitHub code scanning limits a rule's short and full descriptions to 1024
+#: characters ("SARIF support for code scanning", reportingDescriptor); the
+#: documentation in full is the rule's help, which has no such limit.
+DESCRIPTION_LIMIT = 1024
 
 
 def artifact_location(path: Path, root: Path) -> dict[str, str]:
@@ -36,12 +40,20 @@ def artifact_location(path: Path, root: Path) -> dict[str, str]:
     return {"uri": quote_from_bytes(os.fsencode(relative.as_posix())), "uriBaseId": SRCROOT}
 
 
+def description(text: str) -> str:
+    """``text`` cut to DESCRIPTION_LIMIT characters at a word, marked ``…``."""
+    if len(text) <= DESCRIPTION_LIMIT:
+        return text
+    words = text[: DESCRIPTION_LIMIT - 1].rsplit(None, 1)
+    return words[0].rstrip() + "…"
+
+
 def _descriptor(rule: RuleInfo) -> dict[str, Any]:
     return {
         "id": rule.code,
         "name": rule.name,
-        "shortDescription": {"text": rule.summary or rule.name},
-        "fullDescription": {"text": rule.doc or rule.summary or rule.name},
+        "shortDescription": {"text": description(rule.summary or rule.name)},
+        "fullDescription": {"text": description(rule.summary or rule.name)},
         "help": {"text": rule.doc or rule.summary or rule.name, "markdown": rule.doc or ""},
         "defaultConfiguration": {"level": _LEVEL[rule.severity]},
         "properties": {"fix": rule.fix},
