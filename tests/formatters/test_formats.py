@@ -108,6 +108,15 @@ def test_sarif_result_locations(in_repo) -> None:
     ]
 
 
+def test_sarif_whole_file_finding_is_at_line_one(in_repo) -> None:
+    # ST003 is about the stage's metadata, with no line; code scanning needs one.
+    unset = REPO / "tests" / "rules" / "ST003_render_settings_path_missing" / "fail_unset.usda"
+    (result,) = _sarif(str(unset), extra=("--select", "ST003", "--fail-on", "info"))["runs"][0][
+        "results"
+    ]
+    assert result["locations"][0]["physicalLocation"]["region"] == {"startLine": 1}
+
+
 def test_sarif_describes_codes_without_a_rule_and_files_outside_the_root(tmp_path) -> None:
     internal = Finding("UL000", "internal-error", Severity.ERROR, "boom", Location("/x/a.usda"))
     report = Report((FileResult("/x/a.usda", findings=(internal,)),), rules=())
@@ -115,7 +124,8 @@ def test_sarif_describes_codes_without_a_rule_and_files_outside_the_root(tmp_pat
     assert run["tool"]["driver"]["rules"][0]["id"] == "UL000"
     location = run["results"][0]["locations"][0]
     assert location["physicalLocation"]["artifactLocation"] == {"uri": "file:///x/a.usda"}
-    assert "region" not in location["physicalLocation"]
+    # No line known: the file's start, as code scanning requires a region.startLine.
+    assert location["physicalLocation"]["region"] == {"startLine": 1}
     assert "logicalLocations" not in location
     assert artifact_location(tmp_path / "a b.usda", tmp_path) == {
         "uri": "a%20b.usda",

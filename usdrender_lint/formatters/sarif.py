@@ -2,9 +2,9 @@
 
 Each rule that ran is a ``reportingDescriptor`` with its docstring as help.
 A result's physical location is the layer holding the offending opinion (else
-the linted file) with its line when known, as a URI relative to the working
-directory (``uriBaseId`` SRCROOT); its logical location is the prim or
-property path.
+the linted file) with its line when known (else line 1: code scanning
+requires a line), as a URI relative to the working directory (``uriBaseId``
+SRCROOT); its logical location is the prim or property path.
 """
 
 from __future__ import annotations
@@ -92,6 +92,11 @@ def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
             physical["region"] = {"startLine": loc.line}
             if loc.column:
                 physical["region"]["startColumn"] = loc.column
+        else:
+            # Code scanning requires region.startLine, and upload-sarif computes
+            # no fingerprint without it: a whole-file finding is at the file's
+            # start, as in the GitLab report.
+            physical["region"] = {"startLine": 1}
         location["physicalLocation"] = physical
     if loc.path:
         is_property = "." in loc.path.rsplit("/", 1)[-1]
