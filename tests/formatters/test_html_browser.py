@@ -114,6 +114,16 @@ window.addEventListener('load', function () {
     var box = el.getBoundingClientRect();
     if (box.right > width + 1 && wide.length < 10) wide.push(el.tagName + '.' + el.className);
   });
+  // A text that does not wrap runs out of its element's box, which stays in
+  // (code scrolls in its own box and a picture clips its text: not those).
+  var texts = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT), text;
+  while ((text = texts.nextNode()) && wide.length < 10) {
+    var range = document.createRange();
+    range.selectNodeContents(text);
+    var parent = text.parentElement, boxed = parent.closest('pre, svg');
+    if (range.getBoundingClientRect().right > width + 1 && !boxed)
+      wide.push(parent.tagName + '.' + parent.className + ' text ' + text.textContent.slice(0, 40));
+  }
   var out = document.createElement('pre');
   out.id = 'too-wide';
   out.textContent = wide.join(' ');

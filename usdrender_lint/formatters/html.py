@@ -378,7 +378,8 @@ main { padding:12px 20px 40px; max-width:1600px; }
 .product { margin:0; display:grid; grid-template-columns:minmax(0,1fr) 290px;
   gap:14px; border:1px solid var(--line); border-radius:6px; padding:8px; }
 .product .picture svg { width:100%; height:auto; display:block; }
-.product h3 { margin:0 0 6px; font-size:14px; font-family:ui-monospace, Menlo, monospace; }
+.product h3 { margin:0 0 6px; font-size:14px; font-family:ui-monospace, Menlo, monospace;
+  overflow-wrap:anywhere; }
 .beside { list-style:none; margin:0; padding:0; overflow-wrap:anywhere; }
 .product figcaption { min-width:0; }
 .beside li { margin:0 0 6px; font-size:13px; }
