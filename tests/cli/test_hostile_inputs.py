@@ -259,6 +259,21 @@ def test_an_error_about_such_a_name_is_escaped_on_stderr(tmp_path: Path) -> None
     )
 
 
+@pytest.mark.parametrize("name", ["a\nb.usda", "a\rb.usda", "a\u2028b.usda"])
+def test_a_line_break_in_a_file_name_ends_no_line_of_usds_error(
+    name: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # USD names the file in its error: one parse error is one finding, at its line.
+    (tmp_path / name).write_text('#usda 1.0\ndef Scope "S"\n{\n', encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    for path in (name, str(tmp_path / name)):
+        result = check("--isolated", "--no-cache", "--format", "json", path)
+        [entry] = json.loads(result.stdout)["files"]
+        [finding] = entry["findings"]
+        assert (finding["code"], finding["line"]) == ("ST001", 4), finding
+        assert finding["layer"] == name
+
+
 # -- folders with nothing to lint ---------------------------------------------------
 
 

@@ -81,16 +81,28 @@ def _package_problem(path: str) -> str | None:
 
 
 def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
+    # USD names the file whole: a line break in its name ends no line of the error.
+    names = sorted(
+        {name for name in (path, os.path.abspath(path)) if len(f"x{name}x".splitlines()) > 1},
+        key=len,
+        reverse=True,
+    )
     for arg in exc.args:
         try:
             text = getattr(arg, "commentary", None) or str(arg)
         except UnicodeDecodeError:
             # USD quotes the offending text, and Python cannot decode the quote.
             text = _undecodable_error(path)
-        for line in str(text).strip().splitlines():
+        text = str(text).strip()
+        for number, name in enumerate(names):
+            text = text.replace(name, f"\0{number}\0")
+        for line in text.splitlines():
             if line.strip():
                 # An object's address ("stage @x@ <0x55d1...>") differs from run to run.
-                yield _ADDRESS.sub("", line.strip())
+                line = _ADDRESS.sub("", line.strip())
+                for number, name in enumerate(names):
+                    line = line.replace(f"\0{number}\0", name)
+                yield line
 
 
 _ADDRESS = re.compile(r" ?<0x[0-9a-fA-F]+>")
