@@ -240,6 +240,16 @@ def test_statistics_text(in_repo) -> None:
     assert "data-window-malformed" not in check("--select", "SE003", str(SE003)).stdout
 
 
+def test_statistics_github_on_stdout(in_repo) -> None:
+    # The annotations, then the counts as plain log lines, written to stdout
+    # as a workflow step runs it (not into a test's StringIO).
+    result = check("--format", "github", "--statistics", "--select", "SE003", str(SE003))
+    assert result.exit_code == 1, result.output
+    lines = result.stdout.strip().splitlines()
+    count = sum(line.startswith("::error ") for line in lines)
+    assert count and lines[-1].split() == [str(count), "SE003", "data-window-malformed"]
+
+
 def test_statistics_json_is_an_added_field(in_repo) -> None:
     plain = json.loads(check("--format", "json", "--select", "SE003", str(SE003)).stdout)
     assert "statistics" not in plain

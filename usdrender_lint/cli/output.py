@@ -5,6 +5,7 @@ file written as a shell's ``>`` would, and one-line errors on stderr."""
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 
 import click
@@ -60,6 +61,11 @@ class Stdout:
         if self._size >= self.CHUNK:
             self.flush()
         return len(text)
+
+    def writelines(self, lines: Iterable[str]) -> None:
+        # A formatter is handed a TextIO: every way it has to write is here.
+        for line in lines:
+            self.write(line)
 
     def flush(self) -> None:
         text, self._parts, self._size = "".join(self._parts), [], 0
