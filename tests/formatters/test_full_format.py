@@ -110,6 +110,26 @@ def test_tabs_and_control_characters_keep_the_marks_under_the_statement(tmp_path
     )
 
 
+def test_wide_and_combining_characters_keep_the_marks_under_the_statement(
+    tmp_path: Path,
+) -> None:
+    # A terminal gives a CJK character two columns and a combining mark none.
+    layer = tmp_path / "wide.usda"
+    statement = 'uniform token renderingColorSpace = "色空間e\u0301"'
+    layer.write_text(f"#usda 1.0\n    {statement}\n", encoding="utf-8")
+    lines = _render(_report(layer, 2))
+    assert lines[2] == f"2 |     {statement}"
+    assert lines[3] == "  |     " + "^" * (len(statement) + 3 - 1)
+    # Cut at the columns a terminal has, not at as many characters.
+    layer.write_text(f"#usda 1.0\n    {statement} # {'字' * 200}\n", encoding="utf-8")
+    [source, marks] = _render(_report(layer, 2))[2:4]
+    shown = source.removeprefix("2 | ")
+    columns = len(shown) + shown.count("字") + 3 - 1  # the statement's three wide, one none
+    assert shown.endswith("…") and columns in (PIPED_COLUMNS - 4, PIPED_COLUMNS - 5)
+    # The marks run to the cut, under the statement and its comment.
+    assert marks == "  | " + "    " + "^" * (columns - 4 - 1)
+
+
 def test_a_long_line_is_cut_piped_and_at_the_terminals_width(tmp_path: Path, monkeypatch) -> None:
     layer = tmp_path / "long.usda"
     layer.write_text("#usda 1.0\n    uniform float4 dataWindowNDC = (1," + " " * 500 + "0, 0, 1)\n")

@@ -11,11 +11,15 @@ matchers and quickfix lists read it the same way::
 The line is read from the layer holding the opinion when the report is
 written (a crate has none to show; a merged report whose files are elsewhere
 shows its findings without them). Tabs are shown as four spaces and other
-control characters as one mark each, so the marks stay under the statement;
-a line longer than the terminal (or 200 columns, piped) is cut.
+control characters as one mark each, and the marks are counted in the columns
+a terminal gives each character (two for a wide CJK one, none for a combining
+mark), so they stay under the statement; a line longer than the terminal (or
+200 columns, piped) is cut.
 """
 
 from __future__ import annotations
+
+import unicodedata
 
 from ..layers.source_lines import read_lines, statement_columns
 from ..model import Finding
@@ -29,9 +33,30 @@ _CUT = "…"
 
 
 def _shown(content: str) -> str:
-    """The line with every character one column wide as a terminal shows it."""
+    """The line as a terminal shows it: tabs expanded, controls as one mark."""
     content = content.expandtabs(4)
     return "".join(char if char.isprintable() else "\ufffd" for char in content)
+
+
+def _width(char: str) -> int:
+    """The columns a terminal gives ``char`` (wcwidth's rule for printable text)."""
+    if unicodedata.combining(char):
+        return 0
+    return 2 if unicodedata.east_asian_width(char) in ("W", "F") else 1
+
+
+def _columns(text: str) -> int:
+    return sum(_width(char) for char in text)
+
+
+def _fitting(text: str, columns: int) -> str:
+    """The longest start of ``text`` that takes at most ``columns`` columns."""
+    used = 0
+    for index, char in enumerate(text):
+        used += _width(char)
+        if used > columns:
+            return text[:index]
+    return text
 
 
 class FullFormatter(TextFormatter):
@@ -57,14 +82,17 @@ class FullFormatter(TextFormatter):
             content = _shown(raw)
             start, end = statement_columns(content, column)
             room = max((width or PIPED_COLUMNS) - len(gutter) - 3, 20)
-            if len(content) > room:
-                content = content[: room - 1] + _CUT
-                start, end = min(start, room - 1), min(end, room - 1)
-            marks = "^" * max(end - start, 1)
+            if _columns(content) > room:
+                kept = _fitting(content, room - 1)
+                content = kept + _CUT
+                start, end = min(start, len(kept)), min(end, len(kept))
+            # Start and end are characters of the line; the marks go in columns.
+            lead = " " * _columns(content[:start])
+            marks = "^" * max(_columns(content[start:end]), 1)
             return (
                 ((f"{gutter} |", _GUTTER_STYLE),),
                 ((f"{number} | ", _GUTTER_STYLE), (content, None)),
-                ((f"{gutter} | ", _GUTTER_STYLE), (" " * start + marks, _STYLE[finding.severity])),
+                ((f"{gutter} | ", _GUTTER_STYLE), (lead + marks, _STYLE[finding.severity])),
                 (),
             )
 
