@@ -181,6 +181,25 @@ def test_on_a_terminal_the_message_wraps_at_words_never_the_location(
     )
 
 
+def test_wide_characters_wrap_at_the_terminals_columns(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A CJK character takes two columns: a line of them wraps at half as many.
+    monkeypatch.setenv("COLUMNS", "40")
+    monkeypatch.setenv("NO_COLOR", "1")
+    wide = Finding(
+        "SE012",
+        "rendering-color-space-unknown",
+        Severity.WARNING,
+        " ".join(["色空間"] * 12),
+        Location("s.usda", "/R", "s.usda", 3),
+    )
+    stream = Terminal()
+    TextFormatter().render(
+        Report((FileResult("s.usda", findings=(wide,)),)), stream, FormatOptions()
+    )
+    for line in stream.getvalue().splitlines()[:-1]:
+        assert len(line) + sum(char == "色" or char == "空" or char == "間" for char in line) <= 40
+
+
 def test_piped_lines_are_never_wrapped() -> None:
     stream = io.StringIO()
     TextFormatter().render(

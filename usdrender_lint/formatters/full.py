@@ -19,12 +19,10 @@ mark), so they stay under the statement; a line longer than the terminal (or
 
 from __future__ import annotations
 
-import unicodedata
-
 from ..layers.source_lines import read_lines, statement_columns
 from ..model import Finding
 from ..paths import layer_file
-from .text import _STYLE, Below, Segment, TextFormatter
+from .text import _STYLE, Below, Segment, TextFormatter, columns, fitting
 
 #: The widest source line shown when the report is piped.
 PIPED_COLUMNS = 200
@@ -36,27 +34,6 @@ def _shown(content: str) -> str:
     """The line as a terminal shows it: tabs expanded, controls as one mark."""
     content = content.expandtabs(4)
     return "".join(char if char.isprintable() else "\ufffd" for char in content)
-
-
-def _width(char: str) -> int:
-    """The columns a terminal gives ``char`` (wcwidth's rule for printable text)."""
-    if unicodedata.combining(char):
-        return 0
-    return 2 if unicodedata.east_asian_width(char) in ("W", "F") else 1
-
-
-def _columns(text: str) -> int:
-    return sum(_width(char) for char in text)
-
-
-def _fitting(text: str, columns: int) -> str:
-    """The longest start of ``text`` that takes at most ``columns`` columns."""
-    used = 0
-    for index, char in enumerate(text):
-        used += _width(char)
-        if used > columns:
-            return text[:index]
-    return text
 
 
 class FullFormatter(TextFormatter):
@@ -82,13 +59,13 @@ class FullFormatter(TextFormatter):
             content = _shown(raw)
             start, end = statement_columns(content, column)
             room = max((width or PIPED_COLUMNS) - len(gutter) - 3, 20)
-            if _columns(content) > room:
-                kept = _fitting(content, room - 1)
+            if columns(content) > room:
+                kept = fitting(content, room - 1)
                 content = kept + _CUT
                 start, end = min(start, len(kept)), min(end, len(kept))
             # Start and end are characters of the line; the marks go in columns.
-            lead = " " * _columns(content[:start])
-            marks = "^" * max(_columns(content[start:end]), 1)
+            lead = " " * columns(content[:start])
+            marks = "^" * max(columns(content[start:end]), 1)
             return (
                 ((f"{gutter} |", _GUTTER_STYLE),),
                 ((f"{number} | ", _GUTTER_STYLE), (content, None)),

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 import re
+import unicodedata
 from collections.abc import Callable, Iterable
 from typing import TextIO
 
@@ -64,6 +65,28 @@ def _file_of(identifier: str | None, fallback: str) -> str:
     """The file a location names, as the user would type it."""
     on_disk = layer_file(identifier)
     return printable(display_path(str(on_disk)) if on_disk else display_path(fallback) or fallback)
+
+
+def _width(char: str) -> int:
+    """The columns a terminal gives ``char`` (wcwidth's rule for printable text)."""
+    if unicodedata.combining(char):
+        return 0
+    return 2 if unicodedata.east_asian_width(char) in ("W", "F") else 1
+
+
+def columns(text: str) -> int:
+    """The columns ``text`` takes on a terminal."""
+    return sum(_width(char) for char in text)
+
+
+def fitting(text: str, room: int) -> str:
+    """The longest start of ``text`` that takes at most ``room`` columns."""
+    used = 0
+    for index, char in enumerate(text):
+        used += _width(char)
+        if used > room:
+            return text[:index]
+    return text
 
 
 def _terminal_width(stream: TextIO) -> int | None:
@@ -169,20 +192,22 @@ def wrap(entry: Entry, width: int | None) -> list[list[Segment]]:
         for text, style in entry.message:
             first += [(" ", None), (text, style)]
         return lines
-    used = sum(len(text) for text, _ in first)
+    # Counted in terminal columns: a wide CJK character takes two.
+    used = sum(columns(text) for text, _ in first)
     fresh = False  # the last line holds only the indent
     for text, style in entry.message:
         for word in text.split():
-            if not fresh and used + 1 + len(word) > width:
+            size = columns(word)
+            if not fresh and used + 1 + size > width:
                 lines.append([(INDENT, None)])
                 used, fresh = len(INDENT), True
             if fresh:
                 lines[-1].append((word, style))
-                used += len(word)
+                used += size
                 fresh = False
             else:
                 lines[-1] += [(" ", None), (word, style)]
-                used += 1 + len(word)
+                used += 1 + size
     return lines
 
 
