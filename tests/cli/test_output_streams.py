@@ -69,6 +69,23 @@ def test_a_reader_that_reads_it_all_gets_it_all(big_stage: str, output_format: s
         assert json.loads(done.stdout)["summary"]["files"] == 1
 
 
+@pytest.mark.parametrize("output_format", FORMATS)
+def test_a_pipe_gets_utf8_whatever_the_locale(tmp_path: Path, output_format: str) -> None:
+    # The bytes --output writes, which JSON, SARIF and the XML declaration say
+    # are UTF-8: not an internal error where stdout's encoding is ASCII.
+    layer = tmp_path / "色.usda"
+    layer.write_text(Path(BROKEN).read_text(encoding="utf-8"), encoding="utf-8")
+    args = ["check", "--isolated", "--no-cache", "--format", output_format, str(layer)]
+    env = {**os.environ, "PYTHONIOENCODING": "ascii"}  # as a Windows console's cp1252
+    piped = subprocess.run(command(*args), capture_output=True, timeout=120, env=env)
+    assert piped.returncode == 1, piped.stderr
+    report = tmp_path / "report"
+    subprocess.run(command(*args, "--output", str(report)), timeout=120, env=env, check=False)
+    assert piped.stdout == report.read_bytes()
+    assert not piped.stdout.isascii()
+    piped.stdout.decode("utf-8")
+
+
 def test_write_all_writes_what_one_write_leaves(monkeypatch: pytest.MonkeyPatch) -> None:
     read_end, write_end = os.pipe()
     real_write = os.write

@@ -52,7 +52,7 @@ class Stdout:
     def __init__(self, encoding: str | None = None) -> None:
         self._parts: list[str] = []
         self._size = 0
-        #: None: the stream's (the locale's); a layer's text is UTF-8 whatever it is.
+        #: None: UTF-8, or a terminal's own; a layer's text is UTF-8 whatever it is.
         self._encoding = encoding
 
     def write(self, text: str) -> int:
@@ -90,8 +90,13 @@ class Stdout:
                 return
             if self._encoding is not None:
                 data = text.encode(self._encoding)
+            elif stream.isatty():
+                # A person's terminal: what its encoding cannot show is escaped.
+                data = text.encode(stream.encoding or "utf-8", "backslashreplace")
             else:
-                data = text.encode(stream.encoding or "utf-8", stream.errors or "strict")
+                # A file or a pipe gets the bytes --output writes: UTF-8, the
+                # encoding JSON, SARIF and the JUnit XML declaration say.
+                data = text.encode("utf-8")
             write_all(fd, data)
         except BrokenPipeError:
             raise StdoutGone from None
