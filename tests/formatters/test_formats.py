@@ -73,6 +73,16 @@ def test_sarif_rules_carry_their_help_text(in_repo) -> None:
     assert rules["UL001"]["defaultConfiguration"]["level"] == "note"
 
 
+def test_sarif_describes_st001_with_its_documentation_under_any_selection(in_repo) -> None:
+    # ST001 is reported whatever --select says: its result's rule is the real one.
+    broken = REPO / "examples" / "broken_shot"
+    run = _sarif(str(broken), extra=("--select", "SE003"))["runs"][0]
+    rules = {rule["id"]: rule for rule in run["tool"]["driver"]["rules"]}
+    assert {result["ruleId"] for result in run["results"]} == set(rules) == {"SE003", "ST001"}
+    explained = CliRunner().invoke(cli, ["explain", "ST001"]).stdout
+    assert rules["ST001"]["help"] == {"text": explained, "markdown": explained}
+
+
 def test_sarif_rule_descriptions_fit_code_scanning(in_repo) -> None:
     # GitHub code scanning takes at most 1024 characters in a rule's short and
     # full description; the documentation in full is its help.

@@ -30,7 +30,7 @@ from .views import send
 
 if TYPE_CHECKING:
     from ..api import Rule
-    from ..model import Report
+    from ..model import Report, RuleInfo
     from ..running.pipeline import Outcome, Request
     from ..running.standard_input import StandardInput
 
@@ -392,14 +392,30 @@ def emit_report(
     that reads it (into ``options.configuration``)."""
     formatter = load_formatter(output_format)
     if reads_rules(formatter):
-        from ..explain import rule_info
-
-        report = replace(report, rules=tuple(rule_info(type(rule)) for rule in rules))
+        report = replace(report, rules=_described(report, rules))
     if configuration is not None and reads_configuration(formatter):
         options = replace(options, configuration=configuration())
     check_stopped()
     report = _relative_messages(report)
     send(lambda stream: formatter.render(report, stream, options), output_file, "the report")
+
+
+def _described(report: Report, rules: Sequence[Rule]) -> tuple[RuleInfo, ...]:
+    """The rules that ran, and each registered rule a finding's code names
+    that did not (ST001, which every run reports): a SARIF report describes
+    each result's rule with its documentation."""
+    from ..explain import rule_info
+
+    infos = {rule.code: rule_info(type(rule)) for rule in rules}
+    missing = sorted({finding.code for finding in report.findings} - set(infos))
+    if missing:
+        from ..registry import build_registry
+
+        registry = build_registry()
+        for code in missing:
+            if (found := registry.find(code)) is not None:
+                infos[code] = rule_info(found)
+    return tuple(infos.values())
 
 
 def _relative_messages(report: Report) -> Report:
