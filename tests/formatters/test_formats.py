@@ -137,6 +137,13 @@ def test_sarif_describes_codes_without_a_rule_and_files_outside_the_root(tmp_pat
     # No line known: the file's start, as code scanning requires a region.startLine.
     assert location["physicalLocation"]["region"] == {"startLine": 1}
     assert "logicalLocations" not in location
+    # A code no installed rule has (a merged report's plugin): no empty Markdown help.
+    other = Finding("XY001", "gone-plugin", Severity.WARNING, "m", Location("/x/a.usda"))
+    report = Report((FileResult("/x/a.usda", findings=(other,)),), rules=())
+    [rule] = report_to_sarif(report, FormatOptions(), tmp_path)["runs"][0]["tool"]["driver"][
+        "rules"
+    ]
+    assert rule["help"] == {"text": "gone-plugin"}
     assert artifact_location(tmp_path / "a b.usda", tmp_path) == {
         "uri": "a%20b.usda",
         "uriBaseId": "SRCROOT",

@@ -54,7 +54,9 @@ def _descriptor(rule: RuleInfo) -> dict[str, Any]:
         "name": rule.name,
         "shortDescription": {"text": description(rule.summary or rule.name)},
         "fullDescription": {"text": description(rule.summary or rule.name)},
-        "help": {"text": rule.doc or rule.summary or rule.name, "markdown": rule.doc or ""},
+        # Code scanning shows the Markdown help instead of the text: none when empty.
+        "help": {"text": rule.doc or rule.summary or rule.name}
+        | ({"markdown": rule.doc} if rule.doc else {}),
         "defaultConfiguration": {"level": _LEVEL[rule.severity]},
         "properties": {"fix": rule.fix},
     }
