@@ -282,6 +282,8 @@ def _load_toml(path: Path) -> dict[str, Any]:
     import tomllib  # only when there is a file to read
 
     data = _read_config_bytes(path)
+    # A byte order mark (Windows editors write one) is no TOML statement: read past it.
+    data = data.removeprefix(b"\xef\xbb\xbf")
     try:
         text = data.decode("utf-8")
         return tomllib.loads(text)
@@ -371,8 +373,22 @@ def config_file_in(folder: Path) -> Path | None:
 
 
 def _has_tool_table(pyproject: Path) -> bool:
+    """Whether the file holds the table; one misspelt (``[tool.usdrender_lint]``) is
+    an error, not a file without settings, whose defaults would pass silently."""
     tool = _load_toml(pyproject).get("tool", {})
-    return isinstance(tool, dict) and TOOL_TABLE in tool
+    if not isinstance(tool, dict):
+        return False
+    if TOOL_TABLE not in tool:
+        for name in tool:
+            if _loose(name) == _loose(TOOL_TABLE):
+                raise ConfigError(
+                    f"{pyproject}: [tool.{name}] is not read: the table is [tool.{TOOL_TABLE}]"
+                )
+    return TOOL_TABLE in tool
+
+
+def _loose(name: str) -> str:
+    return re.sub(r"[-_.\s]", "", str(name)).lower()
 
 
 def load_settings(

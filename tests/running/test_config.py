@@ -386,3 +386,22 @@ def test_a_deeply_nested_config_is_one_line(project) -> None:
     assert (
         line == f"usdrender-lint: error: {path}: invalid TOML: arrays or tables nested too deeply"
     )
+
+
+def test_a_byte_order_mark_is_read_past(project: Path) -> None:
+    """Windows editors save UTF-8 with a byte order mark, which TOML has no
+    statement for: the file is read as its text."""
+    (project / ".usdrender-lint.toml").write_bytes(b'\xef\xbb\xbfselect = ["SE003"]\n')
+    assert findings(check(project)) == {"SE003": "error"}
+    (project / ".usdrender-lint.toml").write_bytes(b'\xef\xbb\xbfselect = ["SE003"\n')
+    assert error_line(check(project)).endswith(
+        ".usdrender-lint.toml:2:1: invalid TOML: " + ("Unclosed array")
+    ), "a position after the mark is still the text's"
+
+
+@pytest.mark.parametrize("table", ["usdrender_lint", "UsdRender-Lint", "usdrenderlint"])
+def test_a_misspelt_table_is_an_error_not_the_defaults(project: Path, table: str) -> None:
+    _write(project, f'[tool.{table}]\nselect = ["SE003"]\n', name="pyproject.toml")
+    assert error_line(check(project)).endswith(
+        f"pyproject.toml: [tool.{table}] is not read: the table is [tool.usdrender-lint]"
+    )
