@@ -347,7 +347,9 @@ def find_config_file(start: str | Path) -> Path | None:
 def search_start(start: str | Path) -> Path:
     """The folder the search for ``start``'s configuration begins in: its own
     resolved folder (a linked file's target's)."""
-    here = Path(start).resolve()
+    # os.path.realpath, not Path.resolve: on Python < 3.13 the latter raises
+    # RuntimeError for a symbolic link loop, which the file itself reports.
+    here = Path(os.path.realpath(start))
     try:
         if here.is_file():
             here = here.parent

@@ -485,6 +485,19 @@ def test_every_hostile_input_in_one_parallel_run(tmp_path: Path) -> None:
     assert serial.stdout == result.stdout
 
 
+def test_a_symlink_loop_is_reported_where_configuration_is_searched(tmp_path: Path) -> None:
+    """Without --isolated each file's configuration is searched from its real
+    folder: a looping link is still its own one-line error, the others linted."""
+    tree = symlink_loop(tmp_path)
+    control = _text("control.usda", CONTROL)(Path(tree))
+    result = CliRunner().invoke(cli, ["check", "--no-cache", "--format", "json", tree])
+    assert "Traceback" not in result.output + result.stderr, result.stderr
+    assert result.exit_code == 2, result.stderr
+    files = _files_by_name(result)
+    assert "SE003" in {f["code"] for f in files[control]["findings"]}
+    assert files[f"{tree}/a.usda"]["error"] == f"{tree}/a.usda: a broken or looping symbolic link"
+
+
 def _prepared(folder: Path):
     for case, entry in CASES.items():
         (folder / case).mkdir()
