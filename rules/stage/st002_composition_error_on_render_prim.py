@@ -30,6 +30,11 @@ def _lfs_pointers(text: str) -> str:
     return said
 
 
+#: An anonymous layer's identifier holds its address (``anon:0x55f8ea155340:``),
+#: which differs between runs; the message keeps only the layer's tag.
+_ANONYMOUS_ADDRESS = re.compile(r"\banon:0x[0-9a-fA-F]+:")
+
+
 def _render_prim_paths(stage: Usd.Stage) -> list[Sdf.Path]:
     """Paths of every render prim, inactive, `over` and abstract ones included
     (``TraverseAll``); the schema test is cached per type name."""
@@ -115,7 +120,7 @@ class CompositionErrorOnRenderPrim(Rule):
                     continue
             at_root = site == Sdf.Path.absoluteRootPath
             scope = "every prim" if at_root else f"render data at <{site}>"
-            text = " ".join(usd_text(error).split())
+            text = _ANONYMOUS_ADDRESS.sub("anon:", " ".join(usd_text(error).split()))
             text += _lfs_pointers(text)
             yield Diagnostic(
                 message=f"{text} {scope[0].upper()}{scope[1:]} loses the "
