@@ -180,6 +180,50 @@ def test_a_crate_stating_millions_of_specs_is_a_quick_st001(tmp_path: Path, mode
     assert files["clean.usda"]["status"] == "linted"
 
 
+#: A settings layer that composes the crate ``specs.usdc`` through each kind of arc.
+ARCS_TO_CRATE = {
+    "sublayer": "#usda 1.0\n(\n    subLayers = [@./specs.usdc@]\n)\n",
+    "reference": '#usda 1.0\ndef Scope "Render" (\n    references = @./specs.usdc@\n)\n{\n}\n',
+}
+
+
+@pytest.mark.parametrize("arc", list(ARCS_TO_CRATE))
+@pytest.mark.parametrize(
+    "mode",
+    [[], ["--jobs", "1", "--timeout", "0"], ["--variants"], ["-", "--stdin-filename"]],
+    ids=["default", "in-process", "variants", "stdin"],
+)
+def test_a_layer_composing_a_crate_stating_millions_of_specs(
+    tmp_path: Path, arc: str, mode: list
+) -> None:
+    """Only the fast path checked the crates a layer's references name, and
+    none checked its sublayers' before USD composed them: a time-out after
+    120 s and 10 GB (with --variants, an ST002 of 640 MB of USD's words)."""
+    data = _crate(tmp_path)
+    data[_sections(data)["SPECS"][0] + 2] = 0xFF
+    (tmp_path / "specs.usdc").write_bytes(data)
+    shot = tmp_path / "shot.usda"
+    shot.write_text(ARCS_TO_CRATE[arc])
+    result = subprocess.run(
+        command("check", "--isolated", "--no-cache", "--format", "json", *mode, "shot.usda"),
+        input=shot.read_text(),
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+        preexec_fn=_limited,
+    )
+    assert result.returncode == 1, result.stderr
+    (entry,) = json.loads(result.stdout)["files"]
+    assert [(f["code"], f["message"]) for f in entry["findings"]] == [
+        (
+            "ST001",
+            "specs.usdc: the crate's SPECS section states 16,711,695 items in 81 bytes, "
+            "more than they can hold: the file is corrupt",
+        )
+    ]
+
+
 #: Flipped bytes after which usd-core's own message differed between runs or
 #: between --jobs 1 and --jobs 2 (LZ4 errors followed or not by a complaint
 #: about a buffer the failed decompression left unset; the paths read on

@@ -52,13 +52,13 @@ from itertools import filterfalse
 
 from pxr import Ar, Sdf, Tf, Usd
 
-from ..layers.crate import crate_spec_problem, crate_structure_problem
+from ..layers.crate import crate_spec_problem
 from ..layers.files import layer_identifier, layer_real_path
 from ..model import IGNORE_KEY
 from ..paths import display_path, usd_path
 from ..records import record
 from . import layer_words
-from .stage import corruption
+from .stage import arc_crate_problem, arcs_problem, corruption
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")
@@ -175,6 +175,10 @@ class _Opening:
         # before building any stage, which costs more than the check.
         if FLAT_STAGES_COMPOSE_FULLY and not root.GetCompositionAssetDependencies():
             raise NotProvable("every layer is in the root layer stack")
+        # Composing the root layer stack reads the sublayers: check them first.
+        problem = arcs_problem(root, usd_path(path), external=False)
+        if problem is not None:
+            raise CorruptLayer(problem)
         stage = Usd.Stage.OpenMasked(usd_path(path), Usd.StagePopulationMask(), Usd.Stage.LoadAll)
         self.stage = stage
         root_stack = stage.GetLayerStack(includeSessionLayers=True)
@@ -231,7 +235,7 @@ def _reachable_layers(
             for asset_path in dict.fromkeys(asset_paths):
                 if "`" in asset_path:
                     raise NotProvable(f"expression variables in @{asset_path}@")
-                problem = _crate_problem(anchor, asset_path)
+                problem = arc_crate_problem(anchor, asset_path)
                 if problem is not None:
                     raise CorruptLayer(problem)
                 # A layer that is missing is missing from the full stage too.
@@ -243,17 +247,6 @@ def _reachable_layers(
                     layers.append(layer)
                     queue.append(layer)
     return layers
-
-
-def _crate_problem(anchor: Sdf.Layer, asset_path: str) -> str | None:
-    """Why the crate file an arc names is corrupt, checked before USD reads
-    it (layers/crate.py), or None."""
-    try:
-        file = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
-    except Tf.ErrorException:
-        return None
-    problem = crate_structure_problem(file) if file and os.path.isfile(file) else None
-    return f"{display_path(file)}: {problem}" if problem else None
 
 
 class _Scans:

@@ -7,13 +7,14 @@ import os
 import re
 from collections.abc import Iterable
 
-from pxr import Sdf, Tf, Usd
+from pxr import Ar, Sdf, Tf, Usd
 
-from ..layers.crate import is_crate
-from ..layers.files import lfs_pointer_problem
+from ..layers.crate import crate_structure_problem, is_crate
+from ..layers.files import layer_identifier, layer_real_path, lfs_pointer_problem
 from ..model import NAMELESS_PROPERTY
 from ..paths import display_path, usd_path
 from ..records import record
+from . import layer_words
 from .plugins import register_plugins
 
 STAGE_OPEN_FAILED_CODE = "ST001"
@@ -37,11 +38,17 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
     """
     register_plugins()  # its problems are the run's, not this file's ST001
     with Tf.DiagnosticTrap() as trap:
+        # Held open for the stage: it reads the layers the check read.
+        held: list[Sdf.Layer] = []
+        root, corrupt = _checked_root(path, held)
+        trap.Clear()
+        if corrupt is not None:
+            return StageOpenResult(None, (corrupt,))
         try:
             if session_layer is None:
                 stage = Usd.Stage.Open(usd_path(path), Usd.Stage.LoadAll)
             else:
-                root = Sdf.Layer.FindOrOpen(usd_path(path))
+                root = root or Sdf.Layer.FindOrOpen(usd_path(path))  # raises USD's error
                 stage = Usd.Stage.Open(root, session_layer, Usd.Stage.LoadAll) if root else None
             errors: tuple[str, ...] = ()
         except Tf.ErrorException as exc:
@@ -60,6 +67,78 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
     if stage is None and not errors:
         errors = (f"USD could not open {path}",)
     return StageOpenResult(stage, errors)
+
+
+def _checked_root(path: str, held: list[Sdf.Layer]) -> tuple[Sdf.Layer | None, str | None]:
+    """The root layer of ``path`` (None when Sdf cannot read it: the stage's
+    open says why) and :func:`arcs_problem` of it."""
+    try:
+        root = Sdf.Layer.FindOrOpen(usd_path(path))
+        if root is None:
+            return None, None
+        return root, arcs_problem(root, usd_path(path), held=held)
+    except (Tf.ErrorException, UnicodeDecodeError):
+        return None, None  # the stage's open reports what it cannot read
+
+
+def arcs_problem(
+    root: Sdf.Layer,
+    asset: str | bytes,
+    *,
+    external: bool = True,
+    held: list[Sdf.Layer] | None = None,
+) -> str | None:
+    """Why a layer ``root`` reaches through sublayers (and, ``external``,
+    references and payloads, variants' included) must not be read by USD: a
+    crate whose structure claims more than its file holds (minutes and GBs in
+    USD's reader, layers/crate.py), checked before Sdf opens it; or None.
+    Every path that composes a stage checks so, and answers alike (ST001).
+    ``asset``: the root's path as USD takes it (usd_path), for the resolver
+    context the stage will have; ``held`` gets the layers read, so that the
+    caller's stage does not read them again."""
+    context = Ar.GetResolver().CreateDefaultContextForAsset(asset)
+    seen = {layer_identifier(root)}
+    held = held if held is not None else []
+    queue = [root]
+    with Ar.ResolverContextBinder(context):
+        while queue:
+            anchor = queue.pop()
+            asset_paths: Iterable[str] = anchor.subLayerPaths
+            if external and not _without_external_arcs(anchor):
+                asset_paths = (*asset_paths, *anchor.GetCompositionAssetDependencies())
+            for asset_path in dict.fromkeys(asset_paths):
+                problem = arc_crate_problem(anchor, asset_path)
+                if problem is not None:
+                    return problem
+                try:
+                    layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
+                except Tf.ErrorException:
+                    continue  # the composition reports a layer it cannot read
+                if layer is not None and layer_identifier(layer) not in seen:
+                    seen.add(layer_identifier(layer))
+                    held.append(layer)
+                    queue.append(layer)
+    return None
+
+
+def _without_external_arcs(layer: Sdf.Layer) -> bool:
+    """Whether the layer's file provably has no arc (from its bytes, without a
+    walk of its specs); never for a layer with unsaved edits (an editor's text)."""
+    file = layer_real_path(layer)
+    return bool(file) and not layer.dirty and layer_words.without_external_arcs(file)
+
+
+def arc_crate_problem(anchor: Sdf.Layer, asset_path: str) -> str | None:
+    """Why the crate file an arc of ``anchor`` names is corrupt, checked
+    before USD reads it (layers/crate.py), or None."""
+    if "`" in asset_path:  # an expression: resolved by the stage alone
+        return None
+    try:
+        file = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
+    except Tf.ErrorException:
+        return None
+    problem = crate_structure_problem(file) if file and os.path.isfile(file) else None
+    return f"{display_path(file)}: {problem}" if problem else None
 
 
 def _package_problem(path: str) -> str | None:
