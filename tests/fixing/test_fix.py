@@ -306,6 +306,28 @@ def test_a_layer_in_a_usdz_package_is_not_edited(tmp_path: Path) -> None:
     assert ".usdz" in reason
 
 
+def test_fix_to_writes_the_fixes_of_a_layer_in_a_usdz_package(tmp_path: Path) -> None:
+    """The in-memory fixes of a package's layer were not undone before the
+    overrides were worked out: nothing was written for them and the report
+    lost their findings, though the --fix-to stage still has them."""
+    source = write(tmp_path / "settings.usda", SHOT)
+    package = tmp_path / "settings.usdz"
+    from pxr import UsdUtils
+
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(source)), str(package))
+    # A member named in the package: its real path is no file of its own.
+    shot = write(
+        tmp_path / "shot.usda",
+        "#usda 1.0\n(\n    subLayers = [@./settings.usdz[settings.usda]@]\n)\n",
+    )
+    overlay = tmp_path / "fixed.usda"
+    result, document = check("--select", "SE006", "--fix-to", str(overlay), str(shot))
+    assert result.exit_code == 0, result.output
+    assert [(f["code"], f["applied"]) for f in document["fixes"]] == [("SE006", True)]
+    assert value(overlay) == "cropAperture"
+    assert codes(check("--select", "SE006", str(overlay))[1]) == []
+
+
 # -- --diff ---------------------------------------------------------------------------
 
 

@@ -10,14 +10,13 @@ edit of :mod:`.text_edits`) or put back as they were before it.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Iterable, Mapping
 
 from pxr import Sdf, Usd
 
 from ..layers.files import layer_identifier, layer_real_path
 from ..layers.writing import DiskState, write_problem
-from ..paths import display_path
+from ..paths import display_path, layer_file
 from ..records import record
 from .text_edits import CannotEdit, canonical, edit_text
 
@@ -181,7 +180,9 @@ class Sources:
         read its file, not the registry's edited copy."""
         self.stage.GetSessionLayer().Clear()  # in memory, fixes may override from there
         for layer in self.stage.GetUsedLayers():
-            if layer.dirty and not layer.anonymous and os.path.isfile(layer_real_path(layer)):
+            # A package's member (pkg.usdz[inner.usda]) is read from the package's file.
+            file = layer_file(layer_real_path(layer))
+            if layer.dirty and not layer.anonymous and file is not None and file.is_file():
                 layer.Reload(True)
 
 
