@@ -351,9 +351,14 @@ def Scope "Render"
 #: pixelAspectRatio, dataWindowNDC, aperture/focal length, clipping range.
 NON_FINITE_CODES = ("SE002", "SE003", "CA005", "CA009")
 
+EMPTY = r"^the file is empty \(0 bytes\): it holds no USD layer$"
+
 CASES: dict[str, tuple[Callable[[Path], str], Expect]] = {
     "missing-path": (lambda folder: str(folder / "missing.usda"), Expect(error="no such file")),
     "empty-file": (_text("empty.usda", ""), Expect(code="ST001", cause="not a valid usda layer")),
+    # USD said "bad arguments to mmap()" and "Failed to open layer" for these.
+    "empty-usdc": (_text("empty.usdc", ""), Expect(code="ST001", cause=EMPTY)),
+    "empty-usd": (_text("empty.usd", ""), Expect(code="ST001", cause=EMPTY)),
     "binary-named-usda": (
         _bytes("binary.usda", bytes(range(256)) * 8),
         Expect(code="ST001", cause="not a valid usda layer"),

@@ -18,6 +18,8 @@ from . import layer_words
 from .plugins import register_plugins
 
 STAGE_OPEN_FAILED_CODE = "ST001"
+#: Why a file of no bytes that is not named .usda cannot be opened.
+EMPTY_FILE = "the file is empty (0 bytes): it holds no USD layer"
 STAGE_OPEN_FAILED_NAME = "stage-open-failed"
 USD_EXTENSIONS = (".usd", ".usda", ".usdc", ".usdz")
 
@@ -64,9 +66,20 @@ def open_stage(path: str, session_layer: Sdf.Layer | None = None) -> StageOpenRe
     if stage is None:
         pointer = lfs_pointer_problem(path)
         errors = (pointer,) if pointer else errors  # USD's own words do not say it
+    if stage is None and _is_empty(path) and not path.lower().endswith(".usda"):
+        # USD names no cause for these ("bad arguments to mmap()", "Failed to
+        # open layer"); an empty .usda is not a valid text layer, as on stdin.
+        errors = (EMPTY_FILE,)
     if stage is None and not errors:
         errors = (f"USD could not open {path}",)
     return StageOpenResult(stage, errors)
+
+
+def _is_empty(path: str) -> bool:
+    try:
+        return os.path.getsize(path) == 0 and os.path.isfile(path)
+    except OSError:
+        return False
 
 
 def _checked_root(path: str, held: list[Sdf.Layer]) -> tuple[Sdf.Layer | None, str | None]:

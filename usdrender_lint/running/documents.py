@@ -33,6 +33,7 @@ from pxr import Sdf, Tf, Usd, Vt
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
 from ..engine.stage import (
+    EMPTY_FILE,
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
     error_lines,
@@ -422,7 +423,8 @@ def _refused_text(path: str, text: str) -> tuple[str, ...] | None:
         return None
     failed = f"Failed to open layer @{path}@"  # UsdStage::Open, pxr/usd/usd/stage.cpp
     if not path.lower().endswith(".usda"):
-        return (failed,)  # .usd: neither the crate nor the text format reads it
+        # .usd: neither the crate nor the text format reads it.
+        return (failed,) if text else (EMPTY_FILE,)
     why = f"<{path}> is not a valid usda layer"
     if text.startswith("\ufeff"):
         why += f": {USDA_BOM}"
