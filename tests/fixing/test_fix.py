@@ -19,6 +19,7 @@ from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
 from usdrender_lint.api.resolve import composed_value
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
+from usdrender_lint.fixing.diff import patch
 from usdrender_lint.layers import writing
 from usdrender_lint.layers.usda_text import comment_lines
 from usdrender_lint.registry import build_registry
@@ -329,6 +330,49 @@ def test_fix_to_writes_the_fixes_of_a_layer_in_a_usdz_package(tmp_path: Path) ->
 
 
 # -- --diff ---------------------------------------------------------------------------
+
+
+#: A sublayer two shots share: each shot's camera decides whether CA006 fixes it.
+SHARED_SETTINGS = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        rel camera = </Cam>
+        uniform int2 resolution = (1920, 1080)
+        uniform token[] includedPurposes = ["render"]
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("jobs", [["-j", "1", "--timeout", "0"], ["-j", "2"]])
+def test_diff_of_stages_fixing_a_shared_layer_differently_is_one_patch(
+    tmp_path: Path, monkeypatch, jobs: list[str]
+) -> None:
+    """Each stage's patch of the layer was printed, each from its file as read:
+    the second did not apply after the first (patch, git apply)."""
+    write(tmp_path / "settings.usda", SHARED_SETTINGS)
+    shots = []
+    for name, height in (("a", "20.25"), ("b", "24")):  # 16:9 (no CA006), 3:2
+        shots.append(
+            write(
+                tmp_path / f"{name}.usda",
+                "#usda 1.0\n(\n    subLayers = [@./settings.usda@]\n"
+                '    renderSettingsPrimPath = "/Render/Settings"\n)\n'
+                f'def Camera "Cam"\n{{\n    float horizontalAperture = 36\n'
+                f"    float verticalAperture = {height}\n}}\n",
+            )
+        )
+    monkeypatch.chdir(tmp_path)
+    args = ["check", "--isolated", *jobs, "--select", "CA006,SE010"]
+    diff = CliRunner().invoke(cli, [*args, "--diff", *map(str, shots)])
+    assert diff.exit_code == 1, diff.output
+    fixed = CliRunner().invoke(cli, [*args, "--fix", *map(str, shots)])
+    assert fixed.exit_code == 0, fixed.output
+    after = (tmp_path / "settings.usda").read_text(encoding="utf-8")
+    assert "expandAperture" in after and '["default", "render"]' in after
+    assert diff.stdout == patch("settings.usda", SHARED_SETTINGS, after)
 
 
 def test_diff_prints_the_change_and_writes_nothing(tmp_path: Path, monkeypatch) -> None:

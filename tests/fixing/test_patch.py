@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
-from usdrender_lint.fixing.diff import NO_NEWLINE, patch, patch_name
+from usdrender_lint.fixing.diff import NO_NEWLINE, merged, patch, patch_name
 
 SHOT = """#usda 1.0
 
@@ -179,3 +179,10 @@ def test_two_stages_sharing_a_layer_show_its_fix_once(
         subprocess.run(["patch", "-p0", "-s", "-i", "fixes.patch"], cwd=tmp_path, check=True)
         fixed = (tmp_path / "seq" / "lighting.usda").read_text(encoding="utf-8")
         assert fixed == SHOT.replace('"cropaperture"', '"cropAperture"') + "\n"
+
+
+def test_merged_holds_every_stage_s_edit_once_or_says_it_cannot() -> None:
+    base = "a\nb\nc\n"
+    assert merged(base, ["a\nB\nc\n", "a\nB\nc\nd\n", "z\na\nb\nc\n"]) == "z\na\nB\nc\nd\n"
+    assert merged(base, ["a\nb\nc\n"]) == base
+    assert merged(base, ["a\nX\nc\n", "a\nY\nc\n"]) is None  # the same line, two ways

@@ -52,6 +52,49 @@ def patch(path: str, old: str, new: str, cwd: str | None = None, given: str | No
     return "".join(out)
 
 
+def merged(original: str, versions: list[str]) -> str | None:
+    """One text holding the edits each of ``versions`` made to ``original``
+    (an edit several made, once): what --fix leaves when the stages that share
+    a layer fix it one after another. None when two versions change the same
+    line differently, which no single patch can say."""
+    base = original.splitlines(keepends=True)
+    changed: dict[int, str | None] = {}  # a line of base: its new text, None deleted
+    added: dict[int, list[str]] = {}  # lines added before a line of base (or at the end)
+    for version in dict.fromkeys(versions):
+        lines = version.splitlines(keepends=True)
+        matcher = difflib.SequenceMatcher(None, base, lines, autojunk=False)
+        for tag, i1, i2, j1, j2 in matcher.get_opcodes():
+            if tag == "equal":
+                continue
+            # Line for line, then what is left over: lines added or deleted.
+            pairs = min(i2 - i1, j2 - j1)
+            news: list[str | None] = [*lines[j1 : j1 + pairs], *[None] * (i2 - i1 - pairs)]
+            for index, new in enumerate(news, i1):
+                if changed.setdefault(index, new) != new:
+                    return None
+            extra = lines[j1 + pairs : j2]
+            if extra:
+                have = added.setdefault(i2, [])
+                added[i2] = _union(have, extra)
+    out: list[str] = []
+    for index, line in enumerate(base):
+        out += added.get(index, [])
+        new = changed.get(index, line)
+        if new is not None:
+            out.append(new)
+    return "".join(out + added.get(len(base), []))
+
+
+def _union(have: list[str], extra: list[str]) -> list[str]:
+    """Lines two versions add at one place: the longer when one starts with the
+    other, else both."""
+    if have[: len(extra)] == extra:
+        return have
+    if extra[: len(have)] == have:
+        return extra
+    return have + extra
+
+
 #: The C escapes git writes in a quoted file name (and git apply and GNU patch read).
 _C_ESCAPES = {7: "\\a", 8: "\\b", 9: "\\t", 10: "\\n", 11: "\\v", 12: "\\f", 13: "\\r"}
 

@@ -34,7 +34,7 @@ from ..layers.writing import ChangedOnDisk, save_layer, save_text
 from ..model import AppliedFix, FileResult, Finding
 from ..paths import display_path
 from ..records import record
-from .diff import patch
+from .diff import merged, patch
 from .sources import Sources
 
 #: Fixes tried on one stage at most, per fix the first lint offers (a chain of
@@ -74,6 +74,9 @@ class FixRun:
     outcomes: list[AppliedFix] = field(default_factory=list)
     #: One unified diff per changed text layer (--diff).
     diffs: list[str] = field(default_factory=list)
+    #: Each stage's edit of a text layer for --diff: (file, text as read, text
+    #: as fixed, the file's name on the command line); :meth:`once_per_layer`.
+    edits: list[tuple[str, str, str, str]] = field(default_factory=list)
     #: Lines for the user beside the report (e.g. a .usdc --diff cannot show).
     notes: list[str] = field(default_factory=list)
     #: Layers that could not be written (the run exits 2), one line each.
@@ -92,6 +95,7 @@ class FixRun:
     def extend(self, other: FixRun) -> None:
         self.outcomes.extend(other.outcomes)
         self.diffs.extend(other.diffs)
+        self.edits.extend(other.edits)
         self.notes.extend(other.notes)
         self.errors.extend(other.errors)
         self.remaining.extend(other.remaining)
@@ -100,8 +104,21 @@ class FixRun:
         """--diff of several stages: stages sharing a layer each start from its
         file (nothing is written between them), so each shows the same fix of
         it, where --fix writes it after the first and the next finds nothing
-        left to fix. One patch and one fix per edit, as --fix applies them."""
-        self.diffs[:] = list(dict.fromkeys(self.diffs))
+        left to fix. One patch per layer and one fix per edit, as --fix applies
+        them: the patch of a layer the stages edit differently holds all their
+        edits (two patches of one file would not apply one after the other)."""
+        by_file: dict[str, list[tuple[str, str, str, str]]] = {}
+        for edit in self.edits:
+            by_file.setdefault(edit[0], []).append(edit)
+        diffs = []
+        for file, edits in by_file.items():
+            original, given = edits[0][1], edits[0][3]
+            text = merged(original, [fixed for _, _, fixed, _ in edits])
+            if text is None:  # edits of the same lines: each stage's patch
+                diffs += [patch(file, old, new, given=name) for _, old, new, name in edits]
+            else:
+                diffs.append(patch(file, original, text, given=given))
+        self.diffs[:] = list(dict.fromkeys(diffs if self.edits else self.diffs))
         seen: set[tuple] = set()
         kept = []
         for outcome in self.outcomes:
@@ -451,9 +468,11 @@ class StageFixer:
                 f"--fix would rewrite it with {len(fixes)} fix(es) ({listed})"
             )
             return
-        text = patch(source.disk.path, source.original_text or "", source.text, given=self.path)
+        original = source.original_text or ""
+        text = patch(source.disk.path, original, source.text, given=self.path)
         if text:
             self.result.diffs.append(text)
+            self.result.edits.append((source.disk.path, original, source.text, self.path))
 
     def _unapply(self, layer: Sdf.Layer, reason: str) -> None:
         """Mark the applied fixes of ``layer`` as not applied, with ``reason``."""
