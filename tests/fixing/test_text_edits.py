@@ -272,3 +272,36 @@ def test_a_change_the_text_does_not_have_is_refused() -> None:
 
 def test_nothing_to_change_returns_the_text_itself() -> None:
     assert edit_text(SHOT, "x", "x") is SHOT
+
+
+@pytest.mark.parametrize(
+    ("header", "expected"),
+    [
+        # The bracket closes on the statement's line: the new one goes between them.
+        (
+            '( defaultPrim = "Render" )',
+            '( defaultPrim = "Render"\n    renderSettingsPrimPath = "/Render/S" )',
+        ),
+        (
+            '( defaultPrim = "Render"; upAxis = "Y" )',
+            '( defaultPrim = "Render"; upAxis = "Y"\n    renderSettingsPrimPath = "/Render/S" )',
+        ),
+        # A comment after the statement stays on its line, the new one after it.
+        (
+            '(\n    defaultPrim = "Render"  # main\n)',
+            '(\n    defaultPrim = "Render"  # main\n    renderSettingsPrimPath = "/Render/S"\n)',
+        ),
+    ],
+)
+def test_a_statement_added_beside_one_on_a_line_with_its_bracket(
+    header: str, expected: str
+) -> None:
+    """ST003's fix of a header written on one line (the edited text did not
+    read back: the statement went after the closing bracket)."""
+    body = 'def Scope "Render"\n{\n    def RenderSettings "S"\n    {\n    }\n}\n'
+    text = f"#usda 1.0\n{header}\n\n{body}"
+
+    def fix(stage):
+        stage.SetMetadata("renderSettingsPrimPath", "/Render/S")
+
+    assert fixed(text, fix) == text.replace(header, expected)

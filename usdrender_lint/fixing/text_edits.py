@@ -519,6 +519,11 @@ class _Placer:
     def after_line(self, statement: Statement) -> tuple[int, str, str]:
         text, newline = self.editor.t, self.editor.newline
         stop = text.find("\n", statement.end)
+        rest = text[statement.end : len(text) if stop < 0 else stop].strip()
+        if rest and not rest.startswith(_COMMENT_STARTS):
+            # The block's bracket or another statement follows on its line
+            # (``( defaultPrim = "Render" )``): a line of its own right after it.
+            return statement.end, newline, ""
         if stop < 0:
             return len(text), newline, ""
         return stop + 1, "", newline
@@ -587,6 +592,9 @@ class _Placer:
 
 
 # -- helpers ---------------------------------------------------------------------------
+
+#: How a comment begins in a .usda (Sdf's text format: #, // and /* */).
+_COMMENT_STARTS = ("#", "//", "/*")
 
 
 def _past_spaces(text: str, pos: int) -> int:
