@@ -157,10 +157,10 @@ def test_the_cli_reference_shows_each_help_text_as_click_prints_it(
     generated: dict[str, str],
 ) -> None:
     # Rendered as the site renders it: Markdown took "__pypackages__" for bold.
-    markdown = pytest.importorskip("markdown")
     import html
 
     import click
+    import markdown
 
     from usdrender_lint.cli import cli
 
@@ -177,8 +177,9 @@ def test_the_cli_reference_shows_each_help_text_as_click_prints_it(
 
 def test_a_profile_page_shows_its_description_as_written(generated: dict[str, str]) -> None:
     # moonray's "(moonray:sceneVariable:*) ... (parameters:moonray:*)" lost both stars.
-    markdown = pytest.importorskip("markdown")
     import html
+
+    import markdown
 
     for profile in PROFILES.values():
         for page in (hooks.profile_page(profile.name), hooks.PROFILES_INDEX):
