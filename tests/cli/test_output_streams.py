@@ -266,3 +266,23 @@ def test_a_link_to_dev_stdout_names_stdout(tmp_path: Path) -> None:
     link = tmp_path / "report.json"
     link.symlink_to("/dev/stdout")
     assert atomic.named_descriptor(link) == 1
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("check", "--isolated", "--format", "json", BROKEN),
+        ("spec", "--isolated", "--format", "json", BROKEN),
+    ],
+)
+def test_output_dash_is_stdout_not_a_file_named_dash(tmp_path: Path, args: tuple) -> None:
+    """``-`` names standard input among the paths; as ``--output`` it is stdout."""
+    plain = subprocess.run(command(*args), capture_output=True, cwd=tmp_path, timeout=120)
+    dashed = subprocess.run(
+        command(*args[:1], "--output", "-", *args[1:]),
+        capture_output=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    assert (dashed.returncode, dashed.stdout) == (plain.returncode, plain.stdout)
+    assert json.loads(dashed.stdout) and not (tmp_path / "-").exists()

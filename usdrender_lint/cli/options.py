@@ -119,12 +119,21 @@ show_info_option = click.option(
     "--show-info", is_flag=True, help="Show info findings in the text report."
 )
 isolated_option = click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
+
+
+def dash_is_stdout(ctx: click.Context, param: click.Parameter, value: str | None) -> str | None:
+    """``--output -``: standard output, as ``-`` is for the paths (not a file named -)."""
+    return None if value == "-" else value
+
+
 report_output_option = click.option(
     "--output",
     "output_file",
     type=click.Path(dir_okay=False),
-    help="Write the report to this file instead of stdout: a file is replaced atomically, "
-    "keeping its owner and mode; /dev/stdout, a pipe, a FIFO or a terminal is streamed into.",
+    callback=dash_is_stdout,
+    help="Write the report to this file instead of stdout ('-': stdout): a file is replaced "
+    "atomically, keeping its owner and mode; /dev/stdout, a pipe, a FIFO or a terminal is "
+    "streamed into.",
 )
 statistics_option = click.option(
     "--statistics", is_flag=True, help="Add counts per rule code after the report."

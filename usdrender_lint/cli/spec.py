@@ -10,7 +10,13 @@ import click
 from .. import __version__
 from ..paths import printable
 from .loading import import_engine, supervision
-from .options import config_option, isolated_option, setting_options, setting_values
+from .options import (
+    config_option,
+    dash_is_stdout,
+    isolated_option,
+    setting_options,
+    setting_values,
+)
 from .output import ToolError, error, note, write, write_file
 from .views import emit, format_option, view
 
@@ -63,7 +69,9 @@ def _time_option(
 @format_option("spec", "svg")
 @click.option(
     "--output",
-    help="Write to this file (text, json; atomically) or folder (svg: one file per product).",
+    callback=dash_is_stdout,
+    help="Write to this file (text, json; atomically; '-': stdout) or folder (svg: one file "
+    "per product).",
 )
 @config_option("Read settings (rule selection for the findings) from this file.")
 @isolated_option
