@@ -117,7 +117,7 @@ def arcs_problem(
         while queue:
             anchor = queue.pop()
             asset_paths: Iterable[str] = anchor.subLayerPaths
-            if external and not _without_external_arcs(anchor):
+            if external and not _without_external_arcs(anchor) and _safe_to_walk(anchor):
                 asset_paths = (*asset_paths, *anchor.GetCompositionAssetDependencies())
             for asset_path in dict.fromkeys(asset_paths):
                 problem = arc_crate_problem(anchor, asset_path)
@@ -132,6 +132,14 @@ def arcs_problem(
                     held.append(layer)
                     queue.append(layer)
     return None
+
+
+def _safe_to_walk(layer: Sdf.Layer) -> bool:
+    """Whether Sdf's walk of the layer's specs cannot abort the process (a
+    variant named "": engine/partial.py); composing such a layer is safe."""
+    from .partial import unsafe_to_walk  # partial builds on this module
+
+    return unsafe_to_walk(layer) is None
 
 
 def _without_external_arcs(layer: Sdf.Layer) -> bool:
