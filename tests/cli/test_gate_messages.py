@@ -132,3 +132,38 @@ def test_relative_in_rewrites_only_paths_below_the_directory() -> None:
         "@shot.usda@ and <a.usda> but not /x/ci/work/b or /ci/workshop/c"
     )
     assert relative_in(text, "/") == text
+
+
+@pytest.mark.parametrize(
+    ("config", "refused"),
+    [
+        ('[per-path-ignores]\n"*_wip.usda" = ["ST001"]\n', "per-path-ignores.*_wip.usda: 'ST001'"),
+        (
+            '[per-path-ignores]\n"*_wip.usda" = ["stage-open-failed"]\n',
+            "per-path-ignores.*_wip.usda: 'stage-open-failed'",
+        ),
+        ('[severity]\nST001 = "info"\n', "severity.ST001: ST001 is always an error"),
+        ('[severity]\nstage-open-failed = "warning"\n', "severity.stage-open-failed: ST001"),
+    ],
+)
+def test_silencing_st001_per_path_or_by_severity_is_refused(
+    tmp_path: Path, config: str, refused: str
+) -> None:
+    """As ``--ignore ST001``: a file that fails to open passed the gate with exit 0."""
+    (tmp_path / ".usdrender-lint.toml").write_text(config)
+    result = CliRunner().invoke(
+        cli, ["check", "--config", str(tmp_path / ".usdrender-lint.toml"), str(WIP)]
+    )
+    assert result.exit_code == 2
+    assert refused in result.stderr and result.stderr.count("\n") == 1
+
+
+def test_a_wider_per_path_ignore_keeps_st001(tmp_path: Path) -> None:
+    (tmp_path / ".usdrender-lint.toml").write_text('[per-path-ignores]\n"*.usda" = ["ALL"]\n')
+    result = CliRunner().invoke(
+        cli,
+        ["check", "--config", str(tmp_path / ".usdrender-lint.toml"), "--format", "json", str(WIP)],
+    )
+    assert result.exit_code == 1
+    codes = {f["code"] for file in json.loads(result.stdout)["files"] for f in file["findings"]}
+    assert codes == {"ST001"}

@@ -15,6 +15,10 @@ from ..api import Rule
 from ..model import Finding, Report
 from ..registry import matches_any
 
+#: The codes the engine reports whatever the selection or the path: a file it
+#: could not check must never pass a gate (ST001 stage-open-failed).
+UNIGNORABLE = ("ST001",)
+
 
 def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
     """Glob match of a file against a pattern relative to ``base_dir``.
@@ -57,7 +61,8 @@ def apply_path_ignores(
 ) -> Report:
     """Drop the findings per-path-ignores silence (codes, prefixes or names of
     ``rules``). A pattern matches the linted file or the layer that holds the
-    finding's opinion. Internal errors (no rule) are never ignored."""
+    finding's opinion. Internal errors (no rule) and UNIGNORABLE codes are never
+    ignored."""
     if not per_path_ignores:
         return report
     base_dir = Path(os.path.abspath(base_dir))
@@ -67,10 +72,14 @@ def apply_path_ignores(
         loc = finding.location
         places = [p for p in (loc.file, loc.layer) if p]
         rule = by_code.get(finding.code)
-        return rule is not None and any(
-            matches_any(rule, selectors)
-            for pattern, selectors in per_path_ignores.items()
-            if any(matches_path(pattern, place, base_dir) for place in places)
+        return (
+            rule is not None
+            and rule.code not in UNIGNORABLE
+            and any(
+                matches_any(rule, selectors)
+                for pattern, selectors in per_path_ignores.items()
+                if any(matches_path(pattern, place, base_dir) for place in places)
+            )
         )
 
     files = tuple(

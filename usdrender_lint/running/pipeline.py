@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 from collections import Counter
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
@@ -35,7 +35,7 @@ from ..registry import Registry, SelectionError, build_registry, matches_any, se
 from ..settings_table import DEFAULT_TIMEOUT, request_settings
 from .discovery import Exclusions, FolderExclusions, collect_files, force_excluded, walk_skips
 from .hierarchy import configuration_groups, given_files
-from .path_ignores import apply_path_ignores
+from .path_ignores import UNIGNORABLE, apply_path_ignores
 from .supervisor import Supervision
 from .workers import (
     ExecutionError,
@@ -260,18 +260,24 @@ def check_working_directory() -> None:
         )
 
 
-#: The codes the engine reports whatever the selection: a file it could not
-#: check must never pass a gate (ST001 stage-open-failed).
-UNIGNORABLE = ("ST001",)
-
-
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
     for key in ("select", "ignore", "extend_select", "unfixable"):
         check_selectors(registry, getattr(settings, key) or (), settings.where(key))
     unignorable_notes(registry, settings)
     for glob, selectors in settings.per_path_ignores.items():
-        check_selectors(registry, selectors, f"{settings.where('per_path_ignores')}.{glob}")
+        where = f"{settings.where('per_path_ignores')}.{glob}"
+        check_selectors(registry, selectors, where)
+        for rule, token in _unignorable_named(registry, selectors):
+            # A wider selector (ALL, ST) ignores the others: path_ignores keeps it.
+            raise ConfigError(f"{where}: {token!r} cannot be ignored: {_always_reported(rule)}")
+    for key, severity in settings.severity.items():
+        lowered = registry.find(key)
+        if lowered is not None and lowered.code in UNIGNORABLE and severity is not Severity.ERROR:
+            raise ConfigError(
+                f"{_origin(settings, 'severity')}: severity.{key}: {lowered.code} is always an "
+                f"error: {_always_reported(lowered)}"
+            )
     try:
         chosen = select_rules(
             registry.rules, settings.select, settings.ignore, settings.extend_select
@@ -286,22 +292,37 @@ def unignorable_notes(registry: Registry, settings: Settings) -> list[str]:
     """Raise a ConfigError for an ``ignore`` that names an unignorable rule
     itself (``--ignore ST001``); one note for each wider selector that covers
     one (``--ignore ALL``, ``--ignore ST``), which ignores the others."""
-    notes = []
-    for rule in [r for r in registry.rules if r.code in UNIGNORABLE]:
-        for token in settings.ignore:
-            if not matches_any(rule, [token]):
-                continue
-            why = (
-                f"{rule.code} ({rule.name}) is always reported: a file USD cannot open is "
-                "not linted, and a gate must not pass it"
-            )
-            if token.strip().upper() == rule.code or token.strip().lower() == rule.name:
-                raise ConfigError(
-                    f"{settings.where('ignore')}: {token!r} cannot be ignored: {why}; fix the "
-                    "file, or leave it out of the paths linted"
-                )
-            notes.append(f"note: ignore {token!r}: {why}; the other rules it names are ignored")
-    return notes
+    for rule, token in _unignorable_named(registry, settings.ignore):
+        raise ConfigError(
+            f"{settings.where('ignore')}: {token!r} cannot be ignored: {_always_reported(rule)}"
+        )
+    return [
+        f"note: ignore {token!r}: {_always_reported(rule, fix=False)}; the other rules it "
+        "names are ignored"
+        for rule in registry.rules
+        if rule.code in UNIGNORABLE
+        for token in settings.ignore
+        if matches_any(rule, [token])
+    ]
+
+
+def _unignorable_named(
+    registry: Registry, selectors: Iterable[str]
+) -> Iterator[tuple[type[Rule], str]]:
+    """Each unignorable rule a selector names itself (its code or its name)."""
+    for rule in registry.rules:
+        if rule.code in UNIGNORABLE:
+            for token in selectors:
+                if token.strip().upper() == rule.code or token.strip().lower() == rule.name:
+                    yield rule, token
+
+
+def _always_reported(rule: type[Rule], fix: bool = True) -> str:
+    why = (
+        f"{rule.code} ({rule.name}) is always reported: a file USD cannot open is not "
+        "linted, and a gate must not pass it"
+    )
+    return why + ("; fix the file, or leave it out of the paths linted" if fix else "")
 
 
 def check_selectors(registry: Registry, selectors: Iterable[str], where: str) -> None:
