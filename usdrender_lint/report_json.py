@@ -226,6 +226,8 @@ def report_from_dict(document: Any) -> Report:
             "JSON report, or one from an incompatible version"
         )
     files = _field(document, "files", list, "report")
+    if any(isinstance(f, Mapping) and f.get("status") == "computed" for f in files):
+        raise ReportFormatError("a document of 'usdrender-lint spec', not a check report")
     fixes = [_fix_from_dict(f, f"fixes[{i}]") for i, f in enumerate(document.get("fixes") or ())]
     return Report(
         tuple(result_from_dict(f, f"files[{i}]") for i, f in enumerate(files)),

@@ -322,8 +322,12 @@ def test_the_combined_exit_status(project: Path, tmp_path: Path) -> None:
         ('{"schema_version": 2, "files": []}', "schema_version 2"),
         ('{"schema_version": 1, "files": [{"file": "a"}]}', "'status'"),
         ("[]", "not a JSON object"),
+        (
+            '{"schema_version": 1, "files": [{"file": "a", "status": "computed"}]}',
+            "a document of 'usdrender-lint spec', not a check report",
+        ),
     ],
-    ids=["missing", "not-json", "future-schema", "bad-entry", "not-an-object"],
+    ids=["missing", "not-json", "future-schema", "bad-entry", "not-an-object", "spec"],
 )
 def test_a_report_merge_cannot_read_is_one_line_and_exit_2(
     project: Path, content: str | None, message: str
