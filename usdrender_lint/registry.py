@@ -56,6 +56,9 @@ def build_registry(
         entry_points = entrypoints.entry_points(ENTRY_POINT_GROUP)
     rules: list[type[Rule]] = []
     origins: dict[str, str] = {}
+    #: Each code's plugin as the errors name it: two plugins may share an entry point name.
+    providers: dict[str, str] = {}
+    #: Every rule name -> the code it names.
     names: dict[str, str] = {}
     for ep in sorted(entry_points, key=lambda e: (e.name != "builtin", e.name)):
         try:
@@ -82,17 +85,21 @@ def build_registry(
                     f"rule plugin {ep.name!r} provides {cls.__qualname__}, an abstract base "
                     "class (abstract = True), not a rule"
                 )
+            provider = f"plugin {ep.name!r} ({ep.value})"
             if cls.code in origins:
                 raise RegistryError(
-                    f"duplicate rule code {cls.code}: provided by plugin {origins[cls.code]!r} "
-                    f"and by plugin {ep.name!r}"
+                    f"duplicate rule code {cls.code}: provided by {providers[cls.code]} "
+                    f"and by {provider}"
                 )
             if cls.name in names:
+                other = names[cls.name]
                 raise RegistryError(
-                    f"duplicate rule name {cls.name!r}: {names[cls.name]} and {cls.code}"
+                    f"duplicate rule name {cls.name!r}: {other} of {providers[other]} and "
+                    f"{cls.code} of {provider}"
                 )
-            origins[cls.code] = ep.name
             names[cls.name] = cls.code
+            origins[cls.code] = ep.name
+            providers[cls.code] = provider
             rules.append(cls)
     if not rules:
         raise RegistryError(

@@ -61,12 +61,15 @@ def Scope "Render"
 """
 
 
-def install_plugin(root: Path, dist: str, module: str, source: str, value: str) -> None:
+def install_plugin(
+    root: Path, dist: str, module: str, source: str, value: str, entry: str | None = None
+) -> None:
+    """``entry``: the entry point's name (default: the distribution's)."""
     (root / f"{module}.py").write_text(textwrap.dedent(source))
     info = root / f"{dist}-0.1.dist-info"
     info.mkdir()
     (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {dist}\nVersion: 0.1\n")
-    (info / "entry_points.txt").write_text(f"[usdrender_lint.rules]\n{dist} = {value}\n")
+    (info / "entry_points.txt").write_text(f"[usdrender_lint.rules]\n{entry or dist} = {value}\n")
 
 
 @pytest.fixture
@@ -122,6 +125,21 @@ def test_duplicate_code_stops_the_run(tmp_path: Path, layer: Path, monkeypatch) 
     result = CliRunner().invoke(cli, ["check", "--isolated", str(layer)])
     assert result.exit_code == 2
     assert "duplicate rule code CA004" in result.stderr
+
+
+def test_duplicate_code_names_each_plugin_by_its_entry_point(tmp_path: Path, monkeypatch) -> None:
+    # Two packages may name their entry point alike ("acme"): the error tells them apart.
+    site = tmp_path / "site"
+    site.mkdir()
+    install_plugin(site, "acme_a", "acme_a_rules", ACME_RULES, "acme_a_rules:RULES", "acme")
+    other = ACME_RULES.replace("product-name-frame-token", "acme-other-name")
+    install_plugin(site, "acme_b", "acme_b_rules", other, "acme_b_rules:RULES", "acme")
+    monkeypatch.syspath_prepend(str(site))
+    with pytest.raises(RegistryError) as raised:
+        build_registry()
+    message = str(raised.value)
+    assert message.startswith("duplicate rule code ACME001")
+    assert "acme_a_rules:RULES" in message and "acme_b_rules:RULES" in message
 
 
 def test_plugin_providing_a_non_rule_is_rejected(tmp_path: Path, monkeypatch) -> None:
