@@ -58,7 +58,7 @@ def build_registry(
     origins: dict[str, str] = {}
     #: Each code's plugin as the errors name it: two plugins may share an entry point name.
     providers: dict[str, str] = {}
-    #: Every rule name -> the code it names.
+    #: Every name and alias (selectors and suppressions read both) -> the code it names.
     names: dict[str, str] = {}
     for ep in sorted(entry_points, key=lambda e: (e.name != "builtin", e.name)):
         try:
@@ -91,13 +91,14 @@ def build_registry(
                     f"duplicate rule code {cls.code}: provided by {providers[cls.code]} "
                     f"and by {provider}"
                 )
-            if cls.name in names:
-                other = names[cls.name]
-                raise RegistryError(
-                    f"duplicate rule name {cls.name!r}: {other} of {providers[other]} and "
-                    f"{cls.code} of {provider}"
-                )
-            names[cls.name] = cls.code
+            for word in dict.fromkeys((cls.name, *_aliases(cls))):
+                if word in names:
+                    other = names[word]
+                    raise RegistryError(
+                        f"duplicate rule name {word!r}: {other} of {providers[other]} and "
+                        f"{cls.code} of {provider} (names and aliases must be unique)"
+                    )
+                names[word] = cls.code
             origins[cls.code] = ep.name
             providers[cls.code] = provider
             rules.append(cls)

@@ -142,6 +142,26 @@ def test_duplicate_code_names_each_plugin_by_its_entry_point(tmp_path: Path, mon
     assert "acme_a_rules:RULES" in message and "acme_b_rules:RULES" in message
 
 
+def test_alias_that_is_another_rules_name_stops_the_run(
+    tmp_path: Path, layer: Path, monkeypatch
+) -> None:
+    # An alias is a name to selectors, suppressions and explain: a clash would make
+    # `explain product-missing-render-vars` show the plugin's rule.
+    site = tmp_path / "site"
+    site.mkdir()
+    aliased = ACME_RULES.replace(
+        '    prim_types = (UsdRender.Product,)',
+        '    prim_types = (UsdRender.Product,)\n    aliases = ("product-missing-render-vars",)',
+    )
+    install_plugin(site, "alias", "alias_rules", aliased, "alias_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    with pytest.raises(RegistryError, match="duplicate rule name 'product-missing-render-vars'"):
+        build_registry()
+    result = CliRunner().invoke(cli, ["explain", "product-missing-render-vars"])
+    assert result.exit_code == 2
+    assert "PR004" in result.stderr and "ACME001" in result.stderr
+
+
 def test_plugin_providing_a_non_rule_is_rejected(tmp_path: Path, monkeypatch) -> None:
     site = tmp_path / "site"
     site.mkdir()
