@@ -150,7 +150,7 @@ def test_alias_that_is_another_rules_name_stops_the_run(
     site = tmp_path / "site"
     site.mkdir()
     aliased = ACME_RULES.replace(
-        '    prim_types = (UsdRender.Product,)',
+        "    prim_types = (UsdRender.Product,)",
         '    prim_types = (UsdRender.Product,)\n    aliases = ("product-missing-render-vars",)',
     )
     install_plugin(site, "alias", "alias_rules", aliased, "alias_rules:RULES")
@@ -180,3 +180,26 @@ def test_rule_metadata_is_checked_at_class_creation() -> None:
             code = "ACME002"
             name = "Bad_Name"
             severity = Severity.ERROR
+
+
+PRINTING_RULES = ACME_RULES.replace(
+    "    def check_prim(self, prim, ctx):\n",
+    "    def check_prim(self, prim, ctx):\n        print('debugging {not json')\n",
+)
+
+
+@pytest.mark.parametrize("fmt", ["json", "sarif"])
+def test_a_rule_that_prints_leaves_the_report_alone(
+    tmp_path: Path, layer: Path, monkeypatch, fmt: str
+) -> None:
+    # One file with --jobs 1 is linted in this process (as a lone file is in the
+    # supervised child): the rule's print must not land in the report on stdout.
+    site = tmp_path / "site"
+    site.mkdir()
+    install_plugin(site, "noisy", "noisy_rules", PRINTING_RULES, "noisy_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    args = ["check", "--isolated", "--no-cache", "--jobs", "1", "--timeout", "0"]
+    result = CliRunner().invoke(cli, [*args, "--format", fmt, str(layer)])
+    report = json.loads(result.stdout)
+    assert "ACME001" in json.dumps(report)
+    assert "debugging {not json" in result.stderr

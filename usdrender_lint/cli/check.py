@@ -25,7 +25,7 @@ from .options import (
     show_info_option,
     statistics_option,
 )
-from .output import ToolError, error, note, write
+from .output import ToolError, error, note, stdout_to_stderr, write
 from .views import send
 
 if TYPE_CHECKING:
@@ -184,7 +184,8 @@ def _check_once(
     from ..running.pipeline import RequestError, run
 
     try:
-        outcome = run(request)
+        with stdout_to_stderr():
+            outcome = run(request)
     except RequestError as exc:
         raise ToolError(str(exc)) from None
     options = FormatOptions(

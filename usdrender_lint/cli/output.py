@@ -5,7 +5,8 @@ file written as a shell's ``>`` would, and one-line errors on stderr."""
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
 import click
@@ -102,6 +103,27 @@ class Stdout:
             raise StdoutGone from None
         except OSError as exc:
             raise ToolError(f"cannot write the report: {exc.strerror or exc}") from None
+
+
+@contextmanager
+def stdout_to_stderr() -> Iterator[None]:
+    """While a check runs, what a rule prints goes to stderr: stdout carries the
+    report alone (``--format json`` must parse). Python's stream only: fd 1 stays
+    the user's, for a report or baseline the run writes to /dev/stdout. Workers
+    send their fd 1 to /dev/null (running/workers.py)."""
+    stream = sys.stdout
+    with suppress(OSError, ValueError):
+        if stream is not None:
+            stream.flush()
+    sys.stdout = sys.stderr
+    try:
+        yield
+    finally:
+        # stderr may be gone: what the rule printed is lost, the report is not.
+        with suppress(OSError, ValueError):
+            if sys.stderr is not None:
+                sys.stderr.flush()
+        sys.stdout = stream
 
 
 def write(text: str, encoding: str | None = None) -> None:
