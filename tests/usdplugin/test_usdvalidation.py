@@ -462,6 +462,65 @@ def test_a_raising_rule_never_makes_validate_raise(tmp_path: Path) -> None:
     assert "MemoryError: no more" in got["message"]
 
 
+_BOTH_HOOKS_RULES = '''
+from pxr import UsdRender
+from usdrender_lint.api import Diagnostic, Rule
+from usdrender_lint.model import Severity
+
+
+class BothHooks(Rule):
+    """Checks each RenderSettings and the stage as a whole."""
+
+    code = "ZZ903"
+    name = "both-hooks"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        yield Diagnostic(message="from check_prim", at=prim)
+
+    def check_stage(self, ctx):
+        yield Diagnostic(message="from check_stage", at=None)
+
+
+RULES = (BothHooks,)
+'''
+
+_BOTH_HOOKS = """
+import json
+from pxr import Usd, UsdValidation
+import both_rules
+import usdrender_lint.usdplugin.validators as adaptor
+from usdrender_lint.registry import build_registry
+
+adaptor._registered_rules = lambda: (build_registry().rules + both_rules.RULES, None)
+registry = UsdValidation.ValidationRegistry()
+validator = registry.GetOrLoadValidatorByName("usdRenderLint:BothHooks")
+stage = Usd.Stage.Open("tests/rules/SE003_data_window_malformed/fail_inverted.usda")
+errors = UsdValidation.ValidationContext([validator]).Validate(stage)
+print(json.dumps(sorted(e.GetMessage() for e in errors)))
+"""
+
+
+def test_a_rule_with_both_hooks_reports_its_stage_findings(tmp_path: Path) -> None:
+    # USD calls a prim validator only on prims of its schemaTypes: a rule that
+    # also has check_stage is a stage validator, or its stage findings are lost.
+    (tmp_path / "both_rules.py").write_text(_BOTH_HOOKS_RULES)
+    sys.path.insert(0, str(tmp_path))
+    try:
+        import both_rules
+
+        write_plug_info(RULES + both_rules.RULES, tmp_path / "plugin")
+    finally:
+        sys.path.remove(str(tmp_path))
+        sys.modules.pop("both_rules", None)
+    messages = _run_child(_BOTH_HOOKS, tmp_path / "plugin", extra_path=tmp_path)
+    stage = Usd.Stage.Open(str(SE003_FAIL))
+    settings = [p for p in stage.Traverse() if p.IsA(UsdRender.Settings)]
+    assert settings
+    assert messages == ["from check_prim"] * len(settings) + ["from check_stage"]
+
+
 def test_a_declared_validator_without_a_rule_reports_why(tmp_path: Path) -> None:
     # A stale plugInfo.json declares a rule that is no longer registered.
     ghost = _rule("ZZ904", "ghost-check")

@@ -54,7 +54,10 @@ def schema_type_names(rule: type[Rule]) -> list[str]:
 
 
 def is_prim_validator(rule: type[Rule]) -> bool:
-    return bool(rule.prim_types)
+    """A rule that checks prims of its ``prim_types`` and nothing else. One
+    that also has ``check_stage`` is a stage validator: USD calls a prim
+    validator only on its prims, so its stage-wide findings would be lost."""
+    return bool(rule.prim_types) and rule.check_stage is Rule.check_stage
 
 
 def validator_entry(rule: type[Rule]) -> dict[str, Any]:

@@ -85,13 +85,17 @@ class RuleValidator:
         self.lints = lints
 
     def _mine(self, stage: Usd.Stage, prim_path: Sdf.Path | None) -> list[TracedFinding]:
+        """The rule's findings from ``prim_path``'s check_prim (None: all of them)."""
         return [
             traced
             for traced in self.lints.findings(stage)
-            if traced.rule_code == self.rule.code and traced.prim_path == prim_path
+            if traced.rule_code == self.rule.code
+            and (prim_path is None or traced.prim_path == prim_path)
         ]
 
     def validate_stage(self, stage: Usd.Stage, time_range: Any = None) -> list[Any]:
+        # A stage validator reports every finding of its rule: those of check_stage
+        # and, for a rule with both hooks (is_prim_validator), those of check_prim.
         try:
             return [to_error(stage, t.finding) for t in self._mine(stage, None)]
         except Exception as exc:  # noqa: BLE001 - see the module docstring
