@@ -122,6 +122,47 @@ def test_a_raising_rule_is_isolated(shot: Path) -> None:
     assert internal.severity is Severity.ERROR
 
 
+class Malformed(Rule):
+    """Yields what it was handed in ``bad``.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST009"
+    name = "malformed"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def __init__(self, bad) -> None:
+        super().__init__()
+        self.bad = bad
+
+    def check_prim(self, prim, ctx):
+        yield self.bad(prim)
+
+
+@pytest.mark.parametrize(
+    ("bad", "said"),
+    [
+        (lambda prim: "text", "yielded str 'text', not a Diagnostic"),
+        (lambda prim: Diagnostic(message=None, at=prim), "message is NoneType, not a str"),
+        (lambda prim: Diagnostic(message="m", at="/Render"), "at is str, not a USD object"),
+        (lambda prim: Diagnostic(message="m", at=prim, fix="x"), "fix is str, not a Fix"),
+    ],
+)
+def test_a_malformed_diagnostic_is_said_to_be_the_rules(shot: Path, bad, said: str) -> None:
+    # The engine's own line ([linter.py:589]) and "'str' object has no attribute
+    # 'at'" sent the plugin's author to report a bug in usdrender-lint.
+    result = Linter([Malformed(bad), ResolutionReporter()]).lint_path(str(shot))
+    internal = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
+    assert len(internal) == 1
+    assert internal[0].message.startswith("rule TST009 (malformed) yielded ")
+    assert said in internal[0].message
+    assert "rule's author" in internal[0].message
+    assert "TST003" in [f.code for f in result.findings]
+
+
 def test_raise_errors_propagates_for_tests(shot: Path) -> None:
     with pytest.raises(ValueError):
         Linter([Exploder()], raise_errors=True).lint_path(str(shot))

@@ -52,6 +52,27 @@ _T = TypeVar("_T")
 Inspector = Callable[[Context, Sequence[Finding]], _T]
 
 
+class MalformedDiagnostic(TypeError):
+    """A hook yielded what the rule API does not allow (api/rule.py's Diagnostic):
+    the rule's own mistake, said as such, not as a fault of the engine."""
+
+
+def malformed(diagnostic: object) -> str | None:
+    """What is wrong with a hook's yield, or None for a well-formed Diagnostic."""
+    if not isinstance(diagnostic, Diagnostic):
+        return f"yielded {type(diagnostic).__name__} {diagnostic!r:.60}, not a Diagnostic"
+    fields = (
+        ("message", diagnostic.message, str, "a str"),
+        ("at", diagnostic.at, (Usd.Object, Sdf.Path, type(None)), "a USD object, Sdf.Path or None"),
+        ("fix", diagnostic.fix, (Fix, type(None)), "a Fix or None"),
+        ("layer", diagnostic.layer, (Sdf.Layer, type(None)), "an Sdf.Layer or None"),
+    )
+    for name, value, kinds, wanted in fields:
+        if not isinstance(value, kinds):
+            return f"yielded a Diagnostic whose {name} is {type(value).__name__}, not {wanted}"
+    return None
+
+
 class InspectionError(Exception):
     """Raised by an inspector that cannot read what it was asked for from this
     stage: the file becomes an error result with this one-line message."""
@@ -559,15 +580,22 @@ class Linter:
         prim_path = target.GetPath() if isinstance(target, Usd.Prim) else None
         where = f" on {prim_path}" if prim_path is not None else ""
         debug.show(exc, f"{ctx.file}: rule {rule.code} raised (UL000){where}")
-        import traceback  # only for a rule that raised (it imports textwrap)
-
-        frame = traceback.extract_tb(exc.__traceback__)[-1]
         detail = " ".join(str(exc).split())  # USD's errors span lines; findings do not
-        message = (
-            f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {detail}{where} "
-            f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
-            "this file are lost. Please report this."
-        )
+        if isinstance(exc, MalformedDiagnostic):
+            # Where the engine noticed is no help: the rule's author fixes the rule.
+            message = (
+                f"rule {rule.code} ({rule.name}) {detail}{where}; its other findings on "
+                "this file are lost. Please report this to the rule's author."
+            )
+        else:
+            import traceback  # only for a rule that raised (it imports textwrap)
+
+            frame = traceback.extract_tb(exc.__traceback__)[-1]
+            message = (
+                f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {detail}{where} "
+                f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
+                "this file are lost. Please report this."
+            )
         return Finding(
             INTERNAL_ERROR_CODE,
             INTERNAL_ERROR_NAME,
@@ -584,6 +612,9 @@ class Linter:
     ) -> Finding | None:
         """The finding of a diagnostic, judged under its configuration's
         profile (None when that profile switches the rule off there)."""
+        problem = malformed(diagnostic)
+        if problem is not None:
+            raise MalformedDiagnostic(problem)
         severity, profile, reason = rule.severity, None, None
         if ctx.profiles is not None:
             verdict = ctx.profiles.judge(rule.code, rule.severity, rule.profile, diagnostic.at)
