@@ -5,7 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from pxr import UsdRender
 
+from usdrender_lint.api import Rule
 from usdrender_lint.engine import Linter, suppress
 from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
 from usdrender_lint.registry import build_registry
@@ -102,10 +104,12 @@ def test_the_engine_hands_over_the_suppressing_prims_of_its_walk(monkeypatch) ->
     handed = []
     original = suppress.apply_data_suppressions
 
-    def recording(stage, findings, rules, known_rules=None, *, suppressing=None):
+    def recording(stage, findings, rules, known_rules=None, *, suppressing=None, failed=()):
         handed.append([str(prim.GetPath()) for prim in suppressing])
         findings = list(findings)
-        kept, unused = original(stage, findings, rules, known_rules, suppressing=suppressing)
+        kept, unused = original(
+            stage, findings, rules, known_rules, suppressing=suppressing, failed=failed
+        )
         traversed = original(stage, findings, rules, known_rules)
         assert (kept, [(d.message, d.at) for d in unused]) == (
             traversed[0],
@@ -263,3 +267,30 @@ def test_fix_clears_an_emptied_list_unless_a_weaker_layer_has_one(tmp_path, monk
         list(stage.GetPrimAtPath("/Render/Settings").GetCustomDataByKey("usdrender_lint:ignore"))
         == []
     )
+
+
+class _RaisesOnSettings(Rule):
+    """Raises on every RenderSettings.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST021"
+    name = "raises-on-settings"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        raise RuntimeError("boom")
+
+
+def test_a_suppression_of_a_rule_that_raised_is_not_called_unused(tmp_path: Path) -> None:
+    # Its findings are lost, so whether the entry silences one is unknown: calling it
+    # unused would offer a safe --fix that deletes it.
+    path = tmp_path / "shot.usda"
+    path.write_text(BAD_WINDOW.format(metadata=_ignore("TST021", "SE003")))
+    rules = [_RaisesOnSettings(), REGISTRY.by_code("SE003")(), REGISTRY.by_code("UL001")()]
+    findings = Linter(rules).lint_path(str(path)).findings
+    assert [f.code for f in findings if f.location.path == "/Render/Settings"] == ["UL000"]
+    assert not any(f.code == "UL001" for f in findings)

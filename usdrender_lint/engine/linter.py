@@ -165,6 +165,10 @@ class _Trace:
             self.forget()  # what it recorded belongs to no finding of the result
         return LintRun(result, self.fixes, self.origins, self.reads, composed, completed, value)
 
+    def origin_code(self, finding: Finding) -> str:
+        """The code of the rule whose hook made ``finding`` (a UL000's: the rule that raised)."""
+        return self.origins.get(finding, (finding.code, None))[0]
+
     def forget(self) -> None:
         """Drop the fixes and origins of a lint that stopped part way (the
         reads stay: they are what the lint read)."""
@@ -485,8 +489,15 @@ class Linter:
         self, ctx: Context, trace: _Trace, findings: list[Finding], suppressing: list[Usd.Prim]
     ) -> list[Finding]:
         """Drop findings silenced in customData; report unused suppressions."""
+        # A rule that raised lost its findings: whether it uses a suppression is unknown.
+        failed = {trace.origin_code(f) for f in findings if f.code == INTERNAL_ERROR_CODE}
         kept, unused = suppress.apply_data_suppressions(
-            ctx.stage, findings, self.rules, self.known_rules, suppressing=suppressing
+            ctx.stage,
+            findings,
+            self.rules,
+            self.known_rules,
+            suppressing=suppressing,
+            failed=failed,
         )
         for rule in self.rules:
             if rule.code == suppress.UNUSED_SUPPRESSION_CODE:

@@ -17,7 +17,7 @@ the finished report: running/path_ignores.py.)
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Collection, Iterable, Sequence
 
 from pxr import Sdf, Usd, Vt
 
@@ -138,6 +138,7 @@ def apply_data_suppressions(
     known_rules: Sequence[type[Rule]] | None = None,
     *,
     suppressing: Iterable[Usd.Prim] | None = None,
+    failed: Collection[str] = (),
 ) -> tuple[list[Finding], list[Diagnostic]]:
     """Drop the findings a prim's customData silences.
 
@@ -147,7 +148,8 @@ def apply_data_suppressions(
     did not run is neither used nor reported, since its rule could not fire.
     ``suppressing`` is every usable prim, in traversal order, that
     :func:`has_suppressions` (the engine collects them in its walk); by default
-    the stage is traversed for them.
+    the stage is traversed for them. An entry naming a rule in ``failed`` (its
+    hook raised, its findings are lost) is not reported either.
     """
     on_prim: dict[Sdf.Path, _PrimSuppressions | None] = {}
 
@@ -170,7 +172,7 @@ def apply_data_suppressions(
     for prim in suppressing:
         here = suppressions(prim.GetPath())
         if here is not None:  # always: each is a prim of this stage
-            unused.extend(_unused(here, rules, known_rules))
+            unused.extend(_unused(here, rules, known_rules, failed))
     return kept, unused
 
 
@@ -194,7 +196,10 @@ def _prim_path(path: str | None) -> Sdf.Path | None:
 
 
 def _unused(
-    here: _PrimSuppressions, rules: Sequence[Rule], known_rules: Sequence[type[Rule]] | None
+    here: _PrimSuppressions,
+    rules: Sequence[Rule],
+    known_rules: Sequence[type[Rule]] | None,
+    failed: Collection[str] = (),
 ) -> Iterable[Diagnostic]:
     layer = _authoring_layer(here.prim)
     if here.entries is None:
@@ -211,6 +216,8 @@ def _unused(
         if entry in here.used:
             continue
         ran = here.codes.get(entry)
+        if ran in failed:
+            continue  # it raised: what it would have reported here is unknown
         if ran is not None:
             reason = f"{ran} reports nothing on this prim"
         elif _rule_named(entry, known_rules if known_rules is not None else rules) is None:
