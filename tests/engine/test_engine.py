@@ -163,6 +163,39 @@ def test_a_malformed_diagnostic_is_said_to_be_the_rules(shot: Path, bad, said: s
     assert "TST003" in [f.code for f in result.findings]
 
 
+class Mutator(Rule):
+    """Edits the stage it lints.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST010"
+    name = "mutator"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        prim.SetCustomDataByKey("edited", True)
+        yield Diagnostic(message="edited", at=prim)
+
+
+def test_a_rule_cannot_edit_the_stage_it_lints(shot: Path) -> None:
+    # lint_stage lints the caller's stage, and --fix and a ValidationFixer save the
+    # layer: a hook's edit would reach the user's file.
+    stage = Usd.Stage.Open(str(shot))
+    findings = Linter([Mutator(), ResolutionReporter()]).lint_stage(stage, str(shot))
+    internal = [f for f in findings if f.code == INTERNAL_ERROR_CODE]
+    assert len(internal) == 1
+    assert "TST010 (mutator) raised" in internal[0].message
+    assert "is not editable" in internal[0].message
+    assert stage.GetPrimAtPath("/Render/Settings").GetCustomDataByKey("edited") is None
+    assert not any(layer.dirty for layer in stage.GetUsedLayers())
+    # The layers are editable again afterwards.
+    assert all(layer.permissionToEdit for layer in stage.GetUsedLayers())
+    assert "TST003" in [f.code for f in findings]
+
+
 def test_raise_errors_propagates_for_tests(shot: Path) -> None:
     with pytest.raises(ValueError):
         Linter([Exploder()], raise_errors=True).lint_path(str(shot))

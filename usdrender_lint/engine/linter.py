@@ -7,7 +7,8 @@ formatter, the configuration or the command line.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import field
 from typing import Any, Generic, Literal, TypeVar
 
@@ -453,11 +454,12 @@ class Linter:
             try:
                 work, suppressing = self._walk(stage, ctx, own_stage, prims)
                 run = self._run
-                # A renderer rule runs only where some configuration is its renderer's.
-                present = self._decide_profiles(ctx)
-                run(self._stage_rules, None, ctx, trace, present, findings)
-                for prim, rules in work:
-                    run(rules, prim, ctx, trace, present, findings)
+                with _read_only(used):
+                    # A renderer rule runs only where some configuration is its renderer's.
+                    present = self._decide_profiles(ctx)
+                    run(self._stage_rules, None, ctx, trace, present, findings)
+                    for prim, rules in work:
+                        run(rules, prim, ctx, trace, present, findings)
                 findings = self._apply_data_suppressions(ctx, trace, findings, suppressing)
                 findings = sorted(set(findings), key=Finding.sort_key)
                 if inspect is not None:
@@ -652,6 +654,21 @@ class Linter:
         # Not selectable away: a file that cannot be opened is never a silent pass.
         severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
         return open_failure_findings(path, opened.errors, severity)
+
+
+@contextmanager
+def _read_only(layers: Iterable[Sdf.Layer]) -> Iterator[None]:
+    """No edit of ``layers`` while rules run: a hook that edits the stage raises
+    (its UL000), so the edit never reaches a later rule, a fix that saves the
+    layer (``--fix``, a ValidationFixer) or the caller's stage (lint_stage)."""
+    editable = [layer for layer in layers if layer.permissionToEdit]
+    for layer in editable:
+        layer.SetPermissionToEdit(False)
+    try:
+        yield
+    finally:
+        for layer in editable:
+            layer.SetPermissionToEdit(True)
 
 
 def unsafe_to_open(path: str) -> str | None:
