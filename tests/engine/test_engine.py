@@ -163,6 +163,34 @@ def test_a_malformed_diagnostic_is_said_to_be_the_rules(shot: Path, bad, said: s
     assert "TST003" in [f.code for f in result.findings]
 
 
+class Returner(Rule):
+    """Returns a Diagnostic instead of yielding it.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST011"
+    name = "returner"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        return Diagnostic(message="returned", at=prim)
+
+
+def test_a_hook_that_returns_a_diagnostic_is_said_to_be_the_rules(shot: Path) -> None:
+    result = Linter([Returner(), ResolutionReporter()]).lint_path(str(shot))
+    internal = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
+    assert len(internal) == 1
+    assert internal[0].message.startswith(
+        "rule TST011 (returner) returned Diagnostic Diagnostic(message='returned'"
+    )
+    assert "not an iterable of Diagnostics" in internal[0].message
+    assert "rule's author" in internal[0].message
+    assert "TST003" in [f.code for f in result.findings]
+
+
 class Mutator(Rule):
     """Edits the stage it lints.
 

@@ -54,7 +54,7 @@ Inspector = Callable[[Context, Sequence[Finding]], _T]
 
 
 class MalformedDiagnostic(TypeError):
-    """A hook yielded what the rule API does not allow (api/rule.py's Diagnostic):
+    """A hook yielded (or returned) what the rule API does not allow (api/rule.py):
     the rule's own mistake, said as such, not as a fault of the engine."""
 
 
@@ -565,6 +565,11 @@ class Linter:
             start = len(findings)
             try:
                 made = rule.check_stage(ctx) if prim is None else rule.check_prim(prim, ctx)
+                if not isinstance(made, Iterable | None):  # `return Diagnostic(...)`
+                    raise MalformedDiagnostic(
+                        f"returned {type(made).__name__} {made!r:.60}, not an iterable of "
+                        "Diagnostics (a hook yields them)"
+                    )
                 for diagnostic in made or ():
                     finding = self._finding(rule, diagnostic, ctx, trace)
                     if finding is not None:
