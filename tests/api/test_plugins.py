@@ -182,6 +182,25 @@ def test_rule_metadata_is_checked_at_class_creation() -> None:
             severity = Severity.ERROR
 
 
+@pytest.mark.parametrize("prim_types", [("RenderProduct",), "UsdRenderProduct", (int,)])
+def test_prim_types_are_checked_at_class_creation(prim_types) -> None:
+    # A string failed every run later with "internal error: TypeError: String passed
+    # to Tf.Type.Find()", naming neither the rule nor the plugin.
+    from usdrender_lint.api import Rule, Severity
+
+    with pytest.raises(TypeError, match="rule class BadTypes: prim_types .* is not a tuple"):
+        type(
+            "BadTypes",
+            (Rule,),
+            {
+                "code": "ACME003",
+                "name": "bad-types",
+                "severity": Severity.ERROR,
+                "prim_types": prim_types,
+            },
+        )
+
+
 PRINTING_RULES = ACME_RULES.replace(
     "    def check_prim(self, prim, ctx):\n",
     "    def check_prim(self, prim, ctx):\n        print('debugging {not json')\n",

@@ -16,6 +16,7 @@ from pxr import Sdf, Tf, Usd
 
 from ..model import Severity
 from ..records import record
+from .schemas import tf_type
 
 if TYPE_CHECKING:
     from .context import Context
@@ -56,6 +57,16 @@ class Diagnostic:
     at: Usd.Object | Sdf.Path | None = None
     fix: Fix | None = None
     layer: Sdf.Layer | None = None
+
+
+def _schema_types(prim_types: object) -> bool:
+    """Whether ``prim_types`` is what the engine dispatches on: checked when the
+    class is defined, not per prim (a "RenderProduct" string failed every run
+    with an internal error naming no rule)."""
+    return isinstance(prim_types, (tuple, list)) and all(
+        isinstance(schema, (Tf.Type, type)) and not tf_type(schema).isUnknown
+        for schema in prim_types
+    )
 
 
 class Rule:
@@ -105,6 +116,11 @@ class Rule:
             problems.append("severity is not a Severity")
         if cls.fix_safety not in FIX_SAFETY:
             problems.append(f"fix_safety {cls.fix_safety!r} is not one of {FIX_SAFETY}")
+        if not _schema_types(cls.prim_types):
+            problems.append(
+                f"prim_types {cls.prim_types!r} is not a tuple of schema types "
+                "(usdrender_lint.api.schemas) or schema classes (UsdRender.Product)"
+            )
         if cls.Options is not None and not dataclasses.is_dataclass(cls.Options):
             problems.append("Options is not a dataclass")
         if not isinstance(cls.aliases, tuple) or not all(
