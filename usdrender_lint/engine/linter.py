@@ -599,11 +599,14 @@ class Linter:
         where = f" on {prim_path}" if prim_path is not None else ""
         debug.show(exc, f"{ctx.file}: rule {rule.code} raised (UL000){where}")
         detail = " ".join(str(exc).split())  # USD's errors span lines; findings do not
+        # A plugin's rule is its authors' to fix: name its package.
+        package = type(rule).__module__.partition(".")[0]
+        to = "" if package == __name__.partition(".")[0] else f" to the authors of {package}"
         if isinstance(exc, MalformedDiagnostic):
-            # Where the engine noticed is no help: the rule's author fixes the rule.
+            # Where the engine noticed is no help: the rule is what needs fixing.
             message = (
                 f"rule {rule.code} ({rule.name}) {detail}{where}; its other findings on "
-                "this file are lost. Please report this to the rule's author."
+                f"this file are lost. Please report this{to}."
             )
         else:
             import traceback  # only for a rule that raised (it imports textwrap)
@@ -612,7 +615,7 @@ class Linter:
             message = (
                 f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {detail}{where} "
                 f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
-                "this file are lost. Please report this."
+                f"this file are lost. Please report this{to}."
             )
         return Finding(
             INTERNAL_ERROR_CODE,
