@@ -521,6 +521,38 @@ def test_a_rule_with_both_hooks_reports_its_stage_findings(tmp_path: Path) -> No
     assert messages == ["from check_prim"] * len(settings) + ["from check_stage"]
 
 
+_PLUGIN_FAILS = """
+import json
+from pxr import Sdf, Usd, UsdValidation
+import usdrender_lint.registry as registry_module
+
+def failing(entry_points=None):
+    raise registry_module.RegistryError("rule plugin 'acme' (acme_rules:RULES) failed to load")
+registry_module.build_registry = failing
+layer = Sdf.Layer.CreateAnonymous(".usda")
+layer.ImportFromString('''#usda 1.0
+def RenderSettings "Settings" (
+    customData = { dictionary usdrender_lint = { string[] ignore = ["ACME001"] } }
+)
+{
+}
+''')
+registry = UsdValidation.ValidationRegistry()
+names = [str(m.name) for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")]
+context = UsdValidation.ValidationContext(registry.GetOrLoadValidatorsByName(names))
+errors = context.Validate(Usd.Stage.Open(layer))
+print(json.dumps(sorted({e.GetName() for e in errors})))
+"""
+
+
+def test_a_plugin_that_fails_to_load_never_calls_its_suppressions_unused() -> None:
+    # Its rules are missing, so "no rule has this code or name" would be false, and
+    # UL001's safe fix would delete the suppression.
+    names = _run_child(_PLUGIN_FAILS, plugin_dir())
+    assert "UL001" not in names
+    assert "usdRenderLintFailure" in names
+
+
 def test_a_declared_validator_without_a_rule_reports_why(tmp_path: Path) -> None:
     # A stale plugInfo.json declares a rule that is no longer registered.
     ghost = _rule("ZZ904", "ghost-check")
