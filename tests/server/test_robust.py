@@ -180,3 +180,29 @@ def test_the_editor_s_timeout_reads_as_check_s() -> None:
     assert editor_timeout({"timeout": 30}, 120.0) == 30.0
     for ignored in ({}, {"timeout": -1}, {"timeout": "5"}, {"timeout": True}):
         assert editor_timeout(ignored, 120.0) == 120.0
+
+
+def test_a_child_that_cannot_start_says_why_on_every_call(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A rule plugin that fails to load: the editor's diagnostic said "USD crashed
+    # while linting this document (exit status 0)" after the first message.
+    from usdrender_lint.server.worker import Child, LintFailed
+
+    site = tmp_path / "site"
+    site.mkdir()
+    (site / "broken_rules.py").write_text("import not_a_module_anywhere\n")
+    info = site / "broken-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: broken\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text("[usdrender_lint.rules]\nbroken = broken_rules:RULES\n")
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(site), os.environ.get("PYTHONPATH", "")]))
+    child = Child()
+    try:
+        for _ in range(2):
+            with pytest.raises(
+                LintFailed, match="cannot start: RegistryError: rule plugin 'broken'"
+            ):
+                child.call("lint", (str(tmp_path / "a.usda"),), {}, 60)
+    finally:
+        child.close()

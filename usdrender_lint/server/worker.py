@@ -78,12 +78,20 @@ class Child:
         #: The text each open document has in the child (by identity).
         self.texts: dict[str, str] = {}
         self.rules: tuple[RuleDoc, ...] | None = None
+        #: Why it could not start: said again on each call, not as a crash.
+        self.start_failure: LintFailed | None = None
         self.cancelled = False
 
     def ready(self, timeout: float = START_TIMEOUT) -> tuple[RuleDoc, ...]:
         """Wait for the child to have started; the rules' documentation."""
+        if self.start_failure is not None:
+            raise self.start_failure
         if self.rules is None:
-            self.rules = self._receive(timeout)
+            try:
+                self.rules = self._receive(timeout)
+            except LintFailed as failed:
+                self.start_failure = failed
+                raise
         return self.rules
 
     def call(self, method: str, args: tuple, texts: dict[str, str], timeout: float | None) -> Any:
