@@ -195,6 +195,32 @@ def test_a_hook_that_returns_a_diagnostic_is_said_to_be_the_rules(shot: Path) ->
     assert "TST003" in [f.code for f in result.findings]
 
 
+class Exiter(Rule):
+    """Calls sys.exit.
+
+    ## What it does
+    Test rule.
+    """
+
+    code = "TST012"
+    name = "exiter"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Settings,)
+
+    def check_prim(self, prim, ctx):
+        raise SystemExit(3)
+
+
+def test_a_rule_that_calls_sys_exit_is_isolated(shot: Path) -> None:
+    # A lone file is linted in the command's process: its sys.exit(3) ended the
+    # run with status 3, no report and no message.
+    result = Linter([Exiter(), ResolutionReporter()]).lint_path(str(shot))
+    internal = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
+    assert len(internal) == 1
+    assert "rule TST012 (exiter) raised SystemExit: 3" in internal[0].message
+    assert "TST003" in [f.code for f in result.findings]
+
+
 class Mutator(Rule):
     """Edits the stage it lints.
 

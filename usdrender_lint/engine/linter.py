@@ -576,7 +576,9 @@ class Linter:
                         findings.append(finding)
             except (FullStageRequired, UnicodeDecodeError, CorruptValue):
                 raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
-            except Exception as exc:
+            # SystemExit too: a rule's (or its library's) sys.exit() must not end the
+            # run with its status and no report.
+            except (Exception, SystemExit) as exc:
                 del findings[start:]  # the hook's other findings are lost
                 findings.append(self._rule_error(rule, ctx, exc, ctx if prim is None else prim))
             if len(findings) > start:  # a finding is rare next to a hook call
@@ -585,7 +587,7 @@ class Linter:
                     trace.origins.setdefault(finding, origin)
 
     def _rule_error(
-        self, rule: Rule, ctx: Context, exc: Exception, target: Usd.Prim | Context
+        self, rule: Rule, ctx: Context, exc: Exception | SystemExit, target: Usd.Prim | Context
     ) -> Finding:
         """The internal-error finding for a hook that raised on ``target``
         (a prim or the Context), unless the error must propagate."""
