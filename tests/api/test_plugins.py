@@ -222,3 +222,17 @@ def test_a_rule_that_prints_leaves_the_report_alone(
     report = json.loads(result.stdout)
     assert "ACME001" in json.dumps(report)
     assert "debugging {not json" in result.stderr
+
+
+def test_a_rule_that_prints_leaves_the_spec_document_alone(
+    tmp_path: Path, layer: Path, monkeypatch
+) -> None:
+    # spec runs the rules too (its findings per configuration).
+    site = tmp_path / "site"
+    site.mkdir()
+    install_plugin(site, "noisy", "noisy_rules", PRINTING_RULES, "noisy_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    args = ["spec", "--isolated", "--jobs", "1", "--timeout", "0", "--format", "json"]
+    result = CliRunner().invoke(cli, [*args, str(layer)])
+    assert json.loads(result.stdout)
+    assert "debugging {not json" in result.stderr

@@ -17,7 +17,7 @@ from .options import (
     setting_options,
     setting_values,
 )
-from .output import ToolError, error, note, write, write_file
+from .output import ToolError, error, note, stdout_to_stderr, write, write_file
 from .views import emit, format_option, view
 
 
@@ -117,7 +117,8 @@ def spec_command(
         **setting_values("spec", settings),
     )
     try:
-        inspection = inspect_files(request, partial(compute_file_spec, options=options))
+        with stdout_to_stderr():  # a rule's print must not land in the document
+            inspection = inspect_files(request, partial(compute_file_spec, options=options))
     except RequestError as exc:
         raise ToolError(str(exc)) from None
     files = [(r, r.value if isinstance(r, InspectedFile) else None) for r in inspection.results]
