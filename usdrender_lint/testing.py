@@ -234,15 +234,32 @@ def check_fixture(
 ) -> None:
     """Assert a fixture behaves: pass files give no ``code`` finding, fail files
     give exactly the findings of ``code`` their ``# expect:`` lines declare
-    (count, fix offered and message fragment as stated)."""
+    (count, fix offered and message fragment as stated). Without ``rules``, the
+    built-in rules and those of ``code``'s plugin run (another plugin's rule
+    that raises is not this fixture's failure)."""
     path = Path(path)
-    found = [f for f in lint(path, rules, profiler) if f.code == code]
+    chosen = _fixture_rules(code) if rules is None else rules
+    found = [f for f in lint(path, chosen, profiler) if f.code == code]
     if path.name.startswith("pass_"):
         assert not found, f"{path.name}: expected no {code} finding, got {_describe(found)}"
         return
     expected = [e for e in expectations(path) if e.code == code]
     assert expected, f"{path.name}: a fail fixture must declare '# expect: {code} <path> ...'"
     _check_expected(path, code, found, expected)
+
+
+def _fixture_rules(code: str) -> list[Rule]:
+    """The rules a fixture of ``code`` runs: the built-in ones and those of the
+    package ``code``'s rule is in (a rule that raises fails the test), not every
+    installed plugin's, whose bugs are not the fixture's."""
+    rules = build_registry().rules
+    packages = {rule.__module__.partition(".")[0] for rule in rules if rule.code == code}
+    return [
+        rule()
+        for rule in rules
+        if rule.__module__.startswith("usdrender_lint.")
+        or rule.__module__.partition(".")[0] in packages
+    ]
 
 
 def _check_count(path: Path, code: str, found: Sequence[Finding], expectation: Expectation) -> None:

@@ -236,3 +236,49 @@ def test_a_rule_that_prints_leaves_the_spec_document_alone(
     result = CliRunner().invoke(cli, [*args, str(layer)])
     assert json.loads(result.stdout)
     assert "debugging {not json" in result.stderr
+
+
+RAISING_RULES = '''
+from pxr import UsdRender
+from usdrender_lint.api import Rule, Severity
+
+
+class Broken(Rule):
+    """Another studio's rule, with a bug."""
+
+    code = "BRK001"
+    name = "broken-rule"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Product,)
+
+    def check_prim(self, prim, ctx):
+        raise KeyError("boom")
+        yield
+
+
+RULES = [Broken]
+'''
+
+
+def test_a_fixture_is_not_failed_by_another_plugin_s_rule(tmp_path: Path, monkeypatch) -> None:
+    """check_fixture runs the built-in rules and the rule's own plugin: another
+    installed plugin's bug (a rule that raises) is not the fixture's failure."""
+    from usdrender_lint.testing import check_fixture
+
+    site = tmp_path / "site"
+    site.mkdir()
+    install_plugin(site, "acme", "acme_rules", ACME_RULES, "acme_rules:RULES")
+    install_plugin(site, "other", "other_rules", RAISING_RULES, "other_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    fixture = tmp_path / "fail_frame_token.usda"
+    fixture.write_text(
+        LAYER.replace(
+            "#usda 1.0\n", '#usda 1.0\n# expect: ACME001 </Render/beauty> "frame token"\n'
+        )
+    )
+    check_fixture(fixture, "ACME001")
+    # The raising rule's own fixtures still fail on it.
+    own = tmp_path / "pass_broken.usda"
+    own.write_text(LAYER)
+    with pytest.raises(KeyError, match="boom"):
+        check_fixture(own, "BRK001")
