@@ -159,11 +159,10 @@ def test_a_malformed_diagnostic_is_said_to_be_the_rules(shot: Path, bad, said: s
     # The engine's own line ([linter.py:589]) and "'str' object has no attribute
     # 'at'" sent the plugin's author to report a bug in usdrender-lint.
     result = Linter([Malformed(bad), ResolutionReporter()]).lint_path(str(shot))
-    internal = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
-    assert len(internal) == 1
-    assert internal[0].message.startswith("rule TST009 (malformed) yielded ")
-    assert said in internal[0].message
-    assert "Please report this to the authors of " in internal[0].message
+    (internal,) = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
+    assert internal.message.startswith("rule TST009 (malformed) yielded ")
+    assert said in internal.message
+    assert "Please report this to the authors of " in internal.message
     assert "TST003" in [f.code for f in result.findings]
 
 
@@ -185,13 +184,12 @@ class Returner(Rule):
 
 def test_a_hook_that_returns_a_diagnostic_is_said_to_be_the_rules(shot: Path) -> None:
     result = Linter([Returner(), ResolutionReporter()]).lint_path(str(shot))
-    internal = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
-    assert len(internal) == 1
-    assert internal[0].message.startswith(
+    (internal,) = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
+    assert internal.message.startswith(
         "rule TST011 (returner) returned Diagnostic Diagnostic(message='returned'"
     )
-    assert "not an iterable of Diagnostics" in internal[0].message
-    assert "Please report this to the authors of " in internal[0].message
+    assert "not an iterable of Diagnostics" in internal.message
+    assert "Please report this to the authors of " in internal.message
     assert "TST003" in [f.code for f in result.findings]
 
 
@@ -215,9 +213,8 @@ def test_a_rule_that_calls_sys_exit_is_isolated(shot: Path) -> None:
     # A lone file is linted in the command's process: its sys.exit(3) ended the
     # run with status 3, no report and no message.
     result = Linter([Exiter(), ResolutionReporter()]).lint_path(str(shot))
-    internal = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
-    assert len(internal) == 1
-    assert "rule TST012 (exiter) raised SystemExit: 3" in internal[0].message
+    (internal,) = [f for f in result.findings if f.code == INTERNAL_ERROR_CODE]
+    assert "rule TST012 (exiter) raised SystemExit: 3" in internal.message
     assert "TST003" in [f.code for f in result.findings]
 
 
@@ -243,10 +240,9 @@ def test_a_rule_cannot_edit_the_stage_it_lints(shot: Path) -> None:
     # layer: a hook's edit would reach the user's file.
     stage = Usd.Stage.Open(str(shot))
     findings = Linter([Mutator(), ResolutionReporter()]).lint_stage(stage, str(shot))
-    internal = [f for f in findings if f.code == INTERNAL_ERROR_CODE]
-    assert len(internal) == 1
-    assert "TST010 (mutator) raised" in internal[0].message
-    assert "is not editable" in internal[0].message
+    (internal,) = [f for f in findings if f.code == INTERNAL_ERROR_CODE]
+    assert "TST010 (mutator) raised" in internal.message
+    assert "is not editable" in internal.message
     assert stage.GetPrimAtPath("/Render/Settings").GetCustomDataByKey("edited") is None
     assert not any(layer.dirty for layer in stage.GetUsedLayers())
     # The layers are editable again afterwards.

@@ -22,7 +22,7 @@ import pytest
 import pytest_lsp
 from conftest import SHARED
 from lsprotocol import types
-from pytest_lsp import LanguageClient, client_capabilities
+from pytest_lsp import LanguageClient
 from test_protocol import (
     SERVER,
     apply,
@@ -30,6 +30,7 @@ from test_protocol import (
     diagnostics_of,
     fix_all_actions,
     open_document,
+    start_session,
 )
 
 pytestmark = [pytest.mark.asyncio(loop_scope="module"), pytest.mark.heavy(seconds=30)]
@@ -74,12 +75,7 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest_lsp.fixture(scope="module", config=SERVER)
 async def client(lsp_client: LanguageClient, workspace: Path):
-    params = types.InitializeParams(
-        capabilities=client_capabilities("visual-studio-code"),
-        root_uri=workspace.as_uri(),
-        workspace_folders=[types.WorkspaceFolder(uri=workspace.as_uri(), name="corpus")],
-    )
-    await lsp_client.initialize_session(params)
+    await start_session(lsp_client, workspace, "corpus")
     yield
     await lsp_client.shutdown_session()
 

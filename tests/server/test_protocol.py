@@ -81,14 +81,19 @@ SERVER = ClientServerConfig(
 )
 
 
-@pytest_lsp.fixture(scope="module", config=SERVER)
-async def client(lsp_client: LanguageClient, workspace: Path):
+async def start_session(client: LanguageClient, root: Path, name: str) -> None:
+    """Initialize the session as VS Code does, with ``root`` its one workspace folder."""
     params = types.InitializeParams(
         capabilities=client_capabilities("visual-studio-code"),
-        root_uri=workspace.as_uri(),
-        workspace_folders=[types.WorkspaceFolder(uri=workspace.as_uri(), name="shots")],
+        root_uri=root.as_uri(),
+        workspace_folders=[types.WorkspaceFolder(uri=root.as_uri(), name=name)],
     )
-    await lsp_client.initialize_session(params)
+    await client.initialize_session(params)
+
+
+@pytest_lsp.fixture(scope="module", config=SERVER)
+async def client(lsp_client: LanguageClient, workspace: Path):
+    await start_session(lsp_client, workspace, "shots")
     yield
     await lsp_client.shutdown_session()
 
