@@ -44,7 +44,6 @@ lints the file again, fully composed.
 from __future__ import annotations
 
 import os
-import re
 from collections import Counter
 from collections.abc import Callable, Collection, Iterable
 from dataclasses import field
@@ -59,6 +58,7 @@ from ..paths import display_path, usd_path
 from ..records import record
 from . import layer_words
 from .stage import arc_crate_problem, arcs_problem, corruption
+from .walks import names_an_empty_variant
 
 #: The convention's render scope, always composed (rules look under it).
 RENDER_SCOPE = Sdf.Path("/Render")
@@ -265,10 +265,6 @@ class _Scans:
         return found
 
 
-#: A variant named "" in usda text (``"" {``, or ``"" (`` for one with metadata).
-_EMPTY_VARIANT_NAME = re.compile(rb'""\s*[({]')
-
-
 class _Specs:
     """Each layer's spec paths, read once per fast-path open, and only from a
     layer that walking cannot crash.
@@ -291,16 +287,11 @@ class _Specs:
     def check(self, layer: Sdf.Layer) -> None:
         if layer_identifier(layer) in self._checked:
             return
-        if layer.GetFileFormat().formatId == "usda":
-            if _text_names_an_empty_variant(layer):
-                raise NotProvable(f'{layer_identifier(layer)} names a variant ""')
-        else:
-            # A crate's names are not text to search: Traverse survives a prim
-            # named "" and visits it as the empty path, but recurses without
-            # end on a variant (set) named "": looked for first, prim by prim,
-            # in a crate that has variants at all.
-            if _crate_names_an_empty_variant(layer):
-                raise NotProvable(f'{layer_identifier(layer)} names a variant ""')
+        if names_an_empty_variant(layer):
+            raise NotProvable(f'{layer_identifier(layer)} names a variant ""')
+        if layer.GetFileFormat().formatId != "usda":
+            # Traverse survives a crate's prim named "" and visits it as the
+            # empty path (_traverse refuses it).
             self._paths[layer_identifier(layer)] = self._traverse(layer)
         self._checked.add(layer_identifier(layer))
 
@@ -386,42 +377,6 @@ def _unreadable_specs(layer: Sdf.Layer, exc: Tf.ErrorException) -> str:
 def _specs_message(layer: Sdf.Layer, why: str) -> str:
     name = display_path(layer_real_path(layer) or layer_identifier(layer))
     return f"USD cannot read the specs of {name} ({why}); the file is corrupt"
-
-
-def _crate_names_an_empty_variant(layer: Sdf.Layer) -> bool:
-    file = layer_real_path(layer)
-    if file and "variantSetChildren" not in layer_words.may_hold(file, ("variantSetChildren",)):
-        return False  # no variant set anywhere in the crate
-    get_spec = layer.GetPrimAtPath
-    stack = [Sdf.Path.absoluteRootPath]
-    while stack:
-        path = stack.pop()
-        spec = get_spec(path)
-        if spec is None:
-            continue
-        variant_sets = spec.variantSets
-        if len(variant_sets):
-            for set_name in variant_sets.keys():  # noqa: SIM118 - Sdf's views iterate specs
-                names = spec.GetVariantNames(set_name) if set_name else []
-                if not set_name or not all(names):
-                    return True
-                stack.extend(path.AppendVariantSelection(set_name, n) for n in names)
-        children = spec.nameChildren.keys()  # noqa: SIM118 - Sdf's views iterate specs
-        stack.extend(path.AppendChild(name) for name in children if name)
-    return False
-
-
-def _text_names_an_empty_variant(layer: Sdf.Layer) -> bool:
-    file = layer_real_path(layer)
-    return bool(file) and _has_empty_variant_name(file)
-
-
-def _has_empty_variant_name(file: str) -> bool:
-    try:
-        with open(file, "rb") as handle:
-            return _EMPTY_VARIANT_NAME.search(handle.read()) is not None
-    except OSError:
-        return False
 
 
 def _is_prim_site(path: Sdf.Path) -> bool:

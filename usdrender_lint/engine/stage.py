@@ -16,6 +16,7 @@ from ..paths import display_path, usd_path
 from ..records import record
 from . import layer_words
 from .plugins import register_plugins
+from .walks import names_an_empty_variant
 
 STAGE_OPEN_FAILED_CODE = "ST001"
 #: Why a file of no bytes that is not named .usda cannot be opened.
@@ -135,11 +136,9 @@ def arcs_problem(
 
 
 def _safe_to_walk(layer: Sdf.Layer) -> bool:
-    """Whether Sdf's walk of the layer's specs cannot abort the process (a
-    variant named "": engine/partial.py); composing such a layer is safe."""
-    from .partial import unsafe_to_walk  # partial builds on this module
-
-    return unsafe_to_walk(layer) is None
+    """Whether Sdf's walk of the layer's specs cannot abort the process
+    (engine/walks.py); composing such a layer is safe."""
+    return not names_an_empty_variant(layer)
 
 
 def _without_external_arcs(layer: Sdf.Layer) -> bool:
