@@ -563,13 +563,9 @@ class Linter:
             if rule.profile is not None and rule.profile not in present:
                 continue
             start = len(findings)
+            made = None
             try:
                 made = rule.check_stage(ctx) if prim is None else rule.check_prim(prim, ctx)
-                if not isinstance(made, Iterable | None):  # `return Diagnostic(...)`
-                    raise MalformedDiagnostic(
-                        f"returned {type(made).__name__} {made!r:.60}, not an iterable of "
-                        "Diagnostics (a hook yields them)"
-                    )
                 for diagnostic in made or ():
                     finding = self._finding(rule, diagnostic, ctx, trace)
                     if finding is not None:
@@ -580,6 +576,12 @@ class Linter:
             # run with its status and no report.
             except (Exception, SystemExit) as exc:
                 del findings[start:]  # the hook's other findings are lost
+                if isinstance(exc, TypeError) and not isinstance(made, Iterable | None):
+                    # `return Diagnostic(...)`: asked here, not of every hook's result
+                    exc = MalformedDiagnostic(
+                        f"returned {type(made).__name__} {made!r:.60}, not an iterable of "
+                        "Diagnostics (a hook yields them)"
+                    )
                 findings.append(self._rule_error(rule, ctx, exc, ctx if prim is None else prim))
             if len(findings) > start:  # a finding is rare next to a hook call
                 origin = (rule.code, None if prim is None else prim.GetPath())
