@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import io
+import re
 import sys
+
+import pytest
 
 from usdrender_lint.formatters import FormatOptions
 from usdrender_lint.formatters.text import TextFormatter
@@ -73,6 +76,23 @@ def test_no_color_on_a_terminal(monkeypatch) -> None:
     TextFormatter().render(REPORT, stream, FormatOptions())
     # Not even bold or dim (https://no-color.org).
     assert "\x1b[" not in stream.getvalue() and "CA004" in stream.getvalue()
+
+
+@pytest.mark.parametrize("variable", ["FORCE_COLOR", "CLICOLOR_FORCE"])
+def test_forced_colour_colours_a_pipe_without_wrapping(monkeypatch, variable: str) -> None:
+    # A CI log is a pipe: ruff and eslint colour it under FORCE_COLOR / CLICOLOR_FORCE.
+    for name in ("NO_COLOR", "FORCE_COLOR", "CLICOLOR_FORCE"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("TERM", "xterm-256color")
+    monkeypatch.setenv(variable, "1")
+    piped = io.StringIO()
+    TextFormatter().render(REPORT, piped, FormatOptions())
+    assert "\x1b[" in piped.getvalue()
+    plain = io.StringIO()
+    monkeypatch.setenv("NO_COLOR", "1")  # NO_COLOR wins
+    TextFormatter().render(REPORT, plain, FormatOptions())
+    assert "\x1b[" not in plain.getvalue()
+    assert re.sub(r"\x1b\[[0-9;]*m", "", piped.getvalue()) == plain.getvalue()
 
 
 def test_the_fixable_count_says_how_many_are_hidden_info_findings() -> None:

@@ -7,7 +7,8 @@ reads it in GitHub Actions). The path is the layer holding the opinion. Lines
 are sorted by path, line, then code. On a terminal the message wraps at words
 to its width (the location never does) and rich colours it, with no style at
 all when ``NO_COLOR`` is set; piped output keeps one plain line per finding
-and pays neither rich's import nor its escapes.
+and pays neither rich's import nor its escapes (unless ``FORCE_COLOR`` asks
+for the colours).
 """
 
 from __future__ import annotations
@@ -61,6 +62,13 @@ def _no_color() -> bool:
     return os.environ.get("NO_COLOR", "") != ""
 
 
+def _force_color() -> bool:
+    """Colour piped output too, as ruff and eslint do for CI logs: FORCE_COLOR
+    (https://force-color.org, not empty) or CLICOLOR_FORCE (not "0")."""
+    forced = os.environ.get("CLICOLOR_FORCE", "0") not in ("", "0")
+    return forced or os.environ.get("FORCE_COLOR", "") != ""
+
+
 def _file_of(identifier: str | None, fallback: str) -> str:
     """The file a location names, as the user would type it."""
     on_disk = layer_file(identifier)
@@ -99,16 +107,18 @@ def _terminal_width(stream: TextIO) -> int | None:
 
 
 def write_lines(lines: Iterable[Line], stream: TextIO) -> None:
-    """Styled lines through rich on a terminal (not even bold or dim with
-    NO_COLOR); plain text otherwise."""
-    if not _is_terminal(stream) or _no_color():
+    """Styled lines through rich on a terminal or when colour is forced (not
+    even bold or dim with NO_COLOR, which wins); plain text otherwise."""
+    forced = _force_color()
+    if not (forced or _is_terminal(stream)) or _no_color():
         for line in lines:
             stream.write("".join(text for text, _ in line) + "\n")
         return
     from rich.console import Console
     from rich.text import Text
 
-    console = Console(file=stream, soft_wrap=True, highlight=False)
+    # force_terminal: rich itself would not colour CLICOLOR_FORCE's pipe.
+    console = Console(file=stream, soft_wrap=True, highlight=False, force_terminal=forced or None)
     for line in lines:
         console.print(Text.assemble(*((text, style or "") for text, style in _merged(line))))
 
