@@ -253,7 +253,7 @@ def test_statistics_text(in_repo) -> None:
     result = check("--statistics", "--select", "SE003", str(SE003))
     tail = result.stdout.strip().splitlines()[-1]
     count = result.stdout.count(" error SE003 /")
-    assert tail.split() == [str(count), "SE003", "data-window-malformed"]
+    assert tail.split() == [str(count), "SE003", "error", "data-window-malformed"]
     assert "data-window-malformed" not in check("--select", "SE003", str(SE003)).stdout
 
 
@@ -264,7 +264,7 @@ def test_statistics_github_on_stdout(in_repo) -> None:
     assert result.exit_code == 1, result.output
     lines = result.stdout.strip().splitlines()
     count = sum(line.startswith("::error ") for line in lines)
-    assert count and lines[-1].split() == [str(count), "SE003", "data-window-malformed"]
+    assert count and lines[-1].split() == [str(count), "SE003", "error", "data-window-malformed"]
 
 
 def test_statistics_json_is_an_added_field(in_repo) -> None:

@@ -113,3 +113,16 @@ def test_the_fixable_count_says_how_many_are_hidden_info_findings() -> None:
         "3 findings in 1 file: 1 error, 0 warnings, 2 info; "
         "2 fixable with --fix (1 more with --unsafe-fixes)."
     )
+
+
+def test_statistics_say_which_counts_are_hidden_info() -> None:
+    # The summary counts 1 finding (the info one is hidden) while the table
+    # counts both: each row's severity tells the reader why.
+    stream = io.StringIO()
+    TextFormatter().render(REPORT, stream, FormatOptions(statistics=True))
+    lines = stream.getvalue().splitlines()
+    assert lines[-3].startswith("1 finding in 2 files")
+    assert [line.split() for line in lines[-2:]] == [
+        ["1", "CA004", "error", "camera-target-not-camera"],
+        ["1", "ST003", "info", "render-settings-path-missing"],
+    ]

@@ -77,8 +77,13 @@ def statistics(report: Report) -> list[dict[str, object]]:
 
 
 def statistics_lines(report: Report) -> list[str]:
-    """The statistics as plain text lines: count, code, name."""
-    return [f"{row['count']:>5}  {row['code']}  {row['name']}" for row in statistics(report)]
+    """The statistics as plain text lines: count, code, severity, name. The
+    severity says which rows are info findings the text report hides, whose
+    counts would otherwise not add up to the summary's."""
+    return [
+        f"{row['count']:>5}  {row['code']}  {row['severity']:<7}  {row['name']}"
+        for row in statistics(report)
+    ]
 
 
 def json_text(document: object) -> str:
