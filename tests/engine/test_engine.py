@@ -322,6 +322,14 @@ def test_open_failure_is_st001_with_line(tmp_path: Path) -> None:
     assert finding.message == "Expected } at 'int x = ' in </A>"
 
 
+def test_open_failure_names_no_usd_internal_namespace(tmp_path: Path) -> None:
+    layer = tmp_path / "bad.usda"
+    layer.write_text("#usda 1.0\ndef 5\n")
+    (finding,) = Linter([]).lint_path(str(layer)).findings
+    # Not "parse error matching pxrInternal_v0_26_11__pxrReserved___pegtl::internal::eof".
+    assert finding.message == "Expected end of file at 'def 5' in </>"
+
+
 def test_line_index_handles_variants_strings_and_nesting() -> None:
     text = '''#usda 1.0
 (

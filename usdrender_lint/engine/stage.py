@@ -199,12 +199,20 @@ def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
             if line.strip():
                 # An object's address ("stage @x@ <0x55d1...>") differs from run to run.
                 line = _ADDRESS.sub("", line.strip())
+                line = _PEGTL_EOF.sub("Expected end of file at", _NAMESPACE.sub("", line))
                 for number, name in enumerate(names):
                     line = line.replace(f"\0{number}\0", name)
                 yield line
 
 
 _ADDRESS = re.compile(r" ?<0x[0-9a-fA-F]+>")
+#: USD's versioned C++ namespace ("pxrInternal_v0_26_11__pxrReserved__", and
+#: "..._pegtl" for the usda grammar's): noise to a user, and it would change
+#: the message (a baseline's key) with every USD release.
+_NAMESPACE = re.compile(r"\bpxrInternal_v\d+_\d+(?:_\d+)?__pxrReserved__(?:_(?=pegtl::)|::)?")
+#: The grammar failing on text where the layer should have ended, worded as
+#: the parser's other errors are ("Expected } at '...'").
+_PEGTL_EOF = re.compile(r"parse error matching pegtl::internal::eof at")
 #: The sources of the usda parser's errors (pxr/usd/sdf).
 _TEXT_PARSER = ("textParserHelpers.h", "textFileFormat.cpp", "textFileFormatParser.cpp")
 _QUOTED_LAYER = re.compile(r"@([^@]+)@")
