@@ -231,3 +231,12 @@ def test_a_bad_value_from_an_environment_variable_names_the_variable(
     result = CliRunner().invoke(cli, ["check", "--isolated", str(tmp_path)])
     assert result.exit_code == 2
     assert "(env var: 'USDRENDER_LINT_CACHE_DIR')" in result.stderr
+
+
+@pytest.mark.parametrize("command", ["check", "merge", "spec"])
+def test_help_of_each_reporting_command_gives_its_exit_codes(command: str) -> None:
+    # check's exit codes are its contract with CI; merge's and spec's help give theirs.
+    result = CliRunner().invoke(cli, [command, "--help"], terminal_width=100)
+    text = " ".join(result.output.split())
+    assert result.exit_code == 0
+    assert "xit code" in text and " 2 " in text, text

@@ -142,7 +142,12 @@ def check(
     **settings: Any,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz);
-    '-' lints one text layer read from standard input (see --stdin-filename)."""
+    '-' lints one text layer read from standard input (see --stdin-filename).
+
+    Exit codes: 0 no finding at or above --fail-on; 1 findings at or above it;
+    2 the tool could not do its job (bad usage or configuration, a file it could
+    not lint).
+    """
     import_engine()
     check_stopped()  # a signal while USD imported its modules
     from ..running.pipeline import Request
