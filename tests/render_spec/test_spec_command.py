@@ -235,3 +235,23 @@ def test_the_legend_of_a_tall_picture_is_whole(tmp_path: Path) -> None:
     assert value_columns == {
         line.index("time ") for line in lines if "time           Default" in line
     }
+
+
+@pytest.mark.parametrize("width", [60, 80, 100])
+def test_a_narrow_terminal_gets_the_values_under_the_drawing(width: int) -> None:
+    # Side by side the rows are wider than 80 columns: the terminal would
+    # wrap each one through the drawing.
+    from usdrender_lint.formatters.text import columns
+    from usdrender_lint.render_spec.textview import document_lines
+
+    request = InspectRequest((str(CLEAN),), isolated=True, jobs=1, timeout=0)
+    (result,) = inspect_files(request, partial(compute_file_spec, options=SpecOptions())).results
+    document = spec_document([(result, result.value)], "0")
+    lines = ["".join(text for text, _ in line) for line in document_lines(document, width)]
+    side_by_side = ["".join(text for text, _ in line) for line in document_lines(document)]
+    drawing_rows = [line for line in lines if "│" in line]
+    assert drawing_rows and all(columns(line.rstrip()) <= width for line in drawing_rows)
+    if all(columns(line) <= width for line in side_by_side):
+        assert lines == side_by_side  # room enough: beside it, as piped
+    else:
+        assert any(line.startswith("  data window    x 0..1919") for line in lines)

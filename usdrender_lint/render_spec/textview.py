@@ -9,6 +9,7 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
+from ..formatters.text import columns
 from .picture import Picture, Rect, picture
 
 #: A line is a list of (text, rich style or None) segments (what the text
@@ -22,14 +23,15 @@ FLAG = "bold red"
 LEGEND = ("─ image   · camera aperture", "░ rendered  ▒ overscan")
 
 
-def document_lines(document: dict[str, Any]) -> Iterator[Line]:
+def document_lines(document: dict[str, Any], width: int | None = None) -> Iterator[Line]:
+    """``width``: the terminal's columns (None: piped, no limit)."""
     for index, file in enumerate(document["files"]):
         if index:
             yield []
-        yield from file_lines(file)
+        yield from file_lines(file, width)
 
 
-def file_lines(file: dict[str, Any]) -> Iterator[Line]:
+def file_lines(file: dict[str, Any], width: int | None = None) -> Iterator[Line]:
     if file["status"] != "computed":
         yield [(file["file"], "bold")]
         yield [("  ", None), ("error", FLAG), (f"  {file['error']}", None)]
@@ -44,10 +46,10 @@ def file_lines(file: dict[str, Any]) -> Iterator[Line]:
         yield [("  no usable RenderSettings", "yellow")]
     for settings in file["settings"]:
         yield []
-        yield from settings_lines(settings)
+        yield from settings_lines(settings, width)
 
 
-def settings_lines(settings: dict[str, Any]) -> Iterator[Line]:
+def settings_lines(settings: dict[str, Any], width: int | None = None) -> Iterator[Line]:
     marks = ["primary"] if settings["primary"] else []
     marks.append(f"profile {settings['profile']}")
     yield [
@@ -66,13 +68,13 @@ def settings_lines(settings: dict[str, Any]) -> Iterator[Line]:
             ("  no products: ", "yellow"),
             ("the application decides the outputs; the settings' own values:", None),
         ]
-        yield from product_lines(settings["base"])
+        yield from product_lines(settings["base"], width)
     for product in settings["products"]:
         yield []
-        yield from product_lines(product)
+        yield from product_lines(product, width)
 
 
-def product_lines(product: dict[str, Any]) -> Iterator[Line]:
+def product_lines(product: dict[str, Any], width: int | None = None) -> Iterator[Line]:
     if product["path"] is not None:
         yield [
             ("  RenderProduct ", None),
@@ -86,9 +88,15 @@ def product_lines(product: dict[str, Any]) -> Iterator[Line]:
     ]
     drawing = draw(picture(product), problems)
     values = list(value_lines(product))
-    width = sum(len(text) for text, _ in drawing[0]) if drawing else 0
+    drawn = sum(len(text) for text, _ in drawing[0]) if drawing else 0
+    widest = max((columns("".join(text for text, _ in line)) for line in values), default=0)
+    if width is not None and 2 + drawn + len(GAP) + widest > width:
+        # Side by side, the terminal would wrap every row through the drawing:
+        # the values go under it instead.
+        yield from ([("  ", None), *line] for line in [*drawing, *values])
+        return
     for row in range(max(len(drawing), len(values))):
-        left: Line = drawing[row] if row < len(drawing) else [(" " * width, None)]
+        left: Line = drawing[row] if row < len(drawing) else [(" " * drawn, None)]
         right = values[row] if row < len(values) else []
         yield [("  ", None), *left, (GAP, None), *right]
 
