@@ -286,3 +286,38 @@ def test_output_dash_is_stdout_not_a_file_named_dash(tmp_path: Path, args: tuple
     )
     assert (dashed.returncode, dashed.stdout) == (plain.returncode, plain.stdout)
     assert json.loads(dashed.stdout) and not (tmp_path / "-").exists()
+
+
+def _on_a_terminal(cwd: Path, *args: str) -> str:
+    """What a terminal shows for ``usdrender-lint *args`` (stdout and stderr both on it)."""
+    leader, follower = os.openpty()
+    env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "200"}
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "usdrender_lint", *args],
+        cwd=cwd,
+        stdin=subprocess.DEVNULL,
+        stdout=follower,
+        stderr=follower,
+        env=env,
+    )
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(leader, 65536)
+        except OSError:  # EIO: the command closed the terminal
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    proc.wait(timeout=120)
+    os.close(leader)
+    return b"".join(chunks).decode("utf-8", "replace").replace("\r\n", "\n")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="a pseudo-terminal")
+@pytest.mark.parametrize("command", ["check", "spec"])
+def test_a_file_not_linted_reads_once_on_a_terminal(tmp_path: Path, command: str) -> None:
+    # The text report names it; stderr repeats it only for a log or a file report.
+    shown = _on_a_terminal(tmp_path, command, "--isolated", "-j1", "nope.usda")
+    assert shown.count("no such file") == 1, shown

@@ -25,7 +25,7 @@ from .options import (
     show_info_option,
     statistics_option,
 )
-from .output import ToolError, error, note, stdout_to_stderr, write
+from .output import ToolError, errors_after_report, note, stdout_to_stderr, write
 from .views import send
 
 if TYPE_CHECKING:
@@ -217,8 +217,7 @@ def _check_once(
         emit_report(report, output_format, rules, options, output_file, outcome.configuration)
     for line in outcome.notes:
         note(line)
-    for line in outcome.errors:
-        error(line)
+    errors_after_report(outcome.errors, output_format, output_file)
     return outcome
 
 

@@ -21,7 +21,7 @@ from .options import (
     show_info_option,
     statistics_option,
 )
-from .output import ToolError, error, note
+from .output import ToolError, errors_after_report, note
 
 if TYPE_CHECKING:
     from ..config import Settings
@@ -83,8 +83,9 @@ def merge(
     emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for line in (line for r in report.files for line in r.notes):
         note(line)  # as check said them (a file's skipped variant combinations)
-    for line in (r.error or r.file for r in report.errored_files):
-        error(line)
+    errors_after_report(
+        (r.error or r.file for r in report.errored_files), output_format, output_file
+    )
     sys.exit(exit_status(report, prepared.settings.fail_on))
 
 

@@ -40,6 +40,17 @@ def note(message: str) -> None:
     click.echo(f"usdrender-lint: {printable(message)}", err=True)
 
 
+def errors_after_report(lines: Iterable[str], output_format: str, output: str | None) -> None:
+    """The files that could not be processed, repeated on stderr for a log or a
+    machine-read report; not when a text report already showed them on the
+    terminal stderr writes to, where they would read twice."""
+    shown = output_format in ("text", "full") and output in (None, "-")
+    if shown and sys.stdout is not None and sys.stdout.isatty() and sys.stderr.isatty():
+        return
+    for line in lines:
+        error(line)
+
+
 class Stdout:
     """sys.stdout, written to the end: the text is gathered and written with
     :func:`~usdrender_lint.atomic.write_all` (a single ``write()`` to a pipe

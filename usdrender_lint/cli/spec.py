@@ -17,7 +17,7 @@ from .options import (
     setting_options,
     setting_values,
 )
-from .output import ToolError, error, note, stdout_to_stderr, write, write_file
+from .output import ToolError, errors_after_report, note, stdout_to_stderr, write, write_file
 from .views import emit, format_option, view
 
 
@@ -129,8 +129,7 @@ def spec_command(
         emit("spec", output_format, document, output, "the specification")
     for line in inspection.notes:
         note(line)
-    for line in inspection.errors:
-        error(line)
+    errors_after_report(inspection.errors, output_format, output)
     sys.exit(inspection.exit_status)
 
 
