@@ -240,3 +240,25 @@ def test_help_of_each_reporting_command_gives_its_exit_codes(command: str) -> No
     text = " ".join(result.output.split())
     assert result.exit_code == 0
     assert "xit code" in text and " 2 " in text, text
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [
+        (["check", "--format", "x", "."], "Invalid value for '--format': 'x' is not one of"),
+        (["check", "-j", "0", "."], "Invalid value for '--jobs' / '-j'"),
+        (["check"], "Missing argument 'PATHS...' (see 'usdrender-lint check --help')"),
+        (["chek", "."], "No such command 'chek'. Did you mean 'check'?"),
+        (["--bogus"], "No such option '--bogus' (see 'usdrender-lint --help')"),
+        (["rules", "--profile", "zz"], "(see 'usdrender-lint rules --help')"),
+    ],
+)
+def test_a_usage_error_is_one_line_as_every_other_error(args: list[str], said: str) -> None:
+    """click's usage, hint and error over four lines read apart from the tool's
+    other errors; one line names the command's help instead."""
+    result = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", *args], capture_output=True, text=True
+    )
+    assert result.returncode == 2
+    assert result.stderr.startswith("usdrender-lint: error: ") and said in result.stderr
+    assert result.stderr.count("\n") == 1, result.stderr

@@ -13,7 +13,9 @@ import errno
 import io
 import os
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from typing import Any
 
 import click
 
@@ -25,14 +27,44 @@ from .check import check
 from .clean import clean
 from .explain import explain
 from .merge import merge
-from .output import EXIT_TOOL_ERROR, StdoutGone, error
+from .output import EXIT_TOOL_ERROR, StdoutGone, ToolError, error
 from .plugin_path import plugin_path
 from .rules import list_rules, rules_text
 from .server import server_command
 from .spec import spec_command
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Group(click.Group):
+    """click's usage errors (a bad option value, an unknown command or option)
+    are one line, as the tool's other errors: click's own form is a usage line,
+    a hint and the error over four."""
+
+    def make_context(self, *args: Any, **kwargs: Any) -> click.Context:
+        with _one_line_usage_errors():
+            return super().make_context(*args, **kwargs)
+
+    def invoke(self, ctx: click.Context) -> Any:
+        with _one_line_usage_errors():  # a subcommand's arguments are parsed here
+            return super().invoke(ctx)
+
+
+#: click 8.2's usage error for a group run without a command (its help).
+_NO_ARGUMENTS: type[Exception] | tuple[()] = getattr(click.exceptions, "NoArgsIsHelpError", ())
+
+
+@contextmanager
+def _one_line_usage_errors() -> Iterator[None]:
+    try:
+        yield
+    except _NO_ARGUMENTS:
+        raise  # a bare `usdrender-lint`: click shows the help
+    except click.UsageError as exc:
+        where = exc.ctx.command_path if exc.ctx is not None else "usdrender-lint"
+        message = exc.format_message().removesuffix(".")
+        raise ToolError(f"{message} (see '{where} --help')") from None
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="usdrender-lint")
 def cli() -> None:
     """Lint OpenUSD render settings (usdRender) before the render farm does."""
