@@ -357,7 +357,7 @@ SETTINGS: tuple[Setting, ...] = (
     ),
     Setting(
         "extend_exclude",
-        "Patterns excluded as well as those of exclude",
+        "Patterns excluded as well as --exclude's (added to the configuration's extend-exclude)",
         _strings,
         kind="tokens",
         default=(),
