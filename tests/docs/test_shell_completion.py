@@ -61,3 +61,21 @@ def test_completion_run_by_hand_is_one_line_and_exit_2() -> None:
     (line,) = done.stderr.splitlines()
     assert line.startswith("usdrender-lint: error: _USDRENDER_LINT_COMPLETE is for the shell")
     assert "internal error" not in done.stderr
+
+
+def test_completion_offers_rules_for_the_selections_and_explain() -> None:
+    def complete(words: str) -> set[str]:
+        found = _run(
+            _USDRENDER_LINT_COMPLETE="bash_complete",
+            COMP_WORDS=words,
+            COMP_CWORD=str(len(words.split(" ")) - 1),
+        )
+        return set(found.splitlines())
+
+    assert {"plain,CA001", "plain,CA004"} <= complete("usdrender-lint check --select CA00")
+    assert {"plain,ALL", "plain,SE"} <= complete("usdrender-lint check --ignore ")
+    # After a comma, the list typed so far stays.
+    assert "plain,SE003,camera-unset" in complete("usdrender-lint check --extend-select SE003,cam")
+    # explain takes one rule: codes and names, no family.
+    explained = complete("usdrender-lint explain camera-u")
+    assert explained == {"plain,camera-unset"}

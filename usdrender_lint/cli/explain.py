@@ -7,6 +7,7 @@ from typing import TextIO
 import click
 
 from .loading import registry
+from .options import complete_rule
 from .output import ToolError
 from .views import emit, view
 
@@ -17,7 +18,7 @@ def _text(text: str, stream: TextIO) -> None:
 
 
 @click.command()
-@click.argument("rule")
+@click.argument("rule", shell_complete=complete_rule)
 def explain(rule: str) -> None:
     """Print a rule's documentation (by code or name)."""
     from ..model import INTERNAL_ERROR_RULE as internal

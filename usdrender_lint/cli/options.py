@@ -9,6 +9,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import click
+from click.shell_completion import CompletionItem
 
 from ..settings_table import ConfigError, Setting, flag_settings
 
@@ -56,6 +57,8 @@ def setting_option(entry: Setting):
         common.update(envvar=entry.envvar, show_envvar=True)
     kind = entry.kind
     if kind == "tokens":
+        if entry.name in RULE_SELECTIONS:
+            common.update(shell_complete=complete_rules)
         return click.option(entry.flag, entry.name, multiple=True, **common)
     if kind == "choice":
         return click.option(entry.flag, entry.name, type=click.Choice(entry.choices), **common)
@@ -79,6 +82,53 @@ def setting_option(entry: Setting):
     if kind == "folder":
         return click.option(entry.flag, entry.name, type=click.Path(file_okay=False), **common)
     raise AssertionError(f"unknown setting kind {kind!r}")
+
+
+#: The settings whose values are rule selectors (codes, prefixes, names).
+RULE_SELECTIONS = ("select", "ignore", "extend_select", "unfixable")
+
+
+def complete_rules(
+    ctx: click.Context, param: click.Parameter, incomplete: str
+) -> list[CompletionItem]:
+    """Shell completion of a rule selector: codes (with the rule's name), names,
+    families and ALL, after the commas of a list already typed."""
+    done, _, word = incomplete.rpartition(",")
+    lead = f"{done}," if done else ""
+    return [
+        CompletionItem(lead + value, help=help)
+        for value, help in _rule_words(families=True).items()
+        if value.lower().startswith(word.lower())
+    ]
+
+
+def complete_rule(
+    ctx: click.Context, param: click.Parameter, incomplete: str
+) -> list[CompletionItem]:
+    """Shell completion of one rule: its code or its name."""
+    return [
+        CompletionItem(value, help=help)
+        for value, help in _rule_words(families=False).items()
+        if value.lower().startswith(incomplete.lower())
+    ]
+
+
+def _rule_words(families: bool) -> dict[str, str]:
+    """Each word that names rules, with what it names; none when the rules
+    cannot be loaded (completion says nothing rather than fail)."""
+    from .loading import registry
+
+    try:
+        rules = registry().rules
+    except Exception:  # noqa: BLE001 - a broken plugin: its error is check's to say
+        return {}
+    words = {"ALL": "every rule"} if families else {}
+    if families:
+        words.update({rule.code[:2]: f"the {rule.code[:2]} rules" for rule in rules})
+    for rule in rules:
+        words[rule.code] = rule.name
+        words[rule.name] = rule.code
+    return words
 
 
 def setting_options(command: str):
