@@ -84,8 +84,8 @@ def setting_option(entry: Setting):
     raise AssertionError(f"unknown setting kind {kind!r}")
 
 
-#: The settings whose values are rule selectors (codes, prefixes, names).
-RULE_SELECTIONS = ("select", "ignore", "extend_select", "unfixable")
+#: The settings whose flags take rule selectors (codes, prefixes, names).
+RULE_SELECTIONS = ("select", "ignore", "extend_select")
 
 
 def complete_rules(
