@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import re
+import unicodedata
 from pathlib import Path
 
 
@@ -120,3 +121,25 @@ def from_usd(exc: UnicodeDecodeError) -> str | None:
     """The path USD handed back when its bytes are not UTF-8 (the bindings
     raise, holding the bytes in the error), as Python names such a file."""
     return os.fsdecode(exc.object) if isinstance(exc.object, bytes) else None
+
+
+def _width(char: str) -> int:
+    """The columns a terminal gives ``char`` (wcwidth's rule for printable text)."""
+    if unicodedata.combining(char):
+        return 0
+    return 2 if unicodedata.east_asian_width(char) in ("W", "F") else 1
+
+
+def columns(text: str) -> int:
+    """The columns ``text`` takes on a terminal."""
+    return sum(_width(char) for char in text)
+
+
+def fitting(text: str, room: int) -> str:
+    """The longest start of ``text`` that takes at most ``room`` columns."""
+    used = 0
+    for index, char in enumerate(text):
+        used += _width(char)
+        if used > room:
+            return text[:index]
+    return text

@@ -23,10 +23,10 @@ from .views import emit, format_option, view
 
 @view("spec", "text")
 def _text(document: dict, stream: TextIO) -> None:
-    from ..formatters.text import _terminal_width, write_lines
+    from ..formatters.text import terminal_width, write_lines
     from ..render_spec.textview import document_lines
 
-    write_lines(document_lines(document, _terminal_width(stream)), stream)
+    write_lines(document_lines(document, terminal_width(stream)), stream)
 
 
 @view("spec", "json")

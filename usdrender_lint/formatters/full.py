@@ -21,8 +21,8 @@ from __future__ import annotations
 
 from ..layers.source_lines import read_lines, statement_columns
 from ..model import Finding
-from ..paths import layer_file
-from .text import _STYLE, Below, Segment, TextFormatter, columns, fitting
+from ..paths import columns, fitting, layer_file
+from .text import _STYLE, Below, Segment, TextFormatter
 
 #: The widest source line shown when the report is piped.
 PIPED_COLUMNS = 200

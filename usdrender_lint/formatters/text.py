@@ -15,12 +15,11 @@ from __future__ import annotations
 
 import os
 import re
-import unicodedata
 from collections.abc import Callable, Iterable
 from typing import TextIO
 
 from ..model import AppliedFix, FileResult, Finding, Report, Severity
-from ..paths import display_path, layer_file, printable
+from ..paths import columns, display_path, layer_file, printable
 from ..records import record
 from . import FormatOptions, statistics_lines
 
@@ -75,29 +74,7 @@ def _file_of(identifier: str | None, fallback: str) -> str:
     return printable(display_path(str(on_disk)) if on_disk else display_path(fallback) or fallback)
 
 
-def _width(char: str) -> int:
-    """The columns a terminal gives ``char`` (wcwidth's rule for printable text)."""
-    if unicodedata.combining(char):
-        return 0
-    return 2 if unicodedata.east_asian_width(char) in ("W", "F") else 1
-
-
-def columns(text: str) -> int:
-    """The columns ``text`` takes on a terminal."""
-    return sum(_width(char) for char in text)
-
-
-def fitting(text: str, room: int) -> str:
-    """The longest start of ``text`` that takes at most ``room`` columns."""
-    used = 0
-    for index, char in enumerate(text):
-        used += _width(char)
-        if used > room:
-            return text[:index]
-    return text
-
-
-def _terminal_width(stream: TextIO) -> int | None:
+def terminal_width(stream: TextIO) -> int | None:
     """The width to wrap at: the terminal's, or None when piped."""
     if not _is_terminal(stream):
         return None
@@ -243,7 +220,7 @@ class TextFormatter:
     reads_configuration = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        width = _terminal_width(stream)
+        width = terminal_width(stream)
         entries, summary = self._entries(report, options, self.below(width))
         lines: list[Line] = []
         for entry in entries:

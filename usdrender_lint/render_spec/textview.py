@@ -9,7 +9,7 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
-from ..formatters.text import columns
+from ..paths import columns
 from .picture import Picture, Rect, picture
 
 #: A line is a list of (text, rich style or None) segments (what the text
