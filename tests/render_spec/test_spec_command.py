@@ -241,7 +241,7 @@ def test_the_legend_of_a_tall_picture_is_whole(tmp_path: Path) -> None:
 def test_a_narrow_terminal_gets_the_values_under_the_drawing(width: int) -> None:
     # Side by side the rows are wider than 80 columns: the terminal would
     # wrap each one through the drawing.
-    from usdrender_lint.formatters.text import columns
+    from usdrender_lint.paths import columns
     from usdrender_lint.render_spec.textview import document_lines
 
     request = InspectRequest((str(CLEAN),), isolated=True, jobs=1, timeout=0)
