@@ -57,4 +57,4 @@ def channel_name(var: Usd.Prim, naming: AovNaming, ctx: Context) -> str:
 def _prim_name(ctx: Context, prim: Usd.Prim) -> str:
     """The prim's name, asked once per lint: VA008 names each var's channel
     for every product that targets it."""
-    return prim.GetName()
+    return Usd.Object.GetName(prim)  # unbound: no validity check of the (usable) var

@@ -106,7 +106,7 @@ def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:
     attr, fallback = reader
     if attr is None:
         return fallback
-    value = attr.Get(time)
+    value = Usd.Attribute.Get(attr, time)  # unbound: attr holds a value (_reader)
     if value is not None:
         return value
     # A blocked time sample (`1: None`) leaves typed C++ reads with the fallback.

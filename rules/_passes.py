@@ -48,7 +48,7 @@ def input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
 def _input_pass_graph(ctx: Context) -> dict[Sdf.Path, list[Sdf.Path]]:
     graph: dict[Sdf.Path, list[Sdf.Path]] = {}
     for prim in ctx.prims_of(schemas.RenderPass):
-        graph[prim.GetPath()] = [
+        graph[prim_values(prim).path] = [
             t.path
             for t in prim_values(prim).targets("inputPasses")
             if typed_target_problem(t, schemas.RenderPass, "a RenderPass") is None
@@ -119,7 +119,7 @@ def _authored_pass_collections(ctx: Context, prim: Usd.Prim) -> tuple[Usd.Collec
 
 
 def collection_label(collection: Usd.CollectionAPI) -> str:
-    return f"collection:{collection.GetName()}"
+    return f"collection:{Usd.CollectionAPI.GetName(collection)}"
 
 
 def missing_expression_references(

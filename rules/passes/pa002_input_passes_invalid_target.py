@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import resolve_targets, typed_target_problem
+from usdrender_lint.api.resolve import prim_values, typed_target_problem
 
 
 class InputPassesInvalidTarget(Rule):
@@ -79,13 +79,13 @@ class InputPassesInvalidTarget(Rule):
     prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = prim.GetRelationship("inputPasses")
-        for target in resolve_targets(rel):
+        values = prim_values(prim)
+        for target in values.targets("inputPasses"):
             problem = typed_target_problem(target, schemas.RenderPass, "a RenderPass")
             if problem is not None:
                 yield Diagnostic(
                     message=f"inputPasses target <{target.path}> {problem}; list only the "
                     "RenderPass "
                     "prims this pass depends on",
-                    at=rel,
+                    at=values.relationship("inputPasses"),
                 )

@@ -22,9 +22,10 @@ def _collection_problems(
 ) -> tuple[list[str], Usd.Property | None]:
     """Why a collection's membership cannot be trusted, and the property the
     first problem is about."""
-    expression_attr = collection.GetMembershipExpressionAttr()
+    # Unbound: the collections are of usable passes (no validity check per call).
+    expression_attr = Usd.CollectionAPI.GetMembershipExpressionAttr(collection)
     expression = authored_value(expression_attr)
-    includes = collection.GetIncludesRel()
+    includes = Usd.CollectionAPI.GetIncludesRel(collection)
     # Evaluation errors (e.g. an unknown predicate) can surface from Validate()
     # as well as from ComputeMembershipQuery(): report them once.
     evaluation_anchor = expression_attr if expression is not None else includes
@@ -35,7 +36,7 @@ def _collection_problems(
         problems.append((text, evaluation_anchor))
 
     try:
-        valid, why = collection.Validate()
+        valid, why = Usd.CollectionAPI.Validate(collection)
         if not valid:
             anchor = collection.GetExpansionRuleAttr() if "expansionRule" in why else includes
             problems.append((why.strip().rstrip(".") or "Validate() failed", anchor))
@@ -49,7 +50,7 @@ def _collection_problems(
             )
             problems.append((text, expression_attr))
     try:
-        collection.ComputeMembershipQuery()
+        Usd.CollectionAPI.ComputeMembershipQuery(collection)
     except Tf.ErrorException as exc:
         evaluation_failed(exc)
     reasons = list(dict.fromkeys(text for text, _ in problems))

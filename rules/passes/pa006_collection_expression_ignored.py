@@ -144,7 +144,7 @@ class CollectionExpressionIgnored(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         for collection in authored_pass_collections(prim, ctx):
-            attr = collection.GetMembershipExpressionAttr()
+            attr = Usd.CollectionAPI.GetMembershipExpressionAttr(collection)  # unbound: valid
             expression = authored_value(attr)
             if expression is None or expression.IsEmpty():
                 continue

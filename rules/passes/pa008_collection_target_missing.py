@@ -11,6 +11,10 @@ from usdrender_lint.api.resolve import authored_targets
 
 from .._passes import authored_pass_collections, collection_label, dangling_object_reason
 
+# Unbound: the collections are of usable passes (no validity check per call).
+_includes = Usd.CollectionAPI.GetIncludesRel
+_excludes = Usd.CollectionAPI.GetExcludesRel
+
 
 class CollectionTargetMissing(Rule):
     """A RenderPass collection includes or excludes a path that names nothing.
@@ -83,12 +87,12 @@ class CollectionTargetMissing(Rule):
     prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        stage = prim.GetStage()
+        stage = Usd.Prim.GetStage(prim)  # unbound: a usable prim of the walk
         for collection in authored_pass_collections(prim, ctx):
             label = collection_label(collection)
             for kind, rel, effect in (
-                ("includes", collection.GetIncludesRel(), "drops these objects from"),
-                ("excludes", collection.GetExcludesRel(), "leaves these objects in"),
+                ("includes", _includes(collection), "drops these objects from"),
+                ("excludes", _excludes(collection), "leaves these objects in"),
             ):
                 for target in authored_targets(rel):
                     reason = dangling_object_reason(stage, target)

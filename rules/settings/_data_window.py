@@ -14,6 +14,7 @@ from usdrender_lint.api.resolve import (
     has_authored_value,
     is_finite,
     items,
+    prim_values,
 )
 
 from ._messages import _fmt
@@ -74,7 +75,7 @@ def _find_window_uses(ctx: Context) -> list[_WindowUse]:
     # their own; a use already found above is not listed twice.
     found = {(use.window.attr.GetPath(), tuple(items(use.resolution))) for use in uses}
     for prim in [*ctx.prims_of(schemas.RenderSettings), *ctx.untargeted_products]:
-        attr = prim.GetAttribute("dataWindowNDC")
+        attr = prim_values(prim).attribute("dataWindowNDC")
         if has_authored_value(attr):
             resolution = composed_value(prim, "resolution")
             if (attr.GetPath(), tuple(items(resolution))) not in found:

@@ -184,7 +184,7 @@ def _usable_var(target: Target) -> PrimValues | None:
 def _camera(target: Target) -> Camera:
     """A camera target and the typed prim there (the resolution the rules share)."""
     camera = target.prim if target.path.IsPrimPath() else None
-    type_name = camera.GetTypeName() if camera else ""
+    type_name = Usd.Prim.GetTypeName(camera) if camera else ""  # unbound: valid, checked
     return (target.path, camera, type_name) if type_name else (target.path, None, "")
 
 
