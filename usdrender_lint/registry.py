@@ -43,6 +43,18 @@ class Registry:
     def plugins(self) -> set[str]:
         return set(self.origins.values())
 
+    def nearest(self, code_or_name: str) -> str | None:
+        """The rule code or name closest to a mistyped one (``camera_unset``,
+        ``CA01``), for a "did you mean"; None when none is close."""
+        import difflib
+
+        words = {rule.code: rule.code for rule in self.rules}
+        words.update({rule.name: rule.name for rule in self.rules})
+        key = code_or_name.strip()
+        folded = {word.lower().replace("_", "-"): word for word in words}
+        close = difflib.get_close_matches(key.lower().replace("_", "-"), folded, n=1, cutoff=0.75)
+        return folded[close[0]] if close else None
+
 
 def _aliases(rule: type[Rule]) -> tuple[str, ...]:
     return tuple(getattr(rule, "aliases", ()))

@@ -262,3 +262,22 @@ def test_a_usage_error_is_one_line_as_every_other_error(args: list[str], said: s
     assert result.returncode == 2
     assert result.stderr.startswith("usdrender-lint: error: ") and said in result.stderr
     assert result.stderr.count("\n") == 1, result.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [
+        (["explain", "camera_unset"], "(did you mean 'camera-unset'? see 'usdrender-lint rules')"),
+        (["explain", "CA0044"], "(did you mean 'CA004'?"),
+        (["explain", "zzz"], "no rule has the code or name 'zzz' (see 'usdrender-lint rules')"),
+        (
+            ["check", "--select", "camera_unset", str(REPO / "examples")],
+            "--select: 'camera_unset' matches no rule code, code prefix or rule name "
+            "(did you mean 'camera-unset'?)",
+        ),
+    ],
+)
+def test_a_mistyped_rule_is_answered_with_the_nearest(args: list[str], said: str) -> None:
+    result = CliRunner().invoke(cli, args)
+    assert result.exit_code == 2
+    assert said in result.stderr and result.stderr.count("\n") == 1

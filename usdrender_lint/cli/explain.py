@@ -32,4 +32,6 @@ def explain(rule: str) -> None:
         header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
         emit("explain", "text", f"{header}\n\n{internal.doc}\n")
     else:
-        raise ToolError(f"no rule has the code or name {rule!r} (see 'usdrender-lint rules')")
+        near = registry().nearest(rule)
+        hint = f"did you mean {near!r}? " if near else ""
+        raise ToolError(f"no rule has the code or name {rule!r} ({hint}see 'usdrender-lint rules')")

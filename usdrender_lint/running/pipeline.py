@@ -329,7 +329,11 @@ def check_selectors(registry: Registry, selectors: Iterable[str], where: str) ->
     """Raise a ConfigError naming ``where`` for a selector that names no rule."""
     for token in selectors:
         if not any(matches_any(rule, [token]) for rule in registry.rules):
-            raise ConfigError(f"{where}: {token!r} matches no rule code, code prefix or rule name")
+            near = registry.nearest(token)
+            hint = f" (did you mean {near!r}?)" if near else ""
+            raise ConfigError(
+                f"{where}: {token!r} matches no rule code, code prefix or rule name{hint}"
+            )
 
 
 def _origin(settings: Settings, name: str) -> str:
