@@ -167,3 +167,11 @@ def test_the_package_is_typed() -> None:
     assert (Path(usdrender_lint.__file__).parent / "py.typed").is_file()
     hints = usdrender_lint.lint_file.__annotations__
     assert hints["return"] in ("Report", Report)
+
+
+def test_a_folder_is_walked_as_check_walks_it() -> None:
+    """As the guide says: one result per USD file below the folder."""
+    report = usdrender_lint.lint_file(SE003)
+    walked = sorted(Path(result.file).name for result in report.files)
+    assert walked == sorted(p.name for p in SE003.iterdir() if p.suffix == ".usda")
+    assert all(result.status == "linted" for result in report.files)

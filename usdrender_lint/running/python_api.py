@@ -93,7 +93,7 @@ def lint_file(
     variants: bool | None = None,
     max_variant_combinations: int | None = None,
 ) -> Report:
-    """Lint one USD file.
+    """Lint one USD file (or the USD files of a folder, walked as ``check`` walks it).
 
     ``select`` / ``ignore`` / ``extend_select`` take rule codes, prefixes or
     names, like the flags; ``profile`` is a renderer profile name or "auto";
