@@ -48,11 +48,11 @@ class Registry:
         ``CA01``), for a "did you mean"; None when none is close."""
         import difflib
 
-        words = {rule.code: rule.code for rule in self.rules}
-        words.update({rule.name: rule.name for rule in self.rules})
-        key = code_or_name.strip()
-        folded = {word.lower().replace("_", "-"): word for word in words}
-        close = difflib.get_close_matches(key.lower().replace("_", "-"), folded, n=1, cutoff=0.75)
+        def fold(word: str) -> str:
+            return word.strip().lower().replace("_", "-")
+
+        folded = {fold(word): word for rule in self.rules for word in (rule.code, rule.name)}
+        close = difflib.get_close_matches(fold(code_or_name), folded, n=1, cutoff=0.75)
         return folded[close[0]] if close else None
 
 

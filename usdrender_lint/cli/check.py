@@ -14,7 +14,7 @@ from .. import __version__
 from ..formatters import FormatOptions, load_formatter, reads_configuration, reads_rules
 from ..paths import display_path, escape
 from ..running.interrupts import check_stopped
-from .loading import import_engine, supervision
+from .loading import import_engine, registry, supervision
 from .options import (
     config_option,
     isolated_option,
@@ -283,20 +283,15 @@ def _gitignores_above(request: Request) -> set[str]:
     heard below the paths only."""
     import os
 
+    from ..running.discovery import git_exclude, repository_chain
     from ..running.watching import GITIGNORE
 
     polled: set[str] = set()
     for path in request.paths:
-        chain = []
-        folder = os.path.abspath(path if os.path.isdir(path) else os.path.dirname(path) or ".")
-        while True:
-            chain.append(os.path.join(folder, GITIGNORE))
-            if os.path.exists(os.path.join(folder, ".git")):
-                polled.update([*chain, os.path.join(folder, ".git", "info", "exclude")])
-                break
-            if os.path.dirname(folder) == folder:
-                break  # not in a repository: only the walked folders' own count
-            folder = os.path.dirname(folder)
+        top = os.path.abspath(path if os.path.isdir(path) else os.path.dirname(path) or ".")
+        chain, root = repository_chain(top)
+        if root is not None:  # outside a repository, only the walked folders' own count
+            polled.update([*(os.path.join(f, GITIGNORE) for f in chain), git_exclude(root)])
     return polled
 
 
@@ -414,11 +409,9 @@ def _described(report: Report, rules: Sequence[Rule]) -> tuple[RuleInfo, ...]:
     infos = {rule.code: rule_info(type(rule)) for rule in rules}
     missing = sorted({finding.code for finding in report.findings} - set(infos))
     if missing:
-        from ..registry import build_registry
-
-        registry = build_registry()
+        known = registry()
         for code in missing:
-            if (found := registry.find(code)) is not None:
+            if (found := known.find(code)) is not None:
                 infos[code] = rule_info(found)
     return tuple(infos.values())
 

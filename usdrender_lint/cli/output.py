@@ -44,7 +44,7 @@ def errors_after_report(lines: Iterable[str], output_format: str, output: str | 
     """The files that could not be processed, repeated on stderr for a log or a
     machine-read report; not when a text report already showed them on the
     terminal stderr writes to, where they would read twice."""
-    shown = output_format in ("text", "full") and output in (None, "-")
+    shown = output_format in ("text", "full") and output is None  # ("-" is None by now)
     if shown and sys.stdout is not None and sys.stdout.isatty() and sys.stderr.isatty():
         return
     for line in lines:

@@ -327,9 +327,9 @@ class _Reader:
                 differs["aperture.camera"] = list(then.aperture)
             if not _same(then.conformed.aperture, now.conformed.aperture):
                 differs["aperture.conformed"] = list(then.conformed.aperture)
-            ratios = then.conformed.pixel_aspect_ratio, now.conformed.pixel_aspect_ratio
-            if not _same(ratios[:1], ratios[1:]):
-                differs["pixelAspectRatio"] = then.conformed.pixel_aspect_ratio
+            ratio = then.conformed.pixel_aspect_ratio
+            if not _same((ratio,), (now.conformed.pixel_aspect_ratio,)):
+                differs["pixelAspectRatio"] = ratio
         if outputs.name_at_default != outputs.name:
             differs["name"] = outputs.name_at_default
         return ComputeSpecView(True, None, differs)

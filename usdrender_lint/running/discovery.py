@@ -135,6 +135,27 @@ def _nearest(top: str, nested: FolderExclusions | None) -> Exclusions | None:
     return own
 
 
+def repository_chain(top: str) -> tuple[list[str], str | None]:
+    """The folders whose ``.gitignore`` a walk of ``top`` reads from above it:
+    ``top`` and its parents up to its repository's root, and that root; outside
+    a repository, ``top`` alone and None."""
+    chain = []
+    folder = top
+    while True:
+        chain.append(folder)
+        if os.path.exists(os.path.join(folder, ".git")):
+            return chain, folder
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return [top], None  # only the walked folders' own
+        folder = parent
+
+
+def git_exclude(root: str) -> str:
+    """git's own ignore file of the repository at ``root``."""
+    return os.path.join(root, ".git", "info", "exclude")
+
+
 class _Skip:
     """Whether a path met in a walk is skipped (see the module docstring)."""
 
@@ -153,18 +174,9 @@ class _Skip:
             self._parents_of(os.path.abspath(top))
 
     def _parents_of(self, top: str) -> None:
-        chain = []
-        folder = top
-        while True:
-            chain.append(folder)
-            if os.path.exists(os.path.join(folder, ".git")):
-                self._add(folder, os.path.join(folder, ".git", "info", "exclude"))
-                break
-            parent = os.path.dirname(folder)
-            if parent == folder:
-                chain = [top]  # not in a repository: only the walked folders' own
-                break
-            folder = parent
+        chain, root = repository_chain(top)
+        if root is not None:
+            self._add(root, git_exclude(root))
         for folder in reversed(chain):
             self.enter(folder)
 
