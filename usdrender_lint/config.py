@@ -38,6 +38,22 @@ from .settings_table import (
 CONFIG_FILE_NAMES = (".usdrender-lint.toml", "usdrender-lint.toml", "pyproject.toml")
 TOOL_TABLE = "usdrender-lint"
 
+#: The settings that choose the rules, laid over each other as ruff's rule
+#: selections are (``Settings.selections_below``).
+SELECTION_KEYS = ("select", "ignore", "extend_select")
+
+
+@record(frozen=True)
+class RuleSelection:
+    """The ``select``, ``ignore`` and ``extend-select`` of one layer of the
+    configuration (a file extended, the file under the flags)."""
+
+    select: tuple[str, ...] | None
+    ignore: tuple[str, ...]
+    extend_select: tuple[str, ...]
+    #: Where each came from (``Settings.where``), for errors.
+    origins: Mapping[str, str]
+
 
 @record(frozen=True)
 class Settings:
@@ -92,12 +108,18 @@ class Settings:
     from_file: Mapping[str, str] = field(default_factory=dict)
     #: Every configuration file read: ``source``, then the files it extends.
     sources: tuple[str, ...] = ()
+    #: The rule selections of the layers beneath ``select``, ``ignore`` and
+    #: ``extend_select`` (the files extended, the file under the flags), first
+    #: to last. Each layer starts from what the one beneath chose, as in ruff: a
+    #: ``select`` of its own starts over; an ``ignore`` or ``extend-select``
+    #: changes only the rules it names (registry.select_rules).
+    selections_below: tuple[RuleSelection, ...] = ()
 
     def merged(self, **overrides: Any) -> Settings:
         """These settings with the non-None overrides applied (command-line flags),
-        as a file that extends them would lay them over: ``--extend-select`` and
-        ``--extend-exclude`` add to the configured lists (as ruff's do), and
-        ``--select`` starts the selection over."""
+        as a file that extends them would lay them over: ``--extend-exclude``
+        adds to the configured list (as ruff's does), and the rule selection
+        flags make a layer over the file's (``selections_below``)."""
         given = {k: v for k, v in overrides.items() if v is not None}
         values = _layered(self, given)
         return dataclasses.replace(self, **values, from_flags=self.from_flags | set(given))
@@ -164,18 +186,30 @@ def _extending(
 
 def _layered(base: Settings, parsed: Mapping[str, Any]) -> dict[str, Any]:
     """The values of ``parsed`` laid over ``base``: each key replacing, merging
-    or adding to ``base``'s as the settings table says (``Setting.extended``)."""
+    or adding to ``base``'s as the settings table says (``Setting.extended``);
+    a rule selection of its own puts ``base``'s beneath it."""
     values: dict[str, Any] = {}
     for name, value in parsed.items():
         how = BY_NAME[name].extended
         inherited = getattr(base, name)
         if how == "merged":
             value = _merged(inherited, value, deep=name == "rule_options")
-        elif how == "added" and not (name == "extend_select" and "select" in parsed):
+        elif how == "added":
             value = (*inherited, *value)
         values[name] = value
-    if "select" in parsed and "extend_select" not in parsed:
-        values["extend_select"] = ()  # a selection of its own starts the selection over
+    if any(key in parsed for key in SELECTION_KEYS):
+        below = base.selections_below
+        if below or base.select is not None or base.ignore or base.extend_select:
+            beneath = RuleSelection(
+                base.select,
+                base.ignore,
+                base.extend_select,
+                {key: base.where(key) for key in SELECTION_KEYS},
+            )
+            below = (*below, beneath)
+        values["selections_below"] = below
+        for key in SELECTION_KEYS:
+            values.setdefault(key, BY_NAME[key].default)
     return values
 
 

@@ -147,21 +147,33 @@ def select_rules(
     select: Sequence[str] | None = None,
     ignore: Sequence[str] = (),
     extend_select: Sequence[str] = (),
+    below: Sequence[tuple[Sequence[str] | None, Sequence[str], Sequence[str]]] = (),
 ) -> list[type[Rule]]:
     """Which rules run. ``select`` None means all. The most specific matching
-    selector decides (an ignore wins a tie), as in ruff."""
-    selectors = list(select) if select is not None else ["ALL"]
-    selectors += list(extend_select)
-    for token in [*selectors, *ignore]:
-        if not any(_specificity(token, r) for r in rules):
-            raise SelectionError(f"{token!r} matches no rule code, code prefix or rule name")
-    chosen = []
-    for rule in rules:
-        best_select = max((_specificity(t, rule) for t in selectors), default=0)
-        best_ignore = max((_specificity(t, rule) for t in ignore), default=0)
-        if best_select and best_select > best_ignore:
-            chosen.append(rule)
-    return chosen
+    selector decides (an ignore wins a tie), as in ruff. ``below``: the
+    ``(select, ignore, extend_select)`` of the layers under this one (files
+    extended, the file under the flags), first to last: as ruff layers them,
+    each starts from what the one before chose, a ``select`` of its own
+    starting over, so that ``--select CA`` runs CA where the file ignores it
+    and ``--ignore`` adds to the file's ``ignore``."""
+    layers = [*below, (select, ignore, extend_select)]
+    for layer_select, layer_ignore, layer_extend in layers:
+        for token in [*(layer_select or ()), *layer_extend, *layer_ignore]:
+            if not any(_specificity(token, r) for r in rules):
+                raise SelectionError(f"{token!r} matches no rule code, code prefix or rule name")
+    chosen = set(rules)  # the defaults: every rule
+    for layer_select, layer_ignore, layer_extend in layers:
+        selectors = [*(layer_select or ()), *layer_extend]
+        if layer_select is not None:
+            chosen = set()
+        for rule in rules:
+            best_select = max((_specificity(t, rule) for t in selectors), default=0)
+            best_ignore = max((_specificity(t, rule) for t in layer_ignore), default=0)
+            if best_select > best_ignore:
+                chosen.add(rule)
+            elif best_ignore:
+                chosen.discard(rule)
+    return [rule for rule in rules if rule in chosen]
 
 
 def matches_any(rule: type[Rule], selectors: Iterable[str]) -> bool:

@@ -238,7 +238,6 @@ SETTINGS: tuple[Setting, ...] = (
         config_key="extend-select",
         flag="--extend-select",
         api=True,
-        extended="added",
     ),
     Setting(
         "fail_on",
@@ -299,6 +298,8 @@ SETTINGS: tuple[Setting, ...] = (
         default=(),
         config_key="unfixable",
         changes_findings=False,
+        # As ruff's: a file extending another cannot make its unfixable rules fixable.
+        extended="added",
     ),
     Setting(
         "variants",
@@ -471,9 +472,13 @@ def check_value(name: str, value: Any, where: str | None = None) -> Any:
 def settings_key(settings: object) -> dict[str, Any]:
     """The values of a Settings that can change a finding (the result cache's
     key and merge's configuration digest hold them)."""
-    return {
+    key = {
         s.name: getattr(settings, s.name) for s in SETTINGS if s.config_key and s.changes_findings
     }
+    below = getattr(settings, "selections_below", ())
+    if below:  # the layers beneath choose rules too; where they came from does not matter
+        key["selections_below"] = [(b.select, b.ignore, b.extend_select) for b in below]
+    return key
 
 
 def not_in_cache_key() -> frozenset[str]:

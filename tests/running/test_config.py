@@ -217,6 +217,23 @@ def test_extend_flags_add_to_the_files_lists(project) -> None:
     assert shown.stdout.splitlines() == [str(project / "shots" / "shot.usda")]
 
 
+def test_the_selection_flags_are_laid_over_the_files_selection(project) -> None:
+    """As ruff layers them: ``--select`` runs what the file ignores (a gate of
+    one family must not pass in silence), ``--ignore`` adds to the file's
+    ignores, ``--extend-select`` brings back one of them."""
+    _write(project, 'ignore = ["CA", "SE003", "ST003"]\n')
+    assert set(findings(check(project))) == {"PR004"}
+    assert set(findings(check(project, "--select", "CA"))) == {"CA001"}
+    assert set(findings(check(project, "--ignore", "PR004"))) == set()
+    assert set(findings(check(project, "--extend-select", "CA001"))) == {"PR004", "CA001"}
+    shown = CliRunner().invoke(cli, ["check", "--show-settings", "--ignore", "PR004", str(project)])
+    assert (
+        f'#   ignore = ["CA", "SE003", "ST003"]  ({project / ".usdrender-lint.toml"}: ignore)'
+        in shown.stdout
+    )
+    assert '#   ignore = ["PR004"]  (--ignore)' in shown.stdout
+
+
 def test_pyproject_table_is_found_from_the_linted_file(project) -> None:
     _write(
         project,

@@ -15,8 +15,10 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
-from usdrender_lint.config import ConfigError, load_settings, read_config_file
+from usdrender_lint.config import ConfigError, Settings, load_settings, read_config_file
+from usdrender_lint.registry import build_registry
 from usdrender_lint.running.documents import Documents
+from usdrender_lint.running.pipeline import make_rules
 
 REPO = Path(__file__).resolve().parents[2]
 BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
@@ -66,9 +68,15 @@ def show(tmp_path: Path) -> Path:
 def test_each_key_replaces_merges_or_adds(show: Path) -> None:
     settings = read_config_file(show / ".usdrender-lint.toml")
     studio = str(show.parent / "studio" / "studio.toml")
-    assert settings.select == ("CA", "SE", "PR")  # the studio's, not set here
-    assert settings.extend_select == ("ST",)
-    assert settings.ignore == ("CA009",)
+    # The rule selection is layered, as ruff's: the show's ignore over the studio's choice.
+    (studio_layer,) = settings.selections_below
+    assert (studio_layer.select, studio_layer.ignore, studio_layer.extend_select) == (
+        ("CA", "SE", "PR"),
+        (),
+        ("ST",),
+    )
+    assert studio_layer.origins["select"] == f"{studio}: select"
+    assert (settings.select, settings.ignore, settings.extend_select) == (None, ("CA009",), ())
     assert settings.time_sample_cap == 12  # replaced
     assert settings.extend_exclude == ("reference/", "old/")  # added
     assert {k: v.value for k, v in settings.severity.items()} == {
@@ -86,10 +94,31 @@ def test_each_key_replaces_merges_or_adds(show: Path) -> None:
     assert settings.base_dir == show
 
 
+def _chosen(settings: Settings) -> set[str]:
+    return {type(rule).code for rule in make_rules(build_registry(), settings)}
+
+
 def test_a_select_of_its_own_starts_the_selection_over(show: Path) -> None:
     (show / ".usdrender-lint.toml").write_text('select = ["SE003"]\n' + SHOW)
     settings = read_config_file(show / ".usdrender-lint.toml")
     assert (settings.select, settings.extend_select) == (("SE003",), ())
+    assert _chosen(settings) == {"SE003"}
+
+
+def test_each_layer_starts_from_what_the_one_beneath_chose(show: Path) -> None:
+    """As ruff layers rule selections: the extending file's ``ignore`` and
+    ``extend-select`` change only the rules they name, over the studio's choice."""
+    settings = read_config_file(show / ".usdrender-lint.toml")
+    chosen = _chosen(settings)
+    assert "CA009" not in chosen and {"CA001", "SE003", "PR004", "ST002"} <= chosen
+    assert not any(code.startswith(("VA", "PA")) for code in chosen)
+    # An ignore of the studio's is not undone by the show's own ignore ...
+    studio = show.parent / "studio" / "studio.toml"
+    studio.write_text(STUDIO.replace('select = ["CA", "SE", "PR"]', 'ignore = ["PR004"]'))
+    assert not {"PR004", "CA009"} & _chosen(read_config_file(show / ".usdrender-lint.toml"))
+    # ... but an extend-select of the show's brings back what the studio ignores.
+    (show / ".usdrender-lint.toml").write_text('extend-select = ["PR"]\n' + SHOW)
+    assert "PR004" in _chosen(read_config_file(show / ".usdrender-lint.toml"))
 
 
 def test_a_chain_gives_the_findings_of_its_flat_settings(show: Path, tmp_path: Path) -> None:
@@ -186,3 +215,11 @@ def test_the_server_reads_the_settings_again_when_the_extended_file_changes(show
     os.utime(studio, ns=(1, 1))  # a new modification time, whatever the clock's resolution
     after = {f.code: f.severity.value for f in documents.lint(str(shot)).findings}
     assert after["SE003"] == "info"
+
+
+def test_unfixable_adds_to_the_extended_files(show: Path) -> None:
+    """As ruff's: a show cannot make fixable again what the studio made unfixable."""
+    studio = show.parent / "studio" / "studio.toml"
+    studio.write_text('unfixable = ["CA004"]\n' + STUDIO)
+    (show / ".usdrender-lint.toml").write_text('unfixable = ["SE003"]\n' + SHOW)
+    assert read_config_file(show / ".usdrender-lint.toml").unfixable == ("CA004", "SE003")

@@ -63,8 +63,12 @@ def test_config_file_and_settings(tmp_path: Path) -> None:
     report = usdrender_lint.lint_file(FAIL, config=config)
     assert "SE003" not in {f.code for f in report.findings}
     assert next(f for f in report.findings if f.code == "SE015").severity is Severity.WARNING
-    # ignore= replaces the file's ignore list, as --ignore does.
-    again = usdrender_lint.lint_file(FAIL, config=config, ignore=[])
+    # The keywords are laid over the file as flags are (ruff's layers): ignore=
+    # adds to its ignore list, extend_select= brings back a rule it ignores.
+    assert "SE003" not in {
+        f.code for f in usdrender_lint.lint_file(FAIL, config=config, ignore=[]).findings
+    }
+    again = usdrender_lint.lint_file(FAIL, config=config, extend_select=["SE003"])
     assert "SE003" in {f.code for f in again.findings}
     settings = Settings(per_path_ignores={"*.usda": ("SE",)})
     assert not any(
@@ -88,9 +92,9 @@ def test_a_config_table_lints_as_the_same_table_in_a_file(tmp_path: Path) -> Non
     assert next(f for f in from_table.findings if f.code == "SE015").severity is Severity.WARNING
     stage = Usd.Stage.Open(str(FAIL))
     assert usdrender_lint.lint_stage(stage, config=table).findings == from_table.findings
-    # The keywords win over the table, as flags over a file.
+    # The keywords are laid over the table, as flags over a file.
     assert "SE003" in {
-        f.code for f in usdrender_lint.lint_file(FAIL, config=table, ignore=[]).findings
+        f.code for f in usdrender_lint.lint_file(FAIL, config=table, select=["SE"]).findings
     }
     with pytest.raises(ConfigError, match="^config: unknown key 'nope'$"):
         usdrender_lint.lint_file(FAIL, config={"nope": 1})

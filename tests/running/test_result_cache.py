@@ -374,6 +374,7 @@ def test_every_setting_that_can_change_a_finding_is_in_the_key() -> None:
         "max_variant_combinations": 3,
         "profile": "arnold",
         "per_path_profiles": {"*.usda": "arnold"},
+        "selections_below": (config_module.RuleSelection(("CA",), (), (), {}),),
     }
     fields = {f.name for f in dataclasses.fields(Settings)}
     assert set(changed) == fields - result_cache.SETTINGS_NOT_IN_KEY, (

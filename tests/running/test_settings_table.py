@@ -50,8 +50,9 @@ SAMPLES: dict[str, tuple[str, Any]] = {
     "extend": ('"base.toml"', None),
 }
 
-#: Settings' fields that say where values came from, not values.
-_ORIGINS = {"source", "from_flags", "from_file", "sources"}
+#: Settings' fields that say where values came from, not values; and the layers
+#: of rule selection beneath the keys (``select``, ``ignore``, ``extend-select``).
+_ORIGINS = {"source", "from_flags", "from_file", "sources", "selections_below"}
 _CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - _ORIGINS
 
 
@@ -117,7 +118,7 @@ def test_every_config_setting_a_request_gives_wins_over_or_adds_to_the_file(tmp_
     settings = resolve_settings(Request((str(CLEAN),), config=str(path), **given))
     for name, value in given.items():
         entry = BY_NAME[name]
-        if entry.extended == "added" and name != "extend_select":  # --select started it over
+        if entry.extended == "added":
             # As ruff's --extend-exclude: added to the file's list.
             value = (*SAMPLES[entry.config_key][1], *value)
         assert getattr(settings, name) == value, name

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 from ..api import Rule
 from ..config import (
+    SELECTION_KEYS,
     ConfigError,
     Settings,
     build_options,
@@ -264,6 +265,9 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
     for key in ("select", "ignore", "extend_select", "unfixable"):
         check_selectors(registry, getattr(settings, key) or (), settings.where(key))
+    for layer in settings.selections_below:
+        for key in SELECTION_KEYS:
+            check_selectors(registry, getattr(layer, key) or (), layer.origins[key])
     unignorable_notes(registry, settings)
     for glob, selectors in settings.per_path_ignores.items():
         where = f"{settings.where('per_path_ignores')}.{glob}"
@@ -279,8 +283,9 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
                 f"error: {_always_reported(lowered)}"
             )
     try:
+        below = [(b.select, b.ignore, b.extend_select) for b in settings.selections_below]
         chosen = select_rules(
-            registry.rules, settings.select, settings.ignore, settings.extend_select
+            registry.rules, settings.select, settings.ignore, settings.extend_select, below
         )
     except SelectionError as exc:
         raise ConfigError(str(exc)) from None
@@ -292,16 +297,18 @@ def unignorable_notes(registry: Registry, settings: Settings) -> list[str]:
     """Raise a ConfigError for an ``ignore`` that names an unignorable rule
     itself (``--ignore ST001``); one note for each wider selector that covers
     one (``--ignore ALL``, ``--ignore ST``), which ignores the others."""
-    for rule, token in _unignorable_named(registry, settings.ignore):
-        raise ConfigError(
-            f"{settings.where('ignore')}: {token!r} cannot be ignored: {_always_reported(rule)}"
-        )
+    ignores = [(settings.where("ignore"), settings.ignore)]
+    ignores += [(layer.origins["ignore"], layer.ignore) for layer in settings.selections_below]
+    for where, ignore in ignores:
+        for rule, token in _unignorable_named(registry, ignore):
+            raise ConfigError(f"{where}: {token!r} cannot be ignored: {_always_reported(rule)}")
     return [
         f"note: ignore {token!r}: {_always_reported(rule, fix=False)}; the other rules it "
         "names are ignored"
         for rule in registry.rules
         if rule.code in UNIGNORABLE
-        for token in settings.ignore
+        for _, ignore in ignores
+        for token in ignore
         if matches_any(rule, [token])
     ]
 

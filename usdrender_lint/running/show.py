@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 from enum import Enum
 from typing import Any
 
-from ..config import INLINE_PREFIX, Settings
+from ..config import INLINE_PREFIX, SELECTION_KEYS, Settings
 from ..settings_table import SETTINGS
 from .pipeline import (
     Prepared,
@@ -70,9 +70,13 @@ def settings_toml(prepared: Prepared) -> str:
         f"# rules selected: {len(codes)} ({', '.join(codes)})",
     ]
     tables: list[str] = []
+    layered = _layered_selection(settings, codes)
+    lines += layered
     for entry in SETTINGS:
         if entry.config_key is None or entry.name == "extend":
             continue  # what it extends is folded into the values below
+        if layered and entry.name in SELECTION_KEYS:
+            continue
         value = getattr(settings, entry.name)
         origin = _origin(settings, entry.name)
         if value is None:  # TOML has no null: the key stays out, as in a file
@@ -83,6 +87,31 @@ def settings_toml(prepared: Prepared) -> str:
         else:
             lines.append(f"{entry.config_key} = {_value(value)}  # {origin}")
     return "\n".join(lines + tables) + "\n"
+
+
+def _layered_selection(settings: Settings, codes: list[str]) -> list[str]:
+    """When the rule selection is laid over another (``selections_below``):
+    each layer as a comment, then the rules they choose as one ``select``, so
+    that the printed file lints as the layers do."""
+    if not settings.selections_below:
+        return []
+    lines = ["# the rule selection, layer by layer (each starts from what the one before chose):"]
+    top = {key: settings.where(key) for key in SELECTION_KEYS}
+    layers: list[tuple[Any, Mapping[str, str]]] = [
+        (b, b.origins) for b in settings.selections_below
+    ]
+    for layer, origins in [*layers, (settings, top)]:
+        for key in SELECTION_KEYS:
+            value = getattr(layer, key)
+            if value is not None and (value or key == "select"):
+                config_key = key.replace("_", "-")
+                lines.append(f"#   {config_key} = {_value(value)}  ({origins[key]})")
+    lines += [
+        f"select = {_value(codes)}  # what the layers choose",
+        "ignore = []",
+        "extend-select = []",
+    ]
+    return lines
 
 
 def _origin(settings: Settings, name: str) -> str:
