@@ -172,6 +172,10 @@ def _extending(
         raise ConfigError(f"{source}: '{prefix}extend' makes a cycle: {cycle}")
     if not os.path.lexists(target):
         raise ConfigError(f"{source}: '{prefix}extend': no such file: {target}")
+    if os.path.isdir(target):
+        raise ConfigError(
+            f"{source}: '{prefix}extend': a folder, not a configuration file: {target}"
+        )
     base = read_config_file(target, chain=here)
     values = _layered(base, parsed)
     values["extend"] = str(target)
@@ -359,7 +363,8 @@ def read_config_file(path: str | os.PathLike[str], chain: tuple[str, ...] = ()) 
         return _parse_table(data, str(path), chain=chain)
     tool = data.get("tool", {})
     if not isinstance(tool, dict) or TOOL_TABLE not in tool:
-        raise ConfigError(f"{path}: no [tool.{TOOL_TABLE}] table")
+        extended_by = f" (which {chain[-1]} extends)" if chain else ""
+        raise ConfigError(f"{path}: no [tool.{TOOL_TABLE}] table{extended_by}")
     if not isinstance(tool[TOOL_TABLE], dict):
         raise ConfigError(f"{path}: 'tool.{TOOL_TABLE}' must be a table")
     return _parse_table(tool[TOOL_TABLE], str(path), prefix=f"tool.{TOOL_TABLE}.", chain=chain)

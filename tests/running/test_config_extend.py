@@ -197,6 +197,25 @@ def test_an_error_names_the_file_that_holds_it(show: Path, studio: str | None, s
     assert says in result.stderr and len(result.stderr.splitlines()) == 1
 
 
+@pytest.mark.parametrize(
+    ("extend", "says"),
+    [
+        ("../studio", "show/.usdrender-lint.toml: 'extend': a folder, not a configuration file: "),
+        ("../pyproject.toml", "pyproject.toml: no [tool.usdrender-lint] table (which "),
+    ],
+    ids=["folder", "pyproject-without-table"],
+)
+def test_an_extended_file_that_is_no_configuration_names_the_extending_file(
+    show: Path, extend: str, says: str
+) -> None:
+    (show.parent / "pyproject.toml").write_text('[project]\nname = "x"\n')
+    (show / ".usdrender-lint.toml").write_text(f'extend = "{extend}"\n')
+    result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
+    assert result.exit_code == 2
+    assert says in result.stderr and len(result.stderr.splitlines()) == 1
+    assert str(show / ".usdrender-lint.toml") in result.stderr
+
+
 def test_a_bad_rule_in_the_extended_file_is_named_there(show: Path) -> None:
     (show.parent / "studio" / "studio.toml").write_text('select = ["XX999"]\n')
     result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
