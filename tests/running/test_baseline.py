@@ -204,6 +204,59 @@ def test_a_run_split_by_configuration_counts_every_known_finding(tmp_path) -> No
     ]
 
 
+FIXED = SHOT.replace("(0.8, 0, 0.2, 1)", "(0, 0, 1, 1)")
+
+
+def test_findings_the_baseline_records_that_are_gone_are_counted(shot, tmp_path) -> None:
+    """As ESLint's unused suppressions: a fixed finding kept in the baseline
+    would be hidden when it came back. Only files linted count, by the rules
+    that ran, under other variant selections only with --variants."""
+    other = shot.parent / "other.usda"
+    other.write_text(SHOT_WITH_NEW_PROBLEM, encoding="utf-8")
+    baseline = tmp_path / "baseline.json"
+    check("--write-baseline", str(baseline), str(shot.parent))
+    gone = f"usdrender-lint: 1 finding recorded in {baseline} no longer occurs in the files linted"
+    shot.write_text(FIXED, encoding="utf-8")
+    result = check("--baseline", str(baseline), str(shot.parent))
+    assert result.exit_code == 0
+    assert [line for line in result.stderr.splitlines() if "no longer" in line] == [
+        gone + ": write the baseline again (--write-baseline) to drop them, or it hides them "
+        "when they come back"
+    ]
+    # Not counted: a file this run did not lint, a rule it did not run.
+    assert "no longer" not in check("--baseline", str(baseline), str(other)).stderr
+    unselected = check("--baseline", str(baseline), "--ignore", "SE003", str(shot.parent))
+    assert "no longer" not in unselected.stderr
+
+
+def test_a_run_split_by_configuration_counts_every_gone_finding(tmp_path) -> None:
+    for show in ("a", "b"):
+        (tmp_path / show).mkdir()
+        (tmp_path / show / "shot.usda").write_text(SHOT, encoding="utf-8")
+        (tmp_path / show / ".usdrender-lint.toml").write_text('select = ["SE003"]\n')
+    baseline = tmp_path / "baseline.json"
+    base = ["check", "--jobs", "1", "--timeout", "0", "--no-cache"]
+    runner = CliRunner()
+    runner.invoke(cli, [*base, "--write-baseline", str(baseline), str(tmp_path)])
+    for show in ("a", "b"):
+        (tmp_path / show / "shot.usda").write_text(FIXED, encoding="utf-8")
+    result = runner.invoke(cli, [*base, "--baseline", str(baseline), str(tmp_path)])
+    assert [line for line in result.stderr.splitlines() if "no longer" in line] == [
+        f"usdrender-lint: 2 findings recorded in {baseline} no longer occur in the files linted: "
+        "write the baseline again (--write-baseline) to drop them, or it hides them when they "
+        "come back"
+    ]
+
+
+def test_a_baseline_of_other_selections_is_not_gone_without_variants(shot, tmp_path) -> None:
+    shot.write_text(SHOT_WITH_VARIANTS, encoding="utf-8")
+    baseline = tmp_path / "baseline.json"
+    check("--variants", "--write-baseline", str(baseline), str(shot))
+    assert "no longer" not in check("--baseline", str(baseline), str(shot)).stderr
+    shot.write_text(SHOT_WITH_VARIANTS.replace("0.9, 0, 0.1, 1", "0, 0, 1, 1"), encoding="utf-8")
+    assert "no longer" in check("--variants", "--baseline", str(baseline), str(shot)).stderr
+
+
 def _finding(message: str, path: str = "/Render/S.dataWindowNDC", line: int = 3) -> Finding:
     return Finding(
         "SE003",

@@ -36,13 +36,16 @@ def fingerprint(finding: Finding, base_dir: Path) -> Fingerprint:
     variant selection or '').
     ``base_dir`` is resolved, so the file is too: a file named through a linked
     folder (``$PWD`` below a link) has the fingerprint ``.`` gives it."""
-    file = os.path.relpath(os.path.realpath(finding.location.file), os.path.abspath(base_dir))
     return (
-        PurePath(file).as_posix(),
+        _relative(finding.location.file, base_dir),
         finding.code,
         finding.location.path or "",
         finding.variant_selection,
     )
+
+
+def _relative(file: str, base_dir: Path) -> str:
+    return PurePath(os.path.relpath(os.path.realpath(file), os.path.abspath(base_dir))).as_posix()
 
 
 def _counts(report: Report, base_dir: Path) -> Counter[Fingerprint]:
@@ -153,3 +156,23 @@ def new_findings(report: Report, known: Counter[Fingerprint], base_dir: Path) ->
         for result in report.files
     )
     return dataclasses.replace(report, files=files), dropped
+
+
+def stale_count(
+    report: Report,
+    known: Counter[Fingerprint],
+    base_dir: Path,
+    codes: frozenset[str],
+    variants: bool,
+) -> int:
+    """How many findings ``known`` records that ``report`` (before the baseline
+    hid any) no longer has: of the files it linted, by the rules that ran
+    (``codes``), under other variant selections only when ``variants`` looked.
+    A baseline that keeps them would hide them again when they come back."""
+    found = _counts(report, base_dir)
+    linted = {_relative(result.file, base_dir) for result in report.files}
+    return sum(
+        count - found[key]
+        for key, count in known.items()
+        if count > found[key] and key[0] in linted and key[1] in codes and (variants or not key[3])
+    )

@@ -164,6 +164,8 @@ class Outcome:
     baseline: Counter | None = None
     #: How many findings the baseline hid (the note that says so is in ``notes``).
     baseline_dropped: int = 0
+    #: How many findings the baseline records that the files linted no longer have.
+    baseline_stale: int = 0
     #: ``check --fix -``: the fixed text, the command's output (nothing is written).
     text: str | None = None
     #: A run split by configuration (running/hierarchy.py): each one's outcome.
@@ -641,14 +643,15 @@ def _joined(
     # A part's notes that count (known findings, fixes) count its own: the
     # joined run says the totals instead.
     dropped = sum(outcome.baseline_dropped for outcome in outcomes)
+    stale = sum(outcome.baseline_stale for outcome in outcomes)
     counted = {
         note
-        for outcome in outcomes
-        for note in _counted_notes(request, outcome.report, outcome.baseline_dropped)
+        for o in outcomes
+        for note in _counted_notes(request, o.report, o.baseline_dropped, o.baseline_stale)
     }
     notes += [note for outcome in outcomes for note in outcome.notes if note not in counted]
-    report, _ = _apply_baseline(report, None, request, notes)  # --write-baseline: all of it
-    notes.extend(_counted_notes(request, report, dropped))
+    _apply_baseline(report, None, prepared, notes)  # --write-baseline: all of it
+    notes.extend(_counted_notes(request, report, dropped, stale))
     status = max((outcome.exit_status for outcome in outcomes), default=EXIT_OK)  # 2 > 1 > 0
     if request.write_baseline:
         status = exit_status(report, "never", baseline_written=True)
@@ -662,6 +665,7 @@ def _joined(
         fix_errors=tuple(error for outcome in outcomes for error in outcome.fix_errors),
         baseline=outcomes[0].baseline if outcomes else None,
         baseline_dropped=dropped,
+        baseline_stale=stale,
         parts=tuple(outcomes),
     )
 
@@ -694,8 +698,8 @@ def _run_files(
         report = plan.narrow(report)
     report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
     notes.extend(note for result in report.files for note in result.notes)
-    report, dropped = _apply_baseline(report, known, request, notes)
-    notes.extend(_baseline_note(request, dropped))
+    report, dropped, stale = _apply_baseline(report, known, prepared, notes)
+    notes.extend(_baseline_note(request, dropped, stale))
     status = exit_status(report, settings.fail_on, baseline_written=bool(request.write_baseline))
     outcome = Outcome(
         report,
@@ -705,6 +709,7 @@ def _run_files(
         notes=tuple(notes),
         baseline=known,
         baseline_dropped=dropped,
+        baseline_stale=stale,
     )
     if fixed is not None:
         outcome = _with_fixes(outcome, fixed, request)
@@ -1071,10 +1076,11 @@ def _fix_keep(prepared: Prepared, plan: ContextPlan | None) -> Callable[[Finding
     return lambda finding: prepared.is_reported(finding) and plan.keeps(finding)
 
 
-def _counted_notes(request: Request, report: Report, dropped: int) -> list[str]:
+def _counted_notes(request: Request, report: Report, dropped: int, stale: int) -> list[str]:
     """The notes of a run that count what it did: the known findings the
-    baseline hid, the fixes not applied and those --diff would apply."""
-    notes = _baseline_note(request, dropped)
+    baseline hid and those it records that are gone, the fixes not applied and
+    those --diff would apply."""
+    notes = _baseline_note(request, dropped, stale)
     if request.fix is not None:
         notes += _fix_notes(report, dry_run=not request.fix.write)
     return notes
@@ -1114,10 +1120,12 @@ def _load_baseline(request: Request) -> Counter | None:
 
 
 def _apply_baseline(
-    report: Report, known: Counter | None, request: Request, notes: list[str]
-) -> tuple[Report, int]:
-    """Keep only new findings (baseline), and how many the baseline hid; or
-    record them all (write_baseline)."""
+    report: Report, known: Counter | None, prepared: Prepared, notes: list[str]
+) -> tuple[Report, int, int]:
+    """Keep only new findings (baseline), with how many the baseline hid and
+    how many it records that are gone (baseline.stale_count); or record them
+    all (write_baseline)."""
+    request = prepared.request
     if request.write_baseline:
         from .baseline import BaselineError, write_baseline
 
@@ -1127,18 +1135,29 @@ def _apply_baseline(
             raise RequestError(str(exc)) from None
         notes.append(f"recorded {_count(count, 'finding')} in {request.write_baseline}")
     elif known is not None and request.baseline:
-        from .baseline import new_findings
+        from .baseline import new_findings, stale_count
 
         base_dir = Path(request.baseline).resolve().parent
-        return new_findings(report, known, base_dir)
-    return report, 0
+        codes = frozenset(type(rule).code for rule in prepared.linter.rules)
+        variants = prepared.settings.variants
+        stale = stale_count(report, known, base_dir, codes.union(UNIGNORABLE), variants)
+        return (*new_findings(report, known, base_dir), stale)
+    return report, 0, 0
 
 
-def _baseline_note(request: Request, dropped: int) -> list[str]:
-    """The line that says how many known findings the report leaves out."""
-    if not dropped:
-        return []
-    return [f"{_count(dropped, 'finding')} recorded in {request.baseline} not shown"]
+def _baseline_note(request: Request, dropped: int, stale: int) -> list[str]:
+    """The lines that say how many known findings the report leaves out, and
+    how many the baseline records that the files linted no longer have."""
+    notes = []
+    if dropped:
+        notes.append(f"{_count(dropped, 'finding')} recorded in {request.baseline} not shown")
+    if stale:
+        notes.append(
+            f"{_count(stale, 'finding')} recorded in {request.baseline} no longer "
+            f"{'occurs' if stale == 1 else 'occur'} in the files linted: write the baseline "
+            "again (--write-baseline) to drop them, or it hides them when they come back"
+        )
+    return notes
 
 
 def _count(count: int, one: str, many: str | None = None) -> str:
