@@ -142,6 +142,40 @@ def test_a_usd_plugin_installed_or_edited_changes_the_key(
     assert run_key(linter, settings) not in (before, installed)
 
 
+def test_a_usd_plugin_a_plugin_info_includes_from_elsewhere_changes_the_key(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """USD also reads the plugInfo.json files a plugInfo.json's ``Includes``
+    globs match, and a plugin's resources and library, wherever they are: a
+    schema installed or edited there changes what USD composes (an ST010 on
+    its type comes and goes), so it changes the key too."""
+    top = tmp_path / "top"
+    top.mkdir()
+    (top / "plugInfo.json").write_text(
+        '# the studio\'s plugins\n{"Includes": ["../schemas/*/resources/"]}\n'
+    )
+    monkeypatch.setenv("PXR_PLUGINPATH_NAME", str(top))
+    request = Request(("x.usda",), isolated=True)
+    settings = resolve_settings(request)
+    linter = make_linter(settings)
+    before = run_key(linter, settings)
+    assert run_key(linter, settings) == before
+    resources = tmp_path / "schemas" / "studio" / "resources"
+    resources.mkdir(parents=True)
+    (resources / "plugInfo.json").write_text(
+        '{"Plugins": [{"Name": "studio", "Type": "resource", "Root": "..", '
+        '"ResourcePath": "resources", "LibraryPath": "../lib/libstudio.so", "Info": {}}]}\n'
+    )
+    installed = run_key(linter, settings)
+    assert installed != before
+    (resources / "generatedSchema.usda").write_text("#usda 1.0\n")
+    with_schema = run_key(linter, settings)
+    assert with_schema not in (before, installed)
+    (tmp_path / "schemas" / "lib").mkdir()
+    (tmp_path / "schemas" / "lib" / "libstudio.so").write_bytes(b"\0")
+    assert run_key(linter, settings) not in (before, installed, with_schema)
+
+
 @pytest.mark.skipif(not os.path.isdir("/proc/self/task"), reason="Linux's /proc")
 def test_the_key_starts_no_usd_thread(tmp_path: Path) -> None:
     """Asking USD's plugin registry starts its threads, and a process with more

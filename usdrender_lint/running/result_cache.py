@@ -156,10 +156,12 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
 def _plugin_signature() -> list[tuple[str, int, int]]:
     """(path, size, mtime) of every file below the folders ``PXR_PLUGINPATH_NAME``
     names (an entry names a folder, a ``plugInfo.json`` or a glob of either, as
-    USD reads it): a schema or resolver plugin installed, removed or edited
-    there changes what USD composes and which types exist. Read from the
-    file system, not USD's plugin registry: a process that asks the registry
-    starts USD's threads, and one that forks its workers must not have any
+    USD reads it), and below the folders and of the libraries their
+    ``plugInfo.json`` files name, which may lie elsewhere (:func:`_named_by`):
+    a schema or resolver plugin installed, removed or edited there changes
+    what USD composes and which types exist. Read from the file system, not
+    USD's plugin registry: a process that asks the registry starts USD's
+    threads, and one that forks its workers must not have any
     (running/workers.py). At most MAX_PLUGIN_FILES files are listed."""
     import glob
 
@@ -167,19 +169,72 @@ def _plugin_signature() -> list[tuple[str, int, int]]:
     for entry in os.environ.get("PXR_PLUGINPATH_NAME", "").split(os.pathsep):
         for found in glob.glob(os.path.expanduser(entry), recursive=True) if entry else ():
             folders.add(found if os.path.isdir(found) else os.path.dirname(found))
-    signature: list[tuple[str, int, int]] = []
-    for folder in sorted(folders):
+    pending = sorted(folders)
+    walked: set[str] = set()
+    signature: dict[str, tuple[str, int, int]] = {}
+
+    def add(path: str) -> bool:
+        """Lists the file; False once MAX_PLUGIN_FILES are listed."""
+        try:
+            info = os.stat(path)
+        except OSError:
+            return True
+        signature.setdefault(path, (path, info.st_size, info.st_mtime_ns))
+        return len(signature) < MAX_PLUGIN_FILES
+
+    while pending:
+        folder = pending.pop(0)
+        if os.path.normpath(folder) in walked:
+            continue
+        walked.add(os.path.normpath(folder))
         for root, dirs, names in os.walk(folder):
             dirs.sort()
             for name in sorted(names):
-                try:
-                    info = os.stat(os.path.join(root, name))
-                except OSError:
+                if not add(os.path.join(root, name)):
+                    return list(signature.values())
+                if name != "plugInfo.json":
                     continue
-                signature.append((os.path.join(root, name), info.st_size, info.st_mtime_ns))
-                if len(signature) >= MAX_PLUGIN_FILES:
-                    return signature
-    return signature
+                for named in _named_by(os.path.join(root, name)):
+                    if os.path.isdir(named):
+                        pending.append(named)
+                    elif not add(named):
+                        return list(signature.values())
+    return list(signature.values())
+
+
+def _named_by(info: str) -> list[str]:
+    """The folders and files a ``plugInfo.json`` has USD read besides itself,
+    relative to its folder: what its ``Includes`` globs match (USD reads the
+    ``plugInfo.json`` files there), each plugin's resources
+    (``Root``/``ResourcePath``: its ``generatedSchema.usda``) and library
+    (``Root``/``LibraryPath``). A file USD cannot read names nothing (its
+    registration problem is a note of its own)."""
+    import glob
+
+    data = read_bounded(info, 1 << 20)
+    try:
+        # USD's plugInfo.json may hold comment lines, which start with '#'.
+        lines = data.decode().splitlines() if data is not None else []
+        parsed = json.loads("\n".join("" if s.lstrip().startswith("#") else s for s in lines))
+    except ValueError:
+        return []
+    if not isinstance(parsed, dict):
+        return []
+    folder = os.path.dirname(info)
+    named: list[str] = []
+    includes, plugins = parsed.get("Includes"), parsed.get("Plugins")
+    for pattern in includes if isinstance(includes, list) else ():
+        if isinstance(pattern, str) and pattern:
+            found = glob.glob(os.path.join(folder, pattern), recursive=True)
+            named += (path if os.path.isdir(path) else os.path.dirname(path) for path in found)
+    for plugin in plugins if isinstance(plugins, list) else ():
+        if not isinstance(plugin, dict):
+            continue
+        root = os.path.join(folder, str(plugin.get("Root") or "."))
+        named.append(os.path.join(root, str(plugin.get("ResourcePath") or ".")))
+        if plugin.get("LibraryPath"):
+            named.append(os.path.join(root, str(plugin["LibraryPath"])))
+    return sorted(dict.fromkeys(named))
 
 
 #: The most plugin files the run key lists (a plugin folder holds a few dozen).
