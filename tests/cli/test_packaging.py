@@ -69,7 +69,8 @@ def test_the_cache_key_covers_a_plugin_rule_s_package_and_not_its_site(
     tmp_path: Path, monkeypatch
 ) -> None:
     """A helper module beside a plugin's rule (what its messages or checks
-    import) is its code as much: edited, the key changes. A rule in a module
+    import), or a data file there that it reads, is its code as much: edited,
+    the key changes. A rule in a module
     at the top of site-packages brings in no other file of that folder."""
     import importlib
     import sys
@@ -81,6 +82,7 @@ def test_the_cache_key_covers_a_plugin_rule_s_package_and_not_its_site(
     (site / "studio_rules").mkdir(parents=True)
     (site / "studio_rules" / "__init__.py").write_text(_PLUGIN_RULE)
     (site / "studio_rules" / "words.py").write_text('MESSAGE = "one"\n')
+    (site / "studio_rules" / "allowed_aovs.txt").write_text("beauty\n")  # what a check reads
     (site / "lone_rules.py").write_text(_PLUGIN_RULE.replace("STU001", "STU002"))
     (site / "unrelated.py").write_text("")
     monkeypatch.syspath_prepend(str(site))
@@ -92,6 +94,7 @@ def test_the_cache_key_covers_a_plugin_rule_s_package_and_not_its_site(
         sys.modules.pop("studio_rules", None)
         sys.modules.pop("lone_rules", None)
     assert str(site / "studio_rules" / "words.py") in files
+    assert str(site / "studio_rules" / "allowed_aovs.txt") in files
     assert str(site / "lone_rules.py") in files
     assert str(site / "unrelated.py") not in files
 

@@ -256,9 +256,9 @@ def _plain(value: object) -> object:
 
 
 def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
-    """(file, size, mtime) of the tool's own Python files and of every rule's
-    module: an edited rule or engine (a source checkout, a plugin under
-    development) changes the key even when the version does not."""
+    """(file, size, mtime) of the tool's own files and of every rule's module
+    and package: an edited rule, engine or data file (a source checkout, a
+    plugin under development) changes the key even when the version does not."""
     files: set[str] = set()
     own = list(sys.modules["usdrender_lint"].__path__)
     for folder in own:
@@ -288,12 +288,13 @@ def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
 
 
 def _source_files(folder: str) -> list[str]:
-    """The Python (and JSON) files below a package's folder, at most
-    MAX_PLUGIN_FILES."""
+    """The files below a package's folder but its bytecode, at most
+    MAX_PLUGIN_FILES: its Python modules and the data files they read (a
+    plugin's list of allowed names, a schema its import registers)."""
     found: list[str] = []
     for root, dirs, names in os.walk(folder, followlinks=True):  # a checkout links rules/
         dirs[:] = sorted(d for d in dirs if not d.startswith((".", "__pycache__")))
-        found += (os.path.join(root, n) for n in sorted(names) if n.endswith((".py", ".json")))
+        found += (os.path.join(root, n) for n in sorted(names) if not n.endswith(".pyc"))
         if len(found) >= MAX_PLUGIN_FILES:
             return found[:MAX_PLUGIN_FILES]
     return found
