@@ -414,6 +414,23 @@ def test_an_edited_rule_module_changes_the_key(tmp_path: Path) -> None:
         os.utime(module, ns=(stat.st_atime_ns, stat.st_mtime_ns))
 
 
+def test_another_build_of_usd_core_changes_the_key() -> None:
+    """usd-core 25.5.1 says it is 0.25.5 as 25.5 does: a build installed in
+    the place of another (its compiled module rewritten) composes by its own
+    code, so it changes the key as a version would."""
+    linter = make_linter(Settings())
+    key = run_key(linter, Settings())
+    module = sys.modules["pxr.Usd._usd"].__file__
+    assert module is not None
+    stat = os.stat(module)
+    try:
+        os.utime(module, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1))
+        assert run_key(linter, Settings()) != key
+    finally:
+        os.utime(module, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    assert run_key(linter, Settings()) == key
+
+
 def test_a_path_given_differently_or_another_working_directory_is_another_entry(
     tmp_path: Path, spy: Spy, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -134,7 +134,7 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
         # running below the package's __init__ (tests/api/test_import_layers.py).
         "tool": sys.modules["usdrender_lint"].__version__,
         "code": _code_signature(linter),
-        "usd": list(Usd.GetVersion()),
+        "usd": [*Usd.GetVersion(), _usd_build()],
         "python": list(sys.version_info[:2]),
         "rules": rules,
         "known_rules": known,
@@ -151,6 +151,19 @@ def run_key(linter: Linter, settings: Settings, **extra: object) -> str:
         "extra": extra,
     }
     return _digest_text(_canonical(parts))
+
+
+def _usd_build() -> tuple[str, int, int] | None:
+    """(path, size, mtime) of usd-core's compiled Usd module: another build of
+    the same version (usd-core 25.5 and 25.5.1 both say 0.25.5, as does a
+    studio's own build) installed in its place composes by its own code."""
+    module = sys.modules.get("pxr.Usd._usd") or sys.modules["pxr.Usd"]
+    path = getattr(module, "__file__", None)
+    try:
+        info = os.stat(path) if path else None
+    except OSError:
+        info = None
+    return (path, info.st_size, info.st_mtime_ns) if path and info else None
 
 
 def _plugin_signature() -> list[tuple[str, int, int]]:
