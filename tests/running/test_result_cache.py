@@ -452,6 +452,27 @@ def test_files_the_tool_could_not_read_fully_are_not_stored(tmp_path: Path, spy:
     assert not list((tmp_path / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).glob("*.json"))
 
 
+def test_a_result_a_rule_raised_on_is_not_stored(
+    tmp_path: Path, spy: Spy, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A rule that raised (UL000) lost its findings on the file: the result is
+    incomplete, and what made it raise (memory, a busy server a plugin asks)
+    may be gone on the next run, which must lint the file again."""
+    from usdrender_lint.rules.settings.se003_data_window_malformed import DataWindowMalformed
+
+    shot = write(tmp_path, {"shot.usda": SHOT_WITH_SUBLAYER, "common.usda": settings_layer()})
+    healthy = DataWindowMalformed.check_stage
+
+    def raising(self: DataWindowMalformed, ctx: object) -> None:
+        raise MemoryError("out of memory for a moment")
+
+    monkeypatch.setattr(DataWindowMalformed, "check_stage", raising)
+    assert "UL000" in [code for code, _ in codes(check(shot))]
+    monkeypatch.setattr(DataWindowMalformed, "check_stage", healthy)
+    assert ("SE003", "/Render/Settings.dataWindowNDC") in codes(check(shot))
+    assert spy.linted == [str(shot)] * 2
+
+
 def test_a_result_is_not_stored_when_a_dependency_changed_while_it_was_linted(
     tmp_path: Path,
 ) -> None:

@@ -22,12 +22,12 @@ lookup:
 - the files each value clip **template** matches in its folder.
 
 Results that are not known to be complete (a stage USD could not open, a file
-the tool could not lint, a layer with unsaved edits, an asset path whose file
-depends on more than its path) are never stored, nor is a result when a file
-it depends on changed after the lint began: its digest is taken before the
-lint and compared after it, and every dependency's change time (which a copy
-keeping times, ``cp -p``, cannot set back) must predate the lint (or the lone
-file's read ahead).
+the tool could not lint, a rule that raised (UL000), a layer with unsaved
+edits, an asset path whose file depends on more than its path) are never
+stored, nor is a result when a file it depends on changed after the lint
+began: its digest is taken before the lint and compared after it, and every
+dependency's change time (which a copy keeping times, ``cp -p``, cannot set
+back) must predate the lint (or the lone file's read ahead).
 
 The folder is the cache's own: created by it (with a ``CACHEDIR.TAG`` and a
 ``.gitignore``), or empty when first used (it gets the tag only), or holding
@@ -60,7 +60,7 @@ from .. import debug
 from ..atomic import replace_atomically, write_text_atomic
 from ..config import Settings
 from ..engine.assets import ClipTemplate, is_search_path
-from ..model import FileResult
+from ..model import INTERNAL_ERROR_CODE, FileResult
 from ..paths import usd_path
 from ..records import record
 from ..report_json import finding_from_dict, finding_to_dict
@@ -731,8 +731,8 @@ class ResultCache:
         the file's digest before the lint read it); False when it is not
         stored (not cacheable, a dependency changed while it was linted, or
         the folder cannot be written)."""
-        if result.status != "linted":
-            return False
+        if result.status != "linted" or any(f.code == INTERNAL_ERROR_CODE for f in result.findings):
+            return False  # a rule that raised lost its findings: what made it raise may pass
         found = dependencies(reads, file)
         if found is None:
             return False
