@@ -291,6 +291,40 @@ def test_a_search_path_s_file_made_while_the_file_was_linted_keeps_the_result_ou
         Ar.DefaultResolver.SetDefaultSearchPath([])
 
 
+PUBLISHED_SHOT = """#usda 1.0
+(
+    subLayers = [@./published/sub.usda@]
+)
+"""
+
+
+def test_a_folder_published_while_the_file_was_linted_keeps_the_result_out(
+    tmp_path: Path,
+) -> None:
+    """A publish renames a folder prepared earlier into place: the files in it
+    keep their change times from before the lint, only the renamed folder
+    changes. The lint may have read the old folder's layer, or found none."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(PUBLISHED_SHOT)
+    staged = tmp_path / "staging"
+    staged.mkdir()
+    (staged / "sub.usda").write_text(BAD_RESOLUTION)
+
+    def publish() -> None:
+        if (tmp_path / "published").exists():
+            os.rename(tmp_path / "published", tmp_path / "old")
+        os.rename(staged, tmp_path / "published")
+
+    # Found none: the sublayer appeared while the file was linted.
+    assert _store_while(tmp_path, shot, publish).stored == 0
+    # Read the old one: another folder of the same name replaced it.
+    staged.mkdir()
+    (staged / "sub.usda").write_text(BAD_RESOLUTION.replace("0)", "1080)"))
+    assert _store_while(tmp_path, shot, publish).stored == 0
+    # Left alone, the same lint is stored (the tests above are not vacuous).
+    assert _store_while(tmp_path, shot, lambda: None).stored == 1
+
+
 def test_a_change_in_the_tick_the_lint_began_counts_as_during_the_lint(tmp_path: Path) -> None:
     layer = tmp_path / "a.usda"
     layer.write_text("#usda 1.0\n")

@@ -27,7 +27,8 @@ edits, an asset path whose file depends on more than its path) are never
 stored, nor is a result when a file it depends on changed after the lint
 began: its digest is taken before the lint and compared after it, and every
 dependency's change time (which a copy keeping times, ``cp -p``, cannot set
-back) must predate the lint (or the lone file's read ahead).
+back) must predate the lint (or the lone file's read ahead), as must the
+folders on the way to them (a folder renamed into place keeps its files' times).
 
 The folder is the cache's own: created by it (with a ``CACHEDIR.TAG`` and a
 ``.gitignore``), or empty when first used (it gets the tag only), or holding
@@ -744,6 +745,10 @@ class ResultCache:
             return False  # opened in another resolver context than a lookup would see
         if any(_changed_since(path, started_ns) for path in where if path):
             return False  # found now, made while it was linted: the lint may have found another
+        paths = [os.path.abspath(file), *found.files, *found.assets, *where]
+        # The folder the cache is in changed as the cache was made, just before the lint.
+        if _folder_moved_since(paths, started_ns, os.path.abspath(self.folder.parent)):
+            return False  # a folder on the way renamed into place: its files keep older times
         document = {
             "usdrender_lint_cache": FORMAT,
             "key": self.key,
@@ -977,6 +982,36 @@ def _changed_since(path: str, started_ns: int) -> bool:
         return True
     # At: the same tick as the start may be after it.
     return changed >= started_ns
+
+
+def _folder_moved_since(paths: Sequence[str], started_ns: int, skipped: str = "") -> bool:
+    """Whether a folder on the way to one of ``paths`` (below the folder they
+    all share) changed after ``started_ns``: a folder renamed into place (a
+    publish) holds files whose own change times predate the lint, so only the
+    folder (its entry's change time, a link's if it is one) tells that the path
+    now names another file. A file added to such a folder also counts: a miss
+    on the next run, never a stale answer. ``skipped``: a folder not looked at."""
+    named = [path for path in paths if path]
+    try:
+        top = os.path.commonpath([os.path.dirname(path) for path in named]) if named else ""
+    except ValueError:  # paths on different drives
+        top = ""
+    folders: set[str] = set()
+    for path in named:
+        folder = os.path.dirname(path)
+        while folder not in folders and folder != top and folder != os.path.dirname(folder):
+            folders.add(folder)
+            folder = os.path.dirname(folder)
+    for folder in folders - {skipped}:
+        try:
+            changed = os.lstat(folder).st_ctime_ns
+        except (FileNotFoundError, NotADirectoryError):
+            continue  # absent now: the entry records what is absent below it
+        except OSError:
+            return True
+        if changed >= started_ns:
+            return True
+    return False
 
 
 def _removed_since(path: str, started_ns: int) -> bool:
