@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import os
 import re
+import sys
 import unicodedata
 from pathlib import Path
 
@@ -115,6 +116,20 @@ def usd_path(path: str) -> str | bytes:
     except UnicodeEncodeError:
         return os.fsencode(path)
     return path
+
+
+def from_usd_text(text: str) -> str:
+    """A path USD handed back as text, as Python names the file. The bindings
+    decode a name's bytes as UTF-8; Python decodes them with the file system
+    encoding, which under a POSIX locale without UTF-8 mode (``LC_ALL=C
+    PYTHONUTF8=0``) is ASCII: there ``é`` is two surrogate escapes, and the
+    bindings' ``é`` names no file (``os.stat`` raises UnicodeEncodeError)."""
+    if _FS_ENCODING == "utf-8" or text.isascii():
+        return text
+    return os.fsdecode(text.encode("utf-8"))
+
+
+_FS_ENCODING = sys.getfilesystemencoding().lower().replace("_", "-")
 
 
 def from_usd(exc: UnicodeDecodeError) -> str | None:

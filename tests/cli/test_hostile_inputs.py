@@ -274,6 +274,36 @@ def test_a_line_break_in_a_file_name_ends_no_line_of_usds_error(
         assert finding["layer"] == name
 
 
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_utf8_name_under_a_posix_locale_without_utf8_mode(tmp_path: Path, jobs: str) -> None:
+    # Python's file system encoding is then ASCII: "é" is two surrogate escapes, while
+    # USD's bindings hand the layer's path back decoded as UTF-8, which os.stat refused
+    # (the file was an internal error: UnicodeEncodeError).
+    inverted = INVERTED.replace("(\n    subLayers = [@./sub.usda@]\n)\n", "")
+    (tmp_path / "sub-\u00e9.usda").write_text(inverted, encoding="utf-8")
+    (tmp_path / "shot-\u00fc.usda").write_text(
+        "#usda 1.0\n(\n    subLayers = [@./sub-\u00e9.usda@]\n)\n", encoding="utf-8"
+    )
+    env = {**os.environ, "LANG": "C", "LC_ALL": "C", "PYTHONUTF8": "0"}
+    command = [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--jobs", jobs]
+    result = subprocess.run(
+        [*command, "--format", "json", "shot-\u00fc.usda".encode(), "sub-\u00e9.usda".encode()],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        check=False,
+    )
+    assert result.returncode == 1, result.stderr
+    assert not result.stderr
+    files = json.loads(result.stdout)["files"]
+    assert [(f["file"], f["status"]) for f in files] == [
+        ("shot-\u00fc.usda", "linted"),
+        ("sub-\u00e9.usda", "linted"),
+    ]
+    for entry in files:  # the sublayer's finding, named as the file is
+        assert ("SE003", "sub-\u00e9.usda") in {(f["code"], f["layer"]) for f in entry["findings"]}
+
+
 # -- folders with nothing to lint ---------------------------------------------------
 
 

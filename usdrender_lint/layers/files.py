@@ -10,14 +10,15 @@ import stat
 from pxr import Ar, Sdf
 
 from ..api.files import lfs_pointer_problem
-from ..paths import from_usd
+from ..paths import from_usd, from_usd_text
 
 
 def layer_real_path(layer: Sdf.Layer) -> str:
-    """``layer.realPath``; a file name that is not UTF-8 comes back as Python
-    names such a file (the bindings' strict decoding raises on it)."""
+    """``layer.realPath`` as Python names the file: one that is not UTF-8 too
+    (the bindings' strict decoding raises on it), and any under a locale whose
+    file system encoding is not UTF-8 (:func:`~usdrender_lint.paths.from_usd_text`)."""
     try:
-        return layer.realPath
+        return from_usd_text(layer.realPath)
     except UnicodeDecodeError as exc:
         return _undecoded(exc)
 
@@ -25,7 +26,7 @@ def layer_real_path(layer: Sdf.Layer) -> str:
 def layer_identifier(layer: Sdf.Layer) -> str:
     """``layer.identifier``, as :func:`layer_real_path` reads a path."""
     try:
-        return layer.identifier
+        return from_usd_text(layer.identifier)
     except UnicodeDecodeError as exc:
         return _undecoded(exc)
 
