@@ -8,6 +8,10 @@ discovers it exactly as it would an installed package.
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
 import textwrap
 from pathlib import Path
 
@@ -282,3 +286,75 @@ def test_a_fixture_is_not_failed_by_another_plugin_s_rule(tmp_path: Path, monkey
     own.write_text(LAYER)
     with pytest.raises(KeyError, match="boom"):
         check_fixture(own, "BRK001")
+
+
+INTERRUPTING_RULES = '''
+from pxr import UsdRender
+from usdrender_lint.api import Rule, Severity
+
+
+class Interrupting(Rule):
+    """Another studio's rule, raising what no rule should."""
+
+    code = "BRK002"
+    name = "interrupting-rule"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Product,)
+
+    def check_prim(self, prim, ctx):
+        raise {raised}
+        yield
+
+
+RULES = [Interrupting]
+'''
+
+
+@pytest.mark.parametrize("raised", ["KeyboardInterrupt", "GeneratorExit"])
+@pytest.mark.parametrize("jobs", [("--jobs", "1", "--timeout", "0"), ("--jobs", "2")])
+def test_a_rule_raising_keyboard_interrupt_is_its_internal_error(
+    tmp_path: Path, layer: Path, raised: str, jobs: tuple[str, ...]
+) -> None:
+    # No Ctrl-C raises it in the command (which turns SIGINT into its own exception):
+    # the rule's bug. It was click's "Aborted!" and exit 1 with no report in process,
+    # "the linter process crashed" in a worker; GeneratorExit a traceback.
+    site = tmp_path / "site"
+    site.mkdir()
+    source = INTERRUPTING_RULES.replace("{raised}", raised)
+    install_plugin(site, "intr", "intr_rules", source, "intr_rules:RULES")
+    other = tmp_path / "other.usda"
+    other.write_text(LAYER)
+    args = ["check", "--isolated", "--no-cache", *jobs, "--format", "json", str(layer), str(other)]
+    result = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", *args],
+        env={**os.environ, "PYTHONPATH": str(site)},
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert result.returncode == 1, result.stderr
+    assert not result.stderr
+    for entry in json.loads(result.stdout)["files"]:
+        [internal] = [f for f in entry["findings"] if f["code"] == "UL000"]
+        assert f"rule BRK002 (interrupting-rule) raised {raised}" in internal["message"]
+
+
+def test_a_keyboard_interrupt_in_a_rule_stops_a_python_program(
+    tmp_path: Path, layer: Path, monkeypatch
+) -> None:
+    # There Ctrl-C raises KeyboardInterrupt wherever the program is: in a rule too.
+    site = tmp_path / "site"
+    site.mkdir()
+    source = INTERRUPTING_RULES.replace("{raised}", "KeyboardInterrupt")
+    install_plugin(site, "intr", "intr_rules", source, "intr_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    import intr_rules
+
+    from usdrender_lint.engine import Linter
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            Linter([intr_rules.Interrupting()]).lint_path(str(layer))
+    finally:
+        signal.signal(signal.SIGINT, previous)

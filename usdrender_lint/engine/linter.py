@@ -573,8 +573,11 @@ class Linter:
             except (FullStageRequired, UnicodeDecodeError, CorruptValue):
                 raise  # a corrupt name is the file's problem, not the rule's (see lint_path)
             # SystemExit too: a rule's (or its library's) sys.exit() must not end the
-            # run with its status and no report.
-            except (Exception, SystemExit) as exc:
+            # run with its status and no report; and a KeyboardInterrupt or
+            # GeneratorExit it raised itself (see _raised_by_rule).
+            except (Exception, SystemExit, KeyboardInterrupt, GeneratorExit) as exc:
+                if not _raised_by_rule(exc):
+                    raise
                 del findings[start:]  # the hook's other findings are lost
                 if isinstance(exc, TypeError) and not isinstance(made, Iterable | None):
                     # `return Diagnostic(...)`: asked here, not of every hook's result
@@ -589,7 +592,7 @@ class Linter:
                     trace.origins.setdefault(finding, origin)
 
     def _rule_error(
-        self, rule: Rule, ctx: Context, exc: Exception | SystemExit, target: Usd.Prim | Context
+        self, rule: Rule, ctx: Context, exc: BaseException, target: Usd.Prim | Context
     ) -> Finding:
         """The internal-error finding for a hook that raised on ``target``
         (a prim or the Context), unless the error must propagate."""
@@ -769,3 +772,16 @@ def _overrides(rule: Rule, hook: str) -> bool:
 
 def _fix_info(fix: Fix | None) -> FixInfo | None:
     return None if fix is None else FixInfo(fix.description, fix.safe)
+
+
+def _raised_by_rule(exc: BaseException) -> bool:
+    """Whether a hook's ``exc`` is the rule's fault (its UL000), not the user's
+    Ctrl-C. The command turns Ctrl-C into its own Stopped (never caught here) and
+    a worker ignores it, so a KeyboardInterrupt there is a rule's (a plugin's
+    ``raise KeyboardInterrupt`` ended a run with click's "Aborted!", exit 1, no
+    report); in a Python program whose SIGINT raises it, it may be the user's."""
+    import signal
+
+    return not isinstance(exc, KeyboardInterrupt) or (
+        signal.getsignal(signal.SIGINT) is not signal.default_int_handler
+    )
