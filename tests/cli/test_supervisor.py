@@ -148,6 +148,65 @@ def test_a_crash_of_the_child_costs_a_retry_not_the_report(tmp_path: Path) -> No
     assert not is_running(child)
 
 
+ABORTING_RULE = """
+import os
+from pxr import UsdRender
+from usdrender_lint.api import Rule, Severity
+
+
+class Aborting(Rule):
+    \"\"\"Aborts the process on a file named crash.usda, as USD may on a hostile file.\"\"\"
+
+    code = "ABT001"
+    name = "aborting-rule"
+    severity = Severity.WARNING
+    prim_types = (UsdRender.Product,)
+
+    def check_prim(self, prim, ctx):
+        if os.path.basename(ctx.file) == "crash.usda":
+            os.abort()
+        yield from ()
+
+
+RULES = [Aborting]
+"""
+
+
+def test_after_the_child_crashed_in_process_the_rest_are_still_linted(tmp_path: Path) -> None:
+    # --jobs 1 --timeout 0 lints every file in the child; after its crash the
+    # supervisor linted them again in its own process, crashed on the same file,
+    # and the command died of SIGABRT with no report.
+    site = tmp_path / "site"
+    (site / "aborting-0.1.dist-info").mkdir(parents=True)
+    (site / "aborting.py").write_text(ABORTING_RULE)
+    (site / "aborting-0.1.dist-info" / "METADATA").write_text(
+        "Metadata-Version: 2.1\nName: aborting\nVersion: 0.1\n"
+    )
+    (site / "aborting-0.1.dist-info" / "entry_points.txt").write_text(
+        "[usdrender_lint.rules]\naborting = aborting:RULES\n"
+    )
+    crash, other = tmp_path / "crash.usda", tmp_path / "other.usda"
+    for path in (crash, other):
+        path.write_text(BROKEN.read_text())
+    args = ("--isolated", "--no-cache", "--jobs", "1", "--timeout", "0", "--format", "json")
+    result = subprocess.run(
+        command("check", *args, str(crash), str(other)),
+        env={**os.environ, "PYTHONPATH": str(site)},
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert result.returncode == 2, result.stderr
+    assert result.stderr == (
+        f"usdrender-lint: error: {crash}: the linter process crashed while reading it "
+        "(signal SIGABRT)\n"
+    )
+    files = {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
+    assert files[str(crash)]["status"] == "error"
+    assert files[str(other)]["status"] == "linted" and files[str(other)]["findings"]
+
+
 @pytest.mark.parametrize(
     ("signum", "status", "line"),
     [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],

@@ -30,6 +30,8 @@ CHILD = Supervision()  # a child no supervisor times (as tests run the command)
         (5, 2, None, None, workers.Pool),
         (1, 4, 60.0, Supervision(ending="crash"), workers.AfterSupervisedChild),
         (1, 1, None, Supervision(ending="timeout"), workers.AfterSupervisedChild),
+        # --jobs 1 --timeout 0 after the child crashed: in this process, the crash was the run's
+        (3, 1, None, Supervision(ending="crash"), workers.Pool),
     ],
 )
 def test_the_executor_is_chosen_once_from_the_run(count, jobs, timeout, supervision, kind):

@@ -86,9 +86,11 @@ def choose_executor(
 ) -> Executor:
     """The one place that decides how ``count`` files are linted."""
     child = supervision if supervision is not None and supervision.ending is None else None
-    if supervision is not None and supervision.ending is not None and count == 1:
-        return AfterSupervisedChild(supervision.ending, Pool(_factory(linter_factory), 1, timeout))
-    if (jobs == 1 and timeout is None) or (child is not None and count == 1):
+    ending = supervision.ending if supervision is not None else None
+    if ending is not None and count == 1:
+        return AfterSupervisedChild(ending, Pool(_factory(linter_factory), 1, timeout))
+    # After the child's crash, never in this process: what crashed it would end the run.
+    if (jobs == 1 and timeout is None and ending is None) or (child is not None and count == 1):
         return InProcess(linter or _factory(linter_factory)(), child, timeout)
     return Pool(_factory(linter_factory), min(jobs, count), timeout)
 
