@@ -14,6 +14,7 @@ interrupts.install()
 
 def main() -> None:
     supervision = None
+    supervisor.open_closed_standard_fds()
     try:
         if supervisor.wants_supervision(sys.argv[1:]):
             # The child, or this process after the child's crash or time-out.

@@ -10,6 +10,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -19,8 +20,11 @@ from cli_support import (
     descendants,
     hanging_stage,
     is_running,
+    unsupervised,
     wait_for_a_worker,
 )
+
+from usdrender_lint.running.progress import PROGRESS_MIN_FILES
 
 pytestmark = pytest.mark.skipif(
     not sys.platform.startswith("linux"), reason="FIFOs, /proc and /dev/full are Linux's"
@@ -143,6 +147,31 @@ def test_a_closed_stdout_does_not_stop_a_report_to_a_file(tmp_path: Path) -> Non
     )
     assert (result.returncode, result.stderr) == (1, "")
     assert json.loads(report.read_text())["summary"]["findings"] > 0
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+@pytest.mark.parametrize("command_of", [command, unsupervised], ids=["supervised", "main"])
+def test_a_closed_stderr_loses_only_what_is_said_on_it(
+    tmp_path: Path, jobs: str, command_of: Callable[..., list[str]]
+) -> None:
+    # More files than the progress bar's threshold: asking whether stderr is a
+    # terminal was an internal error (sys.stderr is None), exit 2 and no report.
+    # Before the fork, the supervisor's pipe took fd 2's number: the child's
+    # "stderr" was that pipe's read end.
+    count = PROGRESS_MIN_FILES + 1
+    for index in range(count):
+        (tmp_path / f"shot{index}.usda").write_text(BROKEN.read_text())
+    args = ("check", "--isolated", "--no-cache", "--jobs", jobs, "--format", "json")
+    result = subprocess.run(
+        command_of(*args, str(tmp_path), str(tmp_path / "missing.usda")),
+        stdout=subprocess.PIPE,
+        text=True,
+        timeout=300,
+        preexec_fn=lambda: os.close(2),  # noqa: PLW1509 - the child only closes a descriptor
+    )
+    assert result.returncode == 2  # the missing file
+    statuses = [entry["status"] for entry in json.loads(result.stdout)["files"]]
+    assert sorted(statuses) == ["error"] + ["linted"] * count
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")

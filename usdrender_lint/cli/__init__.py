@@ -22,7 +22,7 @@ import click
 from .. import __version__
 from ..paths import printable
 from ..running.interrupts import Stopped, stop_on_signals
-from ..running.supervisor import Supervision
+from ..running.supervisor import Supervision, open_closed_standard_fds
 from .check import check
 from .clean import clean
 from .explain import explain
@@ -155,22 +155,17 @@ def _internal_error(exc: Exception) -> None:
 
 
 def _open_closed_standard_streams() -> None:
-    """Put /dev/null on a standard file descriptor that was closed when the
-    command started (``check >&-``): else the next file opened would get the
-    number, and whatever USD prints would land in it. Python made sys.stdout
-    None for it, which click's printing (help, the version) takes for a stream
-    to skip, exiting 0 with nothing said: a stdout that is gone instead, as a
-    pipe nobody reads."""
-    for fd in (0, 1, 2):
-        try:
-            os.fstat(fd)
-        except OSError:
-            null = os.open(os.devnull, os.O_RDWR)
-            if null != fd:
-                os.dup2(null, fd)
-                os.close(null)
+    """/dev/null on a standard file descriptor that was closed when the command
+    started (open_closed_standard_fds). Python made sys.stdout None for it, which
+    click's printing (help, the version) takes for a stream to skip, exiting 0
+    with nothing said: a stdout that is gone instead, as a pipe nobody reads. A
+    closed stderr only loses what is said on it: a stream to /dev/null (code
+    asking it, ``sys.stderr.isatty()``, raised AttributeError)."""
+    open_closed_standard_fds()
     if sys.stdout is None:
         sys.stdout = _ClosedStdout()
+    if sys.stderr is None:
+        sys.stderr = open(2, "w", errors="backslashreplace", closefd=False)  # noqa: SIM115
 
 
 class _ClosedStdout(io.TextIOBase):

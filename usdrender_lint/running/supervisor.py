@@ -59,6 +59,21 @@ class Supervision:
                 pass  # the supervisor is gone: the child ends with it (SIGIO)
 
 
+def open_closed_standard_fds() -> None:
+    """Put /dev/null on a standard file descriptor that was closed when the
+    command started (``check 2>&-``): else the next file or pipe opened gets the
+    number (the supervisor's pipe was the child's fd 2), and whatever USD or the
+    command prints lands in it. Before the fork: the child inherits them."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            null = os.open(os.devnull, os.O_RDWR)
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
+
+
 def wants_supervision(argv: list[str]) -> bool:
     """A ``check`` that writes nothing but its report (``check --fix -``: and the
     fixed text, to stdout), or a ``spec``, on Linux; not ``check --watch``."""
