@@ -189,3 +189,22 @@ def test_stdout_on_a_full_device_is_one_line_and_exit_2(output_format: str) -> N
     assert (
         result.stderr == "usdrender-lint: error: cannot write the report: No space left on device\n"
     )
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+@pytest.mark.parametrize(
+    ("args", "status"),
+    [
+        (("check", "--isolated", "/no/such/shot.usda"), 2),
+        (("check", "--isolated", "--jobs", "2", str(BROKEN), "/no/such/shot.usda"), 2),
+        (("check", "--no-such-option"), 2),
+        (("check", "--isolated", str(BROKEN)), 1),
+    ],
+)
+def test_a_full_stderr_keeps_the_exit_code(args: tuple[str, ...], status: int) -> None:
+    # The error line could not be written: Python's traceback (itself lost) and exit 1.
+    with open("/dev/full", "w") as full:
+        result = subprocess.run(
+            command(*args), stdout=subprocess.DEVNULL, stderr=full, timeout=120, check=False
+        )
+    assert result.returncode == status

@@ -27,7 +27,7 @@ from .check import check
 from .clean import clean
 from .explain import explain
 from .merge import merge
-from .output import EXIT_TOOL_ERROR, StdoutGone, ToolError, error
+from .output import EXIT_TOOL_ERROR, StdoutGone, ToolError, error, say
 from .plugin_path import plugin_path
 from .rules import list_rules, rules_text
 from .server import server_command
@@ -100,7 +100,7 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
             sys.exit(EXIT_TOOL_ERROR)
         raise
     except Stopped as stopped:
-        click.echo(f"usdrender-lint: {stopped.reason}", err=True)
+        say(f"usdrender-lint: {stopped.reason}")
         sys.exit(stopped.exit_status)
     except StdoutGone:
         _silence_stdout()
@@ -146,10 +146,9 @@ def _raised_by_echo(exc: BaseException) -> bool:
 def _internal_error(exc: Exception) -> None:
     if os.environ.get("USDRENDER_LINT_DEBUG"):
         raise exc
-    click.echo(
+    say(
         f"usdrender-lint: internal error: {type(exc).__name__}: {printable(str(exc))} "
-        "(set USDRENDER_LINT_DEBUG=1 for a traceback)",
-        err=True,
+        "(set USDRENDER_LINT_DEBUG=1 for a traceback)"
     )
     sys.exit(EXIT_TOOL_ERROR)
 

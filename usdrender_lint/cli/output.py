@@ -33,11 +33,18 @@ class StdoutGone(Exception):
 
 
 def error(message: str) -> None:
-    click.echo(f"usdrender-lint: error: {printable(message)}", err=True)
+    say(f"usdrender-lint: error: {printable(message)}")
 
 
 def note(message: str) -> None:
-    click.echo(f"usdrender-lint: {printable(message)}", err=True)
+    say(f"usdrender-lint: {printable(message)}")
+
+
+def say(line: str) -> None:
+    """``line`` on stderr, if it can be written: a full or broken stderr
+    (``2>/dev/full``) must not turn the exit code into Python's 1."""
+    with suppress(OSError):
+        click.echo(line, err=True)
 
 
 def errors_after_report(lines: Iterable[str], output_format: str, output: str | None) -> None:
