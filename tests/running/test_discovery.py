@@ -46,6 +46,19 @@ def test_hidden_files_and_folders_are_skipped_unless_named(tmp_path: Path) -> No
     assert len(found(tmp_path, EVERYTHING)) == 4  # the Python API's collect_files default
 
 
+def test_a_file_named_relatively_and_absolutely_is_linted_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # It was linted twice, the text report printing each of its findings twice.
+    tree(tmp_path, "shots/a.usda")
+    (tmp_path / "link").symlink_to("shots")
+    monkeypatch.chdir(tmp_path)
+    given = ["shots/a.usda", str(tmp_path / "shots" / "a.usda"), "./shots/a.usda", "shots"]
+    assert collect_files(given) == ["shots/a.usda"]
+    # A link is linted as named (symbolic links are not followed).
+    assert collect_files(["shots/a.usda", "link/a.usda"]) == ["shots/a.usda", "link/a.usda"]
+
+
 def test_the_default_exclude_and_replacing_or_extending_it(tmp_path: Path) -> None:
     tree(tmp_path, "a.usda", "venv/lib/v.usda", "node_modules/n.usda", "wip/w.usda", "b/wip.usda")
     assert found(tmp_path, default(tmp_path)) == ["a.usda", "b/wip.usda", "wip/w.usda"]

@@ -89,11 +89,21 @@ def collect_files(
     seen: set[str] = set()
     unique = []
     for f in files:
-        key = os.path.normpath(f)
+        key = _same_file_key(f)
         if key not in seen:
             seen.add(key)
             unique.append(f)
     return unique
+
+
+def _same_file_key(path: str) -> str:
+    """One key for the names of one path: relative or absolute, ``./`` or not (a
+    file named both ways was linted and reported twice). Symbolic links are not
+    followed: a link is linted as the user named it."""
+    try:
+        return os.path.abspath(path)
+    except OSError:  # the working directory is gone, or too long to name
+        return os.path.normpath(path)
 
 
 def _walk(top: str, exclusions: Exclusions, nested: FolderExclusions | None) -> list[str]:
