@@ -148,50 +148,56 @@ def test_a_crash_of_the_child_costs_a_retry_not_the_report(tmp_path: Path) -> No
     assert not is_running(child)
 
 
-ABORTING_RULE = """
+ENDING_RULE = """
 import os
 from pxr import UsdRender
 from usdrender_lint.api import Rule, Severity
 
 
-class Aborting(Rule):
-    \"\"\"Aborts the process on a file named crash.usda, as USD may on a hostile file.\"\"\"
+class Ending(Rule):
+    \"\"\"Ends the process on a file named crash.usda, as USD may on a hostile file.\"\"\"
 
-    code = "ABT001"
-    name = "aborting-rule"
+    code = "END001"
+    name = "ending-rule"
     severity = Severity.WARNING
     prim_types = (UsdRender.Product,)
 
     def check_prim(self, prim, ctx):
         if os.path.basename(ctx.file) == "crash.usda":
-            os.abort()
+            {ending}
         yield from ()
 
 
-RULES = [Aborting]
+RULES = [Ending]
 """
+
+
+def _ending_plugin(tmp_path: Path, ending: str) -> dict[str, str]:
+    """The environment of a command with a rule plugin that runs ``ending``."""
+    site = tmp_path / "site"
+    (site / "ending-0.1.dist-info").mkdir(parents=True)
+    (site / "ending.py").write_text(ENDING_RULE.replace("{ending}", ending))
+    (site / "ending-0.1.dist-info" / "METADATA").write_text(
+        "Metadata-Version: 2.1\nName: ending\nVersion: 0.1\n"
+    )
+    (site / "ending-0.1.dist-info" / "entry_points.txt").write_text(
+        "[usdrender_lint.rules]\nending = ending:RULES\n"
+    )
+    return {**os.environ, "PYTHONPATH": str(site)}
 
 
 def test_after_the_child_crashed_in_process_the_rest_are_still_linted(tmp_path: Path) -> None:
     # --jobs 1 --timeout 0 lints every file in the child; after its crash the
     # supervisor linted them again in its own process, crashed on the same file,
     # and the command died of SIGABRT with no report.
-    site = tmp_path / "site"
-    (site / "aborting-0.1.dist-info").mkdir(parents=True)
-    (site / "aborting.py").write_text(ABORTING_RULE)
-    (site / "aborting-0.1.dist-info" / "METADATA").write_text(
-        "Metadata-Version: 2.1\nName: aborting\nVersion: 0.1\n"
-    )
-    (site / "aborting-0.1.dist-info" / "entry_points.txt").write_text(
-        "[usdrender_lint.rules]\naborting = aborting:RULES\n"
-    )
+    env = _ending_plugin(tmp_path, "os.abort()")
     crash, other = tmp_path / "crash.usda", tmp_path / "other.usda"
     for path in (crash, other):
         path.write_text(BROKEN.read_text())
     args = ("--isolated", "--no-cache", "--jobs", "1", "--timeout", "0", "--format", "json")
     result = subprocess.run(
         command("check", *args, str(crash), str(other)),
-        env={**os.environ, "PYTHONPATH": str(site)},
+        env=env,
         capture_output=True,
         text=True,
         timeout=300,
@@ -205,6 +211,33 @@ def test_after_the_child_crashed_in_process_the_rest_are_still_linted(tmp_path: 
     files = {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
     assert files[str(crash)]["status"] == "error"
     assert files[str(other)]["status"] == "linted" and files[str(other)]["findings"]
+
+
+@pytest.mark.parametrize(
+    "options", [(), ("--jobs", "1", "--timeout", "0")], ids=["lone", "in-process"]
+)
+def test_a_child_ended_by_os_exit_is_a_crash_not_its_status(
+    tmp_path: Path, options: tuple[str, ...]
+) -> None:
+    # A rule's os._exit(0) ended the child linting in-process with status 0: the
+    # supervisor exited 0 with no report, and a CI gate passed.
+    env = _ending_plugin(tmp_path, "os._exit(0)")
+    crash, other = tmp_path / "crash.usda", tmp_path / "other.usda"
+    for path in (crash, other):
+        path.write_text(BROKEN.read_text())
+    paths = (str(crash),) if not options else (str(crash), str(other))
+    args = ("--isolated", "--no-cache", *options, "--format", "json", *paths)
+    result = subprocess.run(
+        command("check", *args), env=env, capture_output=True, text=True, timeout=300, check=False
+    )
+    assert result.returncode == 2, result.stderr
+    assert result.stderr == (
+        f"usdrender-lint: error: {crash}: the linter process crashed while reading it "
+        "(exit code 0)\n"
+    )
+    files = {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
+    assert files[str(crash)]["status"] == "error"
+    assert all(files[path]["status"] == "linted" for path in paths[1:])
 
 
 @pytest.mark.parametrize(
@@ -295,7 +328,7 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     heard, says = os.pipe()
     supervisor.Supervision(says=says)._say(0.3)  # as timed() does, then hangs
     started = time.monotonic()
-    assert supervisor._time_the_child(hung.pid, heard) is True
+    assert supervisor._time_the_child(hung.pid, heard) == "timeout"
     assert hung.wait(10) == -signal.SIGKILL
     assert 0.3 <= time.monotonic() - started < 10
     os.close(says)
@@ -305,8 +338,15 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     heard, says = os.pipe()
     assert supervisor.Supervision(says=says).timed(0.3, len, "done") == 4
     os.close(says)
-    assert supervisor._time_the_child(finished.pid, heard) is False
+    assert supervisor._time_the_child(finished.pid, heard) is None  # it did not say it exits
     assert finished.poll() is None
     finished.kill()
     finished.wait(10)
+    os.close(heard)
+    # A child that says it exits: its status is the command's.
+    heard, says = os.pipe()
+    supervisor.Supervision(says=says).timed(0.3, len, "done")
+    supervisor.Supervision(says=says).exiting()
+    os.close(says)
+    assert supervisor._time_the_child(finished.pid, heard) == "done"
     os.close(heard)

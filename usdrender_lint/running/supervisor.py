@@ -8,6 +8,7 @@ files is supervised (a second run could differ). Signals: docs/design.md, "Proce
 
 from __future__ import annotations
 
+import atexit
 import fcntl
 import os
 import select
@@ -26,6 +27,7 @@ WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", 
 #: What fixes standard input's text (``check --fix -``) writes: stdout alone.
 STDOUT_FIXES = ("--fix", "--unsafe-fixes", "--unsafe", "--diff")
 STOP_GRACE = 2.0  # seconds a stopped child has to clean up before it is killed
+DONE = b"done"  # what the child says as Python exits
 
 
 class Supervision:
@@ -52,11 +54,20 @@ class Supervision:
             self._say(0.0)
 
     def _say(self, seconds: float) -> None:
+        self._tell(b"%r\n" % seconds)
+
+    def _tell(self, message: bytes) -> None:
         if self.says is not None:
             try:  # noqa: SIM105 - contextlib is one more import before the fork
-                os.write(self.says, b"%r\n" % seconds)
+                os.write(self.says, message)
             except OSError:
                 pass  # the supervisor is gone: the child ends with it (SIGIO)
+
+    def exiting(self) -> None:
+        """In the child, as Python exits (atexit): its exit status is the command's.
+        A child that ends without saying so was ended under the command (a rule's
+        os._exit(0) in a lone file's lint): its status means nothing."""
+        self._tell(DONE + b"\n")
 
 
 def open_closed_standard_fds() -> None:
@@ -118,10 +129,14 @@ def supervise(stdin: bool = False) -> Supervision:
     if child == 0:
         os.close(held)
         os.close(heard)
+        supervision = Supervision(says=says, stdin=data)
+        # Before a signal can stop it: a child stopped by one says it exits too.
+        atexit.register(supervision.exiting)
 
         def close_in_workers() -> None:
             # This process hears the child end, not its workers; the pipe the child
             # watches signals no pid but the child's.
+            atexit.unregister(supervision.exiting)
             os.close(watched)
             os.close(says)
 
@@ -134,7 +149,7 @@ def supervise(stdin: bool = False) -> Supervision:
         fcntl.fcntl(watched, fcntl.F_SETFL, fcntl.fcntl(watched, fcntl.F_GETFL) | os.O_ASYNC)
         if os.getppid() != parent:  # it died before the owner was set
             os._exit(128 + signal.SIGKILL)
-        return Supervision(says=says, stdin=data)
+        return supervision
     os.close(watched)
     os.close(says)
     stopped: list[int] = []
@@ -148,7 +163,7 @@ def supervise(stdin: bool = False) -> Supervision:
     previous = {signum: signal.signal(signum, pass_on) for signum in STOPPING}
     previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, lambda *_: _kill(child))
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-    timed_out = _time_the_child(child, heard)
+    heard_end = _time_the_child(child, heard)
     status = os.waitpid(child, 0)[1]  # a signal's handler runs, then Python waits on
     # A signal from now on waits: the child's pid is free, and this process exits
     # with the status of a finished run, or runs the command (then it stops it).
@@ -158,29 +173,36 @@ def supervise(stdin: bool = False) -> Supervision:
     for signum, handler in previous.items():
         signal.signal(signum, handler)
     # This process imported nothing that needs cleaning up: a plain exit.
-    if os.WIFEXITED(status):
+    if os.WIFEXITED(status) and heard_end == "done":
         sys.exit(os.WEXITSTATUS(status))
     if stopped or os.WTERMSIG(status) in STOPPING:  # it did not get to say it
         stop = Stopped(stopped[0] if stopped else os.WTERMSIG(status))
         sys.stderr.write(f"usdrender-lint: {stop.reason}\n")
         sys.exit(stop.exit_status)
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-    return Supervision(ending="timeout" if timed_out else "crash", stdin=data)
+    # Killed, or ended without Python's exit (a signal, os._exit): a crash.
+    return Supervision(ending="timeout" if heard_end == "timeout" else "crash", stdin=data)
 
 
-def _time_the_child(child: int, heard: int) -> bool:
-    """Read the child's deadlines until it ends; True if it was killed past one."""
+def _time_the_child(child: int, heard: int) -> str | None:
+    """Read the child's deadlines until it ends: "timeout" if it was killed past
+    one, "done" if it said it exits (Supervision.exiting), else None."""
     deadline: float | None = None
+    done = False
     while True:
         left = None if deadline is None else max(0.0, deadline - time.monotonic())
         if not select.select([heard], [], [], left)[0]:
             _kill(child)
-            return True
-        said = os.read(heard, 256)
+            return "timeout"
+        said = os.read(heard, 256).split()
         if not said:
-            return False
-        seconds = float(said.split()[-1])  # the latest (a lone file says twice, at most)
-        deadline = time.monotonic() + seconds if seconds else None
+            return "done" if done else None
+        if DONE in said:
+            done = True
+            said = said[: said.index(DONE)]
+        if said:
+            seconds = float(said[-1])  # the latest (a lone file says twice, at most)
+            deadline = time.monotonic() + seconds if seconds else None
 
 
 def _kill(pid: int, signum: int = signal.SIGKILL) -> None:
