@@ -620,7 +620,8 @@ class Linter:
 
             frame = traceback.extract_tb(exc.__traceback__)[-1]
             message = (
-                f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}: {detail}{where} "
+                f"rule {rule.code} ({rule.name}) raised {type(exc).__name__}"
+                f"{': ' + detail if detail else ''}{where} "
                 f"[{os.path.basename(frame.filename)}:{frame.lineno}]; its other findings on "
                 f"this file are lost. Please report this{to}."
             )
