@@ -4,6 +4,8 @@ the supervised child is an input of the run after it, not a module global."""
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from usdrender_lint.config import Settings
@@ -68,3 +70,11 @@ def test_no_environment_variable_of_ours_enters_the_cache_key(
     assert run_key(LINTER, Settings()) == before
     monkeypatch.setenv("PXR_AR_DEFAULT_SEARCH_PATH", "/elsewhere")  # USD's own: it composes
     assert run_key(LINTER, Settings()) != before
+
+
+def test_a_worker_that_dies_while_starting_says_so_in_one_line() -> None:
+    # It read "a worker process died while starting: the linter process crashed
+    # while reading it (signal SIGSEGV)" (USD's start under a tight ulimit -v).
+    with pytest.raises(workers.ExecutionError) as raised:
+        workers.Pool(os.abort, 1, None).run(["/no/such/shot.usda"])
+    assert str(raised.value) == "a worker process died while starting (signal SIGABRT)"

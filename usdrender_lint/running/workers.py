@@ -239,11 +239,11 @@ class Pool:
                 try:
                     index, result = worker.conn.recv()
                 except (EOFError, OSError):
-                    self._lose(worker, worker.death(), crashed=True)
+                    self._lose(worker)
                 else:
                     self._receive(worker, index, result)
             elif worker.process.sentinel in ready:
-                self._lose(worker, worker.death(), crashed=True)
+                self._lose(worker)
             elif time.monotonic() >= worker.deadline:
                 self._lose(worker, timed_out(self.timeout))
 
@@ -264,9 +264,14 @@ class Pool:
         if worker.linted >= WORKER_RECYCLE_AFTER and self._pending:
             self._replace(worker)
 
-    def _lose(self, worker: _Worker, why: str, crashed: bool = False) -> None:
+    def _lose(self, worker: _Worker, why: str | None = None) -> None:
+        """``worker`` timed out (``why``), or died (None)."""
+        crashed = why is None
+        died = worker.death() if crashed else ""
         if worker.starting:  # it crashed: a starting worker has no deadline to miss
-            raise ExecutionError(f"a worker process died while starting: {why}")
+            # Not CRASHED's "while reading it": it read no file.
+            raise ExecutionError(f"a worker process died while starting {died}")
+        why = why or f"{CRASHED} {died}"
         if worker.queue:
             index, item = worker.queue.popleft()  # the one it was linting
             self._pending.extend(reversed(worker.queue))  # never started: in input order
@@ -302,6 +307,7 @@ class _Worker:
     linted: int = 0
 
     def death(self) -> str:
+        """How it died, in parentheses: "(signal SIGABRT: USD fatal error: ...)"."""
         self.process.join(5)
         code = self.process.exitcode
         how = f"exit code {code}"
@@ -313,7 +319,7 @@ class _Worker:
         said = ""
         with suppress(OSError, UnicodeDecodeError):
             said = _last_words(Path(self.log_dir, f"worker-{self.process.pid}.log").read_text())
-        return f"{CRASHED} ({how}{': ' + said if said else ''})"
+        return f"({how}{': ' + said if said else ''})"
 
     def kill(self) -> None:
         self.process.kill()  # idle or not: a worker holds nothing to clean up (dead: a no-op)
