@@ -75,6 +75,36 @@ def test_a_signal_stops_the_run_and_cleans_up(
     assert not [pid for pid in workers if is_running(pid)]
 
 
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_the_command_was_started_ignoring_stays_ignored(
+    tmp_path: Path, signum: int
+) -> None:
+    # A script's background job ('lint &') starts with SIGINT ignored, so that the
+    # Ctrl-C stopping the foreground job spares it (as sleep and python are): the
+    # command installed its own handler over that and stopped with exit 130.
+    stage = hanging_stage(tmp_path)
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    process = subprocess.Popen(
+        command(
+            "check", "--isolated", "--format", "json", "--timeout", "5", str(stage), str(BROKEN)
+        ),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "TMPDIR": str(temporary)},
+        preexec_fn=lambda: signal.signal(signum, signal.SIG_IGN),  # noqa: PLW1509
+    )
+    wait_for_a_worker(process, temporary)
+    process.send_signal(signum)
+    stdout, stderr = process.communicate(timeout=120)
+    # The run went on: the hanging file timed out, the other was linted.
+    assert process.returncode == 2, stderr
+    assert "timed out after 5 s" in stderr
+    statuses = {entry["file"]: entry["status"] for entry in json.loads(stdout)["files"]}
+    assert statuses == {str(stage): "error", str(BROKEN): "linted"}
+
+
 @pytest.mark.parametrize("pool", [False, True], ids=["one-file-child", "pool"])
 def test_workers_die_with_a_parent_killed_outright(tmp_path: Path, pool: bool) -> None:
     """SIGKILL leaves no clean-up to run: Linux ends the workers itself."""

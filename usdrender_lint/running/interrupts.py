@@ -41,11 +41,20 @@ def check_stopped() -> None:
 
 
 def install() -> None:
-    """From now on SIGINT and SIGTERM raise :class:`Stopped` (before the imports)."""
+    """From now on SIGINT and SIGTERM raise :class:`Stopped` (before the imports),
+    unless the process was started ignoring them (not_ignored)."""
     if _received is None:
-        for signum in STOPPING:
+        for signum in not_ignored():
             signal.signal(signum, _stop)
         sys.unraisablehook = _quiet_when_stopped
+
+
+def not_ignored() -> list[int]:
+    """The signals of STOPPING this process does not ignore. One started with
+    SIGINT ignored (a script's background job ``lint &``, ``trap '' INT``) is to
+    outlive the Ctrl-C that stops its foreground job, as sleep and Python's own
+    default handler leave it (it was stopped with exit 130)."""
+    return [signum for signum in STOPPING if signal.getsignal(signum) is not signal.SIG_IGN]
 
 
 def _quiet_when_stopped(unraisable: sys.UnraisableHookArgs, say=sys.unraisablehook) -> None:

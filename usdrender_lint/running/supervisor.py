@@ -16,7 +16,7 @@ import signal
 import sys
 import time
 
-from .interrupts import STOPPING, Stopped
+from .interrupts import STOPPING, Stopped, not_ignored
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -160,7 +160,7 @@ def supervise(stdin: bool = False) -> Supervision:
             signal.setitimer(signal.ITIMER_REAL, STOP_GRACE)  # then SIGALRM kills it
         _kill(child, signum)
 
-    previous = {signum: signal.signal(signum, pass_on) for signum in STOPPING}
+    previous = {signum: signal.signal(signum, pass_on) for signum in not_ignored()}
     previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, lambda *_: _kill(child))
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
     heard_end = _time_the_child(child, heard)
