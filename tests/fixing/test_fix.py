@@ -593,6 +593,30 @@ def test_fix_to_a_layer_with_comments_keeps_them(tmp_path: Path) -> None:
     assert "# reviewed by lighting\n" in overrides.read_text(encoding="utf-8")
 
 
+@pytest.mark.parametrize("link", ["symbolic", "hard"])
+@pytest.mark.parametrize("linked", ["shot.usda", "base.usda"])
+def test_fix_to_a_link_to_a_layer_of_the_stage_is_refused(
+    tmp_path: Path, link: str, linked: str
+) -> None:
+    """Sdf tells layers apart by name: --fix-to through a link to the stage's
+    root (or a sublayer) wrote the overrides into that source, sublayering itself."""
+    write(tmp_path / "base.usda", "#usda 1.0\n")
+    shot = write(tmp_path / "shot.usda", SHOT.replace("#usda 1.0", _SUBLAYERS_BASE))
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    overrides = tmp_path / "fixes.usda"
+    if link == "symbolic":
+        overrides.symlink_to(linked)
+    else:
+        os.link(tmp_path / linked, overrides)
+    result, _ = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 2, result.output
+    assert "the layer is part of the stage it fixes" in result.stderr
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir() if p != overrides} == before
+
+
+_SUBLAYERS_BASE = "#usda 1.0\n(\n    subLayers = [@./base.usda@]\n)"
+
+
 def test_fix_to_takes_one_stage(tmp_path: Path) -> None:
     one, two = write(tmp_path / "a.usda", SHOT), write(tmp_path / "b.usda", SHOT)
     result, _ = check("--fix-to", str(tmp_path / "fixes.usda"), str(one), str(two))

@@ -23,6 +23,7 @@ comments stay); a fix already in it is not reported again.
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
@@ -61,7 +62,7 @@ def fix_to(
         run.remaining.append(linter.lint_path(path))
         return run
     overlay = _OverlayLayer.open(options.fix_to)
-    if overlay.layer in source.GetUsedLayers():
+    if overlay.layer in source.GetUsedLayers() or _a_used_file(overlay.path, source):
         raise FixError(f"--fix-to {overlay.path}: the layer is part of the stage it fixes")
     root = source.GetRootLayer()
     overlay.root_path = layer_real_path(root)
@@ -86,6 +87,19 @@ def fix_to(
     run.errors.extend(builder.errors)
     run.remaining.append(FileResult(path, findings=tuple(builder.findings)))
     return run
+
+
+def _a_used_file(path: str, stage: Usd.Stage) -> bool:
+    """Whether ``path`` is the file of a layer ``stage`` uses under another name
+    (a symbolic or hard link to it): Sdf tells layers apart by name, and writing
+    the overrides there would edit that source."""
+    if not os.path.exists(path):
+        return False
+    for layer in stage.GetUsedLayers():
+        with contextlib.suppress(OSError):  # not a file (anonymous, a package member)
+            if os.path.samefile(path, layer_real_path(layer)):
+                return True
+    return False
 
 
 # -- the override layer ------------------------------------------------------------------
