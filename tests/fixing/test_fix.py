@@ -610,8 +610,21 @@ def test_fix_to_a_link_to_a_layer_of_the_stage_is_refused(
         os.link(tmp_path / linked, overrides)
     result, _ = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
     assert result.exit_code == 2, result.output
-    assert "the layer is part of the stage it fixes" in result.stderr
+    refusal = "the layer is part of the stage it fixes" if link == "symbolic" else "hard links"
+    assert refusal in result.stderr
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir() if p != overrides} == before
+
+
+def test_fix_to_a_layer_with_hard_links_is_refused(tmp_path: Path) -> None:
+    """Replacing it would split the links, as --fix says of a source."""
+    shot = write(tmp_path / "shot.usda", SHOT)
+    overrides = write(tmp_path / "fixes.usda", "#usda 1.0\n")
+    os.link(overrides, tmp_path / "other-name.usda")
+    result, _ = check("--select", "SE006", "--fix-to", str(overrides), str(shot))
+    assert result.exit_code == 2, result.output
+    assert "fixes.usda: has 2 hard links" in result.stderr
+    assert os.stat(overrides).st_ino == os.stat(tmp_path / "other-name.usda").st_ino
+    assert overrides.read_text() == "#usda 1.0\n"
 
 
 _SUBLAYERS_BASE = "#usda 1.0\n(\n    subLayers = [@./base.usda@]\n)"

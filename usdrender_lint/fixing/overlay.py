@@ -182,6 +182,12 @@ def _writable_layer_format(path: str, target: Path) -> Sdf.FileFormat:
         target.exists() and not os.access(target, os.W_OK)
     ):
         raise FixError(f"--fix-to {path}: not writable")
+    links = target.stat().st_nlink if target.exists() else 1
+    if links > 1:  # as --fix leaves such a source alone (writing.write_problem)
+        raise FixError(
+            f"--fix-to {path}: has {links} hard links, which replacing it would split; "
+            "name another layer"
+        )
     return file_format
 
 
