@@ -122,6 +122,65 @@ def test_a_whole_removed_line_goes() -> None:
     assert new == SHOT.replace("      uniform int2 resolution = (1920, 1080)\n", "")
 
 
+PURPOSES = """#usda 1.0
+def RenderSettings "S"
+{
+    uniform token[] includedPurposes = [
+        "render",  # beauty
+        "proxy",   # layout
+        "render"   # repeated
+    ]
+    uniform token[] materialBindingPurposes = [
+        "full",  # final look
+        "preview",  # viewport
+        "full"
+    ]
+    custom string[] notes = [
+        "a",  # one
+        "b", # two
+        "c"  # three
+    ]
+}
+"""
+
+
+@pytest.mark.parametrize("newline", ["\n", "\r\n"])
+def test_removed_array_elements_leave_every_comment_in_place(newline: str) -> None:
+    """Removing an element took the comments between it and its neighbour
+    along: the comment of the element kept went, that of the one removed moved
+    onto the one kept."""
+
+    def fix(stage):
+        prim = stage.GetPrimAtPath("/S")
+        prim.GetAttribute("includedPurposes").Set(Vt.TokenArray(["render", "proxy"]))
+        prim.GetAttribute("materialBindingPurposes").Set(Vt.TokenArray(["full", "preview"]))
+        prim.GetAttribute("notes").Set(Vt.StringArray(["a", "c"]))
+
+    new = fixed(PURPOSES.replace("\n", newline), fix)
+    assert new == FIXED_PURPOSES.replace("\n", newline)
+
+
+FIXED_PURPOSES = """#usda 1.0
+def RenderSettings "S"
+{
+    uniform token[] includedPurposes = [
+        "render",  # beauty
+        "proxy"   # layout
+        # repeated
+    ]
+    uniform token[] materialBindingPurposes = [
+        "full",  # final look
+        "preview"  # viewport
+    ]
+    custom string[] notes = [
+        "a",  # one
+        # two
+        "c"  # three
+    ]
+}
+"""
+
+
 def test_a_new_property_follows_the_file_indentation_after_the_last_property() -> None:
     def fix(stage):
         settings(stage).CreateAttribute(

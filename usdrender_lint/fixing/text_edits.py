@@ -31,6 +31,7 @@ from ..layers.usda_text import (
     META,
     VARIANTS,
     Statement,
+    element_gap,
     element_spans,
     layer_text,
     statements,
@@ -366,12 +367,41 @@ class _Editor:
 
     def delete_elements(self, ts: list[tuple[int, int]], i1: int, i2: int) -> None:
         """Remove elements ``i1:i2`` with the separator that joins them to the rest."""
-        if i2 < len(ts):
-            self.replace(ts[i1][0], ts[i2][0], "")
-        elif i1 > 0:
-            self.replace(ts[i1 - 1][1], ts[i2 - 1][1], "")
-        else:
-            self.replace(ts[0][0], ts[-1][1], "")
+        # The gaps (comma, spaces, comments) that go with them: those after
+        # each, or, for the last elements, the one before them.
+        first, last = (i1, i2) if i2 < len(ts) else (max(i1 - 1, 0), i2 - 1)
+        gaps = {k: element_gap(self.t, ts[k][1], ts[k + 1][0]) for k in range(first, last)}
+        if not any(comment for _, comment in gaps.values()):
+            if i2 < len(ts):
+                self.replace(ts[i1][0], ts[i2][0], "")
+            elif i1 > 0:
+                self.replace(ts[i1 - 1][1], ts[i2 - 1][1], "")
+            else:
+                self.replace(ts[0][0], ts[-1][1], "")
+            return
+        # A comment there (of an element kept, or of one removed) stays where it
+        # is: each element goes with its own comma, a comma on another line
+        # alone, and a line the element leaves empty with it.
+        commas = {comma for comma, _ in gaps.values()}
+        for a, b in ts[i1:i2]:
+            after = _past_spaces(self.t, b)
+            if after in commas:
+                commas.discard(after)
+                b = _past_spaces(self.t, after + 1)
+            else:
+                before = len(self.t[:a].rstrip(" \t")) - 1
+                if before in commas:
+                    commas.discard(before)
+                    a = before
+                elif self.starts_line(a):
+                    b = after  # its comment moves to where the element began
+            line_end = self.t.find("\n", b)
+            line_end = len(self.t) if line_end < 0 else line_end
+            if self.starts_line(a) and self.t[b:line_end].strip() == "":
+                a, b = self.line_start(self.t, a), min(line_end + 1, len(self.t))
+            self.replace(a, b, "")
+        for comma in commas:
+            self.replace(comma, comma + 1, "")
 
     def insert_elements(
         self, ts: list[tuple[int, int]], t_span: tuple[int, int], i1: int, joined: str

@@ -771,6 +771,14 @@ def layer_text(text: str) -> LayerText:
     return LayerText(header_end, meta, (meta[1] if meta else header_end, len(text)))
 
 
+def element_gap(text: str, start: int, end: int) -> tuple[int, bool]:
+    """Between two elements of ``element_spans`` (``text[start:end]``): the
+    offset of the comma that separates them, and whether a comment is there."""
+    comma = _past(_GAP_LINES, text, start, end)
+    gap = text[start:end]
+    return comma, "#" in gap or "//" in gap or "/*" in gap
+
+
 def element_spans(text: str, span: tuple[int, int]) -> list[tuple[int, int]]:
     """The elements of the ``[ ... ]`` or ``( ... )`` at ``span``, without the
     commas, spaces and comments between them."""
