@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 import subprocess
 import sys
 import textwrap
@@ -649,6 +650,23 @@ def test_a_validation_fix_is_the_text_edit_of_check_fix(tmp_path: Path) -> None:
     # What the fixers say they do, where it can only be an Sdf edit.
     assert got["descriptions"] == [] or all("through Sdf" in d for d in got["descriptions"])
     assert "through Sdf" in fixer_description(RULES[0])
+
+
+def test_a_validation_fix_of_a_layer_with_hard_links_is_not_applied(tmp_path: Path) -> None:
+    """--fix leaves a file with several hard links alone (a rename would split
+    them); the fixer made an Sdf edit instead, which ApplyFix's Save wrote as
+    Sdf's export: the links split, the comments and the mode bits gone."""
+    work = tmp_path / "shot.usda"
+    work.write_text((REPO / "examples" / "broken_shot" / "shot.usda").read_text())
+    work.chmod(0o751)
+    other = tmp_path / "other-name.usda"
+    os.link(work, other)
+    before = work.read_bytes()
+    got = _run_child(_FIX_ALL, plugin_dir(), None, str(work), "clean")
+    assert got["applied"] == []
+    assert work.read_bytes() == before
+    assert work.stat().st_ino == other.stat().st_ino
+    assert stat.S_IMODE(work.stat().st_mode) == 0o751
 
 
 def test_a_validation_fix_of_a_layer_with_unsaved_edits_goes_through_sdf(tmp_path: Path) -> None:

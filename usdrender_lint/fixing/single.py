@@ -11,15 +11,19 @@ from its file, so it is clean and a later ``Save()`` writes nothing more.
 Otherwise (an anonymous layer, a layer with unsaved edits, a package, or an
 edit target that is another layer) the fix can only be an Sdf edit of the edit
 target in memory; whoever saves that layer writes Sdf's export of it, which
-keeps neither comments nor layout.
+keeps neither comments nor layout. A layer whose file has several hard links
+gets no fix at all, as ``--fix`` leaves it alone: the save would split the links.
 """
 
 from __future__ import annotations
+
+import os
 
 from pxr import Sdf, Usd
 
 from ..api import Fix
 from ..engine import Linter
+from ..layers.files import layer_real_path
 from ..layers.writing import write_problem
 from ..model import Finding
 from ..records import record
@@ -85,6 +89,9 @@ def fix_one(
     if edit_layer is None:
         return SingleFix(SDF, "the layer holding the finding is not open")
     if not writes_text(stage, finding, fix, edit_layer):
+        shared = _hard_linked(edit_layer)
+        if shared is not None:
+            return SingleFix(SDF, shared)
         failure = _call_fix(fix, stage, edit_layer)
         return SingleFix(SDF, failure)
     fixer = StageFixer(
@@ -101,6 +108,18 @@ def fix_one(
         if outcome.code == finding.code and outcome.path == finding.location.path:
             return SingleFix(TEXT, outcome.reason)
     return SingleFix(TEXT, "the finding is no longer reported on this stage")
+
+
+def _hard_linked(layer: Sdf.Layer) -> str | None:
+    """Why ``layer`` may not get an Sdf edit: its file has several hard links,
+    which --fix leaves alone and the save after the edit (ApplyFix saves at
+    once) would split, writing Sdf's export under one name only."""
+    path = layer_real_path(layer)
+    try:
+        links = os.stat(path).st_nlink if path and not layer.anonymous else 1
+    except OSError:  # a package's member, a file gone: no links to split
+        return None
+    return write_problem(layer) if links > 1 else None
 
 
 __all__ = ["SDF", "TEXT", "SingleFix", "fix_one", "same_finding", "target_layer", "writes_text"]
