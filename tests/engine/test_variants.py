@@ -186,6 +186,22 @@ def test_variants_refuse_fixing(shot: Path) -> None:
     assert "cannot be combined with --fix" in result.output
 
 
+def test_a_finding_only_under_another_selection_offers_no_fix(tmp_path: Path) -> None:
+    """--fix refuses --variants, and without it the finding is not on the stage
+    to fix: the report said "fixable with --fix" all the same."""
+    path = tmp_path / "shot.usda"
+    path.write_text(
+        SHOT.replace("float pixelAspectRatio = 0", 'uniform token[] includedPurposes = ["render"]')
+    )
+    args = ("--variants", "--select", "SE010", str(path))
+    _, findings = check(*args)
+    (finding,) = findings
+    assert finding["message"].endswith("[variant selection: /Render{quality=final}]")
+    assert finding["fix"] is None
+    text = CliRunner().invoke(cli, ["check", "--isolated", *args])
+    assert "fixable" not in text.output and "[fix:" not in text.output
+
+
 def test_a_missing_file_is_reported_as_usual(tmp_path: Path) -> None:
     explorer = VariantExplorer(Linter(all_rules()))
     result = explorer.lint_path(str(tmp_path / "missing.usda"))

@@ -257,7 +257,7 @@ class VariantExplorer:
                         if key not in seen:
                             seen[key] = shown
                             origins[shown] = run.origin(finding)
-                            if finding in run.fixes:
+                            if finding in run.fixes and shown is finding:
                                 fixes[shown] = run.fixes[finding]
                     if recorded is not None and run.reads is not None:
                         recorded.merge(run.reads)
@@ -347,7 +347,7 @@ def _subtree(stage: Usd.Stage, root: Sdf.Path) -> Iterable[Usd.Prim]:
 
 def _annotated(stage: Usd.Stage, finding: Finding, selection: str) -> Finding:
     """The finding with the selection in its message, located outside the
-    session layer (which holds only the selections)."""
+    session layer (which holds only the selections), and without a fix."""
     if not selection:
         return finding
     session = stage.GetSessionLayer()
@@ -357,10 +357,12 @@ def _annotated(stage: Usd.Stage, finding: Finding, selection: str) -> Finding:
         specs = [s for s in prim.GetPrimStack() if s.layer != session] if prim else []
         if specs:
             location = locate(stage, location.file, prim, specs[0].layer)
+    # No fix: --fix neither explores variants nor sees what only another selection shows.
     return replace(
         finding,
         message=finding.message + VARIANT_SELECTION_NOTE.format(selection),
         location=location,
+        fix=None,
     )
 
 
