@@ -202,6 +202,15 @@ def test_a_finding_only_under_another_selection_offers_no_fix(tmp_path: Path) ->
     assert "fixable" not in text.output and "[fix:" not in text.output
 
 
+def test_config_variants_refuse_fixing_and_say_how_to_fix_all_the_same(shot: Path) -> None:
+    (shot.parent / ".usdrender-lint.toml").write_text("variants = true\n")
+    result = CliRunner().invoke(cli, ["check", "--fix", str(shot)])
+    assert result.exit_code == 2
+    assert "--config 'variants = false'" in result.output
+    result = CliRunner().invoke(cli, ["check", "--fix", "--config", "variants = false", str(shot)])
+    assert result.exit_code == 0, result.output
+
+
 def test_a_missing_file_is_reported_as_usual(tmp_path: Path) -> None:
     explorer = VariantExplorer(Linter(all_rules()))
     result = explorer.lint_path(str(tmp_path / "missing.usda"))

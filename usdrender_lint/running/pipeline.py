@@ -722,7 +722,8 @@ def _run_files(
 def _check_fix_request(request: Request, settings: Settings) -> None:
     if settings.variants and request.fix is not None:
         raise RequestError(
-            "--variants (or config 'variants') cannot be combined with --fix, --diff or --fix-to"
+            "--variants (or config 'variants') cannot be combined with --fix, --diff or "
+            "--fix-to; --config 'variants = false' turns the configuration's off for one run"
         )
     if request.fix is not None and request.fix.fix_to and request.fix.write is False:
         raise RequestError("use either --diff or --fix-to, not both")
