@@ -309,6 +309,22 @@ def test_crlf_line_ends_are_kept_and_used() -> None:
     assert "      uniform float pixelAspectRatio = 2\r\n" in new
 
 
+@pytest.mark.parametrize(("most", "few"), [("\n", "\r\n"), ("\r\n", "\n")])
+def test_new_lines_take_the_line_end_most_lines_have(most: str, few: str) -> None:
+    """One line pasted from another system (a CRLF comment in an LF file) made
+    every new line CRLF."""
+    text = SHOT.replace("\n", most).replace(
+        f"# The render setup.{most}", f"# The render setup.{few}"
+    )
+
+    def fix(stage):
+        settings(stage).CreateAttribute("pixelAspectRatio", Sdf.ValueTypeNames.Float).Set(2.0)
+
+    new = fixed(text, fix)
+    assert f"      uniform float pixelAspectRatio = 2{most}" in new
+    assert new.count("\r\n") == text.count("\r\n") + (most == "\r\n")
+
+
 def test_a_file_without_a_final_line_end_keeps_it_so() -> None:
     text = SHOT.rstrip("\n")
     new = fixed(text, lambda stage: settings(stage).GetAttribute("resolution").Set(Gf.Vec2i(1, 1)))

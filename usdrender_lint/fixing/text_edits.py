@@ -129,7 +129,8 @@ class _Editor:
         self.t, self.o, self.n = t, o, n
         self.edits: list[_Edit] = []
         self.unit = indent_unit(t)
-        self.newline = "\r\n" if "\r\n" in t else "\n"
+        #: The line end most lines have (one line pasted from elsewhere does not count).
+        self.newline = "\r\n" if t.count("\r\n") * 2 > t.count("\n") else "\n"
         #: New bool values are spelt as the file spells them (Sdf writes 1 and 0).
         self.bool_words = _BOOL_WORD.search(t) is not None
         #: Removed prims by name, for a prim the fix moved (ST008).
