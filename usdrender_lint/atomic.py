@@ -89,7 +89,8 @@ def write_output(path: str | Path, text: str) -> None:
       owner and group; when its owner or group cannot be kept (another
       user's file in a shared folder) it is written in place instead, which
       keeps them; a symbolic link is followed and its target written, the
-      link kept.
+      link kept; a read-only file is left alone (PermissionError), as the
+      shell's ``>`` leaves it.
 
     Raises OSError (BrokenPipeError: the reader went away)."""
     data = text.encode("utf-8")
@@ -107,6 +108,10 @@ def write_output(path: str | Path, text: str) -> None:
     if before is not None and not stat.S_ISREG(before.st_mode):
         _write_in_place(target, data, truncate=False)
         return
+    # The rename would replace a file the shell's > may not write: read-only
+    # (as for --fix, a file without write permission is read-only even to root).
+    if before is not None and (not os.access(target, os.W_OK) or not before.st_mode & 0o222):
+        raise PermissionError(errno.EACCES, "the file is read-only", str(path))
 
     def write(temporary: Path) -> None:
         with open(temporary, "wb") as stream:

@@ -74,6 +74,28 @@ def test_no_output_onto_an_input(shot: Path, args: list[str], what: str, by_link
     assert shot.read_text(encoding="utf-8") == SHOT
 
 
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["check", "--isolated", "--output", "{}"], "cannot write the report"),
+        (["check", "--isolated", "--write-baseline", "{}"], "cannot write baseline"),
+        (["spec", "--isolated", "--output", "{}"], "the file is read-only"),
+    ],
+)
+def test_a_read_only_output_file_is_left_alone(
+    shot: Path, tmp_path: Path, args: list[str], message: str
+) -> None:
+    """The rename replaced a read-only report or baseline, which the shell's >
+    (and --fix, for a layer) leaves alone."""
+    target = tmp_path / "kept.json"
+    target.write_text("protected\n")
+    target.chmod(0o444)
+    result = CliRunner().invoke(cli, [a.replace("{}", str(target)) for a in args] + [str(shot)])
+    assert result.exit_code == 2, result.output
+    assert message in result.stderr and "read-only" in result.stderr
+    assert target.read_text() == "protected\n"
+
+
 def test_no_report_onto_a_layer_the_stage_composes(tmp_path: Path) -> None:
     (tmp_path / "layer.usda").write_text("#usda 1.0\n")
     root = tmp_path / "root.usda"
