@@ -92,6 +92,10 @@ def _retyped(value: Any, type_name: Sdf.ValueTypeName) -> Any:
     return _convert(value, type_name)
 
 
+#: The fields of a spec the re-authoring sets anew.
+_RETYPED = frozenset({"typeName", "variability", "default", "timeSamples"})
+
+
 def _retype_spec(attr_path: Sdf.Path, type_name: Sdf.ValueTypeName) -> Apply:
     """Re-author the edit target's spec of an attribute with the schema type."""
 
@@ -102,14 +106,32 @@ def _retype_spec(attr_path: Sdf.Path, type_name: Sdf.ValueTypeName) -> Apply:
             return
         default, samples = values
         owner, name, variability = spec.owner, spec.name, spec.variability
+        # Its other fields (custom, connections, doc, customData...) stay as they were.
+        kept = {key: spec.GetInfo(key) for key in spec.ListInfoKeys() if key not in _RETYPED}
         owner.RemoveProperty(spec)
         new = Sdf.AttributeSpec(owner, name, type_name, variability)
+        for key, value in kept.items():
+            if key == "connectionPaths":  # read-only to SetInfo: through its list editor
+                _copy_list_op(new.connectionPathList, value)
+            else:
+                new.SetInfo(key, value)
         if default is not None:
             new.default = default
         for time, value in samples.items():
             new.layer.SetTimeSample(new.path, time, value)
 
     return apply
+
+
+def _copy_list_op(editor: Any, op: Sdf.PathListOp) -> None:
+    """Author ``op`` through a spec's list ``editor`` (e.g. ``connectionPathList``)."""
+    if op.isExplicit:
+        editor.ClearEditsAndMakeExplicit()
+        editor.explicitItems = list(op.explicitItems)
+        return
+    editor.prependedItems = list(op.prependedItems)
+    editor.appendedItems = list(op.appendedItems)
+    editor.deletedItems = list(op.deletedItems)
 
 
 class AttributeTypeMismatch(Rule):
@@ -162,7 +184,8 @@ class AttributeTypeMismatch(Rule):
     Safe, conditional: when every value of the mistyped spec converts without
     loss (`float2 (1920, 1080)` to `int2`, `string` to `token`, `double4` to
     `float4` within float precision), the fix re-authors the spec with the
-    schema type in the same layer; its other metadata is not carried over.
+    schema type in the same layer, its other fields (connections, metadata)
+    kept.
     """
 
     code = "SE016"

@@ -56,6 +56,30 @@ def test_se016_converts_time_samples_and_keeps_variability() -> None:
     assert isinstance(layer.QueryTimeSample(spec.path, 1), Gf.Vec2i)
 
 
+def test_se016_keeps_the_specs_other_fields() -> None:
+    """The re-authored spec lost its connections, documentation and customData:
+    a safe fix changes the type, nothing else."""
+    rule = AttributeTypeMismatch()
+    stage = stage_from_text(
+        settings_layer(
+            'custom uniform float2 resolution = (1920, 1080) (\n        doc = "plate"\n'
+            '        customData = {\n            string source = "edit"\n        }\n    )\n'
+            "    uniform float2 resolution.connect = </S.plate>"
+        )
+    )
+    before = stage.GetRootLayer().GetAttributeAtPath("/S.resolution")
+    fields = {
+        k: before.GetInfo(k) for k in before.ListInfoKeys() if k not in ("typeName", "default")
+    }
+    layer = apply_fix(stage, only(rule, stage))
+    spec = layer.GetAttributeAtPath("/S.resolution")
+    assert spec.typeName == Sdf.ValueTypeNames.Int2
+    assert {k: spec.GetInfo(k) for k in spec.ListInfoKeys() if k in fields} == fields
+    assert set(fields) <= set(spec.ListInfoKeys())
+    assert list(spec.connectionPathList.explicitItems) == [Sdf.Path("/S.plate")]
+    assert spec.custom and spec.documentation == "plate"
+
+
 def test_se016_fixes_the_weaker_layer_that_holds_the_mistake() -> None:
     rule = AttributeTypeMismatch()
     weaker = '#usda 1.0\nover "S"\n{\n    uniform float2 resolution = (10, 10)\n}\n'
