@@ -135,6 +135,23 @@ def test_a_hard_linked_file_is_not_split(tmp_path: Path) -> None:
     assert "--fix-to" in fix["reason"]
 
 
+def test_the_backup_a_killed_write_left_is_named(tmp_path: Path) -> None:
+    """A fix killed while it wrote (past --timeout, the worker gets SIGKILL)
+    leaves its backup hard link beside the file: every later --fix refused the
+    file for its "2 hard links" without saying which, or why."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(SHOT, encoding="utf-8")
+    backup = tmp_path / ".shot.usda.1fdc6802.orig"
+    os.link(shot, backup)
+    result, document = check("--fix", str(shot))
+    (fix,) = document["fixes"]
+    assert not fix["applied"] and ".shot.usda.1fdc6802.orig" in fix["reason"]
+    assert "remove that file" in fix["reason"]
+    backup.unlink()
+    check("--fix", str(shot))
+    assert shot.read_text(encoding="utf-8") == FIXED
+
+
 def test_a_usdz_is_refused_with_a_pointer_to_fix_to(tmp_path: Path) -> None:
     from pxr import Sdf, UsdUtils
 

@@ -85,6 +85,13 @@ def write_problem(layer: Sdf.Layer, writing: bool = True) -> str | None:
     if not os.access(path, os.W_OK) or not stat.st_mode & 0o222:
         return f"{shown} is read-only"
     if stat.st_nlink > 1:
+        stale = _stale_backup(path, stat)
+        if stale is not None:
+            return (
+                f"{shown} has a second name, {display_path(stale)}, the backup of a fix that "
+                "was stopped while it wrote (killed, or past --timeout); remove that file "
+                "and fix again"
+            )
         return (
             f"{shown} has {stat.st_nlink} hard links, which replacing it would split; "
             "--fix leaves it alone (use --fix-to LAYER, or fix one copy)"
@@ -92,6 +99,20 @@ def write_problem(layer: Sdf.Layer, writing: bool = True) -> str | None:
     folder = os.path.dirname(os.path.realpath(path)) or "."
     if not os.access(folder, os.W_OK | os.X_OK):
         return f"the folder of {shown} is read-only (the safe write needs it)"
+    return None
+
+
+def _stale_backup(path: str, stat: os.stat_result) -> str | None:
+    """The backup hard link (:class:`_Held`) a write that never finished left
+    beside ``path``, or None."""
+    folder, name = os.path.split(os.path.realpath(path))
+    prefix = temporary_prefix(name, ".orig")
+    with contextlib.suppress(OSError):
+        for entry in os.scandir(folder or "."):
+            if entry.name.startswith(prefix) and entry.name.endswith(".orig"):
+                found = entry.stat(follow_symlinks=False)
+                if (found.st_dev, found.st_ino) == (stat.st_dev, stat.st_ino):
+                    return entry.path
     return None
 
 
