@@ -18,6 +18,7 @@ import os
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import pytest
@@ -137,6 +138,50 @@ def test_an_edit_through_the_old_file_after_the_rename_is_kept(
     assert shot.read_text(encoding="utf-8") == SHOT + "# their edit\n"
     assert "changed on disk while the fix was written" in result.output
     assert sorted(p.name for p in shot.parent.iterdir()) == ["shot.usda"]
+
+
+ONE_FIX = """#usda 1.0
+(
+    renderSettingsPrimPath = "/Render/Settings"
+)
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        uniform token aspectRatioConformPolicy = "cropaperture"
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("fix_to", [False, True])
+def test_the_time_limit_does_not_stop_a_write_half_way(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fix_to: bool
+) -> None:
+    """--timeout killed the fixing worker in the middle of a write: the write's
+    hidden temporary file and backup hard link stayed beside the file, which
+    every later --fix then refused for its "2 hard links"."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(ONE_FIX, encoding="utf-8")
+    real = atomic.replace_atomically
+
+    def slow(path, write, suffix=".tmp"):
+        def slow_write(temporary):
+            write(temporary)
+            time.sleep(4)  # past --timeout
+
+        real(path, slow_write, suffix)
+
+    monkeypatch.setattr(writing, "replace_atomically", slow)
+    target = ["--fix-to", str(tmp_path / "fixes.usda")] if fix_to else ["--fix"]
+    args = ["check", "--isolated", "--select", "SE006", "--timeout", "2", *target, str(shot)]
+    result = CliRunner().invoke(cli, [*args])
+    assert result.exit_code == 0, result.output
+    written = tmp_path / "fixes.usda" if fix_to else shot
+    assert '"cropAperture"' in written.read_text(encoding="utf-8")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        ["shot.usda", "fixes.usda"] if fix_to else ["shot.usda"]
+    )
 
 
 def test_an_edit_while_the_temporary_file_is_written_is_kept(

@@ -136,7 +136,7 @@ def test_a_hard_linked_file_is_not_split(tmp_path: Path) -> None:
 
 
 def test_the_backup_a_killed_write_left_is_named(tmp_path: Path) -> None:
-    """A fix killed while it wrote (past --timeout, the worker gets SIGKILL)
+    """A fix killed while it wrote (kill -9, a power cut)
     leaves its backup hard link beside the file: every later --fix refused the
     file for its "2 hard links" without saying which, or why."""
     shot = tmp_path / "shot.usda"

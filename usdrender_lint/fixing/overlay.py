@@ -209,6 +209,7 @@ class _Builder:
         self.path = path
         self.overlay = overlay
         self.stage = stage
+        self.before_writing = session.options.before_writing
         self.outcomes: list[AppliedFix] = list(session.outcomes)
         self.errors: list[str] = []
         self.findings: list[Finding] = list(session.findings)
@@ -363,6 +364,8 @@ class _Builder:
             o.applied for o in self.outcomes
         ):
             return
+        if self.before_writing is not None:
+            self.before_writing()
         try:
             overlay.save()
         except (ChangedOnDisk, OSError) as exc:

@@ -65,6 +65,8 @@ class FixOptions:
     #: file (read-only, hard links); the HTML report's diffs. --diff itself
     #: previews --fix, refusals included.
     any_file: bool = False
+    #: Called before the first file is written (a worker's time limit stops there).
+    before_writing: Callable[[], None] | None = None
 
 
 @record
@@ -443,6 +445,8 @@ class StageFixer:
             if not self.options.write:
                 self._show(source, shown)
                 continue
+            if self.options.before_writing is not None:
+                self.options.before_writing()
             try:
                 if source.text is not None:
                     save_text(source.disk, source.text)

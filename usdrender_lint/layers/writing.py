@@ -89,8 +89,7 @@ def write_problem(layer: Sdf.Layer, writing: bool = True) -> str | None:
         if stale is not None:
             return (
                 f"{shown} has a second name, {display_path(stale)}, the backup of a fix that "
-                "was stopped while it wrote (killed, or past --timeout); remove that file "
-                "and fix again"
+                "was killed while it wrote; remove that file and fix again"
             )
         return (
             f"{shown} has {stat.st_nlink} hard links, which replacing it would split; "

@@ -1059,10 +1059,12 @@ class _FixRefused:
 
 def _fix_in_worker(state: tuple[Prepared, ContextPlan | None], path: str) -> object:
     from ..fixing import FixError, fix_files
+    from .workers import hold_deadline
 
     prepared, plan = state
     assert prepared.request.fix is not None
-    options = _fix_options(prepared.request.fix)
+    # A kill past --timeout while a file is written would leave its write half-done.
+    options = replace(_fix_options(prepared.request.fix), before_writing=hold_deadline)
     try:
         return fix_files(prepared.linter, [path], options, keep=_fix_keep(prepared, plan))
     except FixError as exc:

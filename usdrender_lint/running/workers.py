@@ -34,6 +34,7 @@ IN_FLIGHT = 2
 WORKER_RECYCLE_AFTER = 500
 MIN_WORKER_MEMORY = 2 << 30  # however many workers share the machine
 _READY, _FAILED = -1, -2  # what a worker sends for an index once ready, or failing to start
+_WRITING = -3  # what a worker sends before it writes a user's file (hold_deadline)
 _NEVER = float("inf")
 
 
@@ -250,6 +251,9 @@ class Pool:
     def _receive(self, worker: _Worker, index: int, result: Any) -> None:
         if index == _FAILED:
             raise ExecutionError(f"a worker process could not build the linter: {result}")
+        if index == _WRITING:  # until it answers: see hold_deadline
+            worker.deadline = _NEVER
+            return
         if index == _READY:  # with its USD plugin registration problems
             from ..engine import reported_by_worker
 
@@ -358,6 +362,8 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
         conn.send((_FAILED, f"{type(exc).__name__}: {exc}"))
         return
     conn.send((_READY, problems))
+    global _parent
+    _parent = conn
     with suppress(EOFError, OSError):  # the parent is gone
         while True:
             index, item = conn.recv()
@@ -368,6 +374,18 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
                 debug.show(exc, "internal error")
                 result = pool.failed(_path_of(item), internal_error(exc))
             conn.send((index, result))
+
+
+#: In a worker process: its end of the pipe to the parent (hold_deadline).
+_parent: Connection | None = None
+
+
+def hold_deadline() -> None:
+    """In a worker: the item it handles is not timed out from now on. Said before
+    writing a user's file: a kill in the middle would leave the temporary file and
+    the backup hard link of the write beside it (layers.writing)."""
+    if _parent is not None:
+        _parent.send((_WRITING, None))
 
 
 def _context() -> Any:
