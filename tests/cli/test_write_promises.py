@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
 import textwrap
@@ -182,6 +183,54 @@ def test_the_time_limit_does_not_stop_a_write_half_way(
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
         ["shot.usda", "fixes.usda"] if fix_to else ["shot.usda"]
     )
+
+
+_SLOW_WRITE = """
+import sys, time
+from usdrender_lint.__main__ import main
+from usdrender_lint.layers import writing
+real = writing.replace_atomically
+
+def slow(path, write, suffix=".tmp"):
+    def slow_write(temporary):
+        write(temporary)
+        time.sleep(3)
+    real(path, slow_write, suffix)
+
+writing.replace_atomically = slow
+main()
+"""
+
+
+@pytest.mark.parametrize("group", [False, True], ids=["command", "process-group"])
+def test_sigterm_while_a_fix_is_written_lets_the_write_finish(tmp_path: Path, group: bool) -> None:
+    """SIGTERM (to the command, or to its process group: a CI job cancelled) killed
+    the fixing worker in the middle of a write: its temporary file and backup hard
+    link stayed beside the layer."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(ONE_FIX, encoding="utf-8")
+    driver = tmp_path / "driver.py"
+    driver.write_text(_SLOW_WRITE)
+    args = ["check", "--isolated", "--select", "SE006", "--fix", str(shot)]
+    process = subprocess.Popen(
+        [sys.executable, str(driver), *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    deadline = time.monotonic() + 60
+    while not any(p.name.endswith(".orig") for p in tmp_path.iterdir()):
+        assert time.monotonic() < deadline and process.poll() is None
+        time.sleep(0.05)
+    if group:
+        os.killpg(process.pid, signal.SIGTERM)
+    else:
+        process.send_signal(signal.SIGTERM)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 143 and err == "usdrender-lint: terminated\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["driver.py", "shot.usda"]
+    assert '"cropAperture"' in shot.read_text(encoding="utf-8")
 
 
 def test_an_edit_while_the_temporary_file_is_written_is_kept(

@@ -35,6 +35,8 @@ WORKER_RECYCLE_AFTER = 500
 MIN_WORKER_MEMORY = 2 << 30  # however many workers share the machine
 _READY, _FAILED = -1, -2  # what a worker sends for an index once ready, or failing to start
 _WRITING = -3  # what a worker sends before it writes a user's file (hold_deadline)
+#: Seconds a stopped run (Ctrl-C, SIGTERM) waits for a worker writing a user's file.
+WRITE_GRACE = 30.0
 _NEVER = float("inf")
 
 
@@ -187,6 +189,11 @@ class Pool:
                     self._feed(worker)
                 self._step()
         finally:
+            # A worker writing a user's file finishes it first (hold_deadline).
+            for worker in self._workers:
+                if worker.writing:
+                    with suppress(OSError):
+                        worker.conn.poll(WRITE_GRACE)
             # Every worker is killed before any is joined: they exit side by side.
             for worker in self._workers:
                 worker.kill()
@@ -253,6 +260,7 @@ class Pool:
             raise ExecutionError(f"a worker process could not build the linter: {result}")
         if index == _WRITING:  # until it answers: see hold_deadline
             worker.deadline = _NEVER
+            worker.writing = True
             return
         if index == _READY:  # with its USD plugin registration problems
             from ..engine import reported_by_worker
@@ -261,6 +269,7 @@ class Pool:
             worker.starting = False
             return
         worker.queue.popleft()  # answered in the order sent
+        worker.writing = False
         self._done(index, result)
         worker.linted += 1
         # The next item already waits in its pipe: the worker started it as it answered.
@@ -309,6 +318,8 @@ class _Worker:
     queue: deque[tuple[int, Any]] = field(default_factory=deque)
     deadline: float = _NEVER
     linted: int = 0
+    #: Writing a user's file (hold_deadline), until it answers.
+    writing: bool = False
 
     def death(self) -> str:
         """How it died, in parentheses: "(signal SIGABRT: USD fatal error: ...)"."""
@@ -374,6 +385,7 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
                 debug.show(exc, "internal error")
                 result = pool.failed(_path_of(item), internal_error(exc))
             conn.send((index, result))
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)  # after hold_deadline
 
 
 #: In a worker process: its end of the pipe to the parent (hold_deadline).
@@ -381,10 +393,13 @@ _parent: Connection | None = None
 
 
 def hold_deadline() -> None:
-    """In a worker: the item it handles is not timed out from now on. Said before
-    writing a user's file: a kill in the middle would leave the temporary file and
-    the backup hard link of the write beside it (layers.writing)."""
+    """In a worker: the item it handles is neither timed out nor stopped from now
+    on (SIGTERM is ignored until it is answered: the parent, stopped, waits
+    WRITE_GRACE for it). Said before writing a user's file: a kill in the middle
+    would leave the temporary file and the backup hard link of the write beside it
+    (layers.writing). Ignored, not blocked: USD's threads would take a blocked one."""
     if _parent is not None:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
         _parent.send((_WRITING, None))
 
 
