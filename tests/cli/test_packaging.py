@@ -83,6 +83,7 @@ def test_the_cache_key_covers_a_plugin_rule_s_package_and_not_its_site(
     (site / "studio_rules" / "__init__.py").write_text(_PLUGIN_RULE)
     (site / "studio_rules" / "words.py").write_text('MESSAGE = "one"\n')
     (site / "studio_rules" / "allowed_aovs.txt").write_text("beauty\n")  # what a check reads
+    (site / "studio_rules" / ".words.py.swp").write_text("")  # an editor's, while words.py is open
     (site / "lone_rules.py").write_text(_PLUGIN_RULE.replace("STU001", "STU002"))
     (site / "unrelated.py").write_text("")
     monkeypatch.syspath_prepend(str(site))
@@ -95,6 +96,7 @@ def test_the_cache_key_covers_a_plugin_rule_s_package_and_not_its_site(
         sys.modules.pop("lone_rules", None)
     assert str(site / "studio_rules" / "words.py") in files
     assert str(site / "studio_rules" / "allowed_aovs.txt") in files
+    assert str(site / "studio_rules" / ".words.py.swp") not in files
     assert str(site / "lone_rules.py") in files
     assert str(site / "unrelated.py") not in files
 

@@ -151,9 +151,11 @@ def test_a_usd_plugin_a_plugin_info_includes_from_elsewhere_changes_the_key(
     its type comes and goes), so it changes the key too."""
     top = tmp_path / "top"
     top.mkdir()
-    (top / "plugInfo.json").write_text(
+    # A linked plugInfo.json (a package manager's tree of links) is read as USD reads it.
+    (tmp_path / "studio.json").write_text(
         '# the studio\'s plugins\n{"Includes": ["../schemas/*/resources/"]}\n'
     )
+    (top / "plugInfo.json").symlink_to(tmp_path / "studio.json")
     monkeypatch.setenv("PXR_PLUGINPATH_NAME", str(top))
     request = Request(("x.usda",), isolated=True)
     settings = resolve_settings(request)

@@ -225,7 +225,7 @@ def _named_by(info: str) -> list[str]:
     registration problem is a note of its own)."""
     import glob
 
-    data = read_bounded(info, 1 << 20)
+    data = read_bounded(info, 1 << 20, follow_links=True)  # USD follows a linked one
     try:
         # USD's plugInfo.json may hold comment lines, which start with '#'.
         lines = data.decode().splitlines() if data is not None else []
@@ -302,13 +302,18 @@ def _code_signature(linter: Linter) -> list[tuple[str, int, int]]:
 
 
 def _source_files(folder: str) -> list[str]:
-    """The files below a package's folder but its bytecode, at most
-    MAX_PLUGIN_FILES: its Python modules and the data files they read (a
-    plugin's list of allowed names, a schema its import registers)."""
+    """The files below a package's folder, at most MAX_PLUGIN_FILES: its Python
+    modules and the data files they read (a plugin's list of allowed names, a
+    schema its import registers); not its bytecode, hidden files or an
+    editor's backups (``.x.py.swp``, ``x.py~``), which come and go as it is edited."""
     found: list[str] = []
     for root, dirs, names in os.walk(folder, followlinks=True):  # a checkout links rules/
         dirs[:] = sorted(d for d in dirs if not d.startswith((".", "__pycache__")))
-        found += (os.path.join(root, n) for n in sorted(names) if not n.endswith(".pyc"))
+        found += (
+            os.path.join(root, n)
+            for n in sorted(names)
+            if not n.startswith(".") and not n.endswith((".pyc", "~"))
+        )
         if len(found) >= MAX_PLUGIN_FILES:
             return found[:MAX_PLUGIN_FILES]
     return found
@@ -535,11 +540,14 @@ def _resolver_state(root: str, searches: Sequence[str]) -> tuple[str, list[str]]
 # -- reading an entry ------------------------------------------------------------------
 
 
-def read_bounded(path: str | os.PathLike[str], limit: int) -> bytes | None:
+def read_bounded(
+    path: str | os.PathLike[str], limit: int, follow_links: bool = False
+) -> bytes | None:
     """The bytes of a regular file of at most ``limit`` bytes; None for
-    anything else (a FIFO, a device, a folder, a symbolic link, a larger file)
-    or a file that cannot be read. Never blocks on a FIFO."""
-    flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
+    anything else (a FIFO, a device, a folder, a symbolic link unless
+    ``follow_links``, a larger file) or a file that cannot be read. Never
+    blocks on a FIFO."""
+    flags = os.O_RDONLY | os.O_NONBLOCK | (0 if follow_links else getattr(os, "O_NOFOLLOW", 0))
     try:
         fd = os.open(path, flags | getattr(os, "O_CLOEXEC", 0))
     except OSError:
