@@ -559,6 +559,24 @@ def test_the_cache_is_bounded_and_keeps_the_recently_used(tmp_path: Path) -> Non
     assert sorted(p.name for p in folder.iterdir()) == names[7:]
 
 
+def test_a_run_whose_workers_stored_entries_prunes_the_cache(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Workers store into copies of the run's cache: the run prunes after
+    linting with workers as after linting in its own process, and not after
+    a run that linted nothing (every result from the cache)."""
+    write(tmp_path, {"common.usda": settings_layer()})
+    for i in range(4):
+        write(tmp_path, {f"shot_{i}.usda": SHOT_WITH_SUBLAYER})
+    shots = tuple(str(tmp_path / f"shot_{i}.usda") for i in range(4))
+    pruned: list[Path] = []
+    monkeypatch.setattr(ResultCache, "prune", lambda cache, *args: pruned.append(cache.folder))
+    run(Request(shots, isolated=True, jobs=2, cache=True))
+    assert pruned == [tmp_path / ".usdrender_lint_cache"]
+    run(Request(shots, isolated=True, jobs=2, cache=True))
+    assert pruned == [tmp_path / ".usdrender_lint_cache"]
+
+
 def test_concurrent_runs_share_a_cache_without_corrupting_it(tmp_path: Path) -> None:
     write(tmp_path, {"common.usda": settings_layer()})
     for i in range(30):

@@ -904,8 +904,11 @@ def _lint_together(
         else:
             linted = lint_as_asked(execution, list(todo), LintersByFile(specs, todo))
         results.update(zip(todo, linted, strict=True))
-    for _prepared, _files, cache in jobs:
-        if cache is not None and cache.stored:
+    # Worker processes store into copies of a job's cache, whose counts this
+    # process never sees: a job that had files linted may have stored entries.
+    for index in sorted(set(todo.values())):
+        cache = jobs[index][2]
+        if cache is not None:
             cache.prune()
     return results
 

@@ -36,7 +36,7 @@ its tag; any other folder is refused (:class:`ForeignFolder`). Entries are one
 JSON file each, written atomically, so concurrent runs (CI shards sharing a
 cache) never see half an entry; an entry is read only when it is a regular
 file of bounded size (a FIFO, a link, a folder or a deeply nested document is
-ignored, and replaced on the next store). After a run that stored entries, the
+ignored, and replaced on the next store). After a run that linted files, the
 least recently used entry files (by name) are removed beyond MAX_BYTES.
 """
 
