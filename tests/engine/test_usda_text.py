@@ -23,10 +23,11 @@ REPO = TESTS.parent
 # One regex token at a time, one state machine for the whole file. Kept here only to
 # pin the lookup to it: same line for every spec path, None where it finds none.
 
-_REF_INERT = r"""[^\n"'@<#/{}()\[\]A-Za-z_]"""
+# ";" ends a statement as a line end does (statements on one line).
+_REF_INERT = r"""[^\n;"'@<#/{}()\[\]A-Za-z_]"""
 _REF_TOKEN = re.compile(
     r"""
-    (?P<newline>\n)
+    (?P<newline>\n|;)
   | (?P<inert>INERT+|(?:\(INERT*\)INERT*)+)
   | (?P<space>[ \t\r\f\v]+)
   | (?P<comment>\#[^\n]*|//[^\n]*|/\*.*?\*/)
@@ -256,6 +257,24 @@ HOSTILE_LINES = {
     "/World/over": 42,
     "/World/over.variantSet": 44,
 }
+
+
+def test_statements_separated_by_a_semicolon_have_their_lines() -> None:
+    """USD reads ";" between two statements on one line as a line end: the second
+    property had no line, so its finding named none."""
+    text = (
+        '#usda 1.0\ndef Scope "R"\n{\n    def RenderSettings "S"\n    {\n'
+        "        uniform int2 resolution = (1, 1); uniform float4 dataWindowNDC = (0, 0, 1, 1)\n"
+        "        rel camera = </R/S>;rel products = </R/P>\n    }\n}\n"
+    )
+    expected = {"/R/S.resolution": 6, "/R/S.dataWindowNDC": 6}
+    expected |= {"/R/S.camera": 7, "/R/S.products": 7}
+    lines = index_usda(text)
+    assert {path: lines.get(path) for path in expected} == expected
+    assert reference_index(text) == lines
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    assert layer.ImportFromString(text)  # USD reads it so
+    assert layer.GetAttributeAtPath("/R/S.dataWindowNDC") is not None
 
 
 def test_hostile_text_lines() -> None:

@@ -46,11 +46,14 @@ _ATOMS = f"{_COMMENT}|{_STRING}|{_ASSET}|{_PATH}|{_LONE}"
 #: Compile time grows fast with it (2: ~8 ms, 8: ~55 ms) while lookups on the corpus
 #: and the benchmark shots run as fast at 2 as at 8.
 _DEPTH = 2
-#: What ends a run: a bracket, an atom, and outside brackets a brace (and a line end
-#: for a statement). Only atoms and brackets matter inside brackets.
+#: What ends a run: a bracket, an atom, and outside brackets a brace (and for a
+#: statement a line end or ";", which separates statements on one line as a line end
+#: does). Only atoms and brackets matter inside brackets.
 _IN_BRACKETS_STOP = r"""()\[\]"'@<#/"""
 _OUTSIDE_STOP = "{}" + _IN_BRACKETS_STOP
-_STATEMENT_STOP = "\\n" + _OUTSIDE_STOP
+_STATEMENT_STOP = "\\n;" + _OUTSIDE_STOP
+#: The characters that end a statement: a line end, ";" or a brace.
+_STATEMENT_ENDS = "\n;{}"
 
 
 def _runs(stop: str, items: str) -> str:
@@ -445,7 +448,7 @@ def _statement_end(text: str, pos: int) -> int:
     statement_rest = _SKIPPERS.statement_rest
     while True:
         pos = statement_rest(text, pos).end()
-        if pos >= end or text[pos] in "\n{}":
+        if pos >= end or text[pos] in _STATEMENT_ENDS:
             return pos
         # an opening bracket nested too deep to match at once, or a stray closing one
         pos = _skip_brackets(text, pos + 1) if text[pos] in "([" else pos + 1
@@ -468,7 +471,7 @@ def _property_name(text: str, pos: int, rest: list[str]) -> tuple[int, str | Non
     to_word = _SKIPPERS.to_word
     while len(rest) < 2:
         pos = to_word(text, pos).end()
-        if pos >= end or text[pos] in "\n{}":
+        if pos >= end or text[pos] in _STATEMENT_ENDS:
             break
         if text[pos] in "([":
             pos = _skip_brackets(text, pos + 1)
