@@ -162,3 +162,27 @@ def test_a_usdz_is_refused_with_a_pointer_to_fix_to(tmp_path: Path) -> None:
     result, document = check("--fix", str(package))
     (fix,) = document["fixes"]
     assert ".usdz" in fix["reason"] and "--fix-to" in fix["reason"]
+
+
+@pytest.mark.parametrize("timeout", ["0", "60"], ids=["in-process", "worker"])
+def test_a_layer_the_configuration_excludes_is_left_alone(
+    tmp_path: Path, monkeypatch, timeout: str
+) -> None:
+    """As ruff never edits an excluded file: a vendored sublayer the shot
+    composes keeps its text; named itself, it is fixed."""
+    (tmp_path / "vendor").mkdir()
+    base = tmp_path / "vendor" / "base.usda"
+    base.write_text(SHOT, encoding="utf-8")
+    shot = tmp_path / "shot.usda"
+    shot.write_text("#usda 1.0\n(\n    subLayers = [@./vendor/base.usda@]\n)\n", encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    excluded = ["--extend-exclude", "vendor/", "--timeout", timeout]
+    result, document = check(*excluded, "--fix", "shot.usda")
+    assert base.read_text(encoding="utf-8") == SHOT
+    (fix,) = document["fixes"]
+    assert not fix["applied"]
+    assert fix["reason"].startswith("vendor/base.usda is left out of linting by the configuration")
+    result, document = check(*excluded, "--diff", "shot.usda")
+    assert "+++" not in result.stdout
+    check(*excluded, "--fix", "vendor/base.usda")
+    assert base.read_text(encoding="utf-8") == FIXED

@@ -205,3 +205,23 @@ def test_an_open_document_usd_cannot_parse_does_not_hide_its_users_errors(tmp_pa
     for _ in range(2):  # and after the broken document's own lint
         found = sorted((f.code, f.message) for f in documents.lint(str(wrapper)).findings)
         assert found == expected
+
+
+def test_fix_all_leaves_a_layer_the_configuration_excludes_alone(tmp_path: Path):
+    """As ``check --fix``: a sublayer the configuration leaves out of linting is
+    not edited through the document that composes it."""
+    (tmp_path / ".usdrender-lint.toml").write_text('extend-exclude = ["vendor/"]\n')
+    (tmp_path / "vendor").mkdir()
+    base = tmp_path / "vendor" / "base.usda"
+    base.write_text(
+        '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform token aspectRatioConformPolicy'
+        ' = "cropaperture"\n}\n'
+    )
+    shot = str(tmp_path / "shot.usda")
+    documents = Documents()
+    documents.update({shot: "#usda 1.0\n(\n    subLayers = [@./vendor/base.usda@]\n)\n"})
+    assert "SE006" in {f.code for f in documents.lint(shot).findings}
+    run, changed = documents.fix(shot, None, unsafe=True)
+    assert str(base) not in changed and shot in changed  # the shot's own fix (ST003) is made
+    reasons = {o.reason for o in run.outcomes if not o.applied}
+    assert any("vendor/base.usda is left out of linting" in (r or "") for r in reasons)

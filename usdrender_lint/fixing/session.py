@@ -67,6 +67,9 @@ class FixOptions:
     any_file: bool = False
     #: Called before the first file is written (a worker's time limit stops there).
     before_writing: Callable[[], None] | None = None
+    #: Whether a layer of the stack other than the root (its real path) is one the
+    #: configuration leaves out of linting (exclude, .gitignore): fixes leave it alone.
+    excluded: Callable[[str], bool] | None = None
 
 
 @record
@@ -201,6 +204,7 @@ class StageFixer:
                     texts=self.options.texts,
                     texts_only=self.options.texts_only,
                     writing=self.options.write or not self.options.any_file,
+                    excluded=self.options.excluded,
                 )
                 self.findings = self._attempts()
                 if not self.in_memory:

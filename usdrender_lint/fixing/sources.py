@@ -10,7 +10,7 @@ edit of :mod:`.text_edits`) or put back as they were before it.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 
 from pxr import Sdf, Usd
 
@@ -64,6 +64,7 @@ class Sources:
         texts: Mapping[str, str] | None = None,
         texts_only: bool = False,
         writing: bool = True,
+        excluded: Callable[[str], bool] | None = None,
     ) -> None:
         self.stage = stage
         self.in_memory = in_memory
@@ -73,6 +74,8 @@ class Sources:
         self.texts_only = texts_only
         #: False for --diff: a read-only file may still be shown as a patch.
         self.writing = writing
+        #: FixOptions.excluded.
+        self.excluded = excluded
         self.known: dict[str, LayerSource] = {}
         for layer in stage.GetLayerStack(includeSessionLayers=False):
             self.known[layer_identifier(layer)] = self._read(layer)
@@ -89,7 +92,7 @@ class Sources:
             shown = display_path(layer_real_path(layer) or layer.identifier)
             why = f"{shown} is a file, and fixes of standard input's text write no file"
             return LayerSource(layer, None, exported, None, why)
-        problem = write_problem(layer, self.writing)
+        problem = write_problem(layer, self.writing) or self._excluded(layer)
         disk = None
         text = None
         if layer_real_path(layer) and problem is None:
@@ -105,6 +108,19 @@ class Sources:
             except UnicodeDecodeError:
                 problem = f"{display_path(disk.path)} is not UTF-8 text"
         return LayerSource(layer, disk, exported, text, problem, text)
+
+    def _excluded(self, layer: Sdf.Layer) -> str | None:
+        """Why fixes leave alone a layer the stage composes that the configuration
+        leaves out of linting (the root was named: it is fixed)."""
+        path = layer_real_path(layer)
+        if self.excluded is None or layer == self.stage.GetRootLayer() or not path:
+            return None
+        if not self.excluded(path):
+            return None
+        return (
+            f"{display_path(path)} is left out of linting by the configuration (exclude, "
+            "extend-exclude or .gitignore), so --fix leaves it alone; fix it where it is linted"
+        )
 
     def __iter__(self):
         return iter(self.known.values())

@@ -45,7 +45,14 @@ from ..model import IGNORE_KEY, Finding, Location, Report, Severity
 from ..records import record
 from ..registry import Registry, build_registry
 from .discovery import Exclusions, force_excluded
-from .pipeline import Prepared, Request, RequestError, folder_exclusions, prepare
+from .pipeline import (
+    Prepared,
+    Request,
+    RequestError,
+    excluded_from_linting,
+    folder_exclusions,
+    prepare,
+)
 
 if TYPE_CHECKING:
     from ..fixing import FixRun
@@ -316,7 +323,11 @@ class Documents:
                 return finding_key(finding) == target and prepared.is_reported(finding)
 
         options = FixOptions(
-            unsafe=unsafe, write=False, texts=dict(self.texts), texts_only=texts_only
+            unsafe=unsafe,
+            write=False,
+            texts=dict(self.texts),
+            texts_only=texts_only,
+            excluded=excluded_from_linting(prepared),
         )
         fixer = StageFixer(prepared.linter, path, options, keep)
         dirty = {p: layer.dirty for p, layer in self._layers.items()}

@@ -1015,13 +1015,14 @@ def _run_fixes(
         raise RequestError(f"--fix-to writes the overrides of one stage; {why}")
     if not prepared.request.timeout:
         try:
-            options = _fix_options(wanted)
+            options = _fix_options(prepared, excluded_from_linting(prepared))
             run = fix_files(prepared.linter, files, options, keep=_fix_keep(prepared, plan))
         except FixError as exc:
             raise RequestError(str(exc)) from None
         return run, ()
     # One worker, so that stages sharing a layer are still fixed one after another.
-    fixing = _Fixing(replace(prepared.request, config=prepared.settings, isolated=False), plan)
+    part = replace(prepared.request, config=prepared.settings, isolated=False)
+    fixing = _Fixing(part, plan, given=prepared.request)
     results = Pool(fixing, 1, prepared.request.timeout, handle=_fix_in_worker).run(files)
     refused = [r for r in results if isinstance(r, _FixRefused)]
     if refused:
@@ -1035,10 +1036,21 @@ def _run_fixes(
     return run, tuple(r for r in results if isinstance(r, FileResult))
 
 
-def _fix_options(wanted: FixRequest) -> FixOptions:
+def _fix_options(prepared: Prepared, excluded: Callable[[str], bool]) -> FixOptions:
     from ..fixing import FixOptions
 
-    return FixOptions(unsafe=wanted.unsafe, write=wanted.write, fix_to=wanted.fix_to)
+    wanted = prepared.request.fix
+    assert wanted is not None
+    return FixOptions(
+        unsafe=wanted.unsafe, write=wanted.write, fix_to=wanted.fix_to, excluded=excluded
+    )
+
+
+def excluded_from_linting(prepared: Prepared) -> Callable[[str], bool]:
+    """Whether a walk of the run would leave a path out (exclude, .gitignore,
+    each folder's own configuration): fixes do not edit such a layer that a
+    stage composes, as ruff never edits an excluded file."""
+    return walk_skips(Exclusions.of(prepared.settings), folder_exclusions(prepared))
 
 
 @record(frozen=True)
@@ -1048,9 +1060,14 @@ class _Fixing:
 
     request: Request
     plan: ContextPlan | None = None
+    #: The request as given (its configuration found per folder): what a walk
+    #: leaves out (FixOptions.excluded) is judged by it.
+    given: Request | None = None
 
-    def __call__(self) -> tuple[Prepared, ContextPlan | None]:
-        return prepare(self.request), self.plan
+    def __call__(self) -> tuple[Prepared, ContextPlan | None, Callable[[str], bool]]:
+        prepared = prepare(self.request)
+        given = replace(prepared, request=self.given or self.request)
+        return prepared, self.plan, excluded_from_linting(given)
 
 
 @record(frozen=True)
@@ -1060,14 +1077,16 @@ class _FixRefused:
     reason: str
 
 
-def _fix_in_worker(state: tuple[Prepared, ContextPlan | None], path: str) -> object:
+def _fix_in_worker(
+    state: tuple[Prepared, ContextPlan | None, Callable[[str], bool]], path: str
+) -> object:
     from ..fixing import FixError, fix_files
     from .workers import hold_deadline
 
-    prepared, plan = state
+    prepared, plan, excluded = state
     assert prepared.request.fix is not None
     # A kill past --timeout while a file is written would leave its write half-done.
-    options = replace(_fix_options(prepared.request.fix), before_writing=hold_deadline)
+    options = replace(_fix_options(prepared, excluded), before_writing=hold_deadline)
     try:
         return fix_files(prepared.linter, [path], options, keep=_fix_keep(prepared, plan))
     except FixError as exc:
