@@ -454,6 +454,32 @@ def test_unreadable_dependency_falls_back(linters: tuple[Linter, Linter], tmp_pa
     _assert_same(linters, root)
 
 
+@pytest.mark.parametrize(
+    "asset",
+    [
+        '#usda 1.0\n(\n    subLayers = [@./gone.usda@]\n)\ndef "A"\n{\n}\n',
+        '#usda 1.0\n(\n    subLayers = [@./loop.usda@]\n)\ndef "A"\n{\n}\n',
+    ],
+    ids=["missing-sublayer", "sublayer-cycle"],
+)
+def test_layer_stack_errors_of_a_referenced_layer_fall_back(
+    linters: tuple[Linter, Linter], tmp_path: Path, asset: str
+) -> None:
+    # USD reports them at </> (ST002 on every stage), but only when it composes
+    # the prim that references the layer, which the mask leaves out.
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": '#usda 1.0\ndef "World" (references = @./asset.usda@)\n{\n}\n'
+            'def Scope "Render"\n{\n    def RenderSettings "S"\n    {\n    }\n}\n',
+            "asset.usda": asset,
+            "loop.usda": "#usda 1.0\n(\n    subLayers = [@./asset.usda@]\n)\n",
+        },
+    )
+    assert _falls_back(linters, root)
+    _assert_finds(linters, root, "ST002", None)
+
+
 def test_variant_specs_are_found(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
     root = _write(
         tmp_path,

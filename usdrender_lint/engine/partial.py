@@ -31,6 +31,9 @@ and the fast path gives up (returns None: the engine composes everything) when
   follow: an inherit or specialize arc from outside the root layer stack
   (implied inheritance) to a class named like one of the spec's ancestors,
   relocates, or an internal reference to the default prim;
+- a layer outside the root layer stack has a missing sublayer or sublayers
+  that form a cycle (USD reports that at </>, but only when it composes a prim
+  referencing the layer);
 - an asset path uses expression variables, a layer cannot be read, or any
   error is posted on the way.
 
@@ -226,11 +229,15 @@ def _reachable_layers(
     A layer's arcs are read from its scan, which the mask needs anyway: asking
     Sdf (``GetCompositionAssetDependencies``) walks every spec a second time."""
     layers = list(stage.GetLayerStack(includeSessionLayers=True))
-    seen = {layer_identifier(layer) for layer in layers}
+    root_stack = {layer_identifier(layer) for layer in layers}
+    seen = set(root_stack)
+    #: Sublayer edges of the layers outside the root layer stack.
+    sublayers: dict[str, list[str]] = {}
     with Ar.ResolverContextBinder(stage.GetPathResolverContext()):
         queue = list(layers)
         while queue:
             anchor = queue.pop()
+            own = () if layer_identifier(anchor) in root_stack else set(anchor.subLayerPaths)
             asset_paths = (*anchor.subLayerPaths, *scans.of(anchor).external)
             for asset_path in dict.fromkeys(asset_paths):
                 if "`" in asset_path:
@@ -240,13 +247,48 @@ def _reachable_layers(
                     raise CorruptLayer(problem)
                 # A layer that is missing is missing from the full stage too.
                 layer = Sdf.Layer.FindOrOpenRelativeToLayer(anchor, asset_path)
+                sublayer = asset_path in own
                 if layer is None:
+                    if sublayer:
+                        # USD reports it at the site </> when it composes the
+                        # referencing prim, which the mask may leave out (ST002).
+                        raise NotProvable(f"a sublayer of {layer_identifier(anchor)} is missing")
                     missing.append((anchor, asset_path))
-                elif layer_identifier(layer) not in seen:
+                    continue
+                if sublayer:
+                    edges = sublayers.setdefault(layer_identifier(anchor), [])
+                    edges.append(layer_identifier(layer))
+                if layer_identifier(layer) not in seen:
                     seen.add(layer_identifier(layer))
                     layers.append(layer)
                     queue.append(layer)
+    if _has_cycle(sublayers):
+        # Reported at </> too, and only where a referencing prim is composed.
+        raise NotProvable("the sublayers of a layer outside the root layer stack form a cycle")
     return layers
+
+
+def _has_cycle(edges: dict[str, list[str]]) -> bool:
+    """Whether the directed graph ``edges`` (node -> successors) has a cycle."""
+    done: set[str] = set()
+    for start in edges:
+        if start in done:
+            continue
+        path = {start}
+        stack = [(start, iter(edges.get(start, ())))]
+        while stack:
+            node, successors = stack[-1]
+            nxt = next(successors, None)
+            if nxt is None:
+                stack.pop()
+                path.discard(node)
+                done.add(node)
+            elif nxt in path:
+                return True
+            elif nxt not in done:
+                path.add(nxt)
+                stack.append((nxt, iter(edges.get(nxt, ()))))
+    return False
 
 
 class _Scans:
