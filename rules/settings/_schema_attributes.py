@@ -10,6 +10,8 @@ from usdrender_lint.api.resolve import PrimValues, SchemaAttribute, prim_values
 
 #: Every render prim kind: SE016 and SE017 look at all their schema attributes.
 _RENDER_PRIM_TYPES = (schemas.RenderSettingsBase, schemas.RenderVar, schemas.RenderPass)
+#: The one varying render attribute: the only one value clips can give values to.
+_CLIPPED = "productName"
 
 
 def _authored_schema_attributes(
@@ -26,6 +28,16 @@ def _list_authored_schema_attributes(
 ) -> list[tuple[str, SchemaAttribute]]:
     # Not the PrimValues: the answer is kept in its memo (the caller has it by identity).
     values = prim_values(prim)
-    declared = [(name, values.schema_attribute(name)) for name in values.authored_names()]
+    names = values.authored_names()
+    declared = [(name, values.schema_attribute(name)) for name in names]
+    if (
+        _CLIPPED not in names
+        and values.may_be_authored(_CLIPPED)
+        and values.is_a(schemas.RenderProduct)
+        and values.attribute(_CLIPPED).HasAuthoredValue()
+    ):
+        # Value clips give it samples though no spec names it, and USD lists
+        # only the names specs author.
+        declared.append((_CLIPPED, values.schema_attribute(_CLIPPED)))
     # Custom attributes and relationships have no attribute declaration.
     return [(name, schema) for name, schema in declared if schema.type_name is not None]
