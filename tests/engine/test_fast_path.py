@@ -480,6 +480,45 @@ def test_layer_stack_errors_of_a_referenced_layer_fall_back(
     _assert_finds(linters, root, "ST002", None)
 
 
+_EXPLICIT_CLIPS = (
+    "            asset[] assetPaths = [@./anim.1.usda@]\n"
+    "            double2[] active = [(0, 0)]\n"
+    "            double2[] times = [(0, 0), (1, 1)]\n"
+)
+_TEMPLATE_CLIPS = (
+    '            string templateAssetPath = "./anim.#.usda"\n'
+    "            double templateStartTime = 1\n"
+    "            double templateEndTime = 1\n"
+    "            double templateStride = 1\n"
+)
+
+
+@pytest.mark.parametrize("clip_set", [_EXPLICIT_CLIPS, _TEMPLATE_CLIPS], ids=["paths", "template"])
+def test_a_clip_layer_authoring_the_settings_path_falls_back(
+    linters: tuple[Linter, Linter], tmp_path: Path, clip_set: str
+) -> None:
+    # Value clip layers are used layers (ST007 reads their metadata), but only
+    # those of the prims the stage composes: /Anim is outside the mask.
+    clips = (
+        "    clips = {\n        dictionary default = {\n"
+        f'{clip_set}            string primPath = "/Anim"\n        }}\n    }}\n'
+    )
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": '#usda 1.0\n(\n    renderSettingsPrimPath = "/Render/S"\n)\n'
+            'def "World" (references = @./asset.usda@)\n{\n}\n'
+            f'def Xform "Anim" (\n{clips})\n{{\n}}\n'
+            'def Scope "Render"\n{\n    def RenderSettings "S"\n    {\n    }\n}\n',
+            "asset.usda": '#usda 1.0\ndef "A"\n{\n}\n',
+            "anim.1.usda": '#usda 1.0\n(\n    renderSettingsPrimPath = "/Render/Old"\n)\n'
+            'over "Anim"\n{\n    double x.timeSamples = {\n        0: 1,\n    }\n}\n',
+        },
+    )
+    assert _falls_back(linters, root)
+    _assert_finds(linters, root, "ST007", None)
+
+
 def test_variant_specs_are_found(linters: tuple[Linter, Linter], tmp_path: Path) -> None:
     root = _write(
         tmp_path,

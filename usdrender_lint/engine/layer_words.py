@@ -61,6 +61,8 @@ WORDS = (
     # Fields of varying values (resolve.PrimValues asks no spec for them without).
     "timeSamples",
     "spline",
+    # Layer metadata the fast path looks for in value clip layers (partial.py).
+    "renderSettingsPrimPath",
 )
 #: Fields usda spells with another keyword (``inherits = </Class>``).
 TEXT_SPELLING = {"inheritPaths": "inherits"}

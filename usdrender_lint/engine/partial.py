@@ -31,6 +31,9 @@ and the fast path gives up (returns None: the engine composes everything) when
   follow: an inherit or specialize arc from outside the root layer stack
   (implied inheritance) to a class named like one of the spec's ancestors,
   relocates, or an internal reference to the default prim;
+- a value clip layer may author ``renderSettingsPrimPath`` (ST007 reads the
+  metadata of every used layer, and clip layers are used only where their
+  prims are composed);
 - a layer outside the root layer stack has a missing sublayer or sublayers
   that form a cycle (USD reports that at </>, but only when it composes a prim
   referencing the layer);
@@ -46,7 +49,9 @@ lints the file again, fully composed.
 
 from __future__ import annotations
 
+import glob
 import os
+import re
 from collections import Counter
 from collections.abc import Callable, Collection, Iterable
 from dataclasses import field
@@ -84,7 +89,7 @@ _ARC_KEYS = frozenset({"inheritPaths", "specializes", "references", "payload"})
 #: The fields through which a layer stack reaches other layers.
 _EXTERNAL_ARC_WORDS = ("references", "payload")
 #: The words that make a layer's spec fields worth listing (_scan).
-_KEYED_WORDS = (*sorted(_ARC_KEYS), "relocates", IGNORE_DICTIONARY)
+_KEYED_WORDS = (*sorted(_ARC_KEYS), "relocates", "clips", IGNORE_DICTIONARY)
 
 
 class NotProvable(Exception):
@@ -130,6 +135,8 @@ class _LayerScan:
     class_names: set[str] = field(default_factory=set)
     #: Asset paths of the references and payloads to other layers, per arc.
     external: list[str] = field(default_factory=list)
+    #: Asset paths of the value clip layers (and manifests) its specs name.
+    clips: list[str] = field(default_factory=list)
     #: Specs (prims and properties) the layer holds.
     specs: int = 0
 
@@ -262,10 +269,35 @@ def _reachable_layers(
                     seen.add(layer_identifier(layer))
                     layers.append(layer)
                     queue.append(layer)
+        for anchor in layers:
+            _check_clip_layers(anchor, scans.of(anchor).clips)
     if _has_cycle(sublayers):
         # Reported at </> too, and only where a referencing prim is composed.
         raise NotProvable("the sublayers of a layer outside the root layer stack form a cycle")
     return layers
+
+
+def _check_clip_layers(anchor: Sdf.Layer, asset_paths: list[str]) -> None:
+    """Raise NotProvable when a value clip layer may author
+    ``renderSettingsPrimPath``: clip layers are used layers (ST007 reads
+    their metadata), but only those of the prims a stage composes."""
+    for asset_path in dict.fromkeys(asset_paths):
+        if "`" in asset_path:
+            raise NotProvable(f"expression variables in @{asset_path}@")
+        identifier = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
+        if "#" in os.path.basename(asset_path):
+            # A template (``cache.###.usd``): every file its frames may name.
+            if not os.path.isabs(identifier):
+                raise NotProvable(f"value clips from the template @{asset_path}@")
+            folder, name = os.path.split(identifier)
+            pattern = re.sub("#+", "*", glob.escape(name))
+            files = glob.glob(os.path.join(glob.escape(folder), pattern))
+        else:
+            files = [str(Ar.GetResolver().Resolve(identifier))]
+        # Read as bytes, not as layers: clips are often many large files.
+        for file in filter(None, files):
+            if layer_words.may_hold(file, (SETTINGS_PATH_KEY,)):
+                raise NotProvable(f"the value clip layer {file} may author {SETTINGS_PATH_KEY}")
 
 
 def _has_cycle(edges: dict[str, list[str]]) -> bool:
@@ -426,7 +458,15 @@ def _is_prim_site(path: Sdf.Path) -> bool:
 
 
 #: The prim fields _scan asks a spec about, in the order it asks.
-_SPEC_KEYS = ("references", "payload", "inheritPaths", "specializes", "customData", "relocates")
+_SPEC_KEYS = (
+    "references",
+    "payload",
+    "inheritPaths",
+    "specializes",
+    "customData",
+    "relocates",
+    "clips",
+)
 #: Above this many fields to ask about, one ListInfoKeys costs less than a
 #: HasInfo per field (about 2.7 and 1 microseconds a prim, usd-core 26.11).
 _MAX_HAS_INFO = 2
@@ -482,8 +522,22 @@ def _scan_fields(
         scan.wanted.add(spec.path.StripAllVariantSelections())
     if "relocates" in keys:
         raise NotProvable(f"relocates on {spec.path} in {layer_identifier(layer)}")
+    if "clips" in keys:
+        _record_clips(spec, scan)
     if not _ARC_KEYS.isdisjoint(keys):
         _record_arcs(spec, scan, keys)
+
+
+def _record_clips(spec: Sdf.PrimSpec, scan: _LayerScan) -> None:
+    """Record the layers the spec's value clips read (each clip set's)."""
+    for clip_set in dict(spec.GetInfo("clips")).values():
+        if not isinstance(clip_set, dict):
+            continue
+        assets = [*clip_set.get("assetPaths", ()), clip_set.get("manifestAssetPath")]
+        scan.clips.extend(a.path for a in assets if isinstance(a, Sdf.AssetPath) and a.path)
+        template = clip_set.get("templateAssetPath")
+        if isinstance(template, str) and template:
+            scan.clips.append(template)
 
 
 def _record_arcs(spec: Sdf.PrimSpec, scan: _LayerScan, keys: Collection[str]) -> None:
