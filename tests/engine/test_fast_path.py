@@ -5,6 +5,7 @@ could miss something. Correctness only: timing is the benchmark's job."""
 from __future__ import annotations
 
 import json
+import signal
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -517,6 +518,38 @@ def test_a_clip_layer_authoring_the_settings_path_falls_back(
     )
     assert _falls_back(linters, root)
     _assert_finds(linters, root, "ST007", None)
+
+
+def test_arcs_that_nest_copies_without_end_fall_back_at_once(
+    linters: tuple[Linter, Linter], tmp_path: Path
+) -> None:
+    # Each of /World/A, /World/B, /World/C references its own ancestor (a
+    # cycle USD reports and does not compose): following the arcs would copy
+    # the product into copies of copies, three times more paths each round.
+    nested = "".join(
+        f'    def "{name}" (references = </World>)\n    {{\n    }}\n' for name in "ABC"
+    )
+    root = _write(
+        tmp_path,
+        {
+            "shot.usda": '#usda 1.0\ndef "Set" (references = @./set.usda@)\n{\n}\n'
+            'def Xform "World"\n{\n    def RenderProduct "P"\n    {\n    }\n'
+            f"{nested}}}\n",
+            "set.usda": '#usda 1.0\ndef "A"\n{\n}\n',
+        },
+    )
+
+    def expire(signum: int, frame: object) -> None:
+        raise TimeoutError("the fast path did not give up")
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.alarm(30)
+    try:
+        assert _falls_back(linters, root)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    _assert_same(linters, root)
 
 
 def test_variant_specs_are_found(linters: tuple[Linter, Linter], tmp_path: Path) -> None:

@@ -75,6 +75,9 @@ IGNORE_DICTIONARY = IGNORE_KEY.partition(":")[0]
 SETTINGS_PATH_KEY = "renderSettingsPrimPath"
 #: Rounds of mask expansion before giving up (each adds what the last reached).
 MAX_ROUNDS = 16
+#: Paths the root layer stack's arcs may copy the wanted specs to before the
+#: fast path gives up (cyclic arcs copy them without end).
+MAX_COPIES = 50_000
 #: When every layer is in the root layer stack, USD composes the stage about
 #: as fast as Python can scan its specs: compose it all (same findings).
 FLAT_STAGES_COMPOSE_FULLY = True
@@ -641,18 +644,31 @@ def _check_payoff(composed: int, scanned: int) -> None:
 
 
 def _follow_arcs(wanted: set[Sdf.Path], arcs: list[tuple[Sdf.Path, Sdf.Path]]) -> set[Sdf.Path]:
-    """Add where the root layer stack's own arcs copy the wanted specs to."""
+    """Add where the root layer stack's own arcs copy the wanted specs to.
+
+    Each round maps only the paths the last one added (the others' copies are
+    known). Arcs that nest a prim's copies inside it (a composition cycle, an
+    error USD does not compose) would add copies of copies without end, and
+    their number grows exponentially with the rounds: past MAX_COPIES the
+    fast path gives up instead."""
+    too_often = "arcs in the root layer stack copy the render prims too often"
+    frontier = set(wanted)
     for _ in range(MAX_ROUNDS):
-        added = {
-            path.ReplacePrefix(source, site)
-            for site, source in arcs
-            for path in wanted
-            if path.HasPrefix(source)
-        } - wanted
+        added: set[Sdf.Path] = set()
+        for path in frontier:
+            for site, source in arcs:
+                if path.HasPrefix(source):
+                    added.add(path.ReplacePrefix(source, site))
+            if len(added) > MAX_COPIES:
+                raise NotProvable(too_often)
+        added -= wanted
         if not added:
             return wanted
         wanted |= added
-    raise NotProvable("arcs in the root layer stack copy the render prims too often")
+        if len(wanted) > MAX_COPIES:
+            raise NotProvable(too_often)
+        frontier = added
+    raise NotProvable(too_often)
 
 
 def _expand(stage: Usd.Stage) -> None:
