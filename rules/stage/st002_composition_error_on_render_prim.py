@@ -20,6 +20,23 @@ def _composition_error_site(error) -> Sdf.Path | None:
     return path if isinstance(path, Sdf.Path) else None
 
 
+def _first_instance_site(stage: Usd.Stage, site: Sdf.Path) -> tuple[Sdf.Path, Sdf.Path] | None:
+    """(the instance, its first sibling instance) when ``site`` lies in an
+    instance: USD composes a prototype once, from whichever of its instances a
+    thread reaches first, and reports the prototype's errors there; the first
+    instance by path is the same on every run."""
+    prim = stage.GetPrimAtPath(site)
+    if not prim or not (prim.IsInstance() or prim.IsInstanceProxy()):
+        return None
+    while prim and not prim.IsInstance():
+        prim = prim.GetParent()
+    prototype = prim.GetPrototype() if prim else None
+    if not prototype:
+        return None
+    first = min(instance.GetPath() for instance in prototype.GetInstances())
+    return (prim.GetPath(), first) if first != prim.GetPath() else None
+
+
 def _lfs_pointers(text: str) -> str:
     """ " (@a.usda@ is a Git LFS pointer ...)" for each asset USD's error names
     that is one: USD says only that it is not a valid layer."""
@@ -58,7 +75,10 @@ class CompositionErrorOnRenderPrim(Rule):
     `/Render`, or is a RenderSettings, RenderProduct, RenderVar or RenderPass
     (inactive ones included), or an ancestor or descendant of one. Layer-stack
     errors such as a missing sublayer have the site `/`, an ancestor of every
-    prim, so they are always reported. The message is USD's own.
+    prim, so they are always reported. The message is USD's own. An error
+    inside an instance is reported at the first instance of its prototype by
+    path: USD composes a prototype from whichever instance one of its threads
+    reaches first, and reports its errors there, which differs between runs.
 
     ## Why is this bad?
     A render prim whose reference, payload or inherit fails to compose
@@ -113,6 +133,13 @@ class CompositionErrorOnRenderPrim(Rule):
             site = _composition_error_site(error)
             if site is None:
                 continue
+            text = _ANONYMOUS_ADDRESS.sub("anon:", " ".join(usd_text(error).split()))
+            moved = _first_instance_site(ctx.stage, site)
+            if moved is not None:
+                reported, first = moved
+                site = site.ReplacePrefix(reported, first)
+                for end in (">", "/", "."):
+                    text = text.replace(f"<{reported}{end}", f"<{first}{end}")
             if site != Sdf.Path.absoluteRootPath and not site.HasPrefix(RENDER_SCOPE):
                 if render_paths is None:
                     render_paths = _render_prim_paths(ctx.stage)
@@ -120,7 +147,6 @@ class CompositionErrorOnRenderPrim(Rule):
                     continue
             at_root = site == Sdf.Path.absoluteRootPath
             scope = "every prim" if at_root else f"render data at <{site}>"
-            text = _ANONYMOUS_ADDRESS.sub("anon:", " ".join(usd_text(error).split()))
             text += _lfs_pointers(text)
             yield Diagnostic(
                 message=f"{text} {scope[0].upper()}{scope[1:]} loses the "
