@@ -61,3 +61,29 @@ def test_a_clip_manifest_that_does_not_parse_is_st001_on_every_path(tmp_path: Pa
         (entry,) = [e for e in document["files"] if e["file"] == "shot.usda"]
         found = [(f["code"], f["message"]) for f in entry["findings"]]
         assert found == expected, options
+
+
+def test_a_clip_manifest_usd_cannot_open_is_st001_on_every_path(tmp_path: Path) -> None:
+    # A manifest that is no layer at all (a file of no USD format, a folder)
+    # fails in SdfLayer's open, not in a parser: still the file's problem.
+    (tmp_path / "shot.usda").write_text(SHOT.replace("manifest.usda", "manifest.txt"))
+    (tmp_path / "clip.usda").write_text(CLIP)
+    (tmp_path / "manifest.txt").write_text("not a layer\n")
+    expected = [
+        (
+            "ST001",
+            "a layer USD reads for a value cannot be opened: "
+            "Cannot determine file format for @manifest.txt@",
+        )
+    ]
+    api = usdrender_lint.lint_file(tmp_path / "shot.usda")
+    assert [(f.code, f.message.replace(f"{tmp_path}/", "")) for f in api.findings] == expected
+    for options in (["--jobs", "1", "--timeout", "0"], ["--jobs", "2"], ["--full-composition"]):
+        result = invoke_in(
+            tmp_path, "check", "--isolated", "--format", "json", *options, "shot.usda", "clip.usda"
+        )
+        assert result.exit_code == 1, result.output
+        document = json.loads(result.stdout)
+        (entry,) = [e for e in document["files"] if e["file"] == "shot.usda"]
+        found = [(f["code"], f["message"]) for f in entry["findings"]]
+        assert found == expected, options

@@ -215,6 +215,9 @@ _NAMESPACE = re.compile(r"\bpxrInternal_v\d+_\d+(?:_\d+)?__pxrReserved__(?:_(?=p
 _PEGTL_EOF = re.compile(r"parse error matching pegtl::internal::eof at")
 #: The sources of the usda parser's errors (pxr/usd/sdf).
 _TEXT_PARSER = ("textParserHelpers.h", "textFileFormat.cpp", "textFileFormatParser.cpp")
+#: Where SdfLayer fails to open a layer file (pxr/usd/sdf/layer.cpp): the
+#: source file and the function, as Tf.Error names them.
+_LAYER_OPEN = ("layer.cpp", "SdfLayer::_OpenLayerAndUnlockRegistry")
 _QUOTED_LAYER = re.compile(r"@([^@]+)@")
 #: The sources of the crate reader's errors: the reader, and the LZ4 and
 #: integer decompression it reads the structural sections with.
@@ -246,8 +249,10 @@ def corruption(exc: Tf.ErrorException, path: str) -> str | None:
     """The ST001 message for a USD error that says the layer's data is corrupt
     (found only when a value or spec is read), or None for any other error:
     a crate value it cannot unpack ("Corrupt asset", or any error of the crate
-    reader, pxr/usd/sdf/crateFile.cpp) or a property with no name (which no
-    layer parser writes: UsdStage fails a verification on it)."""
+    reader, pxr/usd/sdf/crateFile.cpp), a layer opened only for a value (a
+    value clip's manifest) that does not parse or is no layer, or a property
+    with no name (which no layer parser writes: UsdStage fails a verification
+    on it)."""
     for arg in exc.args:
         commentary = str(getattr(arg, "commentary", "") or "")
         source = str(getattr(arg, "sourceFileName", "") or "")
@@ -260,6 +265,13 @@ def corruption(exc: Tf.ErrorException, path: str) -> str | None:
             # manifest) does not parse: the stage cannot be read in full.
             line = next(iter(error_lines(exc, path)), commentary.strip())
             return f"a layer USD reads for a value does not parse: {line}"
+        if source.endswith(_LAYER_OPEN[0]) and str(getattr(arg, "sourceFunction", "")).endswith(
+            _LAYER_OPEN[1]
+        ):
+            # Such a layer that is no layer at all (a file of no USD format, a
+            # folder): SdfLayer refuses it before any parser reads it.
+            line = next(iter(error_lines(exc, path)), commentary.strip())
+            return f"a layer USD reads for a value cannot be opened: {line}"
         if "propName.IsEmpty()" in commentary:
             return NAMELESS_PROPERTY
     return None
