@@ -87,3 +87,51 @@ def test_a_clip_manifest_usd_cannot_open_is_st001_on_every_path(tmp_path: Path) 
         (entry,) = [e for e in document["files"] if e["file"] == "shot.usda"]
         found = [(f["code"], f["message"]) for f in entry["findings"]]
         assert found == expected, options
+
+
+#: The shot with a variant set on its render scope, so that --variants lints
+#: it once per variant.
+VARIANT_SHOT = SHOT.replace(
+    'def Scope "Render"\n{',
+    'def Scope "Render" (\n    variantSets = "look"\n    variants = { string look = "a" }\n)\n{'
+    '\n    variantSet "look" = {\n        "a" {\n        }\n        "b" {\n        }\n    }',
+)
+
+
+def test_a_lazy_layer_error_is_st001_when_a_stage_is_linted_open(tmp_path: Path) -> None:
+    # --variants, standard input and lint_stage lint an open stage (run_stage),
+    # not a path: they said "internal error: CorruptValue" (exit 2).
+    shot = _shot(tmp_path)
+    shot.write_text(VARIANT_SHOT)
+    expected = [
+        (
+            "ST001",
+            "a layer USD reads for a value does not parse: manifest.usda:2:54: Expected } at "
+            "'float x } }' in </Render/Settings>",
+        )
+    ]
+    runs = {
+        "variants": invoke_in(
+            tmp_path, "check", "--isolated", "--format", "json", "--variants", "shot.usda"
+        ),
+        "stdin": invoke_in(
+            tmp_path,
+            "check",
+            "--isolated",
+            "--format",
+            "json",
+            "-",
+            "--stdin-filename",
+            "shot.usda",
+            input=VARIANT_SHOT,
+        ),
+    }
+    for how, result in runs.items():
+        assert result.exit_code == 1, (how, result.output)
+        (entry,) = json.loads(result.stdout)["files"]
+        found = [(f["code"], f["message"].replace(f"{tmp_path}/", "")) for f in entry["findings"]]
+        assert found == expected, how
+    from pxr import Usd
+
+    report = usdrender_lint.lint_stage(Usd.Stage.Open(str(shot)))
+    assert [(f.code, f.message.replace(f"{tmp_path}/", "")) for f in report.findings] == expected

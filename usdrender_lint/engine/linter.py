@@ -297,13 +297,15 @@ class Linter:
         except InspectionError as exc:
             return trace.run(FileResult(path, status="error", error=f"{path}: {exc}"))
         except (UnicodeDecodeError, CorruptValue, Tf.ErrorException) as exc:
-            message = _corrupt_file_message(exc, path)
+            return trace.run(FileResult(path, findings=(self._corrupt_finding(exc, path),)))
+
+    def _corrupt_finding(self, exc: Exception, path: str) -> Finding:
+        """The ST001 finding of a file found corrupt while it was linted
+        (re-raises an exception that does not show that)."""
+        message = _corrupt_file_message(exc, path)
         location = Location(path, None, os.path.abspath(path), None)
         severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
-        finding = Finding(
-            STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, severity, message, location
-        )
-        return trace.run(FileResult(path, findings=(finding,)))
+        return Finding(STAGE_OPEN_FAILED_CODE, STAGE_OPEN_FAILED_NAME, severity, message, location)
 
     def run_stage(
         self,
@@ -322,8 +324,12 @@ class Linter:
         no traversal (--variants knows them from the previous combination and
         what USD recomposed since). ``reads``: as for :meth:`run_path`."""
         trace = _Trace(reads)
-        findings, _ = self._lint(stage, file, trace, texts=texts, prims=prims)
         name = file or real_path(stage.GetRootLayer())
+        try:
+            findings, _ = self._lint(stage, file, trace, texts=texts, prims=prims)
+        except (UnicodeDecodeError, CorruptValue, Tf.ErrorException) as exc:
+            # A layer read only for a value (a clip's manifest) is corrupt: as run_path says.
+            return trace.run(FileResult(name, findings=(self._corrupt_finding(exc, name),)))
         return trace.run(FileResult(name, findings=tuple(findings)), "full", completed=True)
 
     def _lint_file(

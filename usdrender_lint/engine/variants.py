@@ -236,6 +236,9 @@ class VariantExplorer:
         origins: dict[Finding, tuple[str, Sdf.Path | None]] = {}
         recorded = Reads() if reads else None
         linted = 0
+        #: False when a combination's lint stopped part way (a corrupt layer):
+        #: what it read is not known in full, so the result is not cached.
+        completed = True
         lint = self.linter.run_stage
         with _Walk(self.linter, stage, own_stage) as walk:
             sets = render_variant_sets(stage, walk.prims())
@@ -261,6 +264,7 @@ class VariantExplorer:
                                 fixes[shown] = run.fixes[finding]
                     if recorded is not None and run.reads is not None:
                         recorded.merge(run.reads)
+                    completed = completed and run.completed
                     linted += 1
             finally:
                 _clear_selections(stage)
@@ -273,7 +277,7 @@ class VariantExplorer:
         notes = (skipped_note(name, linted, total),) if linted < total else ()
         findings = tuple(sorted(seen.values(), key=Finding.sort_key))
         result = FileResult(file or real_path(stage.GetRootLayer()), findings=findings, notes=notes)
-        return LintRun(result, fixes, origins, recorded, "full", completed=True)
+        return LintRun(result, fixes, origins, recorded, "full", completed=completed)
 
 
 class _Walk:
