@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd
+from pxr import Ar, Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import prim_values
@@ -15,10 +16,38 @@ from ._default_value import _authored_layer
 _VARIABLE = re.compile(r"\$\{(\w+)\}")
 
 
+#: A URI scheme (``omniverse:``, ``https:``); two characters at least, so that
+#: a Windows drive (``C:``) is not one.
+_SCHEME = re.compile(r"([A-Za-z][A-Za-z0-9+.\-]+):")
+#: A Windows drive or UNC path (``C:\shows``, ``C:/shows``, ``\\server\share``).
+_WINDOWS_ABSOLUTE = re.compile(r"[A-Za-z]:[\\/]|\\\\")
+
+
+def _platform_reason(path: str) -> str | None:
+    """Why ``path`` cannot resolve here whatever files exist, for a path
+    written for another resolver or platform (a Kit stage's ``omniverse://``,
+    a Windows path), or None."""
+    scheme = _SCHEME.match(path)
+    if scheme and scheme.group(1).lower() not in {s.lower() for s in Ar.GetRegisteredURISchemes()}:
+        return (
+            f"uses the {scheme.group(1)}: scheme, and no asset resolver for it is registered "
+            "where this lint runs; lint with that resolver's USD plugin or correct the path"
+        )
+    if os.sep == "/" and _WINDOWS_ABSOLUTE.match(path):
+        return "is a Windows path, which does not resolve on this platform; correct the path"
+    if os.sep == "/" and "\\" in path:
+        return "uses backslashes, which are not path separators on this platform; write '/'"
+    return None
+
+
 def _unresolvable_reason(value: Sdf.AssetPath, layer: Sdf.Layer | None) -> str:
     """Why an authored asset path has no resolved path, and what to do."""
     authored = value.authoredPath
-    where = f" relative to {layer.GetDisplayName()}" if layer is not None else ""
+    path = value.evaluatedPath or authored
+    platform = _platform_reason(path)
+    # An absolute path or a URI is not looked up relative to the layer.
+    relative = not os.path.isabs(path) and not _SCHEME.match(path)
+    where = f" relative to {layer.GetDisplayName()}" if layer is not None and relative else ""
     if Sdf.VariableExpression.IsExpression(authored):
         errors = Sdf.VariableExpression(authored).GetErrors()
         if errors:
@@ -34,10 +63,14 @@ def _unresolvable_reason(value: Sdf.AssetPath, layer: Sdf.Layer | None) -> str:
                 f"evaluates to {value.evaluatedPath!r}: expression variable(s) {names} not "
                 "set; define them in the root layer's expressionVariables"
             )
+        if platform is not None:
+            return f"evaluates to {value.evaluatedPath!r}, which {platform}"
         return (
             f"evaluates to {value.evaluatedPath!r}, which does not resolve{where}; "
             "create the file or correct the path"
         )
+    if platform is not None:
+        return platform
     return f"does not resolve{where}; create the file or correct the path"
 
 
@@ -50,7 +83,10 @@ class FileNameUnresolvable(Rule):
     resolver context, anchors a relative path to the layer that authored the
     opinion. A variable expression (backquoted, with `${VAR}`) is evaluated by
     USD first; unset variables and expression errors are named in the
-    message. The same value passes once the file exists next to that layer.
+    message, and so is a path written for another resolver or platform (a
+    URI scheme such as `omniverse:` that no resolver registered here reads,
+    a Windows path). The same value passes once the file exists next to that
+    layer.
 
     ## Why is this bad?
     *"The asset that contains the rendering prims or other information needed
