@@ -194,6 +194,17 @@ def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
         (("-",), b"PXR-USDC\x00\x00", "-: standard input holds a binary crate (.usdc)"),
         (("-",), b"PK\x03\x04rest", "-: standard input holds a package (.usdz)"),
         (("-", "--stdin-filename", "s.usda"), b"#usda 1.0\n\xff\n", "s.usda: standard input "),
+        # USD cannot make a layer inside a package from a text (an internal error before).
+        (
+            ("-", "--stdin-filename", "pkg.usdz[inner.usda]"),
+            b"#usda 1.0\n",
+            "pkg.usdz[inner.usda]: names a layer inside a package",
+        ),
+        (
+            ("-", "--stdin-filename", "s.usda:SDF_FORMAT_ARGS:a=b"),
+            b"#usda 1.0\n",
+            "s.usda:SDF_FORMAT_ARGS:a=b: holds file format arguments",
+        ),
         (("-", "examples/clean_shot/shot.usda"), b"#usda 1.0\n", "is linted alone"),
         (("--stdin-filename", "s.usda", "examples"), b"", "add '-'"),
         (("--fix-to", "o.usda", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to"),

@@ -82,6 +82,18 @@ class StandardInput:
 
 def decode(data: bytes, name: str = STDIN) -> StandardInput:
     """Standard input's bytes as a text layer; StandardInputError says why not."""
+    # USD makes no layer of such a name from a text (SdfLayer::CreateNew refuses it).
+    if name.endswith("]") and "[" in name:
+        # A package-relative path (``pkg.usdz[inner.usda]``): the package is a zip.
+        raise StandardInputError(
+            "names a layer inside a package; the text on standard input can stand only for "
+            "a layer file: give the package's path instead"
+        )
+    if ":SDF_FORMAT_ARGS:" in name:
+        raise StandardInputError(
+            "holds file format arguments (:SDF_FORMAT_ARGS:), which no layer file's name "
+            "can: give the file's name alone"
+        )
     for magic, what in _BINARY.items():
         if data.startswith(magic):
             raise StandardInputError(
