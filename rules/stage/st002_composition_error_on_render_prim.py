@@ -13,10 +13,23 @@ from usdrender_lint.api.resolve import usd_text
 
 from ._render_prims import RENDER_SCOPE, is_render_type
 
+#: Where an asset path's variable expression failed, as PcpErrorVariableExpressionError
+#: says it (pxr/usd/pcp/errors.cpp: "... for reference at /Render/Settings in
+#: @shot.usda@: ..."; a sublayer's names no prim): its site is empty in usd-core 26.11.
+_EXPRESSION_CONTEXT = re.compile(r" for [\w ]+? (?:at (/\S*) )?in @")
+
 
 def _composition_error_site(error) -> Sdf.Path | None:
     site = getattr(error, "rootSite", None)
     path = getattr(site, "path", None)
+    if isinstance(path, Sdf.Path) and path.isEmpty:
+        # An expression that cannot be evaluated: a sublayer's is the layer
+        # stack's (the site /), a reference's or payload's the prim's.
+        context = _EXPRESSION_CONTEXT.search(usd_text(error))
+        if context is None:
+            return None
+        at = context.group(1)
+        return Sdf.Path(at) if at and Sdf.Path.IsValidPathString(at) else Sdf.Path.absoluteRootPath
     return path if isinstance(path, Sdf.Path) else None
 
 
@@ -75,7 +88,10 @@ class CompositionErrorOnRenderPrim(Rule):
     `/Render`, or is a RenderSettings, RenderProduct, RenderVar or RenderPass
     (inactive ones included), or an ancestor or descendant of one. Layer-stack
     errors such as a missing sublayer have the site `/`, an ancestor of every
-    prim, so they are always reported. The message is USD's own. An error
+    prim, so they are always reported. An asset path whose variable
+    expression cannot be evaluated gets no site from usd-core (26.11); its
+    error names one, read from it: a sublayer's is /, a reference's or
+    payload's its prim. The message is USD's own. An error
     inside an instance is reported at the first instance of its prototype by
     path: USD composes a prototype from whichever instance one of its threads
     reaches first, and reports its errors there, which differs between runs.
