@@ -33,7 +33,7 @@ def _list_authored_schema_attributes(
     if (
         _CLIPPED not in names
         and values.may_be_authored(_CLIPPED)
-        and values.is_a(schemas.RenderProduct)
+        and values.schema_attribute(_CLIPPED).type_name is not None  # a RenderProduct
         and values.attribute(_CLIPPED).HasAuthoredValue()
     ):
         # Value clips give it samples though no spec names it, and USD lists
