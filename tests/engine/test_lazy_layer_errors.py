@@ -41,16 +41,9 @@ def _shot(folder: Path) -> Path:
     return folder / "shot.usda"
 
 
-def test_a_clip_manifest_that_does_not_parse_is_st001_on_every_path(tmp_path: Path) -> None:
-    shot = _shot(tmp_path)
-    expected = [
-        (
-            "ST001",
-            "a layer USD reads for a value does not parse: manifest.usda:2:54: Expected } at "
-            "'float x } }' in </Render/Settings>",
-        )
-    ]
-    api = usdrender_lint.lint_file(shot)
+def _assert_on_every_path(tmp_path: Path, expected: list[tuple[str, str]]) -> None:
+    """The shot's findings from the Python API and three ways of ``check``."""
+    api = usdrender_lint.lint_file(tmp_path / "shot.usda")
     assert [(f.code, f.message.replace(f"{tmp_path}/", "")) for f in api.findings] == expected
     for options in (["--jobs", "1", "--timeout", "0"], ["--jobs", "2"], ["--full-composition"]):
         result = invoke_in(
@@ -61,6 +54,18 @@ def test_a_clip_manifest_that_does_not_parse_is_st001_on_every_path(tmp_path: Pa
         (entry,) = [e for e in document["files"] if e["file"] == "shot.usda"]
         found = [(f["code"], f["message"]) for f in entry["findings"]]
         assert found == expected, options
+
+
+def test_a_clip_manifest_that_does_not_parse_is_st001_on_every_path(tmp_path: Path) -> None:
+    _shot(tmp_path)
+    expected = [
+        (
+            "ST001",
+            "a layer USD reads for a value does not parse: manifest.usda:2:54: Expected } at "
+            "'float x } }' in </Render/Settings>",
+        )
+    ]
+    _assert_on_every_path(tmp_path, expected)
 
 
 def test_a_clip_manifest_usd_cannot_open_is_st001_on_every_path(tmp_path: Path) -> None:
@@ -76,17 +81,7 @@ def test_a_clip_manifest_usd_cannot_open_is_st001_on_every_path(tmp_path: Path) 
             "Cannot determine file format for @manifest.txt@",
         )
     ]
-    api = usdrender_lint.lint_file(tmp_path / "shot.usda")
-    assert [(f.code, f.message.replace(f"{tmp_path}/", "")) for f in api.findings] == expected
-    for options in (["--jobs", "1", "--timeout", "0"], ["--jobs", "2"], ["--full-composition"]):
-        result = invoke_in(
-            tmp_path, "check", "--isolated", "--format", "json", *options, "shot.usda", "clip.usda"
-        )
-        assert result.exit_code == 1, result.output
-        document = json.loads(result.stdout)
-        (entry,) = [e for e in document["files"] if e["file"] == "shot.usda"]
-        found = [(f["code"], f["message"]) for f in entry["findings"]]
-        assert found == expected, options
+    _assert_on_every_path(tmp_path, expected)
 
 
 #: The shot with a variant set on its render scope, so that --variants lints
