@@ -6,6 +6,7 @@ target that did not exist, the configuration, the tool."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import os
@@ -13,7 +14,7 @@ import shutil
 import subprocess
 import sys
 import zipfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -402,16 +403,24 @@ def test_the_key_follows_the_tool_the_rules_and_the_environment(
     assert run_key(linter, Settings(), variant_combinations=4) != key
 
 
+@contextlib.contextmanager
+def _touched(path: str) -> Iterator[None]:
+    """The file's modification time one nanosecond later, then as it was."""
+    stat = os.stat(path)
+    try:
+        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1))
+        yield
+    finally:
+        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+
+
 def test_an_edited_rule_module_changes_the_key(tmp_path: Path) -> None:
     linter = make_linter(Settings())
     key = run_key(linter, Settings())
     module = sys.modules[type(linter.rules[0]).__module__].__file__
-    stat = os.stat(module)
-    try:
-        os.utime(module, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1))
+    assert module is not None
+    with _touched(module):
         assert run_key(linter, Settings()) != key
-    finally:
-        os.utime(module, ns=(stat.st_atime_ns, stat.st_mtime_ns))
 
 
 def test_another_build_of_usd_core_changes_the_key() -> None:
@@ -422,12 +431,8 @@ def test_another_build_of_usd_core_changes_the_key() -> None:
     key = run_key(linter, Settings())
     module = sys.modules["pxr.Usd._usd"].__file__
     assert module is not None
-    stat = os.stat(module)
-    try:
-        os.utime(module, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1))
+    with _touched(module):
         assert run_key(linter, Settings()) != key
-    finally:
-        os.utime(module, ns=(stat.st_atime_ns, stat.st_mtime_ns))
     assert run_key(linter, Settings()) == key
 
 
