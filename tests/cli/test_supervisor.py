@@ -186,31 +186,38 @@ def _ending_plugin(tmp_path: Path, ending: str) -> dict[str, str]:
     return {**os.environ, "PYTHONPATH": str(site)}
 
 
+def _crash_run(
+    tmp_path: Path, ending: str, options: tuple[str, ...], both: bool
+) -> dict[str, dict]:
+    """``check`` (JSON) of crash.usda, whose lint a rule ends with ``ending``,
+    and with ``both`` other.usda: exit 2, one line naming the crash on stderr;
+    each file's entry by path."""
+    env = _ending_plugin(tmp_path, ending)
+    crash, other = tmp_path / "crash.usda", tmp_path / "other.usda"
+    for path in (crash, other):
+        path.write_text(BROKEN.read_text())
+    paths = (str(crash), str(other)) if both else (str(crash),)
+    args = ("--isolated", "--no-cache", *options, "--format", "json", *paths)
+    result = subprocess.run(
+        command("check", *args), env=env, capture_output=True, text=True, timeout=300, check=False
+    )
+    assert result.returncode == 2, result.stderr
+    how = "signal SIGABRT" if "abort" in ending else "exit code 0"
+    assert result.stderr == (
+        f"usdrender-lint: error: {crash}: the linter process crashed while reading it ({how})\n"
+    )
+    files = {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
+    assert files[str(crash)]["status"] == "error"
+    return files
+
+
 def test_after_the_child_crashed_in_process_the_rest_are_still_linted(tmp_path: Path) -> None:
     # --jobs 1 --timeout 0 lints every file in the child; after its crash the
     # supervisor linted them again in its own process, crashed on the same file,
     # and the command died of SIGABRT with no report.
-    env = _ending_plugin(tmp_path, "os.abort()")
-    crash, other = tmp_path / "crash.usda", tmp_path / "other.usda"
-    for path in (crash, other):
-        path.write_text(BROKEN.read_text())
-    args = ("--isolated", "--no-cache", "--jobs", "1", "--timeout", "0", "--format", "json")
-    result = subprocess.run(
-        command("check", *args, str(crash), str(other)),
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        check=False,
-    )
-    assert result.returncode == 2, result.stderr
-    assert result.stderr == (
-        f"usdrender-lint: error: {crash}: the linter process crashed while reading it "
-        "(signal SIGABRT)\n"
-    )
-    files = {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
-    assert files[str(crash)]["status"] == "error"
-    assert files[str(other)]["status"] == "linted" and files[str(other)]["findings"]
+    files = _crash_run(tmp_path, "os.abort()", ("--jobs", "1", "--timeout", "0"), both=True)
+    other = files[str(tmp_path / "other.usda")]
+    assert other["status"] == "linted" and other["findings"]
 
 
 @pytest.mark.parametrize(
@@ -221,23 +228,8 @@ def test_a_child_ended_by_os_exit_is_a_crash_not_its_status(
 ) -> None:
     # A rule's os._exit(0) ended the child linting in-process with status 0: the
     # supervisor exited 0 with no report, and a CI gate passed.
-    env = _ending_plugin(tmp_path, "os._exit(0)")
-    crash, other = tmp_path / "crash.usda", tmp_path / "other.usda"
-    for path in (crash, other):
-        path.write_text(BROKEN.read_text())
-    paths = (str(crash),) if not options else (str(crash), str(other))
-    args = ("--isolated", "--no-cache", *options, "--format", "json", *paths)
-    result = subprocess.run(
-        command("check", *args), env=env, capture_output=True, text=True, timeout=300, check=False
-    )
-    assert result.returncode == 2, result.stderr
-    assert result.stderr == (
-        f"usdrender-lint: error: {crash}: the linter process crashed while reading it "
-        "(exit code 0)\n"
-    )
-    files = {entry["file"]: entry for entry in json.loads(result.stdout)["files"]}
-    assert files[str(crash)]["status"] == "error"
-    assert all(files[path]["status"] == "linted" for path in paths[1:])
+    files = _crash_run(tmp_path, "os._exit(0)", options, both=bool(options))
+    assert all(entry["status"] == "linted" for path, entry in files.items() if "other" in path)
 
 
 @pytest.mark.parametrize(
