@@ -47,6 +47,7 @@ _has_relationship = Usd.Prim.HasRelationship
 _property_stack = Usd.Property.GetPropertyStack
 _has_authored_value = Usd.Attribute.HasAuthoredValue
 _get = Usd.Attribute.Get
+_spec_type_name = Sdf.AttributeSpec.typeName.fget
 
 
 def usd_text(value: object) -> str:
@@ -271,10 +272,11 @@ def _schema_type(attr: Usd.Attribute) -> Sdf.ValueTypeName | None:
 #: each read once: whether it holds a default value and time samples, and its
 #: value type.
 _Opinion = tuple[Sdf.AttributeSpec, bool, bool, Tf.Type]
-#: An attribute's opinions, strongest first, its declared value type, and
+#: An attribute's opinions, strongest first, its declared value type,
 #: whether every opinion has that type (then none is mismatched: most
-#: attributes, and every check stops there).
-_Stack = tuple[tuple[_Opinion, ...], Tf.Type, bool]
+#: attributes, and every check stops there), and the strongest opinion's
+#: default (None when it has none).
+_Stack = tuple[tuple[_Opinion, ...], Tf.Type, bool, Any]
 
 
 @cached
@@ -290,22 +292,40 @@ def _read_attribute_specs(attr: Usd.Attribute, samples: bool = True) -> _Stack:
     else from the strongest spec. A spec of that type is never mismatched, so
     most checks stop there. Read together: every reader of one needs the other.
     ``samples``: as for :func:`_attribute_stack`."""
-    return _attribute_stack(attr, attr.GetTypeName().type, samples)
+    type_name = attr.GetTypeName()
+    return _attribute_stack(attr, type_name.type, type_name, samples)
 
 
-def _attribute_stack(attr: Usd.Attribute, declared: Tf.Type, samples: bool = True) -> _Stack:
-    """``samples``: False when no layer can hold time samples (LintCache.without_varying)."""
+def _attribute_stack(
+    attr: Usd.Attribute, declared: Tf.Type, declared_name: Sdf.ValueTypeName, samples: bool = True
+) -> _Stack:
+    """``declared_name``: the value type name whose type is ``declared``.
+    ``samples``: False when no layer can hold time samples (LintCache.without_varying)."""
     # Every check reads the same few facts of each spec: once, here.
-    opinions = []
+    opinions: list[_Opinion] = []
     well_typed = True
+    first_default = None
     for spec in _property_stack(attr, DEFAULT_TIME):
         if isinstance(spec, Sdf.AttributeSpec):
-            value_type = spec.typeName.type
-            if well_typed and value_type != declared:
-                well_typed = False
+            type_name = _spec_type_name(spec)
+            # Most specs have the declared type name: one comparison, where
+            # reading the type and comparing it are two binding calls.
+            if type_name == declared_name:
+                value_type = declared
+            else:
+                value_type = type_name.type
+                if well_typed and value_type != declared:
+                    well_typed = False
             has_samples = samples and _has_time_samples(spec)
-            opinions.append((spec, spec.HasDefaultValue(), has_samples, value_type))
-    return tuple(opinions), declared, well_typed
+            if opinions:
+                has_default = spec.HasDefaultValue()
+            else:
+                # The strongest default is what most checks read next: read
+                # in place of asking whether there is one (None: there is not).
+                first_default = spec.default
+                has_default = first_default is not None
+            opinions.append((spec, has_default, has_samples, value_type))
+    return tuple(opinions), declared, well_typed, first_default
 
 
 @cached
@@ -322,7 +342,7 @@ def mismatched_spec(attr: Usd.Attribute) -> Sdf.AttributeSpec | None:
 def _mismatched_in(
     stack: _Stack, schema_type: Callable[[], Sdf.ValueTypeName | None]
 ) -> Sdf.AttributeSpec | None:
-    opinions, declared, well_typed = stack
+    opinions, declared, well_typed, _ = stack
     if well_typed:
         return None
     for spec, has_default, has_samples, value_type in opinions:
@@ -350,7 +370,7 @@ def mismatched_specs(attr: Usd.Attribute) -> list[Sdf.AttributeSpec]:
 def _specs_of_other_types(
     stack: _Stack, schema_type: Callable[[], Sdf.ValueTypeName | None]
 ) -> list[Sdf.AttributeSpec]:
-    opinions, _, well_typed = stack
+    opinions, _, well_typed, _ = stack
     if well_typed:
         return []
     declared_name = schema_type()  # read only when some spec differs
@@ -376,20 +396,16 @@ def has_authored_value(attr: Usd.Attribute | None) -> bool:
 
 
 def _holds_well_typed_value(
-    stack: _Stack,
-    schema_type: Callable[[], Sdf.ValueTypeName | None],
-    first_default: Any = None,
+    stack: _Stack, schema_type: Callable[[], Sdf.ValueTypeName | None]
 ) -> bool:
     """Whether an attribute with an authored value (``stack``, its opinions,
-    and ``schema_type``, what its schema declares) holds a well-typed one.
-    ``first_default``: the strongest opinion's default when the caller has
-    read it (else None)."""
+    and ``schema_type``, what its schema declares) holds a well-typed one."""
     # The first value-holding spec of the property stack must have the schema's
     # type (as _mismatched_in reads it), and neither the first default nor the
     # first time samples may be a path: usda accepts ``<...>`` as the value of an
     # attribute of any type (``uniform token sourceType = </X>``, also in time
     # samples), an Sdf.Path no typed read returns.
-    opinions, declared, well_typed = stack
+    opinions, declared, well_typed, first_default = stack
     count = default_at = samples_at = len(opinions)
     for index, (_, has_default, has_samples, _) in enumerate(opinions):
         if has_default and default_at == count:
@@ -399,13 +415,12 @@ def _holds_well_typed_value(
     first = min(default_at, samples_at)
     if first == count:
         return True  # no spec holds a value
-    single = ((opinions[first],), declared, False)
+    single = ((opinions[first],), declared, False, None)
     if not well_typed and _mismatched_in(single, schema_type) is not None:
         return False
     if default_at < count:
-        if first_default is None or default_at != 0:
-            first_default = opinions[default_at][0].default
-        if isinstance(first_default, Sdf.Path):
+        default = first_default if default_at == 0 else opinions[default_at][0].default
+        if isinstance(default, Sdf.Path):
             return False
     return samples_at == count or not _path_in_samples(opinions[samples_at][0])
 
@@ -565,15 +580,18 @@ class PrimValues:
         if found is None:
             # A schema attribute's composed type is the definition's (whatever
             # the specs say): known without asking the attribute.
-            declared = self.schema_attribute(name).value_type
+            schema = self.schema_attribute(name)
+            declared = schema.value_type
             if declared is None:
                 found = _read_attribute_specs(self.attribute(name), not self._without_varying)
-            elif name not in self._listed_names():
+            elif name not in (self._listed or self._listed_names()):
                 # The Default property stack holds the prim's own specs only
                 # (never value clips), and no layer has one of this name.
-                found = ((), declared, True)
+                found = ((), declared, True, None)
             else:
-                found = _attribute_stack(self.attribute(name), declared, not self._without_varying)
+                found = _attribute_stack(
+                    self.attribute(name), declared, schema.type_name, not self._without_varying
+                )
             self._specs[name] = found
         return found
 
@@ -584,7 +602,11 @@ class PrimValues:
             if not self.may_be_authored(name):
                 found = False  # no handle and no HasAuthoredValue needed
             else:
-                found = _has_attribute(self.prim, name) and self._holds_value(
+                # A name the prim definition declares as an attribute is one
+                # whatever the layers author (UsdStage::_GetDefiningSpecType
+                # asks the definition first): no HasAttribute needed.
+                is_attribute = self.schema_attribute(name).value_type is not None
+                found = (is_attribute or _has_attribute(self.prim, name)) and self._holds_value(
                     name, self.attribute(name)
                 )
             self._has[name] = found
@@ -592,20 +614,17 @@ class PrimValues:
 
     def _holds_value(self, name: str, attr: Usd.Attribute) -> bool:
         stack = self._attribute_specs(name)
-        opinions = stack[0]
         default = None
-        if self._names_decide and opinions and opinions[0][1]:
+        if self._names_decide:
             # Without value clips the strongest spec that holds a value decides
             # (UsdResolveInfo reads the stack strongest first): a default that
             # is no block is an authored value, known without HasAuthoredValue.
-            default = opinions[0][0].default
+            default = stack[3]
             if isinstance(default, _BLOCKS):
                 default = None
         if default is None and not _has_authored_value(attr):
             return False
-        if not _holds_well_typed_value(
-            stack, lambda: self.schema_attribute(name).type_name, default
-        ):
+        if not _holds_well_typed_value(stack, lambda: self.schema_attribute(name).type_name):
             return False
         if default is not None and self.schema_attribute(name).plain:
             # At Default, Get() returns the strongest default (time samples and
@@ -677,7 +696,10 @@ class PrimValues:
         """False when the named property provably has no opinion at all: no
         layer's spec names it and the stage has no value clips (which give
         values to attributes no spec names)."""
-        return not self._names_decide or name in self._listed_names()
+        if not self._names_decide:
+            return True
+        listed = self._listed  # _listed_names inlined: some 200 calls a shot
+        return name in (listed if listed is not None else self._listed_names())
 
     def _authored_names(self) -> tuple[str, ...]:
         # Listed once, unchecked: has_value only looks names up in it.
@@ -706,7 +728,7 @@ class PrimValues:
         """:func:`forwarded_targets` of the named relationship."""
         paths = self._forwarded.get(name)
         if paths is None:
-            if name not in self._listed_names():
+            if name not in (self._listed or self._listed_names()):
                 paths = ()  # no layer authors it (value clips hold no targets)
             else:
                 # Read here, not through the handle-keyed cache of
@@ -722,7 +744,7 @@ class PrimValues:
         """:func:`resolve_targets` of the named relationship."""
         found = self._targets.get(name)
         if found is None:
-            if name not in self._listed_names():
+            if name not in (self._listed or self._listed_names()):
                 found = ()  # no layer authors it (value clips hold no targets)
             else:
                 stage = Usd.Prim.GetStage(self.prim)
