@@ -297,14 +297,21 @@ def test_a_value_only_value_clips_give_is_authored(tmp_path) -> None:
 def test_each_opinion_of_an_attribute_is_read_once_per_lint(stage, monkeypatch) -> None:
     read: list[str] = []
     has_default = Sdf.PropertySpec.HasDefaultValue
+    default = Sdf.PropertySpec.default
 
     def recording(spec):
         read.append(str(spec.path))
         return has_default(spec)
 
+    def reading(spec):
+        read.append(str(spec.path))
+        return default.fget(spec)
+
     monkeypatch.setattr(Sdf.PropertySpec, "HasDefaultValue", recording)
+    monkeypatch.setattr(Sdf.PropertySpec, "default", property(reading, default.fset))
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
-    # SE016 (its type), PR006, VA001... (well-typed?), VA007 (mismatched?) read it.
+    # SE016 (its type), PR006, VA001... (well-typed?), VA007 (mismatched?) read it:
+    # whether it holds a default (its strongest spec's read in place of asking) once.
     assert read.count("/Render/color.sourceName") == 1
 
 
