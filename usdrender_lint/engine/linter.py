@@ -539,16 +539,25 @@ class Linter:
         # validity check, which costs more than the call (the walk's prims are valid).
         type_name_of = Usd.Prim.GetTypeName
         lookup = self._dispatch.lookup
+        # Per type name: its rules, the render prim lists its prims join and
+        # whether no schema defines it, found at its first prim (hashing a
+        # render schema's Tf.Type is a binding call: once a type name, not a prim).
+        seen: dict[str, tuple[tuple[Rule, ...], list[list[Usd.Prim]], bool]] = {}
         for prim in stage.Traverse() if prims is None else prims:
             if has_suppressions is not None and has_suppressions(prim):
                 suppressing.append(prim)
             type_name = type_name_of(prim)
-            rules, kinds = lookup(type_name)
-            for kind in kinds:
-                ctx.render_prims.setdefault(kind, []).append(prim)
+            entry = seen.get(type_name)
+            if entry is None:
+                rules, kinds = lookup(type_name)
+                lists = [ctx.render_prims.setdefault(kind, []) for kind in kinds]
+                entry = seen[type_name] = (rules, lists, type_name in unknown)
+            rules, lists, is_unknown = entry
+            for found in lists:
+                found.append(prim)
             if rules:
                 work.append((prim, rules))
-            if type_name in unknown:
+            if is_unknown:
                 ctx.unknown_type_prims.append(prim)
         return work, suppressing
 
