@@ -73,6 +73,13 @@ def write_text_atomic(path: str | Path, text: str) -> None:
     replace_atomically(path, write)
 
 
+def is_read_only(path: str | Path, stat_result: os.stat_result) -> bool:
+    """Whether a file may not be written: a file without write permission is
+    read-only even to root, who could write it anyway (--fix and the outputs
+    leave it alone)."""
+    return not os.access(path, os.W_OK) or not stat_result.st_mode & 0o222
+
+
 def write_output(path: str | Path, text: str) -> None:
     """Write a file the user named for output (``--output``, ``--write-baseline``,
     ``spec --output``) as a shell's ``>`` would, but atomically where that is
@@ -108,9 +115,8 @@ def write_output(path: str | Path, text: str) -> None:
     if before is not None and not stat.S_ISREG(before.st_mode):
         _write_in_place(target, data, truncate=False)
         return
-    # The rename would replace a file the shell's > may not write: read-only
-    # (as for --fix, a file without write permission is read-only even to root).
-    if before is not None and (not os.access(target, os.W_OK) or not before.st_mode & 0o222):
+    # The rename would replace a file the shell's > may not write.
+    if before is not None and is_read_only(target, before):
         raise PermissionError(errno.EACCES, "the file is read-only", str(path))
 
     def write(temporary: Path) -> None:

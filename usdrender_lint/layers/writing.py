@@ -19,7 +19,7 @@ from pathlib import Path
 
 from pxr import Sdf, Tf
 
-from ..atomic import keep_owner, replace_atomically, temporary_prefix
+from ..atomic import is_read_only, keep_owner, replace_atomically, temporary_prefix
 from ..layers.files import layer_identifier, layer_real_path
 from ..paths import display_path, usd_path
 from ..records import record
@@ -81,8 +81,7 @@ def write_problem(layer: Sdf.Layer, writing: bool = True) -> str | None:
         return f"{shown} cannot be read: {exc.strerror or exc}"
     if not writing:
         return None
-    # A file without write permission is read-only even to root, who may write it anyway.
-    if not os.access(path, os.W_OK) or not stat.st_mode & 0o222:
+    if is_read_only(path, stat):
         return f"{shown} is read-only"
     if stat.st_nlink > 1:
         stale = _stale_backup(path, stat)
