@@ -124,6 +124,18 @@ class Settings:
         values = _layered(self, given)
         return dataclasses.replace(self, **values, from_flags=self.from_flags | set(given))
 
+    @property
+    def selection_layers(self) -> tuple[RuleSelection, ...]:
+        """Every layer of the rule selection, first to last: those beneath,
+        then these settings' own ``select``, ``ignore`` and ``extend_select``."""
+        own = RuleSelection(
+            self.select,
+            self.ignore,
+            self.extend_select,
+            {key: self.where(key) for key in SELECTION_KEYS},
+        )
+        return (*self.selections_below, own)
+
     def where(self, key: str) -> str:
         """Where a setting came from, for error messages: the flag or file and key."""
         if key in self.from_flags:
@@ -202,16 +214,10 @@ def _layered(base: Settings, parsed: Mapping[str, Any]) -> dict[str, Any]:
             value = (*inherited, *value)
         values[name] = value
     if any(key in parsed for key in SELECTION_KEYS):
-        below = base.selections_below
-        if below or base.select is not None or base.ignore or base.extend_select:
-            beneath = RuleSelection(
-                base.select,
-                base.ignore,
-                base.extend_select,
-                {key: base.where(key) for key in SELECTION_KEYS},
-            )
-            below = (*below, beneath)
-        values["selections_below"] = below
+        # base's own selection goes beneath, unless it is the defaults' alone.
+        unset = not base.selections_below and base.select is None
+        unset = unset and not base.ignore and not base.extend_select
+        values["selections_below"] = () if unset else base.selection_layers
         for key in SELECTION_KEYS:
             values.setdefault(key, BY_NAME[key].default)
     return values

@@ -265,9 +265,8 @@ def check_working_directory() -> None:
 
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
-    for key in ("select", "ignore", "extend_select", "unfixable"):
-        check_selectors(registry, getattr(settings, key) or (), settings.where(key))
-    for layer in settings.selections_below:
+    check_selectors(registry, settings.unfixable, settings.where("unfixable"))
+    for layer in settings.selection_layers:
         for key in SELECTION_KEYS:
             check_selectors(registry, getattr(layer, key) or (), layer.origins[key])
     unignorable_notes(registry, settings)
@@ -285,9 +284,13 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
                 f"error: {_always_reported(lowered)}"
             )
     try:
-        below = [(b.select, b.ignore, b.extend_select) for b in settings.selections_below]
+        *below, own = settings.selection_layers
         chosen = select_rules(
-            registry.rules, settings.select, settings.ignore, settings.extend_select, below
+            registry.rules,
+            own.select,
+            own.ignore,
+            own.extend_select,
+            [(layer.select, layer.ignore, layer.extend_select) for layer in below],
         )
     except SelectionError as exc:
         raise ConfigError(str(exc)) from None
@@ -299,8 +302,9 @@ def unignorable_notes(registry: Registry, settings: Settings) -> list[str]:
     """Raise a ConfigError for an ``ignore`` that names an unignorable rule
     itself (``--ignore ST001``); one note for each wider selector that covers
     one (``--ignore ALL``, ``--ignore ST``), which ignores the others."""
-    ignores = [(settings.where("ignore"), settings.ignore)]
-    ignores += [(layer.origins["ignore"], layer.ignore) for layer in settings.selections_below]
+    # The last layer's first: a flag is named before the file beneath it.
+    ignores = [(layer.origins["ignore"], layer.ignore) for layer in settings.selection_layers]
+    ignores.reverse()
     for where, ignore in ignores:
         for rule, token in _unignorable_named(registry, ignore):
             raise ConfigError(f"{where}: {token!r} cannot be ignored: {_always_reported(rule)}")

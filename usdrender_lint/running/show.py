@@ -96,16 +96,12 @@ def _layered_selection(settings: Settings, codes: list[str]) -> list[str]:
     if not settings.selections_below:
         return []
     lines = ["# the rule selection, layer by layer (each starts from what the one before chose):"]
-    top = {key: settings.where(key) for key in SELECTION_KEYS}
-    layers: list[tuple[Any, Mapping[str, str]]] = [
-        (b, b.origins) for b in settings.selections_below
-    ]
-    for layer, origins in [*layers, (settings, top)]:
+    for layer in settings.selection_layers:
         for key in SELECTION_KEYS:
             value = getattr(layer, key)
             if value is not None and (value or key == "select"):
                 config_key = key.replace("_", "-")
-                lines.append(f"#   {config_key} = {_value(value)}  ({origins[key]})")
+                lines.append(f"#   {config_key} = {_value(value)}  ({layer.origins[key]})")
     lines += [
         f"select = {_value(codes)}  # what the layers choose",
         "ignore = []",
