@@ -39,9 +39,12 @@ from .plugins import register_plugins
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
+    OutOfMemory,
     StageOpenResult,
     corruption,
     open_stage,
+    out_of_memory,
+    out_of_memory_message,
     position_from_error,
     without_position,
 )
@@ -296,7 +299,9 @@ class Linter:
             return self._lint_file(path, trace, inspect, full_composition)
         except InspectionError as exc:
             return trace.run(FileResult(path, status="error", error=f"{path}: {exc}"))
-        except (UnicodeDecodeError, CorruptValue, Tf.ErrorException) as exc:
+        except (UnicodeDecodeError, CorruptValue, Tf.ErrorException, MemoryError) as exc:
+            if out_of_memory(exc):
+                return trace.run(_out_of_memory(path))
             return trace.run(FileResult(path, findings=(self._corrupt_finding(exc, path),)))
 
     def _corrupt_finding(self, exc: Exception, path: str) -> Finding:
@@ -327,7 +332,9 @@ class Linter:
         name = file or real_path(stage.GetRootLayer())
         try:
             findings, _ = self._lint(stage, file, trace, texts=texts, prims=prims)
-        except (UnicodeDecodeError, CorruptValue, Tf.ErrorException) as exc:
+        except (UnicodeDecodeError, CorruptValue, Tf.ErrorException, MemoryError) as exc:
+            if out_of_memory(exc):
+                return trace.run(_out_of_memory(name))
             # A layer read only for a value (a clip's manifest) is corrupt: as run_path says.
             return trace.run(FileResult(name, findings=(self._corrupt_finding(exc, name),)))
         return trace.run(FileResult(name, findings=tuple(findings)), "full", completed=True)
@@ -345,6 +352,8 @@ class Linter:
             if run is not None:
                 return run
         opened = open_stage(path)
+        if opened.stage is None and out_of_memory(opened.errors):
+            raise OutOfMemory  # the process's memory, not the file (run_path)
         if opened.stage is None:
             return trace.run(
                 FileResult(path, findings=tuple(self._open_failure_findings(path, opened)))
@@ -593,6 +602,8 @@ class Linter:
             except (Exception, SystemExit, KeyboardInterrupt, GeneratorExit) as exc:
                 if not _raised_by_rule(exc):
                     raise
+                if out_of_memory(exc):  # no fault of the rule's: the file's lint fails
+                    raise OutOfMemory from exc
                 del findings[start:]  # the hook's other findings are lost
                 if isinstance(exc, TypeError) and not isinstance(made, Iterable | None):
                     # `return Diagnostic(...)`: asked here, not of every hook's result
@@ -700,6 +711,12 @@ def _read_only(layers: Iterable[Sdf.Layer]) -> Iterator[None]:
     finally:
         for layer in editable:
             layer.SetPermissionToEdit(True)
+
+
+def _out_of_memory(path: str) -> FileResult:
+    """The result of a file whose lint ran out of memory: an error (the tool
+    could not lint it, exit 2), never stored by the result cache."""
+    return FileResult(path, status="error", error=f"{path}: {out_of_memory_message()}")
 
 
 def unsafe_to_open(path: str) -> str | None:

@@ -296,6 +296,47 @@ def _undecodable_error(path: str) -> str:
     return "USD reported an error whose message is not valid UTF-8"
 
 
+class OutOfMemory(MemoryError):
+    """USD (``std::bad_alloc``) or Python (MemoryError) could not allocate while a
+    file was linted: the process's memory, not the file, is the problem, so the
+    file is one the tool could not lint (exit 2), never an ST001 finding."""
+
+
+#: How a USD error says that an allocation failed (the C++ exception it caught).
+_BAD_ALLOC = "std::bad_alloc"
+
+
+def out_of_memory(error: BaseException | Iterable[str]) -> bool:
+    """Whether an exception (or the lines of USD's errors) says memory ran out."""
+    if isinstance(error, MemoryError):
+        return True
+    if isinstance(error, BaseException):
+        return isinstance(error, Tf.ErrorException) and _BAD_ALLOC in str(error)
+    return any(_BAD_ALLOC in line for line in error)
+
+
+def out_of_memory_message() -> str:
+    """Why a file could not be linted when memory ran out, with the process's
+    data limit where one is set (a worker's share of the machine: workers.cap_memory)."""
+    try:
+        import resource
+    except ImportError:  # not POSIX: no per-process limit to name
+        limit = None
+    else:
+        soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
+        limit = None if soft == resource.RLIM_INFINITY else soft
+    if limit is None:
+        return "out of memory: reading the file needs more memory than the machine could give"
+    return (
+        "out of memory: reading the file needs more than the "
+        f"{_amount(limit)} this process may allocate"
+    )
+
+
+def _amount(size: int) -> str:
+    return f"{size / 2**30:.1f} GiB" if size >= 2**30 else f"{size // 2**20} MiB"
+
+
 def position_from_error(text: str) -> tuple[str, int, int | None] | None:
     """(file, line, column) of the first ``file.usda:LINE[:COL]`` in USD's
     message: its parser errors start ``/path/file.usda:LINE:COL:``."""
