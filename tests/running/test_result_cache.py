@@ -457,22 +457,29 @@ def test_files_the_tool_could_not_read_fully_are_not_stored(tmp_path: Path, spy:
     assert not list((tmp_path / ".usdrender_lint_cache" / result_cache.ENTRIES_DIR).glob("*.json"))
 
 
+@pytest.mark.parametrize("error", [ConnectionError, MemoryError])
 def test_a_result_a_rule_raised_on_is_not_stored(
-    tmp_path: Path, spy: Spy, monkeypatch: pytest.MonkeyPatch
+    tmp_path: Path, spy: Spy, monkeypatch: pytest.MonkeyPatch, error: type[Exception]
 ) -> None:
     """A rule that raised (UL000) lost its findings on the file: the result is
-    incomplete, and what made it raise (memory, a busy server a plugin asks)
-    may be gone on the next run, which must lint the file again."""
+    incomplete, and what made it raise (a busy server a plugin asks) may be gone
+    on the next run, which must lint the file again. Memory that ran out is the
+    file's error (not a UL000), and that is not stored either."""
     from usdrender_lint.rules.settings.se003_data_window_malformed import DataWindowMalformed
 
     shot = write(tmp_path, {"shot.usda": SHOT_WITH_SUBLAYER, "common.usda": settings_layer()})
     healthy = DataWindowMalformed.check_stage
 
     def raising(self: DataWindowMalformed, ctx: object) -> None:
-        raise MemoryError("out of memory for a moment")
+        raise error("gone for a moment")
 
     monkeypatch.setattr(DataWindowMalformed, "check_stage", raising)
-    assert "UL000" in [code for code, _ in codes(check(shot))]
+    report = check(shot)
+    if error is MemoryError:
+        [result] = report.files
+        assert result.status == "error" and "out of memory" in (result.error or "")
+    else:
+        assert "UL000" in [code for code, _ in codes(report)]
     monkeypatch.setattr(DataWindowMalformed, "check_stage", healthy)
     assert ("SE003", "/Render/Settings.dataWindowNDC") in codes(check(shot))
     assert spy.linted == [str(shot)] * 2
