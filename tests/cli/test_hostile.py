@@ -550,7 +550,8 @@ def test_a_hung_read_times_out_and_the_rest_are_linted(tmp_path: Path) -> None:
     result = run_cli("--timeout", "2", path, control)
     assert result.exit_code == 2
     assert result.stderr == (
-        f"usdrender-lint: error: {path}: timed out after 2 s (raise --timeout, or 0 for no limit)\n"
+        f"usdrender-lint: error: {path}: timed out after 2 s while USD opened the stage "
+        "(raise --timeout, or 0 for no limit)\n"
     )
     assert "SE003" in {f["code"] for f in _files_by_name(result)[control]["findings"]}
 

@@ -141,7 +141,7 @@ def test_a_crash_of_the_child_costs_a_retry_not_the_report(tmp_path: Path) -> No
     assert (process.returncode, stderr) == (
         2,
         f"usdrender-lint: error: {stage}: timed out "
-        "after 3 s (raise --timeout, or 0 for no limit)\n",
+        "after 3 s while USD opened the stage (raise --timeout, or 0 for no limit)\n",
     )
     [entry] = json.loads(stdout)["files"]
     assert entry["status"] == "error" and entry["error"].startswith(str(stage))
@@ -296,12 +296,13 @@ def test_only_the_child_holds_the_pipe_it_watches(tmp_path: Path) -> None:
     try:
         wait_for_a_worker(process, temporary)
         standard = {os.readlink(f"/proc/{process.pid}/fd/{fd}") for fd in (0, 1, 2)}
-        # The pipe the child watches (the supervisor holds its write end) and the
-        # one the child tells the supervisor on (the supervisor holds its read end).
+        # The pipe the child watches (the supervisor holds its write end), the one
+        # the child tells the supervisor on and the one it writes its stack into
+        # when asked (the supervisor holds their read ends).
         watch = _pipes(process.pid) - standard
         [child] = [pid for pid in descendants(process.pid) if _parent(pid) == process.pid]
         workers = descendants(child)
-        assert len(watch) == 2 and watch <= _pipes(child)
+        assert len(watch) == 3 and watch <= _pipes(child)
         assert workers and not any(watch & _pipes(worker) for worker in workers)
     finally:
         process.kill()
@@ -313,24 +314,40 @@ def _parent(pid: int) -> int:
     return int(fields[1])
 
 
+HANGS_WITH_A_STACK = (
+    "import faulthandler, signal, sys, time; "
+    "faulthandler.register(signal.SIGUSR2, file=int(sys.argv[1]), all_threads=True); time.sleep(60)"
+)
+
+
 def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> None:
     """The child says "started, may take N s" and "ended" over a pipe; past N s
     the supervisor kills it (the child arms no timer of its own)."""
-    hung = subprocess.Popen(["sleep", "60"])
+    # A child that writes its stack into a pipe when asked, as the command's does.
+    stack, stack_write = os.pipe()
+    hung = subprocess.Popen(
+        [sys.executable, "-c", HANGS_WITH_A_STACK, str(stack_write)], pass_fds=(stack_write,)
+    )
+    os.close(stack_write)
+    time.sleep(1)  # its handler is registered
     heard, says = os.pipe()
     supervisor.Supervision(says=says)._say(0.3)  # as timed() does, then hangs
     started = time.monotonic()
-    assert supervisor._time_the_child(hung.pid, heard) == "timeout"
+    assert supervisor._time_the_child(hung.pid, heard, stack) == "timeout"
     assert hung.wait(10) == -signal.SIGKILL
     assert 0.3 <= time.monotonic() - started < 10
+    # Asked before it was killed, it said where it was.
+    assert "line 1 in <module>" in supervisor._read_stack(stack)
     os.close(says)
     os.close(heard)
+    os.close(stack)
+    stack, _ = os.pipe()  # from the children below, which are never asked
     # A lint that ended in time: the supervisor waits for the child's end, no kill.
     finished = subprocess.Popen(["sleep", "60"])
     heard, says = os.pipe()
     assert supervisor.Supervision(says=says).timed(0.3, len, "done") == 4
     os.close(says)
-    assert supervisor._time_the_child(finished.pid, heard) is None  # it did not say it exits
+    assert supervisor._time_the_child(finished.pid, heard, stack) is None  # it did not say it exits
     assert finished.poll() is None
     finished.kill()
     finished.wait(10)
@@ -340,5 +357,5 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     supervisor.Supervision(says=says).timed(0.3, len, "done")
     supervisor.Supervision(says=says).exiting()
     os.close(says)
-    assert supervisor._time_the_child(finished.pid, heard) == "done"
+    assert supervisor._time_the_child(finished.pid, heard, stack) == "done"
     os.close(heard)

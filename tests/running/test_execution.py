@@ -172,8 +172,8 @@ def test_a_file_past_the_time_limit_is_an_error_and_the_rest_are_linted(
     assert time.monotonic() - started < 30
     assert [r.status for r in results] == ["linted", "error", "linted", "linted"]
     assert (
-        results[1].error
-        == f"{files[1]}: timed out after 2.5 s (raise --timeout, or 0 for no limit)"
+        results[1].error == f"{files[1]}: timed out after 2.5 s in rule TX901 (test-trap) "
+        "(raise --timeout, or 0 for no limit)"
     )
     assert [f.message for f in results[3].findings] == ["scope Four"]
 

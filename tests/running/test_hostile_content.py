@@ -70,7 +70,8 @@ def hanging(tmp_path: Path) -> Path:
 
 
 TIMED_OUT = (
-    "usdrender-lint: error: hangs.usda: timed out after 2 s (raise --timeout, or 0 for no limit)"
+    "usdrender-lint: error: hangs.usda: timed out after 2 s while USD opened the stage "
+    "(raise --timeout, or 0 for no limit)"
 )
 
 

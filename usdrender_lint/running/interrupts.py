@@ -12,6 +12,9 @@ import signal  # and nothing else: the command installs the handlers before its 
 import sys
 
 STOPPING = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
+#: Asks a timed lint for its Python stack before it is killed (running/stalls.py);
+#: SIGUSR1 stays the user's (it ends the process).
+STALL_SIGNAL = signal.SIGUSR2
 
 
 class Stopped(BaseException):

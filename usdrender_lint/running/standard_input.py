@@ -122,7 +122,7 @@ def lint_standard_input(
     if supervision is None:
         return _lint(prepared, given)
     if supervision.ending is not None:
-        why = timed_out(timeout) if supervision.ending == "timeout" else CRASHED
+        why = timed_out(timeout, supervision.stall) if supervision.ending == "timeout" else CRASHED
         return file_error(given.name, why)
     cap_memory(workers=1)  # as the child caps itself for a lone file (workers.InProcess)
     return supervision.timed(timeout, _lint, prepared, given) if timeout else _lint(prepared, given)

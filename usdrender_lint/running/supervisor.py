@@ -16,7 +16,7 @@ import signal
 import sys
 import time
 
-from .interrupts import STOPPING, Stopped, not_ignored
+from .interrupts import STALL_SIGNAL, STOPPING, Stopped, not_ignored
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -27,6 +27,7 @@ WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", 
 #: What fixes standard input's text (``check --fix -``) writes: stdout alone.
 STDOUT_FIXES = ("--fix", "--unsafe-fixes", "--unsafe", "--diff")
 STOP_GRACE = 2.0  # seconds a stopped child has to clean up before it is killed
+STACK_WAIT = 0.5  # seconds a timed-out child has to write its stack (stalls.py)
 DONE = b"done"  # what the child says as Python exits
 
 
@@ -36,14 +37,19 @@ class Supervision:
     the fork costs start-up). ``stdin``: standard input's bytes for ``check -``, read
     before the fork, so that the supervisor still holds them after the child's end."""
 
-    __slots__ = ("ending", "says", "stdin")
+    __slots__ = ("ending", "says", "stall", "stdin")
 
     def __init__(
-        self, ending: str | None = None, says: int | None = None, stdin: bytes | None = None
+        self,
+        ending: str | None = None,
+        says: int | None = None,
+        stdin: bytes | None = None,
+        stall: str | None = None,
     ) -> None:
         self.ending = ending  # in the supervisor: the child's "timeout" or "crash"
         self.says = says  # in the child: the pipe to its supervisor (None: untimed)
         self.stdin = stdin
+        self.stall = stall  # in the supervisor: the child's stack as it timed out
 
     def timed(self, seconds: float, lint: Any, *args: Any) -> Any:
         """In the child: ``lint(*args)``, killed by the supervisor past ``seconds``."""
@@ -125,10 +131,15 @@ def supervise(stdin: bool = False) -> Supervision:
     blocked = signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
     watched, held = os.pipe()  # this process holds the write end while it lives
     heard, says = os.pipe()  # the child tells this process when its lint starts and ends
+    stack_read, stack_write = os.pipe()  # the child's stack, asked for as it times out
     child = os.fork()
     if child == 0:
         os.close(held)
         os.close(heard)
+        os.close(stack_read)
+        import faulthandler  # built in: no search on the path
+
+        faulthandler.register(STALL_SIGNAL, file=stack_write, all_threads=True)
         supervision = Supervision(says=says, stdin=data)
         # Before a signal can stop it: a child stopped by one says it exits too.
         atexit.register(supervision.exiting)
@@ -137,8 +148,10 @@ def supervise(stdin: bool = False) -> Supervision:
             # This process hears the child end, not its workers; the pipe the child
             # watches signals no pid but the child's.
             atexit.unregister(supervision.exiting)
+            faulthandler.unregister(STALL_SIGNAL)  # a worker writes its stack to its log
             os.close(watched)
             os.close(says)
+            os.close(stack_write)
 
         os.register_at_fork(after_in_child=close_in_workers)
         signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
@@ -152,6 +165,7 @@ def supervise(stdin: bool = False) -> Supervision:
         return supervision
     os.close(watched)
     os.close(says)
+    os.close(stack_write)
     stopped: list[int] = []
 
     def pass_on(signum: int, frame: object) -> None:
@@ -163,13 +177,15 @@ def supervise(stdin: bool = False) -> Supervision:
     previous = {signum: signal.signal(signum, pass_on) for signum in not_ignored()}
     previous[signal.SIGALRM] = signal.signal(signal.SIGALRM, lambda *_: _kill(child))
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
-    heard_end = _time_the_child(child, heard)
+    heard_end = _time_the_child(child, heard, stack_read)
     status = os.waitpid(child, 0)[1]  # a signal's handler runs, then Python waits on
     # A signal from now on waits: the child's pid is free, and this process exits
     # with the status of a finished run, or runs the command (then it stops it).
     signal.pthread_sigmask(signal.SIG_BLOCK, STOPPING)
     signal.setitimer(signal.ITIMER_REAL, 0)
     os.close(heard)
+    stall = _read_stack(stack_read) if heard_end == "timeout" else None
+    os.close(stack_read)
     for signum, handler in previous.items():
         signal.signal(signum, handler)
     # This process imported nothing that needs cleaning up: a plain exit.
@@ -181,17 +197,21 @@ def supervise(stdin: bool = False) -> Supervision:
         sys.exit(stop.exit_status)
     signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
     # Killed, or ended without Python's exit (a signal, os._exit): a crash.
-    return Supervision(ending="timeout" if heard_end == "timeout" else "crash", stdin=data)
+    ending = "timeout" if heard_end == "timeout" else "crash"
+    return Supervision(ending=ending, stdin=data, stall=stall)
 
 
-def _time_the_child(child: int, heard: int) -> str | None:
+def _time_the_child(child: int, heard: int, stack: int) -> str | None:
     """Read the child's deadlines until it ends: "timeout" if it was killed past
-    one, "done" if it said it exits (Supervision.exiting), else None."""
+    one (after it was asked for its stack, written into ``stack``), "done" if it
+    said it exits (Supervision.exiting), else None."""
     deadline: float | None = None
     done = False
     while True:
         left = None if deadline is None else max(0.0, deadline - time.monotonic())
         if not select.select([heard], [], [], left)[0]:
+            _kill(child, STALL_SIGNAL)
+            _wait_for_stack(stack)
             _kill(child)
             return "timeout"
         said = os.read(heard, 256).split()
@@ -203,6 +223,25 @@ def _time_the_child(child: int, heard: int) -> str | None:
         if said:
             seconds = float(said[-1])  # the latest (a lone file says twice, at most)
             deadline = time.monotonic() + seconds if seconds else None
+
+
+def _wait_for_stack(stack: int) -> None:
+    """Until the child's stack begins to arrive, at most STACK_WAIT seconds (it
+    writes it at once, from its signal handler), and a moment for the rest."""
+    if select.select([stack], [], [], STACK_WAIT)[0]:
+        time.sleep(0.05)
+
+
+def _read_stack(stack: int) -> str:
+    """What the child wrote into ``stack`` (it is dead: nothing more comes)."""
+    os.set_blocking(stack, False)
+    chunks = []
+    try:
+        while chunk := os.read(stack, 1 << 16):
+            chunks.append(chunk)
+    except OSError:
+        pass  # nothing (more) to read
+    return b"".join(chunks).decode(errors="replace")
 
 
 def _kill(pid: int, signum: int = signal.SIGKILL) -> None:

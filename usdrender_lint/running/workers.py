@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, Any, Protocol
 from .. import debug
 from ..model import FileResult
 from ..records import record
-from .interrupts import check_stopped
+from . import stalls
+from .interrupts import STALL_SIGNAL, check_stopped
 from .progress import progress_bar, want_progress
 from .supervisor import Supervision
 
@@ -91,7 +92,8 @@ def choose_executor(
     child = supervision if supervision is not None and supervision.ending is None else None
     ending = supervision.ending if supervision is not None else None
     if ending is not None and count == 1:
-        return AfterSupervisedChild(ending, Pool(_factory(linter_factory), 1, timeout))
+        pool = Pool(_factory(linter_factory), 1, timeout)
+        return AfterSupervisedChild(ending, pool, supervision.stall if supervision else None)
     # After the child's crash, never in this process: what crashed it would end the run.
     if (jobs == 1 and timeout is None and ending is None) or (child is not None and count == 1):
         return InProcess(linter or _factory(linter_factory)(), child, timeout)
@@ -128,10 +130,13 @@ class AfterSupervisedChild:
 
     ending: str
     pool: Pool
+    #: The child's stack as it timed out (Supervision.stall).
+    stall: str | None = None
 
     def run(self, files: Sequence[str], advance: Callable[[], None]) -> tuple[FileResult, ...]:
         if self.ending == "timeout":
-            return tuple(file_error(path, timed_out(self.pool.timeout)) for path in files)
+            why = timed_out(self.pool.timeout, self.stall)
+            return tuple(file_error(path, why) for path in files)
         return self.pool.run([FullyComposed(path) for path in files], advance)
 
 
@@ -253,7 +258,7 @@ class Pool:
             elif worker.process.sentinel in ready:
                 self._lose(worker)
             elif time.monotonic() >= worker.deadline:
-                self._lose(worker, timed_out(self.timeout))
+                self._lose(worker, timed_out(self.timeout, worker.stack()))
 
     def _receive(self, worker: _Worker, index: int, result: Any) -> None:
         if index == _FAILED:
@@ -336,6 +341,22 @@ class _Worker:
             said = _last_words(Path(self.log_dir, f"worker-{self.process.pid}.log").read_text())
         return f"({how}{': ' + said if said else ''})"
 
+    def stack(self) -> str:
+        """Its Python stack, which it writes into its log when asked (stalls.listen)."""
+        log = Path(self.log_dir, f"worker-{self.process.pid}.log")
+
+        def read() -> str:
+            try:
+                return log.read_text(errors="replace")
+            except OSError:
+                return ""
+
+        if self.process.pid is None:
+            return ""
+        with suppress(OSError):
+            os.kill(self.process.pid, STALL_SIGNAL)
+        return stalls.collect(read)
+
     def kill(self) -> None:
         self.process.kill()  # idle or not: a worker holds nothing to clean up (dead: a no-op)
 
@@ -360,6 +381,7 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
         opened = os.open(path, os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND)
         os.dup2(opened, fd)
         os.close(opened)
+    stalls.listen(2)  # a time-out asks where it was (_Worker.stack)
     try:
         from pxr import Usd
 
@@ -479,8 +501,12 @@ def _path_of(item: Any) -> Any:
 CRASHED = "the linter process crashed while reading it"
 
 
-def timed_out(timeout: float | None) -> str:
-    return f"timed out after {timeout:g} s (raise --timeout, or 0 for no limit)"
+def timed_out(timeout: float | None, dump: str | None = None) -> str:
+    """A time-out's message; ``dump``: the lint's stack as it timed out (stalls.py),
+    whose rule or step the message names."""
+    where = stalls.site(dump) if dump else None
+    at = f" {where}" if where else ""
+    return f"timed out after {timeout:g} s{at} (raise --timeout, or 0 for no limit)"
 
 
 def internal_error(exc: Exception) -> str:
