@@ -15,6 +15,12 @@ READ_OPTIONS_CPP = (
 #: Arnold<NodeEntry> (schemaName = 'Arnold{}'.format(makeCamelCase(entryName))),
 #: besides class ArnoldNodeGraph "ArnoldNodeGraph".
 SCHEMA_GENERATOR = "arnold-usd schemas/createSchemaFile.py"
+#: arnold-usd's render delegate strips "arnold:global:" or "arnold:" from a
+#: render setting's name to find the options parameter it sets.
+SETTINGS_PREFIX = (
+    "arnold-usd libs/render_delegate/render_delegate.cpp (_RemoveArnoldGlobalPrefix: "
+    "arnold:global: and arnold: settings)"
+)
 
 ARNOLD = Profile(
     name="arnold",
@@ -23,6 +29,10 @@ ARNOLD = Profile(
     family="AR",
     namespaces=("arnold:",),
     api_schemas=("Arnold*",),
+    evidence_sources=(
+        SETTINGS_PREFIX,
+        f"{SCHEMA_GENERATOR} (API schemas named Arnold<NodeEntry>API)",
+    ),
     prim_types=(
         Accepted(
             name="Arnold*",

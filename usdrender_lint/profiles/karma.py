@@ -12,6 +12,14 @@ KARMA_SETTINGS_DOC = (
     "(https://www.sidefx.com/docs/houdini/nodes/lop/karmarendersettings.html)"
 )
 
+#: The Karma rendering properties page: the render properties Karma reads,
+#: which Houdini's Karma LOPs author as karma:* properties. (No public page
+#: found names the Karma* API schemas Houdini applies with them.)
+KARMA_PROPERTIES_DOC = (
+    "Houdini docs, Karma rendering properties "
+    "(https://www.sidefx.com/docs/houdini/props/karma.html)"
+)
+
 KARMA = Profile(
     name="karma",
     description="Houdini's Karma CPU / XPU through husk: the schema plus husk's "
@@ -19,4 +27,5 @@ KARMA = Profile(
     family="KA",
     namespaces=("karma:",),
     api_schemas=("Karma*",),
+    evidence_sources=(KARMA_PROPERTIES_DOC,),
 )
