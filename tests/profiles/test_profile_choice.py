@@ -148,6 +148,35 @@ def test_omniverse_profile_drops_what_rtx_does_not_read(tmp_path: Path) -> None:
     assert ("CA004", "/Render/LidarSettings.camera") in gcodes
 
 
+INVERTED_SHUTTER = """#usda 1.0
+def Camera "Cam"
+{
+    double shutter:close = -0.25
+    double shutter:open = 0.25
+}
+def Scope "Render"
+{
+    def RenderSettings "Viewport"
+    {
+        token omni:rtx:rendermode = "RaytracedLighting"
+        rel camera = </Cam>
+    }
+}
+"""
+
+
+def test_omniverse_profile_drops_ca008_as_rtx_ignores_the_shutter(tmp_path: Path) -> None:
+    # RTX does not read shutter:open / shutter:close (the profile's CA008 change).
+    auto = _lint(tmp_path, INVERTED_SHUTTER)
+    assert {f.profile for f in auto} == {"omniverse"}
+    assert not any(f.code == "CA008" for f in auto)
+    generic = _lint(tmp_path, INVERTED_SHUTTER, ("generic", "test"))
+    assert ("CA008", "/Cam") in {(f.code, f.location.path) for f in generic}
+    # A renderer that reads the shutter keeps the finding.
+    karma = _lint(tmp_path, INVERTED_SHUTTER, ("karma", "test"))
+    assert ("CA008", "/Cam") in {(f.code, f.location.path) for f in karma}
+
+
 def test_kit_scope_is_evidence(tmp_path: Path) -> None:
     findings = _lint(tmp_path, KIT_STAGE)
     reasons = {f.profile_reason for f in findings}

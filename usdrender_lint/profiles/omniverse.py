@@ -62,7 +62,8 @@ _SESSION_CAMERA = (
 # CA006 (aspect mismatch with an implicit conform policy) is kept, not
 # changed: KIT_CAMERAS_DOC says RTX ignores the aperture offsets, shutter and
 # stereo role but reads both apertures, and no public source says how RTX
-# conforms a mismatch or whether it reads aspectRatioConformPolicy.
+# conforms a mismatch or whether it reads aspectRatioConformPolicy. CA008,
+# which reads only the shutter, is off for the same page's reason.
 OMNIVERSE = Profile(
     name="omniverse",
     description="Omniverse RTX (Kit viewports, Isaac Sim and ovrtx sensors): render products "
@@ -89,6 +90,14 @@ OMNIVERSE = Profile(
             "path (ovrtx: renderer.step(render_products={path}); Kit: a Hydra texture); "
             "it writes no file, so it needs no productName",
             source=OVRTX_CONFIG_DOC,
+        ),
+        RuleChange(
+            code="CA008",
+            severity=None,
+            why="RTX ignores the camera's shutter:open and shutter:close (Kit lets them be "
+            "set as the schema says, but RTX rendering does not read them), so an inverted "
+            "interval does not black out an RTX image",
+            source=KIT_CAMERAS_DOC,
         ),
     ),
     camera_types=(
