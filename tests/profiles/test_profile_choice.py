@@ -328,6 +328,30 @@ def Scope "Render"
     assert {f.profile for f in plain} == {"generic"}
 
 
+def test_omni_kit_properties_are_no_evidence_of_rtx(tmp_path: Path) -> None:
+    # Kit's render-prim settings are omni:rtx:* (omni.usd.schema.render_settings.rtx);
+    # omni:kit:* (centerOfInterest, cameraLock) are Kit's camera properties.
+    text = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        custom bool omni:kit:cameraLock = 1
+        rel products = </Render/Beauty>
+    }
+    def RenderProduct "Beauty"
+    {
+        token productName = ""
+    }
+}
+"""
+    found = _lint(tmp_path, text)
+    assert {f.profile for f in found} == {"generic"}
+    assert "PR001" in {f.code for f in found}
+    rtx = _lint(tmp_path, text.replace("omni:kit:cameraLock", "omni:rtx:rt:demoire"))
+    assert {f.profile for f in rtx} == {"omniverse"}
+
+
 def test_moonray_and_cycles_namespaces_are_evidence(tmp_path: Path) -> None:
     settings = """#usda 1.0
 def Scope "Render"

@@ -70,7 +70,10 @@ OMNIVERSE = Profile(
     "are GPU buffers addressed by prim path; RTX sensors are OmniLidar / OmniRadar prims "
     "(OV rules).",
     family="OV",
-    namespaces=("omni:rtx:", "omni:kit:"),
+    # Kit's render settings schemas name their properties omni:rtx:*
+    # (RTX_SETTINGS_SCHEMA_DOC); the omni:kit:* properties Kit writes
+    # (centerOfInterest, cameraLock) sit on cameras, which are no evidence.
+    namespaces=("omni:rtx:",),
     api_schemas=("OmniRtx*",),
     scopes=("/Render/OmniverseKit/",),
     evidence_sources=(RTX_SETTINGS_SCHEMA_DOC,),
