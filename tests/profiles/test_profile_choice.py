@@ -239,6 +239,14 @@ def test_profiles_with_evidence_of_their_own_cite_it() -> None:
             assert profile.evidence_sources, name
 
 
+def test_every_renderer_scope_is_named_by_a_cited_source() -> None:
+    # A scope is a prim path a renderer's application writes: some source the
+    # profile cites must show that path.
+    for name, profile in PROFILES.items():
+        for scope in profile.scopes:
+            assert any(scope.rstrip("/") in s for s in profile.evidence_sources), (name, scope)
+
+
 SENSOR_STAGE = """#usda 1.0
 def OmniLidar "Lidar"
 {

@@ -52,6 +52,13 @@ KIT_LAYER_DATA_SRC = (
     'customLayerData cameraSettings.boundCamera = "/OmniverseKit_Persp" for Kit\'s viewport)'
 )
 
+#: Where Kit keeps the render products of its viewports: a stage Kit saved,
+#: in NVIDIA's own repository, holds its viewport's product there.
+KIT_SCOPE_SRC = (
+    "NVIDIA-Omniverse/PhysX ovphysx/tests/data/links_chain_sample.usda (saved by Kit: "
+    "RenderProduct /Render/OmniverseKit/HydraTextures/omni_kit_widget_viewport_ViewportTexture_0)"
+)
+
 _SESSION_CAMERA = (
     "Kit creates its viewport cameras /OmniverseKit_Persp, _Front, _Top and _Right in the "
     "session layer of every stage it opens, so a saved viewport product targets a camera the "
@@ -76,7 +83,7 @@ OMNIVERSE = Profile(
     namespaces=("omni:rtx:",),
     api_schemas=("OmniRtx*",),
     scopes=("/Render/OmniverseKit/",),
-    evidence_sources=(RTX_SETTINGS_SCHEMA_DOC,),
+    evidence_sources=(RTX_SETTINGS_SCHEMA_DOC, KIT_SCOPE_SRC),
     layer_data=(
         Accepted(
             name="cameraSettings:boundCamera",
