@@ -36,8 +36,8 @@ class FrameTokenMissing(Rule):
     (nor its protected form `${F}`).
 
     ## Why is this bad?
-    *"Include $F in the file name to insert the frame number. This is required
-    for rendering animations."* (Houdini docs, Karma Render Settings LOP,
+    *"Include $F in the file name to insert the frame number. This is necessary
+    when rendering animation."* (Houdini docs, Karma Render Settings LOP,
     Output Picture, https://www.sidefx.com/docs/houdini/nodes/lop/karmarendersettings.html).
     husk renders each frame of the range to the product's name; a name with
     neither a frame variable nor a value per frame is overwritten by every

@@ -403,6 +403,17 @@ def test_renderer_rules_cite_their_renderer_and_belong_to_its_family() -> None:
         assert any(s in why for s in ("docs", ".cpp", "arnold-usd")), rule.code
 
 
+def test_ka002_quotes_the_karma_render_settings_page_as_it_reads() -> None:
+    # The Karma Render Settings LOP page, Output Picture, word for word.
+    from usdrender_lint.rules.karma.ka002_frame_token_missing import FrameTokenMissing
+
+    doc = " ".join((FrameTokenMissing.__doc__ or "").split())
+    assert (
+        '"Include $F in the file name to insert the frame number. This is necessary when '
+        'rendering animation."' in doc
+    )
+
+
 def test_config_profile_keys(tmp_path: Path) -> None:
     config = tmp_path / ".usdrender-lint.toml"
     config.write_text(
