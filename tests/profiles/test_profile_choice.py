@@ -177,6 +177,39 @@ def test_omniverse_profile_drops_ca008_as_rtx_ignores_the_shutter(tmp_path: Path
     assert ("CA008", "/Cam") in {(f.code, f.location.path) for f in karma}
 
 
+ACOUSTIC_STAGE = """#usda 1.0
+def OmniAcoustic "Acoustic" (
+    prepend apiSchemas = ["OmniSensorGenericAcousticWpmAPI"]
+)
+{
+}
+def Scope "Render"
+{
+    def RenderProduct "AcousticProduct"
+    {
+        rel camera = </Acoustic>
+        rel orderedVars = </Render/Output>
+    }
+    def RenderVar "Output"
+    {
+        string sourceName = "GenericModelOutput"
+    }
+}
+"""
+
+
+def test_an_rtx_acoustic_sensor_is_a_camera_under_omniverse(tmp_path: Path) -> None:
+    # Isaac Sim docs, RTX Acoustic Sensor: a render product is attached to the
+    # OmniAcoustic prim, as to an OmniLidar or OmniRadar.
+    auto = _lint(tmp_path, ACOUSTIC_STAGE)
+    assert {f.profile for f in auto} == {"omniverse"}
+    assert not any(f.code in ("CA004", "ST010") for f in auto)
+    generic = _lint(tmp_path, ACOUSTIC_STAGE, ("generic", "test"))
+    assert ("CA004", "/Render/AcousticProduct.camera") in {
+        (f.code, f.location.path) for f in generic
+    }
+
+
 def test_kit_scope_is_evidence(tmp_path: Path) -> None:
     findings = _lint(tmp_path, KIT_STAGE)
     reasons = {f.profile_reason for f in findings}
@@ -187,7 +220,7 @@ def test_ca004_names_the_types_the_profile_accepts(tmp_path: Path) -> None:
     text = KIT_STAGE.replace('def OmniLidar "Lidar"', 'def Xform "Lidar"')
     findings = _lint(tmp_path, text)
     (ca004,) = [f for f in findings if f.code == "CA004"]
-    assert "nor OmniLidar, OmniRadar, which this profile accepts" in ca004.message
+    assert "nor OmniLidar, OmniRadar, OmniAcoustic, which this profile accepts" in ca004.message
 
 
 def test_a_prim_shared_with_a_generic_configuration_keeps_its_finding(tmp_path: Path) -> None:

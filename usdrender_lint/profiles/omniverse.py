@@ -19,6 +19,16 @@ ISAAC_RADAR_DOC = (
     "Isaac Sim docs, RTX Radar Sensor "
     "(https://docs.isaacsim.omniverse.nvidia.com/latest/sensors/isaacsim_sensors_rtx_radar.html)"
 )
+ISAAC_ACOUSTIC_DOC = (
+    "Isaac Sim docs, RTX Acoustic Sensor "
+    "(https://docs.isaacsim.omniverse.nvidia.com/latest/sensors/isaacsim_sensors_rtx_acoustic.html)"
+)
+#: The acoustic sensor's own schema (formerly "Ultrasonic"): OmniAcoustic.
+ACOUSTIC_SCHEMA_DOC = (
+    "Omniverse Kit docs, omni.sensors.nv.acoustic, Omniverse Acoustic Extension "
+    "(https://docs.omniverse.nvidia.com/kit/docs/omni.sensors.nv.acoustic/3.0.0/"
+    "acoustic_extension.html)"
+)
 REMIX_PERSP_DOC = (
     "Omniverse Kit docs, RTX Remix lightspeed.event.capture_persp_to_persp "
     "(https://docs.omniverse.nvidia.com/kit/docs/rtx_remix/latest/source/extensions/"
@@ -74,8 +84,8 @@ _SESSION_CAMERA = (
 OMNIVERSE = Profile(
     name="omniverse",
     description="Omniverse RTX (Kit viewports, Isaac Sim and ovrtx sensors): render products "
-    "are GPU buffers addressed by prim path; RTX sensors are OmniLidar / OmniRadar prims "
-    "(OV rules).",
+    "are GPU buffers addressed by prim path; RTX sensors are OmniLidar / OmniRadar / "
+    "OmniAcoustic prims (OV rules).",
     family="OV",
     # Kit's render settings schemas name their properties omni:rtx:*
     # (RTX_SETTINGS_SCHEMA_DOC); the omni:kit:* properties Kit writes
@@ -121,6 +131,13 @@ OMNIVERSE = Profile(
             why="RTX radars are OmniRadar prims that a render product's camera targets",
             source=ISAAC_RADAR_DOC,
         ),
+        Accepted(
+            name="OmniAcoustic",
+            why="RTX acoustic (formerly ultrasonic) sensors are OmniAcoustic prims that a "
+            "render product is attached to; the RTXSensor renderer writes their results to "
+            "its GenericModelOutput AOV",
+            source=ISAAC_ACOUSTIC_DOC,
+        ),
     ),
     runtime_cameras=tuple(
         Accepted(
@@ -144,5 +161,13 @@ OMNIVERSE = Profile(
             "OmniUltrasonic",
             "OmniGeneralSensor",
         )
+    )
+    + (
+        Accepted(
+            name="OmniAcoustic",
+            why="the RTX acoustic sensor type, registered where Kit's acoustic sensor "
+            "extension runs",
+            source=ACOUSTIC_SCHEMA_DOC,
+        ),
     ),
 )
