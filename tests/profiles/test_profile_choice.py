@@ -210,6 +210,30 @@ def test_an_rtx_acoustic_sensor_is_a_camera_under_omniverse(tmp_path: Path) -> N
     }
 
 
+ARNOLD_NO_BLUR = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        int arnold:global:AA_samples = 3
+        uniform bool instantaneousShutter = 1
+    }
+}
+"""
+
+
+def test_arnold_keeps_instantaneous_shutter_which_arnold_usd_reads(tmp_path: Path) -> None:
+    # arnold-usd's USD procedural disables motion blur from instantaneousShutter
+    # and reads no disableMotionBlur: SE007's advice (and fix) would undo it.
+    auto = _lint(tmp_path, ARNOLD_NO_BLUR)
+    assert {f.profile for f in auto} == {"arnold"}
+    assert not any(f.code == "SE007" for f in auto)
+    generic = _lint(tmp_path, ARNOLD_NO_BLUR, ("generic", "test"))
+    assert ("SE007", "/Render/Settings.instantaneousShutter") in {
+        (f.code, f.location.path) for f in generic
+    }
+
+
 def test_kit_scope_is_evidence(tmp_path: Path) -> None:
     findings = _lint(tmp_path, KIT_STAGE)
     reasons = {f.profile_reason for f in findings}

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .model import Accepted, Profile
+from .model import Accepted, Profile, RuleChange
 
 RENDER_DELEGATE_CPP = (
     "arnold-usd libs/render_delegate/render_delegate.cpp (_ParseDelegateRenderProducts)"
@@ -10,6 +10,14 @@ RENDER_DELEGATE_CPP = (
 RENDER_PASS_CPP = "arnold-usd libs/render_delegate/render_pass.cpp (_CreateFilter)"
 READ_OPTIONS_CPP = (
     "arnold-usd libs/translator/reader/read_options.cpp (UsdArnoldReadRenderSettings::Read)"
+)
+#: Where arnold-usd reads instantaneousShutter: the USD procedural (kick) sets
+#: options.ignore_motion_blur when it is true and reads no disableMotionBlur;
+#: the render delegate maps the setting onto ignore_motion_blur as well.
+INSTANTANEOUS_SHUTTER_SRC = (
+    "arnold-usd libs/translator/reader/read_options.cpp (ReadRenderSettings: "
+    "GetInstantaneousShutterAttr sets options.ignore_motion_blur); "
+    "libs/render_delegate/render_delegate.cpp (_SetRenderSetting: instantaneousShutter)"
 )
 #: arnold-usd's schema generator: every typed schema it registers is named
 #: Arnold<NodeEntry> (schemaName = 'Arnold{}'.format(makeCamelCase(entryName))),
@@ -32,6 +40,17 @@ ARNOLD = Profile(
     evidence_sources=(
         SETTINGS_PREFIX,
         f"{SCHEMA_GENERATOR} (API schemas named Arnold<NodeEntry>API)",
+    ),
+    changes=(
+        RuleChange(
+            code="SE007",
+            severity=None,
+            why="arnold-usd still reads instantaneousShutter: true disables motion blur "
+            "(options.ignore_motion_blur), and its USD procedural reads no disableMotionBlur, "
+            "so the attribute is not ignored and replacing it with disableMotionBlur would "
+            "bring motion blur back when kick renders the file",
+            source=INSTANTANEOUS_SHUTTER_SRC,
+        ),
     ),
     prim_types=(
         Accepted(
