@@ -238,3 +238,33 @@ def test_a_cache_file_that_cannot_be_removed_is_an_error_not_a_user_s_file(
         "Operation not permitted\n"
     )
     assert (cache / "CACHEDIR.TAG").is_file()  # still the cache's, for the next clean
+
+
+def test_entries_a_running_check_writes_meanwhile_are_named_so_and_the_cache_stays(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A check running while clean works writes new entries between clean's
+    listing and its removal of the folder: they are the cache's, not "other
+    files", and the folder stays the cache (tagged, ignored by git)."""
+    from usdrender_lint.running import result_cache
+
+    _project(tmp_path)
+    _checked(tmp_path, ".")
+    cache = tmp_path / CACHE_DIR_NAME
+    listing = result_cache._entry_files
+
+    def listed_then_written(folder: Path, stale: bool) -> list:
+        found = listing(folder, stale)
+        (folder / ENTRY).write_text("{}")  # the running check's write, just after
+        return found
+
+    monkeypatch.setattr(result_cache, "_entry_files", listed_then_written)
+    result = invoke_in(tmp_path, "clean")
+    assert result.exit_code == 0, result.output
+    assert "other file" not in result.stdout
+    assert result.stdout.startswith(f"Cleared {CACHE_DIR_NAME} (1 entry, ")
+    assert result.stdout.endswith(
+        "kept the folder: a check running meanwhile wrote 1 new entry into it\n"
+    )
+    assert sorted(p.name for p in cache.iterdir()) == [".gitignore", "CACHEDIR.TAG", ENTRIES_DIR]
+    assert _entries(cache) == [ENTRY]

@@ -25,6 +25,12 @@ def _text(cleaning: Cleaning, stream: TextIO) -> None:
         folder = printable(display_path(str(done.folder)))
         if done.failed:
             stream.write(f"Cleared {folder} ({what}) in part: see the errors below\n")
+        elif done.written and not done.kept:
+            written = f"{done.written} new {'entry' if done.written == 1 else 'entries'}"
+            stream.write(
+                f"Cleared {folder} ({what}); kept the folder: a check running meanwhile "
+                f"wrote {written} into it\n"
+            )
         elif done.kept:
             shown = ", ".join(printable(name) for name in done.kept[:3])
             shown += ", ..." if len(done.kept) > 3 else ""

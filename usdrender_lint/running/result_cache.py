@@ -850,6 +850,9 @@ class Cleared:
     kept: tuple[str, ...]
     #: The cache's own files that could not be removed, each with why.
     failed: tuple[str, ...] = ()
+    #: Entries that appeared while the folder was cleared: a check running
+    #: meanwhile wrote them (so the folder, its tag and .gitignore stay).
+    written: int = 0
 
 
 def is_cache_folder(folder: Path) -> bool:
@@ -864,6 +867,7 @@ class _Clearing:
         self.entries = self.size = 0
         self.kept: list[str] = []
         self.failed: list[str] = []
+        self.written = 0
 
     def remove(self, path: Path, name: str, size: int = -1) -> None:
         try:
@@ -895,29 +899,49 @@ def clear(folder: Path) -> Cleared:
             f"{folder} is not a usdrender-lint cache folder (no CACHEDIR.TAG of ours)"
         )
     done = _Clearing()
+    gitignore = None
     for item in _listing(folder):
         if item.is_dir(follow_symlinks=False) and _ENTRIES_FOLDER.fullmatch(item.name):
             _clear_entries(Path(item.path), f"{item.name}/", done)
-        elif _OWN_TEMPORARY.fullmatch(item.name) or _our_gitignore(item):
+        elif _OWN_TEMPORARY.fullmatch(item.name):
             done.remove(Path(item.path), item.name)
+        elif _our_gitignore(item):
+            gitignore = Path(item.path)
         elif item.name != "CACHEDIR.TAG":
             done.kept.append(item.name)
-    # The tag last: a folder cleared halfway is still recognised as the cache's.
-    if not done.kept and not done.failed:
+    # The .gitignore and the tag last: a folder cleared halfway is still
+    # recognised as the cache's, and one a running check writes into stays
+    # ignored by git.
+    if gitignore is not None and not done.written:
+        done.remove(gitignore, gitignore.name)
+    if not done.kept and not done.failed and not done.written:
         done.remove(folder / "CACHEDIR.TAG", "CACHEDIR.TAG")
         if not done.failed and not folder.is_symlink():
             done.remove_folder(folder, str(folder))
-    return Cleared(folder, done.entries, done.size, tuple(sorted(done.kept)), tuple(done.failed))
+    return Cleared(
+        folder,
+        done.entries,
+        done.size,
+        tuple(sorted(done.kept)),
+        tuple(done.failed),
+        done.written,
+    )
 
 
 def _clear_entries(entries: Path, prefix: str, done: _Clearing) -> None:
     """An entries folder: its entries and interrupted writes, then the folder
     once empty (another file in it is kept, with the folder)."""
-    for _, size, path in _entry_files(entries, True):
+    listed = _entry_files(entries, True)
+    for _, size, path in listed:
         done.remove(path, prefix + path.name, size)
+    removing = {path.name for _, _, path in listed}  # those still here failed
     others = False
     for item in _listing(entries):
-        if ENTRY_NAME.fullmatch(item.name):
+        if ENTRY_NAME.fullmatch(item.name) and item.is_file(follow_symlinks=False):
+            others = True
+            if item.name not in removing:  # new since the listing: a running check's
+                done.written += 1
+        elif ENTRY_NAME.fullmatch(item.name):
             others = True  # not a regular file: not removed, as pruning does
             done.kept.append(prefix + item.name)
         elif _OWN_TEMPORARY.fullmatch(item.name):
