@@ -47,6 +47,22 @@ def test_examples_directory_reports_every_headline_check() -> None:
     assert clean == []
 
 
+def test_check_without_paths_lints_the_working_directory(tmp_path: Path) -> None:
+    """As ruff checks the current directory (and clean cleans it): the same
+    report as ``check .``, folders walked, the configuration found there."""
+    from cli_support import BROKEN, invoke_in
+
+    (tmp_path / "shots").mkdir()
+    (tmp_path / "shots" / "shot.usda").write_text(BROKEN.read_text())
+    (tmp_path / "hidden_wip.usda").write_text(BROKEN.read_text())
+    (tmp_path / ".usdrender-lint.toml").write_text('extend-exclude = ["*_wip.usda"]\n')
+    bare = invoke_in(tmp_path, "check", "--no-cache", "--format", "json")
+    dot = invoke_in(tmp_path, "check", "--no-cache", "--format", "json", ".")
+    assert (bare.exit_code, bare.stderr) == (1, ""), bare.output
+    assert bare.stdout == dot.stdout
+    assert [f["file"] for f in json.loads(bare.stdout)["files"]] == ["./shots/shot.usda"]
+
+
 def test_missing_path_exits_2_and_still_lints_the_others(tmp_path: Path) -> None:
     missing = tmp_path / "nope.usda"
     result = run("--format", "json", str(missing), str(BROKEN))
@@ -247,7 +263,7 @@ def test_help_of_each_reporting_command_gives_its_exit_codes(command: str) -> No
     [
         (["check", "--format", "x", "."], "Invalid value for '--format': 'x' is not one of"),
         (["check", "-j", "0", "."], "Invalid value for '--jobs' / '-j'"),
-        (["check"], "Missing argument 'PATHS...' (see 'usdrender-lint check --help')"),
+        (["spec"], "Missing argument 'PATHS...' (see 'usdrender-lint spec --help')"),
         (["chek", "."], "No such command 'chek'. Did you mean 'check'?"),
         (["--bogus"], "No such option '--bogus' (see 'usdrender-lint --help')"),
         (["rules", "--profile", "zz"], "(see 'usdrender-lint rules --help')"),

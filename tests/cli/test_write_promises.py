@@ -272,8 +272,6 @@ def test_long_file_names_can_be_fixed_and_written(tmp_path: Path, length: int) -
     layer = tmp_path / name
     layer.write_text(SHOT, encoding="utf-8")
     report = tmp_path / ("r" * (length - len(".json")) + ".json")
-    result = run("check", "--isolated", "--fix", "--format", "json", "--output", str(report))
-    assert result.returncode == 2  # no path: usage error, checked below with one
     result = run(
         "check", "--isolated", "--fix", "--format", "json", "--output", str(report), str(layer)
     )

@@ -38,7 +38,7 @@ if TYPE_CHECKING:
 @click.command()
 # readable=False: an unreadable file is reported by the engine, and the others
 # are still linted, instead of click refusing the whole command.
-@click.argument("paths", nargs=-1, required=True, type=click.Path(readable=False))
+@click.argument("paths", nargs=-1, type=click.Path(readable=False))
 @report_format_option()
 @setting_options("check")
 @show_info_option
@@ -141,8 +141,9 @@ def check(
     show_settings: bool,
     **settings: Any,
 ) -> None:
-    """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz);
-    '-' lints one text layer read from standard input (see --stdin-filename).
+    """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz;
+    default: the working directory); '-' lints one text layer read from
+    standard input (see --stdin-filename).
 
     Exit codes: 0 no finding at or above --fail-on; 1 findings at or above it;
     2 the tool could not do its job (bad usage or configuration, a file it could
@@ -152,6 +153,8 @@ def check(
     check_stopped()  # a signal while USD imported its modules
     from ..running.pipeline import Request
 
+    # No path: the working directory, as ruff checks it and as clean cleans it.
+    paths = paths or (".",)
     stdin = _standard_input(paths, stdin_filename)
     if stdin is not None and output_format in ("html", "full"):
         # Their source lines (and html's fix diffs and pictures) are read from the files on disk.
