@@ -288,10 +288,19 @@ def test_output_dash_is_stdout_not_a_file_named_dash(tmp_path: Path, args: tuple
     assert json.loads(dashed.stdout) and not (tmp_path / "-").exists()
 
 
-def _on_a_terminal(cwd: Path, *args: str) -> str:
-    """What a terminal shows for ``usdrender-lint *args`` (stdout and stderr both on it)."""
+def _on_a_terminal(
+    cwd: Path, *args: str, env: dict[str, str] | None = None, columns: int = 0
+) -> str:
+    """What a terminal (``columns`` wide when given) shows for ``usdrender-lint
+    *args`` (stdout and stderr both on it)."""
     leader, follower = os.openpty()
-    env = {**os.environ, "NO_COLOR": "1", "COLUMNS": "200"}
+    if columns:
+        import fcntl
+        import struct
+        import termios
+
+        fcntl.ioctl(follower, termios.TIOCSWINSZ, struct.pack("HHHH", 50, columns, 0, 0))
+    env = env or {**os.environ, "NO_COLOR": "1", "COLUMNS": "200"}
     proc = subprocess.Popen(
         [sys.executable, "-m", "usdrender_lint", *args],
         cwd=cwd,
@@ -321,3 +330,32 @@ def test_a_file_not_linted_reads_once_on_a_terminal(tmp_path: Path, command: str
     # The text report names it; stderr repeats it only for a log or a file report.
     shown = _on_a_terminal(tmp_path, command, "--isolated", "-j1", "nope.usda")
     assert shown.count("no such file") == 1, shown
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="a pseudo-terminal")
+@pytest.mark.parametrize(("columns", "longest"), [(150, 150), (0, None)])
+def test_a_dumb_terminal_wraps_at_its_own_width_not_80(
+    tmp_path: Path, columns: int, longest: int | None
+) -> None:
+    """TERM=dumb (an editor's shell buffer) is as wide as the terminal says, or
+    COLUMNS: rich alone would call it 80 columns wide. Of unknown width, the
+    finding stays one line and the display wraps it."""
+    env = {k: v for k, v in os.environ.items() if k not in ("COLUMNS", "LINES", "NO_COLOR")}
+    env["TERM"] = "dumb"
+    shown = _on_a_terminal(tmp_path, "check", "--isolated", BROKEN, env=env, columns=columns)
+    lines = shown.splitlines()
+    assert "\x1b[" not in shown  # a dumb terminal gets no colour
+    if longest is None:
+        assert not any(line.startswith("    ") for line in lines), shown
+        assert max(len(line) for line in lines) > 150
+    else:
+        assert any(line.startswith("    ") for line in lines), shown  # wrapped...
+        assert 80 < max(len(line) for line in lines) <= longest, shown  # ...at its width
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="a pseudo-terminal")
+def test_a_dumb_terminal_takes_columns_from_the_environment(tmp_path: Path) -> None:
+    env = {k: v for k, v in os.environ.items() if k not in ("LINES", "NO_COLOR")}
+    env.update(TERM="dumb", COLUMNS="120")
+    lines = _on_a_terminal(tmp_path, "check", "--isolated", BROKEN, env=env).splitlines()
+    assert 80 < max(len(line) for line in lines) <= 120

@@ -80,7 +80,15 @@ def terminal_width(stream: TextIO) -> int | None:
         return None
     from rich.console import Console
 
-    return Console(file=stream).width
+    console = Console(file=stream)
+    if not console.is_dumb_terminal:
+        return console.width
+    # rich gives TERM=dumb (an editor's shell or compilation buffer) 80 columns
+    # whatever its size or COLUMNS (rich/console.py, Console.size): take
+    # COLUMNS, else the terminal's own size, else wrap nothing (the display does).
+    import shutil
+
+    return shutil.get_terminal_size((0, 0)).columns or None
 
 
 def write_lines(lines: Iterable[Line], stream: TextIO) -> None:
