@@ -167,3 +167,22 @@ def test_a_wider_per_path_ignore_keeps_st001(tmp_path: Path) -> None:
     assert result.exit_code == 1
     codes = {f["code"] for file in json.loads(result.stdout)["files"] for f in file["findings"]}
     assert codes == {"ST001"}
+
+
+def test_diff_and_write_baseline_together_are_refused_before_anything_is_written(
+    tmp_path: Path,
+) -> None:
+    """--diff's exit code says whether a fix is pending (1), --write-baseline's
+    that the baseline was written (0): one run cannot say both, so it is a
+    usage error, as --baseline with --write-baseline is."""
+    baseline = tmp_path / "baseline.json"
+    result = check("--diff", "--write-baseline", str(baseline), str(INFO_ONLY))
+    assert result.exit_code == 2 and not baseline.exists()
+    assert (result.stdout, result.stderr) == (
+        "",
+        "usdrender-lint: error: use either --diff or --write-baseline, not both: --diff exits "
+        "1 when a fix is pending, --write-baseline exits 0 once written\n",
+    )
+    # Apart, each does its job.
+    assert check("--diff", str(INFO_ONLY)).exit_code == 1
+    assert check("--write-baseline", str(baseline), str(INFO_ONLY)).exit_code == 0

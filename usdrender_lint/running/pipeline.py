@@ -224,6 +224,12 @@ def check_request(request: Request) -> None:
         raise ConfigError(
             "--write-baseline records every finding of a check: run it without --shard"
         )
+    if request.write_baseline and request.fix is not None and not request.fix.write:
+        # Two answers for one exit code: "written" (0) and "a fix is pending" (1).
+        raise ConfigError(
+            "use either --diff or --write-baseline, not both: --diff exits 1 when a fix is "
+            "pending, --write-baseline exits 0 once written"
+        )
     named = [*request.paths]
     if isinstance(request.config, str | os.PathLike):
         named.append(os.fspath(request.config))
