@@ -173,7 +173,40 @@ def _rule_markdown(rule: type, rel: str) -> str:
     return "\n\n".join(parts) + "\n"
 
 
+def internal_error_page() -> str:
+    """UL000's page: the code a rule that raised is reported under, no rule
+    class, but a finding like any other that SARIF and the editors link to."""
+    from usdrender_lint.model import INTERNAL_ERROR_RULE as info
+
+    return f"{RULES_DIR}/{info.code}-{info.name}.md"
+
+
+def _internal_error_markdown(rel: str) -> str:
+    from usdrender_lint.model import INTERNAL_ERROR_RULE as info
+
+    summary, _, body = info.doc.partition("\n")
+    ul = family(info)
+    facts = {
+        "code": f"`{info.code}`",
+        "name": f"`{info.name}`",
+        "default severity": info.severity.value,
+        "fix": info.fix.replace("-", ", "),
+        "family": f"[{ul}]({_rel(rel, RULES_INDEX)}#{ul.lower()})",
+        "runs": "always: it cannot be selected away or ignored",
+    }
+    parts = [
+        GENERATED_NOTE,
+        f"# {info.code} {info.name}",
+        summary.strip(),
+        _table(tuple(facts), [tuple(facts.values())]),
+        body.strip(),
+    ]
+    return "\n\n".join(parts) + "\n"
+
+
 def _rules_index(rules: list[type]) -> str:
+    from usdrender_lint.model import INTERNAL_ERROR_RULE as internal
+
     parts = [
         GENERATED_NOTE,
         "# Rules",
@@ -194,6 +227,18 @@ def _rules_index(rules: list[type]) -> str:
             )
             for r in members
         ]
+        if code == family(internal):
+            page = _rel(RULES_INDEX, internal_error_page())
+            rows.insert(
+                0,
+                (
+                    f"[{internal.code}]({page})",
+                    f"`{internal.name}`",
+                    internal.severity.value,
+                    internal.fix.replace("-", ", "),
+                    internal.summary,
+                ),
+            )
         parts.append(_table(("code", "name", "severity", "fix", "checks"), rows))
     return "\n\n".join(parts) + "\n"
 
@@ -535,6 +580,7 @@ def reference_pages() -> dict[str, str]:
 
     rules = list(_registry().rules)
     pages = {rule_page(r): _rule_markdown(r, rule_page(r)) for r in rules}
+    pages[internal_error_page()] = _internal_error_markdown(internal_error_page())
     pages[RULES_INDEX] = _rules_index(rules)
     for profile in PROFILES.values():
         pages[profile_page(profile.name)] = _profile_markdown(profile, rules)
@@ -548,9 +594,14 @@ def reference_pages() -> dict[str, str]:
 
 
 def _rules_nav(rules: list[type]) -> list[Any]:
+    from usdrender_lint.model import INTERNAL_ERROR_RULE as internal
+
     nav: list[Any] = [RULES_INDEX]
     for code, members in _by_family(rules):
-        nav.append({code: [{f"{r.code} {r.name}": rule_page(r)} for r in members]})
+        pages = [{f"{r.code} {r.name}": rule_page(r)} for r in members]
+        if code == family(internal):
+            pages.insert(0, {f"{internal.code} {internal.name}": internal_error_page()})
+        nav.append({code: pages})
     return nav
 
 

@@ -66,6 +66,25 @@ def test_every_registered_rule_has_its_page(generated: dict[str, str]) -> None:
         assert f"({rule.code}-{rule.name}.md)" in index
 
 
+def test_every_code_a_finding_carries_has_the_page_its_link_names(
+    generated: dict[str, str],
+) -> None:
+    """The editors link each diagnostic's code to its page (rule_doc_url): the
+    internal-error code UL000, which no rule class declares, included, with the
+    text explain prints."""
+    from usdrender_lint.api.docs import DOCS_URL, rule_doc_url
+    from usdrender_lint.model import INTERNAL_ERROR_RULE
+
+    codes = [(r.code, r.name) for r in build_registry().rules]
+    for code, name in [*codes, (INTERNAL_ERROR_RULE.code, INTERNAL_ERROR_RULE.name)]:
+        page = rule_doc_url(code, name).removeprefix(DOCS_URL).rstrip("/") + ".md"
+        assert page in generated, page
+    internal = generated["reference/rules/UL000-internal-error.md"]
+    assert all(line in internal for line in INTERNAL_ERROR_RULE.doc.splitlines())
+    index = generated[hooks.RULES_INDEX]
+    assert "[UL000](UL000-internal-error.md)" in index
+
+
 def test_a_rule_page_shows_its_options_and_its_profiles(generated: dict[str, str]) -> None:
     pr001 = generated["reference/rules/PR001-product-name-empty.md"]
     assert '| `name-template` | string | `""` |' in pr001
