@@ -116,6 +116,28 @@ def test_plugin_that_fails_to_import_stops_the_run(
     assert "Traceback" not in result.output
 
 
+def test_a_rule_without_a_docstring_is_refused_naming_its_plugin_and_class(
+    tmp_path: Path, layer: Path, monkeypatch
+) -> None:
+    """Its docstring is its documentation: without one, rules listed an empty
+    summary and explain printed only the rule's header, in silence."""
+    site = tmp_path / "site"
+    site.mkdir()
+    start = ACME_RULES.index('    """Studio rule')
+    bare = ACME_RULES[:start] + ACME_RULES[ACME_RULES.index('"""\n', start + 8) + 4 :]
+    assert "Studio rule" not in bare
+    install_plugin(site, "bare", "bare_rules", bare, "bare_rules:RULES")
+    monkeypatch.syspath_prepend(str(site))
+    for args in (["check", "--isolated", str(layer)], ["explain", "ACME001"], ["rules"]):
+        result = CliRunner().invoke(cli, args)
+        assert result.exit_code == 2, result.output
+        assert result.stderr.count("\n") == 1, result.stderr
+        assert "rule plugin 'bare' (bare_rules:RULES) failed to load: TypeError: rule class " in (
+            result.stderr
+        )
+        assert "ProductNameHasFrameToken: no docstring" in result.stderr
+
+
 def test_duplicate_code_stops_the_run(tmp_path: Path, layer: Path, monkeypatch) -> None:
     site = tmp_path / "site"
     site.mkdir()

@@ -668,7 +668,9 @@ class _SettingsRule(Rule):
 
 
 def _fix_with(apply, path: Path, **options) -> fixer.FixRun:
-    rule = type("Rule", (_SettingsRule,), {"apply": staticmethod(apply)})
+    rule = type(
+        "Rule", (_SettingsRule,), {"__doc__": _SettingsRule.__doc__, "apply": staticmethod(apply)}
+    )
     return fixer.fix_files(Linter([rule()]), [str(path)], fixer.FixOptions(**options))
 
 
@@ -791,6 +793,7 @@ def _append_rule(code: str, token: str) -> type[Rule]:
         f"Append{token}",
         (Rule,),
         {
+            "__doc__": f"Appends {token}.",
             "code": code,
             "name": f"append-{token}",
             "severity": Severity.ERROR,

@@ -127,6 +127,12 @@ class Rule:
             isinstance(alias, str) and NAME_PATTERN.match(alias) for alias in cls.aliases
         ):
             problems.append(f"aliases {cls.aliases!r} is not a tuple of kebab-case names")
+        if not (cls.__dict__.get("__doc__") or "").strip():
+            # Its first line is what rules, SARIF and the editors show; explain prints it all.
+            problems.append(
+                "no docstring (the rule's documentation: its first line is the summary "
+                "'rules' lists, and 'explain' prints it all)"
+            )
         if problems:
             raise TypeError(f"rule class {cls.__qualname__}: " + "; ".join(problems))
 
