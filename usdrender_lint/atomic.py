@@ -97,7 +97,10 @@ def write_output(path: str | Path, text: str) -> None:
       user's file in a shared folder) it is written in place instead, which
       keeps them; a symbolic link is followed and its target written, the
       link kept; a read-only file is left alone (PermissionError), as the
-      shell's ``>`` leaves it.
+      shell's ``>`` leaves it;
+    - a new file in folders that do not exist yet: they are created first, as
+      ruff creates ``--output-file``'s (astral-sh/ruff#11550), so that
+      ``--output reports/x.sarif`` does not lint everything and then fail.
 
     Raises OSError (BrokenPipeError: the reader went away)."""
     data = text.encode("utf-8")
@@ -118,6 +121,8 @@ def write_output(path: str | Path, text: str) -> None:
     # The rename would replace a file the shell's > may not write.
     if before is not None and is_read_only(target, before):
         raise PermissionError(errno.EACCES, "the file is read-only", str(path))
+    if before is None:
+        os.makedirs(os.path.dirname(target), exist_ok=True)
 
     def write(temporary: Path) -> None:
         with open(temporary, "wb") as stream:

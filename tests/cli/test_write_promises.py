@@ -77,6 +77,33 @@ def test_no_output_onto_an_input(shot: Path, args: list[str], what: str, by_link
 
 
 @pytest.mark.parametrize(
+    "args",
+    [
+        ["check", "--isolated", "--format", "json", "--output", "{}"],
+        ["check", "--isolated", "--write-baseline", "{}"],
+        ["spec", "--isolated", "--format", "json", "--output", "{}"],
+        ["merge", "--format", "json", "--output", "{}"],
+    ],
+)
+def test_an_output_in_folders_that_do_not_exist_yet_creates_them(
+    shot: Path, tmp_path: Path, args: list[str]
+) -> None:
+    """As ruff's --output-file: a CI job's ``--output reports/x.sarif`` linted
+    every file, then failed (exit 2) for want of reports/, after --fix had
+    written its fixes."""
+    target = tmp_path / "reports" / "new" / "out.json"
+    if args[0] == "merge":
+        report = tmp_path / "report.json"
+        run("check", "--isolated", "--format", "json", "--output", str(report), str(shot))
+        inputs = [str(report)]
+    else:
+        inputs = [str(shot)]
+    result = CliRunner().invoke(cli, [a.replace("{}", str(target)) for a in args] + inputs)
+    assert result.exit_code in (0, 1), result.output
+    assert json.loads(target.read_text(encoding="utf-8"))
+
+
+@pytest.mark.parametrize(
     ("args", "message"),
     [
         (["check", "--isolated", "--output", "{}"], "cannot write the report"),

@@ -244,7 +244,8 @@ def test_output_file_gets_the_report_and_stdout_nothing(in_repo, tmp_path, outpu
 
 
 def test_unwritable_output_is_exit_2(tmp_path) -> None:
-    result = check("--output", str(tmp_path / "no" / "report.txt"), str(INVERTED))
+    (tmp_path / "a_file").write_text("")  # a missing folder would be created
+    result = check("--output", str(tmp_path / "a_file" / "report.txt"), str(INVERTED))
     assert result.exit_code == 2
     assert "cannot write the report" in result.stderr and "Traceback" not in result.output
 

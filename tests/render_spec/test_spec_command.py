@@ -185,7 +185,8 @@ def test_output_file_is_written_instead_of_stdout(tmp_path: Path, output_format:
 
 
 def test_unwritable_output_is_one_line(tmp_path: Path) -> None:
-    target = tmp_path / "no_such_folder" / "spec.json"
+    (tmp_path / "a_file").write_text("")
+    target = tmp_path / "a_file" / "spec.json"  # a missing folder would be created
     result = run("--format", "json", "--output", str(target), str(CLEAN))
     assert result.exit_code == 2
     assert result.stderr.startswith(f"usdrender-lint: error: {target}: cannot write")

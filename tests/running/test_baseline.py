@@ -330,7 +330,8 @@ def test_baseline_and_write_baseline_together_is_exit_2(shot, tmp_path) -> None:
 
 
 def test_unwritable_baseline_is_exit_2(shot, tmp_path) -> None:
-    result = check("--write-baseline", str(tmp_path / "no" / "dir" / "b.json"), str(shot))
+    (tmp_path / "a_file").write_text("")  # a missing folder would be created
+    result = check("--write-baseline", str(tmp_path / "a_file" / "b.json"), str(shot))
     assert result.exit_code == 2
     assert "cannot write baseline" in result.stderr
 
