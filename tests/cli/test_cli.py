@@ -267,6 +267,11 @@ def test_help_of_each_reporting_command_gives_its_exit_codes(command: str) -> No
         (["chek", "."], "No such command 'chek'. Did you mean 'check'?"),
         (["--bogus"], "No such option '--bogus' (see 'usdrender-lint --help')"),
         (["rules", "--profile", "zz"], "(see 'usdrender-lint rules --help')"),
+        # A ruff user's options are answered with ours.
+        (["check", "--exit-zero", "."], "No such option '--exit-zero': use --fail-on never,"),
+        (["check", "--output-format", "json", "."], "'--output-format': use --format,"),
+        (["merge", "-o", "x.json", "r.json"], "No such option '-o': use --output,"),
+        (["explain", "-o", "x", "SE003"], "No such option '-o' (see"),  # explain has no --output
     ],
 )
 def test_a_usage_error_is_one_line_as_every_other_error(args: list[str], said: str) -> None:

@@ -52,6 +52,17 @@ class _Group(click.Group):
 _NO_ARGUMENTS: type[Exception] | tuple[()] = getattr(click.exceptions, "NoArgsIsHelpError", ())
 
 
+#: ruff's options a ruff user types, and ours that do the same
+#: (`ruff check --help`, https://docs.astral.sh/ruff/configuration/#full-command-line-interface).
+_RUFF_OPTIONS = {
+    "--exit-zero": "--fail-on never",
+    "-e": "--fail-on never",
+    "--output-format": "--format",
+    "--output-file": "--output",
+    "-o": "--output",
+}
+
+
 @contextmanager
 def _one_line_usage_errors() -> Iterator[None]:
     try:
@@ -61,7 +72,22 @@ def _one_line_usage_errors() -> Iterator[None]:
     except click.UsageError as exc:
         where = exc.ctx.command_path if exc.ctx is not None else "usdrender-lint"
         message = exc.format_message().removesuffix(".")
+        ours = _ours_for_ruffs(exc)
+        if ours is not None:
+            message = f"No such option '{ours[0]}': use {ours[1]}, which does what ruff's does"
         raise ToolError(f"{message} (see '{where} --help')") from None
+
+
+def _ours_for_ruffs(exc: click.UsageError) -> tuple[str, str] | None:
+    """(ruff's option, this command's that does the same) for an unknown option
+    of ruff's; None otherwise."""
+    if not isinstance(exc, click.NoSuchOption) or exc.ctx is None:
+        return None
+    ours = _RUFF_OPTIONS.get(exc.option_name)
+    known = {name for param in exc.ctx.command.params for name in param.opts}
+    if ours is None or ours.split()[0] not in known:
+        return None
+    return exc.option_name, ours
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
