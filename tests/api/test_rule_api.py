@@ -43,6 +43,27 @@ def test_an_abstract_base_needs_no_code_and_its_subclasses_are_checked() -> None
             severity = Severity.INFO
 
 
+def test_a_variant_of_a_documented_rule_keeps_its_documentation() -> None:
+    class Documented(Rule):
+        __doc__ = DOC
+        code = "ZZ974"
+        name = "documented-rule"
+        severity = Severity.INFO
+
+    class Variant(Documented):  # only its code and name change
+        code = "ZZ975"
+        name = "variant-rule"
+
+    assert Variant.summary() == "Test-only rule." == Documented.summary()
+    assert Variant.documentation() == DOC
+    with pytest.raises(TypeError, match="no docstring"):
+
+        class Undocumented(Rule):
+            code = "ZZ976"
+            name = "undocumented-rule"
+            severity = Severity.INFO
+
+
 def test_aliases_are_validated_and_select_the_rule() -> None:
     with pytest.raises(TypeError, match="aliases"):
 

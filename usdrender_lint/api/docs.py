@@ -21,7 +21,7 @@ def rule_doc_url(code: str, name: str) -> str:
 
 
 def rule_doc(rule: type[Rule]) -> str:
-    return inspect.cleandoc(rule.__doc__ or "")
+    return inspect.cleandoc(rule.documentation())
 
 
 def sections(rule: type[Rule]) -> dict[str, str]:

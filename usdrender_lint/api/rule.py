@@ -127,7 +127,7 @@ class Rule:
             isinstance(alias, str) and NAME_PATTERN.match(alias) for alias in cls.aliases
         ):
             problems.append(f"aliases {cls.aliases!r} is not a tuple of kebab-case names")
-        if not (cls.__dict__.get("__doc__") or "").strip():
+        if not cls.documentation():
             # Its first line is what rules, SARIF and the editors show; explain prints it all.
             problems.append(
                 "no docstring (the rule's documentation: its first line is the summary "
@@ -142,9 +142,22 @@ class Rule:
         self.options = options
 
     @classmethod
+    def documentation(cls) -> str:
+        """The rule's docstring: its own, else that of the nearest rule class it
+        extends (a variant that changes only its code and name), never Rule's."""
+        for klass in cls.__mro__:
+            if klass is Rule:
+                break
+            doc = klass.__dict__.get("__doc__")
+            if doc and doc.strip():
+                return doc
+        return ""
+
+    @classmethod
     def summary(cls) -> str:
         """The first line of the docstring."""
-        return (cls.__doc__ or "").strip().splitlines()[0] if cls.__doc__ else ""
+        doc = cls.documentation().strip()
+        return doc.splitlines()[0] if doc else ""
 
     def check_stage(self, ctx: Context) -> Iterable[Diagnostic]:
         """Called once per stage, after the traversal."""
