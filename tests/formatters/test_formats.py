@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -14,6 +15,7 @@ from usdrender_lint.formatters import FormatOptions
 from usdrender_lint.formatters.github import GithubFormatter, escape_data, escape_property
 from usdrender_lint.formatters.sarif import (
     DESCRIPTION_LIMIT,
+    FINGERPRINT_KEY,
     artifact_location,
     description,
     report_to_sarif,
@@ -165,6 +167,48 @@ def test_sarif_usdz_layer_is_the_package(tmp_path) -> None:
     assert run["results"][0]["level"] == "warning"
     physical = run["results"][0]["locations"][0]["physicalLocation"]
     assert physical["artifactLocation"]["uri"] == "a.usdz"
+
+
+def _fingerprints(*args: str) -> list[tuple[str, str, dict]]:
+    run = _sarif(*args)["runs"][0]
+    return [
+        (
+            result["ruleId"],
+            result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"],
+            result["partialFingerprints"],
+        )
+        for result in run["results"]
+    ]
+
+
+def test_sarif_results_carry_stable_fingerprints(tmp_path, monkeypatch) -> None:
+    """Code scanning tracks an alert across commits by partialFingerprints:
+    one per result, the GitLab report's value, the same on another checkout
+    and after lines are added above the finding, distinct for identical
+    findings."""
+    for name in ("checkout", "clone"):
+        shutil.copytree(SE003, tmp_path / name / "SE003")
+    monkeypatch.chdir(tmp_path / "checkout")
+    first = _fingerprints("--select", "SE003", "SE003")
+    assert len(first) > 2
+    assert all(list(prints) == [FINGERPRINT_KEY] for _code, _uri, prints in first)
+    values = [prints[FINGERPRINT_KEY] for _code, _uri, prints in first]
+    assert len(set(values)) == len(values)
+    gitlab = json.loads(check("--format", "gitlab", "--select", "SE003", "SE003").stdout)
+    assert values == [issue["fingerprint"] for issue in gitlab]
+    monkeypatch.chdir(tmp_path / "clone")
+    assert _fingerprints("--select", "SE003", "SE003") == first
+    # Comments above every finding: lines move, alerts stay.
+    for layer in Path("SE003").glob("*.usda"):
+        text = layer.read_text()
+        header, _newline, rest = text.partition("\n")
+        layer.write_text(f"{header}\n# a note\n# another\n{rest}")
+    assert _fingerprints("--select", "SE003", "SE003") == first
+    # Two identical findings: two alerts.
+    finding = Finding("SE003", "d", Severity.ERROR, "m", Location("a.usda", "/R", "a.usda", 3))
+    report = Report((FileResult("a.usda", findings=(finding, finding)),))
+    one, two = report_to_sarif(report, FormatOptions(), tmp_path)["runs"][0]["results"]
+    assert one["partialFingerprints"] != two["partialFingerprints"]
 
 
 # -- GitHub -----------------------------------------------------------------------

@@ -12,12 +12,13 @@ https://github.com/codeclimate/platform/blob/master/spec/analyzers/SPEC.md#issue
   relative to the working directory, so run from the repository root; the
   line is that layer's when known, else 1 (GitLab wants a line; a whole-file
   finding sits at the file's start).
-- The fingerprint is a SHA-256 of the rule code, the linted file and the layer
-  (both relative), the prim or property path and the message, with the
-  occurrence index of an identical finding: GitLab shows findings with the
-  same fingerprint as one, and compares a merge request's with its target
-  branch's by it. The line is left out, so an edit above a finding does not
-  make it new.
+- The fingerprint (:mod:`~usdrender_lint.formatters.fingerprints`, the value
+  the SARIF report's ``partialFingerprints`` carry) is a SHA-256 of the rule
+  code, the linted file and the layer (both relative), the prim or property
+  path and the message, with the occurrence index of an identical finding:
+  GitLab shows findings with the same fingerprint as one, and compares a merge
+  request's with its target branch's by it. The line is left out, so an edit
+  above a finding does not make it new.
 - Info findings only with --show-info, as in the text and GitHub reports. A file
   that could not be linted is a ``blocker`` issue under ST001, the code
   ``usdrender-lint`` gives a file no rule could check (running/documents.py).
@@ -27,12 +28,12 @@ https://github.com/codeclimate/platform/blob/master/spec/analyzers/SPEC.md#issue
 
 from __future__ import annotations
 
-import hashlib
 from typing import Any, TextIO
 
 from ..model import FileResult, Finding, Report, Severity
 from ..paths import display_path, layer_file, printable, relative_in
 from . import FormatOptions, json_text
+from .fingerprints import Occurrences, fingerprint
 
 #: GitLab lists the five severities and orders findings by them; Code Climate
 #: calls them the issue's "potential impact"; neither says more. An error fails
@@ -45,27 +46,6 @@ NOT_LINTED_SEVERITY = "blocker"
 NOT_LINTED_CODE = "ST001"
 
 
-def fingerprint(*parts: str, occurrence: int = 0) -> str:
-    """A SHA-256 hex digest of ``parts`` and the occurrence index. A lone
-    surrogate (a byte of a name that is not UTF-8) is hashed as its code
-    point: the same on every run, and never an error."""
-    key = "\0".join((*parts, str(occurrence)))
-    return hashlib.sha256(key.encode("utf-8", "surrogatepass")).hexdigest()
-
-
-class Occurrences:
-    """How many times each key came before: two identical findings (the same
-    key) get different fingerprints by it, and the same ones on every run."""
-
-    def __init__(self) -> None:
-        self._seen: dict[tuple[str, ...], int] = {}
-
-    def __call__(self, key: tuple[str, ...]) -> int:
-        count = self._seen.get(key, 0)
-        self._seen[key] = count + 1
-        return count
-
-
 def _issue(finding: Finding, occurrences: Occurrences) -> dict[str, Any]:
     loc = finding.location
     layer = layer_file(loc.layer)
@@ -75,13 +55,12 @@ def _issue(finding: Finding, occurrences: Occurrences) -> dict[str, Any]:
     # The layer may be a sublayer of several stages: say which one.
     seen_from = f" (stage {stage})" if path != stage else ""
     description = f"{finding.code} {where}{finding.message} [{finding.name}]{seen_from}"
-    key = (finding.code, stage, path, loc.path or "", finding.message)
     line = loc.line if layer is not None and loc.line else 1
     return {
         # Code Climate wants one line: controls (newlines too) are escaped.
         "description": printable(description),
         "check_name": finding.code,
-        "fingerprint": fingerprint(*key, occurrence=occurrences(key)),
+        "fingerprint": occurrences.fingerprint(finding),
         "severity": SEVERITY[finding.severity],
         "location": {"path": path, "lines": {"begin": line}},
     }

@@ -5,6 +5,16 @@ A result's physical location is the layer holding the offending opinion (else
 the linted file) with its line when known (else line 1: code scanning
 requires a line), as a URI relative to the working directory (``uriBaseId``
 SRCROOT); its logical location is the prim or property path.
+
+Each result carries ``partialFingerprints`` {FINGERPRINT_KEY: the finding's
+fingerprint} (:mod:`~usdrender_lint.formatters.fingerprints`, the GitLab
+report's): code scanning matches results across commits and branches by their
+fingerprints, and an upload without them (the REST API, or another uploader
+than ``upload-sarif``, which computes a line hash only for text files) shows a
+moved finding as a new alert ("SARIF support for code scanning", "Providing
+data to track code scanning alerts across runs":
+https://docs.github.com/en/code-security/code-scanning/integrating-with-code-scanning/sarif-support-for-code-scanning).
+It leaves the line out, so an edit above a finding keeps its alert.
 """
 
 from __future__ import annotations
@@ -17,6 +27,7 @@ from urllib.parse import quote_from_bytes
 from ..model import INTERNAL_ERROR_RULE, Finding, Report, RuleInfo, Severity
 from ..paths import layer_file, printable
 from . import FormatOptions, json_text, statistics
+from .fingerprints import Occurrences
 
 SARIF_VERSION = "2.1.0"
 SARIF_SCHEMA = (
@@ -28,6 +39,10 @@ _LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "
 #: characters ("SARIF support for code scanning", reportingDescriptor); the
 #: documentation in full is the rule's help, which has no such limit.
 DESCRIPTION_LIMIT = 1024
+#: The key of the finding's fingerprint in ``partialFingerprints``: a versioned
+#: hierarchical string (SARIF 2.1.0, result.partialFingerprints); never ``primaryLocationLineHash``,
+#: the line hash upload-sarif computes and checks against what it finds there.
+FINGERPRINT_KEY = "usdrenderLintFinding/v1"
 
 
 def artifact_location(path: Path, root: Path) -> dict[str, str]:
@@ -77,7 +92,7 @@ def _rules(report: Report) -> list[RuleInfo]:
     return sorted(rules.values(), key=lambda rule: rule.code)
 
 
-def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
+def _result(finding: Finding, index: int, root: Path, occurrences: Occurrences) -> dict[str, Any]:
     loc = finding.location
     result: dict[str, Any] = {
         "ruleId": finding.code,
@@ -85,6 +100,7 @@ def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
         "level": _LEVEL[finding.severity],
         # A viewer prints the text: controls escaped, its length bounded (JSON keeps it).
         "message": {"text": printable(finding.message, keep="\n")},
+        "partialFingerprints": {FINGERPRINT_KEY: occurrences.fingerprint(finding)},
     }
     location: dict[str, Any] = {}
     file = layer_file(loc.layer) or layer_file(loc.file)
@@ -125,6 +141,7 @@ def _result(finding: Finding, index: int, root: Path) -> dict[str, Any]:
 def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[str, Any]:
     rules = _rules(report)
     index = {rule.code: position for position, rule in enumerate(rules)}
+    occurrences = Occurrences()
     notifications = [
         {
             "level": "error",
@@ -152,7 +169,7 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
                 "toolExecutionNotifications": notifications,
             }
         ],
-        "results": [_result(f, index[f.code], root) for f in report.findings],
+        "results": [_result(f, index[f.code], root, occurrences) for f in report.findings],
     }
     if options.statistics:
         run["properties"] = {"statistics": statistics(report)}
