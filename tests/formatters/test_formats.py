@@ -152,6 +152,21 @@ def test_sarif_describes_codes_without_a_rule_and_files_outside_the_root(tmp_pat
     }
 
 
+def test_sarif_run_from_the_root_folder_has_a_file_uri_base(tmp_path) -> None:
+    # Run from / (a container's default): the files are below it, relative to file:///.
+    finding = Finding("SE003", "d", Severity.ERROR, "m", Location(str(tmp_path / "a b.usda")))
+    report = Report((FileResult(str(tmp_path / "a b.usda"), findings=(finding,)),))
+    run = report_to_sarif(report, FormatOptions(), Path("/"))["runs"][0]
+    assert run["originalUriBaseIds"] == {"SRCROOT": {"uri": "file:///"}}
+    location = run["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]
+    assert location["uriBaseId"] == "SRCROOT"
+    resolved = run["originalUriBaseIds"]["SRCROOT"]["uri"] + location["uri"]
+    assert resolved == (tmp_path / "a b.usda").as_uri()
+    assert report_to_sarif(report, FormatOptions(), tmp_path)["runs"][0]["originalUriBaseIds"] == {
+        "SRCROOT": {"uri": tmp_path.as_uri() + "/"}
+    }
+
+
 def test_sarif_usdz_layer_is_the_package(tmp_path) -> None:
     finding = Finding(
         "SE003",

@@ -55,6 +55,13 @@ def artifact_location(path: Path, root: Path) -> dict[str, str]:
     return {"uri": quote_from_bytes(os.fsencode(relative.as_posix())), "uriBaseId": SRCROOT}
 
 
+def folder_uri(folder: Path) -> str:
+    """``folder``'s file URI ending in ``/``, as SARIF wants a base URI: the
+    root folder is ``file:///`` (not ``file:/``, stripping the URI's own slashes)."""
+    uri = folder.as_uri()
+    return uri if uri.endswith("/") else uri + "/"
+
+
 def description(text: str) -> str:
     """``text`` cut to DESCRIPTION_LIMIT characters at a word, marked ``…``."""
     if len(text) <= DESCRIPTION_LIMIT:
@@ -162,7 +169,7 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
                 "rules": [_descriptor(rule) for rule in rules],
             }
         },
-        "originalUriBaseIds": {SRCROOT: {"uri": root.as_uri().rstrip("/") + "/"}},
+        "originalUriBaseIds": {SRCROOT: {"uri": folder_uri(root)}},
         "invocations": [
             {
                 "executionSuccessful": not notifications,
