@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import os
 import shutil
 from pathlib import Path
 
@@ -265,23 +266,53 @@ def test_github_annotations(tmp_path, monkeypatch) -> None:
         )
     )
     lines = _github(report)
+    here = escape_property(str(tmp_path))
     assert lines == [
-        "::error file=lay%2Cer%3A1.usda,line=12,title=SE003::"
+        f"::error file={here}/lay%2Cer%3A1.usda,line=12,title=SE003::"
         "/R/S.dataWindowNDC: bad 100%25%0Awindow [data-window-malformed]",
-        "::warning file=shot.usda,title=CA006::/R/S: w [aspect]",
-        "::error file=gone.usda::could not be linted: gone.usda: no such file",
+        f"::warning file={here}/shot.usda,title=CA006::/R/S: w [aspect]",
+        f"::error file={here}/gone.usda::could not be linted: gone.usda: no such file",
     ]
     assert (
         _github(report, show_info=True)[2]
-        == "::notice file=lay%2Cer%3A1.usda,title=ST003::i [info-rule]"
+        == f"::notice file={here}/lay%2Cer%3A1.usda,title=ST003::i [info-rule]"
     )
+
+
+def _annotated_files(stdout: str) -> set[str]:
+    """The files the runner annotates: it maps an absolute path below the
+    workspace onto the repository and reads any other as relative to it
+    (IssueCommandExtension in actions/runner's ActionCommandManager.cs)."""
+    files = set()
+    for line in stdout.splitlines():
+        given = line.split("file=", 1)[1].split(",", 1)[0].split("::", 1)[0]
+        given = given.replace("%3A", ":").replace("%2C", ",").replace("%25", "%")
+        files.add(os.path.relpath(given, REPO) if os.path.isabs(given) else given)
+    return files
+
+
+@pytest.mark.parametrize("where", ["tests/rules", "/"])
+def test_github_annotates_the_repository_file_from_any_working_directory(
+    monkeypatch, where
+) -> None:
+    # A step with working-directory: set runs from a subfolder of the checkout.
+    monkeypatch.chdir(REPO)
+    from_root = _annotated_files(
+        check("--format", "github", "--select", "SE003", str(SE003)).stdout
+    )
+    assert len(from_root) > 3
+    assert all(f.startswith("tests/rules/SE003_data_window_malformed/") for f in from_root)
+    monkeypatch.chdir(REPO / where)
+    result = check("--format", "github", "--select", "SE003", str(SE003))
+    assert result.exit_code == 1, result.output
+    assert _annotated_files(result.stdout) == from_root
 
 
 def test_github_format_from_the_command_line(in_repo) -> None:
     result = check("--format", "github", "--select", "SE003", str(INVERTED))
     assert result.exit_code == 1
     assert result.stdout == (
-        "::error file=tests/rules/SE003_data_window_malformed/fail_inverted.usda,line=8,"
+        f"::error file={escape_property(str(INVERTED))},line=8,"
         "title=SE003::/Render/Settings.dataWindowNDC: "
         + result.stdout.split("dataWindowNDC: ", 1)[1]
     )

@@ -12,6 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
+from usdrender_lint.formatters.github import escape_property
 
 REPO = Path(__file__).parents[2]
 SHOT = REPO / "examples" / "broken_shot"
@@ -63,7 +64,10 @@ def test_formats_name_the_same_files_as_json(linked) -> None:
     }
     assert {issue["location"]["path"] for issue in gitlab} == layers | {"gone.usda"}
     assert uris == layers
-    assert all(f"file={layer}," in github for layer in layers)
+    # An annotation's file is absolute (the runner shows it relative to the
+    # repository), named by the link too.
+    repo = linked / "repo"
+    assert all(f"file={escape_property(str(repo / layer))}," in github for layer in layers)
     notice = sarif["runs"][0]["invocations"][0]["toolExecutionNotifications"]
     assert [n["locations"][0]["physicalLocation"]["artifactLocation"] for n in notice] == [
         {"uri": "gone.usda", "uriBaseId": "SRCROOT"}

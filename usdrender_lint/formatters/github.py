@@ -2,10 +2,17 @@
 
 ``::error file=F,line=N,title=CODE::message`` (``warning`` / ``notice`` by
 severity; info findings only with --show-info, as in the text report). The
-file is the layer holding the offending opinion, relative to the working
-directory; the line is given only when known. Escaping follows the Actions
-toolkit: ``%``, CR and LF in the message; those plus ``:`` and ``,`` in
-property values.
+file is the layer holding the offending opinion, as an absolute path; the
+line is given only when known. Escaping follows the Actions toolkit: ``%``,
+CR and LF in the message; those plus ``:`` and ``,`` in property values.
+
+Absolute, because the runner maps an absolute ``file`` below the workspace
+onto the repository (relative to it, a container's path translated first)
+and passes any other as it is, read as relative to the repository's root
+(``IssueCommandExtension.ProcessCommand``,
+https://github.com/actions/runner/blob/main/src/Runner.Worker/ActionCommandManager.cs):
+a path relative to the working directory would annotate the wrong file, or
+none, in a step run from a subfolder (``working-directory:``).
 """
 
 from __future__ import annotations
@@ -13,9 +20,12 @@ from __future__ import annotations
 from typing import TextIO
 
 from ..model import Finding, Report, Severity
-from ..paths import display_path, layer_file, printable
+from ..paths import layer_file, printable
 from . import FormatOptions, statistics_lines
 
+#: How the report names standard input (running/standard_input.py, not
+#: imported: the formatter loads without the engine).
+STDIN = "-"
 _COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 
 
@@ -39,14 +49,22 @@ def command(name: str, message: str, **properties: object) -> str:
     return f"::{name}{' ' + given if given else ''}::{escape_data(message)}"
 
 
+def workspace_path(name: str) -> str:
+    """The file ``name`` (a layer identifier) absolute, as the runner maps it
+    onto the repository; standard input (``-``) stays as it is."""
+    file = layer_file(name) if name != STDIN else None
+    return str(file) if file is not None else name
+
+
 def annotation(finding: Finding) -> str:
     loc = finding.location
     text = f"{loc.path}: {finding.message}" if loc.path else finding.message
-    line = loc.line if layer_file(loc.layer) and loc.line else None
+    in_layer = loc.layer is not None and layer_file(loc.layer) is not None
+    line = loc.line if in_layer and loc.line else None
     return command(
         _COMMAND[finding.severity],
         f"{text} [{finding.name}]",
-        file=display_path(str(layer_file(loc.layer) or loc.file)),
+        file=workspace_path(loc.layer if loc.layer is not None and in_layer else loc.file),
         line=line,
         col=loc.column if line else None,
         title=finding.code,
@@ -63,7 +81,7 @@ class GithubFormatter:
         for result in report.files:
             if result.status != "linted":
                 message = f"could not be linted: {result.error or 'failed'}"
-                stream.write(command("error", message, file=display_path(result.file)) + "\n")
+                stream.write(command("error", message, file=workspace_path(result.file)) + "\n")
             for finding in result.findings:
                 if options.show_info or finding.severity != Severity.INFO:
                     stream.write(annotation(finding) + "\n")
