@@ -26,9 +26,10 @@ def layer_file(identifier: str | None) -> Path | None:
         return Path(identifier)
 
 
-def display_path(path: str | None) -> str:
-    """A path relative to the working directory when it is below it. Symbolic
-    links are not followed: a link is named as the user named it."""
+def display_path(path: str | None, base: str | None = None) -> str:
+    """A path relative to ``base`` (the working directory by default) when it
+    is below it. Symbolic links are not followed: a link is named as the user
+    named it."""
     if not path:
         return ""
     try:
@@ -36,8 +37,24 @@ def display_path(path: str | None) -> str:
     except OSError:  # the working directory is gone, or too long to name
         return path
     absolute = os.path.abspath(os.path.join(cwd, path))
-    prefix = cwd.rstrip(os.sep) + os.sep
+    prefix = (base or cwd).rstrip(os.sep) + os.sep
     return absolute[len(prefix) :] if absolute.startswith(prefix) else path
+
+
+def repository_root() -> str | None:
+    """The root of the Git work tree the working directory is in (the nearest
+    folder up holding ``.git``), or None outside one: what code scanning and
+    GitLab read a report's relative paths against."""
+    try:
+        folder = os.getcwd()
+    except OSError:
+        return None
+    while not os.path.exists(os.path.join(folder, ".git")):
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return None
+        folder = parent
+    return folder
 
 
 def relative_in(text: str, cwd: str | None = None) -> str:

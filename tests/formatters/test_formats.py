@@ -153,6 +153,28 @@ def test_sarif_describes_codes_without_a_rule_and_files_outside_the_root(tmp_pat
     }
 
 
+@pytest.mark.parametrize("where", ["assets", "assets/SE003"])
+def test_sarif_names_files_from_the_repository_root_in_a_subfolder(
+    tmp_path, monkeypatch, where
+) -> None:
+    """Code scanning reads a relative URI as relative to the repository's root:
+    run from a subfolder of the checkout, the report is the one from its root."""
+    checkout = tmp_path / "checkout"
+    shutil.copytree(SE003, checkout / "assets" / "SE003")
+    (checkout / ".git").mkdir()  # a work tree's root, as git init makes it
+    monkeypatch.chdir(checkout)
+    from_root = _sarif("--select", "SE003", "assets/SE003")["runs"][0]
+    uris = {
+        result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
+        for result in from_root["results"]
+    }
+    assert uris and all(uri.startswith("assets/SE003/") for uri in uris)
+    monkeypatch.chdir(checkout / where)
+    run = _sarif("--select", "SE003", str(checkout / "assets" / "SE003"))["runs"][0]
+    assert run["originalUriBaseIds"] == {"SRCROOT": {"uri": checkout.resolve().as_uri() + "/"}}
+    assert run["results"] == from_root["results"]
+
+
 def test_sarif_run_from_the_root_folder_has_a_file_uri_base(tmp_path) -> None:
     # Run from / (a container's default): the files are below it, relative to file:///.
     finding = Finding("SE003", "d", Severity.ERROR, "m", Location(str(tmp_path / "a b.usda")))

@@ -3,8 +3,8 @@ findings from one commit to the next: GitLab Code Quality's ``fingerprint``
 and SARIF's ``partialFingerprints`` carry the same value.
 
 A SHA-256 of the rule code, the linted file and the layer holding the opinion
-(both as the report names them: relative to the working directory, so the same
-on every checkout), the prim or property path and the message, with the
+(both relative to the folder the report names files from: the same on every
+checkout), the prim or property path and the message, with the
 occurrence index of an identical finding. The line is left out, so an edit
 above a finding does not make it new.
 """
@@ -25,18 +25,21 @@ def fingerprint(*parts: str, occurrence: int = 0) -> str:
     return hashlib.sha256(key.encode("utf-8", "surrogatepass")).hexdigest()
 
 
-def finding_key(finding: Finding) -> tuple[str, ...]:
-    """What tells findings apart: code, stage, layer, prim path and message."""
+def finding_key(finding: Finding, base: str | None = None) -> tuple[str, ...]:
+    """What tells findings apart: code, stage, layer (the files relative to
+    ``base``, by default the working directory), prim path and message."""
     loc = finding.location
-    layer = display_path(str(layer_file(loc.layer) or loc.file))
-    return (finding.code, display_path(loc.file), layer, loc.path or "", finding.message)
+    layer = display_path(str(layer_file(loc.layer) or loc.file), base)
+    return (finding.code, display_path(loc.file, base), layer, loc.path or "", finding.message)
 
 
 class Occurrences:
     """How many times each key came before: two identical findings (the same
     key) get different fingerprints by it, and the same ones on every run."""
 
-    def __init__(self) -> None:
+    def __init__(self, base: str | None = None) -> None:
+        #: The folder the fingerprinted paths are relative to (None: the working directory).
+        self.base = base
         self._seen: dict[tuple[str, ...], int] = {}
 
     def __call__(self, key: tuple[str, ...]) -> int:
@@ -46,5 +49,5 @@ class Occurrences:
 
     def fingerprint(self, finding: Finding) -> str:
         """The finding's fingerprint, counting it as one more occurrence."""
-        key = finding_key(finding)
+        key = finding_key(finding, self.base)
         return fingerprint(*key, occurrence=self(key))

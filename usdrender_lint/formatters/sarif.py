@@ -3,8 +3,14 @@
 Each rule that ran is a ``reportingDescriptor`` with its docstring as help.
 A result's physical location is the layer holding the offending opinion (else
 the linted file) with its line when known (else line 1: code scanning
-requires a line), as a URI relative to the working directory (``uriBaseId``
-SRCROOT); its logical location is the prim or property path.
+requires a line), as a URI relative to the root of the Git work tree the
+working directory is in, else to the working directory (``uriBaseId``
+SRCROOT, which ``originalUriBaseIds`` names); its logical location is the prim
+or property path. Code scanning reads a relative URI as relative to the
+repository's root whatever its ``uriBaseId`` ("SARIF support for code
+scanning", "Source file locations":
+https://docs.github.com/en/code-security/reference/code-scanning/sarif-files/sarif-support),
+so a run from a subfolder of the checkout names the files as one from its root.
 
 Each result carries ``partialFingerprints`` {FINGERPRINT_KEY: the finding's
 fingerprint} (:mod:`~usdrender_lint.formatters.fingerprints`, the GitLab
@@ -25,7 +31,7 @@ from typing import Any, TextIO
 from urllib.parse import quote_from_bytes
 
 from ..model import INTERNAL_ERROR_RULE, Finding, Report, RuleInfo, Severity
-from ..paths import layer_file, printable
+from ..paths import layer_file, printable, repository_root
 from . import FormatOptions, json_text, statistics
 from .fingerprints import Occurrences
 
@@ -148,7 +154,7 @@ def _result(finding: Finding, index: int, root: Path, occurrences: Occurrences) 
 def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[str, Any]:
     rules = _rules(report)
     index = {rule.code: position for position, rule in enumerate(rules)}
-    occurrences = Occurrences()
+    occurrences = Occurrences(str(root))
     notifications = [
         {
             "level": "error",
@@ -188,4 +194,5 @@ class SarifFormatter:
     reads_configuration = False
 
     def render(self, report: Report, stream: TextIO, options: FormatOptions) -> None:
-        stream.write(json_text(report_to_sarif(report, options, Path.cwd().resolve())))
+        root = repository_root() or os.getcwd()
+        stream.write(json_text(report_to_sarif(report, options, Path(root).resolve())))
