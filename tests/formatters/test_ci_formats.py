@@ -165,6 +165,22 @@ def test_gitlab_fingerprints_are_the_same_on_every_run_and_checkout(
     assert first == fingerprints(*named)
 
 
+@pytest.mark.parametrize("where", ["broken_shot", "SE003_data_window_malformed"])
+def test_gitlab_names_files_from_the_repository_root_in_a_subfolder(
+    workspace, monkeypatch, where
+) -> None:
+    """GitLab reads location.path as "a relative path in the repository": a job
+    run from a subfolder of the checkout writes the report of its root."""
+    (workspace / ".git").mkdir()  # a work tree's root, as git init makes it
+    named = [str(workspace / target) for target in TARGETS]
+    from_root = json.loads(run("gitlab", *named))
+    paths = {issue["location"]["path"] for issue in from_root}
+    assert "broken_shot/shot.usda" in paths
+    assert all(path.startswith(TARGETS) for path in paths)
+    monkeypatch.chdir(workspace / where)
+    assert json.loads(run("gitlab", *named)) == from_root
+
+
 def test_gitlab_identical_findings_get_distinct_stable_fingerprints() -> None:
     issues = json.loads(render("gitlab", _twice()))
     assert len(issues) == 2 and issues[0]["fingerprint"] != issues[1]["fingerprint"]

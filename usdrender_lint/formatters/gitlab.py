@@ -9,9 +9,11 @@ format"; Code Climate's issue:
 https://github.com/codeclimate/platform/blob/master/spec/analyzers/SPEC.md#issues).
 
 - The path is the layer holding the offending opinion (else the linted file),
-  relative to the working directory, so run from the repository root; the
-  line is that layer's when known, else 1 (GitLab wants a line; a whole-file
-  finding sits at the file's start).
+  relative to the root of the Git work tree the working directory is in (else
+  to the working directory), as GitLab reads it ("a relative path in the
+  repository"), so a job run from a subfolder names the files as one run from
+  the root; the line is that layer's when known, else 1 (GitLab wants a line;
+  a whole-file finding sits at the file's start).
 - The fingerprint (:mod:`~usdrender_lint.formatters.fingerprints`, the value
   the SARIF report's ``partialFingerprints`` carry) is a SHA-256 of the rule
   code, the linted file and the layer (both relative), the prim or property
@@ -31,7 +33,7 @@ from __future__ import annotations
 from typing import Any, TextIO
 
 from ..model import FileResult, Finding, Report, Severity
-from ..paths import display_path, layer_file, printable, relative_in
+from ..paths import display_path, layer_file, printable, relative_in, repository_root
 from . import FormatOptions, json_text
 from .fingerprints import Occurrences, fingerprint
 
@@ -49,8 +51,8 @@ NOT_LINTED_CODE = "ST001"
 def _issue(finding: Finding, occurrences: Occurrences) -> dict[str, Any]:
     loc = finding.location
     layer = layer_file(loc.layer)
-    path = display_path(str(layer or loc.file))
-    stage = display_path(loc.file)
+    path = display_path(str(layer or loc.file), occurrences.base)
+    stage = display_path(loc.file, occurrences.base)
     where = f"{loc.path}: " if loc.path else ""
     # The layer may be a sublayer of several stages: say which one.
     seen_from = f" (stage {stage})" if path != stage else ""
@@ -67,7 +69,7 @@ def _issue(finding: Finding, occurrences: Occurrences) -> dict[str, Any]:
 
 
 def _not_linted(result: FileResult, occurrences: Occurrences) -> dict[str, Any]:
-    path = display_path(result.file)
+    path = display_path(result.file, occurrences.base)
     # Relative as the findings' messages are (check.emit_report), for the fingerprint.
     reason = relative_in(result.error or f"{result.file}: could not be linted")
     key = (NOT_LINTED_CODE, path, reason)
@@ -81,7 +83,8 @@ def _not_linted(result: FileResult, occurrences: Occurrences) -> dict[str, Any]:
 
 
 def report_to_gitlab(report: Report, options: FormatOptions) -> list[dict[str, Any]]:
-    occurrences = Occurrences()
+    # Paths relative to the repository's root, as GitLab reads them.
+    occurrences = Occurrences(repository_root())
     issues: list[dict[str, Any]] = []
     for result in report.files:
         if result.status != "linted":
