@@ -240,3 +240,31 @@ def test_names_and_messages_show_their_controls_escaped(tmp_path: Path) -> None:
     assert 'aria-label="sh\\u202eot\\nx.usda"' in page
     assert "lin\\x1b[31m\\x7f" in page
     assert page.count('<figure class="product"') >= 1
+
+
+def test_fix_diffs_stop_at_a_bounded_cost_on_a_large_stage(tmp_path: Path, monkeypatch) -> None:
+    """Each diff lints its whole stage twice: a large stage with many fixes is
+    shown with the diffs that fit MAX_DIFF_PRIMS, and a note, not after minutes."""
+    from usdrender_lint.report_json import report_from_dict
+    from usdrender_lint.running import report_views
+
+    settings = "\n".join(
+        f'    def RenderSettings "S{i}"\n    {{\n'
+        "        uniform float4 dataWindowNDC = (1, 0, 0, 1)\n    }"
+        for i in range(30)
+    )
+    (tmp_path / "big.usda").write_text(f'#usda 1.0\ndef Scope "Render"\n{{\n{settings}\n}}\n')
+    run = _run(
+        "check", "--isolated", "--select", "SE003", "--format", "json", "big.usda", cwd=tmp_path
+    )
+    report = report_from_dict(json.loads(run.stdout))
+    fixable = [f for f in report.findings if f.fix]
+    assert len(fixable) == 30
+    monkeypatch.chdir(tmp_path)
+    # The stage has 31 prims: 100 prims linted is 3 diffs.
+    monkeypatch.setattr(report_views, "MAX_DIFF_PRIMS", 100)
+    views = report_views.gather(report)
+    assert len(views.files["big.usda"].diffs) == 3
+    (note,) = [n for n in views.notes if "not shown as diffs" in n]
+    assert note.startswith("27 fix(es) not shown as diffs") and "--diff" in note
+    assert report_views.gather(report).files["big.usda"].diffs == views.files["big.usda"].diffs
