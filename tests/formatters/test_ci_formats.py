@@ -263,6 +263,23 @@ def test_junit_has_a_suite_per_file_and_a_failure_per_finding(workspace, show_in
     assert root.get("errors") == "1"
 
 
+def test_junit_classnames_read_as_jenkins_splits_them(workspace) -> None:
+    """Jenkins splits a classname at its last dot into package and class
+    (junit-plugin's CaseResult.getPackageName/getSimpleName): a file's path
+    becomes the package of its path without the extension and the class of
+    the extension, one per file, so no two files' test cases are merged."""
+    root = junit(*TARGETS, "notes.usda")
+    seen: dict[tuple[str, str], str] = {}
+    for suite in root:
+        path = suite.get("name")
+        for case in suite:
+            classname = case.get("classname")
+            assert classname == path
+            package, _dot, simple = classname.rpartition(".")
+            assert (package, simple) == (str(Path(path).with_suffix("")), Path(path).suffix[1:])
+            assert seen.setdefault((package, simple), path) == path
+
+
 def assert_failure(failure: ElementTree.Element | None, finding: dict) -> None:
     """The failure of a finding of the JSON report: its code, its message, and
     a text that says where, how bad, on what, and the fix."""

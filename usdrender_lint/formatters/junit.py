@@ -21,6 +21,15 @@ no ``time`` or ``timestamp`` (the report has neither), no ``file`` (not in that
 schema; the text names the layer). GitLab keeps only the first of test cases
 with the same name, so a repeated name gets `` #2``, `` #3``...
 
+- The classname is the file's path as it is, dots included: GitLab and Azure
+  Pipelines show it whole. Jenkins reads a classname as ``package.Class`` and
+  splits it at its last dot (``CaseResult.getPackageName``,
+  https://github.com/jenkinsci/junit-plugin/blob/master/src/main/java/hudson/tasks/junit/CaseResult.java),
+  which in a file's path is the extension's: Jenkins lists each file as the
+  package of its path without the extension (``shots/010/shot``) holding one
+  class, the extension (``usda``). No two files share a package and class, so
+  nothing is merged; replacing the dots instead would show every reader a
+  name that is not the file's.
 - Info findings only with --show-info, as in the text and GitHub reports.
 - --statistics adds nothing: in that schema ``<testsuites>`` holds test suites
   only, and a suite of counts would read as tests.
