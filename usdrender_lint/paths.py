@@ -135,6 +135,18 @@ def usd_path(path: str) -> str | bytes:
     return path
 
 
+def single_root(path: str) -> str:
+    """``path`` with a leading ``//`` written ``/``. Run from ``/``, OpenUSD
+    makes a relative layer path absolute by joining it to the working
+    directory with a slash (``Sdf.Layer.FindOrOpen("tmp/a.usda").realPath`` is
+    ``//tmp/a.usda``); POSIX leaves such a name to the system, Linux and macOS
+    read it as ``/``, and Python keeps it (``os.path.abspath``), so the
+    layer would not be named as the file it is."""
+    if path.startswith("//") and not path.startswith("///") and os.sep == "/":
+        return path[1:]
+    return path
+
+
 def from_usd_text(text: str) -> str:
     """A path USD handed back as text, as Python names the file. The bindings
     decode a name's bytes as UTF-8; Python decodes them with the file system

@@ -7,6 +7,7 @@ import json
 import os
 import shutil
 from pathlib import Path
+from urllib.parse import quote
 
 import pytest
 from click.testing import CliRunner
@@ -188,6 +189,25 @@ def test_sarif_run_from_the_root_folder_has_a_file_uri_base(tmp_path) -> None:
     assert report_to_sarif(report, FormatOptions(), tmp_path)["runs"][0]["originalUriBaseIds"] == {
         "SRCROOT": {"uri": tmp_path.as_uri() + "/"}
     }
+
+
+def test_every_format_names_a_layer_as_its_file_when_run_from_the_root_folder(
+    monkeypatch,
+) -> None:
+    """From /, OpenUSD names a layer opened by a relative path //tmp/...: every
+    format names it as the file it is, relative to / as the file is."""
+    monkeypatch.chdir("/")
+    relative = str(INVERTED.relative_to("/"))
+    args = ("--select", "SE003", relative)
+    (entry,) = json.loads(check("--format", "json", *args).stdout)["files"]
+    assert {finding["layer"] for finding in entry["findings"]} == {relative}
+    text = check(*args).stdout
+    assert f"{relative}:8: error SE003" in text and "(stage" not in text
+    github = check("--format", "github", *args).stdout
+    assert github.startswith(f"::error file={escape_property(str(INVERTED))},line=8,")
+    (result,) = _sarif(*args)["runs"][0]["results"]
+    uri = result["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
+    assert uri == quote(relative)
 
 
 def test_sarif_usdz_layer_is_the_package(tmp_path) -> None:

@@ -31,6 +31,7 @@ from ..model import (
     Location,
     Severity,
 )
+from ..paths import single_root
 from ..records import record
 from . import layer_words, partial, suppress, typed_prims
 from .assets import Reads
@@ -795,7 +796,7 @@ def _error_location(path: str, message: str) -> Location:
     layer, line, column = position
     if not os.path.isfile(layer):
         layer = path
-    return Location(path, None, os.path.abspath(layer), line, column)
+    return Location(path, None, single_root(os.path.abspath(layer)), line, column)
 
 
 def _overrides(rule: Rule, hook: str) -> bool:

@@ -10,7 +10,7 @@ import stat
 from pxr import Ar, Sdf
 
 from ..api.files import lfs_pointer_problem
-from ..paths import from_usd, from_usd_text
+from ..paths import from_usd, from_usd_text, single_root
 
 
 def layer_real_path(layer: Sdf.Layer) -> str:
@@ -18,9 +18,9 @@ def layer_real_path(layer: Sdf.Layer) -> str:
     (the bindings' strict decoding raises on it), and any under a locale whose
     file system encoding is not UTF-8 (:func:`~usdrender_lint.paths.from_usd_text`)."""
     try:
-        return from_usd_text(layer.realPath)
+        return single_root(from_usd_text(layer.realPath))
     except UnicodeDecodeError as exc:
-        return _undecoded(exc)
+        return single_root(_undecoded(exc))
 
 
 def layer_identifier(layer: Sdf.Layer) -> str:
