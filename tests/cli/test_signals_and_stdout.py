@@ -33,7 +33,11 @@ pytestmark = pytest.mark.skipif(
 
 @pytest.mark.parametrize(
     ("signum", "status", "line"),
-    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+    [
+        (signal.SIGINT, 130, "interrupted"),
+        (signal.SIGTERM, 143, "terminated"),
+        (signal.SIGHUP, 129, "hung up"),
+    ],
 )
 def test_a_signal_stops_the_run_and_cleans_up(
     tmp_path: Path, signum: int, status: int, line: str
@@ -75,7 +79,7 @@ def test_a_signal_stops_the_run_and_cleans_up(
     assert not [pid for pid in workers if is_running(pid)]
 
 
-@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM, signal.SIGHUP])
 def test_a_signal_the_command_was_started_ignoring_stays_ignored(
     tmp_path: Path, signum: int
 ) -> None:

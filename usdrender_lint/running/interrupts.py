@@ -11,7 +11,13 @@ from __future__ import annotations
 import signal  # and nothing else: the command installs the handlers before its imports
 import sys
 
-STOPPING = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
+#: SIGHUP too: a closed terminal or SSH session ends the run as SIGTERM does, its
+#: workers' temporary folder removed (by default it ended the process where it was).
+STOPPING = {
+    signal.SIGINT: "interrupted",
+    signal.SIGTERM: "terminated",
+    signal.SIGHUP: "hung up",
+}
 #: Asks a timed lint for its Python stack before it is killed (running/stalls.py);
 #: SIGUSR1 stays the user's (it ends the process).
 STALL_SIGNAL = signal.SIGUSR2
