@@ -83,3 +83,14 @@ def test_a_statement_span_is_its_words_on_its_line():
     assert statement_span(text, None).start == (0, 0)
     # An error's column (1-based) starts the span.
     assert statement_span(text, 3, 14).start == (2, 13)
+
+
+def test_editor_lines_end_where_the_protocol_ends_them():
+    from usdrender_lint.server.ranges import editor_lines
+
+    text = "a\r\nb\rc\x0c\u2028\x85d\ne"
+    assert editor_lines(text) == ["a\r\n", "b\r", "c\x0c\u2028\x85d\n", "e"]
+    assert editor_lines("") == [""]
+    # Without those characters too (split another way, for speed).
+    assert editor_lines("a\r\nb\rc\n") == ["a\r\n", "b\r", "c\n", ""]
+    assert "".join(editor_lines(text)) == text

@@ -639,6 +639,42 @@ async def test_a_comment_holding_a_character_python_splits_lines_at_keeps_ranges
     close_documents(client, uri)
 
 
+@pytest.mark.parametrize("separator", ["\x0c", "\u2028", "\x85"])
+async def test_a_typed_edit_below_a_character_python_splits_lines_at_lands_on_its_line(
+    client: LanguageClient, workspace: Path, separator: str
+):
+    """An editor sends the range of each edit: below a comment holding a form
+    feed, U+2028 or U+0085, the server applied it a line too far down, and the
+    document showed a parse error its text does not have."""
+    text = (
+        f'#usda 1.0\n# page break:{separator} é🎥\ndef Scope "Render"\n{{\n'
+        '    def RenderSettings "rs"\n    {\n        rel camera = </nope>\n    }\n}\n'
+    )
+    path = workspace / f"typed-{ord(separator):x}.usda"
+    uri = open_document(client, path, text)
+    assert "CA003" in {d.code for d in await diagnostics_of(client, uri, 1)}
+    # The camera fixed as typed: </nope> becomes </cam>, and a Camera prim added.
+    column = text.split("\n")[6].index("nope")
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=2),
+            content_changes=[
+                types.TextDocumentContentChangePartial(
+                    range=types.Range(types.Position(6, column), types.Position(6, column + 4)),
+                    text="cam",
+                ),
+                types.TextDocumentContentChangePartial(
+                    range=types.Range(types.Position(9, 0), types.Position(9, 0)),
+                    text='def Camera "cam"\n{\n}\n',
+                ),
+            ],
+        )
+    )
+    found = await diagnostics_of(client, uri, 2)
+    assert {d.code for d in found} == {"ST003", "SE015", "CA006"}
+    close_documents(client, uri)
+
+
 async def _until(client: LanguageClient, uri: str, done) -> list[types.Diagnostic]:
     async with asyncio.timeout(60):
         while not done(client.diagnostics.get(uri, [])):

@@ -24,13 +24,13 @@ from urllib.parse import unquote
 from lsprotocol import types
 from pygls.lsp.server import LanguageServer
 from pygls.uris import from_fs_path, to_fs_path
-from pygls.workspace import TextDocument
+from pygls.workspace import TextDocument, Workspace
 from pygls.workspace.position_codec import ServerTextPosition
 
 from .. import __version__
 from ..model import Finding, Severity
 from ..running.documents import Linted, finding_key
-from .ranges import Edit, Span, lines_of, spec_line, statement_span, text_edits
+from .ranges import Edit, Span, editor_lines, lines_of, spec_line, statement_span, text_edits
 from .worker import LintFailed, Linting, RuleDoc
 
 NAME = "usdrender-lint"
@@ -57,6 +57,34 @@ _SEVERITY = {
     Severity.INFO: types.DiagnosticSeverity.Information,
 }
 _WORD = re.compile(r"[A-Za-z][\w-]*")
+
+
+class EditorDocument(TextDocument):
+    """An open document whose edits land where the editor means them: pygls
+    numbers lines with ``str.splitlines``, which also ends one at a form feed
+    or U+2028 in a comment, so an edit below one went to the wrong line."""
+
+    @property
+    def lines(self) -> Sequence[str]:
+        return tuple(editor_lines(self.source))
+
+
+class EditorWorkspace(Workspace):
+    def _create_text_document(
+        self,
+        doc_uri: str,
+        source: str | None = None,
+        version: int | None = None,
+        language_id: str | None = None,
+    ) -> TextDocument:
+        return EditorDocument(
+            doc_uri,
+            source=source,
+            version=version,
+            language_id=language_id,
+            sync_kind=self._sync_kind,
+            position_codec=self.position_codec,
+        )
 
 
 class UsdRenderLintServer(LanguageServer):
@@ -639,6 +667,8 @@ def editor_timeout(options: dict[str, Any], default: float | None) -> float | No
 def _serve_lifecycle(server: UsdRenderLintServer) -> None:
     @server.feature(types.INITIALIZE)
     def initialize(ls: UsdRenderLintServer, params: types.InitializeParams) -> None:
+        # pygls made the workspace just before; no document is open yet.
+        ls.workspace.__class__ = EditorWorkspace
         options = params.initialization_options
         options = options if isinstance(options, dict) else {}
         ls.timeout = editor_timeout(options, ls.timeout)

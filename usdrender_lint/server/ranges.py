@@ -5,6 +5,7 @@ in code points, 0-based; the protocol layer converts columns to the client's uni
 from __future__ import annotations
 
 import difflib
+import re
 from collections.abc import Iterator
 
 from ..layers.source_lines import statement_columns
@@ -65,6 +66,31 @@ def lines_of(text: str) -> list[str]:
     which a layer's comment may hold and no editor ends a line at)."""
     parts = text.split("\n")
     return [part + "\n" for part in parts[:-1]] + [parts[-1]]
+
+
+#: Where the protocol ends a line (LSP 3.17, "Text Documents": \n, \r\n or \r).
+_LINE_END = re.compile(r"\r\n|\r|\n")
+#: The other characters ``str.splitlines`` ends a line at.
+_PYTHON_LINE_END = re.compile("[\x0b\x0c\x1c\x1d\x1e\x85\u2028\u2029]")
+
+
+def editor_lines(text: str) -> list[str]:
+    """The text's lines as the editor numbers them in the positions of its
+    edits, each with its end: the protocol's line ends only, not the form
+    feed, U+2028, ... that ``str.splitlines`` also splits at."""
+    if _PYTHON_LINE_END.search(text) is None:
+        # Several times faster on a large document, which each edit splits.
+        lines = text.splitlines(keepends=True)
+        if not lines or lines[-1].endswith(("\n", "\r")):
+            lines.append("")
+        return lines
+    lines = []
+    start = 0
+    for end in _LINE_END.finditer(text):
+        lines.append(text[start : end.end()])
+        start = end.end()
+    lines.append(text[start:])
+    return lines
 
 
 def _line_starts(text: str) -> list[int]:
