@@ -173,6 +173,19 @@ def test_shutdown_and_exit_end_the_server_with_status_0():
     assert b'"id": 2' in server.stdout and b'"result": null' in server.stdout
 
 
+def test_exit_without_shutdown_ends_the_server_with_status_1():
+    """The protocol's rule; pygls swallowed the status and the server said 0."""
+    server = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
+        capture_output=True,
+        timeout=60,
+    )
+    assert server.returncode == 1
+
+
 def test_the_editor_s_timeout_reads_as_check_s() -> None:
     from usdrender_lint.server.protocol import editor_timeout
 

@@ -110,6 +110,10 @@ class UsdRenderLintServer(LanguageServer):
         self.ready = threading.Event()
         #: Seconds a lint may take (initializationOptions ``timeout``); None: no limit.
         self.timeout: float | None = TIMEOUT
+        self.shut_down = False
+        #: The process's exit status: 1 when the client said exit without shutdown
+        #: (the protocol's rule), else 0.
+        self.exit_status = 0
 
     def settings_changed(self, settings: Any) -> None:
         """The editor's settings changed (ours under our name, as Neovim's
@@ -697,7 +701,13 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
 
     @server.feature(types.SHUTDOWN)
     def shutdown(ls: UsdRenderLintServer, params: Any) -> None:
+        ls.shut_down = True
         ls.close()
+
+    @server.feature(types.EXIT)
+    def exit_(ls: UsdRenderLintServer, params: Any) -> None:
+        # pygls ends its loop with the status and then swallows it (serve says it).
+        ls.exit_status = 0 if ls.shut_down else 1
 
 
 def _serve_documents(server: UsdRenderLintServer) -> None:
@@ -798,6 +808,8 @@ def serve() -> None:
         server.start_io()
     finally:
         server.close()
+    if server.exit_status:
+        raise SystemExit(server.exit_status)
 
 
 __all__ = ["Edit", "build", "serve"]
