@@ -173,6 +173,39 @@ def test_shutdown_and_exit_end_the_server_with_status_0():
     assert b'"id": 2' in server.stdout and b'"result": null' in server.stdout
 
 
+def test_a_request_after_shutdown_is_answered_invalid_request():
+    """pygls dropped it: the client waited for an answer that never came."""
+    server = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _frame('{"jsonrpc":"2.0","id":2,"method":"shutdown"}')
+        + _frame(
+            '{"jsonrpc":"2.0","id":3,"method":"textDocument/hover","params":'
+            '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}'
+        )
+        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
+        capture_output=True,
+        timeout=60,
+    )
+    assert server.returncode == 0
+    (answer,) = [m for m in _messages(server.stdout) if m.get("id") == 3]
+    assert answer["error"]["code"] == -32600  # InvalidRequest
+
+
+def _messages(stdout: bytes) -> list[dict]:
+    """The JSON-RPC messages of the server's output."""
+    import json
+
+    found = []
+    while stdout:
+        head, _, rest = stdout.partition(b"\r\n\r\n")
+        length = int(head.split(b"Content-Length:")[1].split(b"\r\n")[0])
+        found.append(json.loads(rest[:length]))
+        stdout = rest[length:]
+    return found
+
+
 def test_exit_without_shutdown_ends_the_server_with_status_1():
     """The protocol's rule; pygls swallowed the status and the server said 0."""
     server = subprocess.run(

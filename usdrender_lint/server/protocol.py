@@ -22,7 +22,10 @@ from typing import Any
 from urllib.parse import unquote
 
 from lsprotocol import types
+from pygls.exceptions import JsonRpcException, JsonRpcInvalidRequest
 from pygls.lsp.server import LanguageServer
+from pygls.protocol import LanguageServerProtocol
+from pygls.protocol.json_rpc import RPCMessage, RPCRequest
 from pygls.uris import from_fs_path, to_fs_path
 from pygls.workspace import TextDocument, Workspace
 from pygls.workspace.position_codec import ServerTextPosition
@@ -87,10 +90,27 @@ class EditorWorkspace(Workspace):
         )
 
 
+class EditorProtocol(LanguageServerProtocol):
+    """pygls's protocol, answering the requests it leaves unanswered (the
+    client would wait for them forever)."""
+
+    def handle_message(self, message: RPCMessage) -> None:
+        if isinstance(message, RPCRequest) and self._shutdown:
+            self._refuse(message, JsonRpcInvalidRequest("the server is shut down"))
+            return
+        super().handle_message(message)
+
+    def _refuse(self, request: RPCRequest, error: JsonRpcException) -> None:
+        self._send_response(request.id, error=error.to_response_error())
+
+
 class UsdRenderLintServer(LanguageServer):
     def __init__(self, linting: Linting | None = None) -> None:
         super().__init__(
-            NAME, __version__, text_document_sync_kind=types.TextDocumentSyncKind.Incremental
+            NAME,
+            __version__,
+            protocol_cls=EditorProtocol,
+            text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
         )
         self.linting = linting or Linting()
         self.executor = ThreadPoolExecutor(max_workers=4, thread_name_prefix="usdrender-lint")
