@@ -193,6 +193,37 @@ def test_a_request_after_shutdown_is_answered_invalid_request():
     assert answer["error"]["code"] == -32600  # InvalidRequest
 
 
+def test_a_message_whose_params_do_not_fit_is_answered_invalid_params():
+    """A request whose params lack what its method needs went unanswered (a
+    traceback on standard error); such a notification popped up an error."""
+    server = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _frame(
+            '{"jsonrpc":"2.0","id":2,"method":"textDocument/codeAction","params":'
+            '{"textDocument":{"uri":"file:///a.usda"}}}'
+        )
+        + _frame(
+            '{"jsonrpc":"2.0","method":"textDocument/didChange","params":'
+            '{"textDocument":{"uri":"file:///a.usda","version":2}}}'
+        )
+        + _frame('{"jsonrpc":"2.0","id":3,"method":"shutdown"}')
+        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
+        capture_output=True,
+        timeout=60,
+    )
+    assert server.returncode == 0
+    messages = _messages(server.stdout)
+    (answer,) = [m for m in messages if m.get("id") == 2]
+    assert answer["error"]["code"] == -32602  # InvalidParams
+    assert "textDocument/codeAction" in answer["error"]["message"]
+    assert not [m for m in messages if m.get("method") == "window/showMessage"]
+    (logged,) = [m for m in messages if m.get("method") == "window/logMessage"]
+    assert "textDocument/didChange" in logged["params"]["message"]
+    assert b"Traceback" not in server.stderr
+
+
 def _messages(stdout: bytes) -> list[dict]:
     """The JSON-RPC messages of the server's output."""
     import json

@@ -22,7 +22,7 @@ from typing import Any
 from urllib.parse import unquote
 
 from lsprotocol import types
-from pygls.exceptions import JsonRpcException, JsonRpcInvalidRequest
+from pygls.exceptions import JsonRpcException, JsonRpcInvalidParams, JsonRpcInvalidRequest
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol
 from pygls.protocol.json_rpc import RPCMessage, RPCRequest
@@ -90,11 +90,41 @@ class EditorWorkspace(Workspace):
         )
 
 
+class Unfit:
+    """A client's message whose params do not fit its method."""
+
+    def __init__(self, id_: int | str | None, method: str) -> None:
+        self.id = id_
+        self.method = method
+
+
 class EditorProtocol(LanguageServerProtocol):
     """pygls's protocol, answering the requests it leaves unanswered (the
     client would wait for them forever)."""
 
-    def handle_message(self, message: RPCMessage) -> None:
+    def structure_message(self, data: dict[str, Any]) -> Any:
+        # pygls raises from inside json.loads for a message whose params do not
+        # fit: the request went unanswered, a notification popped up an error.
+        method = data.get("method")
+        if "jsonrpc" in data and isinstance(method, str):
+            message_type = self.get_message_type(method)
+            if message_type is not None:
+                try:
+                    return self._converter.structure(data, message_type)
+                except Exception:  # noqa: BLE001 - cattrs' errors, a missing key, ...
+                    return Unfit(data.get("id"), method)
+        return super().structure_message(data)
+
+    def handle_message(self, message: RPCMessage | Unfit) -> None:
+        if isinstance(message, Unfit):
+            why = f"the params of {message.method} do not fit the protocol"
+            if message.id is not None:
+                self._send_response(message.id, error=JsonRpcInvalidParams(why).to_response_error())
+            else:
+                self._server.window_log_message(
+                    types.LogMessageParams(types.MessageType.Warning, f"{NAME}: ignored: {why}")
+                )
+            return
         if isinstance(message, RPCRequest) and self._shutdown:
             self._refuse(message, JsonRpcInvalidRequest("the server is shut down"))
             return
