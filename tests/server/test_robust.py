@@ -224,6 +224,35 @@ def test_a_message_whose_params_do_not_fit_is_answered_invalid_params():
     assert b"Traceback" not in server.stderr
 
 
+def test_a_message_before_initialize_is_refused_without_a_traceback():
+    """A request was failed with an internal error carrying pygls's traceback,
+    and a notification popped up "Error in server: The workspace is not available"."""
+    server = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        input=_frame(
+            '{"jsonrpc":"2.0","id":1,"method":"textDocument/hover","params":'
+            '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}'
+        )
+        + _frame(
+            '{"jsonrpc":"2.0","method":"textDocument/didOpen","params":{"textDocument":'
+            '{"uri":"file:///a.usda","languageId":"usda","version":1,"text":"#usda 1.0"}}}'
+        )
+        + _frame('{"jsonrpc":"2.0","id":2,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _frame('{"jsonrpc":"2.0","id":3,"method":"shutdown"}')
+        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
+        capture_output=True,
+        timeout=60,
+    )
+    assert server.returncode == 0
+    messages = _messages(server.stdout)
+    (refused,) = [m for m in messages if m.get("id") == 1]
+    assert refused["error"]["code"] == -32002  # ServerNotInitialized
+    assert "data" not in refused["error"]
+    assert not [m for m in messages if m.get("method") == "window/showMessage"]
+    assert "result" in next(m for m in messages if m.get("id") == 2)
+
+
 def _messages(stdout: bytes) -> list[dict]:
     """The JSON-RPC messages of the server's output."""
     import json

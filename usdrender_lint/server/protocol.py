@@ -22,7 +22,12 @@ from typing import Any
 from urllib.parse import unquote
 
 from lsprotocol import types
-from pygls.exceptions import JsonRpcException, JsonRpcInvalidParams, JsonRpcInvalidRequest
+from pygls.exceptions import (
+    JsonRpcException,
+    JsonRpcInvalidParams,
+    JsonRpcInvalidRequest,
+    JsonRpcServerNotInitialized,
+)
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol
 from pygls.protocol.json_rpc import RPCMessage, RPCRequest
@@ -124,6 +129,13 @@ class EditorProtocol(LanguageServerProtocol):
                 self._server.window_log_message(
                     types.LogMessageParams(types.MessageType.Warning, f"{NAME}: ignored: {why}")
                 )
+            return
+        method = getattr(message, "method", None)
+        if self._workspace is None and method not in (None, types.INITIALIZE, types.EXIT):
+            # Before initialize (pygls failed the request with its traceback, and a
+            # notification popped up one): refused, and dropped, as the protocol says.
+            if isinstance(message, RPCRequest):
+                self._refuse(message, JsonRpcServerNotInitialized("initialize first"))
             return
         if isinstance(message, RPCRequest) and self._shutdown:
             self._refuse(message, JsonRpcInvalidRequest("the server is shut down"))
