@@ -675,6 +675,25 @@ async def test_a_typed_edit_below_a_character_python_splits_lines_at_lands_on_it
     close_documents(client, uri)
 
 
+async def test_a_binary_usd_document_gets_the_findings_check_gives_its_file(
+    client: LanguageClient, workspace: Path
+):
+    """A .usd is often a crate: the editor shows its bytes as text, which USD
+    cannot read, and the document got one error (ST001 "Failed to open layer")
+    where check lints the file and finds the shot's defects."""
+    from pxr import Sdf
+
+    path = workspace / "crate shot.usd"
+    Sdf.Layer.FindOrOpen(str(workspace / "shot.usda")).Export(str(path), args={"format": "usdc"})
+    saved = path.read_bytes()
+    assert saved.startswith(b"PXR-USDC")
+    uri = open_document(client, path, saved.decode("utf-8", "replace"))
+    found = await diagnostics_of(client, uri, 1)
+    assert {d.code for d in found} == {"CA004", "SE007", "CA003", "SE003", "PR004"}
+    assert path.read_bytes() == saved
+    close_documents(client, uri)
+
+
 async def _until(client: LanguageClient, uri: str, done) -> list[types.Diagnostic]:
     async with asyncio.timeout(60):
         while not done(client.diagnostics.get(uri, [])):

@@ -39,6 +39,7 @@ from ..engine.stage import (
     error_lines,
     open_stage,
 )
+from ..layers.crate import is_crate
 from ..layers.files import layer_real_path
 from ..layers.nesting import nesting_problem
 from ..model import IGNORE_KEY, Finding, Location, Report, Severity
@@ -133,9 +134,11 @@ class Documents:
     # -- the editor's state -------------------------------------------------------------
 
     def update(self, texts: dict[str, str | None]) -> None:
-        """Set the text of documents; None closes one (its layer is the file's again)."""
+        """Set the text of documents; None closes one (its layer is the file's again),
+        and so does the text an editor shows for a binary ``.usd`` (it is linted
+        from its file, as ``check`` lints it)."""
         for path, text in texts.items():
-            if text is not None:
+            if text is not None and not _shows_a_crate(path, text):
                 self.texts[path] = text
                 continue
             self.texts.pop(path, None)
@@ -424,6 +427,13 @@ USDA_BOM = (
     "Asset starts with UTF-8 BOM which is not supported, please convert the file to UTF-8 "
     "without the BOM."
 )
+
+
+def _shows_a_crate(path: str, text: str) -> bool:
+    """Whether ``text`` is an editor's view of the binary crate at ``path``: a
+    ``.usd`` file may be either format, and a crate's bytes decoded as text are
+    no layer (USD refused them, where ``check`` reads the file)."""
+    return path.lower().endswith(".usd") and not text.startswith(USDA_COOKIE) and is_crate(path)
 
 
 def _refused_text(path: str, text: str) -> tuple[str, ...] | None:
