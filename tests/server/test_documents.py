@@ -134,6 +134,45 @@ def test_a_referenced_file_changed_on_disk_is_read_again(tmp_path: Path):
     assert "CA003" in {f.code for f in documents.lint(path).findings}
 
 
+@pytest.mark.parametrize("arc", ["sublayer", "reference"])
+def test_a_composed_file_deleted_renamed_or_created_is_seen_as_check_sees_it(
+    tmp_path: Path, arc: str
+):
+    """The document's stage kept the layer USD had read: a sublayer (or a
+    reference) deleted or renamed on disk still gave its findings, where check
+    reports it missing (ST002); one created after the stage opened stayed
+    missing."""
+    layer = tmp_path / "layer.usda"
+    layer.write_text(
+        '#usda 1.0\nover "Render"\n{\n    over "rs"\n    {\n'
+        "        uniform bool instantaneousShutter = 1\n    }\n}\n"
+    )
+    arcs = {
+        "sublayer": ("(\n    subLayers = [@./layer.usda@]\n)\n", ""),
+        "reference": ("", " (\n    references = @./layer.usda@</Render>\n)"),
+    }
+    head, render = arcs[arc]
+    text = (
+        f'#usda 1.0\n{head}def Scope "Render"{render}\n{{\n'
+        '    def RenderSettings "rs"\n    {\n    }\n}\n'
+    )
+    path = str(tmp_path / "shot.usda")
+    Path(path).write_text(text)
+    documents = Documents()
+    documents.update({path: text})
+
+    def codes() -> set[str]:
+        found = {f.code for f in documents.lint(path).findings}
+        assert found == {f.code for f in lint_file(path).findings}  # check's
+        return found
+
+    assert "SE007" in codes()
+    layer.rename(tmp_path / "renamed.usda")
+    assert {"ST002"} <= codes() and "SE007" not in codes()
+    (tmp_path / "renamed.usda").rename(layer)
+    assert "SE007" in codes() and "ST002" not in codes()
+
+
 def test_suppress_names_only_registered_rules(tmp_path: Path):
     path = str(tmp_path / "shot.usda")
     text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'

@@ -28,7 +28,7 @@ from collections.abc import Callable, Mapping
 from contextlib import suppress
 from typing import TYPE_CHECKING, Any
 
-from pxr import Sdf, Tf, Usd, Vt
+from pxr import Ar, Pcp, Sdf, Tf, Usd, Vt
 
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
@@ -187,6 +187,19 @@ class Documents:
 
     def _lint_stage(self, prepared: Prepared, path: str) -> tuple[Finding, ...]:
         stage = self._stages.get(path)
+        if stage is not None:
+            lost = self._lost_files(stage)
+            if lost:
+                # USD keeps the layer it read while a stage holds it: every stage
+                # that composed the file goes, and a new one finds it missing (ST002).
+                self._stages = {
+                    other: held
+                    for other, held in self._stages.items()
+                    if not lost & set(map(layer_real_path, held.GetUsedLayers()))
+                }
+                stage = None
+            elif _misses_files(stage):
+                stage = None  # the file may be there now: only a new stage looks
         if stage is None:
             stage = open_stage(path).stage
         if stage is None:
@@ -211,6 +224,18 @@ class Documents:
             )
             return (failed,)
         return prepared.finish(Report((result,))).findings
+
+    def _lost_files(self, stage: Usd.Stage) -> set[str]:
+        """The files of the layers the stage composed that are gone from disk
+        (deleted, or renamed) and are no open document."""
+        lost = set()
+        for layer in stage.GetUsedLayers():
+            if layer.anonymous or Ar.IsPackageRelativePath(layer.identifier):
+                continue
+            real = layer_real_path(layer)
+            if real and real not in self.texts and not os.path.exists(real):
+                lost.add(real)
+        return lost
 
     def _reload_files(self, stage: Usd.Stage) -> None:
         """Read again the layers on disk whose files changed since USD read them
@@ -387,6 +412,13 @@ class Documents:
             return edit_text(text, before, after)
         except CannotEdit:
             return None
+
+
+def _misses_files(stage: Usd.Stage) -> bool:
+    """Whether the stage's composition could not find a sublayer, reference or
+    payload (USD looks for it only when a stage is opened)."""
+    missing = (Pcp.ErrorInvalidSublayerPath, Pcp.ErrorInvalidAssetPath)
+    return any(isinstance(error, missing) for error in stage.GetCompositionErrors())
 
 
 def _excluded(prepared: Prepared, path: str) -> bool:
