@@ -253,6 +253,44 @@ def test_a_message_before_initialize_is_refused_without_a_traceback():
     assert "result" in next(m for m in messages if m.get("id") == 2)
 
 
+def test_an_unreadable_message_is_one_line_in_the_log_not_an_error_popup():
+    """Malformed JSON, JSON that is no message, and a change to a document the
+    client never opened each popped up "Error in server: <Python's exception>"
+    (window/showMessage), with a traceback on standard error."""
+    hover = (
+        '{"jsonrpc":"2.0","id":2,"method":"textDocument/hover","params":'
+        '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}'
+    )
+    server = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _frame("{not json}")
+        + _frame("[1, 2]")
+        + _frame(
+            '{"jsonrpc":"2.0","method":"textDocument/didChange","params":{"textDocument":'
+            '{"uri":"file:///never-opened.usda","version":2},"contentChanges":[{"text":"x"}]}}'
+        )
+        + _frame(hover)
+        + _frame('{"jsonrpc":"2.0","id":3,"method":"shutdown"}')
+        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
+        capture_output=True,
+        timeout=60,
+    )
+    assert server.returncode == 0
+    messages = _messages(server.stdout)
+    assert not [m for m in messages if m.get("method") == "window/showMessage"]
+    logged = [m["params"]["message"] for m in messages if m.get("method") == "window/logMessage"]
+    assert logged == [
+        "usdrender-lint: ignored a message that is not JSON: "
+        "Expecting property name enclosed in double quotes: line 1 column 2 (char 1)",
+        "usdrender-lint: ignored a message that is not JSON-RPC",
+    ]
+    assert "result" in next(m for m in messages if m.get("id") == 2)  # still serving
+    assert b"Traceback" not in server.stderr
+    assert all(line.startswith(b"usdrender-lint: ") for line in server.stderr.splitlines())
+
+
 def _messages(stdout: bytes) -> list[dict]:
     """The JSON-RPC messages of the server's output."""
     import json

@@ -12,6 +12,7 @@ one, and a newer edit of a slow document cancels its running lint.
 from __future__ import annotations
 
 import asyncio
+import logging
 import os
 import re
 import threading
@@ -23,6 +24,7 @@ from urllib.parse import unquote
 
 from lsprotocol import types
 from pygls.exceptions import (
+    FeatureRequestError,
     JsonRpcException,
     JsonRpcInvalidParams,
     JsonRpcInvalidRequest,
@@ -78,6 +80,16 @@ class EditorDocument(TextDocument):
 
 
 class EditorWorkspace(Workspace):
+    def update_text_document(
+        self,
+        text_doc: types.VersionedTextDocumentIdentifier,
+        change: types.TextDocumentContentChangeEvent,
+    ) -> None:
+        # pygls raised KeyError (an error popup) for a change to a document the
+        # client never opened: there is nothing to change.
+        if unquote(text_doc.uri) in self.text_documents:
+            super().update_text_document(text_doc, change)
+
     def _create_text_document(
         self,
         doc_uri: str,
@@ -121,6 +133,14 @@ class EditorProtocol(LanguageServerProtocol):
         return super().structure_message(data)
 
     def handle_message(self, message: RPCMessage | Unfit) -> None:
+        if not isinstance(message, Unfit) and not hasattr(message, "jsonrpc"):
+            # JSON, but no message (a list, a number, an object without "jsonrpc").
+            self._server.window_log_message(
+                types.LogMessageParams(
+                    types.MessageType.Error, f"{NAME}: ignored a message that is not JSON-RPC"
+                )
+            )
+            return
         if isinstance(message, Unfit):
             why = f"the params of {message.method} do not fit the protocol"
             if message.id is not None:
@@ -144,6 +164,16 @@ class EditorProtocol(LanguageServerProtocol):
 
     def _refuse(self, request: RPCRequest, error: JsonRpcException) -> None:
         self._send_response(request.id, error=error.to_response_error())
+
+
+class OneLine(logging.Formatter):
+    """pygls's log records on standard error (the editor's log of the server),
+    one line each: it logs a client's unreadable message with a traceback."""
+
+    def format(self, record: logging.LogRecord) -> str:
+        first = record.getMessage().strip().split("\n", 1)[0]
+        cause = record.exc_info[1] if record.exc_info else None
+        return f"{NAME}: {first}" + (f": {cause}" if cause is not None else "")
 
 
 class UsdRenderLintServer(LanguageServer):
@@ -176,6 +206,18 @@ class UsdRenderLintServer(LanguageServer):
         #: The process's exit status: 1 when the client said exit without shutdown
         #: (the protocol's rule), else 0.
         self.exit_status = 0
+
+    def report_server_error(self, error: Exception, source: Any) -> None:
+        """A notification's handler failed, or a message could not be read:
+        one line in the editor's log, where pygls popped up "Error in server:"
+        with Python's exception. (A failed request's answer says why.)"""
+        if source is FeatureRequestError:
+            return
+        if isinstance(error, ValueError):  # json.loads's JSONDecodeError
+            what = f"ignored a message that is not JSON: {error}"
+        else:
+            what = f"internal error: {getattr(error, 'message', None) or error}"
+        self.window_log_message(types.LogMessageParams(types.MessageType.Error, f"{NAME}: {what}"))
 
     def settings_changed(self, settings: Any) -> None:
         """The editor's settings changed (ours under our name, as Neovim's
@@ -865,6 +907,10 @@ def watch_client(server: UsdRenderLintServer) -> None:
 
 
 def serve() -> None:
+    log = logging.StreamHandler()
+    log.setFormatter(OneLine())
+    logging.getLogger("pygls").addHandler(log)
+    logging.getLogger("pygls").propagate = False
     server = build()
     try:
         server.start_io()
