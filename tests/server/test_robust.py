@@ -5,6 +5,7 @@ shutdown and exit, and when its client's process dies."""
 from __future__ import annotations
 
 import asyncio
+import json
 import os
 import signal
 import subprocess
@@ -289,6 +290,57 @@ def test_an_unreadable_message_is_one_line_in_the_log_not_an_error_popup():
     assert "result" in next(m for m in messages if m.get("id") == 2)  # still serving
     assert b"Traceback" not in server.stderr
     assert all(line.startswith(b"usdrender-lint: ") for line in server.stderr.splitlines())
+
+
+def _opened(path: Path, text: str) -> bytes:
+    item = {"uri": path.as_uri(), "languageId": "usda", "version": 1, "text": text}
+    return _frame(
+        json.dumps(
+            {"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": item}}
+        )
+    )
+
+
+def _read_message(stream) -> dict:  # noqa: ANN001 - the server's standard output
+    length = 0
+    while (line := stream.readline().strip()) or not length:
+        if line.startswith(b"Content-Length:"):
+            length = int(line.split(b":")[1])
+    return json.loads(stream.read(length))
+
+
+@pytest.mark.parametrize("ending", ["exit", "closed"])
+def test_the_editor_leaving_during_a_lint_writes_no_traceback(tmp_path: Path, ending: str):
+    """The editor said exit without shutdown, or closed the pipe (it quit or
+    crashed), while a lint ran: the loop cancelled the handler that awaited it
+    and CancelledError's traceback went to the editor's log."""
+    server = subprocess.Popen(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    assert server.stdin is not None and server.stdout is not None and server.stderr is not None
+    server.stdin.write(
+        _frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _opened(tmp_path / "a.usda", "#usda 1.0\n")
+    )
+    server.stdin.flush()
+    # Ready: the first document's diagnostics are out.
+    while _read_message(server.stdout).get("method") != "textDocument/publishDiagnostics":
+        pass
+    server.stdin.write(_opened(*hanging_document(tmp_path)))
+    server.stdin.flush()
+    deadline = time.time() + 60  # until a USD child waits on the FIFO
+    while not blocked_on_a_fifo(server.pid) and time.time() < deadline:
+        time.sleep(0.1)
+    if ending == "exit":
+        server.stdin.write(_frame('{"jsonrpc":"2.0","method":"exit"}'))
+    server.stdin.close()
+    assert server.wait(timeout=60) == (1 if ending == "exit" else 0)
+    assert b"Traceback" not in server.stderr.read()
+    server.stdout.close()
 
 
 def _messages(stdout: bytes) -> list[dict]:

@@ -17,13 +17,14 @@ import os
 import re
 import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Coroutine, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 from urllib.parse import unquote
 
 from lsprotocol import types
 from pygls.exceptions import (
+    FeatureNotificationError,
     FeatureRequestError,
     JsonRpcException,
     JsonRpcInvalidParams,
@@ -203,9 +204,25 @@ class UsdRenderLintServer(LanguageServer):
         #: Seconds a lint may take (initializationOptions ``timeout``); None: no limit.
         self.timeout: float | None = TIMEOUT
         self.shut_down = False
+        #: The lints (and other work) running beside the protocol.
+        self.tasks: set[asyncio.Future[None]] = set()
         #: The process's exit status: 1 when the client said exit without shutdown
         #: (the protocol's rule), else 0.
         self.exit_status = 0
+
+    def spawn(self, work: Coroutine[Any, Any, None]) -> None:
+        """Run ``work`` beside the protocol, not in a handler pygls awaits: the
+        loop cancels it when the editor goes, which in a handler wrote
+        CancelledError's traceback to the editor's log; a failure is one line."""
+        task = asyncio.ensure_future(work)
+        self.tasks.add(task)  # the loop holds tasks weakly only
+        task.add_done_callback(self._finished)
+
+    def _finished(self, task: asyncio.Future[None]) -> None:
+        self.tasks.discard(task)
+        error = None if task.cancelled() else task.exception()
+        if isinstance(error, Exception):
+            self.report_server_error(error, FeatureNotificationError)
 
     def report_server_error(self, error: Exception, source: Any) -> None:
         """A notification's handler failed, or a message could not be read:
@@ -233,7 +250,7 @@ class UsdRenderLintServer(LanguageServer):
         self.linting.reconfigure(configuration)
         if self.ready.is_set():
             for uri in self.open_uris():
-                asyncio.ensure_future(self.lint(uri))
+                self.spawn(self.lint(uri))
 
     # -- documents -----------------------------------------------------------------
 
@@ -273,9 +290,10 @@ class UsdRenderLintServer(LanguageServer):
         try:
             docs = await loop.run_in_executor(self.executor, self.linting.start)
         except LintFailed as failed:
-            self.window_log_message(
-                types.LogMessageParams(types.MessageType.Error, f"{NAME}: {failed.reason}")
-            )
+            if not self.shut_down:  # else shutdown ended the child as it started
+                self.window_log_message(
+                    types.LogMessageParams(types.MessageType.Error, f"{NAME}: {failed.reason}")
+                )
             return
         self.rules = {rule.code: rule for rule in docs}
         for rule in docs:
@@ -338,7 +356,7 @@ class UsdRenderLintServer(LanguageServer):
         file at their last lint (through any chain of sublayers and
         references), or that name it (it may be new to them)."""
         for other in self._dependents(path, texts):
-            asyncio.ensure_future(self.lint(self.uri_of(other), dependents=False))
+            self.spawn(self.lint(self.uri_of(other), dependents=False))
 
     def _dependents(self, path: str, texts: dict[str, str]) -> list[str]:
         name = os.path.basename(path)
@@ -373,7 +391,7 @@ class UsdRenderLintServer(LanguageServer):
         if path is not None:
             relint.update(self.uri_of(other) for other in self._dependents(path, self.texts()))
         for source in sorted(relint):
-            asyncio.ensure_future(self.lint(source, dependents=False))
+            self.spawn(self.lint(source, dependents=False))
 
     # -- diagnostics ---------------------------------------------------------------
 
@@ -698,7 +716,7 @@ class UsdRenderLintServer(LanguageServer):
             await self._call("forget_configuration", "", (), self.texts())
         for uri in self.open_uris():
             if usd_path(uri) is not None:
-                asyncio.ensure_future(self.lint(uri))
+                self.spawn(self.lint(uri))
 
     def close(self) -> None:
         self.linting.close()
@@ -784,7 +802,7 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
             ls.linting.configuration = editor_configuration(options)
 
     @server.feature(types.INITIALIZED)
-    async def initialized(ls: UsdRenderLintServer, params: types.InitializedParams) -> None:
+    def initialized(ls: UsdRenderLintServer, params: types.InitializedParams) -> None:
         watch_client(ls)
         capabilities = ls.client_capabilities.workspace
         watched = capabilities.did_change_watched_files if capabilities else None
@@ -799,9 +817,12 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
                 register_options=options,
             )
             ls.client_register_capability(types.RegistrationParams([registration]))
+        ls.spawn(start(ls))
+
+    async def start(ls: UsdRenderLintServer) -> None:
         await ls.start_linting()
         for uri in ls.open_uris():
-            asyncio.ensure_future(ls.lint(uri))
+            ls.spawn(ls.lint(uri))
 
     @server.feature(types.SHUTDOWN)
     def shutdown(ls: UsdRenderLintServer, params: Any) -> None:
@@ -816,32 +837,30 @@ def _serve_lifecycle(server: UsdRenderLintServer) -> None:
 
 def _serve_documents(server: UsdRenderLintServer) -> None:
     @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
-    async def did_open(ls: UsdRenderLintServer, params: types.DidOpenTextDocumentParams) -> None:
+    def did_open(ls: UsdRenderLintServer, params: types.DidOpenTextDocumentParams) -> None:
         if ls.ready.is_set():
-            await ls.lint(params.text_document.uri)
+            ls.spawn(ls.lint(params.text_document.uri))
 
     @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
-    async def did_change(
-        ls: UsdRenderLintServer, params: types.DidChangeTextDocumentParams
-    ) -> None:
+    def did_change(ls: UsdRenderLintServer, params: types.DidChangeTextDocumentParams) -> None:
         if ls.ready.is_set():
-            await ls.lint(params.text_document.uri)
+            ls.spawn(ls.lint(params.text_document.uri))
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
-    async def did_save(ls: UsdRenderLintServer, params: types.DidSaveTextDocumentParams) -> None:
+    def did_save(ls: UsdRenderLintServer, params: types.DidSaveTextDocumentParams) -> None:
         path = to_fs_path(params.text_document.uri) or ""
         if path.endswith(CONFIG_SUFFIX):
-            await ls.files_changed([path])
+            ls.spawn(ls.files_changed([path]))
         elif ls.ready.is_set():
-            await ls.lint(params.text_document.uri)
+            ls.spawn(ls.lint(params.text_document.uri))
 
     @server.feature(types.TEXT_DOCUMENT_DID_CLOSE)
     def did_close(ls: UsdRenderLintServer, params: types.DidCloseTextDocumentParams) -> None:
         ls.forget(params.text_document.uri)
 
     @server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
-    async def watched(ls: UsdRenderLintServer, params: types.DidChangeWatchedFilesParams) -> None:
-        await ls.files_changed([to_fs_path(change.uri) or "" for change in params.changes])
+    def watched(ls: UsdRenderLintServer, params: types.DidChangeWatchedFilesParams) -> None:
+        ls.spawn(ls.files_changed([to_fs_path(change.uri) or "" for change in params.changes]))
 
     @server.feature(types.WORKSPACE_DID_CHANGE_CONFIGURATION)
     async def settings_changed(
