@@ -83,6 +83,10 @@ def test_a_statement_span_is_its_words_on_its_line():
     assert statement_span(text, None).start == (0, 0)
     # An error's column (1-based) starts the span.
     assert statement_span(text, 3, 14).start == (2, 13)
+    # USD's column counts bytes: "bogus" is at byte 44 of this line, character 36.
+    line = 'def Scope "abcdefg" ( doc = "é🎥相机" bogus = 1 )'
+    start = statement_span(f"#usda 1.0\n{line}\n", 2, 44).start
+    assert start == (1, line.index("bogus"))
 
 
 def test_editor_lines_end_where_the_protocol_ends_them():

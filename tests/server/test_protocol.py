@@ -694,6 +694,20 @@ async def test_a_binary_usd_document_gets_the_findings_check_gives_its_file(
     close_documents(client, uri)
 
 
+async def test_a_parse_error_past_non_ascii_text_starts_at_its_word(
+    client: LanguageClient, workspace: Path
+):
+    """USD's parser counts a column in bytes: past "é🎥相机" the range started 8
+    characters to the right of the word USD names."""
+    line = 'def Scope "abcdefg" ( doc = "é🎥相机" bogus = 1 )'
+    uri = open_document(client, workspace / "parse-utf8.usda", f"#usda 1.0\n{line}\n{{\n}}\n")
+    (error,) = await diagnostics_of(client, uri, 1)
+    assert "bogus" in error.message
+    utf16 = len(line[: line.index("bogus")].encode("utf-16-le")) // 2
+    assert (error.range.start.line, error.range.start.character) == (1, utf16)
+    close_documents(client, uri)
+
+
 async def _until(client: LanguageClient, uri: str, done) -> list[types.Diagnostic]:
     async with asyncio.timeout(60):
         while not done(client.diagnostics.get(uri, [])):
