@@ -343,6 +343,73 @@ def test_the_editor_leaving_during_a_lint_writes_no_traceback(tmp_path: Path, en
     server.stdout.close()
 
 
+def test_closing_a_document_whose_lint_hangs_stops_that_lint(tmp_path: Path):
+    """Closing it left its lint running to the time-out (120 s by default),
+    and every other document's lint waited behind it."""
+    import queue
+    import threading
+
+    server = subprocess.Popen(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+    )
+    assert server.stdin is not None and server.stdout is not None
+    received: queue.Queue[dict] = queue.Queue()
+    stdout = server.stdout
+
+    def read() -> None:
+        while True:
+            try:
+                received.put(_read_message(stdout))
+            except (ValueError, OSError):
+                return
+
+    threading.Thread(target=read, daemon=True).start()
+
+    def published(path: Path) -> None:
+        deadline = time.time() + 30
+        while time.time() < deadline:
+            try:
+                message = received.get(timeout=max(deadline - time.time(), 0.01))
+            except queue.Empty:
+                break
+            diagnostics = message.get("method") == "textDocument/publishDiagnostics"
+            if diagnostics and message["params"]["uri"] == path.as_uri():
+                return
+        raise AssertionError(f"no diagnostics for {path.name} within 30 s")
+
+    server.stdin.write(
+        _frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
+        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
+        + _opened(tmp_path / "a.usda", "#usda 1.0\n")
+    )
+    server.stdin.flush()
+    published(tmp_path / "a.usda")
+    path, text = hanging_document(tmp_path)
+    server.stdin.write(_opened(path, text))
+    server.stdin.flush()
+    deadline = time.time() + 60
+    while not blocked_on_a_fifo(server.pid) and time.time() < deadline:
+        time.sleep(0.1)
+    closed = {"textDocument": {"uri": path.as_uri()}}
+    server.stdin.write(
+        _frame(json.dumps({"jsonrpc": "2.0", "method": "textDocument/didClose", "params": closed}))
+        + _opened(tmp_path / "fine.usda", FINE)
+    )
+    server.stdin.flush()
+    try:
+        published(tmp_path / "fine.usda")
+    finally:
+        server.stdin.write(
+            _frame('{"jsonrpc":"2.0","id":2,"method":"shutdown"}')
+            + _frame('{"jsonrpc":"2.0","method":"exit"}')
+        )
+        server.stdin.close()
+        server.wait(timeout=60)
+
+
 def _messages(stdout: bytes) -> list[dict]:
     """The JSON-RPC messages of the server's output."""
     import json

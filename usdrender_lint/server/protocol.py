@@ -367,14 +367,17 @@ class UsdRenderLintServer(LanguageServer):
         ]
 
     def forget(self, uri: str) -> None:
-        """A closed document: its lint's diagnostics go, on it and elsewhere;
-        the open documents whose findings were shown on it are linted again
+        """A closed document: its running lint stops, its diagnostics go, on it
+        and elsewhere; the open documents whose findings were shown on it are linted again
         (they now show them as related information, with the file's text)."""
         self.wanted.pop(uri, None)
         self.findings.pop(uri, None)
         path = usd_path(uri)
         if path is not None:
             self.layers.pop(path, None)
+            # Its running lint is pointless now, and every other lint waits for it.
+            self.ticks += 1
+            self.linting.cancel(path, self.ticks)
         own = self.published.pop(uri, {})
         # Cleared at once, whatever other documents' lints found on it: the
         # editor no longer shows it, and their next lints show no finding on it.
