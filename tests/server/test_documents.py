@@ -173,6 +173,19 @@ def test_a_composed_file_deleted_renamed_or_created_is_seen_as_check_sees_it(
     assert "SE007" in codes() and "ST002" not in codes()
 
 
+def test_a_configuration_file_created_while_open_is_read_by_the_next_lint(tmp_path: Path):
+    """Neovim's client watches no files: a .usdrender-lint.toml created while
+    the server ran was never read (the defaults stayed until a restart)."""
+    text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
+    (tmp_path / "shots").mkdir()
+    path = str(tmp_path / "shots" / "shot.usda")
+    documents = Documents()
+    documents.update({path: text})
+    assert "SE001" in {f.code for f in documents.lint(path).findings}
+    (tmp_path / ".usdrender-lint.toml").write_text('ignore = ["SE001"]\n')  # a folder above
+    assert "SE001" not in {f.code for f in documents.lint(path).findings}
+
+
 def test_suppress_names_only_registered_rules(tmp_path: Path):
     path = str(tmp_path / "shot.usda")
     text = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'

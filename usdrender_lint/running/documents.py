@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 from pxr import Ar, Pcp, Sdf, Tf, Usd, Vt
 
+from ..config import CONFIG_FILE_NAMES, search_start
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
 from ..engine.stage import (
@@ -83,8 +84,17 @@ class Linted:
 class _Config:
     prepared: Prepared
     #: The modification times of the configuration files read (those it extends
-    #: too) when they were read; empty: the defaults.
+    #: too) and of those the search for one looked at, when they were read.
     stamps: tuple[tuple[str, int | None], ...]
+
+
+def _config_candidates(path: str) -> tuple[str, ...]:
+    """Every file the search for ``path``'s configuration looks at: one created
+    later (an editor that watches no files says nothing) is found by the next lint."""
+    here = search_start(path)
+    return tuple(
+        str(folder / name) for folder in (here, *here.parents) for name in CONFIG_FILE_NAMES
+    )
 
 
 def _stamps(files: tuple[str, ...]) -> tuple[tuple[str, int | None], ...]:
@@ -270,7 +280,8 @@ class Documents:
                 progress=False,
             )
             prepared = prepare(request, self.registry)
-            config = self._configs[folder] = _Config(prepared, _stamps(prepared.settings.sources))
+            read = (*prepared.settings.sources, *_config_candidates(path))
+            config = self._configs[folder] = _Config(prepared, _stamps(read))
         return config.prepared
 
     # -- layers -------------------------------------------------------------------------
