@@ -708,6 +708,24 @@ async def test_a_parse_error_past_non_ascii_text_starts_at_its_word(
     close_documents(client, uri)
 
 
+async def test_code_actions_on_a_diagnostic_with_foreign_data_answer_without_an_error(
+    client: LanguageClient, workspace: Path
+):
+    """A client sends back the diagnostics it holds: one whose data this server
+    did not write that way (another version's) failed the request with an
+    internal error and Python's traceback."""
+    uri = open_document(client, workspace / "foreign.usda", BROKEN_SHOT.read_text())
+    found = await diagnostics_of(client, uri, 1)
+    camera = next(d for d in found if d.code == "CA004")
+    for data in ({"key": ["CA004"]}, {"key": ["CA004", None, "m"], "fix": "retarget"}):
+        foreign = types.Diagnostic(
+            range=camera.range, message=camera.message, source=camera.source, data=data
+        )
+        actions = await quick_actions(client, uri, foreign)
+        assert not [a for a in actions if a.kind == types.CodeActionKind.QuickFix]
+    close_documents(client, uri)
+
+
 async def _until(client: LanguageClient, uri: str, done) -> list[types.Diagnostic]:
     async with asyncio.timeout(60):
         while not done(client.diagnostics.get(uri, [])):

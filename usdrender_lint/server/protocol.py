@@ -751,11 +751,17 @@ def _key_of(diagnostic: types.Diagnostic) -> tuple[Any, ...] | None:
 
 
 def _ours(diagnostic: types.Diagnostic) -> bool:
-    """Whether a diagnostic is one this server published (with its finding's key)."""
+    """Whether a diagnostic is one this server published (with its finding's key
+    and fix): the client sends back what it holds, which may be another version's."""
+    data = diagnostic.data
+    if diagnostic.source != NAME or not isinstance(data, dict):
+        return False
+    key, fix = data.get("key"), data.get("fix")
     return (
-        diagnostic.source == NAME
-        and isinstance(diagnostic.data, dict)
-        and bool(diagnostic.data.get("key"))
+        isinstance(key, (list, tuple))
+        and len(key) == 3
+        and isinstance(key[0], str)
+        and (fix is None or isinstance(fix, dict))
     )
 
 
