@@ -83,9 +83,10 @@ def test_a_statement_span_is_its_words_on_its_line():
     assert statement_span(text, None).start == (0, 0)
     # An error's column (1-based) starts the span.
     assert statement_span(text, 3, 14).start == (2, 13)
-    # USD's column counts bytes: "bogus" is at byte 44 of this line, character 36.
+    # A finding's column counts characters (the engine converts USD's bytes:
+    # tests/engine/test_parse_error_columns.py): "bogus" is character 36 of this line.
     line = 'def Scope "abcdefg" ( doc = "é🎥相机" bogus = 1 )'
-    start = statement_span(f"#usda 1.0\n{line}\n", 2, 44).start
+    start = statement_span(f"#usda 1.0\n{line}\n", 2, 36).start
     assert start == (1, line.index("bogus"))
 
 

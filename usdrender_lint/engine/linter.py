@@ -21,6 +21,7 @@ from ..api.resolve import forget_prim_answers
 from ..layers.crate import crate_structure_problem
 from ..layers.files import layer_identifier, real_path, resolver_context_key, unreadable_reason
 from ..layers.nesting import nesting_problem
+from ..layers.source_lines import read_lines
 from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
@@ -767,9 +768,16 @@ def _corrupt_file_message(exc: Exception, path: str) -> str:
     return found
 
 
-def open_failure_findings(path: str, errors: Sequence[str], severity: Severity) -> list[Finding]:
+def open_failure_findings(
+    path: str,
+    errors: Sequence[str],
+    severity: Severity,
+    texts: Mapping[str, str] | None = None,
+) -> list[Finding]:
     """The ST001 findings of USD's error lines about a layer of ``path`` it cannot
-    read (a file's open, an editor's text), each placed where the line says."""
+    read (a file's open, an editor's text), each placed where the line says.
+    ``texts``: the text of layers with unsaved edits, by real path (their columns
+    are counted in it, not in the file)."""
     # USD follows the real cause with a generic "Failed to open layer @f@": say it once.
     chosen = [line for line in errors if not line.startswith("Failed to open layer")] or errors
     # Its parser also says some errors twice, once with ``file:line:col:`` in front.
@@ -780,23 +788,38 @@ def open_failure_findings(path: str, errors: Sequence[str], severity: Severity) 
             STAGE_OPEN_FAILED_NAME,
             severity,
             without_position(line),
-            _error_location(path, line),
+            _error_location(path, line, texts or {}),
         )
         for line in chosen
         if line not in placed
     ]
 
 
-def _error_location(path: str, message: str) -> Location:
+def _error_location(path: str, message: str, texts: Mapping[str, str]) -> Location:
     """Where USD's error points: the layer and line (and column) it names, a
     sublayer's own when the error is in one; else the file itself."""
     position = position_from_error(message)
     if position is None:
         return Location(path, None, os.path.abspath(path), None)
     layer, line, column = position
-    if not os.path.isfile(layer):
+    if not os.path.isfile(layer) and layer not in texts:
         layer = path
-    return Location(path, None, single_root(os.path.abspath(layer)), line, column)
+    layer = single_root(os.path.abspath(layer))
+    if column is not None:
+        column = _character_column(texts.get(layer), layer, line, column)
+    return Location(path, None, layer, line, column)
+
+
+def _character_column(text: str | None, layer: str, line: int, column: int) -> int:
+    """USD's parser counts a column in bytes (PEGTL's position, byte_in_line + 1:
+    pxr/base/tf/pxrPEGTL/pegtl.h); a finding's column counts characters, as an
+    editor and a report mark them (past an "é", bytes are more). Unchanged when
+    the line cannot be read."""
+    lines = text.split("\n") if text is not None else read_lines(layer)
+    if lines is None or not 0 < line <= len(lines):
+        return column
+    before = lines[line - 1].encode("utf-8", "surrogatepass")[: max(column - 1, 0)]
+    return len(before.decode("utf-8", "ignore")) + 1
 
 
 def _overrides(rule: Rule, hook: str) -> bool:

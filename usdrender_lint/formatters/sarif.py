@@ -176,6 +176,8 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
             }
         },
         "originalUriBaseIds": {SRCROOT: {"uri": folder_uri(root)}},
+        # A finding's column counts characters, not UTF-16 units (SARIF's default).
+        "columnKind": "unicodeCodePoints",
         "invocations": [
             {
                 "executionSuccessful": not notifications,

@@ -184,7 +184,7 @@ class Documents:
         parse_error = self._parse_errors.get(path)
         if parse_error is not None:
             severity = prepared.linter.severities.get(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
-            findings = tuple(open_failure_findings(path, parse_error, severity))
+            findings = tuple(open_failure_findings(path, parse_error, severity, self.texts))
         else:
             findings = self._lint_stage(prepared, path)
         return Linted(findings, seconds=time.perf_counter() - started, layers=self._layers_of(path))

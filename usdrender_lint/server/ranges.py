@@ -29,15 +29,11 @@ class Edit:
 def statement_span(text: str, line: int | None, column: int | None = None) -> Span:
     """The span of the statement on 1-based ``line`` (from its first word to
     the end of its line, without an opening ``(`` or ``{``); from ``column``
-    (USD's, of a parse error) on when given. The first line when ``line`` is None."""
+    (1-based, in characters: a parse error's) on when given. The first line when
+    ``line`` is None."""
     lines = text.split("\n")
     index = min(max((line or 1) - 1, 0), max(len(lines) - 1, 0))
     content = lines[index] if lines else ""
-    if column is not None:
-        # USD's parser counts a column in bytes (PEGTL's position: byte_in_line + 1,
-        # pxr/base/tf/pxrPEGTL/pegtl.h): past an é or an emoji, characters are fewer.
-        before = content.encode("utf-8", "surrogatepass")[: max(column - 1, 0)]
-        column = len(before.decode("utf-8", "ignore")) + 1
     start, end = statement_columns(content, column)
     return Span((index, start), (index, end))
 
