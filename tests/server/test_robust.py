@@ -130,6 +130,21 @@ def _frame(message: str) -> bytes:
     return b"Content-Length: %d\r\n\r\n" % len(data) + data
 
 
+INITIALIZE = '{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}'
+INITIALIZED = '{"jsonrpc":"2.0","method":"initialized","params":{}}'
+EXIT = '{"jsonrpc":"2.0","method":"exit"}'
+
+
+def _serve(*messages: str) -> subprocess.CompletedProcess[bytes]:
+    """The server run to its end over ``messages``, framed, on its standard input."""
+    return subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        input=b"".join(_frame(message) for message in messages),
+        capture_output=True,
+        timeout=60,
+    )
+
+
 def test_the_server_ends_when_its_client_dies(tmp_path: Path):
     """The client's process (initialize's processId) ends without closing the
     server's input: the server and its USD children end within a few seconds."""
@@ -161,14 +176,11 @@ def test_the_server_ends_when_its_client_dies(tmp_path: Path):
 
 
 def test_shutdown_and_exit_end_the_server_with_status_0():
-    server = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
-        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
-        + _frame('{"jsonrpc":"2.0","id":2,"method":"shutdown"}')
-        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
-        capture_output=True,
-        timeout=60,
+    server = _serve(
+        INITIALIZE,
+        INITIALIZED,
+        '{"jsonrpc":"2.0","id":2,"method":"shutdown"}',
+        EXIT,
     )
     assert server.returncode == 0
     assert b'"id": 2' in server.stdout and b'"result": null' in server.stdout
@@ -176,18 +188,13 @@ def test_shutdown_and_exit_end_the_server_with_status_0():
 
 def test_a_request_after_shutdown_is_answered_invalid_request():
     """pygls dropped it: the client waited for an answer that never came."""
-    server = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
-        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
-        + _frame('{"jsonrpc":"2.0","id":2,"method":"shutdown"}')
-        + _frame(
-            '{"jsonrpc":"2.0","id":3,"method":"textDocument/hover","params":'
-            '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}'
-        )
-        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
-        capture_output=True,
-        timeout=60,
+    server = _serve(
+        INITIALIZE,
+        INITIALIZED,
+        '{"jsonrpc":"2.0","id":2,"method":"shutdown"}',
+        '{"jsonrpc":"2.0","id":3,"method":"textDocument/hover","params":'
+        '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}',
+        EXIT,
     )
     assert server.returncode == 0
     (answer,) = [m for m in _messages(server.stdout) if m.get("id") == 3]
@@ -197,22 +204,15 @@ def test_a_request_after_shutdown_is_answered_invalid_request():
 def test_a_message_whose_params_do_not_fit_is_answered_invalid_params():
     """A request whose params lack what its method needs went unanswered (a
     traceback on standard error); such a notification popped up an error."""
-    server = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
-        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
-        + _frame(
-            '{"jsonrpc":"2.0","id":2,"method":"textDocument/codeAction","params":'
-            '{"textDocument":{"uri":"file:///a.usda"}}}'
-        )
-        + _frame(
-            '{"jsonrpc":"2.0","method":"textDocument/didChange","params":'
-            '{"textDocument":{"uri":"file:///a.usda","version":2}}}'
-        )
-        + _frame('{"jsonrpc":"2.0","id":3,"method":"shutdown"}')
-        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
-        capture_output=True,
-        timeout=60,
+    server = _serve(
+        INITIALIZE,
+        INITIALIZED,
+        '{"jsonrpc":"2.0","id":2,"method":"textDocument/codeAction","params":'
+        '{"textDocument":{"uri":"file:///a.usda"}}}',
+        '{"jsonrpc":"2.0","method":"textDocument/didChange","params":'
+        '{"textDocument":{"uri":"file:///a.usda","version":2}}}',
+        '{"jsonrpc":"2.0","id":3,"method":"shutdown"}',
+        EXIT,
     )
     assert server.returncode == 0
     messages = _messages(server.stdout)
@@ -228,22 +228,15 @@ def test_a_message_whose_params_do_not_fit_is_answered_invalid_params():
 def test_a_message_before_initialize_is_refused_without_a_traceback():
     """A request was failed with an internal error carrying pygls's traceback,
     and a notification popped up "Error in server: The workspace is not available"."""
-    server = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        input=_frame(
-            '{"jsonrpc":"2.0","id":1,"method":"textDocument/hover","params":'
-            '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}'
-        )
-        + _frame(
-            '{"jsonrpc":"2.0","method":"textDocument/didOpen","params":{"textDocument":'
-            '{"uri":"file:///a.usda","languageId":"usda","version":1,"text":"#usda 1.0"}}}'
-        )
-        + _frame('{"jsonrpc":"2.0","id":2,"method":"initialize","params":{"capabilities":{}}}')
-        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
-        + _frame('{"jsonrpc":"2.0","id":3,"method":"shutdown"}')
-        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
-        capture_output=True,
-        timeout=60,
+    server = _serve(
+        '{"jsonrpc":"2.0","id":1,"method":"textDocument/hover","params":'
+        '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}',
+        '{"jsonrpc":"2.0","method":"textDocument/didOpen","params":{"textDocument":'
+        '{"uri":"file:///a.usda","languageId":"usda","version":1,"text":"#usda 1.0"}}}',
+        '{"jsonrpc":"2.0","id":2,"method":"initialize","params":{"capabilities":{}}}',
+        INITIALIZED,
+        '{"jsonrpc":"2.0","id":3,"method":"shutdown"}',
+        EXIT,
     )
     assert server.returncode == 0
     messages = _messages(server.stdout)
@@ -262,21 +255,16 @@ def test_an_unreadable_message_is_one_line_in_the_log_not_an_error_popup():
         '{"jsonrpc":"2.0","id":2,"method":"textDocument/hover","params":'
         '{"textDocument":{"uri":"file:///a.usda"},"position":{"line":0,"character":0}}}'
     )
-    server = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
-        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
-        + _frame("{not json}")
-        + _frame("[1, 2]")
-        + _frame(
-            '{"jsonrpc":"2.0","method":"textDocument/didChange","params":{"textDocument":'
-            '{"uri":"file:///never-opened.usda","version":2},"contentChanges":[{"text":"x"}]}}'
-        )
-        + _frame(hover)
-        + _frame('{"jsonrpc":"2.0","id":3,"method":"shutdown"}')
-        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
-        capture_output=True,
-        timeout=60,
+    server = _serve(
+        INITIALIZE,
+        INITIALIZED,
+        "{not json}",
+        "[1, 2]",
+        '{"jsonrpc":"2.0","method":"textDocument/didChange","params":{"textDocument":'
+        '{"uri":"file:///never-opened.usda","version":2},"contentChanges":[{"text":"x"}]}}',
+        hover,
+        '{"jsonrpc":"2.0","id":3,"method":"shutdown"}',
+        EXIT,
     )
     assert server.returncode == 0
     messages = _messages(server.stdout)
@@ -425,13 +413,10 @@ def _messages(stdout: bytes) -> list[dict]:
 
 def test_exit_without_shutdown_ends_the_server_with_status_1():
     """The protocol's rule; pygls swallowed the status and the server said 0."""
-    server = subprocess.run(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        input=_frame('{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}')
-        + _frame('{"jsonrpc":"2.0","method":"initialized","params":{}}')
-        + _frame('{"jsonrpc":"2.0","method":"exit"}'),
-        capture_output=True,
-        timeout=60,
+    server = _serve(
+        INITIALIZE,
+        INITIALIZED,
+        EXIT,
     )
     assert server.returncode == 1
 
