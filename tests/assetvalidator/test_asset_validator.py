@@ -322,3 +322,21 @@ def _cli_issues_list(document: dict) -> list[tuple]:
         for issue in rule.get("issues", []):
             found.append(_cli_issue(rule, issue))
     return found
+
+
+def test_an_unfixable_rule_offers_no_suggestion_as_check_fix_applies_none(tmp_path: Path) -> None:
+    # unfixable = ["CA004"]: check --fix leaves CA004 alone, so the IssueFixer must too.
+    source = REPO / "examples" / "broken_shot" / "shot.usda"
+    by_cli, by_api = (tmp_path / name / "shot.usda" for name in ("a", "b"))
+    for copy in (by_cli, by_api):
+        copy.parent.mkdir()
+        shutil.copy(source, copy)
+        (copy.parent / ".usdrender-lint.toml").write_text('unfixable = ["CA004"]\n')
+    subprocess.run([str(BIN / "usdrender-lint"), "check", "--fix", str(by_cli)], check=False)
+    results = _engine().validate(str(by_api))
+    fixer = av.IssueFixer(str(by_api))
+    statuses = {r.issue.code: r.status.name for r in fixer.fix(list(results.issues()))}
+    fixer.save()
+    assert statuses["CA004"] == "NO_SUGGESTION" and statuses["SE007"] == "SUCCESS"
+    assert by_api.read_text() == by_cli.read_text() != source.read_text()
+    assert "rel camera = </World/camRig>\n" in by_api.read_text()

@@ -106,7 +106,13 @@ class UsdRenderLintChecker(BaseRuleChecker):
             else _SEVERITIES[finding.severity]
         )
         suggestion = None
-        if fix is not None and fix.safe and fix.apply is not None:
+        # A rule the configuration makes ``unfixable`` offers no fix, as --fix applies none.
+        if (
+            fix is not None
+            and fix.safe
+            and fix.apply is not None
+            and _CHECK.fixable(stage, finding)
+        ):
             layer = target_layer(stage, finding, fix)
             suggestion = Suggestion(
                 callable=_FixCallable(finding),

@@ -19,7 +19,7 @@ from typing import Any
 from pxr import Tf, Usd
 
 from ..engine import Linter, TracedFinding
-from ..model import FileResult, Report
+from ..model import FileResult, Finding, Report
 from ..records import record
 
 #: Stages whose lint is kept (the most recently linted ones).
@@ -105,6 +105,11 @@ class CheckLinters:
         linter = self.prepared(stage).linter
         assert isinstance(linter, Linter)
         return linter
+
+    def fixable(self, stage: Usd.Stage, finding: Finding) -> bool:
+        """Whether ``check --fix`` may fix the finding: not a rule the
+        configuration's ``unfixable`` names (as Prepared.is_reported judges)."""
+        return finding.code not in self.prepared(stage).unfixable
 
     def reported(self, stage: Usd.Stage, traced: list[TracedFinding]) -> list[TracedFinding]:
         """The findings ``check`` reports (per-path ignores applied)."""
