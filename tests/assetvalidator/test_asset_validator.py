@@ -340,3 +340,57 @@ def test_an_unfixable_rule_offers_no_suggestion_as_check_fix_applies_none(tmp_pa
     assert statuses["CA004"] == "NO_SUGGESTION" and statuses["SE007"] == "SUCCESS"
     assert by_api.read_text() == by_cli.read_text() != source.read_text()
     assert "rel camera = </World/camRig>\n" in by_api.read_text()
+
+
+_VARIANT_SHOT = """#usda 1.0
+def Xform "World"
+{
+    def Xform "camRig"
+    {
+        def Camera "cam"
+        {
+        }
+    }
+}
+
+def Scope "Render" (
+    variants = {
+        string shot = "clean"
+    }
+    prepend variantSets = "shot"
+)
+{
+    def RenderSettings "Settings"
+    {
+    }
+
+    variantSet "shot" = {
+        "rigged" {
+            over "Settings"
+            {
+                rel camera = </World/camRig>
+            }
+        }
+        "clean" {
+            over "Settings"
+            {
+                rel camera = </World/camRig/cam>
+            }
+        }
+    }
+}
+"""
+
+
+def test_a_configuration_with_variants_gives_checks_findings_under_every_selection(
+    tmp_path: Path,
+) -> None:
+    # variants = true: check lints the unselected "rigged" variant too (CA004).
+    shot = tmp_path / "shot.usda"
+    shot.write_text(_VARIANT_SHOT)
+    (tmp_path / ".usdrender-lint.toml").write_text("variants = true\n")
+    expected = _expected(_check([shot.resolve()])[str(shot.resolve())])
+    assert "CA004" in {key[0] for key in expected}
+    assert _validate_files([shot.resolve()])[str(shot.resolve())] == expected
+    # The stage handed to the checkers keeps its session layer as it was.
+    assert "variant selection" not in shot.read_text()

@@ -57,7 +57,7 @@ _SEVERITIES = {
 
 #: One lint per stage state, shared by every checker; check's linter per folder.
 _CHECK = CheckLinters()
-_LINTS = StageLints(_CHECK.linter)
+_LINTS = StageLints(_CHECK.linter, _CHECK.lint)
 
 
 def reported(stage: Usd.Stage) -> list[TracedFinding]:

@@ -14,13 +14,16 @@ import os
 import threading
 from collections.abc import Callable
 from dataclasses import field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pxr import Tf, Usd
 
 from ..engine import Linter, TracedFinding
 from ..model import FileResult, Finding, Report
 from ..records import record
+
+if TYPE_CHECKING:
+    from ..engine.variants import VariantExplorer
 
 #: Stages whose lint is kept (the most recently linted ones).
 MAX_CACHED_STAGES = 4
@@ -38,10 +41,17 @@ class StageLints:
     """Traced findings per stage, computed once per stage state, thread-safe
     (UsdValidation may call validators from worker threads).
 
-    ``linter_for`` gives the linter for a stage (built once per linter key)."""
+    ``linter_for`` gives the linter for a stage (built once per linter key);
+    ``lint_for``, when given, what lints it (the linter, or ``check``'s
+    variant explorer when the configuration sets ``variants``)."""
 
-    def __init__(self, linter_for: Callable[[Usd.Stage], Linter]) -> None:
+    def __init__(
+        self,
+        linter_for: Callable[[Usd.Stage], Linter],
+        lint_for: Callable[[Usd.Stage], Linter | VariantExplorer] | None = None,
+    ) -> None:
         self._linter_for = linter_for
+        self._lint_for = lint_for or linter_for
         self._lints: dict[Usd.Stage, _StageLint] = {}
         self._lock = threading.RLock()
 
@@ -49,7 +59,7 @@ class StageLints:
         with self._lock:
             cached = self._lints.get(stage)
             if cached is None:
-                linter = self._linter_for(stage)
+                linter = self._lint_for(stage)
                 # The edit that invalidates comes from anywhere: USD tells us.
                 listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._forget, stage)
                 traced = linter.run_stage(stage, stage_file(stage)).traced()
@@ -105,6 +115,20 @@ class CheckLinters:
         linter = self.prepared(stage).linter
         assert isinstance(linter, Linter)
         return linter
+
+    def lint(self, stage: Usd.Stage) -> Linter | VariantExplorer:
+        """What lints the stage as ``check`` lints its file: with ``variants``
+        set, under each variant combination. The explorer authors each
+        combination in the session layer and empties it after, so a stage
+        whose session layer holds opinions (a host's live stage) is linted
+        under its selections only, as composed now."""
+        prepared = self.prepared(stage)
+        spec = prepared.spec
+        if spec.variant_combinations is None or not stage.GetSessionLayer().empty:
+            return self.linter(stage)
+        from ..engine.variants import VariantExplorer
+
+        return VariantExplorer(self.linter(stage), spec.variant_combinations)
 
     def fixable(self, stage: Usd.Stage, finding: Finding) -> bool:
         """Whether ``check --fix`` may fix the finding: not a rule the
