@@ -112,6 +112,10 @@ def test_bad_configuration_raises_config_error(tmp_path: Path) -> None:
         usdrender_lint.lint_file(FAIL, profile="x")
     with pytest.raises(ConfigError, match="^argument max_variant_combinations must be"):
         usdrender_lint.lint_file(FAIL, variants=True, max_variant_combinations=0)
+    with pytest.raises(ConfigError, match="^argument variants must be true or false"):
+        usdrender_lint.lint_file(FAIL, variants="yes")  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match="^argument select must be a list of strings"):
+        usdrender_lint.lint_file(FAIL, select=[1])  # type: ignore[list-item]
     broken = tmp_path / ".usdrender-lint.toml"
     broken.write_text("fail-on = 3\n")
     with pytest.raises(ConfigError, match="fail-on"):

@@ -42,7 +42,8 @@ def _request(paths: Sequence[str], config: ConfigLike, **overrides: object) -> R
         entry = BY_NAME[name]
         assert entry.api, name
         if value is not None:
-            given[name] = entry.parse(value, name) if entry.kind == "tokens" else value
+            tokens = entry.kind == "tokens"
+            given[name] = entry.parse(value, f"argument {name}") if tokens else value
     if isinstance(config, Mapping):
         # A table of configuration keys, as [tool.usdrender-lint] holds them.
         config = with_inline(Settings(), [config], table_name=CONFIG_TABLE)
@@ -62,11 +63,9 @@ def _with_rules(outcome_report: Report, rules: Sequence[Rule]) -> Report:
     return replace(outcome_report, rules=tuple(rule_info(type(rule)) for rule in rules))
 
 
-#: The API's keywords by the flag the pipeline's messages name them with.
-_ARGUMENTS = {
-    "--" + name.replace("_", "-"): name
-    for name in ("select", "ignore", "extend_select", "profile", "max_variant_combinations")
-}
+#: The API's keywords by the flag the pipeline's messages name them with (every
+#: keyword the settings table gives the API, ``variants`` too).
+_ARGUMENTS = {entry.flag: entry.name for entry in BY_NAME.values() if entry.api and entry.flag}
 
 
 def _raise_as_before(exc: RequestError) -> None:
