@@ -394,3 +394,21 @@ def test_a_configuration_with_variants_gives_checks_findings_under_every_selecti
     assert _validate_files([shot.resolve()])[str(shot.resolve())] == expected
     # The stage handed to the checkers keeps its session layer as it was.
     assert "variant selection" not in shot.read_text()
+
+
+def test_a_usdz_package_is_not_fixed_as_check_fix_leaves_it(tmp_path: Path) -> None:
+    # check --fix leaves a .usdz alone; the IssueFixer said SUCCESS and then its
+    # save() raised (USD cannot write a package layer).
+    from pxr import Sdf, UsdUtils
+
+    source = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", source)
+    package = tmp_path / "shot.usdz"
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(source)), str(package))
+    before = package.read_bytes()
+    results = _engine().validate(str(package))
+    fixer = av.IssueFixer(str(package))
+    statuses = {r.issue.code: r.status.name for r in fixer.fix(list(results.issues()))}
+    fixer.save()
+    assert statuses["CA004"] == "FAILURE" and statuses["SE007"] == "FAILURE"
+    assert package.read_bytes() == before

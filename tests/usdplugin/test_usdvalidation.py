@@ -669,6 +669,23 @@ def test_a_validation_fix_of_a_layer_with_hard_links_is_not_applied(tmp_path: Pa
     assert stat.S_IMODE(work.stat().st_mode) == 0o751
 
 
+def test_a_validation_fix_of_a_usdz_package_is_not_applied(tmp_path: Path) -> None:
+    """--fix leaves a .usdz alone, and USD cannot save a package layer: the
+    fixer made an Sdf edit that ApplyFix's save then raised on (a Tf error out
+    of ApplyFix), leaving the layer dirty. Now it is not applied."""
+    from pxr import UsdUtils
+
+    source = tmp_path / "shot.usda"
+    source.write_text((REPO / "examples" / "broken_shot" / "shot.usda").read_text())
+    package = tmp_path / "shot.usdz"
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(source)), str(package))
+    before = package.read_bytes()
+    got = _run_child(_FIX_ALL, plugin_dir(), None, str(package), "clean")
+    assert got["applied"] == []
+    assert got["dirty_after"] is False
+    assert package.read_bytes() == before
+
+
 def test_a_validation_fix_of_a_layer_with_unsaved_edits_goes_through_sdf(tmp_path: Path) -> None:
     """The documented limit: with unsaved edits in the layer the fix is an Sdf
     edit, and ApplyFix's Save writes Sdf's export (comments gone)."""

@@ -8,18 +8,19 @@ again, written as the minimal text edit of a ``.usda`` (comments and layout
 kept; a crate file is rewritten, as ``--fix`` does), and the layer read back
 from its file, so it is clean and a later ``Save()`` writes nothing more.
 
-Otherwise (an anonymous layer, a layer with unsaved edits, a package, or an
-edit target that is another layer) the fix can only be an Sdf edit of the edit
+Otherwise (an anonymous layer, a layer with unsaved edits, or an edit
+target that is another layer) the fix can only be an Sdf edit of the edit
 target in memory; whoever saves that layer writes Sdf's export of it, which
 keeps neither comments nor layout. A layer whose file has several hard links
-gets no fix at all, as ``--fix`` leaves it alone: the save would split the links.
+gets no fix at all, as ``--fix`` leaves it alone: the save would split the links;
+nor does a .usdz package or a layer inside one, which USD cannot save.
 """
 
 from __future__ import annotations
 
 import os
 
-from pxr import Sdf, Usd
+from pxr import Ar, Sdf, Usd
 
 from ..api import Fix
 from ..engine import Linter
@@ -89,9 +90,9 @@ def fix_one(
     if edit_layer is None:
         return SingleFix(SDF, "the layer holding the finding is not open")
     if not writes_text(stage, finding, fix, edit_layer):
-        shared = _hard_linked(edit_layer)
-        if shared is not None:
-            return SingleFix(SDF, shared)
+        refused = _hard_linked(edit_layer) or _packaged(edit_layer)
+        if refused is not None:
+            return SingleFix(SDF, refused)
         failure = _call_fix(fix, stage, edit_layer)
         return SingleFix(SDF, failure)
     fixer = StageFixer(
@@ -108,6 +109,17 @@ def fix_one(
         if outcome.code == finding.code and outcome.path == finding.location.path:
             return SingleFix(TEXT, outcome.reason)
     return SingleFix(TEXT, "the finding is no longer reported on this stage")
+
+
+def _packaged(layer: Sdf.Layer) -> str | None:
+    """Why ``layer`` may not get an Sdf edit: it is a .usdz package or a layer
+    inside one, which --fix leaves alone and USD cannot save (SdfLayer refuses
+    to write a package layer, so ApplyFix's save and IssueFixer.save() raise)."""
+    if layer.anonymous or not (
+        layer.GetFileFormat().IsPackage() or Ar.IsPackageRelativePath(layer.identifier)
+    ):
+        return None
+    return write_problem(layer)
 
 
 def _hard_linked(layer: Sdf.Layer) -> str | None:
