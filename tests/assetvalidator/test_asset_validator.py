@@ -412,3 +412,18 @@ def test_a_usdz_package_is_not_fixed_as_check_fix_leaves_it(tmp_path: Path) -> N
     fixer.save()
     assert statuses["CA004"] == "FAILURE" and statuses["SE007"] == "FAILURE"
     assert package.read_bytes() == before
+
+
+def test_an_edited_configuration_is_read_again_in_a_running_host(tmp_path: Path) -> None:
+    # A host (Kit) keeps running while its user edits .usdrender-lint.toml: the
+    # next validation follows the file, as check run again does.
+    shot = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", shot)
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text('ignore = ["SE007"]\n')
+    engine = _engine()
+    assert "CA004" in {i.code for i in engine.validate(str(shot)).issues()}
+    config.write_text('ignore = ["SE007", "CA004"]\n')
+    os.utime(config, ns=(config.stat().st_atime_ns, config.stat().st_mtime_ns + 10**9))
+    codes = {i.code for i in engine.validate(str(shot)).issues()}
+    assert "CA004" not in codes and "CA003" in codes

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
@@ -88,14 +88,29 @@ def stage_file(stage: Usd.Stage) -> str:
     return root.realPath or root.identifier
 
 
+def _stamps(files: Iterable[str]) -> tuple[tuple[str, int | None], ...]:
+    """Each file with its modification time (None: gone or unreadable)."""
+    stamped: list[tuple[str, int | None]] = []
+    for path in files:
+        try:
+            stamped.append((path, os.stat(path).st_mtime_ns))
+        except OSError:
+            stamped.append((path, None))
+    return tuple(stamped)
+
+
 class CheckLinters:
     """The linter ``check`` would use for a stage's file: the configuration
     found from its folder (as ``check`` finds it), so the same rules, options
     and renderer profiles (``auto`` infers each stage's from its settings).
-    One linter per folder; per-path ignores applied as ``check`` applies them."""
+    One linter per folder, read again when a configuration file it read (the
+    one found or one it extends) changed, as the language server reads it
+    (running/documents.py): a host keeps running while its user edits the
+    configuration. Per-path ignores applied as ``check`` applies them."""
 
     def __init__(self) -> None:
-        self._prepared: dict[str, Any] = {}
+        #: Each folder's Prepared, with the modification times of the files it read.
+        self._prepared: dict[str, tuple[Any, tuple[tuple[str, int | None], ...]]] = {}
         self._lock = threading.Lock()
 
     def prepared(self, stage: Usd.Stage) -> Any:
@@ -105,10 +120,12 @@ class CheckLinters:
         file = stage_file(stage)
         folder = os.path.dirname(file) if os.path.isabs(file) else os.getcwd()
         with self._lock:
-            prepared = self._prepared.get(folder)
-            if prepared is None:
-                request = Request((file,), jobs=1, timeout=None, progress=False)
-                prepared = self._prepared[folder] = prepare(request)
+            cached = self._prepared.get(folder)
+            if cached is not None and _stamps(f for f, _ in cached[1]) == cached[1]:
+                return cached[0]
+            request = Request((file,), jobs=1, timeout=None, progress=False)
+            prepared = prepare(request)
+            self._prepared[folder] = (prepared, _stamps(prepared.settings.sources))
             return prepared
 
     def linter(self, stage: Usd.Stage) -> Linter:
