@@ -427,3 +427,17 @@ def test_an_edited_configuration_is_read_again_in_a_running_host(tmp_path: Path)
     os.utime(config, ns=(config.stat().st_atime_ns, config.stat().st_mtime_ns + 10**9))
     codes = {i.code for i in engine.validate(str(shot)).issues()}
     assert "CA004" not in codes and "CA003" in codes
+
+
+def test_a_bad_configuration_is_one_issue_naming_the_file_and_key(tmp_path: Path) -> None:
+    # check says it once (exit 2); every checker said it again: 76 issues.
+    shot = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", shot)
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text("selct = 1\n")
+    issues = list(_engine().validate(str(shot)).issues())
+    assert len(issues) == 1
+    assert issues[0].severity.name == "ERROR"
+    assert f"{config}: unknown key 'selct'" in issues[0].message
+    # The next validation (a new stage) says it again.
+    assert len(list(_engine().validate(str(shot)).issues())) == 1
