@@ -441,3 +441,29 @@ def test_a_bad_configuration_is_one_issue_naming_the_file_and_key(tmp_path: Path
     assert f"{config}: unknown key 'selct'" in issues[0].message
     # The next validation (a new stage) says it again.
     assert len(list(_engine().validate(str(shot)).issues())) == 1
+
+
+def test_a_layer_the_configuration_excludes_is_not_fixed_as_check_fix_leaves_it(
+    tmp_path: Path,
+) -> None:
+    # extend-exclude = ["reference/"]: check --fix leaves reference/lib.usda alone
+    # (not applied, with its reason); the IssueFixer rewrote it.
+    lib = tmp_path / "reference" / "lib.usda"
+    lib.parent.mkdir()
+    lib.write_text(
+        '#usda 1.0\n\ndef Xform "World"\n{\n    def Xform "camRig"\n    {\n'
+        '        def Camera "shotCam"\n        {\n        }\n    }\n}\n\n'
+        'def Scope "Render"\n{\n    def RenderSettings "S"\n    {\n'
+        "        rel camera = </World/camRig>\n    }\n}\n"
+    )
+    shot = tmp_path / "shot.usda"
+    shot.write_text("#usda 1.0\n(\n    subLayers = [\n        @./reference/lib.usda@\n    ]\n)\n")
+    (tmp_path / ".usdrender-lint.toml").write_text('extend-exclude = ["reference/"]\n')
+    before = lib.read_text()
+    results = _engine().validate(str(shot))
+    assert "CA004" in {i.code for i in results.issues()}
+    fixer = av.IssueFixer(str(shot))
+    statuses = {r.issue.code: r.status.name for r in fixer.fix(list(results.issues()))}
+    fixer.save()
+    assert statuses["CA004"] == "FAILURE"
+    assert lib.read_text() == before

@@ -166,7 +166,8 @@ class _FixCallable:
         for traced in reported(stage):
             if same_finding(traced.finding, self.finding) and traced.fix is not None:
                 layer = stage.GetEditTarget().GetLayer()
-                done = fix_one(_LINTS.linter(stage), stage, traced.finding, traced.fix, layer)
+                linter, excluded = _LINTS.linter(stage), _CHECK.excluded(stage)
+                done = fix_one(linter, stage, traced.finding, traced.fix, layer, excluded)
                 if not done.applied:
                     # The IssueFixer reports an exception as FixStatus.FAILURE.
                     raise RuntimeError(f"{self.finding.code} not fixed: {done.reason}")

@@ -19,6 +19,7 @@ nor does a .usdz package or a layer inside one, which USD cannot save.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 
 from pxr import Ar, Sdf, Usd
 
@@ -29,6 +30,7 @@ from ..layers.writing import write_problem
 from ..model import Finding
 from ..records import record
 from .session import FixOptions, StageFixer, _call_fix, _find_layer
+from .sources import excluded_reason
 
 TEXT = "text"
 SDF = "sdf"
@@ -80,15 +82,20 @@ def fix_one(
     finding: Finding,
     fix: Fix,
     edit_layer: Sdf.Layer | None = None,
+    excluded: Callable[[str], bool] | None = None,
 ) -> SingleFix:
     """Apply ``fix`` (the fix ``linter`` offered for ``finding`` on ``stage``)
-    into ``edit_layer`` (default: the layer ``--fix`` edits). Never raises for
-    a fix that fails: the result says why."""
+    into ``edit_layer`` (default: the layer ``--fix`` edits). ``excluded``: the
+    configuration's exclusions (FixOptions.excluded), whose layers ``--fix``
+    leaves alone. Never raises for a fix that fails: the result says why."""
     if fix.apply is None:
         return SingleFix(SDF, "the rule offers no automatic fix")
     edit_layer = edit_layer or target_layer(stage, finding, fix)
     if edit_layer is None:
         return SingleFix(SDF, "the layer holding the finding is not open")
+    left_out = excluded_reason(stage, edit_layer, excluded)
+    if left_out is not None:
+        return SingleFix(SDF, left_out)
     if not writes_text(stage, finding, fix, edit_layer):
         refused = _hard_linked(edit_layer) or _packaged(edit_layer)
         if refused is not None:
@@ -98,7 +105,7 @@ def fix_one(
     fixer = StageFixer(
         linter,
         finding.location.file,
-        FixOptions(unsafe=True),
+        FixOptions(unsafe=True, excluded=excluded),
         lambda other: same_finding(other, finding),
         callers_stage=True,
     )

@@ -110,17 +110,7 @@ class Sources:
         return LayerSource(layer, disk, exported, text, problem, text)
 
     def _excluded(self, layer: Sdf.Layer) -> str | None:
-        """Why fixes leave alone a layer the stage composes that the configuration
-        leaves out of linting (the root was named: it is fixed)."""
-        path = layer_real_path(layer)
-        if self.excluded is None or layer == self.stage.GetRootLayer() or not path:
-            return None
-        if not self.excluded(path):
-            return None
-        return (
-            f"{display_path(path)} is left out of linting by the configuration (exclude, "
-            "extend-exclude or .gitignore), so --fix leaves it alone; fix it where it is linted"
-        )
+        return excluded_reason(self.stage, layer, self.excluded)
 
     def __iter__(self):
         return iter(self.known.values())
@@ -211,3 +201,19 @@ def restore(layer: Sdf.Layer, text: str) -> None:
 
 def _shown(layer: Sdf.Layer) -> str:
     return display_path(layer_real_path(layer) or layer_identifier(layer))
+
+
+def excluded_reason(
+    stage: Usd.Stage, layer: Sdf.Layer, excluded: Callable[[str], bool] | None
+) -> str | None:
+    """Why fixes leave alone a layer the stage composes that the configuration
+    leaves out of linting (the root was named: it is fixed)."""
+    path = layer_real_path(layer)
+    if excluded is None or layer == stage.GetRootLayer() or not path:
+        return None
+    if not excluded(path):
+        return None
+    return (
+        f"{display_path(path)} is left out of linting by the configuration (exclude, "
+        "extend-exclude or .gitignore), so --fix leaves it alone; fix it where it is linted"
+    )

@@ -152,6 +152,13 @@ class CheckLinters:
         configuration's ``unfixable`` names (as Prepared.is_reported judges)."""
         return finding.code not in self.prepared(stage).unfixable
 
+    def excluded(self, stage: Usd.Stage) -> Callable[[str], bool]:
+        """Whether ``check`` leaves a layer's path out of linting (exclude,
+        .gitignore): its fixes leave such a layer alone (FixOptions.excluded)."""
+        from .pipeline import excluded_from_linting
+
+        return excluded_from_linting(self.prepared(stage))
+
     def reported(self, stage: Usd.Stage, traced: list[TracedFinding]) -> list[TracedFinding]:
         """The findings ``check`` reports (per-path ignores applied)."""
         file = stage_file(stage)
