@@ -241,11 +241,13 @@ def with_inline(
     settings: Settings,
     overrides: Sequence[str | Mapping[str, Any]],
     table_name: str = EDITOR_SETTINGS,
+    file_hint: str = "give it as --config FILE",
 ) -> Settings:
     """``settings`` with each ``--config 'KEY = VALUE'`` (TOML) or table (the
     editor's, the Python API's) laid over them, in order, as a file that
     extends them would be: ``severity.SE003 = "info"`` changes that entry,
-    ``extend-select`` adds. Errors name the override (a table: ``table_name``)."""
+    ``extend-select`` adds. Errors name the override (a table: ``table_name``);
+    ``file_hint`` says how the caller gives a file instead of ``extend``."""
     for given in overrides:
         if isinstance(given, Mapping):
             where, table = table_name, given
@@ -257,7 +259,7 @@ def with_inline(
             if entry is None:
                 raise ConfigError(f"{where}: unknown key '{key}'")
             if entry.name == "extend":
-                raise ConfigError(f"{where}: 'extend' names a file: give it as --config FILE")
+                raise ConfigError(f"{where}: 'extend' names a file: {file_hint}")
             parsed[entry.name] = entry.parse(value, f"{where}: '{key}'")
         settings = dataclasses.replace(
             settings,

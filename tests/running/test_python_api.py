@@ -100,6 +100,11 @@ def test_a_config_table_lints_as_the_same_table_in_a_file(tmp_path: Path) -> Non
         usdrender_lint.lint_file(FAIL, config={"nope": 1})
     with pytest.raises(ConfigError, match="^config: 'fail-on'"):
         usdrender_lint.lint_stage(stage, config={"fail-on": 3})
+    # An API caller has no --config flag: the file is the config argument.
+    with pytest.raises(
+        ConfigError, match=r"^config: 'extend' names a file: pass the file as config=PATH$"
+    ):
+        usdrender_lint.lint_file(FAIL, config={"extend": str(tmp_path / "base.toml")})
 
 
 def test_bad_configuration_raises_config_error(tmp_path: Path) -> None:

@@ -46,7 +46,9 @@ def _request(paths: Sequence[str], config: ConfigLike, **overrides: object) -> R
             given[name] = entry.parse(value, f"argument {name}") if tokens else value
     if isinstance(config, Mapping):
         # A table of configuration keys, as [tool.usdrender-lint] holds them.
-        config = with_inline(Settings(), [config], table_name=CONFIG_TABLE)
+        config = with_inline(
+            Settings(), [config], table_name=CONFIG_TABLE, file_hint="pass the file as config=PATH"
+        )
     # No config file is searched for: None means the defaults, as documented.
     return Request(
         tuple(paths),
