@@ -467,3 +467,20 @@ def test_a_layer_the_configuration_excludes_is_not_fixed_as_check_fix_leaves_it(
     fixer.save()
     assert statuses["CA004"] == "FAILURE"
     assert lib.read_text() == before
+
+
+def test_a_file_force_exclude_leaves_out_gets_no_issue_as_check_lints_none(
+    tmp_path: Path,
+) -> None:
+    # force-exclude: check given legacy/shot.usda by name lints nothing (exit 0).
+    shot = tmp_path / "legacy" / "shot.usda"
+    shot.parent.mkdir()
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", shot)
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text('extend-exclude = ["legacy/"]\nforce-exclude = true\n')
+    assert _check([shot.resolve()]) == {}
+    assert list(_engine().validate(str(shot)).issues()) == []
+    # Without force-exclude a file given by name is linted, by both.
+    config.write_text('extend-exclude = ["legacy/"]\n')
+    os.utime(config, ns=(config.stat().st_atime_ns, config.stat().st_mtime_ns + 10**9))
+    assert "CA004" in {i.code for i in _engine().validate(str(shot)).issues()}

@@ -80,7 +80,10 @@ def _first_failure(stage: Usd.Stage) -> bool:
 
 
 def reported(stage: Usd.Stage) -> list[TracedFinding]:
-    """The stage's findings as ``check`` reports them (per-path ignores applied)."""
+    """The stage's findings as ``check`` reports them (per-path ignores applied;
+    none on a file ``force-exclude`` leaves out, as ``check`` lints none)."""
+    if _CHECK.force_excluded(stage):
+        return []
     return _CHECK.reported(stage, _LINTS.findings(stage))
 
 

@@ -111,6 +111,8 @@ class CheckLinters:
     def __init__(self) -> None:
         #: Each folder's Prepared, with the modification times of the files it read.
         self._prepared: dict[str, tuple[Any, tuple[tuple[str, int | None], ...]]] = {}
+        #: Each stage's force-exclude answer, with the Prepared it was judged by.
+        self._force_excluded: dict[Usd.Stage, tuple[Any, bool]] = {}
         self._lock = threading.Lock()
 
     def prepared(self, stage: Usd.Stage) -> Any:
@@ -151,6 +153,29 @@ class CheckLinters:
         """Whether ``check --fix`` may fix the finding: not a rule the
         configuration's ``unfixable`` names (as Prepared.is_reported judges)."""
         return finding.code not in self.prepared(stage).unfixable
+
+    def force_excluded(self, stage: Usd.Stage) -> bool:
+        """Whether ``check`` leaves the stage's file out though it is given by
+        name (``force-exclude`` with a pattern that matches it): then it
+        reports nothing on it."""
+        from .discovery import Exclusions, force_excluded
+        from .pipeline import folder_exclusions
+
+        prepared = self.prepared(stage)
+        exclusions = Exclusions.of(prepared.settings)
+        if not exclusions.force:
+            return False
+        # Every checker asks, and the answer walks the folders (.gitignore): once
+        # per stage (a host validates a new one each time) and preparation.
+        known = self._force_excluded.get(stage)
+        if known is not None and known[0] is prepared:
+            return known[1]
+        answer = force_excluded(stage_file(stage), exclusions, folder_exclusions(prepared))
+        with self._lock:
+            self._force_excluded[stage] = (prepared, answer)
+            while len(self._force_excluded) > MAX_CACHED_STAGES:
+                del self._force_excluded[next(iter(self._force_excluded))]
+        return answer
 
     def excluded(self, stage: Usd.Stage) -> Callable[[str], bool]:
         """Whether ``check`` leaves a layer's path out of linting (exclude,
