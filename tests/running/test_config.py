@@ -130,6 +130,17 @@ def test_per_path_ignores_only_match_their_files(project) -> None:
     assert "SE003" in findings(check(project))
 
 
+@pytest.mark.parametrize("glob", ["{shots,other}/*.usda", "{other,shots/}/*.usda", "*.{usdc,usda}"])
+def test_per_path_ignores_take_alternatives_in_braces(project, glob) -> None:
+    """As ruff's per-file-ignores ("{benchmark,scripts}/*.py" in its settings
+    reference): a brace group matches any of its alternatives."""
+    _write(project, f'[per-path-ignores]\n"{glob}" = ["SE003"]\n')
+    found = findings(check(project))
+    assert "SE003" not in found and found
+    _write(project, '[per-path-ignores]\n"{other,more}/*.usda" = ["SE003"]\n')
+    assert "SE003" in findings(check(project))
+
+
 @pytest.mark.parametrize(
     "glob", ["{project}/shots/shot.usda", "{project}/shots/*.usda", "../shots/*.usda"]
 )

@@ -28,10 +28,35 @@ def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
     one that climbs out of ``base_dir`` (``../assets/*.usda``), matches the
     files it names. ``base_dir`` is resolved (the config file's folder), so a
     file named through a linked folder matches by its resolved path too.
+    ``{a,b}`` matches either (as ruff's per-file-ignores read it:
+    https://docs.astral.sh/ruff/settings/#lint_per-file-ignores).
     """
     absolute = os.path.abspath(path)
     resolved = os.path.realpath(absolute)
-    return any(_matches(pattern, Path(p), base_dir) for p in dict.fromkeys((absolute, resolved)))
+    return any(
+        _matches(each, Path(p), base_dir)
+        for each in expand_braces(pattern)
+        for p in dict.fromkeys((absolute, resolved))
+    )
+
+
+#: The innermost ``{...}`` holding a comma: its alternatives are expanded first.
+_BRACES = re.compile(r"\{([^{}]*,[^{}]*)\}")
+
+
+def expand_braces(pattern: str) -> list[str]:
+    """``"{a,b}/*.usda"`` -> ``["a/*.usda", "b/*.usda"]`` (nested groups too);
+    fnmatch has no alternation, which globset (ruff's globs) has."""
+    found = _BRACES.search(pattern)
+    if found is None:
+        # An alternative ending in '/' ("{a,b/}/*.usda") leaves a '//'.
+        return [re.sub(r"(?<=.)/{2,}", "/", pattern)]
+    head, tail = pattern[: found.start()], pattern[found.end() :]
+    return [
+        expanded
+        for choice in found.group(1).split(",")
+        for expanded in expand_braces(head + choice + tail)
+    ]
 
 
 def _matches(pattern: str, absolute: Path, base_dir: Path) -> bool:
