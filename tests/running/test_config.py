@@ -10,6 +10,7 @@ from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
 from usdrender_lint.config import Settings, load_settings
+from usdrender_lint.running.path_ignores import matches_path
 
 # SE003 (error) on a bad window; SE001's require-authored option reports the
 # unauthored resolution; CA001 (error) for the product without a camera.
@@ -139,6 +140,18 @@ def test_per_path_ignores_take_alternatives_in_braces(project, glob) -> None:
     assert "SE003" not in found and found
     _write(project, '[per-path-ignores]\n"{other,more}/*.usda" = ["SE003"]\n')
     assert "SE003" in findings(check(project))
+
+
+def test_a_negated_per_path_glob_matches_the_other_files(project) -> None:
+    """As ruff's per-file-ignores: "An initial '!' negates the file pattern"."""
+    _write(project, '[per-path-ignores]\n"!other/*.usda" = ["SE003"]\n')
+    found = findings(check(project))
+    assert "SE003" not in found and found
+    _write(project, '[per-path-ignores]\n"!shots/*.usda" = ["SE003"]\n')
+    assert "SE003" in findings(check(project))
+    # per-path-profiles read their globs alike
+    shot = str(project / "shots" / "shot.usda")
+    assert matches_path("!other/*", shot, project) and not matches_path("!shots/*", shot, project)
 
 
 @pytest.mark.parametrize(

@@ -28,9 +28,12 @@ def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
     one that climbs out of ``base_dir`` (``../assets/*.usda``), matches the
     files it names. ``base_dir`` is resolved (the config file's folder), so a
     file named through a linked folder matches by its resolved path too.
-    ``{a,b}`` matches either (as ruff's per-file-ignores read it:
+    ``{a,b}`` matches either; an initial ``!`` matches the files the rest does
+    not (both as ruff's per-file-ignores read them:
     https://docs.astral.sh/ruff/settings/#lint_per-file-ignores).
     """
+    if pattern.startswith("!"):
+        return not matches_path(pattern[1:], path, base_dir)
     absolute = os.path.abspath(path)
     resolved = os.path.realpath(absolute)
     return any(
@@ -38,6 +41,14 @@ def matches_path(pattern: str, path: str, base_dir: Path) -> bool:
         for each in expand_braces(pattern)
         for p in dict.fromkeys((absolute, resolved))
     )
+
+
+def matches_any_path(pattern: str, paths: Sequence[str], base_dir: Path) -> bool:
+    """Whether ``pattern`` matches one of ``paths`` (a linted file and the layer
+    of a finding's opinion); a negated one matches when its rest matches none."""
+    if pattern.startswith("!"):
+        return not any(matches_path(pattern[1:], path, base_dir) for path in paths)
+    return any(matches_path(pattern, path, base_dir) for path in paths)
 
 
 #: The innermost ``{...}`` holding a comma: its alternatives are expanded first.
@@ -103,7 +114,7 @@ def apply_path_ignores(
             and any(
                 matches_any(rule, selectors)
                 for pattern, selectors in per_path_ignores.items()
-                if any(matches_path(pattern, place, base_dir) for place in places)
+                if matches_any_path(pattern, places, base_dir)
             )
         )
 
