@@ -108,6 +108,10 @@ class Settings:
     from_file: Mapping[str, str] = field(default_factory=dict)
     #: Every configuration file read: ``source``, then the files it extends.
     sources: tuple[str, ...] = ()
+    #: (setting, entry) -> the file (or ``--config 'KEY = VALUE'``) holding that
+    #: entry of a table or list a file extending another adds to: an error about
+    #: one entry names the file it is in (``where_entry``).
+    entries_from: Mapping[tuple[str, str], str] = field(default_factory=dict)
     #: The rule selections of the layers beneath ``select``, ``ignore`` and
     #: ``extend_select`` (the files extended, the file under the flags), first
     #: to last. Each layer starts from what the one beneath chose, as in ruff: a
@@ -140,7 +144,16 @@ class Settings:
         """Where a setting came from, for error messages: the flag or file and key."""
         if key in self.from_flags:
             return "--" + key.replace("_", "-")
-        return f"{self.from_file.get(key, self.source) or 'config'}: {key.replace('_', '-')}"
+        config_key = BY_NAME[key].config_key if key in BY_NAME else None
+        return f"{self.from_file.get(key, self.source) or 'config'}: {config_key or key}"
+
+    def where_entry(self, name: str, entry: str) -> str:
+        """Where one entry of a table or list setting (``severity``'s ``SE003``,
+        an ``unfixable`` code) came from: the file that holds it and the key."""
+        holder = self.entries_from.get((name, entry))
+        if holder is None:
+            return self.where(name)
+        return f"{holder}: {BY_NAME[name].config_key or name}"
 
     @property
     def base_dir(self) -> Path:
@@ -166,8 +179,23 @@ def _parse_table(
     if "extend" in parsed:
         return _extending(parsed, source, prefix, chain)
     return Settings(
-        **parsed, source=source, from_file=dict.fromkeys(parsed, source), sources=(source,)
+        **parsed,
+        source=source,
+        from_file=dict.fromkeys(parsed, source),
+        sources=(source,),
+        entries_from=_entries(parsed, source),
     )
+
+
+def _entries(parsed: Mapping[str, Any], holder: str) -> dict[tuple[str, str], str]:
+    """(setting, entry) -> ``holder`` for each entry of the tables and lists that
+    a file extending this one adds to rather than replaces."""
+    return {
+        (name, str(entry)): holder
+        for name, value in parsed.items()
+        if BY_NAME[name].extended != "replaced"
+        for entry in value
+    }
 
 
 def _extending(
@@ -197,6 +225,7 @@ def _extending(
         source=source,
         from_file={**base.from_file, **dict.fromkeys(parsed, source)},
         sources=(source, *base.sources),
+        entries_from={**base.entries_from, **_entries(parsed, source)},
     )
 
 
@@ -265,6 +294,7 @@ def with_inline(
             settings,
             **_layered(settings, parsed),
             from_file={**settings.from_file, **dict.fromkeys(parsed, where)},
+            entries_from={**settings.entries_from, **_entries(parsed, where)},
         )
     return settings
 

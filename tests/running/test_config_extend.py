@@ -223,6 +223,40 @@ def test_a_bad_rule_in_the_extended_file_is_named_there(show: Path) -> None:
     assert "studio.toml: select" in result.stderr, result.stderr
 
 
+@pytest.mark.parametrize(
+    ("entry", "says"),
+    [
+        ('severity.XX999 = "info"', "severity.XX999: no rule"),
+        ("rules.XX999.x = 1", "rules.XX999: no rule"),
+        ('per-path-ignores."old/*" = ["XX999"]', "per-path-ignores.old/*: 'XX999'"),
+        ('per-path-profiles."old/*" = "nope"', "per-path-profiles.old/*: unknown profile"),
+        ('unfixable = ["XX999"]', "unfixable: 'XX999'"),
+    ],
+    ids=["severity", "rules", "per-path-ignores", "per-path-profiles", "unfixable"],
+)
+def test_a_bad_entry_of_a_merged_table_or_list_is_named_in_its_file(
+    show: Path, entry: str, says: str
+) -> None:
+    """The show sets the same table (or list) too: the error still names the
+    studio's file, which holds the bad entry, not the show's."""
+    studio = show.parent / "studio" / "studio.toml"
+    studio.write_text(entry)
+    (show / ".usdrender-lint.toml").write_text(
+        'extend = "../studio/studio.toml"\nunfixable = ["CA006"]\n'
+        '[severity]\nSE015 = "info"\n[rules.SE001]\nrequire-authored = true\n'
+        '[per-path-ignores]\n"wip/*" = ["SE"]\n[per-path-profiles]\n"wip/*" = "arnold"\n'
+    )
+    result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
+    assert result.exit_code == 2
+    assert f"{studio}: {says}" in result.stderr, result.stderr
+    # and an inline --config's entry is named as the inline setting, not the file
+    studio.write_text("")
+    args = ["check", "--no-cache", "--config", entry, str(show / "shots")]
+    result = CliRunner().invoke(cli, args)
+    assert result.exit_code == 2
+    assert f"--config '{entry}': {says}" in result.stderr, result.stderr
+
+
 def test_the_server_reads_the_settings_again_when_the_extended_file_changes(show: Path) -> None:
     shot = show / "shots" / "shot.usda"
     documents = Documents()

@@ -271,13 +271,14 @@ def check_working_directory() -> None:
 
 def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
     """Instantiate the selected rules with their validated options."""
-    check_selectors(registry, settings.unfixable, settings.where("unfixable"))
+    for token in settings.unfixable:
+        check_selectors(registry, [token], settings.where_entry("unfixable", token))
     for layer in settings.selection_layers:
         for key in SELECTION_KEYS:
             check_selectors(registry, getattr(layer, key) or (), layer.origins[key])
     unignorable_notes(registry, settings)
     for glob, selectors in settings.per_path_ignores.items():
-        where = f"{settings.where('per_path_ignores')}.{glob}"
+        where = f"{settings.where_entry('per_path_ignores', glob)}.{glob}"
         check_selectors(registry, selectors, where)
         for rule, token in _unignorable_named(registry, selectors):
             # A wider selector (ALL, ST) ignores the others: path_ignores keeps it.
@@ -286,7 +287,7 @@ def make_rules(registry: Registry, settings: Settings) -> list[Rule]:
         lowered = registry.find(key)
         if lowered is not None and lowered.code in UNIGNORABLE and severity is not Severity.ERROR:
             raise ConfigError(
-                f"{_origin(settings, 'severity')}: severity.{key}: {lowered.code} is always an "
+                f"{settings.where_entry('severity', key)}.{key}: {lowered.code} is always an "
                 f"error: {_always_reported(lowered)}"
             )
     try:
@@ -355,17 +356,11 @@ def check_selectors(registry: Registry, selectors: Iterable[str], where: str) ->
             )
 
 
-def _origin(settings: Settings, name: str) -> str:
-    """What set a table setting, for its entries' errors: the file (the nearest of
-    a chain that sets it) or ``--config 'KEY = VALUE'``."""
-    return settings.from_file.get(name, settings.source) or "config"
-
-
 def _options_by_code(registry: Registry, settings: Settings) -> dict[str, object]:
     built = {}
     for key, values in settings.rule_options.items():
         rule = registry.find(key)
-        where = f"{_origin(settings, 'rule_options')}: rules.{key}"
+        where = f"{settings.where_entry('rule_options', key)}.{key}"
         if rule is None:
             raise ConfigError(f"{where}: no rule has this code or name")
         built[rule.code] = build_options(rule.Options, values, where)
@@ -378,7 +373,7 @@ def severity_overrides(registry: Registry, settings: Settings) -> dict[str, Seve
         rule = registry.find(key)
         if rule is None:
             raise ConfigError(
-                f"{_origin(settings, 'severity')}: severity.{key}: no rule has this code or name"
+                f"{settings.where_entry('severity', key)}.{key}: no rule has this code or name"
             )
         overrides[rule.code] = severity
     return overrides
@@ -404,7 +399,7 @@ def check_profiles(settings: Settings) -> None:
     known = [AUTO, *PROFILES]
     named = [(settings.profile, settings.where("profile"))]
     named += [
-        (name, f"{settings.where('per_path_profiles')}.{glob}")
+        (name, f"{settings.where_entry('per_path_profiles', glob)}.{glob}")
         for glob, name in settings.per_path_profiles.items()
     ]
     for name, where in named:

@@ -88,7 +88,13 @@ PRUNE_TO = 3 * MAX_BYTES // 4
 #: A result larger than this (a file with a huge number of findings) is not stored.
 MAX_ENTRY_BYTES = 4 << 20
 #: Settings that change what a report is used for, not any file's findings.
-SETTINGS_NOT_IN_KEY = not_in_cache_key() | {"source", "from_flags", "from_file", "sources"}
+SETTINGS_NOT_IN_KEY = not_in_cache_key() | {
+    "source",
+    "from_flags",
+    "from_file",
+    "sources",
+    "entries_from",
+}
 #: Environment prefixes that can change what USD composes (plugin and resolver
 #: paths, USD's own switches). None of the linter's own variables: none
 #: changes a finding (they say where the cache is, whether it is used, whether
