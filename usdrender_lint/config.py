@@ -586,8 +586,8 @@ def json_schema() -> dict[str, Any]:
     VS Code's Even Better TOML) complete and check the keys with it. Draft 4,
     the one taplo supports ("All features from the Draft 4 specification are
     supported": https://taplo.tamasfe.dev/configuration/developing-schemas.html).
-    What a type cannot say (which rule codes exist, a profile's name, a
-    number's range) is checked when the file is read."""
+    What a schema cannot say (which rule codes exist, a profile's name) is
+    checked when the file is read."""
     hints = typing.get_type_hints(Settings)
     properties: dict[str, Any] = {}
     for entry in SETTINGS:
@@ -596,6 +596,7 @@ def json_schema() -> dict[str, Any]:
         schema = _schema_of(hints[entry.name])
         if entry.choices:
             schema = {"enum": list(entry.choices)}
+        schema.update(entry.schema)
         schema["description"] = entry.help
         if entry.default is not None and not isinstance(entry.default, Mapping):
             default = entry.default

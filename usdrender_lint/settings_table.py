@@ -12,6 +12,7 @@ any of them. No USD, click or rich here: ``--help`` reads it.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import field
 from typing import Any
 
 from .model import Severity
@@ -79,6 +80,9 @@ class Setting:
     #: "replaced"; "merged" (a table, entry by entry; a rule's options option by
     #: option); "added" (a list: the extended file's entries, then its own).
     extended: str = "replaced"
+    #: What the JSON Schema says of a value beyond its type, as ``parse`` checks
+    #: it (a number's range, a path that is not blank): config.json_schema.
+    schema: Mapping[str, Any] = field(default_factory=dict)
 
 
 # -- parsers --------------------------------------------------------------------------
@@ -199,6 +203,9 @@ def _folder(value: Any, where: str) -> str:
     return value
 
 
+#: A JSON Schema pattern of a string that is not empty nor only spaces.
+NOT_BLANK = r"\S"
+
 # -- the table ------------------------------------------------------------------------
 
 SETTINGS: tuple[Setting, ...] = (
@@ -208,6 +215,7 @@ SETTINGS: tuple[Setting, ...] = (
         "file's folder; ~ expands): a show's settings on top of a studio's.",
         _file,
         config_key="extend",
+        schema={"pattern": NOT_BLANK},
         changes_findings=False,
     ),
     Setting(
@@ -290,6 +298,7 @@ SETTINGS: tuple[Setting, ...] = (
         _whole(1, None),
         default=1000,
         config_key="time-sample-cap",
+        schema={"minimum": 1},
     ),
     Setting(
         "unfixable",
@@ -315,6 +324,7 @@ SETTINGS: tuple[Setting, ...] = (
         "max_variant_combinations",
         "With --variants: variant combinations linted per file at most",
         _whole(1, MAX_VARIANT_COMBINATIONS),
+        schema={"minimum": 1, "maximum": MAX_VARIANT_COMBINATIONS},
         kind="int",
         default=64,
         config_key="max-variant-combinations",
@@ -326,6 +336,7 @@ SETTINGS: tuple[Setting, ...] = (
         "profile",
         "Renderer profile: auto (inferred per RenderSettings) or a name",
         _profile,
+        schema={"minLength": 1},
         kind="profile",
         default="auto",
         config_key="profile",
@@ -393,6 +404,7 @@ SETTINGS: tuple[Setting, ...] = (
         "cache_dir",
         "The result cache's folder",
         _folder,
+        schema={"pattern": NOT_BLANK},
         kind="folder",
         config_key="cache-dir",
         flag="--cache-dir",

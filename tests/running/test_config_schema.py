@@ -72,6 +72,27 @@ def _kind(sample: str) -> str:
     return names[type(value)]
 
 
+@pytest.mark.parametrize(
+    ("text", "reads"),
+    [
+        ("time-sample-cap = 0", False),
+        ("time-sample-cap = 1", True),
+        ("max-variant-combinations = 0", False),
+        ("max-variant-combinations = 10000", True),
+        ("max-variant-combinations = 10001", False),
+        ('profile = ""', False),
+        ('cache-dir = "  "', False),
+        ('cache-dir = " x"', True),
+        ('extend = ""', False),
+    ],
+)
+def test_a_value_out_of_range_is_refused_by_both(tmp_path: Path, text: str, reads: bool) -> None:
+    """The schema says what the reader checks beyond the type: an editor marks
+    the value the run would stop on."""
+    assert _reads(tmp_path, text + "\n") is reads
+    assert _valid(tomllib.loads(text)) is reads
+
+
 def test_an_unknown_key_is_refused_by_both(tmp_path: Path) -> None:
     assert not _reads(tmp_path, "selct = []\n")
     assert not _valid({"selct": []})
