@@ -11,6 +11,8 @@ any of them. No USD, click or rich here: ``--help`` reads it.
 
 from __future__ import annotations
 
+import os
+import re
 from collections.abc import Callable, Mapping
 from dataclasses import field
 from typing import Any
@@ -200,7 +202,23 @@ def _file(value: Any, where: str) -> str:
 def _folder(value: Any, where: str) -> str:
     if not isinstance(value, str) or not value.strip():
         raise ConfigError(f"{where} must be a folder path, got {value!r}")
-    return value
+    return expand_path(value, where)
+
+
+#: A variable of a path: $NAME or ${NAME}.
+_VARIABLE = re.compile(r"\$(?:(\w+)|\{(\w+)\})")
+
+
+def expand_path(value: str, where: str) -> str:
+    """``value`` with ``~`` and environment variables expanded, as ruff expands
+    its ``cache-dir`` and ``extend`` (https://docs.astral.sh/ruff/settings/#extend):
+    ``~/.cache/x`` is no folder named ``~`` in the project. A variable that is
+    not set is an error, not a folder named ``$STUDIO``."""
+    for found in _VARIABLE.finditer(value):
+        name = found.group(1) or found.group(2)
+        if name not in os.environ:
+            raise ConfigError(f"{where}: environment variable {name} is not set (in {value!r})")
+    return os.path.expandvars(os.path.expanduser(value))
 
 
 #: A JSON Schema pattern of a string that is not empty nor only spaces.
@@ -402,7 +420,7 @@ SETTINGS: tuple[Setting, ...] = (
     ),
     Setting(
         "cache_dir",
-        "The result cache's folder",
+        "The result cache's folder (~ and $VARIABLES expand)",
         _folder,
         schema={"pattern": NOT_BLANK},
         kind="folder",

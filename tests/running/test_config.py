@@ -190,6 +190,24 @@ def test_a_linked_config_file_reads_its_globs_from_the_folder_it_is_found_in(
     assert not (studio / ".usdrender_lint_cache").exists()
 
 
+def test_cache_dir_expands_the_home_folder_and_variables(project, monkeypatch) -> None:
+    """As ruff's cache-dir ("~/.cache/ruff" in its settings reference): never a
+    folder named '~' or '$VAR' in the project."""
+    home = project.parent / f"{project.name}-home"
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.setenv("SHOW_CACHE", str(home / "show"))
+    monkeypatch.delenv("USDRENDER_LINT_NO_CACHE")
+    args = ["check", "--format", "json", "--jobs", "1", str(project / "shots")]
+    for value, made in [("~/ul-cache", home / "ul-cache"), ("${SHOW_CACHE}/c", home / "show/c")]:
+        _write(project, f'cache-dir = "{value}"\n')
+        assert findings(CliRunner().invoke(cli, args))
+        assert made.is_dir(), value
+    assert not (project / "~").exists() and not (project / "${SHOW_CACHE}").exists()
+    _write(project, 'cache-dir = "$NOT_SET_ANYWHERE/c"\n')
+    line = error_line(CliRunner().invoke(cli, args))
+    assert "'cache-dir': environment variable NOT_SET_ANYWHERE is not set" in line
+
+
 def test_per_path_ignores_glob_of_a_hidden_folder_names_it(project) -> None:
     (project / "shots" / ".wip").mkdir()
     (project / "shots" / ".wip" / "shot.usda").write_text(SHOT, encoding="utf-8")
