@@ -204,8 +204,8 @@ def _extending(
     """The settings of ``source``, which extends another file: that file's,
     with each key ``source`` sets replacing, merging or adding to its value as
     the settings table says (``Setting.extended``)."""
-    target = Path(os.path.expanduser(parsed["extend"]))
-    target = Path(os.path.abspath(Path(source).parent / target))
+    # ~ and variables are expanded as the value is read (settings_table.expand_path).
+    target = Path(os.path.abspath(Path(source).parent / parsed["extend"]))
     here = (*chain, os.path.realpath(source))
     if os.path.realpath(target) in here:
         cycle = " -> ".join([*chain, source, str(target)])

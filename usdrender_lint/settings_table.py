@@ -196,7 +196,7 @@ def _glob_profiles(value: Any, where: str) -> dict[str, str]:
 def _file(value: Any, where: str) -> str:
     if not isinstance(value, str) or not value.strip():
         raise ConfigError(f"{where} must be the path of a configuration file, got {value!r}")
-    return value
+    return expand_path(value, where)
 
 
 def _folder(value: Any, where: str) -> str:
@@ -230,7 +230,7 @@ SETTINGS: tuple[Setting, ...] = (
     Setting(
         "extend",
         "Another configuration file whose settings this one starts from (relative to this "
-        "file's folder; ~ expands): a show's settings on top of a studio's.",
+        "file's folder; ~ and $VARIABLES expand): a show's settings on top of a studio's.",
         _file,
         config_key="extend",
         schema={"pattern": NOT_BLANK},

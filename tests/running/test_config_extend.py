@@ -162,6 +162,20 @@ def test_a_chain_gives_the_findings_of_its_flat_settings(show: Path, tmp_path: P
     assert codes["PR004"] == "info" and codes["SE003"] == "warning"
 
 
+def test_extend_expands_environment_variables(show: Path, monkeypatch) -> None:
+    """As ruff's extend: "User home directory and environment variables will be
+    expanded" (a studio names its file by $STUDIO_CONFIG, set per site)."""
+    monkeypatch.setenv("STUDIO_CONFIG", str(show.parent / "studio"))
+    (show / ".usdrender-lint.toml").write_text('extend = "${STUDIO_CONFIG}/studio.toml"\n')
+    settings = load_settings(start=str(show / "shots"))
+    assert settings.extend == str(show.parent / "studio" / "studio.toml")
+    assert settings.time_sample_cap == 50
+    monkeypatch.delenv("STUDIO_CONFIG")
+    result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
+    assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1
+    assert "'extend': environment variable STUDIO_CONFIG is not set" in result.stderr
+
+
 @pytest.fixture(autouse=True)
 def _home():
     saved = os.environ.get("HOME")
