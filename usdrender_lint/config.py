@@ -7,14 +7,16 @@ The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import errno
+import json
 import os
 import re
 import stat
 import types
 import typing
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import field
 from pathlib import Path
 from typing import Any
@@ -165,19 +167,26 @@ class Settings:
 
 
 def _parse_table(
-    table: Mapping[str, Any], source: str, prefix: str = "", chain: tuple[str, ...] = ()
+    table: Mapping[str, Any],
+    source: str,
+    prefix: str = "",
+    chain: tuple[str, ...] = (),
+    text: str = "",
 ) -> Settings:
     """Settings from the config table (each key as the settings table reads
     it); ``prefix`` qualifies key names in errors (``tool.usdrender-lint.`` in
-    a pyproject). ``chain``: the files that extend this one, for cycles."""
+    a pyproject). ``chain``: the files that extend this one, for cycles.
+    ``text``: the file's, where an error finds the line of its key."""
     parsed: dict[str, Any] = {}
     for key, value in table.items():
-        entry = BY_CONFIG_KEY.get(key)
-        if entry is None:
-            raise ConfigError(f"{source}: unknown key '{prefix + key}'")
-        parsed[entry.name] = entry.parse(value, f"{source}: '{prefix + key}'")
+        with _at_key_line(source, text, prefix, key):
+            entry = BY_CONFIG_KEY.get(key)
+            if entry is None:
+                raise ConfigError(f"{source}: unknown key '{prefix + key}'")
+            parsed[entry.name] = entry.parse(value, f"{source}: '{prefix + key}'")
     if "extend" in parsed:
-        return _extending(parsed, source, prefix, chain)
+        with _at_key_line(source, text, prefix, "extend"):
+            return _extending(parsed, source, prefix, chain)
     return Settings(
         **parsed,
         source=source,
@@ -196,6 +205,74 @@ def _entries(parsed: Mapping[str, Any], holder: str) -> dict[tuple[str, str], st
         if BY_NAME[name].extended != "replaced"
         for entry in value
     }
+
+
+@contextlib.contextmanager
+def _at_key_line(source: str, text: str, prefix: str, key: str) -> Iterator[None]:
+    """A ConfigError of ``source``'s ``key`` names the line the key is on too
+    (``file:line: 'key' ...``), as a TOML syntax error names its line."""
+    try:
+        yield
+    except ConfigError as exc:
+        message, head = str(exc), f"{source}: "
+        path = (*(part for part in prefix.split(".") if part), key)
+        if not message.startswith(head):
+            raise
+        # An entry's error ('severity.SE003' must be ...) names the entry's line.
+        entry = message[len(head) :].partition("' ")[0].removeprefix(f"'{prefix}{key}.")
+        line = key_line(text, (*path, entry)) if entry != message[len(head) :] else None
+        line = line or key_line(text, path)
+        if line is None:
+            raise
+        raise ConfigError(f"{source}:{line}: {message[len(head) :]}") from None
+
+
+#: One part of a dotted TOML key: bare, "basic" or 'literal'.
+_KEY_PART = r"""(?:[A-Za-z0-9_-]+|"(?:[^"\\]|\\.)*"|'[^']*')"""
+_DOTTED_KEY = rf"{_KEY_PART}(?:\s*\.\s*{_KEY_PART})*"
+_TABLE_LINE = re.compile(rf"\s*\[\[?\s*({_DOTTED_KEY})\s*\]")
+_KEY_LINE = re.compile(rf"\s*({_DOTTED_KEY})\s*=")
+
+
+def _key_parts(dotted: str) -> tuple[str, ...]:
+    parts = []
+    for part in re.findall(_KEY_PART, dotted):
+        if part.startswith('"'):
+            try:
+                part = json.loads(part)  # TOML's basic-string escapes are JSON's
+            except ValueError:
+                part = part[1:-1]
+        elif part.startswith("'"):
+            part = part[1:-1]
+        parts.append(part)
+    return tuple(parts)
+
+
+def key_line(text: str, key: tuple[str, ...]) -> int | None:
+    """The first line (1-based) of ``text`` (TOML) that sets ``key`` or a key
+    below it (``[severity]``, ``severity.SE003 = ...``); None if not found.
+    A scan of the lines, not a parser: tomllib says where no key is."""
+    table: tuple[str, ...] = ()
+    closing = ""  # the quotes that end the multi-line string being skipped
+    for number, line in enumerate(text.splitlines(), 1):
+        if closing:
+            closing = "" if line.count(closing) % 2 else closing
+            continue
+        header = _TABLE_LINE.match(line)
+        assigned = None if header else _KEY_LINE.match(line)
+        if header:
+            table = _key_parts(header.group(1))
+            full = table
+        elif assigned:
+            full = table + _key_parts(assigned.group(1))
+            for quotes in ('"""', "'''"):
+                if line.count(quotes) % 2:
+                    closing = quotes
+        else:
+            continue
+        if full[: len(key)] == key:
+            return number
+    return None
 
 
 def _extending(
@@ -355,6 +432,11 @@ def _read_config_bytes(path: Path) -> bytes:
 def _load_toml(path: Path) -> dict[str, Any]:
     """The file's TOML document. A file that cannot be read or is not TOML is a
     ConfigError, with ``file:line:col`` of the first error."""
+    return _load_toml_text(path)[0]
+
+
+def _load_toml_text(path: Path) -> tuple[dict[str, Any], str]:
+    """The file's TOML document and its text (see :func:`_load_toml`)."""
     import tomllib  # only when there is a file to read
 
     data = _read_config_bytes(path)
@@ -362,7 +444,7 @@ def _load_toml(path: Path) -> dict[str, Any]:
     data = data.removeprefix(b"\xef\xbb\xbf")
     try:
         text = data.decode("utf-8")
-        return tomllib.loads(text)
+        return tomllib.loads(text), text
     except UnicodeDecodeError as exc:
         line, column = _position(data[: exc.start].decode("utf-8"))
         reason = f"not UTF-8 (byte 0x{data[exc.start]:02x})"
@@ -396,16 +478,17 @@ def read_config_file(path: str | os.PathLike[str], chain: tuple[str, ...] = ()) 
     """Read settings from a ``pyproject.toml`` or a ``.usdrender-lint.toml``
     (any other name is read as the latter). ``chain``: the files extending it."""
     path = Path(path)
-    data = _load_toml(path)
+    data, text = _load_toml_text(path)
     if path.name != "pyproject.toml":
-        return _parse_table(data, str(path), chain=chain)
+        return _parse_table(data, str(path), chain=chain, text=text)
     tool = data.get("tool", {})
     if not isinstance(tool, dict) or TOOL_TABLE not in tool:
         extended_by = f" (which {chain[-1]} extends)" if chain else ""
         raise ConfigError(f"{path}: no [tool.{TOOL_TABLE}] table{extended_by}")
     if not isinstance(tool[TOOL_TABLE], dict):
         raise ConfigError(f"{path}: 'tool.{TOOL_TABLE}' must be a table")
-    return _parse_table(tool[TOOL_TABLE], str(path), prefix=f"tool.{TOOL_TABLE}.", chain=chain)
+    prefix = f"tool.{TOOL_TABLE}."
+    return _parse_table(tool[TOOL_TABLE], str(path), prefix=prefix, chain=chain, text=text)
 
 
 def find_config_file(start: str | Path) -> Path | None:

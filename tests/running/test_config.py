@@ -352,6 +352,33 @@ def test_bad_config_is_one_line_naming_key_and_file(project, text, expected) -> 
     assert str(path) in line and expected in line
 
 
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ('fail-on = "error"\n\nselct = []\n', ":3: unknown key 'selct'"),
+        ("# a comment\ntime-sample-cap = 0\n", ":2: 'time-sample-cap' must be"),
+        ('[severity]\nSE001 = "info"\nSE003 = "loud"\n', ":3: 'severity.SE003' must be"),
+        ('[per-path-ignores]\n"x.usda" = ["SE"]\n"a/*.usda" = 3\n', ":3: 'per-path-ignores.a/*"),
+        ('x = """\nselct = 1\n"""\n', ":1: unknown key 'x'"),
+        ('profile = "auto"\nextend = "missing.toml"\n', ":2: 'extend': no such file"),
+    ],
+)
+def test_a_bad_key_names_its_line(project, text, expected) -> None:
+    """As a TOML syntax error does (file:line:col), and as ruff's errors do."""
+    path = _write(project, text)
+    assert f"{path}{expected}" in error_line(check(project))
+
+
+def test_a_pyproject_key_names_its_line_in_the_pyproject(project) -> None:
+    path = _write(
+        project,
+        '[project]\nname = "x"\n\n[tool.usdrender-lint]\nfail-on = "error"\n'
+        "[tool.usdrender-lint.rules]\nx = 3\n",
+        "pyproject.toml",
+    )
+    assert f"{path}:7: 'tool.usdrender-lint.rules.x' must be" in error_line(check(project))
+
+
 def test_pyproject_errors_name_the_qualified_key(project) -> None:
     path = _write(project, "[tool.usdrender-lint]\nfail-on = 3\n", "pyproject.toml")
     line = error_line(check(project))

@@ -191,8 +191,8 @@ def _home():
     [
         (None, "'extend': no such file: "),
         ('extend = "../show/.usdrender-lint.toml"\n', "'extend' makes a cycle: "),
-        ("fail-on = 3\n", "studio.toml: 'fail-on' must be one of"),
-        ("extend = 3\n", "studio.toml: 'extend' must be the path of a configuration file"),
+        ("fail-on = 3\n", "studio.toml:1: 'fail-on' must be one of"),
+        ("extend = 3\n", "studio.toml:1: 'extend' must be the path of a configuration file"),
         ("[", "studio.toml:1:2: invalid TOML"),
     ],
     ids=["missing", "cycle", "bad-value", "bad-extend", "bad-toml"],
@@ -214,7 +214,10 @@ def test_an_error_names_the_file_that_holds_it(show: Path, studio: str | None, s
 @pytest.mark.parametrize(
     ("extend", "says"),
     [
-        ("../studio", "show/.usdrender-lint.toml: 'extend': a folder, not a configuration file: "),
+        (
+            "../studio",
+            "show/.usdrender-lint.toml:1: 'extend': a folder, not a configuration file: ",
+        ),
         ("../pyproject.toml", "pyproject.toml: no [tool.usdrender-lint] table (which "),
     ],
     ids=["folder", "pyproject-without-table"],

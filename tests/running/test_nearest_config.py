@@ -174,7 +174,7 @@ def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> No
     result = invoke_in(tree, "check", "--no-cache", ".")
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [
-        f"usdrender-lint: error: {tree / 'shows' / 'b' / 'pyproject.toml'}: unknown key "
+        f"usdrender-lint: error: {tree / 'shows' / 'b' / 'pyproject.toml'}:2: unknown key "
         "'tool.usdrender-lint.selct'"
     ]
 
