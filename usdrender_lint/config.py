@@ -182,7 +182,7 @@ def _parse_table(
         with _at_key_line(source, text, prefix, key):
             entry = BY_CONFIG_KEY.get(key)
             if entry is None:
-                raise ConfigError(f"{source}: unknown key '{prefix + key}'")
+                raise ConfigError(f"{source}: unknown key '{prefix + key}'{unknown_key_hint(key)}")
             parsed[entry.name] = entry.parse(value, f"{source}: '{prefix + key}'")
     if "extend" in parsed:
         with _at_key_line(source, text, prefix, "extend"):
@@ -205,6 +205,26 @@ def _entries(parsed: Mapping[str, Any], holder: str) -> dict[tuple[str, str], st
         if BY_NAME[name].extended != "replaced"
         for entry in value
     }
+
+
+#: ruff's names of keys that are spelt otherwise here.
+_RUFF_KEYS = {
+    "per-file-ignores": "per-path-ignores",
+    # extend merges per-path-ignores entry by entry: what ruff's extend- form does.
+    "extend-per-file-ignores": "per-path-ignores",
+    "extend-ignore": "ignore",
+    "rule-options": "rules",
+}
+
+
+def unknown_key_hint(key: str) -> str:
+    """`` (did you mean 'KEY'?)`` for a key ruff spells so or a near misspelling."""
+    import difflib  # only for an error
+
+    near = _RUFF_KEYS.get(str(key)) or next(
+        iter(difflib.get_close_matches(str(key), list(BY_CONFIG_KEY), n=1, cutoff=0.75)), None
+    )
+    return f" (did you mean '{near}'?)" if near else ""
 
 
 @contextlib.contextmanager
@@ -363,7 +383,7 @@ def with_inline(
         for key, value in table.items():
             entry = BY_CONFIG_KEY.get(key)
             if entry is None:
-                raise ConfigError(f"{where}: unknown key '{key}'")
+                raise ConfigError(f"{where}: unknown key '{key}'{unknown_key_hint(key)}")
             if entry.name == "extend":
                 raise ConfigError(f"{where}: 'extend' names a file: {file_hint}")
             parsed[entry.name] = entry.parse(value, f"{where}: '{key}'")

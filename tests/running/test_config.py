@@ -369,6 +369,23 @@ def test_a_bad_key_names_its_line(project, text, expected) -> None:
     assert f"{path}{expected}" in error_line(check(project))
 
 
+@pytest.mark.parametrize(
+    ("key", "meant"),
+    [
+        ("per-file-ignores", "per-path-ignores"),
+        ("extend-per-file-ignores", "per-path-ignores"),
+        ("extend-ignore", "ignore"),
+        ("rule-options", "rules"),
+        ("failon", "fail-on"),
+    ],
+)
+def test_an_unknown_key_ruff_or_a_typo_spells_names_ours(project, key, meant) -> None:
+    _write(project, f"[{key}]\n")
+    assert f"unknown key '{key}' (did you mean '{meant}'?)" in error_line(check(project))
+    inline = CliRunner().invoke(cli, ["check", "--config", f"{key}.x = 1", str(project)])
+    assert f"unknown key '{key}' (did you mean '{meant}'?)" in error_line(inline)
+
+
 def test_a_pyproject_key_names_its_line_in_the_pyproject(project) -> None:
     path = _write(
         project,

@@ -175,7 +175,7 @@ def test_a_broken_nested_configuration_stops_the_run_naming_it(tree: Path) -> No
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [
         f"usdrender-lint: error: {tree / 'shows' / 'b' / 'pyproject.toml'}:2: unknown key "
-        "'tool.usdrender-lint.selct'"
+        "'tool.usdrender-lint.selct' (did you mean 'select'?)"
     ]
 
 

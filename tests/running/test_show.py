@@ -152,5 +152,6 @@ def test_a_bad_configuration_is_one_line_and_exit_2(project: Path) -> None:
         assert run.returncode == 2
         assert run.stdout == ""
         assert run.stderr.strip().splitlines() == [
-            f"usdrender-lint: error: {project / '.usdrender-lint.toml'}:1: unknown key 'selct'"
+            f"usdrender-lint: error: {project / '.usdrender-lint.toml'}:1: unknown key 'selct' "
+            "(did you mean 'select'?)"
         ]

@@ -131,7 +131,9 @@ async def test_a_bad_table_is_the_documents_one_error(
 ) -> None:
     uri = open_document(with_bad_table, workspace / "show" / "shot.usda")
     (error,) = await diagnostics_of(with_bad_table, uri, 1)
-    assert error.message == "the editor's configuration: unknown key 'selct'"
+    assert error.message == (
+        "the editor's configuration: unknown key 'selct' (did you mean 'select'?)"
+    )
 
 
 async def test_a_settings_change_relints_with_the_new_configuration(
