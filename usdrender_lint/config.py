@@ -295,6 +295,11 @@ def key_line(text: str, key: tuple[str, ...]) -> int | None:
     return None
 
 
+#: The most files a chain of ``extend`` reads: each is read inside the one
+#: extending it, and a few hundred overflowed Python's stack (an internal error).
+MAX_EXTEND_DEPTH = 64
+
+
 def _extending(
     parsed: dict[str, Any], source: str, prefix: str, chain: tuple[str, ...]
 ) -> Settings:
@@ -307,6 +312,11 @@ def _extending(
     if os.path.realpath(target) in here:
         cycle = " -> ".join([*chain, source, str(target)])
         raise ConfigError(f"{source}: '{prefix}extend' makes a cycle: {cycle}")
+    if len(here) >= MAX_EXTEND_DEPTH:
+        raise ConfigError(
+            f"{source}: '{prefix}extend': more than {MAX_EXTEND_DEPTH} files extend each other "
+            f"(from {here[0]})"
+        )
     if not os.path.lexists(target):
         raise ConfigError(f"{source}: '{prefix}extend': no such file: {target}")
     if os.path.isdir(target):

@@ -15,7 +15,13 @@ import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
-from usdrender_lint.config import ConfigError, Settings, load_settings, read_config_file
+from usdrender_lint.config import (
+    MAX_EXTEND_DEPTH,
+    ConfigError,
+    Settings,
+    load_settings,
+    read_config_file,
+)
 from usdrender_lint.registry import build_registry
 from usdrender_lint.running.documents import Documents
 from usdrender_lint.running.pipeline import make_rules
@@ -174,6 +180,24 @@ def test_extend_expands_environment_variables(show: Path, monkeypatch) -> None:
     result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
     assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1
     assert "'extend': environment variable STUDIO_CONFIG is not set" in result.stderr
+
+
+def test_a_chain_too_long_is_one_line_not_an_internal_error(tmp_path: Path) -> None:
+    """Each extended file is read inside the one extending it: a chain of a few
+    hundred files overflowed the stack. Up to MAX_EXTEND_DEPTH are read."""
+    for count, fine in [(MAX_EXTEND_DEPTH, True), (400, False)]:
+        folder = tmp_path / str(count)
+        folder.mkdir()
+        for i in range(count - 1):
+            (folder / f"c{i}.toml").write_text(f'extend = "c{i + 1}.toml"\n')
+        (folder / f"c{count - 1}.toml").write_text("time-sample-cap = 7\n")
+        if fine:
+            assert read_config_file(folder / "c0.toml").time_sample_cap == 7
+            continue
+        args = ["check", "--no-cache", "--config", str(folder / "c0.toml"), str(BROKEN)]
+        result = CliRunner().invoke(cli, args)
+        assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1, result.output
+        assert f"more than {MAX_EXTEND_DEPTH} files extend each other" in result.stderr
 
 
 @pytest.fixture(autouse=True)
