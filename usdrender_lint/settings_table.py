@@ -367,6 +367,7 @@ SETTINGS: tuple[Setting, ...] = (
         "per_path_profiles",
         "File glob -> profile name for matching files (wins over profile).",
         _glob_profiles,
+        schema={"additionalProperties": {"type": "string", "minLength": 1}},
         default={},
         config_key="per-path-profiles",
         extended="merged",

@@ -81,6 +81,8 @@ def _kind(sample: str) -> str:
         ("max-variant-combinations = 10000", True),
         ("max-variant-combinations = 10001", False),
         ('profile = ""', False),
+        ('per-path-profiles = { "old/*" = "" }', False),
+        ('per-path-profiles = { "old/*" = "karma" }', True),
         ('cache-dir = "  "', False),
         ('cache-dir = " x"', True),
         ('extend = ""', False),
