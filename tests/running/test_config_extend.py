@@ -200,6 +200,23 @@ def test_a_chain_too_long_is_one_line_not_an_internal_error(tmp_path: Path) -> N
         assert f"more than {MAX_EXTEND_DEPTH} files extend each other" in result.stderr
 
 
+def test_a_rules_options_merge_when_one_file_names_it_by_code_the_other_by_name(
+    show: Path,
+) -> None:
+    """The studio's [rules.lpe-malformed] and the show's [rules.VA003] are one
+    rule's options, merged option by option: the studio's extra-labels stay."""
+    (show.parent / "studio" / "studio.toml").write_text(
+        '[rules.lpe-malformed]\nextra-labels = ["myLabel"]\ndialect = "osl"\n'
+    )
+    (show / ".usdrender-lint.toml").write_text(
+        'extend = "../studio/studio.toml"\n[rules.VA003]\ndialect = "extended"\n'
+    )
+    settings = load_settings(start=str(show / "shots"))
+    rule = next(r for r in make_rules(build_registry(), settings) if r.code == "VA003")
+    assert rule.options.extra_labels == ("myLabel",)
+    assert rule.options.dialect == "extended"
+
+
 @pytest.fixture(autouse=True)
 def _home():
     saved = os.environ.get("HOME")

@@ -357,14 +357,23 @@ def check_selectors(registry: Registry, selectors: Iterable[str], where: str) ->
 
 
 def _options_by_code(registry: Registry, settings: Settings) -> dict[str, object]:
-    built = {}
+    """Each rule's options. Tables naming one rule by its code and by its name
+    (a studio's [rules.lpe-malformed] under a show's [rules.VA003]) merge option
+    by option, the later winning, as one table extended does."""
+    merged: dict[str, tuple[type[Rule], dict[str, Any], str]] = {}
     for key, values in settings.rule_options.items():
         rule = registry.find(key)
         where = f"{settings.where_entry('rule_options', key)}.{key}"
         if rule is None:
             raise ConfigError(f"{where}: no rule has this code or name")
-        built[rule.code] = build_options(rule.Options, values, where)
-    return built
+        build_options(rule.Options, values, where)  # each table's errors name it
+        _, options, _ = merged.get(rule.code, (rule, {}, where))
+        options.update({name.replace("_", "-"): value for name, value in values.items()})
+        merged[rule.code] = (rule, options, where)
+    return {
+        code: build_options(rule.Options, options, where)
+        for code, (rule, options, where) in merged.items()
+    }
 
 
 def severity_overrides(registry: Registry, settings: Settings) -> dict[str, Severity]:
