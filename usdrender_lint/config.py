@@ -417,11 +417,15 @@ def _inline_table(text: str) -> dict[str, Any]:
 
 
 def _merged(base: Mapping[str, Any], own: Mapping[str, Any], deep: bool) -> dict[str, Any]:
-    """``base`` with ``own``'s entries; ``deep``: two tables of one key merge too."""
+    """``base`` with ``own``'s entries; ``deep``: two tables of one key merge too.
+    ``own``'s entries come last, those ``base`` had too included: a rule named
+    by its code in one layer and by its name in another takes the later
+    layer's value (severity_overrides and the rules' options read in order)."""
     merged = dict(base)
     for key, value in own.items():
         if deep and isinstance(merged.get(key), Mapping):
             value = {**merged[key], **value}
+        merged.pop(key, None)
         merged[key] = value
     return merged
 

@@ -217,6 +217,25 @@ def test_a_rules_options_merge_when_one_file_names_it_by_code_the_other_by_name(
     assert rule.options.dialect == "extended"
 
 
+def test_a_later_layer_wins_for_a_rule_spelt_otherwise_beneath(show: Path) -> None:
+    """The studio names the rule, the show its code, an inline --config the name
+    again: the inline setting, the last layer, decides."""
+    (show.parent / "studio" / "studio.toml").write_text('[severity]\ncamera-unset = "info"\n')
+    (show / ".usdrender-lint.toml").write_text(
+        'extend = "../studio/studio.toml"\n[severity]\nCA001 = "warning"\n'
+    )
+    (show / "shots" / "shot.usda").write_text(
+        '#usda 1.0\ndef RenderSettings "S"\n{\n    rel products = </P>\n}\n'
+        'def RenderProduct "P"\n{\n}\n'
+    )
+    args = ["check", "--no-cache", "--format", "json", "--select", "CA001"]
+    inline = ["--config", 'severity.camera-unset = "error"']
+    for extra, severity in [([], "warning"), (inline, "error")]:
+        result = CliRunner().invoke(cli, [*args, *extra, str(show / "shots")])
+        found = json.loads(result.stdout)["files"][0]["findings"]
+        assert [(f["code"], f["severity"]) for f in found] == [("CA001", severity)], extra
+
+
 @pytest.fixture(autouse=True)
 def _home():
     saved = os.environ.get("HOME")
