@@ -157,6 +157,21 @@ class Settings:
             return self.where(name)
         return f"{holder}: {BY_NAME[name].config_key or name}"
 
+    def nearest_first(self, name: str) -> list[tuple[str, Any]]:
+        """The entries of a table setting, those of the nearest layer (the flags'
+        inline settings, the file found, then the files it extends) first, each
+        layer's in its own order: the first of per-path-profiles' globs that
+        matches is the show's, not the studio's catch-all beneath it."""
+        runs: list[list[tuple[str, Any]]] = []
+        holder: object = object()
+        for key, value in getattr(self, name).items():
+            here = self.entries_from.get((name, str(key)))
+            if not runs or here != holder:
+                runs.append([])
+                holder = here
+            runs[-1].append((key, value))
+        return [item for run in reversed(runs) for item in run]
+
     @property
     def base_dir(self) -> Path:
         """The folder relative globs (per-path-ignores) are read from: the

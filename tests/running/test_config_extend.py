@@ -24,7 +24,7 @@ from usdrender_lint.config import (
 )
 from usdrender_lint.registry import build_registry
 from usdrender_lint.running.documents import Documents
-from usdrender_lint.running.pipeline import make_rules
+from usdrender_lint.running.pipeline import make_rules, profile_chooser
 
 REPO = Path(__file__).resolve().parents[2]
 BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
@@ -234,6 +234,21 @@ def test_a_later_layer_wins_for_a_rule_spelt_otherwise_beneath(show: Path) -> No
         result = CliRunner().invoke(cli, [*args, *extra, str(show / "shots")])
         found = json.loads(result.stdout)["files"][0]["findings"]
         assert [(f["code"], f["severity"]) for f in found] == [("CA001", severity)], extra
+
+
+def test_the_extending_files_per_path_profile_wins_over_the_extended_catch_all(
+    show: Path,
+) -> None:
+    """The studio maps every file to karma, the show its shots to renderman:
+    the show's glob is tried first (within one file, the first glob still wins)."""
+    (show.parent / "studio" / "studio.toml").write_text('[per-path-profiles]\n"**" = "karma"\n')
+    own = '[per-path-profiles]\n"shots/*" = "renderman"\n'
+    (show / ".usdrender-lint.toml").write_text(f'extend = "../studio/studio.toml"\n{own}')
+    shot = str(show / "shots" / "shot.usda")
+    choose = profile_chooser(load_settings(start=str(show / "shots")))
+    assert choose(shot)[0] == "renderman"
+    (show / ".usdrender-lint.toml").write_text('[per-path-profiles]\n"**" = "karma"\n' + own[20:])
+    assert profile_chooser(load_settings(start=str(show / "shots")))(shot)[0] == "karma"
 
 
 @pytest.fixture(autouse=True)

@@ -419,7 +419,8 @@ def check_profiles(settings: Settings) -> None:
 def profile_chooser(settings: Settings):
     """The configured profile of a file, and where it was configured: the
     command line's --profile, else the first per-path-profiles glob that
-    matches, else the config's ``profile`` (default auto)."""
+    matches (a nearer layer's first: ``Settings.nearest_first``), else the
+    config's ``profile`` (default auto)."""
     from .path_ignores import matches_path
 
     base_dir = settings.base_dir
@@ -427,7 +428,7 @@ def profile_chooser(settings: Settings):
     def choose(file: str) -> tuple[str, str]:
         if "profile" in settings.from_flags:
             return settings.profile, f"--profile {settings.profile}"
-        for glob, name in settings.per_path_profiles.items():
+        for glob, name in settings.nearest_first("per_path_profiles"):
             if matches_path(glob, file, base_dir):
                 return name, f"{settings.where('per_path_profiles')}.{glob} = {name}"
         if settings.profile != "auto":
@@ -441,13 +442,14 @@ def profile_choice_key(settings: Settings) -> list[object]:
     """What :func:`profile_chooser`'s answers depend on besides the settings'
     values (which the result cache's key holds): whether --profile was given
     (it wins over per-path-profiles), the files that set the profile settings
-    (each finding's profile reason names them), and the folder the
-    per-path-profiles globs are read from."""
+    (each finding's profile reason names them), the folder the
+    per-path-profiles globs are read from and the order they are tried in."""
     return [
         "profile" in settings.from_flags,
         settings.where("profile"),
         settings.where("per_path_profiles"),
         str(settings.base_dir) if settings.per_path_profiles else None,
+        [glob for glob, _ in settings.nearest_first("per_path_profiles")],
     ]
 
 
