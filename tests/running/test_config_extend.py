@@ -251,6 +251,17 @@ def test_the_extending_files_per_path_profile_wins_over_the_extended_catch_all(
     assert profile_chooser(load_settings(start=str(show / "shots")))(shot)[0] == "karma"
 
 
+def test_a_per_path_profiles_reason_names_the_file_of_its_glob(show: Path) -> None:
+    studio = show.parent / "studio" / "studio.toml"
+    studio.write_text('[per-path-profiles]\n"**" = "karma"\n')
+    (show / ".usdrender-lint.toml").write_text(
+        'extend = "../studio/studio.toml"\n[per-path-profiles]\n"old/*" = "renderman"\n'
+    )
+    shot = str(show / "shots" / "shot.usda")
+    choose = profile_chooser(load_settings(start=str(show / "shots")))
+    assert choose(shot) == ("karma", f"{studio}: per-path-profiles.** = karma")
+
+
 @pytest.fixture(autouse=True)
 def _home():
     saved = os.environ.get("HOME")

@@ -430,7 +430,7 @@ def profile_chooser(settings: Settings):
             return settings.profile, f"--profile {settings.profile}"
         for glob, name in settings.nearest_first("per_path_profiles"):
             if matches_path(glob, file, base_dir):
-                return name, f"{settings.where('per_path_profiles')}.{glob} = {name}"
+                return name, f"{settings.where_entry('per_path_profiles', glob)}.{glob} = {name}"
         if settings.profile != "auto":
             return settings.profile, f"{settings.where('profile')} = {settings.profile}"
         return settings.profile, ""
@@ -449,7 +449,10 @@ def profile_choice_key(settings: Settings) -> list[object]:
         settings.where("profile"),
         settings.where("per_path_profiles"),
         str(settings.base_dir) if settings.per_path_profiles else None,
-        [glob for glob, _ in settings.nearest_first("per_path_profiles")],
+        [
+            (glob, settings.where_entry("per_path_profiles", glob))
+            for glob, _ in settings.nearest_first("per_path_profiles")
+        ],
     ]
 
 
