@@ -247,6 +247,11 @@ def test_the_extending_files_per_path_profile_wins_over_the_extended_catch_all(
     shot = str(show / "shots" / "shot.usda")
     choose = profile_chooser(load_settings(start=str(show / "shots")))
     assert choose(shot)[0] == "renderman"
+    # --show-settings prints the globs in that order: the flat file chooses alike
+    shown = CliRunner().invoke(cli, ["check", "--show-settings", str(show / "shots")])
+    flat = show / "flat.toml"  # beside the show's: its globs read from the same folder
+    flat.write_text(shown.stdout)
+    assert profile_chooser(read_config_file(flat))(shot)[0] == "renderman"
     (show / ".usdrender-lint.toml").write_text('[per-path-profiles]\n"**" = "karma"\n' + own[20:])
     assert profile_chooser(load_settings(start=str(show / "shots")))(shot)[0] == "karma"
 

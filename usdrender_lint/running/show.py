@@ -83,6 +83,9 @@ def settings_toml(prepared: Prepared) -> str:
             meaning = entry.shown_default or entry.help
             lines.append(f"# {entry.config_key} is not set ({origin}): {meaning}")
         elif isinstance(value, Mapping):
+            # In the order the globs are tried (a nearer layer's first), so that
+            # the printed file chooses the profiles the chain of files does.
+            value = dict(settings.nearest_first(entry.name))
             tables.extend(_table(entry.config_key, value, origin))
         else:
             lines.append(f"{entry.config_key} = {_value(value)}  # {origin}")
