@@ -96,6 +96,6 @@ def test_an_absurd_cap_in_the_config_file_is_a_config_error(tmp_path: Path) -> N
     result = CliRunner().invoke(cli, ["check", "--config", str(config), CLEAN])
     assert result.exit_code == 2
     assert result.stderr == (
-        f"usdrender-lint: error: {config}: 'max-variant-combinations' must be a whole number "
+        f"usdrender-lint: error: {config}:2: 'max-variant-combinations' must be a whole number "
         f"from 1 to {MAX_VARIANT_COMBINATIONS}, got {10**12}\n"
     )
