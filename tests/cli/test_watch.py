@@ -187,6 +187,23 @@ def test_a_file_given_is_seen_save_after_save(show: Path) -> None:
     assert out.count("0 findings in 1 file") == 2 and out.count("1 finding in 1 file") == 1
 
 
+def test_a_sublayer_of_a_file_given_is_seen(show: Path) -> None:
+    """Only the file given is watched by events; the layers it composes are
+    polled, so the stage is linted again when its sublayer is saved."""
+    shot = show / "shot.usda"
+    (show / "sub.usda").write_text("#usda 1.0\n")
+    (show / "stage.usda").write_text("#usda 1.0\n(\n    subLayers = [@sub.usda@]\n)\n")
+    watched = Watched(show, "stage.usda")
+    try:
+        watched.next_round()
+        save(show / "sub.usda", shot.read_text().replace(GOOD_CAMERA, BAD_CAMERA))
+        watched.next_round()
+    finally:
+        status, out, err = watched.stop()
+    assert status == 130, err
+    assert "0 findings in 1 file" in out and "CA004" in out, out
+
+
 def test_a_configuration_saved_nearer_than_the_one_in_effect_is_seen(show: Path) -> None:
     """A show's configuration saved between the watched folder and the project's:
     it is the one a fresh check reads from then on."""

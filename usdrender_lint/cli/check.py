@@ -252,7 +252,7 @@ def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
         except ToolError as exc:
             exc.show()
         polled |= _nearest_configuration(request) | _gitignores_above(request)
-        watcher.poll(polled)
+        watcher.poll(polled | _layers_of_files_given(request))
         note(f"{time.strftime('%H:%M:%S')} watching for changes (Ctrl-C stops)")
         changed = watcher.wait()
 
@@ -278,6 +278,18 @@ def _nearest_configuration(request: Request) -> set[str]:
             except ConfigError:
                 break  # the round said why
     return polled
+
+
+def _layers_of_files_given(request: Request) -> set[str]:
+    """The layers each file given composes (its sublayers, references,
+    payloads, clips), for --watch to poll: the events are heard for the file
+    itself only, and a save of a sublayer beside it changes the stage's report.
+    Read again each round: a save can add or drop a sublayer."""
+    import os
+
+    from ..running.roots import dependencies
+
+    return {layer for path in request.paths if os.path.isfile(path) for layer in dependencies(path)}
 
 
 def _gitignores_above(request: Request) -> set[str]:
