@@ -509,3 +509,43 @@ def test_recomposing_for_a_selection_writes_nothing_on_stderr(tmp_path: Path) ->
     assert result.returncode == 1, result.stderr
     assert "ST002" in result.stdout
     assert result.stderr == ""
+
+
+# No render prim is on the stage as authored: the variant "on" adds the settings.
+ADDS_RENDER_PRIMS = """#usda 1.0
+def Xform "World" (
+    variants = {
+        string render = "none"
+    }
+    prepend variantSets = "render"
+)
+{
+    variantSet "render" = {
+        "none" {
+        }
+        "on" {
+            def RenderSettings "Settings"
+            {
+                uniform int2 resolution = (0, 10)
+            }
+        }
+    }
+}
+"""
+
+
+def test_a_variant_that_adds_render_prims_is_explored(tmp_path: Path) -> None:
+    """Selecting "on" makes a render prim: its findings equal a check of a
+    copy with that selection authored."""
+    shot = tmp_path / "adds.usda"
+    shot.write_text(ADDS_RENDER_PRIMS)
+    selected = tmp_path / "selected.usda"
+    selected.write_text(ADDS_RENDER_PRIMS.replace('render = "none"', 'render = "on"'))
+    linter = Linter(all_rules())
+    expected = [f for f in linter.lint_path(str(selected)).findings if f.code == "SE001"]
+    assert expected
+    found = VariantExplorer(linter).lint_path(str(shot)).findings
+    explored = [f for f in found if f.code == "SE001"]
+    assert [f.code for f in explored] == [f.code for f in expected]
+    assert explored[0].location.path == expected[0].location.path
+    assert "/World{render=on}" in explored[0].message

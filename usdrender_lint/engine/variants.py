@@ -2,7 +2,8 @@
 
 A defect inside a variant that is not selected is not on the composed stage,
 so a normal run cannot see it. The explorer finds the variant sets of every
-usable render prim and its ancestors, then lints the stage once per
+usable render prim and its ancestors, and of every prim with a variant that
+defines a render prim (one the authored selections leave out), then lints the stage once per
 combination of their variants, capped because the combinations multiply: the
 authored selections first, then each other variant of each set alone (so that
 a cap reaches every set it can, and a finding names the one selection behind
@@ -69,6 +70,7 @@ def render_variant_sets(
             while prim and not prim.IsPseudoRoot() and prim.GetPath() not in owners:
                 owners.add(prim.GetPath())
                 prim = prim.GetParent()
+    owners |= _owners_of_variant_render_prims(stage)
     found = []
     for path in sorted(owners):
         prim = stage.GetPrimAtPath(path)
@@ -83,6 +85,35 @@ def render_variant_sets(
             if others:
                 found.append(VariantSetChoice(path, name, (authored, *others)))
     return found
+
+
+def _owners_of_variant_render_prims(stage: Usd.Stage) -> set[Sdf.Path]:
+    """The prims on ``stage`` with a variant set that, in the root layer
+    stack, holds a variant defining a render prim (typed so in the variant):
+    a variant that adds the render settings is not above a render prim of the
+    authored selections, yet selecting it changes what renders. Read from the
+    layers' spec paths (a walk in C++; only the prim specs inside variants are
+    read), so no other composition is needed."""
+    render_types = {Usd.SchemaRegistry.GetSchemaTypeName(s) for s in RENDER_SCHEMAS}
+    owners: set[Sdf.Path] = set()
+    for layer in stage.GetLayerStack(includeSessionLayers=False):
+        inside: list[Sdf.Path] = []
+
+        def keep(path: Sdf.Path, inside: list[Sdf.Path] = inside) -> None:
+            if path.IsPrimPath() and path.ContainsPrimVariantSelection():
+                inside.append(path)
+
+        layer.Traverse(Sdf.Path.absoluteRootPath, keep)
+        for path in inside:
+            spec = layer.GetPrimAtPath(path)
+            if spec is None or spec.typeName not in render_types:
+                continue
+            for ancestor in path.GetAncestorsRange():
+                if ancestor.IsPrimVariantSelectionPath():
+                    owner = ancestor.GetParentPath().StripAllVariantSelections()
+                    if stage.GetPrimAtPath(owner):
+                        owners.add(owner)
+    return owners
 
 
 def _variant_names(prim: Usd.Prim) -> dict[str, list[str]]:
