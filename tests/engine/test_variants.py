@@ -549,3 +549,63 @@ def test_a_variant_that_adds_render_prims_is_explored(tmp_path: Path) -> None:
     assert [f.code for f in explored] == [f.code for f in expected]
     assert explored[0].location.path == expected[0].location.path
     assert "/World{render=on}" in explored[0].message
+
+
+# The set "detail" exists only inside quality=high; its variant "b" zeroes the
+# resolution (SE001).
+NESTED = """#usda 1.0
+def Scope "Render" (
+    variants = {
+        string quality = "low"
+    }
+    prepend variantSets = "quality"
+)
+{
+    def RenderSettings "Settings"
+    {
+    }
+    variantSet "quality" = {
+        "low" {
+        }
+        "high" (
+            variants = {
+                string detail = "a"
+            }
+            prepend variantSets = "detail"
+        ) {
+            variantSet "detail" = {
+                "a" {
+                }
+                "b" {
+                    over "Settings"
+                    {
+                        uniform int2 resolution = (0, 10)
+                    }
+                }
+            }
+        }
+    }
+}
+"""
+
+
+def test_a_variant_set_nested_in_an_unselected_variant_is_explored(tmp_path: Path) -> None:
+    shot = tmp_path / "nested.usda"
+    shot.write_text(NESTED)
+    selected = tmp_path / "selected.usda"
+    selected.write_text(
+        NESTED.replace('quality = "low"', 'quality = "high"').replace(
+            'detail = "a"', 'detail = "b"'
+        )
+    )
+    linter = Linter(all_rules())
+    expected = [f for f in linter.lint_path(str(selected)).findings if f.code == "SE001"]
+    assert expected
+    result = VariantExplorer(linter).lint_path(str(shot))
+    explored = [f for f in result.findings if f.code == "SE001"]
+    assert [f.location.path for f in explored] == [f.location.path for f in expected]
+    assert "/Render{quality=high}, /Render{detail=b}" in explored[0].message
+    # low, high with detail=a, high with detail=b: nothing skipped
+    stage = Usd.Stage.Open(str(shot))
+    assert combination_count(render_variant_sets(stage)) == 3
+    assert result.notes == ()

@@ -3,7 +3,8 @@
 A defect inside a variant that is not selected is not on the composed stage,
 so a normal run cannot see it. The explorer finds the variant sets of every
 usable render prim and its ancestors, and of every prim with a variant that
-defines a render prim (one the authored selections leave out), then lints the stage once per
+defines a render prim (one the authored selections leave out), and the sets
+nested in a variant the authored selections leave out, then lints the stage once per
 combination of their variants, capped because the combinations multiply: the
 authored selections first, then each other variant of each set alone (so that
 a cap reaches every set it can, and a finding names the one selection behind
@@ -53,6 +54,9 @@ class VariantSetChoice:
     name: str
     #: The authored selection ("" when none is authored), then the other variants.
     choices: tuple[str, ...]
+    #: For a set that only another selection of the prim's sets composes (one
+    #: nested in an unselected variant): those (set name, variant) selections.
+    within: tuple[tuple[str, str], ...] = ()
 
     @property
     def authored(self) -> str:
@@ -84,7 +88,37 @@ def render_variant_sets(
             others = [v for v in variants.get(name, ()) if v != authored]
             if others:
                 found.append(VariantSetChoice(path, name, (authored, *others)))
+        found.extend(_nested_sets(prim, set(names), selections))
     return found
+
+
+def _nested_sets(
+    prim: Usd.Prim, composed: set[str], selections: Mapping[str, str]
+) -> list[VariantSetChoice]:
+    """The variant sets of ``prim`` that a variant the authored selections
+    leave out holds (``{quality=high}{detail=b}``), read from its specs: the
+    stage as composed has no such set, so only selecting the outer variant
+    lets their variants be explored. Each says the selections it is within."""
+    found: dict[str, VariantSetChoice] = {}
+    pending: list[tuple[Sdf.PrimSpec, tuple[tuple[str, str], ...]]] = [
+        (spec, ()) for spec in prim.GetPrimStack()
+    ]
+    while pending:
+        spec, within = pending.pop()
+        for name, variant_set in spec.variantSets.items():
+            for variant_name, variant in variant_set.variants.items():
+                inner = variant.primSpec
+                if within or (name in composed and variant_name != selections.get(name, "")):
+                    pending.append((inner, (*within, (name, variant_name))))
+            if within and name not in composed and name not in found:
+                authored = selections.get(name) or spec.variantSelections.get(name, "")
+                names = variant_set.variants.keys()  # noqa: SIM118 - iterating gives specs
+                others = sorted(v for v in names if v != authored)
+                if others:
+                    found[name] = VariantSetChoice(
+                        prim.GetPath(), name, (authored, *others), within
+                    )
+    return list(found.values())
 
 
 def _owners_of_variant_render_prims(stage: Usd.Stage) -> set[Sdf.Path]:
@@ -134,32 +168,68 @@ Combination = tuple[tuple[int, str], ...]
 
 
 def combination_count(sets: Sequence[VariantSetChoice]) -> int:
-    count = 1
-    for variant_set in sets:
-        count *= len(variant_set.choices)
-    return count
+    """How many combinations there are: a set nested in a variant counts only
+    with that variant selected."""
+    within = _within(sets)
+    nested: dict[Combination, list[int]] = {}
+    for index, outer in enumerate(within):
+        if outer:
+            nested.setdefault(outer[-1:], []).append(index)
+
+    def count(index: int) -> int:
+        total = 1  # the authored selection
+        for variant in sets[index].choices[1:]:
+            inner = 1
+            for child in nested.get(((index, variant),), ()):
+                inner *= count(child)
+            total += inner
+        return total
+
+    result = 1
+    for index, outer in enumerate(within):
+        if not outer:
+            result *= count(index)
+    return result
+
+
+def _within(sets: Sequence[VariantSetChoice]) -> list[Combination]:
+    """Each set's ``within`` as (index, variant) selections, by index."""
+    index_of = {(s.prim_path, s.name): i for i, s in enumerate(sets)}
+    return [
+        tuple(sorted((index_of[(s.prim_path, name)], variant) for name, variant in s.within))
+        for s in sets
+    ]
 
 
 def combinations(sets: Sequence[VariantSetChoice], limit: int) -> Iterator[Combination]:
     """At most ``limit`` combinations: the authored selections, then each other
-    variant of each set alone, then the rest in product order."""
+    variant of each set alone (a nested set's with the selections it is
+    within), then the rest in product order."""
     if limit < 1:
         return
+    within = _within(sets)
     yield ()
     produced = 1
+    singles = set()
     for index, variant_set in enumerate(sets):
         for variant in variant_set.choices[1:]:
             if produced >= limit:
                 return
-            yield ((index, variant),)
+            single = tuple(sorted((*within[index], (index, variant))))
+            singles.add(single)
+            yield single
             produced += 1
     for choices in itertools.product(*(range(len(s.choices)) for s in sets)):
         if produced >= limit:
             return
         changes = tuple((i, sets[i].choices[c]) for i, c in enumerate(choices) if c)
-        if len(changes) > 1:  # none or one: yielded above
-            yield changes
-            produced += 1
+        if len(changes) < 2 or changes in singles:  # yielded above
+            continue
+        chosen = set(changes)
+        if any(not chosen.issuperset(within[i]) for i, _ in changes):
+            continue  # a nested set's variant without the variant holding it
+        yield changes
+        produced += 1
 
 
 def describe(sets: Sequence[VariantSetChoice], combination: Combination) -> str:
