@@ -236,3 +236,22 @@ def test_a_data_window_with_an_infinite_bound_is_null_as_documented(tmp_path: Pa
     assert row.endswith(
         "null when the resolution has no pixels or a bound of `dataWindowNDC` is not finite |"
     )
+
+
+def test_a_control_character_in_a_var_is_escaped_once_in_the_text_view(tmp_path: Path) -> None:
+    """The document's strings are escaped for printing; the view quoted the
+    sourceName with repr, which doubled the backslash (ESC showed as \\\\x1b,
+    a backslash followed by 'x1b')."""
+    shot = CAMERA.format(36, 24, 0, 0).replace(
+        'token productName = "p.exr"',
+        'token productName = "p.exr"\n        rel orderedVars = </Render/V>',
+    )
+    shot = (
+        shot.rstrip()[:-1]
+        + '    def RenderVar "V"\n    {\n        string sourceName = "C\\x1bi"\n    }\n}\n'
+    )
+    (tmp_path / "shot.usda").write_text(shot)
+    text = CliRunner().invoke(cli, ["spec", "--isolated", "-j", "1", str(tmp_path / "shot.usda")])
+    assert text.exit_code == 0, text.output
+    (line,) = [line for line in text.stdout.splitlines() if "vars" in line]
+    assert line.split("vars", 1)[1].split() == ["V", "'C\\x1bi'", "raw", "color3f"]

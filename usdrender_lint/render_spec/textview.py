@@ -132,7 +132,7 @@ def value_lines(product: dict[str, Any]) -> Iterator[Line]:
     for index, var in enumerate(product["vars"]):
         yield row(
             "vars" if index == 0 else "",
-            f"{var['name']}  {var['sourceName']!r} {var['sourceType']} {var['dataType']}",
+            f"{var['name']}  {_quoted(var['sourceName'])} {var['sourceType']} {var['dataType']}",
         )
     if product["path"] is not None and not product["vars"]:
         yield row("vars", "none")
@@ -360,8 +360,16 @@ def _value(value: Any) -> str:
     if isinstance(value, list):
         return _pair(value)
     if isinstance(value, str):
-        return repr(value)
+        return _quoted(value)
     return _num(value)
+
+
+def _quoted(text: str) -> str:
+    """A string value in quotes, so that an empty one shows. Not ``repr``: the
+    document's strings are escaped for printing already (``\\x1b``), and
+    ``repr`` would double their backslashes, showing a control character as
+    four characters of text."""
+    return f"'{text}'"
 
 
 def _source(source: dict[str, Any] | None) -> str:
