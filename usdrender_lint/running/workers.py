@@ -378,7 +378,12 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
     debug.keep_stderr()
     # Nothing of a worker's belongs on stdout, nor may it hold the user's pipe open.
     for fd, path in ((0, os.devnull), (1, os.devnull), (2, f"{log_dir}/worker-{os.getpid()}.log")):
-        opened = os.open(path, os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND)
+        try:
+            opened = os.open(path, os.O_RDWR | os.O_CREAT | os.O_TRUNC | os.O_APPEND)
+        except OSError:
+            # The run ended while this worker started (Ctrl-C) and removed its
+            # log folder: nothing is wanted of it, and its stderr is the user's.
+            return
         os.dup2(opened, fd)
         os.close(opened)
     stalls.listen(2)  # a time-out asks where it was (_Worker.stack)
@@ -435,7 +440,33 @@ def _context() -> Any:
             return multiprocessing.get_context("fork")
     context = multiprocessing.get_context("forkserver")
     context.set_forkserver_preload(["usdrender_lint.engine"])
+    _start_forkserver()
     return context
+
+
+def _start_forkserver() -> None:
+    """Start the fork server with SIGINT ignored, as a signal's disposition
+    passes through exec: it keeps ignoring it, and so do the workers it forks
+    (they restore its handlers). Else a Ctrl-C while it imports the engine,
+    or while a worker unpickles its arguments before ``_worker_main`` ignores
+    SIGINT, printed a KeyboardInterrupt traceback. SIGINT is blocked here
+    meanwhile, so a Ctrl-C in that instant still reaches the parent."""
+    import threading
+    from multiprocessing import forkserver
+
+    if threading.current_thread() is not threading.main_thread():
+        forkserver.ensure_running()  # only the main thread may set a handler
+        return
+    blocked = hasattr(signal, "pthread_sigmask")
+    if blocked:
+        previous_mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        forkserver.ensure_running()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if blocked:
+            signal.pthread_sigmask(signal.SIG_SETMASK, previous_mask)
 
 
 def die_with_parent(parent: int) -> None:
