@@ -255,3 +255,14 @@ def test_a_control_character_in_a_var_is_escaped_once_in_the_text_view(tmp_path:
     assert text.exit_code == 0, text.output
     (line,) = [line for line in text.stdout.splitlines() if "vars" in line]
     assert line.split("vars", 1)[1].split() == ["V", "'C\\x1bi'", "raw", "color3f"]
+
+
+@pytest.mark.skipif(os.name == "nt", reason="Windows file names hold no control character")
+def test_a_picture_is_named_after_a_file_with_a_control_character(tmp_path: Path) -> None:
+    """The name is escaped for printing (\\x07) before the picture is named;
+    the backslash of the escape was taken for a folder's end, and the
+    picture of shot<BEL>.usda was named x07.S.P.svg."""
+    (tmp_path / "shot\x07.usda").write_text(CAMERA.format(36, 24, 0, 0))
+    done = _spec(tmp_path, "--format", "svg", "--output", "pictures", "shot\x07.usda")
+    assert done.returncode == 0, done.stderr
+    assert [p.name for p in (tmp_path / "pictures").iterdir()] == ["shot_x07.S.P.svg"]

@@ -9,6 +9,7 @@ data window written across the image. Pure text: no pxr, no rich.
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Iterator
 from html import escape
@@ -208,7 +209,13 @@ def _text(x: float, y: float, text: str, colour: str, anchor: str = "start", siz
 
 
 def _stem(file: str) -> str:
-    return _slug(re.split(r"[\\/]", file)[-1].rsplit(".", 1)[0])
+    # The folder separators of this system only: the name is escaped for
+    # printing (a control character is written \x07), and on POSIX a
+    # backslash is part of a file's name, not a folder's end.
+    return _slug(re.split(_SEPARATORS, file)[-1].rsplit(".", 1)[0])
+
+
+_SEPARATORS = "[" + re.escape(os.sep + (os.altsep or "")) + "]"
 
 
 def _slug(text: str) -> str:
