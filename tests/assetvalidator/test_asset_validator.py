@@ -438,7 +438,7 @@ def test_a_bad_configuration_is_one_issue_naming_the_file_and_key(tmp_path: Path
     issues = list(_engine().validate(str(shot)).issues())
     assert len(issues) == 1
     assert issues[0].severity.name == "ERROR"
-    assert f"{config}: unknown key 'selct'" in issues[0].message
+    assert f"{config}:1: unknown key 'selct'" in issues[0].message
     # The next validation (a new stage) says it again.
     assert len(list(_engine().validate(str(shot)).issues())) == 1
 
