@@ -10,7 +10,6 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import errno
-import json
 import os
 import re
 import stat
@@ -265,14 +264,18 @@ def _at_key_line(source: str, text: str, prefix: str, key: str) -> Iterator[None
 #: One part of a dotted TOML key: bare, "basic" or 'literal'.
 _KEY_PART = r"""(?:[A-Za-z0-9_-]+|"(?:[^"\\]|\\.)*"|'[^']*')"""
 _DOTTED_KEY = rf"{_KEY_PART}(?:\s*\.\s*{_KEY_PART})*"
-_TABLE_LINE = re.compile(rf"\s*\[\[?\s*({_DOTTED_KEY})\s*\]")
-_KEY_LINE = re.compile(rf"\s*({_DOTTED_KEY})\s*=")
+#: Patterns, not compiled ones: only an error looks for its line (re keeps them once compiled,
+#: and compiling them at import cost every run's start-up).
+_TABLE_LINE = rf"\s*\[\[?\s*({_DOTTED_KEY})\s*\]"
+_KEY_LINE = rf"\s*({_DOTTED_KEY})\s*="
 
 
 def _key_parts(dotted: str) -> tuple[str, ...]:
     parts = []
     for part in re.findall(_KEY_PART, dotted):
         if part.startswith('"'):
+            import json  # an error's line only: not at every start-up
+
             try:
                 part = json.loads(part)  # TOML's basic-string escapes are JSON's
             except ValueError:
@@ -293,8 +296,8 @@ def key_line(text: str, key: tuple[str, ...]) -> int | None:
         if closing:
             closing = "" if line.count(closing) % 2 else closing
             continue
-        header = _TABLE_LINE.match(line)
-        assigned = None if header else _KEY_LINE.match(line)
+        header = re.match(_TABLE_LINE, line)
+        assigned = None if header else re.match(_KEY_LINE, line)
         if header:
             table = _key_parts(header.group(1))
             full = table

@@ -206,7 +206,7 @@ def _folder(value: Any, where: str) -> str:
 
 
 #: A variable of a path: $NAME or ${NAME}.
-_VARIABLE = re.compile(r"\$(?:(\w+)|\{(\w+)\})")
+_VARIABLE = r"\$(?:(\w+)|\{(\w+)\})"  # compiled when first used, not at start-up
 
 
 def expand_path(value: str, where: str) -> str:
@@ -214,7 +214,7 @@ def expand_path(value: str, where: str) -> str:
     its ``cache-dir`` and ``extend`` (https://docs.astral.sh/ruff/settings/#extend):
     ``~/.cache/x`` is no folder named ``~`` in the project. A variable that is
     not set is an error, not a folder named ``$STUDIO``."""
-    for found in _VARIABLE.finditer(value):
+    for found in re.finditer(_VARIABLE, value) if "$" in value else ():
         name = found.group(1) or found.group(2)
         if name not in os.environ:
             raise ConfigError(f"{where}: environment variable {name} is not set (in {value!r})")

@@ -21,7 +21,6 @@ from ..api.resolve import forget_prim_answers
 from ..layers.crate import crate_structure_problem
 from ..layers.files import layer_identifier, real_path, resolver_context_key, unreadable_reason
 from ..layers.nesting import nesting_problem
-from ..layers.source_lines import read_lines
 from ..model import (
     INTERNAL_ERROR_CODE,
     INTERNAL_ERROR_NAME,
@@ -815,6 +814,8 @@ def _character_column(text: str | None, layer: str, line: int, column: int) -> i
     pxr/base/tf/pxrPEGTL/pegtl.h); a finding's column counts characters, as an
     editor and a report mark them (past an "é", bytes are more). Unchanged when
     the line cannot be read."""
+    from ..layers.source_lines import read_lines  # a parse error's only
+
     lines = text.split("\n") if text is not None else read_lines(layer)
     if lines is None or not 0 < line <= len(lines):
         return column

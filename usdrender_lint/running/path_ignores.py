@@ -52,13 +52,13 @@ def matches_any_path(pattern: str, paths: Sequence[str], base_dir: Path) -> bool
 
 
 #: The innermost ``{...}`` holding a comma: its alternatives are expanded first.
-_BRACES = re.compile(r"\{([^{}]*,[^{}]*)\}")
+_BRACES = r"\{([^{}]*,[^{}]*)\}"  # compiled when first used, not at start-up
 
 
 def expand_braces(pattern: str) -> list[str]:
     """``"{a,b}/*.usda"`` -> ``["a/*.usda", "b/*.usda"]`` (nested groups too);
     fnmatch has no alternation, which globset (ruff's globs) has."""
-    found = _BRACES.search(pattern)
+    found = re.search(_BRACES, pattern) if "{" in pattern else None
     if found is None:
         # An alternative ending in '/' ("{a,b/}/*.usda") leaves a '//'.
         return [re.sub(r"(?<=.)/{2,}", "/", pattern)]

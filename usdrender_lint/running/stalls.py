@@ -24,8 +24,9 @@ from .interrupts import STALL_SIGNAL
 DUMP_WAIT = 0.5
 #: Seconds the rest of a stack takes once it has begun.
 _QUIET = 0.05
-_FRAME = re.compile(r'^\s+File "(.*)", line (\d+) in (\S+)\s*$')
-_THREAD = re.compile(r"^(?:Current thread|Thread) 0x[0-9a-f]+ ")
+#: Compiled when a stack is read (a time-out), not at start-up.
+_FRAME = r'^\s+File "(.*)", line (\d+) in (\S+)\s*$'
+_THREAD = r"^(?:Current thread|Thread) 0x[0-9a-f]+ "
 
 Frame = tuple[str, int, str]
 
@@ -51,10 +52,10 @@ def frames(dump: str) -> list[list[Frame]]:
     """Each thread's frames in a faulthandler dump, the most recent first."""
     threads: list[list[Frame]] = []
     for line in dump.splitlines():
-        if _THREAD.match(line):
+        if re.match(_THREAD, line):
             threads.append([])
             continue
-        found = _FRAME.match(line)
+        found = re.match(_FRAME, line)
         if found and threads:
             threads[-1].append((found[1], int(found[2]), found[3]))
     return threads

@@ -16,7 +16,6 @@ from typing import TYPE_CHECKING, Any, Protocol
 from .. import debug
 from ..model import FileResult
 from ..records import record
-from . import stalls
 from .interrupts import STALL_SIGNAL, check_stopped
 from .progress import progress_bar, want_progress
 from .supervisor import Supervision
@@ -353,6 +352,8 @@ class _Worker:
 
         if self.process.pid is None:
             return ""
+        from . import stalls
+
         with suppress(OSError):
             os.kill(self.process.pid, STALL_SIGNAL)
         return stalls.collect(read)
@@ -386,6 +387,8 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
             return
         os.dup2(opened, fd)
         os.close(opened)
+    from . import stalls
+
     stalls.listen(2)  # a time-out asks where it was (_Worker.stack)
     try:
         from pxr import Usd
@@ -535,6 +538,8 @@ CRASHED = "the linter process crashed while reading it"
 def timed_out(timeout: float | None, dump: str | None = None) -> str:
     """A time-out's message; ``dump``: the lint's stack as it timed out (stalls.py),
     whose rule or step the message names."""
+    from . import stalls  # a time-out's only
+
     where = stalls.site(dump) if dump else None
     at = f" {where}" if where else ""
     return f"timed out after {timeout:g} s{at} (raise --timeout, or 0 for no limit)"
