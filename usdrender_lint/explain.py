@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from .api import Rule
 from .api.docs import rule_doc
-from .model import RuleInfo
+from .model import RuleInfo, rule_doc_url
 from .profiles.effective import profile_treatment
 
 
@@ -36,5 +36,11 @@ def rule_info(rule: type[Rule]) -> RuleInfo:
             summary=rule.summary(),
             doc=explain_text(rule),
             fix=rule.fix_safety,
+            # Only the rules this package ships have pages on its documentation site.
+            url=rule_doc_url(rule.code, rule.name) if _built_in(rule) else None,
         )
     return info
+
+
+def _built_in(rule: type[Rule]) -> bool:
+    return rule.__module__.startswith(__name__.rpartition(".")[0] + ".rules.")

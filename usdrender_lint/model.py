@@ -135,6 +135,15 @@ class FileResult:
     notes: tuple[str, ...] = ()
 
 
+#: The documentation site; it has one page per built-in rule (:func:`rule_doc_url`).
+DOCS_URL = "https://usdrender-lint.readthedocs.io/en/latest/"
+
+
+def rule_doc_url(code: str, name: str) -> str:
+    """The address of a rule's page on the documentation site."""
+    return f"{DOCS_URL}reference/rules/{code}-{name}/"
+
+
 @record(frozen=True)
 class RuleInfo:
     """A rule's metadata and documentation, for reports that describe rules."""
@@ -145,6 +154,9 @@ class RuleInfo:
     summary: str
     doc: str
     fix: str = "none"
+    #: Its page on the documentation site: a built-in rule's (and UL000's); None
+    #: for a plugin's, which has none there.
+    url: str | None = None
 
 
 @record(frozen=True)
@@ -251,4 +263,5 @@ INTERNAL_ERROR_RULE = RuleInfo(
         No automatic fix.
         """
     ),
+    url=rule_doc_url(INTERNAL_ERROR_CODE, INTERNAL_ERROR_NAME),
 )

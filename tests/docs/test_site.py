@@ -72,8 +72,7 @@ def test_every_code_a_finding_carries_has_the_page_its_link_names(
     """The editors link each diagnostic's code to its page (rule_doc_url): the
     internal-error code UL000, which no rule class declares, included, with the
     text explain prints."""
-    from usdrender_lint.api.docs import DOCS_URL, rule_doc_url
-    from usdrender_lint.model import INTERNAL_ERROR_RULE
+    from usdrender_lint.model import DOCS_URL, INTERNAL_ERROR_RULE, rule_doc_url
 
     codes = [(r.code, r.name) for r in build_registry().rules]
     for code, name in [*codes, (INTERNAL_ERROR_RULE.code, INTERNAL_ERROR_RULE.name)]:

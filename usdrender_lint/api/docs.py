@@ -7,17 +7,9 @@ import re
 
 from .rule import DOC_SECTIONS, Rule
 
-#: The documentation site; it has one page per rule (:func:`rule_doc_url`).
-DOCS_URL = "https://usdrender-lint.readthedocs.io/en/latest/"
-
 _HEADING = re.compile(r"^##\s+(.+?)\s*$", re.MULTILINE)
 _CODE_BLOCK = re.compile(r"```(\w*)\n(.*?)```", re.DOTALL)
 _NAMED_BLOCK = re.compile(r"```usda ([\w.-]+\.usda)\n(.*?)```", re.DOTALL)
-
-
-def rule_doc_url(code: str, name: str) -> str:
-    """The address of a rule's page on the documentation site."""
-    return f"{DOCS_URL}reference/rules/{code}-{name}/"
 
 
 def rule_doc(rule: type[Rule]) -> str:

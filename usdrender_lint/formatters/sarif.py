@@ -87,7 +87,7 @@ def _descriptor(rule: RuleInfo) -> dict[str, Any]:
         | ({"markdown": rule.doc} if rule.doc else {}),
         "defaultConfiguration": {"level": _LEVEL[rule.severity]},
         "properties": {"fix": rule.fix},
-    }
+    } | ({"helpUri": rule.url} if rule.url else {})
 
 
 def _rules(report: Report) -> list[RuleInfo]:

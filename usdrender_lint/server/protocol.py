@@ -461,7 +461,7 @@ class UsdRenderLintServer(LanguageServer):
             range=range_,
             severity=_SEVERITY[finding.severity],
             code=finding.code,
-            code_description=types.CodeDescription(href=rule.url) if rule else None,
+            code_description=types.CodeDescription(href=rule.url) if rule and rule.url else None,
             source=NAME,
             message=finding.message,
             related_information=related,
@@ -730,7 +730,8 @@ def rule_markdown(rule: RuleDoc) -> str:
     head = f"**{rule.code} {rule.name}** ({rule.severity}; fix: {rule.fix})"
     # explain's text starts with the same facts, unformatted.
     doc = rule.doc.split("\n", 1)[1] if rule.doc.startswith(rule.code) else rule.doc
-    return f"{head}\n\n{doc.strip()}\n\n[{rule.code} on the documentation site]({rule.url})"
+    link = f"\n\n[{rule.code} on the documentation site]({rule.url})" if rule.url else ""
+    return f"{head}\n\n{doc.strip()}{link}"
 
 
 def usd_path(uri: str) -> str | None:

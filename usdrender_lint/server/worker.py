@@ -54,8 +54,8 @@ class RuleDoc:
     summary: str
     doc: str
     fix: str
-    #: Its page on the documentation site.
-    url: str
+    #: Its page on the documentation site (None: a plugin's rule, which has none there).
+    url: str | None
 
 
 class Child:
@@ -256,7 +256,6 @@ class Linting:
 
 
 def _rule_docs(registry) -> tuple[RuleDoc, ...]:
-    from ..api.docs import rule_doc_url
     from ..explain import rule_info
     from ..model import INTERNAL_ERROR_RULE
 
@@ -271,7 +270,7 @@ def _rule_docs(registry) -> tuple[RuleDoc, ...]:
             i.summary,
             i.doc,
             i.fix,
-            rule_doc_url(i.code, i.name),
+            i.url,
         )
         for i, a in infos
     )
