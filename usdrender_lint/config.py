@@ -15,7 +15,7 @@ import re
 import stat
 import types
 import typing
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import field
 from pathlib import Path
 from typing import Any
@@ -554,6 +554,19 @@ def find_config_file(start: str | Path) -> Path | None:
         if found is not None:
             return found
     return None
+
+
+def file_stamps(files: Iterable[str]) -> tuple[tuple[str, int | None], ...]:
+    """Each file with its modification time (None: gone or unreadable): a
+    long-running host (the language server, a validator plugin) compares them
+    to read its configuration again when a file it read changed."""
+    stamped: list[tuple[str, int | None]] = []
+    for path in files:
+        try:
+            stamped.append((path, os.stat(path).st_mtime_ns))
+        except OSError:
+            stamped.append((path, None))
+    return tuple(stamped)
 
 
 def search_start(start: str | Path) -> Path:

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 from pxr import Ar, Pcp, Sdf, Tf, Usd, Vt
 
-from ..config import CONFIG_FILE_NAMES, search_start
+from ..config import CONFIG_FILE_NAMES, file_stamps, search_start
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
 from ..engine.stage import (
@@ -95,17 +95,6 @@ def _config_candidates(path: str) -> tuple[str, ...]:
     return tuple(
         str(folder / name) for folder in (here, *here.parents) for name in CONFIG_FILE_NAMES
     )
-
-
-def _stamps(files: tuple[str, ...]) -> tuple[tuple[str, int | None], ...]:
-    return tuple((path, _stamp(path)) for path in files)
-
-
-def _stamp(path: str) -> int | None:
-    try:
-        return os.stat(path).st_mtime_ns
-    except OSError:
-        return None
 
 
 class Documents:
@@ -267,7 +256,7 @@ class Documents:
             return self._prepared
         folder = os.path.dirname(path)
         config = self._configs.get(folder)
-        if config is not None and _stamps(tuple(f for f, _ in config.stamps)) != config.stamps:
+        if config is not None and file_stamps(tuple(f for f, _ in config.stamps)) != config.stamps:
             config = None  # a file changed: the one found, or one it extends
         if config is None:
             given = self._configuration
@@ -281,7 +270,7 @@ class Documents:
             )
             prepared = prepare(request, self.registry)
             read = (*prepared.settings.sources, *_config_candidates(path))
-            config = self._configs[folder] = _Config(prepared, _stamps(read))
+            config = self._configs[folder] = _Config(prepared, file_stamps(read))
         return config.prepared
 
     # -- layers -------------------------------------------------------------------------

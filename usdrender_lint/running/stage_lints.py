@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from pxr import Tf, Usd
 
+from ..config import file_stamps
 from ..engine import Linter, TracedFinding
 from ..model import FileResult, Finding, Report
 from ..records import record
@@ -88,17 +89,6 @@ def stage_file(stage: Usd.Stage) -> str:
     return root.realPath or root.identifier
 
 
-def _stamps(files: Iterable[str]) -> tuple[tuple[str, int | None], ...]:
-    """Each file with its modification time (None: gone or unreadable)."""
-    stamped: list[tuple[str, int | None]] = []
-    for path in files:
-        try:
-            stamped.append((path, os.stat(path).st_mtime_ns))
-        except OSError:
-            stamped.append((path, None))
-    return tuple(stamped)
-
-
 class CheckLinters:
     """The linter ``check`` would use for a stage's file: the configuration
     found from its folder (as ``check`` finds it), so the same rules, options
@@ -123,11 +113,11 @@ class CheckLinters:
         folder = os.path.dirname(file) if os.path.isabs(file) else os.getcwd()
         with self._lock:
             cached = self._prepared.get(folder)
-            if cached is not None and _stamps(f for f, _ in cached[1]) == cached[1]:
+            if cached is not None and file_stamps(f for f, _ in cached[1]) == cached[1]:
                 return cached[0]
             request = Request((file,), jobs=1, timeout=None, progress=False)
             prepared = prepare(request)
-            self._prepared[folder] = (prepared, _stamps(prepared.settings.sources))
+            self._prepared[folder] = (prepared, file_stamps(prepared.settings.sources))
             return prepared
 
     def linter(self, stage: Usd.Stage) -> Linter:
