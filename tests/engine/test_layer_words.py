@@ -45,6 +45,8 @@ def _words_usd_sees(layer: Sdf.Layer) -> set[str]:
                 keys.add("references")
             if spec.hasPayloads:
                 keys.add("payload")
+            if len(spec.variantSets):
+                keys.add("variantSetChildren")
         found.update(keys & set(WORDS))
         for key in ("customData", "clips"):
             if key in keys:

@@ -609,3 +609,140 @@ def test_a_variant_set_nested_in_an_unselected_variant_is_explored(tmp_path: Pat
     stage = Usd.Stage.Open(str(shot))
     assert combination_count(render_variant_sets(stage)) == 3
     assert result.notes == ()
+
+
+# /Scene's reference is missing under every selection; render=on adds a render
+# prim under it whose own reference is missing too. /Render/Main's is missing
+# under every selection, outside what the selection recomposes.
+ERRORS_AROUND_A_VARIANT = """#usda 1.0
+def Scope "Scene" (
+    prepend references = @./missing_scene.usda@
+)
+{
+    def Scope "Holder" (
+        variants = {
+            string render = "none"
+        }
+        prepend variantSets = "render"
+    )
+    {
+        variantSet "render" = {
+            "none" {
+            }
+            "on" {
+                def RenderSettings "Settings" (
+                    prepend references = @./missing_settings.usda@
+                )
+                {
+                    uniform int2 resolution = (1920, 1080)
+                }
+            }
+        }
+    }
+}
+
+def Scope "Render"
+{
+    def RenderSettings "Main" (
+        prepend references = @./missing_main.usda@
+    )
+    {
+        uniform int2 resolution = (1920, 1080)
+    }
+}
+"""
+
+
+def test_a_combination_reports_the_composition_errors_a_full_lint_of_it_does(
+    tmp_path: Path,
+) -> None:
+    """A combination's composition errors are the authored ones where USD did
+    not recompose plus the recomposed prims' own: the same ST002 findings as a
+    check of a copy with that selection authored, including the error of an
+    ancestor that only the selection puts render data under."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(ERRORS_AROUND_A_VARIANT)
+    selected = tmp_path / "selected.usda"
+    selected.write_text(ERRORS_AROUND_A_VARIANT.replace('render = "none"', 'render = "on"'))
+    linter = Linter(all_rules())
+    expected = {
+        (str(f.location.path), f.message.replace("selected.usda", "shot.usda"))
+        for f in linter.lint_path(str(selected)).findings
+        if f.code == "ST002"
+    }
+    assert {path for path, _ in expected} == {
+        "/Scene",
+        "/Scene/Holder/Settings",
+        "/Render/Main",
+    }
+    found = VariantExplorer(linter).lint_path(str(shot)).findings
+    note = " [variant selection: /Scene/Holder{render=on}]"
+    explored = {
+        (str(f.location.path), f.message.replace(note, "")) for f in found if f.code == "ST002"
+    }
+    assert explored == expected
+    annotated = {
+        str(f.location.path) for f in found if f.code == "ST002" and f.message.endswith(note)
+    }
+    assert annotated == {"/Scene", "/Scene/Holder/Settings"}
+
+
+class _CountingStage:
+    """A stage that counts its whole-stage composition error queries."""
+
+    def __init__(self, stage: Usd.Stage) -> None:
+        self._stage = stage
+        self.asked = 0
+
+    def GetCompositionErrors(self) -> list:  # noqa: N802 - USD's name
+        self.asked += 1
+        return self._stage.GetCompositionErrors()
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._stage, name)
+
+
+def test_a_combination_does_not_ask_the_whole_stage_for_its_composition_errors(
+    tmp_path: Path,
+) -> None:
+    from usdrender_lint.engine.variants import _CompositionErrors, _Walk, author_selection
+
+    shot = tmp_path / "shot.usda"
+    shot.write_text(ERRORS_AROUND_A_VARIANT)
+    stage = Usd.Stage.Open(str(shot))
+    counting = _CountingStage(stage)
+    linter = Linter(all_rules())
+    with _Walk(linter, stage, own_stage=True) as walk:
+        sets = render_variant_sets(stage, walk.prims())
+        errors = _CompositionErrors(counting, walk)  # type: ignore[arg-type]
+        authored = {str(e) for e in errors.now()}
+        assert counting.asked == 1
+        author_selection(stage, sets, ((0, "on"),))
+        combined = {str(e) for e in errors.now()}
+        assert counting.asked == 1  # the recomposed subtree's own errors only
+        assert combined == {str(e) for e in stage.GetCompositionErrors()}
+        assert combined > authored
+
+
+def test_a_stage_with_instances_is_asked_whole_for_a_combination(tmp_path: Path) -> None:
+    """A prototype's errors are reported at one of its instances: the
+    recomposed subtree cannot say which, so the stage is asked."""
+    from usdrender_lint.engine.variants import _CompositionErrors, _Walk, author_selection
+
+    shot = tmp_path / "shot.usda"
+    shot.write_text(
+        ERRORS_AROUND_A_VARIANT
+        + '\ndef Xform "A" (instanceable = true\n prepend references = </Scene>)\n{\n}\n'
+        + 'def Xform "B" (instanceable = true\n prepend references = </Scene>)\n{\n}\n'
+    )
+    stage = Usd.Stage.Open(str(shot))
+    assert stage.GetPrototypes()
+    counting = _CountingStage(stage)
+    with _Walk(Linter(all_rules()), stage, own_stage=True) as walk:
+        sets = render_variant_sets(stage, walk.prims())
+        errors = _CompositionErrors(counting, walk)  # type: ignore[arg-type]
+        errors.now()
+        author_selection(stage, sets, ((0, "on"),))
+        combined = {str(e) for e in errors.now()}
+        assert counting.asked == 2
+        assert combined == {str(e) for e in stage.GetCompositionErrors()}

@@ -57,6 +57,10 @@ class Context:
     asset_dependencies: list[tuple[Sdf.Layer | None, Sdf.AssetPath]] = field(
         default_factory=list, repr=False
     )
+    #: How :attr:`composition_errors` is computed when not by asking the whole
+    #: stage: --variants reuses the authored selections' errors where USD did
+    #: not recompose (engine/variants.py).
+    composition_errors_source: Callable[[], list] | None = field(default=None, repr=False)
 
     def depends_on_asset(self, value: Sdf.AssetPath, layer: Sdf.Layer | None) -> None:
         """Say that a finding (or its absence) depends on whether the asset
@@ -89,6 +93,8 @@ class Context:
     def composition_errors(self) -> list:
         """``stage.GetCompositionErrors()``, asked once per lint (it walks the
         stage's prim indexes)."""
+        if self.composition_errors_source is not None:
+            return self.composition_errors_source()
         return list(self.stage.GetCompositionErrors())
 
     @cached_property

@@ -64,8 +64,8 @@ WORDS = (
     # Layer metadata the fast path looks for in value clip layers (partial.py).
     "renderSettingsPrimPath",
 )
-#: Fields usda spells with another keyword (``inherits = </Class>``).
-TEXT_SPELLING = {"inheritPaths": "inherits"}
+#: Fields usda spells with another keyword (``inherits = </Class>``, ``variantSet "v" = {``).
+TEXT_SPELLING = {"inheritPaths": "inherits", "variantSetChildren": "variantSet"}
 #: Answers kept per process, keyed by the file's path and version.
 _MEMO_SIZE = 256
 _Key = tuple[str, int, int, int]

@@ -321,6 +321,7 @@ class Linter:
         texts: Mapping[str, str] | None = None,
         prims: Sequence[Usd.Prim] | None = None,
         reads: bool = False,
+        composition_errors: Callable[[], list] | None = None,
     ) -> LintRun[Any]:
         """Lint an open stage; ``file`` names it in findings (default: root
         layer). ``texts``: the text of layers with unsaved edits (an
@@ -328,11 +329,15 @@ class Linter:
         instead of in their files. ``prims``: the usable prims the walk would
         keep (:meth:`walk_candidates`), in traversal order, so that there is
         no traversal (--variants knows them from the previous combination and
-        what USD recomposed since). ``reads``: as for :meth:`run_path`."""
+        what USD recomposed since); ``composition_errors``, likewise, gives the
+        stage's composition errors (Context.composition_errors_source).
+        ``reads``: as for :meth:`run_path`."""
         trace = _Trace(reads)
         name = file or real_path(stage.GetRootLayer())
         try:
-            findings, _ = self._lint(stage, file, trace, texts=texts, prims=prims)
+            findings, _ = self._lint(
+                stage, file, trace, texts=texts, prims=prims, composition_errors=composition_errors
+            )
         except (UnicodeDecodeError, CorruptValue, Tf.ErrorException, MemoryError) as exc:
             if out_of_memory(exc):
                 return trace.run(_out_of_memory(name))
@@ -442,6 +447,7 @@ class Linter:
         own_stage: bool = False,
         texts: Mapping[str, str] | None = None,
         prims: Sequence[Usd.Prim] | None = None,
+        composition_errors: Callable[[], list] | None = None,
     ) -> tuple[list[Finding], _T | None]:
         file = file or real_path(stage.GetRootLayer())
         ctx = Context(
@@ -449,6 +455,7 @@ class Linter:
             file=file,
             time_sample_cap=self.time_sample_cap,
             partial=masked,
+            composition_errors_source=composition_errors,
         )
         # Without value clips, a prim's authored property names say which of
         # its attributes can hold a value (resolve.PrimValues.has_value).
