@@ -13,6 +13,7 @@ import click
 from .. import __version__
 from ..formatters import FormatOptions, load_formatter, reads_configuration, reads_rules
 from ..paths import display_path, escape
+from ..records import record
 from ..running.interrupts import check_stopped
 from .loading import import_engine, registry, supervision
 from .options import (
@@ -108,6 +109,20 @@ if TYPE_CHECKING:
     "until Ctrl-C (the [watch] extra).",
 )
 @click.option(
+    "-q",
+    "--quiet",
+    is_flag=True,
+    help="Print the findings and nothing else: no summary line, no fixes applied, no "
+    "notes or progress bar on stderr (a file that could not be linted is still said).",
+)
+@click.option(
+    "-s",
+    "--silent",
+    is_flag=True,
+    help="Print no report (the exit code says it; --output still writes one) and, as "
+    "--quiet, no notes; a file that could not be linted is still said on stderr.",
+)
+@click.option(
     "--show-files",
     is_flag=True,
     help="Print the files a check would lint, one a line, and exit 0: nothing is linted.",
@@ -137,6 +152,8 @@ def check(
     shard: tuple[int, int] | None,
     stdin_filename: str | None,
     watch: bool,
+    quiet: bool,
+    silent: bool,
     show_files: bool,
     show_settings: bool,
     **settings: Any,
@@ -175,19 +192,33 @@ def check(
         shard=shard,
         output=output_file,
         supervision=supervision(),
+        progress=False if quiet or silent else None,
         **setting_values("check", settings),
     )
     if show_files or show_settings:
         _show(request, show_files, show_settings)
-    check_once = partial(_check_once, request, output_format, show_info, statistics, show_diff)
+    shown = _Shown(output_format, show_info, statistics, show_diff, quiet or silent, silent)
+    check_once = partial(_check_once, request, shown)
     if watch:
         _watch(request, check_once)
     sys.exit(check_once().exit_status)
 
 
-def _check_once(
-    request: Request, output_format: str, show_info: bool, statistics: bool, show_diff: bool
-) -> Outcome:
+@record(frozen=True)
+class _Shown:
+    """What a check prints besides the findings' data (its report options)."""
+
+    output_format: str
+    show_info: bool
+    statistics: bool
+    show_diff: bool
+    #: --quiet (or --silent): no summary, applied fixes or notes.
+    quiet: bool
+    #: --silent: no report either, unless --output names where it goes.
+    silent: bool
+
+
+def _check_once(request: Request, shown: _Shown) -> Outcome:
     """One check: lint, write the report and the notes; the outcome."""
     from ..running.pipeline import RequestError, run
 
@@ -198,29 +229,33 @@ def _check_once(
         raise ToolError(str(exc)) from None
     options = FormatOptions(
         # A gate that fails on info findings shows them: they are why it fails.
-        show_info=show_info or outcome.fails_on_info,
+        show_info=shown.show_info or outcome.fails_on_info,
         tool_version=__version__,
-        statistics=statistics,
+        statistics=shown.statistics,
+        quiet=shown.quiet,
         fixing=request.fix is not None,
         shard=request.shard,
         settings_of=outcome.settings_by_file().get,
     )
-    report, rules = outcome.report, outcome.rules
+    report, rules, output_format = outcome.report, outcome.rules, shown.output_format
     output_file = request.output
-    if show_diff or outcome.text is not None:
-        # stdout carries the diff, or the fixed text of check --fix -, alone; the
-        # report goes only to --output.
+    if shown.show_diff or outcome.text is not None:
+        # stdout carries the diff, or the fixed text of check --fix -, alone (data that
+        # was asked for, printed even --silent); the report goes only to --output.
         if outcome.text is not None:
             write(outcome.text, encoding="utf-8")  # a text layer's own encoding
         else:
             write(escape("".join(outcome.diffs)))
         if output_file:
             emit_report(report, output_format, rules, options, output_file, outcome.configuration)
-    else:
+    elif output_file or not shown.silent:
         emit_report(report, output_format, rules, options, output_file, outcome.configuration)
-    for line in outcome.notes:
-        note(line)
-    errors_after_report(outcome.errors, output_format, output_file)
+    if not shown.quiet:
+        for line in outcome.notes:
+            note(line)
+    # --silent showed no report that said them: on stderr, wherever it goes.
+    shown_by_report = not shown.silent or output_file is not None
+    errors_after_report(outcome.errors, output_format, output_file, shown_by_report)
     return outcome
 
 

@@ -47,11 +47,14 @@ def say(line: str) -> None:
         click.echo(line, err=True)
 
 
-def errors_after_report(lines: Iterable[str], output_format: str, output: str | None) -> None:
+def errors_after_report(
+    lines: Iterable[str], output_format: str, output: str | None, reported: bool = True
+) -> None:
     """The files that could not be processed, repeated on stderr for a log or a
     machine-read report; not when a text report already showed them on the
-    terminal stderr writes to, where they would read twice."""
-    shown = output_format in ("text", "full") and output is None  # ("-" is None by now)
+    terminal stderr writes to, where they would read twice (``reported``: False
+    when no report was written, --silent's)."""
+    shown = reported and output_format in ("text", "full") and output is None  # ("-" is None)
     if shown and sys.stdout is not None and sys.stdout.isatty() and sys.stderr.isatty():
         return
     for line in lines:

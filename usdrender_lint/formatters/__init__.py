@@ -21,6 +21,8 @@ class FormatOptions:
     tool_version: str = "0"
     #: Add counts per rule code after the report (--statistics).
     statistics: bool = False
+    #: The findings and nothing else (--quiet): no summary line, no fixes applied.
+    quiet: bool = False
     #: Fixing was asked for (--fix, --diff, --fix-to): report the fixes.
     fixing: bool = False
     #: The run's configuration digest (running/merge.py), for the JSON report.

@@ -259,6 +259,8 @@ class TextFormatter:
         entries = [finding_entry(finding, options.show_info, below) for finding in shown]
         entries += [error_entry(result) for result in report.errored_files]
         entries.sort(key=lambda entry: entry.sort_key)
+        if options.quiet:  # --quiet: what is wrong, and nothing about it
+            return entries, statistics_lines(report) if options.statistics else []
         fixes = sorted((fix_entry(fix) for fix in report.applied_fixes), key=lambda e: e.sort_key)
         summary = [self._summary(report, len(report.findings) - len(shown), options)]
         if options.statistics:
