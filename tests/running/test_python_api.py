@@ -153,6 +153,22 @@ def test_lint_stage_names_the_root_layer_by_default() -> None:
     assert usdrender_lint.lint_stage(stage).files[0].file == str(FAIL.resolve())
 
 
+def test_a_profile_keyword_is_the_reason_the_findings_name() -> None:
+    # The reason read "--profile karma", a flag the caller never gave.
+    by_keyword = {
+        f.profile_reason
+        for report in (
+            usdrender_lint.lint_file(FAIL, profile="karma"),
+            usdrender_lint.lint_stage(Usd.Stage.Open(str(FAIL)), profile="karma"),
+        )
+        for f in report.findings
+    }
+    assert by_keyword == {"argument profile = karma"}
+    # The configuration's profile keeps its own reason.
+    in_config = usdrender_lint.lint_file(FAIL, config={"profile": "karma"})
+    assert {f.profile_reason for f in in_config.findings} == {"config: profile = karma"}
+
+
 def test_unknown_attribute_is_an_attribute_error() -> None:
     with pytest.raises(AttributeError):
         usdrender_lint.lint_everything  # noqa: B018

@@ -61,8 +61,31 @@ def _request(paths: Sequence[str], config: ConfigLike, **overrides: object) -> R
     )
 
 
-def _with_rules(outcome_report: Report, rules: Sequence[Rule]) -> Report:
-    return replace(outcome_report, rules=tuple(rule_info(type(rule)) for rule in rules))
+def _with_rules(outcome_report: Report, rules: Sequence[Rule], profile: str | None) -> Report:
+    return replace(
+        _profile_keyword(outcome_report, profile),
+        rules=tuple(rule_info(type(rule)) for rule in rules),
+    )
+
+
+def _profile_keyword(report: Report, profile: str | None) -> Report:
+    """A profile chosen by the ``profile`` keyword is named so in each finding's
+    ``profile_reason``: the pipeline names it as check's flag (``--profile NAME``),
+    which this route has not got (as _raise_as_before renames its messages')."""
+    if profile is None:
+        return report
+    flag, keyword = f"--profile {profile}", f"argument profile = {profile}"
+    files = tuple(
+        replace(
+            result,
+            findings=tuple(
+                replace(f, profile_reason=keyword) if f.profile_reason == flag else f
+                for f in result.findings
+            ),
+        )
+        for result in report.files
+    )
+    return replace(report, files=files)
 
 
 #: The API's keywords by the flag the pipeline's messages name them with (every
@@ -125,7 +148,7 @@ def lint_file(
         _raise_as_before(exc)
         raise
     _warn_plugin_problems()
-    return _with_rules(outcome.report, outcome.rules)
+    return _with_rules(outcome.report, outcome.rules, profile)
 
 
 def lint_stage(
@@ -162,7 +185,7 @@ def lint_stage(
     # Variants are not explored: that authors selections into the stage's
     # session layer, and this stage is the caller's.
     report = prepared.finish(Report((prepared.linter.run_stage(stage, name).result,)))
-    return _with_rules(report, prepared.linter.rules)
+    return _with_rules(report, prepared.linter.rules, profile)
 
 
 def _warn_plugin_problems() -> None:
