@@ -608,13 +608,16 @@ context = UsdValidation.ValidationContext(validators)
 stage = Usd.Stage.Open(work)
 if dirty:  # an unsaved edit: the fixer can only edit through Sdf
     stage.GetRootLayer().documentation = "edited in memory"
-applied = []
+applied, offered = [], []
 for _ in range(10):  # fix, validate again, until no fixer applies
     fixed = False
     for error in context.Validate(stage):
         for fixer in error.GetFixers():
             target = Usd.EditTarget(stage.GetRootLayer())
-            if fixer.CanApplyFix(error, target) and fixer.ApplyFix(error, target):
+            if not fixer.CanApplyFix(error, target):
+                continue
+            offered.append(str(error.GetName()))
+            if fixer.ApplyFix(error, target):
                 applied.append(str(error.GetName()))
                 fixed = True
                 break
@@ -624,6 +627,7 @@ for _ in range(10):  # fix, validate again, until no fixer applies
         break
 print(json.dumps({
     "applied": applied,
+    "offered": offered,
     "dirty_after": stage.GetRootLayer().dirty,
     "descriptions": sorted({f.description for e in context.Validate(stage) for f in e.GetFixers()}),
 }))
@@ -642,7 +646,7 @@ def test_a_validation_fix_is_the_text_edit_of_check_fix(tmp_path: Path) -> None:
     result = CliRunner().invoke(cli, ["check", "--isolated", "--fix", str(by_cli)])
     assert result.exit_code in (0, 1), result.output
     got = _run_child(_FIX_ALL, plugin_dir(), None, str(by_fixer), "clean")
-    assert sorted(got["applied"]) == ["CA004", "SE007"]
+    assert sorted(got["applied"]) == sorted(got["offered"]) == ["CA004", "SE007"]
     assert got["dirty_after"] is False
     assert by_fixer.read_text() == by_cli.read_text()
     assert by_fixer.read_text() != source.read_text()
@@ -664,6 +668,7 @@ def test_a_validation_fix_of_a_layer_with_hard_links_is_not_applied(tmp_path: Pa
     before = work.read_bytes()
     got = _run_child(_FIX_ALL, plugin_dir(), None, str(work), "clean")
     assert got["applied"] == []
+    assert got["offered"] == []  # CanApplyFix says so before ApplyFix is tried
     assert work.read_bytes() == before
     assert work.stat().st_ino == other.stat().st_ino
     assert stat.S_IMODE(work.stat().st_mode) == 0o751
@@ -672,7 +677,8 @@ def test_a_validation_fix_of_a_layer_with_hard_links_is_not_applied(tmp_path: Pa
 def test_a_validation_fix_of_a_usdz_package_is_not_applied(tmp_path: Path) -> None:
     """--fix leaves a .usdz alone, and USD cannot save a package layer: the
     fixer made an Sdf edit that ApplyFix's save then raised on (a Tf error out
-    of ApplyFix), leaving the layer dirty. Now it is not applied."""
+    of ApplyFix), leaving the layer dirty. Now it is not applied, and
+    CanApplyFix says so (it answered true)."""
     from pxr import UsdUtils
 
     source = tmp_path / "shot.usda"
@@ -681,6 +687,7 @@ def test_a_validation_fix_of_a_usdz_package_is_not_applied(tmp_path: Path) -> No
     assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(source)), str(package))
     before = package.read_bytes()
     got = _run_child(_FIX_ALL, plugin_dir(), None, str(package), "clean")
+    assert got["offered"] == []
     assert got["applied"] == []
     assert got["dirty_after"] is False
     assert package.read_bytes() == before

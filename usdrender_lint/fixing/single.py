@@ -93,13 +93,10 @@ def fix_one(
     edit_layer = edit_layer or target_layer(stage, finding, fix)
     if edit_layer is None:
         return SingleFix(SDF, "the layer holding the finding is not open")
-    left_out = excluded_reason(stage, edit_layer, excluded)
-    if left_out is not None:
-        return SingleFix(SDF, left_out)
+    refused = refusal(stage, finding, fix, edit_layer, excluded)
+    if refused is not None:
+        return SingleFix(SDF, refused)
     if not writes_text(stage, finding, fix, edit_layer):
-        refused = _hard_linked(edit_layer) or _packaged(edit_layer)
-        if refused is not None:
-            return SingleFix(SDF, refused)
         failure = _call_fix(fix, stage, edit_layer)
         return SingleFix(SDF, failure)
     fixer = StageFixer(
@@ -116,6 +113,23 @@ def fix_one(
         if outcome.code == finding.code and outcome.path == finding.location.path:
             return SingleFix(TEXT, outcome.reason)
     return SingleFix(TEXT, "the finding is no longer reported on this stage")
+
+
+def refusal(
+    stage: Usd.Stage,
+    finding: Finding,
+    fix: Fix,
+    edit_layer: Sdf.Layer,
+    excluded: Callable[[str], bool] | None = None,
+) -> str | None:
+    """Why :func:`fix_one` refuses to fix into ``edit_layer`` before trying
+    (None: it tries): a layer the configuration leaves out, or an Sdf edit of a
+    hard-linked file or of a .usdz package. A host asks it before offering a fix
+    (UsdValidation's CanApplyFix)."""
+    left_out = excluded_reason(stage, edit_layer, excluded)
+    if left_out is not None or writes_text(stage, finding, fix, edit_layer):
+        return left_out
+    return _hard_linked(edit_layer) or _packaged(edit_layer)
 
 
 def _packaged(layer: Sdf.Layer) -> str | None:
@@ -141,4 +155,13 @@ def _hard_linked(layer: Sdf.Layer) -> str | None:
     return write_problem(layer) if links > 1 else None
 
 
-__all__ = ["SDF", "TEXT", "SingleFix", "fix_one", "same_finding", "target_layer", "writes_text"]
+__all__ = [
+    "SDF",
+    "TEXT",
+    "SingleFix",
+    "fix_one",
+    "refusal",
+    "same_finding",
+    "target_layer",
+    "writes_text",
+]

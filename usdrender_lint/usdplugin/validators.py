@@ -25,7 +25,7 @@ from pxr import Sdf, Tf, Usd, UsdValidation
 
 from ..api import Fix, Rule
 from ..engine import Linter, TracedFinding
-from ..fixing.single import fix_one
+from ..fixing.single import fix_one, refusal
 from ..model import Finding, Severity
 from ..running.stage_lints import StageLints
 from . import PLUGIN_NAME, is_prim_validator, validator_key, validator_name
@@ -132,8 +132,15 @@ class RuleValidator:
         return None
 
     def can_apply(self, error: Any, edit_target: Usd.EditTarget, time_code: Any = None) -> bool:
+        """Whether ``apply`` would fix into this edit target: a safe fix, and a
+        layer ``apply`` does not refuse (a .usdz package, a hard-linked file)."""
         try:
-            return self._safe_fix(error) is not None
+            found = self._safe_fix(error)
+            if found is None:
+                return False
+            stage, finding, fix = found
+            layer = edit_target.GetLayer()
+            return layer is not None and refusal(stage, finding, fix, layer) is None
         except Exception:  # noqa: BLE001 - see the module docstring
             return False
 
