@@ -396,6 +396,28 @@ def test_a_configuration_with_variants_gives_checks_findings_under_every_selecti
     assert "variant selection" not in shot.read_text()
 
 
+def test_a_configuration_with_variants_offers_no_fix_as_check_fix_refuses_it(
+    tmp_path: Path,
+) -> None:
+    # check --fix refuses variants = true (exit 2); the IssueFixer applied CA004
+    # and SE007 under the current selections.
+    shot = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", shot)
+    (tmp_path / ".usdrender-lint.toml").write_text("variants = true\n")
+    before = shot.read_text()
+    refused = subprocess.run(
+        [str(BIN / "usdrender-lint"), "check", "--fix", str(shot)], capture_output=True, text=True
+    )
+    assert refused.returncode == 2 and "cannot be combined with --fix" in refused.stderr
+    results = _engine().validate(str(shot))
+    assert {"CA004", "SE007"} <= {i.code for i in results.issues()}
+    assert [i.code for i in results.issues() if i.suggestion is not None] == []
+    fixer = av.IssueFixer(str(shot))
+    fixer.fix(list(results.issues()))
+    fixer.save()
+    assert shot.read_text() == before
+
+
 def test_a_usdz_package_is_not_fixed_as_check_fix_leaves_it(tmp_path: Path) -> None:
     # check --fix leaves a .usdz alone; the IssueFixer said SUCCESS and then its
     # save() raised (USD cannot write a package layer).

@@ -141,8 +141,12 @@ class CheckLinters:
 
     def fixable(self, stage: Usd.Stage, finding: Finding) -> bool:
         """Whether ``check --fix`` may fix the finding: not a rule the
-        configuration's ``unfixable`` names (as Prepared.is_reported judges)."""
-        return finding.code not in self.prepared(stage).unfixable
+        configuration's ``unfixable`` names (as Prepared.is_reported judges),
+        nor under a configuration that sets ``variants``, which ``check --fix``
+        refuses (pipeline._check_fix_request): its fixes would be made under the
+        current selections only."""
+        prepared = self.prepared(stage)
+        return not prepared.settings.variants and finding.code not in prepared.unfixable
 
     def force_excluded(self, stage: Usd.Stage) -> bool:
         """Whether ``check`` leaves the stage's file out though it is given by
