@@ -506,3 +506,26 @@ def test_a_file_force_exclude_leaves_out_gets_no_issue_as_check_lints_none(
     config.write_text('extend-exclude = ["legacy/"]\n')
     os.utime(config, ns=(config.stat().st_atime_ns, config.stat().st_mtime_ns + 10**9))
     assert "CA004" in {i.code for i in _engine().validate(str(shot)).issues()}
+
+
+def test_a_folder_with_force_exclude_gets_issues_on_checks_files_only(tmp_path: Path) -> None:
+    # The Asset Validator walks a folder itself (hidden folders, .gitignore'd and
+    # excluded files too) and hands each file over as if named, as the guide says:
+    # with force-exclude the files check's walk skips get no issue.
+    project = tmp_path / "project"
+    for name in ("shot.usda", "legacy/old.usda", ".hidden/h.usda", "tmp/ignored.usda"):
+        (project / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", project / name)
+    subprocess.run(["git", "init", "-q", str(project)], check=True)
+    (project / ".gitignore").write_text("tmp/\n")
+    config = project / ".usdrender-lint.toml"
+    config.write_text('extend-exclude = ["legacy/"]\nforce-exclude = true\n')
+    checked = subprocess.run(
+        [str(BIN / "usdrender-lint"), "check", "--format", "json", str(project)],
+        capture_output=True,
+        text=True,
+    )
+    assert [Path(r["file"]).name for r in json.loads(checked.stdout)["files"]] == ["shot.usda"]
+    _, log = _cli_run(project, tmp_path / "folder.json")
+    with_issues = {Path(asset).name for asset, issues in _logged_by_asset(log).items() if issues}
+    assert len(_logged_by_asset(log)) == 4 and with_issues == {"shot.usda"}
