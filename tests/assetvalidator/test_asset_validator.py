@@ -420,7 +420,8 @@ def test_a_configuration_with_variants_offers_no_fix_as_check_fix_refuses_it(
 
 def test_a_usdz_package_is_not_fixed_as_check_fix_leaves_it(tmp_path: Path) -> None:
     # check --fix leaves a .usdz alone; the IssueFixer said SUCCESS and then its
-    # save() raised (USD cannot write a package layer).
+    # save() raised (USD cannot write a package layer). Then the fix was offered
+    # and failed; now it is not offered (UsdValidation's CanApplyFix says no too).
     from pxr import Sdf, UsdUtils
 
     source = tmp_path / "shot.usda"
@@ -432,8 +433,23 @@ def test_a_usdz_package_is_not_fixed_as_check_fix_leaves_it(tmp_path: Path) -> N
     fixer = av.IssueFixer(str(package))
     statuses = {r.issue.code: r.status.name for r in fixer.fix(list(results.issues()))}
     fixer.save()
-    assert statuses["CA004"] == "FAILURE" and statuses["SE007"] == "FAILURE"
+    assert statuses["CA004"] == "NO_SUGGESTION" and statuses["SE007"] == "NO_SUGGESTION"
     assert package.read_bytes() == before
+
+
+def test_a_hard_linked_file_is_offered_no_fix_as_check_fix_leaves_it(tmp_path: Path) -> None:
+    # check --fix leaves a file with several hard links alone (a rename would split them).
+    shot = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", shot)
+    os.link(shot, tmp_path / "other-name.usda")
+    before = shot.read_text()
+    results = _engine().validate(str(shot))
+    assert "CA004" in {i.code for i in results.issues()}
+    assert [i.code for i in results.issues() if i.suggestion is not None] == []
+    fixer = av.IssueFixer(str(shot))
+    fixer.fix(list(results.issues()))
+    fixer.save()
+    assert shot.read_text() == before
 
 
 def test_an_edited_configuration_is_read_again_in_a_running_host(tmp_path: Path) -> None:
@@ -469,7 +485,8 @@ def test_a_layer_the_configuration_excludes_is_not_fixed_as_check_fix_leaves_it(
     tmp_path: Path,
 ) -> None:
     # extend-exclude = ["reference/"]: check --fix leaves reference/lib.usda alone
-    # (not applied, with its reason); the IssueFixer rewrote it.
+    # (not applied, with its reason); the IssueFixer rewrote it. Now the fix is not
+    # offered there.
     lib = tmp_path / "reference" / "lib.usda"
     lib.parent.mkdir()
     lib.write_text(
@@ -487,7 +504,7 @@ def test_a_layer_the_configuration_excludes_is_not_fixed_as_check_fix_leaves_it(
     fixer = av.IssueFixer(str(shot))
     statuses = {r.issue.code: r.status.name for r in fixer.fix(list(results.issues()))}
     fixer.save()
-    assert statuses["CA004"] == "FAILURE"
+    assert statuses["CA004"] == "NO_SUGGESTION"
     assert lib.read_text() == before
 
 

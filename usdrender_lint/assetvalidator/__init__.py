@@ -41,7 +41,7 @@ from pxr import Sdf, Usd
 from ..api import Rule
 from ..api.docs import rule_doc
 from ..engine import TracedFinding
-from ..fixing.single import fix_one, same_finding, target_layer
+from ..fixing.single import fix_one, refusal, same_finding, target_layer
 from ..model import INTERNAL_ERROR_CODE, Finding, Severity
 from ..running.stage_lints import MAX_CACHED_STAGES, CheckLinters, StageLints
 
@@ -129,7 +129,9 @@ class UsdRenderLintChecker(BaseRuleChecker):
             else _SEVERITIES[finding.severity]
         )
         suggestion = None
-        # A rule the configuration makes ``unfixable`` offers no fix, as --fix applies none.
+        # A rule the configuration makes ``unfixable`` offers no fix, as --fix applies none;
+        # nor does a fix the callable would refuse in its layer (a .usdz package, a
+        # hard-linked file, an excluded layer), as UsdValidation's CanApplyFix says no.
         if (
             fix is not None
             and fix.safe
@@ -137,11 +139,12 @@ class UsdRenderLintChecker(BaseRuleChecker):
             and _CHECK.fixable(stage, finding)
         ):
             layer = target_layer(stage, finding, fix)
-            suggestion = Suggestion(
-                callable=_FixCallable(finding),
-                message=fix.description,
-                at=[layer] if layer is not None else None,
-            )
+            if layer is None or refusal(stage, finding, fix, layer, _CHECK.excluded(stage)) is None:
+                suggestion = Suggestion(
+                    callable=_FixCallable(finding),
+                    message=fix.description,
+                    at=[layer] if layer is not None else None,
+                )
         issue_kwargs: dict[str, Any] = {
             "message": finding.message,
             "at": _at(stage, finding),
