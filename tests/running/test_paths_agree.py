@@ -5,7 +5,8 @@ The paths: the result cache cold and warm, ``--no-cache --jobs 2`` (the pool),
 ``--jobs 1 --timeout 0`` (in-process), a lone file (the supervised child's
 path) and the same file among others, its text on standard input (``check -
 --stdin-filename``, every text layer), three ``--shard K/3`` runs joined by
-``merge``, the Python API's ``lint_file``, and the
+``merge``, the Python API's ``lint_file`` and ``lint_stage`` (on the stage
+USD opens from the file), and the
 UsdValidation plugin (as far as its errors map: code, site path, layer,
 message and severity, against ``check --profile generic``, since validators
 know no renderer profiles). A file that one path lints and another cannot is a
@@ -29,8 +30,9 @@ from pathlib import Path
 
 import pytest
 from conftest import REPO, SHARED
+from pxr import Tf, Usd
 
-from usdrender_lint import lint_file
+from usdrender_lint import lint_file, lint_stage
 from usdrender_lint.formatters import FormatOptions
 from usdrender_lint.formatters.json import report_to_dict
 from usdrender_lint.usdplugin import plugin_dir
@@ -39,7 +41,7 @@ pytestmark = pytest.mark.heavy(seconds=85)
 
 USD_SUFFIXES = {".usd", ".usda", ".usdc", ".usdz"}
 #: What a finding is, for the comparison.
-FIELDS = ("code", "path", "layer", "line", "message", "severity", "profile")
+FIELDS = ("code", "path", "layer", "line", "message", "severity", "profile", "profile_reason")
 #: The plugin's errors carry no line, and the validators no profile.
 PLUGIN_FIELDS = ("code", "path", "layer", "message", "severity")
 
@@ -157,6 +159,21 @@ def _api() -> dict:
     files = []
     for path in TARGETS:
         report = lint_file(path)
+        files += report_to_dict(report, FormatOptions(show_info=True))["files"]
+    return {"files": files}
+
+
+def _api_stages() -> dict:
+    """``lint_stage`` on every file USD opens (a file it refuses has no stage to hand over)."""
+    files = []
+    for path in TARGETS:
+        try:
+            stage = Usd.Stage.Open(path)
+        except Tf.ErrorException:
+            continue
+        if stage is None:
+            continue
+        report = lint_stage(stage, file=path)
         files += report_to_dict(report, FormatOptions(show_info=True))["files"]
     return {"files": files}
 
@@ -349,6 +366,21 @@ def test_the_installed_command_on_a_lone_file(reference: dict[str, tuple]) -> No
 def test_the_python_api(reference: dict[str, tuple], monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(ELSEWHERE)
     assert _differences(reference, _answers(_api())) == []
+
+
+def test_the_python_api_on_open_stages(
+    reference: dict[str, tuple], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(ELSEWHERE)
+    staged = _answers(_api_stages())
+    # USD refuses a file that check reports with ST001 alone: no stage to hand over.
+    refused = {
+        file: answer
+        for file, answer in reference.items()
+        if file not in staged and {f[0] for f in answer[2]} == {repr("ST001")}
+    }
+    assert len(staged) > len(TARGETS) * 0.8
+    assert _differences({f: a for f, a in reference.items() if f not in refused}, staged) == []
 
 
 def test_the_usdvalidation_plugin_as_far_as_its_errors_map() -> None:
