@@ -447,3 +447,27 @@ def test_the_configuration_digest_is_computed_only_for_a_formatter_that_reads_it
     assert handed == ["abc", None]
     assert asked == ["digest"]
     capsys.readouterr()
+
+
+@pytest.mark.parametrize("show_info", [False, True])
+def test_sarif_has_info_findings_only_with_show_info(in_repo, show_info) -> None:
+    """As the text, GitHub, GitLab and JUnit reports: an info finding is a
+    result (level note) only with --show-info; the rules are described either way."""
+    extra = ("--show-info",) if show_info else ()
+    run = _sarif("examples", extra=extra)["runs"][0]
+    findings = [
+        f
+        for file in json.loads(check("--format", "json", "examples").stdout)["files"]
+        for f in file["findings"]
+    ]
+    shown = [f for f in findings if show_info or f["severity"] != "info"]
+    expected = [(f["code"], f["severity"]) for f in shown]
+    level = {"error": "error", "warning": "warning", "info": "note"}
+    got = [(r["ruleId"], r["level"]) for r in run["results"]]
+    assert got == [(code, level[severity]) for code, severity in expected]
+    assert ("note" in {r["level"] for r in run["results"]}) is show_info
+    rules = {rule["id"]: rule for rule in run["tool"]["driver"]["rules"]}
+    infos = {f["code"] for f in findings if f["severity"] == "info"}
+    assert infos and infos <= set(rules)
+    for result in run["results"]:
+        assert run["tool"]["driver"]["rules"][result["ruleIndex"]]["id"] == result["ruleId"]

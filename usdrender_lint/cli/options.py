@@ -166,7 +166,10 @@ def split(values: Sequence[str]) -> tuple[str, ...] | None:
 # Options that are not settings (what to read and where to write), shared so
 # that the commands read and check them alike.
 show_info_option = click.option(
-    "--show-info", is_flag=True, help="Show info findings in the text report."
+    "--show-info",
+    is_flag=True,
+    help="Show info findings in the text, full, sarif, github, gitlab and junit reports "
+    "(the json and html reports always hold them).",
 )
 isolated_option = click.option("--isolated", is_flag=True, help="Ignore every configuration file.")
 

@@ -12,6 +12,14 @@ scanning", "Source file locations":
 https://docs.github.com/en/code-security/reference/code-scanning/sarif-files/sarif-support),
 so a run from a subfolder of the checkout names the files as one from its root.
 
+Info findings (level ``note``) only with --show-info, as in the text, GitHub,
+GitLab and JUnit reports: code scanning shows every result as an alert, a
+``note`` too, so a finding the text report hides would otherwise be an alert
+on every upload. ESLint's --quiet leaves warnings out of every format, SARIF
+included (``lib/cli.js``, https://github.com/eslint/eslint/blob/main/lib/cli.js);
+SARIF's "all results detected by the tool" (2.1.0 §3.14.23) are those the
+options ask for, as with --select. The rules that ran are all described.
+
 Each result carries ``partialFingerprints`` {FINGERPRINT_KEY: the finding's
 fingerprint} (:mod:`~usdrender_lint.formatters.fingerprints`, the GitLab
 report's): code scanning matches results across commits and branches by their
@@ -184,7 +192,11 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
                 "toolExecutionNotifications": notifications,
             }
         ],
-        "results": [_result(f, index[f.code], root, occurrences) for f in report.findings],
+        "results": [
+            _result(f, index[f.code], root, occurrences)
+            for f in report.findings
+            if options.show_info or f.severity != Severity.INFO
+        ],
     }
     if options.statistics:
         run["properties"] = {"statistics": statistics(report)}
