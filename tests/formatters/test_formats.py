@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib
 import json
 import os
+import re
 import shutil
 from pathlib import Path
 from urllib.parse import quote
@@ -471,3 +472,52 @@ def test_sarif_has_info_findings_only_with_show_info(in_repo, show_info) -> None
     assert infos and infos <= set(rules)
     for result in run["results"]:
         assert run["tool"]["driver"]["rules"][result["ruleIndex"]]["id"] == result["ruleId"]
+
+
+def _as_a_viewer_shows(text: str) -> tuple[str, list[str]]:
+    """A SARIF plain text message as a viewer reads it (SARIF 2.1.0 §3.11.5 and
+    §3.11.6, backslash escapes as SARIF 2.2's draft and CodeQL read them): the
+    text shown, and the placeholders and embedded links it would fill or link."""
+    shown: list[str] = []
+    read: list[str] = []
+    i = 0
+    while i < len(text):
+        if text.startswith(("{{", "}}"), i):
+            shown.append(text[i])
+            i += 2
+            continue
+        if text[i] == "\\" and text[i + 1 : i + 2] in ("\\", "[", "]"):
+            shown.append(text[i + 1])
+            i += 2
+            continue
+        syntax = re.compile(r"\{\d+\}|\[(?:[^\\\[\]]|\\.)*\]\([^)]*\)").match(text, i)
+        if syntax:
+            read.append(syntax.group())
+        shown.append(text[i])
+        i += 1
+    return "".join(shown), read
+
+
+@pytest.mark.parametrize(
+    ("message", "text"),
+    [
+        ("asset @tex/[v2](final).exr@ not found", r"asset @tex/\[v2\](final).exr@ not found"),
+        ("layer {0}.usda, dictionary {a: 1}", "layer {{0}}.usda, dictionary {{a: 1}}"),
+        ('purposes ["full", "allPurpose"]', 'purposes ["full", "allPurpose"]'),
+        ("C:\\shots\\[010](1) {2}", "C:\\\\shots\\\\\\[010\\](1) {{2}}"),
+    ],
+)
+def test_sarif_messages_hold_no_placeholder_or_link_a_viewer_would_fill(
+    message: str, text: str
+) -> None:
+    """A message quotes asset paths, layer names and values: {0} and [text](1)
+    in them are shown as written, not filled from arguments or linked."""
+    finding = Finding("SE003", "d", Severity.ERROR, message, Location("a.usda", "/R", "a.usda", 1))
+    failed = FileResult("b.usda", status="error", error=message)
+    report = Report((FileResult("a.usda", findings=(finding,)), failed))
+    run = report_to_sarif(report, FormatOptions(), Path.cwd())["runs"][0]
+    (result,) = run["results"]
+    (notification,) = run["invocations"][0]["toolExecutionNotifications"]
+    for written in (result["message"]["text"], notification["message"]["text"]):
+        assert written == text
+        assert _as_a_viewer_shows(written) == (message, [])

@@ -34,6 +34,7 @@ It leaves the line out, so an edit above a finding keeps its alert.
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 from typing import Any, TextIO
 from urllib.parse import quote_from_bytes
@@ -57,6 +58,10 @@ DESCRIPTION_LIMIT = 1024
 #: hierarchical string (SARIF 2.1.0, result.partialFingerprints); never ``primaryLocationLineHash``,
 #: the line hash upload-sarif computes and checks against what it finds there.
 FINGERPRINT_KEY = "usdrenderLintFinding/v1"
+#: What a viewer reads as an embedded link in a plain text message, ``[text](n)``
+#: (SARIF 2.1.0 §3.11.6, "Messages with embedded links").
+_EMBEDDED_LINK = re.compile(r"\[[^\[\]]*\]\(")
+_LINK_CHARACTER = re.compile(r"([\\\[\]])")
 
 
 def artifact_location(path: Path, root: Path) -> dict[str, str]:
@@ -74,6 +79,30 @@ def folder_uri(folder: Path) -> str:
     root folder is ``file:///`` (not ``file:/``, stripping the URI's own slashes)."""
     uri = folder.as_uri()
     return uri if uri.endswith("/") else uri + "/"
+
+
+def message_text(text: str) -> str:
+    """A result's or notification's message, which quotes asset paths, layer
+    names and values from the user's files, as SARIF's plain text carries it
+    for a viewer to show it as written (SARIF 2.1.0 Plus Errata 01,
+    https://docs.oasis-open.org/sarif/sarif/v2.1.0/errata01/os/sarif-v2.1.0-errata01-os-complete.html):
+
+    - controls escaped as the text report escapes them;
+    - ``{`` and ``}`` doubled (§3.11.5, "Messages with placeholders": ``{0}``
+      is a placeholder a viewer fills from the message's ``arguments``);
+    - in a message where ``[text](...)`` would read as an embedded link
+      (§3.11.6), every backslash and square bracket escaped with a backslash,
+      as in a link's text. SARIF 2.2's draft lets a producer escape them
+      anywhere and asks it to where a link could be misread (oasis-tcs/sarif-spec
+      pull request 768); CodeQL, whose results code scanning shows, escapes them
+      (github/vscode-codeql issue 1104). Any other square brackets (a USD
+      array's) stay as they are, which §3.11.6 allows.
+
+    A rule's descriptions and help take no ``arguments`` and are left as written."""
+    text = printable(text, keep="\n").replace("{", "{{").replace("}", "}}")
+    if _EMBEDDED_LINK.search(text):
+        text = _LINK_CHARACTER.sub(r"\\\1", text)
+    return text
 
 
 def description(text: str) -> str:
@@ -120,7 +149,7 @@ def _result(finding: Finding, index: int, root: Path, occurrences: Occurrences) 
         "ruleIndex": index,
         "level": _LEVEL[finding.severity],
         # A viewer prints the text: controls escaped, its length bounded (JSON keeps it).
-        "message": {"text": printable(finding.message, keep="\n")},
+        "message": {"text": message_text(finding.message)},
         "partialFingerprints": {FINGERPRINT_KEY: occurrences.fingerprint(finding)},
     }
     location: dict[str, Any] = {}
@@ -167,7 +196,7 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
         {
             "level": "error",
             "message": {
-                "text": printable(result.error or f"{result.file}: could not be linted", keep="\n")
+                "text": message_text(result.error or f"{result.file}: could not be linted")
             },
             "locations": [{"physicalLocation": {"artifactLocation": artifact_location(file, root)}}]
             if (file := layer_file(result.file)) is not None
