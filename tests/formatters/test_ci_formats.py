@@ -280,6 +280,23 @@ def test_junit_classnames_read_as_jenkins_splits_them(workspace) -> None:
             assert seen.setdefault((package, simple), path) == path
 
 
+@pytest.mark.parametrize("where", ["broken_shot", "SE003_data_window_malformed"])
+def test_junit_names_files_from_the_repository_root_in_a_subfolder(
+    workspace, monkeypatch, where
+) -> None:
+    """As the GitLab and SARIF reports: a job run from a subfolder of the
+    checkout names the files (suites, classnames, where a failure is) as one
+    run from its root, so its test view compares with the root job's."""
+    (workspace / ".git").mkdir()  # a work tree's root, as git init makes it
+    named = [str(workspace / target) for target in TARGETS]
+    from_root = run("junit", *named)
+    suites = [suite.get("name") for suite in ElementTree.fromstring(from_root)]
+    assert "broken_shot/shot.usda" in suites
+    assert all(name.startswith(TARGETS) for name in suites)
+    monkeypatch.chdir(workspace / where)
+    assert run("junit", *named) == from_root
+
+
 def assert_failure(failure: ElementTree.Element | None, finding: dict) -> None:
     """The failure of a finding of the JSON report: its code, its message, and
     a text that says where, how bad, on what, and the fix."""

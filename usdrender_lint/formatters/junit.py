@@ -3,8 +3,12 @@
 PublishTestResults.
 
 ``<testsuites>`` holds one ``<testsuite>`` per linted file, named by the file
-relative to the working directory, as is each of its test cases' ``classname``
-(GitLab lists a test case under its classname). Each finding is a
+relative to the root of the Git work tree the working directory is in (else
+to the working directory), as is each of its test cases' ``classname``
+(GitLab lists a test case under its classname), and as the GitLab and SARIF
+reports name files: a CI page shows the repository's files, and a job run
+from a subfolder of the checkout (``cd``, ``dir()``) names them as one run
+from its root, so the test views of the two compare. Each finding is a
 ``<testcase>`` holding a ``<failure>``: ``type`` is the rule code, ``message``
 the message on one line, the text the layer and line, severity, code and name,
 the prim or property path, the message, the fix and the stage. A file with no
@@ -46,7 +50,7 @@ from typing import TextIO
 from xml.etree import ElementTree
 
 from ..model import FileResult, Finding, Report, Severity
-from ..paths import display_path, layer_file, printable, relative_in
+from ..paths import display_path, layer_file, printable, relative_in, repository_root
 from . import FormatOptions
 
 #: The test case of a file as a whole: passing, or with the reason it could not be linted.
@@ -70,10 +74,10 @@ def xml_text(text: str, keep: str = "") -> str:
     return printable(_NOT_XML.sub(lambda m: f"\\u{ord(m.group()):04x}", text), keep=keep)
 
 
-def _failure_text(finding: Finding) -> str:
+def _failure_text(finding: Finding, base: str | None) -> str:
     loc = finding.location
     layer = layer_file(loc.layer)
-    where = display_path(str(layer or loc.file))
+    where = display_path(str(layer or loc.file), base)
     if layer is not None and loc.line:
         where += f":{loc.line}"
     lines = [f"{where}: {finding.severity} {finding.code} {finding.name}"]
@@ -82,16 +86,18 @@ def _failure_text(finding: Finding) -> str:
     lines.append(finding.message)
     if finding.fix is not None:
         lines.append(f"{'fix' if finding.fix.safe else 'unsafe fix'}: {finding.fix.description}")
-    if layer is not None and display_path(str(layer)) != display_path(loc.file):
-        lines.append(f"stage: {display_path(loc.file)}")
+    stage = display_path(loc.file, base)
+    if layer is not None and display_path(str(layer), base) != stage:
+        lines.append(f"stage: {stage}")
     return "\n".join(xml_text(line, keep="\n") for line in lines) + "\n"
 
 
 class _Suite:
     """One file's ``<testsuite>``, its test cases named uniquely."""
 
-    def __init__(self, parent: ElementTree.Element, file: str) -> None:
-        self.name = xml_text(display_path(file))
+    def __init__(self, parent: ElementTree.Element, file: str, base: str | None) -> None:
+        self.base = base
+        self.name = xml_text(display_path(file, base))
         self.element = ElementTree.SubElement(parent, "testsuite", name=self.name)
         self.counts = dict.fromkeys(COUNTS, 0)
         self._names: dict[str, int] = {}
@@ -111,11 +117,11 @@ class _Suite:
         failure = ElementTree.SubElement(self.case(name), "failure")
         failure.set("message", xml_text(finding.message))
         failure.set("type", xml_text(finding.code))
-        failure.text = _failure_text(finding)
+        failure.text = _failure_text(finding, self.base)
         self.counts["failures"] += 1
 
     def error(self, result: FileResult) -> None:
-        # Files named relative to the working directory, as everywhere else.
+        # Files in the message relative to the working directory, as in every message.
         reason = relative_in(result.error or f"{result.file}: could not be linted")
         error = ElementTree.SubElement(
             self.case(FILE_TEST), "error", message=xml_text(reason), type=NOT_LINTED_CODE
@@ -133,8 +139,9 @@ class _Suite:
 def report_to_junit(report: Report, options: FormatOptions) -> ElementTree.Element:
     root = ElementTree.Element("testsuites", name=xml_text(options.tool_name))
     totals = dict.fromkeys(COUNTS, 0)
+    base = repository_root()
     for result in report.files:
-        suite = _Suite(root, result.file)
+        suite = _Suite(root, result.file, base)
         if result.status != "linted":
             suite.error(result)
         for finding in result.findings:
