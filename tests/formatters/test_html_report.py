@@ -268,3 +268,43 @@ def test_fix_diffs_stop_at_a_bounded_cost_on_a_large_stage(tmp_path: Path, monke
     (note,) = [n for n in views.notes if "not shown as diffs" in n]
     assert note.startswith("27 fix(es) not shown as diffs") and "--diff" in note
     assert report_views.gather(report).files["big.usda"].diffs == views.files["big.usda"].diffs
+
+
+def _many_settings(folder: Path, count: int):
+    """The report of a stage of ``count`` RenderSettings judged alike, each with
+    an inverted data window, and the working directory to render it from."""
+    from usdrender_lint.report_json import report_from_dict
+
+    settings = "\n".join(
+        f'    def RenderSettings "S{i}"\n    {{\n'
+        "        uniform float4 dataWindowNDC = (1, 0, 0, 1)\n    }"
+        for i in range(count)
+    )
+    (folder / "big.usda").write_text(f'#usda 1.0\ndef Scope "Render"\n{{\n{settings}\n}}\n')
+    run = _run("check", "--isolated", "--format", "json", "big.usda", cwd=folder)
+    return report_from_dict(json.loads(run.stdout))
+
+
+def _page_of(report, monkeypatch, folder: Path) -> str:
+    from usdrender_lint.formatters import FormatOptions
+    from usdrender_lint.formatters.html import render_page
+    from usdrender_lint.running import report_views
+
+    monkeypatch.chdir(folder)
+    monkeypatch.setattr(report_views, "MAX_DIFFS", 0)  # no diffs: not what is tested here
+    return render_page(report, report_views.gather(report), FormatOptions())
+
+
+def test_settings_judged_alike_share_one_profile_line(tmp_path: Path, monkeypatch) -> None:
+    """A stage of 1,500 RenderSettings had 1,500 identical profile lines above
+    its first finding: settings with the same profile and reason share one."""
+    page = _page_of(_many_settings(tmp_path, 8), monkeypatch, tmp_path)
+    lines = re.findall(r'<p class="profile">(.*?)</p>', page)
+    assert len(lines) == 1
+    names = ", ".join(f"<code>/Render/S{i}</code>" for i in range(5))
+    assert lines[0].startswith(f"8 RenderSettings, {names} and 3 more: profile <b>generic</b>")
+    few = _page_of(_many_settings(tmp_path, 2), monkeypatch, tmp_path)
+    (line,) = re.findall(r'<p class="profile">(.*?)</p>', few)
+    assert line.startswith(
+        "RenderSettings <code>/Render/S0</code>, <code>/Render/S1</code>: profile <b>generic</b>"
+    )

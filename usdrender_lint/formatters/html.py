@@ -30,6 +30,9 @@ if TYPE_CHECKING:
     from ..running.report_views import Excerpt, FileView, ReportViews
 
 SEVERITIES = (Severity.ERROR, Severity.WARNING, Severity.INFO)
+#: RenderSettings named on a file's line for a profile and its reason; the
+#: rest are counted (each finding names its own).
+PROFILE_NAMES = 5
 
 
 class HtmlFormatter:
@@ -190,9 +193,21 @@ def _view_notes(result: FileResult, view: FileView) -> list[str]:
         and all(f.code != "ST001" for f in result.findings)
     ):
         out.append(f'<p class="note">No framing picture: {escape(view.spec_error)}</p>')
-    for settings_path, (profile, reason) in view.profiles.items():
+    # One line per profile and reason: a stage of 1,500 RenderSettings judged
+    # alike had 1,500 identical lines above its first finding.
+    alike: dict[tuple[str, str], list[str]] = {}
+    for settings_path, judged in view.profiles.items():
+        alike.setdefault(judged, []).append(settings_path)
+    for (profile, reason), paths in alike.items():
+        named = ", ".join(f"<code>{escape(path)}</code>" for path in paths[:PROFILE_NAMES])
+        if len(paths) > PROFILE_NAMES:
+            named = (
+                f"{len(paths):,} RenderSettings, {named} and {len(paths) - PROFILE_NAMES:,} more"
+            )
+        else:
+            named = f"RenderSettings {named}"
         out.append(
-            f'<p class="profile">RenderSettings <code>{escape(settings_path)}</code>: '
+            f'<p class="profile">{named}: '
             f'profile <b>{escape(profile)}</b> <span class="dim">({escape(reason)})</span></p>'
         )
     return out
