@@ -308,3 +308,24 @@ def test_settings_judged_alike_share_one_profile_line(tmp_path: Path, monkeypatc
     assert line.startswith(
         "RenderSettings <code>/Render/S0</code>, <code>/Render/S1</code>: profile <b>generic</b>"
     )
+
+
+def test_framing_pictures_stop_at_a_bounded_size(tmp_path: Path, monkeypatch) -> None:
+    """A picture is some 4 kB of SVG: a stage of 1,500 RenderSettings drew 1,500
+    of them, 6 MB of a 10 MB page. The page draws MAX_PICTURES, and says so."""
+    from usdrender_lint.running import report_views
+
+    report = _many_settings(tmp_path, 8)
+    monkeypatch.setattr(report_views, "MAX_PICTURES", 3, raising=False)
+    page = _page_of(report, monkeypatch, tmp_path)
+    assert page.count('<figure class="product"') == 3
+    notes = [n for n in re.findall(r'<p class="note">(.*?)</p>', page) if "picture" in n]
+    assert notes == [
+        "5 framing picture(s) not drawn: the page draws the first 3; "
+        "`usdrender-lint spec --format svg --output FOLDER FILE` draws them all"
+    ]
+    # Every finding is still there, the profiles too.
+    assert page.count('<li class="finding"') == len(report.findings)
+    monkeypatch.setattr(report_views, "MAX_PICTURES", 8)
+    whole = _page_of(report, monkeypatch, tmp_path)
+    assert whole.count('<figure class="product"') == 8 and "not drawn" not in whole

@@ -39,6 +39,9 @@ MAX_DIFFS = 200
 #: 1,500 RenderSettings with 200 fixes took 8 minutes under MAX_DIFFS alone.
 #: Counted in prims, not seconds, so the page is the same on every machine.
 MAX_DIFF_PRIMS = 10_000
+#: Framing pictures drawn per report at most: each is some 4 kB of inline SVG,
+#: and a stage of 1,500 RenderSettings drew 1,500 of them (6 of its 10 MB page).
+MAX_PICTURES = 200
 
 
 def finding_key(finding: Finding) -> tuple[str, str, str, str]:
@@ -178,6 +181,7 @@ def _specs(
         views.notes.append(f"framing pictures not drawn: {type(exc).__name__}: {exc}")
         return
     reported = {r.file: r for r in report.files}
+    room = [MAX_PICTURES]  # pictures still to draw, across the report's files
     for result in results:
         view = views.files.get(result.file)
         if view is None:
@@ -186,13 +190,23 @@ def _specs(
             view.spec_error = result.error or "its specification could not be computed"
             continue
         try:
-            _file_products(view, reported[result.file], result.value, product_svg)
+            _file_products(view, reported[result.file], result.value, product_svg, room)
         except Exception as exc:  # noqa: BLE001 - that file is shown without pictures
             view.products.clear()
             view.spec_error = f"its pictures could not be drawn: {type(exc).__name__}: {exc}"
+    if room[0] < 0:
+        views.notes.append(
+            f"{-room[0]:,} framing picture(s) not drawn: the page draws the first {MAX_PICTURES}; "
+            "`usdrender-lint spec --format svg --output FOLDER FILE` draws them all"
+        )
 
 
-def _file_products(view: FileView, result: Any, spec: Any, product_svg: Any) -> None:
+def _file_products(
+    view: FileView, result: Any, spec: Any, product_svg: Any, room: list[int]
+) -> None:
+    """The file's settings' profiles, and its products' pictures while
+    ``room[0]`` (the report's pictures still to draw) lasts; it counts below
+    zero the pictures left out."""
     from ..formatters import escaped
     from ..render_spec.document import FindingIndex, file_document, product_findings
 
@@ -207,6 +221,9 @@ def _file_products(view: FileView, result: Any, spec: Any, product_svg: Any) -> 
         if not pairs:
             pairs = [(settings.base, settings_doc["base"])]
         for product, product_doc in pairs:
+            room[0] -= 1
+            if room[0] < 0:
+                continue
             mine = product_findings(product, index)
             view.products.append(
                 ProductView(
