@@ -265,9 +265,18 @@ def test_fix_diffs_stop_at_a_bounded_cost_on_a_large_stage(tmp_path: Path, monke
     monkeypatch.setattr(report_views, "MAX_DIFF_PRIMS", 100)
     views = report_views.gather(report)
     assert len(views.files["big.usda"].diffs) == 3
-    (note,) = [n for n in views.notes if "not shown as diffs" in n]
-    assert note.startswith("27 fix(es) not shown as diffs") and "--diff" in note
+    # One note, with the number of diffs the page shows.
+    (note,) = [n for n in views.notes if "diffs" in n]
+    assert note.startswith("30 findings have fixes: 3 are shown as diffs") and "--diff" in note
     assert report_views.gather(report).files["big.usda"].diffs == views.files["big.usda"].diffs
+    # Both limits at once: two notes had said "the first 2 are shown" and
+    # "N not shown" of a page that showed fewer.
+    monkeypatch.setattr(report_views, "MAX_DIFFS", 5)
+    views = report_views.gather(report)
+    assert len(views.files["big.usda"].diffs) == 3
+    (note,) = [n for n in views.notes if "diffs" in n]
+    assert note.startswith("30 findings have fixes: 3 are shown as diffs")
+    assert "the first 5 fixes at most, and no more than 100 prims linted" in note
 
 
 def _many_settings(folder: Path, count: int):

@@ -243,12 +243,8 @@ def _diffs(
     wanted = [(r.file, f) for r in report.files if r.file in files for f in r.findings if f.fix]
     if not wanted:
         return
-    if len(wanted) > MAX_DIFFS:
-        views.notes.append(
-            f"{len(wanted)} findings have fixes: the first {MAX_DIFFS} are shown as diffs; "
-            "`usdrender-lint check --diff --unsafe-fixes` prints them all"
-        )
-        wanted = wanted[:MAX_DIFFS]
+    fixable = len(wanted)
+    wanted = wanted[:MAX_DIFFS]
     try:
         from ..engine import open_stage
         from ..fixing.session import FixOptions, StageFixer
@@ -258,7 +254,7 @@ def _diffs(
         linters: dict[object, Any] = {}
         stages: dict[str, Any] = {}
         prims: dict[str, int] = {}
-        spent = skipped = 0
+        spent = skipped = shown = 0
         for file, finding in wanted:
             settings = settings_of(file) if settings_of else None
             # A file's nearest configuration is the same for every file of its folder.
@@ -286,13 +282,17 @@ def _diffs(
             diff = "".join(_unified(fixer.sources or ()))
             if diff:
                 views.files[file].diffs[finding_key(finding)] = diff
+                shown += 1
     except Exception as exc:  # noqa: BLE001 - the report is shown without the rest
         views.notes.append(f"fix diffs not computed: {type(exc).__name__}: {exc}")
         return
-    if skipped:
+    if skipped or fixable > len(wanted):
+        # One note with the number shown: two notes had said "the first 200 are
+        # shown" and "194 not shown" of a page that showed 6.
         views.notes.append(
-            f"{skipped} fix(es) not shown as diffs: each diff lints its whole stage again, "
-            f"and these would take the page past {MAX_DIFF_PRIMS:,} prims linted; "
+            f"{fixable:,} findings have fixes: {shown:,} are shown as diffs, as each diff "
+            f"lints its whole stage again (the first {MAX_DIFFS:,} fixes at most, and no "
+            f"more than {MAX_DIFF_PRIMS:,} prims linted for them); "
             "`usdrender-lint check --diff --unsafe-fixes` prints them all"
         )
 
