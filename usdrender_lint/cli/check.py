@@ -80,6 +80,12 @@ if TYPE_CHECKING:
     "--diff", "show_diff", is_flag=True, help="Print what --fix would change; write nothing."
 )
 @click.option(
+    "--exit-non-zero-on-fix",
+    is_flag=True,
+    help="With --fix: exit 1 when a fix was applied, even if no finding at or above "
+    "--fail-on remains (as ruff's).",
+)
+@click.option(
     "--fix-to",
     "fix_to",
     type=click.Path(dir_okay=False),
@@ -147,6 +153,7 @@ def check(
     fix: bool,
     unsafe_fixes: bool,
     show_diff: bool,
+    exit_non_zero_on_fix: bool,
     fix_to: str | None,
     fix_drop_comments: bool,  # no effect (see its help)
     shard: tuple[int, int] | None,
@@ -201,7 +208,9 @@ def check(
     check_once = partial(_check_once, request, shown)
     if watch:
         _watch(request, check_once)
-    sys.exit(check_once().exit_status)
+    outcome = check_once()
+    fixed = exit_non_zero_on_fix and bool(outcome.report.applied_fixes)
+    sys.exit(max(outcome.exit_status, 1) if fixed else outcome.exit_status)
 
 
 @record(frozen=True)
