@@ -38,6 +38,13 @@ SENSOR_SCHEMA_DOC = (
     "Omniverse Kit docs, omni.usd.schema.omni_sensors "
     "(https://docs.omniverse.nvidia.com/kit/docs/omni.usd.schema.omni_sensors/latest/index.html)"
 )
+#: The 107.x schema extension, whose typed schemas are OmniSensor, OmniRadar,
+#: OmniLidar, OmniUltrasonic and OmniGeneralSensor; its 110.x pages list
+#: OmniAcoustic in OmniUltrasonic's place.
+SENSOR_SCHEMA_107_DOC = (
+    "Omniverse Kit docs, omni.usd.schema.omni_sensors 107.3.0, Typed Schema: OmniUltrasonic "
+    "(https://docs.omniverse.nvidia.com/kit/docs/omni.usd.schema.omni_sensors/107.3.0/index.html)"
+)
 
 KIT_VIEWPORT_CHANGELOG = (
     "Omniverse Kit docs, omni.kit.widget.viewport CHANGELOG 105.1.2 (a stage 'with implicit "
@@ -158,11 +165,17 @@ OMNIVERSE = Profile(
             "OmniSensor",
             "OmniLidar",
             "OmniRadar",
-            "OmniUltrasonic",
             "OmniGeneralSensor",
         )
     )
     + (
+        Accepted(
+            name="OmniUltrasonic",
+            why="the RTX ultrasonic sensor type of omni.usd.schema.omni_sensors up to 107.x "
+            "(110.x defines OmniAcoustic in its place), registered where such a Kit or Isaac "
+            "Sim runs",
+            source=SENSOR_SCHEMA_107_DOC,
+        ),
         Accepted(
             name="OmniAcoustic",
             why="the RTX acoustic sensor type, registered where Kit's acoustic sensor "
