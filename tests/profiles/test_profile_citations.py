@@ -36,3 +36,13 @@ def test_an_omni_ultrasonic_under_render_is_known_to_omniverse(tmp_path: Path) -
 
     assert "ST010" in codes("generic")
     assert "ST010" not in codes("omniverse")
+
+
+def test_the_karma_api_schemas_are_cited() -> None:
+    # auto takes an applied Karma* API schema as evidence of Karma: some source
+    # must show Houdini applying such schemas to render prims.
+    karma = PROFILES["karma"]
+    assert karma.api_schemas == ("Karma*",)
+    cited = " ".join(karma.evidence_sources)
+    for schema in ("KarmaRenderSettingsAPI", "KarmaAOVSettingsAPI"):
+        assert schema in cited

@@ -13,11 +13,20 @@ KARMA_SETTINGS_DOC = (
 )
 
 #: The Karma rendering properties page: the render properties Karma reads,
-#: which Houdini's Karma LOPs author as karma:* properties. (No public page
-#: found names the Karma* API schemas Houdini applies with them.)
+#: which Houdini's Karma LOPs author as karma:* properties.
 KARMA_PROPERTIES_DOC = (
     "Houdini docs, Karma rendering properties "
     "(https://www.sidefx.com/docs/houdini/props/karma.html)"
+)
+#: SideFX publishes no page on the Karma* API schemas, so the citation is
+#: stages Houdini wrote, in a public repository: with Houdini's own
+#: Houdini*API schemas they apply KarmaRenderSettingsAPI to the RenderSettings,
+#: KarmaAOVSettingsAPI to a RenderVar and KarmaCameraSettingsAPI to the camera.
+KARMA_API_SCHEMAS_SRC = (
+    "Autodesk/arnold-usd testsuite/test_2434.1/data/test.usda (RenderSettings with "
+    "apiSchemas KarmaRenderSettingsAPI), testsuite/test_0232/data/test.usda (RenderVar with "
+    "KarmaAOVSettingsAPI) and testsuite/test_0233/data/test.usda (Camera with "
+    "KarmaCameraSettingsAPI beside HoudiniCameraPlateAPI): stages Houdini wrote"
 )
 
 KARMA = Profile(
@@ -27,5 +36,5 @@ KARMA = Profile(
     family="KA",
     namespaces=("karma:",),
     api_schemas=("Karma*",),
-    evidence_sources=(KARMA_PROPERTIES_DOC,),
+    evidence_sources=(KARMA_PROPERTIES_DOC, KARMA_API_SCHEMAS_SRC),
 )
