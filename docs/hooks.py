@@ -322,6 +322,14 @@ def _profile_markdown(profile: Any, rules: list[type]) -> str:
             rows = [(f"`{a.name}`", a.why, _linked(a.source)) for a in names]
             where = f" ({link(code)})" if code else ""
             parts.append(f"## {title}{where}\n\n" + _table(("name", "why", "source"), rows))
+    behaviours = [(link(b.code), b.what, _linked(b.source)) for b in profile.behaviours]
+    if behaviours:
+        parts.append(
+            "## What the renderer does where a rule's message says otherwise\n\n"
+            "A finding of these rules judged under this profile says what this renderer "
+            "does, in place of what the schema (or `UsdRenderComputeSpec`) does.\n\n"
+            + _table(("rule", "what the renderer does", "source"), behaviours)
+        )
     own = [r for r in rules if getattr(r, "profile", None) == profile.name]
     if own:
         rows = [(link(r.code), f"`{r.name}`", r.severity.value, r.summary()) for r in own]

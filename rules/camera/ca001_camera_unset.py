@@ -40,7 +40,10 @@ class CameraUnset(Rule):
     `UsdRenderComputeSpec` posts *"Could not find camera <> for the render
     product"* inside its loop over the products and drops that product from
     the render (`pxr/usd/usdRender/spec.cpp`); that loop is the only place it
-    reports a missing camera (catalog R2-2).
+    reports a missing camera (catalog R2-2). A renderer profile may say what
+    its renderer does instead (`karma`: husk renders through a camera it
+    finds on the stage, which need not be the shot's, or fails), and the
+    finding then says that.
 
     ## Example
     ```usda
@@ -117,11 +120,19 @@ class CameraUnset(Rule):
                     safe=False,
                     apply=_set_settings_camera(settings_path, camera_path),
                 )
+            # What happens then is the renderer's: the profile may say (husk
+            # picks a camera of its own instead of dropping the product).
+            behaviour = ctx.behaviour(self.code, config)
+            consequence = (
+                behaviour.what
+                if behaviour is not None
+                else 'UsdRenderComputeSpec drops the product ("Could not find camera")'
+            )
             yield Diagnostic(
                 message=f"RenderProduct <{config.product.GetPath()}> of <{settings_path}> has no "
-                "camera (neither the product's nor the settings' camera has a target); "
-                'UsdRenderComputeSpec drops the product ("Could not find camera"). Author '
-                f"rel camera = </path/to/Camera> on <{settings_path}> (or on the product)",
+                f"camera (neither the product's nor the settings' camera has a target); "
+                f"{consequence}. Author rel camera = </path/to/Camera> on <{settings_path}> "
+                "(or on the product)",
                 at=config.settings,
                 fix=fix,
             )

@@ -45,6 +45,7 @@ NOT_EVIDENCE = {
     "changes",
     "prim_types",
     "var_outputs",
+    "behaviours",
 }
 
 

@@ -133,6 +133,24 @@ class Context:
             at = at.GetPath()
         return tuple(self.profiles.choices_for(at))
 
+    def behaviour(self, code: str, at: RenderConfiguration | Usd.Object | Sdf.Path) -> Any:
+        """What the renderer does about rule ``code``'s condition (a profile's
+        ``Behaviour``) for a finding about a configuration or at a prim, when
+        every profile it is judged under says the same; else None, and the
+        rule words its finding as the schema says."""
+        if isinstance(at, RenderConfiguration):
+            choice = self.profile_of(at)
+            choices: tuple[Any, ...] = () if choice is None else (choice,)
+        else:
+            choices = self.profile_choices(at)
+        found = None
+        for choice in choices:
+            behaviour = choice.profile.behaviour_for(code)
+            if behaviour is None or found not in (None, behaviour):
+                return None
+            found = behaviour
+        return found
+
     def profile_accepts(
         self, at: Usd.Object | Sdf.Path | None, kind: str, value: str
     ) -> tuple[Any, Any] | None:

@@ -11,7 +11,7 @@ from .arnold import ARNOLD
 from .cycles import CYCLES
 from .generic import GENERIC
 from .karma import KARMA
-from .model import Accepted, Profile, ProfileChoice, RuleChange
+from .model import Accepted, Behaviour, Profile, ProfileChoice, RuleChange
 from .moonray import MOONRAY
 from .omniverse import OMNIVERSE
 from .renderman import RENDERMAN
@@ -49,6 +49,7 @@ __all__ = [
     "PROFILES",
     "Profiler",
     "Accepted",
+    "Behaviour",
     "Profile",
     "ProfileChoice",
     "RuleChange",

@@ -69,15 +69,23 @@ def _accepts(rule: type[Rule], profile: Profile) -> str:
     return f"; accepts {names} ({sources})"
 
 
+def _behaves(rule: type[Rule], profile: Profile) -> str:
+    """ "; <what the renderer does> (source)" where the profile says what its
+    renderer does about the rule's condition, "" where it does not."""
+    behaviour = profile.behaviour_for(rule.code)
+    return "" if behaviour is None else f"; {behaviour.what} ({behaviour.source})"
+
+
 def profile_treatment(rule: type[Rule]) -> list[str]:
     """One line per profile: how it treats ``rule`` and why."""
     lines = []
     for profile in PROFILES.values():
         row = effective(rule, profile)
+        notes = f"{_accepts(rule, profile)}{_behaves(rule, profile)}"
         if row.severity is None:
             lines.append(f"{profile.name}: off ({row.why})")
         elif row.why:
-            lines.append(f"{profile.name}: {row.severity} ({row.why}){_accepts(rule, profile)}")
+            lines.append(f"{profile.name}: {row.severity} ({row.why}){notes}")
         else:
-            lines.append(f"{profile.name}: {row.severity}, as by default{_accepts(rule, profile)}")
+            lines.append(f"{profile.name}: {row.severity}, as by default{notes}")
     return lines

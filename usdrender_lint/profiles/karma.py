@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .model import Profile
+from .model import Behaviour, Profile
 
 #: The husk reference page (Houdini 21.0, "Stand-alone utilities: husk").
 HUSK_DOC = "Houdini docs, husk (https://www.sidefx.com/docs/houdini/ref/utils/husk.html)"
@@ -29,6 +29,10 @@ KARMA_API_SCHEMAS_SRC = (
     "KarmaCameraSettingsAPI beside HoudiniCameraPlateAPI): stages Houdini wrote"
 )
 
+#: husk's reading of the render settings (Houdini's USD library, published by
+#: SideFX under the Apache licence).
+HUSK_SETTINGS_SRC = "sideeffects/HoudiniUsdBridge src/houdini/lib/H_USD/HUSD/XUSD_RenderSettings.C"
+
 KARMA = Profile(
     name="karma",
     description="Houdini's Karma CPU / XPU through husk: the schema plus husk's "
@@ -37,4 +41,15 @@ KARMA = Profile(
     namespaces=("karma:",),
     api_schemas=("Karma*",),
     evidence_sources=(KARMA_PROPERTIES_DOC, KARMA_API_SCHEMAS_SRC),
+    behaviours=(
+        Behaviour(
+            code="CA001",
+            what="husk does not drop the product: it renders it through a camera it finds on "
+            'the stage (warning "No camera in render settings, defaulting to ..."), '
+            "which need not be the shot's camera, and fails the render when the stage holds "
+            "no camera (older releases also when it holds several)",
+            source=f"{HUSK_SETTINGS_SRC} (XUSD_RenderSettings::loadFromOptions: findCameras "
+            "when neither the settings nor a product names a camera)",
+        ),
+    ),
 )

@@ -48,6 +48,18 @@ class Accepted:
         return fnmatch.fnmatchcase(value, self.name)
 
 
+@record(frozen=True, kw_only=True)
+class Behaviour:
+    """What a renderer does about the condition a generic rule reports, where
+    the rule's own wording (what the schema or ``UsdRenderComputeSpec`` does)
+    says otherwise: a finding judged under the profile says this instead.
+    ``what`` is a clause the rule puts in its message."""
+
+    code: str
+    what: str
+    source: str
+
+
 def _find(accepted: tuple[Accepted, ...], value: str) -> Accepted | None:
     return next((a for a in accepted if a.matches(value)), None)
 
@@ -85,9 +97,16 @@ class Profile:
     #: RenderVar properties that define the var's output in place of
     #: sourceName (VA001).
     var_outputs: tuple[Accepted, ...] = ()
+    #: What the renderer does about a rule's condition where the rule's
+    #: message would say otherwise (the rule keeps its severity unless
+    #: ``changes`` says so).
+    behaviours: tuple[Behaviour, ...] = ()
 
     def change_for(self, code: str) -> RuleChange | None:
         return next((c for c in self.changes if c.code == code), None)
+
+    def behaviour_for(self, code: str) -> Behaviour | None:
+        return next((b for b in self.behaviours if b.code == code), None)
 
     def camera_type(self, type_name: str) -> Accepted | None:
         return _find(self.camera_types, type_name)

@@ -1,0 +1,76 @@
+"""What a renderer does about a rule's condition, where the rule's own
+wording (the schema's, UsdRenderComputeSpec's) says otherwise: a finding
+judged under that renderer's profile says what the renderer does (R2-5)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from usdrender_lint.engine import Linter
+from usdrender_lint.profiles import PROFILES, Profiler
+from usdrender_lint.profiles.effective import profile_treatment
+from usdrender_lint.registry import build_registry
+from usdrender_lint.testing import all_rules
+
+NO_CAMERA = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        rel products = </Render/Beauty>
+    }
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.$F4.exr"
+        rel orderedVars = </Render/Color>
+    }
+    def RenderVar "Color"
+    {
+        string sourceName = "Ci"
+    }
+}
+def Camera "Cam"
+{
+}
+"""
+
+
+def _lint(tmp_path: Path, text: str, profile: str):
+    path = tmp_path / "shot.usda"
+    path.write_text(text, encoding="utf-8")
+    linter = Linter(all_rules(), raise_errors=True, profiler=Profiler(lambda f: (profile, "test")))
+    result = linter.lint_path(str(path))
+    assert result.status == "linted", result.error
+    return result.findings
+
+
+def _one(findings, code: str):
+    (found,) = [f for f in findings if f.code == code]
+    return found
+
+
+def test_every_behaviour_cites_its_renderer() -> None:
+    for profile in PROFILES.values():
+        for behaviour in profile.behaviours:
+            assert behaviour.what and behaviour.source, (profile.name, behaviour.code)
+
+
+def test_ca001_under_karma_says_husk_picks_a_camera_rather_than_dropping_the_product(
+    tmp_path: Path,
+) -> None:
+    # XUSD_RenderSettings::loadFromOptions: with no camera on the settings or
+    # a product, husk takes one from the stage and warns; it drops nothing.
+    karma = _one(_lint(tmp_path, NO_CAMERA, "karma"), "CA001")
+    assert karma.severity.value == "error"
+    assert "husk does not drop the product" in karma.message
+    assert "No camera in render settings, defaulting to" in karma.message
+    assert "UsdRenderComputeSpec drops" not in karma.message
+    generic = _one(_lint(tmp_path, NO_CAMERA, "generic"), "CA001")
+    assert 'UsdRenderComputeSpec drops the product ("Could not find camera")' in generic.message
+
+
+def test_explain_says_what_the_renderer_does() -> None:
+    ca001 = build_registry().by_code("CA001")
+    (karma,) = [line for line in profile_treatment(ca001) if line.startswith("karma:")]
+    assert "husk does not drop the product" in karma
+    assert "XUSD_RenderSettings.C" in karma
