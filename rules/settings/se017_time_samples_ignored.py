@@ -42,6 +42,15 @@ def _samples_to_default(attr_path: Sdf.Path, value: Any) -> Apply:
     return apply
 
 
+def _renderer_reads(behaviour: Any, attr: Usd.Attribute) -> str:
+    """The clause saying how the profile's renderer reads the attribute, and
+    what is left: tools that read the default time."""
+    return (
+        f": {behaviour.what}; tools that read the default time, as UsdRenderComputeSpec does, "
+        f"get {_fmt(attr.Get())}"
+    )
+
+
 class TimeSamplesIgnored(Rule):
     """A uniform render attribute has time samples, which spec-based consumers ignore.
 
@@ -60,7 +69,11 @@ class TimeSamplesIgnored(Rule):
     attribute counts as authored, a product override made only of samples
     replaces the settings value with the product's fallback. USD does not
     enforce `uniform`: *"Variability is a statement of intent but doesn't
-    control behavior"* (`pxr/usd/usd/stage.cpp`).
+    control behavior"* (`pxr/usd/usd/stage.cpp`). A renderer may read them at
+    the frame it renders all the same: under the `karma` profile the finding
+    is info and says so, as husk reads the render prims at each rendered frame
+    and follows the samples; tools reading the default time still get the
+    fallback.
 
     ## Example
     ```usda
@@ -122,15 +135,19 @@ class TimeSamplesIgnored(Rule):
             if schema.uniform:
                 yield from self._uniform(attr, count, ctx)
             elif name == "productName" and prim.IsA(schemas.RenderProduct):
-                yield from self._product_name(attr, count)
+                yield from self._product_name(attr, count, ctx)
 
     def _uniform(self, attr: Usd.Attribute, count: int, ctx: Context) -> Iterator[Diagnostic]:
+        behaviour = ctx.behaviour(self.code, attr)
         if attr.HasSpline():
+            read = (
+                f", but renderers read it once at the default time (getting {_fmt(attr.Get())})"
+                if behaviour is None
+                else _renderer_reads(behaviour, attr)
+            )
             yield Diagnostic(
-                message=f"uniform {attr.GetName()} is authored as a spline, but renderers read it "
-                "once "
-                f"at the default time (getting {_fmt(attr.Get())}); author a single default "
-                "value instead",
+                message=f"uniform {attr.GetName()} is authored as a spline{read}; author a single "
+                "default value instead",
                 at=attr,
             )
             return
@@ -155,27 +172,35 @@ class TimeSamplesIgnored(Rule):
         shown = (
             _fmt(values[0]) if uniform_value else f"{len(set(map(str, values)))} distinct values"
         )
+        read = (
+            f", but renderers read it once at the default time and get {_fmt(attr.Get())}"
+            if behaviour is None
+            else _renderer_reads(behaviour, attr)
+        )
         yield Diagnostic(
             message=f"uniform {attr.GetName()} has {count} time sample(s) ({shown}) from "
-            f"{first:g}, but renderers read it once at the default time and get "
-            f"{_fmt(attr.Get())}; author one default value instead of time samples",
+            f"{first:g}{read}; author one default value instead of time samples",
             at=attr,
             fix=fix,
             layer=layer,
         )
 
-    def _product_name(self, attr: Usd.Attribute, count: int) -> Iterator[Diagnostic]:
+    def _product_name(self, attr: Usd.Attribute, count: int, ctx: Context) -> Iterator[Diagnostic]:
         if count == 0:
             return
         source = attr.GetResolveInfo(DEFAULT_TIME).GetSource()
         if source == Usd.ResolveInfoSourceDefault:
             return
         first = time_samples(attr, 1)[0]
+        behaviour = ctx.behaviour(self.code, attr)
+        read = (
+            f", so consumers reading at the default time get {_fmt(attr.Get())}"
+            if behaviour is None
+            else _renderer_reads(behaviour, attr)
+        )
         yield Diagnostic(
             message=f"productName has time samples (first {_fmt(attr.Get(first))} at {first:g}) "
-            "but no "
-            f"default, so consumers reading at the default time get {_fmt(attr.Get())}; "
-            "author a default productName as well",
+            f"but no default{read}; author a default productName as well",
             at=attr,
             layer=_first_sampled_layer(attr),
         )

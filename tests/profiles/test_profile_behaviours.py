@@ -74,3 +74,53 @@ def test_explain_says_what_the_renderer_does() -> None:
     (karma,) = [line for line in profile_treatment(ca001) if line.startswith("karma:")]
     assert "husk does not drop the product" in karma
     assert "XUSD_RenderSettings.C" in karma
+
+
+SAMPLED = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        int karma:global:samplesperpixel = 9
+        rel camera = </Cam>
+        rel products = </Render/Beauty>
+        uniform int2 resolution.timeSamples = {
+            1001: (1920, 1080),
+            1002: (1280, 720),
+        }
+    }
+    def RenderProduct "Beauty"
+    {
+        token productName.timeSamples = {
+            1001: "beauty.1001.exr",
+        }
+        rel orderedVars = </Render/Color>
+    }
+    def RenderVar "Color"
+    {
+        string sourceName = "Ci"
+    }
+}
+def Camera "Cam"
+{
+}
+"""
+
+
+def test_se017_under_karma_is_info_as_husk_renders_the_samples(tmp_path: Path) -> None:
+    # XUSD_RenderSettings::loadFromPrim and XUSD_RenderProduct::updateSettings
+    # read the render prims at ctx.evalTime(), the frame husk renders.
+    karma = [f for f in _lint(tmp_path, SAMPLED, "karma") if f.code == "SE017"]
+    assert {f.location.path for f in karma} == {
+        "/Render/Settings.resolution",
+        "/Render/Beauty.productName",
+    }
+    for finding in karma:
+        assert finding.severity.value == "info"
+        assert "husk reads it at the frame it renders and follows the samples" in finding.message
+        assert "as UsdRenderComputeSpec does" in finding.message
+        assert "renderers read it once" not in finding.message
+    generic = [f for f in _lint(tmp_path, SAMPLED, "generic") if f.code == "SE017"]
+    assert {f.severity.value for f in generic} == {"warning"}
+    assert any("renderers read it once at the default time" in f.message for f in generic)
+    assert any("so consumers reading at the default time get ''" in f.message for f in generic)

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from .model import Behaviour, Profile
+from ..model import Severity
+from .model import Behaviour, Profile, RuleChange
 
 #: The husk reference page (Houdini 21.0, "Stand-alone utilities: husk").
 HUSK_DOC = "Houdini docs, husk (https://www.sidefx.com/docs/houdini/ref/utils/husk.html)"
@@ -41,7 +42,26 @@ KARMA = Profile(
     namespaces=("karma:",),
     api_schemas=("Karma*",),
     evidence_sources=(KARMA_PROPERTIES_DOC, KARMA_API_SCHEMAS_SRC),
+    changes=(
+        RuleChange(
+            code="SE017",
+            severity=Severity.INFO,
+            why="husk reads the render settings, products and vars at the frame it renders "
+            "(again at each frame when it renders several, the productName too), so time "
+            "samples on their uniform attributes are rendered, not ignored; only tools that "
+            "read the default time, as UsdRenderComputeSpec does, get the fallback",
+            source=f"{HUSK_SETTINGS_SRC} (XUSD_RenderSettings::loadFromPrim and "
+            "XUSD_RenderProduct::updateSettings read at ctx.evalTime(); updateSettings takes "
+            "a time-varying productName frame by frame)",
+        ),
+    ),
     behaviours=(
+        Behaviour(
+            code="SE017",
+            what="husk reads it at the frame it renders and follows the samples",
+            source=f"{HUSK_SETTINGS_SRC} (XUSD_RenderSettings::loadFromPrim, "
+            "XUSD_RenderProduct::updateSettings)",
+        ),
         Behaviour(
             code="CA001",
             what="husk does not drop the product: it renders it through a camera it finds on "
