@@ -27,7 +27,10 @@ class ProductNameEmpty(Rule):
     product."* (`pxr/usd/usdRender/schema.usda`); *"e.g. using the productName
     for the filename (and path) for an output image artifact"*
     (`RenderProduct.md`). An empty name gives the display driver nothing to
-    write to: renderers either fail or invent a name.
+    write to: renderers either fail or invent a name. A renderer profile may
+    say which (`arnold`: arnold-usd's USD procedural, as kick renders the
+    file, writes the image under the product prim's name), and the finding
+    then says that.
 
     ## Example
     ```usda
@@ -115,10 +118,15 @@ class ProductNameEmpty(Rule):
                 safe=True,
                 apply=set_value(attr.GetPath(), name),
             )
+        # What the renderer makes of it is its own: the profile may say
+        # (arnold-usd's procedural names the file after the prim).
+        behaviour = ctx.behaviour(self.code, prim)
+        consequence = (
+            "the display driver has no name to write to" if behaviour is None else behaviour.what
+        )
         yield Diagnostic(
-            message=f"RenderProduct {prim.GetPath()} has an empty productName (it {how}): the "
-            "display "
-            f"driver has no name to write to; author one, e.g. token productName = "
+            message=f"RenderProduct {prim.GetPath()} has an empty productName (it {how}): "
+            f"{consequence}; author one, e.g. token productName = "
             f'"{prim.GetName()}.exr"',
             at=attr if attr.IsAuthored() else prim,
             fix=fix,

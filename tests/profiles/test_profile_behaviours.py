@@ -124,3 +124,38 @@ def test_se017_under_karma_is_info_as_husk_renders_the_samples(tmp_path: Path) -
     assert {f.severity.value for f in generic} == {"warning"}
     assert any("renderers read it once at the default time" in f.message for f in generic)
     assert any("so consumers reading at the default time get ''" in f.message for f in generic)
+
+
+NO_NAME = """#usda 1.0
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        int arnold:global:AA_samples = 3
+        rel camera = </Cam>
+        rel products = </Render/Beauty>
+    }
+    def RenderProduct "Beauty"
+    {
+        rel orderedVars = </Render/Color>
+    }
+    def RenderVar "Color"
+    {
+        string sourceName = "RGBA"
+    }
+}
+def Camera "Cam"
+{
+}
+"""
+
+
+def test_pr001_under_arnold_says_kick_names_the_file_after_the_prim(tmp_path: Path) -> None:
+    # arnold-usd rendersettings_utils.cpp, DeduceDriverFromFilename: with an
+    # empty productName the driver's filename is the product prim's name.
+    arnold = _one(_lint(tmp_path, NO_NAME, "arnold"), "PR001")
+    assert arnold.severity.value == "error"
+    assert "writes the image under the product prim's name" in arnold.message
+    assert "no name to write to" not in arnold.message
+    generic = _one(_lint(tmp_path, NO_NAME, "generic"), "PR001")
+    assert "the display driver has no name to write to" in generic.message

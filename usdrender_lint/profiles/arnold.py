@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .model import Accepted, Profile, RuleChange
+from .model import Accepted, Behaviour, Profile, RuleChange
 
 RENDER_DELEGATE_CPP = (
     "arnold-usd libs/render_delegate/render_delegate.cpp (_ParseDelegateRenderProducts)"
@@ -18,6 +18,16 @@ INSTANTANEOUS_SHUTTER_SRC = (
     "arnold-usd libs/translator/reader/read_options.cpp (ReadRenderSettings: "
     "GetInstantaneousShutterAttr sets options.ignore_motion_blur); "
     "libs/render_delegate/render_delegate.cpp (_SetRenderSetting: instantaneousShutter)"
+)
+#: How arnold-usd's USD procedural (what kick renders a .usd file with) names
+#: a product's driver file: productName, else the product prim's name (.exr
+#: added when it has no extension); a product that authors arnold:driver gets
+#: productName as it is.
+PRODUCT_FILENAME_SRC = (
+    'arnold-usd libs/common/rendersettings_utils.cpp (DeduceDriverFromFilename: "If none is '
+    "provided, we'll use the primitive name\"; ReadDriverFromRenderProduct when arnold:driver "
+    "is authored), read by libs/translator/reader/read_options.cpp "
+    "(UsdArnoldReadRenderSettings::Read)"
 )
 #: arnold-usd's schema generator: every typed schema it registers is named
 #: Arnold<NodeEntry> (schemaName = 'Arnold{}'.format(makeCamelCase(entryName))),
@@ -50,6 +60,15 @@ ARNOLD = Profile(
             "so the attribute is not ignored and replacing it with disableMotionBlur would "
             "bring motion blur back when kick renders the file",
             source=INSTANTANEOUS_SHUTTER_SRC,
+        ),
+    ),
+    behaviours=(
+        Behaviour(
+            code="PR001",
+            what="arnold-usd's USD procedural, which kick renders the file with, writes the "
+            "image under the product prim's name instead (with .exr, in the working "
+            "directory), and gives a product that authors arnold:driver the empty name",
+            source=PRODUCT_FILENAME_SRC,
         ),
     ),
     prim_types=(
