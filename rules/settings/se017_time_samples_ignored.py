@@ -70,10 +70,10 @@ class TimeSamplesIgnored(Rule):
     replaces the settings value with the product's fallback. USD does not
     enforce `uniform`: *"Variability is a statement of intent but doesn't
     control behavior"* (`pxr/usd/usd/stage.cpp`). A renderer may read them at
-    the frame it renders all the same: under the `karma` profile the finding
-    is info and says so, as husk reads the render prims at each rendered frame
-    and follows the samples; tools reading the default time still get the
-    fallback.
+    the frame it renders all the same: under the `karma` and `arnold`
+    profiles the finding is info and says so, as husk and arnold-usd read the
+    render prims at each rendered frame and follow the samples; tools reading
+    the default time still get the fallback.
 
     ## Example
     ```usda

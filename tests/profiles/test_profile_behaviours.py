@@ -159,3 +159,14 @@ def test_pr001_under_arnold_says_kick_names_the_file_after_the_prim(tmp_path: Pa
     assert "no name to write to" not in arnold.message
     generic = _one(_lint(tmp_path, NO_NAME, "generic"), "PR001")
     assert "the display driver has no name to write to" in generic.message
+
+
+def test_se017_under_arnold_is_info_as_kick_renders_the_samples(tmp_path: Path) -> None:
+    # arnold-usd's ReadRenderSettings reads at time.frame; its test_0159 renders
+    # the frame-2 samples of resolution and productName with kick -frame 2.
+    text = SAMPLED.replace("int karma:global:samplesperpixel", "int arnold:global:AA_samples")
+    arnold = [f for f in _lint(tmp_path, text, "arnold") if f.code == "SE017"]
+    assert len(arnold) == 2
+    for finding in arnold:
+        assert finding.severity.value == "info"
+        assert "arnold-usd reads it at the frame it renders" in finding.message

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..model import Severity
 from .model import Accepted, Behaviour, Profile, RuleChange
 
 RENDER_DELEGATE_CPP = (
@@ -28,6 +29,14 @@ PRODUCT_FILENAME_SRC = (
     "provided, we'll use the primitive name\"; ReadDriverFromRenderProduct when arnold:driver "
     "is authored), read by libs/translator/reader/read_options.cpp "
     "(UsdArnoldReadRenderSettings::Read)"
+)
+#: arnold-usd's USD procedural reads the render settings, products and vars at
+#: the frame kick renders; its testsuite renders the frame-2 samples of a
+#: time-sampled resolution and productName with kick -frame 2.
+FRAME_READ_SRC = (
+    "arnold-usd libs/common/rendersettings_utils.cpp (ReadRenderSettings: Get(..., "
+    "time.frame) for resolution, productName and the vars); testsuite/test_0159 "
+    '("Read render settings at the proper frame", kick -frame 2)'
 )
 #: arnold-usd's schema generator: every typed schema it registers is named
 #: Arnold<NodeEntry> (schemaName = 'Arnold{}'.format(makeCamelCase(entryName))),
@@ -61,8 +70,22 @@ ARNOLD = Profile(
             "bring motion blur back when kick renders the file",
             source=INSTANTANEOUS_SHUTTER_SRC,
         ),
+        RuleChange(
+            code="SE017",
+            severity=Severity.INFO,
+            why="arnold-usd's USD procedural reads the render settings, products and vars at "
+            "the frame kick renders (husk, rendering through arnold-usd's delegate, does the "
+            "same), so time samples on their uniform attributes are rendered, not ignored; only "
+            "tools that read the default time, as UsdRenderComputeSpec does, get the fallback",
+            source=FRAME_READ_SRC,
+        ),
     ),
     behaviours=(
+        Behaviour(
+            code="SE017",
+            what="arnold-usd reads it at the frame it renders and follows the samples",
+            source=FRAME_READ_SRC,
+        ),
         Behaviour(
             code="PR001",
             what="arnold-usd's USD procedural, which kick renders the file with, writes the "
