@@ -457,7 +457,8 @@ def test_renderer_rules_cite_their_renderer_and_belong_to_its_family() -> None:
         profile = PROFILES[rule.profile]
         assert rule.code.startswith(profile.family), rule.code
         why = rule.__doc__.split("## Why is this bad?")[1]
-        assert any(s in why for s in ("docs", ".cpp", "arnold-usd")), rule.code
+        sources = ("docs", ".cpp", "arnold-usd", "HoudiniUsdBridge")
+        assert any(s in why for s in sources), rule.code
 
 
 def test_ka002_quotes_the_karma_render_settings_page_as_it_reads() -> None:
