@@ -41,7 +41,12 @@ class FrameTokenMissing(Rule):
     Output Picture, https://www.sidefx.com/docs/houdini/nodes/lop/karmarendersettings.html).
     husk renders each frame of the range to the product's name; a name with
     neither a frame variable nor a value per frame is overwritten by every
-    frame, and only the last one survives.
+    frame when each frame is its own husk run (the USD Render ROP's default),
+    and only the last one survives. A husk run of several frames refuses it
+    instead: *"Rendering N frames. The output '...' should have variables to
+    prevent overwriting."* and renders nothing (`XUSD_RenderProduct::expandProduct`,
+    `src/houdini/lib/H_USD/HUSD/XUSD_RenderSettings.C` in SideFX's
+    HoudiniUsdBridge).
 
     ## Example
     ```usda
@@ -113,7 +118,9 @@ class FrameTokenMissing(Rule):
             return  # empty: PR001's; no file at all: KA001's
         yield Diagnostic(
             message=f"productName {str(name)!r} of {prim.GetPath()} has no $F and no value per "
-            f"frame, so every frame of {frames[0]:g}-{frames[1]:g} overwrites the same file; "
+            f"frame, so every frame of {frames[0]:g}-{frames[1]:g} overwrites the same file "
+            '(a husk run of several frames refuses it: the output "should have variables to '
+            'prevent overwriting"); '
             f'include the frame, e.g. "{str(name).rsplit(".", 1)[0]}.$F4.exr"',
             at=attr,
         )
