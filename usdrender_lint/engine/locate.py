@@ -22,11 +22,31 @@ def bounded_message(message: str) -> str:
 
 
 def _spec_stack(obj: Usd.Object) -> list[Sdf.Spec]:
+    if isinstance(obj, Usd.Attribute):
+        clip = _clip_spec(obj)
+        if clip is not None:
+            return [clip]
     if isinstance(obj, Usd.Property):
         return list(obj.GetPropertyStack(Usd.TimeCode.Default()))
     if isinstance(obj, Usd.Prim):
         return list(obj.GetPrimStack())
     return []
+
+
+def _clip_spec(attribute: Usd.Attribute) -> Sdf.Spec | None:
+    """The spec in a value clip that holds the attribute's value, when its value
+    comes from value clips: the property stack at the default time leaves clip
+    layers out (UsdProperty::GetPropertyStack, pxr/usd/usd/property.h), so a
+    value only a clip holds had no layer. The clip active at the first sample."""
+    if attribute.GetResolveInfo().GetSource() != Usd.ResolveInfoSourceValueClips:
+        return None
+    bracket = attribute.GetBracketingTimeSamples(-float("inf"))  # () when it has none
+    if not bracket:
+        return None
+    for spec in attribute.GetPropertyStack(Usd.TimeCode(bracket[0])):
+        if spec.layer.GetNumTimeSamplesForPath(spec.path):
+            return spec
+    return None
 
 
 def locate(
