@@ -5,11 +5,11 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 
-from pxr import Sdf, Usd
+from pxr import Pcp, Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
 from usdrender_lint.api.files import lfs_pointer_problem
-from usdrender_lint.api.resolve import usd_text
+from usdrender_lint.api.resolve import USD_NAMESPACE, usd_text
 
 from ._render_prims import RENDER_SCOPE, is_render_type
 
@@ -60,6 +60,72 @@ def _lfs_pointers(text: str) -> str:
     return said
 
 
+#: The arc an error's text names ("Could not open asset @a@ for reference ...",
+#: "Unresolved payload prim path ...", "Could not load sublayer ...";
+#: pxr/usd/pcp/errors.cpp), read outside its quoted asset and prim paths.
+_ARC = re.compile(r"\b(reference|payload|sublayer)\b")
+_QUOTED = re.compile(r"@[^@]*@|<[^>]*>|`[^`]*`")
+#: A space USD leaves before the ";" or "." that ends the reason a layer could
+#: not be read ("... in </X.a> ; skipping.").
+_SPACE_BEFORE_STOP = re.compile(r" +([;.])(?=\s|$)")
+
+
+def _usd_words(error) -> str:
+    """USD's text of the error on one line, without its C++ namespace or the
+    address of an anonymous layer, ending in a full stop."""
+    text = " ".join(usd_text(error).split())
+    text = _SPACE_BEFORE_STOP.sub(r"\1", USD_NAMESPACE.sub("", text))
+    text = _ANONYMOUS_ADDRESS.sub("anon:", text)
+    return text if text.endswith((".", "!", "?")) else f"{text}."
+
+
+def _consequence(error, text: str, scope: str) -> str:
+    """What the error costs ``scope`` and what to do, by the error's type: an
+    asset path to correct, a layer to repair, a prim path, a cycle to break."""
+    kind = getattr(error, "errorType", None)
+    arc_match = _ARC.search(_QUOTED.sub("", text))
+    arc = arc_match.group(1) if arc_match else "arc"
+    # USD could open the file but not read it: "... -- <the parser's error>".
+    unreadable = " -- " in text
+    if kind == Pcp.ErrorType_InvalidSublayerPath:
+        loses = f"{scope} loses the opinions of that sublayer"
+        if unreadable:
+            return f"{loses}; repair that layer or remove it from subLayers"
+        return f"{loses}; correct its path or remove it from subLayers"
+    if kind in (Pcp.ErrorType_InvalidAssetPath, Pcp.ErrorType_MutedAssetPath):
+        loses = f"{scope} loses the opinions of that {arc}"
+        if unreadable:
+            return f"{loses}; repair the layer it names or remove the {arc}"
+        return f"{loses}; correct its asset path or remove the {arc}"
+    if kind == Pcp.ErrorType_UnresolvedPrimPath:
+        loses = f"{scope} loses the opinions of that {arc}"
+        if "<defaultPrim>" in text:
+            return (
+                f"{loses}: the layer it names has no defaultPrim; author one there "
+                f"or name a prim in the {arc}"
+            )
+        return (
+            f"{loses}: the layer it names has no prim at that path; name one it "
+            f"defines or remove the {arc}"
+        )
+    if kind == Pcp.ErrorType_ArcCycle:
+        return (
+            f"USD drops the arc that closes the cycle, so {scope} loses its opinions; "
+            "remove that arc"
+        )
+    if kind == Pcp.ErrorType_SublayerCycle:
+        # The layer already counts once: nothing is lost, the repeat is skipped.
+        return "USD skips the repeated sublayer; remove it from subLayers"
+    if kind == Pcp.ErrorType_VariableExpressionError:
+        return f"{scope} loses the opinions of that {arc}; correct the expression"
+    if kind in (Pcp.ErrorType_InvalidReferenceOffset, Pcp.ErrorType_InvalidSublayerOffset):
+        return (
+            f"{scope} gets that {arc}'s opinions without the offset (times neither "
+            "shifted nor scaled); correct the offset"
+        )
+    return f"{scope} may miss opinions it should compose; correct the arc USD names"
+
+
 #: An anonymous layer's identifier holds its address (``anon:0x55f8ea155340:``),
 #: which differs between runs; the message keeps only the layer's tag.
 _ANONYMOUS_ADDRESS = re.compile(r"\banon:0x[0-9a-fA-F]+:")
@@ -91,7 +157,11 @@ class CompositionErrorOnRenderPrim(Rule):
     prim, so they are always reported. An asset path whose variable
     expression cannot be evaluated gets no site from usd-core (26.11); its
     error names one, read from it: a sublayer's is /, a reference's or
-    payload's its prim. The message is USD's own. An error
+    payload's its prim. The message is USD's own (on one line, without its
+    C++ namespace), then what the error costs and what to do by its kind: a
+    missing file's asset path to correct, a layer that does not parse to
+    repair, a prim path the layer does not define, a cycle to break (a
+    sublayer cycle costs nothing: USD skips the repeat). An error
     inside an instance is reported at the first instance of its prototype by
     path: USD composes a prototype from whichever instance one of its threads
     reaches first, and reports its errors there, which differs between runs.
@@ -149,7 +219,7 @@ class CompositionErrorOnRenderPrim(Rule):
             site = _composition_error_site(error)
             if site is None:
                 continue
-            text = _ANONYMOUS_ADDRESS.sub("anon:", " ".join(usd_text(error).split()))
+            text = _usd_words(error)
             moved = _first_instance_site(ctx.stage, site)
             if moved is not None:
                 reported, first = moved
@@ -164,8 +234,8 @@ class CompositionErrorOnRenderPrim(Rule):
             at_root = site == Sdf.Path.absoluteRootPath
             scope = "every prim" if at_root else f"render data at <{site}>"
             text += _lfs_pointers(text)
+            said = _consequence(error, text, scope)
             yield Diagnostic(
-                message=f"{text} {scope[0].upper()}{scope[1:]} loses the "
-                "opinions this layer or arc would supply; repair the asset path or remove it",
+                message=f"{text} {said[0].upper()}{said[1:]}",
                 at=None if at_root else site,
             )

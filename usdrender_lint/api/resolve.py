@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Callable, Iterable, Iterator
 from functools import cached_property
 from itertools import islice
@@ -48,6 +49,13 @@ _property_stack = Usd.Property.GetPropertyStack
 _has_authored_value = Usd.Attribute.HasAuthoredValue
 _get = Usd.Attribute.Get
 _spec_type_name = Sdf.AttributeSpec.typeName.fget
+
+
+#: USD's versioned C++ namespace ("pxrInternal_v0_26_11__pxrReserved__", and
+#: "..._pegtl" for the usda grammar's), which its error texts spell out: noise
+#: to a user, and it would change a message (a baseline's key) with every USD
+#: release.
+USD_NAMESPACE = re.compile(r"\bpxrInternal_v\d+_\d+(?:_\d+)?__pxrReserved__(?:_(?=pegtl::)|::)?")
 
 
 def usd_text(value: object) -> str:

@@ -9,6 +9,7 @@ from collections.abc import Iterable
 
 from pxr import Ar, Sdf, Tf, Usd
 
+from ..api.resolve import USD_NAMESPACE as _NAMESPACE
 from ..layers.crate import crate_structure_problem, is_crate
 from ..layers.files import layer_identifier, layer_real_path, lfs_pointer_problem
 from ..model import NAMELESS_PROPERTY
@@ -206,10 +207,6 @@ def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
 
 
 _ADDRESS = re.compile(r" ?<0x[0-9a-fA-F]+>")
-#: USD's versioned C++ namespace ("pxrInternal_v0_26_11__pxrReserved__", and
-#: "..._pegtl" for the usda grammar's): noise to a user, and it would change
-#: the message (a baseline's key) with every USD release.
-_NAMESPACE = re.compile(r"\bpxrInternal_v\d+_\d+(?:_\d+)?__pxrReserved__(?:_(?=pegtl::)|::)?")
 #: The grammar failing on text where the layer should have ended, worded as
 #: the parser's other errors are ("Expected } at '...'").
 _PEGTL_EOF = re.compile(r"parse error matching pegtl::internal::eof at")
