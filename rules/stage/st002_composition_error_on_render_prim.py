@@ -79,6 +79,29 @@ def _usd_words(error) -> str:
     return text if text.endswith((".", "!", "?")) else f"{text}."
 
 
+#: The layer whose subLayers hold the failing entry, as USD names it:
+#: "Could not load sublayer @a@ of layer @shot.usda@", "Error evaluating
+#: expression `...` for sublayer in @shot.usda@" (pxr/usd/pcp/errors.cpp).
+_LISTING_LAYER = re.compile(r"(?: of layer | for sublayer in )@([^@]+)@")
+
+
+def _listing_layer(stage: Usd.Stage, error) -> Sdf.Layer | None:
+    """The layer of the stage's layer stack whose subLayers the error is
+    about: the finding's place (else the root layer's, where a layer of the
+    shot that is not the root, linted as a changed layer with ``roots``, lost
+    its own broken sublayer). None when the error names none."""
+    named = _LISTING_LAYER.search(usd_text(error))
+    if named is None:
+        return None
+    for layer in stage.GetLayerStack(True):
+        try:
+            if layer.identifier == named.group(1):
+                return layer
+        except UnicodeDecodeError:  # a name that is not UTF-8: the root layer's place
+            continue
+    return None
+
+
 def _consequence(error, text: str, scope: str) -> str:
     """What the error costs ``scope`` and what to do, by the error's type: an
     asset path to correct, a layer to repair, a prim path, a cycle to break."""
@@ -154,7 +177,8 @@ class CompositionErrorOnRenderPrim(Rule):
     `/Render`, or is a RenderSettings, RenderProduct, RenderVar or RenderPass
     (inactive ones included), or an ancestor or descendant of one. Layer-stack
     errors such as a missing sublayer have the site `/`, an ancestor of every
-    prim, so they are always reported. An asset path whose variable
+    prim, so they are always reported, in the layer whose `subLayers` lists
+    the one that failed. An asset path whose variable
     expression cannot be evaluated gets no site from usd-core (26.11); its
     error names one, read from it: a sublayer's is /, a reference's or
     payload's its prim. The message is USD's own (on one line, without its
@@ -238,4 +262,5 @@ class CompositionErrorOnRenderPrim(Rule):
             yield Diagnostic(
                 message=f"{text} {said[0].upper()}{said[1:]}",
                 at=None if at_root else site,
+                layer=_listing_layer(ctx.stage, error) if at_root else None,
             )

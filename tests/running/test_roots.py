@@ -167,6 +167,22 @@ def test_an_unreadable_changed_layer_is_linted_on_its_own(shot: Path) -> None:
     assert [(f["code"], f["line"]) for f in entry["findings"]] == [("ST001", 3)]
 
 
+def test_a_missing_sublayer_a_changed_layer_lists_is_reported_in_context(shot: Path) -> None:
+    # USD reports it at </> of the shot: ST002 names the layer that lists it,
+    # not the root layer, whose findings a lint of the changed layer leaves out.
+    header = "#usda 1.0\n(\n    subLayers = [@./lighting_typo.usda@]\n)\n"
+    _write(shot / "lighting.usda", LIGHTING.replace("#usda 1.0\n", header, 1))
+    result = CliRunner().invoke(
+        cli, ["check", "--format", "json", "--select", "ST002", str(shot / "lighting.usda")]
+    )
+    assert result.exit_code == 1, result.output
+    [entry] = json.loads(result.stdout)["files"]
+    assert os.path.basename(entry["file"]) == "shot.usda"
+    [finding] = entry["findings"]
+    assert "lighting_typo.usda@ of layer" in finding["message"]
+    assert os.path.basename(finding["layer"]) == "lighting.usda"
+
+
 def test_tool_problems_in_a_root_are_never_narrowed_away(tmp_path: Path) -> None:
     root, changed = str(tmp_path / "shot.usda"), str(tmp_path / "lighting.usda")
     elsewhere = str(tmp_path / "layout.usda")
