@@ -144,6 +144,56 @@ def test_neovim_filters_a_buffer_through_check_fix_stdin(tmp_path: Path):
     assert shot.read_bytes() == BROKEN_SHOT.read_bytes()
 
 
+#: Opens a document whose lint hangs USD, then another: the seconds until the
+#: second one's diagnostics.
+HANGING_HARNESS = """
+vim.cmd("edit " .. os.getenv("USDRENDER_LINT_HANGS"))
+vim.wait(5000, function() return false end, 100)  -- its lint has started, and hangs
+local asked = vim.loop.hrtime()
+vim.cmd("edit " .. os.getenv("USDRENDER_LINT_FINE"))
+local buffer = vim.api.nvim_get_current_buf()
+local received = vim.wait(60000, function() return #vim.diagnostic.get(buffer) >= 1 end, 20)
+local seconds = (vim.loop.hrtime() - asked) / 1e9
+vim.fn.writefile({vim.fn.json_encode({received = received, seconds = seconds})},
+  os.getenv("USDRENDER_LINT_NVIM_OUT"))
+vim.cmd("qa!")
+"""
+
+
+def test_neovim_gets_a_document_s_findings_while_another_hangs_usd(tmp_path: Path):
+    """With the guide's snippet (the time-out 120 s): the second document's
+    findings waited for the first's time-out."""
+    nvim = shutil.which("nvim")
+    if nvim is None:
+        pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
+    from cli_support import hanging_stage
+
+    fine = tmp_path / "fine.usda"
+    fine.write_text('#usda 1.0\ndef RenderSettings "S"\n{\n    int2 resolution = (0, 1)\n}\n')
+    (tmp_path / "init.lua").write_text(snippet("Neovim", "lua"))
+    (tmp_path / "harness.lua").write_text(HANGING_HARNESS)
+    out = tmp_path / "seen.json"
+    env = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+        "USDRENDER_LINT_NVIM_OUT": str(out),
+        "USDRENDER_LINT_HANGS": str(hanging_stage(tmp_path)),
+        "USDRENDER_LINT_FINE": str(fine),
+        "XDG_STATE_HOME": str(tmp_path / "state"),
+        "XDG_DATA_HOME": str(tmp_path / "data"),
+        "XDG_CONFIG_HOME": str(tmp_path / "config"),
+    }
+    result = subprocess.run(
+        [nvim, "--headless", "-i", "NONE", "-u", str(tmp_path / "init.lua"),
+         "-c", f"luafile {tmp_path / 'harness.lua'}"],
+        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=180,
+    )  # fmt: skip
+    assert out.exists(), result.stderr
+    seen = json.loads(out.read_text())
+    print(seen)
+    assert seen["received"] is True and seen["seconds"] < 30
+
+
 def test_the_helix_snippet_runs_the_server():
     config = tomllib.loads(snippet("Helix", "toml"))
     server = config["language-server"]["usdrender-lint"]

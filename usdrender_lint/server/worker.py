@@ -8,7 +8,10 @@ document, and the next lint starts in a new child. The child keeps USD, the
 rules and the documents' layers loaded between lints (that is what makes a
 re-lint after a keystroke fast), and a spare child is started beside it, so
 that cancelling a long lint (killing its child, when a newer edit makes it
-pointless) costs no start-up.
+pointless) costs no start-up. While one call has held the warm child for
+BUSY_LIMIT seconds, the spare becomes a second child that serves the other
+calls (and a new spare starts), so that a document that hangs USD does not
+hold up the others until its time-out; once neither is busy the second ends.
 
 The child runs :func:`main` with FD: FD is its end of a
 socket pair, over which ``multiprocessing.connection`` carries pickled calls
@@ -81,6 +84,8 @@ class Child:
         #: Why it could not start: said again on each call, not as a crash.
         self.start_failure: LintFailed | None = None
         self.cancelled = False
+        #: A configuration file changed while another child read it again.
+        self.stale_configuration = False
 
     def ready(self, timeout: float = START_TIMEOUT) -> tuple[RuleDoc, ...]:
         """Wait for the child to have started; the rules' documentation."""
@@ -148,42 +153,100 @@ class Child:
         return self.process.poll() is None
 
 
-class Linting:
-    """The server's lints, one at a time, in a child process (with a spare).
+#: Seconds a call may keep the warm child busy before a call waiting for it
+#: is served by the spare instead: a document that hangs USD (a FIFO on a
+#: sublayer path) held every other document's lint until its time-out.
+BUSY_LIMIT = 1.0
 
-    Called from the server's worker threads, never its protocol thread.
-    :meth:`cancel` kills the child while it works on an older version of a
-    document; the call waiting on it raises :class:`LintFailed` (cancelled).
+
+class Linting:
+    """The server's lints in child processes: a warm one, a spare and, while
+    the warm one has been busy for BUSY_LIMIT seconds, a second one.
+
+    Called from the server's worker threads, never its protocol thread. A call
+    takes an idle child (the warm one first); when both are busy it waits for
+    one. :meth:`cancel` kills the child while it works on an older version of
+    a document; the call waiting on it raises :class:`LintFailed` (cancelled).
     """
 
     def __init__(self) -> None:
         #: The editor's ``configuration`` (initializationOptions), for the children.
         self.configuration: str | dict[str, Any] | None = None
-        self._lock = threading.Lock()
-        self._state = threading.Lock()
+        self._state = threading.Condition()
         self._active: Child | None = None
+        #: Serves calls while the active child is held up; ended once both idle.
+        self._second: Child | None = None
         self._spare: Child | None = None
-        #: (path, version, child, when it started) of the call running now.
-        self._running: tuple[str, int, Child, float] | None = None
+        #: Each busy child's call: (path, version, when it started).
+        self._running: dict[Child, tuple[str, int, float]] = {}
         self._closed = False
 
     def start(self) -> tuple[RuleDoc, ...]:
         """Start the children; the rules' documentation (waits for the first)."""
-        with self._lock:
-            return self._child().ready()
+        child = self._acquire("", 0)
+        try:
+            # A child that cannot start stays: each call says why (Child.ready).
+            return child.ready()
+        finally:
+            self._release(child, failed=False)
 
-    def _child(self) -> Child:
+    def _fill(self) -> None:
+        """Replace dead children (the second, warm, before the spare); keep a spare."""
+        for name in ("_active", "_second"):
+            child = getattr(self, name)
+            if child is not None and child not in self._running and not child.alive:
+                child.close()
+                setattr(self, name, None)
+        if self._active is None and self._second is not None:
+            self._active, self._second = self._second, None
+        if self._active is None:
+            self._active, self._spare = self._spare or Child(self.configuration), None
+            if not self._active.alive:  # the spare died too (killed from outside)
+                self._active.close()
+                self._active = Child(self.configuration)
+        if self._spare is None:
+            self._spare = Child(self.configuration)
+
+    def _acquire(self, path: str, version: int) -> Child:
         with self._state:
-            if self._active is None or not self._active.alive:
-                if self._active is not None:
-                    self._active.close()
-                self._active, self._spare = self._spare or Child(self.configuration), None
-                if not self._active.alive:  # the spare died too (killed from outside)
-                    self._active.close()
-                    self._active = Child(self.configuration)
-            if self._spare is None:
-                self._spare = Child(self.configuration)
-            return self._active
+            while True:
+                if self._closed:
+                    raise LintFailed("the server is shutting down", cancelled=True)
+                self._fill()
+                assert self._active is not None
+                for child in (self._active, self._second):
+                    if child is not None and child not in self._running:
+                        self._running[child] = (path, version, time.monotonic())
+                        return child
+                wait = None
+                if self._second is None:
+                    wait = self._running[self._active][2] + BUSY_LIMIT - time.monotonic()
+                    if wait <= 0:
+                        self._second, self._spare = self._spare, None
+                        continue
+                self._state.wait(wait)
+
+    def _release(self, child: Child, *, failed: bool) -> None:
+        ended = []
+        with self._state:
+            self._running.pop(child, None)
+            if failed or child not in (self._active, self._second):
+                # It crashed, ran out of time or was cancelled (or was replaced
+                # meanwhile): the next call takes another.
+                child.kill()
+                ended.append(child)
+                if self._active is child:
+                    self._active = None
+                elif self._second is child:
+                    self._second = None
+            second = self._second
+            if second is not None and self._active is not None and not self._running:
+                # Neither is held up any longer: one warm child is enough.
+                self._second = None
+                ended.append(second)
+            self._state.notify_all()
+        for each in ended:
+            each.close()
 
     def call(
         self,
@@ -194,38 +257,35 @@ class Linting:
         texts: dict[str, str],
         timeout: float | None,
     ) -> Any:
-        with self._lock:
-            if self._closed:
-                raise LintFailed("the server is shutting down", cancelled=True)
-            child = self._child()
-            with self._state:
-                self._running = (path, version, child, time.monotonic())
-            try:
-                return child.call(method, args, texts, timeout)
-            except LintFailed:
-                # It crashed, ran out of time or was cancelled: the spare takes over.
-                child.kill()
+        child = self._acquire(path, version)
+        failed = True
+        try:
+            if method == "forget_configuration":
                 with self._state:
-                    if self._active is child:
-                        self._active = None
-                child.close()
-                raise
-            finally:
-                with self._state:
-                    self._running = None
+                    for other in (self._active, self._second):
+                        if other is not None and other is not child:
+                            other.stale_configuration = True
+            elif child.stale_configuration:
+                child.call("forget_configuration", (), texts, timeout)
+            child.stale_configuration = False
+            answer = child.call(method, args, texts, timeout)
+            failed = False
+            return answer
+        finally:
+            self._release(child, failed=failed)
 
     def cancel(self, path: str, version: int, *, running_for: float = 0.0) -> bool:
-        """Stop the running call if it works on ``path`` at a version older
-        than ``version`` and has run ``running_for`` seconds at least; True
+        """Stop the running calls that work on ``path`` at a version older
+        than ``version`` and have run ``running_for`` seconds at least; True
         when one was stopped."""
+        stopped = False
         with self._state:
-            running = self._running
-            if running is None or running[0] != path or running[1] >= version:
-                return False
-            if time.monotonic() - running[3] < running_for:
-                return False
-            running[2].kill(cancelled=True)
-            return True
+            now = time.monotonic()
+            for child, (running, older, started) in self._running.items():
+                if running == path and older < version and now - started >= running_for:
+                    child.kill(cancelled=True)
+                    stopped = True
+        return stopped
 
     def reconfigure(self, configuration: str | dict[str, Any] | None) -> None:
         """Lint with the editor's new ``configuration`` from now on: the children,
@@ -238,16 +298,17 @@ class Linting:
     def close(self) -> None:
         with self._state:
             self._closed = True
+            self._state.notify_all()
         self._end_children()
 
     def _end_children(self) -> None:
-        """End both children, the call running in one cancelled."""
+        """End every child, the calls running in them cancelled."""
         with self._state:
-            children = [c for c in (self._active, self._spare) if c is not None]
-            self._active = self._spare = None
-            running = self._running
-        if running is not None:
-            running[2].kill(cancelled=True)
+            children = [c for c in (self._active, self._second, self._spare) if c is not None]
+            self._active = self._second = self._spare = None
+            running = list(self._running)
+        for child in running:
+            child.kill(cancelled=True)
         for child in children:
             child.close()
 
