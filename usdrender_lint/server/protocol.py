@@ -12,6 +12,8 @@ one, and a newer edit of a slow document cancels its running lint.
 from __future__ import annotations
 
 import asyncio
+import inspect
+import json
 import logging
 import os
 import re
@@ -19,7 +21,7 @@ import threading
 import time
 from collections.abc import Coroutine, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from urllib.parse import unquote
 
 from lsprotocol import types
@@ -33,16 +35,17 @@ from pygls.exceptions import (
 )
 from pygls.lsp.server import LanguageServer
 from pygls.protocol import LanguageServerProtocol
-from pygls.protocol.json_rpc import RPCMessage, RPCRequest
 from pygls.uris import from_fs_path, to_fs_path
-from pygls.workspace import TextDocument, Workspace
-from pygls.workspace.position_codec import ServerTextPosition
+from pygls.workspace import PositionCodec, ServerTextPosition, TextDocument
 
 from .. import __version__
 from ..model import Finding, Severity
 from ..running.documents import Linted, finding_key
 from .ranges import Edit, Span, editor_lines, lines_of, spec_line, statement_span, text_edits
 from .worker import LintFailed, Linting, RuleDoc
+
+if TYPE_CHECKING:
+    from cattrs import Converter
 
 NAME = "usdrender-lint"
 #: source.fixAll for this server: the safe fixes of the document, as --fix applies them.
@@ -70,42 +73,26 @@ _SEVERITY = {
 _WORD = re.compile(r"[A-Za-z][\w-]*")
 
 
-class EditorDocument(TextDocument):
-    """An open document whose edits land where the editor means them: pygls
-    numbers lines with ``str.splitlines``, which also ends one at a form feed
-    or U+2028 in a comment, so an edit below one went to the wrong line."""
+def apply_change(
+    text: str, change: types.TextDocumentContentChangeEvent, codec: PositionCodec
+) -> str:
+    """``text`` after one change of a didChange, its range read in the lines as
+    the editor numbers them: pygls numbers lines with ``str.splitlines``,
+    which also ends one at a form feed or U+2028 in a comment, so an edit
+    below one went to the wrong line."""
+    if not isinstance(change, types.TextDocumentContentChangePartial):
+        return change.text
+    lines = editor_lines(text)
+    span = codec.range_from_client_units(lines, change.range)
 
-    @property
-    def lines(self) -> Sequence[str]:
-        return tuple(editor_lines(self.source))
+    def offset(line: int, column: int) -> int:
+        if line >= len(lines):
+            return len(text)
+        return sum(map(len, lines[:line])) + min(column, len(lines[line]))
 
-
-class EditorWorkspace(Workspace):
-    def update_text_document(
-        self,
-        text_doc: types.VersionedTextDocumentIdentifier,
-        change: types.TextDocumentContentChangeEvent,
-    ) -> None:
-        # pygls raised KeyError (an error popup) for a change to a document the
-        # client never opened: there is nothing to change.
-        if unquote(text_doc.uri) in self.text_documents:
-            super().update_text_document(text_doc, change)
-
-    def _create_text_document(
-        self,
-        doc_uri: str,
-        source: str | None = None,
-        version: int | None = None,
-        language_id: str | None = None,
-    ) -> TextDocument:
-        return EditorDocument(
-            doc_uri,
-            source=source,
-            version=version,
-            language_id=language_id,
-            sync_kind=self._sync_kind,
-            position_codec=self.position_codec,
-        )
+    start = offset(span.start.line, span.start.character)
+    end = max(start, offset(span.end.line, span.end.character))
+    return text[:start] + change.text + text[end:]
 
 
 class Unfit:
@@ -118,7 +105,14 @@ class Unfit:
 
 class EditorProtocol(LanguageServerProtocol):
     """pygls's protocol, answering the requests it leaves unanswered (the
-    client would wait for them forever)."""
+    client would wait for them forever), and applying a document's changes
+    where the editor means them. Only pygls's public API: its underscore
+    names change between releases."""
+
+    def __init__(self, server: UsdRenderLintServer, converter: Converter) -> None:
+        super().__init__(server, converter)
+        self.language_server = server
+        self.converter = converter
 
     def structure_message(self, data: dict[str, Any]) -> Any:
         # pygls raises from inside json.loads for a message whose params do not
@@ -128,43 +122,66 @@ class EditorProtocol(LanguageServerProtocol):
             message_type = self.get_message_type(method)
             if message_type is not None:
                 try:
-                    return self._converter.structure(data, message_type)
+                    return self.converter.structure(data, message_type)
                 except Exception:  # noqa: BLE001 - cattrs' errors, a missing key, ...
                     return Unfit(data.get("id"), method)
         return super().structure_message(data)
 
-    def handle_message(self, message: RPCMessage | Unfit) -> None:
+    def handle_message(self, message: Any) -> None:
         if not isinstance(message, Unfit) and not hasattr(message, "jsonrpc"):
             # JSON, but no message (a list, a number, an object without "jsonrpc").
-            self._server.window_log_message(
-                types.LogMessageParams(
-                    types.MessageType.Error, f"{NAME}: ignored a message that is not JSON-RPC"
-                )
-            )
+            self.log(types.MessageType.Error, "ignored a message that is not JSON-RPC")
             return
         if isinstance(message, Unfit):
             why = f"the params of {message.method} do not fit the protocol"
             if message.id is not None:
-                self._send_response(message.id, error=JsonRpcInvalidParams(why).to_response_error())
+                self.answer_error(message.id, JsonRpcInvalidParams(why))
             else:
-                self._server.window_log_message(
-                    types.LogMessageParams(types.MessageType.Warning, f"{NAME}: ignored: {why}")
-                )
+                self.log(types.MessageType.Warning, f"ignored: {why}")
             return
         method = getattr(message, "method", None)
-        if self._workspace is None and method not in (None, types.INITIALIZE, types.EXIT):
+        # A request has a method and an id; a notification has no id.
+        request_id = getattr(message, "id", None) if method is not None else None
+        server = self.language_server
+        if not server.client_initialized and method not in (None, types.INITIALIZE, types.EXIT):
             # Before initialize (pygls failed the request with its traceback, and a
             # notification popped up one): refused, and dropped, as the protocol says.
-            if isinstance(message, RPCRequest):
-                self._refuse(message, JsonRpcServerNotInitialized("initialize first"))
+            if request_id is not None:
+                self.answer_error(request_id, JsonRpcServerNotInitialized("initialize first"))
             return
-        if isinstance(message, RPCRequest) and self._shutdown:
-            self._refuse(message, JsonRpcInvalidRequest("the server is shut down"))
+        if request_id is not None and server.shut_down:
+            self.answer_error(request_id, JsonRpcInvalidRequest("the server is shut down"))
+            return
+        if method == types.TEXT_DOCUMENT_DID_CHANGE and not self._whole_text(message.params):
             return
         super().handle_message(message)
 
-    def _refuse(self, request: RPCRequest, error: JsonRpcException) -> None:
-        self._send_response(request.id, error=error.to_response_error())
+    def _whole_text(self, params: types.DidChangeTextDocumentParams) -> bool:
+        """Turn the changes into the one whole text they make, for pygls to
+        take as it is; False for a document the client never opened (pygls
+        raised KeyError, an error popup: there is nothing to change)."""
+        document = self.language_server.open_document(params.text_document.uri)
+        if document is None:
+            return False
+        text = document.source
+        for change in params.content_changes:
+            text = apply_change(text, change, self.workspace.position_codec)
+        params.content_changes = [types.TextDocumentContentChangeWholeDocument(text=text)]
+        return True
+
+    def log(self, kind: types.MessageType, message: str) -> None:
+        self.language_server.window_log_message(types.LogMessageParams(kind, f"{NAME}: {message}"))
+
+    def answer_error(self, request_id: int | str, error: JsonRpcException) -> None:
+        """Answer a request with an error, on the writer pygls reads and writes
+        through (the stdio one, which frames each message with its length)."""
+        answer = {"code": error.code, "message": error.message}
+        body = json.dumps({"jsonrpc": "2.0", "id": request_id, "error": answer}).encode()
+        if self.writer is None:  # no transport yet: nothing can be said
+            return
+        written = self.writer.write(b"Content-Length: %d\r\n\r\n" % len(body) + body)
+        if inspect.isawaitable(written):
+            asyncio.ensure_future(written)
 
 
 class OneLine(logging.Formatter):
@@ -204,6 +221,8 @@ class UsdRenderLintServer(LanguageServer):
         #: Seconds a lint may take (initializationOptions ``timeout``); None: no limit.
         self.timeout: float | None = TIMEOUT
         self.shut_down = False
+        #: The client's initialize request was handled (pygls made the workspace).
+        self.client_initialized = False
         #: The lints (and other work) running beside the protocol.
         self.tasks: set[asyncio.Future[None]] = set()
         #: The process's exit status: 1 when the client said exit without shutdown
@@ -803,8 +822,7 @@ def editor_timeout(options: dict[str, Any], default: float | None) -> float | No
 def _serve_lifecycle(server: UsdRenderLintServer) -> None:
     @server.feature(types.INITIALIZE)
     def initialize(ls: UsdRenderLintServer, params: types.InitializeParams) -> None:
-        # pygls made the workspace just before; no document is open yet.
-        ls.workspace.__class__ = EditorWorkspace
+        ls.client_initialized = True
         options = params.initialization_options
         options = options if isinstance(options, dict) else {}
         ls.timeout = editor_timeout(options, ls.timeout)
