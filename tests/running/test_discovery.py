@@ -76,6 +76,19 @@ def test_the_default_exclude_and_replacing_or_extending_it(tmp_path: Path) -> No
     assert found(tmp_path, anchored, "b/wip.usda") == ["b/wip.usda"]  # named: linted
 
 
+def test_exclude_patterns_take_alternatives_in_braces(tmp_path: Path) -> None:
+    # per-path-ignores read {a,b} and exclude did not: "{legacy,old}/" skipped nothing.
+    tree(tmp_path, "a.usda", "legacy/l.usda", "old/o.usda", "shots/s_wip.usda", "shots/s.usda")
+    extended = default(tmp_path, extend_exclude=("{legacy,old}/", "*_{wip,tmp}.usda"))
+    assert found(tmp_path, extended) == ["a.usda", "shots/s.usda"]
+    replaced = default(tmp_path, exclude=("/{legacy,shots/*_wip.usda}",))
+    assert found(tmp_path, replaced) == ["a.usda", "old/o.usda", "shots/s.usda"]
+    forced = default(tmp_path, extend_exclude=("{legacy,old}/",), force_exclude=True)
+    assert found(tmp_path, forced, "old/o.usda", "a.usda") == ["a.usda"]
+    literal = default(tmp_path, extend_exclude=("{legacy}",))  # no comma: no alternatives
+    assert "legacy/l.usda" in found(tmp_path, literal)
+
+
 def test_gitignore_files_of_the_repository_are_respected(tmp_path: Path) -> None:
     tree(
         tmp_path,

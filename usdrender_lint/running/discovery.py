@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from ..engine import USD_EXTENSIONS
 from ..records import record
+from .globs import expand_all
 
 if TYPE_CHECKING:
     from pathspec import PathSpec
@@ -171,7 +172,10 @@ class _Skip:
 
     def __init__(self, top: str, exclusions: Exclusions) -> None:
         self.exclusions = exclusions
-        self.excluded = _spec(exclusions.patterns) if exclusions.patterns else None
+        # Braces as the other keys' globs read them (running/globs.py); a
+        # .gitignore's lines are git's, which has none.
+        patterns = expand_all(exclusions.patterns)
+        self.excluded = _spec(patterns) if patterns else None
         self.base = os.path.abspath(exclusions.base)
         #: (folder, spec) of every .gitignore in force, outermost first.
         self.ignores: list[tuple[str, PathSpec | _Names]] = []

@@ -14,6 +14,7 @@ from pathlib import Path, PurePosixPath
 from ..api import Rule
 from ..model import Finding, Report
 from ..registry import matches_any
+from .globs import expand_braces
 
 #: The codes the engine reports whatever the selection or the path: a file it
 #: could not check must never pass a gate (ST001 stage-open-failed).
@@ -49,25 +50,6 @@ def matches_any_path(pattern: str, paths: Sequence[str], base_dir: Path) -> bool
     if pattern.startswith("!"):
         return not any(matches_path(pattern[1:], path, base_dir) for path in paths)
     return any(matches_path(pattern, path, base_dir) for path in paths)
-
-
-#: The innermost ``{...}`` holding a comma: its alternatives are expanded first.
-_BRACES = r"\{([^{}]*,[^{}]*)\}"  # compiled when first used, not at start-up
-
-
-def expand_braces(pattern: str) -> list[str]:
-    """``"{a,b}/*.usda"`` -> ``["a/*.usda", "b/*.usda"]`` (nested groups too);
-    fnmatch has no alternation, which globset (ruff's globs) has."""
-    found = re.search(_BRACES, pattern) if "{" in pattern else None
-    if found is None:
-        # An alternative ending in '/' ("{a,b/}/*.usda") leaves a '//'.
-        return [re.sub(r"(?<=.)/{2,}", "/", pattern)]
-    head, tail = pattern[: found.start()], pattern[found.end() :]
-    return [
-        expanded
-        for choice in found.group(1).split(",")
-        for expanded in expand_braces(head + choice + tail)
-    ]
 
 
 def _matches(pattern: str, absolute: Path, base_dir: Path) -> bool:
