@@ -8,6 +8,7 @@ The file is ``[tool.usdrender-lint]`` in the nearest ``pyproject.toml`` or a
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import dataclasses
 import errno
 import os
@@ -453,9 +454,44 @@ def _merged(base: Mapping[str, Any], own: Mapping[str, Any], deep: bool) -> dict
 MAX_CONFIG_BYTES = 4 * 1024 * 1024
 
 
+#: The configuration files read in the current run (:func:`reading_once`), by
+#: absolute path: None outside one.
+_READ: contextvars.ContextVar[dict[str, bytes] | None] = contextvars.ContextVar(
+    "usdrender_lint_config_read", default=None
+)
+
+
+@contextlib.contextmanager
+def reading_once() -> Iterator[None]:
+    """Within it, each configuration file is read once: a run's search for its
+    configuration, each walked folder's exclusions and each part of a split run
+    ask for a nested configuration's file again (four to six reads of each).
+    Scoped to one run (a check, a --show-files): a long-running host reads
+    again each time it prepares, so it sees a file edited since."""
+    if _READ.get() is not None:  # already inside one: the outer run's files
+        yield
+        return
+    token = _READ.set({})
+    try:
+        yield
+    finally:
+        _READ.reset(token)
+
+
 def _read_config_bytes(path: Path) -> bytes:
     """The bytes of a config file, which must be a regular file (a FIFO would
-    block, a device never end) of at most MAX_CONFIG_BYTES."""
+    block, a device never end) of at most MAX_CONFIG_BYTES; inside
+    :func:`reading_once`, read only the first time."""
+    read = _READ.get()
+    if read is None:
+        return _read_config_file_bytes(path)
+    key = os.path.abspath(path)
+    if key not in read:
+        read[key] = _read_config_file_bytes(path)
+    return read[key]
+
+
+def _read_config_file_bytes(path: Path) -> bytes:
     try:
         # O_NONBLOCK: opening a FIFO returns at once instead of waiting for a writer.
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))

@@ -376,3 +376,45 @@ def test_the_counting_notes_of_a_split_run_are_its_totals(tmp_path: Path) -> Non
     result = invoke_in(tmp_path, "check", "--no-cache", "--jobs", "1", "--diff", ".")
     assert result.exit_code == 1, result.output
     assert result.stderr.splitlines() == ["usdrender-lint: --diff: 4 fixes would be applied"]
+
+
+def _reads_of_configurations(monkeypatch: pytest.MonkeyPatch, root: Path) -> dict[str, int]:
+    """How often each configuration file below ``root`` is opened (config.py
+    opens them with os.open), by its path relative to ``root``."""
+    counts: dict[str, int] = {}
+    opened = os.open
+
+    def counting(path, *args, **kwargs):
+        name = os.fspath(path)
+        if name.endswith(".toml") and name.startswith(str(root)):
+            relative = os.path.relpath(name, root)
+            counts[relative] = counts.get(relative, 0) + 1
+        return opened(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", counting)
+    return counts
+
+
+@pytest.mark.parametrize(
+    "command",
+    [
+        ("check", "--no-cache", "--jobs", "1"),
+        ("check", "--show-files"),
+        ("check", "--show-settings"),
+        ("spec", "--output", "-"),
+    ],
+)
+def test_a_run_reads_each_configuration_file_once(
+    tree: Path, monkeypatch: pytest.MonkeyPatch, command: tuple[str, ...]
+) -> None:
+    # The root's was read six times and each show's four in one check: the
+    # search, each walked folder's exclusions and each part read them again.
+    counts = _reads_of_configurations(monkeypatch, tree)
+    result = invoke_in(tree, *command, ".")
+    # spec exits 2: the broken shots' lighting_wip.usda cannot be read.
+    assert result.exit_code in (0, 1, 2) and "toml" not in result.stderr, result.output
+    assert counts == {
+        ".usdrender-lint.toml": 1,
+        "shows/a/.usdrender-lint.toml": 1,
+        "shows/b/pyproject.toml": 1,
+    }

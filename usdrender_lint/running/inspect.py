@@ -15,6 +15,7 @@ import os
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
+from ..config import reading_once
 from ..engine import Inspector, Linter, plugin_notes
 from ..model import FileResult, Report
 from ..paths import display_path
@@ -124,6 +125,7 @@ class InspectingLinterFactory:
         return InspectingLinter(linter, self.inspect)
 
 
+@reading_once()  # each configuration file read once in the run
 def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspection:
     """Lint and inspect every file. Raises RequestError when the run cannot
     start (a bad configuration, a rule plugin that fails)."""

@@ -25,6 +25,7 @@ from ..config import (
     config_file_in,
     load_settings,
     read_config_file,
+    reading_once,
     with_inline,
 )
 from ..engine import Linter, plugin_notes
@@ -568,16 +569,17 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     start; a file that cannot be linted is an error result, never an exception.
     Files whose nearest configuration is not the one found from the first path
     are linted with theirs (running/hierarchy.py)."""
-    prepared = prepare(request, registry)
-    notes: list[str] = []
-    files = collect_targets(prepared, notes)
-    parts = configuration_parts(prepared, files)
-    if parts is None:
-        outcome = _run_files(prepared, files, notes)
-    else:
-        ahead = _lint_parts_together(parts, notes)
-        outcomes = [_run_files(part, found, [], ahead) for part, found in parts]
-        outcome = _joined(prepared, outcomes, files, notes)
+    with reading_once():  # each configuration file read once in the run
+        prepared = prepare(request, registry)
+        notes: list[str] = []
+        files = collect_targets(prepared, notes)
+        parts = configuration_parts(prepared, files)
+        if parts is None:
+            outcome = _run_files(prepared, files, notes)
+        else:
+            ahead = _lint_parts_together(parts, notes)
+            outcomes = [_run_files(part, found, [], ahead) for part, found in parts]
+            outcome = _joined(prepared, outcomes, files, notes)
     # The environment's problems (engine/plugins.py), known once the files are linted.
     return replace(outcome, notes=(*plugin_notes(), *outcome.notes))
 

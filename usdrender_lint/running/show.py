@@ -14,7 +14,7 @@ from collections.abc import Mapping, Sequence
 from enum import Enum
 from typing import Any
 
-from ..config import INLINE_PREFIX, SELECTION_KEYS, Settings
+from ..config import INLINE_PREFIX, SELECTION_KEYS, Settings, reading_once
 from ..settings_table import SETTINGS
 from .pipeline import (
     Prepared,
@@ -26,6 +26,7 @@ from .pipeline import (
 )
 
 
+@reading_once()  # each configuration file read once
 def planned_files(request: Request) -> tuple[list[str], list[str]]:
     """The files ``request`` would lint (folders walked, exclusions, each
     file's configuration, roots, its shard) and the run's notes about them.
@@ -40,6 +41,7 @@ def planned_files(request: Request) -> tuple[list[str], list[str]]:
     return planned, notes
 
 
+@reading_once()
 def settings_text(request: Request) -> str:
     """The settings ``request`` would lint with, as a configuration file's TOML;
     when some of its files have a nearer configuration, a comment says which
