@@ -605,6 +605,19 @@ def file_stamps(files: Iterable[str]) -> tuple[tuple[str, int | None], ...]:
     return tuple(stamped)
 
 
+def config_candidates(path: str | Path) -> tuple[str, ...]:
+    """Every file the search for ``path``'s configuration looks at (each
+    configuration file name in its folder and every folder above): a
+    long-running host stamps them with :func:`file_stamps` beside the files it
+    read, so that one created later, nearer than the one in effect or where
+    there was none, is read by its next lint (an editor or a host that watches
+    no files says nothing)."""
+    here = search_start(path)
+    return tuple(
+        str(folder / name) for folder in (here, *here.parents) for name in CONFIG_FILE_NAMES
+    )
+
+
 def search_start(start: str | Path) -> Path:
     """The folder the search for ``start``'s configuration begins in: its own
     resolved folder (a linked file's target's)."""

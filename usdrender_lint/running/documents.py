@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 from pxr import Ar, Pcp, Sdf, Tf, Usd, Vt
 
-from ..config import CONFIG_FILE_NAMES, file_stamps, search_start
+from ..config import config_candidates, file_stamps
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
 from ..engine.stage import (
@@ -86,15 +86,6 @@ class _Config:
     #: The modification times of the configuration files read (those it extends
     #: too) and of those the search for one looked at, when they were read.
     stamps: tuple[tuple[str, int | None], ...]
-
-
-def _config_candidates(path: str) -> tuple[str, ...]:
-    """Every file the search for ``path``'s configuration looks at: one created
-    later (an editor that watches no files says nothing) is found by the next lint."""
-    here = search_start(path)
-    return tuple(
-        str(folder / name) for folder in (here, *here.parents) for name in CONFIG_FILE_NAMES
-    )
 
 
 class Documents:
@@ -269,7 +260,7 @@ class Documents:
                 progress=False,
             )
             prepared = prepare(request, self.registry)
-            read = (*prepared.settings.sources, *_config_candidates(path))
+            read = (*prepared.settings.sources, *config_candidates(path))
             config = self._configs[folder] = _Config(prepared, file_stamps(read))
         return config.prepared
 

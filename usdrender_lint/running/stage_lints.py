@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from pxr import Tf, Usd
 
-from ..config import file_stamps
+from ..config import config_candidates, file_stamps
 from ..engine import Linter, TracedFinding
 from ..model import FileResult, Finding, Report
 from ..records import record
@@ -94,7 +94,8 @@ class CheckLinters:
     found from its folder (as ``check`` finds it), so the same rules, options
     and renderer profiles (``auto`` infers each stage's from its settings).
     One linter per folder, read again when a configuration file it read (the
-    one found or one it extends) changed, as the language server reads it
+    one found or one it extends) changed, or one appeared where the search
+    looks (a folder that had none, or nearer), as the language server reads it
     (running/documents.py): a host keeps running while its user edits the
     configuration. Per-path ignores applied as ``check`` applies them."""
 
@@ -117,7 +118,10 @@ class CheckLinters:
                 return cached[0]
             request = Request((file,), jobs=1, timeout=None, progress=False)
             prepared = prepare(request)
-            self._prepared[folder] = (prepared, file_stamps(prepared.settings.sources))
+            # The files it read and those the search looked at: a configuration
+            # created later (where there was none, or nearer) is read too.
+            read = (*prepared.settings.sources, *config_candidates(file))
+            self._prepared[folder] = (prepared, file_stamps(read))
             return prepared
 
     def linter(self, stage: Usd.Stage) -> Linter:
