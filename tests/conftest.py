@@ -14,13 +14,20 @@ SHARED_MISSING = "../shared is not present (only on developer machines and in CI
 
 
 @pytest.fixture(autouse=True, scope="session")
-def _no_result_cache_in_session_fixtures() -> Iterator[None]:
+def _no_result_cache_in_session_fixtures(
+    tmp_path_factory: pytest.TempPathFactory,
+) -> Iterator[None]:
     """The module and session fixtures (which run before any function-scoped
     one) lint without a cache too: else a report they make (the HTML pages of
     the corpus) stores entries in the checkout, which a later run, or the other
     xdist worker, reads back instead of linting."""
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv("USDRENDER_LINT_NO_CACHE", "1")
+        # The user's own configuration (~/.config/usdrender-lint) would change
+        # what a test with no project configuration sees: none is read.
+        empty = tmp_path_factory.mktemp("user-config")
+        patch.setenv("XDG_CONFIG_HOME", str(empty))
+        patch.setenv("APPDATA", str(empty))
         yield
 
 

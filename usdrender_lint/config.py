@@ -103,6 +103,10 @@ class Settings:
     extend: str | None = None
     #: The file the settings were read from, if any.
     source: str | None = None
+    #: ``source`` is the user's own configuration (:func:`user_config_file`),
+    #: read where no project configuration is found: its globs, roots and
+    #: cache-dir are relative to the working directory, as ruff reads its own.
+    user_level: bool = False
     #: Settings given as command-line flags (they win over the file).
     from_flags: frozenset[str] = frozenset()
     #: Settings a file sets, each with that file (the nearest that sets it, when
@@ -175,10 +179,13 @@ class Settings:
     @property
     def base_dir(self) -> Path:
         """The folder relative globs (per-path-ignores) are read from: the
-        config file's folder, else the working directory. The folder the file
+        config file's folder, else (none, or the user's own configuration)
+        the working directory. The folder the file
         was found in, resolved: a show's ``.usdrender-lint.toml`` that links to a
         studio-wide file reads its globs, roots and cache-dir from the show."""
-        return Path(self.source).parent.resolve() if self.source else Path.cwd()
+        if self.source and not self.user_level:
+            return Path(self.source).parent.resolve()
+        return Path.cwd()
 
 
 def _parse_table(
@@ -592,6 +599,51 @@ def find_config_file(start: str | Path) -> Path | None:
     return None
 
 
+#: The folder of the user's own configuration inside the platform's
+#: configuration folder (``~/.config/usdrender-lint``).
+USER_CONFIG_FOLDER = "usdrender-lint"
+
+
+def user_config_dir() -> Path | None:
+    """The folder that holds the user's own configuration file, as ruff finds
+    ``~/.config/ruff`` (its ``find_user_settings_toml``, through etcetera's
+    ``choose_base_strategy``: XDG on Linux and macOS, the roaming AppData
+    folder on Windows): ``$XDG_CONFIG_HOME/usdrender-lint`` when that variable
+    is an absolute path (the XDG Base Directory specification ignores a
+    relative one), else ``~/.config/usdrender-lint``; on Windows
+    ``%APPDATA%/usdrender-lint``. None when no home folder is known."""
+    if os.name == "nt":
+        appdata = os.environ.get("APPDATA")
+        if appdata:
+            return Path(appdata) / USER_CONFIG_FOLDER
+    xdg = os.environ.get("XDG_CONFIG_HOME", "")
+    if xdg and os.path.isabs(xdg):
+        return Path(xdg) / USER_CONFIG_FOLDER
+    try:
+        home = Path.home()
+    except (RuntimeError, KeyError):  # no HOME and no password entry
+        return None
+    if os.name == "nt":
+        return home / "AppData" / "Roaming" / USER_CONFIG_FOLDER
+    return home / ".config" / USER_CONFIG_FOLDER
+
+
+def user_config_file() -> Path | None:
+    """The user's own configuration file, read when no project configuration
+    is found (the names a project folder's may have, in the same order; a
+    ``pyproject.toml`` counts with the table only). A file there that cannot be
+    read is a ConfigError, as a project's is."""
+    folder = user_config_dir()
+    if folder is None or not os.path.isdir(folder):
+        return None
+    return config_file_in(folder)
+
+
+def read_user_config(path: str | os.PathLike[str]) -> Settings:
+    """The settings of the user's own configuration file (see :func:`user_config_file`)."""
+    return dataclasses.replace(read_config_file(path), user_level=True)
+
+
 def file_stamps(files: Iterable[str]) -> tuple[tuple[str, int | None], ...]:
     """Each file with its modification time (None: gone or unreadable): a
     long-running host (the language server, a validator plugin) compares them
@@ -611,11 +663,11 @@ def config_candidates(path: str | Path) -> tuple[str, ...]:
     long-running host stamps them with :func:`file_stamps` beside the files it
     read, so that one created later, nearer than the one in effect or where
     there was none, is read by its next lint (an editor or a host that watches
-    no files says nothing)."""
+    no files says nothing). The user's own configuration's names too."""
     here = search_start(path)
-    return tuple(
-        str(folder / name) for folder in (here, *here.parents) for name in CONFIG_FILE_NAMES
-    )
+    user = user_config_dir()
+    folders = (here, *here.parents, *((user,) if user is not None else ()))
+    return tuple(str(folder / name) for folder in folders for name in CONFIG_FILE_NAMES)
 
 
 def search_start(start: str | Path) -> Path:
@@ -670,7 +722,8 @@ def _loose(name: str) -> str:
 def load_settings(
     config_path: str | None = None, *, isolated: bool = False, start: str = "."
 ) -> Settings:
-    """Settings from ``--config``, else the nearest config file, else defaults."""
+    """Settings from ``--config``, else the nearest config file, else the
+    user's own (:func:`user_config_file`), else defaults."""
     if isolated and config_path is not None:
         raise ConfigError("--config and --isolated cannot be used together")
     if isolated:
@@ -678,7 +731,15 @@ def load_settings(
     if config_path is not None:
         return read_config_file(config_path)
     found = find_config_file(start)
-    return read_config_file(found) if found else Settings()
+    return read_config_file(found) if found else fallback_settings()
+
+
+def fallback_settings() -> Settings:
+    """The settings of a file with no project configuration above it: the
+    user's own configuration's (as ruff falls back to ``~/.config/ruff``),
+    else the defaults."""
+    user = user_config_file()
+    return read_user_config(user) if user is not None else Settings()
 
 
 # -- rule options -----------------------------------------------------------------

@@ -52,7 +52,15 @@ SAMPLES: dict[str, tuple[str, Any]] = {
 
 #: Settings' fields that say where values came from, not values; and the layers
 #: of rule selection beneath the keys (``select``, ``ignore``, ``extend-select``).
-_ORIGINS = {"source", "from_flags", "from_file", "sources", "selections_below", "entries_from"}
+_ORIGINS = {
+    "source",
+    "user_level",
+    "from_flags",
+    "from_file",
+    "sources",
+    "selections_below",
+    "entries_from",
+}
 _CONFIG_NAMES = {f.name for f in dataclasses.fields(Settings)} - _ORIGINS
 
 

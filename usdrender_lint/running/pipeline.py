@@ -23,6 +23,7 @@ from ..config import (
     Settings,
     build_options,
     config_file_in,
+    fallback_settings,
     load_settings,
     read_config_file,
     reading_once,
@@ -616,7 +617,10 @@ def configuration_parts(
     if request.config is not None or request.isolated or request.stdin is not None:
         return None
     try:
-        groups = configuration_groups(files, prepared.settings.source)
+        # A run with the user's own configuration has it where no project's is found.
+        found = None if prepared.settings.user_level else prepared.settings.source
+        groups = configuration_groups(files, found)
+        fallback = fallback_settings() if groups and any(g.config is None for g in groups) else None
     except ConfigError as exc:
         raise RequestError(str(exc)) from exc
     if groups is None:
@@ -628,6 +632,8 @@ def configuration_parts(
     for group in groups:
         # --write-baseline records the joined report, once.
         own = replace(request, config=group.config, isolated=group.config is None)
+        if group.config is None and fallback is not None and fallback.source:
+            own = replace(request, config=fallback)  # the user's own configuration
         part = prepare(replace(own, write_baseline=None), prepared.registry)
         walked_skipped = walk_skips(Exclusions.of(part.settings))
         judged = part.settings.force_exclude

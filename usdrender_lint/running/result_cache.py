@@ -90,6 +90,9 @@ MAX_ENTRY_BYTES = 4 << 20
 #: Settings that change what a report is used for, not any file's findings.
 SETTINGS_NOT_IN_KEY = not_in_cache_key() | {
     "source",
+    # Where the user's own configuration's globs are read from: in the key
+    # through what reads them (profile_choice_key's base folder).
+    "user_level",
     "from_flags",
     "from_file",
     "sources",

@@ -65,6 +65,11 @@ def settings_text(request: Request) -> str:
 def settings_toml(prepared: Prepared) -> str:
     settings = prepared.settings
     source = settings.source or "none (the defaults)"
+    if settings.user_level:
+        source += (
+            " (the user's own: no project configuration found; globs relative to the"
+            " working directory)"
+        )
     codes = sorted(type(rule).code for rule in prepared.linter.rules)
     lines = [
         f"# configuration file: {source}",
