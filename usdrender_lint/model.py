@@ -133,6 +133,9 @@ class FileResult:
     #: Lines for the user about this file beside its findings (e.g. how many
     #: variant combinations --variants skipped).
     notes: tuple[str, ...] = ()
+    #: The configuration file the file was linted under (its nearest, the one
+    #: --config names, the user's own); None: none, the defaults.
+    config: str | None = None
 
 
 #: The documentation site; it has one page per built-in rule (:func:`rule_doc_url`).

@@ -84,6 +84,8 @@ def report_to_dict(
                 "status": result.status,
                 "error": result.error,
                 "findings": [finding_to_dict(f) for f in result.findings],
+                # Which configuration judged it (a tree of shows has several).
+                "config_file": display_path(result.config) if result.config else None,
                 # Lines for the user beside its findings (--variants' skipped
                 # combinations): what merge prints again, as check did.
                 **({"notes": list(result.notes)} if result.notes else {}),
@@ -173,7 +175,16 @@ def result_from_dict(data: Mapping[str, Any], where: str = "file") -> FileResult
         _field(data, "error", _OPTIONAL_STR, where),
         tuple(finding_from_dict(f, f"{where}.findings[{i}]") for i, f in enumerate(findings)),
         tuple(notes),
+        config=_optional(data, "config_file", where),
     )
+
+
+def _optional(data: Mapping[str, Any], key: str, where: str) -> str | None:
+    """A string or null that a report may lack (a field added later)."""
+    value = data.get(key)
+    if not isinstance(value, _OPTIONAL_STR):
+        raise ReportFormatError(f"{where}: '{key}' is not a string or null")
+    return value
 
 
 def shard_from_dict(document: Mapping[str, Any]) -> tuple[int, int] | None:

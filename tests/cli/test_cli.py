@@ -125,7 +125,8 @@ def test_json_document_shape() -> None:
     assert document["schema_version"] == 1
     assert document["tool"]["name"] == "usdrender-lint"
     (file,) = document["files"]
-    assert set(file) == {"file", "status", "error", "findings"}
+    # config_file: added with a report that names each file's configuration.
+    assert set(file) == {"file", "status", "error", "findings", "config_file"}
     assert file["status"] == "linted" and file["error"] is None
     keys = {"code", "name", "severity", "message", "path", "file", "layer", "line", "fix"}
     keys |= {"profile", "profile_reason"}  # added with renderer profiles (R2-5)

@@ -163,6 +163,9 @@ def test_a_chain_gives_the_findings_of_its_flat_settings(show: Path, tmp_path: P
     for entry in flat_found:
         for finding in entry["findings"]:
             assert finding.pop("profile_reason") == f"{flat}: profile = karma"
+    # Each report names the file it was linted under.
+    assert {entry.pop("config_file") for entry in found} == {"pyproject.toml"}
+    assert {entry.pop("config_file") for entry in flat_found} == {str(flat)}
     assert found == flat_found
     codes = {f["code"]: f["severity"] for entry in found for f in entry["findings"]}
     assert codes["PR004"] == "info" and codes["SE003"] == "warning"

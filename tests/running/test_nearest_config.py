@@ -418,3 +418,21 @@ def test_a_run_reads_each_configuration_file_once(
         "shows/a/.usdrender-lint.toml": 1,
         "shows/b/pyproject.toml": 1,
     }
+
+
+def test_the_json_report_names_each_files_configuration(tree: Path, tmp_path: Path) -> None:
+    # A report of a tree of shows did not say which configuration judged a file.
+    _status, report = _check(tree, ".")
+    by_file = {entry["file"]: entry["config_file"] for entry in report["files"]}
+    assert by_file["./shows/a/shots/010/shot.usda"] == "shows/a/.usdrender-lint.toml"
+    assert by_file["./shows/b/shots/010/shot.usda"] == "shows/b/pyproject.toml"
+    assert by_file["./shows/c_clean.usda"] == ".usdrender-lint.toml"
+    _status, isolated = _check(tree, "--isolated", "shows/c_clean.usda")
+    assert isolated["files"][0]["config_file"] is None
+    # merge keeps it, as check wrote it.
+    shard = tmp_path / "shard.json"
+    shard.write_text(json.dumps(report))
+    merged = invoke_in(tree, "merge", "--format", "json", str(shard))
+    assert merged.exit_code in (0, 1), merged.output
+    again = {entry["file"]: entry["config_file"] for entry in json.loads(merged.stdout)["files"]}
+    assert again == by_file

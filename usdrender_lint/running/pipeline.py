@@ -724,6 +724,10 @@ def _run_files(
         report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
     report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
+    if settings.source:  # which configuration judged each file, for the report
+        report = replace(
+            report, files=tuple(replace(r, config=settings.source) for r in report.files)
+        )
     notes.extend(note for result in report.files for note in result.notes)
     report, dropped, stale = _apply_baseline(report, known, prepared, notes)
     notes.extend(_baseline_note(request, dropped, stale))
