@@ -331,3 +331,24 @@ def test_a_save_right_after_the_watch_starts_is_seen(tmp_path: Path) -> None:
     waiting.start()
     waiting.join(timeout=WAIT)
     assert seen == [[str(tmp_path / "shot.usda")]]
+
+
+def test_the_users_own_configuration_is_watched_where_no_project_has_one(
+    show: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """With no project configuration above the shots, the user's own
+    (~/.config/usdrender-lint) is read: a save of it starts a round too."""
+    shot = show / "shot.usda"
+    save(shot, shot.read_text().replace(GOOD_CAMERA, BAD_CAMERA))
+    user = tmp_path / "xdg" / "usdrender-lint"
+    user.mkdir(parents=True)
+    monkeypatch.setenv("XDG_CONFIG_HOME", str(tmp_path / "xdg"))  # the command inherits it
+    watched = Watched(show, str(show))
+    try:
+        watched.next_round()
+        save(user / "usdrender-lint.toml", 'ignore = ["CA004"]\n')
+        assert "usdrender-lint.toml" in "".join(watched.next_round())
+    finally:
+        status, out, err = watched.stop(signal.SIGTERM)
+    assert status == 143, err
+    assert out.count("1 finding in 1 file") == 1 and out.count("0 findings in 1 file") == 1

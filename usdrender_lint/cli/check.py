@@ -306,8 +306,14 @@ def _nearest_configuration(request: Request) -> set[str]:
     for --watch to poll: every configuration file name in each folder from the
     path's up to the one that holds its configuration (all of them without one),
     so that a configuration saved half-written, or a new one saved nearer than
-    the one in effect, starts a round."""
-    from ..config import CONFIG_FILE_NAMES, ConfigError, config_file_in, search_start
+    the one in effect, starts a round. Without one, the user's own too."""
+    from ..config import (
+        CONFIG_FILE_NAMES,
+        ConfigError,
+        config_file_in,
+        search_start,
+        user_config_dir,
+    )
 
     if request.isolated or request.config is not None:
         return set()
@@ -321,6 +327,9 @@ def _nearest_configuration(request: Request) -> set[str]:
                     break
             except ConfigError:
                 break  # the round said why
+        else:  # no project configuration: the user's own is read (config.fallback_settings)
+            user = user_config_dir()
+            polled.update(str(user / name) for name in CONFIG_FILE_NAMES if user is not None)
     return polled
 
 
