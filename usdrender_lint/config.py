@@ -204,7 +204,9 @@ def _parse_table(
         with _at_key_line(source, text, prefix, key):
             entry = BY_CONFIG_KEY.get(key)
             if entry is None:
-                raise ConfigError(f"{source}: unknown key '{prefix + key}'{unknown_key_hint(key)}")
+                raise ConfigError(
+                    f"{source}: unknown key '{prefix + key}'{_hint(key, value, prefix)}"
+                )
             parsed[entry.name] = entry.parse(value, f"{source}: '{prefix + key}'")
     if "extend" in parsed:
         with _at_key_line(source, text, prefix, "extend"):
@@ -237,6 +239,17 @@ _RUFF_KEYS = {
     "extend-ignore": "ignore",
     "rule-options": "rules",
 }
+
+
+def _hint(key: str, value: Any, prefix: str) -> str:
+    """What an unknown key of a file means: a pyproject's table copied whole
+    into a file of top-level keys, a key ruff spells so, or a misspelling."""
+    if not prefix and key == "tool" and isinstance(value, Mapping) and TOOL_TABLE in value:
+        return (
+            f" (this file holds the keys at the top level: drop the [tool.{TOOL_TABLE}] "
+            "header, which only a pyproject.toml has)"
+        )
+    return unknown_key_hint(key)
 
 
 def unknown_key_hint(key: str) -> str:

@@ -341,6 +341,12 @@ ERRORS = [
     ("time-sample-cap = 0\n", "'time-sample-cap' must be a positive integer"),
     ("roots = [1]\n", "'roots' must be a list of strings"),
     ("select = [\n", "invalid TOML"),
+    # A pyproject's table copied whole into a .usdrender-lint.toml.
+    (
+        '[tool.usdrender-lint]\nselect = ["SE003"]\n',
+        "unknown key 'tool' (this file holds the keys at the top level: drop the "
+        "[tool.usdrender-lint] header",
+    ),
 ]
 
 
