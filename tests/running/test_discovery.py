@@ -89,6 +89,19 @@ def test_exclude_patterns_take_alternatives_in_braces(tmp_path: Path) -> None:
     assert "legacy/l.usda" in found(tmp_path, literal)
 
 
+def test_a_flags_pattern_keeps_the_commas_of_its_braces(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The flags split at commas: '{legacy,old}/' became '{legacy' and 'old}/',
+    # which skipped nothing.
+    tree(tmp_path, "a.usda", "legacy/l.usda", "old/o.usda", "wip/w.usda")
+    monkeypatch.chdir(tmp_path)
+    args = ["check", "--isolated", "--show-files", "--extend-exclude", "{legacy,old}/,wip", "."]
+    result = CliRunner().invoke(cli, args)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.split() == ["./a.usda"]
+
+
 def test_gitignore_files_of_the_repository_are_respected(tmp_path: Path) -> None:
     tree(
         tmp_path,

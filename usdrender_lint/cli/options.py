@@ -157,10 +157,27 @@ def setting_values(command: str, given: dict[str, Any]) -> dict[str, Any]:
 
 
 def split(values: Sequence[str]) -> tuple[str, ...] | None:
-    """``--select A,B --select C`` -> ("A", "B", "C"); None when not given."""
+    """``--select A,B --select C`` -> ("A", "B", "C"); None when not given. A
+    comma inside braces is a pattern's (``--extend-exclude '{legacy,old}/'``)."""
     if not values:
         return None
-    return tuple(v.strip() for value in values for v in value.split(",") if v.strip())
+    return tuple(v.strip() for value in values for v in _outside_braces(value) if v.strip())
+
+
+def _outside_braces(value: str) -> list[str]:
+    """``value`` split at the commas outside ``{...}``."""
+    if "{" not in value:
+        return value.split(",")
+    parts, depth, start = [], 0, 0
+    for index, char in enumerate(value):
+        if char == "{":
+            depth += 1
+        elif char == "}" and depth:
+            depth -= 1
+        elif char == "," and not depth:
+            parts.append(value[start:index])
+            start = index + 1
+    return [*parts, value[start:]]
 
 
 # Options that are not settings (what to read and where to write), shared so
