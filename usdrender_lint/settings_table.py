@@ -103,6 +103,24 @@ def _strings(value: Any, where: str) -> tuple[str, ...]:
     return tuple(value)
 
 
+def _patterns(value: Any, where: str) -> tuple[str, ...]:
+    """Gitignore-style patterns: one that git's reading refuses (a lone ``!``,
+    a trailing backslash) is an error here, not in the middle of a walk."""
+    patterns = _strings(value, where)
+    for pattern in patterns:
+        if "!" in pattern or "\\" in pattern:  # what makes a pattern invalid
+            from pathspec import GitIgnoreSpec  # only for such a pattern
+
+            try:
+                GitIgnoreSpec.from_lines([pattern])
+            except ValueError:
+                raise ConfigError(
+                    f"{where}: {pattern!r} is not a gitignore-style pattern (a lone '!' or "
+                    "a trailing backslash matches nothing)"
+                ) from None
+    return patterns
+
+
 def _tokens(value: Any, where: str) -> tuple[str, ...]:
     """Rule codes, prefixes or names: ``["A,B", "C"]`` -> ("A", "B", "C")."""
     return tuple(v.strip() for item in _strings(value, where) for v in item.split(",") if v.strip())
@@ -377,7 +395,7 @@ SETTINGS: tuple[Setting, ...] = (
         "exclude",
         "Gitignore-style patterns of files and folders not linted when a folder is walked "
         "(a path given is linted unless --force-exclude); replaces the default list",
-        _strings,
+        _patterns,
         kind="tokens",
         default=DEFAULT_EXCLUDE,
         config_key="exclude",
@@ -389,7 +407,7 @@ SETTINGS: tuple[Setting, ...] = (
     Setting(
         "extend_exclude",
         "Patterns excluded as well as --exclude's (added to the configuration's extend-exclude)",
-        _strings,
+        _patterns,
         kind="tokens",
         default=(),
         config_key="extend-exclude",

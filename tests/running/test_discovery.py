@@ -158,6 +158,26 @@ def test_a_bad_pattern_list_is_a_config_error(tmp_path: Path, key: str) -> None:
     assert f"'{key}' must be a list of strings" in result.output
 
 
+@pytest.mark.parametrize("key", ["exclude", "extend-exclude"])
+@pytest.mark.parametrize("pattern", ["!", "shots\\\\"])  # TOML: a lone '!', a trailing backslash
+def test_a_pattern_git_cannot_read_is_a_config_error(
+    tmp_path: Path, key: str, pattern: str
+) -> None:
+    # It was an internal error (pathspec's GitIgnorePatternError) in the walk.
+    tree(tmp_path, "a.usda")
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text(f'{key} = ["{pattern}"]\n')
+    result = CliRunner().invoke(cli, ["check", "--config", str(config), str(tmp_path)])
+    assert result.exit_code == 2
+    assert (
+        f"{config}:1: '{key}':" in result.output
+        and "not a gitignore-style pattern" in result.output
+    )
+    flag = CliRunner().invoke(cli, ["check", "--isolated", f"--{key}", "!", str(tmp_path)])
+    assert flag.exit_code == 2 and "internal error" not in flag.output
+    assert f"--{key}: '!' is not a gitignore-style pattern" in flag.output
+
+
 # Bare names (the default exclude, git's own comment-only info/exclude) are
 # matched without importing pathspec; the answers must be pathspec's.
 _LINE_SETS = [
