@@ -126,6 +126,14 @@ def test_gitignore_files_of_the_repository_are_respected(tmp_path: Path) -> None
     assert len(found(tmp_path, everything)) == 6
 
 
+def test_a_gitignore_line_git_cannot_read_matches_nothing(tmp_path: Path) -> None:
+    # git skips a lone '!' or a line ending in a backslash and reads the rest;
+    # the walk stopped with an internal error (pathspec's GitIgnorePatternError).
+    tree(tmp_path, ".git/HEAD", "a.usda", "shots/s.usda", "tmp/t.usda")
+    (tmp_path / ".gitignore").write_text("!\nshots\\\ntmp/\n")
+    assert found(tmp_path, default(tmp_path)) == ["a.usda", "shots/s.usda"]
+
+
 def test_a_gitignore_outside_a_repository_applies_to_its_folder(tmp_path: Path) -> None:
     tree(tmp_path, "project/a.usda", "project/out/b.usda")
     (tmp_path / "project" / ".gitignore").write_text("out/\n")

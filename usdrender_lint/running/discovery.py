@@ -321,7 +321,22 @@ def _spec(lines: Iterable[str]) -> PathSpec | _Names:
         return _Names(names)
     from pathspec import GitIgnoreSpec  # only for a walk that skips by pattern
 
-    return GitIgnoreSpec.from_lines(lines)
+    try:
+        return GitIgnoreSpec.from_lines(lines)
+    except ValueError:
+        # A line pathspec refuses (a lone '!', a trailing backslash) matches
+        # nothing for git, which reads the other lines: so here.
+        return GitIgnoreSpec.from_lines([line for line in lines if _readable(line)])
+
+
+def _readable(line: str) -> bool:
+    from pathspec import GitIgnoreSpec
+
+    try:
+        GitIgnoreSpec.from_lines([line])
+    except ValueError:
+        return False
+    return True
 
 
 #: What makes a gitignore line more than a file or folder name.
