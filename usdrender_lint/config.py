@@ -334,6 +334,41 @@ def key_line(text: str, key: tuple[str, ...]) -> int | None:
     return None
 
 
+def with_key_line(message: str, settings: Settings) -> str:
+    """``message`` (``FILE: KEY...: why``, an error found once the rules are
+    known: a code that names no rule, a rule's option) with the line of its
+    key in FILE (``FILE:LINE: KEY...``), as the errors found reading the file
+    say it; unchanged when FILE is none of ``settings``' files or the key is
+    not found."""
+    for source in settings.sources:
+        head = f"{source}: "
+        if not message.startswith(head):
+            continue
+        rest = message[len(head) :]
+        key = rest.split(": ", 1)[0]
+        top, _, entry = key.partition(".")
+        prefix: tuple[str, ...] = (
+            ("tool", TOOL_TABLE) if Path(source).name == "pyproject.toml" else ()
+        )
+        try:
+            text = _load_toml_text(Path(source))[1]
+        except ConfigError:
+            return message
+        # An entry's name may hold dots (a glob, "rules.SE001.require-authored").
+        tries: list[tuple[str, ...]] = [(top,)]
+        if entry:
+            tries[:0] = [(top, entry), (top, *entry.split(".")), (top, entry.rsplit(".", 1)[0])]
+            option = re.search(r"unknown option '([^']*)'", rest)
+            if option:  # the option's own line
+                tries.insert(0, (top, *entry.split("."), option.group(1)))
+        for path in tries:
+            line = key_line(text, (*prefix, *path))
+            if line is not None:
+                return f"{source}:{line}: {rest}"
+        return message
+    return message
+
+
 #: The most files a chain of ``extend`` reads: each is read inside the one
 #: extending it, and a few hundred overflowed Python's stack (an internal error).
 MAX_EXTEND_DEPTH = 64

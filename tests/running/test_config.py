@@ -367,6 +367,16 @@ def test_bad_config_is_one_line_naming_key_and_file(project, text, expected) -> 
         ('[per-path-ignores]\n"x.usda" = ["SE"]\n"a/*.usda" = 3\n', ":3: 'per-path-ignores.a/*"),
         ('x = """\nselct = 1\n"""\n', ":1: unknown key 'x'"),
         ('profile = "auto"\nextend = "missing.toml"\n', ":2: 'extend': no such file"),
+        # Found once the rules are known (a code, a name, an option): they had no line.
+        ('fail-on = "error"\nselect = ["NOPE"]\n', ":2: select: 'NOPE' matches no rule"),
+        ('[severity]\nSE001 = "info"\nXX001 = "info"\n', ":3: severity.XX001: no rule"),
+        (
+            '[per-path-ignores]\n"x.usda" = ["SE"]\n"*.usda" = ["XX"]\n',
+            ":3: per-path-ignores.*.usda",
+        ),
+        ("[rules.SE001]\n\nstrict = true\n", ":3: rules.SE001: unknown option 'strict'"),
+        ("[rules.SE001]\nrequire-authored = 1\n", ":2: rules.SE001.require-authored: must be"),
+        ('time-sample-cap = 5\nprofile = "Karma"\n', ":2: profile: unknown profile 'Karma'"),
     ],
 )
 def test_a_bad_key_names_its_line(project, text, expected) -> None:

@@ -331,7 +331,7 @@ def test_a_bad_rule_in_the_extended_file_is_named_there(show: Path) -> None:
     (show.parent / "studio" / "studio.toml").write_text('select = ["XX999"]\n')
     result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
     assert result.exit_code == 2
-    assert "studio.toml: select" in result.stderr, result.stderr
+    assert "studio.toml:1: select" in result.stderr, result.stderr
 
 
 @pytest.mark.parametrize(
@@ -359,7 +359,7 @@ def test_a_bad_entry_of_a_merged_table_or_list_is_named_in_its_file(
     )
     result = CliRunner().invoke(cli, ["check", "--no-cache", str(show / "shots")])
     assert result.exit_code == 2
-    assert f"{studio}: {says}" in result.stderr, result.stderr
+    assert f"{studio}:1: {says}" in result.stderr, result.stderr  # and its line
     # and an inline --config's entry is named as the inline setting, not the file
     studio.write_text("")
     args = ["check", "--no-cache", "--config", entry, str(show / "shots")]

@@ -28,6 +28,7 @@ from ..config import (
     read_config_file,
     reading_once,
     with_inline,
+    with_key_line,
 )
 from ..engine import Linter, plugin_notes
 from ..model import FileResult, Finding, Report, Severity
@@ -547,13 +548,17 @@ def prepare(request: Request, registry: Registry | None = None) -> Prepared:
     :class:`RequestError` for a bad configuration or a rule plugin that fails."""
     from ..registry import RegistryError
 
+    settings: Settings | None = None
     try:
         check_request(request)
         registry = registry or build_registry()
         settings = resolve_settings(request)
         linter = make_linter(settings, registry, full_composition=request.full_composition)
     except (ConfigError, RegistryError) as exc:
-        raise RequestError(str(exc)) from exc
+        message = str(exc)
+        if isinstance(exc, ConfigError) and settings is not None:
+            message = with_key_line(message, settings)  # a code or option the rules deny
+        raise RequestError(message) from exc
     spec = LinterSpec(
         settings,
         request.full_composition,
