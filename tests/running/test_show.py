@@ -155,3 +155,16 @@ def test_a_bad_configuration_is_one_line_and_exit_2(project: Path) -> None:
             f"usdrender-lint: error: {project / '.usdrender-lint.toml'}:1: unknown key 'selct' "
             "(did you mean 'select'?)"
         ]
+
+
+def test_files_of_nested_configurations_are_shown_in_the_reports_order(tmp_path: Path) -> None:
+    # Part after part: p/q and p/s (p's configuration) came before p/r (its own).
+    for folder in ("p/q", "p/r", "p/s"):
+        (tmp_path / folder).mkdir(parents=True)
+        (tmp_path / folder / "x.usda").write_text("#usda 1.0\n")
+    (tmp_path / "p" / ".usdrender-lint.toml").write_text('fail-on = "never"\n')
+    (tmp_path / "p" / "r" / ".usdrender-lint.toml").write_text('fail-on = "never"\n')
+    status, shown, _ = _invoke(tmp_path, "--show-files", ".")
+    assert status == 0, shown
+    assert shown.splitlines() == ["./p/q/x.usda", "./p/r/x.usda", "./p/s/x.usda"]
+    assert shown.splitlines() == _reported(tmp_path, ".")

@@ -10,6 +10,7 @@ gives the same settings (``tests/running/test_show.py``).
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Mapping, Sequence
 from enum import Enum
 from typing import Any
@@ -38,6 +39,9 @@ def planned_files(request: Request) -> tuple[list[str], list[str]]:
     for part, found in configuration_parts(prepared, files) or [(prepared, files)]:
         targets, _plan = plan_targets(part, found)
         planned += targets
+    # In the order the report lists them (pipeline._joined), not part after part.
+    place = {os.path.normpath(file): index for index, file in enumerate(files)}
+    planned.sort(key=lambda file: place.get(os.path.normpath(file), len(place)))
     return planned, notes
 
 
