@@ -249,6 +249,11 @@ def _hint(key: str, value: Any, prefix: str) -> str:
             f" (this file holds the keys at the top level: drop the [tool.{TOOL_TABLE}] "
             "header, which only a pyproject.toml has)"
         )
+    if key == "lint" and isinstance(value, Mapping):
+        # ruff keeps its rule settings in a [lint] table
+        # (https://docs.astral.sh/ruff/settings/#lint): here there is none.
+        where = f"in [{prefix.rstrip('.')}] itself" if prefix else "at the top level"
+        return f" (ruff's [lint] table: here its keys are {where})"
     return unknown_key_hint(key)
 
 

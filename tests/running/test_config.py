@@ -347,6 +347,8 @@ ERRORS = [
         "unknown key 'tool' (this file holds the keys at the top level: drop the "
         "[tool.usdrender-lint] header",
     ),
+    # ruff's [lint] table, which has no counterpart here.
+    ('[lint]\nselect = ["SE003"]\n', "unknown key 'lint' (ruff's [lint] table: here its keys"),
 ]
 
 
@@ -524,3 +526,10 @@ def test_a_misspelt_table_is_an_error_not_the_defaults(project: Path, table: str
     assert error_line(check(project)).endswith(
         f"pyproject.toml: [tool.{table}] is not read: the table is [tool.usdrender-lint]"
     )
+
+
+def test_ruffs_lint_table_in_a_pyproject_says_where_its_keys_go(project) -> None:
+    _write(project, '[tool.usdrender-lint.lint]\nselect = ["SE003"]\n', "pyproject.toml")
+    line = error_line(check(project))
+    assert "unknown key 'tool.usdrender-lint.lint' (ruff's [lint] table: here its keys are " in line
+    assert "in [tool.usdrender-lint] itself)" in line
