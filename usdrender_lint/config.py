@@ -519,11 +519,15 @@ MAX_CONFIG_BYTES = 4 * 1024 * 1024
 _READ: contextvars.ContextVar[dict[str, bytes] | None] = contextvars.ContextVar(
     "usdrender_lint_config_read", default=None
 )
+#: Their TOML documents and texts, parsed once in the run.
+_PARSED: contextvars.ContextVar[dict[str, tuple[dict[str, Any], str]] | None] = (
+    contextvars.ContextVar("usdrender_lint_config_parsed", default=None)
+)
 
 
 @contextlib.contextmanager
 def reading_once() -> Iterator[None]:
-    """Within it, each configuration file is read once: a run's search for its
+    """Within it, each configuration file is read and parsed once: a run's search for its
     configuration, each walked folder's exclusions and each part of a split run
     ask for a nested configuration's file again (four to six reads of each).
     Scoped to one run (a check, a --show-files): a long-running host reads
@@ -531,10 +535,11 @@ def reading_once() -> Iterator[None]:
     if _READ.get() is not None:  # already inside one: the outer run's files
         yield
         return
-    token = _READ.set({})
+    token, parsed = _READ.set({}), _PARSED.set({})
     try:
         yield
     finally:
+        _PARSED.reset(parsed)
         _READ.reset(token)
 
 
@@ -584,7 +589,22 @@ def _load_toml(path: Path) -> dict[str, Any]:
 
 
 def _load_toml_text(path: Path) -> tuple[dict[str, Any], str]:
-    """The file's TOML document and its text (see :func:`_load_toml`)."""
+    """The file's TOML document and its text (see :func:`_load_toml`);
+    inside :func:`reading_once`, parsed only the first time (each caller
+    gets a copy of the document)."""
+    parsed = _PARSED.get()
+    if parsed is None:
+        return _parse_toml_file(path)
+    key = os.path.abspath(path)
+    if key not in parsed:
+        parsed[key] = _parse_toml_file(path)
+    document, text = parsed[key]
+    import copy  # only inside a run that reads a file twice
+
+    return copy.deepcopy(document), text
+
+
+def _parse_toml_file(path: Path) -> tuple[dict[str, Any], str]:
     import tomllib  # only when there is a file to read
 
     data = _read_config_bytes(path)

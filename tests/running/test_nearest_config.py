@@ -410,14 +410,28 @@ def test_a_run_reads_each_configuration_file_once(
     # The root's was read six times and each show's four in one check: the
     # search, each walked folder's exclusions and each part read them again.
     counts = _reads_of_configurations(monkeypatch, tree)
+    # and parsed once: tomllib.loads of each file's text
+    texts = {ROOT: ".usdrender-lint.toml", SHOW_A: "shows/a/.usdrender-lint.toml"}
+    texts[SHOW_B] = "shows/b/pyproject.toml"
+    parsed: dict[str, int] = {}
+    loads = tomllib.loads
+
+    def counting_loads(text: str, **kwargs):
+        if text in texts:
+            parsed[texts[text]] = parsed.get(texts[text], 0) + 1
+        return loads(text, **kwargs)
+
+    monkeypatch.setattr(tomllib, "loads", counting_loads)
     result = invoke_in(tree, *command, ".")
     # spec exits 2: the broken shots' lighting_wip.usda cannot be read.
     assert result.exit_code in (0, 1, 2) and "toml" not in result.stderr, result.output
-    assert counts == {
+    once = {
         ".usdrender-lint.toml": 1,
         "shows/a/.usdrender-lint.toml": 1,
         "shows/b/pyproject.toml": 1,
     }
+    assert counts == once
+    assert parsed == once
 
 
 def test_the_json_report_names_each_files_configuration(tree: Path, tmp_path: Path) -> None:
