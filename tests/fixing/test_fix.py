@@ -7,6 +7,8 @@ from __future__ import annotations
 import json
 import os
 import stat
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -175,6 +177,33 @@ def test_a_usd_keeps_its_encoding(tmp_path: Path, encoding: str) -> None:
     assert result.exit_code == 0, result.output
     assert shot.read_bytes().startswith(b"PXR-USDC") == (encoding == "usdc")
     assert value(shot) == "cropAperture"
+
+
+def _old_crate(path: Path) -> None:
+    """SHOT as a crate of version 0.7.0: Sdf reads the version new files get
+    once per process, so another process writes it."""
+    code = (
+        "import sys; from pxr import Sdf; layer = Sdf.Layer.CreateAnonymous('.usda'); "
+        "layer.ImportFromString(sys.argv[1]); layer.Export(sys.argv[2], args={'format': 'usdc'})"
+    )
+    env = dict(os.environ, USD_WRITE_NEW_USDC_FILES_AS_VERSION="0.7.0")
+    subprocess.run([sys.executable, "-c", code, SHOT, str(path)], env=env, check=True)
+
+
+@pytest.mark.parametrize("name", ["shot.usdc", "shot.usd"])
+def test_a_crate_keeps_its_version(tmp_path: Path, monkeypatch, name: str) -> None:
+    monkeypatch.setenv("PXR_USDC_EMIT_DEPRECATION_WARNINGS", "0")
+    crate = tmp_path / name
+    _old_crate(crate)
+    assert crate.read_bytes()[8:11] == bytes([0, 7, 0])
+    result, _ = check("--select", "SE006,SE007", "--fix", str(crate))
+    assert result.exit_code == 0, result.output
+    # An older USD, which reads 0.7.0 but not 0.8.0, still reads the fixed file.
+    assert crate.read_bytes()[8:11] == bytes([0, 7, 0])
+    assert value(crate) == "cropAperture"
+    stage = Usd.Stage.Open(str(crate))
+    shutter = stage.GetAttributeAtPath("/Render/Settings.instantaneousShutter")
+    assert not shutter.HasAuthoredValue()  # SE007's fix, a removal, is kept too
 
 
 def test_a_fix_keeps_the_file_permissions(tmp_path: Path) -> None:

@@ -213,9 +213,37 @@ def save_text(state: DiskState, text: str) -> None:
 
 def save_layer(layer: Sdf.Layer, state: DiskState) -> None:
     """Write ``layer`` over the file read as ``state`` through Sdf, in the file's
-    own encoding (a binary .usd stays binary)."""
+    own encoding (a binary .usd stays binary) and, for a crate, its version."""
+    if state.is_crate:
+        replace_file(state, lambda temporary: save_crate(layer, state.data, temporary))
+        return
     args = {"format": "usdc"} if Path(state.path).suffix.lower() == ".usd" else {}
     replace_file(state, lambda temporary: export(layer, str(temporary), args))
+
+
+def save_crate(layer: Sdf.Layer, original: bytes, path: Path) -> None:
+    """Write ``layer`` to ``path`` as a crate of the version ``original`` (the
+    file's bytes as read) has. Sdf writes a new crate file at the version
+    USD_WRITE_NEW_USDC_FILES_AS_VERSION says (0.8.0 by default, read once per
+    process), and keeps an existing file's version when it saves edits to it
+    (OpenUSD pxr/usd/sdf/crateFile.cpp, that setting's description): so the
+    original goes to ``path`` first, and ``layer``'s content is saved into it. A
+    fix that needs a newer version (a value type the old one lacks) still gets
+    it: Sdf upgrades the file as it saves."""
+    path.write_bytes(original)
+    try:
+        with Tf.DiagnosticTrap() as trap:
+            copy = Sdf.Layer.FindOrOpen(usd_path(str(path)))
+            ok = copy is not None and Sdf.CopySpec(
+                layer, Sdf.Path.absoluteRootPath, copy, Sdf.Path.absoluteRootPath
+            )
+            # What Sdf would write must be the layer, or the file gets an export.
+            ok = ok and copy.ExportToString() == layer.ExportToString() and copy.Save()
+            trap.Clear()
+    except Tf.ErrorException:
+        ok = False
+    if not ok:
+        export(layer, str(path), {"format": "usdc"})
 
 
 def save_new_layer(layer: Sdf.Layer, path: str) -> None:
