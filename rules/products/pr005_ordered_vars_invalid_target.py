@@ -7,9 +7,19 @@ from collections.abc import Callable, Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_targets, describe_prim_type, prim_values
+from usdrender_lint.api.resolve import Target, authored_targets, describe_prim_type, prim_values
 
 from .._aov import ordered_var_targets
+
+
+def _problem(target: Target) -> str | None:
+    """Why an orderedVars target is not a usable RenderVar (None: it is one)."""
+    if target.prim is None:
+        return target.problem
+    if not prim_values(target.prim).is_a(schemas.RenderVar):
+        reason = f"is {describe_prim_type(target.prim)}, not a RenderVar"
+        return f"{reason}, and {target.problem}" if target.problem else reason
+    return f"is a RenderVar but {target.problem}" if target.problem else None
 
 
 def _remove_target(rel_path: Sdf.Path, target: Sdf.Path) -> Callable[[Usd.Stage], None]:
@@ -83,6 +93,8 @@ class OrderedVarsInvalidTarget(Rule):
     Unsafe: the fix removes the bad target from `orderedVars` (when this
     relationship authors it rather than forwarding it), which changes the
     product's channel list; the author may instead have meant another path.
+    A product none of whose targets is a usable RenderVar gets no fix:
+    removing them would leave it with no RenderVars at all (PR004).
     """
 
     code = "PR005"
@@ -94,22 +106,19 @@ class OrderedVarsInvalidTarget(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         rel = prim_values(prim).relationship("orderedVars")
+        targets = ordered_var_targets(prim, ctx)
+        bad = [(target, _problem(target)) for target in targets]
+        # Removing the bad targets of a product without a good one would leave
+        # orderedVars empty: PR004's error, a product with no channel at all.
+        keeps_a_var = any(reason is None for _, reason in bad)
         authored = None  # the relationship's own targets, read for a bad target only
-        for target in ordered_var_targets(prim, ctx):
-            if target.prim is None:
-                reason = target.problem
-            elif not prim_values(target.prim).is_a(schemas.RenderVar):
-                reason = f"is {describe_prim_type(target.prim)}, not a RenderVar"
-                if target.problem:
-                    reason += f", and {target.problem}"
-            elif target.problem:
-                reason = f"is a RenderVar but {target.problem}"
-            else:
+        for target, reason in bad:
+            if reason is None:
                 continue
             fix = None
             if authored is None:
                 authored = set(authored_targets(rel))
-            if target.path in authored:
+            if keeps_a_var and target.path in authored:
                 fix = Fix(
                     description=f"remove <{target.path}> from orderedVars",
                     safe=False,

@@ -514,6 +514,18 @@ def test_fix_to_overrides_removed_targets_with_an_explicit_list(tmp_path: Path) 
             assert top_stage.GetRelationshipAtPath(path).GetTargets() == rel.GetTargets(), path
 
 
+def test_unsafe_fixes_leave_no_product_without_render_vars(tmp_path: Path) -> None:
+    # PR005's fix removed a product's only target: PR004, a product with no
+    # RenderVars, was left where there was none before.
+    fixture = FIXTURES / "PR005_ordered_vars_invalid_target" / "fail_no_usable_target.usda"
+    shot = write(tmp_path / "shot.usda", fixture.read_text(encoding="utf-8"))
+    _, before = check(str(shot))
+    result, document = check("--fix", "--unsafe-fixes", str(shot))
+    assert "PR004" not in codes(document), result.output
+    assert sorted(codes(document)) == sorted(codes(before))
+    assert shot.read_text(encoding="utf-8") == fixture.read_text(encoding="utf-8")
+
+
 def test_fix_to_carries_stage_metadata(tmp_path: Path) -> None:
     # renderSettingsPrimPath counts only in the root layer: the --fix-to layer is the new root.
     fixture = FIXTURES / "ST003_render_settings_path_missing" / "fail_unset.usda"
