@@ -450,3 +450,33 @@ def test_the_json_report_names_each_files_configuration(tree: Path, tmp_path: Pa
     assert merged.exit_code in (0, 1), merged.output
     again = {entry["file"]: entry["config_file"] for entry in json.loads(merged.stdout)["files"]}
     assert again == by_file
+
+
+def test_a_split_fix_reports_a_shared_layer_as_the_last_part_left_it(tmp_path: Path) -> None:
+    """Shows a and b compose one sublayer; a marks SE006 unfixable, b fixes it.
+    Each part had fixed and then linted in turn, so show a's report still had
+    the SE006 that b's part then fixed: a finding of no file, exit 1."""
+    common = tmp_path / "common"
+    common.mkdir()
+    (common / "base.usda").write_text(
+        '#usda 1.0\n\ndef Scope "Render"\n{\n    def RenderSettings "Settings"\n    {\n'
+        '        uniform token aspectRatioConformPolicy = "cropaperture"\n    }\n}\n'
+    )
+    configs = {"a": 'unfixable = ["SE006"]\n', "b": 'select = ["SE006"]\n'}
+    for show, config in configs.items():
+        (tmp_path / show).mkdir()
+        (tmp_path / show / ".usdrender-lint.toml").write_text(config)
+        (tmp_path / show / "shot.usda").write_text(
+            '#usda 1.0\n(\n    renderSettingsPrimPath = "/Render/Settings"\n'
+            "    subLayers = [@../common/base.usda@]\n)\n"
+        )
+
+    def se006(document: dict) -> list[str]:
+        return [r["file"] for r in document["files"] for f in r["findings"] if f["code"] == "SE006"]
+
+    _, before = _check(tmp_path, "a", "b")
+    assert se006(before) == ["a/shot.usda", "b/shot.usda"]
+    code, fixed = _check(tmp_path, "--fix", "a", "b")
+    assert '"cropAperture"' in (common / "base.usda").read_text()
+    assert se006(fixed) == []
+    assert code == 0

@@ -584,7 +584,13 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
             outcome = _run_files(prepared, files, notes)
         else:
             ahead = _lint_parts_together(parts, notes)
-            outcomes = [_run_files(part, found, [], ahead) for part, found in parts]
+            # Every part is checked, then fixed, before any is linted: a part's fix
+            # of a layer another part's stages compose (a shared sublayer) must not
+            # leave that part's report describing the layer as it was.
+            runs = [_plan_files(part, found, []) for part, found in parts]
+            for files_run in runs:
+                _fix_files(files_run)
+            outcomes = [_report_files(files_run, ahead) for files_run in runs]
             outcome = _joined(prepared, outcomes, files, notes)
     # The environment's problems (engine/plugins.py), known once the files are linted.
     return replace(outcome, notes=(*plugin_notes(), *outcome.notes))
@@ -702,6 +708,23 @@ def _joined(
     )
 
 
+@record
+class _FilesRun:
+    """One configuration's run of its files, between its phases: planned (the
+    request checked, the targets known), fixed, reported."""
+
+    prepared: Prepared
+    notes: list[str]
+    #: The baseline read (--baseline).
+    known: Counter | None
+    targets: Sequence[str]
+    plan: ContextPlan | None
+    #: ``check -``'s text, as its fixes leave it.
+    stdin: TextLayer | None
+    fixed: FixRun | None = None
+    fix_failed: tuple[FileResult, ...] = ()
+
+
 def _run_files(
     prepared: Prepared,
     files: Sequence[str],
@@ -710,6 +733,14 @@ def _run_files(
 ) -> Outcome:
     """The run of ``files`` (collected) with one configuration; ``ahead``: the
     results of files already linted (_lint_parts_together)."""
+    run = _plan_files(prepared, files, notes)
+    _fix_files(run)
+    return _report_files(run, ahead)
+
+
+def _plan_files(prepared: Prepared, files: Sequence[str], notes: list[str]) -> _FilesRun:
+    """Check the request and find the targets; raises RequestError before
+    anything is fixed."""
     request, settings = prepared.request, prepared.settings
     notes[:0] = unignorable_notes(prepared.registry, settings)
     known = _load_baseline(request)
@@ -718,13 +749,24 @@ def _run_files(
     refuse_outputs_on_inputs(request, settings, targets)
     # A text whose name force-exclude leaves out is neither linted nor fixed.
     stdin = request.stdin if targets else None
-    fixed: FixRun | None = None
-    fix_failed: tuple[FileResult, ...] = ()
-    if request.fix is not None and stdin is not None:
-        fixed, stdin = stdin.fix(prepared)  # nothing is written: the text is the output
+    return _FilesRun(prepared, notes, known, targets, plan, stdin)
+
+
+def _fix_files(run: _FilesRun) -> None:
+    """Apply (or, for --diff, compute) the fixes of the run's targets."""
+    prepared, request = run.prepared, run.prepared.request
+    if request.fix is not None and run.stdin is not None:
+        run.fixed, run.stdin = run.stdin.fix(prepared)  # nothing is written: the text is the output
     elif request.fix is not None and request.stdin is None:
-        fixed, fix_failed = _run_fixes(prepared, targets, plan)
-    report = _lint_targets(prepared, stdin, targets, fixed, fix_failed, notes, ahead or {})
+        run.fixed, run.fix_failed = _run_fixes(prepared, run.targets, run.plan)
+
+
+def _report_files(run: _FilesRun, ahead: Mapping[str, FileResult] | None = None) -> Outcome:
+    """Lint the targets (as the fixes left them) and make the run's outcome."""
+    prepared, notes, known, plan = run.prepared, run.notes, run.known, run.plan
+    request, settings = prepared.request, prepared.settings
+    stdin, fixed = run.stdin, run.fixed
+    report = _lint_targets(prepared, stdin, run.targets, fixed, run.fix_failed, notes, ahead or {})
     if plan is not None:
         report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
