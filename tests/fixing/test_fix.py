@@ -21,6 +21,7 @@ from usdrender_lint.api import Diagnostic, Fix, Rule, Severity
 from usdrender_lint.api.resolve import composed_value
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
+from usdrender_lint.fixing import session
 from usdrender_lint.fixing.diff import patch
 from usdrender_lint.layers import writing
 from usdrender_lint.layers.usda_text import comment_lines
@@ -852,6 +853,41 @@ def test_fixes_on_one_property_run_in_rounds_and_keep_each_other(tmp_path: Path)
     assert [o.applied for o in run.outcomes] == [True, True]
     attr = "/Render/Settings.includedPurposes"
     assert list(value(shot, attr)) == ["default", "render", "alpha", "beta"]
+
+
+class _ChainRule(Rule):
+    """A rule for the test: every RenderSettings wants a RenderSettings child,
+    so each fix reveals another finding and fixing never converges."""
+
+    code = "TF004"
+    name = "test-chain"
+    severity = Severity.ERROR
+    prim_types = (UsdRender.Settings,)
+    fix_safety = "safe"
+
+    def check_prim(self, prim, ctx):
+        if not prim.GetChildren():
+            child = prim.GetPath().AppendChild("Next")
+
+            def apply(stage: Usd.Stage) -> None:
+                UsdRender.Settings.Define(stage, child)
+
+            yield Diagnostic(
+                message="no child", at=prim, fix=Fix(description="add", safe=True, apply=apply)
+            )
+
+
+def test_fixes_that_never_converge_stop_at_the_limit_with_a_note(
+    tmp_path: Path, monkeypatch
+) -> None:
+    # Stopping was silent: the report showed one more fixable finding and no reason.
+    monkeypatch.setattr(session, "MIN_ATTEMPTS", 5)
+    monkeypatch.setattr(session, "MAX_ATTEMPTS_PER_FIX", 1)
+    shot = write(tmp_path / "shot.usda", SHOT)
+    run = fixer.fix_files(Linter([_ChainRule()]), [str(shot)], fixer.FixOptions())
+    assert len(run.applied) == 5
+    (note,) = run.notes
+    assert "fixing stopped after 5 fix attempts" in note and "TF004" in note
 
 
 def test_many_fixes_in_one_layer(tmp_path: Path) -> None:

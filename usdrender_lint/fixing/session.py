@@ -37,8 +37,9 @@ from ..records import record
 from .diff import merged, patch
 from .sources import Sources
 
-#: Fixes tried on one stage at most, per fix the first lint offers (a chain of
-#: fixes that reveal new findings ends there).
+#: Fixes tried on one stage at most, per fix the first lint offers, and never
+#: fewer than MIN_ATTEMPTS (a chain of fixes that reveal new findings ends
+#: there, with a note, as ruff stops after 100 passes that do not converge).
 MAX_ATTEMPTS_PER_FIX = 10
 MIN_ATTEMPTS = 100
 
@@ -239,7 +240,15 @@ class StageFixer:
             pairs = [(f, run.fix(f)) for f in run.findings]
             todo = [(f, x) for f, x in pairs if self._wanted(f, x) and _fix_key(f, x) not in tried]
             if budget is None:
-                budget = max(MIN_ATTEMPTS, MAX_ATTEMPTS_PER_FIX * len(todo))
+                budget = limit = max(MIN_ATTEMPTS, MAX_ATTEMPTS_PER_FIX * len(todo))
+            if todo and budget <= 0:
+                codes = ", ".join(sorted({finding.code for finding, _ in todo}))
+                self.result.notes.append(
+                    f"{display_path(self.path)}: fixing stopped after {limit} fix attempts, "
+                    f"as fixes kept revealing new findings (still offering a fix: {codes}); "
+                    "the report shows what remains; a fix that does not converge is a bug "
+                    "of its rule"
+                )
             if not todo or budget <= 0:
                 return list(run.findings)
             batch = self._round(todo, alone)
