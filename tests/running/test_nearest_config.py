@@ -452,24 +452,32 @@ def test_the_json_report_names_each_files_configuration(tree: Path, tmp_path: Pa
     assert again == by_file
 
 
-def test_a_split_fix_reports_a_shared_layer_as_the_last_part_left_it(tmp_path: Path) -> None:
-    """Shows a and b compose one sublayer; a marks SE006 unfixable, b fixes it.
-    Each part had fixed and then linted in turn, so show a's report still had
-    the SE006 that b's part then fixed: a finding of no file, exit 1."""
-    common = tmp_path / "common"
+def _shared_sublayer_shows(root: Path, configs: dict[str, str]) -> Path:
+    """A show per configuration, each a shot sublayering common/base.usda (an
+    SE006 in it); the common folder."""
+    common = root / "common"
     common.mkdir()
     (common / "base.usda").write_text(
         '#usda 1.0\n\ndef Scope "Render"\n{\n    def RenderSettings "Settings"\n    {\n'
         '        uniform token aspectRatioConformPolicy = "cropaperture"\n    }\n}\n'
     )
-    configs = {"a": 'unfixable = ["SE006"]\n', "b": 'select = ["SE006"]\n'}
     for show, config in configs.items():
-        (tmp_path / show).mkdir()
-        (tmp_path / show / ".usdrender-lint.toml").write_text(config)
-        (tmp_path / show / "shot.usda").write_text(
+        (root / show).mkdir()
+        (root / show / ".usdrender-lint.toml").write_text(config)
+        (root / show / "shot.usda").write_text(
             '#usda 1.0\n(\n    renderSettingsPrimPath = "/Render/Settings"\n'
             "    subLayers = [@../common/base.usda@]\n)\n"
         )
+    return common
+
+
+def test_a_split_fix_reports_a_shared_layer_as_the_last_part_left_it(tmp_path: Path) -> None:
+    """Shows a and b compose one sublayer; a marks SE006 unfixable, b fixes it.
+    Each part had fixed and then linted in turn, so show a's report still had
+    the SE006 that b's part then fixed: a finding of no file, exit 1."""
+    common = _shared_sublayer_shows(
+        tmp_path, {"a": 'unfixable = ["SE006"]\n', "b": 'select = ["SE006"]\n'}
+    )
 
     def se006(document: dict) -> list[str]:
         return [r["file"] for r in document["files"] for f in r["findings"] if f["code"] == "SE006"]
@@ -480,3 +488,14 @@ def test_a_split_fix_reports_a_shared_layer_as_the_last_part_left_it(tmp_path: P
     assert '"cropAperture"' in (common / "base.usda").read_text()
     assert se006(fixed) == []
     assert code == 0
+
+
+def test_a_split_diff_shows_a_shared_layer_once(tmp_path: Path) -> None:
+    """Shows a and b compose one sublayer and both fix its SE006: each part's
+    --diff had printed the same patch of it (the second copy does not apply)
+    and counted the fix again, where --fix writes it once."""
+    _shared_sublayer_shows(tmp_path, {"a": 'select = ["SE006"]\n', "b": 'select = ["SE006"]\n'})
+    result = invoke_in(tmp_path, "check", "--no-cache", "--jobs", "1", "--diff", "a", "b")
+    assert result.exit_code == 1, result.output
+    assert result.stdout.count("--- common/base.usda") == 1, result.stdout
+    assert result.stderr.splitlines() == ["usdrender-lint: --diff: 1 fix would be applied"]

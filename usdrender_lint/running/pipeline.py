@@ -590,6 +590,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
             runs = [_plan_files(part, found, []) for part, found in parts]
             for files_run in runs:
                 _fix_files(files_run)
+            _once_per_layer(runs)
             outcomes = [_report_files(files_run, ahead) for files_run in runs]
             outcome = _joined(prepared, outcomes, files, notes)
     # The environment's problems (engine/plugins.py), known once the files are linted.
@@ -723,6 +724,27 @@ class _FilesRun:
     stdin: TextLayer | None
     fixed: FixRun | None = None
     fix_failed: tuple[FileResult, ...] = ()
+
+
+def _once_per_layer(runs: Sequence[_FilesRun]) -> None:
+    """--diff over a split run's parts: one patch per layer and one fix per
+    edit, as over one part (FixRun.once_per_layer). Parts whose stages share a
+    layer each start from its file, so each showed the same patch of it (a
+    second copy does not apply) and counted its fix again; --fix writes it once."""
+    from ..fixing import FixRun
+
+    fixed = [run.fixed for run in runs if run.fixed is not None]
+    request = runs[0].prepared.request if runs else None
+    if len(fixed) < 2 or request is None or request.fix is None or request.fix.write:
+        return
+    joined = FixRun()
+    for part in fixed:
+        joined.extend(part)
+    joined.once_per_layer()
+    kept = {id(outcome) for outcome in joined.outcomes}
+    for index, part in enumerate(fixed):
+        part.outcomes[:] = [outcome for outcome in part.outcomes if id(outcome) in kept]
+        part.diffs[:] = joined.diffs if index == 0 else []
 
 
 def _run_files(
