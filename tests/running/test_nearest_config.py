@@ -499,3 +499,23 @@ def test_a_split_diff_shows_a_shared_layer_once(tmp_path: Path) -> None:
     assert result.exit_code == 1, result.output
     assert result.stdout.count("--- common/base.usda") == 1, result.stdout
     assert result.stderr.splitlines() == ["usdrender-lint: --diff: 1 fix would be applied"]
+
+
+def test_a_split_fix_lints_every_part_in_one_set_of_workers(tmp_path: Path, monkeypatch) -> None:
+    """Fixing ran each part's fixes and then its lint, one part after another,
+    each lint with workers of its own (about 200 ms a configuration past the
+    first, measured): now every part is fixed, then all are linted together."""
+    from usdrender_lint.running import pipeline
+
+    _shared_sublayer_shows(tmp_path, {"a": 'select = ["SE006"]\n', "b": 'select = ["SE006"]\n'})
+    asked: list[list[str]] = []
+    lint_as_asked = pipeline.lint_as_asked
+
+    def counted(execution, files, *args):
+        asked.append(list(files))
+        return lint_as_asked(execution, files, *args)
+
+    monkeypatch.setattr(pipeline, "lint_as_asked", counted)
+    result = invoke_in(tmp_path, "check", "--no-cache", "--jobs", "2", "--fix", "a", "b")
+    assert result.exit_code == 0, result.output
+    assert asked == [["a/shot.usda", "b/shot.usda"]]

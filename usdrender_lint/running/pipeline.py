@@ -583,7 +583,6 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
         if parts is None:
             outcome = _run_files(prepared, files, notes)
         else:
-            ahead = _lint_parts_together(parts, notes)
             # Every part is checked, then fixed, before any is linted: a part's fix
             # of a layer another part's stages compose (a shared sublayer) must not
             # leave that part's report describing the layer as it was.
@@ -591,29 +590,30 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
             for files_run in runs:
                 _fix_files(files_run)
             _once_per_layer(runs)
+            ahead = _lint_parts_together(runs, notes)
             outcomes = [_report_files(files_run, ahead) for files_run in runs]
             outcome = _joined(prepared, outcomes, files, notes)
     # The environment's problems (engine/plugins.py), known once the files are linted.
     return replace(outcome, notes=(*plugin_notes(), *outcome.notes))
 
 
-def _lint_parts_together(
-    parts: Sequence[tuple[Prepared, list[str]]], notes: list[str]
-) -> dict[str, FileResult]:
-    """The files of a split run's parts linted by one set of workers, each file
-    with its own configuration's linter (workers of their own cost about 40 ms
-    a configuration: benchmarks/run.py --only configs); the results each
-    part's run then reports. Empty where a part lints otherwise: fixing first,
-    or inside the stages its ``roots`` name."""
-    request = parts[0][0].request
-    roots = any(part.settings.roots and request.use_roots for part, _ in parts)
-    if request.fix is not None or roots:
+def _lint_parts_together(runs: Sequence[_FilesRun], notes: list[str]) -> dict[str, FileResult]:
+    """The files of a split run's parts, as their fixes left them, linted by one
+    set of workers, each file with its own configuration's linter (workers of
+    their own cost about 40 ms a configuration: benchmarks/run.py --only
+    configs, and a part's own fixing worker as much again); the results each
+    part's run then reports. Empty where a part lints otherwise: inside the
+    stages its ``roots`` name, or --fix-to's stage with the overrides. A stage
+    whose fixing ran out of time is not linted again."""
+    request = runs[0].prepared.request
+    roots = any(run.prepared.settings.roots and request.use_roots for run in runs)
+    if roots or (request.fix is not None and request.fix.fix_to):
         return {}
     jobs = []
-    for part, found in parts:
-        targets, _plan = plan_targets(part, found)
-        refuse_outputs_on_inputs(part.request, part.settings, targets)  # before any lint
-        jobs.append((part, targets, _open_cache(part, notes)))
+    for run in runs:
+        failed = {result.file for result in run.fix_failed}
+        targets = [target for target in run.targets if target not in failed]
+        jobs.append((run.prepared, targets, _open_cache(run.prepared, notes)))
     return _lint_together(request, jobs)
 
 
