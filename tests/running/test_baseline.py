@@ -112,6 +112,31 @@ def test_new_findings_still_fail(shot, tmp_path) -> None:
     assert paths == ["/Render/Second.dataWindowNDC"]
 
 
+@pytest.mark.parametrize("timeout", ["0", "60"])  # fixed in this process, or in a worker
+def test_fixes_leave_the_findings_the_baseline_records(shot, tmp_path, timeout) -> None:
+    """A baseline accepts its findings as they are: --fix and --diff leave them,
+    as ruff leaves a noqa'd diagnostic, and fix (or show) only the new ones."""
+    baseline = tmp_path / "baseline.json"
+    check("--write-baseline", str(baseline), str(shot))
+    given = ("--baseline", str(baseline), "--unsafe-fixes", "--timeout", timeout, str(shot))
+
+    nothing_new = check("--diff", *given)
+    assert (nothing_new.exit_code, nothing_new.stdout) == (0, ""), nothing_new.output
+    assert check("--fix", *given).exit_code == 0
+    assert shot.read_text(encoding="utf-8") == SHOT
+
+    shot.write_text(SHOT_WITH_NEW_PROBLEM, encoding="utf-8")
+    pending = check("--diff", *given)
+    assert pending.exit_code == 1, pending.output
+    assert "-        uniform float4 dataWindowNDC = (0.9, 0, 0.1, 1)" in pending.stdout
+    assert "(0.8, 0, 0.2, 1)" not in pending.stdout
+    fixed = check("--fix", *given)
+    assert fixed.exit_code == 0, fixed.output
+    assert "no longer occur" not in fixed.stderr
+    text = shot.read_text(encoding="utf-8")
+    assert "(0.8, 0, 0.2, 1)" in text and "(0.1, 0, 0.9, 1)" in text
+
+
 def test_paths_are_relative_to_the_baseline_folder(shot, tmp_path) -> None:
     baseline = tmp_path / "baseline.json"
     check("--write-baseline", str(baseline), str(shot))

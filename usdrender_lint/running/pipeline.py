@@ -13,6 +13,7 @@ import os
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import replace
+from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -530,12 +531,35 @@ class Prepared:
         )
 
     def is_reported(self, finding: Finding) -> bool:
-        """Whether a finding reaches the report (per-path ignores) and may be
-        fixed (not an ``unfixable`` rule's)."""
-        if finding.code in self.unfixable:
+        """Whether a finding reaches the report (per-path ignores, the baseline)
+        and may be fixed (not an ``unfixable`` rule's). A finding the baseline
+        records is accepted as it is: --fix and --diff leave it, as ruff fixes
+        no diagnostic a ``noqa`` hides and clang-tidy none ``NOLINT`` hides (and
+        ESLint's RFC 146 for its suppressions file). Of several findings of one
+        fingerprint, none is fixed while the baseline records any."""
+        if finding.code in self.unfixable or self._known(finding):
             return False
         alone = Report((FileResult(finding.location.file, findings=(finding,)),))
         return bool(self.finish(alone).findings)
+
+    def _known(self, finding: Finding) -> bool:
+        if self._baseline is None:
+            return False
+        from .baseline import fingerprint
+
+        known, base_dir = self._baseline
+        return known[fingerprint(finding, base_dir)] > 0
+
+    @cached_property
+    def _baseline(self) -> tuple[Counter, Path] | None:
+        """The --baseline's fingerprint counts and the folder its paths are
+        relative to (None without one)."""
+        request = self.request
+        if not request.baseline or request.write_baseline:
+            return None
+        known = _load_baseline(request)
+        assert known is not None
+        return known, Path(request.baseline).resolve().parent
 
     @property
     def unfixable(self) -> set[str]:
