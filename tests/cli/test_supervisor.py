@@ -13,6 +13,7 @@ import sys
 import time
 from pathlib import Path
 
+import click
 import pytest
 from cli_support import (
     BROKEN,
@@ -43,12 +44,44 @@ pytestmark = pytest.mark.skipif(
         (["check", "--diff", "shot.usda"], False),
         (["check", "--fix-to=out.usda", "shot.usda"], False),
         (["check", "--write-baseline", "b.json", "shot.usda"], False),
+        # '-' is --output's value (stdout), not standard input's text to fix.
+        (["check", "--fix", "--output", "-", "shot.usda"], False),
+        (["check", "--", "--fix"], True),  # a file named --fix
         (["rules"], False),
         (["explain", "CA004"], False),
     ],
 )
 def test_only_a_check_that_writes_nothing_is_supervised(argv: list[str], supervised: bool) -> None:
     assert wants_supervision(argv) is supervised
+
+
+@pytest.mark.parametrize("name", ["check", "spec"])
+def test_the_options_that_take_a_value_are_the_commands(name: str) -> None:
+    """The supervisor tells a path from an option's value before click is imported."""
+    from usdrender_lint.cli import cli
+
+    params = cli.commands[name].params
+    taking = {o for p in params if isinstance(p, click.Option) and not p.is_flag for o in p.opts}
+    assert taking <= supervisor.VALUE_OPTIONS
+
+
+def test_an_output_to_stdout_does_not_wait_for_standard_input(tmp_path: Path) -> None:
+    """``--output -`` names stdout: the check lints its file and ends while
+    standard input (a pipe nobody closes, as a CI runner's) stays open."""
+    read, write = os.pipe()
+    try:
+        run = subprocess.run(
+            command("check", "--isolated", "--output", "-", str(BROKEN)),
+            stdin=read,
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    finally:
+        os.close(read)
+        os.close(write)
+    assert run.returncode == 1, run.stderr
+    assert "SE003" in run.stdout
 
 
 def test_no_module_global_or_environment_variable_steers_it(

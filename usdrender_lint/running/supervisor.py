@@ -26,6 +26,17 @@ SUPERVISED_COMMANDS = ("check", "spec")
 WRITING_OPTIONS = ("--fix", "--unsafe-fixes", "--unsafe", "--diff", "--fix-to", "--write-baseline")
 #: What fixes standard input's text (``check --fix -``) writes: stdout alone.
 STDOUT_FIXES = ("--fix", "--unsafe-fixes", "--unsafe", "--diff")
+#: The options of ``check`` and ``spec`` that take a value, the next word unless
+#: given as ``--opt=value`` (tests/cli/test_supervisor.py checks them against the
+#: commands'): a value such as ``--output -`` is not a path, and ``-`` not stdin.
+VALUE_OPTIONS = frozenset(
+    (
+        *("--baseline", "--cache-dir", "--config", "--exclude", "--extend-exclude"),
+        *("--extend-select", "--fail-on", "--fix-to", "--format", "--ignore", "--jobs", "-j"),
+        *("--max-variant-combinations", "--output", "--profile", "--select", "--settings"),
+        *("--shard", "--stdin-filename", "--time", "--timeout", "--write-baseline"),
+    )
+)
 STOP_GRACE = 2.0  # seconds a stopped child has to clean up before it is killed
 STACK_WAIT = 0.5  # seconds a timed-out child has to write its stack (stalls.py)
 DONE = b"done"  # what the child says as Python exits
@@ -98,8 +109,9 @@ def wants_supervision(argv: list[str]) -> bool:
         return False  # the group has no option taking a value: its first word is the command
     if "--watch" in argv:
         return False  # it runs until stopped: each round's workers time their files
-    writing = {arg.split("=", 1)[0] for arg in argv} & set(WRITING_OPTIONS)
-    if "-" in argv[1:]:  # standard_input.STDIN: its fixes write nothing but stdout
+    paths, options = parse_arguments(argv[1:])
+    writing = options & set(WRITING_OPTIONS)
+    if lints_standard_input(paths, options):  # its fixes write nothing but stdout
         writing -= set(STDOUT_FIXES)
     return not writing
 
@@ -107,7 +119,36 @@ def wants_supervision(argv: list[str]) -> bool:
 def reads_standard_input(argv: list[str]) -> bool:
     """``check -`` (a layer's text on standard input), when it is not a terminal
     (the command says so, with no wait for a text that will not come)."""
-    return argv[:1] == ["check"] and "-" in argv[1:] and not os.isatty(0)
+    return (
+        argv[:1] == ["check"]
+        and lints_standard_input(*parse_arguments(argv[1:]))
+        and (not os.isatty(0))
+    )
+
+
+def lints_standard_input(paths: list[str], options: set[str]) -> bool:
+    """Whether a ``check`` of these paths and options lints standard input's text."""
+    return "-" in paths
+
+
+def parse_arguments(words: list[str]) -> tuple[list[str], set[str]]:
+    """The paths and the option names among a command's words, as click tells
+    them apart: an option in VALUE_OPTIONS takes the next word, and ``--`` ends
+    the options."""
+    paths: list[str] = []
+    options: set[str] = set()
+    rest = iter(words)
+    for word in rest:
+        if word == "--":
+            paths.extend(rest)
+        elif word.startswith("-") and word != "-":
+            name, given, _ = word.partition("=")
+            options.add(name)
+            if name in VALUE_OPTIONS and not given:
+                next(rest, None)
+        else:
+            paths.append(word)
+    return paths, options
 
 
 def _read_all(fd: int) -> bytes:
