@@ -123,6 +123,17 @@ def test_the_supervised_command_reports_a_text_as_its_file(path: Path) -> None:
     )
 
 
+@pytest.mark.parametrize("fixing", [(), ("--diff",)])
+def test_stdin_filename_with_no_path_reads_standard_input(fixing: tuple[str, ...]) -> None:
+    """As ruff reads it: ``--stdin-filename NAME`` alone is ``- --stdin-filename NAME``."""
+    path = REPO / "examples" / "broken_shot" / "shot.usda"
+    name = str(path.relative_to(REPO))
+    alone = _command(*fixing, "--stdin-filename", name, stdin=path.read_bytes())
+    dash = _command(*fixing, "-", "--stdin-filename", name, stdin=path.read_bytes())
+    assert (alone.returncode, alone.stdout, alone.stderr) == (1, dash.stdout, dash.stderr)
+    assert alone.stdout.startswith(b"--- " if fixing else name.encode() + b":")
+
+
 def test_a_text_with_no_name_is_reported_as_standard_input() -> None:
     shot = REPO / "examples" / "broken_shot" / "shot.usda"
     done = _command("-", stdin=shot.read_bytes())
@@ -206,7 +217,7 @@ def test_relative_asset_paths_and_the_configuration_are_found_from_its_name(
             "s.usda:SDF_FORMAT_ARGS:a=b: holds file format arguments",
         ),
         (("-", "examples/clean_shot/shot.usda"), b"#usda 1.0\n", "is linted alone"),
-        (("--stdin-filename", "s.usda", "examples"), b"", "add '-'"),
+        (("--stdin-filename", "s.usda", "examples"), b"", "give '-' or no path, not 'examples'"),
         (("--fix-to", "o.usda", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to"),
         (("--shard", "1/2", "-"), b"#usda 1.0\n", "cannot be combined with --fix-to or --shard"),
         (("--format", "html", "-"), b"#usda 1.0\n", "cannot be combined with --format html"),
@@ -223,15 +234,21 @@ def test_what_cannot_be_linted_from_standard_input_says_why(
     assert done.stdout == b""
 
 
-def test_a_terminal_on_standard_input_is_refused_at_once() -> None:
+@pytest.mark.parametrize(
+    ("given", "how"),
+    [(("-",), "'-'"), (("--stdin-filename", "s.usda"), "'--stdin-filename s.usda'")],
+)
+def test_a_terminal_on_standard_input_is_refused_at_once(given: tuple[str, ...], how: str) -> None:
     leader, follower = pty.openpty()
     try:
-        done = _command("-", stdin=follower)
+        done = _command(*given, stdin=follower)
     finally:
         os.close(leader)
         os.close(follower)
     assert done.returncode == 2
-    assert b"standard input, which is a terminal" in done.stderr
+    assert f"{how} reads a text layer from standard input, which is a terminal".encode() in (
+        done.stderr
+    )
 
 
 def test_decode_reads_utf8_text_and_refuses_the_rest() -> None:
@@ -245,6 +262,8 @@ def test_only_a_check_of_dash_reads_standard_input_before_the_fork() -> None:
     assert reads_standard_input(["check", "-"]) is not os.isatty(0)
     assert not reads_standard_input(["check", "shot.usda"])
     assert not reads_standard_input(["spec", "-"])
+    assert reads_standard_input(["check", "--stdin-filename", "s.usda"]) is not os.isatty(0)
+    assert not reads_standard_input(["check", "--stdin-filename", "s.usda", "shot.usda"])
 
 
 def _prepared():

@@ -99,7 +99,7 @@ if TYPE_CHECKING:
 @click.option(
     "--stdin-filename",
     metavar="PATH",
-    help="With '-' (a text layer on standard input): the path it stands for, which "
+    help="With '-' or no path (a text layer on standard input): the path it stands for, which "
     "resolves its relative asset paths, finds its configuration and names it in the report.",
 )
 @click.option(
@@ -177,9 +177,9 @@ def check(
     check_stopped()  # a signal while USD imported its modules
     from ..running.pipeline import Request
 
+    stdin = _standard_input(paths, stdin_filename)
     # No path: the working directory, as ruff checks it and as clean cleans it.
     paths = paths or (".",)
-    stdin = _standard_input(paths, stdin_filename)
     if stdin is not None and output_format in ("html", "full"):
         # Their source lines (and html's fix diffs and pictures) are read from the files on disk.
         raise ToolError(
@@ -396,13 +396,22 @@ def _show(request: Request, files: bool, settings: bool) -> None:
 
 
 def _standard_input(paths: tuple[str, ...], name: str | None) -> StandardInput | None:
-    """``check -``: the text on standard input (read by the supervisor before its
-    fork, when it supervises), as the layer ``name`` stands for."""
+    """``check -`` or, as ruff reads it, ``check --stdin-filename NAME`` with no
+    path: the text on standard input (read by the supervisor before its fork,
+    when it supervises), as the layer ``name`` stands for."""
     if "-" not in paths:  # standard_input.STDIN, not imported by a check of files
-        if name is not None:
-            raise ToolError("--stdin-filename names the layer read from standard input: add '-'")
-        return None
+        if name is None:
+            return None
+        if paths:
+            # ruff lints standard input instead, with a warning: a gate would pass on
+            # a text nobody meant to lint.
+            raise ToolError(
+                "--stdin-filename names the layer read from standard input: give '-' "
+                f"or no path, not {', '.join(map(repr, paths[:3]))}"
+            )
     from ..running.standard_input import STDIN, StandardInputError, decode
+
+    how = "-" if paths else f"--stdin-filename {name}"
 
     if len(paths) > 1:
         raise ToolError("'-' (a layer on standard input) is linted alone: give no other paths")
@@ -411,8 +420,8 @@ def _standard_input(paths: tuple[str, ...], name: str | None) -> StandardInput |
     if data is None:
         if sys.stdin is None or sys.stdin.isatty():
             raise ToolError(
-                "'-' reads a text layer from standard input, which is a terminal: pipe one in "
-                "(usdrender-lint check - < shot.usda)"
+                f"'{how}' reads a text layer from standard input, which is a terminal: pipe one "
+                f"in (usdrender-lint check {how} < shot.usda)"
             )
         data = sys.stdin.buffer.read()
     try:

@@ -127,8 +127,9 @@ def reads_standard_input(argv: list[str]) -> bool:
 
 
 def lints_standard_input(paths: list[str], options: set[str]) -> bool:
-    """Whether a ``check`` of these paths and options lints standard input's text."""
-    return "-" in paths
+    """Whether a ``check`` of these paths and options lints standard input's text:
+    ``-`` alone, or no path with ``--stdin-filename`` (as ruff reads it then)."""
+    return paths == ["-"] or (not paths and "--stdin-filename" in options)
 
 
 def parse_arguments(words: list[str]) -> tuple[list[str], set[str]]:
