@@ -41,6 +41,17 @@ def display_path(path: str | None, base: str | None = None) -> str:
     return absolute[len(prefix) :] if absolute.startswith(prefix) else path
 
 
+def tidy(path: str) -> str:
+    """``path`` without its ``.`` components and repeated separators
+    (``./shots//a.usda``: ``shots/a.usda``), as ruff names the files of
+    ``ruff check .``. ``..`` stays: through a symbolic link it is not the
+    parent's parent."""
+    if os.sep + "." not in os.sep + path and os.sep * 2 not in path:
+        return path
+    root = os.sep if path.startswith(os.sep) else ""
+    return root + os.sep.join(p for p in path.split(os.sep) if p not in ("", ".")) or "."
+
+
 def repository_root() -> str | None:
     """The root of the Git work tree the working directory is in (the nearest
     folder up holding ``.git``), or None outside one: what code scanning and

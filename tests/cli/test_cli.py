@@ -60,7 +60,28 @@ def test_check_without_paths_lints_the_working_directory(tmp_path: Path) -> None
     dot = invoke_in(tmp_path, "check", "--no-cache", "--format", "json", ".")
     assert (bare.exit_code, bare.stderr) == (1, ""), bare.output
     assert bare.stdout == dot.stdout
-    assert [f["file"] for f in json.loads(bare.stdout)["files"]] == ["./shots/shot.usda"]
+    assert [f["file"] for f in json.loads(bare.stdout)["files"]] == ["shots/shot.usda"]
+
+
+def test_every_format_names_the_files_of_a_walk_as_given_alone(tmp_path: Path) -> None:
+    """As ruff names them: ``check .`` and ``check ./shots//`` report ``shots/shot.usda``,
+    in every format, as ``check shots/shot.usda`` does; an absolute path stays absolute."""
+    from cli_support import BROKEN, invoke_in
+
+    from usdrender_lint.formatters import available_formatters
+
+    (tmp_path / "shots").mkdir()
+    shot = tmp_path / "shots" / "shot.usda"
+    shot.write_text(BROKEN.read_text())
+    for report_format in sorted(available_formatters()):
+        given = ["check", "--isolated", "--no-cache", "--format", report_format]
+        named = invoke_in(tmp_path, *given, "shots/shot.usda")
+        for path in (".", "./shots//", "./shots/./shot.usda"):
+            walked = invoke_in(tmp_path, *given, path)
+            assert walked.exit_code == 1, walked.output
+            assert walked.stdout == named.stdout, (report_format, path)
+    absolute = invoke_in(tmp_path, "check", "--isolated", "--format", "json", str(shot))
+    assert json.loads(absolute.stdout)["files"][0]["file"] == str(shot)
 
 
 def test_missing_path_exits_2_and_still_lints_the_others(tmp_path: Path) -> None:

@@ -150,11 +150,11 @@ def test_check_of_a_clone_lints_only_its_files(tmp_path: Path, monkeypatch) -> N
     monkeypatch.chdir(tmp_path)
     result = CliRunner().invoke(cli, ["check", "--no-cache", "--format", "json", "."])
     assert result.exit_code == 0, result.output
-    assert [f["file"] for f in json.loads(result.stdout)["files"]] == ["./shot.usda"]
+    assert [f["file"] for f in json.loads(result.stdout)["files"]] == ["shot.usda"]
     flag = CliRunner().invoke(
         cli, ["check", "--isolated", "--no-cache", "--format", "json", "--exclude", "shot*", "."]
     )
-    assert sorted(f["file"] for f in json.loads(flag.stdout)["files"]) == ["./old/o.usda"]
+    assert sorted(f["file"] for f in json.loads(flag.stdout)["files"]) == ["old/o.usda"]
 
 
 @pytest.mark.parametrize("key", ["exclude", "extend-exclude"])

@@ -123,6 +123,17 @@ def test_the_supervised_command_reports_a_text_as_its_file(path: Path) -> None:
     )
 
 
+def test_a_text_named_with_dots_is_reported_as_the_file_so_named() -> None:
+    """``--stdin-filename ./shots//a.usda`` names the text as ``check ./shots//a.usda``
+    names the file: shots/a.usda, in every format."""
+    path = REPO / "examples" / "broken_shot" / "shot.usda"
+    dotted = "./" + str(path.relative_to(REPO)).replace("/", "//", 1)
+    as_file = _command("--format", "json", dotted)
+    as_text = _command("--format", "json", "-", "--stdin-filename", dotted, stdin=path.read_bytes())
+    assert (as_text.returncode, as_text.stdout) == (as_file.returncode, as_file.stdout)
+    assert b'"file": "examples/broken_shot/shot.usda"' in as_text.stdout
+
+
 @pytest.mark.parametrize("fixing", [(), ("--diff",)])
 def test_stdin_filename_with_no_path_reads_standard_input(fixing: tuple[str, ...]) -> None:
     """As ruff reads it: ``--stdin-filename NAME`` alone is ``- --stdin-filename NAME``."""

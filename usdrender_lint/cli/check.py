@@ -12,7 +12,7 @@ import click
 
 from .. import __version__
 from ..formatters import FormatOptions, load_formatter, reads_configuration, reads_rules
-from ..paths import display_path, escape
+from ..paths import display_path, escape, tidy
 from ..records import record
 from ..running.interrupts import check_stopped
 from .loading import import_engine, registry, supervision
@@ -424,6 +424,8 @@ def _standard_input(paths: tuple[str, ...], name: str | None) -> StandardInput |
                 f"in (usdrender-lint check {how} < shot.usda)"
             )
         data = sys.stdin.buffer.read()
+    # Named as check names the file itself: ./shots//a.usda is shots/a.usda.
+    name = tidy(name) if name is not None else None
     try:
         return decode(data, name or STDIN)
     except StandardInputError as exc:

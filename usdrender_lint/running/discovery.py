@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
 from ..engine import USD_EXTENSIONS
+from ..paths import tidy
 from ..records import record
 from .globs import expand_all
 
@@ -93,7 +94,8 @@ def collect_files(
         key = _same_file_key(f)
         if key not in seen:
             seen.add(key)
-            unique.append(f)
+            # Every report names the file so (text, JSON, SARIF...): `check .` gives x.usda.
+            unique.append(tidy(f))
     return unique
 
 
