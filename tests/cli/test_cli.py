@@ -84,6 +84,25 @@ def test_every_format_names_the_files_of_a_walk_as_given_alone(tmp_path: Path) -
     assert json.loads(absolute.stdout)["files"][0]["file"] == str(shot)
 
 
+def test_the_hooks_files_named_like_options_are_paths(tmp_path: Path) -> None:
+    """``check --pre-commit ARGS FILES`` (the pre-commit hooks' entry, the user's
+    args, the staged files): a staged ``-x.usda`` is a path, the args options."""
+    from cli_support import BROKEN, invoke_in
+
+    (tmp_path / "-x.usda").write_text(BROKEN.read_text())
+    (tmp_path / "--fix.usda").write_text(BROKEN.read_text())
+    args = ["check", "--isolated", "--no-cache", "--format", "json", "--pre-commit"]
+    done = invoke_in(tmp_path, *args, "--select", "SE003", "-x.usda", "--fix.usda")
+    assert done.exit_code == 1, done.output
+    files = json.loads(done.stdout)["files"]
+    assert [f["file"] for f in files] == ["-x.usda", "--fix.usda"]
+    assert {x["code"] for f in files for x in f["findings"]} == {"SE003"}
+    assert (tmp_path / "--fix.usda").read_text() == BROKEN.read_text()
+    # Without the hooks' flag, a name that starts with '-' is an option, as for any command.
+    alone = invoke_in(tmp_path, "check", "--isolated", "-x.usda")
+    assert alone.exit_code == 2 and "No such option" in alone.output
+
+
 def test_missing_path_exits_2_and_still_lints_the_others(tmp_path: Path) -> None:
     missing = tmp_path / "nope.usda"
     result = run("--format", "json", str(missing), str(BROKEN))

@@ -149,7 +149,7 @@ def _target_repo(root: Path, committed: dict[str, str], staged: dict[str, str]) 
             (root / name).parent.mkdir(parents=True, exist_ok=True)
             (root / name).write_text(text, encoding="utf-8")
         if files:
-            _git(root, "add", *files)
+            _git(root, "add", "--", *files)
         if files is committed and files:
             _git(root, "commit", "-q", "-m", "before")
     return root
@@ -170,13 +170,16 @@ def _pre_commit(target: Path, home: Path, *args: str) -> subprocess.CompletedPro
 
 
 def _run_sample_config(
-    target: Path, hook_repo: Path, home: Path, hook_id: str = HOOK_ID
+    target: Path, hook_repo: Path, home: Path, hook_id: str = HOOK_ID, args: list[str] | None = None
 ) -> subprocess.CompletedProcess:
     """``pre-commit run`` with the sample config (the rev it documents), its repo
-    pointed at ``hook_repo`` and its hook ``hook_id``."""
+    pointed at ``hook_repo`` and its hook ``hook_id`` (with the user's ``args``)."""
     sample = yaml.safe_load((REPO / "examples" / ".pre-commit-config.yaml").read_text())
     [entry] = sample["repos"]
-    entry.update(repo=str(hook_repo), hooks=[{"id": hook_id}])
+    hook: dict[str, object] = {"id": hook_id}
+    if args is not None:
+        hook["args"] = args
+    entry.update(repo=str(hook_repo), hooks=[hook])
     config = target.parent / f"{target.name}-pre-commit-config.yaml"
     config.write_text(yaml.safe_dump(sample), encoding="utf-8")
     return _pre_commit(target, home, "run", "--config", str(config))
@@ -201,10 +204,14 @@ def test_the_manifest_and_the_sample_config_are_valid() -> None:
 def test_the_hooks_match_every_usd_extension_and_nothing_else() -> None:
     hooks = yaml.safe_load((REPO / ".pre-commit-hooks.yaml").read_text())
     assert [(h["id"], h["entry"], h["language"]) for h in hooks] == [
-        (HOOK_ID, "usdrender-lint check --force-exclude", "python"),
-        (FIX_HOOK_ID, "usdrender-lint check --force-exclude --fix", "python"),
+        (HOOK_ID, "usdrender-lint check --force-exclude --pre-commit", "python"),
+        (FIX_HOOK_ID, "usdrender-lint check --force-exclude --pre-commit --fix", "python"),
     ]
     assert hooks[0]["files"] == hooks[1]["files"]
+    # check --pre-commit reads the staged files by the same pattern.
+    from usdrender_lint.cli.check import _HOOK_FILES
+
+    assert _HOOK_FILES.pattern == hooks[0]["files"]
     pattern = re.compile(hooks[0]["files"])  # pre-commit matches with re.search
     matched = {n for n in ("a.usd", "a.usda", "a.usdc", "a.usdz", "B.USDA") if pattern.search(n)}
     assert matched == {"a.usd", "a.usda", "a.usdc", "a.usdz", "B.USDA"}
@@ -277,6 +284,19 @@ def test_the_hooks_leave_out_what_the_configuration_excludes(
     _git(target, "add", "-A")  # pre-commit stashes what is not staged
     again = _run_sample_config(target, hook_repo, pre_commit_home)
     assert again.returncode == 1 and "SE003" in again.stdout, again.stdout + again.stderr
+
+
+def test_a_staged_file_named_like_an_option_is_linted_with_the_users_args(
+    tmp_path: Path, hook_repo: Path, pre_commit_home: Path
+) -> None:
+    """pre-commit appends the staged files after the user's args, with no ``--``:
+    ``-x.usda`` is a file all the same, and the args still apply."""
+    target = _target_repo(tmp_path / "assets", {}, {"-x.usda": BROKEN, "--fix.usda": CLEAN})
+    run = _run_sample_config(target, hook_repo, pre_commit_home, args=["--select", "SE003"])
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert "-x.usda:6: error SE003" in run.stdout, run.stdout
+    assert "1 finding in 2 files" in run.stdout, run.stdout
+    assert (target / "-x.usda").read_text(encoding="utf-8") == BROKEN  # not --fix'ed
 
 
 def test_the_fix_hook_fixes_the_staged_layer_and_then_passes(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -36,7 +37,42 @@ if TYPE_CHECKING:
     from ..running.standard_input import StandardInput
 
 
-@click.command()
+#: The names pre-commit hands the hooks (.pre-commit-hooks.yaml's ``files``).
+_HOOK_FILES = re.compile(r"(?i)\.usd[acz]?$")
+#: The hooks' entry says so: the command is run by pre-commit.
+PRE_COMMIT_FLAG = "--pre-commit"
+
+
+class _Check(click.Command):
+    """``check``; run by the pre-commit hooks (PRE_COMMIT_FLAG), a staged file
+    whose name starts with ``-`` is a path, not an option."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        if PRE_COMMIT_FLAG in args[: args.index("--") if "--" in args else None]:
+            args = staged_files_as_paths(args)
+        return super().parse_args(ctx, args)
+
+
+def staged_files_as_paths(args: list[str]) -> list[str]:
+    """pre-commit runs the hook's entry, the user's ``args``, then the staged
+    files, with no ``--`` between (it adds none, and one in the entry or the
+    args would make the user's args paths): a file named ``-x.usda`` would be
+    read as options. The files are the words at the end that name existing USD
+    files; those that start with ``-`` are written ``./-x.usda``, the same file
+    (every report names it ``-x.usda``). A user's option value such as
+    ``--fix-to -o.usda`` may be rewritten too: it names the same file."""
+    import os
+
+    args = list(args)
+    at = len(args)
+    while at > 0 and _HOOK_FILES.search(args[at - 1]) and os.path.lexists(args[at - 1]):
+        at -= 1
+        if args[at].startswith("-"):
+            args[at] = os.path.join(os.curdir, args[at])
+    return args
+
+
+@click.command(cls=_Check)
 # readable=False: an unreadable file is reported by the engine, and the others
 # are still linted, instead of click refusing the whole command.
 @click.argument("paths", nargs=-1, type=click.Path(readable=False))
@@ -129,6 +165,14 @@ if TYPE_CHECKING:
     "--quiet, no notes; a file that could not be linted is still said on stderr.",
 )
 @click.option(
+    PRE_COMMIT_FLAG,
+    "pre_commit",
+    is_flag=True,
+    hidden=True,
+    help="Run by the pre-commit hooks: the staged files that end the arguments are paths, "
+    "even when a name starts with '-'.",
+)
+@click.option(
     "--show-files",
     is_flag=True,
     help="Print the files a check would lint, one a line, and exit 0: nothing is linted.",
@@ -163,6 +207,7 @@ def check(
     silent: bool,
     show_files: bool,
     show_settings: bool,
+    pre_commit: bool,  # read by _Check as it parses
     **settings: Any,
 ) -> None:
     """Lint USD files and directories (recursively: .usd, .usda, .usdc, .usdz;
