@@ -204,6 +204,21 @@ def test_a_sublayer_of_a_file_given_is_seen(show: Path) -> None:
     assert "0 findings in 1 file" in out and "CA004" in out, out
 
 
+def test_a_missing_sublayer_saved_later_is_seen(show: Path) -> None:
+    """The stage reports its missing sublayer; saving it starts a round, as a
+    watch of the folder would (only the file given is watched by events)."""
+    (show / "stage.usda").write_text("#usda 1.0\n(\n    subLayers = [@./sub.usda@]\n)\n")
+    watched = Watched(show, "stage.usda")
+    try:
+        watched.next_round()
+        save(show / "sub.usda", "#usda 1.0\n")
+        watched.next_round()
+    finally:
+        status, out, err = watched.stop()
+    assert status == 130, err
+    assert "ST002" in out and "0 findings in 1 file" in out, out
+
+
 def test_a_configuration_saved_nearer_than_the_one_in_effect_is_seen(show: Path) -> None:
     """A show's configuration saved between the watched folder and the project's:
     it is the one a fresh check reads from then on."""

@@ -380,14 +380,20 @@ def _nearest_configuration(request: Request) -> set[str]:
 
 def _layers_of_files_given(request: Request) -> set[str]:
     """The layers each file given composes (its sublayers, references,
-    payloads, clips), for --watch to poll: the events are heard for the file
-    itself only, and a save of a sublayer beside it changes the stage's report.
-    Read again each round: a save can add or drop a sublayer."""
+    payloads, clips), and those it names that are missing, for --watch to poll:
+    the events are heard for the file itself only, and a save of a sublayer
+    beside it (or of a missing one) changes the stage's report. Read again each
+    round: a save can add or drop a sublayer."""
     import os
 
     from ..running.roots import dependencies
 
-    return {layer for path in request.paths if os.path.isfile(path) for layer in dependencies(path)}
+    return {
+        layer
+        for path in request.paths
+        if os.path.isfile(path)
+        for layer in dependencies(path, missing=True)
+    }
 
 
 def _gitignores_above(request: Request) -> set[str]:

@@ -52,14 +52,19 @@ def find_roots(patterns: Sequence[str], base_dir: str) -> list[str]:
     return sorted(found.values())
 
 
-def dependencies(root: str) -> frozenset[str]:
+def dependencies(root: str, missing: bool = False) -> frozenset[str]:
     """Keys of every file ``root`` depends on, itself included: its layer stack,
-    references, payloads (in every variant), clips and other assets."""
+    references, payloads (in every variant), clips and other assets. With
+    ``missing``, also where those that do not resolve would be (a path USD left
+    relative, from ``root``'s folder): a sublayer saved later changes the stage."""
     register_plugins()  # before USD's first call here: engine/plugins.py
     with Tf.DiagnosticTrap() as trap:
         try:
-            layers, assets, _unresolved = UsdUtils.ComputeAllDependencies(root)
+            layers, assets, unresolved = UsdUtils.ComputeAllDependencies(root)
             paths = [layer.realPath or layer.identifier for layer in layers] + list(assets)
+            if missing:
+                folder = os.path.dirname(os.path.abspath(root))
+                paths += [os.path.join(folder, p) for p in unresolved if "://" not in p]
         except Tf.ErrorException:
             # One unreadable layer anywhere (even in an unselected variant) makes
             # ComputeAllDependencies give up, while the stage itself may open.
