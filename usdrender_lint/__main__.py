@@ -7,7 +7,7 @@ them exits 130 or 143 with one line, like one during the run.
 
 import sys
 
-from .running import interrupts, supervisor
+from .running import address_space, interrupts, supervisor
 
 interrupts.install()
 
@@ -23,6 +23,15 @@ def main() -> None:
     except interrupts.Stopped as stopped:
         sys.stderr.write(f"usdrender-lint: {stopped.reason}\n")
         sys.exit(stopped.exit_status)
+    except (MemoryError, ImportError) as exc:  # click or the command line, under ulimit -v
+        try:
+            said = address_space.out_of_memory_at_start(exc)
+        except MemoryError:  # not even the limit could be read
+            said = "out of memory while starting: raise the memory limit (ulimit -v)"
+        if said is None:
+            raise
+        sys.stderr.write(f"usdrender-lint: error: {said}\n")
+        sys.exit(2)
     command(supervision=supervision)
 
 

@@ -277,3 +277,29 @@ def test_format_names_are_looked_up_when_click_needs_them(monkeypatch) -> None:
     assert choice.convert("JSON", None, None) == "json"
     assert choice.choices == ("json", "text")
     assert lookups == ["looked up"]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS as Linux keeps it")
+@pytest.mark.parametrize("mib", [30, 60, 300])
+@pytest.mark.parametrize("args", [("check", str(PASS_FILE)), ("rules",)])
+def test_a_tiny_memory_limit_is_one_line_and_exit_2(mib: int, args: tuple[str, ...]) -> None:
+    """Under ``ulimit -v`` too small to load USD the command says so in one line
+    (exit 2), instead of a traceback (30, 60 MiB) or USD's own tracebacks and a
+    crash (300 MiB)."""
+    import resource
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (mib * 2**20, resource.RLIM_INFINITY))
+
+    run = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", *args],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        preexec_fn=limit,
+    )
+    assert (run.returncode, run.stdout) == (2, ""), run.stderr
+    assert run.stderr.splitlines() == [
+        f"usdrender-lint: error: out of memory: the address-space limit (ulimit -v) is {mib} MiB, "
+        "too small to load USD (it maps about 600 MiB as it loads): raise it"
+    ]

@@ -139,6 +139,11 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
         if not isinstance(exc, BrokenPipeError):
             error(f"cannot write the output: {exc.strerror or exc}")
         sys.exit(EXIT_TOOL_ERROR)
+    except MemoryError as exc:  # at start-up, under ulimit -v: a file's own is its result
+        from ..running.address_space import out_of_memory_at_start
+
+        error(out_of_memory_at_start(exc) or "out of memory")
+        sys.exit(EXIT_TOOL_ERROR)
     except Exception as exc:
         _internal_error(exc)
 

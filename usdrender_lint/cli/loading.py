@@ -40,13 +40,21 @@ def import_engine() -> None:
     Called by the commands that need USD: ``--help`` and ``--version`` do not."""
     if "usdrender_lint.running.pipeline" in sys.modules:
         return
+    from ..running.address_space import out_of_memory_at_start, refusal
     from ..running.interrupts import deferred
 
+    # Under too small a ulimit -v, USD's import crashes or prints its own tracebacks.
+    if (refused := refusal()) is not None:
+        raise ToolError(refused)
     enabled = gc.isenabled()
     gc.disable()
     try:
         with deferred():  # a Ctrl-C arrives after the imports, not inside USD's
             from ..running import pipeline  # noqa: F401 - USD, the engine and the rule API
+    except (MemoryError, ImportError) as exc:
+        if (said := out_of_memory_at_start(exc)) is None:
+            raise
+        raise ToolError(said) from None
     finally:
         gc.freeze()
         if enabled:

@@ -1,0 +1,52 @@
+"""Starting under an address-space limit (``ulimit -v``, RLIMIT_AS) too small to
+load USD: one line and exit 2, never USD's own tracebacks or a crash.
+
+Nothing is imported but ``resource``: the command asks before its own imports.
+"""
+
+from __future__ import annotations
+
+#: Below this limit usd-core cannot be loaded at all: its libraries map about
+#: 580 MiB of address space as they load (usd-core 26.11, Linux x86-64, measured
+#: with ``ulimit -v``), and between about 100 and 500 MiB the import crashes
+#: (SIGSEGV) after USD printed Python tracebacks of its own (TfScriptModuleLoader).
+FLOOR = 512 * 2**20
+
+#: How a failed import says it found no memory (glibc's dlopen; errno ENOMEM).
+_NO_MEMORY = ("failed to map segment", "Cannot allocate memory")
+
+
+def address_space_limit() -> int | None:
+    """The process's soft address-space limit in bytes; None when unlimited."""
+    try:
+        import resource
+    except ImportError:  # not POSIX
+        return None
+    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    return None if soft == resource.RLIM_INFINITY else soft
+
+
+def refusal() -> str | None:
+    """Why the command cannot load USD under the limit set, or None."""
+    limit = address_space_limit()
+    if limit is None or limit >= FLOOR:
+        return None
+    return _message(limit)
+
+
+def out_of_memory_at_start(exc: BaseException) -> str | None:
+    """The error for an import that failed for want of memory; None for another failure."""
+    if isinstance(exc, MemoryError) or (
+        isinstance(exc, (ImportError, OSError)) and any(s in str(exc) for s in _NO_MEMORY)
+    ):
+        return _message(address_space_limit())
+    return None
+
+
+def _message(limit: int | None) -> str:
+    if limit is None:
+        return "out of memory while loading USD: raise the memory limit (ulimit -v) or free memory"
+    return (
+        f"out of memory: the address-space limit (ulimit -v) is {limit // 2**20} MiB, too small "
+        "to load USD (it maps about 600 MiB as it loads): raise it"
+    )
