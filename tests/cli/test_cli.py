@@ -313,6 +313,10 @@ def test_help_of_each_reporting_command_gives_its_exit_codes(command: str) -> No
         (["check", "--output-format", "json", "."], "'--output-format': use --format,"),
         (["merge", "-o", "x.json", "r.json"], "No such option '-o': use --output,"),
         (["explain", "-o", "x", "SE003"], "No such option '-o' (see"),  # explain has no --output
+        # click's parser gives these no context: the command's help all the same.
+        (["check", "--fail-on"], "requires an argument (see 'usdrender-lint check --help')"),
+        (["check", "--fix=yes", "."], "take a value (see 'usdrender-lint check --help')"),
+        (["spec", "--format"], "requires an argument (see 'usdrender-lint spec --help')"),
     ],
 )
 def test_a_usage_error_is_one_line_as_every_other_error(args: list[str], said: str) -> None:

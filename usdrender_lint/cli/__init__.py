@@ -44,7 +44,7 @@ class _Group(click.Group):
             return super().make_context(*args, **kwargs)
 
     def invoke(self, ctx: click.Context) -> Any:
-        with _one_line_usage_errors():  # a subcommand's arguments are parsed here
+        with _one_line_usage_errors(ctx):  # a subcommand's arguments are parsed here
             return super().invoke(ctx)
 
 
@@ -64,13 +64,21 @@ _RUFF_OPTIONS = {
 
 
 @contextmanager
-def _one_line_usage_errors() -> Iterator[None]:
+def _one_line_usage_errors(group: click.Context | None = None) -> Iterator[None]:
+    """``group``: the group's context while a subcommand runs, whose command
+    names the help when click's parser gives an error no context (an option's
+    missing value, a value given to a flag)."""
     try:
         yield
     except _NO_ARGUMENTS:
         raise  # a bare `usdrender-lint`: click shows the help
     except click.UsageError as exc:
-        where = exc.ctx.command_path if exc.ctx is not None else "usdrender-lint"
+        if exc.ctx is not None:
+            where = exc.ctx.command_path
+        elif group is not None and group.invoked_subcommand:
+            where = f"{group.command_path} {group.invoked_subcommand}"
+        else:
+            where = "usdrender-lint"
         message = exc.format_message().removesuffix(".")
         ours = _ours_for_ruffs(exc)
         if ours is not None:
