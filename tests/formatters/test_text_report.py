@@ -181,6 +181,29 @@ def test_on_a_terminal_the_message_wraps_at_words_never_the_location(
     )
 
 
+def test_on_a_terminal_the_summary_never_cuts_an_option_at_its_hyphens(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """``--unsafe-fixes`` wraps whole, as the findings' words do: cut after
+    ``--unsafe-`` it could not be copied back into a command."""
+    monkeypatch.setenv("NO_COLOR", "1")
+    unsafe = Finding(
+        "SE003",
+        "data-window-malformed",
+        Severity.ERROR,
+        "dataWindowNDC is inverted",
+        Location("s.usda", "/R/S.dataWindowNDC", "s.usda", 7),
+        FixInfo("swap xmin and xmax", False),
+    )
+    report = Report((FileResult("s.usda", findings=(LONG, unsafe)),))
+    for width in range(40, 120):
+        monkeypatch.setenv("COLUMNS", str(width))
+        stream = Terminal()
+        TextFormatter().render(report, stream, FormatOptions())
+        summary = stream.getvalue().split("]\n")[-1]
+        assert "--unsafe-fixes" in " ".join(summary.split()), (width, summary)
+
+
 def test_wide_characters_wrap_at_the_terminals_columns(monkeypatch: pytest.MonkeyPatch) -> None:
     # A CJK character takes two columns: a line of them wraps at half as many.
     monkeypatch.setenv("COLUMNS", "40")

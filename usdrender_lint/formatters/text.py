@@ -238,7 +238,15 @@ class TextFormatter:
             if width:
                 import textwrap  # only for a terminal: its import compiles patterns
 
-                parts = textwrap.wrap(text, width, subsequent_indent=INDENT)
+                # Whole words, as the findings wrap: "--unsafe-fixes" cut at its
+                # hyphen could not be copied back into a command.
+                parts = textwrap.wrap(
+                    text,
+                    width,
+                    subsequent_indent=INDENT,
+                    break_on_hyphens=False,
+                    break_long_words=False,
+                )
             else:
                 parts = [text]
             lines.extend([(part, None)] for part in parts)
