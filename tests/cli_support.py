@@ -205,3 +205,12 @@ def invoke_in(cwd: Path, *args: str, input: str | None = None):
         return CliRunner().invoke(cli, list(args), input=input)
     finally:
         os.chdir(previous)
+
+
+def busy_for(built: object, seconds: float) -> float:
+    """A pool's handle (workers.Pool) that works ``seconds`` of CPU time (which,
+    unlike a sleep's, stands still while the process is stopped), then answers them."""
+    end = time.process_time() + seconds
+    while time.process_time() < end:
+        pass
+    return seconds

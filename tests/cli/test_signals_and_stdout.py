@@ -242,3 +242,76 @@ def test_a_full_stderr_keeps_the_exit_code(args: tuple[str, ...], status: int) -
             command(*args), stdout=subprocess.DEVNULL, stderr=full, timeout=120, check=False
         )
     assert result.returncode == status
+
+
+#: A pool of one worker whose every item takes 1 s of CPU, under a 4 s time-out, in a
+#: process of its own session with the command's signal handlers: it prints the results.
+_SLOW_POOL = """
+import sys, time
+sys.path.insert(0, sys.argv[1])
+from usdrender_lint.running import interrupts
+interrupts.install()
+from usdrender_lint.running.workers import Pool
+from cli_support import busy_for
+print(Pool(dict, 1, 4.0, handle=busy_for, failed=lambda item, why: why).run([1.0, 1.0]))
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="SIGSTOP to a process group")
+def test_a_run_stopped_and_continued_times_no_file_out(tmp_path: Path) -> None:
+    """Ctrl-Z, then fg: the workers stood still as long as the command, so the
+    file one holds is not timed out for the time the run was stopped."""
+    run = subprocess.Popen(
+        [sys.executable, "-c", _SLOW_POOL, str(Path(__file__).parents[1])],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    time.sleep(1.5)  # the worker started and holds an item
+    os.killpg(run.pid, signal.SIGSTOP)
+    time.sleep(5.0)  # longer than the time-out
+    os.killpg(run.pid, signal.SIGCONT)
+    out, err = run.communicate(timeout=60)
+    assert run.returncode == 0, err
+    assert out.strip() == "(1.0, 1.0)", out + err
+
+
+#: The supervisor timing a child (running/supervisor.py) that says its lint has 4 s,
+#: works 1 s of CPU and exits; it prints how the child ended.
+_SUPERVISED = """
+import os, time
+from usdrender_lint.running import interrupts, supervisor
+interrupts.install()
+heard, says = os.pipe()
+stack, _ = os.pipe()
+child = os.fork()
+if child == 0:
+    os.write(says, b"4.0\\n")
+    end = time.process_time() + 1.0
+    while time.process_time() < end:
+        pass
+    os.write(says, b"0.0\\n" + supervisor.DONE + b"\\n")
+    os._exit(0)
+os.close(says)
+print(supervisor._time_the_child(child, heard, stack))
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the supervisor is Linux's")
+def test_a_supervised_lint_stopped_and_continued_is_not_timed_out() -> None:
+    """The one-file check's timer (the supervisor's) after Ctrl-Z and fg: the
+    child stood still as long as it did."""
+    run = subprocess.Popen(
+        [sys.executable, "-c", _SUPERVISED],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    time.sleep(1.0)
+    os.killpg(run.pid, signal.SIGSTOP)
+    time.sleep(5.0)  # longer than the child's time
+    os.killpg(run.pid, signal.SIGCONT)
+    out, err = run.communicate(timeout=60)
+    assert (run.returncode, out.strip()) == (0, "done"), err

@@ -33,6 +33,9 @@ class Stopped(BaseException):
 
 
 _received: int | None = None
+#: How many times the process was continued after a stop (Ctrl-Z, then ``fg``):
+#: the time it stood still was no file's (workers.Pool times its files again).
+_continued = 0
 
 
 def _stop(signum: int, frame: object) -> None:
@@ -41,6 +44,16 @@ def _stop(signum: int, frame: object) -> None:
     for stopping in STOPPING:
         signal.signal(stopping, signal.SIG_IGN)
     raise Stopped(signum)
+
+
+def _count_continue(signum: int, frame: object) -> None:
+    global _continued
+    _continued += 1
+
+
+def continued() -> int:
+    """How many times the process was continued after a stop (SIGCONT)."""
+    return _continued
 
 
 def check_stopped() -> None:
@@ -56,6 +69,8 @@ def install() -> None:
         for signum in not_ignored():
             signal.signal(signum, _stop)
         sys.unraisablehook = _quiet_when_stopped
+        if hasattr(signal, "SIGCONT"):  # the process still continues, as by default
+            signal.signal(signal.SIGCONT, _count_continue)
 
 
 def not_ignored() -> list[int]:

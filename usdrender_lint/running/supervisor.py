@@ -16,7 +16,7 @@ import signal
 import sys
 import time
 
-from .interrupts import STALL_SIGNAL, STOPPING, Stopped, not_ignored
+from .interrupts import STALL_SIGNAL, STOPPING, Stopped, continued, not_ignored
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:
@@ -248,10 +248,16 @@ def _time_the_child(child: int, heard: int, stack: int) -> str | None:
     one (after it was asked for its stack, written into ``stack``), "done" if it
     said it exits (Supervision.exiting), else None."""
     deadline: float | None = None
+    seconds = 0.0
     done = False
     while True:
         left = None if deadline is None else max(0.0, deadline - time.monotonic())
+        resumed = continued()
         if not select.select([heard], [], [], left)[0]:
+            if continued() != resumed and deadline is not None:
+                # Stopped (Ctrl-Z) and continued (fg): the child stood still too.
+                deadline = time.monotonic() + seconds
+                continue
             _kill(child, STALL_SIGNAL)
             _wait_for_stack(stack)
             _kill(child)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from .. import debug
 from ..model import FileResult
 from ..records import record
-from .interrupts import STALL_SIGNAL, check_stopped
+from .interrupts import STALL_SIGNAL, check_stopped, continued
 from .progress import progress_bar, want_progress
 from .supervisor import Supervision
 
@@ -183,6 +183,7 @@ class Pool:
 
         self._results, self._remaining, self._advance = [None] * len(items), len(items), advance
         self._pending = list(reversed(list(enumerate(items))))  # pop() keeps input order
+        self._continued = continued()
         self._log_dir = tempfile.mkdtemp(prefix="usdrender-lint-")
         self._workers: list[_Worker] = []
         try:
@@ -246,6 +247,13 @@ class Pool:
         left = None if nearest == _NEVER else max(0.0, nearest - time.monotonic())
         handles = [w.conn for w in self._workers] + [w.process.sentinel for w in self._workers]
         ready = wait(handles, left)
+        if continued() != self._continued:
+            # Stopped (Ctrl-Z) and continued (fg): the workers stood still too, so the
+            # files they hold get their whole time again rather than time out.
+            self._continued = continued()
+            for worker in self._workers:
+                if worker.deadline != _NEVER:
+                    worker.deadline = self._deadline()
         for worker in list(self._workers):
             if worker.conn in ready:
                 try:
