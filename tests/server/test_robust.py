@@ -5,6 +5,7 @@ shutdown and exit, and when its client's process dies."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import os
 import signal
@@ -488,3 +489,35 @@ def test_a_child_that_cannot_start_says_why_on_every_call(
                 child.call("lint", (str(tmp_path / "a.usda"),), {}, 60)
     finally:
         child.close()
+
+
+@pytest.mark.parametrize(
+    ("signum", "status", "said"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+)
+def test_ctrl_c_or_sigterm_ends_the_server_at_once(signum: int, status: int, said: str) -> None:
+    """Run by hand in a terminal, the server waits on it: Ctrl-C (the signal to
+    the terminal's process group) ends it with the command's line and status; it
+    hung before, deaf to any signal but SIGKILL."""
+    import pty
+
+    leader, follower = pty.openpty()
+    server = subprocess.Popen(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        stdin=follower,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    try:
+        time.sleep(3.0)  # started, reading the terminal
+        os.killpg(server.pid, signum)
+        _, err = server.communicate(timeout=30)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(server.pid, signal.SIGKILL)
+        server.wait()
+        os.close(leader)
+        os.close(follower)
+    assert server.returncode == status, err
+    assert err.decode().splitlines()[-1] == f"usdrender-lint: {said}"

@@ -32,4 +32,25 @@ def main() -> None:
     if getattr(sys.stdout, "buffer", None) is None:  # started with it closed (cli.main)
         sys.stderr.write(f"{NO_STDOUT}\n")
         sys.exit(2)
+    _end_on_signals()
     serve()
+
+
+def _end_on_signals() -> None:
+    """Ctrl-C, SIGTERM and SIGHUP end the server at once, with the command's
+    line and exit status (130, 143, 129). The command's own handler raises in
+    the main thread, where pygls's loop then waits for its thread reading stdin,
+    which nothing ends: the server hung, deaf to the signals that followed (the
+    handler ignores them after the first). As when the client's process is gone
+    (protocol.watch_client), nothing is left to save."""
+    import os
+    import signal
+
+    from ..running.interrupts import STOPPING, not_ignored
+
+    def end(signum: int, frame: object) -> None:
+        os.write(2, f"usdrender-lint: {STOPPING[signal.Signals(signum)]}\n".encode())
+        os._exit(128 + signum)
+
+    for signum in not_ignored():
+        signal.signal(signum, end)
