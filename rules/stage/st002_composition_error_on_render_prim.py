@@ -75,7 +75,9 @@ def _usd_words(error) -> str:
     address of an anonymous layer, ending in a full stop."""
     text = " ".join(usd_text(error).split())
     text = _SPACE_BEFORE_STOP.sub(r"\1", USD_NAMESPACE.sub("", text))
-    text = _ANONYMOUS_ADDRESS.sub("anon:", text)
+    # A layer stack "@shot.usda@,@anon:...-session.usda@" is the user's layers
+    # and the tool's own session layer, which is named after the file linted.
+    text = _SESSION_IN_STACK.sub("", _ANONYMOUS_ADDRESS.sub("anon:", text))
     return text if text.endswith((".", "!", "?")) else f"{text}."
 
 
@@ -152,6 +154,7 @@ def _consequence(error, text: str, scope: str) -> str:
 #: An anonymous layer's identifier holds its address (``anon:0x55f8ea155340:``),
 #: which differs between runs; the message keeps only the layer's tag.
 _ANONYMOUS_ADDRESS = re.compile(r"\banon:0x[0-9a-fA-F]+:")
+_SESSION_IN_STACK = re.compile(r",@anon:[^@]*-session\.usda@")
 
 
 def _render_prim_paths(stage: Usd.Stage) -> list[Sdf.Path]:

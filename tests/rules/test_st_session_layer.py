@@ -37,3 +37,18 @@ def test_a_cycle_through_the_session_layer_stack_reads_the_same_every_time(
     assert messages[0] == messages[1]
     assert "Cycle detected" in messages[0][0]
     assert "anon:0x" not in messages[0][0]
+
+
+def test_st002_names_the_user_s_layers_not_the_tool_s_session_layer(tmp_path: Path) -> None:
+    """USD names a layer stack by its layers, the session layer the tool opens
+    the stage with included; that one is named after the file linted, so a text
+    linted under another name (an editor's buffer) read differently."""
+    text = (
+        '#usda 1.0\n(\n    defaultPrim = "Render"\n)\n'
+        'def Scope "Render" (\n    references = @./shot.usda@\n)\n{\n}\n'
+    )
+    shot = tmp_path / "shot.usda"
+    shot.write_text(text)
+    (message,) = [f.message for f in usdrender_lint.lint_file(shot, select=["ST002"]).findings]
+    assert "Cycle detected" in message
+    assert "session.usda" not in message

@@ -99,7 +99,7 @@ def test_a_flags_pattern_keeps_the_commas_of_its_braces(
     args = ["check", "--isolated", "--show-files", "--extend-exclude", "{legacy,old}/,wip", "."]
     result = CliRunner().invoke(cli, args)
     assert result.exit_code == 0, result.output
-    assert result.stdout.split() == ["./a.usda"]
+    assert result.stdout.split() == ["a.usda"]
 
 
 def test_gitignore_files_of_the_repository_are_respected(tmp_path: Path) -> None:

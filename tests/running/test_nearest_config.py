@@ -438,9 +438,9 @@ def test_the_json_report_names_each_files_configuration(tree: Path, tmp_path: Pa
     # A report of a tree of shows did not say which configuration judged a file.
     _status, report = _check(tree, ".")
     by_file = {entry["file"]: entry["config_file"] for entry in report["files"]}
-    assert by_file["./shows/a/shots/010/shot.usda"] == "shows/a/.usdrender-lint.toml"
-    assert by_file["./shows/b/shots/010/shot.usda"] == "shows/b/pyproject.toml"
-    assert by_file["./shows/c_clean.usda"] == ".usdrender-lint.toml"
+    assert by_file["shows/a/shots/010/shot.usda"] == "shows/a/.usdrender-lint.toml"
+    assert by_file["shows/b/shots/010/shot.usda"] == "shows/b/pyproject.toml"
+    assert by_file["shows/c_clean.usda"] == ".usdrender-lint.toml"
     _status, isolated = _check(tree, "--isolated", "shows/c_clean.usda")
     assert isolated["files"][0]["config_file"] is None
     # merge keeps it, as check wrote it.

@@ -166,5 +166,5 @@ def test_files_of_nested_configurations_are_shown_in_the_reports_order(tmp_path:
     (tmp_path / "p" / "r" / ".usdrender-lint.toml").write_text('fail-on = "never"\n')
     status, shown, _ = _invoke(tmp_path, "--show-files", ".")
     assert status == 0, shown
-    assert shown.splitlines() == ["./p/q/x.usda", "./p/r/x.usda", "./p/s/x.usda"]
+    assert shown.splitlines() == ["p/q/x.usda", "p/r/x.usda", "p/s/x.usda"]
     assert shown.splitlines() == _reported(tmp_path, ".")
