@@ -7,7 +7,8 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import resolve_targets
+
+from .._aov import product_render_vars
 
 AOV_NAME = "driver:parameters:aov:name"
 #: The husk-only spelling newer husk releases read first.
@@ -107,10 +108,7 @@ class AovNameMissing(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        for target in resolve_targets(prim.GetRelationship("orderedVars")):
-            var = target.prim
-            if not target.ok or var is None or not var.IsA(schemas.RenderVar):
-                continue
+        for var in product_render_vars(prim, ctx):
             if _authored(var, AOV_NAME) or _authored(var, HUSK_AOV_NAME):
                 continue
             yield Diagnostic(
