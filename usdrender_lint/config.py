@@ -16,10 +16,10 @@ import re
 import stat
 import types
 import typing
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from .model import Severity
 from .records import record
@@ -543,17 +543,29 @@ def reading_once() -> Iterator[None]:
         _READ.reset(token)
 
 
+_Answer = TypeVar("_Answer")
+
+
+def _once(
+    memo: contextvars.ContextVar[dict[str, _Answer] | None],
+    path: Path,
+    compute: Callable[[Path], _Answer],
+) -> _Answer:
+    """``compute(path)``; inside :func:`reading_once`, computed the first time only."""
+    done = memo.get()
+    if done is None:
+        return compute(path)
+    key = os.path.abspath(path)
+    if key not in done:
+        done[key] = compute(path)
+    return done[key]
+
+
 def _read_config_bytes(path: Path) -> bytes:
     """The bytes of a config file, which must be a regular file (a FIFO would
     block, a device never end) of at most MAX_CONFIG_BYTES; inside
     :func:`reading_once`, read only the first time."""
-    read = _READ.get()
-    if read is None:
-        return _read_config_file_bytes(path)
-    key = os.path.abspath(path)
-    if key not in read:
-        read[key] = _read_config_file_bytes(path)
-    return read[key]
+    return _once(_READ, path, _read_config_file_bytes)
 
 
 def _read_config_file_bytes(path: Path) -> bytes:
@@ -592,13 +604,9 @@ def _load_toml_text(path: Path) -> tuple[dict[str, Any], str]:
     """The file's TOML document and its text (see :func:`_load_toml`);
     inside :func:`reading_once`, parsed only the first time (each caller
     gets a copy of the document)."""
-    parsed = _PARSED.get()
-    if parsed is None:
+    if _PARSED.get() is None:
         return _parse_toml_file(path)
-    key = os.path.abspath(path)
-    if key not in parsed:
-        parsed[key] = _parse_toml_file(path)
-    document, text = parsed[key]
+    document, text = _once(_PARSED, path, _parse_toml_file)
     import copy  # only inside a run that reads a file twice
 
     return copy.deepcopy(document), text
