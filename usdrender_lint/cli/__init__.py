@@ -1,4 +1,4 @@
-"""The ``usdrender-lint`` command: check, merge, spec, rules, explain,
+"""The ``usdrender-lint`` command: check, merge, spec, rules, explain, config,
 plugin-path, server, clean; one module per command, every output through
 :mod:`.views` (or, for reports, the registered formatters).
 
@@ -25,6 +25,7 @@ from ..running.interrupts import Stopped, stop_on_signals
 from ..running.supervisor import Supervision, open_closed_standard_fds
 from .check import check
 from .clean import clean
+from .config_keys import config_command
 from .explain import explain
 from .merge import merge
 from .output import EXIT_TOOL_ERROR, StdoutGone, ToolError, error, say
@@ -113,6 +114,7 @@ for _command in (
     explain,
     plugin_path,
     clean,
+    config_command,
 ):
     cli.add_command(_command)
 

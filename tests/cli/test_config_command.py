@@ -1,0 +1,66 @@
+"""``usdrender-lint config [KEY]``: the configuration keys, as ``ruff config`` lists its."""
+
+from __future__ import annotations
+
+import json
+
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+from usdrender_lint.config import json_schema
+from usdrender_lint.settings_table import BY_CONFIG_KEY
+
+
+def run(*args: str):
+    return CliRunner().invoke(cli, ["config", *args])
+
+
+def test_every_key_is_listed_with_its_description() -> None:
+    result = run()
+    assert result.exit_code == 0, result.output
+    listed = [line.split()[0] for line in result.stdout.splitlines()]
+    assert listed == list(json_schema()["properties"])
+    assert set(listed) == set(BY_CONFIG_KEY)
+    assert any(line.startswith("per-path-ignores ") for line in result.stdout.splitlines())
+
+
+def test_a_key_says_its_type_default_flag_and_how_extend_treats_it() -> None:
+    result = run("fail-on")
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines() == [
+        "fail-on: Lowest severity that makes the exit code 1",
+        "",
+        'Type: one of "error", "warning", "info", "never"',
+        "Default: error",
+        "Flag: --fail-on",
+        "In a file that extends another, it replaces the extended file's value.",
+    ]
+    table = run("per-path-ignores").stdout
+    assert "Type: a table" in table and "merges with the extended file's table" in table
+    assert "Flag:" not in table  # configuration files only
+    assert "Default: every rule" in run("select").stdout
+    assert "Type: an integer of at least 1" in run("time-sample-cap").stdout
+
+
+def test_the_json_view_holds_what_the_text_says() -> None:
+    everything = json.loads(run("--format", "json").stdout)
+    assert [d["key"] for d in everything] == list(json_schema()["properties"])
+    one = json.loads(run("--format", "json", "variants").stdout)
+    assert one == {
+        "key": "variants",
+        "description": BY_CONFIG_KEY["variants"].help,
+        "type": "a boolean",
+        "default": "false",
+        "flag": "--variants",
+        "extend": "replaces the extended file's value",
+    }
+
+
+def test_an_unknown_key_is_one_line_naming_the_nearest() -> None:
+    result = run("per-file-ignores")
+    assert result.exit_code == 2
+    assert result.stderr == (
+        "usdrender-lint: error: no configuration key 'per-file-ignores' "
+        "(did you mean 'per-path-ignores'?) (see 'usdrender-lint config')\n"
+    )
+    assert result.stdout == ""
