@@ -4,7 +4,6 @@ Schema made from it (config.json_schema), so it cannot disagree with the parser.
 
 from __future__ import annotations
 
-import json
 from typing import Any, TextIO
 
 import click
@@ -23,6 +22,8 @@ _EXTENDED = {
 
 
 def _described(key: str, schema: dict[str, Any]) -> dict[str, Any]:
+    import json  # not at start-up: only this command needs it
+
     from ..settings_table import BY_CONFIG_KEY
 
     entry = BY_CONFIG_KEY[key]
@@ -45,6 +46,8 @@ def _plain(value: Any) -> Any:
 
 def _type_words(schema: dict[str, Any]) -> str:
     """A JSON Schema's value in words: "a list of strings, or a string"."""
+    import json
+
     if "anyOf" in schema:
         return ", or ".join(_type_words(part) for part in schema["anyOf"])
     if "enum" in schema:
@@ -77,6 +80,8 @@ def _text(described: list[dict[str, Any]] | dict[str, Any], stream: TextIO) -> N
 
 @view("config", "json")
 def _json(described: list[dict[str, Any]] | dict[str, Any], stream: TextIO) -> None:
+    import json
+
     stream.write(json.dumps(described, indent=2) + "\n")
 
 
