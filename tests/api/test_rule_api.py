@@ -149,3 +149,37 @@ def test_a_plugin_listing_an_abstract_base_is_refused() -> None:
 
     with pytest.raises(RegistryError, match="abstract base"):
         build_registry([EntryPoint()])
+
+
+def test_an_options_field_without_a_default_is_refused_when_the_class_is_defined() -> None:
+    # It used to define fine and then fail every unconfigured run with
+    # "internal error: TypeError: Options.__init__() missing ...", naming no rule.
+    from usdrender_lint.api import record
+
+    @record(frozen=True)
+    class Required:
+        limit: int
+        names: tuple[str, ...] = ()
+
+    with pytest.raises(TypeError, match=r"Limited: Options field\(s\) limit have no"):
+
+        class Limited(Rule):
+            __doc__ = DOC
+            code = "ZZ971"
+            name = "limited-rule"
+            severity = Severity.INFO
+            Options = Required
+
+    @record(frozen=True)
+    class Defaulted:
+        limit: int = 1
+        names: tuple[str, ...] = dataclasses.field(default_factory=tuple)
+
+    class Fine(Rule):
+        __doc__ = DOC
+        code = "ZZ972"
+        name = "fine-rule"
+        severity = Severity.INFO
+        Options = Defaulted
+
+    assert Fine().options == Defaulted()

@@ -69,6 +69,17 @@ def _schema_types(prim_types: object) -> bool:
     )
 
 
+def _required_options(options: type) -> list[str]:
+    """The fields of an ``Options`` dataclass that its constructor requires."""
+    return [
+        field.name
+        for field in dataclasses.fields(options)
+        if field.init
+        and field.default is dataclasses.MISSING
+        and field.default_factory is dataclasses.MISSING
+    ]
+
+
 class Rule:
     """Base class of every check.
 
@@ -123,6 +134,10 @@ class Rule:
             )
         if cls.Options is not None and not dataclasses.is_dataclass(cls.Options):
             problems.append("Options is not a dataclass")
+        elif cls.Options is not None and (required := _required_options(cls.Options)):
+            # The rule runs unconfigured too: a required field failed every such
+            # run with an internal error naming neither the rule nor its plugin.
+            problems.append(f"Options field(s) {', '.join(required)} have no default")
         if not isinstance(cls.aliases, tuple) or not all(
             isinstance(alias, str) and NAME_PATTERN.match(alias) for alias in cls.aliases
         ):
