@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from pxr import Sdf, Usd, UsdRender
 
-from usdrender_lint.api import Context, Diagnostic, Rule, Severity
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 from usdrender_lint.engine import Linter
 from usdrender_lint.layers.usda_text import index_usda
 from usdrender_lint.model import INTERNAL_ERROR_CODE
@@ -153,6 +153,17 @@ class Malformed(Rule):
         (lambda prim: Diagnostic(message=None, at=prim), "message is NoneType, not a str"),
         (lambda prim: Diagnostic(message="m", at="/Render"), "at is str, not a USD object"),
         (lambda prim: Diagnostic(message="m", at=prim, fix="x"), "fix is str, not a Fix"),
+        # A Fix without apply was listed as "fixable with --fix", which then did nothing.
+        (
+            lambda prim: Diagnostic(message="m", at=prim, fix=Fix(description="d", safe=True)),
+            "yielded a Fix whose apply is NoneType, not a callable apply(stage)",
+        ),
+        (
+            lambda prim: Diagnostic(
+                message="m", at=prim, fix=Fix(description="d", safe="yes", apply=print)
+            ),
+            "yielded a Fix whose safe is str, not a bool",
+        ),
     ],
 )
 def test_a_malformed_diagnostic_is_said_to_be_the_rules(shot: Path, bad, said: str) -> None:

@@ -30,7 +30,8 @@ DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead", "F
 
 @record(frozen=True, kw_only=True)
 class Fix:
-    """An automatic fix a rule offers.
+    """An automatic fix a rule offers; ``apply`` is required (the engine reports
+    a Fix without one as the rule's error).
 
     ``apply`` receives the stage whose edit target the fixer has already set to
     ``layer`` (or, when that is None, to the layer of the finding). ``safe``

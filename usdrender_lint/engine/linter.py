@@ -75,6 +75,17 @@ def malformed(diagnostic: object) -> str | None:
     for name, value, kinds, wanted in fields:
         if not isinstance(value, kinds):
             return f"yielded a Diagnostic whose {name} is {type(value).__name__}, not {wanted}"
+    fix = diagnostic.fix
+    if fix is not None:
+        # A Fix without apply was counted "fixable with --fix", which then
+        # silently left the finding in place.
+        for name, value, ok, wanted in (
+            ("description", fix.description, isinstance(fix.description, str), "a str"),
+            ("safe", fix.safe, isinstance(fix.safe, bool), "a bool"),
+            ("apply", fix.apply, callable(fix.apply), "a callable apply(stage)"),
+        ):
+            if not ok:
+                return f"yielded a Fix whose {name} is {type(value).__name__}, not {wanted}"
     return None
 
 
