@@ -42,7 +42,7 @@ from .api import Rule
 from .engine import Linter
 from .model import Finding, Location
 from .records import record
-from .registry import build_registry, select_rules
+from .registry import Registry, build_registry, select_rules
 
 _EXPECT_PREFIX = re.compile(r"^#\s*expect:")
 _EXPECT = re.compile(
@@ -236,9 +236,13 @@ def check_fixture(
     give exactly the findings of ``code`` their ``# expect:`` lines declare
     (count, fix offered and message fragment as stated). Without ``rules``, the
     built-in rules and those of ``code``'s plugin run (another plugin's rule
-    that raises is not this fixture's failure)."""
+    that raises is not this fixture's failure). A ``code`` that none of the
+    rules run has raises ValueError."""
     path = Path(path)
     chosen = _fixture_rules(code) if rules is None else rules
+    if not any(rule.code == code for rule in chosen):
+        # A mistyped code (or a plugin not installed) let every pass fixture pass.
+        raise ValueError(_no_rule(code, chosen))
     found = [f for f in lint(path, chosen, profiler) if f.code == code]
     if path.name.startswith("pass_"):
         assert not found, f"{path.name}: expected no {code} finding, got {_describe(found)}"
@@ -246,6 +250,17 @@ def check_fixture(
     expected = [e for e in expectations(path) if e.code == code]
     assert expected, f"{path.name}: a fail fixture must declare '# expect: {code} <path> ...'"
     _check_expected(path, code, found, expected)
+
+
+def _no_rule(code: str, rules: Sequence[Rule]) -> str:
+    """Why ``check_fixture`` cannot test ``code``: no rule it runs has it."""
+    registry = Registry(tuple(type(rule) for rule in rules), {})
+    found = registry.find(code)
+    if found is not None:
+        return f"{code!r} is the name of {found.code}; check_fixture takes a rule code"
+    near = registry.nearest(code)
+    hint = f" (did you mean {near}?)" if near else " (is its plugin installed?)"
+    return f"no rule has code {code!r}{hint}"
 
 
 def _fixture_rules(code: str) -> list[Rule]:

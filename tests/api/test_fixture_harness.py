@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -194,3 +195,21 @@ def test_lint_text_keeps_layers_inside_its_folder(name: str) -> None:
 def test_lint_text_refuses_a_layer_named_like_the_stage() -> None:
     with pytest.raises(ValueError, match="is the stage itself"):
         lint_text("#usda 1.0\n", layers={"stage.usda": "#usda 1.0\n"})
+
+
+@pytest.mark.parametrize(
+    ("code", "said"),
+    [
+        ("SE0003", "no rule has code 'SE0003' (did you mean SE003?)"),
+        ("ZZ999", "no rule has code 'ZZ999' (is its plugin installed?)"),
+        ("data-window-malformed", "is the name of SE003; check_fixture takes a rule code"),
+    ],
+)
+def test_a_code_no_rule_has_is_an_error(tmp_path: Path, code: str, said: str) -> None:
+    # It used to pass any pass fixture: no finding of a code nothing reports.
+    with pytest.raises(ValueError, match=re.escape(said)):
+        check_fixture(_fixture(tmp_path, name="pass_case.usda"), code)
+    with pytest.raises(ValueError, match=re.escape(said)):
+        check_fixture(
+            _fixture(tmp_path, name="pass_case.usda"), code, rules=[DataWindowMalformed()]
+        )
