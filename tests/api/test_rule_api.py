@@ -183,3 +183,29 @@ def test_an_options_field_without_a_default_is_refused_when_the_class_is_defined
         Options = Defaulted
 
     assert Fine().options == Defaulted()
+
+
+def test_a_check_prim_without_prim_types_is_refused_when_the_class_is_defined() -> None:
+    # The engine hands check_prim only prims of prim_types: such a rule used to
+    # load, list and run, and silently never find anything.
+    with pytest.raises(TypeError, match="NoTypes: check_prim is never called: prim_types is empty"):
+
+        class NoTypes(Rule):
+            __doc__ = DOC
+            code = "ZZ973"
+            name = "no-types-rule"
+            severity = Severity.INFO
+
+            def check_prim(self, prim, ctx):
+                yield Diagnostic(message="never", at=prim)
+
+    class StageOnly(Rule):  # a check_stage rule needs no prim_types
+        __doc__ = DOC
+        code = "ZZ974"
+        name = "stage-only-rule"
+        severity = Severity.INFO
+
+        def check_stage(self, ctx):
+            return ()
+
+    assert StageOnly.prim_types == ()

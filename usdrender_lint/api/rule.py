@@ -133,6 +133,13 @@ class Rule:
                 f"prim_types {cls.prim_types!r} is not a tuple of schema types "
                 "(usdrender_lint.api.schemas) or schema classes (UsdRender.Product)"
             )
+        if not cls.prim_types and cls.check_prim is not Rule.check_prim:
+            # The engine hands check_prim only prims of prim_types: without them
+            # the hook was silently never called and the rule found nothing.
+            problems.append(
+                "check_prim is never called: prim_types is empty (name the schema "
+                "types it checks, e.g. (schemas.RenderProduct,))"
+            )
         if cls.Options is not None and not dataclasses.is_dataclass(cls.Options):
             problems.append("Options is not a dataclass")
         elif cls.Options is not None and (required := _required_options(cls.Options)):
