@@ -17,6 +17,7 @@ import stat
 import types
 import typing
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Set as AbstractSet
 from dataclasses import field
 from pathlib import Path
 from typing import Any, TypeVar
@@ -852,9 +853,27 @@ def _coerce(value: Any, hint: Any, where: str) -> Any:
         return _literal(value, typing.get_args(hint), where)
     if origin in (tuple, list, Sequence) or hint in (tuple, list):
         return _sequence(value, typing.get_args(hint), where)
+    if origin in (set, frozenset, AbstractSet) or hint in (set, frozenset):
+        # A TOML array; left a list, `options | {...}` failed inside the rule.
+        return frozenset(_sequence(value, typing.get_args(hint), where))
+    if origin in (dict, Mapping) or hint is dict:
+        return _mapping(value, typing.get_args(hint), where)
     if origin in (typing.Union, types.UnionType):
         return _union(value, typing.get_args(hint), where)
+    if isinstance(origin, type):
+        # Another generic (an unchecked type let any value through): its class at least.
+        return _scalar(value, origin, where)
     return _scalar(value, hint, where)
+
+
+def _mapping(value: Any, args: tuple[Any, ...], where: str) -> dict[str, Any]:
+    if not isinstance(value, Mapping):
+        raise ConfigError(f"{where}: must be a table, got {value!r}")
+    key_hint, item = args if len(args) == 2 else (Any, Any)
+    return {
+        _coerce(key, key_hint, where): _coerce(v, item, f"{where}.{key}")
+        for key, v in value.items()
+    }
 
 
 def _literal(value: Any, allowed: tuple[Any, ...], where: str) -> Any:

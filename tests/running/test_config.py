@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -533,3 +534,27 @@ def test_ruffs_lint_table_in_a_pyproject_says_where_its_keys_go(project) -> None
     line = error_line(check(project))
     assert "unknown key 'tool.usdrender-lint.lint' (ruff's [lint] table: here its keys are " in line
     assert "in [tool.usdrender-lint] itself)" in line
+
+
+def test_set_and_table_options_are_checked_against_their_hints() -> None:
+    # A set or mapping option took any value: a TOML array stayed a list (a
+    # frozenset[str] option's `|` then failed inside the rule), a table's
+    # values were never checked.
+    from usdrender_lint.api import record
+    from usdrender_lint.config import ConfigError, build_options
+
+    @record(frozen=True)
+    class Options:
+        names: frozenset[str] = frozenset()
+        sizes: dict[str, int] | None = None
+
+    built = build_options(Options, {"names": ["a", "b"], "sizes": {"hd": 1080}}, "rules.x")
+    assert built == Options(names=frozenset({"a", "b"}), sizes={"hd": 1080})
+    for values, said in (
+        ({"names": [1]}, "rules.x.names: must be str, got 1"),
+        ({"names": "a"}, "rules.x.names: must be a list, got 'a'"),
+        ({"sizes": {"hd": "x"}}, "rules.x.sizes"),
+        ({"sizes": [1]}, "rules.x.sizes"),
+    ):
+        with pytest.raises(ConfigError, match=re.escape(said)):
+            build_options(Options, values, "rules.x")
