@@ -833,7 +833,13 @@ def build_options(options_class: type | None, values: Mapping[str, Any], where: 
         if values:
             raise ConfigError(f"{where}: this rule takes no options (got {', '.join(values)})")
         return None
-    hints = typing.get_type_hints(options_class)
+    try:
+        hints = typing.get_type_hints(options_class)
+    except Exception as exc:  # noqa: BLE001 - a plugin's hint; said as its error, not ours
+        raise ConfigError(
+            f"{where}: the rule's Options type hints cannot be read "
+            f"({type(exc).__name__}: {exc}); its plugin must define every name they use"
+        ) from None
     fields = {f.name.replace("_", "-"): f.name for f in dataclasses.fields(options_class)}
     kwargs = {}
     for key, value in values.items():

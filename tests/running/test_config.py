@@ -558,3 +558,16 @@ def test_set_and_table_options_are_checked_against_their_hints() -> None:
     ):
         with pytest.raises(ConfigError, match=re.escape(said)):
             build_options(Options, values, "rules.x")
+
+
+def test_options_hints_that_cannot_be_read_are_a_config_error_naming_the_rule() -> None:
+    # It was "internal error: NameError: name 'Undefined' is not defined", naming no rule.
+    from usdrender_lint.api import record
+    from usdrender_lint.config import ConfigError, build_options
+
+    @record(frozen=True)
+    class Options:
+        path: Undefined | None = None  # type: ignore[name-defined]  # noqa: F821
+
+    with pytest.raises(ConfigError, match=r"rules\.opt-rule: the rule's Options type hints"):
+        build_options(Options, {"path": "a"}, "rules.opt-rule")
