@@ -209,3 +209,34 @@ def test_a_check_prim_without_prim_types_is_refused_when_the_class_is_defined() 
             return ()
 
     assert StageOnly.prim_types == ()
+
+
+def test_explain_lists_the_options_a_docstring_does_not_document() -> None:
+    # A plugin rule's options were shown nowhere: explain printed its docstring only.
+    from usdrender_lint.api import record
+    from usdrender_lint.explain import explain_text
+
+    @record(frozen=True)
+    class Limits:
+        max_width: int = 4096
+        names: tuple[str, ...] = ()
+
+    class Capped(Rule):
+        __doc__ = DOC
+        code = "ZZ975"
+        name = "capped-rule"
+        severity = Severity.INFO
+        Options = Limits
+
+    text = explain_text(Capped)
+    assert (
+        "## Options\n- `max-width` (int, default 4096)\n"
+        "- `names` (tuple[str, ...], default ())\n\n## Under each profile" in text
+    )
+
+    class Documented(Capped):
+        __doc__ = DOC + "\n    ## Options\n    `max-width`: the widest.\n    "
+        code = "ZZ976"
+        name = "documented-rule"
+
+    assert explain_text(Documented).count("## Options") == 1
