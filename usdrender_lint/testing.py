@@ -250,6 +250,30 @@ def check_fixture(
     expected = [e for e in expectations(path) if e.code == code]
     assert expected, f"{path.name}: a fail fixture must declare '# expect: {code} <path> ...'"
     _check_expected(path, code, found, expected)
+    _check_fix_safety(path, code, found, chosen)
+
+
+def _check_fix_safety(
+    path: Path, code: str, found: Sequence[Finding], rules: Sequence[Rule]
+) -> None:
+    """The fixes offered agree with the rule's ``fix_safety``, which ``rules``
+    and ``explain`` show: a rule left at "none" that offers fixes was listed as
+    having none."""
+    safety = next(type(rule).fix_safety for rule in rules if rule.code == code)
+    offered = [f for f in found if f.fix is not None]
+    if safety == "none":
+        assert not offered, (
+            f"{path.name}: {code} offers fixes ({_describe(offered)}) but its fix_safety is "
+            "'none'; set it to 'safe', 'safe-conditional' or 'unsafe'"
+        )
+        return
+    if safety == "safe-conditional":
+        return  # safe where it can tell, unsafe elsewhere
+    wrong = [f for f in offered if f.fix is not None and f.fix.safe != (safety == "safe")]
+    assert not wrong, (
+        f"{path.name}: {code}'s fix_safety is {safety!r} but it offers "
+        f"{'safe' if safety == 'unsafe' else 'unsafe'} fixes: {_describe(wrong)}"
+    )
 
 
 def _no_rule(code: str, rules: Sequence[Rule]) -> str:

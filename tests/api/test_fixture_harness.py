@@ -213,3 +213,22 @@ def test_a_code_no_rule_has_is_an_error(tmp_path: Path, code: str, said: str) ->
         check_fixture(
             _fixture(tmp_path, name="pass_case.usda"), code, rules=[DataWindowMalformed()]
         )
+
+
+@pytest.mark.parametrize(
+    ("safety", "said"),
+    [
+        ("none", "SE003 offers fixes (</Render/A.dataWindowNDC> fix"),
+        ("safe", "SE003's fix_safety is 'safe' but it offers unsafe fixes"),
+    ],
+)
+def test_fixes_that_contradict_the_rule_fix_safety_fail(
+    tmp_path: Path, safety: str, said: str
+) -> None:
+    # A plugin rule left at fix_safety "none" that offers fixes was listed by
+    # `rules` and `explain` as having none; its fixtures passed.
+    Mislabelled = type("Mislabelled", (DataWindowMalformed,), {"fix_safety": safety})
+    fixture = _fixture(tmp_path, A)
+    check_fixture(fixture, "SE003", rules=[DataWindowMalformed()])  # "unsafe", as it offers
+    with pytest.raises(AssertionError, match=re.escape(said)):
+        check_fixture(fixture, "SE003", rules=[Mislabelled()])
