@@ -96,3 +96,19 @@ def test_third_party_rule_example_works(tmp_path: Path) -> None:
         layer.write_text(code_blocks(doc[section])[0])
         result = Linter([rule_class()], raise_errors=True).lint_path(str(layer))
         assert any(f.code == "ACME001" for f in result.findings) is fires
+
+
+def test_the_guide_s_fixture_example_passes_for_its_example_rule(tmp_path: Path) -> None:
+    # Its expect lines once named messages ("has no lights") and a whole-stage
+    # finding the example rule never reports: copied, they failed.
+    from usdrender_lint.testing import check_fixture
+
+    guide = (REPO / "docs" / "guides" / "writing-rules.md").read_text(encoding="utf-8")
+    source = re.search(r"```python\n(# acme_rules\.py\n.*?)\n```\n", guide, re.DOTALL).group(1)
+    namespace: dict = {}
+    exec(compile(source, "acme_rules.py", "exec"), namespace)  # noqa: S102 - our own guide
+    (rule_class,) = namespace["RULES"]
+    (fixture,) = [block for block in code_blocks(guide) if "# expect:" in block]
+    path = tmp_path / "fail_guide.usda"
+    path.write_text(fixture, encoding="utf-8")
+    check_fixture(path, "ACME001", rules=[rule_class()])
