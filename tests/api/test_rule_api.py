@@ -240,3 +240,27 @@ def test_explain_lists_the_options_a_docstring_does_not_document() -> None:
         name = "documented-rule"
 
     assert explain_text(Documented).count("## Options") == 1
+
+
+def test_options_of_another_type_are_refused_when_the_rule_is_made() -> None:
+    # Capped({"max_width": 1}) used to fail later, inside check_prim, as
+    # "'dict' object has no attribute 'max_width'".
+    from usdrender_lint.api import record
+
+    @record(frozen=True)
+    class Limits:
+        max_width: int = 4096
+
+    class Capped(Rule):
+        __doc__ = DOC
+        code = "ZZ977"
+        name = "capped-made-rule"
+        severity = Severity.INFO
+        Options = Limits
+
+    assert Capped(Limits(max_width=1)).options == Limits(max_width=1)
+    assert Capped().options == Limits()
+    with pytest.raises(
+        TypeError, match=r"\(ZZ977\): options must be a Capped.Options\(...\), got dict"
+    ):
+        Capped({"max_width": 1})

@@ -160,8 +160,16 @@ class Rule:
             raise TypeError(f"rule class {cls.__qualname__}: " + "; ".join(problems))
 
     def __init__(self, options: Any = None) -> None:
+        """``options``: an instance of the rule's ``Options`` (None: its defaults)."""
         if options is None and self.Options is not None:
             options = self.Options()
+        elif self.Options is not None and not isinstance(options, self.Options):
+            # A dict here failed later, inside the hook, as "'dict' object has no
+            # attribute ...", far from the call that passed it.
+            raise TypeError(
+                f"{type(self).__qualname__} ({self.code}): options must be a "
+                f"{type(self).__name__}.Options(...), got {type(options).__name__}"
+            )
         self.options = options
 
     @classmethod
