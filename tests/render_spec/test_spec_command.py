@@ -53,6 +53,26 @@ def test_text_view_flags_what_the_linter_reports() -> None:
     assert "drops the product: could not find camera </World/cropCam>" in text
 
 
+def test_text_view_names_the_findings_on_no_settings_or_product(tmp_path: Path) -> None:
+    # ST003 (the stage's metadata) and ST009 (a RenderVar nothing reaches) are
+    # on no settings or product: the JSON listed them, the text view did not.
+    shot = tmp_path / "shot.usda"
+    shot.write_text(
+        "#usda 1.0\n"
+        'def Scope "Render"\n{\n'
+        '    def RenderSettings "settings"\n    {\n'
+        "        uniform int2 resolution = (64, 64)\n    }\n"
+        '    def RenderVar "stray"\n    {\n'
+        '        uniform string sourceName = "Ci"\n    }\n'
+        "}\n"
+    )
+    as_json = json.loads(run(str(shot), "--format", "json").stdout)
+    assert {"ST003", "ST009"} <= set(as_json["files"][0]["findings"])
+    result = run(str(shot))
+    assert result.exit_code == 0, result.output
+    assert "findings elsewhere in the file: ST003, ST009  (check lists them)" in result.stdout
+
+
 def test_json_document_follows_its_schema(tmp_path: Path) -> None:
     jsonschema = pytest.importorskip("jsonschema")
     schema = json.loads((DOCS / "spec-schema.json").read_text())

@@ -44,9 +44,28 @@ def file_lines(file: dict[str, Any], width: int | None = None) -> Iterator[Line]
     yield [(file["file"], "bold"), (f"  at {_time(file['time'])} ({when})", "dim")]
     if not file["settings"]:
         yield [("  no usable RenderSettings", "yellow")]
+    # The findings on no settings or product (the stage, a layer, a prim no
+    # settings renders) are the file's too: the JSON lists them, so does this view.
+    elsewhere = _unplaced(file)
+    if elsewhere:
+        yield [
+            ("  findings elsewhere in the file: ", None),
+            (", ".join(elsewhere), FLAG),
+            ("  (check lists them)", "dim"),
+        ]
     for settings in file["settings"]:
         yield []
         yield from settings_lines(settings, width)
+
+
+def _unplaced(file: dict[str, Any]) -> list[str]:
+    """The codes of the file's findings that no settings or product lists."""
+    placed: set[str] = set()
+    for settings in file["settings"]:
+        placed.update(settings["findings"], settings["base"]["findings"])
+        for product in settings["products"]:
+            placed.update(product["findings"])
+    return [code for code in file["findings"] if code not in placed]
 
 
 def settings_lines(settings: dict[str, Any], width: int | None = None) -> Iterator[Line]:
