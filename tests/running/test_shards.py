@@ -467,6 +467,18 @@ def test_merge_reads_a_shard_given_twice_once(project: Path) -> None:
     assert (_merge("--format", "json", "whole.json").stdout) == once.stdout
 
 
+def test_merge_counts_a_fix_several_reports_hold_once(project: Path) -> None:
+    """The files of a report given twice were kept once, its fixes twice:
+    '2 fixes applied' became 4."""
+    _check("--format", "json", "--fix", "--select", "SE003", "--unsafe-fixes",
+           "--output", "fixed.json", "shots/seq0")  # fmt: skip
+    fixes = json.loads(Path("fixed.json").read_text())["fixes"]
+    assert len(fixes) == 2  # shots 0 and 12 of seq0
+    twice = _merge("--format", "json", "fixed.json", "fixed.json")
+    assert json.loads(twice.stdout)["fixes"] == fixes
+    assert "2 fixes applied" in _merge("fixed.json", "fixed.json").stdout
+
+
 @pytest.mark.parametrize("shard", ["1/2", {"index": 3, "count": 2}, {"index": True, "count": 1}])
 def test_merge_refuses_a_shard_it_cannot_read(project: Path, shard: object) -> None:
     reports = _sharded_reports(2)

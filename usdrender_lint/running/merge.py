@@ -17,7 +17,7 @@ or was cancelled), shards of different counts, or two reports of one shard
 that differ are refused, since the merge would otherwise gate on part of the
 files. A shard given twice with the same content is read once. Reports of
 whole runs (no ``--shard``) merge as they are, with each other and with a
-complete set of shards.
+complete set of shards; a fix that several reports hold is kept once.
 """
 
 from __future__ import annotations
@@ -119,8 +119,11 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
                 )
             if twin[0] != path:
                 continue  # the same shard again: its files are held, its fixes too
-        applied.extend(report.applied_fixes)
-        unapplied.extend(report.unapplied_fixes)
+        # A fix an earlier report holds is that report's too (the same report
+        # given twice, a whole run beside its shards): once, as its file is.
+        earlier = set(applied), set(unapplied)
+        applied.extend(fix for fix in report.applied_fixes if fix not in earlier[0])
+        unapplied.extend(fix for fix in report.unapplied_fixes if fix not in earlier[1])
     _whole_run({shard: path for shard, (path, _report) in shards.items()})
     merged = Report(
         tuple(files[name][0] for name in sorted(files)),
