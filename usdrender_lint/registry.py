@@ -43,15 +43,17 @@ class Registry:
     def plugins(self) -> set[str]:
         return set(self.origins.values())
 
-    def nearest(self, code_or_name: str) -> str | None:
+    def nearest(self, code_or_name: str, also: Iterable[str] = ()) -> str | None:
         """The rule code or name closest to a mistyped one (``camera_unset``,
-        ``CA01``), for a "did you mean"; None when none is close."""
+        ``CA01``), for a "did you mean"; None when none is close. ``also``:
+        more codes and names to consider (ones no rule class has)."""
         import difflib
 
         def fold(word: str) -> str:
             return word.strip().lower().replace("_", "-")
 
-        folded = {fold(word): word for rule in self.rules for word in (rule.code, rule.name)}
+        words = [word for rule in self.rules for word in (rule.code, rule.name)]
+        folded = {fold(word): word for word in [*words, *also]}
         close = difflib.get_close_matches(fold(code_or_name), folded, n=1, cutoff=0.75)
         return folded[close[0]] if close else None
 

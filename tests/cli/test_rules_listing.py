@@ -107,9 +107,18 @@ def test_the_docs_name_the_internal_error_code() -> None:
     assert "UL000" in documented_codes()
 
 
-@pytest.mark.parametrize("key", ["UL000", "ul000", "internal-error"])
+@pytest.mark.parametrize("key", ["UL000", "ul000", "internal-error", " UL000 ", "internal-error "])
 def test_explain_the_internal_error(key: str) -> None:
     result = CliRunner().invoke(cli, ["explain", key])
     assert result.exit_code == 0
     assert result.stdout.splitlines()[0] == "UL000 internal-error (error, fix: none)"
     assert "ST001" in result.stdout  # corrupt values are the file's problem
+
+
+@pytest.mark.parametrize("typo", ["UL0000", "internal-eror"])
+def test_a_mistyped_internal_error_is_offered_it(typo: str) -> None:
+    """Before, no code or name of it was ever offered."""
+    result = CliRunner().invoke(cli, ["explain", typo])
+    assert result.exit_code == 2
+    near = "UL000" if typo.startswith("UL") else "internal-error"
+    assert f"did you mean {near!r}?" in result.stderr

@@ -28,10 +28,10 @@ def explain(rule: str) -> None:
         from ..explain import explain_text
 
         emit("explain", "text", explain_text(found))
-    elif rule.upper() == internal.code or rule.lower() == internal.name:
+    elif rule.strip().upper() == internal.code or rule.strip().lower() == internal.name:
         header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
         emit("explain", "text", f"{header}\n\n{internal.doc}\n")
     else:
-        near = registry().nearest(rule)
+        near = registry().nearest(rule, also=(internal.code, internal.name))
         hint = f"did you mean {near!r}? " if near else ""
         raise ToolError(f"no rule has the code or name {rule!r} ({hint}see 'usdrender-lint rules')")
