@@ -392,3 +392,44 @@ def test_the_supervisor_owns_the_timer_of_the_lint_its_child_says_started() -> N
     os.close(says)
     assert supervisor._time_the_child(finished.pid, heard, stack) == "done"
     os.close(heard)
+
+
+ENDS_AS_ITS_STACK_IS_TAKEN = """
+import os, signal, sys, time
+stack, says = int(sys.argv[1]), int(sys.argv[2])
+def ended(*_):
+    os.write(stack, b"the stack\\n")
+    os.write(says, b"0.0\\n")  # its lint returned
+    time.sleep(0.3)  # it writes its report
+    os.write(says, b"done\\n")
+    os._exit(0)
+signal.signal(int(sys.argv[3]), ended)
+os.write(says, b"0.3\\n")  # its lint started
+time.sleep(60)
+"""
+
+
+def test_a_lint_that_ends_as_its_stack_is_taken_stands() -> None:
+    """Past its deadline the child is asked for its stack, and goes on meanwhile:
+    a lint that returned then wrote its report, and the supervisor still killed
+    it and ran the command again with "timed out", a second report after the
+    first (two JSON documents on stdout for 'spec --timeout' of one file)."""
+    from usdrender_lint.running.interrupts import STALL_SIGNAL
+
+    stack, stack_write = os.pipe()
+    heard, says = os.pipe()
+    child = subprocess.Popen(
+        [sys.executable, "-c", ENDS_AS_ITS_STACK_IS_TAKEN, str(stack_write), str(says),
+         str(int(STALL_SIGNAL))],
+        pass_fds=(stack_write, says),
+    )  # fmt: skip
+    os.close(stack_write)
+    os.close(says)
+    try:
+        assert supervisor._time_the_child(child.pid, heard, stack) == "done"
+        assert child.wait(10) == 0
+    finally:
+        child.kill()
+        child.wait(10)
+        for fd in (heard, stack):
+            os.close(fd)

@@ -260,6 +260,11 @@ def _time_the_child(child: int, heard: int, stack: int) -> str | None:
                 continue
             _kill(child, STALL_SIGNAL)
             _wait_for_stack(stack)
+            if _ended_its_lint(child, heard):
+                # Its lint returned while its stack was taken: it may have written
+                # its output, which a second run with "timed out" would follow.
+                deadline = None
+                continue
             _kill(child)
             return "timeout"
         said = os.read(heard, 256).split()
@@ -271,6 +276,22 @@ def _time_the_child(child: int, heard: int, stack: int) -> str | None:
         if said:
             seconds = float(said[-1])  # the latest (a lone file says twice, at most)
             deadline = time.monotonic() + seconds if seconds else None
+
+
+def _ended_its_lint(child: int, heard: int) -> bool:
+    """Whether the child, stopped first (so that it cannot end its lint between
+    the look and the kill), has said anything since its deadline passed: what
+    it says next to a deadline is that its lint ended. Continued when it has."""
+    _kill(child, signal.SIGSTOP)
+    try:  # noqa: SIM105 - contextlib is one more import before the fork
+        # Until it is stopped (or has ended); WNOWAIT: its status stays for waitpid.
+        os.waitid(os.P_PID, child, os.WSTOPPED | os.WEXITED | os.WNOWAIT)
+    except ChildProcessError:
+        pass  # nothing to wait for
+    if select.select([heard], [], [], 0)[0]:
+        _kill(child, signal.SIGCONT)
+        return True
+    return False
 
 
 def _wait_for_stack(stack: int) -> None:
