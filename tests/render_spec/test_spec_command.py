@@ -73,6 +73,16 @@ def test_text_view_names_the_findings_on_no_settings_or_product(tmp_path: Path) 
     assert "findings elsewhere in the file: ST003, ST009  (check lists them)" in result.stdout
 
 
+def test_a_folder_without_usd_files_is_said_as_check_says_it(tmp_path: Path) -> None:
+    # spec printed nothing at all and exited 0, as if the folder had been read.
+    (tmp_path / "notes.txt").write_text("not a layer\n")
+    result = run(str(tmp_path))
+    said = f"usdrender-lint: warning: {tmp_path}: no USD files (.usd, .usda, .usdc, .usdz) in it\n"
+    assert (result.exit_code, result.stdout, result.stderr) == (0, "", said)
+    check = CliRunner().invoke(cli, ["check", "--isolated", str(tmp_path)])
+    assert said in check.stderr
+
+
 def test_json_document_follows_its_schema(tmp_path: Path) -> None:
     jsonschema = pytest.importorskip("jsonschema")
     schema = json.loads((DOCS / "spec-schema.json").read_text())

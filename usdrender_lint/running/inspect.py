@@ -33,6 +33,7 @@ from .pipeline import (
     configuration_parts,
     folder_exclusions,
     lint_as_asked,
+    no_usd_files,
     prepare,
 )
 from .supervisor import Supervision
@@ -142,7 +143,8 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
         )
     )
     exclusions = Exclusions.of(prepared.settings)
-    files = collect_files(request.paths, exclusions=exclusions, nested=folder_exclusions(prepared))
+    empty: list[str] = []
+    files = collect_files(request.paths, empty, exclusions, folder_exclusions(prepared))
     # Each file with its nearest configuration, as check lints it (running/hierarchy.py).
     parts = configuration_parts(prepared, files) or [(prepared, files)]
     configs = [part.settings.source for part, _ in parts if part.settings.source]
@@ -157,7 +159,8 @@ def inspect_files(request: InspectRequest, inspect: Inspector[Any]) -> Inspectio
     results.sort(key=lambda result: place.get(result.file, len(place)))
     errored = any(r.status != "linted" for r in results)
     status = EXIT_TOOL_ERROR if errored else EXIT_OK
-    return Inspection(tuple(results), status, notes=tuple(plugin_notes()))
+    notes = (*plugin_notes(), *map(no_usd_files, empty))  # as check says them
+    return Inspection(tuple(results), status, notes=notes)
 
 
 def _inspected(

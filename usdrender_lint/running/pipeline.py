@@ -869,10 +869,13 @@ def collect_targets(prepared: Prepared, notes: list[str]) -> list[str]:
         return [] if force_excluded(name, exclusions, folder_exclusions(prepared)) else [name]
     empty: list[str] = []
     files = collect_files(request.paths, empty, exclusions, folder_exclusions(prepared))
-    notes.extend(
-        f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it" for folder in empty
-    )
+    notes.extend(map(no_usd_files, empty))
     return files
+
+
+def no_usd_files(folder: str) -> str:
+    """The note on a folder given that holds no USD file (likely a mistake)."""
+    return f"warning: {folder}: no USD files (.usd, .usda, .usdc, .usdz) in it"
 
 
 def folder_exclusions(prepared: Prepared) -> FolderExclusions | None:
