@@ -227,6 +227,25 @@ def test_stdout_on_a_full_device_is_one_line_and_exit_2(output_format: str) -> N
 
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
 @pytest.mark.parametrize(
+    ("args", "what"),
+    [
+        (("rules",), "the rule list"),
+        (("explain", "CA004"), "the rule's documentation"),
+        (("spec", "--isolated", str(BROKEN)), "the specification"),
+    ],
+)
+def test_a_full_stdout_names_what_could_not_be_written(args: tuple[str, ...], what: str) -> None:
+    # 'rules' and 'explain' said "cannot write the report", a report they never make.
+    with open("/dev/full", "w") as full:
+        result = subprocess.run(
+            command(*args), stdout=full, stderr=subprocess.PIPE, text=True, timeout=120
+        )
+    assert result.returncode == 2
+    assert result.stderr == f"usdrender-lint: error: cannot write {what}: No space left on device\n"
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+@pytest.mark.parametrize(
     ("args", "status"),
     [
         (("check", "--isolated", "/no/such/shot.usda"), 2),

@@ -27,10 +27,10 @@ def explain(rule: str) -> None:
     if found is not None:
         from ..explain import explain_text
 
-        emit("explain", "text", explain_text(found))
+        emit("explain", "text", explain_text(found), what="the rule's documentation")
     elif rule.strip().upper() == internal.code or rule.strip().lower() == internal.name:
         header = f"{internal.code} {internal.name} ({internal.severity.value}, fix: {internal.fix})"
-        emit("explain", "text", f"{header}\n\n{internal.doc}\n")
+        emit("explain", "text", f"{header}\n\n{internal.doc}\n", what="the rule's documentation")
     else:
         near = registry().nearest(rule, also=(internal.code, internal.name))
         hint = f"did you mean {near!r}? " if near else ""

@@ -71,11 +71,13 @@ class Stdout:
     #: Bytes gathered before they are written.
     CHUNK = 1 << 16
 
-    def __init__(self, encoding: str | None = None) -> None:
+    def __init__(self, encoding: str | None = None, what: str = "the report") -> None:
         self._parts: list[str] = []
         self._size = 0
         #: None: UTF-8, or a terminal's own; a layer's text is UTF-8 whatever it is.
         self._encoding = encoding
+        #: What is written, as a failure names it (a rule list is no report).
+        self._what = what
 
     def write(self, text: str) -> int:
         self._parts.append(text)
@@ -123,7 +125,7 @@ class Stdout:
         except BrokenPipeError:
             raise StdoutGone from None
         except OSError as exc:
-            raise ToolError(f"cannot write the report: {exc.strerror or exc}") from None
+            raise ToolError(f"cannot write {self._what}: {exc.strerror or exc}") from None
 
 
 @contextmanager

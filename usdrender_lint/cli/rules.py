@@ -84,7 +84,7 @@ def list_rules(output_format: str, profile: str | None) -> None:
 
     chosen = get_profile(profile) if profile else None
     rows = effective_rules(registry.rules, chosen)
-    emit("rules", output_format, RuleTable(rows, registry, chosen))
+    emit("rules", output_format, RuleTable(rows, registry, chosen), what="the rule list")
 
 
 def _terminal_width(stream: TextIO) -> int | None:

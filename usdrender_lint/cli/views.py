@@ -56,7 +56,7 @@ def send(render: Callable[[TextIO], None], output: str | None, what: str) -> Non
     """What ``render`` writes, to stdout (as it is written) or to the file
     ``output`` (whole, atomically; stdout gets nothing)."""
     if output is None:
-        stdout = Stdout()
+        stdout = Stdout(what=what)
         render(stdout)  # type: ignore[arg-type]
         stdout.flush()
         return
