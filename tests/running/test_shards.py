@@ -479,6 +479,14 @@ def test_merge_counts_a_fix_several_reports_hold_once(project: Path) -> None:
     assert "2 fixes applied" in _merge("fixed.json", "fixed.json").stdout
 
 
+def test_merge_refuses_standard_input_in_one_line(project: Path) -> None:
+    # '-' is standard input to check: merge said "-: cannot read: No such file
+    # or directory", as if a file named '-' were missing.
+    reports = _sharded_reports(2)
+    result = CliRunner().invoke(cli, ["merge", "-", *reports], input=Path(reports[0]).read_text())
+    _one_line_refusal(result, "merge reads report files, not standard input ('-')")
+
+
 @pytest.mark.parametrize("shard", ["1/2", {"index": 3, "count": 2}, {"index": True, "count": 1}])
 def test_merge_refuses_a_shard_it_cannot_read(project: Path, shard: object) -> None:
     reports = _sharded_reports(2)

@@ -51,6 +51,8 @@ def merge(
 
     The exit code is that of one check over all the files: 2 when a file could
     not be linted, else 1 when a finding reaches --fail-on, else 0."""
+    if "-" in reports:  # as check and spec take it ("./-" names a file)
+        raise ToolError("merge reads report files, not standard input ('-'): save it first")
     import_engine()
     from ..running.merge import MergeError, merge_reports
     from ..running.outputs import OutputOnInput, refuse_inputs
