@@ -422,6 +422,21 @@ def test_diff_prints_the_change_and_writes_nothing(tmp_path: Path, monkeypatch) 
     assert codes(document) == ["SE006"]
 
 
+def test_diff_report_says_what_would_be_fixed_not_what_was(tmp_path: Path, monkeypatch) -> None:
+    # --diff writes nothing: the report it writes to --output must not claim
+    # "fixed" or "fixes applied" (it did, misleading whoever read the file).
+    shot = write(tmp_path / "shot.usda", SHOT)
+    monkeypatch.chdir(tmp_path)
+    args = ["check", "--isolated", "-j", "1", "--select", "SE006", "--diff"]
+    result = CliRunner().invoke(cli, [*args, "--output", "report.txt", str(shot)])
+    assert result.exit_code == 1, result.output
+    report = (tmp_path / "report.txt").read_text(encoding="utf-8")
+    assert "shot.usda: would fix SE006 " in report
+    assert report.rstrip().endswith("; 1 fix would be applied.")
+    assert "fixed" not in report and "fix applied" not in report
+    assert shot.read_text(encoding="utf-8") == SHOT
+
+
 def test_diff_of_a_usdc_is_a_note_not_a_patch(tmp_path: Path, monkeypatch) -> None:
     source = Sdf.Layer.CreateAnonymous(".usda")
     source.ImportFromString(SHOT)

@@ -288,6 +288,7 @@ def _check_once(request: Request, shown: _Shown) -> Outcome:
         statistics=shown.statistics,
         quiet=shown.quiet,
         fixing=request.fix is not None,
+        dry_run=shown.show_diff,
         shard=request.shard,
         settings_of=outcome.settings_by_file().get,
     )

@@ -25,6 +25,9 @@ class FormatOptions:
     quiet: bool = False
     #: Fixing was asked for (--fix, --diff, --fix-to): report the fixes.
     fixing: bool = False
+    #: --diff: the fixes were computed and written nowhere, so the report says
+    #: what would be applied, never that it was.
+    dry_run: bool = False
     #: The run's configuration digest (running/merge.py), for the JSON report.
     configuration: str | None = None
     #: The (K, N) of check --shard K/N, recorded in the JSON report for merge.

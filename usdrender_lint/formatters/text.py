@@ -168,9 +168,10 @@ def error_entry(result: FileResult) -> Entry:
     return Entry((file, 0, 0, ""), file + ":", (("error:", "bold red"),), ((reason, None),))
 
 
-def fix_entry(fix: AppliedFix) -> Entry:
+def fix_entry(fix: AppliedFix, dry_run: bool = False) -> Entry:
     file = _file_of(fix.layer, fix.file)
-    head, tail = _labelled(("fixed", "green"), fix.code, fix.path, printable(fix.description))
+    label = "would fix" if dry_run else "fixed"  # --diff writes nothing
+    head, tail = _labelled((label, "green"), fix.code, fix.path, printable(fix.description))
     return Entry((file, fix.code), file + ":", tuple(head), tuple(tail))
 
 
@@ -269,7 +270,10 @@ class TextFormatter:
         entries.sort(key=lambda entry: entry.sort_key)
         if options.quiet:  # --quiet: what is wrong, and nothing about it
             return entries, statistics_lines(report) if options.statistics else []
-        fixes = sorted((fix_entry(fix) for fix in report.applied_fixes), key=lambda e: e.sort_key)
+        fixes = sorted(
+            (fix_entry(fix, options.dry_run) for fix in report.applied_fixes),
+            key=lambda e: e.sort_key,
+        )
         summary = [self._summary(report, len(report.findings) - len(shown), options)]
         if options.statistics:
             summary += statistics_lines(report)
@@ -296,7 +300,8 @@ class TextFormatter:
             hidden_fixable = report.fixable(Severity.INFO)[0] if hidden else 0
             text += "".join(_fixable(*report.fixable(), hidden_fixable))
         if report.applied_fixes:
-            text += f"; {_plural(len(report.applied_fixes), 'fix', 'fixes')} applied"
+            verb = "would be applied" if options.dry_run else "applied"
+            text += f"; {_plural(len(report.applied_fixes), 'fix', 'fixes')} {verb}"
         if report.unapplied_fixes:
             text += f"; {_plural(len(report.unapplied_fixes), 'fix', 'fixes')} not applied"
         return text + "."
