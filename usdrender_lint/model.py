@@ -206,17 +206,20 @@ class Report:
         """Findings a ``--fix`` would fix, and how many more ``--unsafe-fixes``
         would: those whose fix is safe, and unsafe (``unfixable`` rules aside);
         of one ``severity`` only, when given."""
-        by_file = dict(self.unfixable_by_file)
         fixes = [
             f.fix
             for result in self.files
             for f in result.findings
             if f.fix is not None
-            and f.code not in by_file.get(result.file, self.unfixable)
+            and f.code not in self.unfixable_in(result.file)
             and severity in (None, f.severity)
         ]
         safe = sum(1 for fix in fixes if fix.safe)
         return safe, len(fixes) - safe
+
+    def unfixable_in(self, file: str) -> frozenset[str]:
+        """The rule codes whose fixes ``--fix`` never applies in ``file``."""
+        return dict(self.unfixable_by_file).get(file, self.unfixable)
 
     @property
     def findings(self) -> tuple[Finding, ...]:

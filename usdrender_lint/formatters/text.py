@@ -113,7 +113,10 @@ Below = Callable[[Finding], tuple[tuple[Segment, ...], ...]]
 
 
 def finding_entry(
-    finding: Finding, show_profile: bool = False, below: Below | None = None
+    finding: Finding,
+    show_profile: bool = False,
+    below: Below | None = None,
+    unfixable: bool = False,
 ) -> Entry:
     loc = finding.location
     file = _file_of(loc.layer, loc.file)
@@ -125,6 +128,8 @@ def finding_entry(
     head, tail = _labelled(label, finding.code, loc.path, message)
     if finding.fix is not None:
         kind = "fix" if finding.fix.safe else "unsafe fix"
+        if unfixable:  # config ``unfixable``: --fix will not apply it, whatever it offers
+            kind += ", unfixable in the configuration"
         tail.append((f"[{kind}: {printable(finding.fix.description)}]", "dim"))
     if show_profile and finding.profile:
         tail.append((f"[profile {finding.profile}: {finding.profile_reason}]", "dim"))
@@ -265,7 +270,15 @@ class TextFormatter:
             for finding in report.findings
             if options.show_info or finding.severity != Severity.INFO
         ]
-        entries = [finding_entry(finding, options.show_info, below) for finding in shown]
+        entries = [
+            finding_entry(
+                finding,
+                options.show_info,
+                below,
+                finding.code in report.unfixable_in(finding.location.file),
+            )
+            for finding in shown
+        ]
         entries += [error_entry(result) for result in report.errored_files]
         entries.sort(key=lambda entry: entry.sort_key)
         if options.quiet:  # --quiet: what is wrong, and nothing about it
