@@ -7,17 +7,13 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
+from usdrender_lint.api.resolve import prim_values
 
 from .._aov import product_render_vars
 
 AOV_NAME = "driver:parameters:aov:name"
 #: The husk-only spelling newer husk releases read first.
 HUSK_AOV_NAME = "driver:parameters:aov:husk:name"
-
-
-def _authored(var: Usd.Prim, name: str) -> bool:
-    attr = var.GetAttribute(name)
-    return bool(attr) and attr.HasAuthoredValue()
 
 
 class AovNameMissing(Rule):
@@ -109,7 +105,8 @@ class AovNameMissing(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         for var in product_render_vars(prim, ctx):
-            if _authored(var, AOV_NAME) or _authored(var, HUSK_AOV_NAME):
+            values = prim_values(var)
+            if values.has_value(AOV_NAME) or values.has_value(HUSK_AOV_NAME):
                 continue
             yield Diagnostic(
                 message=f"RenderVar {var.GetPath()} of {prim.GetPath()} has no {AOV_NAME}, "
