@@ -491,6 +491,44 @@ def test_a_child_that_cannot_start_says_why_on_every_call(
         child.close()
 
 
+def test_a_cancel_that_lands_as_a_lint_answers_never_fails_the_next_lint(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Closing a document as its lint answered killed that child after its
+    answer came in; the kill not yet taken (a loaded machine), the child went to
+    the next call, which failed as "cancelled", so the next document's
+    diagnostics never came (seen once in CI)."""
+    from usdrender_lint.server import worker
+
+    first, second = tmp_path / "first.usda", tmp_path / "second.usda"
+    for path in (first, second):
+        path.write_text(FINE)
+    linting = worker.Linting()
+    killed: list[worker.Child] = []
+    real_call = worker.Child.call
+
+    def answered_then_cancelled(child, method, args, texts, timeout):
+        answer = real_call(child, method, args, texts, timeout)
+        if args == (str(first),) and not killed:
+            linting.cancel(str(first), 2)  # the editor closes the document
+            killed.append(child)
+        return answer
+
+    monkeypatch.setattr(worker.Child, "call", answered_then_cancelled)
+    # The kill has not taken when the next call looks for a child.
+    monkeypatch.setattr(
+        worker.Child, "alive", property(lambda c: c in killed or c.process.poll() is None)
+    )
+    try:
+        linting.start()
+        linting.call("lint", str(first), 1, (str(first),), {}, 60.0)
+        linted = linting.call("lint", str(second), 3, (str(second),), {}, 60.0)
+        assert killed and linted.error is None
+        assert "SE001" in {f.code for f in linted.findings}  # resolution (0, 10)
+    finally:
+        linting.close()
+
+
 @pytest.mark.parametrize(
     ("signum", "status", "said"),
     [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],

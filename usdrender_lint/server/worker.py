@@ -230,9 +230,12 @@ class Linting:
         ended = []
         with self._state:
             self._running.pop(child, None)
-            if failed or child not in (self._active, self._second):
+            if failed or child.cancelled or child not in (self._active, self._second):
                 # It crashed, ran out of time or was cancelled (or was replaced
-                # meanwhile): the next call takes another.
+                # meanwhile): the next call takes another. A cancel that landed
+                # as the call's answer came in killed it all the same, and the
+                # kill may not have taken yet: handed out, it failed the next
+                # call as "cancelled", and that document's lint was never shown.
                 child.kill()
                 ended.append(child)
                 if self._active is child:
