@@ -287,6 +287,37 @@ def test_the_changelog_has_this_version() -> None:
     assert "\n## Unreleased\n" in changelog
 
 
+def test_a_released_version_s_notes_are_those_of_its_tag() -> None:
+    """Notes written after a release belong under Unreleased: entries added
+    after 0.3.0 went into its section once, so the notes of 0.3.0 claimed what
+    its tag does not hold. Each version's lists (from its first ``###``) read
+    as at its tag, where the clone has Git and the tags; its opening paragraph
+    may gain a remark (0.2.0's on the moved ``v0.1.0`` tag)."""
+    import shutil
+    import subprocess
+
+    if shutil.which("git") is None or not (REPO / ".git").exists():
+        pytest.skip("needs a Git clone of the project")
+    tags = subprocess.run(
+        ["git", "tag", "--list", "v*"], cwd=REPO, capture_output=True, text=True
+    ).stdout.split()
+    if not tags:
+        pytest.skip("the clone has no release tags")
+
+    def section(text: str, version: str) -> str:
+        start = text.index("\n### ", text.index(f"\n## {version}\n"))
+        end = text.find("\n## ", start)
+        return text[start : end if end != -1 else len(text)]
+
+    now = (REPO / "CHANGELOG.md").read_text(encoding="utf-8")
+    for tag in tags:
+        then = subprocess.run(
+            ["git", "show", f"{tag}:CHANGELOG.md"], cwd=REPO, capture_output=True, text=True
+        )
+        if then.returncode == 0 and f"\n## {tag[1:]}\n" in then.stdout:
+            assert section(now, tag[1:]) == section(then.stdout, tag[1:]), tag
+
+
 def test_the_contributing_page_names_every_test_that_reads_shared() -> None:
     page = (DOCS / "contributing.md").read_text(encoding="utf-8")
     section = page.split("## Tests that need `../shared`", 1)[1].split("\n## ", 1)[0]
