@@ -5,6 +5,7 @@ before the command line's own imports (click, the engine): a signal during
 them exits 130 or 143 with one line, like one during the run.
 """
 
+import os
 import sys
 
 from .running import address_space, interrupts, supervisor
@@ -32,7 +33,16 @@ def main() -> None:
             raise
         sys.stderr.write(f"usdrender-lint: error: {said}\n")
         sys.exit(2)
-    command(supervision=supervision)
+    try:
+        command(supervision=supervision)
+    except MemoryError:
+        # The command's own handlers ran out of memory too (ulimit -v): bytes
+        # made before, written without allocating a message.
+        os.write(2, _OUT_OF_MEMORY)
+        sys.exit(2)
+
+
+_OUT_OF_MEMORY = b"usdrender-lint: error: out of memory: raise the memory limit (ulimit -v)\n"
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@ lookup that lets it skip importlib.metadata (issue 6). Timing is measured by
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from importlib import metadata
@@ -303,3 +304,58 @@ def test_a_tiny_memory_limit_is_one_line_and_exit_2(mib: int, args: tuple[str, .
         f"usdrender-lint: error: out of memory: the address-space limit (ulimit -v) is {mib} MiB, "
         "too small to load USD (it maps about 600 MiB as it loads): raise it"
     ]
+
+
+def test_a_memory_error_past_the_command_s_own_handlers_is_one_line(
+    monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]
+) -> None:
+    """Under ``ulimit -v`` about 1 GiB, USD loads and then runs out: the command's
+    handlers, which allocate, could fail in turn, and a traceback reached the user."""
+    import usdrender_lint.__main__ as entry
+    import usdrender_lint.cli
+
+    def no_memory(supervision: object = None) -> None:
+        raise MemoryError
+
+    monkeypatch.setattr(usdrender_lint.cli, "main", no_memory)
+    monkeypatch.setattr(sys, "argv", ["usdrender-lint", "rules"])
+    with pytest.raises(SystemExit) as exited:
+        entry.main()
+    assert exited.value.code == 2
+    assert capfd.readouterr().err.splitlines() == [
+        "usdrender-lint: error: out of memory: raise the memory limit (ulimit -v)"
+    ]
+
+
+@pytest.mark.parametrize("fails", ["ENOMEM", "ENOSPC"])
+def test_an_os_error_while_reporting_is_one_line_without_importing_traceback(
+    fails: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Seen under ``ulimit -v`` 1.1 GiB: listing the formatters' entry points
+    failed with ENOMEM (an OSError, taken for a write error), and the handler's
+    ``import traceback`` then failed for want of memory: two tracebacks. ENOMEM
+    is now the out-of-memory line, and no handler imports a module."""
+    import errno
+
+    from usdrender_lint import cli, formatters
+
+    def listing_fails() -> dict:
+        raise OSError(getattr(errno, fails), os.strerror(getattr(errno, fails)))
+
+    monkeypatch.setattr(formatters, "available_formatters", listing_fails)
+    monkeypatch.setitem(sys.modules, "traceback", None)  # its import fails, as it did
+    monkeypatch.setattr(
+        "usdrender_lint.running.address_space.address_space_limit", lambda: 1100 << 20
+    )
+    with pytest.raises(SystemExit) as exited:
+        cli.main(["check", "--no-cache", "--timeout", "0", str(PASS_FILE)])
+    assert exited.value.code == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1, lines
+    if fails == "ENOMEM":
+        assert lines == [
+            "usdrender-lint: error: out of memory: the address-space limit (ulimit -v) is "
+            "1100 MiB: raise it"
+        ]
+    else:
+        assert lines[0].startswith("usdrender-lint: internal error: OSError: ")

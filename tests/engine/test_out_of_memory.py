@@ -98,3 +98,27 @@ def test_a_rule_that_runs_out_of_memory_fails_the_file_not_the_rule(tmp_path: Pa
     assert result.status == "error"
     assert result.findings == ()
     assert result.error is not None and "out of memory" in result.error
+
+
+@pytest.mark.parametrize(
+    ("data", "space", "said"),
+    [
+        (None, None, "more memory than the machine could give"),
+        (320 << 20, None, "more than the 320 MiB this process may allocate"),
+        (21 << 30, 1100 << 20, "more than the address-space limit (ulimit -v) of 1.1 GiB allows"),
+        (320 << 20, 2 << 30, "more than the 320 MiB this process may allocate"),
+    ],
+)
+def test_the_out_of_memory_message_names_the_smaller_limit(
+    monkeypatch: pytest.MonkeyPatch, data: int | None, space: int | None, said: str
+) -> None:
+    """Under ``ulimit -v`` 1.1 GiB a worker's file said it needed "more than the
+    21.2 GiB this process may allocate" (its data cap), not the limit that ran out."""
+    from usdrender_lint.engine.stage import out_of_memory_message
+
+    limits = {
+        resource.RLIMIT_DATA: resource.RLIM_INFINITY if data is None else data,
+        resource.RLIMIT_AS: resource.RLIM_INFINITY if space is None else space,
+    }
+    monkeypatch.setattr(resource, "getrlimit", lambda which: (limits[which], limits[which]))
+    assert said in out_of_memory_message()

@@ -72,9 +72,28 @@ def test_no_environment_variable_of_ours_enters_the_cache_key(
     assert run_key(LINTER, Settings()) != before
 
 
-def test_a_worker_that_dies_while_starting_says_so_in_one_line() -> None:
+def test_a_worker_that_dies_while_starting_says_so_in_one_line(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     # It read "a worker process died while starting: the linter process crashed
     # while reading it (signal SIGSEGV)" (USD's start under a tight ulimit -v).
+    monkeypatch.setattr("usdrender_lint.running.address_space.address_space_limit", lambda: None)
     with pytest.raises(workers.ExecutionError) as raised:
         workers.Pool(os.abort, 1, None).run(["/no/such/shot.usda"])
     assert str(raised.value) == "a worker process died while starting (signal SIGABRT)"
+
+
+def test_a_worker_that_dies_while_starting_names_the_address_space_limit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Between about 512 MiB and 1 GiB of ``ulimit -v`` USD loads in the command
+    and its worker dies starting (SIGSEGV): the line said nothing of the limit."""
+    monkeypatch.setattr(
+        "usdrender_lint.running.address_space.address_space_limit", lambda: 900 << 20
+    )
+    with pytest.raises(workers.ExecutionError) as raised:
+        workers.Pool(os.abort, 1, None).run(["/no/such/shot.usda"])
+    assert str(raised.value) == (
+        "a worker process died while starting (signal SIGABRT); "
+        "the address-space limit (ulimit -v) is 900 MiB: raise it"
+    )

@@ -15,7 +15,7 @@ import os
 import sys
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, NoReturn
 
 import click
 
@@ -142,6 +142,8 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
         _silence_stdout()
         sys.exit(EXIT_TOOL_ERROR)
     except OSError as exc:
+        if exc.errno == errno.ENOMEM:  # a listing or a map under ulimit -v
+            _out_of_memory(exc)
         if not _raised_by_echo(exc):
             _internal_error(exc)
         # click printing help, the version or usage: stdout is full or gone.
@@ -150,12 +152,16 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
             error(f"cannot write the output: {exc.strerror or exc}")
         sys.exit(EXIT_TOOL_ERROR)
     except MemoryError as exc:  # at start-up, under ulimit -v: a file's own is its result
-        from ..running.address_space import out_of_memory_at_start
-
-        error(out_of_memory_at_start(exc) or "out of memory")
-        sys.exit(EXIT_TOOL_ERROR)
+        _out_of_memory(exc)
     except Exception as exc:
         _internal_error(exc)
+
+
+def _out_of_memory(exc: BaseException) -> NoReturn:
+    from ..running.address_space import out_of_memory_at_start
+
+    error(out_of_memory_at_start(MemoryError(exc)) or "out of memory")
+    sys.exit(EXIT_TOOL_ERROR)
 
 
 #: The variable the shell completion scripts set (click's ``_{PROG}_COMPLETE``).
@@ -175,13 +181,17 @@ def _refuse_completion_without_its_shell() -> None:
 
 
 def _raised_by_echo(exc: BaseException) -> bool:
-    """Whether ``exc`` came out of ``click.echo`` (help, version, usage)."""
-    import traceback
-
-    return any(
-        frame.name == "echo" and frame.filename.endswith(os.path.join("click", "utils.py"))
-        for frame in traceback.extract_tb(exc.__traceback__)
-    )
+    """Whether ``exc`` came out of ``click.echo`` (help, version, usage). The
+    frames are read without the ``traceback`` module: its import can itself
+    fail for want of memory, and that traceback reached the user."""
+    utils = os.path.join("click", "utils.py")
+    tb = exc.__traceback__
+    while tb is not None:
+        code = tb.tb_frame.f_code
+        if code.co_name == "echo" and code.co_filename.endswith(utils):
+            return True
+        tb = tb.tb_next
+    return False
 
 
 def _internal_error(exc: Exception) -> None:

@@ -314,14 +314,25 @@ def out_of_memory(error: BaseException | Iterable[str]) -> bool:
 
 def out_of_memory_message() -> str:
     """Why a file could not be linted when memory ran out, with the process's
-    data limit where one is set (a worker's share of the machine: workers.cap_memory)."""
+    data limit where one is set (a worker's share of the machine: workers.cap_memory),
+    or the user's address-space limit (``ulimit -v``) where that is the smaller."""
     try:
         import resource
     except ImportError:  # not POSIX: no per-process limit to name
-        limit = None
+        limit = space = None
     else:
-        soft = resource.getrlimit(resource.RLIMIT_DATA)[0]
-        limit = None if soft == resource.RLIM_INFINITY else soft
+        limit, space = (
+            None if soft == resource.RLIM_INFINITY else soft
+            for soft in (
+                resource.getrlimit(resource.RLIMIT_DATA)[0],
+                resource.getrlimit(resource.RLIMIT_AS)[0],
+            )
+        )
+    if space is not None and (limit is None or space <= limit):
+        return (
+            "out of memory: reading the file needs more than the address-space limit "
+            f"(ulimit -v) of {_amount(space)} allows: raise it"
+        )
     if limit is None:
         return "out of memory: reading the file needs more memory than the machine could give"
     return (

@@ -43,9 +43,21 @@ def out_of_memory_at_start(exc: BaseException) -> str | None:
     return None
 
 
+def limit_hint() -> str:
+    """What to add to a failure that a tight address-space limit may have caused
+    (USD starts between about 512 MiB and 1 GiB, then fails as it loads more):
+    "" when no limit is set."""
+    limit = address_space_limit()
+    if limit is None:
+        return ""
+    return f"; the address-space limit (ulimit -v) is {limit // 2**20} MiB: raise it"
+
+
 def _message(limit: int | None) -> str:
     if limit is None:
         return "out of memory while loading USD: raise the memory limit (ulimit -v) or free memory"
+    if limit >= FLOOR:  # USD loaded, and ran out later
+        return f"out of memory: the address-space limit (ulimit -v) is {limit >> 20} MiB: raise it"
     return (
         f"out of memory: the address-space limit (ulimit -v) is {limit // 2**20} MiB, too small "
         "to load USD (it maps about 600 MiB as it loads): raise it"

@@ -295,7 +295,9 @@ class Pool:
         died = worker.death() if crashed else ""
         if worker.starting:  # it crashed: a starting worker has no deadline to miss
             # Not CRASHED's "while reading it": it read no file.
-            raise ExecutionError(f"a worker process died while starting {died}")
+            from .address_space import limit_hint
+
+            raise ExecutionError(f"a worker process died while starting {died}{limit_hint()}")
         why = why or f"{CRASHED} {died}"
         if worker.queue:
             index, item = worker.queue.popleft()  # the one it was linting
