@@ -6,9 +6,7 @@ from collections.abc import Iterator
 
 from pxr import Sdf, Usd, UsdRender
 
-from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-
-FRAME_TOKEN = "####"
+from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record
 
 
 class AcmeProductRule(Rule):
@@ -57,6 +55,10 @@ class ProductNameFrameToken(AcmeProductRule):
     ## Fix safety
     Safe: the fix inserts `.####` before the extension in the layer that
     authors productName; nothing else reads the name.
+
+    ## Options
+    - `token` (default `"####"`): the frame token the farm expands, e.g.
+      `"$F4"` for a farm that reads Houdini's variables.
     """
 
     code = "ACME001"
@@ -64,15 +66,20 @@ class ProductNameFrameToken(AcmeProductRule):
     severity = Severity.WARNING
     fix_safety = "safe"
 
+    @record(frozen=True)
+    class Options:
+        token: str = "####"
+
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        token = self.options.token
         name = ctx.cached(product_name, prim)
-        if not name or FRAME_TOKEN in name:
+        if not name or token in name:
             return
         stem, dot, extension = name.rpartition(".")
-        fixed = f"{stem}.{FRAME_TOKEN}.{extension}" if dot else f"{name}.{FRAME_TOKEN}"
+        fixed = f"{stem}.{token}.{extension}" if dot else f"{name}.{token}"
         path = prim.GetAttribute("productName").GetPath()
         yield Diagnostic(
-            message=f"productName {name!r} has no frame token {FRAME_TOKEN}",
+            message=f"productName {name!r} has no frame token {token}",
             at=prim.GetAttribute("productName"),
             fix=Fix(description=f"rename to {fixed!r}", safe=True, apply=_set_token(path, fixed)),
         )

@@ -10,10 +10,10 @@ import sys
 from pathlib import Path
 
 import pytest
-from acme_render_rules import RULES, AcmeProductRule
+from acme_render_rules import RULES, AcmeProductRule, ProductNameFrameToken
 
 from usdrender_lint.registry import build_registry
-from usdrender_lint.testing import check_fixture
+from usdrender_lint.testing import check_fixture, lint_text
 
 # Kept here rather than as .usda files: `usdrender-lint check examples/` lints
 # every layer under examples/, and these are meant to fail.
@@ -77,3 +77,30 @@ def test_the_command_runs_and_fixes_them(tmp_path: Path) -> None:
     )
     assert fixed.returncode == 0, fixed.stderr
     assert 'productName = "beauty.####.exr"' in shot.read_text()
+
+
+def test_the_token_option(tmp_path: Path) -> None:
+    """A rule with options is tested with an instance made with them; the
+    command reads them from [tool.usdrender-lint.rules.<name>]."""
+    houdini = ProductNameFrameToken(ProductNameFrameToken.Options(token="$F4"))
+    path = tmp_path / "fail_houdini_token.usda"
+    path.write_text(
+        PRODUCT.format(
+            expect='# expect: ACME001 </Render/beauty.productName> x1 fix "no frame token $F4"',
+            name="beauty.####.exr",
+        )
+    )
+    check_fixture(path, "ACME001", rules=[houdini])
+    text = PRODUCT.format(expect="", name="beauty.$F4.exr")
+    assert lint_text(text, rules=[houdini]) == []
+    assert [f.code for f in lint_text(text, select=["ACME001"])] == ["ACME001"]  # the default
+    (tmp_path / "pyproject.toml").write_text(
+        '[tool.usdrender-lint.rules.product-name-frame-token]\ntoken = "$F4"\n'
+    )
+    (tmp_path / "shot.usda").write_text(text)
+    listed = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--select", "ACME", "shot.usda"],
+        capture_output=True, text=True, cwd=tmp_path,
+    )  # fmt: skip
+    assert (listed.returncode, listed.stderr) == (0, ""), listed.stderr
+    assert "ACME001" not in listed.stdout
