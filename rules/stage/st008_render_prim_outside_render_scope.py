@@ -10,6 +10,7 @@ from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 from usdrender_lint.api.resolve import prim_values
 
 from ._render_prims import RENDER_SCHEMAS, RENDER_SCOPE, is_render_type
+from ._settings_path import RENDER_SETTINGS_PATH_KEY
 
 
 def _is_locally_authored(prim: Usd.Prim) -> bool:
@@ -30,8 +31,22 @@ def _move_under_render_scope(source: Sdf.Path, destination: Sdf.Path):
         editor = Usd.NamespaceEditor(stage)
         if not (editor.MovePrimAtPath(source, destination) and editor.ApplyEdits()):
             raise RuntimeError(f"could not move <{source}> to <{destination}>")
+        # The namespace editor rewrote the targets in the layer stack, but not the
+        # stage metadata: left naming the old path, it made ST005's error.
+        _follow_settings_path(stage.GetRootLayer(), source, destination)
 
     return apply
+
+
+def _follow_settings_path(layer: Sdf.Layer, source: Sdf.Path, destination: Sdf.Path) -> None:
+    """Rewrite ``layer``'s renderSettingsPrimPath that names ``source`` or a prim below it."""
+    root = layer.pseudoRoot
+    if not root.HasInfo(RENDER_SETTINGS_PATH_KEY):
+        return
+    named = str(root.GetInfo(RENDER_SETTINGS_PATH_KEY))
+    if not Sdf.Path.IsValidPathString(named) or not Sdf.Path(named).HasPrefix(source):
+        return
+    root.SetInfo(RENDER_SETTINGS_PATH_KEY, str(Sdf.Path(named).ReplacePrefix(source, destination)))
 
 
 class RenderPrimOutsideRenderScope(Rule):
@@ -72,8 +87,10 @@ class RenderPrimOutsideRenderScope(Rule):
     ## Fix safety
     Unsafe: the fix moves the prim under `/Render` with `Usd.NamespaceEditor`
     (creating a `/Render` Scope when needed), offered only for the outermost
-    render prim and when `/Render/<name>` is free. Relationships and external
-    references to the old path are not updated.
+    render prim and when `/Render/<name>` is free. The editor rewrites
+    relationship targets of the old path in the stage's layer stack, and the
+    fix rewrites the root layer's `renderSettingsPrimPath` when it names the
+    prim; other files that reference the old path are not updated.
     """
 
     code = "ST008"
@@ -97,7 +114,7 @@ class RenderPrimOutsideRenderScope(Rule):
             and _is_locally_authored(prim)
         ):
             fix = Fix(
-                description=f"move to <{destination}> (targets of the old path are not updated)",
+                description=f"move to <{destination}> (other files referencing it are not updated)",
                 safe=False,
                 apply=_move_under_render_scope(path, destination),
             )
