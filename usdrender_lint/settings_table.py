@@ -150,9 +150,29 @@ def _severities(value: Any, where: str) -> dict[str, Severity]:
     return overrides
 
 
+def _glob(glob: str, where: str) -> str:
+    """A file glob of a table: one blank once its leading ``!`` is read (``""``,
+    spaces, ``{,}``) matches no file, and its negation every file, silently.
+    ruff refuses a glob it cannot compile (crates/ruff_linter/src/settings/types.rs,
+    ``Glob::new(...)?``); a blank one compiles there but names no file either."""
+    rest = glob[1:] if glob.startswith("!") else glob
+    if not re.sub(r"[\s{},]", "", rest):
+        if glob.startswith("!"):
+            why = "negates an empty glob, so it matches every file"
+        else:
+            why = "is an empty glob, which matches no file"
+        raise ConfigError(f'{_key(where, glob)} {why}: name the files, e.g. "shots/**/*.usda"')
+    return glob
+
+
+#: A JSON Schema pattern of a glob :func:`_glob` reads: a character other than
+#: spaces, braces and commas, after a leading ``!`` (no look-ahead: taplo's regex has none).
+GLOB_NOT_BLANK = r"^(!.*[^\s{},]|[^!\s{},]|[\s{},].*[^\s{},])"
+
+
 def _glob_tokens(value: Any, where: str) -> dict[str, tuple[str, ...]]:
     table = _table(value, where, "glob = codes")
-    return {glob: _strings(codes, _key(where, glob)) for glob, codes in table.items()}
+    return {_glob(glob, where): _strings(codes, _key(where, glob)) for glob, codes in table.items()}
 
 
 def _rule_tables(value: Any, where: str) -> Mapping[str, Mapping[str, Any]]:
@@ -208,7 +228,7 @@ def _profile(value: Any, where: str) -> str:
 
 def _glob_profiles(value: Any, where: str) -> dict[str, str]:
     table = _table(value, where, "glob = profile")
-    return {glob: _profile(name, _key(where, glob)) for glob, name in table.items()}
+    return {_glob(glob, where): _profile(name, _key(where, glob)) for glob, name in table.items()}
 
 
 def _file(value: Any, where: str) -> str:
@@ -309,6 +329,15 @@ SETTINGS: tuple[Setting, ...] = (
         "per_path_ignores",
         "File glob -> codes, prefixes or names ignored in matching files.",
         _glob_tokens,
+        # Each key a glob that names some file (_glob); the values as _schema_of writes them.
+        schema={
+            "patternProperties": {
+                GLOB_NOT_BLANK: {
+                    "anyOf": [{"type": "array", "items": {"type": "string"}}, {"type": "string"}]
+                }
+            },
+            "additionalProperties": False,
+        },
         default={},
         config_key="per-path-ignores",
         extended="merged",
@@ -385,7 +414,10 @@ SETTINGS: tuple[Setting, ...] = (
         "per_path_profiles",
         "File glob -> profile name for matching files (wins over profile).",
         _glob_profiles,
-        schema={"additionalProperties": {"type": "string", "minLength": 1}},
+        schema={
+            "patternProperties": {GLOB_NOT_BLANK: {"type": "string", "minLength": 1}},
+            "additionalProperties": False,
+        },
         default={},
         config_key="per-path-profiles",
         extended="merged",

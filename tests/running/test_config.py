@@ -368,6 +368,12 @@ def test_bad_config_is_one_line_naming_key_and_file(project, text, expected) -> 
         ("# a comment\ntime-sample-cap = 0\n", ":2: 'time-sample-cap' must be"),
         ('[severity]\nSE001 = "info"\nSE003 = "loud"\n', ":3: 'severity.SE003' must be"),
         ('[per-path-ignores]\n"x.usda" = ["SE"]\n"a/*.usda" = 3\n', ":3: 'per-path-ignores.a/*"),
+        # A glob that names no file ignores nothing; '!' before one, everything.
+        ('[per-path-ignores]\n"x.usda" = ["SE"]\n"" = ["SE"]\n', ":3: 'per-path-ignores.' is an"),
+        ('[per-path-ignores]\n"x.usda" = ["SE"]\n" " = ["SE"]\n', ":3: 'per-path-ignores. ' is an"),
+        ('[per-path-ignores]\n"x.usda" = ["SE"]\n"!" = ["SE"]\n', ":3: 'per-path-ignores.!' negat"),
+        ('per-path-ignores = { "{,}" = ["SE"] }\n', ":1: 'per-path-ignores.{,}' is an empty glob"),
+        ('[per-path-profiles]\n"*.usda" = "karma"\n" " = "arnold"\n', ":3: 'per-path-profiles. "),
         ('x = """\nselct = 1\n"""\n', ":1: unknown key 'x'"),
         ('profile = "auto"\nextend = "missing.toml"\n', ":2: 'extend': no such file"),
         # Found once the rules are known (a code, a name, an option): they had no line.
