@@ -281,6 +281,7 @@ SETTINGS: tuple[Setting, ...] = (
         kind="tokens",
         config_key="select",
         flag="--select",
+        commands=("check", "rules"),
         api=True,
     ),
     Setting(
@@ -291,6 +292,7 @@ SETTINGS: tuple[Setting, ...] = (
         default=(),
         config_key="ignore",
         flag="--ignore",
+        commands=("check", "rules"),
         api=True,
     ),
     Setting(
@@ -301,6 +303,7 @@ SETTINGS: tuple[Setting, ...] = (
         default=(),
         config_key="extend-select",
         flag="--extend-select",
+        commands=("check", "rules"),
         api=True,
     ),
     Setting(

@@ -122,3 +122,75 @@ def test_a_mistyped_internal_error_is_offered_it(typo: str) -> None:
     assert result.exit_code == 2
     near = "UL000" if typo.startswith("UL") else "internal-error"
     assert f"did you mean {near!r}?" in result.stderr
+
+
+# -- the rules check runs here: the configuration's selection, severities and profile --
+
+PROJECT = """select = ["SE", "CA001"]
+ignore = ["SE002"]
+[severity]
+SE001 = "info"
+"""
+
+
+def listed(folder: Path, monkeypatch: pytest.MonkeyPatch, *args: str) -> dict[str, dict]:
+    """``rules --format json`` run in ``folder``: each rule's entry by code."""
+    import json
+
+    monkeypatch.chdir(folder)
+    result = CliRunner().invoke(cli, ["rules", "--format", "json", *args])
+    assert result.exit_code == 0, result.output
+    return {item["code"]: item for item in json.loads(result.stdout)}
+
+
+def enabled(items: dict[str, dict]) -> set[str]:
+    return {code for code, item in items.items() if item["enabled"]}
+
+
+SE = {r.code for r in RULES if r.code.startswith("SE")}
+
+
+@pytest.mark.parametrize("profile", [(), ("--profile", "karma")])
+def test_rules_in_a_project_are_those_check_runs_there(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, profile: tuple[str, ...]
+) -> None:
+    """Before, --profile listed every rule the profile keeps, whatever the
+    configuration selected, ignored or made info; without it no rule said
+    whether it runs."""
+    (tmp_path / ".usdrender-lint.toml").write_text(PROJECT, encoding="utf-8")
+    items = listed(tmp_path, monkeypatch, *profile)
+    assert enabled(items) == (SE - {"SE002"}) | {"CA001"}
+    assert items["SE001"]["effective_severity"] == "info"
+    assert "severity.SE001" in items["SE001"]["why"]
+    assert items["SE002"]["why"].endswith(".usdrender-lint.toml: ignore")
+    assert items["CA002"]["why"].endswith(".usdrender-lint.toml: select")
+
+
+def test_rules_take_the_configured_profile_and_the_flags(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / ".usdrender-lint.toml").write_text('profile = "arnold"\n', encoding="utf-8")
+    items = listed(tmp_path, monkeypatch)
+    assert {item["profile"] for item in items.values()} == {"arnold"}
+    assert "AR001" in enabled(items) and "KA001" not in enabled(items)
+    # --profile wins over the file's, as check's does; the selection flags over its keys.
+    items = listed(tmp_path, monkeypatch, "--profile", "karma", "--select", "KA,AR")
+    assert enabled(items) == {r.code for r in RULES if r.code.startswith("KA")}
+    # --isolated: every rule at its default severity, as without a configuration.
+    items = listed(tmp_path, monkeypatch, "--isolated")
+    assert [item["code"] for item in items.values()] == [r.code for r in RULES]
+    assert "profile" not in items["AR001"] and "enabled" not in items["AR001"]
+
+
+def test_rules_stop_on_a_bad_configuration_as_check_does(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / ".usdrender-lint.toml"
+    path.write_text('fail-on = "error"\nselect = ["NOPE"]\n', encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(cli, ["rules", "--profile", "karma"])
+    assert result.exit_code == 2
+    assert result.stderr.strip() == (
+        f"usdrender-lint: error: {path}:2: select: 'NOPE' matches no rule code, code prefix "
+        "or rule name"
+    )

@@ -1,17 +1,24 @@
-"""``usdrender-lint rules``: every registered rule, or the effective set under
-a renderer profile."""
+"""``usdrender-lint rules``: every registered rule, as ``check`` run here would
+run it (the configuration's selection and severities), under a renderer profile."""
 
 from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 import click
 
 from ..records import record
 from .loading import registry as load_registry
-from .options import profile_choices
+from .options import (
+    config_option,
+    isolated_option,
+    profile_choices,
+    setting_options,
+    setting_values,
+)
+from .output import ToolError, note
 from .views import emit, format_option, view
 
 if TYPE_CHECKING:
@@ -27,6 +34,12 @@ class RuleTable:
     rows: Sequence[EffectiveRule]
     registry: Registry
     profile: Profile | None
+    #: A configuration file or a flag chose the rows: each says whether it runs.
+    configured: bool = False
+
+    @property
+    def effective(self) -> bool:
+        return self.profile is not None or self.configured
 
 
 @view("rules", "text")
@@ -34,11 +47,13 @@ def _text(table: RuleTable, stream: TextIO) -> None:
     title = f"{len(table.registry.rules)} rules"
     if table.profile is not None:
         title += f" under the {table.profile.name} profile"
+    if table.configured:
+        title += f", {sum(row.enabled for row in table.rows)} of them run as configured"
     lines = []
     for row in table.rows:
         r = row.rule
         cells = [r.code, r.name, row.severity.value if row.severity else "-", r.fix_safety]
-        if table.profile is not None:
+        if table.effective:
             cells.append("on" if row.enabled else "off")
         cells.append(r.summary() if not row.why else f"{r.summary()} [{row.why}]")
         lines.append(tuple(cells))
@@ -61,6 +76,7 @@ def _json(table: RuleTable, stream: TextIO) -> None:
         }
         if table.profile is not None:
             item["profile"] = table.profile.name
+        if table.effective:
             item["effective_severity"] = row.severity.value if row.severity else None
             item["enabled"] = row.enabled
             item["why"] = row.why
@@ -74,17 +90,43 @@ def _json(table: RuleTable, stream: TextIO) -> None:
     "--profile",
     type=click.Choice(profile_choices()[1:]),
     default=None,
-    help="Show the effective rule set under this renderer profile.",
+    help="Show the effective rule set under this renderer profile (default: the "
+    "configuration's profile, unless it is auto).",
 )
-def list_rules(output_format: str, profile: str | None) -> None:
-    """List every registered rule (under --profile: its severity and whether it runs)."""
+@setting_options("rules")
+@config_option("Read settings from this file instead of the nearest one.")
+@isolated_option
+def list_rules(
+    output_format: str,
+    profile: str | None,
+    config: tuple[str | None, tuple[str, ...]],
+    isolated: bool,
+    **settings: Any,
+) -> None:
+    """List every registered rule. With a configuration (the one check finds
+    from the working directory, or --config) or selection flags, each rule
+    says whether check runs it and at what severity; under --profile (or the
+    configuration's profile), as that renderer's profile treats it."""
     registry = load_registry()
-    from ..profiles import get_profile
-    from ..profiles.effective import effective_rules
+    from ..running.pipeline import Request, RequestError
+    from ..running.rule_listing import configured_rules
 
-    chosen = get_profile(profile) if profile else None
-    rows = effective_rules(registry.rules, chosen)
-    emit("rules", output_format, RuleTable(rows, registry, chosen), what="the rule list")
+    request = Request(
+        (".",),
+        config=config[0],
+        config_overrides=config[1],
+        isolated=isolated,
+        profile=profile,
+        **setting_values("rules", settings),
+    )
+    try:
+        listed = configured_rules(registry, request)
+    except RequestError as exc:
+        raise ToolError(str(exc)) from None
+    for line in listed.notes:
+        note(line)
+    table = RuleTable(listed.rows, registry, listed.profile, listed.configured)
+    emit("rules", output_format, table, what="the rule list")
 
 
 def _terminal_width(stream: TextIO) -> int | None:
