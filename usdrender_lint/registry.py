@@ -12,6 +12,7 @@ from collections.abc import Iterable, Sequence
 
 from . import entrypoints
 from .api import Rule
+from .api.rule import profile_problem
 from .records import record
 
 ENTRY_POINT_GROUP = "usdrender_lint.rules"
@@ -100,6 +101,11 @@ def build_registry(
                     "class (abstract = True), not a rule"
                 )
             provider = f"plugin {ep.name!r} ({ep.value})"
+            if (problem := profile_problem(cls.profile)) is not None:
+                # Set after the class was defined (its own check saw a valid one).
+                raise RegistryError(
+                    f"rule {cls.code} ({cls.__qualname__}) of {provider}: {problem}"
+                )
             if cls.code in origins:
                 raise RegistryError(
                     f"duplicate rule code {cls.code}: provided by {providers[cls.code]} "

@@ -39,6 +39,7 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 from .api import Rule
+from .api.rule import profile_problem
 from .engine import Linter
 from .model import Finding, Location
 from .records import record
@@ -243,6 +244,7 @@ def check_fixture(
     if not any(rule.code == code for rule in chosen):
         # A mistyped code (or a plugin not installed) let every pass fixture pass.
         raise ValueError(_no_rule(code, chosen))
+    _check_rule_profile(code, chosen, profiler)
     found = [f for f in lint(path, chosen, profiler) if f.code == code]
     if path.name.startswith("pass_"):
         assert not found, f"{path.name}: expected no {code} finding, got {_describe(found)}"
@@ -274,6 +276,22 @@ def _check_fix_safety(
         f"{path.name}: {code}'s fix_safety is {safety!r} but it offers "
         f"{'safe' if safety == 'unsafe' else 'unsafe'} fixes: {_describe(wrong)}"
     )
+
+
+def _check_rule_profile(code: str, rules: Sequence[Rule], profiler: Any) -> None:
+    """A renderer rule runs only where its profile is judged present: under a
+    profile that does not exist, or with no ``profiler``, never, and every pass
+    fixture of it passed while testing nothing."""
+    rule = next(rule for rule in rules if rule.code == code)
+    problem = profile_problem(rule.profile)
+    if problem is not None:
+        raise ValueError(f"{code} ({type(rule).__qualname__}): {problem}")
+    if rule.profile is not None and profiler is None:
+        raise ValueError(
+            f"{code} is a rule of the {rule.profile} profile, which runs only where a "
+            "profiler judges that profile present: pass "
+            "profiler=usdrender_lint.profiles.Profiler()"
+        )
 
 
 def _no_rule(code: str, rules: Sequence[Rule]) -> str:

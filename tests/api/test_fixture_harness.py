@@ -232,3 +232,17 @@ def test_fixes_that_contradict_the_rule_fix_safety_fail(
     check_fixture(fixture, "SE003", rules=[DataWindowMalformed()])  # "unsafe", as it offers
     with pytest.raises(AssertionError, match=re.escape(said)):
         check_fixture(fixture, "SE003", rules=[Mislabelled()])
+
+
+def test_a_renderer_rule_needs_a_profiler_and_a_profile_that_exists(tmp_path: Path) -> None:
+    # Without a profiler a renderer rule never runs: every pass fixture of it passed.
+    from usdrender_lint.profiles import Profiler
+
+    Karma = type("KarmaOnly", (DataWindowMalformed,), {"profile": "karma"})
+    fixture = _fixture(tmp_path, name="pass_case.usda")
+    with pytest.raises(ValueError, match=r"SE003 is a rule of the karma profile.*profiler="):
+        check_fixture(fixture, "SE003", rules=[Karma()])
+    check_fixture(fixture, "SE003", rules=[Karma()], profiler=Profiler())
+    Karma.profile = "karma "  # set after the class was defined: its own check did not see it
+    with pytest.raises(ValueError, match=r"SE003 \(KarmaOnly\): profile 'karma ' is no renderer"):
+        check_fixture(fixture, "SE003", rules=[Karma()], profiler=Profiler())

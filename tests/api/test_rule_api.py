@@ -4,6 +4,7 @@ frozen keyword-only Diagnostic and Fix, and the documented imports."""
 from __future__ import annotations
 
 import dataclasses
+import re
 
 import pytest
 from pxr import Usd, UsdRender
@@ -264,3 +265,62 @@ def test_options_of_another_type_are_refused_when_the_rule_is_made() -> None:
         TypeError, match=r"\(ZZ977\): options must be a Capped.Options\(...\), got dict"
     ):
         Capped({"max_width": 1})
+
+
+@pytest.mark.parametrize(
+    ("given", "near"),
+    [("renderman ", "renderman"), ("prman", "renderman"), ("Karma", "karma"), ("arnlod", "arnold")],
+)
+def test_a_profile_that_does_not_exist_is_refused_when_the_class_is_defined(
+    given: str, near: str
+) -> None:
+    # The engine runs a renderer rule only where its profile is judged present:
+    # a misspelt one loaded, listed, and silently never ran.
+    said = f"Misspelt: profile {given!r} is no renderer profile, so the rule would never run"
+    with pytest.raises(TypeError, match=re.escape(f"{said} (did you mean {near!r}?")):
+
+        class Misspelt(Rule):
+            __doc__ = DOC
+            code = "ZZ975"
+            name = "misspelt-profile-rule"
+            severity = Severity.INFO
+            profile = given
+
+    class Renderer(Rule):  # a profile that exists, and None, are fine
+        __doc__ = DOC
+        code = "ZZ976"
+        name = "renderer-rule"
+        severity = Severity.INFO
+        profile = "renderman"
+
+    assert Renderer.profile == "renderman"
+
+
+def test_a_profile_set_after_the_class_is_refused_when_it_is_registered() -> None:
+    from usdrender_lint.registry import RegistryError, build_registry
+
+    class Later(Rule):
+        __doc__ = DOC
+        code = "ZZ977"
+        name = "later-profile-rule"
+        severity = Severity.INFO
+
+    Later.profile = "prman"
+
+    class EntryPoint:
+        name, value = "acme", "acme:RULES"
+
+        @staticmethod
+        def load():
+            return [Later]
+
+    said = "Later) of plugin 'acme' (acme:RULES): profile 'prman' is no renderer profile"
+    with pytest.raises(RegistryError, match=re.escape(said)):
+        build_registry([EntryPoint()])
+
+
+def test_the_profile_names_a_rule_may_give_are_the_profiles() -> None:
+    from usdrender_lint.api.rule import PROFILE_NAMES
+    from usdrender_lint.profiles import PROFILES
+
+    assert tuple(PROFILES) == PROFILE_NAMES

@@ -24,6 +24,11 @@ if TYPE_CHECKING:
 CODE_PATTERN = re.compile(r"^[A-Z]{1,4}[0-9]{3}$")
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
 FIX_SAFETY = ("safe", "safe-conditional", "unsafe", "none")
+#: The renderer profiles a rule's ``profile`` may name: usdrender_lint.profiles'
+#: (a layer above this one, which a test keeps equal to these).
+PROFILE_NAMES = ("generic", "karma", "renderman", "arnold", "omniverse", "moonray", "cycles")
+#: Names a renderer goes by that are not its profile's (RenderMan's renderer is prman).
+_PROFILE_NICKNAMES = {"prman": "renderman", "hdprman": "renderman", "rman": "renderman"}
 #: Sections every rule docstring carries, in this order (ruff's layout).
 DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead", "Fix safety")
 
@@ -67,6 +72,25 @@ def _schema_types(prim_types: object) -> bool:
     return isinstance(prim_types, (tuple, list)) and all(
         isinstance(schema, (Tf.Type, type)) and not tf_type(schema).isUnknown
         for schema in prim_types
+    )
+
+
+def profile_problem(profile: object) -> str | None:
+    """Why a rule's ``profile`` names no renderer profile (None: it does, or is
+    None). The engine runs a renderer rule only where its profile is judged
+    present: a misspelt one ran nowhere, silently."""
+    if profile is None or profile in PROFILE_NAMES:
+        return None
+    if not isinstance(profile, str):
+        return f"profile {profile!r} is not a profile name (a str such as 'karma', or None)"
+    import difflib  # only for an error
+
+    key = profile.strip().lower()
+    near = _PROFILE_NICKNAMES.get(key) or (key if key in PROFILE_NAMES else None)
+    near = near or difflib.get_close_matches(key, PROFILE_NAMES, n=1, cutoff=0)[0]
+    return (
+        f"profile {profile!r} is no renderer profile, so the rule would never run "
+        f"(did you mean {near!r}? known: {', '.join(PROFILE_NAMES)})"
     )
 
 
@@ -146,6 +170,8 @@ class Rule:
             # The rule runs unconfigured too: a required field failed every such
             # run with an internal error naming neither the rule nor its plugin.
             problems.append(f"Options field(s) {', '.join(required)} have no default")
+        if (problem := profile_problem(cls.profile)) is not None:
+            problems.append(problem)
         if not isinstance(cls.aliases, tuple) or not all(
             isinstance(alias, str) and NAME_PATTERN.match(alias) for alias in cls.aliases
         ):
