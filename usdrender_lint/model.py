@@ -201,10 +201,15 @@ class Report:
     unfixable: frozenset[str] = frozenset()
     #: A run split by configuration: (file, its own ``unfixable``) of each file.
     unfixable_by_file: tuple[tuple[str, frozenset[str]], ...] = ()
+    #: Findings whose fix ``--fix`` leaves although they are new: the
+    #: ``--baseline`` records another finding of their fingerprint (file, rule,
+    #: place), and --fix changes no place the baseline accepts as it is.
+    baseline_held: frozenset[Finding] = frozenset()
 
     def fixable(self, severity: Severity | None = None) -> tuple[int, int]:
         """Findings a ``--fix`` would fix, and how many more ``--unsafe-fixes``
-        would: those whose fix is safe, and unsafe (``unfixable`` rules aside);
+        would: those whose fix is safe, and unsafe (``unfixable`` rules and
+        ``baseline_held`` findings aside);
         of one ``severity`` only, when given."""
         fixes = [
             f.fix
@@ -212,6 +217,7 @@ class Report:
             for f in result.findings
             if f.fix is not None
             and f.code not in self.unfixable_in(result.file)
+            and f not in self.baseline_held
             and severity in (None, f.severity)
         ]
         safe = sum(1 for fix in fixes if fix.safe)

@@ -379,3 +379,58 @@ def test_writes_are_atomic(tmp_path, monkeypatch) -> None:
     atomic.write_text_atomic(target, "new")
     assert target.read_text(encoding="utf-8") == "new"
     assert target.stat().st_mode & 0o777 == 0o640
+
+
+#: One orderedVars target that names nothing (PR005, an unsafe fix removes it).
+ONE_MISSING = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
+        rel orderedVars = [</Render/Color>, </Render/Missing1>]
+    }
+
+    def RenderVar "Color"
+    {
+        string sourceName = "Ci"
+    }
+}
+"""
+#: A second one on the same relationship: a finding of the same fingerprint.
+TWO_MISSING = ONE_MISSING.replace("</Render/Missing1>]", "</Render/Missing1>, </Render/Missing2>]")
+
+
+def test_a_second_finding_on_a_recorded_path_is_reported_and_its_fix_is_not_offered(
+    tmp_path,
+) -> None:
+    """The second occurrence is new (counts, as ESLint's suppressions count); --fix
+    leaves it with the recorded one, so the report must not call it fixable:
+    before, it said "1 fixable with --fix --unsafe-fixes" and --fix changed nothing."""
+    shot, baseline = tmp_path / "shot.usda", tmp_path / "baseline.json"
+    shot.write_text(ONE_MISSING, encoding="utf-8")
+    runner = CliRunner()
+    base = ["check", "--isolated", "--select", "PR005", "--jobs", "1", "--timeout", "0"]
+    assert runner.invoke(cli, [*base, "--write-baseline", str(baseline), str(shot)]).exit_code == 0
+    shot.write_text(TWO_MISSING, encoding="utf-8")
+    given = [*base, "--baseline", str(baseline), str(shot)]
+
+    reported = runner.invoke(cli, [*given, "--format", "json"])
+    assert reported.exit_code == 1, reported.output
+    findings = [f for file in json.loads(reported.stdout)["files"] for f in file["findings"]]
+    assert [f["code"] for f in findings] == ["PR005"]
+    assert "</Render/Missing2>" in findings[0]["message"]
+    text = runner.invoke(cli, given)
+    assert text.exit_code == 1
+    assert "[unsafe fix, not applied while the baseline records this rule here: remove" in (
+        text.stdout
+    )
+    assert "fixable" not in text.stdout
+
+    diff = runner.invoke(cli, [*given, "--diff", "--unsafe-fixes"])
+    assert (diff.exit_code, diff.stdout) == (0, ""), diff.output
+    fixed = runner.invoke(cli, [*given, "--fix", "--unsafe-fixes"])
+    assert fixed.exit_code == 1, fixed.output
+    assert shot.read_text(encoding="utf-8") == TWO_MISSING
+    assert "Missing2" in fixed.stdout and "fixable" not in fixed.stdout

@@ -117,6 +117,7 @@ def finding_entry(
     show_profile: bool = False,
     below: Below | None = None,
     unfixable: bool = False,
+    held: bool = False,
 ) -> Entry:
     loc = finding.location
     file = _file_of(loc.layer, loc.file)
@@ -130,6 +131,8 @@ def finding_entry(
         kind = "fix" if finding.fix.safe else "unsafe fix"
         if unfixable:  # config ``unfixable``: --fix will not apply it, whatever it offers
             kind += ", unfixable in the configuration"
+        elif held:  # Report.baseline_held: --fix leaves the place the baseline accepts
+            kind += ", not applied while the baseline records this rule here"
         tail.append((f"[{kind}: {printable(finding.fix.description)}]", "dim"))
     if show_profile and finding.profile:
         tail.append((f"[profile {finding.profile}: {finding.profile_reason}]", "dim"))
@@ -276,6 +279,7 @@ class TextFormatter:
                 options.show_info,
                 below,
                 finding.code in report.unfixable_in(finding.location.file),
+                finding in report.baseline_held,
             )
             for finding in shown
         ]

@@ -702,6 +702,7 @@ def _joined(
         unfixable_by_file=tuple(
             (r.file, o.report.unfixable) for o in outcomes for r in o.report.files
         ),
+        baseline_held=frozenset().union(*(o.report.baseline_held for o in outcomes)),
     )
     # A part's notes that count (known findings, fixes) count its own: the
     # joined run says the totals instead.
@@ -1287,13 +1288,20 @@ def _apply_baseline(
             raise RequestError(str(exc)) from None
         notes.append(f"recorded {_count(count, 'finding')} in {request.write_baseline}")
     elif known is not None and request.baseline:
-        from .baseline import new_findings, stale_count
+        from .baseline import fingerprint, new_findings, stale_count
 
         base_dir = Path(request.baseline).resolve().parent
         codes = frozenset(type(rule).code for rule in prepared.linter.rules)
         variants = prepared.settings.variants
         stale = stale_count(report, known, base_dir, codes.union(UNIGNORABLE), variants)
-        return (*new_findings(report, known, base_dir), stale)
+        kept, dropped = new_findings(report, known, base_dir)
+        # A new finding of a fingerprint the baseline records (a second one at
+        # the same place) is reported, but --fix leaves it (is_reported): say
+        # so, rather than count it fixable.
+        held = frozenset(
+            f for f in kept.findings if f.fix is not None and known[fingerprint(f, base_dir)] > 0
+        )
+        return replace(kept, baseline_held=held), dropped, stale
     return report, 0, 0
 
 
