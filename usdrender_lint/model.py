@@ -20,6 +20,12 @@ class CorruptValue(Exception):
     problem, reported as ST001)."""
 
 
+#: The renderer profiles (usdrender_lint.profiles, which a test keeps equal to
+#: these), named here, below the layers that cannot import them: a rule's
+#: ``profile`` (api.rule) and the configuration's JSON Schema (config).
+PROFILE_NAMES = ("generic", "karma", "renderman", "arnold", "omniverse", "moonray", "cycles")
+
+
 #: A property named "" (no layer parser writes one; a corrupt crate can hold it).
 NAMELESS_PROPERTY = "the file holds a property with no name; the file is corrupt"
 

@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import field
 from typing import Any
 
-from .model import Severity
+from .model import PROFILE_NAMES, Severity
 from .records import record
 
 FAIL_ON_CHOICES = ("error", "warning", "info", "never")
@@ -404,7 +404,8 @@ SETTINGS: tuple[Setting, ...] = (
         "profile",
         "Renderer profile: auto (inferred per RenderSettings) or a name",
         _profile,
-        schema={"minLength": 1},
+        # The names, for `config profile` and an editor's completion (check_profiles reads them).
+        schema={"enum": ["auto", *PROFILE_NAMES]},
         kind="profile",
         default="auto",
         config_key="profile",
@@ -418,7 +419,7 @@ SETTINGS: tuple[Setting, ...] = (
         "File glob -> profile name for matching files (wins over profile).",
         _glob_profiles,
         schema={
-            "patternProperties": {GLOB_NOT_BLANK: {"type": "string", "minLength": 1}},
+            "patternProperties": {GLOB_NOT_BLANK: {"enum": ["auto", *PROFILE_NAMES]}},
             "additionalProperties": False,
         },
         default={},

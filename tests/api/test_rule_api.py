@@ -320,7 +320,7 @@ def test_a_profile_set_after_the_class_is_refused_when_it_is_registered() -> Non
 
 
 def test_the_profile_names_a_rule_may_give_are_the_profiles() -> None:
-    from usdrender_lint.api.rule import PROFILE_NAMES
+    from usdrender_lint.model import PROFILE_NAMES
     from usdrender_lint.profiles import PROFILES
 
     assert tuple(PROFILES) == PROFILE_NAMES

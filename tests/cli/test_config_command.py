@@ -64,3 +64,15 @@ def test_an_unknown_key_is_one_line_naming_the_nearest() -> None:
         "(did you mean 'per-path-ignores'?) (see 'usdrender-lint config')\n"
     )
     assert result.stdout == ""
+
+
+def test_the_profile_keys_name_every_profile() -> None:
+    """Before, `config profile` said "Type: a string": the names were nowhere but
+    in the error of a run that named a wrong one."""
+    from usdrender_lint.profiles import PROFILES
+
+    names = ", ".join(f'"{name}"' for name in ["auto", *PROFILES])
+    assert f"Type: one of {names}\n" in run("profile").stdout
+    assert f"Type: a table of file globs, each to one of {names}\n" in (
+        run("per-path-profiles").stdout
+    )

@@ -84,6 +84,11 @@ def _kind(sample: str) -> str:
         ('per-path-profiles = { "old/*" = "" }', False),
         ('per-path-profiles = { "old/*" = "karma" }', True),
         ('per-path-profiles = { "" = "karma" }', False),
+        # An editor marks a profile no run would take (check_profiles refuses it).
+        ('profile = "Karma"', "schema"),
+        ('profile = "auto"', True),
+        ('per-path-profiles = { "old/*" = "prman" }', "schema"),
+        ('per-path-profiles = { "old/*" = "auto" }', True),
         ('per-path-profiles = { "!old/*" = "karma" }', True),
         ('per-path-ignores = { "old/*" = ["SE"] }', True),
         ('per-path-ignores = { "old/*" = "SE" }', True),
@@ -102,9 +107,15 @@ def _kind(sample: str) -> str:
         ('extend = ""', False),
     ],
 )
-def test_a_value_out_of_range_is_refused_by_both(tmp_path: Path, text: str, reads: bool) -> None:
+def test_a_value_out_of_range_is_refused_by_both(
+    tmp_path: Path, text: str, reads: bool | str
+) -> None:
     """The schema says what the reader checks beyond the type: an editor marks
     the value the run would stop on."""
+    if reads == "schema":  # a name only the run knows is wrong: read, then refused
+        assert _reads(tmp_path, text + "\n")
+        assert not _valid(tomllib.loads(text))
+        return
     assert _reads(tmp_path, text + "\n") is reads
     assert _valid(tomllib.loads(text)) is reads
 

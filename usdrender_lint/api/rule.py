@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 from pxr import Sdf, Tf, Usd
 
-from ..model import Severity
+from ..model import PROFILE_NAMES, Severity
 from ..records import record
 from .schemas import tf_type
 
@@ -24,9 +24,6 @@ if TYPE_CHECKING:
 CODE_PATTERN = re.compile(r"^[A-Z]{1,4}[0-9]{3}$")
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
 FIX_SAFETY = ("safe", "safe-conditional", "unsafe", "none")
-#: The renderer profiles a rule's ``profile`` may name: usdrender_lint.profiles'
-#: (a layer above this one, which a test keeps equal to these).
-PROFILE_NAMES = ("generic", "karma", "renderman", "arnold", "omniverse", "moonray", "cycles")
 #: Names a renderer goes by that are not its profile's (RenderMan's renderer is prman).
 _PROFILE_NICKNAMES = {"prman": "renderman", "hdprman": "renderman", "rman": "renderman"}
 #: Sections every rule docstring carries, in this order (ruff's layout).

@@ -56,6 +56,9 @@ def _type_words(schema: dict[str, Any]) -> str:
     if kind == "array":
         return f"a list of {_type_words(schema.get('items', {})).removeprefix('a ')}s"
     if kind == "object":
+        values = list(schema.get("patternProperties", {}).values())
+        if len(values) == 1:  # per-path-ignores, per-path-profiles
+            return f"a table of file globs, each to {_type_words(values[0])}"
         return "a table"
     if kind == "integer" and "minimum" in schema:
         return f"an integer of at least {schema['minimum']}"
