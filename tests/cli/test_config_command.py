@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
@@ -75,4 +76,26 @@ def test_the_profile_keys_name_every_profile() -> None:
     assert f"Type: one of {names}\n" in run("profile").stdout
     assert f"Type: a table of file globs, each to one of {names}\n" in (
         run("per-path-profiles").stdout
+    )
+
+
+@pytest.mark.parametrize(
+    ("given", "meant"),
+    [
+        ("lint.select", "select"),  # as `ruff config lint.select` takes it
+        ("tool.usdrender-lint.per-path-ignores", "per-path-ignores"),
+        ("severity.SE003", "severity"),
+        ("rules.SE001", "rules"),
+        ("rules.SE001.require-authored", "rules"),
+        ("Extend_Select", "extend-select"),
+        (" fail-on ", "fail-on"),
+    ],
+)
+def test_a_dotted_or_ruff_spelt_key_names_the_one_it_means(given: str, meant: str) -> None:
+    """Before, these said only "no configuration key" with no key to try."""
+    result = run(given)
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"usdrender-lint: error: no configuration key {given!r} (did you mean {meant!r}?) "
+        "(see 'usdrender-lint config')\n"
     )

@@ -88,6 +88,22 @@ def _json(described: list[dict[str, Any]] | dict[str, Any], stream: TextIO) -> N
     stream.write(json.dumps(described, indent=2) + "\n")
 
 
+def _meant(key: str, properties: dict[str, Any]) -> str | None:
+    """The key a dotted or differently spelt one means: ruff's ``lint.select``
+    (``ruff config`` takes its nested keys so), the pyproject's full
+    ``tool.usdrender-lint.select``, an entry ``severity.SE003`` or
+    ``rules.SE001``, ``Extend_Select``; None when it means none."""
+    from ..config import TOOL_TABLE
+
+    bare = key.strip()
+    for prefix in (f"tool.{TOOL_TABLE}.", "lint."):
+        bare = bare.removeprefix(prefix)
+    for meant in (bare, bare.partition(".")[0], bare.lower().replace("_", "-")):
+        if meant in properties:
+            return meant
+    return None
+
+
 @click.command("config")
 @click.argument("key", required=False)
 @format_option("config")
@@ -100,7 +116,7 @@ def config_command(key: str | None, output_format: str) -> None:
         emit("config", output_format, [_described(k, s) for k, s in properties.items()])
         return
     if key not in properties:
-        raise ToolError(
-            f"no configuration key {key!r}{unknown_key_hint(key)} (see 'usdrender-lint config')"
-        )
+        near = _meant(key, properties)
+        hint = f" (did you mean {near!r}?)" if near else unknown_key_hint(key)
+        raise ToolError(f"no configuration key {key!r}{hint} (see 'usdrender-lint config')")
     emit("config", output_format, _described(key, properties[key]))
