@@ -144,3 +144,23 @@ def test_show_settings_says_it_is_the_users_own(home: Path, work: Path) -> None:
     result = invoke_in(work, "check", "--show-settings", ".")
     first = result.stdout.splitlines()[0]
     assert str(folder / "usdrender-lint.toml") in first and "the user's own" in first
+
+
+def test_show_settings_without_one_says_where_it_looked(home: Path, work: Path) -> None:
+    """Before, "none (the defaults)" alone: a file of another name in the folder
+    (ruff's ruff.toml copied over) was ignored without a word anywhere."""
+    folder = home / ".config" / "usdrender-lint"
+    first = invoke_in(work, "check", "--show-settings", ".").stdout.splitlines()[0]
+    assert first == (
+        "# configuration file: none (the defaults: no project configuration found, and none "
+        f"of your own in {folder})"
+    )
+    folder.mkdir(parents=True)
+    (folder / "ruff.toml").write_text('ignore = ["SE001"]\n')
+    first = invoke_in(work, "check", "--show-settings", ".").stdout.splitlines()[0]
+    assert first.endswith(
+        f"none of your own in {folder}; ruff.toml there is not read: name it "
+        ".usdrender-lint.toml, usdrender-lint.toml or pyproject.toml)"
+    )
+    isolated = invoke_in(work, "check", "--show-settings", "--isolated", ".").stdout
+    assert isolated.splitlines()[0] == "# configuration file: none (the defaults)"

@@ -15,7 +15,14 @@ from collections.abc import Mapping, Sequence
 from enum import Enum
 from typing import Any
 
-from ..config import INLINE_PREFIX, SELECTION_KEYS, Settings, reading_once
+from ..config import (
+    CONFIG_FILE_NAMES,
+    INLINE_PREFIX,
+    SELECTION_KEYS,
+    Settings,
+    reading_once,
+    user_config_dir,
+)
 from ..settings_table import SETTINGS
 from .pipeline import (
     Prepared,
@@ -69,6 +76,8 @@ def settings_text(request: Request) -> str:
 def settings_toml(prepared: Prepared) -> str:
     settings = prepared.settings
     source = settings.source or "none (the defaults)"
+    if settings.source is None and not prepared.request.isolated:
+        source = f"none (the defaults: {_no_user_config()})"
     if settings.user_level:
         source += (
             " (the user's own: no project configuration found; globs relative to the"
@@ -101,6 +110,28 @@ def settings_toml(prepared: Prepared) -> str:
         else:
             lines.append(f"{entry.config_key} = {_value(value)}  # {origin}")
     return "\n".join(lines + tables) + "\n"
+
+
+def _no_user_config() -> str:
+    """Where the user's own configuration was looked for, as no project one was
+    found: a file there of another name (``config.toml``) is not read, silently."""
+    folder = user_config_dir()
+    if folder is None:
+        return "no project configuration found, and no home folder for one of your own"
+    said = f"no project configuration found, and none of your own in {folder}"
+    try:
+        others = sorted(
+            p.name
+            for p in folder.iterdir()
+            if p.suffix == ".toml" and p.name not in CONFIG_FILE_NAMES
+        )
+    except OSError:  # no such folder: nothing misnamed in it
+        return said
+    if others:
+        *first, last = CONFIG_FILE_NAMES
+        are = "is" if len(others) == 1 else "are"
+        said += f"; {', '.join(others)} there {are} not read: name it {', '.join(first)} or {last}"
+    return said
 
 
 def _layered_selection(settings: Settings, codes: list[str]) -> list[str]:
