@@ -141,6 +141,8 @@ def _specificity(selector: str, rule: type[Rule]) -> int:
     length ("ALL" matches everything, least specifically).
     """
     token = selector.strip()
+    if not token:  # a prefix of every code, but it names none: not ALL in disguise
+        return 0
     if token.upper() == "ALL":
         return 1
     if token.lower() == rule.name or token in _aliases(rule):

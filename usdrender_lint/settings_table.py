@@ -122,8 +122,13 @@ def _patterns(value: Any, where: str) -> tuple[str, ...]:
 
 
 def _tokens(value: Any, where: str) -> tuple[str, ...]:
-    """Rule codes, prefixes or names: ``["A,B", "C"]`` -> ("A", "B", "C")."""
-    return tuple(v.strip() for item in _strings(value, where) for v in item.split(",") if v.strip())
+    """Rule codes, prefixes or names: ``["A,B", "C"]`` -> ("A", "B", "C"). A
+    blank entry names no rule (``select = [""]`` ran none, silently), as ruff
+    refuses a selector it cannot read."""
+    items = _strings(value, where)
+    if any(not item.strip(" ,\t") for item in items):
+        raise ConfigError(f"{where} has a blank entry, which names no rule, got {list(items)!r}")
+    return tuple(v.strip() for item in items for v in item.split(",") if v.strip())
 
 
 def _table(value: Any, where: str, shape: str) -> Mapping[str, Any]:

@@ -341,6 +341,11 @@ ERRORS = [
     ("[rules.SE003]\nx = 1\n", "rules.SE003: this rule takes no options"),
     ("time-sample-cap = 0\n", "'time-sample-cap' must be a positive integer"),
     ("roots = [1]\n", "'roots' must be a list of strings"),
+    # A blank selector ran no rule (select) or silenced every rule (a per-path-ignores entry).
+    ('select = [""]\n', "'select' has a blank entry, which names no rule"),
+    ('ignore = ["SE001", " "]\n', "'ignore' has a blank entry, which names no rule"),
+    ('unfixable = [","]\n', "'unfixable' has a blank entry, which names no rule"),
+    ('[per-path-ignores]\n"*.usda" = [""]\n', "per-path-ignores.*.usda: '' matches no rule"),
     ("select = [\n", "invalid TOML"),
     # A pyproject's table copied whole into a .usdrender-lint.toml.
     (
@@ -577,3 +582,12 @@ def test_options_hints_that_cannot_be_read_are_a_config_error_naming_the_rule() 
 
     with pytest.raises(ConfigError, match=r"rules\.opt-rule: the rule's Options type hints"):
         build_options(Options, {"path": "a"}, "rules.opt-rule")
+
+
+@pytest.mark.parametrize("flag", ["--select", "--ignore", "--extend-select"])
+@pytest.mark.parametrize("value", ["", " ", ","])
+def test_a_blank_selector_flag_is_a_usage_error(project, flag: str, value: str) -> None:
+    """``--select ""`` (an unset shell variable) ran no rule and passed, exit 0."""
+    result = check(project, flag, value)
+    assert result.exit_code == 2, result.output
+    assert f"Invalid value for '{flag}': a blank value names no rule" in result.stderr

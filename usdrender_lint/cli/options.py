@@ -58,7 +58,7 @@ def setting_option(entry: Setting):
     kind = entry.kind
     if kind == "tokens":
         if entry.name in RULE_SELECTIONS:
-            common.update(shell_complete=complete_rules)
+            common.update(shell_complete=complete_rules, callback=_no_blank_selector)
         return click.option(entry.flag, entry.name, multiple=True, **common)
     if kind == "choice":
         return click.option(entry.flag, entry.name, type=click.Choice(entry.choices), **common)
@@ -86,6 +86,16 @@ def setting_option(entry: Setting):
 
 #: The settings whose flags take rule selectors (codes, prefixes, names).
 RULE_SELECTIONS = ("select", "ignore", "extend_select")
+
+
+def _no_blank_selector(
+    ctx: click.Context, param: click.Parameter, values: tuple[str, ...]
+) -> tuple[str, ...]:
+    """``--select ""`` (an unset shell variable) selected no rule at all and
+    passed silently; ruff refuses an empty selector."""
+    if any(not value.strip(" ,\t") for value in values):
+        raise click.BadParameter("a blank value names no rule (ALL names every rule)")
+    return values
 
 
 def complete_rules(
