@@ -950,8 +950,8 @@ def json_schema() -> dict[str, Any]:
     VS Code's Even Better TOML) complete and check the keys with it. Draft 4,
     the one taplo supports ("All features from the Draft 4 specification are
     supported": https://taplo.tamasfe.dev/configuration/developing-schemas.html).
-    What a schema cannot say (which rule codes exist: plugins add them) is
-    checked when the file is read."""
+    What a schema cannot say (which rule codes exist: plugins add them; a
+    glob that names a folder) is checked when the file is read."""
     hints = typing.get_type_hints(Settings)
     properties: dict[str, Any] = {}
     for entry in SETTINGS:

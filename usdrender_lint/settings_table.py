@@ -157,7 +157,8 @@ def _severities(value: Any, where: str) -> dict[str, Severity]:
 
 def _glob(glob: str, where: str) -> str:
     """A file glob of a table: one blank once its leading ``!`` is read (``""``,
-    spaces, ``{,}``) matches no file, and its negation every file, silently.
+    spaces, ``{,}``) or naming a folder (``legacy/``) matches no file, and its
+    negation every file, silently.
     ruff refuses a glob it cannot compile (crates/ruff_linter/src/settings/types.rs,
     ``Glob::new(...)?``); a blank one compiles there but names no file either."""
     rest = glob[1:] if glob.startswith("!") else glob
@@ -167,6 +168,20 @@ def _glob(glob: str, where: str) -> str:
         else:
             why = "is an empty glob, which matches no file"
         raise ConfigError(f'{_key(where, glob)} {why}: name the files, e.g. "shots/**/*.usda"')
+    if rest.rstrip().endswith("/"):
+        # A folder, as in .gitignore and `exclude`: here a glob names files, so
+        # it matched none (negated, every file), as ruff's per-file-ignores do.
+        folder, negated = rest.rstrip().rstrip("/"), glob.startswith("!")
+        matches = "every file" if negated else "no file"
+        meant = (
+            f'"!{folder}/**" matches every file outside it'
+            if negated
+            else (f'"{folder}/**" matches every file below it')
+        )
+        raise ConfigError(
+            f"{_key(where, glob)} names a folder, and these globs match files, so it matches "
+            f"{matches}: {meant}"
+        )
     return glob
 
 

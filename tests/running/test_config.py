@@ -378,6 +378,12 @@ def test_bad_config_is_one_line_naming_key_and_file(project, text, expected) -> 
         ('[per-path-ignores]\n"x.usda" = ["SE"]\n" " = ["SE"]\n', ":3: 'per-path-ignores. ' is an"),
         ('[per-path-ignores]\n"x.usda" = ["SE"]\n"!" = ["SE"]\n', ":3: 'per-path-ignores.!' negat"),
         ('per-path-ignores = { "{,}" = ["SE"] }\n', ":1: 'per-path-ignores.{,}' is an empty glob"),
+        # A folder, as .gitignore writes one: these globs match files (ruff's too).
+        (
+            '[per-path-ignores]\n"x.usda" = ["SE"]\n"shots/" = ["SE"]\n',
+            ":3: 'per-path-ignores.shots/",
+        ),
+        ('[per-path-profiles]\n"!old/ " = "karma"\n', ":2: 'per-path-profiles.!old/ ' names a"),
         ('[per-path-profiles]\n"*.usda" = "karma"\n" " = "arnold"\n', ":3: 'per-path-profiles. "),
         ('x = """\nselct = 1\n"""\n', ":1: unknown key 'x'"),
         ('profile = "auto"\nextend = "missing.toml"\n', ":2: 'extend': no such file"),
@@ -591,3 +597,17 @@ def test_a_blank_selector_flag_is_a_usage_error(project, flag: str, value: str) 
     result = check(project, flag, value)
     assert result.exit_code == 2, result.output
     assert f"Invalid value for '{flag}': a blank value names no rule" in result.stderr
+
+
+def test_a_folder_glob_says_the_glob_that_matches_its_files(project) -> None:
+    _write(project, '[per-path-ignores]\n"shots/" = ["SE003"]\n')
+    assert error_line(check(project)).endswith(
+        "'per-path-ignores.shots/' names a folder, and these globs match files, so it matches "
+        'no file: "shots/**" matches every file below it'
+    )
+    _write(project, '[per-path-ignores]\n"!shots/" = ["SE003"]\n')
+    assert error_line(check(project)).endswith(
+        'so it matches every file: "!shots/**" matches every file outside it'
+    )
+    _write(project, '[per-path-ignores]\n"shots/**" = ["SE003"]\n')
+    assert "SE003" not in findings(check(project))
