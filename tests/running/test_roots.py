@@ -395,3 +395,19 @@ def test_fix_with_roots_fixes_only_what_it_reports(
     # The shot's own finding, which the check of the layer did not report, stays.
     alone = CliRunner().invoke(cli, [*args, "--format", "json", "shots/010/shot.usda"])
     assert "SE007" in {f["code"] for f in json.loads(alone.stdout)["files"][0]["findings"]}
+
+
+def test_a_roots_glob_that_matches_no_file_is_noted(shot: Path, tmp_path: Path) -> None:
+    """Before, a mistyped root ("shots/*/shots.usda", or the folder "shots/") said
+    nothing, and every changed layer was linted out of its stage."""
+    config = _write(
+        tmp_path / ".usdrender-lint.toml", 'roots = ["shots/*/shot.usda", "shots/", "x/*.usda"]\n'
+    )
+    result = CliRunner().invoke(cli, ["check", "--select", SELECT, str(shot / "lighting.usda")])
+    assert result.exit_code == 1, result.output
+    notes = [line for line in result.stderr.splitlines() if "matches no file" in line]
+    assert notes == [
+        f"usdrender-lint: note: {config}: roots: {pattern!r} matches no file below {tmp_path}: "
+        "changed layers no root uses are linted on their own"
+        for pattern in ("shots/", "x/*.usda")
+    ]

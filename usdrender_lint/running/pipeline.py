@@ -793,6 +793,7 @@ def _plan_files(prepared: Prepared, files: Sequence[str], notes: list[str]) -> _
     known = _load_baseline(request)
     _check_fix_request(request, settings)
     targets, plan = plan_targets(prepared, files)
+    notes.extend(plan.notes if plan is not None else ())
     refuse_outputs_on_inputs(request, settings, targets)
     # A text whose name force-exclude leaves out is neither linted nor fixed.
     stdin = request.stdin if targets else None

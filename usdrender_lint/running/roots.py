@@ -43,13 +43,23 @@ def find_roots(patterns: Sequence[str], base_dir: str) -> list[str]:
     ``base_dir`` (the config file's folder), sorted and without duplicates.
     They are named relative to the working directory when below it, as a user
     would have typed them."""
+    return _roots(patterns, base_dir)[0]
+
+
+def _roots(patterns: Sequence[str], base_dir: str) -> tuple[list[str], list[str]]:
+    """:func:`find_roots`' files, and the patterns that match none."""
     found: dict[str, str] = {}
+    unmatched = []
     for pattern in patterns:
+        matched = False
         for match in glob.glob(pattern, root_dir=base_dir, recursive=True):
             path = os.path.join(base_dir, match)
             if os.path.isfile(path):
+                matched = True
                 found.setdefault(file_key(path), display_path(path))
-    return sorted(found.values())
+        if not matched:
+            unmatched.append(pattern)
+    return sorted(found.values()), unmatched
 
 
 def dependencies(root: str, missing: bool = False) -> frozenset[str]:
@@ -118,6 +128,8 @@ class ContextPlan:
     alone: tuple[str, ...] = ()
     #: Roots whose layers could not be found in time, as error results.
     failed: tuple[FileResult, ...] = ()
+    #: What the run says of the plan (a ``roots`` glob that matches no file).
+    notes: tuple[str, ...] = ()
 
     @property
     def files(self) -> list[str]:
@@ -224,8 +236,18 @@ def plan_from_settings(
     the config file that set them), or None when no roots are configured."""
     if not settings.roots:
         return None
-    roots = find_roots(settings.roots, str(settings.base_dir))
-    return plan_in_context(changed, roots, timeout=timeout, jobs=jobs)
+    base_dir = str(settings.base_dir)
+    roots, unmatched = _roots(settings.roots, base_dir)
+    plan = plan_in_context(changed, roots, timeout=timeout, jobs=jobs)
+    # A mistyped root (or a folder, "shots/") silently linted every changed
+    # layer on its own, out of the stage that gives it its camera.
+    notes = tuple(
+        f"note: {settings.where_entry('roots', pattern)}: {pattern!r} matches no file "
+        f"below {display_path(base_dir) or base_dir}: changed layers no root uses are linted "
+        "on their own"
+        for pattern in unmatched
+    )
+    return replace(plan, notes=notes) if notes else plan
 
 
 __all__ = [
