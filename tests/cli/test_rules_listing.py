@@ -194,3 +194,17 @@ def test_rules_stop_on_a_bad_configuration_as_check_does(
         f"usdrender-lint: error: {path}:2: select: 'NOPE' matches no rule code, code prefix "
         "or rule name"
     )
+
+
+def test_rules_in_a_working_directory_that_is_gone_is_one_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """It looks for the configuration from there, as check does (it was an internal error)."""
+    gone = tmp_path / "gone"
+    gone.mkdir()
+    monkeypatch.chdir(gone)
+    gone.rmdir()
+    result = CliRunner().invoke(cli, ["rules"])
+    assert result.exit_code == 2
+    assert result.stderr.startswith("usdrender-lint: error: the working directory cannot be read")
+    assert CliRunner().invoke(cli, ["rules", "--isolated"]).exit_code == 0

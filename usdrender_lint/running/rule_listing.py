@@ -16,6 +16,7 @@ from .pipeline import (
     Request,
     RequestError,
     check_profiles,
+    check_working_directory,
     make_rules,
     resolve_settings,
     severity_overrides,
@@ -47,6 +48,8 @@ def configured_rules(registry: Registry, request: Request) -> ConfiguredRules:
     a RequestError worded as check words it."""
     settings: Settings | None = None
     try:
+        if not request.isolated and request.config is None:
+            check_working_directory()  # the configuration is searched for from it
         settings = resolve_settings(request)
         check_profiles(settings)
         chosen = {rule.code for rule in make_rules(registry, settings)}
