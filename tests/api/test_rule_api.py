@@ -269,7 +269,13 @@ def test_options_of_another_type_are_refused_when_the_rule_is_made() -> None:
 
 @pytest.mark.parametrize(
     ("given", "near"),
-    [("renderman ", "renderman"), ("prman", "renderman"), ("Karma", "karma"), ("arnlod", "arnold")],
+    [
+        ("renderman ", "renderman"),
+        ("prman", "renderman"),
+        ("Karma", "karma"),
+        ("arnlod", "arnold"),
+        ("rtx", "omniverse"),
+    ],
 )
 def test_a_profile_that_does_not_exist_is_refused_when_the_class_is_defined(
     given: str, near: str
@@ -285,6 +291,17 @@ def test_a_profile_that_does_not_exist_is_refused_when_the_class_is_defined(
             name = "misspelt-profile-rule"
             severity = Severity.INFO
             profile = given
+
+    with pytest.raises(
+        TypeError, match=re.escape("profile 'auto' is not a renderer profile: leave")
+    ):
+
+        class Auto(Rule):
+            __doc__ = DOC
+            code = "ZZ978"
+            name = "auto-profile-rule"
+            severity = Severity.INFO
+            profile = "auto"
 
     class Renderer(Rule):  # a profile that exists, and None, are fine
         __doc__ = DOC

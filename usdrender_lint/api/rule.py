@@ -24,8 +24,17 @@ if TYPE_CHECKING:
 CODE_PATTERN = re.compile(r"^[A-Z]{1,4}[0-9]{3}$")
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
 FIX_SAFETY = ("safe", "safe-conditional", "unsafe", "none")
-#: Names a renderer goes by that are not its profile's (RenderMan's renderer is prman).
-_PROFILE_NICKNAMES = {"prman": "renderman", "hdprman": "renderman", "rman": "renderman"}
+#: Names a renderer goes by that are not its profile's: its program (prman,
+#: husk) or its settings' namespace (ri:, omni:rtx:, which profiles/detect.py reads).
+_PROFILE_NICKNAMES = {
+    "prman": "renderman",
+    "hdprman": "renderman",
+    "rman": "renderman",
+    "ri": "renderman",
+    "husk": "karma",
+    "omni": "omniverse",
+    "rtx": "omniverse",
+}
 #: Sections every rule docstring carries, in this order (ruff's layout).
 DOC_SECTIONS = ("What it does", "Why is this bad?", "Example", "Use instead", "Fix safety")
 
@@ -83,6 +92,11 @@ def profile_problem(profile: object) -> str | None:
     import difflib  # only for an error
 
     key = profile.strip().lower()
+    if key in ("", "auto"):  # auto chooses a profile per file: no rule's own
+        return (
+            f"profile {profile!r} is not a renderer profile: leave it None to run the rule "
+            f"under every profile, or name one ({', '.join(PROFILE_NAMES)})"
+        )
     near = _PROFILE_NICKNAMES.get(key) or (key if key in PROFILE_NAMES else None)
     near = near or difflib.get_close_matches(key, PROFILE_NAMES, n=1, cutoff=0)[0]
     return (
