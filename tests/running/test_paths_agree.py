@@ -8,9 +8,8 @@ path) and the same file among others, its text on standard input (``check -
 ``merge``, the Python API's ``lint_file`` and ``lint_stage`` (on the stage
 USD opens from the file), and the
 UsdValidation plugin (as far as its errors map: code, site path, layer,
-message and severity, against ``check --profile generic``, since validators
-know no renderer profiles). A file that one path lints and another cannot is a
-difference too.
+message and severity; its errors carry no profile). A file that one path lints
+and another cannot is a difference too.
 
 Cheap by design: one process per path over every file (about 700 of them), not
 one per file; the lone-file path forks one child per file from a process that
@@ -42,7 +41,7 @@ pytestmark = pytest.mark.heavy(seconds=85)
 USD_SUFFIXES = {".usd", ".usda", ".usdc", ".usdz"}
 #: What a finding is, for the comparison.
 FIELDS = ("code", "path", "layer", "line", "message", "severity", "profile", "profile_reason")
-#: The plugin's errors carry no line, and the validators no profile.
+#: The plugin's errors carry no line, nor the profile a finding was judged under.
 PLUGIN_FIELDS = ("code", "path", "layer", "message", "severity")
 
 
@@ -384,11 +383,11 @@ def test_the_python_api_on_open_stages(
 
 
 def test_the_usdvalidation_plugin_as_far_as_its_errors_map() -> None:
-    generic = _check("--no-cache", "--profile", "generic")
+    checked = _check("--no-cache")
     plugin = _plugin()
     validated = {entry["file"]: entry for entry in plugin["files"]}
     cli, mapped = {}, {}
-    for entry in generic["files"]:
+    for entry in checked["files"]:
         file = entry["file"]
         if file not in validated:
             # USD refuses the file: the CLI says so with ST001 alone.

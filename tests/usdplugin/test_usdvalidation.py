@@ -24,6 +24,7 @@ from pxr import Sdf, Tf, Usd, UsdRender
 
 from usdrender_lint.api import Rule
 from usdrender_lint.cli import cli
+from usdrender_lint.engine import Linter
 from usdrender_lint.model import Severity
 from usdrender_lint.registry import build_registry
 from usdrender_lint.usdplugin import (
@@ -36,7 +37,7 @@ from usdrender_lint.usdplugin import (
     validator_name,
     write_plug_info,
 )
-from usdrender_lint.usdplugin.validators import StageLints, default_linter, fixer_description
+from usdrender_lint.usdplugin.validators import StageLints, fixer_description
 
 REPO = Path(__file__).parents[2]
 FIXTURES = REPO / "tests" / "rules"
@@ -203,7 +204,7 @@ def test_one_lint_per_stage_state() -> None:
 
     def factory():
         built.append(1)
-        linter = default_linter(RULES)
+        linter = Linter([rule() for rule in RULES], known_rules=RULES)
         original = linter.run_stage
         calls = built
 
@@ -246,9 +247,8 @@ _SAME_AS_CLI = """
 import json, sys
 from pathlib import Path
 from pxr import Sdf, Tf, Usd, UsdValidation
-from usdrender_lint.config import Settings
 from usdrender_lint.registry import build_registry
-from usdrender_lint.running.pipeline import make_linter
+from usdrender_lint.running.pipeline import Request, run
 from usdrender_lint.usdplugin import validator_name
 
 registry = UsdValidation.ValidationRegistry()
@@ -256,9 +256,9 @@ declared = sorted(str(m.name) for m in registry.GetValidatorMetadataForKeyword("
 rules = build_registry().rules
 loaded = [registry.GetOrLoadValidatorByName(validator_name(rule)) for rule in rules]
 context = UsdValidation.ValidationContext([v for v in loaded if v is not None])
-# The validators know no renderer profiles (usdplugin sits below them): they
-# report what `check --profile generic` does (R2-5).
-linter = make_linter(Settings(profile="generic"))
+# The validators report what `check FILE` does, with the configuration it finds.
+def check(path):
+    return run(Request((str(path),), jobs=1, timeout=None, progress=False)).report.findings
 
 def site_path(site):
     if site.IsProperty():
@@ -280,7 +280,7 @@ paths = [Path(p) for p in sys.argv[1:]] or [
     if p.name.startswith(("pass_", "fail_")) and not p.name.endswith(".fixed.usda")
 ]
 for path in paths:
-    cli = {(f.code, f.location.path or "") for f in linter.lint_path(str(path)).findings}
+    cli = {(f.code, f.location.path or "") for f in check(path)}
     try:
         stage = Usd.Stage.Open(str(path))
     except Tf.ErrorException:
@@ -394,12 +394,7 @@ RAISING = (PrimExplodes, StageExplodes)
 _NEVER_RAISES = """
 import json
 from pxr import Sdf, Tf, Usd, UsdValidation
-import raising_rules
-import usdrender_lint.usdplugin.validators as adaptor
-from usdrender_lint.registry import build_registry
-
-rules = build_registry().rules + raising_rules.RAISING
-adaptor._registered_rules = lambda: (rules, None)
+from usdrender_lint.engine import Linter
 registry = UsdValidation.ValidationRegistry()
 names = [str(m.name) for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")]
 context = UsdValidation.ValidationContext(registry.GetOrLoadValidatorsByName(names))
@@ -416,7 +411,7 @@ codes = sorted({e.GetName() for e in errors})
 # The whole lint failing: each validator reports it, Validate still returns.
 def broken(self, stage, file=None):
     raise MemoryError("no more")
-adaptor.Linter.run_stage = broken
+Linter.run_stage = broken
 SE001 = RULE_DIR + "SE001_resolution_non_positive/pass_traps.usda"
 failures = context.Validate(Usd.Stage.Open(SE001))
 
@@ -439,8 +434,19 @@ print(json.dumps({
 """
 
 
+def _installed(site: Path, module: str, attribute: str) -> None:
+    """A rule plugin in ``site`` (put on PYTHONPATH), as pip installs one."""
+    info = site / f"{module}-0.1.dist-info"
+    info.mkdir(parents=True)
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {module}\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text(
+        f"[usdrender_lint.rules]\n{module} = {module}:{attribute}\n"
+    )
+
+
 def test_a_raising_rule_never_makes_validate_raise(tmp_path: Path) -> None:
     (tmp_path / "raising_rules.py").write_text(_RAISING_RULES)
+    _installed(tmp_path, "raising_rules", "RAISING")
     sys.path.insert(0, str(tmp_path))
     try:
         import raising_rules
@@ -490,11 +496,6 @@ RULES = (BothHooks,)
 _BOTH_HOOKS = """
 import json
 from pxr import Usd, UsdValidation
-import both_rules
-import usdrender_lint.usdplugin.validators as adaptor
-from usdrender_lint.registry import build_registry
-
-adaptor._registered_rules = lambda: (build_registry().rules + both_rules.RULES, None)
 registry = UsdValidation.ValidationRegistry()
 validator = registry.GetOrLoadValidatorByName("usdRenderLint:BothHooks")
 stage = Usd.Stage.Open("tests/rules/SE003_data_window_malformed/fail_inverted.usda")
@@ -507,6 +508,7 @@ def test_a_rule_with_both_hooks_reports_its_stage_findings(tmp_path: Path) -> No
     # USD calls a prim validator only on prims of its schemaTypes: a rule that
     # also has check_stage is a stage validator, or its stage findings are lost.
     (tmp_path / "both_rules.py").write_text(_BOTH_HOOKS_RULES)
+    _installed(tmp_path, "both_rules", "RULES")
     sys.path.insert(0, str(tmp_path))
     try:
         import both_rules
@@ -703,3 +705,76 @@ def test_a_validation_fix_of_a_layer_with_unsaved_edits_goes_through_sdf(tmp_pat
     text = work.read_text()
     assert "edited in memory" in text and "# CA004" not in text
     assert "rel camera = </World/camRig/shotCam>" in text
+
+
+# -- the project's configuration -------------------------------------------------------
+
+_CONFIGURED = """
+import json, sys
+from pxr import Usd, UsdValidation
+registry = UsdValidation.ValidationRegistry()
+names = [str(m.name) for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")]
+context = UsdValidation.ValidationContext(registry.GetOrLoadValidatorsByName(names))
+severity = {"Error": "error", "Warn": "warning", "Info": "info"}
+stage = Usd.Stage.Open(sys.argv[1])
+target = Usd.EditTarget(stage.GetRootLayer())
+errors, fixable = [], []
+for error in context.Validate(stage):
+    site = error.GetSites()[0]
+    where = site.GetProperty() if site.IsProperty() else site.GetPrim()
+    path = str(where.GetPath()) if not site.IsPrim() or not where.IsPseudoRoot() else None
+    kind = severity[str(error.GetType()).rsplit(".", 1)[-1]]
+    errors.append([str(error.GetName()), path, kind, error.GetMessage()])
+    if any(f.CanApplyFix(error, target) for f in error.GetFixers()):
+        fixable.append(str(error.GetName()))
+print(json.dumps({"errors": sorted(errors), "fixable": sorted(fixable)}))
+"""
+
+#: A project configuration that changes what check reports on the example shot in
+#: every way a key can: a pinned profile (KA003 appears), an ignored rule (CA003),
+#: a severity (PR004), a per-path ignore (SE003) and an unfixable rule (CA004).
+_PROJECT = """\
+profile = "karma"
+ignore = ["CA003"]
+unfixable = ["CA004"]
+
+[severity]
+PR004 = "warning"
+
+[per-path-ignores]
+"shot.usda" = ["SE003"]
+"""
+
+
+def test_validators_report_and_fix_what_check_does_under_the_projects_configuration(
+    tmp_path: Path,
+) -> None:
+    """The validators read the configuration found from the file's folder, as
+    check (and the Asset Validator) do. They read none: they reported CA003 and
+    SE003, PR004 as an error, no KA003, and CanApplyFix said yes to CA004's fix,
+    which check --fix leaves alone."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text((REPO / "examples" / "broken_shot" / "shot.usda").read_text())
+    (tmp_path / "lighting_wip.usda").write_text(
+        (REPO / "examples" / "broken_shot" / "lighting_wip.usda").read_text()
+    )
+    (tmp_path / ".usdrender-lint.toml").write_text(_PROJECT)
+    done = CliRunner().invoke(cli, ["check", "--no-cache", "--format", "json", str(shot)])
+    findings = json.loads(done.stdout)["files"][0]["findings"]
+    expected = sorted([f["code"], f["path"], f["severity"], f["message"]] for f in findings)
+    assert {"KA003", "CA004", "SE007"} <= {f["code"] for f in findings}
+    # What check --fix applies: a safe fix of a rule the configuration leaves fixable.
+    fixed = {f["code"] for f in findings if f["fix"] and f["fix"]["safe"]} - {"CA004"}
+    got = _run_child(_CONFIGURED, plugin_dir(), None, str(shot))
+    assert got["errors"] == expected
+    assert set(got["fixable"]) == fixed == {"SE007"}
+
+
+def test_a_configuration_that_cannot_be_read_is_one_error_per_stage(tmp_path: Path) -> None:
+    shot = tmp_path / "shot.usda"
+    shot.write_text(SE003_FAIL.read_text())
+    (tmp_path / ".usdrender-lint.toml").write_text('no-such-key = "x"\n')
+    got = _run_child(_CONFIGURED, plugin_dir(), None, str(shot))
+    [error] = got["errors"]
+    assert error[0] == "usdRenderLintFailure"
+    assert "no-such-key" in error[3] and ".usdrender-lint.toml" in error[3]

@@ -25,7 +25,6 @@ Nothing here runs unless the Asset Validator loads it.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Sequence
 from typing import Any, ClassVar
 
@@ -43,7 +42,7 @@ from ..api.docs import rule_doc
 from ..engine import TracedFinding
 from ..fixing.single import fix_one, refusal, same_finding, target_layer
 from ..model import INTERNAL_ERROR_CODE, Finding, Severity
-from ..running.stage_lints import MAX_CACHED_STAGES, CheckLinters, StageLints
+from ..running.stage_lints import CheckLinters, FirstFailures, StageLints
 
 #: The Asset Validator category every usdrender-lint rule is registered in.
 CATEGORY = "usdrender-lint"
@@ -61,22 +60,8 @@ _CHECK = CheckLinters()
 _LINTS = StageLints(_CHECK.linter, _CHECK.lint)
 
 
-#: Stages whose lint failed, already reported: a failure (a bad configuration)
-#: is one issue, as check says it once, not one per checker. The Asset
-#: Validator opens a new stage for every validation, so each one reports it.
-_FAILED: dict[Usd.Stage, None] = {}
-_FAILED_LOCK = threading.Lock()
-
-
-def _first_failure(stage: Usd.Stage) -> bool:
-    """Whether no checker has reported this stage's failure yet."""
-    with _FAILED_LOCK:
-        if stage in _FAILED:
-            return False
-        _FAILED[stage] = None
-        while len(_FAILED) > MAX_CACHED_STAGES:
-            del _FAILED[next(iter(_FAILED))]
-        return True
+#: Stages whose lint failed, already reported (one issue per stage).
+_FAILURES = FirstFailures()
 
 
 def reported(stage: Usd.Stage) -> list[TracedFinding]:
@@ -111,7 +96,7 @@ class UsdRenderLintChecker(BaseRuleChecker):
         try:
             findings = [t for t in reported(usdStage) if self._mine(t)]
         except Exception as exc:  # noqa: BLE001 - one stage's failure is an issue, not a crash
-            if _first_failure(usdStage):
+            if _FAILURES.first(usdStage):
                 self._AddError(
                     message=f"usdrender-lint could not lint the stage: {type(exc).__name__}: {exc}",
                     at=usdStage,

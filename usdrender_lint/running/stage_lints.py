@@ -83,6 +83,27 @@ class StageLints:
             cached.listener.Revoke()
 
 
+class FirstFailures:
+    """Stages whose lint failed and was reported: a failure (a configuration
+    that cannot be read) is one issue per stage, as check says it once, not
+    one per validator. A host opens a new stage for each validation, so each
+    one reports it. Thread-safe."""
+
+    def __init__(self) -> None:
+        self._failed: dict[Usd.Stage, None] = {}
+        self._lock = threading.Lock()
+
+    def first(self, stage: Usd.Stage) -> bool:
+        """Whether no one has reported this stage's failure yet (and now has)."""
+        with self._lock:
+            if stage in self._failed:
+                return False
+            self._failed[stage] = None
+            while len(self._failed) > MAX_CACHED_STAGES:
+                del self._failed[next(iter(self._failed))]
+            return True
+
+
 def stage_file(stage: Usd.Stage) -> str:
     """How findings name the stage: its root layer's file, else its identifier."""
     root = stage.GetRootLayer()
@@ -193,4 +214,4 @@ class CheckLinters:
         return [t for t in traced if t.finding in kept]
 
 
-__all__ = ["MAX_CACHED_STAGES", "CheckLinters", "StageLints", "stage_file"]
+__all__ = ["MAX_CACHED_STAGES", "CheckLinters", "FirstFailures", "StageLints", "stage_file"]

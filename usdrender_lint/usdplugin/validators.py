@@ -2,12 +2,16 @@
 
 A validator does not run its rule alone: the rules share a per-stage Context
 (render configurations, memoised helpers) and the engine's customData
-suppressions, so the first validator called on a stage lints it once with
-every registered rule (:meth:`Linter.run_stage`: its LintRun traces each
-finding to its rule and prim), and each validator reports the findings its
-rule produced: a prim validator those of ``check_prim`` on that prim, a stage
-validator those of ``check_stage`` and the engine's own (UL001). The cached
-lint is dropped when the stage changes.
+suppressions, so the first validator called on a stage lints it once
+(:meth:`Linter.run_stage`: its LintRun traces each finding to its rule and
+prim), and each validator reports the findings its rule produced: a prim
+validator those of ``check_prim`` on that prim, a stage validator those of
+``check_stage`` and the engine's own (UL001). The cached lint is dropped when
+the stage changes. The lint is ``check``'s for the stage's file, as the Asset
+Validator's (running/stage_lints.py): the configuration found from its folder
+(select, ignore, severities, options, profiles, per-path ignores, variants,
+force-exclude), and a fixer applies no fix ``check --fix`` would not
+(``unfixable``, ``variants``, excluded layers).
 
 usd-core 26.11 turns an exception raised by a Python validator into an error
 that makes the whole ``ValidationContext.Validate`` call raise and lose every
@@ -17,17 +21,23 @@ becomes a ``ValidationError`` of the validator that failed.
 
 from __future__ import annotations
 
+import threading
 import traceback
-from collections.abc import Sequence
 from typing import Any
 
 from pxr import Sdf, Tf, Usd, UsdValidation
 
 from ..api import Fix, Rule
-from ..engine import Linter, TracedFinding
+from ..engine import TracedFinding
 from ..fixing.single import fix_one, refusal
 from ..model import Finding, Severity
-from ..running.stage_lints import StageLints
+from ..running.pipeline import RequestError
+from ..running.stage_lints import (
+    MAX_CACHED_STAGES,
+    CheckLinters,
+    FirstFailures,
+    StageLints,
+)
 from . import PLUGIN_NAME, is_prim_validator, validator_key, validator_name
 
 ErrorType = UsdValidation.ValidationErrorType
@@ -77,10 +87,48 @@ def failure_error(stage: Any, rule: type[Rule] | None, exc: BaseException) -> An
     return UsdValidation.ValidationError(FAILURE_ERROR_NAME, ErrorType.Error, sites, message)
 
 
+def config_error(stage: Any, exc: RequestError) -> Any:
+    """The one error of a stage whose configuration (or a rule plugin) cannot
+    be loaded: the line ``check`` prints for it."""
+    sites = [UsdValidation.ValidationErrorSite(stage, Sdf.Path.absoluteRootPath)]
+    message = f"usdrender-lint could not lint the stage: {exc}"
+    return UsdValidation.ValidationError(FAILURE_ERROR_NAME, ErrorType.Error, sites, message)
+
+
+class CheckedLints:
+    """The findings ``check`` reports on a stage, shared by every validator:
+    one lint per stage state with ``check``'s linter for its file, per-path
+    ignores applied (once per lint, not once per prim validator call), none on
+    a file ``force-exclude`` leaves out."""
+
+    def __init__(self) -> None:
+        self.checks = CheckLinters()
+        self.lints = StageLints(self.checks.linter, self.checks.lint)
+        self.failures = FirstFailures()
+        self._reported: dict[Usd.Stage, tuple[list[TracedFinding], list[TracedFinding]]] = {}
+        self._lock = threading.Lock()
+
+    def reported(self, stage: Usd.Stage) -> list[TracedFinding]:
+        """Raises RequestError when the stage's configuration cannot be read."""
+        if self.checks.force_excluded(stage):
+            return []
+        traced = self.lints.findings(stage)
+        with self._lock:
+            cached = self._reported.get(stage)
+        if cached is not None and cached[0] is traced:
+            return cached[1]
+        kept = self.checks.reported(stage, traced)
+        with self._lock:
+            self._reported[stage] = (traced, kept)
+            while len(self._reported) > MAX_CACHED_STAGES:
+                del self._reported[next(iter(self._reported))]
+        return kept
+
+
 class RuleValidator:
     """The task functions of one rule's validator and its fixer."""
 
-    def __init__(self, rule: type[Rule], lints: StageLints) -> None:
+    def __init__(self, rule: type[Rule], lints: CheckedLints) -> None:
         self.rule = rule
         self.lints = lints
 
@@ -88,37 +136,46 @@ class RuleValidator:
         """The rule's findings from ``prim_path``'s check_prim (None: all of them)."""
         return [
             traced
-            for traced in self.lints.findings(stage)
+            for traced in self.lints.reported(stage)
             if traced.rule_code == self.rule.code
             and (prim_path is None or traced.prim_path == prim_path)
         ]
 
+    def _errors(self, stage: Usd.Stage, prim_path: Sdf.Path | None) -> list[Any]:
+        try:
+            return [to_error(stage, t.finding) for t in self._mine(stage, prim_path)]
+        except RequestError as exc:
+            # A bad configuration is one error per stage, not one per validator.
+            return [config_error(stage, exc)] if self.lints.failures.first(stage) else []
+        except Exception as exc:  # noqa: BLE001 - see the module docstring
+            return [failure_error(stage, self.rule, exc)]
+
     def validate_stage(self, stage: Usd.Stage, time_range: Any = None) -> list[Any]:
         # A stage validator reports every finding of its rule: those of check_stage
         # and, for a rule with both hooks (is_prim_validator), those of check_prim.
-        try:
-            return [to_error(stage, t.finding) for t in self._mine(stage, None)]
-        except Exception as exc:  # noqa: BLE001 - see the module docstring
-            return [failure_error(stage, self.rule, exc)]
+        return self._errors(stage, None)
 
     def validate_prim(self, prim: Usd.Prim, time_range: Any = None) -> list[Any]:
         try:
             stage = prim.GetStage()
-            return [to_error(stage, t.finding) for t in self._mine(stage, prim.GetPath())]
+            path = prim.GetPath()
         except Exception as exc:  # noqa: BLE001 - see the module docstring
             return [failure_error(prim.GetStage(), self.rule, exc)]
+        return self._errors(stage, path)
 
     # -- fixer ----------------------------------------------------------------
 
     def _safe_fix(self, error: Any) -> tuple[Usd.Stage, Finding, Fix] | None:
-        """The stage, finding and fix behind ``error`` when its fix is safe."""
+        """The stage, finding and fix behind ``error`` when its fix is safe and
+        ``check --fix`` would apply it (not an ``unfixable`` rule's, nor under a
+        configuration that sets ``variants``)."""
         sites = error.GetSites()
         if not sites or error.GetName() != self.rule.code:
             return None
         stage = sites[0].GetStage()
         if stage is None:
             return None
-        for traced in self.lints.findings(stage):
+        for traced in self.lints.reported(stage):
             finding, fix = traced.finding, traced.fix
             if (
                 finding.code == self.rule.code
@@ -128,7 +185,7 @@ class RuleValidator:
                 and fix.safe
                 and fix.apply is not None
             ):
-                return stage, finding, fix
+                return (stage, finding, fix) if self.lints.checks.fixable(stage, finding) else None
         return None
 
     def can_apply(self, error: Any, edit_target: Usd.EditTarget, time_code: Any = None) -> bool:
@@ -140,7 +197,8 @@ class RuleValidator:
                 return False
             stage, finding, fix = found
             layer = edit_target.GetLayer()
-            return layer is not None and refusal(stage, finding, fix, layer) is None
+            excluded = self.lints.checks.excluded(stage)
+            return layer is not None and refusal(stage, finding, fix, layer, excluded) is None
         except Exception:  # noqa: BLE001 - see the module docstring
             return False
 
@@ -155,9 +213,9 @@ class RuleValidator:
             stage, finding, fix = found
             previous = stage.GetEditTarget()
             try:
-                done = fix_one(
-                    self.lints.linter(stage), stage, finding, fix, edit_target.GetLayer()
-                )
+                checks = self.lints.checks
+                linter, excluded = checks.linter(stage), checks.excluded(stage)
+                done = fix_one(linter, stage, finding, fix, edit_target.GetLayer(), excluded)
             finally:
                 stage.SetEditTarget(previous)
             return done.applied
@@ -222,11 +280,6 @@ class UnavailableValidator:
         return self.validate_stage(prim.GetStage()) if prim.IsPseudoRoot() else []
 
 
-def default_linter(rules: Sequence[type[Rule]]) -> Linter:
-    """Every rule with its default options: the CLI's findings without a config file."""
-    return Linter([rule() for rule in rules], known_rules=rules)
-
-
 def register_validators(usd_registry: Any = None) -> list[str]:
     """Register a task function (and fixer) for every validator this plugin
     declares; returns the names registered. Never raises."""
@@ -239,14 +292,7 @@ def register_validators(usd_registry: Any = None) -> list[str]:
             if not usd_registry.HasValidator(m.name)
         ]
         rules, reason = _registered_rules()
-        linter: list[Linter] = []
-
-        def linter_for(stage: Usd.Stage) -> Linter:
-            if not linter:
-                linter.append(default_linter(rules))
-            return linter[0]
-
-        lints = StageLints(linter_for)
+        lints = CheckedLints()
         by_name = {validator_name(rule): rule for rule in rules}
         for name in declared:
             metadata = usd_registry.GetValidatorMetadata(name)
