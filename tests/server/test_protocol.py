@@ -797,3 +797,33 @@ async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
     fixed = apply(layer_text, fix.edit.changes[layer])
     assert "uniform bool disableMotionBlur = 1" in fixed
     close_documents(client, layer, shot)
+
+
+async def test_an_unfixable_rule_s_finding_offers_no_fix(client: LanguageClient, workspace: Path):
+    """A rule the configuration makes ``unfixable`` carries no fix in the
+    diagnostic's data, as check's reports carry none, and no fix-all is offered
+    when such rules hold the only fixes (it was, with an edit that changed
+    nothing). Same file and configuration through check's JSON report."""
+    folder = workspace / "unfixable"
+    folder.mkdir()
+    shutil.copy(BROKEN_SHOT, folder / "shot.usda")
+    shutil.copy(BROKEN_SHOT.parent / "lighting_wip.usda", folder / "lighting_wip.usda")
+    (folder / ".usdrender-lint.toml").write_text(
+        'select = ["CA004", "SE007"]\nunfixable = ["CA004", "SE007"]\n'
+    )
+    uri = open_document(client, folder / "shot.usda")
+    found = await diagnostics_of(client, uri, 1)
+    checked = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--no-cache", "--format", "json"]
+        + [str(folder / "shot.usda")],
+        capture_output=True,
+        text=True,
+    )
+    reported = {f["code"]: f["fix"] for f in json.loads(checked.stdout)["files"][0]["findings"]}
+    assert {str(d.code): d.data["fix"] for d in found} == reported == {"CA004": None, "SE007": None}
+    camera = next(d for d in found if d.code == "CA004")
+    titles = [a.title for a in await quick_actions(client, uri, camera)]
+    assert not any(t.startswith("Fix ") for t in titles)
+    assert not any("every safe fix" in t for t in titles)
+    assert await fix_all_actions(client, uri) == []
+    close_documents(client, uri)

@@ -116,7 +116,6 @@ def finding_entry(
     finding: Finding,
     show_profile: bool = False,
     below: Below | None = None,
-    unfixable: bool = False,
     held: bool = False,
 ) -> Entry:
     loc = finding.location
@@ -128,10 +127,9 @@ def finding_entry(
     label = (finding.severity.value, _STYLE[finding.severity])
     head, tail = _labelled(label, finding.code, loc.path, message)
     if finding.fix is not None:
+        # None for a rule the configuration makes ``unfixable`` (Prepared.finish).
         kind = "fix" if finding.fix.safe else "unsafe fix"
-        if unfixable:  # config ``unfixable``: --fix will not apply it, whatever it offers
-            kind += ", unfixable in the configuration"
-        elif held:  # Report.baseline_held: --fix leaves the place the baseline accepts
+        if held:  # Report.baseline_held: --fix leaves the place the baseline accepts
             kind += ", not applied while the baseline records this rule here"
         tail.append((f"[{kind}: {printable(finding.fix.description)}]", "dim"))
     if show_profile and finding.profile:
@@ -274,13 +272,7 @@ class TextFormatter:
             if options.show_info or finding.severity != Severity.INFO
         ]
         entries = [
-            finding_entry(
-                finding,
-                options.show_info,
-                below,
-                finding.code in report.unfixable_in(finding.location.file),
-                finding in report.baseline_held,
-            )
+            finding_entry(finding, options.show_info, below, finding in report.baseline_held)
             for finding in shown
         ]
         entries += [error_entry(result) for result in report.errored_files]

@@ -525,10 +525,12 @@ class Prepared:
     spec: LinterSpec
 
     def finish(self, report: Report) -> Report:
-        """The report as the user sees it: per-path ignores applied."""
-        return apply_path_ignores(
+        """The report as the user sees it: per-path ignores applied, and no
+        fix offered for a rule the configuration makes ``unfixable``."""
+        report = apply_path_ignores(
             report, self.settings.per_path_ignores, self.settings.base_dir, self.registry.rules
         )
+        return without_fixes(report, self.unfixable)
 
     def is_reported(self, finding: Finding) -> bool:
         """Whether a finding reaches the report (per-path ignores, the baseline)
@@ -561,10 +563,32 @@ class Prepared:
         assert known is not None
         return known, Path(request.baseline).resolve().parent
 
-    @property
-    def unfixable(self) -> set[str]:
+    @cached_property
+    def unfixable(self) -> frozenset[str]:
         """The codes of the rules whose fixes --fix never applies."""
-        return {r.code for r in self.registry.rules if matches_any(r, self.settings.unfixable)}
+        rules = self.registry.rules
+        return frozenset(r.code for r in rules if matches_any(r, self.settings.unfixable))
+
+
+def without_fixes(report: Report, codes: frozenset[str]) -> Report:
+    """``report`` with no fix on the findings of the rules ``codes`` names:
+    every format, the editor and the validation plugins then offer none, as
+    ``--fix`` applies none. Ruff does the same: its linter removes the fix of
+    every diagnostic of an ``unfixable`` rule after the rules ran
+    (https://github.com/astral-sh/ruff/pull/7919, crates/ruff_linter/src/linter.rs)."""
+    if not codes or not any(f.fix is not None and f.code in codes for f in report.findings):
+        return report
+    files = tuple(
+        replace(
+            result,
+            findings=tuple(
+                replace(f, fix=None) if f.fix is not None and f.code in codes else f
+                for f in result.findings
+            ),
+        )
+        for result in report.files
+    )
+    return replace(report, files=files)
 
 
 def prepare(request: Request, registry: Registry | None = None) -> Prepared:
@@ -818,7 +842,7 @@ def _report_files(run: _FilesRun, ahead: Mapping[str, FileResult] | None = None)
     if plan is not None:
         report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
-    report = replace(prepared.finish(report), unfixable=frozenset(prepared.unfixable))
+    report = replace(prepared.finish(report), unfixable=prepared.unfixable)
     if settings.source:  # which configuration judged each file, for the report
         report = replace(
             report, files=tuple(replace(r, config=settings.source) for r in report.files)

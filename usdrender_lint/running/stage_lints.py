@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import threading
 from collections.abc import Callable
-from dataclasses import field
+from dataclasses import field, replace
 from typing import TYPE_CHECKING, Any
 
 from pxr import Tf, Usd
@@ -204,14 +204,22 @@ class CheckLinters:
         return excluded_from_linting(self.prepared(stage))
 
     def reported(self, stage: Usd.Stage, traced: list[TracedFinding]) -> list[TracedFinding]:
-        """The findings ``check`` reports (per-path ignores applied)."""
+        """The findings ``check`` reports (per-path ignores applied), each as
+        ``check`` reports it (no fix of an ``unfixable`` rule's finding)."""
         file = stage_file(stage)
-        kept = set(
+        finished = (
             self.prepared(stage)
             .finish(Report((FileResult(file, findings=tuple(t.finding for t in traced)),)))
             .findings
         )
-        return [t for t in traced if t.finding in kept]
+        # finish drops fixes: a finding is known by the rest of it.
+        kept = {replace(f, fix=None): f for f in finished}
+        reported = []
+        for t in traced:
+            shown = kept.get(replace(t.finding, fix=None))
+            if shown is not None:
+                reported.append(t if shown is t.finding else replace(t, finding=shown))
+        return reported
 
 
 __all__ = ["MAX_CACHED_STAGES", "CheckLinters", "FirstFailures", "StageLints", "stage_file"]
