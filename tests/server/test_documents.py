@@ -277,3 +277,30 @@ def test_fix_all_leaves_a_layer_the_configuration_excludes_alone(tmp_path: Path)
     assert str(base) not in changed and shot in changed  # the shot's own fix (ST003) is made
     reasons = {o.reason for o in run.outcomes if not o.applied}
     assert any("vendor/base.usda is left out of linting" in (r or "") for r in reasons)
+
+
+def test_config_variants_makes_no_fix_as_check_fix_refuses(tmp_path: Path):
+    """The editor made the fixes check --fix refuses under `variants = true`
+    (and the validation plugins do not offer): made under the current variant
+    selections only. Same file and configuration through check --fix."""
+    import subprocess
+    import sys
+
+    repo = Path(__file__).resolve().parents[2]
+    for name in ("shot.usda", "lighting_wip.usda"):
+        (tmp_path / name).write_text((repo / "examples" / "broken_shot" / name).read_text())
+    (tmp_path / ".usdrender-lint.toml").write_text("variants = true\n")
+    path = str(tmp_path / "shot.usda")
+    refused = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--no-cache", "--fix", path],
+        capture_output=True,
+        text=True,
+    )
+    assert refused.returncode == 2 and "variants" in refused.stderr
+    documents = Documents()
+    documents.update({path: (tmp_path / "shot.usda").read_text()})
+    linted = documents.lint(path)
+    assert any(f.fix is not None and f.fix.safe for f in linted.findings)  # as check reports
+    assert documents.fixes(path, None, False) == {}
+    assert documents.fixes(path, None, True) == {}
+    assert linted.fixes is False  # the server offers no fix-all on it

@@ -827,3 +827,21 @@ async def test_an_unfixable_rule_s_finding_offers_no_fix(client: LanguageClient,
     assert not any("every safe fix" in t for t in titles)
     assert await fix_all_actions(client, uri) == []
     close_documents(client, uri)
+
+
+async def test_config_variants_offers_no_fix(client: LanguageClient, workspace: Path):
+    """check --fix refuses a configuration that sets variants (and the
+    validation plugins offer no fix under it); the editor offered fix-all and
+    quick fixes, made under the current selections only."""
+    folder = workspace / "variants"
+    folder.mkdir()
+    shutil.copy(BROKEN_SHOT, folder / "shot.usda")
+    shutil.copy(BROKEN_SHOT.parent / "lighting_wip.usda", folder / "lighting_wip.usda")
+    (folder / ".usdrender-lint.toml").write_text("variants = true\n")
+    uri = open_document(client, folder / "shot.usda")
+    found = await diagnostics_of(client, uri, 1)
+    camera = next(d for d in found if d.code == "CA004")
+    titles = [a.title for a in await quick_actions(client, uri, camera)]
+    assert not any(t.startswith("Fix ") or "every safe fix" in t for t in titles)
+    assert await fix_all_actions(client, uri) == []
+    close_documents(client, uri)

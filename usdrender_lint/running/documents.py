@@ -78,6 +78,9 @@ class Linted:
     #: The files of the layers its stage composed (an edit to any of them, open
     #: or closed, can change its findings).
     layers: frozenset[str] = frozenset()
+    #: Whether its fixes may be made: not under a configuration that sets
+    #: ``variants``, which ``check --fix`` refuses (see :meth:`Documents.fix`).
+    fixes: bool = True
 
 
 @record
@@ -167,7 +170,12 @@ class Documents:
             findings = tuple(open_failure_findings(path, parse_error, severity, self.texts))
         else:
             findings = self._lint_stage(prepared, path)
-        return Linted(findings, seconds=time.perf_counter() - started, layers=self._layers_of(path))
+        return Linted(
+            findings,
+            seconds=time.perf_counter() - started,
+            layers=self._layers_of(path),
+            fixes=not prepared.settings.variants,
+        )
 
     def _layers_of(self, path: str) -> frozenset[str]:
         stage = self._stages.get(path)
@@ -330,7 +338,10 @@ class Documents:
         from ..fixing.session import StageFixer
 
         prepared = self._prepare(path)
-        if _excluded(prepared, path):
+        # check --fix refuses a configuration that sets variants (its fixes would
+        # be made under the current selections only), and so do the validation
+        # plugins (running/stage_lints.CheckLinters.fixable): the editor too.
+        if _excluded(prepared, path) or prepared.settings.variants:
             return FixRun(), {}
         self._sync()
         if path in self._parse_errors:

@@ -213,6 +213,8 @@ class UsdRenderLintServer(LanguageServer):
         self.seconds: dict[str, float] = {}
         #: The findings of each document's last lint, and the text they were made from.
         self.findings: dict[str, tuple[tuple[Finding, ...], dict[str, str]]] = {}
+        #: Whether each document's fixes may be made (Linted.fixes).
+        self.can_fix: dict[str, bool] = {}
         #: The files each open document's stage composed at its last lint, by path.
         self.layers: dict[str, frozenset[str]] = {}
         #: What each linted document (the source) publishes on each document URI.
@@ -347,6 +349,7 @@ class UsdRenderLintServer(LanguageServer):
         self.seconds[path] = linted.seconds
         self.layers[path] = linted.layers
         self.findings[uri] = (linted.findings, texts)
+        self.can_fix[uri] = linted.fixes
         self.publish(uri, self.diagnostics(uri, path, linted, texts), version)
         if dependents:
             self._lint_dependents(path, texts)
@@ -391,6 +394,7 @@ class UsdRenderLintServer(LanguageServer):
         (they now show them as related information, with the file's text)."""
         self.wanted.pop(uri, None)
         self.findings.pop(uri, None)
+        self.can_fix.pop(uri, None)
         path = usd_path(uri)
         if path is not None:
             self.layers.pop(path, None)
@@ -585,6 +589,8 @@ class UsdRenderLintServer(LanguageServer):
         linted = self.findings.get(uri)
         if linted is None or not any(f.fix is not None and f.fix.safe for f in linted[0]):
             return None
+        if not self.can_fix.get(uri, True):
+            return None  # config `variants`: no fix is made (Documents.fix)
         title = f"{NAME}: apply every safe fix"
         if _wants(only, FIX_ALL, explicit=True):
             edit = await self._fix_edit(path, None, False, texts)
