@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from pxr import Usd
 
 import usdrender_lint
 from usdrender_lint.cli import cli
@@ -82,16 +83,36 @@ def _cli(path: Path, config: Path, *flags: str) -> tuple[set[tuple], int]:
     )
     assert result.exit_code in (0, 1), result.output
     findings = {
-        (f["code"], f["path"], f["severity"], f["message"])
+        (f["code"], f["path"], f["severity"], f["message"], _fix(f["fix"]))
         for entry in json.loads(result.stdout)["files"]
         for f in entry["findings"]
     }
     return findings, result.exit_code
 
 
+def _fix(fix: dict | None) -> tuple | None:
+    return None if fix is None else (fix["description"], fix["safe"])
+
+
+def _keyed(report: usdrender_lint.Report) -> set[tuple]:
+    return {
+        (
+            f.code,
+            f.location.path,
+            f.severity.value,
+            f.message,
+            None if f.fix is None else (f.fix.description, f.fix.safe),
+        )
+        for f in report.findings
+    }
+
+
 def _api(path: Path, config: Path) -> set[tuple]:
-    report = usdrender_lint.lint_file(path, config=config)
-    return {(f.code, f.location.path, f.severity.value, f.message) for f in report.findings}
+    return _keyed(usdrender_lint.lint_file(path, config=config))
+
+
+def _api_stage(path: Path, config: Path) -> set[tuple]:
+    return _keyed(usdrender_lint.lint_stage(Usd.Stage.Open(str(path)), config=config))
 
 
 #: Compared with, to show a key changes something (default: no configuration).
@@ -133,6 +154,11 @@ KEYS = {
 }  # fmt: skip
 
 
+#: The keys lint_stage does not apply, as documented: it lints the stage it is
+#: handed under its own variant selections, and no other stage (roots).
+STAGE_DIFFERS = {"variants", "max-variant-combinations", "roots"}
+
+
 @pytest.mark.parametrize("key", sorted(KEYS))
 def test_a_config_key_gives_the_same_findings_through_the_cli_and_the_api(
     shot: Path, key: str
@@ -146,6 +172,8 @@ def test_a_config_key_gives_the_same_findings_through_the_cli_and_the_api(
     path = shot / name
     by_cli, status = _cli(path, config)
     assert by_cli == _api(path, config)
+    if key not in STAGE_DIFFERS:
+        assert by_cli == _api_stage(path, config)
     default, default_status = _cli(path, baseline_config)
     if changes == "codes":
         assert {f[0] for f in by_cli} != {f[0] for f in default}

@@ -25,7 +25,8 @@ from ..explain import rule_info
 from ..model import Finding, Report
 from ..registry import RegistryError
 from ..settings_table import BY_NAME
-from .pipeline import Outcome, Request, RequestError, prepare, run
+from .discovery import Exclusions, force_excluded
+from .pipeline import Outcome, Prepared, Request, RequestError, folder_exclusions, prepare, run
 
 ConfigLike = Settings | Mapping[str, Any] | str | os.PathLike[str] | None
 #: How a ``config`` table is named in its errors.
@@ -166,7 +167,8 @@ def lint_stage(
     ``file`` names it in the findings (default: the root layer's path or
     identifier); the other arguments are those of :func:`lint_file`. The stage
     is linted under its current variant selections only (config ``variants``
-    applies to files), and never edited.
+    applies to files), and never edited. A ``file`` the configuration's
+    ``force-exclude`` leaves out gets no result, as with :func:`lint_file`.
     """
     name = file or stage.GetRootLayer().realPath or stage.GetRootLayer().identifier
     try:
@@ -182,10 +184,19 @@ def lint_stage(
     except RequestError as exc:
         _raise_as_before(exc)
         raise
+    if _force_excluded(prepared, name):
+        # As check given the file by name (and lint_file) lints nothing.
+        return _with_rules(Report(), prepared.linter.rules, profile)
     # Variants are not explored: that authors selections into the stage's
     # session layer, and this stage is the caller's.
     report = prepared.finish(Report((prepared.linter.run_stage(stage, name).result,)))
     return _with_rules(report, prepared.linter.rules, profile)
+
+
+def _force_excluded(prepared: Prepared, name: str) -> bool:
+    """Whether the configuration's ``force-exclude`` leaves ``name`` out."""
+    exclusions = Exclusions.of(prepared.settings)
+    return exclusions.force and force_excluded(name, exclusions, folder_exclusions(prepared))
 
 
 def _warn_plugin_problems() -> None:
