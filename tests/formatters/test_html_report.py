@@ -338,3 +338,38 @@ def test_framing_pictures_stop_at_a_bounded_size(tmp_path: Path, monkeypatch) ->
     monkeypatch.setattr(report_views, "MAX_PICTURES", 8)
     whole = _page_of(report, monkeypatch, tmp_path)
     assert whole.count('<figure class="product"') == 8 and "not drawn" not in whole
+
+
+_SUBLAYERED_SHOT = """#usda 1.0
+(
+    subLayers = [@./lighting.usda@]
+)
+"""
+
+_EXCLUDED_LIGHTING = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderSettings "Settings"
+    {
+        uniform float4 dataWindowNDC = (1, 0, 0, 1)
+    }
+}
+"""
+
+
+def test_fix_diffs_leave_alone_a_layer_the_configuration_excludes(tmp_path: Path) -> None:
+    """The page showed diffs editing a sublayer `extend-exclude` names, which
+    check --fix and --diff leave alone ("left out of linting by the
+    configuration"). Same files and configuration through --diff: the page's
+    diffs edit the layers --diff edits."""
+    (tmp_path / "shot.usda").write_text(_SUBLAYERED_SHOT)
+    (tmp_path / "lighting.usda").write_text(_EXCLUDED_LIGHTING)
+    (tmp_path / ".usdrender-lint.toml").write_text('extend-exclude = ["lighting.usda"]\n')
+    diff = _run("check", "--no-cache", "--diff", "--unsafe-fixes", "shot.usda", cwd=tmp_path)
+    assert "lighting.usda is left out of linting" in diff.stderr
+    edited = {line.split()[1] for line in diff.stdout.splitlines() if line.startswith("--- ")}
+    page = _run("check", "--no-cache", "--format", "html", "shot.usda", cwd=tmp_path).stdout
+    assert 'data-code="SE003"' in page  # its finding is reported, with its fix
+    shown = set(re.findall(r'<span class="d-name">--- a/([^<]*)</span>', page))
+    assert shown == edited == {"shot.usda"}

@@ -249,7 +249,7 @@ def _diffs(
         from ..engine import open_stage
         from ..fixing.session import FixOptions, StageFixer
         from ..fixing.single import same_finding
-        from .pipeline import Request, prepare
+        from .pipeline import Request, excluded_from_linting, prepare
 
         linters: dict[object, Any] = {}
         stages: dict[str, Any] = {}
@@ -261,11 +261,14 @@ def _diffs(
             key = id(settings) if settings else os.path.dirname(os.path.abspath(file))
             if key not in linters:
                 request = Request((file,), config=settings, jobs=1, progress=False)
-                linters[key] = prepare(request).linter
+                prepared = prepare(request)
+                # A layer the configuration excludes: --fix and --diff leave it alone.
+                linters[key] = (prepared.linter, excluded_from_linting(prepared))
+            linter, excluded = linters[key]
             fixer = StageFixer(
-                linters[key],
+                linter,
                 file,
-                FixOptions(unsafe=True, write=False, any_file=True),
+                FixOptions(unsafe=True, write=False, any_file=True, excluded=excluded),
                 partial(same_finding, finding),
             )
             if file not in stages:  # one stage per file: each fixer puts back what it changed
