@@ -274,6 +274,16 @@ def test_the_summary_leaves_out_the_fixes_of_unfixable_rules(shot: Path) -> None
     assert result.stdout.splitlines()[-1].endswith("; 1 fixable with --fix --unsafe-fixes.")
 
 
+def test_the_summary_counts_no_fix_under_config_variants(shot: Path) -> None:
+    # It said "2 fixable with --fix" where check --fix refuses the configuration.
+    (shot / ".usdrender-lint.toml").write_text('select = ["SE003", "SE009"]\nvariants = true\n')
+    result = CliRunner().invoke(cli, ["check", "--jobs", "1", "shots/shot.usda"])
+    assert "SE009" in result.stdout
+    assert "fixable" not in result.stdout.splitlines()[-1]
+    fix = CliRunner().invoke(cli, ["check", "--jobs", "1", "--fix", "shots/shot.usda"])
+    assert fix.exit_code == 2 and "variants" in fix.stderr
+
+
 def test_a_finding_of_an_unfixable_rule_offers_no_fix(shot: Path) -> None:
     # Its line said "[fix: ...]" as any other, while --fix leaves it alone and
     # the summary did not count it. Now it offers none, as every other format

@@ -842,7 +842,10 @@ def _report_files(run: _FilesRun, ahead: Mapping[str, FileResult] | None = None)
     if plan is not None:
         report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
-    report = replace(prepared.finish(report), unfixable=prepared.unfixable)
+    unfixable = prepared.unfixable
+    if settings.variants:  # check --fix refuses it (_check_fix_request): no count invites it
+        unfixable = frozenset(rule.code for rule in prepared.registry.rules)
+    report = replace(prepared.finish(report), unfixable=unfixable)
     if settings.source:  # which configuration judged each file, for the report
         report = replace(
             report, files=tuple(replace(r, config=settings.source) for r in report.files)
