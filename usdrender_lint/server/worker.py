@@ -183,12 +183,19 @@ class Linting:
 
     def start(self) -> tuple[RuleDoc, ...]:
         """Start the children; the rules' documentation (waits for the first)."""
-        child = self._acquire("", 0)
-        try:
-            # A child that cannot start stays: each call says why (Child.ready).
-            return child.ready()
-        finally:
-            self._release(child, failed=False)
+        while True:
+            child = self._acquire("", 0)
+            try:
+                # A child that cannot start stays: each call says why (Child.ready).
+                return child.ready()
+            except LintFailed as failed:
+                # The editor's settings came in as it started (Neovim sends them
+                # right after initialized): reconfigure ended it, and the server,
+                # told the linter could not start, never linted a document.
+                if not failed.cancelled:
+                    raise
+            finally:
+                self._release(child, failed=False)
 
     def _fill(self) -> None:
         """Replace dead children (the second, warm, before the spare); keep a spare."""
