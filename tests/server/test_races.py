@@ -5,9 +5,12 @@ document left with an older text's diagnostics, or none."""
 
 from __future__ import annotations
 
+import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from lsp_editor import Editor
 
 FINE = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
 
@@ -40,3 +43,104 @@ def test_a_settings_change_as_the_server_starts_does_not_stop_its_linting(
         assert changed and "SE001" in codes and "SE015" not in codes
     finally:
         linting.close()
+
+
+#: The server, its lints of a document held where the test says: a file
+#: ``hold-NAME`` in the control folder holds the next lint of the document NAME
+#: (its texts taken, before it reaches USD), says ``held``, and lets it go on ``go``.
+HELD_SERVER = """
+import os, sys, time
+from usdrender_lint.server import protocol, worker
+control = sys.argv[1]
+real = worker.Linting.call
+def call(self, method, path, version, args, texts, timeout):
+    hold = os.path.join(control, "hold-" + os.path.basename(path))
+    if method == "lint" and os.path.exists(hold):
+        os.remove(hold)
+        open(os.path.join(control, "held"), "w").close()
+        while not os.path.exists(os.path.join(control, "go")):
+            time.sleep(0.01)
+    return real(self, method, path, version, args, texts, timeout)
+worker.Linting.call = call
+protocol.serve()
+"""
+
+
+def layer(name: str, resolution: str, *, sublayers: tuple[str, ...] = (), note: str = "") -> str:
+    head = "#usda 1.0\n"
+    if sublayers:
+        head += "(\n    subLayers = [{}]\n)\n".format(", ".join(f"@./{s}@" for s in sublayers))
+    return (
+        f'{head}# {note}\ndef RenderSettings "{name}"\n{{\n'
+        f"    uniform int2 resolution = {resolution}\n}}\n"
+    )
+
+
+def wrong(resolution: str) -> str:
+    """SE001's message."""
+    return (
+        f"resolution {resolution} has a component <= 0; "
+        "author a positive pixel size such as (1920, 1080)"
+    )
+
+
+def until(condition, within: float = 30.0) -> bool:  # noqa: ANN001 - a predicate
+    deadline = time.monotonic() + within
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.05)
+    return True
+
+
+def _shows_only(editor: Editor, uri: str, resolution: str, older: str) -> bool:
+    """Whether ``uri`` comes to show SE001 of ``resolution`` and not of ``older``
+    (within 10 s: the lints are of a few lines)."""
+    now = {wrong(resolution)}
+    if until(lambda: editor.messages(uri)[1] & {wrong(older), *now} == now, 10.0):
+        return True
+    shown = sorted(m for m in editor.messages(uri)[1] if "resolution" in m)
+    raise AssertionError(f"{uri} shows {shown}")
+
+
+@pytest.fixture
+def held(tmp_path: Path) -> Iterator[tuple[Editor, Path, Path]]:
+    """A server whose lints the test holds, its control folder and its documents' folder."""
+    control, folder = tmp_path / "control", tmp_path / "documents"
+    control.mkdir()
+    folder.mkdir()
+    editor = Editor(tmp_path / "server.log", ("-c", HELD_SERVER, str(control)))
+    try:
+        yield editor, control, folder
+    finally:
+        editor.end()
+
+
+def _hold(control: Path, name: str) -> None:
+    (control / f"hold-{name}").touch()
+
+
+def _go(control: Path) -> None:
+    assert until(lambda: (control / "held").exists())
+    (control / "go").touch()
+
+
+def test_an_edit_whose_lint_a_close_outdates_still_relints_the_shot(held) -> None:
+    """A layer's edit lints the documents that compose it once its lint is
+    shown; closing another document it names asked for a newer lint of the
+    layer first, which did not, and the shot's findings of the layer's older
+    text stayed shown on it."""
+    editor, control, folder = held
+    shot, middle, other = (folder / n for n in ("shot.usda", "middle.usda", "other.usda"))
+    other_uri = editor.open(other, layer("O", "(1920, 1080)"))
+    middle_uri = editor.open(middle, layer("M", "(0, 480)", note="see other.usda"))
+    shot_uri = editor.open(shot, layer("S", "(1920, 1080)", sublayers=("middle.usda",)))
+    assert until(lambda: editor.count(shot_uri) and editor.count(middle_uri) >= 2)
+    _hold(control, "middle.usda")
+    editor.change(middle_uri, 2, layer("M", "(640, 0)", note="see other.usda"))
+    assert until(lambda: (control / "held").exists())
+    # The middle layer names it: its lint is asked for again.
+    editor.close(other_uri)
+    assert until(lambda: editor.messages(middle_uri)[0] == 2)
+    _go(control)
+    assert _shows_only(editor, middle_uri, "(640, 0)", "(0, 480)")

@@ -215,6 +215,8 @@ class UsdRenderLintServer(LanguageServer):
         self.findings: dict[str, tuple[tuple[Finding, ...], dict[str, str]]] = {}
         #: Whether each document's fixes may be made (Linted.fixes).
         self.can_fix: dict[str, bool] = {}
+        #: The documents whose edit owes the documents that compose them a lint.
+        self.dependents_due: set[str] = set()
         #: The files each open document's stage composed at its last lint, by path.
         self.layers: dict[str, frozenset[str]] = {}
         #: What each linted document (the source) publishes on each document URI.
@@ -331,6 +333,10 @@ class UsdRenderLintServer(LanguageServer):
             return
         self.ticks += 1
         tick = self.wanted[uri] = self.ticks
+        if dependents:
+            # Owed until a lint of it is shown: a newer lint asked for meanwhile
+            # (closing a document it names asks for one) may not lint them.
+            self.dependents_due.add(uri)
         if not await self._make_way(uri, path, tick):
             return
         loop = asyncio.get_running_loop()
@@ -351,7 +357,8 @@ class UsdRenderLintServer(LanguageServer):
         self.findings[uri] = (linted.findings, texts)
         self.can_fix[uri] = linted.fixes
         self.publish(uri, self.diagnostics(uri, path, linted, texts), version)
-        if dependents:
+        if uri in self.dependents_due:
+            self.dependents_due.discard(uri)
             self._lint_dependents(path, texts)
 
     async def _make_way(self, uri: str, path: str, tick: int) -> bool:
@@ -393,6 +400,7 @@ class UsdRenderLintServer(LanguageServer):
         and elsewhere; the open documents whose findings were shown on it are linted again
         (they now show them as related information, with the file's text)."""
         self.wanted.pop(uri, None)
+        self.dependents_due.discard(uri)
         self.findings.pop(uri, None)
         self.can_fix.pop(uri, None)
         path = usd_path(uri)
