@@ -125,6 +125,29 @@ def _go(control: Path) -> None:
     (control / "go").touch()
 
 
+def test_a_layer_edited_while_a_shot_s_lint_runs_is_not_shown_as_before(held) -> None:
+    """A shot's lint took the texts, and its stage came to compose a layer that
+    was then edited (the layer's lint did not lint the shot again: its last
+    lint had not composed that layer): the shot's findings of the layer's older
+    text stayed shown on the layer, beside its newer ones, until the next edit."""
+    editor, control, folder = held
+    shot, middle, leaf = (folder / n for n in ("shot.usda", "middle.usda", "leaf.usda"))
+    leaf_uri = editor.open(leaf, layer("L", "(0, 480)"))
+    middle_uri = editor.open(middle, layer("M", "(1920, 1080)"))
+    shot_uri = editor.open(shot, layer("S", "(1920, 1080)", sublayers=("middle.usda",)))
+    assert until(lambda: editor.count(shot_uri) and editor.count(middle_uri) >= 2)
+    _hold(control, "shot.usda")
+    # The middle layer comes to sublayer the leaf: its lint lints the shot again (held).
+    editor.change(middle_uri, 2, layer("M", "(1920, 1080)", sublayers=("leaf.usda",)))
+    assert until(lambda: (control / "held").exists())
+    editor.change(leaf_uri, 2, layer("L", "(640, 0)"))
+    assert until(lambda: editor.messages(leaf_uri)[0] == 2)
+    shown = editor.count(shot_uri)
+    _go(control)
+    assert until(lambda: editor.count(shot_uri) > shown)
+    assert _shows_only(editor, leaf_uri, "(640, 0)", "(0, 480)")
+
+
 def test_an_edit_whose_lint_a_close_outdates_still_relints_the_shot(held) -> None:
     """A layer's edit lints the documents that compose it once its lint is
     shown; closing another document it names asked for a newer lint of the

@@ -360,6 +360,12 @@ class UsdRenderLintServer(LanguageServer):
         if uri in self.dependents_due:
             self.dependents_due.discard(uri)
             self._lint_dependents(path, texts)
+        # A layer its stage composed changed while it ran (an edit, an open, a
+        # close): that layer's lint went by this document's older layers, which
+        # may not have composed it, so did not lint it again.
+        now = self.texts()
+        if any(texts.get(layer) != now.get(layer) for layer in linted.layers - {path}):
+            self.spawn(self.lint(uri, dependents=False))
 
     async def _make_way(self, uri: str, path: str, tick: int) -> bool:
         """Cancel the document's running lint where it pays, and wait out a burst of
