@@ -83,10 +83,17 @@ class Editor:
         self.send({"method": method, "params": params})
 
     def request(self, method: str, params: dict[str, Any] | None) -> dict:
+        return self.answer(self.ask(method, params))
+
+    def ask(self, method: str, params: dict[str, Any] | None) -> int:
+        """Send a request, not waiting for its answer (see :meth:`answer`)."""
         self.ids += 1
         self.send({"id": self.ids, "method": method, "params": params})
+        return self.ids
+
+    def answer(self, id_: int) -> dict:
         answer = self.answers.get(timeout=60)
-        assert answer["id"] == self.ids, answer
+        assert answer["id"] == id_, answer
         return answer
 
     def open(self, path: Path, text: str) -> str:

@@ -12,6 +12,9 @@ from pathlib import Path
 import pytest
 from lsp_editor import Editor
 
+from usdrender_lint.server.protocol import FIX_ALL
+
+BROKEN_SHOT = Path(__file__).resolve().parents[2] / "examples" / "broken_shot" / "shot.usda"
 FINE = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
 
 
@@ -45,17 +48,19 @@ def test_a_settings_change_as_the_server_starts_does_not_stop_its_linting(
         linting.close()
 
 
-#: The server, its lints of a document held where the test says: a file
+#: The server, its calls on a document held where the test says: a file
 #: ``hold-NAME`` in the control folder holds the next lint of the document NAME
-#: (its texts taken, before it reaches USD), says ``held``, and lets it go on ``go``.
+#: (``hold-METHOD-NAME``: the next call of that method, ``fixes`` say), its texts
+#: taken, before it reaches USD; it says ``held``, and lets it go on ``go``.
 HELD_SERVER = """
 import os, sys, time
 from usdrender_lint.server import protocol, worker
 control = sys.argv[1]
 real = worker.Linting.call
 def call(self, method, path, version, args, texts, timeout):
-    hold = os.path.join(control, "hold-" + os.path.basename(path))
-    if method == "lint" and os.path.exists(hold):
+    name = os.path.basename(path)
+    hold = os.path.join(control, "hold-" + (name if method == "lint" else method + "-" + name))
+    if os.path.exists(hold):
         os.remove(hold)
         open(os.path.join(control, "held"), "w").close()
         while not os.path.exists(os.path.join(control, "go")):
@@ -167,3 +172,22 @@ def test_an_edit_whose_lint_a_close_outdates_still_relints_the_shot(held) -> Non
     assert until(lambda: editor.messages(middle_uri)[0] == 2)
     _go(control)
     assert _shows_only(editor, middle_uri, "(640, 0)", "(0, 480)")
+
+
+def test_a_fix_all_resolved_as_the_text_changes_brings_no_edit_of_the_older_text(held) -> None:
+    """A fix-all offered without its edit (a light bulb) is resolved when it is
+    chosen: an edit that came in while its fixes were made left it the older
+    text's edit, which the editor applied to the newer text (lines off by the
+    lines typed meanwhile)."""
+    editor, control, folder = held
+    shot = folder / "shot.usda"
+    text = BROKEN_SHOT.read_text()
+    uri = editor.open(shot, text)
+    assert until(lambda: editor.count(uri))
+    _hold(control, "fixes-shot.usda")
+    fix_all = {"title": "fix all", "kind": FIX_ALL, "data": {"uri": uri, "version": 1}}
+    asked = editor.ask("codeAction/resolve", fix_all)
+    assert until(lambda: (control / "held").exists())
+    editor.change(uri, 2, "#usda 1.0\n# typed meanwhile\n" + text.split("\n", 1)[1])
+    (control / "go").touch()
+    assert editor.answer(asked)["result"].get("edit") is None  # the client asks again

@@ -656,7 +656,11 @@ class UsdRenderLintServer(LanguageServer):
                 )
         if object_path and code in self.rules:
             text = await self._call("suppress", path, (path, code, object_path), texts)
-            if isinstance(text, str) and path in texts:
+            if (
+                isinstance(text, str)
+                and path in texts
+                and self._still_current({path: (texts[path], text)}, texts)
+            ):
                 prim = object_path.split(".")[0]
                 actions.append(
                     types.CodeAction(
@@ -672,9 +676,20 @@ class UsdRenderLintServer(LanguageServer):
         self, path: str, target: tuple | None, unsafe: bool, texts: dict[str, str]
     ) -> types.WorkspaceEdit | None:
         changed = await self._call("fixes", path, (path, target, unsafe), texts)
-        if not changed:
+        if not changed or not self._still_current(changed, texts):
             return None
         return self.workspace_edit(changed)
+
+    def _still_current(self, changed: dict[str, tuple[str, str]], texts: dict[str, str]) -> bool:
+        """Whether each open document an edit is for (or was, when it was made)
+        holds the text it was made from: an edit that came in meanwhile made it
+        an edit of the older text, which the editor would apply to the newer."""
+        now = self.texts()
+        return all(
+            now.get(path) == before
+            for path, (before, _) in changed.items()
+            if path in now or path in texts
+        )
 
     async def _call(self, method: str, path: str, args: tuple, texts: dict[str, str]) -> Any:
         loop = asyncio.get_running_loop()
