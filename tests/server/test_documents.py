@@ -304,3 +304,25 @@ def test_config_variants_makes_no_fix_as_check_fix_refuses(tmp_path: Path):
     assert documents.fixes(path, None, False) == {}
     assert documents.fixes(path, None, True) == {}
     assert linted.fixes is False  # the server offers no fix-all on it
+
+
+def test_a_document_closed_unsaved_is_its_file_again_in_the_stages_that_compose_it(
+    tmp_path: Path,
+):
+    """A layer first seen as an unsaved text that its file does not hold is a
+    layer USD does not reload from the file: once it was closed, the shot that
+    composes it went on showing the findings of the closed document's unsaved
+    text, not of its file (seen in the server's stress test)."""
+    shot, layer = str(tmp_path / "shot.usda"), tmp_path / "layer.usda"
+    layer.write_text(
+        '#usda 1.0\ndef RenderSettings "L"\n{\n    uniform int2 resolution = (0, 480)\n}\n'
+    )
+    unsaved = layer.read_text().replace("(0, 480)", "(640, 480)")
+    documents = Documents()
+    documents.update(
+        {str(layer): unsaved, shot: "#usda 1.0\n(\n    subLayers = [@./layer.usda@]\n)\n"}
+    )
+    assert not [f for f in documents.lint(shot).findings if f.code == "SE001"]
+    documents.update({str(layer): None})
+    (found,) = [f for f in documents.lint(shot).findings if f.code == "SE001"]
+    assert "(0, 480)" in found.message and found.location.layer == str(layer)

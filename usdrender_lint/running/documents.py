@@ -139,13 +139,27 @@ class Documents:
             self._parse_errors.pop(path, None)
             self._stages.pop(path, None)
             layer = self._layers.pop(path, None)
-            if layer is not None and not layer.expired and os.path.isfile(path):
+            if layer is None or layer.expired:
+                continue
+            reloaded = False
+            if os.path.isfile(path):
                 with Tf.DiagnosticTrap() as trap:
                     try:
-                        layer.Reload(True)  # a stage still holding it sees the file
+                        reloaded = layer.Reload(True)  # a stage still holding it sees the file
                     except Tf.ErrorException:
                         layer.Clear()
+                        reloaded = True
                     trap.Clear()
+            if not reloaded:
+                # A layer made for the text (its file held another, or none):
+                # USD reloads no file into it, and the stages that held it went
+                # on composing the closed document's unsaved text. They go, and
+                # with them the layer: the next stages read the file.
+                self._stages = {
+                    other: stage
+                    for other, stage in self._stages.items()
+                    if layer not in stage.GetUsedLayers()
+                }
 
     def forget_configuration(self) -> None:
         """A configuration file changed: read the configuration again."""
