@@ -5,6 +5,7 @@ document left with an older text's diagnostics, or none."""
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -191,3 +192,56 @@ def test_a_fix_all_resolved_as_the_text_changes_brings_no_edit_of_the_older_text
     editor.change(uri, 2, "#usda 1.0\n# typed meanwhile\n" + text.split("\n", 1)[1])
     (control / "go").touch()
     assert editor.answer(asked)["result"].get("edit") is None  # the client asks again
+
+
+def test_a_lint_waiting_for_the_child_is_skipped_once_a_newer_one_is_asked_for(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Edits typed while another lint held the child queued a lint each, and
+    every text was linted in turn before the newest was shown (the editors
+    guide says only the newest is linted)."""
+    from usdrender_lint.server import worker
+    from usdrender_lint.server.protocol import SLOW
+
+    busy, typed = tmp_path / "busy.usda", tmp_path / "typed.usda"
+    for path in (busy, typed):
+        path.write_text(FINE)
+    monkeypatch.setattr(worker, "BUSY_LIMIT", 60.0)  # no second child meanwhile
+    linting = worker.Linting()
+    holding, release = threading.Event(), threading.Event()
+    real_call = worker.Child.call
+
+    def held(child, method, args, texts, timeout):
+        if args == (str(busy),):
+            holding.set()
+            release.wait(60)
+        return real_call(child, method, args, texts, timeout)
+
+    monkeypatch.setattr(worker.Child, "call", held)
+    outcome: dict[int, object] = {}
+
+    def lint(path: Path, version: int) -> None:
+        try:
+            outcome[version] = linting.call("lint", str(path), version, (str(path),), {}, 60.0)
+        except worker.LintFailed as failed:
+            outcome[version] = failed
+
+    try:
+        linting.start()
+        threads = [threading.Thread(target=lint, args=(busy, 1))]
+        threads[0].start()
+        assert holding.wait(60)
+        threads.append(threading.Thread(target=lint, args=(typed, 2)))  # waits for the child
+        threads[1].start()
+        time.sleep(0.2)
+        linting.cancel(str(typed), 3, running_for=SLOW)  # the next keystroke's lint
+        release.set()
+        for thread in threads:
+            thread.join(60)
+        skipped = outcome[2]
+        assert isinstance(skipped, worker.LintFailed) and skipped.cancelled, skipped
+        lint(typed, 3)
+        assert "SE001" in {f.code for f in outcome[3].findings}  # type: ignore[attr-defined]
+    finally:
+        release.set()
+        linting.close()

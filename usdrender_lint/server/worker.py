@@ -179,6 +179,9 @@ class Linting:
         self._spare: Child | None = None
         #: Each busy child's call: (path, version, when it started).
         self._running: dict[Child, tuple[str, int, float]] = {}
+        #: Per document, the version below which a lint that waits for a child
+        #: is pointless: a newer one was asked for (or the document closed).
+        self._outdated: dict[str, int] = {}
         self._closed = False
 
     def start(self) -> tuple[RuleDoc, ...]:
@@ -214,11 +217,15 @@ class Linting:
         if self._spare is None:
             self._spare = Child(self.configuration)
 
-    def _acquire(self, path: str, version: int) -> Child:
+    def _acquire(self, path: str, version: int, *, lint: bool = False) -> Child:
         with self._state:
             while True:
                 if self._closed:
                     raise LintFailed("the server is shutting down", cancelled=True)
+                if lint and version < self._outdated.get(path, 0):
+                    # Edits typed while a lint runs queued a lint each, and each
+                    # text was linted in turn before the newest was shown.
+                    raise LintFailed("outdated by a newer edit", cancelled=True)
                 self._fill()
                 assert self._active is not None
                 for child in (self._active, self._second):
@@ -267,7 +274,7 @@ class Linting:
         texts: dict[str, str],
         timeout: float | None,
     ) -> Any:
-        child = self._acquire(path, version)
+        child = self._acquire(path, version, lint=method == "lint")
         failed = True
         try:
             if method == "forget_configuration":
@@ -286,10 +293,12 @@ class Linting:
 
     def cancel(self, path: str, version: int, *, running_for: float = 0.0) -> bool:
         """Stop the running calls that work on ``path`` at a version older
-        than ``version`` and have run ``running_for`` seconds at least; True
-        when one was stopped."""
+        than ``version`` and have run ``running_for`` seconds at least, and the
+        lints of it that wait for a child; True when a running one was stopped."""
         stopped = False
         with self._state:
+            self._outdated[path] = max(self._outdated.get(path, 0), version)
+            self._state.notify_all()
             now = time.monotonic()
             for child, (running, older, started) in self._running.items():
                 if running == path and older < version and now - started >= running_for:
