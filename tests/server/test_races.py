@@ -245,3 +245,50 @@ def test_a_lint_waiting_for_the_child_is_skipped_once_a_newer_one_is_asked_for(
     finally:
         release.set()
         linting.close()
+
+
+def test_a_settings_change_never_leaves_a_lint_waiting_on_an_ended_child(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A settings change (or shutdown) closed the socket of a child a lint was
+    waiting on; a new child's socket took its number before the wait saw the
+    child die, and the wait went on for the new socket: the lint's thread hung
+    for the start time-out (120 s), and the server took as long to exit (seen
+    in the stress test, the server's exit timed out)."""
+    import socket
+
+    from usdrender_lint.server import worker
+
+    path = str(tmp_path / "shot.usda")
+    # Children that take a while to start: the lint waits on its child.
+    monkeypatch.setattr(worker, "_CHILD", "import time; time.sleep(60)")
+    real_close = worker.Child.close
+    sockets: list[socket.socket] = []
+
+    def close_as_a_new_child_starts(child: worker.Child) -> None:
+        child.connection.close()
+        sockets.extend(socket.socketpair())  # _fill's next child takes the number
+        real_close(child)
+
+    monkeypatch.setattr(worker.Child, "close", close_as_a_new_child_starts)
+    linting = worker.Linting()
+    outcome: list[worker.LintFailed] = []
+
+    def lint() -> None:
+        try:
+            linting.call("lint", path, 1, (path,), {}, 60.0)
+        except worker.LintFailed as failed:
+            outcome.append(failed)
+
+    waiting = threading.Thread(target=lint, daemon=True)
+    try:
+        waiting.start()
+        time.sleep(0.5)  # it waits for its child to start
+        linting.reconfigure({"ignore": ["SE015"]})
+        waiting.join(10)
+        assert not waiting.is_alive(), "the lint still waits on an ended child"
+        assert outcome and outcome[0].cancelled
+    finally:
+        linting.close()
+        for each in sockets:
+            each.close()

@@ -321,15 +321,20 @@ class Linting:
         self._end_children()
 
     def _end_children(self) -> None:
-        """End every child, the calls running in them cancelled."""
+        """End every child, the calls running in them cancelled: such a call
+        closes its child as it returns (:meth:`_release`). Its socket closed
+        under the call's wait, a new child's socket could take its number
+        before the wait saw the child die, and the wait went on for that one
+        until the time-out (the server's exit waited as long)."""
         with self._state:
             children = [c for c in (self._active, self._second, self._spare) if c is not None]
             self._active = self._second = self._spare = None
-            running = list(self._running)
+            running = set(self._running)
         for child in running:
             child.kill(cancelled=True)
         for child in children:
-            child.close()
+            if child not in running:
+                child.close()
 
 
 # -- the child ------------------------------------------------------------------------
