@@ -292,3 +292,47 @@ def test_a_settings_change_never_leaves_a_lint_waiting_on_an_ended_child(
         linting.close()
         for each in sockets:
             each.close()
+
+
+def test_a_lint_asked_for_while_a_fix_is_made_does_not_stop_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A save, or another document's lint that lints this one again, asks
+    for a lint with the text unchanged: it stopped the code action's call
+    making the document's fixes, and the editor was offered none."""
+    from usdrender_lint.server import worker
+
+    path = tmp_path / "shot.usda"
+    path.write_text(FINE)
+    texts = {str(path): FINE}
+    linting = worker.Linting()
+    making, go = threading.Event(), threading.Event()
+    real_call = worker.Child.call
+
+    def held(child, method, args, texts, timeout):
+        if method == "fixes":
+            making.set()
+            go.wait(60)
+        return real_call(child, method, args, texts, timeout)
+
+    monkeypatch.setattr(worker.Child, "call", held)
+    outcome: list[object] = []
+
+    def fixes() -> None:
+        try:
+            outcome.append(linting.call("fixes", str(path), 1, (str(path), None, False), texts, 60))
+        except worker.LintFailed as failed:
+            outcome.append(failed)
+
+    thread = threading.Thread(target=fixes)
+    try:
+        linting.start()
+        thread.start()
+        assert making.wait(60)
+        linting.cancel(str(path), 2)  # the save's lint
+        go.set()
+        thread.join(60)
+        assert outcome and not isinstance(outcome[0], worker.LintFailed), outcome
+    finally:
+        go.set()
+        linting.close()

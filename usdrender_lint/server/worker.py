@@ -165,8 +165,8 @@ class Linting:
 
     Called from the server's worker threads, never its protocol thread. A call
     takes an idle child (the warm one first); when both are busy it waits for
-    one. :meth:`cancel` kills the child while it works on an older version of
-    a document; the call waiting on it raises :class:`LintFailed` (cancelled).
+    one. :meth:`cancel` kills the child while it lints an older version of a
+    document; the call waiting on it raises :class:`LintFailed` (cancelled).
     """
 
     def __init__(self) -> None:
@@ -177,8 +177,8 @@ class Linting:
         #: Serves calls while the active child is held up; ended once both idle.
         self._second: Child | None = None
         self._spare: Child | None = None
-        #: Each busy child's call: (path, version, when it started).
-        self._running: dict[Child, tuple[str, int, float]] = {}
+        #: Each busy child's call: (path, version, when it started, whether a lint).
+        self._running: dict[Child, tuple[str, int, float, bool]] = {}
         #: Per document, the version below which a lint that waits for a child
         #: is pointless: a newer one was asked for (or the document closed).
         self._outdated: dict[str, int] = {}
@@ -230,7 +230,7 @@ class Linting:
                 assert self._active is not None
                 for child in (self._active, self._second):
                     if child is not None and child not in self._running:
-                        self._running[child] = (path, version, time.monotonic())
+                        self._running[child] = (path, version, time.monotonic(), lint)
                         return child
                 wait = None
                 if self._second is None:
@@ -292,16 +292,19 @@ class Linting:
             self._release(child, failed=failed)
 
     def cancel(self, path: str, version: int, *, running_for: float = 0.0) -> bool:
-        """Stop the running calls that work on ``path`` at a version older
-        than ``version`` and have run ``running_for`` seconds at least, and the
-        lints of it that wait for a child; True when a running one was stopped."""
+        """Stop the running lints of ``path`` at a version older than
+        ``version`` that have run ``running_for`` seconds at least, and those
+        that wait for a child; True when a running one was stopped."""
         stopped = False
         with self._state:
             self._outdated[path] = max(self._outdated.get(path, 0), version)
             self._state.notify_all()
             now = time.monotonic()
-            for child, (running, older, started) in self._running.items():
-                if running == path and older < version and now - started >= running_for:
+            for child, (running, older, started, lint) in self._running.items():
+                # Not a code action's call: a save, or another document's lint,
+                # lints the document again with its text unchanged, and stopped
+                # the fix being made (the editor was offered none).
+                if lint and running == path and older < version and now - started >= running_for:
                     child.kill(cancelled=True)
                     stopped = True
         return stopped
