@@ -28,10 +28,10 @@ class LintCache:
 
     def __init__(self, without_clips: bool = False, without_varying: bool = False) -> None:
         self._answers: dict[tuple[Callable[..., Any], tuple[Hashable, ...]], Any] = {}
-        #: Answers keyed by an object's ``id``, each holding the object (so
-        #: that its id is not reused): for USD handles, whose hash is a
-        #: binding call (resolve.PrimValues).
-        self.by_identity: dict[int, tuple[Any, Any]] = {}
+        #: Answers keyed by an object's ``id``: for USD handles, whose hash is
+        #: a binding call (resolve.PrimValues). Whoever adds an entry keeps the
+        #: object alive until the lint ends, so that its id is not reused.
+        self.by_identity: dict[int, Any] = {}
         #: True when no layer of the linted stage can author value clips (the
         #: engine knows from the layers' words). Then an attribute holds an
         #: authored value only if its prim's authored property names list it:

@@ -211,8 +211,7 @@ class Context:
             # Usd.Prim and comparing it on a hit are two binding calls.
             # (values_in and PrimValues.call inlined: 150 calls a shot.)
             prim = args[0]
-            entry = self.cache.by_identity.get(id(prim))
-            values = entry[1] if entry is not None and entry[0] is prim else None
+            values = self.cache.by_identity.get(id(prim))
             if values is None:
                 values = values_in(self.cache, prim)
             memo = values._memo
