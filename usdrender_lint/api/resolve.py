@@ -414,6 +414,10 @@ def _holds_well_typed_value(
     # attribute of any type (``uniform token sourceType = </X>``, also in time
     # samples), an Sdf.Path no typed read returns.
     opinions, declared, well_typed, first_default = stack
+    if well_typed and len(opinions) == 1 and not opinions[0][2]:
+        # One opinion of the declared type without time samples (every attribute
+        # of a one-layer shot): only its default can hold a path.
+        return not isinstance(first_default, Sdf.Path)
     count = default_at = samples_at = len(opinions)
     for index, (_, has_default, has_samples, _) in enumerate(opinions):
         if has_default and default_at == count:
