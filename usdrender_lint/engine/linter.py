@@ -491,9 +491,15 @@ class Linter:
                 with _read_only(used):
                     # A renderer rule runs only where some configuration is its renderer's.
                     present = self._decide_profiles(ctx)
-                    run(self._stage_rules, None, ctx, trace, present, findings)
+                    run(_present(self._stage_rules, present), None, ctx, trace, findings)
+                    # Each type's rules whose profile is present, chosen once per lint
+                    # (by the tuple's id: ``work`` holds every tuple until the loop ends).
+                    chosen: dict[int, tuple[Rule, ...]] = {}
                     for prim, rules in work:
-                        run(rules, prim, ctx, trace, present, findings)
+                        kept = chosen.get(id(rules))
+                        if kept is None:
+                            kept = chosen[id(rules)] = _present(rules, present)
+                        run(kept, prim, ctx, trace, findings)
                 findings = self._apply_data_suppressions(ctx, trace, findings, suppressing)
                 findings = sorted(set(findings), key=Finding.sort_key)
                 if inspect is not None:
@@ -595,17 +601,15 @@ class Linter:
         prim: Usd.Prim | None,
         ctx: Context,
         trace: _Trace,
-        present: set[str],
         findings: list[Finding],
     ) -> None:
-        """Run the ``rules`` whose profile is ``present`` (or that have none) on
+        """Run the ``rules`` (those whose profile is present: :func:`_present`) on
         ``prim`` (``check_prim``), or on the stage for None (``check_stage``),
         adding their findings to ``findings``. One call per prim, not per
         hook: a CI gate shot makes about 460 hook calls, most yielding nothing."""
+        # Where the hook's findings start: moved on only after a hook added some.
+        start = len(findings)
         for rule in rules:
-            if rule.profile is not None and rule.profile not in present:
-                continue
-            start = len(findings)
             made = None
             try:
                 made = rule.check_stage(ctx) if prim is None else rule.check_prim(prim, ctx)
@@ -635,6 +639,7 @@ class Linter:
                 origin = (rule.code, None if prim is None else prim.GetPath())
                 for finding in findings[start:]:
                     trace.origins.setdefault(finding, origin)
+                start = len(findings)
 
     def _rule_error(
         self, rule: Rule, ctx: Context, exc: BaseException, target: Usd.Prim | Context
@@ -715,6 +720,12 @@ class Linter:
         # Not selectable away: a file that cannot be opened is never a silent pass.
         severity = self._severity(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
         return open_failure_findings(path, opened.errors, severity)
+
+
+def _present(rules: Sequence[Rule], present: set[str]) -> tuple[Rule, ...]:
+    """The ``rules`` whose profile is ``present`` (or that have none): a renderer's
+    rule runs only where some configuration is its renderer's."""
+    return tuple(r for r in rules if r.profile is None or r.profile in present)
 
 
 @contextmanager
