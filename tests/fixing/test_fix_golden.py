@@ -186,3 +186,41 @@ def test_fix_to_gives_what_fix_gives(code: str, fail: Path, tmp_path: Path) -> N
     remaining = {(f["code"], f["path"]) for r in document["files"] for f in r["findings"]}
     applied = {(fix["code"], fix["path"]) for fix in document["fixes"] if fix["applied"]}
     assert not applied & remaining
+
+
+#: Fixes whose result other rules rightly judge anew, by the fixing rule: a finding
+#: that appears where none was is what the fix corrects, not a fault it makes.
+NEW_FINDINGS_EXPECTED = {
+    # With a usable camera at last, CA006 compares its aperture with the image.
+    "CA001": {"CA006"},
+    "CA004": {"CA006"},
+    # The swapped window is valid and crops the image: the crop's info.
+    "SE003": {"SE005"},
+    # The retyped fileName is now read, and names no file.
+    "SE016": {"PA004"},
+    # The moved prims are judged at their new paths.
+    "ST008": {"CA001", "PA001", "PA007", "PR001", "VA001"},
+    # The removed arc no longer hides the prims' own problems.
+    "ST002": {"PR001", "PR004", "SE015", "ST002", "ST009"},
+    # Retyped as a render prim, the prim is judged as one (where it lives too).
+    "ST010": {"SE015", "ST003", "ST008", "ST009", "VA001"},
+}
+
+
+def _places(document: dict) -> set[tuple[str, str]]:
+    return {(f["code"], f["path"] or "") for r in document["files"] for f in r["findings"]}
+
+
+@pytest.mark.parametrize(("code", "fail"), list(_cases()))
+def test_a_fix_makes_no_finding_of_another_rule(code: str, fail: Path, tmp_path: Path) -> None:
+    """No fix leaves the stage with a problem it did not have: ST008's move left
+    renderSettingsPrimPath on the old path, an ST005 error the fix made itself.
+    Every rule lints the fixture before and after its rule's fixes."""
+    path = copy_fixture(fail, tmp_path)
+    every_rule = ["check", "--isolated", "--no-cache", "--jobs", "1", "--timeout", "0"]
+    every_rule += ["--show-info", "--format", "json", str(path)]
+    before = json.loads(CliRunner().invoke(cli, every_rule).stdout)
+    run_fix(code, path)
+    after = json.loads(CliRunner().invoke(cli, every_rule).stdout)
+    new = {place[0] for place in _places(after) - _places(before)}
+    assert new <= NEW_FINDINGS_EXPECTED.get(code, set()), sorted(new)
