@@ -244,11 +244,14 @@ def test_only_the_fixed_opinions_change(tmp_path: Path, code: str, fixture: str)
     assert fixed
     changed = {p for p in before.keys() | after.keys() if before.get(p) != after.get(p)}
     if code == "ST008":
-        # A move changes the moved prims, everything below them and the
-        # targets that pointed at them; nothing else.
+        # A move changes the moved prims, everything below them, the targets
+        # that pointed at them and renderSettingsPrimPath (the pseudo-root's
+        # field) when it names one; nothing else.
         moved = [Sdf.Path(p) for p in fixed]
         outside = {p for p in changed if not any(Sdf.Path(p).HasPrefix(m) for m in moved)}
-        assert all(p.startswith("/Render") for p in outside), outside
+        assert all(p.startswith("/Render") for p in outside - {"/"}), outside
+        assert before["/"]["renderSettingsPrimPath"] == "'/Settings'"
+        assert after["/"]["renderSettingsPrimPath"] == "'/Render/Settings'"
         return
     # Only properties change, and only on the prims whose findings were fixed.
     assert changed and all(Sdf.Path(p).IsPropertyPath() for p in changed), changed
