@@ -84,12 +84,18 @@ def test_no_user_page_carries_issue_numbers_or_commit_hashes() -> None:
     assert found == []
 
 
-def test_third_party_rule_example_works(tmp_path: Path) -> None:
+def _guide_and_its_rule() -> tuple[str, type]:
+    """The rule-writing guide's text and the rule class its example defines."""
     guide = (REPO / "docs" / "guides" / "writing-rules.md").read_text(encoding="utf-8")
     source = re.search(r"```python\n(# acme_rules\.py\n.*?)\n```\n", guide, re.DOTALL).group(1)
     namespace: dict = {}
     exec(compile(source, "acme_rules.py", "exec"), namespace)  # noqa: S102 - our own guide
     (rule_class,) = namespace["RULES"]
+    return guide, rule_class
+
+
+def test_third_party_rule_example_works(tmp_path: Path) -> None:
+    guide, rule_class = _guide_and_its_rule()
     doc = sections(rule_class)
     for section, fires in (("Example", True), ("Use instead", False)):
         layer = tmp_path / f"{fires}.usda"
@@ -103,11 +109,7 @@ def test_the_guide_s_fixture_example_passes_for_its_example_rule(tmp_path: Path)
     # finding the example rule never reports: copied, they failed.
     from usdrender_lint.testing import check_fixture
 
-    guide = (REPO / "docs" / "guides" / "writing-rules.md").read_text(encoding="utf-8")
-    source = re.search(r"```python\n(# acme_rules\.py\n.*?)\n```\n", guide, re.DOTALL).group(1)
-    namespace: dict = {}
-    exec(compile(source, "acme_rules.py", "exec"), namespace)  # noqa: S102 - our own guide
-    (rule_class,) = namespace["RULES"]
+    guide, rule_class = _guide_and_its_rule()
     (fixture,) = [block for block in code_blocks(guide) if "# expect:" in block]
     path = tmp_path / "fail_guide.usda"
     path.write_text(fixture, encoding="utf-8")

@@ -143,7 +143,7 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
         sys.exit(EXIT_TOOL_ERROR)
     except OSError as exc:
         if exc.errno == errno.ENOMEM:  # a listing or a map under ulimit -v
-            _out_of_memory(exc)
+            _out_of_memory()
         if not _raised_by_echo(exc):
             _internal_error(exc)
         # click printing help, the version or usage: stdout is full or gone.
@@ -151,16 +151,16 @@ def main(argv: Sequence[str] | None = None, supervision: Supervision | None = No
         if not isinstance(exc, BrokenPipeError):
             error(f"cannot write the output: {exc.strerror or exc}")
         sys.exit(EXIT_TOOL_ERROR)
-    except MemoryError as exc:  # at start-up, under ulimit -v: a file's own is its result
-        _out_of_memory(exc)
+    except MemoryError:  # at start-up, under ulimit -v: a file's own is its result
+        _out_of_memory()
     except Exception as exc:
         _internal_error(exc)
 
 
-def _out_of_memory(exc: BaseException) -> NoReturn:
-    from ..running.address_space import out_of_memory_at_start
+def _out_of_memory() -> NoReturn:
+    from ..running.address_space import out_of_memory
 
-    error(out_of_memory_at_start(MemoryError(exc)) or "out of memory")
+    error(out_of_memory())
     sys.exit(EXIT_TOOL_ERROR)
 
 

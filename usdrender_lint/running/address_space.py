@@ -39,8 +39,13 @@ def out_of_memory_at_start(exc: BaseException) -> str | None:
     if isinstance(exc, MemoryError) or (
         isinstance(exc, (ImportError, OSError)) and any(s in str(exc) for s in _NO_MEMORY)
     ):
-        return _message(address_space_limit())
+        return out_of_memory()
     return None
+
+
+def out_of_memory() -> str:
+    """The out-of-memory line, naming the address-space limit where one is set."""
+    return _message(address_space_limit())
 
 
 def limit_hint() -> str:
