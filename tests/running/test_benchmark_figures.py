@@ -187,3 +187,29 @@ def test_what_two_processes_cannot_do_marks_a_run_disturbed() -> None:
     assert run.negative_start_ups({"the lint": 0.2, "the floor": -0.21}) == [
         "the floor: a start-up of -0.21 s: a slow spell hit its run of the most shots"
     ]
+
+
+def test_the_gate_prints_the_speed_up_two_busy_cores_allow(tmp_path, monkeypatch, capsys) -> None:
+    # --jobs 1 took 5 s of wall time on its read-ahead's two threads; --jobs 2 spent
+    # 7 s of CPU: two cores never idle take 3.5 s, so it can be at most 1.43x as fast,
+    # and at 4 s (1.25x) it reaches 88% of that.
+    seconds = {
+        "open+traverse 200 shots, 1 process": 3.0,
+        "open+traverse 200 shots, 2 processes": 1.7,
+        "check --jobs 1 200 shots": 5.0,
+        "check --jobs 2 200 shots": 4.0,
+        "check --jobs 1, 1 shot": 0.2,
+    }
+
+    def measure(series, rounds):
+        for s in series:
+            cpu = 7.0 if s.label == "check --jobs 2 200 shots" else seconds[s.label]
+            s.samples = [run.Sample(seconds[s.label], 1024, cpu)] * rounds
+
+    monkeypatch.setattr(run, "ensure", _empty_shots)
+    monkeypatch.setattr(run, "measure", measure)
+    monkeypatch.setattr(run.os, "cpu_count", lambda: 2)
+    run.gate(tmp_path, 200, 3)
+    assert round(run.two_core_ceiling(5.0, 7.0), 4) == round(5.0 / 3.5, 4)
+    out = capsys.readouterr().out
+    assert "--jobs 2's CPU time (7.00 s) make it at most 1.43x --jobs 1: it reaches 88%" in out
