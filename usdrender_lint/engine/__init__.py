@@ -14,7 +14,13 @@ from .linter import (
     TracedFinding,
 )
 from .locate import bounded_message, locate
-from .plugins import plugin_notes, plugin_problems, register_plugins, reported_by_worker
+from .plugins import (
+    SchemasMissing,
+    plugin_notes,
+    plugin_problems,
+    register_plugins,
+    reported_by_worker,
+)
 from .stage import (
     STAGE_OPEN_FAILED_CODE,
     STAGE_OPEN_FAILED_NAME,
@@ -32,6 +38,7 @@ __all__ = [
     "Inspector",
     "LintRun",
     "Linter",
+    "SchemasMissing",
     "StageOpenResult",
     "TracedFinding",
     "bounded_message",

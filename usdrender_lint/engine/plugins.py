@@ -20,9 +20,12 @@ files out. Files are linted with the registry as USD left it.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterable
 
 from pxr import Plug, Tf, Usd
+
+from ..api import schemas
 
 #: The calls that make USD register every plugin (found by experiment, usd-core
 #: 26.11): reading the plugins declares their types (a clashing alias fails
@@ -33,15 +36,54 @@ _REGISTERING: tuple[Callable[[], object], ...] = (
     Usd.SchemaRegistry,
 )
 
+#: The schemas whose prim definitions (their attributes' fallback values) the
+#: rules read: UsdRender's and UsdGeom's camera.
+_DEFINED = (
+    schemas.RenderSettings,
+    schemas.RenderProduct,
+    schemas.RenderVar,
+    schemas.RenderPass,
+    schemas.Camera,
+)
+#: USD's own switch that builds the schema registry without prim definitions
+#: (``pxr/usd/usd/schemaRegistry.cpp``, for usdGenSchema only), and the values
+#: that turn a boolean setting on (``TfGetenvBool``, ``pxr/base/tf/getenv.cpp``).
+_NO_DEFINITIONS_SETTING = "USD_DISABLE_PRIM_DEFINITIONS_FOR_USDGENSCHEMA"
+_ON = ("1", "true", "yes", "on")
+
 _problems: tuple[str, ...] | None = None
+#: The schemas of ``_DEFINED`` without a prim definition in this process.
+_missing: tuple[str, ...] = ()
 #: The problems worker processes of this one reported, in order.
 _heard: dict[str, None] = {}
 
 
+class SchemasMissing(Exception):
+    """USD's schema registry has no prim definition for a schema the rules read:
+    every fallback value would be None and the findings wrong, so nothing is linted.
+    USD builds a definition from its plugin's ``generatedSchema.usda`` and, when it
+    cannot open that layer (out of memory under ``ulimit -v``), warns and goes on
+    with an empty one (``_GetGeneratedSchema``, ``pxr/usd/usd/schemaRegistry.cpp``)."""
+
+    def __init__(self, types: tuple[str, ...]) -> None:
+        self.types = types
+        #: Whether USD was told to build no definitions (else it could not read them).
+        self.disabled = os.environ.get(_NO_DEFINITIONS_SETTING, "").lower() in _ON
+        why = "USD could not read their schemas"
+        if self.disabled:
+            why = f"{_NO_DEFINITIONS_SETTING} is set, for usdGenSchema only: unset it"
+        super().__init__(
+            f"USD's schema registry has no prim definition for {', '.join(types)} ({why}); "
+            "the rules would read no fallback values, so nothing was linted"
+        )
+
+
 def register_plugins() -> tuple[str, ...]:
     """Have USD register its plugins now, once per process; the problems it
-    reported (one line each, in order, no repeats), every time it is asked."""
-    global _problems
+    reported (one line each, in order, no repeats), every time it is asked.
+    Raises :class:`SchemasMissing`, every time, when the schemas the rules
+    read have no prim definitions."""
+    global _problems, _missing
     if _problems is None:
         found: list[str] = []
         for call in _REGISTERING:
@@ -54,7 +96,16 @@ def register_plugins() -> tuple[str, ...]:
                 trap.Clear()
         lines = (line.strip() for text in found for line in text.splitlines())
         _problems = tuple(dict.fromkeys(line for line in lines if line))
+        _missing = _undefined()
+    if _missing:
+        raise SchemasMissing(_missing)
     return _problems
+
+
+def _undefined() -> tuple[str, ...]:
+    registry = Usd.SchemaRegistry()
+    names = [Usd.SchemaRegistry.GetSchemaTypeName(schema) for schema in _DEFINED]
+    return tuple(name for name in names if registry.FindConcretePrimDefinition(name) is None)
 
 
 def reported_by_worker(problems: Iterable[str]) -> None:

@@ -6,6 +6,11 @@ Nothing is imported but ``resource``: the command asks before its own imports.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..engine import SchemasMissing
+
 #: Below this limit usd-core cannot be loaded at all: its libraries map about
 #: 580 MiB of address space as they load (usd-core 26.11, Linux x86-64, measured
 #: with ``ulimit -v``), and between about 100 and 500 MiB the import crashes
@@ -56,6 +61,12 @@ def limit_hint() -> str:
     if limit is None:
         return ""
     return f"; the address-space limit (ulimit -v) is {limit // 2**20} MiB: raise it"
+
+
+def schemas_missing(exc: SchemasMissing) -> str:
+    """The run's error when USD's schema registry lacks the rules' schemas: under
+    ``ulimit -v`` about 1.1 GiB it failed to read them for want of memory."""
+    return str(exc) if exc.disabled else f"{exc}{limit_hint()}"
 
 
 def _message(limit: int | None) -> str:

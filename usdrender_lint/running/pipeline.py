@@ -31,7 +31,7 @@ from ..config import (
     with_inline,
     with_key_line,
 )
-from ..engine import Linter, plugin_notes
+from ..engine import Linter, SchemasMissing, plugin_notes
 from ..model import FileResult, Finding, Report, Severity
 from ..profiles import AUTO, PROFILES
 from ..profiles.detect import Profiler
@@ -623,6 +623,17 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     start; a file that cannot be linted is an error result, never an exception.
     Files whose nearest configuration is not the one found from the first path
     are linted with theirs (running/hierarchy.py)."""
+    try:
+        return _run(request, registry)
+    except ExecutionError as exc:  # workers that fixed or planned roots, not lint_as_asked's
+        raise RequestError(str(exc)) from None
+    except SchemasMissing as exc:  # this process's USD: a cache lookup, a fix, a lint
+        from .address_space import schemas_missing
+
+        raise RequestError(schemas_missing(exc)) from None
+
+
+def _run(request: Request, registry: Registry | None) -> Outcome:
     with reading_once():  # each configuration file read once in the run
         prepared = prepare(request, registry)
         notes: list[str] = []
@@ -1102,6 +1113,10 @@ def lint_as_asked(
         )
     except ExecutionError as exc:
         raise RequestError(str(exc)) from None
+    except SchemasMissing as exc:  # linted in this process
+        from .address_space import schemas_missing
+
+        raise RequestError(schemas_missing(exc)) from None
 
 
 def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:

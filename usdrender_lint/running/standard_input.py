@@ -130,12 +130,15 @@ def lint_standard_input(
 
 def _lint(prepared: Prepared, given: StandardInput) -> FileResult:
     """As ``workers.lint_one`` lints a file: an engine failure is the text's error."""
+    from ..engine import SchemasMissing
     from .documents import Documents
 
     try:
         documents = Documents(prepared=prepared)
         documents.update({given.path: given.text})
         linted = documents.lint(given.path)
+    except SchemasMissing:  # no text can be linted: the run's error (pipeline.run)
+        raise
     except Exception as exc:  # noqa: BLE001 - reported as the text's one line, as a file's
         debug.show(exc, f"{given.name}: internal error")
         return file_error(given.name, internal_error(exc))
@@ -143,6 +146,7 @@ def _lint(prepared: Prepared, given: StandardInput) -> FileResult:
 
 
 def _fix(prepared: Prepared, given: StandardInput) -> tuple[FixRun, StandardInput]:
+    from ..engine import SchemasMissing
     from ..fixing import FixRun
     from ..fixing.diff import patch
     from .documents import Documents
@@ -153,6 +157,8 @@ def _fix(prepared: Prepared, given: StandardInput) -> tuple[FixRun, StandardInpu
         documents = Documents(prepared=prepared)
         documents.update({given.path: given.text})
         run, changed = documents.fix(given.path, None, wanted.unsafe, texts_only=True)
+    except SchemasMissing:  # no text can be linted: the run's error (pipeline.run)
+        raise
     except Exception as exc:  # noqa: BLE001 - reported as the text's one line, as a file's
         debug.show(exc, f"{given.name}: internal error")
         return FixRun(errors=[f"{given.name}: fixing failed: {internal_error(exc)}"]), given

@@ -35,6 +35,7 @@ WORKER_RECYCLE_AFTER = 500
 MIN_WORKER_MEMORY = 2 << 30  # however many workers share the machine
 _READY, _FAILED = -1, -2  # what a worker sends for an index once ready, or failing to start
 _WRITING = -3  # what a worker sends before it writes a user's file (hold_deadline)
+_REFUSED = -4  # what a worker sends whose USD cannot lint at all: the run's error, as it says
 #: Seconds a stopped run (Ctrl-C, SIGTERM) waits for a worker writing a user's file.
 WRITE_GRACE = 30.0
 _NEVER = float("inf")
@@ -156,7 +157,10 @@ def lint_one(linter: FileLinter, item: str | FullyComposed) -> FileResult:
     try:
         return linter.lint_path(path, full_composition=isinstance(item, FullyComposed))
     except Exception as exc:  # noqa: BLE001 - one broken file never stops the run
-        if getattr(linter, "raise_errors", False):
+        from ..engine import SchemasMissing  # loaded: the linter raised
+
+        # Without the schemas, no file can be linted: the run's error (lint_as_asked).
+        if isinstance(exc, SchemasMissing) or getattr(linter, "raise_errors", False):
             raise
         debug.show(exc, f"{path}: internal error")
         return file_error(path, internal_error(exc))
@@ -270,6 +274,8 @@ class Pool:
     def _receive(self, worker: _Worker, index: int, result: Any) -> None:
         if index == _FAILED:
             raise ExecutionError(f"a worker process could not build the linter: {result}")
+        if index == _REFUSED:
+            raise ExecutionError(result)
         if index == _WRITING:  # until it answers: see hold_deadline
             worker.deadline = _NEVER
             worker.writing = True
@@ -410,7 +416,14 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
         Usd.Stage.CreateInMemory()  # USD's plugins load now, not in the first file's time
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, not printed
         debug.show(exc, "a worker could not start")
-        conn.send((_FAILED, f"{type(exc).__name__}: {exc}"))
+        from ..engine import SchemasMissing
+
+        if isinstance(exc, SchemasMissing):
+            from .address_space import schemas_missing
+
+            conn.send((_REFUSED, schemas_missing(exc)))
+        else:
+            conn.send((_FAILED, f"{type(exc).__name__}: {exc}"))
         return
     conn.send((_READY, problems))
     global _parent

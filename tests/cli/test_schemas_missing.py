@@ -1,0 +1,81 @@
+"""USD's schema registry without the rules' prim definitions: under ``ulimit -v``
+about 1.1 GiB it warned that it could not open a plugin's generatedSchema.usda
+and went on with empty definitions, and the lint ran on: every fallback value
+None, rules raising (UL000) and findings wrong. Nothing is linted now: one line, exit 2.
+
+USD's own ``USD_DISABLE_PRIM_DEFINITIONS_FOR_USDGENSCHEMA`` builds the registry
+the same way (``pxr/usd/usd/schemaRegistry.cpp``): the tests' way to get one."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from usdrender_lint.engine import SchemasMissing
+from usdrender_lint.running.address_space import schemas_missing
+
+pytestmark = pytest.mark.heavy(seconds=6)
+
+FIXTURES = Path(__file__).parents[1] / "rules" / "CA006_aspect_ratio_mismatch_implicit_conform"
+SETTING = "USD_DISABLE_PRIM_DEFINITIONS_FOR_USDGENSCHEMA"
+SAID = (
+    "usdrender-lint: error: USD's schema registry has no prim definition for RenderSettings, "
+    "RenderProduct, RenderVar, RenderPass, Camera ("
+    f"{SETTING} is set, for usdGenSchema only: unset it); the rules would read no fallback "
+    "values, so nothing was linted"
+)
+
+
+@pytest.mark.parametrize(
+    "how",
+    [
+        ["--jobs", "2"],
+        ["--jobs", "1", "--timeout", "0"],
+        ["--diff"],
+        ["--diff", "--jobs", "1", "--timeout", "0"],
+        ["--cache-dir", "{cache}"],
+        ["-"],
+    ],
+    ids=["workers", "in-process", "diff", "diff-in-process", "cached", "standard-input"],
+)
+def test_a_registry_without_the_prim_definitions_lints_nothing(
+    tmp_path: Path, how: list[str]
+) -> None:
+    files = [str(FIXTURES / "fail_mismatch.usda"), str(FIXTURES / "pass_traps.usda")]
+    how = [arg.format(cache=tmp_path / "cache") for arg in how]
+    command = [sys.executable, "-m", "usdrender_lint", "check", "--isolated", *how]
+    if "--cache-dir" in how:  # the files' results cached first: the lookup refuses too
+        warm = subprocess.run([*command, *files], capture_output=True, timeout=120)
+        assert warm.returncode == 1, warm.stderr
+    else:
+        command.append("--no-cache")
+    given = Path(files[0]).read_text() if "-" in how else None
+    done = subprocess.run(
+        command if given is not None else [*command, *files],
+        input=given,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, SETTING: "1"},
+    )
+    # USD itself prints a banner of '#' lines naming the setting as it loads.
+    said = [line for line in done.stderr.splitlines() if not line.startswith("#")]
+    assert (done.returncode, done.stdout, said) == (2, "", [SAID]), done.stderr
+
+
+def test_a_registry_that_could_not_read_the_schemas_names_the_address_space_limit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delenv(SETTING, raising=False)
+    monkeypatch.setattr(
+        "usdrender_lint.running.address_space.address_space_limit", lambda: 1100 << 20
+    )
+    assert schemas_missing(SchemasMissing(("RenderSettings", "Camera"))) == (
+        "USD's schema registry has no prim definition for RenderSettings, Camera (USD could "
+        "not read their schemas); the rules would read no fallback values, so nothing was "
+        "linted; the address-space limit (ulimit -v) is 1100 MiB: raise it"
+    )
