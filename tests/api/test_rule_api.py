@@ -186,6 +186,26 @@ def test_an_options_field_without_a_default_is_refused_when_the_class_is_defined
     assert Fine().options == Defaulted()
 
 
+def test_options_that_are_a_dataclass_instance_are_refused_when_the_class_is_defined() -> None:
+    """``Options = Opts()`` passed (``dataclasses.is_dataclass`` holds for an
+    instance), and ``rules`` and ``check`` then ended in "internal error:
+    TypeError: 'Opts' object is not callable", naming neither rule nor plugin."""
+    from usdrender_lint.api import record
+
+    @record(frozen=True)
+    class Opts:
+        limit: int = 1
+
+    with pytest.raises(TypeError, match=r"Made: Options is an instance of Opts, not a dataclass"):
+
+        class Made(Rule):
+            __doc__ = DOC
+            code = "ZZ973"
+            name = "made-rule"
+            severity = Severity.INFO
+            Options = Opts()  # type: ignore[assignment]
+
+
 def test_a_check_prim_without_prim_types_is_refused_when_the_class_is_defined() -> None:
     # The engine hands check_prim only prims of prim_types: such a rule used to
     # load, list and run, and silently never find anything.

@@ -105,6 +105,24 @@ def profile_problem(profile: object) -> str | None:
     )
 
 
+def _options_problem(options: object) -> str | None:
+    """What is wrong with a rule's ``Options`` (None: nothing, or no options)."""
+    if options is None:
+        return None
+    if not isinstance(options, type):
+        # is_dataclass holds for an instance too: the rule failed when it was made
+        # (rules, check: "internal error: TypeError: ... is not callable").
+        made = type(options).__name__
+        return f"Options is an instance of {made}, not a dataclass (Options = {made})"
+    if not dataclasses.is_dataclass(options):
+        return "Options is not a dataclass"
+    if required := _required_options(options):
+        # The rule runs unconfigured too: a required field failed every such
+        # run with an internal error naming neither the rule nor its plugin.
+        return f"Options field(s) {', '.join(required)} have no default"
+    return None
+
+
 def _required_options(options: type) -> list[str]:
     """The fields of an ``Options`` dataclass that its constructor requires."""
     return [
@@ -175,12 +193,8 @@ class Rule:
                 "check_prim is never called: prim_types is empty (name the schema "
                 "types it checks, e.g. (schemas.RenderProduct,))"
             )
-        if cls.Options is not None and not dataclasses.is_dataclass(cls.Options):
-            problems.append("Options is not a dataclass")
-        elif cls.Options is not None and (required := _required_options(cls.Options)):
-            # The rule runs unconfigured too: a required field failed every such
-            # run with an internal error naming neither the rule nor its plugin.
-            problems.append(f"Options field(s) {', '.join(required)} have no default")
+        if (problem := _options_problem(cls.Options)) is not None:
+            problems.append(problem)
         if (problem := profile_problem(cls.profile)) is not None:
             problems.append(problem)
         if not isinstance(cls.aliases, tuple) or not all(
