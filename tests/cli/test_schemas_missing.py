@@ -79,3 +79,27 @@ def test_a_registry_that_could_not_read_the_schemas_names_the_address_space_limi
         "not read their schemas); the rules would read no fallback values, so nothing was "
         "linted; the address-space limit (ulimit -v) is 1100 MiB: raise it"
     )
+
+
+def test_a_stage_a_host_opened_is_not_linted_either() -> None:
+    # lint_stage (and the UsdValidation and Asset Validator plugins, which lint a host's
+    # stage) never opened a file, so nothing asked the registry: it linted wrongly.
+    script = (
+        "import sys, usdrender_lint\n"
+        "from usdrender_lint.config import ConfigError\n"
+        "from pxr import Usd\n"
+        "stage = Usd.Stage.Open(sys.argv[1])\n"
+        "try:\n"
+        "    usdrender_lint.lint_stage(stage)\n"
+        "except ConfigError as exc:\n"
+        "    print('refused:', exc)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, str(FIXTURES / "fail_mismatch.usda")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, SETTING: "1"},
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == f"refused: {SAID.removeprefix('usdrender-lint: error: ')}\n"

@@ -343,6 +343,7 @@ class Linter:
         what USD recomposed since); ``composition_errors``, likewise, gives the
         stage's composition errors (Context.composition_errors_source).
         ``reads``: as for :meth:`run_path`."""
+        register_plugins()  # a host's stage too: raises SchemasMissing as a file's lint does
         trace = _Trace(reads)
         name = file or real_path(stage.GetRootLayer())
         try:

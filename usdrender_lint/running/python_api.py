@@ -20,11 +20,12 @@ from pxr import Usd
 
 from ..api import Rule
 from ..config import ConfigError, Settings, with_inline
-from ..engine import plugin_problems
+from ..engine import SchemasMissing, plugin_problems
 from ..explain import rule_info
 from ..model import Finding, Report
 from ..registry import RegistryError
 from ..settings_table import BY_NAME
+from .address_space import schemas_missing
 from .discovery import Exclusions, force_excluded
 from .pipeline import Outcome, Prepared, Request, RequestError, folder_exclusions, prepare, run
 
@@ -189,7 +190,12 @@ def lint_stage(
         return _with_rules(Report(), prepared.linter.rules, profile)
     # Variants are not explored: that authors selections into the stage's
     # session layer, and this stage is the caller's.
-    report = prepared.finish(Report((prepared.linter.run_stage(stage, name).result,)))
+    try:
+        linted = prepared.linter.run_stage(stage, name)
+    except SchemasMissing as exc:  # as lint_file says it: the run's error
+        _raise_as_before(RequestError(schemas_missing(exc)))
+        raise
+    report = prepared.finish(Report((linted.result,)))
     return _with_rules(report, prepared.linter.rules, profile)
 
 
