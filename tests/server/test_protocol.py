@@ -775,6 +775,37 @@ async def test_an_edit_two_sublayers_down_and_a_close_relint_the_shot(
     close_documents(client, shot)
 
 
+async def test_a_layer_saved_by_its_resolved_path_relints_the_shot_opened_through_a_link(
+    client: LanguageClient, workspace: Path
+):
+    """The workspace folder is reached through a symlink: the shot, opened by
+    the link's path, composes c.usda (through b.usda) by that path, and the
+    editor names c by its resolved path. Saving c re-lints the shot: the two
+    paths were compared as text, and the shot kept c's old finding."""
+    real = workspace / "resolved"
+    real.mkdir()
+    link = workspace / "through-a-link"
+    link.symlink_to(real, target_is_directory=True)
+    (real / "b.usda").write_text("#usda 1.0\n(\n    subLayers = [@./c.usda@]\n)\n")
+    layer_file = real / "c.usda"
+    layer_file.write_text("#usda 1.0\n" + PURPOSES % '["full", "bogus"]')
+    has_se011 = lambda found: any(d.code == "SE011" for d in found)  # noqa: E731
+    shot = open_document(client, link / "a.usda", _shot_over("b.usda"))
+    await _until(client, shot, has_se011)
+    layer = open_document(client, layer_file)
+    await diagnostics_of(client, layer, 1)
+    fixed = "#usda 1.0\n" + PURPOSES % '["full", "preview"]'
+    change(client, layer, 2, fixed)
+    before = layer_file.stat().st_mtime
+    layer_file.write_text(fixed)
+    os.utime(layer_file, (before + 5, before + 5))  # a save USD sees on a coarse clock
+    client.text_document_did_save(
+        types.DidSaveTextDocumentParams(types.TextDocumentIdentifier(layer))
+    )
+    await _until(client, shot, lambda found: not has_se011(found))
+    close_documents(client, layer, shot)
+
+
 async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
     client: LanguageClient, workspace: Path
 ):

@@ -217,7 +217,8 @@ class UsdRenderLintServer(LanguageServer):
         self.can_fix: dict[str, bool] = {}
         #: The documents whose edit owes the documents that compose them a lint.
         self.dependents_due: set[str] = set()
-        #: The files each open document's stage composed at its last lint, by path.
+        #: The files each open document's stage composed at its last lint (their
+        #: :func:`file_key`), by path.
         self.layers: dict[str, frozenset[str]] = {}
         #: What each linted document (the source) publishes on each document URI.
         self.published: dict[str, dict[str, list[types.Diagnostic]]] = {}
@@ -343,17 +344,17 @@ class UsdRenderLintServer(LanguageServer):
         texts = self.texts()
         version = self.version_of(uri)
         try:
-            linted: Linted = await loop.run_in_executor(
-                self.executor, self.linting.call, "lint", path, tick, (path,), texts, self.timeout
+            linted, layers = await loop.run_in_executor(
+                self.executor, self._lint_in_child, path, tick, texts
             )
         except LintFailed as failed:
             if failed.cancelled:
                 return
-            linted = Linted(error=failed.reason)
+            linted, layers = Linted(error=failed.reason), frozenset()
         if self.wanted.get(uri) != tick or self.open_document(uri) is None:
             return
         self.seconds[path] = linted.seconds
-        self.layers[path] = linted.layers
+        self.layers[path] = layers
         self.findings[uri] = (linted.findings, texts)
         self.can_fix[uri] = linted.fixes
         self.publish(uri, self.diagnostics(uri, path, linted, texts), version)
@@ -366,6 +367,15 @@ class UsdRenderLintServer(LanguageServer):
         now = self.texts()
         if any(texts.get(layer) != now.get(layer) for layer in linted.layers - {path}):
             self.spawn(self.lint(uri, dependents=False))
+
+    def _lint_in_child(
+        self, path: str, tick: int, texts: dict[str, str]
+    ) -> tuple[Linted, frozenset[str]]:
+        """The document's lint, and the :func:`file_key` of each file its stage
+        composed (found here, off the protocol thread: a file on a network
+        share may take a while to resolve)."""
+        linted: Linted = self.linting.call("lint", path, tick, (path,), texts, self.timeout)
+        return linted, frozenset(map(file_key, linted.layers))
 
     async def _make_way(self, uri: str, path: str, tick: int) -> bool:
         """Cancel the document's running lint where it pays, and wait out a burst of
@@ -394,11 +404,11 @@ class UsdRenderLintServer(LanguageServer):
             self.spawn(self.lint(self.uri_of(other), dependents=False))
 
     def _dependents(self, path: str, texts: dict[str, str]) -> list[str]:
-        name = os.path.basename(path)
+        name, key = os.path.basename(path), file_key(path)
         return [
             other
             for other, text in texts.items()
-            if other != path and (name in text or path in self.layers.get(other, ()))
+            if other != path and (name in text or key in self.layers.get(other, ()))
         ]
 
     def forget(self, uri: str) -> None:
@@ -796,6 +806,15 @@ def usd_path(uri: str) -> str | None:
     if path is None or not path.lower().endswith(USD_TEXT_SUFFIXES):
         return None
     return os.path.abspath(path)
+
+
+def file_key(path: str) -> str:
+    """What a file is, by whichever path reaches it: the editor may name a
+    document by a symlink's path (its workspace folder is reached through one)
+    where a stage composes it by the resolved path, or the other way round
+    (USD keeps a layer's path as the asset path gave it). As running/roots.py's
+    file_key compares files; that module imports USD, which the server does not."""
+    return os.path.normcase(os.path.realpath(path))
 
 
 def _key_of(diagnostic: types.Diagnostic) -> tuple[Any, ...] | None:
