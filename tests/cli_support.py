@@ -108,6 +108,13 @@ def blocked_on_a_fifo(pid: int) -> bool:
     """Whether a thread of a process below ``pid`` waits in ``open()`` for a
     FIFO's writer (Linux's ``wait_for_partner``): the lint of a
     :func:`hanging_stage` has reached its sublayer, however loaded the machine."""
+    return blocked_on_fifos(pid) > 0
+
+
+def blocked_on_fifos(pid: int) -> int:
+    """How many processes below ``pid`` wait in ``open()`` for a FIFO's writer
+    (see :func:`blocked_on_a_fifo`)."""
+    blocked = 0
     for child in descendants(pid):
         try:
             tasks = os.listdir(f"/proc/{child}/task")
@@ -119,8 +126,9 @@ def blocked_on_a_fifo(pid: int) -> bool:
             except OSError:
                 continue
             if waits_in in ("wait_for_partner", "fifo_open"):
-                return True
-    return False
+                blocked += 1
+                break
+    return blocked
 
 
 def is_running(pid: int) -> bool:

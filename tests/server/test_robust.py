@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 import pytest_lsp
-from cli_support import blocked_on_a_fifo, descendants, hanging_stage
+from cli_support import blocked_on_a_fifo, blocked_on_fifos, descendants, hanging_stage
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig, LanguageClient
 from test_protocol import change, diagnostics_of, make_client, open_document, published_versions
@@ -431,6 +431,65 @@ def test_a_document_is_linted_while_another_hangs_usd(tmp_path: Path):
         session.published(tmp_path / "fine2.usda", within=30.0)
     finally:
         session.end()
+
+
+def test_a_document_is_linted_while_two_others_hang_usd(tmp_path: Path):
+    """Two documents whose lints hang USD held both children the server had,
+    and every other document's lint waited for their time-out (120 s)."""
+    session = _Session(tmp_path)
+    try:
+        for name in ("one", "two"):
+            folder = tmp_path / name
+            folder.mkdir()
+            session.open(*hanging_document(folder))
+        deadline = time.time() + 60  # until both children wait on their FIFO
+        while blocked_on_fifos(session.server.pid) < 2 and time.time() < deadline:
+            time.sleep(0.1)
+        assert blocked_on_fifos(session.server.pid) == 2
+        session.open(tmp_path / "fine.usda", FINE)
+        session.published(tmp_path / "fine.usda", within=30.0)
+    finally:
+        session.end()
+
+
+def test_a_newer_lint_of_a_document_gives_up_its_hung_lint_before_it_starts(tmp_path: Path):
+    """A lint asked for before the document's running lint turned out to hang
+    (a save or an edit right after opening it) took another child: the document
+    held two until the time-out, and two such documents held every child."""
+    import threading
+
+    from usdrender_lint.server import worker
+
+    path = str(hanging_stage(tmp_path))
+    linting = worker.Linting()
+    outcome: dict[int, object] = {}
+
+    def lint(version: int) -> None:
+        try:
+            outcome[version] = linting.call("lint", path, version, (path,), {}, 60.0)
+        except worker.LintFailed as failed:
+            outcome[version] = failed
+
+    threads = [threading.Thread(target=lint, args=(version,)) for version in (1, 2)]
+    try:
+        linting.start()
+        threads[0].start()
+        deadline = time.time() + 60  # until its child waits on the FIFO
+        while not blocked_on_a_fifo(os.getpid()) and time.time() < deadline:
+            time.sleep(0.05)
+        threads[1].start()  # asked for by the protocol, with no cancel of its own
+        threads[0].join(10)
+        given_up = outcome.get(1)
+        assert isinstance(given_up, worker.LintFailed) and given_up.cancelled, given_up
+        deadline = time.time() + 60  # the newer lint hangs in its turn, alone
+        while not blocked_on_a_fifo(os.getpid()) and time.time() < deadline:
+            time.sleep(0.05)
+        assert blocked_on_fifos(os.getpid()) == 1
+    finally:
+        linting.close()
+        for thread in threads:
+            if thread.ident is not None:  # started
+                thread.join(60)
 
 
 def _messages(stdout: bytes) -> list[dict]:

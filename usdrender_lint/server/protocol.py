@@ -6,7 +6,9 @@ this server's worker threads, so the server answers while a lint runs.
 Diagnostics are published on open, on change and on save: a lint starts at
 once for a document whose last lint was quick (changes that arrive meanwhile
 wait for it and only the newest is linted), after a short pause for a slow
-one, and a newer edit of a slow document cancels its running lint.
+one, and a newer edit of a slow document cancels its running lint (of a
+quick one, once that lint has run SLOW seconds: a document is linted once at
+a time, :mod:`.worker`).
 """
 
 from __future__ import annotations
@@ -42,7 +44,7 @@ from .. import __version__
 from ..model import Finding, Severity
 from ..running.documents import Linted, finding_key
 from .ranges import Edit, Span, editor_lines, lines_of, spec_line, statement_span, text_edits
-from .worker import LintFailed, Linting, RuleDoc
+from .worker import MAX_CHILDREN, SLOW, LintFailed, Linting, RuleDoc
 
 if TYPE_CHECKING:
     from cattrs import Converter
@@ -54,9 +56,8 @@ FIX_ALL = f"{types.CodeActionKind.SourceFixAll.value}.{NAME}"
 #: since a configuration may ``extend`` a file of any name.
 CONFIG_SUFFIX = ".toml"
 USD_TEXT_SUFFIXES = (".usda", ".usd")
-#: A lint that took longer than this is "slow": the next edit waits DEBOUNCE
-#: seconds before linting, and cancels a running lint of the document.
-SLOW = 0.25
+#: After an edit of a slow document (its lint took longer than SLOW), seconds
+#: the server waits before linting it: a running lint of it is cancelled at once.
 DEBOUNCE = 0.2
 #: Text this long is presumed slow before its first lint finishes.
 LARGE_TEXT = 1_000_000
@@ -203,7 +204,11 @@ class UsdRenderLintServer(LanguageServer):
             text_document_sync_kind=types.TextDocumentSyncKind.Incremental,
         )
         self.linting = linting or Linting()
-        self.executor = ThreadPoolExecutor(max_workers=4, thread_name_prefix="usdrender-lint")
+        # A thread per child that may serve a call, and two for the calls that
+        # wait meanwhile (a newer lint giving up a hung one, a code action).
+        self.executor = ThreadPoolExecutor(
+            max_workers=MAX_CHILDREN + 2, thread_name_prefix="usdrender-lint"
+        )
         self.rules: dict[str, RuleDoc] = {}
         #: Every code, name and alias, lower-cased, to its rule.
         self.rule_names: dict[str, RuleDoc] = {}

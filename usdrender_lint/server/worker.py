@@ -8,10 +8,13 @@ document, and the next lint starts in a new child. The child keeps USD, the
 rules and the documents' layers loaded between lints (that is what makes a
 re-lint after a keystroke fast), and a spare child is started beside it, so
 that cancelling a long lint (killing its child, when a newer edit makes it
-pointless) costs no start-up. While one call has held the warm child for
-BUSY_LIMIT seconds, the spare becomes a second child that serves the other
-calls (and a new spare starts), so that a document that hangs USD does not
-hold up the others until its time-out; once neither is busy the second ends.
+pointless) costs no start-up. While every serving child has been held by
+a call for BUSY_LIMIT seconds, the spare becomes one more serving child (up to
+MAX_CHILDREN; a new spare starts), so that documents that hang USD, or take
+long, do not hold up the others until their time-out; a serving child beyond
+the warm one ends once another is idle too. A document holds one lint at a
+time: a newer lint of it waits for the running one, and gives it up (its child
+killed) once it has run SLOW seconds, before it starts.
 
 The child runs :func:`main` with FD: FD is its end of a
 socket pair, over which ``multiprocessing.connection`` carries pickled calls
@@ -153,18 +156,27 @@ class Child:
         return self.process.poll() is None
 
 
-#: Seconds a call may keep the warm child busy before a call waiting for it
-#: is served by the spare instead: a document that hangs USD (a FIFO on a
-#: sublayer path) held every other document's lint until its time-out.
+#: Seconds every serving child may be held by its call before a call waiting
+#: for one is served by the spare instead: a document that hangs USD (a FIFO on
+#: a sublayer path) held every other document's lint until its time-out.
 BUSY_LIMIT = 1.0
+#: The most children that serve calls at once (besides the spare): two
+#: documents that hung USD held the two there were, and every other document's
+#: lint waited for their time-out.
+MAX_CHILDREN = 4
+#: A lint that took longer than this is "slow" (the server waits out a burst of
+#: edits before it lints a slow document again); a newer lint of a document
+#: gives up the running one once it has run this long.
+SLOW = 0.25
 
 
 class Linting:
     """The server's lints in child processes: a warm one, a spare and, while
-    the warm one has been busy for BUSY_LIMIT seconds, a second one.
+    every serving child has been busy for BUSY_LIMIT seconds, more (up to
+    MAX_CHILDREN).
 
     Called from the server's worker threads, never its protocol thread. A call
-    takes an idle child (the warm one first); when both are busy it waits for
+    takes an idle child (the warm one first); when all are busy it waits for
     one. :meth:`cancel` kills the child while it lints an older version of a
     document; the call waiting on it raises :class:`LintFailed` (cancelled).
     """
@@ -173,9 +185,9 @@ class Linting:
         #: The editor's ``configuration`` (initializationOptions), for the children.
         self.configuration: str | dict[str, Any] | None = None
         self._state = threading.Condition()
-        self._active: Child | None = None
-        #: Serves calls while the active child is held up; ended once both idle.
-        self._second: Child | None = None
+        #: The children that serve calls, the warm one first; the others serve
+        #: while those before them are held up, and end once another is idle.
+        self._children: list[Child] = []
         self._spare: Child | None = None
         #: Each busy child's call: (path, version, when it started, whether a lint).
         self._running: dict[Child, tuple[str, int, float, bool]] = {}
@@ -201,19 +213,18 @@ class Linting:
                 self._release(child, failed=False)
 
     def _fill(self) -> None:
-        """Replace dead children (the second, warm, before the spare); keep a spare."""
-        for name in ("_active", "_second"):
-            child = getattr(self, name)
-            if child is not None and child not in self._running and not child.alive:
+        """Drop dead children (the next serving one, warm, before the spare);
+        keep a serving child and a spare."""
+        for child in list(self._children):
+            if child not in self._running and not child.alive:
                 child.close()
-                setattr(self, name, None)
-        if self._active is None and self._second is not None:
-            self._active, self._second = self._second, None
-        if self._active is None:
-            self._active, self._spare = self._spare or Child(self.configuration), None
-            if not self._active.alive:  # the spare died too (killed from outside)
-                self._active.close()
-                self._active = Child(self.configuration)
+                self._children.remove(child)
+        if not self._children:
+            child, self._spare = self._spare or Child(self.configuration), None
+            if not child.alive:  # the spare died too (killed from outside)
+                child.close()
+                child = Child(self.configuration)
+            self._children.append(child)
         if self._spare is None:
             self._spare = Child(self.configuration)
 
@@ -226,25 +237,49 @@ class Linting:
                     # Edits typed while a lint runs queued a lint each, and each
                     # text was linted in turn before the newest was shown.
                     raise LintFailed("outdated by a newer edit", cancelled=True)
+                if lint:
+                    wait = self._give_up_older(path, version)
+                    if wait is not None:
+                        self._state.wait(wait)
+                        continue
                 self._fill()
-                assert self._active is not None
-                for child in (self._active, self._second):
-                    if child is not None and child not in self._running:
+                for child in self._children:
+                    if child not in self._running:
                         self._running[child] = (path, version, time.monotonic(), lint)
                         return child
                 wait = None
-                if self._second is None:
-                    wait = self._running[self._active][2] + BUSY_LIMIT - time.monotonic()
+                if len(self._children) < MAX_CHILDREN:
+                    held = max(self._running[child][2] for child in self._children)
+                    wait = held + BUSY_LIMIT - time.monotonic()
                     if wait <= 0:
-                        self._second, self._spare = self._spare, None
+                        assert self._spare is not None  # _fill keeps one
+                        self._children.append(self._spare)
+                        self._spare = None
                         continue
                 self._state.wait(wait)
+
+    def _give_up_older(self, path: str, version: int) -> float | None:
+        """For a lint of ``path`` at ``version``: None when no older lint of the
+        document runs; else the seconds to wait for it (it ends, or is given
+        up). Without this, a lint asked for before the running one turned out
+        slow (an edit or a save as USD hangs on the document) took another
+        child: two such documents held every child until their time-out."""
+        now, wait = time.monotonic(), None
+        for child, (running, older, started, lint) in self._running.items():
+            if lint and running == path and older < version:
+                if now - started >= SLOW:
+                    child.kill(cancelled=True)  # its call ends, and _release wakes us
+                    left = BUSY_LIMIT
+                else:
+                    left = started + SLOW - now
+                wait = left if wait is None else min(wait, left)
+        return wait
 
     def _release(self, child: Child, *, failed: bool) -> None:
         ended = []
         with self._state:
             self._running.pop(child, None)
-            if failed or child.cancelled or child not in (self._active, self._second):
+            if failed or child.cancelled or child not in self._children:
                 # It crashed, ran out of time or was cancelled (or was replaced
                 # meanwhile): the next call takes another. A cancel that landed
                 # as the call's answer came in killed it all the same, and the
@@ -252,15 +287,13 @@ class Linting:
                 # call as "cancelled", and that document's lint was never shown.
                 child.kill()
                 ended.append(child)
-                if self._active is child:
-                    self._active = None
-                elif self._second is child:
-                    self._second = None
-            second = self._second
-            if second is not None and self._active is not None and not self._running:
-                # Neither is held up any longer: one warm child is enough.
-                self._second = None
-                ended.append(second)
+                if child in self._children:
+                    self._children.remove(child)
+            idle = [each for each in self._children if each not in self._running]
+            for extra in idle[1:]:
+                # One idle child is enough (the warmest: the first).
+                self._children.remove(extra)
+                ended.append(extra)
             self._state.notify_all()
         for each in ended:
             each.close()
@@ -279,8 +312,8 @@ class Linting:
         try:
             if method == "forget_configuration":
                 with self._state:
-                    for other in (self._active, self._second):
-                        if other is not None and other is not child:
+                    for other in self._children:
+                        if other is not child:
                             other.stale_configuration = True
             elif child.stale_configuration:
                 child.call("forget_configuration", (), texts, timeout)
@@ -330,8 +363,8 @@ class Linting:
         before the wait saw the child die, and the wait went on for that one
         until the time-out (the server's exit waited as long)."""
         with self._state:
-            children = [c for c in (self._active, self._second, self._spare) if c is not None]
-            self._active = self._second = self._spare = None
+            children = [*self._children, *([self._spare] if self._spare is not None else [])]
+            self._children, self._spare = [], None
             running = set(self._running)
         for child in running:
             child.kill(cancelled=True)
