@@ -218,16 +218,26 @@ class Report:
         ``baseline_held`` findings aside);
         of one ``severity`` only, when given."""
         fixes = [
-            f.fix
+            fix
             for result in self.files
             for f in result.findings
-            if f.fix is not None
-            and f.code not in self.unfixable_in(result.file)
-            and f not in self.baseline_held
+            if (fix := self.offered_fix(f, result.file)) is not None
             and severity in (None, f.severity)
         ]
         safe = sum(1 for fix in fixes if fix.safe)
         return safe, len(fixes) - safe
+
+    def offered_fix(self, finding: Finding, file: str | None = None) -> FixInfo | None:
+        """The fix this run offers for ``finding`` (linted in ``file``, by default
+        its stage's): what every format shows as a fix and counts, so that they
+        agree. None for a rule ``unfixable`` there and for a ``baseline_held``
+        finding, whose fixes --fix leaves."""
+        fix = finding.fix
+        if fix is None or finding in self.baseline_held:
+            return None
+        if finding.code in self.unfixable_in(finding.location.file if file is None else file):
+            return None
+        return fix
 
     def unfixable_in(self, file: str) -> frozenset[str]:
         """The rule codes whose fixes ``--fix`` never applies in ``file``."""

@@ -8,7 +8,7 @@ import json
 import re
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from .model import AppliedFix, FileResult, Finding, FixInfo, Location, Report, Severity
 from .paths import display_path, escape
@@ -22,11 +22,16 @@ class ReportFormatError(ValueError):
 
 
 def finding_to_dict(
-    finding: Finding, layer_path: Callable[[str], str] = display_path
+    finding: Finding,
+    layer_path: Callable[[str], str] = display_path,
+    fix: FixInfo | None | Literal[False] = False,
 ) -> dict[str, Any]:
     """The finding as the report writes it; ``layer_path`` shows the layer
-    (relative to the working directory by default)."""
+    (relative to the working directory by default); ``fix``: the fix to write
+    when it is not the finding's own (Report.offered_fix)."""
     loc = finding.location
+    if fix is False:
+        fix = finding.fix
     return {
         "code": finding.code,
         "name": finding.name,
@@ -37,11 +42,7 @@ def finding_to_dict(
         "layer": layer_path(loc.layer) if loc.layer else None,
         "line": loc.line,
         "column": loc.column,
-        "fix": (
-            None
-            if finding.fix is None
-            else {"description": finding.fix.description, "safe": finding.fix.safe}
-        ),
+        "fix": None if fix is None else {"description": fix.description, "safe": fix.safe},
         # The renderer profile the finding was judged under, and why (R2-5).
         "profile": finding.profile,
         "profile_reason": finding.profile_reason,
@@ -83,7 +84,11 @@ def report_to_dict(
                 "file": result.file,
                 "status": result.status,
                 "error": result.error,
-                "findings": [finding_to_dict(f) for f in result.findings],
+                # The fix the run offers: none the baseline holds back, as --fix leaves it.
+                "findings": [
+                    finding_to_dict(f, fix=report.offered_fix(f, result.file))
+                    for f in result.findings
+                ],
                 # Which configuration judged it (a tree of shows has several).
                 "config_file": display_path(result.config) if result.config else None,
                 # Lines for the user beside its findings (--variants' skipped

@@ -284,6 +284,20 @@ def test_the_summary_counts_no_fix_under_config_variants(shot: Path) -> None:
     assert fix.exit_code == 2 and "variants" in fix.stderr
 
 
+def test_no_format_offers_a_fix_under_config_variants(shot: Path) -> None:
+    # The summary counted none, as check --fix refuses the configuration, while
+    # each line said "[fix: ...]" and JSON, JUnit and HTML (with its diff) offered it.
+    (shot / ".usdrender-lint.toml").write_text('select = ["SE003", "SE009"]\nvariants = true\n')
+    base = ["check", "--jobs", "1", "--no-cache", "shots/shot.usda"]
+    text = CliRunner().invoke(cli, base).stdout
+    assert "SE009" in text and "fix" not in text
+    document = json.loads(CliRunner().invoke(cli, [*base, "--format", "json"]).stdout)
+    fixes = [f["fix"] for e in document["files"] for f in e["findings"]]
+    assert fixes and fixes == [None] * len(fixes)
+    for fmt, offered in (("junit", "fix: "), ("html", 'class="fix"')):
+        assert offered not in CliRunner().invoke(cli, [*base, "--format", fmt]).stdout, fmt
+
+
 def test_a_finding_of_an_unfixable_rule_offers_no_fix(shot: Path) -> None:
     # Its line said "[fix: ...]" as any other, while --fix leaves it alone and
     # the summary did not count it. Now it offers none, as every other format

@@ -7,7 +7,7 @@ from collections.abc import Callable, Mapping
 from typing import Any, Protocol, TextIO
 
 from ..entrypoints import EntryPointLike, entry_points
-from ..model import Finding, Report
+from ..model import Finding, FixInfo, Report
 from ..paths import escape
 from ..records import record
 
@@ -36,6 +36,23 @@ class FormatOptions:
     #: that reads the files again (html's pictures and fix diffs); None for a file,
     #: or no function: the file's nearest configuration.
     settings_of: Callable[[str], Any] | None = None
+
+
+#: What a report for people says beside a fix the baseline holds back (Report.baseline_held).
+HELD_BY_BASELINE = "not applied while the baseline records this rule here"
+
+
+def shown_fix(report: Report, finding: Finding) -> tuple[FixInfo, bool] | None:
+    """The fix a report for people shows under ``finding``, and whether it is
+    one the baseline holds back, shown marked (HELD_BY_BASELINE) as --fix
+    leaves it. Whether a fix is offered is Report.offered_fix's answer, which
+    the machine formats write and every summary counts."""
+    offered = report.offered_fix(finding)
+    if offered is not None:
+        return offered, False
+    if finding.fix is not None and finding in report.baseline_held:
+        return finding.fix, True
+    return None
 
 
 class Formatter(Protocol):

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, TextIO
 from ..model import FileResult, Finding, FixInfo, Report, RuleInfo, Severity
 from ..paths import display_path, printable
 from ..running.report_views import finding_key as _key
-from . import FormatOptions
+from . import HELD_BY_BASELINE, FormatOptions, shown_fix
 
 if TYPE_CHECKING:
     from ..running.report_views import Excerpt, FileView, ReportViews
@@ -95,7 +95,7 @@ def render_page(report: Report, views: ReportViews, options: FormatOptions) -> s
     if not report.files:
         out.append('<p class="note">No USD files were linted.</p>')
     for index, result in enumerate(report.files):
-        out.extend(_file_section(index, result, views.files.get(result.file), rules))
+        out.extend(_file_section(index, result, views.files.get(result.file), rules, report))
     out.append("</main>")
     out.append(
         '<footer class="dim">Filters live in the address (<code>#severity=error&amp;code=SE003'
@@ -140,7 +140,9 @@ def _filters(findings: Sequence[Finding], rules: dict) -> list[str]:
     return out
 
 
-def _file_section(index: int, result: FileResult, view: FileView | None, rules: dict) -> list[str]:
+def _file_section(
+    index: int, result: FileResult, view: FileView | None, rules: dict, report: Report
+) -> list[str]:
     ids = {_key(finding): f"f{index}-{number}" for number, finding in enumerate(result.findings)}
     out = _file_head(index, result)
     if result.error:
@@ -152,7 +154,7 @@ def _file_section(index: int, result: FileResult, view: FileView | None, rules: 
     if result.findings:
         out.append('<ol class="findings">')
         for finding in result.findings:
-            out.extend(_finding(finding, ids[_key(finding)], view, rules))
+            out.extend(_finding(finding, ids[_key(finding)], view, rules, report))
         out.append("</ol>")
     if view is not None and view.products:
         out += _framing(index, result, view, ids)
@@ -250,7 +252,9 @@ def _product_figure(anchor: str, product, findings: Iterable[Finding], ids: dict
     return out
 
 
-def _finding(finding: Finding, anchor: str, view: FileView | None, rules: dict) -> list[str]:
+def _finding(
+    finding: Finding, anchor: str, view: FileView | None, rules: dict, report: Report
+) -> list[str]:
     out = [f'<li class="finding" id="{anchor}" {_data(finding)}>']
     out += _finding_head(finding, rules.get(finding.code))
     out.append(f'<p class="message">{escape(finding.message)}</p>')
@@ -265,8 +269,9 @@ def _finding(finding: Finding, anchor: str, view: FileView | None, rules: dict) 
     excerpt = view.excerpts.get(key) if view is not None else None
     if excerpt is not None:
         out.append(_excerpt(excerpt))
-    if finding.fix is not None:
-        out += _fix(finding.fix, view.diffs.get(key) if view is not None else None)
+    shown = shown_fix(report, finding)
+    if shown is not None:
+        out += _fix(*shown, view.diffs.get(key) if view is not None else None)
     out.append("</li>")
     return out
 
@@ -296,8 +301,11 @@ def _finding_head(finding: Finding, rule: RuleInfo | None) -> list[str]:
     return out
 
 
-def _fix(fix: FixInfo, diff: str | None) -> list[str]:
+def _fix(fix: FixInfo, held: bool, diff: str | None) -> list[str]:
     kind = "fix" if fix.safe else "unsafe fix (--unsafe-fixes)"
+    if held:  # --fix leaves it: marked as the text report marks it, with no diff
+        kind = f"{'fix' if fix.safe else 'unsafe fix'}, {HELD_BY_BASELINE}"
+        diff = None
     out = [f'<p class="fix"><span class="tag">{kind}</span> {escape(fix.description)}</p>']
     if diff:
         out.append(_diff(diff))

@@ -49,9 +49,9 @@ import re
 from typing import TextIO
 from xml.etree import ElementTree
 
-from ..model import FileResult, Finding, Report, Severity
+from ..model import FileResult, Finding, FixInfo, Report, Severity
 from ..paths import display_path, layer_file, printable, relative_in, repository_root
-from . import FormatOptions
+from . import HELD_BY_BASELINE, FormatOptions, shown_fix
 
 #: The test case of a file as a whole: passing, or with the reason it could not be linted.
 FILE_TEST = "lint"
@@ -74,7 +74,7 @@ def xml_text(text: str, keep: str = "") -> str:
     return printable(_NOT_XML.sub(lambda m: f"\\u{ord(m.group()):04x}", text), keep=keep)
 
 
-def _failure_text(finding: Finding, base: str | None) -> str:
+def _failure_text(finding: Finding, base: str | None, shown: tuple[FixInfo, bool] | None) -> str:
     loc = finding.location
     layer = layer_file(loc.layer)
     where = display_path(str(layer or loc.file), base)
@@ -84,8 +84,10 @@ def _failure_text(finding: Finding, base: str | None) -> str:
     if loc.path:
         lines.append(f"path: {loc.path}")
     lines.append(finding.message)
-    if finding.fix is not None:
-        lines.append(f"{'fix' if finding.fix.safe else 'unsafe fix'}: {finding.fix.description}")
+    if shown is not None:  # formatters.shown_fix
+        fix, held = shown
+        kind = ("fix" if fix.safe else "unsafe fix") + (f", {HELD_BY_BASELINE}" if held else "")
+        lines.append(f"{kind}: {fix.description}")
     stage = display_path(loc.file, base)
     if layer is not None and display_path(str(layer), base) != stage:
         lines.append(f"stage: {stage}")
@@ -111,13 +113,13 @@ class _Suite:
             self.element, "testcase", name=xml_text(unique), classname=self.name
         )
 
-    def fail(self, finding: Finding) -> None:
+    def fail(self, finding: Finding, shown: tuple[FixInfo, bool] | None) -> None:
         loc = finding.location
         name = " ".join(part for part in (finding.code, finding.name, loc.path) if part)
         failure = ElementTree.SubElement(self.case(name), "failure")
         failure.set("message", xml_text(finding.message))
         failure.set("type", xml_text(finding.code))
-        failure.text = _failure_text(finding, self.base)
+        failure.text = _failure_text(finding, self.base, shown)
         self.counts["failures"] += 1
 
     def error(self, result: FileResult) -> None:
@@ -146,7 +148,7 @@ def report_to_junit(report: Report, options: FormatOptions) -> ElementTree.Eleme
             suite.error(result)
         for finding in result.findings:
             if options.show_info or finding.severity != Severity.INFO:
-                suite.fail(finding)
+                suite.fail(finding, shown_fix(report, finding))
         suite.close()
         for key, count in suite.counts.items():
             totals[key] += count

@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import Any, TextIO
 from urllib.parse import quote_from_bytes
 
-from ..model import INTERNAL_ERROR_RULE, Finding, Report, RuleInfo, Severity
+from ..model import INTERNAL_ERROR_RULE, Finding, FixInfo, Report, RuleInfo, Severity
 from ..paths import layer_file, printable, repository_root
 from . import FormatOptions, json_text, statistics
 from .fingerprints import Occurrences
@@ -142,7 +142,9 @@ def _rules(report: Report) -> list[RuleInfo]:
     return sorted(rules.values(), key=lambda rule: rule.code)
 
 
-def _result(finding: Finding, index: int, root: Path, occurrences: Occurrences) -> dict[str, Any]:
+def _result(
+    finding: Finding, index: int, root: Path, occurrences: Occurrences, fix: FixInfo | None
+) -> dict[str, Any]:
     loc = finding.location
     result: dict[str, Any] = {
         "ruleId": finding.code,
@@ -178,8 +180,8 @@ def _result(finding: Finding, index: int, root: Path, occurrences: Occurrences) 
     if location:
         result["locations"] = [location]
     properties: dict[str, Any] = {}
-    if finding.fix is not None:
-        properties["fix"] = {"description": finding.fix.description, "safe": finding.fix.safe}
+    if fix is not None:  # Report.offered_fix: none the baseline holds back
+        properties["fix"] = {"description": fix.description, "safe": fix.safe}
     if finding.profile is not None:
         properties["profile"] = finding.profile
         properties["profileReason"] = finding.profile_reason
@@ -222,7 +224,7 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
             }
         ],
         "results": [
-            _result(f, index[f.code], root, occurrences)
+            _result(f, index[f.code], root, occurrences, report.offered_fix(f))
             for f in report.findings
             if options.show_info or f.severity != Severity.INFO
         ],

@@ -18,10 +18,10 @@ import re
 from collections.abc import Callable, Iterable
 from typing import TextIO
 
-from ..model import AppliedFix, FileResult, Finding, Report, Severity
+from ..model import AppliedFix, FileResult, Finding, FixInfo, Report, Severity
 from ..paths import columns, display_path, layer_file, printable
 from ..records import record
-from . import FormatOptions, statistics_lines
+from . import HELD_BY_BASELINE, FormatOptions, shown_fix, statistics_lines
 
 _STYLE = {Severity.ERROR: "bold red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 #: Continuation lines of a wrapped message start here.
@@ -116,7 +116,7 @@ def finding_entry(
     finding: Finding,
     show_profile: bool = False,
     below: Below | None = None,
-    held: bool = False,
+    shown: tuple[FixInfo, bool] | None = None,
 ) -> Entry:
     loc = finding.location
     file = _file_of(loc.layer, loc.file)
@@ -126,12 +126,12 @@ def finding_entry(
     message = _without_position(printable(finding.message), line)
     label = (finding.severity.value, _STYLE[finding.severity])
     head, tail = _labelled(label, finding.code, loc.path, message)
-    if finding.fix is not None:
-        # None for a rule the configuration makes ``unfixable`` (Prepared.finish).
-        kind = "fix" if finding.fix.safe else "unsafe fix"
-        if held:  # Report.baseline_held: --fix leaves the place the baseline accepts
-            kind += ", not applied while the baseline records this rule here"
-        tail.append((f"[{kind}: {printable(finding.fix.description)}]", "dim"))
+    if shown is not None:  # formatters.shown_fix
+        fix, held = shown
+        kind = "fix" if fix.safe else "unsafe fix"
+        if held:
+            kind += f", {HELD_BY_BASELINE}"
+        tail.append((f"[{kind}: {printable(fix.description)}]", "dim"))
     if show_profile and finding.profile:
         tail.append((f"[profile {finding.profile}: {finding.profile_reason}]", "dim"))
     linted = printable(display_path(loc.file) or loc.file)
@@ -272,7 +272,7 @@ class TextFormatter:
             if options.show_info or finding.severity != Severity.INFO
         ]
         entries = [
-            finding_entry(finding, options.show_info, below, finding in report.baseline_held)
+            finding_entry(finding, options.show_info, below, shown_fix(report, finding))
             for finding in shown
         ]
         entries += [error_entry(result) for result in report.errored_files]

@@ -240,7 +240,14 @@ def _diffs(
 ) -> None:
     """Each fixable finding's fix as a unified diff of the text layers it edits
     (``--fix``'s verified edit, computed in memory, nothing written)."""
-    wanted = [(r.file, f) for r in report.files if r.file in files for f in r.findings if f.fix]
+    # The fixes the run offers: none the baseline holds back, which --diff leaves.
+    wanted = [
+        (r.file, f)
+        for r in report.files
+        if r.file in files
+        for f in r.findings
+        if report.offered_fix(f, r.file)
+    ]
     if not wanted:
         return
     fixable = len(wanted)

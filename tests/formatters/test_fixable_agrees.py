@@ -1,0 +1,159 @@
+"""Every report of one run agrees on which findings are fixable: one configured
+project (a rule made ``unfixable``, a ``--baseline`` that holds a new finding's
+fix back) through every output format. A format says a finding is fixable when
+it offers its fix (the text, HTML and JUnit reports show a held fix marked, as
+``--fix`` leaves it); the summaries count the same findings.
+
+The project: the example shot (CA004 with a safe fix the configuration makes
+unfixable, SE007 with a safe fix, SE003 with an unsafe one) and a product
+whose second missing orderedVars target is new on a relationship where the
+baseline records the first (PR005: reported, its unsafe fix held back).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+from pathlib import Path
+from xml.etree import ElementTree
+
+import pytest
+from click.testing import CliRunner
+
+from usdrender_lint.cli import cli
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLE = REPO / "examples" / "broken_shot"
+#: What ``--fix --unsafe-fixes`` would fix: each finding's code and whether it is safe.
+FIXABLE = {"SE007": True, "SE003": False}
+#: Reported without a fix on offer: CA004 (unfixable), PR005 (held by the baseline).
+REPORTED = {"CA004", "SE007", "SE003", "PR005"}
+HELD = "not applied while the baseline records this rule here"
+
+ONE_MISSING = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
+        rel orderedVars = [</Render/Color>, </Render/Missing1>]
+    }
+
+    def RenderVar "Color"
+    {
+        string sourceName = "Ci"
+    }
+}
+"""
+TWO_MISSING = ONE_MISSING.replace("</Render/Missing1>]", "</Render/Missing1>, </Render/Missing2>]")
+
+
+@pytest.fixture
+def project(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The check's arguments, run from the project's folder."""
+    for name in ("shot.usda", "lighting_wip.usda"):
+        shutil.copy(EXAMPLE / name, tmp_path / name)
+    (tmp_path / ".usdrender-lint.toml").write_text(
+        'select = ["CA004", "SE007", "SE003", "PR005"]\nunfixable = ["CA004"]\n'
+    )
+    (tmp_path / "beauty.usda").write_text(ONE_MISSING)
+    monkeypatch.chdir(tmp_path)
+    base = ["check", "--no-cache", "--jobs", "1", "--timeout", "0"]
+    written = CliRunner().invoke(cli, [*base, "--write-baseline", "baseline.json", "beauty.usda"])
+    assert written.exit_code == 0, written.output
+    (tmp_path / "beauty.usda").write_text(TWO_MISSING)
+    return [*base, "--baseline", "baseline.json", "shot.usda", "beauty.usda"]
+
+
+def _report(args: list[str], fmt: str) -> str:
+    done = CliRunner().invoke(cli, [*args, "--format", fmt])
+    assert done.exit_code == 1, done.output
+    return done.stdout
+
+
+def _text_fixes(stdout: str) -> dict[str, bool]:
+    offered = {}
+    for line in stdout.splitlines():
+        found = re.search(r" ([A-Z]{2}\d{3}) .*\[(unsafe )?fix(, [^:]*)?: ", line)
+        if found and not found.group(3):
+            offered[found.group(1)] = not found.group(2)
+        if found and found.group(3):
+            assert found.group(3) == f", {HELD}", line
+    return offered
+
+
+def _json_fixes(stdout: str) -> dict[str, bool]:
+    findings = [f for file in json.loads(stdout)["files"] for f in file["findings"]]
+    assert {f["code"] for f in findings} == REPORTED
+    return {f["code"]: f["fix"]["safe"] for f in findings if f["fix"] is not None}
+
+
+def _sarif_fixes(stdout: str) -> dict[str, bool]:
+    results = json.loads(stdout)["runs"][0]["results"]
+    assert {r["ruleId"] for r in results} == REPORTED
+    return {
+        r["ruleId"]: r["properties"]["fix"]["safe"]
+        for r in results
+        if "fix" in r.get("properties", {})
+    }
+
+
+def _junit_fixes(stdout: str) -> dict[str, bool]:
+    offered = {}
+    failures = list(ElementTree.fromstring(stdout).iter("failure"))
+    assert {f.get("type") for f in failures} == REPORTED
+    for failure in failures:
+        for line in (failure.text or "").splitlines():
+            found = re.match(r"(unsafe )?fix(, [^:]*)?: ", line)
+            if found and not found.group(2):
+                offered[failure.get("type")] = not found.group(1)
+    return offered
+
+
+def _html_fixes(stdout: str) -> dict[str, bool]:
+    offered = {}
+    entries = stdout.split('<li class="finding"')[1:]
+    assert {re.search(r'data-code="([^"]+)"', e).group(1) for e in entries} == REPORTED  # type: ignore[union-attr]
+    for entry in entries:
+        code = re.search(r'data-code="([^"]+)"', entry).group(1)  # type: ignore[union-attr]
+        tag = re.search(r'<p class="fix"><span class="tag">([^<]*)</span>', entry)
+        if tag and HELD not in tag.group(1):
+            offered[code] = tag.group(1) == "fix"
+        if tag and HELD in tag.group(1):
+            assert '<pre class="diff">' not in entry  # no diff of a fix --diff leaves
+    return offered
+
+
+READERS = {
+    "text": _text_fixes,
+    "full": _text_fixes,
+    "json": _json_fixes,
+    "sarif": _sarif_fixes,
+    "junit": _junit_fixes,
+    "html": _html_fixes,
+}
+
+
+@pytest.mark.parametrize("fmt", sorted(READERS))
+def test_every_format_offers_the_fixes_fix_would_apply(project: list[str], fmt: str) -> None:
+    # JSON, SARIF and HTML offered PR005's fix that the baseline holds back (JUnit
+    # too, unmarked), while the text report marked it and counted it not.
+    assert READERS[fmt](_report(project, fmt)) == FIXABLE
+
+
+def test_the_summaries_count_the_fixes_offered(project: list[str]) -> None:
+    safe = sum(FIXABLE.values())
+    unsafe = len(FIXABLE) - safe
+    text = _report(project, "text").splitlines()[-1]
+    assert text.endswith(f"; {safe} fixable with --fix ({unsafe} more with --unsafe-fixes).")
+    html = _report(project, "html")
+    assert f'<span class="chip">{safe} fixable with --fix, {unsafe} more unsafe</span>' in html
+
+
+def test_the_github_and_gitlab_reports_offer_no_fix(project: list[str]) -> None:
+    # Neither format carries fixes: no held or unfixable fix shows up in them.
+    for fmt in ("github", "gitlab"):
+        shown = _report(project, fmt)
+        assert "remove </Render/Missing2>" not in shown and "retarget" not in shown
