@@ -243,6 +243,14 @@ class Report:
         """The rule codes whose fixes ``--fix`` never applies in ``file``."""
         return dict(self.unfixable_by_file).get(file, self.unfixable)
 
+    def unfixable_everywhere(self) -> frozenset[str]:
+        """The rule codes whose fixes the run offers in no file: ``unfixable``
+        in every file's configuration (a run split by configuration may make a
+        rule unfixable in one part only, whose other files it still fixes)."""
+        if not self.unfixable_by_file or not self.files:
+            return self.unfixable
+        return frozenset.intersection(*(self.unfixable_in(r.file) for r in self.files))
+
     @property
     def findings(self) -> tuple[Finding, ...]:
         return tuple(f for result in self.files for f in result.findings)

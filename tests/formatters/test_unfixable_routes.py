@@ -19,6 +19,7 @@ from pxr import Usd
 
 from usdrender_lint import lint_file, lint_stage
 from usdrender_lint.cli import cli
+from usdrender_lint.model import FileResult, Report
 from usdrender_lint.running.stage_lints import CheckLinters, StageLints
 
 REPO = Path(__file__).resolve().parents[2]
@@ -88,3 +89,29 @@ def test_every_route_gives_the_findings_of_check(shot: Path) -> None:
     traced = hosts.reported(stage, StageLints(hosts.linter, hosts.lint).findings(stage))
     assert keyed(t.finding for t in traced) == checked
     assert any(code == "CA004" for code, *_ in checked)
+
+
+def test_the_sarif_run_describes_an_unfixable_rule_without_a_fix(shot: Path) -> None:
+    # tool.driver.rules[] said CA004's class ("safe-conditional") while its
+    # results carry no fix and --fix applies none: the run offers none.
+    done = CliRunner().invoke(cli, ["check", "--no-cache", "--format", "sarif", str(shot)])
+    described = {
+        rule["id"]: rule["properties"]["fix"]
+        for rule in json.loads(done.stdout)["runs"][0]["tool"]["driver"]["rules"]
+    }
+    assert described["CA004"] == "none"
+    assert described["SE007"] == "safe-conditional"
+
+
+def test_a_rule_unfixable_in_one_part_of_a_split_run_keeps_its_fix_class() -> None:
+    # Its fixes are offered in the other part's files.
+    report = Report(
+        (FileResult("a.usda"), FileResult("b.usda")),
+        unfixable=frozenset({"CA004", "SE007"}),
+        unfixable_by_file=(
+            ("a.usda", frozenset({"CA004"})),
+            ("b.usda", frozenset({"CA004", "SE007"})),
+        ),
+    )
+    assert report.unfixable_everywhere() == {"CA004"}
+    assert Report(unfixable=frozenset({"SE007"})).unfixable_everywhere() == {"SE007"}

@@ -113,7 +113,9 @@ def description(text: str) -> str:
     return words[0].rstrip() + "…"
 
 
-def _descriptor(rule: RuleInfo) -> dict[str, Any]:
+def _descriptor(rule: RuleInfo, unfixable: frozenset[str]) -> dict[str, Any]:
+    """The rule as this run has it: no fix for one the configuration makes
+    ``unfixable`` (its results carry none either), whatever its class."""
     return {
         "id": rule.code,
         "name": rule.name,
@@ -123,7 +125,7 @@ def _descriptor(rule: RuleInfo) -> dict[str, Any]:
         "help": {"text": rule.doc or rule.summary or rule.name}
         | ({"markdown": rule.doc} if rule.doc else {}),
         "defaultConfiguration": {"level": _LEVEL[rule.severity]},
-        "properties": {"fix": rule.fix},
+        "properties": {"fix": "none" if rule.code in unfixable else rule.fix},
     } | ({"helpUri": rule.url} if rule.url else {})
 
 
@@ -192,6 +194,7 @@ def _result(
 
 def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[str, Any]:
     rules = _rules(report)
+    unfixable = report.unfixable_everywhere()
     index = {rule.code: position for position, rule in enumerate(rules)}
     occurrences = Occurrences(str(root))
     notifications = [
@@ -211,7 +214,7 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
             "driver": {
                 "name": options.tool_name,
                 "version": options.tool_version,
-                "rules": [_descriptor(rule) for rule in rules],
+                "rules": [_descriptor(rule, unfixable) for rule in rules],
             }
         },
         "originalUriBaseIds": {SRCROOT: {"uri": folder_uri(root)}},
