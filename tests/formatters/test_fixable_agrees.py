@@ -157,3 +157,17 @@ def test_the_github_and_gitlab_reports_offer_no_fix(project: list[str]) -> None:
     for fmt in ("github", "gitlab"):
         shown = _report(project, fmt)
         assert "remove </Render/Missing2>" not in shown and "retarget" not in shown
+
+
+@pytest.mark.parametrize("fmt", sorted(READERS))
+def test_merge_config_offers_the_fixes_check_under_it_offers(project: list[str], fmt: str) -> None:
+    # A report linted under another configuration (--isolated: CA004 fixable),
+    # merged with --config naming the project's: CA004's fix was offered again.
+    at = project.index("--baseline")
+    isolated = [*project[:at], "--isolated", "--select", "CA004,SE007,SE003,PR005", *project[at:]]
+    CliRunner().invoke(cli, [*isolated, "--format", "json", "--output", "run.json"])
+    merged = CliRunner().invoke(
+        cli, ["merge", "--config", ".usdrender-lint.toml", "--format", fmt, "run.json"]
+    )
+    assert merged.exit_code == 1, merged.output
+    assert READERS[fmt](merged.stdout) == FIXABLE

@@ -641,3 +641,28 @@ def test_a_finding_without_a_severity_is_named_once(project: Path) -> None:
         f"usdrender-lint: error: edited.json: files[{index}].findings[0]: "
         "'severity' is missing or not a str\n",
     )
+
+
+def test_merge_config_judges_the_files_as_check_under_it(project: Path) -> None:
+    """``merge --config FILE`` took that configuration's fail-on and the rules a
+    SARIF report describes, but not what check applies after linting: its
+    per-path ignores and unfixable rules. Shards linted under another
+    configuration merged into a report that showed the findings and offered the
+    fixes a check under FILE leaves out ("2 fixable" where check said none)."""
+    reports = _sharded_reports(2, "--isolated")
+    Path("strict.toml").write_text(
+        'unfixable = ["SE003"]\n\n[per-path-ignores]\n"shots/seq1/*" = ["SE003"]\n'
+    )
+    for fmt in ("sarif", "text", "html"):
+        code, whole = _check("--config", "strict.toml", "--format", fmt, "shots")
+        merged = _merge("--config", "strict.toml", "--format", fmt, *reports)
+        assert (merged.exit_code, merged.stdout) == (code, whole), fmt
+    _code, whole = _check("--config", "strict.toml", "--format", "json", "shots")
+    merged = _merge("--config", "strict.toml", "--format", "json", *reports)
+    findings = [
+        [f for e in json.loads(t)["files"] for f in e["findings"]] for t in (whole, merged.stdout)
+    ]
+    assert findings[0] == findings[1]
+    assert all(f["fix"] is None for f in findings[1] if f["code"] == "SE003")
+    assert not any("seq1" in f["file"] and f["code"] == "SE003" for f in findings[1])
+    assert any(f["code"] == "SE003" for f in findings[1])

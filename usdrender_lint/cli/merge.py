@@ -56,7 +56,13 @@ def merge(
     import_engine()
     from ..running.merge import MergeError, merge_reports
     from ..running.outputs import OutputOnInput, refuse_inputs
-    from ..running.pipeline import Request, RequestError, exit_status, prepare
+    from ..running.pipeline import (
+        Request,
+        RequestError,
+        exit_status,
+        finished_by_file,
+        prepare,
+    )
 
     given = setting_values("merge", settings)
     config_path, overrides = config
@@ -74,13 +80,21 @@ def merge(
         prepared = prepare(request)
     except (MergeError, RequestError) as exc:
         raise ToolError(str(exc)) from None
+    settings_of = _settings_of(prepared.settings, config_path, overrides, isolated)
+    if settings_of is not None:
+        # The configuration asked for judges the files as check under it would: its
+        # per-path ignores and unfixable rules (the reports' check may have had others).
+        try:
+            report = finished_by_file(report, settings_of, prepared.registry)
+        except RequestError as exc:  # a file's nearest configuration, with the overrides
+            raise ToolError(str(exc)) from None
     options = FormatOptions(
         show_info=show_info or prepared.settings.fail_on == "info",
         tool_version=__version__,
         statistics=statistics,
         fixing=bool(report.applied_fixes or report.unapplied_fixes),
         configuration=configuration,
-        settings_of=_settings_of(prepared.settings, config_path, overrides, isolated),
+        settings_of=settings_of,
     )
     emit_report(report, output_format, prepared.linter.rules, options, output_file)
     for line in (line for r in report.files for line in r.notes):

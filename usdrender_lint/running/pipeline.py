@@ -525,12 +525,8 @@ class Prepared:
     spec: LinterSpec
 
     def finish(self, report: Report) -> Report:
-        """The report as the user sees it: per-path ignores applied, and no
-        fix offered for a rule the configuration makes ``unfixable``."""
-        report = apply_path_ignores(
-            report, self.settings.per_path_ignores, self.settings.base_dir, self.registry.rules
-        )
-        return without_fixes(report, self.unfixable)
+        """The report as the user sees it (:func:`finished`)."""
+        return finished(report, self.settings, self.registry, self.unfixable)
 
     def is_reported(self, finding: Finding) -> bool:
         """Whether a finding reaches the report (per-path ignores, the baseline)
@@ -566,8 +562,65 @@ class Prepared:
     @cached_property
     def unfixable(self) -> frozenset[str]:
         """The codes of the rules whose fixes --fix never applies."""
-        rules = self.registry.rules
-        return frozenset(r.code for r in rules if matches_any(r, self.settings.unfixable))
+        return unfixable_codes(self.settings, self.registry)
+
+
+def unfixable_codes(settings: Settings, registry: Registry) -> frozenset[str]:
+    """The codes of the rules ``settings`` makes ``unfixable``."""
+    return frozenset(r.code for r in registry.rules if matches_any(r, settings.unfixable))
+
+
+def finished(
+    report: Report,
+    settings: Settings,
+    registry: Registry,
+    unfixable: frozenset[str] | None = None,
+) -> Report:
+    """``report`` (linted under ``settings``) as the user sees it: per-path
+    ignores applied, no fix offered for a rule the configuration makes
+    ``unfixable``, and ``Report.unfixable`` the codes whose fixes --fix never
+    applies (every rule's under ``variants``, which check --fix refuses: no
+    count invites it). What check does after linting, and merge again under
+    the configuration it is given. ``unfixable``: the settings' codes, when known."""
+    rules = registry.rules
+    report = apply_path_ignores(report, settings.per_path_ignores, settings.base_dir, rules)
+    if unfixable is None:
+        unfixable = unfixable_codes(settings, registry)
+    report = without_fixes(report, unfixable)
+    if settings.variants:
+        unfixable = frozenset(rule.code for rule in rules)
+    return replace(report, unfixable=unfixable)
+
+
+def finished_by_file(
+    report: Report, settings_of: Callable[[str], Settings | None], registry: Registry
+) -> Report:
+    """``report`` as check shows it when each file is linted under its own
+    ``settings_of(file)`` (:func:`finished`; a file without is left as it is):
+    ``merge --config`` judges the merged files again under the configuration
+    it is given, as a check with it would (its per-path ignores and
+    ``unfixable`` rules)."""
+    parts: dict[int, tuple[Settings, list[int]]] = {}
+    for index, result in enumerate(report.files):
+        settings = settings_of(result.file)
+        if settings is not None:
+            parts.setdefault(id(settings), (settings, []))[1].append(index)
+    files = list(report.files)
+    unfixable_of: list[frozenset[str]] = [frozenset()] * len(files)
+    for settings, indexes in parts.values():
+        part = finished(Report(tuple(files[i] for i in indexes)), settings, registry)
+        for index, result in zip(indexes, part.files, strict=True):
+            files[index], unfixable_of[index] = result, part.unfixable
+    if not parts:
+        return report
+    judged = replace(report, files=tuple(files))
+    if len(parts) == 1 and len(next(iter(parts.values()))[1]) == len(files):
+        return replace(judged, unfixable=unfixable_of[0])  # one configuration judged them all
+    return replace(
+        judged,
+        unfixable=frozenset().union(*unfixable_of),
+        unfixable_by_file=tuple((r.file, u) for r, u in zip(files, unfixable_of, strict=True)),
+    )
 
 
 def without_fixes(report: Report, codes: frozenset[str]) -> Report:
@@ -853,10 +906,7 @@ def _report_files(run: _FilesRun, ahead: Mapping[str, FileResult] | None = None)
     if plan is not None:
         report = replace(report, files=plan.failed + report.files)
         report = plan.narrow(report)
-    unfixable = prepared.unfixable
-    if settings.variants:  # check --fix refuses it (_check_fix_request): no count invites it
-        unfixable = frozenset(rule.code for rule in prepared.registry.rules)
-    report = replace(prepared.finish(report), unfixable=unfixable)
+    report = prepared.finish(report)
     if settings.source:  # which configuration judged each file, for the report
         report = replace(
             report, files=tuple(replace(r, config=settings.source) for r in report.files)
