@@ -28,7 +28,7 @@ EXAMPLE = REPO / "examples" / "broken_shot"
 #: What ``--fix --unsafe-fixes`` would fix: each finding's code and whether it is safe.
 FIXABLE = {"SE007": True, "SE003": False}
 #: Reported without a fix on offer: CA004 (unfixable), PR005 (held by the baseline).
-REPORTED = {"CA004", "SE007", "SE003", "PR005"}
+REPORTED = frozenset({"CA004", "SE007", "SE003", "PR005"})
 HELD = "not applied while the baseline records this rule here"
 
 ONE_MISSING = """#usda 1.0
@@ -73,7 +73,7 @@ def _report(args: list[str], fmt: str) -> str:
     return done.stdout
 
 
-def _text_fixes(stdout: str) -> dict[str, bool]:
+def _text_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, bool]:
     offered = {}
     for line in stdout.splitlines():
         found = re.search(r" ([A-Z]{2}\d{3}) .*\[(unsafe )?fix(, [^:]*)?: ", line)
@@ -84,15 +84,15 @@ def _text_fixes(stdout: str) -> dict[str, bool]:
     return offered
 
 
-def _json_fixes(stdout: str) -> dict[str, bool]:
+def _json_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, bool]:
     findings = [f for file in json.loads(stdout)["files"] for f in file["findings"]]
-    assert {f["code"] for f in findings} == REPORTED
+    assert {f["code"] for f in findings} == reported
     return {f["code"]: f["fix"]["safe"] for f in findings if f["fix"] is not None}
 
 
-def _sarif_fixes(stdout: str) -> dict[str, bool]:
+def _sarif_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, bool]:
     results = json.loads(stdout)["runs"][0]["results"]
-    assert {r["ruleId"] for r in results} == REPORTED
+    assert {r["ruleId"] for r in results} == reported
     return {
         r["ruleId"]: r["properties"]["fix"]["safe"]
         for r in results
@@ -100,10 +100,10 @@ def _sarif_fixes(stdout: str) -> dict[str, bool]:
     }
 
 
-def _junit_fixes(stdout: str) -> dict[str, bool]:
+def _junit_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, bool]:
     offered = {}
     failures = list(ElementTree.fromstring(stdout).iter("failure"))
-    assert {f.get("type") for f in failures} == REPORTED
+    assert {f.get("type") for f in failures} == reported
     for failure in failures:
         for line in (failure.text or "").splitlines():
             found = re.match(r"(unsafe )?fix(, [^:]*)?: ", line)
@@ -112,10 +112,10 @@ def _junit_fixes(stdout: str) -> dict[str, bool]:
     return offered
 
 
-def _html_fixes(stdout: str) -> dict[str, bool]:
+def _html_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, bool]:
     offered = {}
     entries = stdout.split('<li class="finding"')[1:]
-    assert {re.search(r'data-code="([^"]+)"', e).group(1) for e in entries} == REPORTED  # type: ignore[union-attr]
+    assert {re.search(r'data-code="([^"]+)"', e).group(1) for e in entries} == reported  # type: ignore[union-attr]
     for entry in entries:
         code = re.search(r'data-code="([^"]+)"', entry).group(1)  # type: ignore[union-attr]
         tag = re.search(r'<p class="fix"><span class="tag">([^<]*)</span>', entry)
@@ -171,3 +171,32 @@ def test_merge_config_offers_the_fixes_check_under_it_offers(project: list[str],
     )
     assert merged.exit_code == 1, merged.output
     assert READERS[fmt](merged.stdout) == FIXABLE
+
+
+@pytest.mark.parametrize("fmt", sorted(READERS))
+def test_a_held_fix_whose_message_names_a_file_stays_held(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, fmt: str
+) -> None:
+    # The report writes a message's absolute paths relative to the working
+    # directory; the finding so renamed was no longer among those the baseline
+    # holds back, and every format offered its fix (a plugin rule's message
+    # that quotes a layer's path).
+    from usdrender_lint.cli.check import emit_report
+    from usdrender_lint.formatters import FormatOptions
+    from usdrender_lint.model import FileResult, Finding, FixInfo, Location, Report, Severity
+
+    monkeypatch.chdir(tmp_path)
+    layer = str(tmp_path / "beauty.usda")
+    held = Finding(
+        "PR005",
+        "ordered-vars-invalid-target",
+        Severity.ERROR,
+        f"orderedVars target </Render/Missing2> of @{layer}@ does not exist",
+        Location(layer, "/Render/Beauty.orderedVars", layer, 8),
+        FixInfo("remove </Render/Missing2> from orderedVars", safe=False),
+    )
+    report = Report((FileResult(layer, findings=(held,)),), baseline_held=frozenset({held}))
+    emit_report(report, fmt, [], FormatOptions(show_info=True), "out")
+    shown = (tmp_path / "out").read_text(encoding="utf-8")
+    assert "@beauty.usda@" in shown
+    assert READERS[fmt](shown, frozenset({"PR005"})) == {}

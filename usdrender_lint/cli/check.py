@@ -32,7 +32,7 @@ from .views import send
 
 if TYPE_CHECKING:
     from ..api import Rule
-    from ..model import Report, RuleInfo
+    from ..model import Finding, Report, RuleInfo
     from ..running.pipeline import Outcome, Request
     from ..running.standard_input import StandardInput
 
@@ -553,7 +553,13 @@ def _relative_messages(report: Report) -> Report:
     from ..paths import relative_in
 
     files = []
+    renamed: dict[Finding, Finding] = {}
     for result in report.files:
         findings = tuple(replace(f, message=relative_in(f.message)) for f in result.findings)
+        renamed.update(
+            (old, new) for old, new in zip(result.findings, findings, strict=True) if old != new
+        )
         files.append(result if findings == result.findings else replace(result, findings=findings))
-    return replace(report, files=tuple(files))
+    # The findings the baseline holds back are the report's own: the same once renamed.
+    held = frozenset(renamed.get(f, f) for f in report.baseline_held)
+    return replace(report, files=tuple(files), baseline_held=held)
