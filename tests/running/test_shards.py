@@ -666,3 +666,16 @@ def test_merge_config_judges_the_files_as_check_under_it(project: Path) -> None:
     assert all(f["fix"] is None for f in findings[1] if f["code"] == "SE003")
     assert not any("seq1" in f["file"] and f["code"] == "SE003" for f in findings[1])
     assert any(f["code"] == "SE003" for f in findings[1])
+
+
+def test_merged_shards_describe_the_configuration_s_unfixable_rules_as_check(
+    project: Path,
+) -> None:
+    # The CI workflow (merge --format sarif of the shards, no --config): the
+    # merged SARIF described SE003 with its class ("unsafe"), check's with "none".
+    (project / "pyproject.toml").write_text('[tool.usdrender-lint]\nunfixable = ["SE003"]\n')
+    code, whole = _check("--format", "sarif", "shots")
+    merged = _merge("--format", "sarif", *_sharded_reports(2))
+    assert (merged.exit_code, merged.stdout) == (code, whole)
+    described = json.loads(whole)["runs"][0]["tool"]["driver"]["rules"]
+    assert [r["properties"]["fix"] for r in described if r["id"] == "SE003"] == ["none"]

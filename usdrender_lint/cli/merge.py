@@ -25,6 +25,8 @@ from .output import ToolError, errors_after_report, note
 
 if TYPE_CHECKING:
     from ..config import Settings
+    from ..model import Report
+    from ..registry import Registry
     from ..running.report_views import SettingsOf
 
 
@@ -81,13 +83,15 @@ def merge(
     except (MergeError, RequestError) as exc:
         raise ToolError(str(exc)) from None
     settings_of = _settings_of(prepared.settings, config_path, overrides, isolated)
-    if settings_of is not None:
-        # The configuration asked for judges the files as check under it would: its
-        # per-path ignores and unfixable rules (the reports' check may have had others).
-        try:
-            report = finished_by_file(report, settings_of, prepared.registry)
-        except RequestError as exc:  # a file's nearest configuration, with the overrides
-            raise ToolError(str(exc)) from None
+    # The configuration asked for judges the files as check under it would: its
+    # per-path ignores and unfixable rules (the reports' check may have had others).
+    # Without one, each file's as its report records it, which its findings show
+    # already; what it makes unfixable is what a SARIF report describes so.
+    judge = settings_of or _recorded(report, prepared.registry)
+    try:
+        report = finished_by_file(report, judge, prepared.registry)
+    except RequestError as exc:  # a file's nearest configuration, with the overrides
+        raise ToolError(str(exc)) from None
     options = FormatOptions(
         show_info=show_info or prepared.settings.fail_on == "info",
         tool_version=__version__,
@@ -103,6 +107,29 @@ def merge(
         (r.error or r.file for r in report.errored_files), output_format, output_file
     )
     sys.exit(exit_status(report, prepared.settings.fail_on))
+
+
+def _recorded(report: Report, registry: Registry) -> SettingsOf:
+    """Each file's configuration as the check that linted it records it
+    (``config_file``), read again; None for a file linted with none, or one
+    whose configuration is not here to read (its findings are left as they are)."""
+    from ..running.pipeline import Request, RequestError, prepare
+
+    recorded = {result.file: result.config for result in report.files}
+    known: dict[str, Settings | None] = {}
+
+    def settings_of(file: str) -> Settings | None:
+        config = recorded.get(file)
+        if config is None:
+            return None
+        if config not in known:
+            try:
+                known[config] = prepare(Request((".",), config=config), registry).settings
+            except RequestError:
+                known[config] = None
+        return known[config]
+
+    return settings_of
 
 
 def _settings_of(
