@@ -75,6 +75,9 @@ def _report(args: list[str], fmt: str) -> str:
 
 def _text_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, bool]:
     offered = {}
+    assert (
+        set(re.findall(r"^\S+: (?:error|warning|info) ([A-Z]{2}\d{3}) ", stdout, re.M)) == reported
+    )
     for line in stdout.splitlines():
         found = re.search(r" ([A-Z]{2}\d{3}) .*\[(unsafe )?fix(, [^:]*)?: ", line)
         if found and not found.group(3):
@@ -114,10 +117,12 @@ def _junit_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, 
 
 def _html_fixes(stdout: str, reported: frozenset[str] = REPORTED) -> dict[str, bool]:
     offered = {}
-    entries = stdout.split('<li class="finding"')[1:]
-    assert {re.search(r'data-code="([^"]+)"', e).group(1) for e in entries} == reported  # type: ignore[union-attr]
-    for entry in entries:
-        code = re.search(r'data-code="([^"]+)"', entry).group(1)  # type: ignore[union-attr]
+    entries = [
+        (re.findall(r'data-code="([^"]+)"', entry)[0], entry)
+        for entry in stdout.split('<li class="finding"')[1:]
+    ]
+    assert {code for code, _entry in entries} == reported
+    for code, entry in entries:
         tag = re.search(r'<p class="fix"><span class="tag">([^<]*)</span>', entry)
         if tag and HELD not in tag.group(1):
             offered[code] = tag.group(1) == "fix"
