@@ -61,6 +61,21 @@ def fix_to_dict(fix: AppliedFix) -> dict[str, Any]:
     }
 
 
+#: A finding's fix the baseline holds back (Report.baseline_held): only on such a
+#: finding, whose ``fix`` is null since --fix leaves it; merge reads it back.
+HELD_FIX = "held_fix"
+
+
+def _finding_in(report: Report, finding: Finding, file: str) -> dict[str, Any]:
+    """The finding with the fix the run offers: none the baseline holds back,
+    which is written apart (HELD_FIX)."""
+    document = finding_to_dict(finding, fix=report.offered_fix(finding, file))
+    held = finding.fix
+    if held is not None and document["fix"] is None and finding in report.baseline_held:
+        document[HELD_FIX] = {"description": held.description, "safe": held.safe}
+    return document
+
+
 def report_to_dict(
     report: Report,
     tool_name: str,
@@ -84,11 +99,7 @@ def report_to_dict(
                 "file": result.file,
                 "status": result.status,
                 "error": result.error,
-                # The fix the run offers: none the baseline holds back, as --fix leaves it.
-                "findings": [
-                    finding_to_dict(f, fix=report.offered_fix(f, result.file))
-                    for f in result.findings
-                ],
+                "findings": [_finding_in(report, f, result.file) for f in result.findings],
                 # Which configuration judged it (a tree of shows has several).
                 "config_file": display_path(result.config) if result.config else None,
                 # Lines for the user beside its findings (--variants' skipped
@@ -134,11 +145,9 @@ def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Findin
         severity = Severity.parse(name)
     except ValueError as exc:
         raise ReportFormatError(f"{where}: {exc}") from None
-    fix = data.get("fix")
-    if fix is not None:
-        fix = FixInfo(
-            _field(fix, "description", str, f"{where}.fix"), _field(fix, "safe", bool, where)
-        )
+    fix = _fix_info(data, "fix", where)
+    if fix is None:  # a fix the baseline held back is the finding's still (report_from_dict)
+        fix = _fix_info(data, HELD_FIX, where)
     line, column = data.get("line"), data.get("column")  # "column" came later: optional
     for key, number in (("line", line), ("column", column)):
         if number is not None and (not isinstance(number, int) or isinstance(number, bool)):
@@ -162,6 +171,15 @@ def finding_from_dict(data: Mapping[str, Any], where: str = "finding") -> Findin
         fix,
         profile,
         reason,
+    )
+
+
+def _fix_info(data: Mapping[str, Any], key: str, where: str) -> FixInfo | None:
+    fix = data.get(key)
+    if fix is None:
+        return None
+    return FixInfo(
+        _field(fix, "description", str, f"{where}.{key}"), _field(fix, "safe", bool, where)
     )
 
 
@@ -245,10 +263,18 @@ def report_from_dict(document: Any) -> Report:
     if any(isinstance(f, Mapping) and f.get("status") == "computed" for f in files):
         raise ReportFormatError("a document of 'usdrender-lint spec', not a check report")
     fixes = [_fix_from_dict(f, f"fixes[{i}]") for i, f in enumerate(document.get("fixes") or ())]
+    results = tuple(result_from_dict(f, f"files[{i}]") for i, f in enumerate(files))
+    held = frozenset(
+        finding
+        for result, entry in zip(results, files, strict=True)
+        for finding, data in zip(result.findings, entry["findings"], strict=True)
+        if isinstance(data, Mapping) and data.get("fix") is None and data.get(HELD_FIX)
+    )
     return Report(
-        tuple(result_from_dict(f, f"files[{i}]") for i, f in enumerate(files)),
+        results,
         applied_fixes=tuple(f for f in fixes if f.applied),
         unapplied_fixes=tuple(f for f in fixes if not f.applied),
+        baseline_held=held,
     )
 
 

@@ -205,3 +205,22 @@ def test_a_held_fix_whose_message_names_a_file_stays_held(
     shown = (tmp_path / "out").read_text(encoding="utf-8")
     assert "@beauty.usda@" in shown
     assert READERS[fmt](shown, frozenset({"PR005"})) == {}
+
+
+@pytest.mark.parametrize("fmt", ["text", "junit", "json", "sarif"])
+def test_merged_shards_hold_back_the_fix_the_baseline_holds_back(
+    project: list[str], fmt: str
+) -> None:
+    # Each shard may read the baseline; the JSON report wrote a held fix as
+    # null, and the merged text report lost its mark (check's said "not applied
+    # while the baseline records this rule here").
+    shards = []
+    for k in (1, 2):
+        done = CliRunner().invoke(
+            cli, [*project, "--shard", f"{k}/2", "--format", "json", "--output", f"{k}.json"]
+        )
+        assert done.exit_code in (0, 1), done.output
+        shards.append(f"{k}.json")
+    merged = CliRunner().invoke(cli, ["merge", "--format", fmt, *shards])
+    assert merged.exit_code == 1, merged.output
+    assert merged.stdout == _report(project[:-2] + ["beauty.usda", "shot.usda"], fmt)

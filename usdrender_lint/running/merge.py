@@ -28,7 +28,7 @@ import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
-from ..model import AppliedFix, FileResult, Report
+from ..model import AppliedFix, FileResult, Finding, Report
 from ..report_json import ReportFormatError, read_document, report_from_dict, shard_from_dict
 
 if TYPE_CHECKING:
@@ -85,6 +85,7 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
     if not paths:
         raise MergeError("merge needs at least one JSON report")
     files: dict[str, tuple[FileResult, str]] = {}
+    held_back: set[Finding] = set()
     applied: list[AppliedFix] = []
     unapplied: list[AppliedFix] = []
     first: tuple[str, str | None, str | None] | None = None
@@ -99,6 +100,7 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
             shard = shard_from_dict(document)
         except ReportFormatError as exc:
             raise MergeError(f"{path}: {exc}") from None
+        held_back.update(report.baseline_held)
         identity = (path, _version(document), _configuration(document))
         if first is None:
             first = identity
@@ -129,6 +131,7 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
         tuple(files[name][0] for name in sorted(files)),
         applied_fixes=tuple(applied),
         unapplied_fixes=tuple(unapplied),
+        baseline_held=frozenset(held_back),
     )
     assert first is not None
     return merged, first[2]
