@@ -577,18 +577,18 @@ def finished(
     unfixable: frozenset[str] | None = None,
 ) -> Report:
     """``report`` (linted under ``settings``) as the user sees it: per-path
-    ignores applied, no fix offered for a rule the configuration makes
-    ``unfixable``, and ``Report.unfixable`` the codes whose fixes --fix never
-    applies (every rule's under ``variants``, which check --fix refuses: no
-    count invites it). What check does after linting, and merge again under
+    ignores applied, and no fix on a finding of a rule whose fixes --fix never
+    applies (``Report.unfixable``): those the configuration makes ``unfixable``,
+    and every rule's under ``variants``, which check --fix refuses (the API's
+    findings then carry none either, as the reports offer none). What check does after linting, and merge again under
     the configuration it is given. ``unfixable``: the settings' codes, when known."""
     rules = registry.rules
     report = apply_path_ignores(report, settings.per_path_ignores, settings.base_dir, rules)
     if unfixable is None:
         unfixable = unfixable_codes(settings, registry)
-    report = without_fixes(report, unfixable)
     if settings.variants:
         unfixable = frozenset(rule.code for rule in rules)
+    report = without_fixes(report, unfixable)
     return replace(report, unfixable=unfixable)
 
 
