@@ -546,3 +546,44 @@ def test_a_folder_with_force_exclude_gets_issues_on_checks_files_only(tmp_path: 
     _, log = _cli_run(project, tmp_path / "folder.json")
     with_issues = {Path(asset).name for asset, issues in _logged_by_asset(log).items() if issues}
     assert len(_logged_by_asset(log)) == 4 and with_issues == {"shot.usda"}
+
+
+#: A shot whose lint reads a sublayer and a referenced layer (each edit below
+#: keeps its file's size).
+_SHOT = {
+    "shot.usda": "#usda 1.0\n(\n    subLayers = [@lighting.usda@]\n)\n"
+    'def "cam" (references = @cam.usda@</Cam>)\n{\n}\n'
+    'def Scope "Render"\n{\n    def RenderSettings "Settings"\n    {\n'
+    "        rel camera = </cam>\n        uniform int2 resolution = (1920, 1080)\n"
+    "        uniform float4 dataWindowNDC = (0.25, 0.25, 0.75, 0.75)\n    }\n}\n",
+    "lighting.usda": '#usda 1.0\nover "Render"\n{\n    over "Settings"\n    {\n'
+    "        uniform float pixelAspectRatio = 1.0\n    }\n}\n",
+    "cam.usda": '#usda 1.0\ndef Camera "Cam"\n{\n}\n',
+}
+_EDITS = (
+    ("shot.usda", "(0.25, 0.25, 0.75, 0.75)", "(0.75, 0.25, 0.25, 0.75)"),
+    ("lighting.usda", "pixelAspectRatio = 1.0", "pixelAspectRatio = 0.0"),
+    ("cam.usda", 'def Camera "Cam"', 'def Xform  "Cam"'),
+)
+
+
+def test_a_file_validated_again_after_an_edit_gets_checks_fresh_findings(tmp_path: Path) -> None:
+    # A host (Kit, a script) validates a file, its user edits the file, a
+    # sublayer or a referenced layer, and validates again in the same process:
+    # the layers are read anew, as check reads them (a stage the plugin kept
+    # alive kept them open, and USD handed their old content to the new stage).
+    engine = _engine()
+    for index, (name, old, new) in enumerate(_EDITS):
+        folder = tmp_path / f"shot{index}"
+        folder.mkdir()
+        for file, text in _SHOT.items():
+            (folder / file).write_text(text)
+        shot = str((folder / "shot.usda").resolve())
+        before = {_issue_key(i) for i in engine.validate(shot).issues()}
+        edited = folder / name
+        times = edited.stat()
+        edited.write_text(_SHOT[name].replace(old, new))
+        os.utime(edited, ns=(times.st_atime_ns, times.st_mtime_ns))  # the time set back too
+        after = {_issue_key(i) for i in engine.validate(shot).issues()}
+        fresh = _checked.__wrapped__((Path(shot),))[shot]
+        assert after == _expected(fresh) != before, name

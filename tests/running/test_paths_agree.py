@@ -9,7 +9,11 @@ path) and the same file among others, its text on standard input (``check -
 USD opens from the file), and the
 UsdValidation plugin (as far as its errors map: code, site path, layer,
 message and severity; its errors carry no profile). A file that one path lints
-and another cannot is a difference too.
+and another cannot is a difference too. And a file edited between two runs
+(the root, a sublayer's sublayer or a referenced layer; its size kept, its
+time new or set back) gets the fresh answer from the cached command and from
+a host process that linted it before (the Python API, the UsdValidation
+validators; the Asset Validator's in tests/assetvalidator).
 
 Cheap by design: one process per path over every file (about 700 of them), not
 one per file; the lone-file path forks one child per file from a process that
@@ -405,3 +409,150 @@ def test_the_usdvalidation_plugin_as_far_as_its_errors_map() -> None:
     expected = _answers({"files": list(cli.values())}, PLUGIN_FIELDS)
     got = _answers({"files": list(mapped.values())}, PLUGIN_FIELDS)
     assert _differences(expected, got) == []
+
+
+# -- a file edited between two runs ------------------------------------------------
+
+#: A shot whose lint reads every kind of layer: the root, a sublayer's
+#: sublayer, a referenced camera. Each edit below keeps its file's size.
+_SHOT = {
+    "shot.usda": textwrap.dedent(
+        """\
+        #usda 1.0
+        (
+            subLayers = [@lighting.usda@]
+            renderSettingsPrimPath = "/Render/Settings"
+        )
+        def "cam" (references = @cam.usda@</Cam>)
+        {
+        }
+        def Scope "Render"
+        {
+            def RenderSettings "Settings"
+            {
+                rel camera = </cam>
+                rel products = [</Render/Beauty>]
+                uniform int2 resolution = (1920, 1080)
+            }
+            def RenderProduct "Beauty"
+            {
+                token productName = "beauty.####.exr"
+                rel orderedVars = [</Render/Color>]
+                uniform float4 dataWindowNDC = (0.25, 0.25, 0.75, 0.75)
+            }
+        }
+        """
+    ),
+    "lighting.usda": '#usda 1.0\n(\n    subLayers = [@vars.usda@]\n)\nover "Render"\n{\n'
+    '    over "Beauty"\n    {\n        uniform float pixelAspectRatio = 1.0\n    }\n}\n',
+    "vars.usda": '#usda 1.0\ndef Scope "Render"\n{\n    def RenderVar "Color"\n    {\n'
+    '        uniform string sourceName = "Ci"\n        uniform token sourceType = "lpe"\n'
+    "    }\n}\n",
+    "cam.usda": '#usda 1.0\ndef Camera "Cam"\n{\n    float horizontalAperture = 36\n'
+    "    float verticalAperture = 20.25\n}\n",
+}
+#: (file, text, the same number of bytes in its place, whether the file's
+#: modification time is set back after the edit).
+_EDITS = (
+    ("shot.usda", "(0.25, 0.25, 0.75, 0.75)", "(0.75, 0.25, 0.25, 0.75)", True),
+    ("lighting.usda", "pixelAspectRatio = 1.0", "pixelAspectRatio = 0.0", False),
+    ("vars.usda", 'sourceType = "lpe"', 'sourceType = "xyz"', True),
+    ("cam.usda", 'def Camera "Cam"', 'def Xform  "Cam"', False),
+)
+
+#: In one process, as a host application lints: each shot once, then again
+#: after its edit, by the Python API and by the UsdValidation validators (on a
+#: stage opened anew, the first one closed).
+_HOSTS = """
+import gc, json, os, sys
+from pxr import Usd, UsdValidation
+from usdrender_lint import lint_file
+
+registry = UsdValidation.ValidationRegistry()
+context = UsdValidation.ValidationContext([
+    registry.GetOrLoadValidatorByName(m.name)
+    for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")
+])
+
+def site_path(site):
+    if site.IsProperty():
+        return str(site.GetProperty().GetPath())
+    if site.IsPrim() and not site.GetPrim().IsPseudoRoot():
+        return str(site.GetPrim().GetPath())
+    return None
+
+def api(path):
+    return sorted([f.code, f.location.path, f.message] for f in lint_file(path).findings)
+
+def validation(path):
+    stage = Usd.Stage.Open(path)
+    errors = context.Validate(stage)
+    found = sorted([e.GetName(), site_path(e.GetSites()[0]), e.GetMessage()] for e in errors)
+    del stage, errors
+    gc.collect()  # the host is done with the stage
+    return found
+
+out = {}
+for edit in json.loads(sys.argv[1]):
+    shot = os.path.join(edit["folder"], "shot.usda")
+    before = {"api": api(shot), "usdvalidation": validation(shot)}
+    path = os.path.join(edit["folder"], edit["file"])
+    times = os.stat(path)
+    with open(path, encoding="utf-8") as file:
+        text = file.read()
+    with open(path, "w", encoding="utf-8") as file:
+        file.write(text.replace(edit["old"], edit["new"]))
+    if edit["restore"]:
+        os.utime(path, ns=(times.st_atime_ns, times.st_mtime_ns))
+    out[shot] = {"before": before, "after": {"api": api(shot), "usdvalidation": validation(shot)}}
+print(json.dumps(out))
+"""
+
+
+def _shots(root: Path) -> list[dict]:
+    """One copy of the shot per edit (not made yet), its layers' times in the past."""
+    edits = []
+    for index, (file, old, new, restore) in enumerate(_EDITS):
+        folder = root / f"shot{index}"
+        folder.mkdir()
+        for name, text in _SHOT.items():
+            (folder / name).write_text(text)
+            os.utime(folder / name, (1_700_000_000, 1_700_000_000))
+        assert old in _SHOT[file] and len(old) == len(new)
+        edits.append(
+            {"folder": str(folder), "file": file, "old": old, "new": new, "restore": restore}
+        )
+    return edits
+
+
+def test_a_file_edited_between_two_runs_gets_the_fresh_answer_on_every_path(
+    tmp_path: Path,
+) -> None:
+    """The root layer, a sublayer's sublayer or a referenced layer edited
+    between two runs (its size kept; its modification time new or set back):
+    the second run of the cached command and of a host process that linted the
+    file before (the Python API, the UsdValidation validators) gives the answer
+    of a fresh ``check --no-cache``, each edit changing that answer."""
+    edits = _shots(tmp_path)
+    shots = [str(Path(e["folder"], "shot.usda")) for e in edits]
+    cache = ["--cache-dir", str(tmp_path / "cache")]
+    first = _answers(_check(*cache, files=shots))
+    done = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(_HOSTS), json.dumps(edits)],
+        capture_output=True,
+        env=_env(PXR_PLUGINPATH_NAME=str(plugin_dir())),
+        timeout=600,
+        cwd=ELSEWHERE,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    hosts = json.loads(done.stdout.decode().strip().splitlines()[-1])
+    fresh = _check("--no-cache", files=shots)
+    assert _differences(_answers(fresh), _answers(_check(*cache, files=shots))) == []
+    stale = []
+    for entry in fresh["files"]:
+        expected = sorted([f["code"], f["path"], f["message"]] for f in entry["findings"])
+        assert first[entry["file"]] != _answers({"files": [entry]})[entry["file"]]
+        for route, found in hosts[entry["file"]]["after"].items():
+            if found != expected:
+                stale.append(f"{entry['file']} by {route}: {found} against {expected}")
+    assert stale == []

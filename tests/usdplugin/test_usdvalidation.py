@@ -9,6 +9,7 @@ subprocess with the variable set.
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import stat
@@ -37,7 +38,7 @@ from usdrender_lint.usdplugin import (
     validator_name,
     write_plug_info,
 )
-from usdrender_lint.usdplugin.validators import StageLints, fixer_description
+from usdrender_lint.usdplugin.validators import CheckedLints, StageLints, fixer_description
 
 REPO = Path(__file__).parents[2]
 FIXTURES = REPO / "tests" / "rules"
@@ -239,6 +240,23 @@ def test_one_lint_per_stage_state() -> None:
     again = lints.findings(stage)
     assert len(built) == 3
     assert "SE003" not in {t.finding.code for t in again}
+
+
+def test_a_stage_the_host_closed_is_not_kept_open(tmp_path: Path) -> None:
+    """Every per-stage cache lets a stage go when its host drops it: a stage
+    kept alive keeps its layers open, and the next stage opened on the file
+    would get their old content, not what is on disk now."""
+    shot = tmp_path / "shot.usda"
+    shot.write_text(SE003_FAIL.read_text())
+    lints = CheckedLints()
+    stage = Usd.Stage.Open(str(shot))
+    assert "SE003" in {t.finding.code for t in lints.reported(stage)}
+    assert lints.failures.first(stage)
+    del stage
+    gc.collect()
+    assert Sdf.Layer.Find(str(shot)) is None
+    shot.write_text(shot.read_text().replace("= (0.8, 0, 0.2, 1)", "= (0.2, 0, 0.8, 1)"))
+    assert "SE003" not in {t.finding.code for t in lints.reported(Usd.Stage.Open(str(shot)))}
 
 
 # -- through OpenUSD's registry (subprocesses) -------------------------------------

@@ -6,15 +6,22 @@ A host calls one validator (or rule) per usdrender-lint rule, but the rules
 share a per-stage Context, the engine's customData suppressions and the
 profile decision, so the first call on a stage lints it with every rule and
 the others read that lint. The lint is dropped when the stage changes.
+
+Every cache here holds its stages weakly (:class:`StageMap`): a stage kept
+alive by a cache keeps its layers open, and USD then hands them, as they were
+read, to the next stage opened on the same file (``Sdf.Layer.FindOrOpen``
+reads no file whose layer is open), so a host validating a file again after
+it changed on disk would get the old answer.
 """
 
 from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Callable
+import weakref
+from collections.abc import Callable, Iterator, MutableMapping
 from dataclasses import field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from pxr import Tf, Usd
 
@@ -28,6 +35,35 @@ if TYPE_CHECKING:
 
 #: Stages whose lint is kept (the most recently linted ones).
 MAX_CACHED_STAGES = 4
+
+_V = TypeVar("_V")
+
+
+class StageMap(MutableMapping[Usd.Stage, _V]):
+    """A value per stage for at most MAX_CACHED_STAGES stages (the oldest
+    entry goes first), holding no stage alive: an entry goes when its stage
+    is closed. (A stage's Python object lives as long as the stage does, so a
+    stage is the same key on every call.)"""
+
+    def __init__(self) -> None:
+        self._entries: weakref.WeakKeyDictionary[Usd.Stage, _V] = weakref.WeakKeyDictionary()
+
+    def __getitem__(self, stage: Usd.Stage) -> _V:
+        return self._entries[stage]
+
+    def __setitem__(self, stage: Usd.Stage, value: _V) -> None:
+        self._entries[stage] = value
+        while len(self._entries) > MAX_CACHED_STAGES:
+            del self._entries[next(iter(self._entries))]
+
+    def __delitem__(self, stage: Usd.Stage) -> None:
+        del self._entries[stage]
+
+    def __iter__(self) -> Iterator[Usd.Stage]:
+        return iter(self._entries)
+
+    def __len__(self) -> int:
+        return len(self._entries)
 
 
 @record
@@ -53,7 +89,7 @@ class StageLints:
     ) -> None:
         self._linter_for = linter_for
         self._lint_for = lint_for or linter_for
-        self._lints: dict[Usd.Stage, _StageLint] = {}
+        self._lints: StageMap[_StageLint] = StageMap()
         self._lock = threading.RLock()
 
     def findings(self, stage: Usd.Stage) -> list[TracedFinding]:
@@ -65,9 +101,9 @@ class StageLints:
                 listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._forget, stage)
                 traced = linter.run_stage(stage, stage_file(stage)).traced()
                 cached = _StageLint(traced, listener)
-                self._lints[stage] = cached
-                while len(self._lints) > MAX_CACHED_STAGES:
+                while len(self._lints) >= MAX_CACHED_STAGES:
                     self._drop(next(iter(self._lints)))
+                self._lints[stage] = cached
             return cached.findings
 
     def linter(self, stage: Usd.Stage) -> Linter:
@@ -90,7 +126,7 @@ class FirstFailures:
     one reports it. Thread-safe."""
 
     def __init__(self) -> None:
-        self._failed: dict[Usd.Stage, None] = {}
+        self._failed: StageMap[None] = StageMap()
         self._lock = threading.Lock()
 
     def first(self, stage: Usd.Stage) -> bool:
@@ -99,8 +135,6 @@ class FirstFailures:
             if stage in self._failed:
                 return False
             self._failed[stage] = None
-            while len(self._failed) > MAX_CACHED_STAGES:
-                del self._failed[next(iter(self._failed))]
             return True
 
 
@@ -124,7 +158,7 @@ class CheckLinters:
         #: Each folder's Prepared, with the modification times of the files it read.
         self._prepared: dict[str, tuple[Any, tuple[tuple[str, int | None], ...]]] = {}
         #: Each stage's force-exclude answer, with the Prepared it was judged by.
-        self._force_excluded: dict[Usd.Stage, tuple[Any, bool]] = {}
+        self._force_excluded: StageMap[tuple[Any, bool]] = StageMap()
         self._lock = threading.Lock()
 
     def prepared(self, stage: Usd.Stage) -> Any:
@@ -192,8 +226,6 @@ class CheckLinters:
         answer = force_excluded(stage_file(stage), exclusions, folder_exclusions(prepared))
         with self._lock:
             self._force_excluded[stage] = (prepared, answer)
-            while len(self._force_excluded) > MAX_CACHED_STAGES:
-                del self._force_excluded[next(iter(self._force_excluded))]
         return answer
 
     def excluded(self, stage: Usd.Stage) -> Callable[[str], bool]:
@@ -222,4 +254,11 @@ class CheckLinters:
         return reported
 
 
-__all__ = ["MAX_CACHED_STAGES", "CheckLinters", "FirstFailures", "StageLints", "stage_file"]
+__all__ = [
+    "MAX_CACHED_STAGES",
+    "CheckLinters",
+    "FirstFailures",
+    "StageLints",
+    "StageMap",
+    "stage_file",
+]

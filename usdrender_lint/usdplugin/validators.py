@@ -32,12 +32,7 @@ from ..engine import TracedFinding
 from ..fixing.single import fix_one, refusal
 from ..model import Finding, Severity
 from ..running.pipeline import RequestError
-from ..running.stage_lints import (
-    MAX_CACHED_STAGES,
-    CheckLinters,
-    FirstFailures,
-    StageLints,
-)
+from ..running.stage_lints import CheckLinters, FirstFailures, StageLints, StageMap
 from . import PLUGIN_NAME, is_prim_validator, validator_key, validator_name
 
 ErrorType = UsdValidation.ValidationErrorType
@@ -105,7 +100,7 @@ class CheckedLints:
         self.checks = CheckLinters()
         self.lints = StageLints(self.checks.linter, self.checks.lint)
         self.failures = FirstFailures()
-        self._reported: dict[Usd.Stage, tuple[list[TracedFinding], list[TracedFinding]]] = {}
+        self._reported: StageMap[tuple[list[TracedFinding], list[TracedFinding]]] = StageMap()
         self._lock = threading.Lock()
 
     def reported(self, stage: Usd.Stage) -> list[TracedFinding]:
@@ -120,8 +115,6 @@ class CheckedLints:
         kept = self.checks.reported(stage, traced)
         with self._lock:
             self._reported[stage] = (traced, kept)
-            while len(self._reported) > MAX_CACHED_STAGES:
-                del self._reported[next(iter(self._reported))]
         return kept
 
 
