@@ -581,6 +581,42 @@ async def test_a_save_relints_with_the_files_on_disk(client: LanguageClient, wor
     )
 
 
+async def test_a_layer_rewritten_with_its_time_kept_is_read_again(
+    client: LanguageClient, workspace: Path
+):
+    """A referenced file rewritten with its size and modification time kept
+    (its time set back, as a copy that keeps times does, or written within
+    one tick of a coarse clock): told by the editor's file watcher, the next
+    lint reads it again, as check does (USD's own reload trusts the time alone)."""
+    rig = workspace / "kept_rig.usda"
+    rig.write_text('#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cam"\n    {\n    }\n}\n')
+    path = workspace / "kept_shot.usda"
+    text = (
+        '#usda 1.0\ndef Xform "World" (\n    references = @./kept_rig.usda@</rig>\n)\n{\n}\n'
+        'def RenderSettings "S"\n{\n    rel camera = </World/cam>\n}\n'
+    )
+    path.write_text(text)
+    uri = open_document(client, path, text)
+    assert "CA004" not in {d.code for d in await diagnostics_of(client, uri, 1)}
+    times = rig.stat()
+    rig.write_text(rig.read_text().replace('def Camera "cam"', 'def Xform  "cam"'))
+    os.utime(rig, ns=(times.st_atime_ns, times.st_mtime_ns))
+    assert rig.stat().st_size == times.st_size
+    count = publications[uri]
+    client.workspace_did_change_watched_files(
+        types.DidChangeWatchedFilesParams(
+            [types.FileEvent(uri=rig.as_uri(), type=types.FileChangeType.Changed)]
+        )
+    )
+    async with asyncio.timeout(60):
+        while publications[uri] == count:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert "CA004" in {d.code for d in client.diagnostics[uri]}
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(types.TextDocumentIdentifier(uri))
+    )
+
+
 async def test_a_document_whose_uri_the_client_encodes_gets_its_diagnostics(
     client: LanguageClient, workspace: Path
 ):

@@ -117,6 +117,8 @@ class Documents:
         self._parse_errors: dict[str, tuple[str, ...]] = {}
         self._stages: dict[str, Usd.Stage] = {}
         self._configs: dict[str, _Config] = {}
+        #: Each layer file's state when a lint last looked at it (_file_state).
+        self._file_states: dict[str, tuple[int, int, int, int] | None] = {}
 
     @property
     def registry(self) -> Registry:
@@ -250,15 +252,24 @@ class Documents:
         return lost
 
     def _reload_files(self, stage: Usd.Stage) -> None:
-        """Read again the layers on disk whose files changed since USD read them
-        (a reload without force does nothing for a file that did not change)."""
+        """Read again the layers on disk whose files changed since USD read them.
+        A reload without force compares the file's modification time alone
+        (SdfLayer::_Reload, pxr/usd/sdf/layer.cpp), so a file rewritten with its
+        time kept (set back, or within one tick of a coarse clock) would keep
+        its old content: a file whose size, change time or inode changed since
+        the last lint is read again whatever its time says."""
         for layer in stage.GetUsedLayers():
-            if layer.anonymous or layer.dirty or layer_real_path(layer) in self.texts:
+            real = layer_real_path(layer)
+            if layer.anonymous or layer.dirty or real in self.texts:
                 continue
+            state = _file_state(real)
+            force = real is not None and self._file_states.get(real, state) != state
+            if real is not None:
+                self._file_states[real] = state
             # Gone or unreadable: the composition reports it.
             with Tf.DiagnosticTrap() as trap:
                 with suppress(Tf.ErrorException):
-                    layer.Reload()
+                    layer.Reload(force)
                 trap.Clear()
 
     def _prepare(self, path: str) -> Prepared:
@@ -428,6 +439,17 @@ class Documents:
             return edit_text(text, before, after)
         except CannotEdit:
             return None
+
+
+def _file_state(path: str | None) -> tuple[int, int, int, int] | None:
+    """What tells a rewritten file: its size, times and inode (None: not there)."""
+    try:
+        info = os.stat(path) if path else None
+    except OSError:
+        return None
+    if info is None:
+        return None
+    return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
 
 
 def _misses_files(stage: Usd.Stage) -> bool:
