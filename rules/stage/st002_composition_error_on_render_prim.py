@@ -70,13 +70,18 @@ _QUOTED = re.compile(r"@[^@]*@|<[^>]*>|`[^`]*`")
 _SPACE_BEFORE_STOP = re.compile(r" +([;.])(?=\s|$)")
 
 
-def _usd_words(error) -> str:
-    """USD's text of the error on one line, without its C++ namespace or the
-    address of an anonymous layer, ending in a full stop."""
+def _usd_words(error, session: Sdf.Layer | None = None) -> str:
+    """USD's text of the error on one line, without its C++ namespace, the
+    stage's session layer or the address of an anonymous layer, ending in a
+    full stop."""
     text = " ".join(usd_text(error).split())
     text = _SPACE_BEFORE_STOP.sub(r"\1", USD_NAMESPACE.sub("", text))
     # A layer stack "@shot.usda@,@anon:...-session.usda@" is the user's layers
-    # and the tool's own session layer, which is named after the file linted.
+    # and the anonymous session layer of whoever opened the stage: the tool's
+    # own, named after the file linted, or a host's (the Asset Validator opens
+    # every stage with its own, anon:AssetValidator). A --fix-to layer stays.
+    if session is not None and session.anonymous:
+        text = text.replace(f",@{session.identifier}@", "")
     text = _SESSION_IN_STACK.sub("", _ANONYMOUS_ADDRESS.sub("anon:", text))
     return text if text.endswith((".", "!", "?")) else f"{text}."
 
@@ -246,7 +251,7 @@ class CompositionErrorOnRenderPrim(Rule):
             site = _composition_error_site(error)
             if site is None:
                 continue
-            text = _usd_words(error)
+            text = _usd_words(error, ctx.stage.GetSessionLayer())
             moved = _first_instance_site(ctx.stage, site)
             if moved is not None:
                 reported, first = moved

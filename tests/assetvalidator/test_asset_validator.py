@@ -150,6 +150,16 @@ def test_python_api_findings_are_checks_on_the_examples() -> None:
     assert got[str((REPO / "examples/clean_shot/shot.usda").resolve())] == set()
 
 
+def test_a_composition_error_reads_as_checks(tmp_path: Path) -> None:
+    # The Asset Validator opens each stage with a session layer of its own
+    # (anon:AssetValidator), which USD names in a cycle's layer stack: ST002's
+    # message names the user's layers only, as check's does.
+    files = _usd_files([REPO / "tests" / "rules" / "ST002_composition_error_on_render_prim"])
+    got = _validate_files(files)
+    assert _compare(files, got) == []
+    assert any("Cycle detected" in key[3] for found in got.values() for key in found)
+
+
 def test_python_api_findings_are_checks_on_the_corpus(shared_dir: Path) -> None:
     files = _usd_files([shared_dir / "corpus" / "files"])
     assert files, "the corpus has no USD files"

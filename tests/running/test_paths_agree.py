@@ -6,7 +6,8 @@ The paths: the result cache cold and warm, ``--no-cache --jobs 2`` (the pool),
 path) and the same file among others, its text on standard input (``check -
 --stdin-filename``, every text layer), three ``--shard K/3`` runs joined by
 ``merge``, the Python API's ``lint_file`` and ``lint_stage`` (on the stage
-USD opens from the file), and the
+USD opens from the file, and on one a host opens with its own session layer,
+as the Asset Validator does), and the
 UsdValidation plugin (as far as its errors map: code, site path, layer,
 message and severity; its errors carry no profile). A file that one path lints
 and another cannot is a difference too. And a file edited between two runs
@@ -33,7 +34,7 @@ from pathlib import Path
 
 import pytest
 from conftest import REPO, SHARED
-from pxr import Tf, Usd
+from pxr import Sdf, Tf, Usd
 
 from usdrender_lint import lint_file, lint_stage
 from usdrender_lint.formatters import FormatOptions
@@ -166,12 +167,19 @@ def _api() -> dict:
     return {"files": files}
 
 
-def _api_stages() -> dict:
-    """``lint_stage`` on every file USD opens (a file it refuses has no stage to hand over)."""
+def _api_stages(session: str | None = None) -> dict:
+    """``lint_stage`` on every file USD opens (a file it refuses has no stage to
+    hand over); with ``session``, each stage opened with an anonymous session
+    layer of that name, as a host opens it (the Asset Validator's is
+    "AssetValidator")."""
     files = []
     for path in TARGETS:
         try:
-            stage = Usd.Stage.Open(path)
+            if session is None:
+                stage = Usd.Stage.Open(path)
+            else:
+                root, own = Sdf.Layer.FindOrOpen(path), Sdf.Layer.CreateAnonymous(session)
+                stage = Usd.Stage.Open(root, own)
         except Tf.ErrorException:
             continue
         if stage is None:
@@ -371,11 +379,12 @@ def test_the_python_api(reference: dict[str, tuple], monkeypatch: pytest.MonkeyP
     assert _differences(reference, _answers(_api())) == []
 
 
+@pytest.mark.parametrize("session", [None, "AssetValidator"])
 def test_the_python_api_on_open_stages(
-    reference: dict[str, tuple], monkeypatch: pytest.MonkeyPatch
+    reference: dict[str, tuple], monkeypatch: pytest.MonkeyPatch, session: str | None
 ) -> None:
     monkeypatch.chdir(ELSEWHERE)
-    staged = _answers(_api_stages())
+    staged = _answers(_api_stages(session))
     # USD refuses a file that check reports with ST001 alone: no stage to hand over.
     refused = {
         file: answer
