@@ -726,17 +726,30 @@ def read_user_config(path: str | os.PathLike[str]) -> Settings:
     return dataclasses.replace(read_config_file(path), user_level=True)
 
 
-def file_stamps(files: Iterable[str]) -> tuple[tuple[str, int | None], ...]:
-    """Each file with its modification time (None: gone or unreadable): a
-    long-running host (the language server, a validator plugin) compares them
-    to read its configuration again when a file it read changed."""
-    stamped: list[tuple[str, int | None]] = []
-    for path in files:
-        try:
-            stamped.append((path, os.stat(path).st_mtime_ns))
-        except OSError:
-            stamped.append((path, None))
-    return tuple(stamped)
+#: What tells a rewritten file from the one read: its size, modification
+#: time, change time and inode (None: gone or unreadable).
+FileState = tuple[int, int, int, int] | None
+
+
+def file_state(path: str | None) -> FileState:
+    """The file's :data:`FileState`. Not its modification time alone: a file
+    rewritten with that time kept (set back by a copy that keeps times, or
+    written within one tick of a coarse clock) has another change time, and
+    one renamed into place another inode."""
+    try:
+        info = os.stat(path) if path else None
+    except OSError:
+        return None
+    if info is None:
+        return None
+    return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
+
+
+def file_stamps(files: Iterable[str]) -> tuple[tuple[str, FileState], ...]:
+    """Each file with its :data:`FileState`: a long-running host (the language
+    server, a validator plugin) compares them to read its configuration again
+    when a file it read changed."""
+    return tuple((path, file_state(path)) for path in files)
 
 
 def config_candidates(path: str | Path) -> tuple[str, ...]:

@@ -52,3 +52,20 @@ def test_a_nearer_configuration_created_later_wins(tmp_path: Path) -> None:
     assert "SE001" not in _codes(linters, stage)
     (folder / ".usdrender-lint.toml").write_text('select = ["SE001"]\n')
     assert _codes(linters, stage) == {"SE001"}
+
+
+def test_a_configuration_rewritten_with_its_time_kept_is_read_again(tmp_path: Path) -> None:
+    # Its modification time set back (a copy that keeps times, a checkout), or
+    # two writes within one tick of a coarse clock: the host kept the first
+    # configuration, where check run again reads the second.
+    (tmp_path / "shot.usda").write_text(SHOT)
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text('ignore = ["SE001"]\n')
+    stage = Usd.Stage.Open(str(tmp_path / "shot.usda"))
+    linters = CheckLinters()
+    assert "SE001" not in _codes(linters, stage)
+    times = config.stat()
+    config.write_text('ignore = ["SE002"]\n')
+    os.utime(config, ns=(times.st_atime_ns, times.st_mtime_ns))
+    assert config.stat().st_size == times.st_size
+    assert "SE001" in _codes(linters, stage)

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 
 from pxr import Ar, Pcp, Sdf, Tf, Usd, Vt
 
-from ..config import config_candidates, file_stamps
+from ..config import FileState, config_candidates, file_stamps, file_state
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
 from ..engine.stage import (
@@ -86,9 +86,9 @@ class Linted:
 @record
 class _Config:
     prepared: Prepared
-    #: The modification times of the configuration files read (those it extends
+    #: The state (config.file_state) of the configuration files read (those it extends
     #: too) and of those the search for one looked at, when they were read.
-    stamps: tuple[tuple[str, int | None], ...]
+    stamps: tuple[tuple[str, FileState], ...]
 
 
 class Documents:
@@ -117,8 +117,8 @@ class Documents:
         self._parse_errors: dict[str, tuple[str, ...]] = {}
         self._stages: dict[str, Usd.Stage] = {}
         self._configs: dict[str, _Config] = {}
-        #: Each layer file's state when a lint last looked at it (_file_state).
-        self._file_states: dict[str, tuple[int, int, int, int] | None] = {}
+        #: Each layer file's state when a lint last looked at it (config.file_state).
+        self._file_states: dict[str, FileState] = {}
 
     @property
     def registry(self) -> Registry:
@@ -262,7 +262,7 @@ class Documents:
             real = layer_real_path(layer)
             if layer.anonymous or layer.dirty or real in self.texts:
                 continue
-            state = _file_state(real)
+            state = file_state(real)
             force = real is not None and self._file_states.get(real, state) != state
             if real is not None:
                 self._file_states[real] = state
@@ -439,17 +439,6 @@ class Documents:
             return edit_text(text, before, after)
         except CannotEdit:
             return None
-
-
-def _file_state(path: str | None) -> tuple[int, int, int, int] | None:
-    """What tells a rewritten file: its size, times and inode (None: not there)."""
-    try:
-        info = os.stat(path) if path else None
-    except OSError:
-        return None
-    if info is None:
-        return None
-    return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
 
 
 def _misses_files(stage: Usd.Stage) -> bool:

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from pxr import Tf, Usd
 
-from ..config import config_candidates, file_stamps
+from ..config import FileState, config_candidates, file_stamps
 from ..engine import Linter, TracedFinding
 from ..model import FileResult, Finding, Report
 from ..records import record
@@ -155,8 +155,8 @@ class CheckLinters:
     configuration. Per-path ignores applied as ``check`` applies them."""
 
     def __init__(self) -> None:
-        #: Each folder's Prepared, with the modification times of the files it read.
-        self._prepared: dict[str, tuple[Any, tuple[tuple[str, int | None], ...]]] = {}
+        #: Each folder's Prepared, with the state of the files it read (config.file_state).
+        self._prepared: dict[str, tuple[Any, tuple[tuple[str, FileState], ...]]] = {}
         #: Each stage's force-exclude answer, with the Prepared it was judged by.
         self._force_excluded: StageMap[tuple[Any, bool]] = StageMap()
         self._lock = threading.Lock()
