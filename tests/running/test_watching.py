@@ -4,6 +4,7 @@ with the folder, and a path that does not exist yet has none)."""
 
 from __future__ import annotations
 
+import os
 import shutil
 import threading
 from collections.abc import Iterator
@@ -83,3 +84,21 @@ def test_a_file_given_that_appears_later_is_heard(folders: tuple[Path, Path]) ->
     waiting = Waiting(watcher)
     (later / "shot.usda").write_text(LAYER + "\n")
     assert str(later / "shot.usda") in waiting.result()
+
+
+def test_a_polled_layer_rewritten_with_its_time_kept_is_heard(
+    folders: tuple[Path, Path], tmp_path: Path
+) -> None:
+    # A sublayer beside the file given is polled; rewritten with its size and
+    # modification time kept (set back, or within one tick of a coarse clock)
+    # it changes the report all the same.
+    here, _ = folders
+    sublayer = tmp_path / "lighting.usda"
+    sublayer.write_text(LAYER)
+    watcher = Watcher([str(here)])
+    watcher.poll([str(sublayer)])
+    waiting = Waiting(watcher)
+    times = sublayer.stat()
+    sublayer.write_text(LAYER.replace('"rs"', '"RS"'))
+    os.utime(sublayer, ns=(times.st_atime_ns, times.st_mtime_ns))
+    assert str(sublayer) in waiting.result()

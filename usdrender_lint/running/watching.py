@@ -18,6 +18,7 @@ import time
 from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
+from ..config import FileState, file_state
 from ..engine import USD_EXTENSIONS
 from .interrupts import check_stopped
 
@@ -50,14 +51,6 @@ def relevant(path: str, root: str) -> bool:
     return (
         name.lower().endswith(USD_EXTENSIONS) or name.endswith(CONFIG_SUFFIX) or name == GITIGNORE
     )
-
-
-def _stamp(path: str) -> tuple[int, int, int] | None:
-    try:
-        status = os.stat(path)
-    except OSError:
-        return None
-    return (status.st_ino, status.st_size, status.st_mtime_ns)
 
 
 def _identity(path: str) -> tuple[int, int] | None:
@@ -97,7 +90,9 @@ class Watcher:
         self.paths = [p for p, identity in self._given.items() if identity is not None]
         # A file given is polled too: an editor's save replaces it, which ends
         # the operating system's watch on the file (the next save went unseen).
-        self._polled: dict[str, tuple[int, int, int] | None] = {f: _stamp(f) for f in self._files()}
+        # Its state is more than its modification time: a file rewritten with
+        # that time kept (config.file_state) is a change too.
+        self._polled: dict[str, FileState] = {f: file_state(f) for f in self._files()}
         self._events: Iterator[set[Any]] | None = None
         self._start_events()
 
@@ -140,7 +135,7 @@ class Watcher:
     def poll(self, files: Iterable[str]) -> None:
         """Also watch ``files`` (outside the paths, say), from their state now."""
         wanted = {os.path.abspath(f) for f in files} | self._files()
-        self._polled = {f: self._polled.get(f, _stamp(f)) for f in wanted}
+        self._polled = {f: self._polled.get(f, file_state(f)) for f in wanted}
 
     def wait(self) -> list[str]:
         """Block until something relevant changed; the paths that did, sorted."""
@@ -182,7 +177,7 @@ class Watcher:
     def _polled_changes(self) -> set[str]:
         changed = set()
         for path, stamp in self._polled.items():
-            now = _stamp(path)
+            now = file_state(path)
             if now != stamp:
                 self._polled[path] = now
                 changed.add(path)
