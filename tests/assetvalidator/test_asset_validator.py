@@ -406,6 +406,25 @@ def test_a_configuration_with_variants_gives_checks_findings_under_every_selecti
     assert "variant selection" not in shot.read_text()
 
 
+def test_a_finding_on_a_prim_only_another_variant_defines_names_its_prim(
+    tmp_path: Path,
+) -> None:
+    # variants = true: the settings the unselected "lighting" variant defines
+    # get SE015 (no products), on a prim the stage as composed has not. Check
+    # names its path; the issue did not name the stage instead.
+    shot = tmp_path / "shot.usda"
+    shot.write_text(
+        '#usda 1.0\ndef Scope "Render" (\n    variants = {\n        string shot = "layout"\n'
+        '    }\n    prepend variantSets = "shot"\n)\n{\n    variantSet "shot" = {\n'
+        '        "lighting" {\n            def RenderSettings "Lighting"\n            {\n'
+        '            }\n        }\n        "layout" {\n        }\n    }\n}\n'
+    )
+    (tmp_path / ".usdrender-lint.toml").write_text("variants = true\n")
+    expected = _expected(_check([shot.resolve()])[str(shot.resolve())])
+    assert ("SE015", "INFO", "/Render/Lighting") in {key[:3] for key in expected}
+    assert _validate_files([shot.resolve()])[str(shot.resolve())] == expected
+
+
 def test_a_configuration_with_variants_offers_no_fix_as_check_fix_refuses_it(
     tmp_path: Path,
 ) -> None:

@@ -32,6 +32,9 @@ from omni.asset_validator import (
     BaseRuleChecker,
     CategoryRuleRegistry,
     IssueSeverity,
+    PrimId,
+    PropertyId,
+    StageId,
     Suggestion,
     register_rule,
 )
@@ -167,17 +170,23 @@ class _FixCallable:
 
 
 def _at(stage: Usd.Stage, finding: Finding) -> Any:
-    """The finding's object on the stage: a property, a prim, else the stage."""
+    """The finding's object on the stage: a property, a prim, else the stage.
+    A finding seen under other variant selections (the configuration's
+    ``variants``) may name an object the stage, as composed now, has not: it
+    is named by its path (the Asset Validator's PrimId or PropertyId), as
+    ``check`` names it, not by the stage."""
     if finding.location.path:
         path = Sdf.Path(finding.location.path)
         if path.IsPropertyPath():
             prop = stage.GetPropertyAtPath(path)
             if prop:
                 return prop
-            path = path.GetPrimPath()
-        prim = stage.GetPrimAtPath(path)
+        prim = stage.GetPrimAtPath(path.GetPrimPath())
         if prim:
             return prim
+        if finding.variant_selection:
+            prim_id = PrimId(stage_id=StageId.from_(stage), path=path.GetPrimPath())
+            return PropertyId(prim_id=prim_id, path=path) if path.IsPropertyPath() else prim_id
     return stage
 
 
