@@ -435,12 +435,14 @@ def _gate_shot(path: Path, index: int, prims: int) -> None:
     layer.Save()
 
 
-def generate_gate(folder: str | Path, count: int = 200, prims: int = 200) -> list[Path]:
-    """Write ``count`` CI-gate shots (see :func:`_gate_shot`) as ``.usda``."""
+def generate_gate(
+    folder: str | Path, count: int = 200, prims: int = 200, fmt: str = "usda"
+) -> list[Path]:
+    """Write ``count`` CI-gate shots (see :func:`_gate_shot`) as ``.usda`` (or ``fmt``)."""
     folder = Path(folder)
     files = []
     for i in range(count):
-        path = folder / f"gate_{i:04d}.usda"
+        path = folder / f"gate_{i:04d}.{fmt}"
         _gate_shot(path, i, prims)
         files.append(path)
     return files
@@ -545,6 +547,7 @@ def main(argv: list[str] | None = None) -> int:
     gate.add_argument("folder")
     gate.add_argument("--count", type=int, default=200)
     gate.add_argument("--prims", type=int, default=200)
+    gate.add_argument("--format", choices=FORMATS, default="usda")
     purposes = sub.add_parser("purposes", help="includedPurposes listing 'default' COUNT times")
     purposes.add_argument("folder")
     purposes.add_argument("--count", type=int, default=2_000_000)
@@ -560,7 +563,8 @@ def main(argv: list[str] | None = None) -> int:
     variant_shot.add_argument("--sets", type=int, default=6)
     args = parser.parse_args(argv)
     if args.what == "gate":
-        print(f"{len(generate_gate(args.folder, args.count, args.prims))} files in {args.folder}")
+        made = generate_gate(args.folder, args.count, args.prims, args.format)
+        print(f"{len(made)} files in {args.folder}")
     elif args.what == "purposes":
         print(generate_purposes(args.folder, args.count, args.format))
     elif args.what == "variant-shot":

@@ -28,9 +28,9 @@ def test_a_paired_ratio_is_the_median_of_each_rounds_ratio() -> None:
 
 
 def _empty_shots(folder: Path, *how: str) -> Path:
-    """In place of run.ensure: ``how[-1]`` (the --count) empty gate shots."""
+    """In place of run.ensure: ``--count`` empty gate shots."""
     folder.mkdir()
-    for i in range(int(how[-1])):
+    for i in range(int(how[how.index("--count") + 1])):
         (folder / f"gate_{i:04d}.usda").write_text("#usda 1.0\n")
     return folder
 
@@ -213,3 +213,46 @@ def test_the_gate_prints_the_speed_up_two_busy_cores_allow(tmp_path, monkeypatch
     assert round(run.two_core_ceiling(5.0, 7.0), 4) == round(5.0 / 3.5, 4)
     out = capsys.readouterr().out
     assert "--jobs 2's CPU time (7.00 s) make it at most 1.43x --jobs 1: it reaches 88%" in out
+
+
+def test_the_gate_on_crate_shots_is_shown_and_judged_by_no_goal(
+    tmp_path, monkeypatch, capsys
+) -> None:
+    asked = []
+
+    def crate_shots(folder: Path, *how: str) -> Path:
+        asked.append(how)
+        folder.mkdir()
+        for i in range(int(how[how.index("--count") + 1])):
+            (folder / f"gate_{i:04d}.usdc").write_bytes(b"PXR-USDC")
+        return folder
+
+    def measure(series, rounds):
+        for s in series:
+            assert all(not arg.endswith(".usda") for arg in s.argv)
+            s.samples = [run.Sample(1.0, 1024, 1.0)] * rounds
+
+    monkeypatch.setattr(run, "ensure", crate_shots)
+    monkeypatch.setattr(run, "measure", measure)
+    figures, _ = run.gate(tmp_path, 4, 3, "usdc")
+    assert figures == {}  # the goals are the text shots'
+    assert asked == [("gate", "--count", "4", "--format", "usdc")]
+    assert "CI gate: 4 shots (.usdc" in capsys.readouterr().out
+
+
+def test_the_crate_gate_shots_are_the_text_shots(tmp_path) -> None:
+    import usdrender_lint
+
+    generate = load_script("generate")
+    text = generate.generate_gate(tmp_path / "usda", 2)
+    crate = generate.generate_gate(tmp_path / "usdc", 2, fmt="usdc")
+    assert [p.suffix for p in crate] == [".usdc", ".usdc"]
+    assert crate[0].read_bytes().startswith(b"PXR-USDC")
+
+    def found(path: Path) -> list[tuple[str, str | None, str]]:
+        report = usdrender_lint.lint_file(path, config={"select": ["ALL"]})
+        return sorted((f.code, f.location.path, f.message) for f in report.findings)
+
+    assert found(text[0])  # the first of every ten shots has defects
+    for usda, usdc in zip(text, crate, strict=True):
+        assert found(usda) == found(usdc)
