@@ -47,3 +47,24 @@ def spec_fields(layer: Sdf.Layer) -> dict[str, dict[str, str]]:
 
     layer.Traverse(Sdf.Path.absoluteRootPath, visit)
     return fields
+
+
+#: One orderedVars target that names nothing (PR005, an unsafe fix removes it).
+ONE_MISSING = """#usda 1.0
+
+def Scope "Render"
+{
+    def RenderProduct "Beauty"
+    {
+        token productName = "beauty.exr"
+        rel orderedVars = [</Render/Color>, </Render/Missing1>]
+    }
+
+    def RenderVar "Color"
+    {
+        string sourceName = "Ci"
+    }
+}
+"""
+#: A second one on the same relationship: a finding of the same fingerprint.
+TWO_MISSING = ONE_MISSING.replace("</Render/Missing1>]", "</Render/Missing1>, </Render/Missing2>]")

@@ -20,6 +20,7 @@ from xml.etree import ElementTree
 
 import pytest
 from click.testing import CliRunner
+from fix_support import ONE_MISSING, TWO_MISSING
 
 from usdrender_lint.cli import cli
 
@@ -30,24 +31,6 @@ FIXABLE = {"SE007": True, "SE003": False}
 #: Reported without a fix on offer: CA004 (unfixable), PR005 (held by the baseline).
 REPORTED = frozenset({"CA004", "SE007", "SE003", "PR005"})
 HELD = "not applied while the baseline records this rule here"
-
-ONE_MISSING = """#usda 1.0
-
-def Scope "Render"
-{
-    def RenderProduct "Beauty"
-    {
-        token productName = "beauty.exr"
-        rel orderedVars = [</Render/Color>, </Render/Missing1>]
-    }
-
-    def RenderVar "Color"
-    {
-        string sourceName = "Ci"
-    }
-}
-"""
-TWO_MISSING = ONE_MISSING.replace("</Render/Missing1>]", "</Render/Missing1>, </Render/Missing2>]")
 
 
 @pytest.fixture

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from fix_support import ONE_MISSING, TWO_MISSING
 from pxr import Sdf
 
 from usdrender_lint import atomic
@@ -379,27 +380,6 @@ def test_writes_are_atomic(tmp_path, monkeypatch) -> None:
     atomic.write_text_atomic(target, "new")
     assert target.read_text(encoding="utf-8") == "new"
     assert target.stat().st_mode & 0o777 == 0o640
-
-
-#: One orderedVars target that names nothing (PR005, an unsafe fix removes it).
-ONE_MISSING = """#usda 1.0
-
-def Scope "Render"
-{
-    def RenderProduct "Beauty"
-    {
-        token productName = "beauty.exr"
-        rel orderedVars = [</Render/Color>, </Render/Missing1>]
-    }
-
-    def RenderVar "Color"
-    {
-        string sourceName = "Ci"
-    }
-}
-"""
-#: A second one on the same relationship: a finding of the same fingerprint.
-TWO_MISSING = ONE_MISSING.replace("</Render/Missing1>]", "</Render/Missing1>, </Render/Missing2>]")
 
 
 def test_a_second_finding_on_a_recorded_path_is_reported_and_its_fix_is_not_offered(
