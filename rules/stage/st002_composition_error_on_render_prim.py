@@ -9,7 +9,7 @@ from pxr import Pcp, Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
 from usdrender_lint.api.files import lfs_pointer_problem
-from usdrender_lint.api.resolve import USD_NAMESPACE, usd_text
+from usdrender_lint.api.resolve import USD_NAMESPACE, usd_string, usd_text
 
 from ._render_prims import RENDER_SCOPE, is_render_type
 
@@ -81,7 +81,7 @@ def _usd_words(error, session: Sdf.Layer | None = None) -> str:
     # own, named after the file linted, or a host's (the Asset Validator opens
     # every stage with its own, anon:AssetValidator). A --fix-to layer stays.
     if session is not None and session.anonymous:
-        text = text.replace(f",@{session.identifier}@", "")
+        text = text.replace(f",@{usd_string(lambda: session.identifier)}@", "")
     text = _SESSION_IN_STACK.sub("", _ANONYMOUS_ADDRESS.sub("anon:", text))
     return text if text.endswith((".", "!", "?")) else f"{text}."
 

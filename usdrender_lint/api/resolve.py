@@ -62,8 +62,14 @@ def usd_text(value: object) -> str:
     """``str(value)`` for a USD object whose text may name a file that is not
     UTF-8 (a composition error): the bindings' strict decoding raises, so
     the bytes are decoded as Python names such a file (``os.fsdecode``)."""
+    return usd_string(lambda: str(value))
+
+
+def usd_string(read: Callable[[], str]) -> str:
+    """``read()``, a string USD gives (a layer's identifier), decoded as
+    :func:`usd_text` decodes one that names a file that is not UTF-8."""
     try:
-        return str(value)
+        return read()
     except UnicodeDecodeError as exc:
         if not isinstance(exc.object, bytes):
             raise

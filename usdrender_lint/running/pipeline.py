@@ -580,8 +580,9 @@ def finished(
     ignores applied, and no fix on a finding of a rule whose fixes --fix never
     applies (``Report.unfixable``): those the configuration makes ``unfixable``,
     and every rule's under ``variants``, which check --fix refuses (the API's
-    findings then carry none either, as the reports offer none). What check does after linting, and merge again under
-    the configuration it is given. ``unfixable``: the settings' codes, when known."""
+    findings then carry none either, as the reports offer none). What check
+    does after linting, and merge again under the configuration it is given.
+    ``unfixable``: the settings' codes, when known."""
     rules = registry.rules
     report = apply_path_ignores(report, settings.per_path_ignores, settings.base_dir, rules)
     if unfixable is None:
