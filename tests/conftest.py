@@ -1,6 +1,7 @@
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -52,6 +53,27 @@ def _lint_start_on_the_precise_clock(monkeypatch: pytest.MonkeyPatch) -> None:
     from usdrender_lint.running import result_cache
 
     monkeypatch.setattr(result_cache, "lint_start_ns", time.time_ns)
+
+
+@pytest.fixture(autouse=True)
+def _signal_handlers_restored(monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:
+    """A test that imports the command's entry point in this process installs
+    its signal handlers (running/interrupts.py; test_startup's memory-error
+    test did), and they stayed for every later test of the worker: a signal
+    then raised Stopped in whatever test ran and left this process ignoring
+    SIGINT, SIGTERM and SIGHUP, which each command a later test started would
+    inherit (a command started ignoring a signal keeps ignoring it)."""
+    import signal
+
+    from usdrender_lint.running import interrupts
+
+    kept = [*interrupts.STOPPING, signal.SIGCONT]
+    handlers = {signum: signal.getsignal(signum) for signum in kept}
+    monkeypatch.setattr(interrupts, "_received", interrupts._received)
+    monkeypatch.setattr(sys, "unraisablehook", sys.unraisablehook)
+    yield
+    for signum, handler in handlers.items():
+        signal.signal(signum, handler)
 
 
 @pytest.fixture

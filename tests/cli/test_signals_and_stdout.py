@@ -63,6 +63,9 @@ def test_a_signal_stops_the_run_and_cleans_up(
         stderr=subprocess.PIPE,
         text=True,
         env={**os.environ, "TMPDIR": str(temporary)},
+        # As a terminal starts it, whatever this run inherited: under nohup the
+        # command kept ignoring SIGHUP, as it should, and the test waited 30 s.
+        preexec_fn=lambda: signal.signal(signum, signal.SIG_DFL),  # noqa: PLW1509
     )
     wait_for_a_worker(process, temporary)
     workers = descendants(process.pid)
