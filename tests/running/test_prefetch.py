@@ -82,6 +82,30 @@ def test_a_file_changed_after_it_was_read_is_read_again_by_its_lint(tmp_path: Pa
     assert layer is None
 
 
+def test_a_file_rewritten_with_its_time_kept_after_it_was_read_is_read_again(
+    tmp_path: Path,
+) -> None:
+    # The same size, its modification time set back (a copy that keeps times):
+    # only the change time tells the file from the one read ahead.
+    (path,) = _shots(tmp_path, 1)
+    before = os.stat(path)
+    here, there = Pipe()
+    reader = Reader(there, lambda item: False)
+    here.send((0, path))
+    here.close()
+    deadline = time.monotonic() + 30
+    while Sdf.Layer.Find(path) is None and time.monotonic() < deadline:
+        time.sleep(0.001)
+    assert Sdf.Layer.Find(path) is not None
+    time.sleep(0.01)  # a change time the clock tells from the first
+    with open(path, "r+") as handle:  # the same file (inode), rewritten in place
+        handle.write((SHOT % 7).replace("(0, 1080)", "(1, 1080)"))
+    os.utime(path, ns=(before.st_atime_ns, before.st_mtime_ns))
+    assert os.stat(path).st_size == before.st_size
+    _, _, layer = reader.next()
+    assert layer is None
+
+
 def test_a_file_usd_must_not_read_is_left_to_its_own_lint(tmp_path: Path) -> None:
     deep = tmp_path / "deep.usda"
     deep.write_text("#usda 1.0\n" + "(" * 200_000 + "\n")

@@ -18,8 +18,9 @@ It changes no answer:
   ahead, nor is the item after it: should a read ahead crash USD in a way no
   check knows, the item the worker was linting is linted again alone and the
   crash then falls on the file that caused it;
-- the layer is used only when the file is unchanged (size, modification time,
-  inode) when its lint starts; else it is dropped and USD reads the file again.
+- the layer is used only when the file is unchanged (size, modification and
+  change times, inode) when its lint starts; else it is dropped and USD reads
+  the file again.
 """
 
 from __future__ import annotations
@@ -86,7 +87,7 @@ class Reader:
             self._inbox.put((index, item, layer, stamp))
 
 
-def _stamp(path: Any) -> tuple[int, int, int] | None:
+def _stamp(path: Any) -> tuple[int, int, int, int] | None:
     if not isinstance(path, str) or not path.lower().endswith(_READ_AHEAD):
         return None
     try:
@@ -95,7 +96,8 @@ def _stamp(path: Any) -> tuple[int, int, int] | None:
         return None
     if not stat.S_ISREG(info.st_mode):
         return None  # a FIFO, a device: read only by its own lint, which may wait on it
-    return (info.st_size, info.st_mtime_ns, info.st_ino)
+    # The change time too: a file rewritten with its modification time kept.
+    return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
 
 
 def _read(path: str) -> Any:
