@@ -66,17 +66,22 @@ def test_a_file_linted_again_after_a_crash_and_the_next_are_not_read_ahead(
     assert layers[2] is not None
 
 
-def test_a_file_changed_after_it_was_read_is_read_again_by_its_lint(tmp_path: Path) -> None:
-    (path,) = _shots(tmp_path, 1)
+def _read_ahead(path: str) -> Reader:
+    """A Reader given ``path`` alone, once its read-ahead has read the file."""
     here, there = Pipe()
     reader = Reader(there, lambda item: False)
     here.send((0, path))
     here.close()
-    # Wait until the read-ahead has read it, then change the file.
     deadline = time.monotonic() + 30
     while Sdf.Layer.Find(path) is None and time.monotonic() < deadline:
         time.sleep(0.001)
     assert Sdf.Layer.Find(path) is not None
+    return reader
+
+
+def test_a_file_changed_after_it_was_read_is_read_again_by_its_lint(tmp_path: Path) -> None:
+    (path,) = _shots(tmp_path, 1)
+    reader = _read_ahead(path)  # then the file changes
     os.utime(path, ns=(1, 1))
     _, _, layer = reader.next()
     assert layer is None
@@ -89,14 +94,7 @@ def test_a_file_rewritten_with_its_time_kept_after_it_was_read_is_read_again(
     # only the change time tells the file from the one read ahead.
     (path,) = _shots(tmp_path, 1)
     before = os.stat(path)
-    here, there = Pipe()
-    reader = Reader(there, lambda item: False)
-    here.send((0, path))
-    here.close()
-    deadline = time.monotonic() + 30
-    while Sdf.Layer.Find(path) is None and time.monotonic() < deadline:
-        time.sleep(0.001)
-    assert Sdf.Layer.Find(path) is not None
+    reader = _read_ahead(path)
     time.sleep(0.01)  # a change time the clock tells from the first
     with open(path, "r+") as handle:  # the same file (inode), rewritten in place
         handle.write((SHOT % 7).replace("(0, 1080)", "(1, 1080)"))
