@@ -11,6 +11,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
+import click
 import pytest
 from cli_support import after_a_supervised_command
 
@@ -51,6 +52,15 @@ NEVER_NEEDED = (
     "pxr.UsdGeom",
     "pxr.UsdShade",
     "pxr.Sdr",
+    # The other commands' modules (cli/__init__.py imports each on first use).
+    "usdrender_lint.cli.clean",
+    "usdrender_lint.cli.config_keys",
+    "usdrender_lint.cli.explain",
+    "usdrender_lint.cli.merge",
+    "usdrender_lint.cli.plugin_path",
+    "usdrender_lint.cli.rules",
+    "usdrender_lint.cli.server",
+    "usdrender_lint.cli.spec",
 )
 #: Modules only the worker pool needs (more than one job, or a --timeout).
 POOL_ONLY = ("multiprocessing", "tempfile", "shutil")
@@ -89,6 +99,17 @@ def test_check_in_one_process_imports_only_what_it_needs() -> None:
     assert "usdrender_lint.engine" in modules  # it did lint
     unexpected = [n for n in NEVER_NEEDED + POOL_ONLY if _imported(modules, n)]
     assert unexpected == []
+
+
+def test_each_command_is_found_under_its_own_name() -> None:
+    """The group imports a command's module when it is named: each name in its
+    table is the command's own, and every command is listed."""
+    from usdrender_lint.cli import cli
+
+    names = list(cli.commands)
+    assert names == sorted(names) and "check" in names
+    assert [cli.commands[name].name for name in names] == names
+    assert cli.get_command(click.Context(cli), "no-such-command") is None
 
 
 def test_a_clean_file_needs_no_usda_line_finder() -> None:

@@ -13,9 +13,10 @@ import errno
 import io
 import os
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, MutableMapping, Sequence
 from contextlib import contextmanager
-from typing import Any, NoReturn
+from importlib import import_module
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import click
 
@@ -23,16 +24,53 @@ from .. import __version__
 from ..paths import printable
 from ..running.interrupts import Stopped, stop_on_signals
 from ..running.supervisor import Supervision, open_closed_standard_fds
-from .check import check
-from .clean import clean
-from .config_keys import config_command
-from .explain import explain
-from .merge import merge
 from .output import EXIT_TOOL_ERROR, StdoutGone, ToolError, error, say
-from .plugin_path import plugin_path
-from .rules import list_rules, rules_text
-from .server import server_command
-from .spec import spec_command
+
+if TYPE_CHECKING:
+    from .rules import rules_text
+
+#: Each command's module (in this package) and object: a command's module is
+#: imported when it is asked for by name, so ``check`` imports no other
+#: command's module and the options and types they build.
+_COMMANDS = {
+    "check": ("check", "check"),
+    "clean": ("clean", "clean"),
+    "config": ("config_keys", "config_command"),
+    "explain": ("explain", "explain"),
+    "merge": ("merge", "merge"),
+    "plugin-path": ("plugin_path", "plugin_path"),
+    "rules": ("rules", "list_rules"),
+    "server": ("server", "server_command"),
+    "spec": ("spec", "spec_command"),
+}
+
+
+class _Commands(MutableMapping[str, click.Command]):
+    """The group's commands by name (``click.Group.commands``), each imported
+    on first use."""
+
+    def __init__(self) -> None:
+        self._loaded: dict[str, click.Command] = {}
+
+    def __getitem__(self, name: str) -> click.Command:
+        if name not in self._loaded:
+            if name not in _COMMANDS:
+                raise KeyError(name)
+            module, attr = _COMMANDS[name]
+            self._loaded[name] = getattr(import_module(f".{module}", __name__), attr)
+        return self._loaded[name]
+
+    def __setitem__(self, name: str, command: click.Command) -> None:
+        self._loaded[name] = command
+
+    def __delitem__(self, name: str) -> None:
+        raise TypeError("the command line's commands are fixed")
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(sorted({*_COMMANDS, *self._loaded}))
+
+    def __len__(self) -> int:
+        return len({*_COMMANDS, *self._loaded})
 
 
 class _Group(click.Group):
@@ -105,18 +143,7 @@ def cli() -> None:
     """Lint OpenUSD render settings (usdRender) before the render farm does."""
 
 
-for _command in (
-    check,
-    merge,
-    spec_command,
-    list_rules,
-    server_command,
-    explain,
-    plugin_path,
-    clean,
-    config_command,
-):
-    cli.add_command(_command)
+cli.commands = _Commands()
 
 
 def main(argv: Sequence[str] | None = None, supervision: Supervision | None = None) -> None:
@@ -231,6 +258,14 @@ def _silence_stdout() -> None:
     null = os.open(os.devnull, os.O_WRONLY)
     os.dup2(null, 1)
     os.close(null)
+
+
+def __getattr__(name: str) -> Any:
+    if name == "rules_text":  # the rules listing's layout, for its tests
+        from .rules import rules_text
+
+        return rules_text
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 __all__ = ["cli", "main", "rules_text"]
