@@ -334,6 +334,34 @@ def test_format_names_are_looked_up_when_click_needs_them(monkeypatch) -> None:
     assert lookups == ["looked up"]
 
 
+@pytest.mark.parametrize("output_format", ["text", "json"])
+def test_a_check_looks_the_formatters_up_once(
+    output_format: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """--format is checked against the registered formatters, and the report
+    written by one of those same ones: every distribution's entry points are
+    read once, not again to load it."""
+    from cli_support import invoke_in
+
+    from usdrender_lint import formatters
+
+    lookups: list[str] = []
+
+    def counted(group: str):
+        lookups.append(group)
+        return entrypoints.entry_points(group)
+
+    monkeypatch.setattr(formatters, "entry_points", counted)
+    from usdrender_lint.cli import cli
+
+    (choice,) = [p.type for p in cli.commands["check"].params if p.name == "output_format"]
+    monkeypatch.setattr(choice, "_formatters", None)  # as in a new process
+    args = ["check", "--isolated", "--no-cache", "--jobs", "1", "--timeout", "0"]
+    result = invoke_in(tmp_path, *args, "--format", output_format, str(PASS_FILE))
+    assert result.exit_code == 1, result.output  # the file's ST004 warning: a report was written
+    assert lookups == [formatters.ENTRY_POINT_GROUP]
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS as Linux keeps it")
 @pytest.mark.parametrize("mib", [30, 60, 300])
 @pytest.mark.parametrize("args", [("check", str(PASS_FILE)), ("rules",)])

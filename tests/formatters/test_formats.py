@@ -443,7 +443,7 @@ def test_the_configuration_digest_is_computed_only_for_a_formatter_that_reads_it
         return "abc"
 
     for formatter in (Reads(), Skips()):
-        monkeypatch.setattr(command, "load_formatter", lambda _name, f=formatter: f)
+        monkeypatch.setattr(command, "load_formatter", lambda _name, *_, f=formatter: f)
         command.emit_report(Report(()), "any", (), FormatOptions(), None, digest)
     assert handed == ["abc", None]
     assert asked == ["digest"]

@@ -18,6 +18,7 @@ from ..records import record
 from ..running.interrupts import check_stopped
 from .loading import import_engine, registry, supervision
 from .options import (
+    checked_formatters,
     config_option,
     isolated_option,
     report_format_option,
@@ -521,7 +522,7 @@ def emit_report(
     formatter that reads them: building that costs every rule's docstring.
     ``configuration`` computes the run's digest, also only for a formatter
     that reads it (into ``options.configuration``)."""
-    formatter = load_formatter(output_format)
+    formatter = load_formatter(output_format, checked_formatters())
     if reads_rules(formatter):
         report = replace(report, rules=_described(report, rules))
     if configuration is not None and reads_configuration(formatter):

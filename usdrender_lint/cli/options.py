@@ -5,13 +5,16 @@ read a value differently."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from typing import Any
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import click
 from click.shell_completion import CompletionItem
 
 from ..settings_table import ConfigError, Setting, flag_settings
+
+if TYPE_CHECKING:
+    from ..entrypoints import EntryPointLike
 
 #: Flags of kind "int"/"float": a value checked by the setting's own parser.
 _NUMBERS: dict[str, click.ParamType] = {"int": click.INT, "float": click.FLOAT}
@@ -252,15 +255,30 @@ class FormatChoice(click.Choice):
     def __init__(self) -> None:
         # Not click.Choice's __init__, which takes the names now.
         self.case_sensitive = False
-        self._names: tuple[str, ...] | None = None
+        self._formatters: Mapping[str, EntryPointLike] | None = None
 
     @property
     def choices(self) -> tuple[str, ...]:  # type: ignore[override]
-        if self._names is None:
+        return tuple(sorted(self.formatters()) or ["text", "json"])
+
+    def formatters(self) -> Mapping[str, EntryPointLike]:
+        """The registered formatters, looked up once: the report is written
+        with the one --format named (cli/check.py's emit_report)."""
+        if self._formatters is None:
             from ..formatters import available_formatters
 
-            self._names = tuple(sorted(available_formatters()) or ["text", "json"])
-        return self._names
+            self._formatters = available_formatters()
+        return self._formatters
+
+
+def checked_formatters() -> Mapping[str, EntryPointLike] | None:
+    """The formatters the running command's --format was checked against;
+    None outside a command that has one."""
+    ctx = click.get_current_context(silent=True)
+    for param in ctx.command.params if ctx is not None else ():
+        if isinstance(param.type, FormatChoice):
+            return param.type.formatters()
+    return None
 
 
 def report_format_option():

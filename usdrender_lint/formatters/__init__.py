@@ -78,9 +78,11 @@ def available_formatters() -> Mapping[str, EntryPointLike]:
     return {ep.name: ep for ep in entry_points(ENTRY_POINT_GROUP)}
 
 
-def load_formatter(name: str) -> Formatter:
-    """Import only the chosen formatter (rich is loaded only for text)."""
-    entry_points = available_formatters()
+def load_formatter(name: str, available: Mapping[str, EntryPointLike] | None = None) -> Formatter:
+    """Import only the chosen formatter (rich is loaded only for text).
+    ``available``: what :func:`available_formatters` answered a moment ago (the
+    command line's --format was checked against it), not asked again."""
+    entry_points = available_formatters() if available is None else available
     if name not in entry_points:
         raise KeyError(name)
     return entry_points[name].load()()
