@@ -10,7 +10,6 @@ load, a path that does not exist, a file it could not lint).
 from __future__ import annotations
 
 import errno
-import gc
 import io
 import os
 import sys
@@ -19,24 +18,14 @@ from contextlib import contextmanager
 from importlib import import_module
 from typing import TYPE_CHECKING, Any, NoReturn
 
-# The cyclic garbage collector is paused for the imports below (click's and
-# the command line's), then what they made is frozen, as collection_paused
-# does for a command's module: imports make no garbage worth collecting.
-_collecting = gc.isenabled()
-gc.disable()
+import click
 
-import click  # noqa: E402
-
-from .. import __version__  # noqa: E402
-from ..paths import printable  # noqa: E402
-from ..running.interrupts import Stopped, stop_on_signals  # noqa: E402
-from ..running.supervisor import Supervision, open_closed_standard_fds  # noqa: E402
-from .loading import collection_paused  # noqa: E402
-from .output import EXIT_TOOL_ERROR, StdoutGone, ToolError, error, say  # noqa: E402
-
-gc.freeze()
-if _collecting:
-    gc.enable()
+from .. import __version__
+from ..paths import printable
+from ..running.interrupts import Stopped, stop_on_signals
+from ..running.supervisor import Supervision, open_closed_standard_fds
+from .loading import collection_paused
+from .output import EXIT_TOOL_ERROR, StdoutGone, ToolError, error, say
 
 if TYPE_CHECKING:
     from .rules import rules_text
