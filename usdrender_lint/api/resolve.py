@@ -593,12 +593,14 @@ class PrimValues:
             rel = self._rels[name] = _prim_relationship(self.prim, name)
         return rel
 
-    def _attribute_specs(self, name: str) -> _Stack:
+    def _attribute_specs(self, name: str, schema: SchemaAttribute | None = None) -> _Stack:
+        """``schema``: :meth:`schema_attribute` of ``name``, when the caller has it."""
         found = self._specs.get(name)
         if found is None:
             # A schema attribute's composed type is the definition's (whatever
             # the specs say): known without asking the attribute.
-            schema = self.schema_attribute(name)
+            if schema is None:
+                schema = self.schema_attribute(name)
             declared = schema.value_type
             if declared is None:
                 found = _read_attribute_specs(self.attribute(name), not self._without_varying)
@@ -617,21 +619,28 @@ class PrimValues:
         """:func:`has_authored_value` of the named attribute."""
         found = self._has.get(name)
         if found is None:
-            if not self.may_be_authored(name):
+            # may_be_authored inlined: most names asked are authored by no layer.
+            listed = self._listed
+            if self._names_decide and name not in (
+                listed if listed is not None else self._listed_names()
+            ):
                 found = False  # no handle and no HasAuthoredValue needed
             else:
-                # A name the prim definition declares as an attribute is one
-                # whatever the layers author (UsdStage::_GetDefiningSpecType
-                # asks the definition first): no HasAttribute needed.
-                is_attribute = self.schema_attribute(name).value_type is not None
-                found = (is_attribute or _has_attribute(self.prim, name)) and self._holds_value(
-                    name, self.attribute(name)
-                )
+                found = self._holds_value(name)
             self._has[name] = found
         return found
 
-    def _holds_value(self, name: str, attr: Usd.Attribute) -> bool:
-        stack = self._attribute_specs(name)
+    def _holds_value(self, name: str) -> bool:
+        # The declaration is read once here and handed on (each method asking
+        # it again was a call per question).
+        schema = self.schema_attribute(name)
+        # A name the prim definition declares as an attribute is one whatever
+        # the layers author (UsdStage::_GetDefiningSpecType asks the definition
+        # first): no HasAttribute needed.
+        if schema.value_type is None and not _has_attribute(self.prim, name):
+            return False
+        attr = self.attribute(name)
+        stack = self._attribute_specs(name, schema)
         default = None
         if self._names_decide:
             # Without value clips the strongest spec that holds a value decides
@@ -642,9 +651,9 @@ class PrimValues:
                 default = None
         if default is None and not _has_authored_value(attr):
             return False
-        if not _holds_well_typed_value(stack, lambda: self.schema_attribute(name).type_name):
+        if not _holds_well_typed_value(stack, lambda: schema.type_name):
             return False
-        if default is not None and self.schema_attribute(name).plain:
+        if default is not None and schema.plain:
             # At Default, Get() returns the strongest default (time samples and
             # splines do not count there): the value is already read.
             self._authored[name] = default
