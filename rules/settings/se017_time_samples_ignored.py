@@ -118,6 +118,10 @@ class TimeSamplesIgnored(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        if ctx.cache.without_clips and ctx.cache.without_varying:
+            # No layer can author time samples, a spline or value clips: no
+            # attribute varies (PrimValues.may_vary is False for every name).
+            return
         values, declared = _authored_schema_attributes(prim, ctx)
         for name, schema in declared:
             # Both findings need samples or a spline, which few attributes have:
