@@ -10,6 +10,7 @@ from pxr import Usd
 
 from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.resolve import (
+    DEFAULT_TIME,
     PrimValues,
     RenderConfiguration,
     authored_rendered_times,
@@ -73,13 +74,16 @@ def first_failure(
     blocked sample reads as the fallback)."""
     names = tuple(names)
     values = prim_values(prim)
-    readers = [_reader(values, name) for name in names]
     # An attribute that provably has no time samples adds no rendered time.
     sampled = [
-        attr
-        for (attr, _), name in zip(readers, names, strict=True)
-        if attr is not None and values.may_vary(name)
+        values.attribute(name) for name in names if values.has_value(name) and values.may_vary(name)
     ]
+    if not sampled:
+        # Default is the only rendered time: the check reads the values PrimValues
+        # holds for the lint (every CA rule shares them), not a read per check.
+        problem = check(*(_default_value(values, name) for name in names))
+        return None if problem is None else (DEFAULT_TIME, problem)
+    readers = [_reader(values, name) for name in names]
     for time in authored_rendered_times(sampled, ctx.time_sample_cap):
         problem = check(*(_value_at(reader, time) for reader in readers))
         if problem is not None:
@@ -100,6 +104,13 @@ def _reader(values: PrimValues, name: str) -> _Reader:
     if values.has_value(name):
         return values.attribute(name), _NOT_READ
     return None, values.fallback(name)
+
+
+def _default_value(values: PrimValues, name: str) -> Any:
+    """What :func:`_value_at` reads at Default: the composed value (the authored
+    one is ``Get()``'s at Default), else the fallback."""
+    value = values.composed(name)
+    return value if value is not None else values.fallback(name)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:
