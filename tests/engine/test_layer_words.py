@@ -283,3 +283,17 @@ def test_only_a_text_layer_s_bytes_are_read_whole(tmp_path: Path) -> None:
     (tmp_path / "other.usda").write_bytes(b"#sdf 1.4.32\n")
     assert layer_words.text_bytes(str(tmp_path / "other.usda")) is None
     assert layer_words.text_bytes(str(tmp_path / "missing.usda")) is None
+
+
+@pytest.mark.parametrize("size", [0, 1, 8191, 8192, 300_000])
+def test_a_text_layer_s_bytes_are_its_whole_file(tmp_path: Path, size: int) -> None:
+    """Read from its start again after its cookie is checked: every byte, once,
+    whatever the file's size next to a read buffer's."""
+    path = tmp_path / "shot.usda"
+    text = b"#usda 1.0\n" + b"#" * size
+    path.write_bytes(text)
+    assert layer_words.text_bytes(str(path)) == text
+    path.write_bytes(b"#usda ")  # the cookie alone
+    assert layer_words.text_bytes(str(path)) == b"#usda "
+    path.write_bytes(b"#usd")  # shorter than the cookie
+    assert layer_words.text_bytes(str(path)) is None

@@ -223,11 +223,13 @@ def text_bytes(path: str) -> bytes | None:
     if _held_text is not None and _held_text[0] == key:
         return _held_text[1]
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(len(USDA_MAGIC))
-            if head != USDA_MAGIC:
+        # Unbuffered, and read again from its start: the bytes are not copied
+        # (a buffered read and ``head + rest`` copied the whole file twice).
+        with open(path, "rb", buffering=0) as handle:
+            if handle.read(len(USDA_MAGIC)) != USDA_MAGIC:
                 return None  # a crate is never read whole here
-            data = head + handle.read()
+            handle.seek(0)
+            data = handle.readall()
     except OSError:
         return None
     if len(data) != key[1]:
