@@ -255,30 +255,35 @@ class FormatChoice(click.Choice):
     def __init__(self) -> None:
         # Not click.Choice's __init__, which takes the names now.
         self.case_sensitive = False
-        self._formatters: Mapping[str, EntryPointLike] | None = None
 
     @property
     def choices(self) -> tuple[str, ...]:  # type: ignore[override]
         return tuple(sorted(self.formatters()) or ["text", "json"])
 
     def formatters(self) -> Mapping[str, EntryPointLike]:
-        """The registered formatters, looked up once: the report is written
-        with the one --format named (cli/check.py's emit_report)."""
-        if self._formatters is None:
+        """The registered formatters, looked up once per command line run (kept
+        in click's context, which a later run in the same process does not
+        share): the report is written with the one --format named."""
+        ctx = click.get_current_context(silent=True)
+        found = ctx.meta.get(_FORMATTERS) if ctx is not None else None
+        if found is None:
             from ..formatters import available_formatters
 
-            self._formatters = available_formatters()
-        return self._formatters
+            found = available_formatters()
+            if ctx is not None:
+                ctx.meta[_FORMATTERS] = found
+        return found
+
+
+#: Where FormatChoice keeps the formatters it looked up (click's ``Context.meta``).
+_FORMATTERS = "usdrender_lint.formatters"
 
 
 def checked_formatters() -> Mapping[str, EntryPointLike] | None:
-    """The formatters the running command's --format was checked against;
-    None outside a command that has one."""
+    """The formatters the running command's --format was checked against
+    (cli/check.py's emit_report loads its formatter from them); None when none was."""
     ctx = click.get_current_context(silent=True)
-    for param in ctx.command.params if ctx is not None else ():
-        if isinstance(param.type, FormatChoice):
-            return param.type.formatters()
-    return None
+    return ctx.meta.get(_FORMATTERS) if ctx is not None else None
 
 
 def report_format_option():
