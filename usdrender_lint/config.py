@@ -736,12 +736,16 @@ def file_state(path: str | None) -> FileState:
     rewritten with that time kept (set back by a copy that keeps times, or
     written within one tick of a coarse clock) has another change time, and
     one renamed into place another inode."""
+    if not path:
+        return None
     try:
-        info = os.stat(path) if path else None
+        return stat_state(os.stat(path))
     except OSError:
         return None
-    if info is None:
-        return None
+
+
+def stat_state(info: os.stat_result) -> tuple[int, int, int, int]:
+    """The :data:`FileState` of a file whose ``os.stat`` is ``info``."""
     return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
 
 

@@ -33,6 +33,8 @@ from collections.abc import Callable
 from contextlib import suppress
 from typing import TYPE_CHECKING, Any
 
+from ..config import stat_state
+
 if TYPE_CHECKING:
     from multiprocessing.connection import Connection
 
@@ -96,8 +98,7 @@ def _stamp(path: Any) -> tuple[int, int, int, int] | None:
         return None
     if not stat.S_ISREG(info.st_mode):
         return None  # a FIFO, a device: read only by its own lint, which may wait on it
-    # The change time too: a file rewritten with its modification time kept.
-    return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
+    return stat_state(info)  # the change time too: a rewrite that kept its modification time
 
 
 def _read(path: str) -> Any:
