@@ -207,6 +207,11 @@ class Report:
     unfixable: frozenset[str] = frozenset()
     #: A run split by configuration: (file, its own ``unfixable``) of each file.
     unfixable_by_file: tuple[tuple[str, frozenset[str]], ...] = ()
+    #: The severity the configuration gives a rule instead of its own (config
+    #: ``severity``), by code: what its findings carry, and SARIF records.
+    severities: tuple[tuple[str, Severity], ...] = ()
+    #: A run split by configuration: (file, its own ``severities``) of each file.
+    severities_by_file: tuple[tuple[str, tuple[tuple[str, Severity], ...]], ...] = ()
     #: Findings whose fix ``--fix`` leaves although they are new: the
     #: ``--baseline`` records another finding of their fingerprint (file, rule,
     #: place), and --fix changes no place the baseline accepts as it is.

@@ -63,6 +63,47 @@ def test_sarif_validates_against_the_official_schema(in_repo, shared_dir) -> Non
     assert any(row["code"] == "SE003" for row in run["properties"]["statistics"])
 
 
+def test_sarif_records_the_severities_the_configuration_sets(
+    tmp_path, monkeypatch, shared_dir
+) -> None:
+    """A rule's defaultConfiguration is its default; the levels the project's
+    configuration gives instead are the invocation's ruleConfigurationOverrides
+    (SARIF 2.1.0 §3.20.5), per configuration file in a run split by them."""
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((shared_dir / "schemas" / "sarif-schema-2.1.0.json").read_text())
+    shutil.copy(INVERTED, tmp_path / "a.usda")
+    (tmp_path / "usdrender-lint.toml").write_text('[severity]\nSE003 = "warning"\n')
+    monkeypatch.chdir(tmp_path)
+
+    def sarif(*args: str) -> dict:
+        result = CliRunner().invoke(cli, ["check", "--jobs", "1", "--format", "sarif", *args])
+        assert result.exit_code in (0, 1), result.output
+        document = json.loads(result.stdout)
+        jsonschema.Draft4Validator(schema).validate(document)
+        return document["runs"][0]
+
+    run = sarif(".")
+    rules = run["tool"]["driver"]["rules"]
+    index = next(i for i, rule in enumerate(rules) if rule["id"] == "SE003")
+    assert rules[index]["defaultConfiguration"] == {"level": "error"}
+    assert {r["level"] for r in run["results"] if r["ruleId"] == "SE003"} == {"warning"}
+    assert run["invocations"][0]["ruleConfigurationOverrides"] == [
+        {"descriptor": {"id": "SE003", "index": index}, "configuration": {"level": "warning"}}
+    ]
+    # A show with its own configuration: one override per level, naming its files.
+    (tmp_path / "show").mkdir()
+    shutil.copy(INVERTED, tmp_path / "show" / "a.usda")
+    (tmp_path / "show" / "usdrender-lint.toml").write_text('[severity]\nSE003 = "info"\n')
+    overrides = sarif(".", "--show-info")["invocations"][0]["ruleConfigurationOverrides"]
+    assert [(o["configuration"]["level"], o["properties"]) for o in overrides] == [
+        ("note", {"configurationFiles": ["show/usdrender-lint.toml"]}),
+        ("warning", {"configurationFiles": ["usdrender-lint.toml"]}),
+    ]
+    # No severity configured: no overrides.
+    run = sarif("--isolated", ".")
+    assert "ruleConfigurationOverrides" not in run["invocations"][0]
+
+
 def test_sarif_rules_carry_their_help_text(in_repo) -> None:
     run = _sarif(str(INVERTED), extra=("--select", "SE003,UL001"))["runs"][0]
     rules = {rule["id"]: rule for rule in run["tool"]["driver"]["rules"]}

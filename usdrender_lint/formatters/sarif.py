@@ -40,7 +40,7 @@ from typing import Any, TextIO
 from urllib.parse import quote_from_bytes
 
 from ..model import INTERNAL_ERROR_RULE, Finding, FixInfo, Report, RuleInfo, Severity
-from ..paths import layer_file, printable, repository_root
+from ..paths import display_path, layer_file, printable, repository_root
 from . import FormatOptions, json_text, statistics
 from .fingerprints import Occurrences
 
@@ -144,6 +144,45 @@ def _rules(report: Report) -> list[RuleInfo]:
     return sorted(rules.values(), key=lambda rule: rule.code)
 
 
+def rule_overrides(report: Report, rules: list[RuleInfo]) -> list[dict[str, Any]]:
+    """The levels the run's configuration gives its rules instead of their
+    defaults, as SARIF 2.1.0 records a tool configured at run time: a rule's
+    ``defaultConfiguration`` is the tool's default (§3.49.14), and the
+    invocation's ``ruleConfigurationOverrides`` (§3.20.5) holds one
+    ``configurationOverride`` (§3.51) per rule reconfigured, whose ``descriptor``
+    (§3.51.2) names the rule by index and id (§3.52) and ``configuration.level``
+    (§3.51.3) its level: the order a result's level is found in (§3.27.10).
+    Each result still states its level, so no viewer has to resolve it. A run
+    whose files were linted under configurations that differ about a rule has
+    one override per level, its ``properties`` naming the configuration files
+    that set it."""
+    if not report.severities and not report.severities_by_file:
+        return []
+    # Each configuration's severities once, with the files linted under it.
+    by_file = dict(report.severities_by_file)
+    configured: dict[tuple[tuple[str, Severity], ...], set[str]] = {}
+    for result in report.files:
+        severities = by_file.get(result.file, report.severities)
+        configured.setdefault(severities, set()).add(result.config or "")
+    overrides: list[dict[str, Any]] = []
+    for index, rule in enumerate(rules):
+        levels: dict[str, set[str]] = {}
+        for severities, configs in configured.items():
+            level = _LEVEL[dict(severities).get(rule.code, rule.severity)]
+            levels.setdefault(level, set()).update(configs)
+        default = _LEVEL[rule.severity]
+        for level in sorted(set(levels) - {default}):
+            override: dict[str, Any] = {
+                "descriptor": {"id": rule.code, "index": index},
+                "configuration": {"level": level},
+            }
+            if len(levels) > 1:
+                named = sorted(display_path(config) for config in levels[level] if config)
+                override["properties"] = {"configurationFiles": named}
+            overrides.append(override)
+    return overrides
+
+
 def _result(
     finding: Finding, index: int, root: Path, occurrences: Occurrences, fix: FixInfo | None
 ) -> dict[str, Any]:
@@ -209,6 +248,7 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
         }
         for result in report.errored_files
     ]
+    overrides = rule_overrides(report, rules)
     run: dict[str, Any] = {
         "tool": {
             "driver": {
@@ -225,6 +265,7 @@ def report_to_sarif(report: Report, options: FormatOptions, root: Path) -> dict[
                 "executionSuccessful": not notifications,
                 "toolExecutionNotifications": notifications,
             }
+            | ({"ruleConfigurationOverrides": overrides} if overrides else {})
         ],
         "results": [
             _result(f, index[f.code], root, occurrences, report.offered_fix(f))

@@ -590,7 +590,8 @@ def finished(
     if settings.variants:
         unfixable = frozenset(rule.code for rule in rules)
     report = without_fixes(report, unfixable)
-    return replace(report, unfixable=unfixable)
+    severities = tuple(sorted(severity_overrides(registry, settings).items()))
+    return replace(report, unfixable=unfixable, severities=severities)
 
 
 def finished_by_file(
@@ -608,19 +609,23 @@ def finished_by_file(
             parts.setdefault(id(settings), (settings, []))[1].append(index)
     files = list(report.files)
     unfixable_of: list[frozenset[str]] = [frozenset()] * len(files)
+    severities_of: list[tuple[tuple[str, Severity], ...]] = [()] * len(files)
     for settings, indexes in parts.values():
         part = finished(Report(tuple(files[i] for i in indexes)), settings, registry)
         for index, result in zip(indexes, part.files, strict=True):
             files[index], unfixable_of[index] = result, part.unfixable
+            severities_of[index] = part.severities
     if not parts:
         return report
     judged = replace(report, files=tuple(files))
     if len(parts) == 1 and len(next(iter(parts.values()))[1]) == len(files):
-        return replace(judged, unfixable=unfixable_of[0])  # one configuration judged them all
+        # One configuration judged them all.
+        return replace(judged, unfixable=unfixable_of[0], severities=severities_of[0])
     return replace(
         judged,
         unfixable=frozenset().union(*unfixable_of),
         unfixable_by_file=tuple((r.file, u) for r, u in zip(files, unfixable_of, strict=True)),
+        severities_by_file=tuple((r.file, s) for r, s in zip(files, severities_of, strict=True)),
     )
 
 
@@ -790,6 +795,9 @@ def _joined(
         unfixable=frozenset().union(*(o.report.unfixable for o in outcomes)),
         unfixable_by_file=tuple(
             (r.file, o.report.unfixable) for o in outcomes for r in o.report.files
+        ),
+        severities_by_file=tuple(
+            (r.file, o.report.severities) for o in outcomes for r in o.report.files
         ),
         baseline_held=frozenset().union(*(o.report.baseline_held for o in outcomes)),
     )
