@@ -35,7 +35,10 @@ if TYPE_CHECKING:
 @report_format_option()
 @setting_options("merge")
 @show_info_option
-@config_option("Read settings (fail-on, the rules described) from this file.")
+@config_option(
+    "Judge the merged findings with this file's settings (fail-on, select, ignore, "
+    "severity, per-path-ignores, unfixable), as check with it would."
+)
 @isolated_option
 @report_output_option
 @statistics_option
@@ -56,6 +59,7 @@ def merge(
     if "-" in reports:  # as check and spec take it ("./-" names a file)
         raise ToolError("merge reads report files, not standard input ('-'): save it first")
     import_engine()
+    from ..config import ConfigError
     from ..running.merge import MergeError, merge_reports
     from ..running.outputs import OutputOnInput, refuse_inputs
     from ..running.pipeline import (
@@ -64,6 +68,7 @@ def merge(
         exit_status,
         finished_by_file,
         prepare,
+        rejudged,
     )
 
     given = setting_values("merge", settings)
@@ -89,8 +94,13 @@ def merge(
     # already; what it makes unfixable is what a SARIF report describes so.
     judge = settings_of or _recorded(report, prepared.registry)
     try:
+        if settings_of is not None:
+            # Its selection and severities too; a rule the checks did not run
+            # has no findings to add.
+            _refuse_rules_not_run(report, configuration, settings_of, prepared.registry)
+            report = rejudged(report, settings_of, prepared.registry)
         report = finished_by_file(report, judge, prepared.registry)
-    except RequestError as exc:  # a file's nearest configuration, with the overrides
+    except (RequestError, ConfigError) as exc:  # a file's nearest configuration
         raise ToolError(str(exc)) from None
     options = FormatOptions(
         show_info=show_info or prepared.settings.fail_on == "info",
@@ -130,6 +140,63 @@ def _recorded(report: Report, registry: Registry) -> SettingsOf:
         return known[config]
 
     return settings_of
+
+
+def _refuse_rules_not_run(
+    report: Report, digest: str | None, settings_of: SettingsOf, registry: Registry
+) -> None:
+    """Raise a ToolError when the configuration merge judges the files with
+    selects a rule the reports' checks did not run (its findings cannot be
+    added, so the merged report would not be check's under it); a note when
+    the reports do not tell which rules they ran."""
+    from ..running.path_ignores import UNIGNORABLE
+    from ..running.pipeline import make_rules
+
+    ran = _rules_run(report, digest, registry)
+    judges = {id(s): s for r in report.files if (s := settings_of(r.file)) is not None}
+    selected = {type(rule).code for s in judges.values() for rule in make_rules(registry, s)}
+    missing = sorted(selected - (ran or {f.code for f in report.findings}) - set(UNIGNORABLE))
+    named = ", ".join(missing[:5]) + (", ..." if len(missing) > 5 else "")
+    if ran is None:
+        if missing:  # a rule with a finding ran
+            note(
+                f"note: the reports do not tell whether their checks ran {named} (the "
+                "configuration files they record, read again, are not what they were linted "
+                "with): a rule the configuration selects that they did not run has no findings here"
+            )
+        return
+    if missing:
+        raise ToolError(
+            f"the configuration selects {len(missing):,} rule{'s' if len(missing) != 1 else ''} "
+            f"the checks of these reports did not run ({named}): their findings cannot be "
+            "added; lint with that configuration, or merge without it"
+        )
+
+
+def _rules_run(report: Report, digest: str | None, registry: Registry) -> frozenset[str] | None:
+    """The codes of the rules the reports' checks ran on every file: those of
+    the configuration files they record (``config_file``), read again, when
+    these make the reports' configuration digest (a check's own flags, which
+    a report does not record, would not). None when that cannot be told."""
+    from ..running.merge import configuration_digest, digest_of_parts
+    from ..running.pipeline import Request, RequestError, prepare
+
+    if digest is None:
+        return None
+    digests: list[str] = []
+    ran: list[frozenset[str]] = []
+    for config in sorted({r.config for r in report.files}, key=lambda c: c or ""):
+        request = Request((".",), config=config, isolated=config is None)
+        try:
+            prepared = prepare(request, registry)
+        except RequestError:
+            return None
+        digests.append(configuration_digest(prepared.settings, prepared.linter.rules))
+        ran.append(frozenset(rule.code for rule in prepared.linter.rules))
+    # One configuration's digest, or a run split by configuration's (its parts').
+    if not ran or digest not in {*digests[:1], digest_of_parts(digests)}:
+        return None
+    return frozenset.intersection(*ran)
 
 
 def _settings_of(

@@ -629,6 +629,56 @@ def finished_by_file(
     )
 
 
+def rejudged(
+    report: Report, settings_of: Callable[[str], Settings | None], registry: Registry
+) -> Report:
+    """``report``'s findings as a check under ``settings_of(file)`` would have
+    them (a file without is left as it is): those of the rules it does not
+    select left out, and each other's severity the one it sets, else the
+    rule's under the finding's profile, as the linter gives it
+    (engine/linter.py, ``Linter._finding``). ``merge --config`` re-applies its
+    configuration so; a finding of a rule the check did not run cannot be
+    added. ST001 and codes no installed rule has are left as they are."""
+    by_code = {rule.code: rule for rule in registry.rules}
+    judges: dict[int, tuple[Settings, frozenset[str], dict[str, Severity]]] = {}
+    renamed: dict[Finding, Finding] = {}
+    files = []
+    for result in report.files:
+        settings = settings_of(result.file)
+        if settings is None:
+            files.append(result)
+            continue
+        if id(settings) not in judges:
+            codes = frozenset(rule.code for rule in make_rules(registry, settings))
+            judges[id(settings)] = (settings, codes, severity_overrides(registry, settings))
+        _, codes, severities = judges[id(settings)]
+        kept = []
+        for finding in result.findings:
+            rule = by_code.get(finding.code)
+            if rule is None or rule.code in UNIGNORABLE:
+                kept.append(finding)
+            elif rule.code in codes:
+                severity = severities.get(rule.code) or _profile_severity(rule, finding.profile)
+                if severity is not finding.severity:
+                    renamed[finding] = replace(finding, severity=severity)
+                kept.append(renamed.get(finding, finding))
+        # Judged by that configuration now, as check under it records.
+        files.append(replace(result, findings=tuple(kept), config=settings.source))
+    return replace(
+        report,
+        files=tuple(files),
+        baseline_held=frozenset(renamed.get(f, f) for f in report.baseline_held),
+    )
+
+
+def _profile_severity(rule: type[Rule], profile: str | None) -> Severity:
+    """A finding's severity under ``profile`` before the configuration's: a
+    generic rule's as the profile changes it (profiles/model.py, ``judge``)."""
+    known = PROFILES.get(profile) if profile is not None else None
+    change = known.change_for(rule.code) if known and rule.profile is None else None
+    return change.severity if change and change.severity else rule.severity
+
+
 def without_fixes(report: Report, codes: frozenset[str]) -> Report:
     """``report`` with no fix on the findings of the rules ``codes`` names:
     every format, the editor and the validation plugins then offer none, as
