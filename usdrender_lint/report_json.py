@@ -5,6 +5,7 @@ with it; ``merge``, baselines and the result cache read with it."""
 from __future__ import annotations
 
 import json
+import os
 import re
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -94,6 +95,9 @@ def report_to_dict(
         # What merge compares (running/merge.py); written by check and merge.
         **({"configuration": configuration} if configuration else {}),
         **({"shard": {"index": shard[0], "count": shard[1]}} if shard else {}),
+        # What the shard's relative paths (config_file) are relative to, for a
+        # merge run from another folder.
+        **({"working_directory": cwd} if shard and (cwd := _working_directory()) else {}),
         "files": [
             {
                 "file": result.file,
@@ -208,6 +212,23 @@ def _optional(data: Mapping[str, Any], key: str, where: str) -> str | None:
     if not isinstance(value, _OPTIONAL_STR):
         raise ReportFormatError(f"{where}: '{key}' is not a string or null")
     return value
+
+
+def _working_directory() -> str | None:
+    try:
+        return os.getcwd()
+    except OSError:  # gone, or too long to name: the paths written are absolute
+        return None
+
+
+def working_directory_from_dict(document: Mapping[str, Any]) -> str | None:
+    """The working directory a shard's report records (its relative paths are
+    relative to it); None when it records none, or one this system cannot
+    name (another system's: merge reads the paths from its own folder)."""
+    value = document.get("working_directory")
+    if value is not None and not isinstance(value, str):
+        raise ReportFormatError("'working_directory' is not a string")
+    return value if value and os.path.isabs(value) else None
 
 
 def shard_from_dict(document: Mapping[str, Any]) -> tuple[int, int] | None:

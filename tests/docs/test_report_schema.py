@@ -68,6 +68,7 @@ def test_a_shard_report_matches_the_schema(monkeypatch: pytest.MonkeyPatch) -> N
     document = _report("--shard", "2/3", "examples/")
     jsonschema.validate(document, SCHEMA)
     assert document["shard"] == {"index": 2, "count": 3}
+    assert document["working_directory"] == str(REPO)
     for bad in ({"index": 0, "count": 3}, {"index": 1}, "2/3"):
         with pytest.raises(jsonschema.ValidationError):
             jsonschema.validate({**document, "shard": bad}, SCHEMA)

@@ -679,3 +679,50 @@ def test_merged_shards_describe_the_configuration_s_unfixable_rules_as_check(
     assert (merged.exit_code, merged.stdout) == (code, whole)
     described = json.loads(whole)["runs"][0]["tool"]["driver"]["rules"]
     assert [r["properties"]["fix"] for r in described if r["id"] == "SE003"] == ["none"]
+
+
+def test_merge_from_another_folder_reads_the_configuration_the_shards_record(
+    project: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The shards record their configuration relative to the folder they ran
+    in; a merge run from another folder did not find it and silently described
+    the rules without it (SE003 fixable, at its default level)."""
+    (project / "pyproject.toml").write_text(
+        '[tool.usdrender-lint]\nunfixable = ["SE003"]\n\n[tool.usdrender-lint.severity]\n'
+        'SE003 = "warning"\n'
+    )
+    reports = [str(project / name) for name in _sharded_reports(2)]
+
+    def described(result) -> tuple[list, list]:
+        run = json.loads(result.stdout)["runs"][0]
+        rules = run["tool"]["driver"]["rules"]
+        fixes = [r["properties"]["fix"] for r in rules if r["id"] == "SE003"]
+        return fixes, run["invocations"][0].get("ruleConfigurationOverrides", [])
+
+    here = described(_merge("--format", "sarif", *reports))
+    assert here[0] == ["none"] and [o["descriptor"]["id"] for o in here[1]] == ["SE003"]
+    elsewhere = project.parent / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    merged = _merge("--format", "sarif", *reports)
+    assert described(merged) == here and merged.stderr == ""
+    # The folder they ran in is not here (another machine): said, not dropped.
+    for name in reports:
+        document = json.loads(Path(name).read_text())
+        assert document["working_directory"] == str(project)
+        document["working_directory"] = str(project.parent / "gone")
+        Path(name).write_text(json.dumps(document))
+    merged = _merge("--format", "sarif", *reports)
+    assert merged.exit_code == 0  # SE003 a warning: its findings, as recorded
+    (line,) = merged.stderr.splitlines()
+    assert line.startswith(
+        "usdrender-lint: note: pyproject.toml: the configuration file the reports record for "
+        f"23 files is not found from here nor in {project.parent / 'gone'}"
+    )
+    # A folder this system cannot name (another system's) is not one to look in.
+    for name in reports:
+        document = json.loads(Path(name).read_text())
+        document["working_directory"] = "C:\\checkout"
+        Path(name).write_text(json.dumps(document))
+    (line,) = _merge("--format", "sarif", *reports).stderr.splitlines()
+    assert "23 files is not found from here: merge cannot read again" in line

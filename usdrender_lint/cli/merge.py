@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 import sys
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import click
@@ -27,6 +29,7 @@ if TYPE_CHECKING:
     from ..config import Settings
     from ..model import Report
     from ..registry import Registry
+    from ..running.pipeline import Prepared
     from ..running.report_views import SettingsOf
 
 
@@ -79,7 +82,7 @@ def merge(
     except OutputOnInput as exc:
         raise ToolError(str(exc)) from None
     try:
-        report, configuration = merge_reports(reports)
+        report, configuration, where = merge_reports(reports)
         # The configuration decides fail-on and which rules a SARIF report describes.
         request = Request(
             (".",), config=config_path, config_overrides=overrides, isolated=isolated, **given
@@ -89,15 +92,17 @@ def merge(
         raise ToolError(str(exc)) from None
     settings_of = _settings_of(prepared.settings, config_path, overrides, isolated)
     # The configuration asked for judges the files as check under it would: its
-    # per-path ignores and unfixable rules (the reports' check may have had others).
-    # Without one, each file's as its report records it, which its findings show
-    # already; what it makes unfixable is what a SARIF report describes so.
-    judge = settings_of or _recorded(report, prepared.registry)
+    # selection, severities, per-path ignores and unfixable rules (the reports'
+    # check may have had others). Without one, each file's as its report records
+    # it, which its findings show already; what it makes unfixable and the
+    # severities it sets are what a SARIF report describes so.
+    recorded = _Recorded(report, where, prepared.registry)
+    judge = settings_of or recorded.settings_of
     try:
         if settings_of is not None:
             # Its selection and severities too; a rule the checks did not run
             # has no findings to add.
-            _refuse_rules_not_run(report, configuration, settings_of, prepared.registry)
+            _refuse_rules_not_run(report, configuration, settings_of, recorded)
             report = rejudged(report, settings_of, prepared.registry)
         report = finished_by_file(report, judge, prepared.registry)
     except (RequestError, ConfigError) as exc:  # a file's nearest configuration
@@ -119,31 +124,67 @@ def merge(
     sys.exit(exit_status(report, prepared.settings.fail_on))
 
 
-def _recorded(report: Report, registry: Registry) -> SettingsOf:
-    """Each file's configuration as the check that linted it records it
-    (``config_file``), read again; None for a file linted with none, or one
-    whose configuration is not here to read (its findings are left as they are)."""
-    from ..running.pipeline import Request, RequestError, prepare
+class _Recorded:
+    """The configuration files the reports record for their files
+    (``config_file``), found and read again once each. A shard's report
+    records its working directory, which its relative paths are relative to;
+    without it (or when that folder is not here) they are read from this one.
+    One that cannot be found or read is said in a note, never left out silently."""
 
-    recorded = {result.file: result.config for result in report.files}
-    known: dict[str, Settings | None] = {}
+    def __init__(self, report: Report, where: Mapping[str, str], registry: Registry) -> None:
+        self.registry = registry
+        #: Each file's (recorded path, its report's working directory).
+        self.of_file = {r.file: (r.config, where.get(r.file)) for r in report.files}
+        self.found: dict[tuple[str | None, str | None], str | None] = {}
+        self.read: dict[str | None, Prepared | None] = {}
 
-    def settings_of(file: str) -> Settings | None:
-        config = recorded.get(file)
-        if config is None:
+    def prepared(self, file: str) -> Prepared | None:
+        """The configuration ``file`` was linted under, read again: the
+        defaults for a file linted with none; None when it cannot be."""
+        from ..running.pipeline import Request, RequestError, prepare
+
+        config, base = self.of_file.get(file, (None, None))
+        path = None if config is None else self._path(config, base)
+        if config is not None and path is None:
             return None
-        if config not in known:
+        if path not in self.read:
             try:
-                known[config] = prepare(Request((".",), config=config), registry).settings
-            except RequestError:
-                known[config] = None
-        return known[config]
+                request = Request((".",), config=path, isolated=path is None)
+                self.read[path] = prepare(request, self.registry)
+            except RequestError as exc:
+                note(f"note: the configuration a report records cannot be read again: {exc}")
+                self.read[path] = None
+        return self.read[path]
 
-    return settings_of
+    def settings_of(self, file: str) -> Settings | None:
+        """Each file's configuration as the check that linted it records it,
+        read again; None for a file linted with none, or one whose configuration
+        cannot be read (its findings are left as they are)."""
+        if self.of_file.get(file, (None, None))[0] is None:
+            return None
+        prepared = self.prepared(file)
+        return prepared.settings if prepared is not None else None
+
+    def _path(self, config: str, base: str | None) -> str | None:
+        if (config, base) not in self.found:
+            # Where the check ran first: this folder may hold another file of that name.
+            tried = [config] if base is None else [os.path.join(base, config), config]
+            found = next((path for path in tried if os.path.isfile(path)), None)
+            if found is None:
+                count = sum(1 for key in self.of_file.values() if key == (config, base))
+                where = f" nor in {base}, where its report was made" if base else ""
+                note(
+                    f"note: {config}: the configuration file the reports record for "
+                    f"{count:,} file{'s' if count != 1 else ''} is not found from here{where}: "
+                    "merge cannot read again what it sets (a SARIF report's unfixable rules "
+                    "and severities); run merge in the folder the checks ran in"
+                )
+            self.found[config, base] = found
+        return self.found[config, base]
 
 
 def _refuse_rules_not_run(
-    report: Report, digest: str | None, settings_of: SettingsOf, registry: Registry
+    report: Report, digest: str | None, settings_of: SettingsOf, recorded: _Recorded
 ) -> None:
     """Raise a ToolError when the configuration merge judges the files with
     selects a rule the reports' checks did not run (its findings cannot be
@@ -152,8 +193,9 @@ def _refuse_rules_not_run(
     from ..running.path_ignores import UNIGNORABLE
     from ..running.pipeline import make_rules
 
-    ran = _rules_run(report, digest, registry)
+    ran = _rules_run(report, digest, recorded)
     judges = {id(s): s for r in report.files if (s := settings_of(r.file)) is not None}
+    registry = recorded.registry
     selected = {type(rule).code for s in judges.values() for rule in make_rules(registry, s)}
     missing = sorted(selected - (ran or {f.code for f in report.findings}) - set(UNIGNORABLE))
     named = ", ".join(missing[:5]) + (", ..." if len(missing) > 5 else "")
@@ -173,30 +215,29 @@ def _refuse_rules_not_run(
         )
 
 
-def _rules_run(report: Report, digest: str | None, registry: Registry) -> frozenset[str] | None:
+def _rules_run(report: Report, digest: str | None, recorded: _Recorded) -> frozenset[str] | None:
     """The codes of the rules the reports' checks ran on every file: those of
-    the configuration files they record (``config_file``), read again, when
-    these make the reports' configuration digest (a check's own flags, which
-    a report does not record, would not). None when that cannot be told."""
+    the configuration files they record, read again, when these make the
+    reports' configuration digest (a check's own flags, which a report does
+    not record, would not). None when that cannot be told."""
     from ..running.merge import configuration_digest, digest_of_parts
-    from ..running.pipeline import Request, RequestError, prepare
 
     if digest is None:
         return None
-    digests: list[str] = []
-    ran: list[frozenset[str]] = []
-    for config in sorted({r.config for r in report.files}, key=lambda c: c or ""):
-        request = Request((".",), config=config, isolated=config is None)
-        try:
-            prepared = prepare(request, registry)
-        except RequestError:
+    parts: dict[int, Prepared] = {}
+    for result in report.files:
+        prepared = recorded.prepared(result.file)
+        if prepared is None:
             return None
-        digests.append(configuration_digest(prepared.settings, prepared.linter.rules))
-        ran.append(frozenset(rule.code for rule in prepared.linter.rules))
+        parts.setdefault(id(prepared), prepared)
+    digests = [configuration_digest(p.settings, p.linter.rules) for p in parts.values()]
     # One configuration's digest, or a run split by configuration's (its parts').
-    if not ran or digest not in {*digests[:1], digest_of_parts(digests)}:
+    whole = digests if len(digests) == 1 else []
+    if not digests or digest not in {*whole, digest_of_parts(digests)}:
         return None
-    return frozenset.intersection(*ran)
+    return frozenset.intersection(
+        *(frozenset(rule.code for rule in p.linter.rules) for p in parts.values())
+    )
 
 
 def _settings_of(

@@ -29,7 +29,13 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from ..model import AppliedFix, FileResult, Finding, Report
-from ..report_json import ReportFormatError, read_document, report_from_dict, shard_from_dict
+from ..report_json import (
+    ReportFormatError,
+    read_document,
+    report_from_dict,
+    shard_from_dict,
+    working_directory_from_dict,
+)
 
 if TYPE_CHECKING:
     from collections import Counter
@@ -79,12 +85,15 @@ def _portable(value: object) -> str:
     return re.sub(r" at 0x[0-9a-fA-F]+", "", repr(value))
 
 
-def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
-    """One report holding every file of the reports at ``paths``, and the
-    configuration digest they share (None for reports written without one)."""
+def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None, dict[str, str]]:
+    """One report holding every file of the reports at ``paths``, the
+    configuration digest they share (None for reports written without one),
+    and the working directory each file's report records (a shard's: its
+    relative paths are relative to it), by file."""
     if not paths:
         raise MergeError("merge needs at least one JSON report")
     files: dict[str, tuple[FileResult, str]] = {}
+    where: dict[str, str] = {}
     held_back: set[Finding] = set()
     applied: list[AppliedFix] = []
     unapplied: list[AppliedFix] = []
@@ -98,6 +107,7 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
         try:
             report = report_from_dict(document)
             shard = shard_from_dict(document)
+            working_directory = working_directory_from_dict(document)
         except ReportFormatError as exc:
             raise MergeError(f"{path}: {exc}") from None
         held_back.update(report.baseline_held)
@@ -106,6 +116,8 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
             first = identity
         _same_run(first, identity)
         for result in report.files:
+            if working_directory is not None:
+                where.setdefault(result.file, working_directory)
             held = files.setdefault(result.file, (result, path))
             if held[0] != result:
                 raise MergeError(
@@ -134,7 +146,7 @@ def merge_reports(paths: Sequence[str]) -> tuple[Report, str | None]:
         baseline_held=frozenset(held_back),
     )
     assert first is not None
-    return merged, first[2]
+    return merged, first[2], where
 
 
 def _version(document: Mapping[str, Any]) -> str | None:
