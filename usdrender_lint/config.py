@@ -11,9 +11,11 @@ import contextlib
 import contextvars
 import dataclasses
 import errno
+import itertools
 import os
 import re
 import stat
+import time
 import types
 import typing
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
@@ -727,33 +729,124 @@ def read_user_config(path: str | os.PathLike[str]) -> Settings:
 
 
 #: What tells a rewritten file from the one read: its size, modification
-#: time, change time and inode (None: gone or unreadable).
-FileState = tuple[int, int, int, int] | None
+#: time, change time and inode, and 0 or, when the stamp alone cannot prove the
+#: file unchanged later, a digest of its bytes or a number no other stamp has
+#: (see :func:`stat_state`). None: gone or unreadable.
+FileState = tuple[int, int, int, int, int] | None
+#: Stamps of the files a host read, in the order it compares them.
+Stamps = tuple[tuple[str, FileState], ...]
+
+#: How long after a file's last change a stamp of it stays racy: a filesystem
+#: timestamps from a clock that ticks (Linux's every few milliseconds, Windows'
+#: every 15.6), so a second write within that tick keeps the first one's times.
+RACY_NS = 100_000_000
+#: The same for a filesystem that keeps whole seconds (HFS+, ext3) or two (FAT).
+RACY_COARSE_NS = 2_000_000_000
+#: The fifth field of racy stamps that carry no digest: -1, -2, ... (a digest is > 0).
+_racy_serial = itertools.count(1)
+_T = TypeVar("_T")
 
 
-def file_state(path: str | None) -> FileState:
+def file_state(path: str | None, *, racy: bool = True, read_ns: int | None = None) -> FileState:
     """The file's :data:`FileState`. Not its modification time alone: a file
     rewritten with that time kept (set back by a copy that keeps times, or
     written within one tick of a coarse clock) has another change time, and
-    one renamed into place another inode."""
+    one renamed into place another inode. ``read_ns``: see :func:`stat_state`
+    (None: the file is read after this stamp, if at all, so a racy stamp
+    carries a digest of its bytes). ``racy=False``: the stamp as it is, even
+    taken as the file changed (for a watch that hears the writes)."""
     if not path:
         return None
     try:
-        return stat_state(os.stat(path))
+        info = os.stat(path)
     except OSError:
         return None
+    if not racy:
+        return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino, 0)
+    return stat_state(info, read_ns, path if read_ns is None else None)
 
 
-def stat_state(info: os.stat_result) -> tuple[int, int, int, int]:
-    """The :data:`FileState` of a file whose ``os.stat`` is ``info``."""
-    return (info.st_size, info.st_mtime_ns, info.st_ctime_ns, info.st_ino)
+def stat_state(
+    info: os.stat_result, read_ns: int | None = None, digest_of: str | None = None
+) -> tuple[int, int, int, int, int]:
+    """The :data:`FileState` of a file whose ``os.stat`` is ``info``, read from
+    ``read_ns`` on (``time.time_ns()``; default: now, the file read after).
+
+    A write within the same clock tick as the last one, with the same size,
+    leaves every field as it was: a stamp of a file whose last change
+    (modification or change time, whichever is later) is not a tick older than
+    its read cannot prove that what is there later is what was read. Git
+    treats an index entry whose time is not older than the index file itself
+    the same way, and compares such "racily clean" entries by content
+    (git's Documentation/technical/racy-git.txt). So does a racy stamp here
+    when the file is read after it (``digest_of``, the file's path): it carries
+    a digest of the bytes. Else (taken after the read, or given no path) it
+    matches no other stamp, so the next look reads the file again; that
+    read's stamp is settled once the tick is over. A file dated ahead of this
+    clock stays racy: it is compared by its digest where there is one.
+    """
+    mtime, ctime = info.st_mtime_ns, info.st_ctime_ns
+    read = time.time_ns() if read_ns is None else read_ns
+    coarse = mtime % 1_000_000_000 == 0 and ctime % 1_000_000_000 == 0
+    mark = 0
+    if max(mtime, ctime) >= read - (RACY_COARSE_NS if coarse else RACY_NS):
+        digest = _digest(digest_of) if digest_of is not None else None
+        mark = digest if digest is not None else -next(_racy_serial)
+    return (info.st_size, mtime, ctime, info.st_ino, mark)
 
 
-def file_stamps(files: Iterable[str]) -> tuple[tuple[str, FileState], ...]:
-    """Each file with its :data:`FileState`: a long-running host (the language
-    server, a validator plugin) compares them to read its configuration again
-    when a file it read changed."""
-    return tuple((path, file_state(path)) for path in files)
+def _digest(path: str) -> int | None:
+    """A positive digest of the regular file's bytes (None: unreadable, or not
+    a regular file: a FIFO's reader would wait for a writer)."""
+    import hashlib  # only for a racy stamp: not on start-up's path
+
+    hashed = hashlib.blake2b(digest_size=8)
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
+    try:
+        with open(os.open(path, flags | getattr(os, "O_CLOEXEC", 0)), "rb") as file:
+            if not stat.S_ISREG(os.fstat(file.fileno()).st_mode):
+                return None
+            while chunk := file.read(1 << 20):
+                hashed.update(chunk)
+    except OSError:
+        return None
+    return int.from_bytes(hashed.digest(), "big") // 2 + 1
+
+
+def is_racy(state: FileState) -> bool:
+    """Whether the stamp was taken within a tick of the file's last change."""
+    return state is not None and state[4] != 0
+
+
+def file_stamps(files: Iterable[str], read_ns: int | None = None) -> Stamps:
+    """Each file with its :data:`FileState` (``read_ns``: when the caller began
+    reading them, see :func:`stat_state`; None: read after, or compared): a
+    long-running host (the language server, a validator plugin) compares them
+    to read its configuration again when a file it read changed."""
+    return tuple((path, file_state(path, read_ns=read_ns)) for path in files)
+
+
+def stamped_read(
+    candidates: Sequence[str], read: Callable[[], _T], sources: Callable[[_T], Iterable[str]]
+) -> tuple[_T, Stamps]:
+    """``read()``'s result and the stamps of the files it read: ``candidates``,
+    known before (:func:`config_candidates`, the file found among them), are
+    stamped before it, so that a racy one is compared by its bytes; the other
+    ``sources(result)`` (files it extends) after it, from when it began. Should
+    one of those be racy, it is read once more with them stamped before too: a
+    file dated ahead of the clock would else be read again on every look."""
+    known = tuple(candidates)
+    for _ in range(2):
+        started = time.time_ns()
+        before = file_stamps(known)
+        result = read()
+        seen = set(known)
+        others = tuple(s for s in sources(result) if s not in seen)
+        after = file_stamps(others, read_ns=started)
+        if not any(is_racy(state) for _, state in after):
+            break
+        known = (*known, *others)
+    return result, before + after
 
 
 def config_candidates(path: str | Path) -> tuple[str, ...]:

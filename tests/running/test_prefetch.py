@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 from pxr import Sdf
 
+from usdrender_lint.config import RACY_NS
 from usdrender_lint.running import stalls
 from usdrender_lint.running.prefetch import Reader, spare_core
 from usdrender_lint.running.workers import FullyComposed, Pool, lint_one
@@ -32,6 +33,9 @@ def _shots(folder: Path, count: int) -> list[str]:
         path = folder / f"shot{index}.usda"
         path.write_text(SHOT % index)
         paths.append(str(path))
+    # A file stamped within a clock tick of its writing is read again by its lint
+    # (config.stat_state): these are read ahead once that tick is over.
+    time.sleep(RACY_NS / 1e9)
     return paths
 
 

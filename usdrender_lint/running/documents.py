@@ -30,7 +30,15 @@ from typing import TYPE_CHECKING, Any
 
 from pxr import Ar, Pcp, Sdf, Tf, Usd, Vt
 
-from ..config import FileState, config_candidates, file_stamps, file_state
+from ..config import (
+    FileState,
+    Stamps,
+    config_candidates,
+    file_stamps,
+    file_state,
+    is_racy,
+    stamped_read,
+)
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
 from ..engine.stage import (
@@ -88,7 +96,7 @@ class _Config:
     prepared: Prepared
     #: The state (config.file_state) of the configuration files read (those it extends
     #: too) and of those the search for one looked at, when they were read.
-    stamps: tuple[tuple[str, FileState], ...]
+    stamps: Stamps
 
 
 class Documents:
@@ -172,6 +180,8 @@ class Documents:
     def lint(self, path: str) -> Linted:
         """Lint the document at ``path`` as ``check`` lints it (no --fail-on)."""
         started = time.perf_counter()
+        # A stage opened by this lint reads its layers from now on (_reload_files).
+        began = time.time_ns()
         try:
             prepared = self._prepare(path)
             excluded = _excluded(prepared, path)  # reads the configurations above it too
@@ -185,7 +195,7 @@ class Documents:
             severity = prepared.linter.severities.get(STAGE_OPEN_FAILED_CODE, Severity.ERROR)
             findings = tuple(open_failure_findings(path, parse_error, severity, self.texts))
         else:
-            findings = self._lint_stage(prepared, path)
+            findings = self._lint_stage(prepared, path, began)
         return Linted(
             findings,
             seconds=time.perf_counter() - started,
@@ -199,7 +209,7 @@ class Documents:
             return frozenset()
         return frozenset(filter(None, map(layer_real_path, stage.GetUsedLayers())))
 
-    def _lint_stage(self, prepared: Prepared, path: str) -> tuple[Finding, ...]:
+    def _lint_stage(self, prepared: Prepared, path: str, began: int) -> tuple[Finding, ...]:
         stage = self._stages.get(path)
         if stage is not None:
             lost = self._lost_files(stage)
@@ -221,7 +231,7 @@ class Documents:
             result = prepared.linter.lint_path(path, full_composition=True)
         else:
             self._stages[path] = stage
-            self._reload_files(stage)
+            self._reload_files(stage, began)
             combinations = prepared.spec.variant_combinations
             if combinations is None:
                 result = prepared.linter.run_stage(stage, path, texts=self.texts).result
@@ -251,20 +261,28 @@ class Documents:
                 lost.add(real)
         return lost
 
-    def _reload_files(self, stage: Usd.Stage) -> None:
+    def _reload_files(self, stage: Usd.Stage, began: int) -> None:
         """Read again the layers on disk whose files changed since USD read them.
         A reload without force compares the file's modification time alone
         (SdfLayer::_Reload, pxr/usd/sdf/layer.cpp), so a file rewritten with its
         time kept (set back, or within one tick of a coarse clock) would keep
         its old content: a file whose size, change time or inode changed since
-        the last lint is read again whatever its time says."""
+        the last lint is read again whatever its time says. A stamp taken within
+        a clock tick of the file's change cannot prove that (config.stat_state):
+        taken here, before the reload, it carries the file's digest; a layer
+        first seen was read as its stage opened, before it, so one changed
+        within a tick of this lint's start is read again."""
         for layer in stage.GetUsedLayers():
             real = layer_real_path(layer)
             if layer.anonymous or layer.dirty or real in self.texts:
                 continue
-            state = file_state(real)
-            force = real is not None and self._file_states.get(real, state) != state
+            force = False
             if real is not None:
+                state = file_state(real)
+                if real in self._file_states:
+                    force = self._file_states[real] != state
+                else:
+                    force = is_racy(file_state(real, read_ns=began))
                 self._file_states[real] = state
             # Gone or unreadable: the composition reports it.
             with Tf.DiagnosticTrap() as trap:
@@ -292,9 +310,13 @@ class Documents:
                 timeout=None,
                 progress=False,
             )
-            prepared = prepare(request, self.registry)
-            read = (*prepared.settings.sources, *config_candidates(path))
-            config = self._configs[folder] = _Config(prepared, file_stamps(read))
+            # The files the search looks at and the editor's file are known
+            # before the read: stamped before it (config.stamped_read).
+            known = (*config_candidates(path), *((given,) if isinstance(given, str) else ()))
+            prepared, stamps = stamped_read(
+                known, lambda: prepare(request, self.registry), lambda p: p.settings.sources
+            )
+            config = self._configs[folder] = _Config(prepared, stamps)
         return config.prepared
 
     # -- layers -------------------------------------------------------------------------

@@ -19,8 +19,9 @@ It changes no answer:
   check knows, the item the worker was linting is linted again alone and the
   crash then falls on the file that caused it;
 - the layer is used only when the file is unchanged (size, modification and
-  change times, inode) when its lint starts; else it is dropped and USD reads
-  the file again.
+  change times, inode) when its lint starts, and was not changed within a
+  clock tick of its stamp (a rewrite then may keep every field); else it is
+  dropped and USD reads the file again.
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ from collections.abc import Callable
 from contextlib import suppress
 from typing import TYPE_CHECKING, Any
 
-from ..config import stat_state
+from ..config import FileState, stat_state
 
 if TYPE_CHECKING:
     from multiprocessing.connection import Connection
@@ -89,7 +90,7 @@ class Reader:
             self._inbox.put((index, item, layer, stamp))
 
 
-def _stamp(path: Any) -> tuple[int, int, int, int] | None:
+def _stamp(path: Any) -> FileState:
     if not isinstance(path, str) or not path.lower().endswith(_READ_AHEAD):
         return None
     try:
@@ -98,7 +99,9 @@ def _stamp(path: Any) -> tuple[int, int, int, int] | None:
         return None
     if not stat.S_ISREG(info.st_mode):
         return None  # a FIFO, a device: read only by its own lint, which may wait on it
-    return stat_state(info)  # the change time too: a rewrite that kept its modification time
+    # The change time too (a rewrite that kept its modification time), and a
+    # file changed as it was stamped never matches (config.stat_state).
+    return stat_state(info)
 
 
 def _read(path: str) -> Any:

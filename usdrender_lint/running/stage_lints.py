@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from pxr import Tf, Usd
 
-from ..config import FileState, config_candidates, file_stamps
+from ..config import Stamps, config_candidates, file_stamps, stamped_read
 from ..engine import Linter, TracedFinding
 from ..model import FileResult, Finding, Report
 from ..records import record
@@ -156,7 +156,7 @@ class CheckLinters:
 
     def __init__(self) -> None:
         #: Each folder's Prepared, with the state of the files it read (config.file_state).
-        self._prepared: dict[str, tuple[Any, tuple[tuple[str, FileState], ...]]] = {}
+        self._prepared: dict[str, tuple[Any, Stamps]] = {}
         #: Each stage's force-exclude answer, with the Prepared it was judged by.
         self._force_excluded: StageMap[tuple[Any, bool]] = StageMap()
         self._lock = threading.Lock()
@@ -172,11 +172,12 @@ class CheckLinters:
             if cached is not None and file_stamps(f for f, _ in cached[1]) == cached[1]:
                 return cached[0]
             request = Request((file,), jobs=1, timeout=None, progress=False)
-            prepared = prepare(request)
             # The files it read and those the search looked at: a configuration
             # created later (where there was none, or nearer) is read too.
-            read = (*prepared.settings.sources, *config_candidates(file))
-            self._prepared[folder] = (prepared, file_stamps(read))
+            prepared, stamps = stamped_read(
+                config_candidates(file), lambda: prepare(request), lambda p: p.settings.sources
+            )
+            self._prepared[folder] = (prepared, stamps)
             return prepared
 
     def linter(self, stage: Usd.Stage) -> Linter:

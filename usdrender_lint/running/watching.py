@@ -91,8 +91,10 @@ class Watcher:
         # A file given is polled too: an editor's save replaces it, which ends
         # the operating system's watch on the file (the next save went unseen).
         # Its state is more than its modification time: a file rewritten with
-        # that time kept (config.file_state) is a change too.
-        self._polled: dict[str, FileState] = {f: file_state(f) for f in self._files()}
+        # that time kept (config.file_state) is a change too. The operating
+        # system's events tell a rewrite in place: a stamp taken as the file
+        # changed is kept as it is (else the next poll re-ran the check).
+        self._polled: dict[str, FileState] = {f: _state(f) for f in self._files()}
         self._events: Iterator[set[Any]] | None = None
         self._start_events()
 
@@ -135,7 +137,7 @@ class Watcher:
     def poll(self, files: Iterable[str]) -> None:
         """Also watch ``files`` (outside the paths, say), from their state now."""
         wanted = {os.path.abspath(f) for f in files} | self._files()
-        self._polled = {f: self._polled.get(f, file_state(f)) for f in wanted}
+        self._polled = {f: self._polled.get(f, _state(f)) for f in wanted}
 
     def wait(self) -> list[str]:
         """Block until something relevant changed; the paths that did, sorted."""
@@ -177,11 +179,15 @@ class Watcher:
     def _polled_changes(self) -> set[str]:
         changed = set()
         for path, stamp in self._polled.items():
-            now = file_state(path)
+            now = _state(path)
             if now != stamp:
                 self._polled[path] = now
                 changed.add(path)
         return changed
+
+
+def _state(path: str) -> FileState:
+    return file_state(path, racy=False)
 
 
 __all__ = ["MISSING", "WatchUnavailable", "Watcher", "relevant"]
