@@ -9,10 +9,14 @@ __version__ = "0.5.0"
 
 TYPE_CHECKING = False
 if TYPE_CHECKING:  # the Python API, for type checkers; imported lazily below
-    from .running.python_api import lint_file, lint_stage
+    from .running.python_api import SchemaRegistryError, lint_file, lint_stage
 
 #: Loaded on first use, so ``import usdrender_lint`` stays cheap (no pxr).
-_LAZY = {"lint_file": "running.python_api", "lint_stage": "running.python_api"}
+_LAZY = {
+    "lint_file": "running.python_api",
+    "lint_stage": "running.python_api",
+    "SchemaRegistryError": "running.python_api",
+}
 
 
 def __getattr__(name: str):
@@ -23,4 +27,4 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["__version__", "lint_file", "lint_stage"]
+__all__ = ["SchemaRegistryError", "__version__", "lint_file", "lint_stage"]

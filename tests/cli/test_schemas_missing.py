@@ -103,3 +103,33 @@ def test_a_stage_a_host_opened_is_not_linted_either() -> None:
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout == f"refused: {SAID.removeprefix('usdrender-lint: error: ')}\n"
+
+
+def test_the_api_raises_its_own_error_not_a_configuration_error() -> None:
+    # ConfigError told the caller their configuration was wrong: the one
+    # exception to catch is this process's USD's, still a ConfigError for the
+    # except clauses written for it.
+    script = (
+        "import sys, usdrender_lint\n"
+        "from usdrender_lint.config import ConfigError\n"
+        "from pxr import Usd\n"
+        "stage = Usd.Stage.Open(sys.argv[1])\n"
+        "for call in (usdrender_lint.lint_file, usdrender_lint.lint_stage):\n"
+        "    given = stage if call is usdrender_lint.lint_stage else sys.argv[1]\n"
+        "    try:\n"
+        "        call(given)\n"
+        "    except Exception as exc:\n"
+        "        assert exc.__class__ is usdrender_lint.SchemaRegistryError, repr(exc)\n"
+        "        assert isinstance(exc, ConfigError) and exc.__cause__ is None\n"
+        "        print(call.__name__, exc)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script, str(FIXTURES / "fail_mismatch.usda")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, SETTING: "1"},
+    )
+    assert done.returncode == 0, done.stderr
+    said = SAID.removeprefix("usdrender-lint: error: ")
+    assert done.stdout == f"lint_file {said}\nlint_stage {said}\n"

@@ -65,6 +65,12 @@ class RequestError(Exception):
     error, a rule plugin that fails to load): one line, exit 2."""
 
 
+class SchemasRefused(RequestError):
+    """Nothing can be linted: this process's USD schema registry lacks the
+    rules' schemas (engine.SchemasMissing). The Python API, which lints in
+    this process, raises its own error for it, not a configuration error."""
+
+
 @record(frozen=True)
 class FixRequest:
     """What fixing was asked for: ``--fix``, ``--diff`` or ``--fix-to LAYER``."""
@@ -739,7 +745,7 @@ def run(request: Request, registry: Registry | None = None) -> Outcome:
     except SchemasMissing as exc:  # this process's USD: a cache lookup, a fix, a lint
         from .address_space import schemas_missing
 
-        raise RequestError(schemas_missing(exc)) from None
+        raise SchemasRefused(schemas_missing(exc)) from None
 
 
 def _run(request: Request, registry: Registry | None) -> Outcome:
@@ -1225,7 +1231,7 @@ def lint_as_asked(
     except SchemasMissing as exc:  # linted in this process
         from .address_space import schemas_missing
 
-        raise RequestError(schemas_missing(exc)) from None
+        raise SchemasRefused(schemas_missing(exc)) from None
 
 
 def _open_cache(prepared: Prepared, notes: list[str]) -> ResultCache | None:
@@ -1486,6 +1492,7 @@ __all__ = [
     "Prepared",
     "Request",
     "RequestError",
+    "SchemasRefused",
     "exit_status",
     "fails",
     "make_linter",

@@ -27,7 +27,24 @@ from ..registry import RegistryError
 from ..settings_table import BY_NAME
 from .address_space import schemas_missing
 from .discovery import Exclusions, force_excluded
-from .pipeline import Outcome, Prepared, Request, RequestError, folder_exclusions, prepare, run
+from .pipeline import (
+    Outcome,
+    Prepared,
+    Request,
+    RequestError,
+    SchemasRefused,
+    folder_exclusions,
+    prepare,
+    run,
+)
+
+
+class SchemaRegistryError(ConfigError):
+    """USD's schema registry in this process lacks the render schemas' prim
+    definitions (USD could not read them, under a low ``ulimit -v``), so nothing
+    can be linted: not a problem of the configuration. A :class:`ConfigError`
+    only so that ``except ConfigError`` clauses written before it still catch it."""
+
 
 ConfigLike = Settings | Mapping[str, Any] | str | os.PathLike[str] | None
 #: How a ``config`` table is named in its errors.
@@ -96,11 +113,14 @@ _ARGUMENTS = {entry.flag: entry.name for entry in BY_NAME.values() if entry.api 
 
 
 def _raise_as_before(exc: RequestError) -> None:
-    """The API's documented exceptions: ConfigError, or RegistryError for a plugin.
-    A message about a value passed names the keyword, not the command line's flag."""
+    """The API's documented exceptions: ConfigError, RegistryError for a plugin,
+    SchemaRegistryError for USD's schemas. A message about a value passed names
+    the keyword, not the command line's flag."""
     cause = exc.__cause__
     if isinstance(cause, RegistryError):
         raise cause from None
+    if isinstance(exc, SchemasRefused):
+        raise SchemaRegistryError(str(exc)) from None
     message = str(cause if isinstance(cause, ConfigError) else exc)
     flag = message.split(":", 1)[0].split(" ", 1)[0]
     if flag in _ARGUMENTS:
@@ -131,7 +151,8 @@ def lint_file(
     selections of the render prims (see ``--variants``). A file that cannot be
     linted is a result with ``status == "error"``, not an exception; a bad
     configuration raises :class:`ConfigError`, a rule plugin that fails to
-    load :class:`RegistryError`.
+    load :class:`RegistryError`, a USD whose schema registry lacks the render
+    schemas :class:`SchemaRegistryError`.
     """
     try:
         outcome: Outcome = run(
@@ -193,7 +214,7 @@ def lint_stage(
     try:
         linted = prepared.linter.run_stage(stage, name)
     except SchemasMissing as exc:  # as lint_file says it: the run's error
-        _raise_as_before(RequestError(schemas_missing(exc)))
+        _raise_as_before(SchemasRefused(schemas_missing(exc)))
         raise
     report = prepared.finish(Report((linted.result,)))
     return _with_rules(report, prepared.linter.rules, profile)
@@ -217,6 +238,7 @@ __all__ = [
     "Finding",
     "RegistryError",
     "Report",
+    "SchemaRegistryError",
     "Settings",
     "lint_file",
     "lint_stage",
