@@ -21,6 +21,7 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 import pytest
+from pxr import Usd
 
 av = pytest.importorskip(
     "omni.asset_validator",
@@ -493,6 +494,30 @@ def test_an_edited_configuration_is_read_again_in_a_running_host(tmp_path: Path)
     config.write_text('ignore = ["SE007", "CA004"]\n')
     os.utime(config, ns=(config.stat().st_atime_ns, config.stat().st_mtime_ns + 10**9))
     codes = {i.code for i in engine.validate(str(shot)).issues()}
+    assert "CA004" not in codes and "CA003" in codes
+
+
+@pytest.mark.parametrize("given", ["path", "stage"])
+def test_a_configuration_edited_in_place_is_read_again_in_a_running_host(
+    tmp_path: Path, given: str
+) -> None:
+    # Edited in place, the same size, its time set back; validated again by path
+    # or given the stage the host keeps open (the Asset Validator composes a
+    # stage of its own on it, so each validation lints a new stage).
+    shot = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", shot)
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text('ignore = ["SE007", "CA003"]\n')
+    engine = _engine()
+    stage = Usd.Stage.Open(str(shot))
+    what = str(shot) if given == "path" else stage
+    assert "CA004" in {i.code for i in engine.validate(what).issues()}
+    before = config.stat()
+    with config.open("r+") as file:
+        file.write('ignore = ["SE007", "CA004"]\n')
+    os.utime(config, ns=(before.st_atime_ns, before.st_mtime_ns))
+    assert config.stat().st_size == before.st_size
+    codes = {i.code for i in engine.validate(what).issues()}
     assert "CA004" not in codes and "CA003" in codes
 
 

@@ -796,3 +796,35 @@ def test_a_configuration_that_cannot_be_read_is_one_error_per_stage(tmp_path: Pa
     [error] = got["errors"]
     assert error[0] == "usdRenderLintFailure"
     assert "no-such-key" in error[3] and ".usdrender-lint.toml" in error[3]
+
+
+_EDITED = """
+import json, os, sys
+from pxr import Usd, UsdValidation
+registry = UsdValidation.ValidationRegistry()
+names = [str(m.name) for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")]
+context = UsdValidation.ValidationContext(registry.GetOrLoadValidatorsByName(names))
+shot, config = sys.argv[1], sys.argv[2]
+stage = Usd.Stage.Open(shot)
+seen = [sorted({str(e.GetName()) for e in context.Validate(stage)})]
+before = os.stat(config)
+with open(config, "r+") as file:  # in place, the same size, its time set back
+    file.write('ignore = ["SE003"]\\n')
+os.utime(config, ns=(before.st_atime_ns, before.st_mtime_ns))
+seen.append(sorted({str(e.GetName()) for e in context.Validate(stage)}))
+seen.append(sorted({str(e.GetName()) for e in context.Validate(Usd.Stage.Open(shot))}))
+print(json.dumps(seen))
+"""
+
+
+def test_a_configuration_edited_between_two_validations_is_read_again(tmp_path: Path) -> None:
+    # A host keeps running, and its open stage, while its user edits the project's
+    # configuration: the next validation follows the file, as check run again does.
+    shot = tmp_path / "shot.usda"
+    shot.write_text(SE003_FAIL.read_text())
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text('ignore = ["SE004"]\n')
+    first, same_stage, new_stage = _run_child(_EDITED, plugin_dir(), None, str(shot), str(config))
+    assert "SE003" in first
+    assert "SE003" not in new_stage
+    assert same_stage == new_stage

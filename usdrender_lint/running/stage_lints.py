@@ -68,9 +68,11 @@ class StageMap(MutableMapping[Usd.Stage, _V]):
 
 @record
 class _StageLint:
-    """One stage's traced findings, valid until the stage changes."""
+    """One stage's traced findings, valid until the stage changes or its
+    linter does (its configuration was read again)."""
 
     findings: list[TracedFinding]
+    linter: Linter
     listener: Any = field(default=None, repr=False)
 
 
@@ -95,12 +97,17 @@ class StageLints:
     def findings(self, stage: Usd.Stage) -> list[TracedFinding]:
         with self._lock:
             cached = self._lints.get(stage)
+            # A host validates its open stage again after its user edited the
+            # configuration: the stage is unchanged, the linter is another.
+            linter = self._linter_for(stage)
+            if cached is not None and cached.linter is not linter:
+                self._drop(stage)
+                cached = None
             if cached is None:
-                linter = self._lint_for(stage)
                 # The edit that invalidates comes from anywhere: USD tells us.
                 listener = Tf.Notice.Register(Usd.Notice.ObjectsChanged, self._forget, stage)
-                traced = linter.run_stage(stage, stage_file(stage)).traced()
-                cached = _StageLint(traced, listener)
+                traced = self._lint_for(stage).run_stage(stage, stage_file(stage)).traced()
+                cached = _StageLint(traced, linter, listener)
                 while len(self._lints) >= MAX_CACHED_STAGES:
                     self._drop(next(iter(self._lints)))
                 self._lints[stage] = cached
