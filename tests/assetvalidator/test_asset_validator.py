@@ -535,6 +535,21 @@ def test_a_bad_configuration_is_one_issue_naming_the_file_and_key(tmp_path: Path
     assert len(list(_engine().validate(str(shot)).issues())) == 1
 
 
+def test_a_bad_configuration_is_one_issue_each_time_a_kept_stage_is_validated(
+    tmp_path: Path,
+) -> None:
+    # As the UsdValidation plugin now says it (the Asset Validator composes a
+    # stage of its own on the one given: each validation lints a new stage).
+    shot = tmp_path / "shot.usda"
+    shutil.copy(REPO / "examples" / "broken_shot" / "shot.usda", shot)
+    (tmp_path / ".usdrender-lint.toml").write_text("selct = 1\n")
+    engine = _engine()
+    stage = Usd.Stage.Open(str(shot))
+    for _ in range(3):
+        issues = list(engine.validate(stage).issues())
+        assert len(issues) == 1 and "unknown key 'selct'" in issues[0].message
+
+
 def test_a_layer_the_configuration_excludes_is_not_fixed_as_check_fix_leaves_it(
     tmp_path: Path,
 ) -> None:

@@ -251,7 +251,7 @@ def test_a_stage_the_host_closed_is_not_kept_open(tmp_path: Path) -> None:
     lints = CheckedLints()
     stage = Usd.Stage.Open(str(shot))
     assert "SE003" in {t.finding.code for t in lints.reported(stage)}
-    assert lints.failures.first(stage)
+    assert lints.failures.first(stage, "a validator")
     del stage
     gc.collect()
     assert Sdf.Layer.Find(str(shot)) is None
@@ -796,6 +796,29 @@ def test_a_configuration_that_cannot_be_read_is_one_error_per_stage(tmp_path: Pa
     [error] = got["errors"]
     assert error[0] == "usdRenderLintFailure"
     assert "no-such-key" in error[3] and ".usdrender-lint.toml" in error[3]
+
+
+_TWICE = """
+import json, sys
+from pxr import Usd, UsdValidation
+registry = UsdValidation.ValidationRegistry()
+names = [str(m.name) for m in registry.GetValidatorMetadataForKeyword("usdRenderLint")]
+context = UsdValidation.ValidationContext(registry.GetOrLoadValidatorsByName(names))
+stage = Usd.Stage.Open(sys.argv[1])
+print(json.dumps([sorted(str(e.GetName()) for e in context.Validate(stage)) for _ in range(3)]))
+"""
+
+
+def test_a_configuration_that_cannot_be_read_is_one_error_each_time_a_stage_is_validated(
+    tmp_path: Path,
+) -> None:
+    # A host validating the stage it keeps open again got no error, and no
+    # finding: the stage looked clean.
+    shot = tmp_path / "shot.usda"
+    shot.write_text(SE003_FAIL.read_text())
+    (tmp_path / ".usdrender-lint.toml").write_text('no-such-key = "x"\n')
+    got = _run_child(_TWICE, plugin_dir(), None, str(shot))
+    assert got == [["usdRenderLintFailure"]] * 3
 
 
 _EDITED = """

@@ -99,7 +99,7 @@ class UsdRenderLintChecker(BaseRuleChecker):
         try:
             findings = [t for t in reported(usdStage) if self._mine(t)]
         except Exception as exc:  # noqa: BLE001 - one stage's failure is an issue, not a crash
-            if _FAILURES.first(usdStage):
+            if _FAILURES.first(usdStage, type(self).__name__):
                 self._AddError(
                     message=f"usdrender-lint could not lint the stage: {type(exc).__name__}: {exc}",
                     at=usdStage,

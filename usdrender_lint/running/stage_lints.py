@@ -19,7 +19,7 @@ from __future__ import annotations
 import os
 import threading
 import weakref
-from collections.abc import Callable, Iterator, MutableMapping
+from collections.abc import Callable, Hashable, Iterator, MutableMapping
 from dataclasses import field, replace
 from typing import TYPE_CHECKING, Any, TypeVar
 
@@ -128,21 +128,27 @@ class StageLints:
 
 class FirstFailures:
     """Stages whose lint failed and was reported: a failure (a configuration
-    that cannot be read) is one issue per stage, as check says it once, not
-    one per validator. A host opens a new stage for each validation, so each
-    one reports it. Thread-safe."""
+    that cannot be read) is one issue per validation of a stage, as check says
+    it once, not one per validator. A validation asks once per validator task
+    (``asker``: the validator and the prim it is called for); a host that
+    validates a stage it keeps open again asks again, which begins another
+    validation that reports it too. Thread-safe."""
 
     def __init__(self) -> None:
-        self._failed: StageMap[None] = StageMap()
+        #: Each stage's askers since its failure was last reported.
+        self._asked: StageMap[set[Hashable]] = StageMap()
         self._lock = threading.Lock()
 
-    def first(self, stage: Usd.Stage) -> bool:
-        """Whether no one has reported this stage's failure yet (and now has)."""
+    def first(self, stage: Usd.Stage, asker: Hashable) -> bool:
+        """Whether the stage's failure is ``asker``'s to report: the first to
+        ask in this validation of it (and then it has)."""
         with self._lock:
-            if stage in self._failed:
-                return False
-            self._failed[stage] = None
-            return True
+            asked = self._asked.get(stage)
+            if asked is None or asker in asked:
+                self._asked[stage] = {asker}
+                return True
+            asked.add(asker)
+            return False
 
 
 def stage_file(stage: Usd.Stage) -> str:

@@ -139,7 +139,8 @@ class RuleValidator:
             return [to_error(stage, t.finding) for t in self._mine(stage, prim_path)]
         except RequestError as exc:
             # A bad configuration is one error per stage, not one per validator.
-            return [config_error(stage, exc)] if self.lints.failures.first(stage) else []
+            first = self.lints.failures.first(stage, (self.rule.code, prim_path))
+            return [config_error(stage, exc)] if first else []
         except Exception as exc:  # noqa: BLE001 - see the module docstring
             return [failure_error(stage, self.rule, exc)]
 
