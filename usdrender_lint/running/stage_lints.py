@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 import threading
+import time
 import weakref
 from collections.abc import Callable, Hashable, Iterator, MutableMapping
 from dataclasses import field, replace
@@ -35,6 +36,10 @@ if TYPE_CHECKING:
 
 #: Stages whose lint is kept (the most recently linted ones).
 MAX_CACHED_STAGES = 4
+#: Seconds a configuration that cannot be read is not read again while the files
+#: the search looks at are unchanged: a file it extends is not among them, so an
+#: edit there is seen by the first validation that starts after this.
+FAILURE_SECONDS = 1.0
 
 _V = TypeVar("_V")
 
@@ -170,13 +175,16 @@ class CheckLinters:
     def __init__(self) -> None:
         #: Each folder's Prepared, with the state of the files it read (config.file_state).
         self._prepared: dict[str, tuple[Any, Stamps]] = {}
+        #: Each folder's failure to prepare, with the state of the files the search
+        #: looked at and when (time.monotonic) it failed.
+        self._failed: dict[str, tuple[Exception, Stamps, float]] = {}
         #: Each stage's force-exclude answer, with the Prepared it was judged by.
         self._force_excluded: StageMap[tuple[Any, bool]] = StageMap()
         self._lock = threading.Lock()
 
     def prepared(self, stage: Usd.Stage) -> Any:
         """The pipeline's Prepared for the stage's file (raises RequestError)."""
-        from .pipeline import Request, prepare
+        from .pipeline import Request, RequestError, prepare
 
         file = stage_file(stage)
         folder = os.path.dirname(file) if os.path.isabs(file) else os.getcwd()
@@ -184,12 +192,29 @@ class CheckLinters:
             cached = self._prepared.get(folder)
             if cached is not None and file_stamps(f for f, _ in cached[1]) == cached[1]:
                 return cached[0]
+            failed = self._failed.get(folder)
+            if (
+                failed is not None
+                and time.monotonic() - failed[2] < FAILURE_SECONDS
+                and file_stamps(f for f, _ in failed[1]) == failed[1]
+            ):
+                # A new exception: one raised again gathers every raise's frames.
+                raise type(failed[0])(*failed[0].args) from None
             request = Request((file,), jobs=1, timeout=None, progress=False)
             # The files it read and those the search looked at: a configuration
             # created later (where there was none, or nearer) is read too.
-            prepared, stamps = stamped_read(
-                config_candidates(file), lambda: prepare(request), lambda p: p.settings.sources
-            )
+            candidates = config_candidates(file)
+            before = file_stamps(candidates)  # before the read, should it fail
+            try:
+                prepared, stamps = stamped_read(
+                    candidates, lambda: prepare(request), lambda p: p.settings.sources
+                )
+            except RequestError as exc:
+                # Every validator's call on every prim would read it to fail again.
+                self._prepared.pop(folder, None)
+                self._failed[folder] = (exc, before, time.monotonic())
+                raise
+            self._failed.pop(folder, None)
             self._prepared[folder] = (prepared, stamps)
             return prepared
 
