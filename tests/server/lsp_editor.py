@@ -33,7 +33,12 @@ class Editor:
     """An editor's side of a session: what it sent, and the diagnostics the
     server last published on each URI (read on a thread)."""
 
-    def __init__(self, log: Path, command: tuple[str, ...] = ("-m", "usdrender_lint", "server")):
+    def __init__(
+        self,
+        log: Path,
+        command: tuple[str, ...] = ("-m", "usdrender_lint", "server"),
+        options: dict[str, Any] | None = None,
+    ):
         self.log = log.open("wb")
         self.server = subprocess.Popen(
             [sys.executable, "-X", "faulthandler", *command],
@@ -71,7 +76,10 @@ class Editor:
 
         threading.Thread(target=read, daemon=True).start()
         self.ids = 1
-        self.request("initialize", {"capabilities": {}})
+        initialize: dict[str, Any] = {"capabilities": {}}
+        if options is not None:
+            initialize["initializationOptions"] = options
+        self.request("initialize", initialize)
         self.notify("initialized", {})
 
     def send(self, message: dict[str, Any]) -> None:

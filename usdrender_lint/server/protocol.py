@@ -42,6 +42,7 @@ from pygls.workspace import PositionCodec, ServerTextPosition, TextDocument
 
 from .. import __version__
 from ..model import Finding, Severity
+from ..records import record
 from ..running.documents import Linted, finding_key
 from .ranges import Edit, Span, editor_lines, lines_of, spec_line, statement_span, text_edits
 from .worker import MAX_CHILDREN, SLOW, LintFailed, Linting, RuleDoc
@@ -63,6 +64,13 @@ DEBOUNCE = 0.2
 LARGE_TEXT = 1_000_000
 #: Seconds a lint may take before it is stopped (check's default --timeout).
 TIMEOUT = 120.0
+#: Seconds a code action request's calls of USD may take in all, at least: the
+#: editor waits for its answer (a menu, a light bulb), and a fix of a document
+#: USD hangs on answered only at the lint's time-out (120 s), its child held.
+ACTION_TIME = 5.0
+#: ... or this many times the document's last lint, when longer (a fix lints
+#: the stage again as it applies each fix).
+ACTION_LINTS = 4.0
 #: How often the server checks that the client's process is still alive.
 PARENT_POLL = 2.0
 
@@ -94,6 +102,16 @@ def apply_change(
     start = offset(span.start.line, span.start.character)
     end = max(start, offset(span.end.line, span.end.character))
     return text[:start] + change.text + text[end:]
+
+
+@record(frozen=True)
+class Asked:
+    """One code action request, for the calls it makes of USD: they share its
+    tick (a newer request of a document gives up the older ones' calls) and
+    the time by which they must be done (``time.monotonic``)."""
+
+    tick: int
+    deadline: float
 
 
 class Unfit:
@@ -220,6 +238,10 @@ class UsdRenderLintServer(LanguageServer):
         self.findings: dict[str, tuple[tuple[Finding, ...], dict[str, str]]] = {}
         #: Whether each document's fixes may be made (Linted.fixes).
         self.can_fix: dict[str, bool] = {}
+        #: The text each document's last lint ran out of time (or crashed) on,
+        #: by path: a fix of the same text would too, and is not tried (until a
+        #: lint of it, after an edit of a layer it composes, say, succeeds).
+        self.failed: dict[str, str] = {}
         #: The documents whose edit owes the documents that compose them a lint.
         self.dependents_due: set[str] = set()
         #: The files each open document's stage composed at its last lint (their
@@ -356,6 +378,11 @@ class UsdRenderLintServer(LanguageServer):
             if failed.cancelled:
                 return
             linted, layers = Linted(error=failed.reason), frozenset()
+            if self.wanted.get(uri) == tick and path in texts:
+                self.failed[path] = texts[path]
+        else:
+            if self.wanted.get(uri) == tick:
+                self.failed.pop(path, None)
         if self.wanted.get(uri) != tick or self.open_document(uri) is None:
             return
         self.seconds[path] = linted.seconds
@@ -427,6 +454,7 @@ class UsdRenderLintServer(LanguageServer):
         path = usd_path(uri)
         if path is not None:
             self.layers.pop(path, None)
+            self.failed.pop(path, None)
             # Its running lint is pointless now, and every other lint waits for it.
             self.ticks += 1
             self.linting.cancel(path, self.ticks)
@@ -582,13 +610,14 @@ class UsdRenderLintServer(LanguageServer):
         only = params.context.only
         texts = self.texts()
         version = self.version_of(uri)
+        asked = self.asked(path)
         actions: list[types.CodeAction] = []
         if _wants(only, types.CodeActionKind.QuickFix):
             for diagnostic in params.context.diagnostics:
                 if _ours(diagnostic):
                     source = self._linted_by(uri, diagnostic) or path
-                    actions.extend(await self._quick_fixes(source, diagnostic, texts))
-        fix_all = await self._fix_all(uri, path, only, version, texts)
+                    actions.extend(await self._quick_fixes(source, diagnostic, texts, asked))
+        fix_all = await self._fix_all(uri, path, only, version, texts, asked)
         if fix_all is not None:
             actions.append(fix_all)
         if self.version_of(uri) != version:
@@ -605,6 +634,16 @@ class UsdRenderLintServer(LanguageServer):
                 return usd_path(source)
         return None
 
+    def asked(self, path: str) -> Asked:
+        """A code action request on the document ``path``: its calls of USD
+        may take ACTION_TIME seconds in all (ACTION_LINTS of its last lint
+        when longer), never more than a lint may."""
+        self.ticks += 1
+        budget = max(ACTION_TIME, ACTION_LINTS * self.seconds.get(path, 0.0))
+        if self.timeout is not None:
+            budget = min(budget, self.timeout)
+        return Asked(self.ticks, time.monotonic() + budget)
+
     async def _fix_all(
         self,
         uri: str,
@@ -612,6 +651,7 @@ class UsdRenderLintServer(LanguageServer):
         only: Sequence[str] | None,
         version: int | None,
         texts: dict[str, str],
+        asked: Asked,
     ) -> types.CodeAction | None:
         """The action that applies every safe fix, when the document's last lint
         found one."""
@@ -622,7 +662,7 @@ class UsdRenderLintServer(LanguageServer):
             return None  # config `variants`: no fix is made (Documents.fix)
         title = f"{NAME}: apply every safe fix"
         if _wants(only, FIX_ALL, explicit=True):
-            edit = await self._fix_edit(path, None, False, texts)
+            edit = await self._fix_edit(path, None, False, texts, asked)
             return None if edit is None else types.CodeAction(title=title, kind=FIX_ALL, edit=edit)
         if only is None and self._resolves_edits():
             # Asked for every action (a light bulb, a menu): the fix-all's edit
@@ -645,11 +685,11 @@ class UsdRenderLintServer(LanguageServer):
         path = usd_path(uri) if isinstance(uri, str) else None
         if path is None or self.version_of(str(uri)) != data.get("version"):
             return action  # the text changed since: no edit (the client asks again)
-        action.edit = await self._fix_edit(path, None, False, self.texts())
+        action.edit = await self._fix_edit(path, None, False, self.texts(), self.asked(path))
         return action
 
     async def _quick_fixes(
-        self, path: str, diagnostic: types.Diagnostic, texts: dict[str, str]
+        self, path: str, diagnostic: types.Diagnostic, texts: dict[str, str], asked: Asked
     ) -> list[types.CodeAction]:
         data: dict[str, Any] = diagnostic.data or {}
         code, object_path, message = data["key"]
@@ -657,7 +697,7 @@ class UsdRenderLintServer(LanguageServer):
         fix = data.get("fix")
         if fix:
             safe = bool(fix.get("safe"))
-            edit = await self._fix_edit(path, (code, object_path, message), not safe, texts)
+            edit = await self._fix_edit(path, (code, object_path, message), not safe, texts, asked)
             if edit is not None:
                 label = "" if safe else " (unsafe: check the result)"
                 actions.append(
@@ -670,7 +710,7 @@ class UsdRenderLintServer(LanguageServer):
                     )
                 )
         if object_path and code in self.rules:
-            text = await self._call("suppress", path, (path, code, object_path), texts)
+            text = await self._call("suppress", path, (path, code, object_path), texts, asked)
             if (
                 isinstance(text, str)
                 and path in texts
@@ -688,9 +728,14 @@ class UsdRenderLintServer(LanguageServer):
         return actions
 
     async def _fix_edit(
-        self, path: str, target: tuple | None, unsafe: bool, texts: dict[str, str]
+        self,
+        path: str,
+        target: tuple | None,
+        unsafe: bool,
+        texts: dict[str, str],
+        asked: Asked,
     ) -> types.WorkspaceEdit | None:
-        changed = await self._call("fixes", path, (path, target, unsafe), texts)
+        changed = await self._call("fixes", path, (path, target, unsafe), texts, asked)
         if not changed or not self._still_current(changed, texts):
             return None
         return self.workspace_edit(changed)
@@ -706,19 +751,30 @@ class UsdRenderLintServer(LanguageServer):
             if path in now or path in texts
         )
 
-    async def _call(self, method: str, path: str, args: tuple, texts: dict[str, str]) -> Any:
+    async def _call(
+        self,
+        method: str,
+        path: str,
+        args: tuple,
+        texts: dict[str, str],
+        asked: Asked | None = None,
+    ) -> Any:
+        """``Documents.method(*args)`` in a child; None when it failed, or (a
+        code action's call, ``asked``) was not made: no time is left, or the
+        lint of the document's text ran out of time (USD hangs on it)."""
         loop = asyncio.get_running_loop()
-        self.ticks += 1
+        timeout = self.timeout
+        if asked is None:
+            self.ticks += 1
+            tick = self.ticks
+        else:
+            left = asked.deadline - time.monotonic()
+            if left <= 0 or (path in texts and self.failed.get(path) == texts[path]):
+                return None
+            tick, timeout = asked.tick, left if timeout is None else min(timeout, left)
         try:
             return await loop.run_in_executor(
-                self.executor,
-                self.linting.call,
-                method,
-                path,
-                self.ticks,
-                args,
-                texts,
-                self.timeout,
+                self.executor, self.linting.call, method, path, tick, args, texts, timeout
             )
         except LintFailed:
             return None

@@ -14,7 +14,8 @@ MAX_CHILDREN; a new spare starts), so that documents that hang USD, or take
 long, do not hold up the others until their time-out; a serving child beyond
 the warm one ends once another is idle too. A document holds one lint at a
 time: a newer lint of it waits for the running one, and gives it up (its child
-killed) once it has run SLOW seconds, before it starts.
+killed) once it has run SLOW seconds, before it starts; so does a newer code
+action request's call (a fix, a suppression) of a document with an older one's.
 
 The child runs :func:`main` with FD: FD is its end of a
 socket pair, over which ``multiprocessing.connection`` carries pickled calls
@@ -194,6 +195,8 @@ class Linting:
         #: Per document, the version below which a lint that waits for a child
         #: is pointless: a newer one was asked for (or the document closed).
         self._outdated: dict[str, int] = {}
+        #: Per document, the newest code action request's version (see :meth:`call`).
+        self._newest_action: dict[str, int] = {}
         self._closed = False
 
     def start(self) -> tuple[RuleDoc, ...]:
@@ -229,7 +232,14 @@ class Linting:
             self._spare = Child(self.configuration)
 
     def _acquire(self, path: str, version: int, *, lint: bool = False) -> Child:
+        # A code action's call (a fix, a suppression) of a document: the editor
+        # asks again as the cursor moves (VS Code cancels the older request),
+        # and each call on a document USD hangs on held a child until its
+        # time-out, until every child was held and no document was linted.
+        action = not lint and bool(path)
         with self._state:
+            if action:
+                self._newest_action[path] = max(self._newest_action.get(path, 0), version)
             while True:
                 if self._closed:
                     raise LintFailed("the server is shutting down", cancelled=True)
@@ -237,8 +247,10 @@ class Linting:
                     # Edits typed while a lint runs queued a lint each, and each
                     # text was linted in turn before the newest was shown.
                     raise LintFailed("outdated by a newer edit", cancelled=True)
-                if lint:
-                    wait = self._give_up_older(path, version)
+                if action and version < self._newest_action.get(path, 0):
+                    raise LintFailed("outdated by a newer code action", cancelled=True)
+                if lint or action:
+                    wait = self._give_up_older(path, version, lint=lint)
                     if wait is not None:
                         self._state.wait(wait)
                         continue
@@ -258,15 +270,16 @@ class Linting:
                         continue
                 self._state.wait(wait)
 
-    def _give_up_older(self, path: str, version: int) -> float | None:
-        """For a lint of ``path`` at ``version``: None when no older lint of the
-        document runs; else the seconds to wait for it (it ends, or is given
-        up). Without this, a lint asked for before the running one turned out
-        slow (an edit or a save as USD hangs on the document) took another
-        child: two such documents held every child until their time-out."""
+    def _give_up_older(self, path: str, version: int, *, lint: bool) -> float | None:
+        """For a lint (``lint``; else a code action's call) of ``path`` at
+        ``version``: None when no older call of that kind of the document runs;
+        else the seconds to wait for it (it ends, or is given up). Without
+        this, a lint asked for before the running one turned out slow (an edit
+        or a save as USD hangs on the document) took another child: two such
+        documents held every child until their time-out."""
         now, wait = time.monotonic(), None
-        for child, (running, older, started, lint) in self._running.items():
-            if lint and running == path and older < version:
+        for child, (running, older, started, linting) in self._running.items():
+            if linting == lint and running == path and older < version:
                 if now - started >= SLOW:
                     child.kill(cancelled=True)  # its call ends, and _release wakes us
                     left = BUSY_LIMIT
@@ -307,6 +320,9 @@ class Linting:
         texts: dict[str, str],
         timeout: float | None,
     ) -> Any:
+        """``Documents.method(*args)`` in a child. ``version``: a lint's tick,
+        or a code action request's (one for each of its calls: a newer
+        request's call gives up the older requests' calls of the document)."""
         child = self._acquire(path, version, lint=method == "lint")
         failed = True
         try:
