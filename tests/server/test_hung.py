@@ -1,13 +1,15 @@
 """Documents whose lint hangs USD (a FIFO on a sublayer path): what the
 editor asks about them is answered in bounded time, and the other documents
-are linted meanwhile, over the real protocol (raw JSON-RPC)."""
+are linted meanwhile, over the real protocol (raw JSON-RPC); and the race of
+giving up a call as it answers, placed deterministically."""
 
 from __future__ import annotations
 
 import time
 from pathlib import Path
 
-from cli_support import blocked_on_a_fifo
+import pytest
+from cli_support import blocked_on_a_fifo, blocked_on_fifos
 from lsp_editor import Editor
 
 from usdrender_lint.server.protocol import FIX_ALL
@@ -111,3 +113,68 @@ def test_a_code_action_on_a_document_that_hangs_usd_is_answered_at_once(tmp_path
         ]
     finally:
         editor.end()
+
+
+def test_a_document_is_linted_while_four_others_hang_usd(tmp_path: Path):
+    """Four broken shots open, each hanging USD, held all four children, and a
+    healthy shot's lint waited for their time-out (120 s by default): now the
+    call held longest is given up for it, and that shot says so."""
+    editor = Editor(tmp_path / "server.log")
+    try:
+        hung = [
+            editor.open(hanging_folder(tmp_path / name) / "shot.usda", HANGS)
+            for name in ("one", "two", "three", "four")
+        ]
+        assert until(lambda: blocked_on_fifos(editor.server.pid) == 4, 60)
+        fine = editor.open(tmp_path / "fine.usda", FINE)
+        assert until(lambda: editor.messages(fine)[0] == 1, 30)
+        assert any("resolution (0, 10)" in m for m in editor.messages(fine)[1])
+        given_up = [uri for uri in hung if editor.messages(uri)[0] == 1]
+        assert len(given_up) == 1  # one, for the one lint that waited
+        (said,) = editor.messages(given_up[0])[1]
+        assert said.startswith("USD had not finished after ")
+        assert "edit or save the document to lint it again" in said
+        assert blocked_on_fifos(editor.server.pid) == 3
+        # A second healthy document is linted in the first one's child.
+        again = editor.open(tmp_path / "again.usda", FINE)
+        assert until(lambda: editor.messages(again)[0] == 1, 10)
+        assert blocked_on_fifos(editor.server.pid) == 3
+    finally:
+        editor.end()
+
+
+def test_a_give_up_that_lands_as_the_call_answers_never_fails_the_next_lint(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A call given up for another's as its answer came in: its child, killed
+    all the same (the kill not yet taken), must not serve the next call, which
+    would fail with the given-up call's reason."""
+    from usdrender_lint.server import worker
+
+    first, second = tmp_path / "first.usda", tmp_path / "second.usda"
+    for path in (first, second):
+        path.write_text(FINE)
+    linting = worker.Linting()
+    given_up: list[worker.Child] = []
+    real_call = worker.Child.call
+
+    def answered_then_given_up(child, method, args, texts, timeout):  # noqa: ANN001, ANN202
+        answer = real_call(child, method, args, texts, timeout)
+        if args == (str(first),) and not given_up:
+            child.given_up = "given up for another document"  # as _give_up_stuck does
+            child.kill()
+            given_up.append(child)
+        return answer
+
+    monkeypatch.setattr(worker.Child, "call", answered_then_given_up)
+    monkeypatch.setattr(
+        worker.Child, "alive", property(lambda c: c in given_up or c.process.poll() is None)
+    )
+    try:
+        linting.start()
+        linting.call("lint", str(first), 1, (str(first),), {}, 60.0)
+        linted = linting.call("lint", str(second), 2, (str(second),), {}, 60.0)
+        assert given_up and linted.error is None
+        assert "SE001" in {f.code for f in linted.findings}
+    finally:
+        linting.close()

@@ -12,10 +12,13 @@ pointless) costs no start-up. While every serving child has been held by
 a call for BUSY_LIMIT seconds, the spare becomes one more serving child (up to
 MAX_CHILDREN; a new spare starts), so that documents that hang USD, or take
 long, do not hold up the others until their time-out; a serving child beyond
-the warm one ends once another is idle too. A document holds one lint at a
-time: a newer lint of it waits for the running one, and gives it up (its child
-killed) once it has run SLOW seconds, before it starts; so does a newer code
-action request's call (a fix, a suppression) of a document with an older one's.
+the warm one ends once another is idle too. While all MAX_CHILDREN are busy,
+a call that waits gives up a call past its limit (STUCK seconds, longer for a
+document whose lints take long), said on its document as a time-out is. A
+document holds one lint at a time: a newer lint of it waits for the running
+one, and gives it up (its child killed) once it has run SLOW seconds, before
+it starts; so does a newer code action request's call (a fix, a suppression)
+of a document with an older one's.
 
 The child runs :func:`main` with FD: FD is its end of a
 socket pair, over which ``multiprocessing.connection`` carries pickled calls
@@ -88,6 +91,8 @@ class Child:
         #: Why it could not start: said again on each call, not as a crash.
         self.start_failure: LintFailed | None = None
         self.cancelled = False
+        #: Why its call was given up for another's (see Linting._give_up_stuck).
+        self.given_up: str | None = None
         #: A configuration file changed while another child read it again.
         self.stale_configuration = False
 
@@ -137,6 +142,8 @@ class Child:
         code = self.process.wait()
         if self.cancelled:
             return LintFailed("cancelled by a newer edit", cancelled=True)
+        if self.given_up is not None:
+            return LintFailed(self.given_up)
         how = f"signal {-code}" if code < 0 else f"exit status {code}"
         return LintFailed(f"USD crashed while linting this document ({how})")
 
@@ -165,6 +172,14 @@ BUSY_LIMIT = 1.0
 #: documents that hung USD held the two there were, and every other document's
 #: lint waited for their time-out.
 MAX_CHILDREN = 4
+#: Seconds a call may hold a child, at least, before a call that waits for one
+#: while all MAX_CHILDREN are busy gives it up: four documents that hang USD (a
+#: stalled share, a FIFO) held every child, and every other document's lint
+#: waited for their time-out (120 s). A lint that is only slow may be given up
+#: too: long enough for most first lints, short enough for an editor's wait.
+STUCK = 4.0
+#: ... or this many times as long as the document's last lint took, when longer.
+STUCK_LINTS = 4.0
 #: A lint that took longer than this is "slow" (the server waits out a burst of
 #: edits before it lints a slow document again); a newer lint of a document
 #: gives up the running one once it has run this long.
@@ -197,6 +212,10 @@ class Linting:
         self._outdated: dict[str, int] = {}
         #: Per document, the newest code action request's version (see :meth:`call`).
         self._newest_action: dict[str, int] = {}
+        #: Per document, the seconds its last lint that answered took.
+        self._took: dict[str, float] = {}
+        #: The children given up for a waiting call, until their call ends.
+        self._giving_up: set[Child] = set()
         self._closed = False
 
     def start(self) -> tuple[RuleDoc, ...]:
@@ -259,7 +278,6 @@ class Linting:
                     if child not in self._running:
                         self._running[child] = (path, version, time.monotonic(), lint)
                         return child
-                wait = None
                 if len(self._children) < MAX_CHILDREN:
                     held = max(self._running[child][2] for child in self._children)
                     wait = held + BUSY_LIMIT - time.monotonic()
@@ -268,6 +286,8 @@ class Linting:
                         self._children.append(self._spare)
                         self._spare = None
                         continue
+                else:
+                    wait = self._give_up_stuck()
                 self._state.wait(wait)
 
     def _give_up_older(self, path: str, version: int, *, lint: bool) -> float | None:
@@ -288,11 +308,45 @@ class Linting:
                 wait = left if wait is None else min(wait, left)
         return wait
 
+    def _give_up_stuck(self) -> float:
+        """Every serving child is busy, MAX_CHILDREN of them, and a call waits
+        for one: give up the call that has held its child past its limit
+        (STUCK seconds, or STUCK_LINTS times its document's last lint) the
+        longest; its child ends, and the waiting call takes the spare. One
+        at a time, and only for a call that waits: the work is bounded. The
+        seconds to wait before looking again."""
+        if self._giving_up:
+            return BUSY_LIMIT  # its call ends, and _release wakes us
+
+        def due(child: Child) -> float:
+            path, _, started, _ = self._running[child]
+            return started + max(STUCK, STUCK_LINTS * self._took.get(path, 0.0))
+
+        now = time.monotonic()
+        stuck = min(self._children, key=due)
+        if due(stuck) > now:
+            return due(stuck) - now
+        held = now - self._running[stuck][2]
+        # Said on that document, as a time-out is; it is not linted again by
+        # itself (it would give up another's lint in turn).
+        stuck.given_up = (
+            f"USD had not finished after {held:.0f} s while other documents waited "
+            f"(all {MAX_CHILDREN} of the linter's processes were busy); the lint was "
+            "stopped: edit or save the document to lint it again"
+        )
+        stuck.kill()
+        self._giving_up.add(stuck)
+        return BUSY_LIMIT
+
     def _release(self, child: Child, *, failed: bool) -> None:
         ended = []
         with self._state:
-            self._running.pop(child, None)
-            if failed or child.cancelled or child not in self._children:
+            call = self._running.pop(child, None)
+            self._giving_up.discard(child)
+            if call is not None and call[3] and not failed:
+                self._took[call[0]] = time.monotonic() - call[2]
+            given_up = child.given_up is not None  # killed, even if it answered first
+            if failed or child.cancelled or given_up or child not in self._children:
                 # It crashed, ran out of time or was cancelled (or was replaced
                 # meanwhile): the next call takes another. A cancel that landed
                 # as the call's answer came in killed it all the same, and the
