@@ -326,3 +326,40 @@ def test_a_document_closed_unsaved_is_its_file_again_in_the_stages_that_compose_
     documents.update({str(layer): None})
     (found,) = [f for f in documents.lint(shot).findings if f.code == "SE001"]
     assert "(0, 480)" in found.message and found.location.layer == str(layer)
+
+
+@pytest.mark.parametrize("through_the_link", ["shot", "layer"])
+def test_a_layer_s_text_across_a_link_composes_until_it_closes(
+    tmp_path: Path, through_the_link: str
+) -> None:
+    """The layer's unsaved text reaches the shot that composes it by the path on
+    the other side of a symlink, follows its edits, and once the document
+    closes the shot composes the file again (not the last unsaved text)."""
+    real, link = tmp_path / "resolved", tmp_path / "link"
+    real.mkdir()
+    link.symlink_to(real, target_is_directory=True)
+    (real / "shot.usda").write_text(
+        '#usda 1.0\n(\n    subLayers = [@./layer.usda@]\n)\ndef Scope "Render"\n{\n'
+        '    def RenderSettings "rs"\n    {\n    }\n}\n'
+    )
+    saved = (
+        '#usda 1.0\nover "Render"\n{\n    over "rs"\n    {\n'
+        '        uniform token[] materialBindingPurposes = ["full", "preview"]\n    }\n}\n'
+    )
+    (real / "layer.usda").write_text(saved)
+    shot_folder, layer_folder = (link, real) if through_the_link == "shot" else (real, link)
+    shot, layer = str(shot_folder / "shot.usda"), str(layer_folder / "layer.usda")
+
+    def se011() -> list[str]:
+        return [f.message for f in documents.lint(shot).findings if f.code == "SE011"]
+
+    documents = Documents()
+    documents.update({shot: (real / "shot.usda").read_text(), layer: saved})
+    assert se011() == []
+    documents.update({layer: saved.replace('"preview"', '"bogus"')})
+    assert len(se011()) == 1 and "bogus" in se011()[0]
+    documents.update({layer: saved.replace('"preview"', '"other"')})
+    assert len(se011()) == 1 and "other" in se011()[0]
+    documents.update({layer: None})
+    assert se011() == []
+    assert (real / "layer.usda").read_text() == saved

@@ -262,6 +262,75 @@ def test_neovim_gets_an_answer_to_a_code_action_on_a_document_that_hangs_usd(tmp
     assert seen["answered"] is True and seen["seconds"] < 10
 
 
+#: Opens the shot, then its sublayer, and edits the sublayer without saving:
+#: whether the shot's finding on the edit (SE011) comes, and on which line.
+LINKED_LAYER_HARNESS = """
+vim.cmd("edit " .. os.getenv("USDRENDER_LINT_SHOT"))
+local shot = vim.api.nvim_get_current_buf()
+local linted = vim.wait(90000, function() return #vim.diagnostic.get(shot) >= 1 end, 50)
+vim.cmd("edit " .. os.getenv("USDRENDER_LINT_LAYER"))
+local layer = vim.api.nvim_get_current_buf()
+vim.wait(3000, function() return false end, 100)  -- opened and linted
+local line = vim.fn.search("materialBindingPurposes") - 1
+vim.api.nvim_buf_set_lines(layer, line, line + 1, false,
+  { '        uniform token[] materialBindingPurposes = ["full", "bogus"]' })
+local function se011()
+  for _, d in ipairs(vim.diagnostic.get(layer)) do
+    local lsp = (d.user_data or {}).lsp or {}
+    if (d.code or lsp.code) == "SE011" then return d.lnum end
+  end
+  return nil
+end
+local shown = vim.wait(30000, function() return se011() ~= nil end, 50)
+vim.fn.writefile({vim.fn.json_encode({linted = linted, shown = shown, line = se011()})},
+  os.getenv("USDRENDER_LINT_NVIM_OUT"))
+vim.cmd("qa!")
+"""
+
+
+def test_neovim_composes_a_sublayer_s_unsaved_text_across_a_symlink(tmp_path: Path):
+    """The shot sublayers ``./assets/layer.usda``, ``assets`` a symlink to the
+    library; Neovim names the buffer of that file by its resolved path. The
+    shot's stage composed the saved file, and the edit's finding never came."""
+    nvim = shutil.which("nvim")
+    if nvim is None:
+        pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
+    library = tmp_path / "library"
+    library.mkdir()
+    (tmp_path / "assets").symlink_to(library, target_is_directory=True)
+    shot = tmp_path / "shot.usda"
+    shot.write_text(
+        '#usda 1.0\n(\n    subLayers = [@./assets/layer.usda@]\n)\ndef Scope "Render"\n{\n'
+        '    def RenderSettings "rs"\n    {\n    }\n}\n'
+    )
+    (library / "layer.usda").write_text(
+        '#usda 1.0\nover "Render"\n{\n    over "rs"\n    {\n'
+        '        uniform token[] materialBindingPurposes = ["full", "preview"]\n    }\n}\n'
+    )
+    (tmp_path / "init.lua").write_text(snippet("Neovim", "lua"))
+    (tmp_path / "harness.lua").write_text(LINKED_LAYER_HARNESS)
+    out = tmp_path / "seen.json"
+    env = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+        "USDRENDER_LINT_NVIM_OUT": str(out),
+        "USDRENDER_LINT_SHOT": str(shot),
+        "USDRENDER_LINT_LAYER": str(tmp_path / "assets" / "layer.usda"),
+        "XDG_STATE_HOME": str(tmp_path / "state"),
+        "XDG_DATA_HOME": str(tmp_path / "data"),
+        "XDG_CONFIG_HOME": str(tmp_path / "config"),
+    }
+    result = subprocess.run(
+        [nvim, "--headless", "-i", "NONE", "-u", str(tmp_path / "init.lua"),
+         "-c", f"luafile {tmp_path / 'harness.lua'}"],
+        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=180,
+    )  # fmt: skip
+    assert out.exists(), result.stderr
+    seen = json.loads(out.read_text())
+    print(seen)
+    assert seen == {"linted": True, "shown": True, "line": 5}
+
+
 def test_the_helix_snippet_runs_the_server():
     config = tomllib.loads(snippet("Helix", "toml"))
     server = config["language-server"]["usdrender-lint"]

@@ -842,6 +842,72 @@ async def test_a_layer_saved_by_its_resolved_path_relints_the_shot_opened_throug
     close_documents(client, layer, shot)
 
 
+@pytest.mark.parametrize("through_the_link", ["shot", "layer"])
+async def test_a_layer_s_unsaved_text_reaches_the_shot_across_a_link(
+    client: LanguageClient, workspace: Path, through_the_link: str
+):
+    """The shot and its sublayer are open by paths on either side of a
+    symlink (the editor resolved one of them). USD composes the sublayer by
+    the path the shot's asset path gives, so its stage read the file into a
+    layer of its own, and the layer's unsaved text never reached the shot:
+    without the link, an edit of the layer shows the shot's finding at once."""
+    real = workspace / f"resolved-{through_the_link}"
+    real.mkdir()
+    link = workspace / f"link-{through_the_link}"
+    link.symlink_to(real, target_is_directory=True)
+    (real / "shot.usda").write_text(_shot_over("layer.usda"))
+    fine = "#usda 1.0\n" + PURPOSES % '["full", "preview"]'
+    (real / "layer.usda").write_text(fine)
+    shot_folder, layer_folder = (link, real) if through_the_link == "shot" else (real, link)
+    has_se011 = lambda found: any(d.code == "SE011" for d in found)  # noqa: E731
+    shot = open_document(client, shot_folder / "shot.usda")
+    assert not has_se011(await diagnostics_of(client, shot, 1))
+    layer = open_document(client, layer_folder / "layer.usda")
+    assert not has_se011(await diagnostics_of(client, layer, 1))
+    change(client, layer, 2, "#usda 1.0\n" + PURPOSES % '["full", "bogus"]')
+    # The shot's finding, on the open layer that authors the opinion, at its line.
+    found = await _until(client, layer, has_se011)
+    (se011,) = [d for d in found if d.code == "SE011"]
+    assert "bogus" in se011.message and se011.range.start.line == 5
+    change(client, layer, 3, fine)
+    await _until(client, layer, lambda found: not has_se011(found))
+    assert not has_se011(client.diagnostics.get(shot, []))
+    close_documents(client, layer, shot)
+
+
+@pytest.mark.parametrize("through_the_link", ["shot", "layer"])
+async def test_a_fix_of_a_layer_s_unsaved_text_across_a_link_edits_that_document(
+    client: LanguageClient, workspace: Path, through_the_link: str
+):
+    """The shot's SE007, authored by the unsaved text of a sublayer open by a
+    path on the other side of a symlink: its fix is an edit of that document
+    (the file's path the shot composes is not the document's URI)."""
+    real = workspace / f"fix-resolved-{through_the_link}"
+    real.mkdir()
+    link = workspace / f"fix-link-{through_the_link}"
+    link.symlink_to(real, target_is_directory=True)
+    (real / "shot.usda").write_text(_shot_over("layer.usda"))
+    saved = '#usda 1.0\nover "Render"\n{\n    over "rs"\n    {\n    }\n}\n'
+    (real / "layer.usda").write_text(saved)
+    shutter = "    {\n        uniform bool instantaneousShutter = 1\n    }"
+    unsaved = saved.replace("    {\n    }", shutter)
+    shot_folder, layer_folder = (link, real) if through_the_link == "shot" else (real, link)
+    shot = open_document(client, shot_folder / "shot.usda")
+    await diagnostics_of(client, shot, 1)
+    layer = open_document(client, layer_folder / "layer.usda")
+    await diagnostics_of(client, layer, 1)
+    change(client, layer, 2, unsaved)
+    found = await _until(client, layer, lambda ds: any(d.code == "SE007" for d in ds))
+    (shutter,) = [d for d in found if d.code == "SE007"]
+    actions = await quick_actions(client, layer, shutter)
+    (fix,) = [a for a in actions if a.title.startswith("Fix SE007")]
+    assert fix.edit is not None and fix.edit.changes is not None
+    assert list(fix.edit.changes) == [layer]
+    assert "uniform bool disableMotionBlur = 1" in apply(unsaved, fix.edit.changes[layer])
+    assert (real / "layer.usda").read_text() == saved
+    close_documents(client, layer, shot)
+
+
 async def test_a_shot_s_finding_shown_on_an_open_layer_offers_its_fix(
     client: LanguageClient, workspace: Path
 ):

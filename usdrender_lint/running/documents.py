@@ -63,6 +63,7 @@ from .pipeline import (
     folder_exclusions,
     prepare,
 )
+from .roots import file_key
 
 if TYPE_CHECKING:
     from ..fixing import FixRun
@@ -127,6 +128,19 @@ class Documents:
         self._configs: dict[str, _Config] = {}
         #: Each layer file's state when a lint last looked at it (config.file_state).
         self._file_states: dict[str, FileState] = {}
+        #: The layers a stage opened for an open document's file by another path
+        #: (one of the two through a symbolic link), by that path: USD keeps a
+        #: layer per path as the asset path gives it, not per file (the layer
+        #: registry's lookup, pxr/usd/sdf/layerRegistry.cpp), so the stage
+        #: composed the file, never the document's unsaved text. Each holds
+        #: the document's text too: (the document's path, the layer).
+        self._aliases: dict[str, tuple[str, Sdf.Layer]] = {}
+        #: The text each of those layers holds now.
+        self._alias_texts: dict[str, str] = {}
+        #: Each composed layer's file (roots.file_key), by its path: found once
+        #: (a stage may compose thousands, each lint; on a network share each
+        #: costs a lookup per folder), again once a document opens or closes.
+        self._file_keys: dict[str, str] = {}
 
     @property
     def registry(self) -> Registry:
@@ -140,11 +154,21 @@ class Documents:
         """Set the text of documents; None closes one (its layer is the file's again),
         and so does the text an editor shows for a binary ``.usd`` (it is linted
         from its file, as ``check`` lints it)."""
+        if any((text is None) == (path in self.texts) for path, text in texts.items()):
+            self._file_keys.clear()  # a symlink may have moved since
         for path, text in texts.items():
             if text is not None and not _shows_a_crate(path, text):
                 self.texts[path] = text
                 continue
             self.texts.pop(path, None)
+            for alias, (document, held) in list(self._aliases.items()):
+                if document == path:  # the file's text again, for the stages holding it
+                    del self._aliases[alias]
+                    self._alias_texts.pop(alias, None)
+                    with Tf.DiagnosticTrap() as trap:
+                        with suppress(Tf.ErrorException):
+                            held.Reload(True)
+                        trap.Clear()
             self._imported.pop(path, None)
             self._parse_errors.pop(path, None)
             self._stages.pop(path, None)
@@ -232,14 +256,20 @@ class Documents:
         else:
             self._stages[path] = stage
             self._reload_files(stage, began)
+            # A document's text may add a sublayer that is another's by another
+            # path in turn: each round shares at least one text, or ends.
+            for _ in range(len(self.texts) + 1):
+                if not self._share_texts(stage):
+                    break
+            texts = self._layer_texts()
             combinations = prepared.spec.variant_combinations
             if combinations is None:
-                result = prepared.linter.run_stage(stage, path, texts=self.texts).result
+                result = prepared.linter.run_stage(stage, path, texts=texts).result
             else:  # config `variants`: other selections too, as check lints them
                 from ..engine.variants import VariantExplorer
 
                 explorer = VariantExplorer(prepared.linter, combinations)
-                result = explorer.run_stage(stage, path, texts=self.texts).result
+                result = explorer.run_stage(stage, path, texts=texts).result
         if result.status != "linted":
             location = Location(path, None, path)
             message = result.error or "the document could not be linted"
@@ -248,6 +278,56 @@ class Documents:
             )
             return (failed,)
         return prepared.finish(Report((result,))).findings
+
+    def _share_texts(self, stage: Usd.Stage) -> bool:
+        """Give the layers the stage opened for an open document's file by
+        another path the document's text; True when one took a new text."""
+        if not self.texts:
+            return False
+        documents = {self._file_key(path): path for path in self.texts}
+        shared = False
+        for layer in stage.GetUsedLayers():
+            if layer.anonymous or Ar.IsPackageRelativePath(layer.identifier):
+                continue
+            real = layer_real_path(layer)
+            if not real or real in self.texts:
+                continue
+            if real in self._aliases:
+                document: str | None = self._aliases[real][0]
+            else:
+                document = documents.get(self._file_key(real))
+            if document is None:
+                continue
+            self._aliases[real] = (document, layer)
+            shared = self._import_alias(real) or shared
+        return shared
+
+    def _layer_texts(self) -> dict[str, str]:
+        """The unsaved text of each layer by its path: the documents', and the
+        layers that hold one's text by another path (``_aliases``)."""
+        aliases = {alias: self.texts.get(doc) for alias, (doc, _) in self._aliases.items()}
+        return {**{a: t for a, t in aliases.items() if t is not None}, **self.texts}
+
+    def _file_key(self, path: str) -> str:
+        key = self._file_keys.get(path)
+        if key is None:
+            key = self._file_keys[path] = file_key(path)
+        return key
+
+    def _import_alias(self, alias: str) -> bool:
+        """Import its document's text into the layer of ``alias`` (see
+        ``_aliases``) unless it holds it; True when it did. A text USD cannot
+        parse leaves the layer as it was: the document's own lint says why."""
+        document, layer = self._aliases[alias]
+        text = self.texts.get(document)
+        if text is None or self._alias_texts.get(alias) is text:
+            return False
+        with Tf.DiagnosticTrap() as trap:
+            with suppress(Tf.ErrorException):
+                layer.ImportFromString(text)
+            trap.Clear()
+        self._alias_texts[alias] = text
+        return True
 
     def _lost_files(self, stage: Usd.Stage) -> set[str]:
         """The files of the layers the stage composed that are gone from disk
@@ -274,7 +354,7 @@ class Documents:
         within a tick of this lint's start is read again."""
         for layer in stage.GetUsedLayers():
             real = layer_real_path(layer)
-            if layer.anonymous or layer.dirty or real in self.texts:
+            if layer.anonymous or layer.dirty or real in self.texts or real in self._aliases:
                 continue
             force = False
             if real is not None:
@@ -364,6 +444,8 @@ class Documents:
                         del self._layers[path]
                 trap.Clear()
             self._imported[path] = text
+        for alias in self._aliases:
+            self._import_alias(alias)
 
     # -- edits --------------------------------------------------------------------------
 
@@ -402,7 +484,7 @@ class Documents:
         options = FixOptions(
             unsafe=unsafe,
             write=False,
-            texts=dict(self.texts),
+            texts=self._layer_texts(),
             texts_only=texts_only,
             excluded=excluded_from_linting(prepared),
         )
@@ -418,6 +500,7 @@ class Documents:
             for p, layer in self._layers.items():
                 if p in edited or layer.dirty != dirty[p]:
                     self._imported.pop(p, None)
+            self._alias_texts.clear()  # as read again: the next sync imports them
         changed = {}
         for source in fixer.sources or ():
             if source.changed and source.text is not None and source.original_text is not None:

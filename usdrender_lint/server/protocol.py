@@ -21,7 +21,7 @@ import os
 import re
 import threading
 import time
-from collections.abc import Coroutine, Sequence
+from collections.abc import Callable, Coroutine, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any
 from urllib.parse import unquote
@@ -497,8 +497,9 @@ class UsdRenderLintServer(LanguageServer):
             )
             return found
         index: dict[str, int] | None = None
+        open_path = opened_as(texts)
         for finding in linted.findings:
-            layer = finding.location.layer or path
+            layer = open_path(finding.location.layer or path)
             if layer == path or layer in texts:
                 target = uri if layer == path else self.uri_of(layer)
                 target_text = texts[layer]
@@ -736,6 +737,11 @@ class UsdRenderLintServer(LanguageServer):
         asked: Asked,
     ) -> types.WorkspaceEdit | None:
         changed = await self._call("fixes", path, (path, target, unsafe), texts, asked)
+        if changed:
+            # A layer the stage composed by a path through a symlink is the open
+            # document of that file: the edit is the document's.
+            open_path = opened_as(texts)
+            changed = {open_path(layer): edit for layer, edit in changed.items()}
         if not changed or not self._still_current(changed, texts):
             return None
         return self.workspace_edit(changed)
@@ -876,6 +882,27 @@ def file_key(path: str) -> str:
     (USD keeps a layer's path as the asset path gave it). As running/roots.py's
     file_key compares files; that module imports USD, which the server does not."""
     return os.path.normcase(os.path.realpath(path))
+
+
+def opened_as(texts: dict[str, str]) -> Callable[[str], str]:
+    """For a layer's path, the path of the open document (of ``texts``) that is
+    its file, else the layer's: a stage may compose a document by a path on the
+    other side of a symlink (that layer then holds the document's text). Each
+    file is looked up once (a lint may have many findings in closed layers)."""
+    documents: dict[str, str] | None = None
+    found: dict[str, str] = {}
+
+    def open_path(layer: str) -> str:
+        nonlocal documents
+        if layer in texts:
+            return layer
+        if layer not in found:
+            if documents is None:
+                documents = {file_key(other): other for other in texts}
+            found[layer] = documents.get(file_key(layer), layer)
+        return found[layer]
+
+    return open_path
 
 
 def _key_of(diagnostic: types.Diagnostic) -> tuple[Any, ...] | None:
