@@ -72,45 +72,41 @@ def snippet(heading: str, language: str) -> str:
     return match.group(1)
 
 
-def test_neovim_shows_the_findings_of_a_broken_shot(tmp_path: Path):
+def run_neovim(tmp_path: Path, harness: str, files: tuple[Path, ...] = (), **env: str) -> dict:
+    """Run headless Neovim with the guide's snippet as its init and ``harness``
+    (Lua that writes what it saw as JSON to $USDRENDER_LINT_NVIM_OUT); ``env``:
+    more variables the harness reads. Skips when Neovim is not installed."""
     nvim = shutil.which("nvim")
     if nvim is None:
         pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
-    shot = tmp_path / "shot.usda"
-    shutil.copy(BROKEN_SHOT, shot)
     (tmp_path / "init.lua").write_text(snippet("Neovim", "lua"))
-    (tmp_path / "harness.lua").write_text(HARNESS)
-    out = tmp_path / "diagnostics.json"
+    (tmp_path / "harness.lua").write_text(harness)
+    out = tmp_path / "seen.json"
     # The snippet runs `usdrender-lint server`: the one beside this Python.
-    env = {
+    environment = {
         **os.environ,
         "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
         "USDRENDER_LINT_NVIM_OUT": str(out),
         "XDG_STATE_HOME": str(tmp_path / "state"),
         "XDG_DATA_HOME": str(tmp_path / "data"),
         "XDG_CONFIG_HOME": str(tmp_path / "config"),
+        **env,
     }
     result = subprocess.run(
-        [
-            nvim,
-            "--headless",
-            "-i",
-            "NONE",
-            "-u",
-            str(tmp_path / "init.lua"),
-            str(shot),
-            "-c",
-            f"luafile {tmp_path / 'harness.lua'}",
-        ],
-        cwd=tmp_path,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=180,
-    )
+        [nvim, "--headless", "-i", "NONE", "-u", str(tmp_path / "init.lua"),
+         *map(str, files), "-c", f"luafile {tmp_path / 'harness.lua'}"],
+        cwd=tmp_path, env=environment, capture_output=True, text=True, timeout=180,
+    )  # fmt: skip
     assert out.exists(), result.stderr
-    seen = json.loads(out.read_text())
+    seen: dict = json.loads(out.read_text())
     print(json.dumps(seen, indent=1))  # the test's output: what Neovim received
+    return seen
+
+
+def test_neovim_shows_the_findings_of_a_broken_shot(tmp_path: Path):
+    shot = tmp_path / "shot.usda"
+    shutil.copy(BROKEN_SHOT, shot)
+    seen = run_neovim(tmp_path, HARNESS, (shot,))
     assert seen["received"] is True
     found = {(d["code"], d["line"] + 1) for d in seen["diagnostics"]}
     assert found == {("CA004", 32), ("SE007", 37), ("CA003", 51), ("SE003", 54), ("PR004", 59)}
@@ -163,34 +159,16 @@ vim.cmd("qa!")
 def test_neovim_gets_a_document_s_findings_while_another_hangs_usd(tmp_path: Path):
     """With the guide's snippet (the time-out 120 s): the second document's
     findings waited for the first's time-out."""
-    nvim = shutil.which("nvim")
-    if nvim is None:
-        pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
     from cli_support import hanging_stage
 
     fine = tmp_path / "fine.usda"
     fine.write_text('#usda 1.0\ndef RenderSettings "S"\n{\n    int2 resolution = (0, 1)\n}\n')
-    (tmp_path / "init.lua").write_text(snippet("Neovim", "lua"))
-    (tmp_path / "harness.lua").write_text(HANGING_HARNESS)
-    out = tmp_path / "seen.json"
-    env = {
-        **os.environ,
-        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
-        "USDRENDER_LINT_NVIM_OUT": str(out),
-        "USDRENDER_LINT_HANGS": str(hanging_stage(tmp_path)),
-        "USDRENDER_LINT_FINE": str(fine),
-        "XDG_STATE_HOME": str(tmp_path / "state"),
-        "XDG_DATA_HOME": str(tmp_path / "data"),
-        "XDG_CONFIG_HOME": str(tmp_path / "config"),
-    }
-    result = subprocess.run(
-        [nvim, "--headless", "-i", "NONE", "-u", str(tmp_path / "init.lua"),
-         "-c", f"luafile {tmp_path / 'harness.lua'}"],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=180,
-    )  # fmt: skip
-    assert out.exists(), result.stderr
-    seen = json.loads(out.read_text())
-    print(seen)
+    seen = run_neovim(
+        tmp_path,
+        HANGING_HARNESS,
+        USDRENDER_LINT_HANGS=str(hanging_stage(tmp_path)),
+        USDRENDER_LINT_FINE=str(fine),
+    )
     assert seen["received"] is True and seen["seconds"] < 30
 
 
@@ -232,32 +210,10 @@ vim.cmd("qa!")
 def test_neovim_gets_an_answer_to_a_code_action_on_a_document_that_hangs_usd(tmp_path: Path):
     """With the guide's snippet (the time-out 120 s): the fix composed the
     stage USD hangs on, and Neovim's request had no answer within a minute."""
-    nvim = shutil.which("nvim")
-    if nvim is None:
-        pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
     os.mkfifo(tmp_path / "pipe.usda")
     shot = tmp_path / "shot.usda"
     shot.write_text('#usda 1.0\ndef RenderSettings "S"\n{\n    int2 resolution = (0, 1)\n}\n')
-    (tmp_path / "init.lua").write_text(snippet("Neovim", "lua"))
-    (tmp_path / "harness.lua").write_text(HUNG_ACTION_HARNESS)
-    out = tmp_path / "seen.json"
-    env = {
-        **os.environ,
-        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
-        "USDRENDER_LINT_NVIM_OUT": str(out),
-        "USDRENDER_LINT_SHOT": str(shot),
-        "XDG_STATE_HOME": str(tmp_path / "state"),
-        "XDG_DATA_HOME": str(tmp_path / "data"),
-        "XDG_CONFIG_HOME": str(tmp_path / "config"),
-    }
-    result = subprocess.run(
-        [nvim, "--headless", "-i", "NONE", "-u", str(tmp_path / "init.lua"),
-         "-c", f"luafile {tmp_path / 'harness.lua'}"],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=180,
-    )  # fmt: skip
-    assert out.exists(), result.stderr
-    seen = json.loads(out.read_text())
-    print(seen)
+    seen = run_neovim(tmp_path, HUNG_ACTION_HARNESS, USDRENDER_LINT_SHOT=str(shot))
     assert seen["linted"] is True and seen["st003"] is True
     assert seen["answered"] is True and seen["seconds"] < 10
 
@@ -292,9 +248,6 @@ def test_neovim_composes_a_sublayer_s_unsaved_text_across_a_symlink(tmp_path: Pa
     """The shot sublayers ``./assets/layer.usda``, ``assets`` a symlink to the
     library; Neovim names the buffer of that file by its resolved path. The
     shot's stage composed the saved file, and the edit's finding never came."""
-    nvim = shutil.which("nvim")
-    if nvim is None:
-        pytest.skip("Neovim is not installed (apt-get install neovim): the editor test is skipped")
     library = tmp_path / "library"
     library.mkdir()
     (tmp_path / "assets").symlink_to(library, target_is_directory=True)
@@ -307,27 +260,12 @@ def test_neovim_composes_a_sublayer_s_unsaved_text_across_a_symlink(tmp_path: Pa
         '#usda 1.0\nover "Render"\n{\n    over "rs"\n    {\n'
         '        uniform token[] materialBindingPurposes = ["full", "preview"]\n    }\n}\n'
     )
-    (tmp_path / "init.lua").write_text(snippet("Neovim", "lua"))
-    (tmp_path / "harness.lua").write_text(LINKED_LAYER_HARNESS)
-    out = tmp_path / "seen.json"
-    env = {
-        **os.environ,
-        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
-        "USDRENDER_LINT_NVIM_OUT": str(out),
-        "USDRENDER_LINT_SHOT": str(shot),
-        "USDRENDER_LINT_LAYER": str(tmp_path / "assets" / "layer.usda"),
-        "XDG_STATE_HOME": str(tmp_path / "state"),
-        "XDG_DATA_HOME": str(tmp_path / "data"),
-        "XDG_CONFIG_HOME": str(tmp_path / "config"),
-    }
-    result = subprocess.run(
-        [nvim, "--headless", "-i", "NONE", "-u", str(tmp_path / "init.lua"),
-         "-c", f"luafile {tmp_path / 'harness.lua'}"],
-        cwd=tmp_path, env=env, capture_output=True, text=True, timeout=180,
-    )  # fmt: skip
-    assert out.exists(), result.stderr
-    seen = json.loads(out.read_text())
-    print(seen)
+    seen = run_neovim(
+        tmp_path,
+        LINKED_LAYER_HARNESS,
+        USDRENDER_LINT_SHOT=str(shot),
+        USDRENDER_LINT_LAYER=str(tmp_path / "assets" / "layer.usda"),
+    )
     assert seen == {"linted": True, "shown": True, "line": 5}
 
 
