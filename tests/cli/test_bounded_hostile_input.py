@@ -18,6 +18,7 @@ from cli_support import command, settings_crate
 from pxr import Gf, Usd, UsdGeom, Vt
 
 from usdrender_lint.engine.linter import unsafe_to_open
+from usdrender_lint.layers import nesting
 from usdrender_lint.layers.crate import crate_structure_problem
 from usdrender_lint.layers.nesting import MAX_DEPTH, nesting_depth, nesting_problem
 
@@ -275,6 +276,9 @@ def test_nesting_depth_reads_structure_not_text() -> None:
     # Closing braces inside strings and comments do not hide the depth.
     sneaky = _deep_prims(20_000, ' string s = "}}" # }').encode()
     assert nesting_depth(sneaky) == 20_000
+    # A closer in a string right after each opener hides nothing either.
+    hidden = '#usda 1.0\ndef "a" {\n int x = ' + '(")"' * 20_000 + "1\n}\n"
+    assert nesting_depth(hidden.encode()) == 20_001
     # ... nor do opening ones inside them, or in paths, add to it.
     shallow = '#usda 1.0\ndef "a" {\n' + '    string s = "{{{{" # ((((\n' * 20_000 + "}\n"
     assert nesting_depth(shallow.encode()) < MAX_DEPTH
@@ -283,6 +287,21 @@ def test_nesting_depth_reads_structure_not_text() -> None:
     # A million tuples in an array: shallow, and the check stops early.
     mesh = '#usda 1.0\ndef Mesh "m" {\n point3f[] points = [' + "(0, 0, 0), " * 1_000_000
     assert nesting_depth((mesh + "]\n}\n").encode()) < MAX_DEPTH
+
+
+def test_a_shallow_layer_with_many_openers_is_not_scanned_for_strings(monkeypatch) -> None:
+    """Thousands of prims, strings and tuples: the bound from brackets and the
+    bytes that begin and end strings answers, without the scan for strings."""
+
+    class NoScan:
+        def sub(self, *args: object) -> bytes:
+            raise AssertionError("scanned for strings")
+
+    monkeypatch.setattr(nesting, "_NOT_STRUCTURE", NoScan())
+    prim = 'def Mesh "m{0}" (\n kind = "x"\n)\n{{\n float3[] extent = [(0, 0, 0), (1, 1, 1)]\n}}\n'
+    text = "#usda 1.0\n" + "".join(prim.format(i) for i in range(6_000))
+    assert text.count("(") + text.count("{") + text.count("[") > 3 * MAX_DEPTH
+    assert nesting_depth(text.encode()) < MAX_DEPTH
 
 
 @pytest.mark.parametrize(

@@ -28,6 +28,10 @@ _TEXT_MAGIC = b"#usda"
 _NOT_OPENERS = bytes(b for b in range(256) if b not in b"{([")
 _NOT_BRACKETS = bytes(b for b in range(256) if b not in b"{}()[]")
 _AS_PARENTHESES = bytes.maketrans(b"{[}]", b"(())")
+#: Every byte but brackets and those that begin a string, comment or path.
+_NOT_BRACKETS_OR_STARTS = bytes(b for b in range(256) if b not in b"{}()[]\"'#@<")
+#: Rounds of removing adjacent pairs for the bound before the exact scan.
+BOUND_ROUNDS = 8
 
 
 def nesting_problem(path: str | os.PathLike[str], data: bytes | None = None) -> str | None:
@@ -63,6 +67,22 @@ def nesting_depth(data: bytes) -> int:
     # One pass over the bytes (three counts cost twice as much).
     if len(data) < MAX_DEPTH or len(data.translate(None, _NOT_OPENERS)) < MAX_DEPTH:
         return 0  # too few openers to nest that deep (every small file)
+    # A bound without the costly scan for strings (2.4 ms of a 390 KB shot, a
+    # third of USD's parse). Keep only brackets and the bytes that begin a
+    # string, comment or path: an opener in structure is then followed by one of
+    # those or by brackets in structure, so it loses an adjacent ")" only as the
+    # innermost open one. A round of removing adjacent pairs lowers the depth by
+    # one at most and keeps every other opener of the deepest chain: the depth is
+    # at most the openers left plus the rounds. (Brackets in strings are kept
+    # too; they only make the bound larger.)
+    kept = data.translate(_AS_PARENTHESES, _NOT_BRACKETS_OR_STARTS)
+    for rounds in range(1, BOUND_ROUNDS + 1):
+        fewer = kept.replace(b"()", b"")
+        if fewer.count(b"(") + rounds < MAX_DEPTH:
+            return 0
+        if len(fewer) == len(kept):
+            break
+        kept = fewer
     brackets = _NOT_STRUCTURE.sub(b"", data).translate(_AS_PARENTHESES, _NOT_BRACKETS)
     # Removing the innermost pairs lowers the depth by one at most, and what is
     # left nests at most half its length deep: a mesh's million tuples end here.
