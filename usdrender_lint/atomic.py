@@ -18,7 +18,8 @@ NAME_MAX = 255
 #: Names of a descriptor the process already holds: what a shell's
 #: ``> /dev/stdout`` writes through (its offset and append mode), not a file
 #: to open again and replace.
-_DESCRIPTOR_NAMES = re.compile(r"/dev/fd/(\d+)|/proc/(?:self|thread-self|(\d+))/fd/(\d+)")
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_DESCRIPTOR_NAMES = r"/dev/fd/(\d+)|/proc/(?:self|thread-self|(\d+))/fd/(\d+)"
 _STANDARD_NAMES = {"/dev/stdin": 0, "/dev/stdout": 1, "/dev/stderr": 2}
 
 
@@ -49,7 +50,7 @@ def named_descriptor(path: str | os.PathLike[str]) -> int | None:
     for _ in range(40):  # the kernel's own limit on links followed
         if current in _STANDARD_NAMES:
             return _STANDARD_NAMES[current]
-        match = _DESCRIPTOR_NAMES.fullmatch(current)
+        match = re.fullmatch(_DESCRIPTOR_NAMES, current)
         if match and match.group(2) in (None, str(os.getpid())):
             return int(match.group(1) or match.group(3))
         try:

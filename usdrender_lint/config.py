@@ -629,20 +629,21 @@ def _parse_toml_file(path: Path) -> tuple[dict[str, Any], str]:
         reason = f"not UTF-8 (byte 0x{data[exc.start]:02x})"
     except tomllib.TOMLDecodeError as exc:
         line, column = _toml_error_position(exc, text)
-        reason = _TOML_POSITION.sub("", str(exc))
+        reason = re.sub(_TOML_POSITION, "", str(exc))
     except RecursionError:
         raise ConfigError(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
     raise ConfigError(f"{path}:{line}:{column}: invalid TOML: {reason}")
 
 
 #: Where tomllib says its error is (Python 3.11 puts it in the message only).
-_TOML_POSITION = re.compile(r"\s*\((?:at line (\d+), column (\d+)|at end of document)\)$")
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_TOML_POSITION = r"\s*\((?:at line (\d+), column (\d+)|at end of document)\)$"
 
 
 def _toml_error_position(exc: Exception, text: str) -> tuple[int, int]:
     if getattr(exc, "lineno", None) and getattr(exc, "colno", None):
         return exc.lineno, exc.colno  # type: ignore[attr-defined]
-    found = _TOML_POSITION.search(str(exc))
+    found = re.search(_TOML_POSITION, str(exc))
     if found and found.group(1):
         return int(found.group(1)), int(found.group(2))
     return _position(text)  # the end of the document

@@ -105,7 +105,7 @@ class Finding:
     def variant_selection(self) -> str:
         """The variant selections ``--variants`` saw it under, when not the
         authored ones (engine/variants.py notes them in the message); else ''."""
-        match = _VARIANT_SELECTION.search(self.message)
+        match = re.search(_VARIANT_SELECTION, self.message)
         return match.group(1) if match else ""
 
     def sort_key(self) -> tuple:
@@ -120,7 +120,8 @@ class Finding:
 #: The note ``--variants`` adds to the message of a finding seen only under
 #: other variant selections than the authored ones.
 VARIANT_SELECTION_NOTE = " [variant selection: {}]"
-_VARIANT_SELECTION = re.compile(r" \[variant selection: (.*)\]\Z", re.DOTALL)
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_VARIANT_SELECTION = r"(?s) \[variant selection: (.*)\]\Z"
 
 
 @record(frozen=True)

@@ -13,27 +13,28 @@ from usdrender_lint.api.resolve import prim_values
 
 from ._default_value import _authored_layer
 
-_VARIABLE = re.compile(r"\$\{(\w+)\}")
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_VARIABLE = r"\$\{(\w+)\}"
 
 
 #: A URI scheme (``omniverse:``, ``https:``); two characters at least, so that
 #: a Windows drive (``C:``) is not one.
-_SCHEME = re.compile(r"([A-Za-z][A-Za-z0-9+.\-]+):")
+_SCHEME = r"([A-Za-z][A-Za-z0-9+.\-]+):"
 #: A Windows drive or UNC path (``C:\shows``, ``C:/shows``, ``\\server\share``).
-_WINDOWS_ABSOLUTE = re.compile(r"[A-Za-z]:[\\/]|\\\\")
+_WINDOWS_ABSOLUTE = r"[A-Za-z]:[\\/]|\\\\"
 
 
 def _platform_reason(path: str) -> str | None:
     """Why ``path`` cannot resolve here whatever files exist, for a path
     written for another resolver or platform (a Kit stage's ``omniverse://``,
     a Windows path), or None."""
-    scheme = _SCHEME.match(path)
+    scheme = re.match(_SCHEME, path)
     if scheme and scheme.group(1).lower() not in {s.lower() for s in Ar.GetRegisteredURISchemes()}:
         return (
             f"uses the {scheme.group(1)}: scheme, and no asset resolver for it is registered "
             "where this lint runs; lint with that resolver's USD plugin or correct the path"
         )
-    if os.sep == "/" and _WINDOWS_ABSOLUTE.match(path):
+    if os.sep == "/" and re.match(_WINDOWS_ABSOLUTE, path):
         return "is a Windows path, which does not resolve on this platform; correct the path"
     if os.sep == "/" and "\\" in path:
         return "uses backslashes, which are not path separators on this platform; write '/'"
@@ -46,7 +47,7 @@ def _unresolvable_reason(value: Sdf.AssetPath, layer: Sdf.Layer | None) -> str:
     path = value.evaluatedPath or authored
     platform = _platform_reason(path)
     # An absolute path or a URI is not looked up relative to the layer.
-    relative = not os.path.isabs(path) and not _SCHEME.match(path)
+    relative = not os.path.isabs(path) and not re.match(_SCHEME, path)
     where = f" relative to {layer.GetDisplayName()}" if layer is not None and relative else ""
     if Sdf.VariableExpression.IsExpression(authored):
         errors = Sdf.VariableExpression(authored).GetErrors()
@@ -56,7 +57,7 @@ def _unresolvable_reason(value: Sdf.AssetPath, layer: Sdf.Layer | None) -> str:
                 "correct the expression"
             )
         # usd-core leaves an unset variable in the evaluated path as written.
-        unset = sorted(set(_VARIABLE.findall(value.evaluatedPath)))
+        unset = sorted(set(re.findall(_VARIABLE, value.evaluatedPath)))
         if unset:
             names = ", ".join(unset)
             return (

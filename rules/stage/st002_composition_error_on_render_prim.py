@@ -16,7 +16,9 @@ from ._render_prims import RENDER_SCOPE, is_render_type
 #: Where an asset path's variable expression failed, as PcpErrorVariableExpressionError
 #: says it (pxr/usd/pcp/errors.cpp: "... for reference at /Render/Settings in
 #: @shot.usda@: ..."; a sublayer's names no prim): its site is empty in usd-core 26.11.
-_EXPRESSION_CONTEXT = re.compile(r" for [\w ]+? (?:at (/\S*) )?in @")
+#: (Pattern texts, here and below: re compiles each at first use, not at every
+#: start-up.)
+_EXPRESSION_CONTEXT = r" for [\w ]+? (?:at (/\S*) )?in @"
 
 
 def _composition_error_site(error) -> Sdf.Path | None:
@@ -25,7 +27,7 @@ def _composition_error_site(error) -> Sdf.Path | None:
     if isinstance(path, Sdf.Path) and path.isEmpty:
         # An expression that cannot be evaluated: a sublayer's is the layer
         # stack's (the site /), a reference's or payload's the prim's.
-        context = _EXPRESSION_CONTEXT.search(usd_text(error))
+        context = re.search(_EXPRESSION_CONTEXT, usd_text(error))
         if context is None:
             return None
         at = context.group(1)
@@ -63,11 +65,11 @@ def _lfs_pointers(text: str) -> str:
 #: The arc an error's text names ("Could not open asset @a@ for reference ...",
 #: "Unresolved payload prim path ...", "Could not load sublayer ...";
 #: pxr/usd/pcp/errors.cpp), read outside its quoted asset and prim paths.
-_ARC = re.compile(r"\b(reference|payload|sublayer)\b")
-_QUOTED = re.compile(r"@[^@]*@|<[^>]*>|`[^`]*`")
+_ARC = r"\b(reference|payload|sublayer)\b"
+_QUOTED = r"@[^@]*@|<[^>]*>|`[^`]*`"
 #: A space USD leaves before the ";" or "." that ends the reason a layer could
 #: not be read ("... in </X.a> ; skipping.").
-_SPACE_BEFORE_STOP = re.compile(r" +([;.])(?=\s|$)")
+_SPACE_BEFORE_STOP = r" +([;.])(?=\s|$)"
 
 
 def _usd_words(error, session: Sdf.Layer | None = None) -> str:
@@ -75,21 +77,21 @@ def _usd_words(error, session: Sdf.Layer | None = None) -> str:
     stage's session layer or the address of an anonymous layer, ending in a
     full stop."""
     text = " ".join(usd_text(error).split())
-    text = _SPACE_BEFORE_STOP.sub(r"\1", USD_NAMESPACE.sub("", text))
+    text = re.sub(_SPACE_BEFORE_STOP, r"\1", USD_NAMESPACE.sub("", text))
     # A layer stack "@shot.usda@,@anon:...-session.usda@" is the user's layers
     # and the anonymous session layer of whoever opened the stage: the tool's
     # own, named after the file linted, or a host's (the Asset Validator opens
     # every stage with its own, anon:AssetValidator). A --fix-to layer stays.
     if session is not None and session.anonymous:
         text = text.replace(f",@{usd_string(lambda: session.identifier)}@", "")
-    text = _SESSION_IN_STACK.sub("", _ANONYMOUS_ADDRESS.sub("anon:", text))
+    text = re.sub(_SESSION_IN_STACK, "", re.sub(_ANONYMOUS_ADDRESS, "anon:", text))
     return text if text.endswith((".", "!", "?")) else f"{text}."
 
 
 #: The layer whose subLayers hold the failing entry, as USD names it:
 #: "Could not load sublayer @a@ of layer @shot.usda@", "Error evaluating
 #: expression `...` for sublayer in @shot.usda@" (pxr/usd/pcp/errors.cpp).
-_LISTING_LAYER = re.compile(r"(?: of layer | for sublayer in )@([^@]+)@")
+_LISTING_LAYER = r"(?: of layer | for sublayer in )@([^@]+)@"
 
 
 def _listing_layer(stage: Usd.Stage, error) -> Sdf.Layer | None:
@@ -97,7 +99,7 @@ def _listing_layer(stage: Usd.Stage, error) -> Sdf.Layer | None:
     about: the finding's place (else the root layer's, where a layer of the
     shot that is not the root, linted as a changed layer with ``roots``, lost
     its own broken sublayer). None when the error names none."""
-    named = _LISTING_LAYER.search(usd_text(error))
+    named = re.search(_LISTING_LAYER, usd_text(error))
     if named is None:
         return None
     for layer in stage.GetLayerStack(True):
@@ -113,7 +115,7 @@ def _consequence(error, text: str, scope: str) -> str:
     """What the error costs ``scope`` and what to do, by the error's type: an
     asset path to correct, a layer to repair, a prim path, a cycle to break."""
     kind = getattr(error, "errorType", None)
-    arc_match = _ARC.search(_QUOTED.sub("", text))
+    arc_match = re.search(_ARC, re.sub(_QUOTED, "", text))
     arc = arc_match.group(1) if arc_match else "arc"
     # USD could open the file but not read it: "... -- <the parser's error>".
     unreadable = " -- " in text
@@ -158,8 +160,8 @@ def _consequence(error, text: str, scope: str) -> str:
 
 #: An anonymous layer's identifier holds its address (``anon:0x55f8ea155340:``),
 #: which differs between runs; the message keeps only the layer's tag.
-_ANONYMOUS_ADDRESS = re.compile(r"\banon:0x[0-9a-fA-F]+:")
-_SESSION_IN_STACK = re.compile(r",@anon:[^@]*-session\.usda@")
+_ANONYMOUS_ADDRESS = r"\banon:0x[0-9a-fA-F]+:"
+_SESSION_IN_STACK = r",@anon:[^@]*-session\.usda@"
 
 
 def _render_prim_paths(stage: Usd.Stage) -> list[Sdf.Path]:

@@ -211,7 +211,7 @@ def test_the_hooks_match_every_usd_extension_and_nothing_else() -> None:
     # check --pre-commit reads the staged files by the same pattern.
     from usdrender_lint.cli.check import _HOOK_FILES
 
-    assert _HOOK_FILES.pattern == hooks[0]["files"]
+    assert hooks[0]["files"] == _HOOK_FILES
     pattern = re.compile(hooks[0]["files"])  # pre-commit matches with re.search
     matched = {n for n in ("a.usd", "a.usda", "a.usdc", "a.usdz", "B.USDA") if pattern.search(n)}
     assert matched == {"a.usd", "a.usda", "a.usdc", "a.usdz", "B.USDA"}

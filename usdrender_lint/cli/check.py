@@ -39,7 +39,8 @@ if TYPE_CHECKING:
 
 
 #: The names pre-commit hands the hooks (.pre-commit-hooks.yaml's ``files``).
-_HOOK_FILES = re.compile(r"(?i)\.usd[acz]?$")
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_HOOK_FILES = r"(?i)\.usd[acz]?$"
 #: The hooks' entry says so: the command is run by pre-commit.
 PRE_COMMIT_FLAG = "--pre-commit"
 
@@ -66,7 +67,7 @@ def staged_files_as_paths(args: list[str]) -> list[str]:
 
     args = list(args)
     at = len(args)
-    while at > 0 and _HOOK_FILES.search(args[at - 1]) and os.path.lexists(args[at - 1]):
+    while at > 0 and re.search(_HOOK_FILES, args[at - 1]) and os.path.lexists(args[at - 1]):
         at -= 1
         if args[at].startswith("-"):
             args[at] = os.path.join(os.curdir, args[at])

@@ -24,7 +24,8 @@ from . import partial
 
 #: A URI scheme or the anonymous layers' prefix (``omniverse:``, ``https:``,
 #: ``anon:``); two characters at least, so that ``C:`` stays a drive.
-_SCHEME = re.compile(r"[A-Za-z][A-Za-z0-9+.\-]+:")
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_SCHEME = r"[A-Za-z][A-Za-z0-9+.\-]+:"
 
 
 class Unkeyable(Exception):
@@ -42,7 +43,7 @@ def arc_target(anchor: Sdf.Layer, asset_path: str) -> str | None:
         return None
     if "`" in asset_path:
         raise Unkeyable(f"@{asset_path}@ uses expression variables")
-    if _SCHEME.match(asset_path):
+    if re.match(_SCHEME, asset_path):
         raise Unkeyable(f"@{asset_path}@ is resolved by a resolver other than the file system")
     # File format arguments choose how the file is read, not which file it is.
     asset_path = asset_path.partition(":SDF_FORMAT_ARGS:")[0]

@@ -199,23 +199,24 @@ def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
         for line in text.splitlines():
             if line.strip():
                 # An object's address ("stage @x@ <0x55d1...>") differs from run to run.
-                line = _ADDRESS.sub("", line.strip())
-                line = _PEGTL_EOF.sub("Expected end of file at", _NAMESPACE.sub("", line))
+                line = re.sub(_ADDRESS, "", line.strip())
+                line = re.sub(_PEGTL_EOF, "Expected end of file at", _NAMESPACE.sub("", line))
                 for number, name in enumerate(names):
                     line = line.replace(f"\0{number}\0", name)
                 yield line
 
 
-_ADDRESS = re.compile(r" ?<0x[0-9a-fA-F]+>")
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_ADDRESS = r" ?<0x[0-9a-fA-F]+>"
 #: The grammar failing on text where the layer should have ended, worded as
 #: the parser's other errors are ("Expected } at '...'").
-_PEGTL_EOF = re.compile(r"parse error matching pegtl::internal::eof at")
+_PEGTL_EOF = r"parse error matching pegtl::internal::eof at"
 #: The sources of the usda parser's errors (pxr/usd/sdf).
 _TEXT_PARSER = ("textParserHelpers.h", "textFileFormat.cpp", "textFileFormatParser.cpp")
 #: Where SdfLayer fails to open a layer file (pxr/usd/sdf/layer.cpp): the
 #: source file and the function, as Tf.Error names them.
 _LAYER_OPEN = ("layer.cpp", "SdfLayer::_OpenLayerAndUnlockRegistry")
-_QUOTED_LAYER = re.compile(r"@([^@]+)@")
+_QUOTED_LAYER = r"@([^@]+)@"
 #: The sources of the crate reader's errors: the reader, and the LZ4 and
 #: integer decompression it reads the structural sections with.
 _CRATE_READER = ("crateFile.cpp", "fastCompression.cpp", "integerCoding.cpp")
@@ -232,7 +233,7 @@ def crate_unreadable(exc: Tf.ErrorException, path: str) -> tuple[str, ...]:
     for arg in exc.args:
         source = str(getattr(arg, "sourceFileName", "") or "")
         if source.endswith(_CRATE_READER):
-            quoted = _QUOTED_LAYER.search(str(getattr(arg, "commentary", "") or ""))
+            quoted = re.search(_QUOTED_LAYER, str(getattr(arg, "commentary", "") or ""))
             crate = quoted.group(1) if quoted else path
             break
     if crate is None or not is_crate(crate):

@@ -15,7 +15,8 @@ from ..layers.files import layer_real_path
 from . import layer_words
 
 #: A variant named "" in usda text (``"" {``, or ``"" (`` for one with metadata).
-_EMPTY_VARIANT_NAME = re.compile(rb'""\s*[({]')
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_EMPTY_VARIANT_NAME = rb'""\s*[({]'
 
 
 def names_an_empty_variant(layer: Sdf.Layer) -> bool:
@@ -57,6 +58,6 @@ def _text_names_one(layer: Sdf.Layer) -> bool:
 def _text_file_names_one(file: str) -> bool:
     try:
         with open(file, "rb") as handle:
-            return _EMPTY_VARIANT_NAME.search(handle.read()) is not None
+            return re.search(_EMPTY_VARIANT_NAME, handle.read()) is not None
     except OSError:
         return False

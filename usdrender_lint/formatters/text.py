@@ -27,7 +27,8 @@ _STYLE = {Severity.ERROR: "bold red", Severity.WARNING: "yellow", Severity.INFO:
 #: Continuation lines of a wrapped message start here.
 INDENT = "    "
 #: USD's parse errors begin with the position the location already gives.
-_POSITION = re.compile(r"^.+?:(\d+)(?::(\d+))?: ")
+#: (Pattern text: re compiles it at first use, not at every start-up.)
+_POSITION = r"^.+?:(\d+)(?::(\d+))?: "
 
 #: A piece of text and its rich style (None: plain).
 Segment = tuple[str, "str | None"]
@@ -143,7 +144,7 @@ def finding_entry(
 
 def _without_position(message: str, line: int | None) -> str:
     """The message without a leading position that repeats the entry's line."""
-    matched = _POSITION.match(message)
+    matched = re.match(_POSITION, message)
     if matched and line and int(matched.group(1)) == line:
         return message[matched.end() :]
     return message
