@@ -45,7 +45,12 @@ class Accepted:
     source: str
 
     def matches(self, value: str) -> bool:
-        return fnmatch.fnmatchcase(value, self.name)
+        name = self.name
+        if "*" not in name and "?" not in name and "[" not in name:
+            # No wildcard: fnmatch would compile (and cache) a pattern matching
+            # this name alone, at each name's first use in a process.
+            return value == name
+        return fnmatch.fnmatchcase(value, name)
 
 
 @record(frozen=True, kw_only=True)
