@@ -8,7 +8,9 @@ built-in rules and formatters), and that is cheap to prove: read the same
 other case (a plugin in the group, a zip or egg on ``sys.path``, a finder with
 its own distributions, a file we would read differently) is handed to
 ``importlib.metadata``, so third-party plugins load exactly as before.
-Nothing is cached: every call looks at the file system again.
+Nothing is cached: every call looks at the file system again, but inside
+:func:`read_once` (a command line run), where the first lookup reads every
+group and the next answer from that reading.
 
 Kept over a plain importlib.metadata call because it is measured to pay:
 benchmarks/entry_points.py (both groups in a fresh interpreter: ~33 ms against
@@ -18,10 +20,12 @@ checks it answers as importlib.metadata on each layout it reads itself.
 
 from __future__ import annotations
 
+import contextvars
 import os
 import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from importlib import import_module
 from typing import Any, Protocol
 
@@ -60,40 +64,92 @@ class SimpleEntryPoint:
 
 def entry_points(group: str) -> Sequence[EntryPointLike]:
     """The entry points of ``group``, as ``importlib.metadata.entry_points(group=...)``."""
-    try:
-        found = _single_registrant(group)
-    except (OSError, UnicodeDecodeError, ValueError):
-        found = None  # importlib.metadata decides (and raises) as it always did
-    if found is not None:
-        return found
-    from importlib import metadata
+    reading = _READING.get()
+    return (reading if reading is not None else _Reading()).group(group)
 
-    return tuple(metadata.entry_points(group=group))
+
+@contextmanager
+def read_once() -> Iterator[None]:
+    """Inside, the distributions' entry points are read at the first lookup,
+    every group at once, and later lookups answer from that reading: a command
+    asks for the rules' and the formatters', each read cost as much as both."""
+    token = _READING.set(_Reading())
+    try:
+        yield
+    finally:
+        _READING.reset(token)
+
+
+class _Reading:
+    """One reading of every distribution's entry points (by group), made at the
+    first question; importlib.metadata's too, once, when a group needs it."""
+
+    def __init__(self) -> None:
+        self._declared: dict[str, list[list[tuple[str, str]]]] | None = None
+        self._metadata: Any = None
+
+    def group(self, group: str) -> Sequence[EntryPointLike]:
+        if self._declared is None:
+            try:
+                self._declared = _declarations()
+            except (OSError, UnicodeDecodeError, ValueError):
+                self._declared = {}  # importlib.metadata decides (and raises) as it always did
+        found = _single_registrant_of(self._declared, group)
+        if found is not None:
+            return found
+        if self._metadata is None:
+            from importlib import metadata
+
+            self._metadata = metadata.entry_points()
+        return tuple(self._metadata.select(group=group))
+
+
+#: The reading of the running read_once, if any.
+_READING: contextvars.ContextVar[_Reading | None] = contextvars.ContextVar(
+    "usdrender_lint_entry_points", default=None
+)
 
 
 def _single_registrant(group: str) -> list[SimpleEntryPoint] | None:
     """The group's entry points when exactly one visible distribution declares
     them all in a form read here exactly as importlib.metadata reads it; else None."""
-    if _other_finders():
+    return _single_registrant_of(_declarations(), group)
+
+
+def _single_registrant_of(
+    declared: dict[str, list[list[tuple[str, str]]]], group: str
+) -> list[SimpleEntryPoint] | None:
+    registrants = declared.get(group, [])
+    if len(registrants) != 1 or not all(_VALUE.match(value) for _, value in registrants[0]):
         return None
+    return [SimpleEntryPoint(name, value, group) for name, value in registrants[0]]
+
+
+def _declarations() -> dict[str, list[list[tuple[str, str]]]]:
+    """Each group's (name, value) entries of each visible distribution that declares
+    some, in importlib.metadata's order; {} when importlib.metadata must read them
+    (or it would read a file otherwise)."""
+    if _other_finders():
+        return {}
     seen: set[str] = set()  # importlib.metadata keeps the first distribution of a name
-    registrants: list[list[SimpleEntryPoint]] = []
+    declared: dict[str, list[list[tuple[str, str]]]] = {}
     for entry in sys.path:
         if not isinstance(entry, str) or entry.lower().endswith(".egg"):
-            return None
+            return {}
         distributions = _distributions_in(entry or ".")
         if distributions is None:
-            return None
+            return {}
         for name, folder in distributions:
             if name in seen:
                 continue
-            entries = _declared(folder, group)
-            if entries is None:
-                return None
-            if entries:
-                registrants.append(entries)
+            groups = _declared(folder)
+            if groups is None:
+                return {}
+            for group, entries in groups.items():
+                if entries:
+                    declared.setdefault(group, []).append(entries)
         seen.update(name for name, _ in distributions)
-    return registrants[0] if len(registrants) == 1 else None
+    return declared
 
 
 def _other_finders() -> bool:
@@ -127,25 +183,26 @@ def _distributions_in(root: str) -> list[tuple[str, str]] | None:
     return found
 
 
-def _declared(folder: str, group: str) -> list[SimpleEntryPoint] | None:
-    """The group's entry points a distribution declares; None when they are not
-    in a form read here exactly as importlib.metadata reads it."""
+def _declared(folder: str) -> dict[str, list[tuple[str, str]]] | None:
+    """The (name, value) entries a distribution declares, by group; None when
+    they are not in a form read here exactly as importlib.metadata reads it."""
     path = os.path.join(folder, "entry_points.txt")
     if not os.path.isfile(path):
-        return []
+        return {}
     with open(path, encoding="utf-8") as handle:
-        return _parse(handle.read(), group)
+        return _parse(handle.read())
 
 
 def _normalize(name: str) -> str:
     return re.sub(r"[-_.]+", "-", name).lower().replace("-", "_")
 
 
-def _parse(text: str, group: str) -> list[SimpleEntryPoint] | None:
-    """``group``'s entries in one ``entry_points.txt``, read line by line as
-    importlib.metadata reads it; None for a line it would read differently or
-    reject (it parses every group of every distribution)."""
-    found = []
+def _parse(text: str) -> dict[str, list[tuple[str, str]]] | None:
+    """The (name, value) entries of one ``entry_points.txt`` by group, read line
+    by line as importlib.metadata reads it; None for a line it would read
+    differently or reject (it parses every group of every distribution). A
+    value is checked against importlib.metadata's pattern when its group is asked."""
+    found: dict[str, list[tuple[str, str]]] = {}
     section = None
     for line in map(str.strip, text.splitlines()):
         if not line or line.startswith("#"):
@@ -158,9 +215,5 @@ def _parse(text: str, group: str) -> list[SimpleEntryPoint] | None:
         name, equals, value = line.partition("=")
         if not equals:
             return None
-        if section == group:
-            value = value.strip()
-            if not _VALUE.match(value):
-                return None
-            found.append(SimpleEntryPoint(name.strip(), value, group))
+        found.setdefault(section, []).append((name.strip(), value.strip()))
     return found

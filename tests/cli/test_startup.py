@@ -358,6 +358,29 @@ def test_a_check_looks_the_formatters_up_once(
         assert lookups == [formatters.ENTRY_POINT_GROUP] * run
 
 
+def test_a_check_reads_the_entry_points_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The formatters (--format) and the rule plugins come from one reading of
+    the installed distributions' entry points: each reading lists every folder
+    of sys.path and reads every entry_points.txt (about 5M instructions here)."""
+    from cli_support import invoke_in
+
+    readings: list[str] = []
+    read = entrypoints._declarations
+
+    def counted():
+        readings.append("read")
+        return read()
+
+    monkeypatch.setattr(entrypoints, "_declarations", counted)
+    args = ["check", "--isolated", "--no-cache", "--jobs", "1", "--timeout", "0"]
+    for run in (1, 2):  # each command line run reads them anew, once
+        result = invoke_in(tmp_path, *args, str(PASS_FILE))
+        assert result.exit_code == 1, result.output  # the file's ST004 warning: a report
+        assert readings == ["read"] * run
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS as Linux keeps it")
 @pytest.mark.parametrize("mib", [30, 60, 300])
 @pytest.mark.parametrize("args", [("check", str(PASS_FILE)), ("rules",)])

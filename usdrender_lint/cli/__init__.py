@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any, NoReturn
 import click
 
 from .. import __version__
+from ..entrypoints import read_once
 from ..paths import printable
 from ..running.interrupts import Stopped, stop_on_signals
 from ..running.supervisor import Supervision, open_closed_standard_fds
@@ -85,7 +86,9 @@ class _Group(click.Group):
             return super().make_context(*args, **kwargs)
 
     def invoke(self, ctx: click.Context) -> Any:
-        with _one_line_usage_errors(ctx):  # a subcommand's arguments are parsed here
+        # The formatters (--format) and the rule plugins are looked up in one
+        # reading of the installed distributions' entry points.
+        with _one_line_usage_errors(ctx), read_once():  # a subcommand's arguments are parsed here
             return super().invoke(ctx)
 
 

@@ -322,6 +322,7 @@ def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
     (a configuration saved half-written) says why in one line and waits."""
     import time
 
+    from ..entrypoints import read_once
     from ..running.watching import Watcher, WatchUnavailable
 
     _refuse_watch(request)
@@ -339,7 +340,8 @@ def _watch(request: Request, check_once: Callable[[], Outcome]) -> NoReturn:
             more = f" and {len(changed) - 3} more" if len(changed) > 3 else ""
             note(f"{time.strftime('%H:%M:%S')} changed: {shown}{more}")
         try:
-            outcome = check_once()
+            with read_once():  # a rule plugin installed since the last round is found
+                outcome = check_once()
             polled |= {s for o in outcome.parts or (outcome,) for s in o.settings.sources}
         except ToolError as exc:
             exc.show()
