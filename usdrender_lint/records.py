@@ -17,11 +17,18 @@ every record and compiled once into this module's ``.pyc``; each class only
 keeps the tuples of its fields. Creating an instance costs about a microsecond
 more than a dataclass's. Not supported (use ``@dataclass``): ``order``,
 ``slots``, ``InitVar``, a field's own ``hash``.
+
+Even without its methods, the dataclass's fields (``dataclasses``' reading of
+the class's string annotations) cost about 0.4M instructions a class, and a
+``check`` of one file defines sixty records of which it makes or inspects
+forty: a record's dataclass is made when it is first needed (an instance made,
+its fields or ``is_dataclass`` asked), once, under a lock.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import threading
 from collections.abc import Callable
 from dataclasses import MISSING, Field, FrozenInstanceError
 from typing import Any, TypeVar, dataclass_transform, overload
@@ -36,8 +43,6 @@ class _Layout:
 
     def __init__(self, cls: type) -> None:
         fields: tuple[Field[Any], ...] = dataclasses.fields(cls)
-        if any(f.hash is not None for f in fields):
-            raise TypeError(f"{cls.__qualname__}: a field's own hash needs @dataclass, not @record")
         self.positional = tuple(f.name for f in fields if f.init and not f.kw_only)
         self.keyword = frozenset(f.name for f in fields if f.init)
         #: (name, default, default_factory) in field order; MISSING where there is none.
@@ -50,7 +55,40 @@ class _Layout:
 
 
 def _layout(record: object) -> _Layout:
-    layout: _Layout = type(record).__record_layout__  # type: ignore[attr-defined]
+    layout: _Layout | None = type(record).__record_layout__  # type: ignore[attr-defined]
+    return layout if layout is not None else _made(type(record))
+
+
+class _Fields:
+    """A record's ``__dataclass_fields__`` until its dataclass is made: asked
+    (``dataclasses.fields``, ``replace``, ``is_dataclass``, a subclass's dataclass),
+    it makes it and answers with the fields that replace it."""
+
+    def __init__(self, owner: type, kw_only: bool) -> None:
+        self.owner, self.kw_only = owner, kw_only
+
+    def __get__(self, instance: object, cls: type | None = None) -> dict[str, Field[Any]]:
+        _made(self.owner)
+        fields: dict[str, Field[Any]] = self.owner.__dict__["__dataclass_fields__"]
+        return fields
+
+
+#: Held while a dataclass is made: two threads must not make one twice (the
+#: second would read a factory's field as having no default). Reentrant: a
+#: subclass's dataclass makes its parent's.
+_MAKING = threading.RLock()
+
+
+def _made(cls: type) -> _Layout:
+    """The layout of ``cls``'s nearest record class, its dataclass made first
+    if it was not yet."""
+    owner = next(c for c in cls.__mro__ if "__record_layout__" in c.__dict__)
+    with _MAKING:
+        layout: _Layout | None = owner.__dict__["__record_layout__"]
+        if layout is None:
+            pending = owner.__dict__["__dataclass_fields__"]  # replaced by the dataclass's
+            dataclasses.dataclass(owner, init=False, repr=False, eq=False, kw_only=pending.kw_only)
+            layout = owner.__record_layout__ = _Layout(owner)  # type: ignore[attr-defined]
     return layout
 
 
@@ -137,9 +175,12 @@ def _make(cls: _T, frozen: bool, kw_only: bool) -> _T:
         # compiling tokenize's patterns costs 14 ms, once per process.
         fields = cls.__dict__.get("__annotations__", {})
         cls.__doc__ = f"{cls.__name__}({', '.join(fields)})"
-    # The dataclass without generated methods: its fields, and nothing compiled.
-    dataclasses.dataclass(cls, init=False, repr=False, eq=False, kw_only=kw_only)
-    cls.__record_layout__ = _Layout(cls)  # type: ignore[attr-defined]
+    if any(isinstance(v, Field) and v.hash is not None for v in cls.__dict__.values()):
+        raise TypeError(f"{cls.__qualname__}: a field's own hash needs @dataclass, not @record")
+    # The dataclass without generated methods (its fields, nothing compiled),
+    # made at first need (_made).
+    cls.__dataclass_fields__ = _Fields(cls, kw_only)  # type: ignore[attr-defined]
+    cls.__record_layout__ = None  # type: ignore[attr-defined]
     cls.__init__ = _init  # type: ignore[misc]
     cls.__repr__ = _repr  # type: ignore[assignment, method-assign]
     cls.__eq__ = _eq  # type: ignore[assignment, method-assign]
