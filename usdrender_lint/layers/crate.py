@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import struct
+from functools import cache
 from itertools import compress
 
 MAGIC = b"PXR-USDC"
@@ -146,14 +147,20 @@ _COMPRESSED = (0, 4, 0)
 #: The struct codes of the integer coding's 2-bit kinds (32-bit tables): the
 #: common delta (no bytes), an int8, an int16, an int32.
 _KIND_CODES = ("", "b", "h", "i")
-#: Per code byte (the kinds of four integers): the struct codes of its deltas,
-#: and the slots (0 to 3) whose delta is not the common one.
-_CODE_FORMATS = tuple(
-    "".join(_KIND_CODES[(byte >> shift) & 3] for shift in (0, 2, 4, 6)) for byte in range(256)
-)
-_UNCOMMON_SLOTS = tuple(
-    tuple(slot for slot in range(4) if (byte >> (2 * slot)) & 3) for byte in range(256)
-)
+
+
+@cache
+def _code_tables() -> tuple[tuple[str, ...], tuple[tuple[int, ...], ...]]:
+    """Per code byte (the kinds of four integers): the struct codes of its deltas,
+    and the slots (0 to 3) whose delta is not the common one. Made at the first
+    crate read (3.6M instructions), not at every start-up: a text layer needs none."""
+    formats = tuple(
+        "".join(_KIND_CODES[(byte >> shift) & 3] for shift in (0, 2, 4, 6)) for byte in range(256)
+    )
+    slots = tuple(
+        tuple(slot for slot in range(4) if (byte >> (2 * slot)) & 3) for byte in range(256)
+    )
+    return formats, slots
 
 
 class _Unreadable(Exception):
@@ -213,11 +220,12 @@ def _coded_extremes(raw: bytes, count: int, codes_size: int) -> tuple[int, int]:
     if count % 4:  # the last code byte's unused kinds are not read
         codes = codes[:-1] + bytes([codes[-1] & ((1 << (2 * (count % 4))) - 1)])
     uncommon = list(compress(range(codes_size), codes))  # the code bytes with another delta
-    fmt = "<" + "".join([_CODE_FORMATS[codes[index]] for index in uncommon])
+    code_formats, uncommon_slots = _code_tables()
+    fmt = "<" + "".join([code_formats[codes[index]] for index in uncommon])
     if struct.calcsize(fmt) > len(raw) - 4 - codes_size:
         raise _Unreadable
     deltas = struct.unpack_from(fmt, raw, 4 + codes_size)
-    positions = [4 * index + slot for index in uncommon for slot in _UNCOMMON_SLOTS[codes[index]]]
+    positions = [4 * index + slot for index in uncommon for slot in uncommon_slots[codes[index]]]
     bounds: list[int] = []
     value, last = 0, -1
     for position, delta in zip(positions, deltas, strict=True):
