@@ -20,16 +20,23 @@ more than a dataclass's. Not supported (use ``@dataclass``): ``order``,
 
 Even without its methods, the dataclass's fields (``dataclasses``' reading of
 the class's string annotations) cost about 0.4M instructions a class, and a
-``check`` of one file defines sixty records of which it makes or inspects
-forty: a record's dataclass is made when it is first needed (an instance made,
-its fields or ``is_dataclass`` asked), once, under a lock.
+``check`` of one file defines sixty records of which it inspects eleven. So a
+record's dataclass is made when it is first asked for (its fields,
+``replace``, ``asdict``, ``is_dataclass``, a subclass's dataclass), once,
+under a lock; the shared methods read a plain record's fields from its own
+annotations and defaults (``_plain_rows``, which dataclasses would read
+alike), and any other record's from its dataclass.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import re
+import sys
 import threading
-from collections.abc import Callable
+import types
+import typing
+from collections.abc import Callable, Iterable
 from dataclasses import MISSING, Field, FrozenInstanceError
 from typing import Any, TypeVar, dataclass_transform, overload
 
@@ -41,17 +48,16 @@ class _Layout:
 
     __slots__ = ("positional", "keyword", "fields", "shown", "compared", "all_positional")
 
-    def __init__(self, cls: type) -> None:
-        fields: tuple[Field[Any], ...] = dataclasses.fields(cls)
-        self.positional = tuple(f.name for f in fields if f.init and not f.kw_only)
-        self.keyword = frozenset(f.name for f in fields if f.init)
+    def __init__(self, rows: list[_Row]) -> None:
+        self.positional = tuple(r[0] for r in rows if r[3] and not r[6])
+        self.keyword = frozenset(r[0] for r in rows if r[3])
         #: (name, default, default_factory) in field order; MISSING where there is none.
-        self.fields = tuple((f.name, f.default, f.default_factory) for f in fields)
-        self.shown = tuple(f.name for f in fields if f.repr)
-        self.compared = tuple(f.name for f in fields if f.compare)
+        self.fields = tuple(r[:3] for r in rows)
+        self.shown = tuple(r[0] for r in rows if r[4])
+        self.compared = tuple(r[0] for r in rows if r[5])
         #: Every field is a positional __init__ argument: a call that passes
         #: them all by position needs no defaults (_init's fast path).
-        self.all_positional = len(self.positional) == len(fields)
+        self.all_positional = len(self.positional) == len(rows)
 
 
 def _layout(record: object) -> _Layout:
@@ -68,9 +74,84 @@ class _Fields:
         self.owner, self.kw_only = owner, kw_only
 
     def __get__(self, instance: object, cls: type | None = None) -> dict[str, Field[Any]]:
-        _made(self.owner)
+        with _MAKING:
+            if self.owner.__dict__["__dataclass_fields__"] is self:
+                dataclasses.dataclass(
+                    self.owner, init=False, repr=False, eq=False, kw_only=self.kw_only
+                )
         fields: dict[str, Field[Any]] = self.owner.__dict__["__dataclass_fields__"]
         return fields
+
+
+#: dataclasses' reading of a string annotation's leading name
+#: (``_MODULE_IDENTIFIER_RE``, Lib/dataclasses.py).
+_LEADING_NAME = re.compile(r"^(?:\s*(\w+)\s*\.)?\s*(\w+)")
+_SPECIAL_NAMES = ("ClassVar", "InitVar", "KW_ONLY")
+
+
+def _maybe_special(annotation: object, namespace: dict[str, Any]) -> bool:
+    """Whether dataclasses might read ``annotation`` as a ClassVar, an InitVar
+    or KW_ONLY (it looks the leading name up in the class's module); True
+    whenever in doubt."""
+    if not isinstance(annotation, str):
+        return True
+    match = _LEADING_NAME.match(annotation)
+    if match is None:
+        return False
+    name = match.group(2)
+    found = namespace.get(name)
+    return (
+        name in _SPECIAL_NAMES
+        or found is typing.ClassVar
+        or getattr(found, "__origin__", None) is typing.ClassVar
+        or found is dataclasses.InitVar
+        or type(found) is dataclasses.InitVar
+        or found is dataclasses.KW_ONLY
+    )
+
+
+#: One field as the shared methods read it: name, default, default_factory
+#: (MISSING where there is none), init, repr, compare, kw_only.
+_Row = tuple[str, Any, Any, bool, bool, bool, bool]
+
+
+def _rows(fields: Iterable[Field[Any]]) -> list[_Row]:
+    return [
+        (f.name, f.default, f.default_factory, f.init, f.repr, f.compare, bool(f.kw_only))
+        for f in fields
+    ]
+
+
+def _plain_rows(cls: type, kw_only: bool) -> list[_Row] | None:
+    """The fields dataclasses would give ``cls``, read without it for the plain
+    case (no dataclass base; no ClassVar, InitVar or KW_ONLY; no default it
+    refuses); None for any other: dataclasses makes those. The class is left
+    as it is (a Field stays its attribute until dataclasses makes the fields)."""
+    if any("__dataclass_fields__" in base.__dict__ for base in cls.__mro__[1:]):
+        return None
+    module = sys.modules.get(cls.__module__)
+    namespace = module.__dict__ if module is not None else {}
+    annotations = cls.__dict__.get("__annotations__", {})
+    for name, value in cls.__dict__.items():
+        if isinstance(value, Field) and name not in annotations:
+            return None  # dataclasses: "is a field but has no type annotation"
+    rows: list[_Row] = []
+    for name, annotation in annotations.items():
+        if _maybe_special(annotation, namespace):
+            return None
+        value = getattr(cls, name, MISSING)
+        if isinstance(value, Field):
+            own = value.kw_only
+            row = (name, value.default, value.default_factory, value.init, value.repr,
+                   value.compare, kw_only if own is MISSING else bool(own))  # fmt: skip
+        elif isinstance(value, types.MemberDescriptorType):
+            return None  # a slot: dataclasses reads no default
+        else:
+            row = (name, value, MISSING, True, True, True, kw_only)
+        if row[1].__class__.__hash__ is None:
+            return None  # a mutable default: dataclasses refuses it
+        rows.append(row)
+    return rows
 
 
 #: Held while a dataclass is made: two threads must not make one twice (the
@@ -86,9 +167,12 @@ def _made(cls: type) -> _Layout:
     with _MAKING:
         layout: _Layout | None = owner.__dict__["__record_layout__"]
         if layout is None:
-            pending = owner.__dict__["__dataclass_fields__"]  # replaced by the dataclass's
-            dataclasses.dataclass(owner, init=False, repr=False, eq=False, kw_only=pending.kw_only)
-            layout = owner.__record_layout__ = _Layout(owner)  # type: ignore[attr-defined]
+            pending = owner.__dict__["__dataclass_fields__"]
+            plain = _plain_rows(owner, pending.kw_only) if isinstance(pending, _Fields) else None
+            # The plain case needs no dataclass yet (its fields are read alike: a
+            # test compares every record's); any other makes it now.
+            rows = plain if plain is not None else _rows(dataclasses.fields(owner))
+            layout = owner.__record_layout__ = _Layout(rows)  # type: ignore[attr-defined]
     return layout
 
 
