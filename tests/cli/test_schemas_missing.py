@@ -94,14 +94,7 @@ def test_a_stage_a_host_opened_is_not_linted_either() -> None:
         "except ConfigError as exc:\n"
         "    print('refused:', exc)\n"
     )
-    done = subprocess.run(
-        [sys.executable, "-c", script, str(FIXTURES / "fail_mismatch.usda")],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env={**os.environ, SETTING: "1"},
-    )
-    assert done.returncode == 0, done.stderr
+    done = _api_script(script)
     assert done.stdout == f"refused: {SAID.removeprefix('usdrender-lint: error: ')}\n"
 
 
@@ -123,6 +116,14 @@ def test_the_api_raises_its_own_error_not_a_configuration_error() -> None:
         "        assert isinstance(exc, ConfigError) and exc.__cause__ is None\n"
         "        print(call.__name__, exc)\n"
     )
+    done = _api_script(script)
+    said = SAID.removeprefix("usdrender-lint: error: ")
+    assert done.stdout == f"lint_file {said}\nlint_stage {said}\n"
+
+
+def _api_script(script: str) -> subprocess.CompletedProcess[str]:
+    """``script`` run on a stage whose render schemas this USD lacks (SETTING
+    set), given the fixture's path; it must exit 0."""
     done = subprocess.run(
         [sys.executable, "-c", script, str(FIXTURES / "fail_mismatch.usda")],
         capture_output=True,
@@ -131,5 +132,4 @@ def test_the_api_raises_its_own_error_not_a_configuration_error() -> None:
         env={**os.environ, SETTING: "1"},
     )
     assert done.returncode == 0, done.stderr
-    said = SAID.removeprefix("usdrender-lint: error: ")
-    assert done.stdout == f"lint_file {said}\nlint_stage {said}\n"
+    return done
