@@ -705,7 +705,14 @@ def test_merge_from_another_folder_reads_the_configuration_the_shards_record(
     elsewhere.mkdir()
     monkeypatch.chdir(elsewhere)
     merged = _merge("--format", "sarif", *reports)
-    assert described(merged) == here and merged.stderr == ""
+    assert described(merged) == here
+    # Its locations name the files from here: said, with the folder to run it in.
+    (said,) = merged.stderr.splitlines()
+    assert said == (
+        f"usdrender-lint: note: 23 files the reports name are not found from here but in "
+        f"{project}, where their checks ran: the merged report names files from this folder "
+        "(SARIF's and the HTML report's locations); run merge there"
+    )
     # The folder they ran in is not here (another machine): said, not dropped.
     for name in reports:
         document = json.loads(Path(name).read_text())
@@ -719,6 +726,11 @@ def test_merge_from_another_folder_reads_the_configuration_the_shards_record(
         "usdrender-lint: note: pyproject.toml: the configuration file the reports record for "
         f"23 files is not found from here nor in {project.parent / 'gone'}"
     )
+    # Shards of another checkout of the tree (another machine's folder) name
+    # files found here: nothing to say.
+    monkeypatch.chdir(project)
+    assert _merge("--format", "sarif", *reports).stderr == ""
+    monkeypatch.chdir(elsewhere)
     # A folder this system cannot name (another system's) is not one to look in.
     for name in reports:
         document = json.loads(Path(name).read_text())

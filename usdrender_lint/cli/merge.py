@@ -90,6 +90,7 @@ def merge(
         prepared = prepare(request)
     except (MergeError, RequestError) as exc:
         raise ToolError(str(exc)) from None
+    _note_files_elsewhere(where)
     settings_of = _settings_of(prepared.settings, config_path, overrides, isolated)
     # The configuration asked for judges the files as check under it would: its
     # selection, severities, per-path ignores and unfixable rules (the reports'
@@ -122,6 +123,26 @@ def merge(
         (r.error or r.file for r in report.errored_files), output_format, output_file
     )
     sys.exit(exit_status(report, prepared.settings.fail_on))
+
+
+def _note_files_elsewhere(where: Mapping[str, str]) -> None:
+    """Say when the files the shard reports name (relative to the folder each
+    check ran in) are not found from here but are there: the merged report
+    names them as recorded, so SARIF's and the HTML report's locations would
+    point into this folder. Shards that ran in another checkout of the same
+    tree (another machine's path) name files that are found here: no note."""
+    elsewhere: dict[str, int] = {}
+    for file, folder in where.items():
+        relative = not os.path.isabs(file)
+        if relative and not os.path.exists(file) and os.path.exists(os.path.join(folder, file)):
+            elsewhere[folder] = elsewhere.get(folder, 0) + 1
+    for folder, count in elsewhere.items():
+        note(
+            f"note: {count:,} file{'s' if count != 1 else ''} the reports name "
+            f"{'are' if count != 1 else 'is'} not found from here but in {folder}, where "
+            "their checks ran: the merged report names files from this folder (SARIF's and "
+            "the HTML report's locations); run merge there"
+        )
 
 
 class _Recorded:
