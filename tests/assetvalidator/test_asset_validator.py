@@ -60,6 +60,10 @@ def _checked(files: tuple[Path, ...]) -> dict[str, dict]:
         text=True,
         env=dict(os.environ, USDRENDER_LINT_NO_CACHE="1"),
         check=False,
+        # Above none of the files: check then names layers in messages by their
+        # absolute paths, as the Asset Validator does (from the repository's
+        # root, ST002's cycle message named them relative to it).
+        cwd=BIN,
     )
     assert out.returncode in (0, 1), out.stderr
     report = json.loads(out.stdout)
