@@ -58,11 +58,11 @@ def code_action(editor: Editor, uri: str, diagnostic: dict) -> tuple[dict, float
 def test_a_code_action_on_a_document_that_hangs_usd_is_answered_at_once(tmp_path: Path):
     """An edit adds a sublayer USD hangs on; the editor still shows the older
     text's finding and asks for its quick fix. The fix composed the stage, so
-    the answer came only at the lint's time-out (30 s here, 120 s by default),
+    the answer came only at the lint's time-out (15 s here, 120 s by default),
     its child held meanwhile; and again for every later request, each holding
     one more child."""
     folder = hanging_folder(tmp_path / "shot")
-    editor = Editor(tmp_path / "server.log", options={"timeout": 30})
+    editor = Editor(tmp_path / "server.log", options={"timeout": 15})
     try:
         uri = editor.open(folder / "shot.usda", FINE)
         assert until(lambda: any(d["code"] == "ST003" for d in diagnostics(editor, uri)), 60)
