@@ -24,7 +24,7 @@ def _value_lost_elsewhere(values: PrimValues, name: str) -> bool:
     silent then, so one mistake gives one finding."""
     if values.mismatched(name) is not None:
         return True
-    if not values.may_be_authored(name):
-        return False  # no spec and no value clip: no samples
+    if not values.may_vary(name):
+        return False  # provably no time samples, known without asking the attribute
     attr = values.attribute(name)
     return attr.GetNumTimeSamples() > 0 and _authored_layer(attr) is None

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Tf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_value
+from usdrender_lint.api.resolve import PrimValues, prim_values
 
 from .._passes import (
     authored_pass_collections,
@@ -18,27 +18,29 @@ from .._passes import (
 
 
 def _collection_problems(
-    collection: Usd.CollectionAPI,
+    values: PrimValues, collection: Usd.CollectionAPI, label: str
 ) -> tuple[list[str], Usd.Property | None]:
-    """Why a collection's membership cannot be trusted, and the property the
-    first problem is about."""
-    # Unbound: the collections are of usable passes (no validity check per call).
-    expression_attr = Usd.CollectionAPI.GetMembershipExpressionAttr(collection)
-    expression = authored_value(expression_attr)
-    includes = Usd.CollectionAPI.GetIncludesRel(collection)
+    """Why a collection (named ``label``, "collection:<name>") of the pass whose
+    values are ``values`` cannot be trusted, and the property the first
+    problem is about."""
+    # By name: the pass's values answer from the authored names (most passes
+    # author no expression), and a property is looked up only for a finding.
+    expression_name = f"{label}:membershipExpression"
+    expression = values.authored(expression_name)
     # Evaluation errors (e.g. an unknown predicate) can surface from Validate()
     # as well as from ComputeMembershipQuery(): report them once.
-    evaluation_anchor = expression_attr if expression is not None else includes
-    problems: list[tuple[str, Usd.Property]] = []
+    evaluation_anchor = expression_name if expression is not None else f"{label}:includes"
+    problems: list[tuple[str, str]] = []
 
     def evaluation_failed(exc: Tf.ErrorException) -> None:
         text = f"its membership cannot be computed: {usd_error_text(exc)}"
         problems.append((text, evaluation_anchor))
 
     try:
+        # Unbound: the collections are of usable passes (no validity check per call).
         valid, why = Usd.CollectionAPI.Validate(collection)
         if not valid:
-            anchor = collection.GetExpansionRuleAttr() if "expansionRule" in why else includes
+            anchor = f"{label}:expansionRule" if "expansionRule" in why else f"{label}:includes"
             problems.append((why.strip().rstrip(".") or "Validate() failed", anchor))
     except Tf.ErrorException as exc:
         evaluation_failed(exc)
@@ -48,13 +50,18 @@ def _collection_problems(
                 f"its membershipExpression references the collection <{path}>, which does "
                 "not exist (USD substitutes an empty expression)"
             )
-            problems.append((text, expression_attr))
+            problems.append((text, expression_name))
     try:
         Usd.CollectionAPI.ComputeMembershipQuery(collection)
     except Tf.ErrorException as exc:
         evaluation_failed(exc)
+    if not problems:
+        return [], None
     reasons = list(dict.fromkeys(text for text, _ in problems))
-    return reasons, (problems[0][1] if problems else None)
+    first = problems[0][1]
+    # The includes are a relationship, the others attributes.
+    anchor = values.relationship(first) if first.endswith(":includes") else values.attribute(first)
+    return reasons, anchor
 
 
 class CollectionMembershipInvalid(Rule):
@@ -133,11 +140,13 @@ class CollectionMembershipInvalid(Rule):
     prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        values = prim_values(prim)
         for collection in authored_pass_collections(prim, ctx):
-            reasons, anchor = _collection_problems(collection)
+            label = collection_label(collection)
+            reasons, anchor = _collection_problems(values, collection, label)
             if reasons:
                 yield Diagnostic(
-                    message=f"{collection_label(collection)} on {prim.GetPath()} is invalid: "
+                    message=f"{label} on {prim.GetPath()} is invalid: "
                     f"{'; '.join(reasons)}; correct it so the pass's membership is defined",
                     at=anchor if anchor and anchor.IsAuthored() else prim,
                 )

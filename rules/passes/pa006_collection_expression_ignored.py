@@ -7,7 +7,12 @@ from collections.abc import Iterator
 from pxr import Sdf, Tf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_targets, authored_value, has_authored_value
+from usdrender_lint.api.resolve import (
+    authored_targets,
+    authored_value,
+    has_authored_value,
+    prim_values,
+)
 
 from .._passes import authored_pass_collections, collection_label
 from ._default_value import _authored_layer
@@ -143,11 +148,15 @@ class CollectionExpressionIgnored(Rule):
     prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        values = prim_values(prim)
         for collection in authored_pass_collections(prim, ctx):
-            attr = Usd.CollectionAPI.GetMembershipExpressionAttr(collection)  # unbound: valid
-            expression = authored_value(attr)
+            # By name: the pass's values answer from its authored names (most
+            # collections have no expression), no property handle needed.
+            expression_name = f"{collection_label(collection)}:membershipExpression"
+            expression = values.authored(expression_name)
             if expression is None or expression.IsEmpty():
                 continue
+            attr = values.attribute(expression_name)
             try:
                 if not _expression_ignored(collection):
                     continue

@@ -7,13 +7,9 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import authored_targets
+from usdrender_lint.api.resolve import authored_targets, prim_values
 
 from .._passes import authored_pass_collections, collection_label, dangling_object_reason
-
-# Unbound: the collections are of usable passes (no validity check per call).
-_includes = Usd.CollectionAPI.GetIncludesRel
-_excludes = Usd.CollectionAPI.GetExcludesRel
 
 
 class CollectionTargetMissing(Rule):
@@ -88,12 +84,19 @@ class CollectionTargetMissing(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         stage = Usd.Prim.GetStage(prim)  # unbound: a usable prim of the walk
+        values = prim_values(prim)
         for collection in authored_pass_collections(prim, ctx):
             label = collection_label(collection)
-            for kind, rel, effect in (
-                ("includes", _includes(collection), "drops these objects from"),
-                ("excludes", _excludes(collection), "leaves these objects in"),
+            for kind, effect in (
+                ("includes", "drops these objects from"),
+                ("excludes", "leaves these objects in"),
             ):
+                name = f"{label}:{kind}"
+                # A relationship that no spec names has no targets: most
+                # collections author only their includes.
+                if not values.may_be_authored(name):
+                    continue
+                rel = values.relationship(name)
                 for target in authored_targets(rel):
                     reason = dangling_object_reason(stage, target)
                     if reason is not None:
