@@ -115,7 +115,6 @@ class CameraTargetNotCamera(Rule):
             target = config.camera_target
             if target is None or target.is_missing:
                 continue
-            rel = config.camera_relationship
             suggestion: Usd.Prim | None = None
             if target.path.IsPropertyPath():
                 what = "a property, not a prim"
@@ -126,7 +125,8 @@ class CameraTargetNotCamera(Rule):
                 # (prim is None only when missing or a property path: both handled above)
                 if ctx.runtime_camera(config) is not None:
                     continue  # a typeless `over` on the application's session camera (R2-5)
-                if ctx.profile_accepts(rel, "camera_type", target.prim.GetTypeName()):
+                camera_type = target.prim.GetTypeName()
+                if ctx.profile_accepts(config.camera_relationship, "camera_type", camera_type):
                     continue  # a renderer's own sensor type (R2-5)
                 what = describe_prim_type(target.prim)
                 if target.problem:
@@ -134,6 +134,8 @@ class CameraTargetNotCamera(Rule):
                 suggestion = _single_camera_descendant(target.prim)
             else:
                 continue
+            # Looked up for a finding only: most configurations target a Camera.
+            rel = config.camera_relationship
             others = ctx.accepted_names(rel, "camera_types")
             if others:
                 what += f", not a Camera (nor {', '.join(others)}, which this profile accepts)"

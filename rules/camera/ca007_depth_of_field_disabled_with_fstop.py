@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity
-from usdrender_lint.api.resolve import has_authored_value, rendered_times
+from usdrender_lint.api.resolve import authored_rendered_times, prim_values
 
 from .._camera import at_time, positive_finite
 
@@ -91,13 +91,17 @@ class DepthOfFieldDisabledWithFStop(Rule):
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         for config in ctx.configurations:
             camera = config.camera_prim
+            # Whether any spec names the camera's fStop first (its authored names,
+            # listed once per camera; most author none), where the effective
+            # disableDepthOfField is a record per configuration. Its value is
+            # read only when depth of field is disabled, as before.
+            if camera is None or not prim_values(camera).may_be_authored("fStop"):
+                continue
             disable = config.effective("disableDepthOfField")
-            if camera is None or not disable.value:
+            if not disable.value or not prim_values(camera).has_value("fStop"):
                 continue
-            fstop = camera.GetAttribute("fStop")
-            if not has_authored_value(fstop):
-                continue
-            for time in rendered_times((fstop,), ctx.time_sample_cap):
+            fstop = prim_values(camera).attribute("fStop")
+            for time in authored_rendered_times((fstop,), ctx.time_sample_cap):
                 value = fstop.Get(time)
                 if positive_finite(value):
                     yield Diagnostic(
