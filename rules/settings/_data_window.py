@@ -8,16 +8,12 @@ from typing import Any
 
 from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.raster import pixel_centres
-from usdrender_lint.api.resolve import (
-    EffectiveValue,
-    composed_value,
-    has_authored_value,
-    is_finite,
-    items,
-    prim_values,
-)
+from usdrender_lint.api.resolve import EffectiveValue, is_finite, items, prim_values
 
+from .._camera import config_owners
 from ._messages import _fmt
+
+_WINDOW = "dataWindowNDC"
 
 
 def _data_window_problem(window, resolution) -> str | None:
@@ -67,19 +63,24 @@ def _window_uses(ctx: Context) -> list[_WindowUse]:
 def _find_window_uses(ctx: Context) -> list[_WindowUse]:
     uses = []
     for config in ctx.configurations:
-        window = config.effective("dataWindowNDC")
-        if window.authored:  # the resolution is read only for a window to check
-            uses.append(_WindowUse(window, config.effective("resolution").value))
+        # Whether the window is authored, asked of the prims' values (once per
+        # lint): most configurations author none and need no effective values.
+        if not any(prim_values(p).has_value(_WINDOW) for p in config_owners(config)):
+            continue
+        window = config.effective(_WINDOW)  # the resolution is read only for a window to check
+        uses.append(_WindowUse(window, config.effective("resolution").value))
     # Each settings' own window at its own resolution (even when every product
     # overrides it), and untargeted products whether or not they render on
     # their own; a use already found above is not listed twice.
     found = {(use.window.attr.GetPath(), tuple(items(use.resolution))) for use in uses}
     for prim in [*ctx.prims_of(schemas.RenderSettings), *ctx.untargeted_products]:
-        attr = prim_values(prim).attribute("dataWindowNDC")
-        if has_authored_value(attr):
-            resolution = composed_value(prim, "resolution")
+        values = prim_values(prim)
+        # By name: the values' own answers, not a second read of the opinions.
+        if values.has_value(_WINDOW):
+            attr = values.attribute(_WINDOW)
+            resolution = values.composed("resolution")
             if (attr.GetPath(), tuple(items(resolution))) not in found:
-                window = EffectiveValue(attr.Get(), attr, True)
+                window = EffectiveValue(values.authored(_WINDOW), attr, True)
                 uses.append(_WindowUse(window, resolution))
     return uses
 
