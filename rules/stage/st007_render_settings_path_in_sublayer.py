@@ -135,7 +135,6 @@ class RenderSettingsPathInSublayer(Rule):
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
         stage = ctx.stage
         ignored = {stage.GetRootLayer(), stage.GetSessionLayer()}
-        rank = _root_layer_stack_rank(stage)
         inert = [
             (layer, str(layer.pseudoRoot.GetInfo(RENDER_SETTINGS_PATH_KEY)))
             for layer in stage.GetUsedLayers()
@@ -144,6 +143,9 @@ class RenderSettingsPathInSublayer(Rule):
         opinion = settings_path_opinion(ctx)
         effective = opinion[0] if opinion is not None else None
         inert = [(layer, value) for layer, value in inert if value and value != effective]
+        if not inert:
+            return  # most stages: no layer stack or arc needs naming
+        rank = _root_layer_stack_rank(stage)
         inert.sort(key=lambda item: (rank.get(item[0], len(rank)), item[0].identifier))
         # Only the strongest sublayer opinion is what the author most likely meant.
         fixable = opinion is None and inert and inert[0][0] in rank
