@@ -133,9 +133,12 @@ class DuplicateRenderVars(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        render_vars = product_render_vars(prim, ctx)
+        keys = [ctx.cached(_source_key, var) for var in render_vars]
+        if len(set(keys)) == len(keys):
+            return  # no two vars share a source (most products): nothing to compare
         seen: dict[tuple, list[Usd.Prim]] = {}
-        for var in product_render_vars(prim, ctx):
-            key = ctx.cached(_source_key, var)
+        for var, key in zip(render_vars, keys, strict=True):
             if None in key or not key[1]:
                 continue
             same_source = seen.setdefault(key, [])
