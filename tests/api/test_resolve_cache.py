@@ -221,6 +221,55 @@ def test_schema_facts_follow_each_prims_type_and_applied_schemas() -> None:
         assert not resolve.has_authored_value(b.GetAttribute(name))
 
 
+IS_A_SHOT = """#usda 1.0
+(
+    fallbackPrimTypes = {
+        token[] FutureRenderVar = ["RenderVar"]
+    }
+)
+def RenderSettings "S" {}
+def RenderProduct "P" {}
+def RenderVar "V" {}
+def RenderPass "R" {}
+def Camera "C" {}
+def Scope "O" {}
+def FutureRenderVar "F" {}
+def UnknownType "U" {}
+def "T" {}
+"""
+
+
+def test_is_a_answers_as_usd_for_every_type_and_after_an_edit() -> None:
+    # The render schemas' answers are kept for the process by schema type name
+    # (PrimValues.is_a): a fallback type, an unknown type, a typeless prim and
+    # an edited type must still answer as prim.IsA does.
+    from usdrender_lint.api import schemas
+
+    kinds = (
+        schemas.RenderSettingsBase,
+        schemas.RenderSettings,
+        schemas.RenderProduct,
+        schemas.RenderVar,
+        schemas.RenderPass,
+        schemas.Camera,
+        UsdRender.SettingsBase,  # a class, not one of the module's Tf.Types
+    )
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    layer.ImportFromString(IS_A_SHOT)
+    stage = Usd.Stage.Open(layer)
+    for _ in range(2):  # the second lint answers from what the first kept
+        with lint_cache():
+            for prim in stage.Traverse():
+                values = resolve.prim_values(prim)
+                assert [values.is_a(k) for k in kinds] == [prim.IsA(k) for k in kinds], prim
+    layer.GetPrimAtPath("/O").typeName = "RenderVar"
+    layer.GetPrimAtPath("/V").typeName = "Scope"
+    with lint_cache():
+        assert resolve.prim_values(stage.GetPrimAtPath("/O")).is_a(schemas.RenderVar)
+        assert not resolve.prim_values(stage.GetPrimAtPath("/V")).is_a(schemas.RenderVar)
+    assert resolve.prim_values(stage.GetPrimAtPath("/F")).is_a(schemas.RenderVar)  # no lint
+
+
 def test_a_second_lint_sees_edited_relationship_targets(stage) -> None:
     linter = Linter(all_rules(), raise_errors=True)
     camera = _settings(stage).CreateRelationship("camera")

@@ -7,7 +7,7 @@ import pytest
 from pxr import Sdf, Usd
 from rule_support import patch_usd
 
-from usdrender_lint.api import Context
+from usdrender_lint.api import Context, resolve
 from usdrender_lint.api.cache import lint_cache
 from usdrender_lint.api.resolve import prim_values
 from usdrender_lint.engine import Linter
@@ -324,6 +324,8 @@ def test_a_prim_type_is_asked_once_per_lint(stage, monkeypatch) -> None:
         return is_a(prim, schema)
 
     patch_usd(monkeypatch, Usd.Prim, "IsA", recording)
+    # Render schemas' answers are kept for the process by type name: none yet.
+    monkeypatch.setattr(resolve, "_SCHEMA_IS_A", {})
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert asked.count("/cam") == 1  # CA003, CA004 and every camera rule's configuration
     assert asked.count("/Render/color") == 1  # PR005, PR006's vars

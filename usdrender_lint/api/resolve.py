@@ -583,8 +583,20 @@ class PrimValues:
         entry = self._kinds.get(id(schema))
         if entry is None or entry[0] is not schema:
             # The entry holds the schema, so that its id is not reused.
-            entry = self._kinds[id(schema)] = (schema, _prim_is_a(self.prim, schema))
+            entry = self._kinds[id(schema)] = (schema, self._read_is_a(schema))
         return entry[1]
+
+    def _read_is_a(self, schema: Tf.Type | type) -> bool:
+        if _RENDER_SCHEMAS.get(id(schema)) is not schema:
+            return _prim_is_a(self.prim, schema)
+        # UsdPrim::IsA asks only the prim's schema type (GetPrimTypeInfo().
+        # GetSchemaType(), pxr/usd/usd/prim.cpp), which its schema type name
+        # names: a render schema's answer is kept per type name for the process.
+        key = (self.definition_key()[0], id(schema))
+        found = _SCHEMA_IS_A.get(key)
+        if found is None:
+            found = _SCHEMA_IS_A[key] = _prim_is_a(self.prim, schema)
+        return found
 
     def relationship(self, name: str) -> Usd.Relationship:
         """``prim.GetRelationship(name)``, one handle per name."""
@@ -807,6 +819,22 @@ class PrimValues:
         return found
 
 
+#: The schemas rules test prims against (module constants, so their ids stay
+#: theirs), by id: IsA against one of them is answered once per process and
+#: schema type name (PrimValues.is_a; a call into USD costs some 5,000
+#: instructions, a gate shot made 37).
+_RENDER_SCHEMAS: dict[int, Tf.Type] = {
+    id(s): s
+    for s in (
+        schemas.RenderSettingsBase,
+        schemas.RenderSettings,
+        schemas.RenderProduct,
+        schemas.RenderVar,
+        schemas.RenderPass,
+        schemas.Camera,
+    )
+}
+_SCHEMA_IS_A: dict[tuple[str, int], bool] = {}
 _UNREAD: Any = object()
 #: ``_ACTIVE.get``, bound once (prim_values: some 800 calls a shot).
 _active = _ACTIVE.get
