@@ -297,3 +297,27 @@ def test_a_text_layer_s_bytes_are_its_whole_file(tmp_path: Path, size: int) -> N
     assert layer_words.text_bytes(str(path)) == b"#usda "
     path.write_bytes(b"#usd")  # shorter than the cookie
     assert layer_words.text_bytes(str(path)) is None
+
+
+def test_the_words_of_several_layers_are_those_each_layer_may_hold(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A lint asks each used layer's file once for all its words: the answer is
+    the words some layer may hold, as asking word by word says."""
+    first, second = tmp_path / "first.usda", tmp_path / "second.usda"
+    first.write_text('#usda 1.0\ndef "p" (\n    clips = {}\n)\n{\n}\n')
+    second.write_text('#usda 1.0\ndef "q"\n{\n    double x.spline = {}\n}\n')
+    layers = [Sdf.Layer.FindOrOpen(str(path)) for path in (first, second)]
+    words = ("clips", "timeSamples", "spline", "usdrender_lint")
+    held = layer_words.words_layers_may_hold(layers, words)
+    assert held == {"clips", "spline"}
+    assert held == {w for w in words if layer_words.layers_may_hold(layers, w)}
+    session = Sdf.Layer.CreateAnonymous()
+    assert layer_words.words_layers_may_hold([session, *layers], words) == held
+    Sdf.CreatePrimInLayer(session, "/Render").specifier = Sdf.SpecifierDef
+    assert layer_words.words_layers_may_hold([*layers, session], words) == set(words)
+    stats: list[str] = []
+    key = layer_words._key
+    monkeypatch.setattr(layer_words, "_key", lambda path: stats.append(path) or key(path))
+    layer_words.words_layers_may_hold(layers, words)
+    assert stats == [str(first), str(second)]  # one look at each file

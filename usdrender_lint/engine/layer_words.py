@@ -105,18 +105,28 @@ def may_hold(path: str, words: Collection[str]) -> set[str]:
 
 
 def layers_may_hold(layers: Iterable[Sdf.Layer], word: str) -> bool:
-    """Whether any of the layers may author ``word`` (of WORDS). A layer with
-    unsaved edits, an anonymous layer with specs (a session layer holding
-    variant selections) or one that is not a plain file may hold anything."""
+    """Whether any of the layers may author ``word`` (of WORDS)."""
+    return bool(words_layers_may_hold(layers, (word,)))
+
+
+def words_layers_may_hold(layers: Iterable[Sdf.Layer], words: Collection[str]) -> set[str]:
+    """The ``words`` (of WORDS) some of the layers may author, each layer's
+    file looked at once for all of them. A layer with unsaved edits, an
+    anonymous layer with specs (a session layer holding more than variant
+    selections) or one that is not a plain file may hold any word."""
+    held: set[str] = set()
     for layer in layers:
         if layer.anonymous:
             if layer.rootPrims and not holds_only_selections(layer):
-                return True
+                return set(words)
             continue
         path = layer_real_path(layer)
-        if layer.dirty or not path or may_hold(path, (word,)):
-            return True
-    return False
+        if layer.dirty or not path:
+            return set(words)
+        held |= may_hold(path, [word for word in words if word not in held])
+        if len(held) == len(words):
+            break
+    return held
 
 
 #: The only fields of a prim spec that holds a variant selection and nothing else.
@@ -318,4 +328,5 @@ __all__ = [
     "spec_count",
     "text_bytes",
     "without_external_arcs",
+    "words_layers_may_hold",
 ]

@@ -94,6 +94,9 @@ class InspectionError(Exception):
     stage: the file becomes an error result with this one-line message."""
 
 
+#: The words of layer_words.WORDS every lint asks its layers' files about.
+_LINT_WORDS = ("clips", "timeSamples", "spline", suppress.SUPPRESSION_WORD)
+
 #: The render prim kinds the engine collects during its walk (Context.render_prims).
 RENDER_SCHEMAS: tuple[Tf.Type, ...] = (
     schemas.RenderSettings,
@@ -469,14 +472,14 @@ class Linter:
             partial=masked,
             composition_errors_source=composition_errors,
         )
+        used = stage.GetUsedLayers()
+        # Each layer's file is asked once for all the words the lint looks for.
+        held = layer_words.words_layers_may_hold(used, _LINT_WORDS)
         # Without value clips, a prim's authored property names say which of
         # its attributes can hold a value (resolve.PrimValues.has_value).
-        used = stage.GetUsedLayers()
-        ctx.cache.without_clips = not layer_words.layers_may_hold(used, "clips")
+        ctx.cache.without_clips = "clips" not in held
         # Without either field anywhere, no spec is asked for its time samples or spline.
-        ctx.cache.without_varying = not any(
-            layer_words.layers_may_hold(used, word) for word in ("timeSamples", "spline")
-        )
+        ctx.cache.without_varying = not held.intersection(("timeSamples", "spline"))
         findings: list[Finding] = []
         value = None
         # Nothing edits the stage while rules run, so the helpers may cache.
@@ -487,7 +490,8 @@ class Linter:
                 for layer_path, text in texts.items():
                     hold_text(layer_path, text)
             try:
-                work, suppressing = self._walk(stage, ctx, own_stage, prims)
+                may_suppress = suppress.SUPPRESSION_WORD in held
+                work, suppressing = self._walk(stage, ctx, own_stage, prims, may_suppress)
                 run = self._run
                 with _read_only(used):
                     # A renderer rule runs only where some configuration is its renderer's.
@@ -556,16 +560,16 @@ class Linter:
         ctx: Context,
         own_stage: bool = False,
         prims: Iterable[Usd.Prim] | None = None,
+        may_suppress: bool = True,
     ) -> tuple[list[tuple[Usd.Prim, tuple[Rule, ...]]], list[Usd.Prim]]:
         """One traversal of usable prims (or of ``prims``, the caller's
         :meth:`walk_candidates`): collect render prims, the prim work and the
-        prims with customData suppressions (no second traversal for those)."""
+        prims with customData suppressions (no second traversal for those).
+        ``may_suppress``: whether a used layer's file may hold a suppression
+        (reading every prim's customData costs more than the rest of the walk)."""
         work = []
         suppressing = []
         unknown = self._dispatch.unknown_type_names
-        # Reading every prim's customData costs more than the rest of the walk:
-        # skipped when no layer's file holds the suppression key at all.
-        may_suppress = suppress.layers_may_suppress(stage.GetUsedLayers())
         has_suppressions = suppress.has_suppressions if may_suppress else None
         if prims is None and own_stage and not may_suppress:
             # Then only the typed prims matter, and USD finds them without a Python walk.

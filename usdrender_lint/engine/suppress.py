@@ -28,6 +28,8 @@ from . import layer_words
 #: The customData key path (``usdrender_lint`` dictionary, ``ignore`` entry).
 UNUSED_SUPPRESSION_CODE = "UL001"
 UNUSED_SUPPRESSION_NAME = "unused-suppression"
+#: The word (layer_words.WORDS) a layer's file holds when it can author a suppression.
+SUPPRESSION_WORD = IGNORE_KEY.partition(":")[0]
 
 
 def _names(rule: type[Rule] | Rule) -> set[str]:
@@ -179,7 +181,7 @@ def apply_data_suppressions(
 def layers_may_suppress(layers: Iterable[Sdf.Layer]) -> bool:
     """False when no layer can author a suppression: their files hold no
     ``usdrender_lint`` key at all, so no prim's customData needs reading."""
-    return layer_words.layers_may_hold(layers, IGNORE_KEY.partition(":")[0])
+    return layer_words.layers_may_hold(layers, SUPPRESSION_WORD)
 
 
 def has_suppressions(prim: Usd.Prim) -> bool:
@@ -242,6 +244,7 @@ def _unused(
 
 
 __all__ = [
+    "SUPPRESSION_WORD",
     "UNUSED_SUPPRESSION_CODE",
     "apply_data_suppressions",
     "has_suppressions",
