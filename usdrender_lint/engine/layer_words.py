@@ -215,7 +215,10 @@ def _search(key: _Key, scan: _Scan, words: Collection[str], data: bytes | None =
             data = b""
         if len(data) != key[1]:  # changed since it was first read: may hold anything
             return _UNKNOWN
-    held = {w for w in words if TEXT_SPELLING.get(w, w).encode() in data}
+    # rfind, not ``in``: the same answer, but CPython's backward search skips through
+    # usda text where its forward one mostly steps a byte at a time (a word that is
+    # not in a 86 KB shot: "clips" 120 us against 20, "spline" 150 against 17).
+    held = {w for w in words if data.rfind(TEXT_SPELLING.get(w, w).encode()) != -1}
     answer = scan._replace(words=scan.words | held, unsearched=scan.unsearched.difference(words))
     _remember(key, answer)
     return answer
