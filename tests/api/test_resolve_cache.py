@@ -245,15 +245,9 @@ def test_is_a_answers_as_usd_for_every_type_and_after_an_edit() -> None:
     # an edited type must still answer as prim.IsA does.
     from usdrender_lint.api import schemas
 
-    kinds = (
-        schemas.RenderSettingsBase,
-        schemas.RenderSettings,
-        schemas.RenderProduct,
-        schemas.RenderVar,
-        schemas.RenderPass,
-        schemas.Camera,
-        UsdRender.SettingsBase,  # a class, not one of the module's Tf.Types
-    )
+    # Every schema whose answer is kept, and a class, which is asked of USD each time.
+    kinds = (*resolve._RENDER_SCHEMAS.values(), UsdRender.SettingsBase)
+    assert len(kinds) == 7
     layer = Sdf.Layer.CreateAnonymous(".usda")
     layer.ImportFromString(IS_A_SHOT)
     stage = Usd.Stage.Open(layer)
