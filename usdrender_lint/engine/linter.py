@@ -558,9 +558,9 @@ class Linter:
         self,
         stage: Usd.Stage,
         ctx: Context,
-        own_stage: bool = False,
-        prims: Iterable[Usd.Prim] | None = None,
-        may_suppress: bool = True,
+        own_stage: bool,
+        prims: Iterable[Usd.Prim] | None,
+        may_suppress: bool,
     ) -> tuple[list[tuple[Usd.Prim, tuple[Rule, ...]]], list[Usd.Prim]]:
         """One traversal of usable prims (or of ``prims``, the caller's
         :meth:`walk_candidates`): collect render prims, the prim work and the
