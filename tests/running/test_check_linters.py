@@ -118,3 +118,24 @@ def test_a_file_the_configuration_extends_is_read_again_after_a_failure(
     base.write_text('select = ["SE001"]\n')
     monkeypatch.setattr(stage_lints, "FAILURE_SECONDS", 0.0)
     assert _codes(linters, stage) == {"SE001"}
+
+
+def test_a_stage_linted_anew_checks_its_configuration_twice_not_three_times(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A host's validator on a stage not linted yet asks for the linter (to know
+    # whether the cached findings are still its) and for what lints the stage:
+    # each look-up stats the configuration's files, once each is enough.
+    from usdrender_lint.running.stage_lints import StageLints
+
+    (tmp_path / "shot.usda").write_text(SHOT)
+    stage = Usd.Stage.Open(str(tmp_path / "shot.usda"))
+    linters = CheckLinters()
+    looks: list[str] = []
+    prepared = CheckLinters.prepared
+    monkeypatch.setattr(
+        CheckLinters, "prepared", lambda self, s: looks.append("look") or prepared(self, s)
+    )
+    findings = StageLints(linters.linter, linters.lint).findings(stage)
+    assert {f.finding.code for f in findings} >= {"SE001"}
+    assert len(looks) == 2

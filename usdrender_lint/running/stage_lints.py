@@ -156,6 +156,12 @@ class FirstFailures:
             return False
 
 
+def _linter_of(prepared: Any) -> Linter:
+    linter = prepared.linter
+    assert isinstance(linter, Linter)  # a Prepared's linter: never an explorer
+    return linter
+
+
 def stage_file(stage: Usd.Stage) -> str:
     """How findings name the stage: its root layer's file, else its identifier."""
     root = stage.GetRootLayer()
@@ -219,9 +225,7 @@ class CheckLinters:
             return prepared
 
     def linter(self, stage: Usd.Stage) -> Linter:
-        linter = self.prepared(stage).linter
-        assert isinstance(linter, Linter)
-        return linter
+        return _linter_of(self.prepared(stage))
 
     def lint(self, stage: Usd.Stage) -> Linter | VariantExplorer:
         """What lints the stage as ``check`` lints its file: with ``variants``
@@ -229,13 +233,14 @@ class CheckLinters:
         combination in the session layer and empties it after, so a stage
         whose session layer holds opinions (a host's live stage) is linted
         under its selections only, as composed now."""
-        prepared = self.prepared(stage)
+        prepared = self.prepared(stage)  # once: each call checks the configuration's stamps
+        linter = _linter_of(prepared)
         spec = prepared.spec
         if spec.variant_combinations is None or not stage.GetSessionLayer().empty:
-            return self.linter(stage)
+            return linter
         from ..engine.variants import VariantExplorer
 
-        return VariantExplorer(self.linter(stage), spec.variant_combinations)
+        return VariantExplorer(linter, spec.variant_combinations)
 
     def fixable(self, stage: Usd.Stage, finding: Finding) -> bool:
         """Whether ``check --fix`` may fix the finding: not a rule the
