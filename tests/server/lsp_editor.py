@@ -10,8 +10,19 @@ import signal
 import subprocess
 import sys
 import threading
+import time
 from pathlib import Path
 from typing import Any
+
+
+def until(condition, within: float = 30.0) -> bool:  # noqa: ANN001 - a predicate
+    """Whether ``condition()`` held within ``within`` seconds (polled every 50 ms)."""
+    deadline = time.monotonic() + within
+    while not condition():
+        if time.monotonic() > deadline:
+            return False
+        time.sleep(0.05)
+    return True
 
 
 def _frame(message: dict[str, Any]) -> bytes:

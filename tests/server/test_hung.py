@@ -10,22 +10,13 @@ from pathlib import Path
 
 import pytest
 from cli_support import blocked_on_a_fifo, blocked_on_fifos
-from lsp_editor import Editor
+from lsp_editor import Editor, until
 
 from usdrender_lint.server.protocol import FIX_ALL
 
 FINE = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
 #: FINE with a sublayer that is a FIFO: USD blocks reading it forever.
 HANGS = '#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\ndef RenderSettings "S"\n{\n}\n'
-
-
-def until(condition, within: float) -> bool:  # noqa: ANN001 - a predicate
-    deadline = time.monotonic() + within
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.05)
-    return True
 
 
 def diagnostics(editor: Editor, uri: str) -> list[dict]:

@@ -11,7 +11,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from lsp_editor import Editor
+from lsp_editor import Editor, until
 
 from usdrender_lint.server.protocol import FIX_ALL
 
@@ -88,15 +88,6 @@ def wrong(resolution: str) -> str:
         f"resolution {resolution} has a component <= 0; "
         "author a positive pixel size such as (1920, 1080)"
     )
-
-
-def until(condition, within: float = 30.0) -> bool:  # noqa: ANN001 - a predicate
-    deadline = time.monotonic() + within
-    while not condition():
-        if time.monotonic() > deadline:
-            return False
-        time.sleep(0.05)
-    return True
 
 
 def _shows_only(editor: Editor, uri: str, resolution: str, older: str) -> bool:
