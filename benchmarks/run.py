@@ -548,8 +548,8 @@ def gate(
     one Python process that opens and traverses the same files (for ``--jobs
     2``: two such processes at once, each over half of them). Returns the figures
     and the medians of ``--jobs 1`` and of the floor in seconds (:func:`beyond_start_up`).
-    ``fmt`` "usdc": the same shots as crate files, whose reader leaves the
-    read-ahead little to do; shown, judged by no goal (set on the text shots)."""
+    ``fmt`` "usdc": the same shots as crate files, which USD reads lazily;
+    shown, judged by no goal (set on the text shots)."""
     name = f"gate_{count}" if fmt == "usda" else f"gate_{count}_{fmt}"
     folder = ensure(work / name, "gate", "--count", str(count), "--format", fmt)
     files = sorted(str(p) for p in folder.glob(f"gate_*.{fmt}"))
@@ -616,9 +616,9 @@ def gate(
 def two_core_ceiling(jobs1_seconds: float, jobs2_cpu_seconds: float, cpus: int = 2) -> float:
     """The most ``--jobs 2`` can gain over ``--jobs 1`` (wall ``jobs1_seconds``)
     with the CPU time it spends: ``cpus`` cores never idle take ``jobs2_cpu_seconds
-    / cpus``. ``--jobs 1`` reads ahead on the second core (running/prefetch.py), so
-    its wall time is not its CPU time, and this bound, not 2x, is what the speed-up
-    meets."""
+    / cpus``. USD's own threads and the parent's share of the work run beside
+    ``--jobs 1``'s worker, so its wall time is not its CPU time, and this bound,
+    not 2x, is what the speed-up meets."""
     return jobs1_seconds / (jobs2_cpu_seconds / cpus)
 
 

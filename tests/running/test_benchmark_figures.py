@@ -190,7 +190,7 @@ def test_what_two_processes_cannot_do_marks_a_run_disturbed() -> None:
 
 
 def test_the_gate_prints_the_speed_up_two_busy_cores_allow(tmp_path, monkeypatch, capsys) -> None:
-    # --jobs 1 took 5 s of wall time on its read-ahead's two threads; --jobs 2 spent
+    # --jobs 1 took 5 s of wall time beside USD's threads; --jobs 2 spent
     # 7 s of CPU: two cores never idle take 3.5 s, so it can be at most 1.43x as fast,
     # and at 4 s (1.25x) it reaches 88% of that.
     seconds = {

@@ -23,7 +23,6 @@ from pxr import Usd
 
 from usdrender_lint import config as config_module
 from usdrender_lint.config import file_stamps, file_state, is_racy, stat_state
-from usdrender_lint.running import prefetch
 from usdrender_lint.running.documents import Documents
 from usdrender_lint.running.stage_lints import CheckLinters
 
@@ -66,7 +65,6 @@ def one_tick(monkeypatch: pytest.MonkeyPatch) -> Iterator[Any]:
     def frozen(path: Path) -> None:
         shown = _OneTick(path)
         monkeypatch.setattr(config_module, "os", shown)
-        monkeypatch.setattr(prefetch, "os", shown)
         _clock_at(monkeypatch, shown.first.st_ctime_ns)
 
     yield frozen
@@ -206,21 +204,3 @@ def test_the_language_server_reads_a_layer_rewritten_within_a_tick(
     # The camera renamed: the relationship targets nothing.
     _rewrite(cams, '#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cxm"\n    {\n    }\n}\n')
     assert "CA003" in {f.code for f in documents.lint(path).findings}
-
-
-def test_the_read_ahead_drops_a_layer_rewritten_within_a_tick(
-    tmp_path: Path, one_tick: Any
-) -> None:
-    from multiprocessing import Pipe
-
-    from usdrender_lint.running.workers import FullyComposed
-
-    shot = tmp_path / "shot.usda"
-    shot.write_text(SHOT)
-    one_tick(shot)
-    here, there = Pipe()
-    here.send((0, str(shot)))
-    here.close()
-    reader = prefetch.Reader(there, lambda item: isinstance(item, FullyComposed))
-    # The layer read ahead may be the first text: the lint reads the file itself.
-    assert reader.next()[2] is None

@@ -27,8 +27,8 @@ edits, an asset path whose file depends on more than its path) are never
 stored, nor is a result when a file it depends on changed after the lint
 began: its digest is taken before the lint and compared after it, and every
 dependency's change time (which a copy keeping times, ``cp -p``, cannot set
-back) must predate the lint (or the lone file's read ahead), as must the
-folders on the way to them (a folder renamed into place keeps its files' times).
+back) must predate the lint, as must the folders on the way to them (a folder
+renamed into place keeps its files' times).
 
 The folder is the cache's own: created by it (with a ``CACHEDIR.TAG`` and a
 ``.gitignore``), or empty when first used (it gets the tag only), or holding

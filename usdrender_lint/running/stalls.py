@@ -65,14 +65,11 @@ def site(dump: str) -> str | None:
     """Where the dumped lint was ("in rule CA005 (camera-optics-invalid)", "while USD
     opened the stage"), or None when the stack shows no step of a lint."""
     from ..engine import linter, partial, stage
-    from . import prefetch
 
     steps = {
         _key(linter.Linter._run): None,  # a rule's hook: the frame above
         _key(stage.open_stage): "while USD opened the stage",
         _key(partial.open_partial): "while USD opened the stage",
-        # The worker waits for its thread that reads the file ahead (prefetch.py).
-        _key(prefetch.Reader.next): "while USD opened the stage",
         _key(linter.Linter._decide_profiles): "while the renderer profiles were decided",
         _key(linter.Linter._walk): "while the stage was walked",
     }

@@ -428,26 +428,15 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
     conn.send((_READY, problems))
     global _parent
     _parent = conn
-    # A core to spare: USD reads the next file's root layer while this one is linted.
-    reader = None
-    if pool.handle is lint_one:
-        from .prefetch import Reader, spare_core  # a worker's only (queue's import)
-
-        if spare_core(pool.size):
-            reader = Reader(conn, lambda item: isinstance(item, FullyComposed))
     with suppress(EOFError, OSError):  # the parent is gone
         while True:
-            if reader is None:
-                (index, item), layer = conn.recv(), None
-            else:
-                index, item, layer = reader.next()
+            index, item = conn.recv()
             os.ftruncate(2, 0)  # appending: the next line is the first
             try:  # the result holds only plain values; the stage dies with the handler
                 result = pool.handle(linter, item)
             except Exception as exc:  # noqa: BLE001 - a handler's bug costs only its item
                 debug.show(exc, "internal error")
                 result = pool.failed(_path_of(item), internal_error(exc))
-            del layer  # USD keeps the layer no longer than its lint
             conn.send((index, result))
             signal.signal(signal.SIGTERM, signal.SIG_DFL)  # after hold_deadline
 
