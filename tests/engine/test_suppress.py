@@ -97,6 +97,15 @@ def test_unused_entries_are_info_with_the_reason() -> None:
     assert all(f.location.line == 5 for f in unused)  # the prim's line
 
 
+def test_no_prim_is_asked_for_suppressions_when_no_layer_can_hold_one(monkeypatch) -> None:
+    def never(*args, **kwargs):
+        raise AssertionError("asked for suppressions where no layer holds the key")
+
+    monkeypatch.setattr(suppress, "apply_data_suppressions", never)
+    found = _pairs(_lint(BAD_WINDOW.format(metadata="")))
+    assert ("SE003", "/Render/Settings.dataWindowNDC") in found
+
+
 def test_the_engine_hands_over_the_suppressing_prims_of_its_walk(monkeypatch) -> None:
     text = BAD_WINDOW.format(metadata=_ignore("SE003", "SE007", "XX999")).replace(
         'RenderSettings "Other"', f'RenderSettings "Other" ({_ignore("nothing")})'

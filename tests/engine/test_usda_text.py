@@ -494,3 +494,12 @@ def test_a_number_with_an_exponent_closes_its_array() -> None:
     listed: list[str] = []
     layer.Traverse("/", lambda path: listed.append(str(path)))
     assert set(expected) == set(listed) - {"/"}
+
+
+def test_strings_with_escapes_and_braces_are_skipped_whole() -> None:
+    # An escaped backslash ends the first string; an escaped quote does not end the second.
+    text = '#usda 1.0\ndef Scope "A"\n{\n    string s = "{\\\\"\n    string t = "\\" }"\n}\n'
+    text += 'def Scope "B"\n{\n}\n'
+    for read_by_sdf in (False, True):
+        layer = usda_text._Layer(text, read_by_sdf=read_by_sdf)
+        assert (layer.lookup("/B"), layer.lookup("/A.t")) == (7, 5)

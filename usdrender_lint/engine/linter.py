@@ -505,7 +505,8 @@ class Linter:
                         if kept is None:
                             kept = chosen[id(rules)] = _present(rules, present)
                         run(kept, prim, ctx, trace, findings)
-                findings = self._apply_data_suppressions(ctx, trace, findings, suppressing)
+                if may_suppress:  # else no prim silences a finding or holds an unused entry
+                    findings = self._apply_data_suppressions(ctx, trace, findings, suppressing)
                 findings = sorted(set(findings), key=Finding.sort_key)
                 if inspect is not None:
                     value = inspect(ctx, findings)

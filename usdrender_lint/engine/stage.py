@@ -111,6 +111,8 @@ def arcs_problem(
     ``asset``: the root's path as USD takes it (usd_path), for the resolver
     context the stage will have; ``held`` gets the layers read, so that the
     caller's stage does not read them again."""
+    if not root.subLayerPaths and (not external or _without_external_arcs(root)):
+        return None  # it names no layer: nothing to resolve, no walk of its specs
     context = Ar.GetResolver().CreateDefaultContextForAsset(asset)
     seen = {layer_identifier(root)}
     held = held if held is not None else []

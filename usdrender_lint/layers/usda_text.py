@@ -31,7 +31,7 @@ from ..records import record
 #: Characters that never start an atom, a block or a word (numbers, "=", spaces...).
 _INERT = r"""[^\n"'@<#/{}()\[\]A-Za-z_]"""
 _COMMENT = r"\#[^\n]*|//[^\n]*|/\*.*?\*/"
-_STRING = r'""".*?"""|' r"'''.*?'''|" r'"(?:\\.|[^"\\\n])*"|' r"'(?:\\.|[^'\\\n])*'"
+_STRING = r'""".*?"""|' r"'''.*?'''|" r'"(?:[^"\\\n]++|\\.)*+"|' r"'(?:[^'\\\n]++|\\.)*+'"
 _ASSET = r"@@@.*?@@@|@[^@\n]*@"
 _PATH = r"<[^>\n]*>"
 #: A word may end in "[]" (``float3[]``), never hold another bracket: in ``1e-05]`` the
