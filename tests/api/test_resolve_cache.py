@@ -290,6 +290,10 @@ def test_the_declared_type_shortcut_keeps_schema_and_custom_answers(stage) -> No
     assert resolution.GetTypeName() == Sdf.ValueTypeNames.Int2  # the spec says float2
     assert resolve.mismatched_spec(resolution) is not None
     assert len(resolve.mismatched_specs(resolution)) == 1
+    with lint_cache():
+        values = resolve.prim_values(_settings(stage))
+        assert len(values.mismatched_specs("resolution")) == 1
+        assert values.mismatched_specs("aspectRatioConformPolicy") == []  # well-typed
 
     weak = Sdf.Layer.CreateAnonymous(".usda")
     weak.ImportFromString('#usda 1.0\nover "S"\n{\n    custom int2 extra = (1, 2)\n}\n')

@@ -256,10 +256,13 @@ class SchemaAttribute:
     plain: bool = False
 
 
-#: Per (definition key, attribute name), kept for the whole process: USD
+#: Per definition key, then attribute name, kept for the whole process: USD
 #: composes a prim definition from its key alone, and builds its schema
-#: registry once (later plugin registrations do not change it).
-_SCHEMA_ATTRIBUTES: dict[tuple[_DefinitionKey, str], SchemaAttribute] = {}
+#: registry once (later plugin registrations do not change it). A prim's
+#: PrimValues holds its definition's dictionary: a question is then one
+#: look-up by name, where a (key, name) tuple was built and hashed per question
+#: (some 230 a CI-gate shot).
+_SCHEMA_ATTRIBUTES: dict[_DefinitionKey, dict[str, SchemaAttribute]] = {}
 
 
 def _declared_attribute(definition: Usd.PrimDefinition, name: str) -> SchemaAttribute:
@@ -519,6 +522,7 @@ class PrimValues:
         "_targets",
         "_definition",
         "_key",
+        "_declared",
         "_names",
         "_names_decide",
         "_without_varying",
@@ -547,6 +551,7 @@ class PrimValues:
         self._targets: dict[str, tuple[Target, ...]] = {}
         self._definition: Usd.PrimDefinition | None = None
         self._key: _DefinitionKey | None = None
+        self._declared: dict[str, SchemaAttribute] | None = None
         self._names: tuple[str, ...] | None = None
         #: Whether an attribute that the authored property names do not list
         #: holds no authored value (a stage without value clips:
@@ -702,9 +707,10 @@ class PrimValues:
 
     def mismatched_specs(self, name: str) -> list[Sdf.AttributeSpec]:
         """:func:`mismatched_specs` of the named attribute."""
-        return _specs_of_other_types(
-            self._attribute_specs(name), lambda: self.schema_attribute(name).type_name
-        )
+        stack = self._attribute_specs(name)
+        if stack[2]:  # every opinion has the declared type (most attributes): none differs
+            return []
+        return _specs_of_other_types(stack, lambda: self.schema_attribute(name).type_name)
 
     def authored_names(self) -> tuple[str, ...]:
         """The names of the prim's authored properties, in USD's order
@@ -810,12 +816,12 @@ class PrimValues:
 
     def schema_attribute(self, name: str) -> SchemaAttribute:
         """What the prim's definition declares for the attribute ``name``."""
-        key = self._key
-        if key is None:
-            key = self.definition_key()
-        found = _SCHEMA_ATTRIBUTES.get((key, name))
+        declared = self._declared
+        if declared is None:
+            declared = self._declared = _SCHEMA_ATTRIBUTES.setdefault(self.definition_key(), {})
+        found = declared.get(name)
         if found is None:
-            found = _SCHEMA_ATTRIBUTES[(key, name)] = _declared_attribute(self.definition, name)
+            found = declared[name] = _declared_attribute(self.definition, name)
         return found
 
 
