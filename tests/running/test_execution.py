@@ -269,6 +269,62 @@ def test_every_worker_is_killed_before_any_is_joined(
     assert killed == {pid for what, pid in events if what == "join"}
 
 
+def test_workers_have_the_kernel_read_each_file_as_it_is_sent(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The parent asks for each file as it hands it to a worker, in input order.
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(3)]
+    asked: list[str] = []
+    monkeypatch.setattr(execution, "will_read", asked.append)
+    results = lint_paths(files, linter_factory=LinterSpec(Settings()), jobs=1, timeout=60)
+    assert [r.status for r in results] == ["linted"] * 3
+    assert asked == files
+
+
+def test_in_process_the_next_file_is_asked_for_before_this_one_is_linted(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(3)]
+    events: list[tuple[str, str]] = []
+    monkeypatch.setattr(execution, "will_read", lambda path: events.append(("asked", path)))
+    linter = make_linter(Settings())
+    real = linter.lint_path
+
+    def lint_path(path: str, *, full_composition: bool = False) -> FileResult:
+        events.append(("linted", path))
+        return real(path, full_composition=full_composition)
+
+    monkeypatch.setattr(linter, "lint_path", lint_path)
+    lint_paths(files, linter=linter, jobs=1)
+    assert events == [
+        ("asked", files[1]),
+        ("linted", files[0]),
+        ("asked", files[2]),
+        ("linted", files[1]),
+        ("linted", files[2]),
+    ]
+
+
+def test_will_read_advises_regular_files_only(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    advised: list[tuple[int, int, int]] = []
+    monkeypatch.setattr(
+        os,
+        "posix_fadvise",
+        lambda fd, start, length, advice: advised.append((start, length, advice)),
+        raising=False,
+    )
+    monkeypatch.setattr(execution, "WILL_READ_BYTES", 4)
+    shot = tmp_path / "shot.usda"
+    shot.write_text(SCOPE.format(name="S"))
+    fifo = tmp_path / "fifo.usda"
+    os.mkfifo(fifo)  # opened without blocking: the call returns at once
+    for path in (shot, fifo, tmp_path, tmp_path / "missing.usda"):
+        execution.will_read(str(path))
+    assert advised == [(0, 4, os.POSIX_FADV_WILLNEED)]
+
+
 def test_long_runs_recycle_workers(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(execution, "WORKER_RECYCLE_AFTER", 2)
     files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=f"S{n}")) for n in range(5)]
