@@ -74,14 +74,23 @@ def first_failure(
     blocked sample reads as the fallback)."""
     names = tuple(names)
     values = prim_values(prim)
-    # An attribute that provably has no time samples adds no rendered time.
-    sampled = [
-        values.attribute(name) for name in names if values.has_value(name) and values.may_vary(name)
-    ]
+    cache = ctx.cache
+    # An attribute that provably has no time samples adds no rendered time. On a
+    # stage whose layers author no time samples, spline or value clips none has
+    # one (PrimValues.may_vary is False for every name): nothing to ask per name.
+    sampled = (
+        None
+        if cache.without_clips and cache.without_varying
+        else [
+            values.attribute(name)
+            for name in names
+            if values.has_value(name) and values.may_vary(name)
+        ]
+    )
     if not sampled:
         # Default is the only rendered time: the check reads the values PrimValues
         # holds for the lint (every CA rule shares them), not a read per check.
-        problem = check(*(_default_value(values, name) for name in names))
+        problem = check(*[_default_value(values, name) for name in names])
         return None if problem is None else (DEFAULT_TIME, problem)
     readers = [_reader(values, name) for name in names]
     for time in authored_rendered_times(sampled, ctx.time_sample_cap):

@@ -98,15 +98,20 @@ def find_cycles(graph: Mapping[Node, Sequence[Node]]) -> list[tuple[Node, ...]]:
 # -- collections ------------------------------------------------------------
 
 
-def authored_pass_collections(prim: Usd.Prim, ctx: Context) -> tuple[Usd.CollectionAPI, ...]:
+def authored_pass_collections(
+    prim: Usd.Prim, ctx: Context
+) -> tuple[tuple[str, Usd.CollectionAPI], ...]:
     """The pass's collections with at least one authored property (any layer or
-    arc). One left to its schema fallbacks validates, computes and has no
+    arc), each with its label ("collection:<name>", the prefix of its property
+    names). One left to its schema fallbacks validates, computes and has no
     expression or targets, so the collection rules (PA005, PA006, PA008) skip
     it without asking USD."""
     return ctx.cached(_authored_pass_collections, prim)
 
 
-def _authored_pass_collections(ctx: Context, prim: Usd.Prim) -> tuple[Usd.CollectionAPI, ...]:
+def _authored_pass_collections(
+    ctx: Context, prim: Usd.Prim
+) -> tuple[tuple[str, Usd.CollectionAPI], ...]:
     # One read of the authored names instead of a namespace query and a
     # schema object per collection (~18 -> ~8 us a pass). As in
     # GetAuthoredPropertiesInNamespace, "collection:<name>" alone is not in it.
@@ -115,7 +120,13 @@ def _authored_pass_collections(ctx: Context, prim: Usd.Prim) -> tuple[Usd.Collec
         for parts in (name.split(":", 2) for name in prim_values(prim).authored_names())
         if len(parts) == 3 and parts[0] == "collection"
     }
-    return tuple(Usd.CollectionAPI(prim, name) for name in PASS_COLLECTIONS if name in authored)
+    # The label is made from the name here, once: asking a collection its name
+    # is a call into USD, and each collection rule needs the label.
+    return tuple(
+        (f"collection:{name}", Usd.CollectionAPI(prim, name))
+        for name in PASS_COLLECTIONS
+        if name in authored
+    )
 
 
 def collection_label(collection: Usd.CollectionAPI) -> str:

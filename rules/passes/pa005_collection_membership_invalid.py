@@ -11,7 +11,6 @@ from usdrender_lint.api.resolve import PrimValues, prim_values
 
 from .._passes import (
     authored_pass_collections,
-    collection_label,
     missing_expression_references,
     usd_error_text,
 )
@@ -51,10 +50,15 @@ def _collection_problems(
                 "not exist (USD substitutes an empty expression)"
             )
             problems.append((text, expression_name))
-    try:
-        Usd.CollectionAPI.ComputeMembershipQuery(collection)
-    except Tf.ErrorException as exc:
-        evaluation_failed(exc)
+    # Validate() already ran the membership computation (both call
+    # _ComputeMembershipQueryImpl, pxr/usd/usd/collectionAPI.cpp); only an
+    # expression is evaluated by ComputeMembershipQuery() alone (an unknown
+    # predicate raises there). Without an expression opinion it has nothing to add.
+    if values.may_be_authored(expression_name):
+        try:
+            Usd.CollectionAPI.ComputeMembershipQuery(collection)
+        except Tf.ErrorException as exc:
+            evaluation_failed(exc)
     if not problems:
         return [], None
     reasons = list(dict.fromkeys(text for text, _ in problems))
@@ -141,8 +145,7 @@ class CollectionMembershipInvalid(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        for collection in authored_pass_collections(prim, ctx):
-            label = collection_label(collection)
+        for label, collection in authored_pass_collections(prim, ctx):
             reasons, anchor = _collection_problems(values, collection, label)
             if reasons:
                 yield Diagnostic(

@@ -149,10 +149,10 @@ class CollectionExpressionIgnored(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        for collection in authored_pass_collections(prim, ctx):
+        for label, collection in authored_pass_collections(prim, ctx):
             # By name: the pass's values answer from its authored names (most
             # collections have no expression), no property handle needed.
-            expression_name = f"{collection_label(collection)}:membershipExpression"
+            expression_name = f"{label}:membershipExpression"
             expression = values.authored(expression_name)
             if expression is None or expression.IsEmpty():
                 continue
@@ -162,7 +162,6 @@ class CollectionExpressionIgnored(Rule):
                     continue
             except Tf.ErrorException:
                 continue  # The expression cannot be evaluated at all: PA005's finding.
-            label = collection_label(collection)
             yield Diagnostic(
                 message=f'{label}:membershipExpression "{expression.GetText()}" is ignored because '
                 f"the collection is in relationship mode ({_relationship_mode_reason(collection)})"

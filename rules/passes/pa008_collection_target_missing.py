@@ -9,7 +9,7 @@ from pxr import Usd
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import authored_targets, prim_values
 
-from .._passes import authored_pass_collections, collection_label, dangling_object_reason
+from .._passes import authored_pass_collections, dangling_object_reason
 
 
 class CollectionTargetMissing(Rule):
@@ -83,10 +83,8 @@ class CollectionTargetMissing(Rule):
     prim_types = (schemas.RenderPass,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        stage = Usd.Prim.GetStage(prim)  # unbound: a usable prim of the walk
         values = prim_values(prim)
-        for collection in authored_pass_collections(prim, ctx):
-            label = collection_label(collection)
+        for label, _ in authored_pass_collections(prim, ctx):
             for kind, effect in (
                 ("includes", "drops these objects from"),
                 ("excludes", "leaves these objects in"),
@@ -98,7 +96,7 @@ class CollectionTargetMissing(Rule):
                     continue
                 rel = values.relationship(name)
                 for target in authored_targets(rel):
-                    reason = dangling_object_reason(stage, target)
+                    reason = dangling_object_reason(ctx.stage, target)
                     if reason is not None:
                         yield Diagnostic(
                             message=f"{label}:{kind} target <{target}> {reason}; it silently "

@@ -9,7 +9,7 @@ from pxr import Sdf, Usd
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
 from usdrender_lint.api.resolve import Target, authored_targets, describe_prim_type, prim_values
 
-from .._aov import ordered_var_targets
+from .._aov import ordered_var_targets, product_render_vars
 
 
 def _problem(target: Target) -> str | None:
@@ -105,8 +105,13 @@ class OrderedVarsInvalidTarget(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        rel = prim_values(prim).relationship("orderedVars")
         targets = ordered_var_targets(prim, ctx)
+        # The usable RenderVars among the targets, kept once per lint for the PR
+        # and VA rules: when every target is one (most products), none has a
+        # problem (_problem is None exactly for those).
+        if len(product_render_vars(prim, ctx)) == len(targets):
+            return
+        rel = prim_values(prim).relationship("orderedVars")
         bad = [(target, _problem(target)) for target in targets]
         # Removing the bad targets of a product without a good one would leave
         # orderedVars empty: PR004's error, a product with no channel at all.

@@ -29,15 +29,17 @@ def _list_authored_schema_attributes(
     # Not the PrimValues: the answer is kept in its memo (the caller has it by identity).
     values = prim_values(prim)
     names = values.authored_names()
-    declared = [(name, values.schema_attribute(name)) for name in names]
-    if (
-        _CLIPPED not in names
-        and values.may_be_authored(_CLIPPED)
-        and values.schema_attribute(_CLIPPED).type_name is not None  # a RenderProduct
-        and values.attribute(_CLIPPED).HasAuthoredValue()
-    ):
+    schema_attribute = values.schema_attribute
+    declared = []
+    for name in names:
+        schema = schema_attribute(name)
+        # Custom attributes and relationships have no attribute declaration.
+        if schema.type_name is not None:
+            declared.append((name, schema))
+    if _CLIPPED not in names and values.may_be_authored(_CLIPPED):
         # Value clips give it samples though no spec names it, and USD lists
         # only the names specs author.
-        declared.append((_CLIPPED, values.schema_attribute(_CLIPPED)))
-    # Custom attributes and relationships have no attribute declaration.
-    return [(name, schema) for name, schema in declared if schema.type_name is not None]
+        schema = schema_attribute(_CLIPPED)
+        if schema.type_name is not None and values.attribute(_CLIPPED).HasAuthoredValue():
+            declared.append((_CLIPPED, schema))  # a RenderProduct's
+    return declared
