@@ -194,7 +194,8 @@ def _cli_run(target: Path, out: Path, *extra: str) -> tuple[dict, str]:
         text=True,
         check=False,
     )
-    assert out.exists(), run.stdout + run.stderr
+    # The exit status too: a process that dies of a signal says nothing else.
+    assert out.exists(), f"exit status {run.returncode}\n{run.stdout}{run.stderr}"
     return json.loads(out.read_text()), run.stdout + run.stderr
 
 
