@@ -74,13 +74,11 @@ def first_failure(
     blocked sample reads as the fallback)."""
     names = tuple(names)
     values = prim_values(prim)
-    cache = ctx.cache
-    # An attribute that provably has no time samples adds no rendered time. On a
-    # stage whose layers author no time samples, spline or value clips none has
-    # one (PrimValues.may_vary is False for every name): nothing to ask per name.
+    # An attribute that provably has no time samples adds no rendered time (on a
+    # stage where nothing varies, none: nothing to ask per name).
     sampled = (
         None
-        if cache.without_clips and cache.without_varying
+        if ctx.cache.nothing_varies
         else [
             values.attribute(name)
             for name in names

@@ -118,9 +118,7 @@ class TimeSamplesIgnored(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        if ctx.cache.without_clips and ctx.cache.without_varying:
-            # No layer can author time samples, a spline or value clips: no
-            # attribute varies (PrimValues.may_vary is False for every name).
+        if ctx.cache.nothing_varies:
             return
         values, declared = _authored_schema_attributes(prim, ctx)
         for name, schema in declared:

@@ -42,6 +42,13 @@ class LintCache:
         #: known without asking each spec.
         self.without_varying = without_varying
 
+    @property
+    def nothing_varies(self) -> bool:
+        """No attribute of the linted stage can vary: no layer can author time
+        samples, a spline or value clips (``PrimValues.may_vary`` is then False
+        for every name)."""
+        return self.without_clips and self.without_varying
+
     def call(self, func: Callable[..., _T], *args: Hashable) -> _T:
         """``func(*args)``, computed on the first call with these arguments."""
         key = (func, args)
