@@ -46,6 +46,8 @@ NEVER_NEEDED = (
     "traceback",
     # check --watch alone.
     "watchfiles",
+    # Shell completion alone (cli/options.py's completers).
+    "click.shell_completion",
     "usdrender_lint.running.watching",
     # The schema classes' bindings: rules name schemas as Tf.Type (api.schemas).
     "pxr.UsdRender",

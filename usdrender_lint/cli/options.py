@@ -9,11 +9,12 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import click
-from click.shell_completion import CompletionItem
 
 from ..settings_table import ConfigError, Setting, flag_settings
 
 if TYPE_CHECKING:
+    from click.shell_completion import CompletionItem
+
     from ..entrypoints import EntryPointLike
 
 #: Flags of kind "int"/"float": a value checked by the setting's own parser.
@@ -106,6 +107,9 @@ def complete_rules(
 ) -> list[CompletionItem]:
     """Shell completion of a rule selector: codes (with the rule's name), names,
     families and ALL, after the commas of a list already typed."""
+    # Imported here: only completion needs it (0.4 ms of every check's start-up).
+    from click.shell_completion import CompletionItem
+
     done, _, word = incomplete.rpartition(",")
     lead = f"{done}," if done else ""
     return [
@@ -119,6 +123,8 @@ def complete_rule(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:
     """Shell completion of one rule: its code or its name."""
+    from click.shell_completion import CompletionItem
+
     return [
         CompletionItem(value, help=help)
         for value, help in _rule_words(families=False).items()
