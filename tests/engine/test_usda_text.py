@@ -503,3 +503,27 @@ def test_strings_with_escapes_and_braces_are_skipped_whole() -> None:
     for read_by_sdf in (False, True):
         layer = usda_text._Layer(text, read_by_sdf=read_by_sdf)
         assert (layer.lookup("/B"), layer.lookup("/A.t")) == (7, 5)
+
+
+_COMPILES_RECORDED = """
+import re
+compiled = []
+compile_now = re.compile
+re.compile = lambda pattern, flags=0: compiled.append(pattern) or compile_now(pattern, flags)
+from usdrender_lint.layers import usda_text
+text = '#usda 1.0\\ndef Scope "A"\\n{\\n    int x = 1  # c\\n}\\n'
+layer = usda_text._Layer(text, read_by_sdf=True)
+assert layer.lookup("/A.x") == 4
+placing = len(compiled)
+assert usda_text.comment_lines(layer.text) == [4]
+print(r"(?:[ \\t\\r\\f\\v]++|/\\*.*?\\*/)*+" in compiled[:placing], placing < len(compiled))
+"""
+
+
+def test_placing_a_finding_compiles_none_of_the_fixes_patterns() -> None:
+    """The statement spans' and comment_lines' patterns (the fixes') are compiled
+    at their first use: the import and a line lookup need none of them."""
+    proc = subprocess.run(
+        [sys.executable, "-c", _COMPILES_RECORDED], capture_output=True, text=True, check=True
+    )
+    assert proc.stdout.split() == ["False", "True"]

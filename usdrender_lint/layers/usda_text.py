@@ -161,7 +161,6 @@ _blank_at = _match_at(rf"(?:{_INERT}++|\n|{_COMMENT}|{_INERT_GROUP})*+")
 _WORD_AT = _compile(_WORD)
 _ATOM_AT = _compile(_ATOMS)
 _STRING_AT = _compile(_STRING)
-_COMMENT_OR_ATOM = _compile(f"({_COMMENT})|{_STRING}|{_ASSET}|{_PATH}")
 
 _PROPERTY_QUALIFIERS = {
     "custom",
@@ -524,7 +523,7 @@ def comment_lines(text: str) -> list[int]:
     header excepted: what Sdf drops when it saves the layer again."""
     found = []
     line, counted = 1, 0
-    for match in _COMMENT_OR_ATOM.finditer(text):
+    for match in _SPANS.comment_or_atom.finditer(text):
         if match.group(1) is not None and match.start() != 0:
             line += text.count("\n", counted, match.start())
             counted = match.start()
@@ -546,14 +545,46 @@ def comment_lines(text: str) -> list[int]:
 #: variants of a variantSet.
 BODY, META, DICT, VARIANTS = "body", "meta", "dict", "variants"
 _LIST_OPS = frozenset({"prepend", "append", "add", "delete", "reorder"})
-#: Spaces, and /* */ comments, which never end a statement.
-_INLINE_GAP = _compile(r"(?:[ \t\r\f\v]++|/\*.*?\*/)*+")
-_GAP_LINES = _compile(r"(?:[ \t\r\f\v\n]++|\#[^\n]*+|//[^\n]*+|/\*.*?\*/)*+")
-_GAP_ENTRIES = _compile(r"(?:[ \t\r\f\v\n;]++|\#[^\n]*+|//[^\n]*+|/\*.*?\*/)*+")
-#: A number, ``None``, ``true``, ``-inf``: what is left of a value once atoms are out.
-_BARE_AT = _compile(r"""[^\s"'@<#/{}()\[\]=,;]++""")
-_ASSET_AT = _compile(_ASSET)
-_PATH_AT = _compile(_PATH)
+
+
+class _Spans:
+    """The patterns only the statement spans and :func:`comment_lines` use (the
+    fixes), compiled on first use: locating a finding, the one use of this module
+    in most runs, needs none of them (about 0.5 ms of a check's start-up)."""
+
+    @functools.cached_property
+    def inline_gap(self) -> re.Pattern[str]:
+        """Spaces, and /* */ comments, which never end a statement."""
+        return _compile(r"(?:[ \t\r\f\v]++|/\*.*?\*/)*+")
+
+    @functools.cached_property
+    def gap_lines(self) -> re.Pattern[str]:
+        return _compile(r"(?:[ \t\r\f\v\n]++|\#[^\n]*+|//[^\n]*+|/\*.*?\*/)*+")
+
+    @functools.cached_property
+    def gap_entries(self) -> re.Pattern[str]:
+        return _compile(r"(?:[ \t\r\f\v\n;]++|\#[^\n]*+|//[^\n]*+|/\*.*?\*/)*+")
+
+    @functools.cached_property
+    def bare_at(self) -> re.Pattern[str]:
+        """A number, ``None``, ``true``, ``-inf``: what is left of a value once atoms are out."""
+        return _compile(r"""[^\s"'@<#/{}()\[\]=,;]++""")
+
+    @functools.cached_property
+    def asset_at(self) -> re.Pattern[str]:
+        return _compile(_ASSET)
+
+    @functools.cached_property
+    def path_at(self) -> re.Pattern[str]:
+        return _compile(_PATH)
+
+    @functools.cached_property
+    def comment_or_atom(self) -> re.Pattern[str]:
+        """A comment (group 1), or an atom that may hold comment characters."""
+        return _compile(f"({_COMMENT})|{_STRING}|{_ASSET}|{_PATH}")
+
+
+_SPANS = _Spans()
 
 
 @record(frozen=True)
@@ -603,9 +634,10 @@ def _token_end(text: str, pos: int) -> int:
         return _skip_brackets(text, pos + 1)
     if char == "{":
         return _skip_block(text, pos + 1)
-    pattern = {'"': _STRING_AT, "'": _STRING_AT, "@": _ASSET_AT, "<": _PATH_AT}.get(char)
+    spans = _SPANS
+    pattern = {'"': _STRING_AT, "'": _STRING_AT, "@": spans.asset_at, "<": spans.path_at}.get(char)
     if pattern is None:
-        pattern = _WORD_AT if char.isalpha() or char == "_" else _BARE_AT
+        pattern = _WORD_AT if char.isalpha() or char == "_" else spans.bare_at
     match = pattern.match(text, pos)
     return match.end() if match and match.end() > pos else pos + 1
 
@@ -619,7 +651,7 @@ def _head(text: str, pos: int, end: int, stop: str) -> tuple[list[tuple[int, int
     """The words of a statement's head, up to ``=``, a line end, or a ``stop`` character."""
     words: list[tuple[int, int]] = []
     while True:
-        pos = _past(_INLINE_GAP, text, pos)
+        pos = _past(_SPANS.inline_gap, text, pos)
         if pos >= end or _ends_statement(text, pos, stop):
             return words, pos
         after = _token_end(text, pos)
@@ -633,7 +665,7 @@ def _word(text: str, span: tuple[int, int]) -> str:
 
 def _group_after(text: str, pos: int, end: int, opener: str) -> tuple[int, int] | None:
     """The ``opener`` group starting after a gap (line ends and comments allowed)."""
-    pos = _past(_GAP_LINES, text, pos)
+    pos = _past(_SPANS.gap_lines, text, pos)
     if pos < end and text[pos] == opener:
         return pos, _token_end(text, pos)
     return None
@@ -689,12 +721,12 @@ def _value_and_meta(
     the head or the value ends."""
     value = None
     if pos < end and text[pos] == "=":
-        pos = _past(_INLINE_GAP, text, pos + 1)
+        pos = _past(_SPANS.inline_gap, text, pos + 1)
         if pos < end and not _ends_statement(text, pos, "}"):
             value = (pos, _token_end(text, pos))
             pos = value[1]
     meta = None
-    after = _past(_INLINE_GAP, text, pos)
+    after = _past(_SPANS.inline_gap, text, pos)
     if after < end and text[after] == "(":
         meta = (after, _token_end(text, after))
     return value, meta, pos
@@ -723,11 +755,11 @@ def _entry_statement(text: str, pos: int, end: int, closer: str) -> Statement:
             return Statement("entry", ("entry", "", "doc"), start, words[0][1], (), words[0])
         stop = words[-1][1] if words else _token_end(text, start)
         return Statement("other", ("other", text[start:stop]), start, stop, tuple(words))
-    pos = _past(_INLINE_GAP, text, pos + 1)
+    pos = _past(_SPANS.inline_gap, text, pos + 1)
     value_start, value_end = pos, pos
     while pos < end and not _ends_statement(text, pos, ";" + closer):
         value_end = _token_end(text, pos)
-        pos = _past(_INLINE_GAP, text, value_end)
+        pos = _past(_SPANS.inline_gap, text, value_end)
     op = names[0] if len(names) > 1 and names[0] in _LIST_OPS else ""
     value = (value_start, value_end) if value_end > value_start else None
     stop = value_end if value else pos
@@ -748,7 +780,7 @@ def _variant_statement(text: str, pos: int, end: int) -> Statement:
 def statements(text: str, start: int, end: int, context: str) -> list[Statement]:
     """The statements between ``start`` and ``end`` (the inside of a block)."""
     entries = context in (META, DICT)
-    gap = _GAP_ENTRIES if entries else _GAP_LINES
+    gap = _SPANS.gap_entries if entries else _SPANS.gap_lines
     closer = ")" if context == META else "}"
     found: list[Statement] = []
     pos = start
@@ -777,7 +809,7 @@ def layer_text(text: str) -> LayerText:
 def element_gap(text: str, start: int, end: int) -> tuple[int, bool]:
     """Between two elements of ``element_spans`` (``text[start:end]``): the
     offset of the comma that separates them, and whether a comment is there."""
-    comma = _past(_GAP_LINES, text, start, end)
+    comma = _past(_SPANS.gap_lines, text, start, end)
     gap = text[start:end]
     return comma, "#" in gap or "//" in gap or "/*" in gap
 
@@ -789,7 +821,7 @@ def element_spans(text: str, span: tuple[int, int]) -> list[tuple[int, int]]:
     found: list[tuple[int, int]] = []
     pos = span[0] + 1
     while True:
-        pos = _past(_GAP_LINES, text, pos, end)
+        pos = _past(_SPANS.gap_lines, text, pos, end)
         if pos >= end:
             return found
         if text[pos] == ",":
@@ -798,5 +830,5 @@ def element_spans(text: str, span: tuple[int, int]) -> list[tuple[int, int]]:
         first = last = pos
         while pos < end and text[pos] != ",":
             last = _token_end(text, pos)
-            pos = _past(_GAP_LINES, text, last, end)
+            pos = _past(_SPANS.gap_lines, text, last, end)
         found.append((first, last))
