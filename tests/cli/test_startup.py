@@ -181,6 +181,25 @@ def test_check_with_workers_imports_the_pool_and_nothing_else_heavy() -> None:
     assert [n for n in NEVER_NEEDED if _imported(modules, n)] == []
 
 
+BEFORE_THE_FORK = """
+import sys
+before = set(sys.modules)
+import usdrender_lint.__main__
+print(*sorted(set(sys.modules) - before))
+"""
+
+
+def test_the_supervisor_imports_no_typing_before_it_forks() -> None:
+    """__main__.py's imports are the supervisor's: it tears them down after the
+    command (its child) has ended, so they hold no more than they need."""
+    proc = subprocess.run(
+        [sys.executable, "-c", BEFORE_THE_FORK], capture_output=True, text=True, check=True
+    )
+    imported = proc.stdout.split()
+    assert "usdrender_lint.running.address_space" in imported
+    assert [name for name in ("typing", "re", "contextlib") if name in imported] == []
+
+
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the supervisor is Linux's")
 def test_a_supervised_check_imports_no_ctypes_and_no_pool() -> None:
     """Its child watches a pipe to end with the supervisor (running/supervisor.py)."""

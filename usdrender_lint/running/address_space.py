@@ -6,8 +6,10 @@ Nothing is imported but ``resource``: the command asks before its own imports.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+#: typing's own flag, without importing typing (and re, contextlib...): this
+#: module is imported before the supervisor forks (__main__.py), and what the
+#: supervisor imports it also tears down, after the command has ended.
+TYPE_CHECKING = False
 if TYPE_CHECKING:
     from ..engine import SchemasMissing
 
