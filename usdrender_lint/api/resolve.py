@@ -339,11 +339,21 @@ def _attribute_stack(
 ) -> _Stack:
     """``declared_name``: the value type name whose type is ``declared``.
     ``samples``: False when no layer can hold time samples (LintCache.without_varying)."""
+    return _stack_of(_property_stack(attr, DEFAULT_TIME), declared, declared_name, samples)
+
+
+def _stack_of(
+    specs: Iterable[Sdf.PropertySpec],
+    declared: Tf.Type,
+    declared_name: Sdf.ValueTypeName,
+    samples: bool,
+) -> _Stack:
+    """The :data:`_Stack` of an attribute whose property stack is ``specs``."""
     # Every check reads the same few facts of each spec: once, here.
     opinions: list[_Opinion] = []
     well_typed = True
     first_default = None
-    for spec in _property_stack(attr, DEFAULT_TIME):
+    for spec in specs:
         if isinstance(spec, Sdf.AttributeSpec):
             type_name = _spec_type_name(spec)
             # Most specs have the declared type name: one comparison, where
@@ -547,6 +557,7 @@ class PrimValues:
         "_names_decide",
         "_without_varying",
         "_listed",
+        "_own_properties",
         "_kinds",
         "_memo",
         "_path",
@@ -579,6 +590,8 @@ class PrimValues:
         #: No spec of the stage holds time samples or a spline (LintCache.without_varying).
         self._without_varying = without_varying
         self._listed: frozenset[str] | None = None
+        #: _read_own_properties's answer, once asked.
+        self._own_properties: Any = None
         #: IsA answers by the schema's id (hashing a Tf.Type is a binding call).
         self._kinds: dict[int, tuple[Any, bool]] = {}
         #: ``Context.cached`` answers of this prim, by function.
@@ -645,11 +658,39 @@ class PrimValues:
                 # (never value clips), and no layer has one of this name.
                 found = ((), declared, True, None)
             else:
-                found = _attribute_stack(
-                    self.attribute(name), declared, schema.type_name, not self._without_varying
-                )
+                own = self._own_properties
+                if own is None:
+                    own = self._read_own_properties()
+                if own is not False:
+                    # The prim's only spec holds the only spec of this name.
+                    spec = own.get(name)
+                    found = _stack_of(
+                        () if spec is None else (spec,),
+                        declared,
+                        schema.type_name,
+                        not self._without_varying,
+                    )
+                else:
+                    found = _attribute_stack(
+                        self.attribute(name), declared, schema.type_name, not self._without_varying
+                    )
             self._specs[name] = found
         return found
+
+    def _read_own_properties(self) -> Any:
+        """The property specs of the prim's only spec (``primSpec.properties``),
+        or False when more than one spec (or none) contributes to the prim.
+
+        A property spec lies under a prim spec of its layer, and a prim's
+        property stack at Default is read from the sites of its prim stack
+        (``UsdPrim::GetPrimStack``, ``UsdProperty::GetPropertyStack``; value
+        clips only count at a numeric time): with one prim spec, an attribute's
+        stack is that spec's property of its name, if any. One call for the
+        prim in place of a property stack per attribute (a CI-gate shot's
+        render prims each have one spec and some 2.5 attributes read)."""
+        specs = Usd.Prim.GetPrimStack(self.prim)
+        own = self._own_properties = specs[0].properties if len(specs) == 1 else False
+        return own
 
     def has_value(self, name: str) -> bool:
         """:func:`has_authored_value` of the named attribute."""
