@@ -546,7 +546,6 @@ class PrimValues:
         "_has",
         "_authored",
         "_composed",
-        "_fallbacks",
         "_varying",
         "_forwarded",
         "_targets",
@@ -575,7 +574,6 @@ class PrimValues:
         self._has: dict[str, bool] = {}
         self._authored: dict[str, Any] = {}
         self._composed: dict[str, Any] = {}
-        self._fallbacks: dict[str, Any] = {}
         self._varying: dict[str, bool] = {}
         self._forwarded: dict[str, tuple[Sdf.Path, ...]] = {}
         self._targets: dict[str, tuple[Target, ...]] = {}
@@ -760,11 +758,10 @@ class PrimValues:
         return value
 
     def fallback(self, name: str) -> Any:
-        """The schema's fallback for the named attribute (None when it has none)."""
-        value = self._fallbacks.get(name, _UNREAD)
-        if value is _UNREAD:
-            value = self._fallbacks[name] = _definition_fallback(self, name)
-        return value
+        """The schema's fallback for the named attribute (None when it has none),
+        read once per lint and prim definition (a dozen products share theirs;
+        ``composed`` keeps what it read of it)."""
+        return _definition_fallback(self, name)
 
     def composed(self, name: str) -> Any:
         """:func:`composed_value` of the named attribute at Default."""
