@@ -368,6 +368,34 @@ def test_the_strongest_default_answers_as_usd_does(prim_type, name, weak, strong
             assert values.authored(name) == (attr.Get() if expected else None)  # unasked
 
 
+@pytest.mark.parametrize(("prim_type", "name", "weak", "strong"), _OPINIONS)
+def test_a_prim_with_one_spec_answers_without_a_property_stack(
+    prim_type, name, weak, strong, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A prim that one spec defines reads its attributes from that spec's
+    # properties: the answers are USD's, and no property stack is asked.
+    layer = Sdf.Layer.CreateAnonymous(".usda")
+    layer.ImportFromString(
+        f'#usda 1.0\ndef {prim_type} "P"\n{{\n    {strong.replace("{weak}", "x.usda")}\n}}\n'
+    )
+    stage = Usd.Stage.Open(layer)
+    prim = stage.GetPrimAtPath("/P")
+    attr = prim.GetAttribute(name)
+    expected = resolve.has_authored_value(attr)  # read outside a lint: by its property stack
+    mismatched = resolve.mismatched_specs(attr)
+    stacks: list[Usd.Property] = []
+    stack = resolve._property_stack
+    monkeypatch.setattr(resolve, "_property_stack", lambda a, t: stacks.append(a) or stack(a, t))
+    varying = any(w in strong for w in (".timeSamples", ".spline"))
+    for without_clips, without_varying in ((True, not varying), (False, False)):
+        values = resolve.PrimValues(prim, without_clips, without_varying)
+        assert values.has_value(name) == expected
+        assert values.authored(name) == (attr.Get() if expected else None)
+        assert values.mismatched_specs(name) == mismatched
+    if values.schema_attribute(name).value_type is not None:  # a custom one's type is its stack's
+        assert stacks == []
+
+
 def test_an_expired_or_null_prim_raises_instead_of_reaching_usd_unbound() -> None:
     # resolve calls USD's methods unbound (skipping Usd.Object's validity
     # check): on an expired prim that call would crash the process, so the

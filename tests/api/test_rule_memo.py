@@ -246,8 +246,8 @@ def test_an_unauthored_attribute_is_answered_from_the_prim_property_names(
         assert unauthored not in asked
         assert unauthored not in handles
     # Authored: its strongest spec's default is the value (no block, a string),
-    # read once from the spec, without HasAuthoredValue or Get.
-    assert handles.count("/Render/color.sourceName") == 1
+    # read once from the prim's only spec, without a handle, HasAuthoredValue or Get.
+    assert "/Render/color.sourceName" not in handles
     assert "/Render/color.sourceName" not in asked
     assert "/Render/color.sourceName" not in reads
     # PR001 and PR002 ask no samples of a productName that provably has none.

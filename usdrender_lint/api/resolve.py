@@ -156,6 +156,27 @@ def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
     return Target(path, prim, _unusable_reason(prim))  # valid: checked above
 
 
+#: resolve_target uncached: its cache's key names this function.
+_resolve_target: Callable[[Usd.Stage, Sdf.Path], Target] = resolve_target.__wrapped__  # type: ignore[attr-defined]
+
+
+def _resolved(stage: Usd.Stage, paths: Iterable[Sdf.Path]) -> tuple[Target, ...]:
+    """:func:`resolve_target` of each path, its cache asked in place of a call
+    per path (some 70 a CI-gate shot)."""
+    cache = _ACTIVE.get()
+    if cache is None:
+        return tuple(_resolve_target(stage, p) for p in paths)
+    answers = cache._answers
+    found = []
+    for path in paths:
+        key = (_resolve_target, (stage, path))
+        target = answers.get(key)
+        if target is None:
+            target = answers[key] = _resolve_target(stage, path)
+        found.append(target)
+    return tuple(found)
+
+
 def forwarded_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
     """Targets with relationship forwarding honoured, as spec.cpp reads them."""
     return _targets(rel, forwarded=True)
@@ -208,7 +229,7 @@ def _resolved_targets(rel: Usd.Relationship | None) -> tuple[Target, ...]:
     if not rel:
         return ()
     stage = rel.GetStage()
-    return tuple(resolve_target(stage, p) for p in forwarded_targets(rel))
+    return _resolved(stage, forwarded_targets(rel))
 
 
 def describe_prim_type(prim: Usd.Prim) -> str:
@@ -318,11 +339,21 @@ def _attribute_stack(
 ) -> _Stack:
     """``declared_name``: the value type name whose type is ``declared``.
     ``samples``: False when no layer can hold time samples (LintCache.without_varying)."""
+    return _stack_of(_property_stack(attr, DEFAULT_TIME), declared, declared_name, samples)
+
+
+def _stack_of(
+    specs: Iterable[Sdf.PropertySpec],
+    declared: Tf.Type,
+    declared_name: Sdf.ValueTypeName,
+    samples: bool,
+) -> _Stack:
+    """The :data:`_Stack` of an attribute whose property stack is ``specs``."""
     # Every check reads the same few facts of each spec: once, here.
     opinions: list[_Opinion] = []
     well_typed = True
     first_default = None
-    for spec in _property_stack(attr, DEFAULT_TIME):
+    for spec in specs:
         if isinstance(spec, Sdf.AttributeSpec):
             type_name = _spec_type_name(spec)
             # Most specs have the declared type name: one comparison, where
@@ -515,9 +546,7 @@ class PrimValues:
         "_has",
         "_authored",
         "_composed",
-        "_fallbacks",
         "_varying",
-        "_mismatched",
         "_forwarded",
         "_targets",
         "_definition",
@@ -527,6 +556,7 @@ class PrimValues:
         "_names_decide",
         "_without_varying",
         "_listed",
+        "_own_properties",
         "_kinds",
         "_memo",
         "_path",
@@ -544,9 +574,7 @@ class PrimValues:
         self._has: dict[str, bool] = {}
         self._authored: dict[str, Any] = {}
         self._composed: dict[str, Any] = {}
-        self._fallbacks: dict[str, Any] = {}
         self._varying: dict[str, bool] = {}
-        self._mismatched: dict[str, Sdf.AttributeSpec | None] = {}
         self._forwarded: dict[str, tuple[Sdf.Path, ...]] = {}
         self._targets: dict[str, tuple[Target, ...]] = {}
         self._definition: Usd.PrimDefinition | None = None
@@ -560,6 +588,8 @@ class PrimValues:
         #: No spec of the stage holds time samples or a spline (LintCache.without_varying).
         self._without_varying = without_varying
         self._listed: frozenset[str] | None = None
+        #: _read_own_properties's answer, once asked.
+        self._own_properties: Any = None
         #: IsA answers by the schema's id (hashing a Tf.Type is a binding call).
         self._kinds: dict[int, tuple[Any, bool]] = {}
         #: ``Context.cached`` answers of this prim, by function.
@@ -626,11 +656,39 @@ class PrimValues:
                 # (never value clips), and no layer has one of this name.
                 found = ((), declared, True, None)
             else:
-                found = _attribute_stack(
-                    self.attribute(name), declared, schema.type_name, not self._without_varying
-                )
+                own = self._own_properties
+                if own is None:
+                    own = self._read_own_properties()
+                if own is not False:
+                    # The prim's only spec holds the only spec of this name.
+                    spec = own.get(name)
+                    found = _stack_of(
+                        () if spec is None else (spec,),
+                        declared,
+                        schema.type_name,
+                        not self._without_varying,
+                    )
+                else:
+                    found = _attribute_stack(
+                        self.attribute(name), declared, schema.type_name, not self._without_varying
+                    )
             self._specs[name] = found
         return found
+
+    def _read_own_properties(self) -> Any:
+        """The property specs of the prim's only spec (``primSpec.properties``),
+        or False when more than one spec (or none) contributes to the prim.
+
+        A property spec lies under a prim spec of its layer, and a prim's
+        property stack at Default is read from the sites of its prim stack
+        (``UsdPrim::GetPrimStack``, ``UsdProperty::GetPropertyStack``; value
+        clips only count at a numeric time): with one prim spec, an attribute's
+        stack is that spec's property of its name, if any. One call for the
+        prim in place of a property stack per attribute (a CI-gate shot's
+        render prims each have one spec and some 2.5 attributes read)."""
+        specs = Usd.Prim.GetPrimStack(self.prim)
+        own = self._own_properties = specs[0].properties if len(specs) == 1 else False
+        return own
 
     def has_value(self, name: str) -> bool:
         """:func:`has_authored_value` of the named attribute."""
@@ -650,14 +708,16 @@ class PrimValues:
     def _holds_value(self, name: str) -> bool:
         # The declaration is read once here and handed on (each method asking
         # it again was a call per question).
-        schema = self.schema_attribute(name)
+        declared = self._declared
+        schema = declared.get(name) if declared is not None else None
+        if schema is None:
+            schema = self.schema_attribute(name)
         # A name the prim definition declares as an attribute is one whatever
         # the layers author (UsdStage::_GetDefiningSpecType asks the definition
         # first): no HasAttribute needed.
         if schema.value_type is None and not _has_attribute(self.prim, name):
             return False
-        attr = self.attribute(name)
-        stack = self._attribute_specs(name, schema)
+        stack = self._specs.get(name) or self._attribute_specs(name, schema)
         default = None
         if self._names_decide:
             # Without value clips the strongest spec that holds a value decides
@@ -666,9 +726,15 @@ class PrimValues:
             default = stack[3]
             if isinstance(default, _BLOCKS):
                 default = None
-        if default is None and not _has_authored_value(attr):
+        if default is None and not _has_authored_value(self.attribute(name)):
             return False
-        if not _holds_well_typed_value(stack, lambda: schema.type_name):
+        opinions, _, well_typed, first_default = stack
+        if well_typed and len(opinions) == 1 and not opinions[0][2]:
+            # _holds_well_typed_value's common case, inlined: one opinion of
+            # the declared type without time samples, whose default may be a path.
+            if isinstance(first_default, Sdf.Path):
+                return False
+        elif not _holds_well_typed_value(stack, lambda: schema.type_name):
             return False
         if default is not None and schema.plain:
             # At Default, Get() returns the strongest default (time samples and
@@ -680,7 +746,8 @@ class PrimValues:
         """:func:`authored_value` of the named attribute at Default."""
         value = self._authored.get(name, _UNREAD)
         if value is _UNREAD:
-            if not self.has_value(name):
+            has = self._has.get(name)
+            if not (has if has is not None else self.has_value(name)):
                 value = None
             else:
                 # has_value may have read it (the strongest spec's default).
@@ -691,23 +758,28 @@ class PrimValues:
         return value
 
     def fallback(self, name: str) -> Any:
-        """The schema's fallback for the named attribute (None when it has none)."""
-        value = self._fallbacks.get(name, _UNREAD)
-        if value is _UNREAD:
-            value = self._fallbacks[name] = _definition_fallback(self, name)
-        return value
+        """The schema's fallback for the named attribute (None when it has none),
+        read once per lint and prim definition (a dozen products share theirs;
+        ``composed`` keeps what it read of it)."""
+        return _definition_fallback(self, name)
 
     def composed(self, name: str) -> Any:
         """:func:`composed_value` of the named attribute at Default."""
         value = self._composed.get(name, _UNREAD)
         if value is _UNREAD:
-            value = self.authored(name) if self.has_value(name) else self.fallback(name)
+            has = self._has.get(name)
+            if has if has is not None else self.has_value(name):
+                value = self._authored.get(name, _UNREAD)
+                if value is _UNREAD:
+                    value = self.authored(name)
+            else:
+                value = self.fallback(name)
             self._composed[name] = value
         return value
 
     def mismatched_specs(self, name: str) -> list[Sdf.AttributeSpec]:
         """:func:`mismatched_specs` of the named attribute."""
-        stack = self._attribute_specs(name)
+        stack = self._specs.get(name) or self._attribute_specs(name)
         if stack[2]:  # every opinion has the declared type (most attributes): none differs
             return []
         return _specs_of_other_types(stack, lambda: self.schema_attribute(name).type_name)
@@ -761,13 +833,10 @@ class PrimValues:
 
     def mismatched(self, name: str) -> Sdf.AttributeSpec | None:
         """:func:`mismatched_spec` of the named attribute."""
-        spec = self._mismatched.get(name, _UNREAD)
-        if spec is _UNREAD:
-            spec = _mismatched_in(
-                self._attribute_specs(name), lambda: self.schema_attribute(name).type_name
-            )
-            self._mismatched[name] = spec
-        return spec
+        stack = self._specs.get(name) or self._attribute_specs(name)
+        if stack[2]:  # every opinion has the declared type (most attributes): none differs
+            return None
+        return _mismatched_in(stack, lambda: self.schema_attribute(name).type_name)
 
     def forwarded(self, name: str) -> tuple[Sdf.Path, ...]:
         """:func:`forwarded_targets` of the named relationship."""
@@ -792,8 +861,7 @@ class PrimValues:
             if name not in (self._listed or self._listed_names()):
                 found = ()  # no layer authors it (value clips hold no targets)
             else:
-                stage = Usd.Prim.GetStage(self.prim)
-                found = tuple(resolve_target(stage, p) for p in self.forwarded(name))
+                found = _resolved(Usd.Prim.GetStage(self.prim), self.forwarded(name))
             self._targets[name] = found
         return found
 
