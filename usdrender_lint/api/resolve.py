@@ -728,13 +728,7 @@ class PrimValues:
                 default = None
         if default is None and not _has_authored_value(self.attribute(name)):
             return False
-        opinions, _, well_typed, first_default = stack
-        if well_typed and len(opinions) == 1 and not opinions[0][2]:
-            # _holds_well_typed_value's common case, inlined: one opinion of
-            # the declared type without time samples, whose default may be a path.
-            if isinstance(first_default, Sdf.Path):
-                return False
-        elif not _holds_well_typed_value(stack, lambda: schema.type_name):
+        if not _holds_well_typed_value(stack, lambda: schema.type_name):
             return False
         if default is not None and schema.plain:
             # At Default, Get() returns the strongest default (time samples and
