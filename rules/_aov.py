@@ -8,7 +8,7 @@ from typing import Any, Literal
 from pxr import Usd
 
 from usdrender_lint.api import Context, schemas
-from usdrender_lint.api.resolve import Target, prim_values
+from usdrender_lint.api.resolve import PrimValues, Target, prim_values
 
 #: How a renderer names a RenderVar's channel (catalog, Ambiguous semantics 7):
 #: the schema says the prim name; hdPrman uses ``sourceName`` for non-LPE vars.
@@ -73,6 +73,11 @@ def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
     rules and several PR rules read the same few RenderVar attributes."""
 
     values = prim_values(prim)
+    return None if values.mismatched(name) is not None else values.composed(name)
+
+
+def checked(values: PrimValues, name: str) -> Any:
+    """:func:`checked_value` of the prim whose values a rule already holds."""
     return None if values.mismatched(name) is not None else values.composed(name)
 
 
