@@ -8,7 +8,7 @@ from typing import Any, Literal
 from pxr import Usd
 
 from usdrender_lint.api import Context, schemas
-from usdrender_lint.api.resolve import Target, prim_values
+from usdrender_lint.api.resolve import PrimValues, Target, prim_values
 
 #: How a renderer names a RenderVar's channel (catalog, Ambiguous semantics 7):
 #: the schema says the prim name; hdPrman uses ``sourceName`` for non-LPE vars.
@@ -42,6 +42,30 @@ def _product_render_vars(ctx: Context, product: Usd.Prim) -> tuple[Usd.Prim, ...
     return tuple(found)
 
 
+def targeted_vars(ctx: Context) -> tuple[Usd.Prim, ...] | None:
+    """The usable RenderVars that the usable products' forwarded ``orderedVars``
+    target, each handle once, in first-target order; read once per lint. A dozen
+    products target the same few vars: a question about every var of every
+    product (VA008's channel names, PR006's sources) can be asked of these few.
+    None when the context holds no walked products (a Context made by hand,
+    whose ``check_prim`` callers pass products of their own): nothing is known."""
+    return ctx.cached(_targeted_vars)
+
+
+def _targeted_vars(ctx: Context) -> tuple[Usd.Prim, ...] | None:
+    products = ctx.prims_of(schemas.RenderProduct)
+    if not products:
+        return None
+    # By handle identity: each target path resolves to one handle per lint
+    # (resolve_target), which the products' answers keep alive until it ends.
+    # Two handles of one prim would both be listed: a repeat, never a miss.
+    found: dict[int, Usd.Prim] = {}
+    for product in products:
+        for var in product_render_vars(product, ctx):
+            found.setdefault(id(var), var)
+    return tuple(found.values())
+
+
 def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
     """The composed value (authored or fallback), or None when the strongest
     opinion has the wrong type: that is SE016's finding, and a value rule must
@@ -49,6 +73,11 @@ def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
     rules and several PR rules read the same few RenderVar attributes."""
 
     values = prim_values(prim)
+    return None if values.mismatched(name) is not None else values.composed(name)
+
+
+def checked(values: PrimValues, name: str) -> Any:
+    """:func:`checked_value` of the prim whose values a rule already holds."""
     return None if values.mismatched(name) is not None else values.composed(name)
 
 

@@ -9,7 +9,7 @@ from pxr import Usd
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
 from usdrender_lint.api.resolve import prim_values
 
-from .._aov import checked_value
+from .._aov import checked
 from .._corrections import set_value
 
 
@@ -103,7 +103,7 @@ class ProductNameEmpty(Rule):
         # may_vary: no samples are asked of an attribute that provably has none.
         if values.may_vary("productName") and attr.GetNumTimeSamples():
             return
-        if checked_value(prim, "productName", ctx) != "":
+        if checked(values, "productName") != "":
             return
         if attr.GetResolveInfo().ValueIsBlocked():
             how = "is blocked"

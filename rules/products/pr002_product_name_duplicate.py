@@ -8,6 +8,8 @@ from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import (
+    DEFAULT_TIME,
+    PrimValues,
     composed_value,
     format_time,
     joint_evaluation_times,
@@ -15,11 +17,14 @@ from usdrender_lint.api.resolve import (
 )
 
 
-def _product_name(product: Usd.Prim, time: Usd.TimeCode) -> str:
-    """productName at ``time``: authored, else the fallback; "" when mistyped."""
-    if prim_values(product).mismatched("productName") is not None:
+def _product_name(values: PrimValues, time: Usd.TimeCode) -> str:
+    """productName of the product whose values are ``values`` at ``time``:
+    authored, else the fallback; "" when mistyped."""
+    if values.mismatched("productName") is not None:
         return ""
-    return composed_value(product, "productName", time) or ""
+    if time is DEFAULT_TIME:  # the values hold it (composed_value's answer, without the lookup)
+        return values.composed("productName") or ""
+    return composed_value(values.prim, "productName", time) or ""
 
 
 class ProductNameDuplicate(Rule):
@@ -108,16 +113,17 @@ class ProductNameDuplicate(Rule):
                 products.append(config.product)
         for settings in ctx.prims_of(schemas.RenderSettings):
             products = products_of[id(settings)]
+            product_values = [prim_values(product) for product in products]
             # Only an attribute that may have time samples adds evaluation times.
             attrs = [
                 values.attribute("productName")
-                for values in map(prim_values, products)
+                for values in product_values
                 if values.may_vary("productName")
             ]
             for time in joint_evaluation_times(attrs, ctx.time_sample_cap):
                 owners: dict[str, Usd.Prim] = {}
-                for product in products:
-                    name = _product_name(product, time)
+                for product, values in zip(products, product_values, strict=True):
+                    name = _product_name(values, time)
                     first = owners.setdefault(name, product)
                     if not name or first is product or first == product:
                         continue
@@ -131,5 +137,5 @@ class ProductNameDuplicate(Rule):
                         f"{format_time(time)}, like {first.GetPath()}: both are products of "
                         f"{settings.GetPath()} and write the same output; give each product "
                         "its own productName",
-                        at=prim_values(product).attribute("productName"),
+                        at=values.attribute("productName"),
                     )

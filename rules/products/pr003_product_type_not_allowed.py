@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, prim_values
+from usdrender_lint.api.resolve import prim_values
 
 from .._corrections import set_value, unique_case_match
 
@@ -84,7 +84,7 @@ class ProductTypeNotAllowed(Rule):
         value = values.authored("productType")
         if value is None:
             return
-        allowed = allowed_tokens(prim, "productType")
+        allowed = values.schema_attribute("productType").allowed_tokens
         if value in allowed or _renderer_product_type(prim):
             return
         attr = values.attribute("productType")

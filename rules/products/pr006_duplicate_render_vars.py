@@ -10,7 +10,7 @@ from pxr import Usd
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
 from usdrender_lint.api.resolve import has_authored_value
 
-from .._aov import checked_value, product_render_vars
+from .._aov import checked_value, product_render_vars, targeted_vars
 
 #: The schema attributes compared by value (fallbacks included).
 _SOURCE = ("sourceType", "sourceName", "dataType")
@@ -20,6 +20,17 @@ def _source_key(ctx: Context, var: Usd.Prim) -> tuple[Any, ...]:
     """The var's source (``_SOURCE``), read once per lint: a dozen products
     share the same few vars."""
     return tuple(checked_value(var, n, ctx) for n in _SOURCE)
+
+
+def _sources_may_repeat(ctx: Context) -> bool:
+    """Whether two of the vars that products target have the same source: else
+    no product's vars can (a product lists each forwarded target once), asked
+    once per lint, not for every var of every product."""
+    found = targeted_vars(ctx)
+    if found is None:
+        return True  # the vars are not known here: check each product
+    keys = [ctx.cached(_source_key, var) for var in found]
+    return len(set(keys)) < len(keys)
 
 
 def _other_settings(ctx: Context, var: Usd.Prim) -> dict[str, Any]:
@@ -133,6 +144,8 @@ class DuplicateRenderVars(Rule):
     prim_types = (schemas.RenderProduct,)
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
+        if not ctx.cached(_sources_may_repeat):
+            return  # no two targeted vars share a source (most stages)
         render_vars = product_render_vars(prim, ctx)
         keys = [ctx.cached(_source_key, var) for var in render_vars]
         if len(set(keys)) == len(keys):

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pxr import Usd
 
-from usdrender_lint.api import Context, schemas
+from usdrender_lint.api import schemas
 from usdrender_lint.api.resolve import PrimValues, SchemaAttribute, prim_values
 
 #: Every render prim kind: SE016 and SE017 look at all their schema attributes.
@@ -15,18 +15,13 @@ _CLIPPED = "productName"
 
 
 def _authored_schema_attributes(
-    prim: Usd.Prim, ctx: Context
+    prim: Usd.Prim,
 ) -> tuple[PrimValues, list[tuple[str, SchemaAttribute]]]:
     """The prim's values and its authored attributes that its schema declares,
-    by name, with what the schema declares: SE016 and SE017 both walk them, so
-    they are listed once per lint (the declarations once per process)."""
-    return prim_values(prim), ctx.cached(_list_authored_schema_attributes, prim)
-
-
-def _list_authored_schema_attributes(
-    ctx: Context, prim: Usd.Prim
-) -> list[tuple[str, SchemaAttribute]]:
-    # Not the PrimValues: the answer is kept in its memo (the caller has it by identity).
+    by name, with what the schema declares (the declarations are read once per
+    process, the names once per lint). Listed for each caller, not kept: on a
+    stage where nothing can vary SE017 never asks, and keeping the list for
+    SE016 alone cost more than listing it (a cached lookup per prim)."""
     values = prim_values(prim)
     names = values.authored_names()
     schema_attribute = values.schema_attribute
@@ -42,4 +37,4 @@ def _list_authored_schema_attributes(
         schema = schema_attribute(_CLIPPED)
         if schema.type_name is not None and values.attribute(_CLIPPED).HasAuthoredValue():
             declared.append((_CLIPPED, schema))  # a RenderProduct's
-    return declared
+    return values, declared

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, record, schemas
-from usdrender_lint.api.resolve import composed_value, items, prim_values
+from usdrender_lint.api.resolve import items, prim_values
 
 from ._messages import _fmt
 
@@ -78,7 +78,7 @@ class ResolutionNonPositive(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
         is_settings = values.is_a(schemas.RenderSettings)
-        value = composed_value(prim, "resolution") if is_settings else values.authored("resolution")
+        value = values.composed("resolution") if is_settings else values.authored("resolution")
         if value is None:
             return
         if min(items(value)) <= 0:

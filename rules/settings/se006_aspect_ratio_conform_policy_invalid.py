@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, prim_values
+from usdrender_lint.api.resolve import prim_values
 
 from .._corrections import set_value
 
@@ -74,7 +74,7 @@ class AspectRatioConformPolicyInvalid(Rule):
         policy = values.authored(name)
         if policy is None:
             return
-        allowed = allowed_tokens(prim, name)
+        allowed = values.schema_attribute(name).allowed_tokens
         if not allowed or policy in allowed:
             return
         attr = values.attribute(name)

@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd, Vt
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, items, prim_values
+from usdrender_lint.api.resolve import items, prim_values
 
 from .._corrections import set_value
 from ._messages import _fmt, _quoted
@@ -100,7 +100,7 @@ class MaterialBindingPurposesInvalid(Rule):
         if purposes is None:
             return
         attr = values.attribute(name)
-        allowed = allowed_tokens(prim, name)
+        allowed = values.schema_attribute(name).allowed_tokens
         if not purposes:
             yield Diagnostic(
                 message="materialBindingPurposes is an authored empty array, which names no "

@@ -196,7 +196,7 @@ class AttributeTypeMismatch(Rule):
     prim_types = _RENDER_PRIM_TYPES
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        values, declared = _authored_schema_attributes(prim, ctx)
+        values, declared = _authored_schema_attributes(prim)
         for name, schema in declared:
             specs = values.mismatched_specs(name)
             if not specs:

@@ -120,7 +120,7 @@ class TimeSamplesIgnored(Rule):
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         if ctx.cache.nothing_varies:
             return
-        values, declared = _authored_schema_attributes(prim, ctx)
+        values, declared = _authored_schema_attributes(prim)
         for name, schema in declared:
             # Both findings need samples or a spline, which few attributes have:
             # the opinions already read say so for most (may_vary), else the

@@ -5,7 +5,9 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import prim_values, renders_on_its_own, values_in
+from usdrender_lint.api.resolve import renders_on_its_own, values_in
+
+from .._aov import targeted_vars
 
 
 class UnreferencedRenderPrim(Rule):
@@ -87,13 +89,10 @@ class UnreferencedRenderPrim(Rule):
                 at=product,
             )
         # By the targets' PrimValues (one per prim in a lint, whichever handle
-        # asks): no path is hashed or compared, each a call into USD.
-        targeted = {
-            id(values_in(ctx.cache, target.prim))
-            for product in ctx.prims_of(schemas.RenderProduct)
-            for target in prim_values(product).targets("orderedVars")
-            if target.prim is not None
-        }
+        # asks): no path is hashed or compared, each a call into USD. A usable
+        # RenderVar that a product targets is one of its usable RenderVar
+        # targets: the few distinct ones, not every target of every product.
+        targeted = {id(values_in(ctx.cache, var)) for var in targeted_vars(ctx) or ()}
         for var in ctx.prims_of(schemas.RenderVar):
             if id(values_in(ctx.cache, var)) not in targeted:
                 yield Diagnostic(

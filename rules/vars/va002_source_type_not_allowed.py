@@ -7,7 +7,7 @@ from collections.abc import Iterator
 from pxr import Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, schemas
-from usdrender_lint.api.resolve import allowed_tokens, prim_values
+from usdrender_lint.api.resolve import prim_values
 
 from .._corrections import unique_case_match
 from ._case_fix import _case_fix
@@ -79,7 +79,7 @@ class SourceTypeNotAllowed(Rule):
         value = values.authored("sourceType")
         if value is None:
             return
-        allowed = allowed_tokens(prim, "sourceType")  # a schema lookup, only for a value
+        allowed = values.schema_attribute("sourceType").allowed_tokens  # only for a value
         if value in allowed:
             return
         correction = unique_case_match(value, allowed)

@@ -8,7 +8,18 @@ from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Rule, Severity, record, schemas
 
-from .._aov import AovNaming, channel_name, product_render_vars
+from .._aov import AovNaming, channel_name, product_render_vars, targeted_vars
+
+
+def _channels_may_collide(ctx: Context, naming: AovNaming) -> bool:
+    """Whether two of the vars that products target have the same channel name
+    under ``naming``: else no product's vars can (asked once per lint, not for
+    every var of every product)."""
+    found = targeted_vars(ctx)
+    if found is None:
+        return True  # the vars are not known here: check each product
+    channels = [channel_name(var, naming, ctx) for var in found]
+    return len(set(channels)) < len(channels)
 
 
 class AovNameCollision(Rule):
@@ -117,12 +128,14 @@ class AovNameCollision(Rule):
         aov_naming: AovNaming = "primName"
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        render_vars = product_render_vars(prim, ctx)
         namings: tuple[AovNaming, ...] = ("primName",)
         if self.options.aov_naming == "sourceName":
             namings = ("primName", "sourceName")
         reported: set[tuple[Sdf.Path, Sdf.Path]] = set()
         for naming in namings:
+            if not ctx.cached(_channels_may_collide, naming):
+                continue  # no two targeted vars share a channel name (most stages)
+            render_vars = product_render_vars(prim, ctx)
             owners: dict[str, Usd.Prim] = {}
             for var in render_vars:
                 channel = channel_name(var, naming, ctx)

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from usdrender_lint.profiles import Profiler
-from usdrender_lint.testing import all_rules, check_fixture, expectations, fixture_files
+from usdrender_lint.testing import all_rules, check_fixture, expectations, fixture_files, lint
 
 FOLDER = Path(__file__).parent
 RULES = all_rules()
@@ -52,3 +52,19 @@ def test_pass_fixtures_declare_nothing() -> None:
         if fixture.name.startswith("pass_") and expectations(fixture)
     ]
     assert not declaring, f"pass fixtures with expect lines: {declaring}"
+
+
+def _opening_fixtures():
+    for folder in sorted(p for p in FOLDER.iterdir() if p.is_dir() and "_" in p.name):
+        if not folder.name.startswith("ST001_"):  # ST001's fixtures fail to open on purpose
+            for fixture in fixture_files(folder):
+                yield pytest.param(fixture, id=f"{folder.name}/{fixture.name}")
+
+
+@pytest.mark.parametrize("fixture", list(_opening_fixtures()))
+def test_fixture_opens(fixture: Path) -> None:
+    # A fixture USD cannot open gives only ST001: a pass fixture then passes
+    # whatever its rule does, and checks nothing.
+    st001 = [rule for rule in RULES if rule.code == "ST001"]
+    found = [f.message for f in lint(fixture, st001)]
+    assert not found, f"{fixture.name} does not open: {found}"
