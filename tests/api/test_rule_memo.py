@@ -394,3 +394,16 @@ def test_a_schema_fallback_is_read_once_per_definition(stage, monkeypatch) -> No
     patch_usd(monkeypatch, Usd.PrimDefinition, "GetAttributeFallbackValue", recording)
     Linter(all_rules(), raise_errors=True).lint_stage(stage)
     assert read.count("resolution") == 1
+
+
+def test_a_target_path_resolves_once_per_lint_and_stage(stage) -> None:
+    # One lint may resolve paths of two stages: each stage's own prims answer.
+    other = Usd.Stage.CreateInMemory()
+    other.DefinePrim("/cam", "Scope").SetActive(False)
+    path = Sdf.Path("/cam")
+    with lint_cache():
+        target = resolve.resolve_target(stage, path)
+        assert target.ok
+        assert resolve.resolve_target(stage, path) is target
+        assert prim_values(stage.GetPrimAtPath("/Render/Settings")).targets("camera")[0] is target
+        assert resolve.resolve_target(other, path).problem == "is inactive"

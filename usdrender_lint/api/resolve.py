@@ -144,10 +144,13 @@ class Target:
         return self.prim is None and not self.path.IsPropertyPath()
 
 
-@cached
 def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
     """What ``path`` is on the stage (once per lint: a dozen products target
     the same few vars and cameras)."""
+    return _resolved(stage, (path,))[0]
+
+
+def _resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
     if path.IsPropertyPath():
         return Target(path, None, "is a property, not a prim")
     prim = stage.GetPrimAtPath(path)
@@ -156,23 +159,20 @@ def resolve_target(stage: Usd.Stage, path: Sdf.Path) -> Target:
     return Target(path, prim, _unusable_reason(prim))  # valid: checked above
 
 
-#: resolve_target uncached: its cache's key names this function.
-_resolve_target: Callable[[Usd.Stage, Sdf.Path], Target] = resolve_target.__wrapped__  # type: ignore[attr-defined]
-
-
 def _resolved(stage: Usd.Stage, paths: Iterable[Sdf.Path]) -> tuple[Target, ...]:
-    """:func:`resolve_target` of each path, its cache asked in place of a call
-    per path (some 70 a CI-gate shot)."""
+    """:func:`resolve_target` of each path, kept once per lint in a dictionary
+    of the stage's targets by path (some 70 look-ups a CI-gate shot): a key of
+    the path alone, where one of (function, (stage, path)) built two tuples
+    and compared them on every hit."""
     cache = _ACTIVE.get()
     if cache is None:
         return tuple(_resolve_target(stage, p) for p in paths)
-    answers = cache._answers
+    by_path = cache._answers.setdefault((_resolved, (stage,)), {})
     found = []
     for path in paths:
-        key = (_resolve_target, (stage, path))
-        target = answers.get(key)
+        target = by_path.get(path)
         if target is None:
-            target = answers[key] = _resolve_target(stage, path)
+            target = by_path[path] = _resolve_target(stage, path)
         found.append(target)
     return tuple(found)
 
