@@ -32,14 +32,28 @@ def product_render_vars(product: Usd.Prim, ctx: Context) -> tuple[Usd.Prim, ...]
 
 def _product_render_vars(ctx: Context, product: Usd.Prim) -> tuple[Usd.Prim, ...]:
     # One loop, no chain of generators: a CI-gate shot has 45 targets in 12 products.
-    render_var = schemas.RenderVar
+    # Each target is judged once per lint, not once per product that lists it
+    # (the 45 are 6 vars): resolve_target answers one Target per path.
+    judged = ctx.cached(_judged_var_targets)
     found = []
     for target in ordered_var_targets(product, ctx):
-        prim = target.prim
-        # Usable (Target.usable_prim) and a RenderVar.
-        if target.problem is None and prim is not None and prim_values(prim).is_a(render_var):
-            found.append(prim)
+        entry = judged.get(id(target))
+        if entry is None:
+            prim = target.prim
+            # Usable (Target.usable_prim) and a RenderVar.
+            usable = target.problem is None and prim is not None
+            var = prim if usable and prim_values(prim).is_a(schemas.RenderVar) else None
+            # The entry holds the target, so that its id is not reused.
+            entry = judged[id(target)] = (target, var)
+        if entry[1] is not None:
+            found.append(entry[1])
     return tuple(found)
+
+
+def _judged_var_targets(ctx: Context) -> dict[int, tuple[Target, Usd.Prim | None]]:
+    """Filled by :func:`_product_render_vars`: an orderedVars target (by id)
+    and its prim when it is a usable RenderVar."""
+    return {}
 
 
 def targeted_vars(ctx: Context) -> tuple[Usd.Prim, ...] | None:

@@ -88,7 +88,12 @@ def first_failure(
     if not sampled:
         # Default is the only rendered time: the check reads the values PrimValues
         # holds for the lint (every CA rule shares them), not a read per check.
-        problem = check(*[_default_value(values, name) for name in names])
+        # What _value_at reads at Default: the composed value (the authored one
+        # is Get()'s at Default), else the fallback (no helper call per name).
+        composed = values.composed
+        problem = check(
+            *[v if (v := composed(name)) is not None else values.fallback(name) for name in names]
+        )
         return None if problem is None else (DEFAULT_TIME, problem)
     readers = [_reader(values, name) for name in names]
     for time in authored_rendered_times(sampled, ctx.time_sample_cap):
@@ -111,13 +116,6 @@ def _reader(values: PrimValues, name: str) -> _Reader:
     if values.has_value(name):
         return values.attribute(name), _NOT_READ
     return None, values.fallback(name)
-
-
-def _default_value(values: PrimValues, name: str) -> Any:
-    """What :func:`_value_at` reads at Default: the composed value (the authored
-    one is ``Get()``'s at Default), else the fallback."""
-    value = values.composed(name)
-    return value if value is not None else values.fallback(name)
 
 
 def _value_at(reader: _Reader, time: Usd.TimeCode) -> Any:

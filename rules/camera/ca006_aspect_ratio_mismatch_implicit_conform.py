@@ -10,7 +10,9 @@ from pxr import Sdf, Usd
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
 from usdrender_lint.api.resolve import RenderConfiguration, prim_values
 
-from .._camera import at_time, config_owners, first_failure, positive_finite
+from .._camera import at_time, first_failure, positive_finite
+
+_POLICY = "aspectRatioConformPolicy"
 
 
 def _author_conform_policy(owner_path: Sdf.Path):
@@ -193,6 +195,8 @@ class AspectRatioMismatchImplicitConform(Rule):
 
     @staticmethod
     def _has_explicit_policy(config: RenderConfiguration) -> bool:
-        return any(
-            prim_values(p).has_value("aspectRatioConformPolicy") for p in config_owners(config)
+        # config_owners's prims, asked without building a list per configuration.
+        settings, product = config.settings, config.product
+        return (settings is not None and prim_values(settings).has_value(_POLICY)) or (
+            product is not None and prim_values(product).has_value(_POLICY)
         )

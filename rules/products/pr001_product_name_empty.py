@@ -99,12 +99,13 @@ class ProductNameEmpty(Rule):
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
         values = prim_values(prim)
-        attr = values.attribute("productName")
-        # may_vary: no samples are asked of an attribute that provably has none.
-        if values.may_vary("productName") and attr.GetNumTimeSamples():
+        # may_vary: no samples are asked of an attribute that provably has none
+        # (and no handle is made of it: most products have a name).
+        if values.may_vary("productName") and values.attribute("productName").GetNumTimeSamples():
             return
         if checked(values, "productName") != "":
             return
+        attr = values.attribute("productName")
         if attr.GetResolveInfo().ValueIsBlocked():
             how = "is blocked"
         else:

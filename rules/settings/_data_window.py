@@ -10,7 +10,6 @@ from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.raster import pixel_centres
 from usdrender_lint.api.resolve import EffectiveValue, is_finite, items, prim_values
 
-from .._camera import config_owners
 from ._messages import _fmt
 
 _WINDOW = "dataWindowNDC"
@@ -65,7 +64,12 @@ def _find_window_uses(ctx: Context) -> list[_WindowUse]:
     for config in ctx.configurations:
         # Whether the window is authored, asked of the prims' values (once per
         # lint): most configurations author none and need no effective values.
-        if not any(prim_values(p).has_value(_WINDOW) for p in config_owners(config)):
+        # (config_owners's prims, asked without building a list per configuration.)
+        settings, product = config.settings, config.product
+        if not (
+            (settings is not None and prim_values(settings).has_value(_WINDOW))
+            or (product is not None and prim_values(product).has_value(_WINDOW))
+        ):
             continue
         window = config.effective(_WINDOW)  # the resolution is read only for a window to check
         uses.append(_WindowUse(window, config.effective("resolution").value))
@@ -73,7 +77,7 @@ def _find_window_uses(ctx: Context) -> list[_WindowUse]:
     # overrides it), and untargeted products whether or not they render on
     # their own; a use already found above is not listed twice.
     found = {(use.window.attr.GetPath(), tuple(items(use.resolution))) for use in uses}
-    for prim in [*ctx.prims_of(schemas.RenderSettings), *ctx.untargeted_products]:
+    for prim in (*ctx.prims_of(schemas.RenderSettings), *ctx.untargeted_products):
         values = prim_values(prim)
         # By name: the values' own answers, not a second read of the opinions.
         if values.has_value(_WINDOW):
