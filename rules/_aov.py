@@ -86,12 +86,14 @@ def checked_value(prim: Usd.Prim, name: str, ctx: Context) -> Any:
     not add a second one for the same mistake. Read once per lint: most VA
     rules and several PR rules read the same few RenderVar attributes."""
 
-    values = prim_values(prim)
-    return None if values.mismatched(name) is not None else values.composed(name)
+    return checked(prim_values(prim), name)
 
 
 def checked(values: PrimValues, name: str) -> Any:
     """:func:`checked_value` of the prim whose values a rule already holds."""
+    if not values.may_be_authored(name):
+        # No opinion to mistype: the schema's fallback (read once per definition).
+        return values.fallback(name)
     return None if values.mismatched(name) is not None else values.composed(name)
 
 

@@ -60,6 +60,15 @@ def config_owners(config: RenderConfiguration) -> list[Usd.Prim]:
     return [config.settings, config.product]
 
 
+def config_authors(config: RenderConfiguration, name: str) -> bool:
+    """Whether a prim of :func:`config_owners` holds an authored value of ``name``
+    (asked without building the list: once per configuration and rule)."""
+    settings, product = config.settings, config.product
+    return (settings is not None and prim_values(settings).has_value(name)) or (
+        product is not None and prim_values(product).has_value(name)
+    )
+
+
 def first_failure(
     prim: Usd.Prim, names: Iterable[str], check: ValueCheck, ctx: Context
 ) -> tuple[Usd.TimeCode, str] | None:

@@ -8,11 +8,9 @@ from functools import partial
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity
-from usdrender_lint.api.resolve import RenderConfiguration, prim_values
+from usdrender_lint.api.resolve import RenderConfiguration
 
-from .._camera import at_time, first_failure, positive_finite
-
-_POLICY = "aspectRatioConformPolicy"
+from .._camera import at_time, config_authors, first_failure, positive_finite
 
 
 def _author_conform_policy(owner_path: Sdf.Path):
@@ -195,8 +193,4 @@ class AspectRatioMismatchImplicitConform(Rule):
 
     @staticmethod
     def _has_explicit_policy(config: RenderConfiguration) -> bool:
-        # config_owners's prims, asked without building a list per configuration.
-        settings, product = config.settings, config.product
-        return (settings is not None and prim_values(settings).has_value(_POLICY)) or (
-            product is not None and prim_values(product).has_value(_POLICY)
-        )
+        return config_authors(config, "aspectRatioConformPolicy")

@@ -142,14 +142,7 @@ class DeepRasterMissingAlpha(Rule):
         )
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        values = prim_values(prim)
-        # Most products leave productType to the schema: its fallback (read once
-        # per definition) is then the value, with no opinion to mistype it.
-        if values.may_be_authored("productType"):
-            product_type = checked(values, "productType")
-        else:
-            product_type = values.fallback("productType")
-        if product_type != "deepRaster":
+        if checked(prim_values(prim), "productType") != "deepRaster":
             return
         render_vars = product_render_vars(prim, ctx)
         if not render_vars or any(_is_alpha_source(v, ctx) for v in render_vars):

@@ -10,6 +10,7 @@ from usdrender_lint.api import Context, record, schemas
 from usdrender_lint.api.raster import pixel_centres
 from usdrender_lint.api.resolve import EffectiveValue, is_finite, items, prim_values
 
+from .._camera import config_authors
 from ._messages import _fmt
 
 _WINDOW = "dataWindowNDC"
@@ -64,12 +65,7 @@ def _find_window_uses(ctx: Context) -> list[_WindowUse]:
     for config in ctx.configurations:
         # Whether the window is authored, asked of the prims' values (once per
         # lint): most configurations author none and need no effective values.
-        # (config_owners's prims, asked without building a list per configuration.)
-        settings, product = config.settings, config.product
-        if not (
-            (settings is not None and prim_values(settings).has_value(_WINDOW))
-            or (product is not None and prim_values(product).has_value(_WINDOW))
-        ):
+        if not config_authors(config, _WINDOW):
             continue
         window = config.effective(_WINDOW)  # the resolution is read only for a window to check
         uses.append(_WindowUse(window, config.effective("resolution").value))
