@@ -320,6 +320,17 @@ def test_the_opener_bound_counts_every_kind_of_bracket_exactly() -> None:
     assert nesting_problem("deep.usda", b"#usda" + nest[1:-1] + padding) is None
 
 
+def test_openers_never_closed_nest_as_deep_as_they_are_many() -> None:
+    """15,000 parentheses a text layer never closes: USD's parser nests them
+    all (768 MB before it gives up) while the bound for closed pairs read
+    half of them, so the file was handed to USD."""
+    unclosed = b'#usda 1.0\ndef "a" {\n int x = ' + b"(" * 15_000 + b"1\n"
+    assert nesting_depth(unclosed[5:]) == 15_001  # with the prim's brace
+    problem = nesting_problem("unclosed.usda", unclosed)
+    assert problem is not None and problem.startswith("the file nests 15,001 levels deep")
+    assert nesting_depth(b"(" * (MAX_DEPTH - 2) + b"1") < MAX_DEPTH
+
+
 @pytest.mark.parametrize(
     ("text", "levels"),
     [

@@ -104,9 +104,10 @@ def nesting_depth(data: bytes) -> int:
         kept = fewer
     brackets = _NOT_STRUCTURE.sub(b"", data).translate(_AS_PARENTHESES, _NOT_BRACKETS)
     # Removing the innermost pairs lowers the depth by one at most, and what is
-    # left nests at most half its length deep: a mesh's million tuples end here.
+    # left nests at most as deep as it has openers (half its length when every
+    # one is closed; all of it when none is): a mesh's million tuples end here.
     rest = brackets.replace(b"()", b"")
-    if len(rest) // 2 + 1 < MAX_DEPTH:
+    if rest.count(b"(") + 1 < MAX_DEPTH:
         return 0
     steps = (1 if byte == 40 else -1 for byte in brackets)  # 40: "("
     return max(itertools.accumulate(steps), default=0)
