@@ -304,6 +304,33 @@ def test_a_shallow_layer_with_many_openers_is_not_scanned_for_strings(monkeypatc
     assert nesting_depth(text.encode()) < MAX_DEPTH
 
 
+def test_the_opener_bound_counts_every_kind_of_bracket_exactly() -> None:
+    """MAX_DEPTH openers of the three kinds, in one line, are read for depth;
+    one fewer (or the cookie's line) never is."""
+    third = MAX_DEPTH // 3
+    rest = MAX_DEPTH - 2 * third
+    nest = b"{" * third + b"(" * third + b"[" * rest + b"]" * rest + b")" * third + b"}" * third
+    assert nesting_depth(nest) == MAX_DEPTH
+    assert nesting_depth(nest[1:-1] + b"x" * 50_000) == 0
+    assert nesting_problem("deep.usda", b"#usda" + nest) is not None
+    assert nesting_problem("deep.usda", b"#usda" + nest[1:-1]) is None
+    # Counted alike in a text too large to be counted by memchr.
+    padding = b"x" * nesting.COUNT_BY_MEMCHR
+    assert nesting_problem("deep.usda", b"#usda" + nest + padding) is not None
+    assert nesting_problem("deep.usda", b"#usda" + nest[1:-1] + padding) is None
+
+
+def test_openers_never_closed_nest_as_deep_as_they_are_many() -> None:
+    """15,000 parentheses a text layer never closes: USD's parser nests them
+    all (768 MB before it gives up) while the bound for closed pairs read
+    half of them, so the file was handed to USD."""
+    unclosed = b'#usda 1.0\ndef "a" {\n int x = ' + b"(" * 15_000 + b"1\n"
+    assert nesting_depth(unclosed[5:]) == 15_001  # with the prim's brace
+    problem = nesting_problem("unclosed.usda", unclosed)
+    assert problem is not None and problem.startswith("the file nests 15,001 levels deep")
+    assert nesting_depth(b"(" * (MAX_DEPTH - 2) + b"1") < MAX_DEPTH
+
+
 @pytest.mark.parametrize(
     ("text", "levels"),
     [

@@ -583,13 +583,21 @@ class Linter:
         # whether no schema defines it, found at its first prim (hashing a
         # render schema's Tf.Type is a binding call: once a type name, not a prim).
         seen: dict[str, tuple[tuple[Rule, ...], list[list[Usd.Prim]], bool]] = {}
+        # The type names nothing wants (most of a shot's prims: meshes, xforms),
+        # skipped at the cost of a set lookup.
+        unwanted: set[str] = set()
         for prim in stage.Traverse() if prims is None else prims:
             if has_suppressions is not None and has_suppressions(prim):
                 suppressing.append(prim)
             type_name = type_name_of(prim)
+            if type_name in unwanted:
+                continue
             entry = seen.get(type_name)
             if entry is None:
                 rules, kinds = lookup(type_name)
+                if not (rules or kinds or type_name in unknown):
+                    unwanted.add(type_name)
+                    continue
                 lists = [ctx.render_prims.setdefault(kind, []) for kind in kinds]
                 entry = seen[type_name] = (rules, lists, type_name in unknown)
             rules, lists, is_unknown = entry
