@@ -156,10 +156,16 @@ def missing_expression_references(
     return missing
 
 
-def dangling_object_reason(stage: Usd.Stage, path: Sdf.Path) -> str | None:
+def dangling_object_reason(ctx: Context, path: Sdf.Path) -> str | None:
     """Why a collection include/exclude target names nothing renderable: no
     object at the path, or a prim that is inactive, ``over``-only or abstract.
-    None for an existing property or a usable prim."""
+    None for an existing property or a usable prim. Asked once per lint and
+    path: a stage's passes mostly include the same few prims."""
+    return ctx.cached(_dangling_object_reason, path)
+
+
+def _dangling_object_reason(ctx: Context, path: Sdf.Path) -> str | None:
+    stage = ctx.stage
     obj = stage.GetObjectAtPath(path)
     if obj:
         return unusable_reason(obj) if isinstance(obj, Usd.Prim) else None

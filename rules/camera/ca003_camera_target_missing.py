@@ -96,6 +96,11 @@ class CameraTargetMissing(Rule):
     partial_composition = True
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        # The camera relationships reported, by identity (a prim's values hold
+        # one handle per name for the lint): the products of a settings that
+        # inherit its camera share its relationship, target and finding, which
+        # is made once, not once per product (the engine kept one of them).
+        reported: set[int] = set()
         for config in ctx.configurations:
             target = config.camera_target
             if target is None:
@@ -114,8 +119,12 @@ class CameraTargetMissing(Rule):
                 reason = f"is a Camera but {target.problem}"
             else:
                 continue
+            rel = config.camera_relationship
+            if id(rel) in reported:
+                continue
+            reported.add(id(rel))
             yield Diagnostic(
                 message=f"camera target <{target.path}> {reason}; point "
                 f"{_camera_rel_label(config)} at a defined, active Camera prim",
-                at=config.camera_relationship,
+                at=rel,
             )

@@ -111,6 +111,10 @@ class CameraTargetNotCamera(Rule):
     fix_safety = "safe-conditional"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        # As in CA003: the products of a settings that inherit its camera share
+        # its relationship (one handle per prim and name in a lint), target and
+        # finding, made once.
+        reported: set[int] = set()
         for config in ctx.configurations:
             target = config.camera_target
             if target is None or target.is_missing:
@@ -136,6 +140,9 @@ class CameraTargetNotCamera(Rule):
                 continue
             # Looked up for a finding only: most configurations target a Camera.
             rel = config.camera_relationship
+            if id(rel) in reported:
+                continue
+            reported.add(id(rel))
             others = ctx.accepted_names(rel, "camera_types")
             if others:
                 what += f", not a Camera (nor {', '.join(others)}, which this profile accepts)"

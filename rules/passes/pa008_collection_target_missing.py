@@ -96,7 +96,7 @@ class CollectionTargetMissing(Rule):
                     continue
                 rel = values.relationship(name)
                 for target in authored_targets(rel):
-                    reason = dangling_object_reason(ctx.stage, target)
+                    reason = dangling_object_reason(ctx, target)
                     if reason is not None:
                         yield Diagnostic(
                             message=f"{label}:{kind} target <{target}> {reason}; it silently "

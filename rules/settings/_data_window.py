@@ -62,17 +62,25 @@ def _window_uses(ctx: Context) -> list[_WindowUse]:
 
 def _find_window_uses(ctx: Context) -> list[_WindowUse]:
     uses = []
+    # (window attribute, resolution) of each use: a window rendered at one
+    # resolution is one use, however many configurations render it (the
+    # products of a settings that inherit its window and resolution), and
+    # each data-window rule reports it once, not once per product.
+    found = set()
     for config in ctx.configurations:
         # Whether the window is authored, asked of the prims' values (once per
         # lint): most configurations author none and need no effective values.
         if not config_authors(config, _WINDOW):
             continue
         window = config.effective(_WINDOW)  # the resolution is read only for a window to check
-        uses.append(_WindowUse(window, config.effective("resolution").value))
+        resolution = config.effective("resolution").value
+        key = (window.attr.GetPath(), tuple(items(resolution)))
+        if key not in found:
+            found.add(key)
+            uses.append(_WindowUse(window, resolution))
     # Each settings' own window at its own resolution (even when every product
     # overrides it), and untargeted products whether or not they render on
     # their own; a use already found above is not listed twice.
-    found = {(use.window.attr.GetPath(), tuple(items(use.resolution))) for use in uses}
     for prim in (*ctx.prims_of(schemas.RenderSettings), *ctx.untargeted_products):
         values = prim_values(prim)
         # By name: the values' own answers, not a second read of the opinions.

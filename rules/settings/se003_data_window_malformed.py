@@ -80,11 +80,16 @@ class DataWindowMalformed(Rule):
     fix_safety = "unsafe"
 
     def check_stage(self, ctx: Context) -> Iterator[Diagnostic]:
+        # A window's problem, by its attribute handle (one per prim and name in
+        # a lint): a malformed window is malformed at every resolution it is
+        # used at, and the finding is made once (the engine kept one of them).
+        reported: set[tuple[int, str]] = set()
         for use in _window_uses(ctx):
             window = use.window
             problem = _data_window_problem(window.value, use.resolution)
-            if problem is None:
+            if problem is None or (id(window.attr), problem) in reported:
                 continue
+            reported.add((id(window.attr), problem))
             xmin, _, xmax, _ = window.value
             fix = None
             if "inverted" in problem and is_finite(window.value) and xmin > xmax:
