@@ -256,3 +256,27 @@ def test_the_crate_gate_shots_are_the_text_shots(tmp_path) -> None:
     assert found(text[0])  # the first of every ten shots has defects
     for usda, usdc in zip(text, crate, strict=True):
         assert found(usda) == found(usdc)
+
+
+#: Part of ``callgrind_annotate --inclusive=yes``'s listing of a process that built
+#: USD's trace collector (the namespace and library paths shortened).
+_COLLECTOR = "???:pxrInternal_v0_25_11__pxrReserved__::TraceCollector::"
+_ANNOTATED_LISTING = "\n".join(
+    [
+        "855,412,300 (100.0%)  PROGRAM TOTALS",
+        "Ir                   file:function",
+        "855,412,300 (100.0%)  ???:0x0000000000001100 [/usr/lib/ld.so]",
+        f" 31,250,000 ( 3.65%)  {_COLLECTOR}TraceCollector() [/x/libusd_ms.so]",
+        f" 30,900,000 ( 3.61%)  {_COLLECTOR}_MeasureScopeOverhead() [/x/libusd_ms.so]",
+        f" 30,100,000 ( 3.52%)  {_COLLECTOR}_MeasureScopeOverhead()::{{lambda()#1}}::"
+        "operator()() const [/x/libusd_ms.so]",
+        f"  1,000,000 ( 0.12%)  {_COLLECTOR}_MeasureScopeOverhead()'2 [/x/libusd_ms.so]",
+    ]
+)
+
+
+def test_a_count_leaves_out_the_loop_usd_times_itself_with() -> None:
+    # The function's own inclusive count: not its caller's, its lambda's or a recursion's.
+    assert run.clock_bound(_ANNOTATED_LISTING) == 30_900_000
+    # A process that never built the trace collector (no pxr import) has nothing to leave out.
+    assert run.clock_bound(_ANNOTATED_LISTING.split(" 31,250,000")[0]) == 0
