@@ -56,8 +56,9 @@ def nesting_problem(path: str | os.PathLike[str], data: bytes | None = None) -> 
         return None
     if _too_few_openers(data):
         return None  # the cookie holds no bracket: no copy of the text without it
-    # Without the cookie: the rest of its line is read as structure.
-    depth = nesting_depth(data[len(_TEXT_MAGIC) :])
+    # Without the cookie: the rest of its line is read as structure (its openers
+    # are counted: not again).
+    depth = _depth_of_many_openers(data[len(_TEXT_MAGIC) :])
     if depth < MAX_DEPTH:
         return None
     return (
@@ -86,6 +87,11 @@ def nesting_depth(data: bytes) -> int:
     comments and paths; exact from MAX_DEPTH up, else a number below it."""
     if _too_few_openers(data):
         return 0  # too few openers to nest that deep (every scene's text)
+    return _depth_of_many_openers(data)
+
+
+def _depth_of_many_openers(data: bytes) -> int:
+    """:func:`nesting_depth` of ``data`` holding at least MAX_DEPTH openers."""
     # A bound without the costly scan for strings (2.4 ms of a 390 KB shot, a
     # third of USD's parse). Keep only brackets and the bytes that begin a
     # string, comment or path: an opener in structure is then followed by one of
