@@ -7,9 +7,9 @@ from collections.abc import Callable, Iterator
 from pxr import Sdf, Usd
 
 from usdrender_lint.api import Context, Diagnostic, Fix, Rule, Severity, record, schemas
-from usdrender_lint.api.resolve import prim_values, resolve_target
+from usdrender_lint.api.resolve import resolve_target
 
-from .._aov import checked, checked_value, product_render_vars
+from .._aov import checked_value, product_render_vars
 
 
 def _append_target(rel_path: Sdf.Path, target: Sdf.Path) -> Callable[[Usd.Stage], None]:
@@ -142,7 +142,7 @@ class DeepRasterMissingAlpha(Rule):
         )
 
     def check_prim(self, prim: Usd.Prim, ctx: Context) -> Iterator[Diagnostic]:
-        if checked(prim_values(prim), "productType") != "deepRaster":
+        if checked_value(prim, "productType", ctx) != "deepRaster":
             return
         render_vars = product_render_vars(prim, ctx)
         if not render_vars or any(_is_alpha_source(v, ctx) for v in render_vars):
