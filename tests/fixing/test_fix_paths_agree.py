@@ -70,7 +70,56 @@ def test_the_diff_applied_leaves_every_file_as_fix_does(
     assert _contents(root) == _contents(fixed[0])
 
 
-def test_a_text_on_standard_input_is_fixed_as_its_file(fixed: tuple[Path, dict]) -> None:
+#: The whole command (``python -m usdrender_lint``'s main: its supervisor, the
+#: child it forks, standard input read before that fork) once per file, each run
+#: in a process forked from one that imported it and linted once: every file's
+#: run but the interpreter's start-up and the imports. Standard input is the
+#: corpus file's text, stdout and stderr are files; an exit ends the child as it
+#: ends the command's process (SystemExit, the atexit handlers run).
+_COMMAND_PER_TEXT = """
+import os, sys
+import usdrender_lint.__main__ as command
+from usdrender_lint import lint_file
+
+corpus, out, files = sys.argv[1], sys.argv[2], sys.argv[3:]
+lint_file(files[0])  # USD, the engine, the rules and their first-use costs: once, here
+import usdrender_lint.cli.check, usdrender_lint.fixing, usdrender_lint.running.documents
+for index, file in enumerate(files):
+    child = os.fork()
+    if child == 0:
+        os.dup2(os.open(os.path.join(corpus, file), os.O_RDONLY), 0)
+        for fd, stream in ((1, "out"), (2, "err")):
+            os.dup2(os.open(f"{out}/{index}.{stream}", os.O_WRONLY | os.O_CREAT, 0o644), fd)
+        sys.argv = ["usdrender-lint", "check", "--isolated", "--no-cache", "-",
+                    "--stdin-filename", file, "--fix", "--fail-on", "never"]
+        command.main()
+        sys.exit(0)
+    _, status = os.waitpid(child, 0)
+    print(os.waitstatus_to_exitcode(status), flush=True)
+"""
+
+
+def _fixed_texts(root: Path, out: Path, files: list[str]) -> dict[str, tuple[int, bytes, bytes]]:
+    """``_COMMAND_PER_TEXT`` over ``files`` (relative to ``root``): per file, the
+    command's exit status, stdout and stderr."""
+    done = subprocess.run(
+        [sys.executable, "-c", _COMMAND_PER_TEXT, str(CORPUS), str(out), *files],
+        cwd=root,
+        capture_output=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    statuses = [int(line) for line in done.stdout.decode().split()]
+    assert len(statuses) == len(files), done.stdout[-3000:]
+    return {
+        file: (status, (out / f"{index}.out").read_bytes(), (out / f"{index}.err").read_bytes())
+        for index, (file, status) in enumerate(zip(files, statuses, strict=True))
+    }
+
+
+def test_a_text_on_standard_input_is_fixed_as_its_file(
+    fixed: tuple[Path, dict], tmp_path: Path
+) -> None:
     root, report = fixed
     layers: dict[str, set[str | None]] = {}
     for fix in report["fixes"]:
@@ -78,16 +127,21 @@ def test_a_text_on_standard_input_is_fixed_as_its_file(fixed: tuple[Path, dict])
         layers.setdefault(os.path.normpath(fix["file"]), set()).add(layer)
     own = sorted(file for file, touched in layers.items() if touched == {file})
     assert len(own) > 50
+    texts = own[::5]  # every fifth
+    # The first as the installed command runs, interpreter and all; the rest
+    # forked (_COMMAND_PER_TEXT).
+    first = subprocess.run(
+        [*LINT, "-", "--stdin-filename", texts[0], "--fix", "--fail-on", "never"],
+        input=(CORPUS / texts[0]).read_bytes(),
+        cwd=root,
+        capture_output=True,
+        timeout=120,
+    )
+    runs = {texts[0]: (first.returncode, first.stdout, first.stderr)}
+    runs.update(_fixed_texts(root, tmp_path, texts[1:]))
     differing = []
-    for file in own[::5]:  # a process each: every fifth
-        source = (CORPUS / file).read_bytes()
-        done = subprocess.run(
-            [*LINT, "-", "--stdin-filename", file, "--fix", "--fail-on", "never"],
-            input=source,
-            cwd=root,
-            capture_output=True,
-            timeout=120,
-        )
-        if done.returncode != 0 or done.stdout != (root / file).read_bytes():
-            differing.append(f"{file}: exit {done.returncode}, {done.stderr[-300:]!r}")
+    for file in texts:
+        status, stdout, stderr = runs[file]
+        if status != 0 or stdout != (root / file).read_bytes():
+            differing.append(f"{file}: exit {status}, {stderr[-300:]!r}")
     assert differing == []

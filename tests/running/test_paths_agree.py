@@ -113,6 +113,12 @@ from usdrender_lint.running import supervisor
 
 out, how, files = sys.argv[1], sys.argv[2], sys.argv[3:]
 lint_file(files[0])  # USD, the engine, the rules and their first-use costs: once, here
+# The modules the route imports on its first use, imported here once too, not
+# again in every child: the command's and its report's, and for a text the
+# documents' (with pxr.UsdUtils), which a file named does not import.
+import usdrender_lint.cli.check, usdrender_lint.formatters.json
+if how == "stdin":
+    import usdrender_lint.running.documents
 for index, path in enumerate(files):
     child = os.fork()
     if child == 0:
@@ -275,9 +281,14 @@ def _differences(reference: dict[str, tuple], other: dict[str, tuple]) -> list[s
 
 
 @pytest.fixture(scope="module")
-def reference() -> dict[str, tuple]:
-    """``--no-cache --jobs 2``: the pool, the files among others."""
-    return _answers(_check("--no-cache", "--jobs", "2"))
+def reference_report() -> dict:
+    """``--no-cache --jobs 2``: the pool, the files among others; its JSON report."""
+    return _check("--no-cache", "--jobs", "2")
+
+
+@pytest.fixture(scope="module")
+def reference(reference_report: dict) -> dict[str, tuple]:
+    return _answers(reference_report)
 
 
 def test_there_is_real_content_to_compare() -> None:
@@ -395,8 +406,9 @@ def test_the_python_api_on_open_stages(
     assert _differences({f: a for f, a in reference.items() if f not in refused}, staged) == []
 
 
-def test_the_usdvalidation_plugin_as_far_as_its_errors_map() -> None:
-    checked = _check("--no-cache")
+def test_the_usdvalidation_plugin_as_far_as_its_errors_map(reference_report: dict) -> None:
+    # The command's own report (the reference's run, not a second one alike).
+    checked = reference_report
     plugin = _plugin()
     validated = {entry["file"]: entry for entry in plugin["files"]}
     cli, mapped = {}, {}

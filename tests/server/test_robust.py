@@ -31,6 +31,9 @@ from usdrender_lint.server.protocol import SLOW
 
 in_server_loop = pytest.mark.asyncio(loop_scope="module")
 
+pytestmark = pytest.mark.heavy(seconds=150)
+
+
 SERVER = ClientServerConfig(
     server_command=[sys.executable, "-m", "usdrender_lint", "server"], client_factory=make_client
 )
