@@ -139,3 +139,31 @@ def test_a_stage_linted_anew_checks_its_configuration_twice_not_three_times(
     findings = StageLints(linters.linter, linters.lint).findings(stage)
     assert {f.finding.code for f in findings} >= {"SE001"}
     assert len(looks) == 2
+
+
+def test_a_host_call_looks_at_the_configuration_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A host calls once per validator and prim: each look stats every file the
+    # search reads, so a call on a stage already linted looks once, and still
+    # follows a configuration edited between calls.
+    from usdrender_lint.running.stage_lints import CheckedLints
+
+    (tmp_path / "shot.usda").write_text(SHOT)
+    config = tmp_path / ".usdrender-lint.toml"
+    config.write_text("force-exclude = true\n")  # the force-exclude answer is asked for
+    stage = Usd.Stage.Open(str(tmp_path / "shot.usda"))
+    checked = CheckedLints()
+    assert "SE001" in {t.finding.code for t in checked.reported(stage)}
+    looks: list[str] = []
+    prepared = CheckLinters.prepared
+    monkeypatch.setattr(
+        CheckLinters, "prepared", lambda self, s: looks.append("look") or prepared(self, s)
+    )
+    assert "SE001" in {t.finding.code for t in checked.reported(stage)}
+    assert len(looks) == 1
+    config.write_text('force-exclude = true\nignore = ["SE001"]\n')
+    os.utime(config, ns=(0, 0))  # not racy: compared by its stamp alone
+    looks.clear()
+    assert "SE001" not in {t.finding.code for t in checked.reported(stage)}
+    assert len(looks) == 2  # the look that found the edit, and the new lint's

@@ -28,6 +28,7 @@ from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
 from usdrender_lint.model import Severity
 from usdrender_lint.registry import build_registry
+from usdrender_lint.running.stage_lints import CheckedLints, StageLints
 from usdrender_lint.usdplugin import (
     PLUGIN_NAME,
     DeclarationError,
@@ -38,7 +39,7 @@ from usdrender_lint.usdplugin import (
     validator_name,
     write_plug_info,
 )
-from usdrender_lint.usdplugin.validators import CheckedLints, StageLints, fixer_description
+from usdrender_lint.usdplugin.validators import fixer_description
 
 REPO = Path(__file__).parents[2]
 FIXTURES = REPO / "tests" / "rules"

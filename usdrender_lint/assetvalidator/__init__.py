@@ -45,7 +45,7 @@ from ..api.docs import rule_doc
 from ..engine import TracedFinding
 from ..fixing.single import fix_one, refusal, same_finding, target_layer
 from ..model import INTERNAL_ERROR_CODE, Finding, Severity
-from ..running.stage_lints import CheckLinters, FirstFailures, StageLints
+from ..running.stage_lints import CheckedLints
 
 #: The Asset Validator category every usdrender-lint rule is registered in.
 CATEGORY = "usdrender-lint"
@@ -58,21 +58,16 @@ _SEVERITIES = {
     Severity.INFO: IssueSeverity.INFO,
 }
 
-#: One lint per stage state, shared by every checker; check's linter per folder.
-_CHECK = CheckLinters()
-_LINTS = StageLints(_CHECK.linter, _CHECK.lint)
-
-
-#: Stages whose lint failed, already reported (one issue per stage).
-_FAILURES = FirstFailures()
+#: One lint per stage state, shared by every checker; check's linter per folder;
+#: the stages whose lint failed, already reported (one issue per stage).
+_CHECKED = CheckedLints()
+_CHECK = _CHECKED.checks
 
 
 def reported(stage: Usd.Stage) -> list[TracedFinding]:
     """The stage's findings as ``check`` reports them (per-path ignores applied;
     none on a file ``force-exclude`` leaves out, as ``check`` lints none)."""
-    if _CHECK.force_excluded(stage):
-        return []
-    return _CHECK.reported(stage, _LINTS.findings(stage))
+    return _CHECKED.reported(stage)
 
 
 def checker_name(rule: type[Rule]) -> str:
@@ -99,7 +94,7 @@ class UsdRenderLintChecker(BaseRuleChecker):
         try:
             findings = [t for t in reported(usdStage) if self._mine(t)]
         except Exception as exc:  # noqa: BLE001 - one stage's failure is an issue, not a crash
-            if _FAILURES.first(usdStage, type(self).__name__):
+            if _CHECKED.failures.first(usdStage, type(self).__name__):
                 self._AddError(
                     message=f"usdrender-lint could not lint the stage: {type(exc).__name__}: {exc}",
                     at=usdStage,
@@ -160,7 +155,7 @@ class _FixCallable:
         for traced in reported(stage):
             if same_finding(traced.finding, self.finding) and traced.fix is not None:
                 layer = stage.GetEditTarget().GetLayer()
-                linter, excluded = _LINTS.linter(stage), _CHECK.excluded(stage)
+                linter, excluded = _CHECKED.lints.linter(stage), _CHECK.excluded(stage)
                 done = fix_one(linter, stage, traced.finding, traced.fix, layer, excluded)
                 if not done.applied:
                     # The IssueFixer reports an exception as FixStatus.FAILURE.

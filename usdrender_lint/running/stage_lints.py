@@ -99,12 +99,15 @@ class StageLints:
         self._lints: StageMap[_StageLint] = StageMap()
         self._lock = threading.RLock()
 
-    def findings(self, stage: Usd.Stage) -> list[TracedFinding]:
+    def findings(self, stage: Usd.Stage, linter: Linter | None = None) -> list[TracedFinding]:
+        """``linter``: the stage's linter when the caller has it (default: asked
+        of ``linter_for``, which reads the configuration's stamps)."""
+        if linter is None:
+            linter = self._linter_for(stage)
         with self._lock:
             cached = self._lints.get(stage)
             # A host validates its open stage again after its user edited the
             # configuration: the stage is unchanged, the linter is another.
-            linter = self._linter_for(stage)
             if cached is not None and cached.linter is not linter:
                 self._drop(stage)
                 cached = None
@@ -194,10 +197,19 @@ class CheckLinters:
 
         file = stage_file(stage)
         folder = os.path.dirname(file) if os.path.isabs(file) else os.getcwd()
+        # Compared outside the lock: validators called from several threads
+        # would else wait on each other's stats.
+        cached = self._prepared.get(folder)
+        if cached is not None and file_stamps(f for f, _ in cached[1]) == cached[1]:
+            return cached[0]
         with self._lock:
-            cached = self._prepared.get(folder)
-            if cached is not None and file_stamps(f for f, _ in cached[1]) == cached[1]:
-                return cached[0]
+            ready = self._prepared.get(folder)  # by another thread meanwhile
+            if (
+                ready is not None
+                and ready is not cached
+                and file_stamps(f for f, _ in ready[1]) == ready[1]
+            ):
+                return ready[0]
             failed = self._failed.get(folder)
             if (
                 failed is not None
@@ -251,22 +263,23 @@ class CheckLinters:
         prepared = self.prepared(stage)
         return not prepared.settings.variants and finding.code not in prepared.unfixable
 
-    def force_excluded(self, stage: Usd.Stage) -> bool:
+    def force_excluded(self, stage: Usd.Stage, prepared: Any = None) -> bool:
         """Whether ``check`` leaves the stage's file out though it is given by
         name (``force-exclude`` with a pattern that matches it): then it
-        reports nothing on it."""
+        reports nothing on it. ``prepared``: the stage's, when the caller has it."""
         from .discovery import Exclusions, force_excluded
         from .pipeline import folder_exclusions
 
-        prepared = self.prepared(stage)
-        exclusions = Exclusions.of(prepared.settings)
-        if not exclusions.force:
+        if prepared is None:
+            prepared = self.prepared(stage)
+        if not prepared.settings.force_exclude:
             return False
         # Every checker asks, and the answer walks the folders (.gitignore): once
         # per stage (a host validates a new one each time) and preparation.
         known = self._force_excluded.get(stage)
         if known is not None and known[0] is prepared:
             return known[1]
+        exclusions = Exclusions.of(prepared.settings)
         answer = force_excluded(stage_file(stage), exclusions, folder_exclusions(prepared))
         with self._lock:
             self._force_excluded[stage] = (prepared, answer)
@@ -279,15 +292,18 @@ class CheckLinters:
 
         return excluded_from_linting(self.prepared(stage))
 
-    def reported(self, stage: Usd.Stage, traced: list[TracedFinding]) -> list[TracedFinding]:
+    def reported(
+        self, stage: Usd.Stage, traced: list[TracedFinding], prepared: Any = None
+    ) -> list[TracedFinding]:
         """The findings ``check`` reports (per-path ignores applied), each as
-        ``check`` reports it (no fix of an ``unfixable`` rule's finding)."""
+        ``check`` reports it (no fix of an ``unfixable`` rule's finding).
+        ``prepared``: the stage's, when the caller has it."""
         file = stage_file(stage)
-        finished = (
-            self.prepared(stage)
-            .finish(Report((FileResult(file, findings=tuple(t.finding for t in traced)),)))
-            .findings
-        )
+        if prepared is None:
+            prepared = self.prepared(stage)
+        finished = prepared.finish(
+            Report((FileResult(file, findings=tuple(t.finding for t in traced)),))
+        ).findings
         # finish drops fixes: a finding is known by the rest of it.
         kept = {replace(f, fix=None): f for f in finished}
         reported = []
@@ -298,9 +314,41 @@ class CheckLinters:
         return reported
 
 
+class CheckedLints:
+    """The findings ``check`` reports on a stage, shared by every validator or
+    checker a host calls: one lint per stage state with ``check``'s linter for
+    its file, per-path ignores applied (once per lint, not once per call), none
+    on a file ``force-exclude`` leaves out."""
+
+    def __init__(self) -> None:
+        self.checks = CheckLinters()
+        self.lints = StageLints(self.checks.linter, self.checks.lint)
+        self.failures = FirstFailures()
+        self._reported: StageMap[tuple[list[TracedFinding], list[TracedFinding]]] = StageMap()
+        self._lock = threading.Lock()
+
+    def reported(self, stage: Usd.Stage) -> list[TracedFinding]:
+        """Raises RequestError when the stage's configuration cannot be read."""
+        # Once a call: a host calls once per validator and prim, and each look
+        # at the configuration stats every file its search reads.
+        prepared = self.checks.prepared(stage)
+        if self.checks.force_excluded(stage, prepared):
+            return []
+        traced = self.lints.findings(stage, _linter_of(prepared))
+        with self._lock:
+            cached = self._reported.get(stage)
+        if cached is not None and cached[0] is traced:
+            return cached[1]
+        kept = self.checks.reported(stage, traced, prepared)
+        with self._lock:
+            self._reported[stage] = (traced, kept)
+        return kept
+
+
 __all__ = [
     "MAX_CACHED_STAGES",
     "CheckLinters",
+    "CheckedLints",
     "FirstFailures",
     "StageLints",
     "StageMap",

@@ -21,7 +21,6 @@ becomes a ``ValidationError`` of the validator that failed.
 
 from __future__ import annotations
 
-import threading
 import traceback
 from typing import Any
 
@@ -32,7 +31,7 @@ from ..engine import TracedFinding
 from ..fixing.single import fix_one, refusal
 from ..model import Finding, Severity
 from ..running.pipeline import RequestError
-from ..running.stage_lints import CheckLinters, FirstFailures, StageLints, StageMap
+from ..running.stage_lints import CheckedLints
 from . import PLUGIN_NAME, is_prim_validator, validator_key, validator_name
 
 ErrorType = UsdValidation.ValidationErrorType
@@ -88,34 +87,6 @@ def config_error(stage: Any, exc: RequestError) -> Any:
     sites = [UsdValidation.ValidationErrorSite(stage, Sdf.Path.absoluteRootPath)]
     message = f"usdrender-lint could not lint the stage: {exc}"
     return UsdValidation.ValidationError(FAILURE_ERROR_NAME, ErrorType.Error, sites, message)
-
-
-class CheckedLints:
-    """The findings ``check`` reports on a stage, shared by every validator:
-    one lint per stage state with ``check``'s linter for its file, per-path
-    ignores applied (once per lint, not once per prim validator call), none on
-    a file ``force-exclude`` leaves out."""
-
-    def __init__(self) -> None:
-        self.checks = CheckLinters()
-        self.lints = StageLints(self.checks.linter, self.checks.lint)
-        self.failures = FirstFailures()
-        self._reported: StageMap[tuple[list[TracedFinding], list[TracedFinding]]] = StageMap()
-        self._lock = threading.Lock()
-
-    def reported(self, stage: Usd.Stage) -> list[TracedFinding]:
-        """Raises RequestError when the stage's configuration cannot be read."""
-        if self.checks.force_excluded(stage):
-            return []
-        traced = self.lints.findings(stage)
-        with self._lock:
-            cached = self._reported.get(stage)
-        if cached is not None and cached[0] is traced:
-            return cached[1]
-        kept = self.checks.reported(stage, traced)
-        with self._lock:
-            self._reported[stage] = (traced, kept)
-        return kept
 
 
 class RuleValidator:
