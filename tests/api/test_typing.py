@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.heavy(seconds=15)
+pytestmark = pytest.mark.heavy(seconds=22)
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -22,6 +22,8 @@ from usdrender_lint.layers import nesting
 from usdrender_lint.layers.crate import crate_structure_problem
 from usdrender_lint.layers.nesting import MAX_DEPTH, nesting_depth, nesting_problem
 
+pytestmark = pytest.mark.heavy(seconds=20)
+
 CLEAN = '#usda 1.0\ndef Scope "Render"\n{\n}\n'
 
 

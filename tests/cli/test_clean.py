@@ -13,6 +13,8 @@ from cli_support import BROKEN, invoke_in
 
 from usdrender_lint.running.result_cache import CACHE_DIR_NAME, ENTRIES_DIR
 
+pytestmark = pytest.mark.heavy(seconds=12)
+
 ENTRY = "0123456789abcdef0123456789abcdef01234567.json"
 
 

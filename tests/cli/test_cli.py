@@ -12,6 +12,8 @@ from click.testing import CliRunner
 
 from usdrender_lint.cli import cli
 
+pytestmark = pytest.mark.heavy(seconds=31)
+
 REPO = Path(__file__).parents[2]
 EXAMPLES = REPO / "examples"
 CLEAN = EXAMPLES / "clean_shot" / "shot.usda"

@@ -19,6 +19,7 @@ import re
 import tempfile
 from pathlib import Path
 
+import pytest
 from cli_support import run_cli_process, settings_crate
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
@@ -27,6 +28,8 @@ from hypothesis import strategies as st
 from usdrender_lint.cli import cli
 from usdrender_lint.engine import Linter
 from usdrender_lint.testing import all_rules
+
+pytestmark = pytest.mark.heavy(seconds=19)
 
 RULE_FIXTURES = Path(__file__).parents[1] / "rules"
 _EXAMPLES_ENV = os.environ.get("USDRENDER_LINT_FUZZ_EXAMPLES")

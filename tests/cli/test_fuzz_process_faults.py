@@ -40,7 +40,7 @@ pytestmark = [
     pytest.mark.skipif(
         not sys.platform.startswith("linux"), reason="signals, FIFOs and pipes as on Linux"
     ),
-    pytest.mark.heavy(seconds=28),
+    pytest.mark.heavy(seconds=30),
 ]
 
 

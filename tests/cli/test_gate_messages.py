@@ -20,6 +20,8 @@ from click.testing import CliRunner
 from usdrender_lint.cli import cli
 from usdrender_lint.formatters.github import escape_property
 
+pytestmark = pytest.mark.heavy(seconds=12)
+
 REPO = Path(__file__).resolve().parents[2]
 INFO_ONLY = REPO / "tests" / "rules" / "ST003_render_settings_path_missing" / "fail_unset.usda"
 WIP = REPO / "examples" / "broken_shot" / "lighting_wip.usda"

@@ -19,6 +19,8 @@ from click.testing import CliRunner
 from usdrender_lint.cli import cli
 from usdrender_lint.paths import escape
 
+pytestmark = pytest.mark.heavy(seconds=15)
+
 REPO = Path(__file__).resolve().parents[2]
 CLEAN = (REPO / "examples" / "clean_shot" / "shot.usda").read_text()
 INVERTED = """#usda 1.0

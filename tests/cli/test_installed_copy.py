@@ -25,6 +25,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.heavy(seconds=16)
+
 REPO = Path(__file__).resolve().parents[2]
 FIXTURES = REPO / "tests" / "rules"
 CA004_RIG = FIXTURES / "CA004_camera_target_not_camera" / "fail_rig.usda"

@@ -27,6 +27,8 @@ import pytest
 from usdrender_lint import atomic
 from usdrender_lint.formatters import available_formatters
 
+pytestmark = pytest.mark.heavy(seconds=48)
+
 REPO = Path(__file__).resolve().parents[2]
 BROKEN = str(REPO / "examples" / "broken_shot" / "shot.usda")
 #: Every registered report format (json, sarif, text, github, html, ...).

@@ -21,7 +21,7 @@ import pytest
 
 from usdrender_lint import __version__
 
-pytestmark = pytest.mark.heavy(seconds=46)
+pytestmark = pytest.mark.heavy(seconds=60)
 
 pytest.importorskip("pre_commit")
 yaml = pytest.importorskip("yaml")  # PyYAML comes with pre-commit

@@ -26,9 +26,12 @@ from cli_support import (
 
 from usdrender_lint.running.progress import PROGRESS_MIN_FILES
 
-pytestmark = pytest.mark.skipif(
-    not sys.platform.startswith("linux"), reason="FIFOs, /proc and /dev/full are Linux's"
-)
+pytestmark = [
+    pytest.mark.skipif(
+        not sys.platform.startswith("linux"), reason="FIFOs, /proc and /dev/full are Linux's"
+    ),
+    pytest.mark.heavy(seconds=55),
+]
 
 
 @pytest.mark.parametrize(

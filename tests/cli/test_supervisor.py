@@ -29,9 +29,12 @@ from cli_support import (
 from usdrender_lint.running import supervisor
 from usdrender_lint.running.supervisor import wants_supervision
 
-pytestmark = pytest.mark.skipif(
-    not sys.platform.startswith("linux"), reason="the supervisor is Linux's (PR_SET_PDEATHSIG)"
-)
+pytestmark = [
+    pytest.mark.skipif(
+        not sys.platform.startswith("linux"), reason="the supervisor is Linux's (PR_SET_PDEATHSIG)"
+    ),
+    pytest.mark.heavy(seconds=27),
+]
 
 
 @pytest.mark.parametrize(

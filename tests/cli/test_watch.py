@@ -21,6 +21,8 @@ import pytest
 
 from usdrender_lint.running.watching import relevant
 
+pytestmark = pytest.mark.heavy(seconds=36)
+
 REPO = Path(__file__).parents[2]
 BIN = Path(sys.executable).parent / "usdrender-lint"
 CLEAN = REPO / "examples" / "clean_shot" / "shot.usda"

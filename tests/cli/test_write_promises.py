@@ -30,6 +30,8 @@ from usdrender_lint.cli import cli
 from usdrender_lint.layers import writing
 from usdrender_lint.running.outputs import OutputOnInput, refuse_inputs
 
+pytestmark = pytest.mark.heavy(seconds=30)
+
 REPO = Path(__file__).resolve().parents[2]
 SHOT = (REPO / "examples" / "broken_shot" / "shot.usda").read_text(encoding="utf-8")
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.heavy(seconds=11)
+pytestmark = pytest.mark.heavy(seconds=13)
 
 REPO = Path(__file__).resolve().parents[2]
 

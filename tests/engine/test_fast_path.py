@@ -18,6 +18,8 @@ from usdrender_lint.engine import Linter, layer_words
 from usdrender_lint.engine import partial as fastpath
 from usdrender_lint.testing import all_rules
 
+pytestmark = pytest.mark.heavy(seconds=14)
+
 TESTS = Path(__file__).parents[1]
 REPO = TESTS.parent
 #: Every layer of every rule fixture folder (supporting layers too) and the

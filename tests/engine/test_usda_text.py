@@ -9,12 +9,15 @@ import sys
 from collections.abc import Iterator
 from pathlib import Path
 
+import pytest
 from pxr import Sdf
 from pytest import MonkeyPatch
 
 from usdrender_lint.api.cache import lint_cache
 from usdrender_lint.layers import usda_text
 from usdrender_lint.layers.usda_text import comment_lines, index_usda, line_of
+
+pytestmark = pytest.mark.heavy(seconds=19)
 
 TESTS = Path(__file__).parents[1]
 REPO = TESTS.parent

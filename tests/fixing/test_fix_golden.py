@@ -24,6 +24,8 @@ from usdrender_lint.engine import Linter, open_stage
 from usdrender_lint.fixing.overlay import composed_stage
 from usdrender_lint.registry import build_registry
 
+pytestmark = pytest.mark.heavy(seconds=12)
+
 FIXTURES = Path(__file__).parents[1] / "rules"
 GOLDEN_SUFFIX = ".fixed.usda"
 WRITE_GOLDENS = os.environ.get("USDRENDER_LINT_WRITE_GOLDENS", "") not in ("", "0")

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 from conftest import SHARED, SHARED_MISSING
 
-pytestmark = pytest.mark.heavy(seconds=40)
+pytestmark = pytest.mark.heavy(seconds=39)
 
 LINT = [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--no-cache"]
 

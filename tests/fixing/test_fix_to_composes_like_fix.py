@@ -15,7 +15,7 @@ from usdrender_lint.fixing import FixOptions, fix_files
 from usdrender_lint.fixing.overlay import composed_stage
 from usdrender_lint.running.pipeline import Request, prepare
 
-pytestmark = pytest.mark.heavy(seconds=57)
+pytestmark = pytest.mark.heavy(seconds=90)
 
 LAYERS = (".usda", ".usd", ".usdc")
 

@@ -21,6 +21,8 @@ from usdrender_lint.formatters.junit import NOT_LINTED_CODE as JUNIT_NOT_LINTED
 from usdrender_lint.model import FileResult, Finding, FixInfo, Location, Report, Severity
 from usdrender_lint.paths import escape
 
+pytestmark = pytest.mark.heavy(seconds=11)
+
 REPO = Path(__file__).parents[2]
 #: Copied into each test's working directory: findings of every severity, a
 #: file USD cannot parse (ST001), a clean file, findings in a sublayer two

@@ -19,6 +19,8 @@ from usdrender_lint.formatters import FormatOptions
 from usdrender_lint.formatters.full import PIPED_COLUMNS, FullFormatter
 from usdrender_lint.model import FileResult, Finding, Location, Report, Severity
 
+pytestmark = pytest.mark.heavy(seconds=13)
+
 REPO = Path(__file__).resolve().parents[2]
 #: Every rule fixture and example: findings in sublayers and references, parse
 #: errors with columns, crates (none here, one below), many rules.

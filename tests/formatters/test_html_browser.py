@@ -21,7 +21,7 @@ pytestmark = [
         chromium() is None,
         reason="Chromium is not installed (apt-get install chromium): the browser tests skip",
     ),
-    pytest.mark.heavy(seconds=60),
+    pytest.mark.heavy(seconds=48),
 ]
 
 REPO = Path(__file__).parents[2]

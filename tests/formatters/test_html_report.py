@@ -14,6 +14,8 @@ from pathlib import Path
 import pytest
 from html_support import strict_problems
 
+pytestmark = pytest.mark.heavy(seconds=46)
+
 REPO = Path(__file__).parents[2]
 BIN = Path(sys.executable).parent / "usdrender-lint"
 

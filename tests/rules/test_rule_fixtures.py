@@ -10,6 +10,8 @@ import pytest
 from usdrender_lint.profiles import Profiler
 from usdrender_lint.testing import all_rules, check_fixture, expectations, fixture_files, lint
 
+pytestmark = pytest.mark.heavy(seconds=17)
+
 FOLDER = Path(__file__).parent
 RULES = all_rules()
 

@@ -28,6 +28,8 @@ from usdrender_lint.running.pipeline import LinterSpec, make_linter
 from usdrender_lint.running.progress import PROGRESS_MIN_FILES, want_progress
 from usdrender_lint.running.workers import ExecutionError, lint_paths
 
+pytestmark = pytest.mark.heavy(seconds=27)
+
 _T = TypeVar("_T")
 SCOPE = '#usda 1.0\ndef Scope "{name}"\n{{\n}}\n'
 SETTINGS = """#usda 1.0

@@ -25,7 +25,7 @@ from usdrender_lint.engine.variants import (
 )
 from usdrender_lint.testing import all_rules
 
-pytestmark = pytest.mark.heavy(seconds=22)
+pytestmark = pytest.mark.heavy(seconds=36)
 
 REPO = Path(__file__).resolve().parents[2]
 CONTROL = """#usda 1.0

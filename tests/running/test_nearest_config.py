@@ -20,6 +20,8 @@ import usdrender_lint
 from usdrender_lint.cli import cli
 from usdrender_lint.running.documents import Documents
 
+pytestmark = pytest.mark.heavy(seconds=28)
+
 REPO = Path(__file__).resolve().parents[2]
 BROKEN = REPO / "examples" / "broken_shot"
 CLEAN = REPO / "examples" / "clean_shot" / "shot.usda"

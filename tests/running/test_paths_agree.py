@@ -41,7 +41,7 @@ from usdrender_lint.formatters import FormatOptions
 from usdrender_lint.formatters.json import report_to_dict
 from usdrender_lint.usdplugin import plugin_dir
 
-pytestmark = pytest.mark.heavy(seconds=85)
+pytestmark = pytest.mark.heavy(seconds=155)
 
 USD_SUFFIXES = {".usd", ".usda", ".usdc", ".usdz"}
 #: What a finding is, for the comparison.

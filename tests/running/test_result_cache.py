@@ -32,6 +32,8 @@ from usdrender_lint.running import result_cache
 from usdrender_lint.running.pipeline import Request, make_linter, run
 from usdrender_lint.running.result_cache import ResultCache, run_key, settings_key
 
+pytestmark = pytest.mark.heavy(seconds=13)
+
 BAD = "(1, 1, 0, 0)"  # an inverted dataWindowNDC: SE003
 GOOD = "(0, 0, 1, 1)"
 

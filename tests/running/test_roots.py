@@ -30,6 +30,8 @@ from usdrender_lint.running.roots import (
 )
 from usdrender_lint.running.workers import lint_paths
 
+pytestmark = pytest.mark.heavy(seconds=11)
+
 LAYOUT = """#usda 1.0
 def Xform "World"
 {

@@ -24,6 +24,8 @@ from usdrender_lint.running.shards import (
     shard_key,
 )
 
+pytestmark = pytest.mark.heavy(seconds=55)
+
 REPO = Path(__file__).resolve().parents[2]
 
 

@@ -17,7 +17,7 @@ from usdrender_lint.running.workers import timed_out
 
 pytestmark = [
     pytest.mark.skipif(not sys.platform.startswith("linux"), reason="supervised runs: Linux"),
-    pytest.mark.heavy(seconds=25),
+    pytest.mark.heavy(seconds=27),
 ]
 
 HANGING_RULE = '''

@@ -38,7 +38,7 @@ from usdrender_lint.running.supervisor import (
     wants_supervision,
 )
 
-pytestmark = pytest.mark.heavy(seconds=75)
+pytestmark = pytest.mark.heavy(seconds=150)
 
 EXAMPLES = sorted((REPO / "examples").rglob("*.usda"))
 FILES = set((REPO / "tests" / "rules").rglob("*.usda"))

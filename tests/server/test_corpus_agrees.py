@@ -33,7 +33,7 @@ from test_protocol import (
     start_session,
 )
 
-pytestmark = [pytest.mark.asyncio(loop_scope="module"), pytest.mark.heavy(seconds=30)]
+pytestmark = [pytest.mark.asyncio(loop_scope="module"), pytest.mark.heavy(seconds=52)]
 
 CORPUS = SHARED / "corpus" / "files"
 #: What a finding is, for the comparison (what a diagnostic carries of it).

@@ -11,6 +11,8 @@ import pytest
 from usdrender_lint import lint_file
 from usdrender_lint.running.documents import Documents
 
+pytestmark = pytest.mark.heavy(seconds=11)
+
 VARIANT_SHOT = """#usda 1.0
 def Scope "Render"
 {

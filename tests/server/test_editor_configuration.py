@@ -18,7 +18,10 @@ from lsprotocol import types
 from pytest_lsp import LanguageClient, client_capabilities
 from test_protocol import BROKEN_SHOT, SERVER, diagnostics_of, history, open_document
 
-pytestmark = pytest.mark.asyncio(loop_scope="module")
+pytestmark = [
+    pytest.mark.asyncio(loop_scope="module"),
+    pytest.mark.heavy(seconds=22),
+]
 
 BIN = Path(sys.executable).parent / "usdrender-lint"
 #: The show's own configuration (the nearest), and a studio's file elsewhere.

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.heavy(seconds=29)
+
 REPO = Path(__file__).resolve().parents[2]
 GUIDE = REPO / "docs" / "guides" / "editors.md"
 BROKEN_SHOT = REPO / "examples" / "broken_shot" / "shot.usda"

@@ -14,6 +14,8 @@ from lsp_editor import Editor, until
 
 from usdrender_lint.server.protocol import FIX_ALL
 
+pytestmark = pytest.mark.heavy(seconds=30)
+
 FINE = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
 #: FINE with a sublayer that is a FIFO: USD blocks reading it forever.
 HANGS = '#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\ndef RenderSettings "S"\n{\n}\n'

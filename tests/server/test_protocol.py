@@ -30,7 +30,10 @@ from usdrender_lint.server.ranges import Edit, Span, apply_edits
 REPO = Path(__file__).resolve().parents[2]
 BROKEN_SHOT = REPO / "examples" / "broken_shot" / "shot.usda"
 
-pytestmark = pytest.mark.asyncio(loop_scope="module")
+pytestmark = [
+    pytest.mark.asyncio(loop_scope="module"),
+    pytest.mark.heavy(seconds=27),
+]
 
 
 @pytest.fixture(scope="module")

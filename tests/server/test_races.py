@@ -15,6 +15,8 @@ from lsp_editor import Editor, until
 
 from usdrender_lint.server.protocol import FIX_ALL
 
+pytestmark = pytest.mark.heavy(seconds=31)
+
 BROKEN_SHOT = Path(__file__).resolve().parents[2] / "examples" / "broken_shot" / "shot.usda"
 FINE = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
 

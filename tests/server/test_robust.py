@@ -31,7 +31,7 @@ from usdrender_lint.server.protocol import SLOW
 
 in_server_loop = pytest.mark.asyncio(loop_scope="module")
 
-pytestmark = pytest.mark.heavy(seconds=150)
+pytestmark = pytest.mark.heavy(seconds=55)
 
 
 SERVER = ClientServerConfig(

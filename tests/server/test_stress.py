@@ -24,6 +24,8 @@ from lsp_editor import Editor
 
 from usdrender_lint.server.protocol import NAME
 
+pytestmark = pytest.mark.heavy(seconds=17)
+
 #: The documents: d0 (a shot) may sublayer d1..d3, d1 may sublayer d2 and d3, ...
 DOCUMENTS = 4
 #: Seconds the server may take to settle once the editor stops (2 busy cores).

@@ -46,7 +46,7 @@ FIXTURES = REPO / "tests" / "rules"
 SE003_FAIL = FIXTURES / "SE003_data_window_malformed" / "fail_inverted.usda"
 RULES = build_registry().rules
 
-pytestmark = pytest.mark.heavy(seconds=100)
+pytestmark = pytest.mark.heavy(seconds=38)
 
 
 def _run_child(script: str, plugin_path: Path, extra_path: Path | None = None, *args: str) -> dict:
