@@ -32,6 +32,11 @@ medians, and "paired" is the median of the rounds' own ratios. The goals
   of it, with the findings of each combination (a combination costs the
   recomposition USD does and the rules, not a walk of the stage).
 
+With no goal, the UsdValidation validators (``--only hosts``): ``Validate`` of
+every gate shot in one process, with every usdrender-lint validator, against
+``check --jobs 1`` and the floor of the same shots (a host calls a prim
+validator per prim and rule, and each call looks at the configuration).
+
 Floors are printed beside the goals they bound: a bare open that also imports
 click (what the stack costs before any linter code runs; the rules name
 schemas as ``Tf.Type``, so no ``pxr.UsdRender`` bindings are imported),
@@ -651,6 +656,41 @@ def gate(
     }, (jobs1.median(), floor1.median())
 
 
+#: Every usdrender-lint validator through OpenUSD's registry, on each file.
+VALIDATE_ALL = (
+    "import sys\n"
+    "from pxr import Usd, UsdValidation\n"
+    "registry = UsdValidation.ValidationRegistry()\n"
+    "names = registry.GetValidatorMetadataForKeyword('usdRenderLint')\n"
+    "validators = [registry.GetOrLoadValidatorByName(m.name) for m in names]\n"
+    "assert validators, 'no usdrender-lint validator registered'\n"
+    "context = UsdValidation.ValidationContext(validators)\n"
+    "for f in sys.argv[1:]:\n"
+    "    context.Validate(Usd.Stage.Open(f))"
+)
+
+
+def hosts(work: Path, count: int, rounds: int) -> dict[str, float]:
+    """The UsdValidation plugin over ``count`` gate shots in one process, against
+    ``check --jobs 1`` and the floor of the same shots; shown, judged by no goal."""
+    from usdrender_lint.usdplugin import plugin_dir
+
+    folder = ensure(work / f"gate_{count}", "gate", "--count", str(count), "--format", "usda")
+    files = sorted(str(p) for p in folder.glob("gate_*.usda"))
+    env = dict(os.environ, PXR_PLUGINPATH_NAME=str(plugin_dir()))
+    floor = Series(f"open+traverse {count} shots", [PYTHON, "-c", OPEN_TRAVERSE_ALL, *files])
+    jobs1 = Series(f"check --jobs 1 {count} shots", [*CHECK, "--jobs", "1", *files])
+    plugin = Series(f"UsdValidation {count} shots", [PYTHON, "-c", VALIDATE_ALL, *files], env)
+    series = [floor, jobs1, plugin]
+    measure(series, rounds)
+    print(f"\nHosts: the UsdValidation validators over {count} gate shots, {rounds} rounds")
+    for s in series:
+        print(row(s, floor if s is not floor else None))
+    ratio = plugin.median() / jobs1.median()
+    print(f"  UsdValidation {ratio:.2f}x check --jobs 1 (paired {paired(plugin, jobs1):.2f}x)")
+    return {f"hosts_{count}_usdvalidation_vs_check": ratio}
+
+
 def two_core_ceiling(jobs1_seconds: float, jobs2_cpu_seconds: float, cpus: int = 2) -> float:
     """The most ``--jobs 2`` can gain over ``--jobs 1`` (wall ``jobs1_seconds``)
     with the CPU time it spends: ``cpus`` cores never idle take ``jobs2_cpu_seconds
@@ -904,6 +944,7 @@ CASES = (
     "configs",
     "variants",
     "hostile",
+    "hosts",
 )
 
 
@@ -990,6 +1031,8 @@ def main(argv: list[str] | None = None) -> int:
             figures.update(variants(work, prims, args.big_rounds))
     if "hostile" in cases:
         figures.update(hostile(work, args.rounds))
+    if "hosts" in cases:
+        figures.update(hosts(work, 22, args.rounds))
     return 0 if verdict(figures) else 1
 
 

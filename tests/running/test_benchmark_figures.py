@@ -280,3 +280,45 @@ def test_a_count_leaves_out_the_loop_usd_times_itself_with() -> None:
     assert run.clock_bound(_ANNOTATED_LISTING) == 30_900_000
     # A process that never built the trace collector (no pxr import) has nothing to leave out.
     assert run.clock_bound(_ANNOTATED_LISTING.split(" 31,250,000")[0]) == 0
+
+
+def test_the_hosts_case_validates_with_every_validator_and_is_judged_by_no_goal(
+    tmp_path, monkeypatch, capsys
+) -> None:
+    import os
+    import subprocess
+    import sys
+
+    from usdrender_lint.usdplugin import plugin_dir
+
+    # The script the case times validates a broken shot with the plugin's validators,
+    # and refuses to time a run in which none registered.
+    shot = Path(__file__).resolve().parents[2] / "examples" / "broken_shot" / "shot.usda"
+    counting = run.VALIDATE_ALL.replace(
+        "    context.Validate(Usd.Stage.Open(f))",
+        "    print(len(context.Validate(Usd.Stage.Open(f))))",
+    )
+    env = dict(os.environ, PXR_PLUGINPATH_NAME=str(plugin_dir()))
+    done = subprocess.run(
+        [sys.executable, "-c", counting, str(shot)], capture_output=True, text=True, env=env
+    )
+    assert done.returncode == 0, done.stderr
+    assert int(done.stdout.split()[-1]) > 0
+    unregistered = dict(os.environ, PXR_PLUGINPATH_NAME=str(tmp_path))
+    refused = subprocess.run(
+        [sys.executable, "-c", run.VALIDATE_ALL, str(shot)], capture_output=True, env=unregistered
+    )
+    assert refused.returncode != 0
+
+    seconds = {"open+traverse 4 shots": 1.0, "check --jobs 1 4 shots": 2.0}
+
+    def measure(series, rounds):
+        for s in series:
+            s.samples = [run.Sample(seconds.get(s.label, 5.0), 1024, 1.0)] * rounds
+
+    monkeypatch.setattr(run, "ensure", _empty_shots)
+    monkeypatch.setattr(run, "measure", measure)
+    figures = run.hosts(tmp_path, 4, 3)
+    assert figures == {"hosts_4_usdvalidation_vs_check": 2.5}
+    assert run._goal("hosts_4_usdvalidation_vs_check") is None
+    assert "UsdValidation 2.50x check --jobs 1" in capsys.readouterr().out
