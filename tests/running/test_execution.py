@@ -352,6 +352,28 @@ def test_a_crash_around_a_recycling_loses_no_file(
     assert said == ["error" if name == "Crash" else f"scope {name}" for name in names]
 
 
+def test_a_file_sent_to_a_worker_that_just_died_is_linted_by_the_next(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # On a loaded machine the worker can crash on one file before the parent sends
+    # it the next: that send fails (a broken pipe), and the file goes to the next
+    # worker. Here the parent pauses after sending the crashing file, as load would.
+    names = ["Crash", "S1", "S2"]
+    files = [_write(tmp_path, f"{n}.usda", SCOPE.format(name=name)) for n, name in enumerate(names)]
+    sent = []
+
+    def paused(path: str) -> None:
+        sent.append(path)
+        if path == files[0]:
+            time.sleep(1.0)  # the worker crashes meanwhile
+
+    monkeypatch.setattr(execution, "will_read", paused)
+    results = _within(60, lambda: lint_paths(files, linter_factory=trap_linter, jobs=1, timeout=60))
+    said = [r.findings[0].message if r.status == "linted" else r.status for r in results]
+    assert said == ["error", "scope S1", "scope S2"]
+    assert sent.count(files[1]) == 1  # the failed send is no read ahead
+
+
 def test_a_worker_that_cannot_build_its_linter_stops_the_run(tmp_path: Path) -> None:
     files = [_write(tmp_path, "1.usda", SCOPE.format(name="A"))]
     with pytest.raises(ExecutionError, match="plugin acme failed to import"):

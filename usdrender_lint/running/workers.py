@@ -227,10 +227,16 @@ class Pool:
             and (not worker.queue or len(self._pending) >= len(self._workers))
         ):
             index, item = self._pending.pop()
+            try:
+                worker.conn.send((index, item))
+            except OSError:
+                # It died since the last look (a crash on the item before): the
+                # item never reached it. _step finds the death by its sentinel.
+                self._pending.append((index, item))
+                return
             if not worker.queue:  # it starts this one now
                 worker.deadline = self._deadline()
             worker.queue.append((index, item))
-            worker.conn.send((index, item))
             if self.handle is lint_one:
                 will_read(_path_of(item))
 
