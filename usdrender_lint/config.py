@@ -827,6 +827,11 @@ def file_stamps(files: Iterable[str], read_ns: int | None = None) -> Stamps:
     return tuple((path, file_state(path, read_ns=read_ns)) for path in files)
 
 
+def stamps_hold(stamps: Stamps) -> bool:
+    """Whether every file of ``stamps`` is as it was stamped (:func:`file_stamps`)."""
+    return file_stamps(path for path, _ in stamps) == stamps
+
+
 def stamped_read(
     candidates: Sequence[str], read: Callable[[], _T], sources: Callable[[_T], Iterable[str]]
 ) -> tuple[_T, Stamps]:

@@ -34,10 +34,10 @@ from ..config import (
     FileState,
     Stamps,
     config_candidates,
-    file_stamps,
     file_state,
     is_racy,
     stamped_read,
+    stamps_hold,
 )
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
@@ -378,7 +378,7 @@ class Documents:
             return self._prepared
         folder = os.path.dirname(path)
         config = self._configs.get(folder)
-        if config is not None and file_stamps(tuple(f for f, _ in config.stamps)) != config.stamps:
+        if config is not None and not stamps_hold(config.stamps):
             config = None  # a file changed: the one found, or one it extends
         if config is None:
             given = self._configuration

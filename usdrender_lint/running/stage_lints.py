@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 from pxr import Tf, Usd
 
-from ..config import Stamps, config_candidates, file_stamps, stamped_read
+from ..config import Stamps, config_candidates, file_stamps, stamped_read, stamps_hold
 from ..engine import Linter, TracedFinding
 from ..model import FileResult, Finding, Report
 from ..records import record
@@ -200,21 +200,17 @@ class CheckLinters:
         # Compared outside the lock: validators called from several threads
         # would else wait on each other's stats.
         cached = self._prepared.get(folder)
-        if cached is not None and file_stamps(f for f, _ in cached[1]) == cached[1]:
+        if cached is not None and stamps_hold(cached[1]):
             return cached[0]
         with self._lock:
-            ready = self._prepared.get(folder)  # by another thread meanwhile
-            if (
-                ready is not None
-                and ready is not cached
-                and file_stamps(f for f, _ in ready[1]) == ready[1]
-            ):
-                return ready[0]
+            cached = self._prepared.get(folder)  # another thread's, meanwhile
+            if cached is not None and stamps_hold(cached[1]):
+                return cached[0]
             failed = self._failed.get(folder)
             if (
                 failed is not None
                 and time.monotonic() - failed[2] < FAILURE_SECONDS
-                and file_stamps(f for f, _ in failed[1]) == failed[1]
+                and stamps_hold(failed[1])
             ):
                 # A new exception: one raised again gathers every raise's frames.
                 raise type(failed[0])(*failed[0].args) from None
