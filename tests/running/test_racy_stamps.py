@@ -19,10 +19,10 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from pxr import Usd
+from pxr import Sdf, Usd
 
 from usdrender_lint import config as config_module
-from usdrender_lint.config import file_stamps, file_state, is_racy, stat_state
+from usdrender_lint.config import file_stamps, file_state, is_racy, stamps_hold, stat_state
 from usdrender_lint.running.documents import Documents
 from usdrender_lint.running.stage_lints import CheckLinters
 
@@ -103,6 +103,24 @@ def test_a_racy_stamp_taken_before_the_read_is_compared_by_the_bytes(
     assert file_state(str(path)) != first
 
 
+def test_a_digested_stamp_holds_once_settled_while_the_bytes_are_the_same(
+    tmp_path: Path, one_tick: Any, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # A host that read its configuration within a tick of its last write read
+    # it again (and linted its stage again) once the clock had moved on.
+    path = tmp_path / "a.toml"
+    path.write_text("x = 1\n")
+    one_tick(path)
+    stamps = file_stamps([str(path)])
+    assert is_racy(stamps[0][1]) and stamps_hold(stamps)
+    later = os.stat(path).st_ctime_ns + SECOND
+    _clock_at(monkeypatch, later)
+    assert not is_racy(file_state(str(path))) and stamps_hold(stamps)
+    _rewrite(path, "x = 2\n")  # the same size, times and inode shown (one tick)
+    assert file_state(str(path)) == file_state(str(path))  # settled: no digest
+    assert not stamps_hold(stamps)
+
+
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
 def test_a_racy_fifo_is_not_read_for_its_digest(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
@@ -152,16 +170,10 @@ def test_the_validator_plugins_read_a_configuration_rewritten_within_a_tick(
 
 
 @pytest.mark.parametrize("dated", ["found", "extended"])
-def test_a_configuration_dated_ahead_of_the_clock_is_read_once(
-    tmp_path: Path, dated: str, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def test_a_configuration_dated_ahead_of_the_clock_is_read_once(tmp_path: Path, dated: str) -> None:
     # Its stamp stays racy until the clock catches up (a file server's clock
     # ahead of this one, an archive's times): compared by its bytes, not read
-    # again on each of the validators' many calls. The other file, just
-    # written, is not racy (RACY_NS): its stamp's digest would no longer match
-    # the settled stamp once the tick is over, which a loaded machine reached
-    # between two looks (one read more, by design).
-    monkeypatch.setattr(config_module, "RACY_NS", 0)
+    # again on each of the validators' many calls.
     (tmp_path / "shot.usda").write_text(SHOT)
     config = tmp_path / ".usdrender-lint.toml"
     base = tmp_path / "base.toml"
@@ -210,3 +222,34 @@ def test_the_language_server_reads_a_layer_rewritten_within_a_tick(
     # The camera renamed: the relationship targets nothing.
     _rewrite(cams, '#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cxm"\n    {\n    }\n}\n')
     assert "CA003" in {f.code for f in documents.lint(path).findings}
+
+
+def test_the_language_server_reads_a_layer_read_within_a_tick_once_settled_no_more(
+    tmp_path: Path, one_tick: Any, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Its stamp, taken within the tick, carries its digest; the next lint,
+    # once the clock moved on, forced USD to read it again (and recompose).
+    cams = tmp_path / "cams.usda"
+    cams.write_text('#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cam"\n    {\n    }\n}\n')
+    one_tick(cams)
+    text = '#usda 1.0\ndef Xform "World" (\n    references = @./cams.usda@</rig>\n)\n{\n}\n'
+    path = str(tmp_path / "shot.usda")
+    documents = Documents()
+    documents.update({path: text})
+    documents.lint(path)
+    forced: list[str] = []
+    reload = Sdf.Layer.Reload
+
+    def counted(layer: Sdf.Layer, force: bool = False) -> bool:
+        if force:
+            forced.append(layer.identifier)
+        return reload(layer, force)
+
+    monkeypatch.setattr(Sdf.Layer, "Reload", counted)
+    _clock_at(monkeypatch, os.stat(cams).st_ctime_ns + SECOND)
+    documents.lint(path)
+    assert forced == []
+    monkeypatch.setattr(config_module, "os", os)  # the file's own stamp from here on
+    _rewrite(cams, '#usda 1.0\ndef Xform "rig"\n{\n    def Camera "cxm"\n    {\n    }\n}\n')
+    documents.lint(path)
+    assert [Path(f).name for f in forced] == ["cams.usda"]

@@ -38,6 +38,7 @@ from ..config import (
     is_racy,
     stamped_read,
     stamps_hold,
+    unchanged,
 )
 from ..engine import register_plugins
 from ..engine.linter import open_failure_findings
@@ -360,7 +361,7 @@ class Documents:
             if real is not None:
                 state = file_state(real)
                 if real in self._file_states:
-                    force = self._file_states[real] != state
+                    force = not unchanged(real, self._file_states[real], state)
                 else:
                     force = is_racy(file_state(real, read_ns=began))
                 self._file_states[real] = state
