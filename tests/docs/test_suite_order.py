@@ -3,8 +3,10 @@ out in collection order, so a long file collected last would run alone."""
 
 from __future__ import annotations
 
+import os
+
 import pytest
-from conftest import pytest_collection_modifyitems
+from conftest import pytest_collection_modifyitems, pytest_xdist_auto_num_workers
 
 
 class _Item:
@@ -34,3 +36,9 @@ def test_heavy_files_go_first_the_longest_first_and_the_rest_keep_their_order() 
         "cli_b",
         "server_c",
     ]
+
+
+def test_auto_starts_one_worker_more_than_the_cores() -> None:
+    # Many tests wait, and a third worker on 2 cores keeps them busier.
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    assert pytest_xdist_auto_num_workers(None) == (cores or 1) + 1  # type: ignore[arg-type]
