@@ -139,11 +139,16 @@ def _escaped_control(match: re.Match[str]) -> str:
 def usd_path(path: str) -> str | bytes:
     """``path`` as USD's Python bindings accept it: a name that is not UTF-8
     goes as its bytes (the bindings cannot convert its surrogate escapes)."""
+    return path if is_utf8(path) else os.fsencode(path)
+
+
+def is_utf8(path: str) -> bool:
+    """Whether ``path`` is UTF-8 (no surrogate escapes of bytes that are not)."""
     try:
         path.encode("utf-8")
     except UnicodeEncodeError:
-        return os.fsencode(path)
-    return path
+        return False
+    return True
 
 
 def single_root(path: str) -> str:

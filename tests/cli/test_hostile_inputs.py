@@ -252,6 +252,24 @@ def test_a_composition_error_naming_such_a_file_is_st002(undecodable: Path) -> N
     assert "not valid UTF-8" not in result.stdout
 
 
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_parse_error_of_such_a_name_is_told_once_at_its_line(tmp_path: Path, jobs: str) -> None:
+    # USD's message quotes the name, which Python cannot decode: the text is
+    # parsed again under no name for USD's words.
+    try:
+        path = tmp_path / os.fsdecode(b"caf\xe9.usda")
+        path.write_text('#usda 1.0\ndef Scope "S" { rel camera = </Nope> }\n')
+    except (OSError, UnicodeError):
+        pytest.skip("the file system takes only UTF-8 names")
+    result = CliRunner().invoke(
+        cli, ["check", "--isolated", "--no-cache", "--jobs", jobs, "--format", "json", str(path)]
+    )
+    [entry] = json.loads(result.stdout)["files"]
+    [finding] = entry["findings"]
+    assert (finding["code"], finding["line"], finding["column"]) == ("ST001", 2, 17)
+    assert finding["message"] == "Expected } at 'rel camera = </Nope> }' in </S>"
+
+
 def test_an_error_about_such_a_name_is_escaped_on_stderr(tmp_path: Path) -> None:
     missing = os.fsdecode(b"gon\xe9.usda")
     result = check("--isolated", str(tmp_path / missing))

@@ -14,6 +14,7 @@ import json
 import os
 import pty
 import random
+import shutil
 import signal
 import subprocess
 import sys
@@ -143,6 +144,45 @@ def test_stdin_filename_with_no_path_reads_standard_input(fixing: tuple[str, ...
     dash = _command(*fixing, "-", "--stdin-filename", name, stdin=path.read_bytes())
     assert (alone.returncode, alone.stdout, alone.stderr) == (1, dash.stdout, dash.stderr)
     assert alone.stdout.startswith(b"--- " if fixing else name.encode() + b":")
+
+
+@pytest.mark.parametrize("text", ["shot", "parse error"])
+def test_a_text_named_by_a_name_that_is_not_utf8_gets_its_files_answer(
+    text: str, tmp_path: Path
+) -> None:
+    """USD's bindings take such a name only as bytes: the text is linted (its
+    sublayer found) or its parse error told at its line, as for the file."""
+    shot = REPO / "examples" / "broken_shot"
+    shutil.copy(shot / "lighting_wip.usda", tmp_path)
+    try:
+        path = tmp_path / os.fsdecode(b"sh\xfeot.usda")
+        content = (shot / "shot.usda").read_text() if text == "shot" else PARSE_ERROR
+        path.write_text(content)
+    except (OSError, UnicodeError):
+        pytest.skip("the file system takes only UTF-8 names")
+    name = path.name
+    as_file = _command("--format", "json", name, cwd=tmp_path)
+    as_text = _command(
+        "--format", "json", "-", "--stdin-filename", name, stdin=path.read_bytes(), cwd=tmp_path
+    )
+    assert (as_text.returncode, as_text.stdout, as_text.stderr) == (
+        as_file.returncode,
+        as_file.stdout,
+        as_file.stderr,
+    )
+    [entry] = json.loads(as_text.stdout)["files"]
+    codes = sorted(f["code"] for f in entry["findings"])
+    if text == "shot":
+        assert (entry["status"], as_text.returncode) == ("linted", 1)
+        assert codes == ["CA003", "CA004", "PR004", "SE003", "SE007"]
+    else:
+        [finding] = entry["findings"]
+        assert (finding["code"], finding["line"]) == ("ST001", 2)
+        assert finding["message"].startswith("Expected }")
+
+
+#: A text USD's parser refuses at line 2 (a prim's body on its opening line).
+PARSE_ERROR = '#usda 1.0\ndef Scope "S" { rel camera = </Nope> }\n'
 
 
 def test_a_text_with_no_name_is_reported_as_standard_input() -> None:

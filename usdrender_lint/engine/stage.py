@@ -189,11 +189,15 @@ def error_lines(exc: Tf.ErrorException, path: str) -> Iterable[str]:
         key=len,
         reverse=True,
     )
+    undecodable_said = False
     for arg in exc.args:
         try:
             text = getattr(arg, "commentary", None) or str(arg)
         except UnicodeDecodeError:
             # USD quotes the offending text, and Python cannot decode the quote.
+            if undecodable_said:
+                continue  # each such error would be told the same way
+            undecodable_said = True
             text = _undecodable_error(path)
         text = str(text).strip()
         for number, name in enumerate(names):
@@ -278,12 +282,14 @@ def corruption(exc: Tf.ErrorException, path: str) -> str | None:
 
 
 def _undecodable_error(path: str) -> str:
-    """Say where a layer stops being UTF-8 (usd-core 26.11's usda parser
-    rejects invalid UTF-8 anywhere in the file, comments included)."""
+    """Say what USD said where Python cannot decode its words: where a layer
+    stops being UTF-8 (usd-core 26.11's usda parser rejects invalid UTF-8
+    anywhere in the file, comments included), or the parse error of a text
+    layer whose name is not UTF-8 (USD's message quotes the name)."""
     try:
         with open(path, "rb") as handle:
             data = handle.read()
-        data.decode("utf-8")
+        text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data.count(b"\n", 0, exc.start) + 1
         column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
@@ -292,8 +298,29 @@ def _undecodable_error(path: str) -> str:
             "USD's parser rejects the file"
         )
     except OSError:
-        pass
-    return "USD reported an error whose message is not valid UTF-8"
+        return _UNDECODABLE
+    return _unnamed_parse_error(path, text) or _UNDECODABLE
+
+
+_UNDECODABLE = "USD reported an error whose message is not valid UTF-8"
+
+
+def _unnamed_parse_error(path: str, text: str) -> str | None:
+    """USD's parse errors of a text layer's ``text``, parsed again in a layer
+    with no name (its errors then read ":LINE:COLUMN: ..."), each given
+    ``path``; None when the text is no text layer or parses. (USD parsed it
+    once already and answered: parsing it again is as safe.)"""
+    if not text.startswith("#usda"):
+        return None
+    try:
+        Sdf.Layer.CreateAnonymous(".usda").ImportFromString(text)
+    except Tf.ErrorException as exc:
+        found = [str(getattr(arg, "commentary", "") or "").strip() for arg in exc.args]
+        placed = [
+            f"{os.path.abspath(path)}{line}" for line in found if re.match(r":\d+:\d+: ", line)
+        ]
+        return "\n".join(placed) or None
+    return None
 
 
 class OutOfMemory(MemoryError):

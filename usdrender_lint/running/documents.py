@@ -50,9 +50,10 @@ from ..engine.stage import (
     open_stage,
 )
 from ..layers.crate import is_crate
-from ..layers.files import layer_real_path
+from ..layers.files import layer_identifier, layer_real_path
 from ..layers.nesting import nesting_problem
 from ..model import IGNORE_KEY, Finding, Location, Report, Severity
+from ..paths import usd_path
 from ..records import record
 from ..registry import Registry, build_registry
 from .discovery import Exclusions, force_excluded
@@ -288,7 +289,7 @@ class Documents:
         documents = {self._file_key(path): path for path in self.texts}
         shared = False
         for layer in stage.GetUsedLayers():
-            if layer.anonymous or Ar.IsPackageRelativePath(layer.identifier):
+            if not _own_file(layer):
                 continue
             real = layer_real_path(layer)
             if not real or real in self.texts:
@@ -335,7 +336,7 @@ class Documents:
         (deleted, or renamed) and are no open document."""
         lost = set()
         for layer in stage.GetUsedLayers():
-            if layer.anonymous or Ar.IsPackageRelativePath(layer.identifier):
+            if not _own_file(layer):
                 continue
             real = layer_real_path(layer)
             if real and real not in self.texts and not os.path.exists(real):
@@ -422,7 +423,7 @@ class Documents:
             if layer is None:
                 # Find gives a weak handle: FindOrOpen holds a layer already open (a
                 # stage of another document opened it from its file) for good.
-                known = Sdf.Layer.Find(path) and Sdf.Layer.FindOrOpen(path)
+                known = Sdf.Layer.Find(usd_path(path)) and Sdf.Layer.FindOrOpen(usd_path(path))
                 layer = known or _saved_layer(path, text)
                 if layer is not None and known is None:  # its file holds the same text
                     self._layers[path] = layer
@@ -431,7 +432,7 @@ class Documents:
                     continue
                 made = layer is None
                 usda = Sdf.FileFormat.FindById("usda")
-                layer = self._layers[path] = layer or Sdf.Layer.New(usda, path)
+                layer = self._layers[path] = layer or Sdf.Layer.New(usda, usd_path(path))
             with Tf.DiagnosticTrap() as trap:
                 try:
                     layer.ImportFromString(text)
@@ -560,6 +561,13 @@ def _excluded(prepared: Prepared, path: str) -> bool:
     return force_excluded(path, Exclusions.of(prepared.settings), folder_exclusions(prepared))
 
 
+def _own_file(layer: Sdf.Layer) -> bool:
+    """Whether the layer is a file of its own: not anonymous, not in a package."""
+    return not layer.anonymous and not Ar.IsPackageRelativePath(
+        usd_path(layer_identifier(layer))  # a name that is not UTF-8 goes as its bytes
+    )
+
+
 def _saved_layer(path: str, text: str) -> Sdf.Layer | None:
     """The layer of a ``.usda`` whose file holds ``text``, opened from the file.
     USD reads a file several times faster than it imports the same text into a
@@ -576,7 +584,7 @@ def _saved_layer(path: str, text: str) -> Sdf.Layer | None:
         return None
     with Tf.DiagnosticTrap() as trap:
         try:
-            layer = Sdf.Layer.FindOrOpen(path)
+            layer = Sdf.Layer.FindOrOpen(usd_path(path))
         except Tf.ErrorException:
             layer = None  # the import below reports USD's error
         trap.Clear()

@@ -21,7 +21,7 @@ from ..config import Settings
 from ..engine import STAGE_OPEN_FAILED_CODE, register_plugins
 from ..layers.files import unreadable_reason
 from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
-from ..paths import display_path
+from ..paths import display_path, is_utf8
 from ..records import record
 from .workers import Pool, file_error
 
@@ -33,7 +33,8 @@ _ALWAYS_KEPT = frozenset({STAGE_OPEN_FAILED_CODE, INTERNAL_ERROR_CODE})
 def file_key(path: str) -> str:
     """A comparable identity for a layer or file path: the real path of the
     file on disk (the outermost package for a layer inside a ``.usdz``)."""
-    if Ar.IsPackageRelativePath(path):
+    if is_utf8(path) and Ar.IsPackageRelativePath(path):
+        # (Ar cannot take a name that is not UTF-8, nor give its parts back.)
         path = Ar.SplitPackageRelativePathOuter(path)[0]
     return os.path.normcase(os.path.realpath(path))
 
