@@ -648,6 +648,35 @@ async def test_a_document_whose_uri_the_client_encodes_gets_its_diagnostics(
     close_documents(client, plain, uri, lighting_uri, root)
 
 
+async def test_a_folder_named_by_bytes_that_are_not_utf8_gets_its_diagnostics(
+    client: LanguageClient, workspace: Path
+):
+    """A project folder with a Latin-1 name (``d\\xe9``): the client sends its
+    bytes percent-encoded (``d%E9``). The document gets check's diagnostics, and
+    a finding in its sublayer goes on that layer's URI, encoded alike."""
+    try:
+        folder = workspace / os.fsdecode(b"d\xe9")
+        folder.mkdir()
+    except (OSError, UnicodeError):
+        pytest.skip("the file system takes only UTF-8 names")
+    plain = open_document(client, workspace / "shot.usda")
+    expected = sorted((d.code, d.range.start.line) for d in await diagnostics_of(client, plain, 1))
+    shutil.copy(workspace / "shot.usda", folder / "shot.usda")
+    uri = open_document(client, folder / "shot.usda")
+    assert "d%E9" in uri
+    found = await diagnostics_of(client, uri, 1)
+    assert sorted((d.code, d.range.start.line) for d in found) == expected
+    lighting = folder / "lighting.usda"
+    lighting.write_text(LIGHTING)
+    root = open_document(
+        client, folder / "root.usda", "#usda 1.0\n(\n    subLayers = [@./lighting.usda@]\n)\n"
+    )
+    (se001,) = [d for d in await diagnostics_of(client, root, 1) if d.code == "SE001"]
+    (related,) = se001.related_information
+    assert related.location.uri == lighting.as_uri()
+    close_documents(client, plain, uri, root)
+
+
 @pytest.mark.parametrize("separator", ["\x0c", "\u2028"], ids=["form-feed", "line-separator"])
 async def test_a_comment_holding_a_character_python_splits_lines_at_keeps_ranges_and_fixes(
     client: LanguageClient, workspace: Path, tmp_path: Path, separator: str

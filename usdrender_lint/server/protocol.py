@@ -24,7 +24,7 @@ import time
 from collections.abc import Callable, Coroutine, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any
-from urllib.parse import unquote
+from urllib.parse import quote, unquote, unquote_to_bytes, urlparse
 
 from lsprotocol import types
 from pygls.exceptions import (
@@ -42,6 +42,7 @@ from pygls.workspace import PositionCodec, ServerTextPosition, TextDocument
 
 from .. import __version__
 from ..model import Finding, Severity
+from ..paths import is_utf8
 from ..records import record
 from ..running.documents import Linted, finding_key
 from .ranges import Edit, Span, editor_lines, lines_of, spec_line, statement_span, text_edits
@@ -321,7 +322,7 @@ class UsdRenderLintServer(LanguageServer):
         for uri in self.open_uris():
             if usd_path(uri) == path:
                 return uri
-        return from_fs_path(path) or path
+        return file_uri(path)
 
     def texts(self) -> dict[str, str]:
         """The text of every open USD document, by path."""
@@ -517,7 +518,7 @@ class UsdRenderLintServer(LanguageServer):
             related_line = max((finding.location.line or 1) - 1, 0)
             related = types.DiagnosticRelatedInformation(
                 location=types.Location(
-                    uri=from_fs_path(layer) or layer,
+                    uri=file_uri(layer),
                     range=types.Range(
                         types.Position(related_line, 0), types.Position(related_line, 0)
                     ),
@@ -865,11 +866,29 @@ def rule_markdown(rule: RuleDoc) -> str:
     return f"{head}\n\n{doc.strip()}{link}"
 
 
+def fs_path(uri: str) -> str | None:
+    """pygls's ``to_fs_path``, where a name's bytes that are not UTF-8 (a
+    folder ``d%E9``) come back as Python names them (surrogate escapes: the
+    file's real name), not as U+FFFD."""
+    path = to_fs_path(uri)
+    if path is not None and "\ufffd" in path and os.name == "posix":
+        path = os.fsdecode(unquote_to_bytes(urlparse(uri).path))
+    return path
+
+
+def file_uri(path: str) -> str:
+    """pygls's ``from_fs_path``, for a name that is not UTF-8 too (its bytes
+    percent-encoded, as ``pathlib.Path.as_uri`` writes them)."""
+    if is_utf8(path):
+        return from_fs_path(path) or path
+    return "file://" + quote(os.fsencode(path))
+
+
 def usd_path(uri: str) -> str | None:
     """The file path of a USD text document's URI (None: not one we lint)."""
     if not uri.startswith("file:"):
         return None
-    path = to_fs_path(uri)
+    path = fs_path(uri)
     if path is None or not path.lower().endswith(USD_TEXT_SUFFIXES):
         return None
     return os.path.abspath(path)
@@ -1018,7 +1037,7 @@ def _serve_documents(server: UsdRenderLintServer) -> None:
 
     @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
     def did_save(ls: UsdRenderLintServer, params: types.DidSaveTextDocumentParams) -> None:
-        path = to_fs_path(params.text_document.uri) or ""
+        path = fs_path(params.text_document.uri) or ""
         if path.endswith(CONFIG_SUFFIX):
             ls.spawn(ls.files_changed([path]))
         elif ls.ready.is_set():
@@ -1030,7 +1049,7 @@ def _serve_documents(server: UsdRenderLintServer) -> None:
 
     @server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
     def watched(ls: UsdRenderLintServer, params: types.DidChangeWatchedFilesParams) -> None:
-        ls.spawn(ls.files_changed([to_fs_path(change.uri) or "" for change in params.changes]))
+        ls.spawn(ls.files_changed([fs_path(change.uri) or "" for change in params.changes]))
 
     @server.feature(types.WORKSPACE_DID_CHANGE_CONFIGURATION)
     async def settings_changed(
