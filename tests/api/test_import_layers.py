@@ -65,9 +65,10 @@ ALLOWED: dict[str, set[str]] = {
         "records", "api", "engine", "fixing", "model", "registry", "rules", "running",
     },
     # server: the language server (usdrender-lint server) lints documents as check does.
+    # paths: a URI's name that is not UTF-8 is the file's bytes.
     "server": {
-        "records", "api", "engine", "explain", "fixing", "layers", "model", "registry", "running",
-        "__init__",
+        "records", "api", "engine", "explain", "fixing", "layers", "model", "paths", "registry",
+        "running", "__init__",
     },
     "cli": {
         "api", "atomic", "config", "engine", "entrypoints", "explain", "fixing", "formatters",
