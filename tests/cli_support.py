@@ -17,6 +17,14 @@ REPO = Path(__file__).resolve().parents[1]
 #: The examples' shot with findings (exit 1).
 BROKEN = REPO / "examples" / "broken_shot" / "shot.usda"
 
+#: A sublayer that hangs USD: a named pipe no process writes, whose open() waits
+#: for a writer. Named through an expression: the engine refuses a named pipe an
+#: arc names before USD opens it (stage.arc_file_problem), but an expression only
+#: the stage resolves, so this reaches USD, as a hung network mount's file would.
+HANGING_SUBLAYER = '@`"./pipe.usda"`@'
+#: A layer whose only opinion is that sublayer.
+HANGS = f"#usda 1.0\n(\n    subLayers = [{HANGING_SUBLAYER}]\n)\n"
+
 #: A RenderSettings whose variant set holds a variant named "": Sdf's walks of
 #: such a layer abort or recurse without end (usd-core 26.11); composing it works.
 EMPTY_VARIANT_NAME = """#usda 1.0
@@ -76,10 +84,10 @@ def command(*args: str) -> list[str]:
 
 
 def hanging_stage(folder: Path) -> Path:
-    """A stage whose sublayer is a FIFO: USD blocks reading it forever."""
+    """A stage whose sublayer (HANGING_SUBLAYER) blocks USD forever."""
     os.mkfifo(folder / "pipe.usda")
     stage = folder / "hangs.usda"
-    stage.write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
+    stage.write_text(HANGS)
     return stage
 
 

@@ -23,6 +23,7 @@ import time
 from pathlib import Path
 
 import pytest
+from cli_support import HANGS
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -69,7 +70,7 @@ def _folder(root: Path, files: int, hang: bool) -> list[str]:
         names.append(str(folder / name))
     if hang:  # a sublayer that blocks USD forever keeps a worker busy
         os.mkfifo(folder / "pipe.usda")
-        (folder / "hangs.usda").write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
+        (folder / "hangs.usda").write_text(HANGS)
         names.append(str(folder / "hangs.usda"))
     return names
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from cli_support import EMPTY_VARIANT_NAME, run_cli_process, settings_crate
+from cli_support import EMPTY_VARIANT_NAME, HANGS, run_cli_process, settings_crate
 from click.testing import CliRunner, Result
 from pxr import Sdf, Usd, UsdRender, Vt
 
@@ -541,11 +541,11 @@ def Scope "Render"
 
 
 def test_a_hung_read_times_out_and_the_rest_are_linted(tmp_path: Path) -> None:
-    """A sublayer that is a FIFO: USD blocks reading it forever."""
+    """A sublayer that blocks USD forever (cli_support.HANGING_SUBLAYER)."""
     if not hasattr(os, "mkfifo"):
         pytest.skip("no FIFOs on this platform")
     os.mkfifo(tmp_path / "pipe.usda")
-    path = _text("hangs.usda", "#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")(tmp_path)
+    path = _text("hangs.usda", HANGS)(tmp_path)
     control = _text("control.usda", CONTROL)(tmp_path)
     result = run_cli("--timeout", "2", path, control)
     assert result.exit_code == 2

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from cli_support import EMPTY_VARIANT_NAME, settings_crate
+from cli_support import EMPTY_VARIANT_NAME, HANGS, settings_crate
 from pxr import Sdf, Usd, UsdRender, Vt
 
 from usdrender_lint.api.text import MAX_MESSAGE_CHARS, listing
@@ -38,7 +38,6 @@ def Scope "Render"
     }
 }
 """
-HANGS = "#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n"
 EMPTY_VARIANT = EMPTY_VARIANT_NAME.replace(
     "#usda 1.0\n", "#usda 1.0\n(\n    subLayers = [@./sub.usda@]\n)\n", 1
 )
@@ -106,6 +105,63 @@ def test_a_changed_file_that_is_a_fifo_is_never_read_for_roots(hanging: Path) ->
     result = lint(hanging, "--timeout", "0", "--jobs", "1", "pipe.usda", timeout=120)
     assert result.returncode == 2
     assert result.stderr == "usdrender-lint: error: pipe.usda: not a regular file\n"
+
+
+SUBLAYER_PIPE = "#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n" + CONTROL.split("\n", 1)[1]
+NAMED_PIPE = "not a regular file (a named pipe or a device, whose open can wait forever)"
+
+
+@fifos
+@pytest.mark.parametrize(
+    "route",
+    [
+        ["--jobs", "1", "--timeout", "0", "shot.usda"],
+        ["--jobs", "2", "shot.usda", "control.usda"],
+        ["shot.usda"],
+        ["-", "--stdin-filename", "shot.usda"],
+        ["--fix", "shot.usda"],
+    ],
+    ids=["in process", "pool", "lone file", "standard input", "fix"],
+)
+def test_a_sublayer_that_is_a_named_pipe_is_st001_at_once_on_every_route(
+    tmp_path: Path, route: list[str]
+) -> None:
+    """USD's open of a named pipe waits for a writer: the stage's lint waited out
+    the time-out, which said to raise it, and without one (--timeout 0, the
+    Python API) it never ended. Now the arc is refused before USD opens it."""
+    os.mkfifo(tmp_path / "pipe.usda")
+    (tmp_path / "shot.usda").write_text(SUBLAYER_PIPE)
+    (tmp_path / "control.usda").write_text(CONTROL)
+    done = subprocess.run(
+        [sys.executable, "-m", "usdrender_lint", "check", "--isolated", "--format", "json", *route],
+        input=SUBLAYER_PIPE,
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    assert done.returncode == 1, done.stderr
+    [shot] = [entry for entry in json.loads(done.stdout)["files"] if entry["file"] == "shot.usda"]
+    assert [(f["code"], f["message"]) for f in shot["findings"]] == [
+        ("ST001", f"pipe.usda: {NAMED_PIPE}")
+    ]
+    assert (tmp_path / "shot.usda").read_text() == SUBLAYER_PIPE  # nothing to fix
+
+
+@fifos
+def test_the_python_api_answers_a_reference_to_a_named_pipe(tmp_path: Path) -> None:
+    os.mkfifo(tmp_path / "pipe.usda")
+    shot = tmp_path / "shot.usda"
+    shot.write_text('#usda 1.0\ndef Scope "A" (\n    references = @./pipe.usda@\n)\n{\n}\n')
+    code = (
+        "import sys, usdrender_lint\n"
+        "[finding] = usdrender_lint.lint_file(sys.argv[1]).files[0].findings\n"
+        "print(finding.code, finding.message)"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(shot)], capture_output=True, text=True, timeout=120
+    )
+    assert done.stdout == f"ST001 {tmp_path / 'pipe.usda'}: {NAMED_PIPE}\n", done.stderr
 
 
 # -- corrupt layers in the fast path ----------------------------------------------------

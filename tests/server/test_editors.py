@@ -194,7 +194,7 @@ for _, d in ipairs(vim.diagnostic.get(buffer)) do
   end
 end
 vim.api.nvim_buf_set_lines(buffer, 0, 1, false,
-  { "#usda 1.0", "(", "    subLayers = [@./pipe.usda@]", ")" })
+  { "#usda 1.0", "(", "    subLayers = [@`\\"./pipe.usda\\"`@]", ")" })
 vim.wait(3000, function() return false end, 100)  -- its lint starts, and hangs
 local asked = vim.loop.hrtime()
 local answers = vim.lsp.buf_request_sync(buffer, "textDocument/codeAction", {

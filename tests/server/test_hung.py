@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 
 import pytest
+from cli_support import HANGS as HANGS_ALONE
 from cli_support import blocked_on_a_fifo, blocked_on_fifos
 from lsp_editor import Editor, until
 
@@ -17,8 +18,8 @@ from usdrender_lint.server.protocol import FIX_ALL
 pytestmark = pytest.mark.heavy(seconds=30)
 
 FINE = '#usda 1.0\ndef RenderSettings "S"\n{\n    uniform int2 resolution = (0, 10)\n}\n'
-#: FINE with a sublayer that is a FIFO: USD blocks reading it forever.
-HANGS = '#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\ndef RenderSettings "S"\n{\n}\n'
+#: FINE with a sublayer that blocks USD forever (cli_support.HANGING_SUBLAYER).
+HANGS = f'{HANGS_ALONE}def RenderSettings "S"\n{{\n}}\n'
 
 
 def diagnostics(editor: Editor, uri: str) -> list[dict]:

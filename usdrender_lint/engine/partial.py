@@ -65,7 +65,7 @@ from ..model import IGNORE_KEY
 from ..paths import display_path, usd_path
 from ..records import record
 from . import layer_words
-from .stage import arc_crate_problem, arcs_problem, corruption
+from .stage import arc_file_problem, arcs_problem, corruption
 from .walks import names_an_empty_variant
 
 #: The convention's render scope, always composed (rules look under it).
@@ -252,7 +252,7 @@ def _reachable_layers(
             for asset_path in dict.fromkeys(asset_paths):
                 if "`" in asset_path:
                     raise NotProvable(f"expression variables in @{asset_path}@")
-                problem = arc_crate_problem(anchor, asset_path)
+                problem = arc_file_problem(anchor, asset_path)
                 if problem is not None:
                     raise CorruptLayer(problem)
                 # A layer that is missing is missing from the full stage too.

@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 from collections.abc import Iterable
 
 from pxr import Ar, Sdf, Tf, Usd
 
 from ..api.resolve import USD_NAMESPACE as _NAMESPACE
 from ..layers.crate import crate_structure_problem, is_crate
-from ..layers.files import layer_identifier, layer_real_path, lfs_pointer_problem
+from ..layers.files import NOT_REGULAR, layer_identifier, layer_real_path, lfs_pointer_problem
 from ..model import NAMELESS_PROPERTY
 from ..paths import display_path, usd_path
 from ..records import record
@@ -110,7 +111,9 @@ def arcs_problem(
     Every path that composes a stage checks so, and answers alike (ST001).
     ``asset``: the root's path as USD takes it (usd_path), for the resolver
     context the stage will have; ``held`` gets the layers read, so that the
-    caller's stage does not read them again."""
+    caller's stage does not read them again. An arc to a named pipe or a
+    device is refused likewise (:func:`arc_file_problem`): USD's open of it
+    would wait forever."""
     if not root.subLayerPaths and (not external or _without_external_arcs(root)):
         return None  # it names no layer: nothing to resolve, no walk of its specs
     context = Ar.GetResolver().CreateDefaultContextForAsset(asset)
@@ -124,7 +127,7 @@ def arcs_problem(
             if external and not _without_external_arcs(anchor) and _safe_to_walk(anchor):
                 asset_paths = (*asset_paths, *anchor.GetCompositionAssetDependencies())
             for asset_path in dict.fromkeys(asset_paths):
-                problem = arc_crate_problem(anchor, asset_path)
+                problem = arc_file_problem(anchor, asset_path)
                 if problem is not None:
                     return problem
                 try:
@@ -151,16 +154,27 @@ def _without_external_arcs(layer: Sdf.Layer) -> bool:
     return bool(file) and not layer.dirty and layer_words.without_external_arcs(file)
 
 
-def arc_crate_problem(anchor: Sdf.Layer, asset_path: str) -> str | None:
-    """Why the crate file an arc of ``anchor`` names is corrupt, checked
-    before USD reads it (layers/crate.py), or None."""
+#: What a layer's file that is not a regular file is, and why USD is not handed it.
+_SPECIAL_FILE = "a named pipe or a device, whose open can wait forever"
+
+
+def arc_file_problem(anchor: Sdf.Layer, asset_path: str) -> str | None:
+    """Why USD must not read the file an arc of ``anchor`` names, checked
+    before USD opens it, or None: a corrupt crate (layers/crate.py), or a file
+    that is neither a regular file nor a folder (a named pipe, a device),
+    refused as a root is (files.NOT_REGULAR)."""
     if "`" in asset_path:  # an expression: resolved by the stage alone
         return None
     try:
         file = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
-    except Tf.ErrorException:
+        mode = os.stat(file).st_mode if file else None
+    except (Tf.ErrorException, OSError, ValueError):
+        return None  # USD reports a layer it cannot find
+    if mode is None or stat.S_ISDIR(mode):
         return None
-    problem = crate_structure_problem(file) if file and os.path.isfile(file) else None
+    if not stat.S_ISREG(mode):
+        return f"{display_path(file)}: {NOT_REGULAR} ({_SPECIAL_FILE})"
+    problem = crate_structure_problem(file)
     return f"{display_path(file)}: {problem}" if problem else None
 
 

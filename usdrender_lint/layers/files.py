@@ -55,6 +55,11 @@ def real_path(layer: Sdf.Layer) -> str:
     return layer_real_path(layer) or layer_identifier(layer)
 
 
+#: Why a FIFO or a device is never handed to USD: opening it can block forever
+#: (a named pipe's open waits for a writer).
+NOT_REGULAR = "not a regular file"
+
+
 def unreadable_reason(path: str) -> str | None:
     """Why ``path`` cannot be handed to USD at all, or None when it can. The
     file is really opened (not ``os.access``, which a privileged user passes):
@@ -74,8 +79,7 @@ def unreadable_reason(path: str) -> str | None:
             return _os_reason(exc)
         return "is a directory"
     if not stat.S_ISREG(mode):
-        # A FIFO or a device: opening it can block forever.
-        return "not a regular file"
+        return NOT_REGULAR
     try:
         os.close(os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)))
     except OSError as exc:
