@@ -677,6 +677,25 @@ async def test_a_folder_named_by_bytes_that_are_not_utf8_gets_its_diagnostics(
     close_documents(client, plain, uri, root)
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+async def test_a_sublayer_that_is_a_named_pipe_is_st001_in_the_editor(
+    client: LanguageClient, workspace: Path
+):
+    """A layer names a named pipe as its sublayer: the diagnostic says so at
+    once (USD's open of it waited out the time-out)."""
+    folder = workspace / "piped"
+    folder.mkdir()
+    os.mkfifo(folder / "pipe.usda")
+    shot = folder / "shot.usda"
+    shot.write_text("#usda 1.0\n(\n    subLayers = [@./pipe.usda@]\n)\n")
+    uri = open_document(client, shot)
+    (st001,) = [d for d in await diagnostics_of(client, uri, 1) if d.code == "ST001"]
+    assert st001.message.endswith(
+        "pipe.usda: not a regular file (a named pipe or a device, whose open can wait forever)"
+    )
+    close_documents(client, uri)
+
+
 @pytest.mark.parametrize("separator", ["\x0c", "\u2028"], ids=["form-feed", "line-separator"])
 async def test_a_comment_holding_a_character_python_splits_lines_at_keeps_ranges_and_fixes(
     client: LanguageClient, workspace: Path, tmp_path: Path, separator: str
