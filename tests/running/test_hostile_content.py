@@ -149,6 +149,21 @@ def test_a_sublayer_that_is_a_named_pipe_is_st001_at_once_on_every_route(
 
 
 @fifos
+def test_a_root_whose_sublayer_is_a_named_pipe_is_st001_at_once(tmp_path: Path) -> None:
+    """With ``roots``, a changed layer is linted in each root that uses it: finding
+    the root's layers waited on the pipe as its lint did, until the time-out."""
+    os.mkfifo(tmp_path / "pipe.usda")
+    (tmp_path / "shot.usda").write_text(
+        "#usda 1.0\n(\n    subLayers = [@./pipe.usda@, @./control.usda@]\n)\n"
+    )
+    (tmp_path / "control.usda").write_text(CONTROL)
+    (tmp_path / ".usdrender-lint.toml").write_text('roots = ["shot.usda"]\n')
+    result = lint(tmp_path, "--timeout", "0", "--jobs", "1", "control.usda", timeout=120)
+    assert result.returncode == 1, result.stderr
+    assert result.stdout.splitlines()[0] == f"shot.usda: error ST001: pipe.usda: {NAMED_PIPE}"
+
+
+@fifos
 def test_the_python_api_answers_a_reference_to_a_named_pipe(tmp_path: Path) -> None:
     os.mkfifo(tmp_path / "pipe.usda")
     shot = tmp_path / "shot.usda"

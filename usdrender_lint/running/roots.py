@@ -19,9 +19,11 @@ from pxr import Ar, Sdf, Tf, UsdUtils
 
 from ..config import Settings
 from ..engine import STAGE_OPEN_FAILED_CODE, register_plugins
+from ..engine.stage import arcs_problem
+from ..layers.crate import crate_structure_problem
 from ..layers.files import unreadable_reason
 from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
-from ..paths import display_path, is_utf8
+from ..paths import display_path, is_utf8, usd_path
 from ..records import record
 from .workers import Pool, file_error
 
@@ -70,12 +72,19 @@ def dependencies(root: str, missing: bool = False) -> frozenset[str]:
     relative, from ``root``'s folder): a sublayer saved later changes the stage."""
     register_plugins()  # before USD's first call here: engine/plugins.py
     with Tf.DiagnosticTrap() as trap:
+        # The layers the check reads stay open for USD's walk: read once.
+        held: list[Sdf.Layer] = []
         try:
-            layers, assets, unresolved = UsdUtils.ComputeAllDependencies(root)
-            paths = [layer.realPath or layer.identifier for layer in layers] + list(assets)
-            if missing:
-                folder = os.path.dirname(os.path.abspath(root))
-                paths += [os.path.join(folder, p) for p in unresolved if "://" not in p]
+            if _refused(root, held):
+                # A layer USD must not read (a named pipe, a corrupt crate), which
+                # its walk would wait on or choke on: ours stops at such a file.
+                paths = list(_walk_layers(root))
+            else:
+                layers, assets, unresolved = UsdUtils.ComputeAllDependencies(root)
+                paths = [layer.realPath or layer.identifier for layer in layers] + list(assets)
+                if missing:
+                    folder = os.path.dirname(os.path.abspath(root))
+                    paths += [os.path.join(folder, p) for p in unresolved if "://" not in p]
         except Tf.ErrorException:
             # One unreadable layer anywhere (even in an unselected variant) makes
             # ComputeAllDependencies give up, while the stage itself may open.
@@ -83,6 +92,16 @@ def dependencies(root: str, missing: bool = False) -> frozenset[str]:
         finally:
             trap.Clear()
     return frozenset(file_key(p) for p in paths)
+
+
+def _refused(root: str, held: list[Sdf.Layer]) -> bool:
+    """Whether ``root`` reaches a layer the engine refuses to hand USD
+    (stage.arcs_problem: a lint of it is ST001 too); ``held`` gets the layers read."""
+    layer = Sdf.Layer.FindOrOpen(usd_path(root))  # raises what it cannot read
+    if layer is None:
+        return False
+    held.append(layer)
+    return arcs_problem(layer, usd_path(root), held=held) is not None
 
 
 def _walk_layers(root: str) -> Iterable[str]:
@@ -95,6 +114,8 @@ def _walk_layers(root: str) -> Iterable[str]:
             continue
         seen.add(file_key(path))
         yield path
+        if unreadable_reason(path) is not None or crate_structure_problem(path) is not None:
+            continue  # never handed to USD (stage.arc_file_problem)
         try:
             layer = Sdf.Layer.FindOrOpen(path)
         except Tf.ErrorException:
