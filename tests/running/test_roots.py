@@ -287,6 +287,36 @@ def "Asset" (
     assert _codes(report) == [("SE003", "lighting.usda")]
 
 
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs here")
+def test_dependencies_walk_past_a_named_pipe_without_opening_it(shot: Path) -> None:
+    """USD's walk would wait on the pipe forever: ours names it and goes on to the
+    other layers, a reference inside a package included."""
+    import zipfile
+
+    os.mkfifo(shot / "pipe.usda")
+    with zipfile.ZipFile(shot / "asset.usdz", "w", zipfile.ZIP_STORED) as package:
+        # An absolute path out of the package: found only by opening its layer.
+        package.writestr(
+            "asset.usda", f"#usda 1.0\n(\n    subLayers = [@{shot / 'deeper.usda'}@]\n)\n"
+        )
+    _write(shot / "deeper.usda", LAYOUT)
+    _write(
+        shot / "shot.usda",
+        SHOT.replace("subLayers = [", "subLayers = [@./pipe.usda@, ", 1)
+        + 'def "Asset" ( prepend references = @./asset.usdz[asset.usda]@ ) {}\n',
+    )
+    found = dependencies(str(shot / "shot.usda"))
+    names = {os.path.basename(p) for p in found}
+    assert names == {
+        "shot.usda",
+        "pipe.usda",
+        "lighting.usda",
+        "layout.usda",
+        "asset.usdz",
+        "deeper.usda",
+    }
+
+
 def test_the_plan_narrows_a_report_to_the_changed_layers(shot: Path) -> None:
     lighting, root = str(shot / "lighting.usda"), str(shot / "shot.usda")
     plan = plan_in_context([lighting], [root])

@@ -159,18 +159,28 @@ _SPECIAL_FILE = "a named pipe or a device, whose open can wait forever"
 
 
 def arc_file_problem(anchor: Sdf.Layer, asset_path: str) -> str | None:
-    """Why USD must not read the file an arc of ``anchor`` names, checked
-    before USD opens it, or None: a corrupt crate (layers/crate.py), or a file
-    that is neither a regular file nor a folder (a named pipe, a device),
-    refused as a root is (files.NOT_REGULAR)."""
+    """:func:`file_problem` of the file an arc of ``anchor`` names, checked
+    before USD opens it."""
     if "`" in asset_path:  # an expression: resolved by the stage alone
         return None
     try:
         file = Sdf.ComputeAssetPathRelativeToLayer(anchor, asset_path)
-        mode = os.stat(file).st_mode if file else None
-    except (Tf.ErrorException, OSError, ValueError):
-        return None  # USD reports a layer it cannot find
-    if mode is None or stat.S_ISDIR(mode):
+    except Tf.ErrorException:
+        return None
+    return file_problem(file) if file else None
+
+
+def file_problem(file: str) -> str | None:
+    """Why USD must not read the layer file ``file`` (one line naming it), or
+    None: a corrupt crate (layers/crate.py), or a file that is neither a
+    regular file nor a folder (a named pipe, a device), refused as a root is
+    (files.NOT_REGULAR). A path that names no file (missing, a package's
+    member) is USD's to report."""
+    try:
+        mode = os.stat(file).st_mode
+    except (OSError, ValueError):
+        return None
+    if stat.S_ISDIR(mode):
         return None
     if not stat.S_ISREG(mode):
         return f"{display_path(file)}: {NOT_REGULAR} ({_SPECIAL_FILE})"

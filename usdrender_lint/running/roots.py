@@ -19,8 +19,7 @@ from pxr import Ar, Sdf, Tf, UsdUtils
 
 from ..config import Settings
 from ..engine import STAGE_OPEN_FAILED_CODE, register_plugins
-from ..engine.stage import arcs_problem
-from ..layers.crate import crate_structure_problem
+from ..engine.stage import arcs_problem, file_problem
 from ..layers.files import unreadable_reason
 from ..model import INTERNAL_ERROR_CODE, FileResult, Finding, Report
 from ..paths import display_path, is_utf8, usd_path
@@ -114,8 +113,8 @@ def _walk_layers(root: str) -> Iterable[str]:
             continue
         seen.add(file_key(path))
         yield path
-        if unreadable_reason(path) is not None or crate_structure_problem(path) is not None:
-            continue  # never handed to USD (stage.arc_file_problem)
+        if file_problem(path) is not None:
+            continue  # never handed to USD, as a lint's arcs are not
         try:
             layer = Sdf.Layer.FindOrOpen(path)
         except Tf.ErrorException:
