@@ -54,14 +54,19 @@ def _check(fmt: str, *paths: str, cwd: Path = REPO) -> str:
     return result.stdout
 
 
-def test_without_its_source_blocks_full_is_the_text_report() -> None:
-    full = _check("full", *FILES)
+@pytest.fixture(scope="module")
+def full() -> str:
+    """The full report of every rule fixture and example: one lint of them (about
+    a thousand files) for the tests that read it."""
+    return _check("full", *FILES)
+
+
+def test_without_its_source_blocks_full_is_the_text_report(full: str) -> None:
     assert BLOCK.search(full)
     assert BLOCK.sub("", full) == _check("text", *FILES)
 
 
-def test_each_block_is_the_layers_line_with_its_statement_marked() -> None:
-    full = _check("full", *FILES)
+def test_each_block_is_the_layers_line_with_its_statement_marked(full: str) -> None:
     shown = 0
     for match in HEAD_AND_BLOCK.finditer(full):
         path, line = match["path"], int(match["line"])
