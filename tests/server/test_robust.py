@@ -633,3 +633,62 @@ def test_ctrl_c_or_sigterm_ends_the_server_at_once(signum: int, status: int, sai
         os.close(follower)
     assert server.returncode == status, err
     assert err.decode().splitlines()[-1] == f"usdrender-lint: {said}"
+
+
+def _maps_usd(pid: int) -> bool:
+    # Gf: USD's C++ post-processes its module as it loads, where a raise is swallowed.
+    try:
+        return "/pxr/Gf/_gf" in Path(f"/proc/{pid}/maps").read_text()
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="reads /proc/PID/maps")
+def test_sigterm_while_the_server_imports_usd_ends_it() -> None:
+    """A signal that lands while the server imports USD (its start on a slow
+    machine): the exception the handler raised was swallowed by USD's C++ and
+    the signals that followed ignored, so the server read the terminal forever."""
+    import pty
+
+    leader, follower = pty.openpty()
+    server = subprocess.Popen(
+        [sys.executable, "-m", "usdrender_lint", "server"],
+        stdin=follower,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not _maps_usd(server.pid) and time.monotonic() < deadline:
+            time.sleep(0.002)
+        assert _maps_usd(server.pid), "the server never loaded USD"
+        os.killpg(server.pid, signal.SIGTERM)
+        _, err = server.communicate(timeout=30)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(server.pid, signal.SIGKILL)
+        server.wait()
+        os.close(leader)
+        os.close(follower)
+    assert server.returncode == 143, err
+    assert err.decode().splitlines()[-1] == "usdrender-lint: terminated"
+
+
+def test_a_signal_lost_in_the_import_stops_the_server_before_it_serves(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The same, made certain: the signal came (the handler's record of it) and
+    its exception is gone; the server raises it again instead of serving."""
+    from usdrender_lint import server
+    from usdrender_lint.running import interrupts
+    from usdrender_lint.server import protocol
+
+    served: list[str] = []
+    monkeypatch.setattr(interrupts, "_received", signal.SIGTERM)
+    monkeypatch.setattr(protocol, "serve", lambda: served.append("serve"))
+    monkeypatch.setattr(server, "_end_on_signals", lambda: served.append("handlers"))
+    with pytest.raises(interrupts.Stopped) as stopped:
+        server.main()
+    assert stopped.value.exit_status == 143
+    assert served == []

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import sys
 
+from ..running.interrupts import check_stopped
+
 #: What to install: the extra's packages (usdrender-lint is on no package index,
 #: so ``pip install 'usdrender-lint[server]'`` would ask one for it).
 MISSING = (
@@ -32,6 +34,9 @@ def main() -> None:
     if getattr(sys.stdout, "buffer", None) is None:  # started with it closed (cli.main)
         sys.stderr.write(f"{NO_STDOUT}\n")
         sys.exit(2)
+    # A signal during USD's import raised in its C++, which swallowed it, and
+    # the command's handler then ignored the signals: the server never ended.
+    check_stopped()
     _end_on_signals()
     serve()
 
