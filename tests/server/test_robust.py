@@ -12,6 +12,7 @@ import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -603,14 +604,9 @@ def test_a_cancel_that_lands_as_a_lint_answers_never_fails_the_next_lint(
         linting.close()
 
 
-@pytest.mark.parametrize(
-    ("signum", "status", "said"),
-    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
-)
-def test_ctrl_c_or_sigterm_ends_the_server_at_once(signum: int, status: int, said: str) -> None:
-    """Run by hand in a terminal, the server waits on it: Ctrl-C (the signal to
-    the terminal's process group) ends it with the command's line and status; it
-    hung before, deaf to any signal but SIGKILL."""
+def _signal_a_server_on_a_terminal(signum: int, wait: Callable[[int], None]) -> tuple[int, str]:
+    """Start the server reading a terminal, ``wait(pid)``, signal its process
+    group as the terminal's Ctrl-C does: its exit status and last line."""
     import pty
 
     leader, follower = pty.openpty()
@@ -622,7 +618,7 @@ def test_ctrl_c_or_sigterm_ends_the_server_at_once(signum: int, status: int, sai
         start_new_session=True,
     )
     try:
-        time.sleep(3.0)  # started, reading the terminal
+        wait(server.pid)
         os.killpg(server.pid, signum)
         _, err = server.communicate(timeout=30)
     finally:
@@ -631,16 +627,31 @@ def test_ctrl_c_or_sigterm_ends_the_server_at_once(signum: int, status: int, sai
         server.wait()
         os.close(leader)
         os.close(follower)
-    assert server.returncode == status, err
-    assert err.decode().splitlines()[-1] == f"usdrender-lint: {said}"
+    return server.returncode, err.decode().splitlines()[-1]
 
 
-def _maps_usd(pid: int) -> bool:
+@pytest.mark.parametrize(
+    ("signum", "status", "said"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+)
+def test_ctrl_c_or_sigterm_ends_the_server_at_once(signum: int, status: int, said: str) -> None:
+    """Run by hand in a terminal, the server waits on it: Ctrl-C (the signal to
+    the terminal's process group) ends it with the command's line and status; it
+    hung before, deaf to any signal but SIGKILL."""
+    # Started, reading the terminal.
+    ended = _signal_a_server_on_a_terminal(signum, lambda pid: time.sleep(3.0))
+    assert ended == (status, f"usdrender-lint: {said}")
+
+
+def _loads_usd_gf(pid: int) -> None:
     # Gf: USD's C++ post-processes its module as it loads, where a raise is swallowed.
-    try:
-        return "/pxr/Gf/_gf" in Path(f"/proc/{pid}/maps").read_text()
-    except OSError:
-        return False
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        with contextlib.suppress(OSError):
+            if "/pxr/Gf/_gf" in Path(f"/proc/{pid}/maps").read_text():
+                return
+        time.sleep(0.002)
+    raise AssertionError("the server never loaded USD")
 
 
 @pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="reads /proc/PID/maps")
@@ -648,31 +659,8 @@ def test_sigterm_while_the_server_imports_usd_ends_it() -> None:
     """A signal that lands while the server imports USD (its start on a slow
     machine): the exception the handler raised was swallowed by USD's C++ and
     the signals that followed ignored, so the server read the terminal forever."""
-    import pty
-
-    leader, follower = pty.openpty()
-    server = subprocess.Popen(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        stdin=follower,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        start_new_session=True,
-    )
-    try:
-        deadline = time.monotonic() + 60
-        while not _maps_usd(server.pid) and time.monotonic() < deadline:
-            time.sleep(0.002)
-        assert _maps_usd(server.pid), "the server never loaded USD"
-        os.killpg(server.pid, signal.SIGTERM)
-        _, err = server.communicate(timeout=30)
-    finally:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(server.pid, signal.SIGKILL)
-        server.wait()
-        os.close(leader)
-        os.close(follower)
-    assert server.returncode == 143, err
-    assert err.decode().splitlines()[-1] == "usdrender-lint: terminated"
+    ended = _signal_a_server_on_a_terminal(signal.SIGTERM, _loads_usd_gf)
+    assert ended == (143, "usdrender-lint: terminated")
 
 
 def test_a_signal_lost_in_the_import_stops_the_server_before_it_serves(
