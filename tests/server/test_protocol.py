@@ -494,17 +494,26 @@ async def _lints_settled(
             await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
 
 
+async def _finding_in_a_sublayer(
+    client: LanguageClient, folder: Path
+) -> tuple[Path, str, types.Diagnostic]:
+    """Open ``root.usda`` in ``folder`` over a sublayer with an SE001: the
+    sublayer, the root's URI, and the finding, related to the sublayer's file."""
+    lighting = folder / "lighting.usda"
+    lighting.write_text(LIGHTING)
+    root = open_document(
+        client, folder / "root.usda", "#usda 1.0\n(\n    subLayers = [@./lighting.usda@]\n)\n"
+    )
+    (found,) = [d for d in await diagnostics_of(client, root, 1) if d.code == "SE001"]
+    assert [r.location.uri for r in found.related_information or ()] == [lighting.as_uri()]
+    return lighting, root, found
+
+
 async def test_findings_in_another_layer(client: LanguageClient, workspace: Path):
     """A finding in a sublayer: related information on the document while the
     sublayer is not open; on the sublayer's own URI, at its unsaved line, once it is."""
-    lighting = workspace / "lighting.usda"
-    lighting.write_text(LIGHTING)
-    root = open_document(
-        client, workspace / "root.usda", "#usda 1.0\n(\n    subLayers = [@./lighting.usda@]\n)\n"
-    )
-    (found,) = [d for d in await diagnostics_of(client, root, 1) if d.code == "SE001"]
+    lighting, root, found = await _finding_in_a_sublayer(client, workspace)
     (related,) = found.related_information
-    assert related.location.uri == lighting.as_uri()
     assert related.location.range.start.line == 3
     assert str(lighting) in related.message
 
@@ -666,14 +675,7 @@ async def test_a_folder_named_by_bytes_that_are_not_utf8_gets_its_diagnostics(
     assert "d%E9" in uri
     found = await diagnostics_of(client, uri, 1)
     assert sorted((d.code, d.range.start.line) for d in found) == expected
-    lighting = folder / "lighting.usda"
-    lighting.write_text(LIGHTING)
-    root = open_document(
-        client, folder / "root.usda", "#usda 1.0\n(\n    subLayers = [@./lighting.usda@]\n)\n"
-    )
-    (se001,) = [d for d in await diagnostics_of(client, root, 1) if d.code == "SE001"]
-    (related,) = se001.related_information
-    assert related.location.uri == lighting.as_uri()
+    _, root, _ = await _finding_in_a_sublayer(client, folder)
     close_documents(client, plain, uri, root)
 
 
