@@ -513,7 +513,7 @@ async def test_findings_in_another_layer(client: LanguageClient, workspace: Path
     """A finding in a sublayer: related information on the document while the
     sublayer is not open; on the sublayer's own URI, at its unsaved line, once it is."""
     lighting, root, found = await _finding_in_a_sublayer(client, workspace)
-    (related,) = found.related_information
+    (related,) = found.related_information or ()
     assert related.location.range.start.line == 3
     assert str(lighting) in related.message
 
