@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import sys
 
-from ..running.interrupts import check_stopped
+from ..running.interrupts import check_stopped, deferred
 
 #: What to install: the extra's packages (usdrender-lint is on no package index,
 #: so ``pip install 'usdrender-lint[server]'`` would ask one for it).
@@ -25,7 +25,8 @@ def main() -> None:
     """Serve the Language Server Protocol on stdin and stdout until the client
     says exit (or its process ends)."""
     try:
-        from .protocol import serve
+        with deferred():  # a Ctrl-C during USD's imports arrives after them, as in check
+            from .protocol import serve
     except ImportError as exc:
         if exc.name not in ("pygls", "lsprotocol") and not str(exc.name).startswith("pygls."):
             raise
@@ -34,8 +35,9 @@ def main() -> None:
     if getattr(sys.stdout, "buffer", None) is None:  # started with it closed (cli.main)
         sys.stderr.write(f"{NO_STDOUT}\n")
         sys.exit(2)
-    # A signal during USD's import raised in its C++, which swallowed it, and
-    # the command's handler then ignored the signals: the server never ended.
+    # Where another thread took the signal, its exception was raised during the
+    # imports, in USD's C++, which swallowed it; the command's handler then ignored
+    # the signals that followed, and the server never ended.
     check_stopped()
     _end_on_signals()
     serve()
