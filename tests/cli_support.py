@@ -4,6 +4,7 @@ corrupt, and a layer naming a variant \"\"."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import subprocess
@@ -110,6 +111,20 @@ def descendants(pid: int) -> set[int]:
                     found.add(child)
                     pending.append(child)
     return found
+
+
+def until_usd_loads(pid: int) -> None:
+    """Wait until the process ``pid``, or one below it, has loaded USD's Gf
+    module: USD's C++ sets a module up as it loads, where an exception a signal
+    handler raised was swallowed (after USD's own warning and traceback)."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        for each in (pid, *descendants(pid)):
+            with contextlib.suppress(OSError):
+                if "/pxr/Gf/_gf" in Path(f"/proc/{each}/maps").read_text():
+                    return
+        time.sleep(0.002)
+    raise AssertionError(f"process {pid} never loaded USD")
 
 
 def blocked_on_a_fifo(pid: int) -> bool:

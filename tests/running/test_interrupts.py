@@ -43,3 +43,19 @@ def test_a_signal_in_a_weakref_callback_stops_the_run_without_a_traceback() -> N
 def test_other_unraisable_errors_are_still_shown() -> None:
     done = _run(OTHER_UNRAISABLE)
     assert "ZeroDivisionError" in done.stderr
+
+
+def test_a_signal_whose_exception_was_swallowed_is_the_status_of_a_command_that_exits(
+    monkeypatch,
+) -> None:
+    """click ends every command with sys.exit: a signal whose exception USD's
+    C++ swallowed (the handler recorded it) ended the run 0, as if it never came."""
+    import pytest
+
+    from usdrender_lint.running import interrupts
+
+    monkeypatch.setattr(interrupts, "_received", None)
+    with pytest.raises(interrupts.Stopped) as stopped, interrupts.stop_on_signals():
+        interrupts._received = 15  # the handler ran; its exception went nowhere
+        raise SystemExit(0)
+    assert stopped.value.exit_status == 143

@@ -23,6 +23,7 @@ from cli_support import (
     descendants,
     hanging_stage,
     is_running,
+    until_usd_loads,
 )
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig, LanguageClient
@@ -644,24 +645,13 @@ def test_ctrl_c_or_sigterm_ends_the_server_at_once(signum: int, status: int, sai
     assert status_and_said == (status, f"usdrender-lint: {said}\n")
 
 
-def _loads_usd_gf(pid: int) -> None:
-    # Gf: USD's C++ post-processes its module as it loads, where a raise is swallowed.
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        with contextlib.suppress(OSError):
-            if "/pxr/Gf/_gf" in Path(f"/proc/{pid}/maps").read_text():
-                return
-        time.sleep(0.002)
-    raise AssertionError("the server never loaded USD")
-
-
 @pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="reads /proc/PID/maps")
 def test_sigterm_while_the_server_imports_usd_ends_it() -> None:
     """A signal that lands while the server imports USD (its start on a slow
     machine): the exception the handler raised was swallowed by USD's C++ and
     the signals that followed ignored, so the server read the terminal forever
     (after USD's own lines about the module it failed to set up)."""
-    status_and_said = _signal_a_server_on_a_terminal(signal.SIGTERM, _loads_usd_gf)
+    status_and_said = _signal_a_server_on_a_terminal(signal.SIGTERM, until_usd_loads)
     assert status_and_said == (143, "usdrender-lint: terminated\n")
 
 

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, TextIO
 import click
 
 from ..paths import display_path, printable
+from .loading import import_engine
 from .options import config_option, isolated_option, setting_options
 from .output import EXIT_TOOL_ERROR, ToolError, error, note
 from .views import emit, view
@@ -63,6 +64,8 @@ def clean(
     directory): the project's, and every one below PATHS. Only the cache's own
     files are removed."""
     from ..config import ConfigError
+
+    import_engine()  # USD, with a Ctrl-C during its imports deferred
     from ..running.cleaning import clean as clean_caches
     from ..running.result_cache import ForeignFolder
 

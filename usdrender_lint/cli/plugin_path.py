@@ -36,6 +36,7 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
     """Print the UsdValidation plugin directory (for PXR_PLUGINPATH_NAME)."""
     from pathlib import Path
 
+    rules = registry().rules  # USD, with a Ctrl-C during its imports deferred
     from ..usdplugin import (
         PLUG_INFO,
         DeclarationError,
@@ -45,7 +46,6 @@ def plugin_path(write: bool, check_only: bool, directory: str | None) -> None:
         write_plug_info,
     )
 
-    rules = registry().rules
     folder = Path(directory).resolve() if directory else plugin_dir()
     if write:
         try:

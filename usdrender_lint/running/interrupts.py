@@ -98,7 +98,9 @@ class stop_on_signals:  # noqa: N801 - used as a context manager, like contextli
     def __exit__(self, kind: type[BaseException] | None, *rest: object) -> None:
         for signum, handler in self._previous.items():
             signal.signal(signum, handler)
-        if kind is None:
+        # click ends every command with sys.exit: a signal whose exception USD
+        # swallowed is the run's status still, not a quiet exit 0.
+        if kind is None or issubclass(kind, SystemExit):
             check_stopped()
 
 
