@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING, TextIO
 import click
 
 from ..paths import display_path, printable
-from .loading import import_engine
 from .options import config_option, isolated_option, setting_options
 from .output import EXIT_TOOL_ERROR, ToolError, error, note
 from .views import emit, view
@@ -64,10 +63,11 @@ def clean(
     directory): the project's, and every one below PATHS. Only the cache's own
     files are removed."""
     from ..config import ConfigError
+    from ..running.interrupts import deferred
 
-    import_engine()  # USD, with a Ctrl-C during its imports deferred
-    from ..running.cleaning import clean as clean_caches
-    from ..running.result_cache import ForeignFolder
+    with deferred():  # USD's imports (not the rules'): a Ctrl-C during them arrives after
+        from ..running.cleaning import clean as clean_caches
+        from ..running.result_cache import ForeignFolder
 
     config_file, overrides = config
     try:
