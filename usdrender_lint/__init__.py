@@ -4,7 +4,7 @@ from __future__ import annotations
 
 #: The one place the version is written (pyproject.toml reads it from here), so
 #: start-up needs no importlib.metadata.
-__version__ = "0.6.0"
+__version__ = "0.6.1"
 
 
 TYPE_CHECKING = False

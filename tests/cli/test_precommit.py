@@ -316,7 +316,7 @@ def test_the_fix_hook_fixes_the_staged_layer_and_then_passes(
 
 
 def test_pip_installs_from_the_release_tag(tmp_path: Path, hook_repo: Path) -> None:
-    """The docs' ``pip install "git+URL@v0.6.0"``, with the clone as the URL (the
+    """The docs' ``pip install "git+URL@v0.6.1"``, with the clone as the URL (the
     dependencies are left out: the hook's environment above installs them)."""
     target = tmp_path / "site-packages"
     run = subprocess.run(
