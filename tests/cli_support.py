@@ -7,10 +7,13 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from pxr import Gf, Sdf, Usd, UsdGeom, UsdRender
 
@@ -125,6 +128,35 @@ def until_usd_loads(pid: int) -> None:
                     return
         time.sleep(0.002)
     raise AssertionError(f"process {pid} never loaded USD")
+
+
+def signalled(
+    argv: list[str],
+    signum: int,
+    wait: Callable[[int], None],
+    stdin: Any = subprocess.DEVNULL,
+    cwd: Path | None = None,
+) -> tuple[int, str]:
+    """Start ``argv`` in a session of its own, ``wait(pid)``, then signal its
+    process group as a terminal's Ctrl-C does: its exit status and what it
+    wrote on standard error."""
+    run = subprocess.Popen(
+        argv,
+        cwd=cwd,
+        stdin=stdin,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    try:
+        wait(run.pid)
+        os.killpg(run.pid, signum)
+        _, err = run.communicate(timeout=60)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(run.pid, signal.SIGKILL)
+        run.wait()
+    return run.returncode, err.decode()
 
 
 def blocked_on_a_fifo(pid: int) -> bool:

@@ -20,6 +20,7 @@ from cli_support import (
     descendants,
     hanging_stage,
     is_running,
+    signalled,
     unsupervised,
     until_usd_loads,
     wait_for_a_worker,
@@ -366,20 +367,5 @@ def test_sigterm_while_usd_imports_ends_every_command_with_one_line(
     sys.exit hid it). Every command ends with its one line and 143."""
     (tmp_path / "shot.usda").write_text("#usda 1.0\n")
     (tmp_path / "report.json").write_text("{}")
-    run = subprocess.Popen(
-        command(*args),
-        cwd=tmp_path,
-        stdin=subprocess.DEVNULL,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        start_new_session=True,
-    )
-    try:
-        until_usd_loads(run.pid)
-        os.killpg(run.pid, signal.SIGTERM)
-        _, err = run.communicate(timeout=60)
-    finally:
-        if run.poll() is None:
-            os.killpg(run.pid, signal.SIGKILL)
-            run.wait()
-    assert (run.returncode, err.decode()) == (143, "usdrender-lint: terminated\n")
+    status_and_said = signalled(command(*args), signal.SIGTERM, until_usd_loads, cwd=tmp_path)
+    assert status_and_said == (143, "usdrender-lint: terminated\n")

@@ -4,6 +4,10 @@ module locks use during an import) prints no traceback; the run still stops."""
 import subprocess
 import sys
 
+import pytest
+
+from usdrender_lint.running import interrupts
+
 SIGNAL_IN_A_CALLBACK = """
 import os, signal, sys, weakref
 from usdrender_lint.running import interrupts
@@ -46,14 +50,10 @@ def test_other_unraisable_errors_are_still_shown() -> None:
 
 
 def test_a_signal_whose_exception_was_swallowed_is_the_status_of_a_command_that_exits(
-    monkeypatch,
+    monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """click ends every command with sys.exit: a signal whose exception USD's
     C++ swallowed (the handler recorded it) ended the run 0, as if it never came."""
-    import pytest
-
-    from usdrender_lint.running import interrupts
-
     monkeypatch.setattr(interrupts, "_received", None)
     with pytest.raises(interrupts.Stopped) as stopped, interrupts.stop_on_signals():
         interrupts._received = 15  # the handler ran; its exception went nowhere

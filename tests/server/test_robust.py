@@ -5,7 +5,6 @@ shutdown and exit, and when its client's process dies."""
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import json
 import os
 import signal
@@ -20,9 +19,11 @@ import pytest_lsp
 from cli_support import (
     blocked_on_a_fifo,
     blocked_on_fifos,
+    command,
     descendants,
     hanging_stage,
     is_running,
+    signalled,
     until_usd_loads,
 )
 from lsprotocol import types
@@ -606,30 +607,15 @@ def test_a_cancel_that_lands_as_a_lint_answers_never_fails_the_next_lint(
 
 
 def _signal_a_server_on_a_terminal(signum: int, wait: Callable[[int], None]) -> tuple[int, str]:
-    """Start the server reading a terminal, ``wait(pid)``, signal its process
-    group as the terminal's Ctrl-C does: its exit status and what it wrote on
-    standard error."""
+    """:func:`signalled` for the server reading a terminal, as when run by hand."""
     import pty
 
     leader, follower = pty.openpty()
-    server = subprocess.Popen(
-        [sys.executable, "-m", "usdrender_lint", "server"],
-        stdin=follower,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        start_new_session=True,
-    )
     try:
-        wait(server.pid)
-        os.killpg(server.pid, signum)
-        _, err = server.communicate(timeout=30)
+        return signalled(command("server"), signum, wait, stdin=follower)
     finally:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(server.pid, signal.SIGKILL)
-        server.wait()
         os.close(leader)
         os.close(follower)
-    return server.returncode, err.decode()
 
 
 @pytest.mark.parametrize(
