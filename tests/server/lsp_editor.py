@@ -30,14 +30,20 @@ def _frame(message: dict[str, Any]) -> bytes:
     return b"Content-Length: %d\r\n\r\n" % len(data) + data
 
 
-def _read_message(stream) -> dict:  # noqa: ANN001 - the server's standard output
+def read_message(stream) -> dict:  # noqa: ANN001 - the server's standard output
+    """The next message; EOFError once the server closed its output. (A loop
+    that took the end for a blank line spun a reader thread on one core for the
+    rest of the test worker's life, slowing every later test.)"""
     length = 0
-    while (line := stream.readline().strip()) or not length:
-        if not line and stream.closed:
-            raise ValueError("closed")
+    while True:
+        raw = stream.readline()
+        if not raw:
+            raise EOFError("the server closed its output")
+        line = raw.strip()
         if line.startswith(b"Content-Length:"):
             length = int(line.split(b":")[1])
-    return json.loads(stream.read(length))
+        elif not line and length:
+            return json.loads(stream.read(length))
 
 
 class Editor:
@@ -69,8 +75,8 @@ class Editor:
         def read() -> None:
             while True:
                 try:
-                    message = _read_message(stdout)
-                except (ValueError, OSError):
+                    message = read_message(stdout)
+                except (EOFError, ValueError, OSError):
                     return
                 if message.get("method") == "textDocument/publishDiagnostics":
                     params = message["params"]

@@ -28,6 +28,7 @@ from cli_support import (
 )
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig, LanguageClient
+from lsp_editor import read_message
 from test_protocol import change, diagnostics_of, make_client, open_document, published_versions
 
 from usdrender_lint.server.protocol import SLOW
@@ -308,14 +309,6 @@ def _opened(path: Path, text: str) -> bytes:
     )
 
 
-def _read_message(stream) -> dict:  # noqa: ANN001 - the server's standard output
-    length = 0
-    while (line := stream.readline().strip()) or not length:
-        if line.startswith(b"Content-Length:"):
-            length = int(line.split(b":")[1])
-    return json.loads(stream.read(length))
-
-
 @pytest.mark.parametrize("ending", ["exit", "closed"])
 def test_the_editor_leaving_during_a_lint_writes_no_traceback(tmp_path: Path, ending: str):
     """The editor said exit without shutdown, or closed the pipe (it quit or
@@ -335,7 +328,7 @@ def test_the_editor_leaving_during_a_lint_writes_no_traceback(tmp_path: Path, en
     )
     server.stdin.flush()
     # Ready: the first document's diagnostics are out.
-    while _read_message(server.stdout).get("method") != "textDocument/publishDiagnostics":
+    while read_message(server.stdout).get("method") != "textDocument/publishDiagnostics":
         pass
     server.stdin.write(_opened(*hanging_document(tmp_path)))
     server.stdin.flush()
@@ -372,8 +365,8 @@ class _Session:
         def read() -> None:
             while True:
                 try:
-                    self.received.put(_read_message(stdout))
-                except (ValueError, OSError):
+                    self.received.put(read_message(stdout))
+                except (EOFError, ValueError, OSError):
                     return
 
         threading.Thread(target=read, daemon=True).start()
