@@ -26,9 +26,9 @@ from cli_support import (
     signalled,
     until_usd_loads,
 )
+from lsp_editor import read_message
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig, LanguageClient
-from lsp_editor import read_message
 from test_protocol import change, diagnostics_of, make_client, open_document, published_versions
 
 from usdrender_lint.server.protocol import SLOW
