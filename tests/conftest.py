@@ -32,6 +32,18 @@ def _no_result_cache_in_session_fixtures(
         yield
 
 
+@pytest.fixture(autouse=True, scope="session")
+def _no_thread_left_busy() -> Iterator[None]:
+    """Once this worker's tests ended, no thread of theirs still runs
+    (thread_support.busy_threads): one left looping takes a core from every
+    later test, and from the other workers."""
+    yield
+    from thread_support import busy_threads
+
+    busy = busy_threads()
+    assert not busy, f"threads still running after the tests ended: {busy}"
+
+
 @pytest.fixture(autouse=True)
 def _no_result_cache(monkeypatch: pytest.MonkeyPatch) -> None:
     """Tests lint with a fresh engine every time (tests/running/test_result_cache.py
