@@ -119,6 +119,20 @@ def _hold(control: Path, name: str) -> None:
     (control / f"hold-{name}").touch()
 
 
+def _open_in_turn(editor: Editor, *documents: tuple[Path, str]) -> list[str]:
+    """Open each document once the one before it is shown. A lint lints again
+    the open documents that name its file among those open as it started: so
+    each document here is linted once, and no lint is still to come when the
+    test holds the next one (opened together, a lint the opening had set off
+    could be the one held, and the lint the test meant ran unheld)."""
+    uris = []
+    for path, text in documents:
+        uri = editor.open(path, text)
+        assert until(lambda uri=uri: editor.count(uri))
+        uris.append(uri)
+    return uris
+
+
 def _go(control: Path) -> None:
     assert until(lambda: (control / "held").exists())
     (control / "go").touch()
@@ -131,10 +145,13 @@ def test_a_layer_edited_while_a_shot_s_lint_runs_is_not_shown_as_before(held) ->
     text stayed shown on the layer, beside its newer ones, until the next edit."""
     editor, control, folder = held
     shot, middle, leaf = (folder / n for n in ("shot.usda", "middle.usda", "leaf.usda"))
-    leaf_uri = editor.open(leaf, layer("L", "(0, 480)"))
-    middle_uri = editor.open(middle, layer("M", "(1920, 1080)"))
-    shot_uri = editor.open(shot, layer("S", "(1920, 1080)", sublayers=("middle.usda",)))
-    assert until(lambda: editor.count(shot_uri) and editor.count(middle_uri) >= 2)
+    leaf_uri, middle_uri, shot_uri = _open_in_turn(
+        editor,
+        (leaf, layer("L", "(0, 480)")),
+        (middle, layer("M", "(1920, 1080)")),
+        (shot, layer("S", "(1920, 1080)", sublayers=("middle.usda",))),
+    )
+    assert until(lambda: editor.count(middle_uri) >= 2)  # the shot's lint shows on it too
     _hold(control, "shot.usda")
     # The middle layer comes to sublayer the leaf: its lint lints the shot again (held).
     editor.change(middle_uri, 2, layer("M", "(1920, 1080)", sublayers=("leaf.usda",)))
@@ -154,10 +171,13 @@ def test_an_edit_whose_lint_a_close_outdates_still_relints_the_shot(held) -> Non
     text stayed shown on it."""
     editor, control, folder = held
     shot, middle, other = (folder / n for n in ("shot.usda", "middle.usda", "other.usda"))
-    other_uri = editor.open(other, layer("O", "(1920, 1080)"))
-    middle_uri = editor.open(middle, layer("M", "(0, 480)", note="see other.usda"))
-    shot_uri = editor.open(shot, layer("S", "(1920, 1080)", sublayers=("middle.usda",)))
-    assert until(lambda: editor.count(shot_uri) and editor.count(middle_uri) >= 2)
+    other_uri, middle_uri, shot_uri = _open_in_turn(
+        editor,
+        (other, layer("O", "(1920, 1080)")),
+        (middle, layer("M", "(0, 480)", note="see other.usda")),
+        (shot, layer("S", "(1920, 1080)", sublayers=("middle.usda",))),
+    )
+    assert until(lambda: editor.count(middle_uri) >= 2)  # the shot's lint shows on it too
     _hold(control, "middle.usda")
     editor.change(middle_uri, 2, layer("M", "(640, 0)", note="see other.usda"))
     assert until(lambda: (control / "held").exists())
