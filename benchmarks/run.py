@@ -691,6 +691,82 @@ def hosts(work: Path, count: int, rounds: int) -> dict[str, float]:
     return {f"hosts_{count}_usdvalidation_vs_check": ratio}
 
 
+#: Lints gate shots in one process as ``check`` does (its imports frozen, its
+#: collector set: running/collector.py), in chunks that alternate Python's
+#: default threshold with the command's; prints JSON: the collections a shot and
+#: their time (gc.callbacks), and each chunk's wall and CPU time a shot.
+COLLECTOR_CHUNKS = """\
+import gc, json, sys, time
+from usdrender_lint.cli.loading import import_engine
+
+import_engine()  # first: it does nothing once the engine is imported
+from usdrender_lint.config import Settings
+from usdrender_lint.running.pipeline import make_linter
+
+tool = gc.get_threshold()
+default = (700, *tool[1:])
+linter = make_linter(Settings())
+rounds, chunk, files = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3:]
+for path in files[:2]:
+    linter.lint_path(path)  # the first lint's one-off costs
+found = {"default": [], "tool": []}
+collections = {"default": [0, 0.0], "tool": [0, 0.0]}
+now = {"mode": "default", "start": 0.0}
+
+def count(phase, info):
+    if phase == "start":
+        now["start"] = time.perf_counter()
+    else:
+        collections[now["mode"]][0] += 1
+        collections[now["mode"]][1] += time.perf_counter() - now["start"]
+
+gc.callbacks.append(count)
+for r in range(rounds):
+    part = [files[(r * chunk + i) % len(files)] for i in range(chunk)]
+    for mode in ("default", "tool") if r % 2 else ("tool", "default"):
+        now["mode"] = mode
+        gc.set_threshold(*(default if mode == "default" else tool))
+        wall, cpu = time.perf_counter(), time.process_time()
+        for path in part:
+            linter.lint_path(path)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        found[mode].append((wall / chunk, cpu / chunk))
+print(json.dumps({"chunks": found, "collections": collections, "shots": rounds * chunk}))
+"""
+
+
+def collector(work: Path, count: int, rounds: int) -> dict[str, float]:
+    """What running/collector.py saves: ``rounds`` pairs of 50-shot chunks of
+    the gate in one process, Python's default collector threshold against the
+    command's, alternated; the collections a shot and their time, and the paired
+    wall and CPU ratios. Shown, judged by no goal (it is part of the gate's)."""
+    folder = ensure(work / f"gate_{count}", "gate", "--count", str(count), "--format", "usda")
+    files = sorted(str(p) for p in folder.glob("gate_*.usda"))
+    chunk = 50
+    done = subprocess.run(
+        [PYTHON, "-c", COLLECTOR_CHUNKS, str(rounds * 2), str(chunk), *files],
+        capture_output=True,
+        text=True,
+    )
+    if done.returncode != 0:
+        raise SystemExit(f"collector case failed: {done.stderr[-500:]}")
+    measured = json.loads(done.stdout.splitlines()[-1])
+    chunks, shots = measured["chunks"], measured["shots"]
+    print(f"\nCollector: gate shots in one process, {rounds * 2} pairs of {chunk}-shot chunks")
+    for mode in ("default", "tool"):
+        made, seconds = measured["collections"][mode]
+        wall = statistics.median(w for w, _ in chunks[mode])
+        print(
+            f"  {mode + ' threshold':<18} {made / shots:.4f} collections a shot, "
+            f"{seconds / shots * 1000:.3f} ms a shot in them; {wall * 1000:.3f} ms a shot"
+        )
+    pairs = list(zip(chunks["default"], chunks["tool"], strict=True))
+    wall_ratio = statistics.median(t[0] / d[0] for d, t in pairs)
+    cpu_ratio = statistics.median(t[1] / d[1] for d, t in pairs)
+    print(f"  the command's threshold: paired {wall_ratio:.3f}x wall, {cpu_ratio:.3f}x CPU time")
+    return {"collector_wall": wall_ratio, "collector_cpu": cpu_ratio}
+
+
 def two_core_ceiling(jobs1_seconds: float, jobs2_cpu_seconds: float, cpus: int = 2) -> float:
     """The most ``--jobs 2`` can gain over ``--jobs 1`` (wall ``jobs1_seconds``)
     with the CPU time it spends: ``cpus`` cores never idle take ``jobs2_cpu_seconds
@@ -945,6 +1021,7 @@ CASES = (
     "variants",
     "hostile",
     "hosts",
+    "collector",
 )
 
 
@@ -1033,6 +1110,8 @@ def main(argv: list[str] | None = None) -> int:
         figures.update(hostile(work, args.rounds))
     if "hosts" in cases:
         figures.update(hosts(work, 22, args.rounds))
+    if "collector" in cases:
+        figures.update(collector(work, 200, args.rounds))
     return 0 if verdict(figures) else 1
 
 

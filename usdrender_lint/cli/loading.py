@@ -58,6 +58,9 @@ def import_engine() -> None:
         if (said := out_of_memory_at_start(exc)) is None:
             raise
         raise ToolError(said) from None
+    from ..running.collector import collect_less_often
+
+    collect_less_often()  # this process lints next (and its forked workers)
 
 
 def _import_builtin_rules() -> None:

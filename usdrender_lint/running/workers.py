@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 from .. import debug
 from ..model import FileResult
 from ..records import record
+from .collector import collect_less_often
 from .interrupts import STALL_SIGNAL, check_stopped, continued
 from .progress import progress_bar, want_progress
 from .supervisor import Supervision
@@ -417,6 +418,7 @@ def _worker_main(conn: Connection, pool: Pool, log_dir: str) -> None:
     from . import stalls
 
     stalls.listen(2)  # a time-out asks where it was (_Worker.stack)
+    collect_less_often()  # a fork server's worker does not inherit the command's
     try:
         from pxr import Usd
 
