@@ -37,6 +37,11 @@ every gate shot in one process, with every usdrender-lint validator, against
 ``check --jobs 1`` and the floor of the same shots (a host calls a prim
 validator per prim and rule, and each call looks at the configuration).
 
+With no goal, the collector (``--only collector``): 200 gate shots linted in
+one process as ``check`` lints them, in 50-shot chunks that alternate Python's
+default collector threshold with the command's (running/collector.py): the
+collections a shot, their time, and the paired wall and CPU ratios.
+
 Floors are printed beside the goals they bound: a bare open that also imports
 click (what the stack costs before any linter code runs; the rules name
 schemas as ``Tf.Type``, so no ``pxr.UsdRender`` bindings are imported),

@@ -31,9 +31,11 @@ if TYPE_CHECKING:
 #: file on a CI gate; benchmarks/run.py --only gate). Only while more items wait than
 #: there are other workers (Pool._feed): the last ones go to whichever worker is free.
 IN_FLIGHT = 2
-#: usd-core's bindings keep a small wrapper for every layer a stage handed out
-#: (about 1 MiB per 1,000 files): a fresh worker replaces one after this many.
-WORKER_RECYCLE_AFTER = 500
+#: A worker's memory grows about 2 MiB per 1,000 files it lints (usd-core's bindings
+#: keep a small wrapper for every layer a stage handed out): a fresh worker replaces
+#: one after this many. A replacement costs about 50 ms (a start and a first lint), 0.5%
+#: of 2,000 gate shots' lint, where every 500 it cost 2% of theirs.
+WORKER_RECYCLE_AFTER = 2000
 MIN_WORKER_MEMORY = 2 << 30  # however many workers share the machine
 _READY, _FAILED = -1, -2  # what a worker sends for an index once ready, or failing to start
 _WRITING = -3  # what a worker sends before it writes a user's file (hold_deadline)
