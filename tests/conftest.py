@@ -99,7 +99,9 @@ def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
     """``-n auto``: one worker more than the cores this process may use. Many
     tests wait (a command's time-out, a signal, a language server's answer), so
     with one worker per core the cores idled: on 2 cores the suite kept them
-    166% busy of 200% (743 s), with a third worker 177% (673 s)."""
+    166% busy of 200% (743 s), with a third worker 177% (673 s), measured while
+    a test helper's reader threads spun (tests/server/lsp_editor.py, since
+    fixed: the suite now takes 360 to 410 s with three)."""
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     return (cores or 1) + 1
 

@@ -10,9 +10,11 @@ and the shots ran 2.6% faster without them (benchmarks/run.py --only collector).
 After LINT_THRESHOLD allocations, 500 gate shots in a row paid none, and the
 collector still runs for the cycles a plugin's rule may make.
 
-Only the command's processes (its own and its workers') are set so: a host's
-process (the Python API, the UsdValidation plugin) keeps its collector as its
-owner set it.
+Only the command line's processes are set so, once they import the engine
+(cli/loading.import_engine: ``check``, ``spec``, ``merge``, ``rules``...), and
+their pool workers: a host's process (the Python API, the UsdValidation plugin)
+keeps its collector as its owner set it, and so does the language server's
+child, whose lints are of one document at a time.
 """
 
 from __future__ import annotations
