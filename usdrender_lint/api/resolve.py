@@ -177,6 +177,22 @@ def _resolved(stage: Usd.Stage, paths: Iterable[Sdf.Path]) -> tuple[Target, ...]
     return tuple(found)
 
 
+def know_usable(stage: Usd.Stage, prims: Iterable[Usd.Prim]) -> None:
+    """Resolve each of ``prims``' paths to that prim for the running lint: the
+    engine's walk visits only usable prims (``stage.Traverse()``'s), so a
+    relationship target naming one needs no ``GetPrimAtPath`` and no usability
+    checks, and its handle is the one the rules are given (its values found by
+    identity, not by hashing a second handle). Nothing outside a lint."""
+    cache = _ACTIVE.get()
+    if cache is None:
+        return
+    by_path = cache._answers.setdefault((_resolved, (stage,)), {})
+    for prim in prims:
+        path = values_in(cache, prim).path
+        if path not in by_path:
+            by_path[path] = Target(path, prim, None)
+
+
 def forwarded_targets(rel: Usd.Relationship | None) -> list[Sdf.Path]:
     """Targets with relationship forwarding honoured, as spec.cpp reads them."""
     return _targets(rel, forwarded=True)

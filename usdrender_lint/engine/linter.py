@@ -17,7 +17,7 @@ from pxr import Sdf, Tf, Usd
 from .. import debug
 from ..api import Context, Diagnostic, Fix, FullStageRequired, Rule, schemas
 from ..api.cache import lint_cache
-from ..api.resolve import forget_prim_answers
+from ..api.resolve import forget_prim_answers, know_usable
 from ..layers.crate import crate_structure_problem
 from ..layers.files import layer_identifier, real_path, resolver_context_key, unreadable_reason
 from ..layers.nesting import nesting_problem
@@ -492,6 +492,7 @@ class Linter:
             try:
                 may_suppress = suppress.SUPPRESSION_WORD in held
                 work, suppressing = self._walk(stage, ctx, own_stage, prims, may_suppress)
+                know_usable(stage, [prim for prim, _ in work])
                 run = self._run
                 with _read_only(used):
                     # A renderer rule runs only where some configuration is its renderer's.
