@@ -167,7 +167,7 @@ def _resolved(stage: Usd.Stage, paths: Iterable[Sdf.Path]) -> tuple[Target, ...]
     cache = _ACTIVE.get()
     if cache is None:
         return tuple(_resolve_target(stage, p) for p in paths)
-    by_path = cache._answers.setdefault((_resolved, (stage,)), {})
+    by_path = _targets_by_path(cache, stage)
     found = []
     for path in paths:
         target = by_path.get(path)
@@ -175,6 +175,11 @@ def _resolved(stage: Usd.Stage, paths: Iterable[Sdf.Path]) -> tuple[Target, ...]
             target = by_path[path] = _resolve_target(stage, path)
         found.append(target)
     return tuple(found)
+
+
+def _targets_by_path(cache: LintCache, stage: Usd.Stage) -> dict[Sdf.Path, Target]:
+    """The lint's resolved targets of ``stage`` by path (_resolved, know_usable)."""
+    return cache._answers.setdefault((_resolved, (stage,)), {})
 
 
 def know_usable(stage: Usd.Stage, prims: Iterable[Usd.Prim]) -> None:
@@ -186,7 +191,7 @@ def know_usable(stage: Usd.Stage, prims: Iterable[Usd.Prim]) -> None:
     cache = _ACTIVE.get()
     if cache is None:
         return
-    by_path = cache._answers.setdefault((_resolved, (stage,)), {})
+    by_path = _targets_by_path(cache, stage)
     for prim in prims:
         path = values_in(cache, prim).path
         if path not in by_path:

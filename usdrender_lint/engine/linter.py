@@ -492,7 +492,7 @@ class Linter:
             try:
                 may_suppress = suppress.SUPPRESSION_WORD in held
                 work, suppressing = self._walk(stage, ctx, own_stage, prims, may_suppress)
-                know_usable(stage, [prim for prim, _ in work])
+                know_usable(stage, (prim for prim, _ in work))
                 run = self._run
                 with _read_only(used):
                     # A renderer rule runs only where some configuration is its renderer's.
