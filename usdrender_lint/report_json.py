@@ -13,6 +13,7 @@ from typing import Any, Literal
 
 from .model import AppliedFix, FileResult, Finding, FixInfo, Location, Report, Severity
 from .paths import display_path, escape
+from .reading import read_named_input
 
 SCHEMA_VERSION = 1
 FILE_STATUSES = ("linted", "error")
@@ -349,7 +350,7 @@ def read_document(path: str | Path) -> Any:
     """A JSON file's document; raises :class:`ReportFormatError` naming it
     (a document nested too deeply for the parser included)."""
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = read_named_input(path).decode("utf-8")
     except OSError as exc:
         raise ReportFormatError(f"{path}: cannot read: {exc.strerror or exc}") from None
     except UnicodeDecodeError:

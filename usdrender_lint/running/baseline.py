@@ -21,6 +21,7 @@ from typing import Any
 
 from ..atomic import named_descriptor, write_output
 from ..model import Finding, Report
+from ..reading import read_named_input
 
 BASELINE_SCHEMA = 1
 
@@ -105,7 +106,7 @@ def load_baseline(path: str | Path) -> Counter[Fingerprint]:
 def _read_baseline(path: Path) -> Any:
     """The baseline file's JSON document; BaselineError when it cannot be read."""
     try:
-        return json.loads(path.read_text(encoding="utf-8"))
+        return json.loads(read_named_input(path).decode("utf-8"))
     except FileNotFoundError:
         raise BaselineError(
             f"{path}: baseline file not found (create it with --write-baseline)"
