@@ -22,6 +22,8 @@ ALLOWED: dict[str, set[str]] = {
     "model": {"records"},
     "paths": set(),
     "atomic": set(),
+    # reading: a file the user names as an input (a baseline, a report), never waited on forever.
+    "reading": set(),
     # debug: USDRENDER_LINT_DEBUG's tracebacks, from any process.
     "debug": {"atomic"},
     "entrypoints": set(),
@@ -31,7 +33,7 @@ ALLOWED: dict[str, set[str]] = {
     # layers: the floor below the engine and the fixer (.usda text, layer files, writing).
     "layers": {"records", "api", "paths", "atomic"},
     # report_json: the report's JSON codec, beside the model.
-    "report_json": {"model", "paths"},
+    "report_json": {"model", "paths", "reading"},
     "api": {"records", "model"},
     "registry": {"records", "api", "entrypoints", "model"},
     "rules": {"api", "model"},
@@ -52,8 +54,8 @@ ALLOWED: dict[str, set[str]] = {
     # running reads the JSON format's records back (merge, the result cache).
     "running": {
         "api", "atomic", "config", "debug", "engine", "entrypoints", "explain", "fixing",
-        "formatters", "layers", "model", "paths", "profiles", "records", "registry", "render_spec",
-        "report_json", "settings_table",
+        "formatters", "layers", "model", "paths", "profiles", "reading", "records", "registry",
+        "render_spec", "report_json", "settings_table",
     },
     "testing": {"records", "api", "engine", "model", "registry"},
     # The validation plugins lint and fix one stage as check does (running.stage_lints,
