@@ -10,6 +10,7 @@ import os
 import re
 import select
 import stat
+import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -21,6 +22,12 @@ NAME_MAX = 255
 #: (Pattern text: re compiles it at first use, not at every start-up.)
 _DESCRIPTOR_NAMES = r"/dev/fd/(\d+)|/proc/(?:self|thread-self|(\d+))/fd/(\d+)"
 _STANDARD_NAMES = {"/dev/stdin": 0, "/dev/stdout": 1, "/dev/stderr": 2}
+#: Seconds a named pipe the user names (a file made by ``mkfifo``) is given for its
+#: other end: a reader to open it for an output, a writer to write into it for an
+#: input (reading.py). Its plain open waits for that end without a limit.
+PIPE_WAIT = 10.0
+#: Seconds between tries to open a named pipe for writing while no reader has it.
+_PIPE_RETRY = 0.05
 
 
 def write_all(fd: int, data: bytes) -> None:
@@ -144,12 +151,37 @@ class _OwnerNotKept(Exception):
 
 
 def _write_in_place(target: str, data: bytes, *, truncate: bool) -> None:
-    flags = os.O_WRONLY | (os.O_TRUNC if truncate else 0)
-    fd = os.open(target, flags | getattr(os, "O_CLOEXEC", 0))
+    flags = os.O_WRONLY | (os.O_TRUNC if truncate else 0) | getattr(os, "O_CLOEXEC", 0)
+    fd = _open_named_pipe(target, flags) if _is_fifo(target) else os.open(target, flags)
     try:
         write_all(fd, data)
     finally:
         os.close(fd)
+
+
+def _is_fifo(path: str) -> bool:
+    try:
+        return stat.S_ISFIFO(os.stat(path).st_mode)
+    except OSError:
+        return False
+
+
+def _open_named_pipe(path: str, flags: int) -> int:
+    """``os.open`` of a named pipe for writing, once a reader has it, within
+    PIPE_WAIT seconds: a non-blocking open fails (ENXIO) while none has it,
+    where a plain one would wait for a reader without end."""
+    deadline = time.monotonic() + PIPE_WAIT
+    while True:
+        try:
+            return os.open(path, flags | os.O_NONBLOCK)  # write_all waits on a full pipe
+        except OSError as exc:
+            if exc.errno != errno.ENXIO:
+                raise
+            if time.monotonic() >= deadline:
+                raise OSError(
+                    errno.ETIMEDOUT, f"a named pipe nothing read from within {PIPE_WAIT:g} s"
+                ) from None
+        time.sleep(_PIPE_RETRY)
 
 
 def keep_owner(path: str | Path, uid: int, gid: int) -> bool:

@@ -5,7 +5,7 @@ A plain ``open()`` of a named pipe waits for a writer, and a read of a device
 such as ``/dev/zero`` never ends: the command hung without a word. A pipe is
 still read to its writer's end, as ``cat`` reads it: one the shell hands over
 (``merge <(cat shard.json)``, ``/dev/stdin``) has its writer already, and a named
-pipe (a file made by ``mkfifo``) must be written to within WRITER_WAIT seconds.
+pipe (a file made by ``mkfifo``) must be written to within ``atomic.PIPE_WAIT`` seconds.
 Any other file that is not a regular one is refused.
 """
 
@@ -16,8 +16,8 @@ import os
 import select
 import stat
 
-#: Seconds a named pipe is given for a writer to open it and write (or close it).
-WRITER_WAIT = 10.0
+from . import atomic
+
 #: Why any other file that is not a regular one is refused.
 NOT_A_FILE = "not a regular file or a pipe"
 
@@ -25,7 +25,7 @@ NOT_A_FILE = "not a regular file or a pipe"
 def read_named_input(path: str | os.PathLike[str]) -> bytes:
     """The bytes of the regular file or pipe at ``path``. Raises OSError (its
     ``strerror`` says why in a few words) for a folder, a device or a socket,
-    and for a named pipe nothing wrote to within WRITER_WAIT seconds."""
+    and for a named pipe nothing wrote to within ``atomic.PIPE_WAIT`` seconds."""
     # O_NONBLOCK: opening a named pipe returns at once instead of waiting for a writer.
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     try:
@@ -35,10 +35,9 @@ def read_named_input(path: str | os.PathLike[str]) -> bytes:
         if stat.S_ISFIFO(mode):
             # Readable once a writer wrote or closed; on Linux a pipe no writer has
             # opened yet is not (pipe_poll, fs/pipe.c), where a read would say it ended.
-            if _is_named_pipe(path) and not select.select([fd], [], [], WRITER_WAIT)[0]:
-                raise OSError(
-                    errno.ETIMEDOUT, f"a named pipe nothing wrote to within {WRITER_WAIT:g} s"
-                )
+            wait = atomic.PIPE_WAIT
+            if _is_named_pipe(path) and not select.select([fd], [], [], wait)[0]:
+                raise OSError(errno.ETIMEDOUT, f"a named pipe nothing wrote to within {wait:g} s")
             os.set_blocking(fd, True)  # then read to the writer's end
         elif not stat.S_ISREG(mode):
             raise OSError(errno.EINVAL, NOT_A_FILE)
@@ -59,4 +58,4 @@ def _is_named_pipe(path: str | os.PathLike[str]) -> bool:
         return False
 
 
-__all__ = ["NOT_A_FILE", "WRITER_WAIT", "read_named_input"]
+__all__ = ["NOT_A_FILE", "read_named_input"]

@@ -23,7 +23,7 @@ ALLOWED: dict[str, set[str]] = {
     "paths": set(),
     "atomic": set(),
     # reading: a file the user names as an input (a baseline, a report), never waited on forever.
-    "reading": set(),
+    "reading": {"atomic"},
     # debug: USDRENDER_LINT_DEBUG's tracebacks, from any process.
     "debug": {"atomic"},
     "entrypoints": set(),

@@ -1,7 +1,7 @@
 """A baseline or a report to merge that is a named pipe or a device: the
 command waited forever (a pipe with no writer, ``/dev/zero``); now a pipe is
 read to its writer's end, a named pipe nothing writes to ends in one line after
-WRITER_WAIT seconds, and a device at once."""
+PIPE_WAIT seconds, and a device at once."""
 
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from usdrender_lint import reading
+from usdrender_lint import atomic
 from usdrender_lint.cli import cli
 from usdrender_lint.reading import NOT_A_FILE, read_named_input
 
@@ -58,8 +58,8 @@ def _one_line(result, *parts: str) -> None:
 
 @pytest.fixture
 def short_wait(monkeypatch: pytest.MonkeyPatch) -> str:
-    """WRITER_WAIT cut to a moment, in this process; the message it gives."""
-    monkeypatch.setattr(reading, "WRITER_WAIT", 0.2)
+    """PIPE_WAIT cut to a moment, in this process; the message it gives."""
+    monkeypatch.setattr(atomic, "PIPE_WAIT", 0.2)
     return "a named pipe nothing wrote to within 0.2 s"
 
 

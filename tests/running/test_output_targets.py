@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
+from usdrender_lint import atomic
 from usdrender_lint.atomic import write_output
 from usdrender_lint.cli import cli
 
@@ -70,6 +71,26 @@ def test_a_fifo_is_streamed_into(tmp_path: Path, option: str) -> None:
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)  # still a FIFO, not a regular file
     written(option, received[0])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["report.fifo"]
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs")
+@pytest.mark.parametrize(
+    ("option", "what"), [("--output", "the report"), ("--write-baseline", "baseline")]
+)
+def test_a_fifo_nothing_reads_is_one_line(
+    tmp_path: Path, option: str, what: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Its open waited for a reader without end: the run hung after linting."""
+    monkeypatch.setattr(atomic, "PIPE_WAIT", 0.2)
+    fifo = tmp_path / "report.fifo"
+    os.mkfifo(fifo)
+    result = check(option, fifo)
+    assert result.exit_code == 2
+    assert result.stderr == (
+        f"usdrender-lint: error: {fifo}: cannot write {what}: "
+        "a named pipe nothing read from within 0.2 s\n"
+    )
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/null"), reason="no /dev/null")
