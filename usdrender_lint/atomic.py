@@ -152,16 +152,18 @@ class _OwnerNotKept(Exception):
 
 def _write_in_place(target: str, data: bytes, *, truncate: bool) -> None:
     flags = os.O_WRONLY | (os.O_TRUNC if truncate else 0) | getattr(os, "O_CLOEXEC", 0)
-    fd = _open_named_pipe(target, flags) if _is_fifo(target) else os.open(target, flags)
+    fd = _open_named_pipe(target, flags) if is_named_pipe(target) else os.open(target, flags)
     try:
         write_all(fd, data)
     finally:
         os.close(fd)
 
 
-def _is_fifo(path: str) -> bool:
+def is_named_pipe(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` leads to a pipe made by ``mkfifo``, not to one the shell
+    made: ``/dev/fd/63`` leads to ``pipe:[N]``, which names no file."""
     try:
-        return stat.S_ISFIFO(os.stat(path).st_mode)
+        return stat.S_ISFIFO(os.stat(os.path.realpath(path)).st_mode)
     except OSError:
         return False
 

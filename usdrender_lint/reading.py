@@ -36,7 +36,7 @@ def read_named_input(path: str | os.PathLike[str]) -> bytes:
             # Readable once a writer wrote or closed; on Linux a pipe no writer has
             # opened yet is not (pipe_poll, fs/pipe.c), where a read would say it ended.
             wait = atomic.PIPE_WAIT
-            if _is_named_pipe(path) and not select.select([fd], [], [], wait)[0]:
+            if atomic.is_named_pipe(path) and not select.select([fd], [], [], wait)[0]:
                 raise OSError(errno.ETIMEDOUT, f"a named pipe nothing wrote to within {wait:g} s")
             os.set_blocking(fd, True)  # then read to the writer's end
         elif not stat.S_ISREG(mode):
@@ -47,15 +47,6 @@ def read_named_input(path: str | os.PathLike[str]) -> bytes:
         return b"".join(chunks)
     finally:
         os.close(fd)
-
-
-def _is_named_pipe(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` leads to a pipe made by ``mkfifo``, not to one the shell
-    made: ``/dev/fd/63`` leads to ``pipe:[N]``, which names no file."""
-    try:
-        return stat.S_ISFIFO(os.stat(os.path.realpath(path)).st_mode)
-    except OSError:
-        return False
 
 
 __all__ = ["NOT_A_FILE", "read_named_input"]
