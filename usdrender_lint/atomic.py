@@ -99,7 +99,8 @@ def write_output(path: str | Path, text: str) -> None:
       what the log held;
     - a FIFO, a terminal or another device: opened and streamed into (a
       stream cannot be replaced, and replacing it would put a regular file
-      where the device was);
+      where the device was); a named pipe once a reader has it, within
+      PIPE_WAIT seconds (ETIMEDOUT past them);
     - a regular file (or a new one): replaced atomically, keeping its mode,
       owner and group; when its owner or group cannot be kept (another
       user's file in a shared folder) it is written in place instead, which
